@@ -1,0 +1,1 @@
+"""Pure core: scene model, solver, kinematics. Never imports FreeCAD."""

@@ -1,0 +1,81 @@
+"""Hinge sizes -> joint stiffness (k1, k2) of the quadratic model (seed eq. 1).
+
+k1 comes from the hinge's flexible length, k2 from its cross-section, through the table in
+``core/data/calibration.json`` (its ``source`` and ``assumptions`` say where the numbers come from).
+Interpolation: piecewise linear in k1 over length; log-log linear for the k2 width factor (a power
+law between table points), times thickness / reference thickness. A length or width outside the
+table is an error that gives the table's range (no extrapolation, no silent clamping).
+Per-joint ``k1`` / ``k2`` overrides in the scene win over the table.
+"""
+import json
+import os
+
+import numpy as np
+
+from metamaterial_wb.core.errors import SceneError, range_message
+
+_DEFAULT_PATH = os.path.join(os.path.dirname(__file__), "data", "calibration.json")
+
+
+class Calibration:
+    def __init__(self, table):
+        self.table = table
+        self.len_mm = np.asarray(table["k1_vs_length"]["length_mm"], dtype=float)
+        self.k1_tab = np.asarray(table["k1_vs_length"]["k1"], dtype=float)
+        self.w_mm = np.asarray(table["k2_vs_width"]["width_mm"], dtype=float)
+        self.w_fac = np.asarray(table["k2_vs_width"]["factor"], dtype=float)
+        self.t_ref = float(table.get("k2_thickness_reference_mm", 7.0))
+        if np.any(np.diff(self.len_mm) <= 0) or np.any(np.diff(self.w_mm) <= 0):
+            raise SceneError("calibration", "table abscissae must increase strictly")
+        if np.any(self.k1_tab < 0) or np.any(self.k1_tab > 1) or np.any(self.w_fac <= 0):
+            raise SceneError("calibration", "table values must satisfy 0 <= k1 <= 1 and k2 factor > 0")
+
+    @classmethod
+    def load(cls, path=None):
+        with open(path or _DEFAULT_PATH, encoding="utf-8") as f:
+            return cls(json.load(f))
+
+    def k1(self, length_mm, where="hinge"):
+        lo, hi = self.len_mm[0], self.len_mm[-1]
+        if not (lo <= length_mm <= hi):
+            raise SceneError(f"{where}.length_mm", range_message(length_mm, lo, hi, "mm") +
+                             " of the calibration table (set k1 directly for other lengths)")
+        return float(np.interp(length_mm, self.len_mm, self.k1_tab))
+
+    def k2(self, width_mm, thickness_mm, where="hinge"):
+        lo, hi = self.w_mm[0], self.w_mm[-1]
+        if not (lo <= width_mm <= hi):
+            raise SceneError(f"{where}.width_mm", range_message(width_mm, lo, hi, "mm") +
+                             " of the calibration table (set k2 directly for other widths)")
+        fac = np.exp(np.interp(np.log(width_mm), np.log(self.w_mm), np.log(self.w_fac)))
+        return float(fac * thickness_mm / self.t_ref)
+
+
+_DEFAULT = None
+
+
+def default_calibration():
+    global _DEFAULT
+    if _DEFAULT is None:
+        _DEFAULT = Calibration.load()
+    return _DEFAULT
+
+
+def joint_stiffness(scene, calibration=None):
+    """Arrays ``(k1, k2)`` over ``scene.topology.joints`` (overrides win over the table)."""
+    cal = calibration or default_calibration()
+    topo = scene.topology
+    n = topo.n_joints
+    k1 = np.empty(n)
+    k2 = np.empty(n)
+    cache = {}
+    for idx, name in enumerate(topo.joint_names):
+        ov = scene.joint_overrides.get(name, {})
+        h = scene.joint_hinge(name)
+        key = (h["length_mm"], h["width_mm"], h["thickness_mm"])
+        if ("k1" not in ov or "k2" not in ov) and key not in cache:
+            where = f"joints.{name}" if any(k in ov for k in ("length_mm", "width_mm", "thickness_mm")) else "hinge"
+            cache[key] = (cal.k1(h["length_mm"], where), cal.k2(h["width_mm"], h["thickness_mm"], where))
+        k1[idx] = ov["k1"] if "k1" in ov else cache[key][0]
+        k2[idx] = ov["k2"] if "k2" in ov else cache[key][1]
+    return k1, k2

@@ -1,0 +1,48 @@
+"""Error types shared by the whole project.
+
+Every error that reaches a user names the object (scene field, joint, node, module), the value and
+what is allowed, so that the CLI can print it as one line and the GUI can show it in a dialog.
+"""
+
+
+class MetamaterialError(ValueError):
+    """Base class of every user-facing error (bad input, impossible request)."""
+
+
+class SceneError(MetamaterialError):
+    """A scene file (or scene object) is invalid. ``field`` names where, e.g. ``actuators[1].joint``."""
+
+    def __init__(self, field, message):
+        self.field = field
+        self.message = message
+        super().__init__(f"{field}: {message}" if field else message)
+
+
+def range_message(value, low, high, unit="", low_open=False, high_open=False):
+    """Standard wording: '1.5 is outside the allowed range [-1, 1]'."""
+    lo = "(" if low_open else "["
+    hi = ")" if high_open else "]"
+    u = f" {unit}" if unit else ""
+    return f"{value!r}{u} is outside the allowed range {lo}{low}, {high}{hi}{u}"
+
+
+def check_number(field, value, low=None, high=None, unit="", low_open=False, high_open=False):
+    """Return ``value`` as a float or raise a SceneError naming the field, the value and the range."""
+    import math
+
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(field, f"expected a number, got {value!r}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise SceneError(field, f"{value!r} is not a finite number")
+    bad = False
+    if low is not None:
+        bad |= v <= low if low_open else v < low
+    if high is not None:
+        bad |= v >= high if high_open else v > high
+    if bad:
+        lo = "-inf" if low is None else low
+        hi = "inf" if high is None else high
+        raise SceneError(field, range_message(value, lo, hi, unit, low_open or low is None,
+                                              high_open or high is None))
+    return v

@@ -1,0 +1,1 @@
+"""geometry layer of the Metamaterial Workbench."""

@@ -1,0 +1,1 @@
+"""FreeCAD GUI layer: the only package that imports FreeCADGui / Qt."""
