@@ -1,5 +1,6 @@
-"""``solve SCENE.json --out RESULT.json [--set NAME=VALUE ...] [--global G]``."""
+"""``solve SCENE.json --out RESULT.json [--set NAME=VALUE ...] [--global G] [--model M]``."""
 import math
+import sys
 import time
 
 NAME = "solve"
@@ -13,8 +14,10 @@ def add_arguments(p):
                    help="change one actuator's or constraint's value (repeatable)")
     p.add_argument("--global", dest="global_g", type=float, default=None, metavar="G",
                    help="global deformation: every D = G in [-1, 1] (perfect propagation)")
+    p.add_argument("--model", default="quadratic",
+                   help="simulation model (default quadratic; see docs/fidelity.md for the others)")
     p.add_argument("--backend", default="auto", choices=("auto", "superlu", "cholmod", "dense"),
-                   help="linear solver (default: CHOLMOD when installed, else SuperLU)")
+                   help="linear solver of the quadratic model (default: CHOLMOD when installed, else SuperLU)")
 
 
 def parse_sets(items):
@@ -34,42 +37,41 @@ def parse_sets(items):
     return out
 
 
-def result_dict(scene, D, warnings, timings, global_g=None):
-    """The result document shared by ``solve`` and the GUI's export of a solved state."""
-    from metamaterial_wb.core import kinematics
-
-    t = time.perf_counter()
-    pos, R, phi = kinematics.node_poses(scene, D)
-    timings = dict(timings)
-    timings["kinematics_s"] = time.perf_counter() - t
+def result_dict(scene, res, global_g=None, model="quadratic"):
+    """The result document (shared by ``solve`` and the GUI's export of a solved state)."""
     topo = scene.topology
     nodes = []
     for k, (i, j) in enumerate(topo.nodes):
-        nodes.append({"i": i, "j": j, "name": f"N{i},{j}", "D": float(D[k]),
-                      "rotation_deg": math.degrees(float(phi[k])),
-                      "position_mm": [float(x) for x in pos[k]],
-                      "rotation": [[float(x) for x in row] for row in R[k]]})
-    return {"format": "metamaterial-result", "version": 1, "scene": scene.name,
-            "global_deformation": global_g,
-            "actuators": {a.name: a.value for a in scene.actuators},
-            "constraints": {c.name: c.value for c in scene.constraints},
-            "nodes": nodes, "warnings": list(warnings), "timings": timings}
+        R = res.rotations[k]
+        nodes.append({"i": i, "j": j, "name": f"N{i},{j}", "D": float(res.D[k]),
+                      "rotation_deg": math.degrees(math.atan2(R[1, 0], R[0, 0])),
+                      "position_mm": [float(x) for x in res.positions_mm[k]],
+                      "rotation": [[float(x) for x in row] for row in R]})
+    out = {"format": "metamaterial-result", "version": 1, "scene": scene.name, "model": model,
+           "converged": bool(res.converged), "global_deformation": global_g,
+           "actuators": {a.name: a.value for a in scene.actuators},
+           "constraints": {c.name: c.value for c in scene.constraints},
+           "nodes": nodes, "warnings": list(res.warnings), "timings": dict(res.timings)}
+    if res.info:
+        out["info"] = res.info
+    return out
 
 
 def run(args):
     from metamaterial_wb.core.fileio import write_json
+    from metamaterial_wb.core.models import run_model
     from metamaterial_wb.core.scene import Scene
-    from metamaterial_wb.core.solver import solve_scene
 
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
     for name, v in parse_sets(args.set):
         scene.set_value(name, v)
     g = args.global_g if args.global_g is not None else scene.global_deformation
-    D, _, warnings, timings = solve_scene(scene, global_deformation=g, backend=args.backend)
-    res = result_dict(scene, D, warnings, timings, g)
-    res["timings"]["total_s"] = time.perf_counter() - t0
-    write_json(args.out, res)
-    for w in warnings:
-        print(f"warning: {w}", file=__import__("sys").stderr)
+    opts = {"backend": args.backend} if args.model == "quadratic" else {}
+    res = run_model(args.model, scene, global_deformation=g, **opts)
+    out = result_dict(scene, res, g, args.model)
+    out["timings"]["total_s"] = time.perf_counter() - t0
+    write_json(args.out, out)
+    for w in res.warnings:
+        print(f"warning: {w}", file=sys.stderr)
     return 0

@@ -1,0 +1,74 @@
+"""Registry of simulation models (the fidelity ladder). One place to add a model.
+
+A model is a function ``fn(scene, global_deformation=None, **options) -> ModelResult``; every model
+returns the same fields so that the CLI, the GUI and the fidelity report treat them alike.
+"""
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from metamaterial_wb.core.errors import SceneError
+
+
+@dataclass
+class ModelResult:
+    D: np.ndarray                 # per node, seed units in [-1, 1] (derived from rotations for lattice models)
+    positions_mm: np.ndarray      # (n, 3)
+    rotations: np.ndarray         # (n, 3, 3)
+    warnings: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    converged: bool = True
+    info: dict = field(default_factory=dict)
+
+
+_MODELS = {}
+
+
+def register_model(name, fn, description=""):
+    _MODELS[name] = (fn, description)
+
+
+def model_names():
+    _load_builtin()
+    return list(_MODELS)
+
+
+def run_model(name, scene, global_deformation=None, **options):
+    _load_builtin()
+    if name not in _MODELS:
+        raise SceneError("--model", f"{name!r}; allowed: {', '.join(_MODELS)}")
+    return _MODELS[name][0](scene, global_deformation=global_deformation, **options)
+
+
+def _quadratic(scene, global_deformation=None, backend="auto", model=None, **_):
+    from metamaterial_wb.core import kinematics
+    from metamaterial_wb.core.solver import solve_scene
+
+    D, _m, warnings, timings = solve_scene(scene, global_deformation=global_deformation, model=model,
+                                           backend=backend)
+    t = time.perf_counter()
+    pos, R, _phi = kinematics.node_poses(scene, D)
+    timings = dict(timings)
+    timings["kinematics_s"] = time.perf_counter() - t
+    return ModelResult(D, pos, R, warnings, timings)
+
+
+register_model("quadratic", _quadratic, "the seed's simplified energy (eq. 1-2), one sparse solve")
+
+_BUILTIN_LOADED = False
+
+
+def _load_builtin():
+    """Import optional model modules that register themselves (higher-fidelity models)."""
+    global _BUILTIN_LOADED
+    if _BUILTIN_LOADED:
+        return
+    _BUILTIN_LOADED = True
+    import importlib
+    for mod in ("metamaterial_wb.core.lattice",):
+        try:
+            importlib.import_module(mod)
+        except ModuleNotFoundError as exc:
+            if exc.name != mod:
+                raise
