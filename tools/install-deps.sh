@@ -26,3 +26,16 @@ if [ ${#pips[@]} -gt 0 ]; then
     $SUDO /usr/bin/python3 -m pip install -q --break-system-packages --root-user-action=ignore "${need[@]}" >&2
   fi
 fi
+# optional accelerators: best effort, never fatal
+if [ "${METAMATERIAL_NO_OPTIONAL:-0}" != 1 ]; then
+  mapfile -t opts < <(grep -v '^\s*#' "$here/pip-optional.txt" | awk 'NF{print $1}')
+  for spec in "${opts[@]}"; do
+    mod="${spec%%[<>=!~]*}"
+    /usr/bin/python3 -m pip show -q "$mod" >/dev/null 2>&1 && continue
+    mapfile -t odeps < <(grep -v '^\s*#' "$here/apt-optional.txt" | awk 'NF{print $1}')
+    echo "installing optional $spec (failure is not fatal)" >&2
+    { DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${odeps[@]}" >&2 &&
+      $SUDO /usr/bin/python3 -m pip install -q --break-system-packages --root-user-action=ignore \
+        --no-build-isolation "$spec" >&2; } || echo "warning: optional $spec not installed; falling back" >&2
+  done
+fi
