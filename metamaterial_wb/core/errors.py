@@ -23,7 +23,7 @@ def range_message(value, low, high, unit="", low_open=False, high_open=False):
     lo = "(" if low_open else "["
     hi = ")" if high_open else "]"
     u = f" {unit}" if unit else ""
-    return f"{value!r}{u} is outside the allowed range {lo}{low}, {high}{hi}{u}"
+    return f"{value!r}{u} is outside the allowed range {lo}{low}, {high}{hi}"
 
 
 def check_number(field, value, low=None, high=None, unit="", low_open=False, high_open=False):
