@@ -65,17 +65,16 @@ def joint_stiffness(scene, calibration=None):
     """Arrays ``(k1, k2)`` over ``scene.topology.joints`` (overrides win over the table)."""
     cal = calibration or default_calibration()
     topo = scene.topology
-    n = topo.n_joints
-    k1 = np.empty(n)
-    k2 = np.empty(n)
-    cache = {}
-    for idx, name in enumerate(topo.joint_names):
-        ov = scene.joint_overrides.get(name, {})
-        h = scene.joint_hinge(name)
-        key = (h["length_mm"], h["width_mm"], h["thickness_mm"])
-        if ("k1" not in ov or "k2" not in ov) and key not in cache:
-            where = f"joints.{name}" if any(k in ov for k in ("length_mm", "width_mm", "thickness_mm")) else "hinge"
-            cache[key] = (cal.k1(h["length_mm"], where), cal.k2(h["width_mm"], h["thickness_mm"], where))
-        k1[idx] = ov["k1"] if "k1" in ov else cache[key][0]
-        k2[idx] = ov["k2"] if "k2" in ov else cache[key][1]
+    h = scene.hinge
+    k1_0 = cal.k1(h["length_mm"], "hinge")
+    k2_0 = cal.k2(h["width_mm"], h["thickness_mm"], "hinge")
+    k1 = np.full(topo.n_joints, k1_0)
+    k2 = np.full(topo.n_joints, k2_0)
+    for name, ov in scene.joint_overrides.items():
+        from metamaterial_wb.core.scene import parse_joint
+        idx = topo.joint_id(*parse_joint(name))
+        hh = scene.joint_hinge(name)
+        where = f"joints.{name}"
+        k1[idx] = ov["k1"] if "k1" in ov else cal.k1(hh["length_mm"], where)
+        k2[idx] = ov["k2"] if "k2" in ov else cal.k2(hh["width_mm"], hh["thickness_mm"], where)
     return k1, k2

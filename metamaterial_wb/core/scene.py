@@ -67,43 +67,116 @@ def joint_nodes(kind, i, j):
 # topology
 # ----------------------------------------------------------------------------------------------
 class Topology:
-    """Nodes and joints of a cell layout, with stable indices.
+    """Nodes and joints of a cell layout, with stable indices (vectorised; fine for 10^6 cells).
 
-    ``nodes``: sorted list of ``(i, j)``; ``node_index[(i, j)]`` its index.
-    ``joints``: sorted list of ``(kind, i, j)``; ``joint_index[name]`` its index;
-    ``joint_pairs``: int array (n_joints, 2) of node indices.
+    ``nodes``: sorted list of ``(i, j)``; ``node_index[(i, j)]`` its index (``node_id(i, j)`` is the
+    fast look-up). ``joints``: sorted list of ``(kind, i, j)`` ("H" block first, then "V");
+    ``joint_index[name]`` its index (``joint_id(kind, i, j)`` is the fast look-up);
+    ``joint_pairs``: int array (n_joints, 2) of node indices. List and dict views are built lazily.
     """
 
     def __init__(self, cells):
         import numpy as np
 
-        self.cells = sorted(set(tuple(c) for c in cells))
-        cellset = set(self.cells)
-        nodes = set()
-        joints = set()
-        for (i, j) in self.cells:
-            nodes.update({(i, j), (i, j + 1), (i + 1, j), (i + 1, j + 1)})
-            joints.update({("H", i, j), ("H", i + 1, j), ("V", i, j), ("V", i, j + 1)})
-        self.nodes = sorted(nodes)
-        self.node_index = {n: k for k, n in enumerate(self.nodes)}
-        self.joints = sorted(joints, key=lambda t: (t[0], t[1], t[2]))
-        self.joint_names = [joint_name(*t) for t in self.joints]
-        self.joint_index = {name: k for k, name in enumerate(self.joint_names)}
-        pairs = []
-        for t in self.joints:
-            a, b = joint_nodes(*t)
-            pairs.append((self.node_index[a], self.node_index[b]))
-        self.joint_pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
-        self.cellset = cellset
-        self.n_nodes = len(self.nodes)
-        self.n_joints = len(self.joints)
+        arr = np.asarray(list(cells) if not hasattr(cells, "shape") else cells, dtype=np.int64).reshape(-1, 2)
+        if len(arr):
+            w = int(arr[:, 1].max()) + 1
+            codes = np.unique(arr[:, 0] * w + arr[:, 1])
+            arr = np.column_stack([codes // w, codes % w])
+        self.cell_array = arr
+        self._W = int(arr[:, 1].max()) + 3 if len(arr) else 3
+        W = self._W
+        enc = lambda i, j: i * W + j  # noqa: E731
+        ci, cj = arr[:, 0], arr[:, 1]
+        self._node_codes = np.unique(np.concatenate([enc(ci, cj), enc(ci, cj + 1), enc(ci + 1, cj),
+                                                     enc(ci + 1, cj + 1)]))
+        self._h_codes = np.unique(np.concatenate([enc(ci, cj), enc(ci + 1, cj)]))
+        self._v_codes = np.unique(np.concatenate([enc(ci, cj), enc(ci, cj + 1)]))
+        self.n_nodes = int(self._node_codes.size)
+        self.n_joints = int(self._h_codes.size + self._v_codes.size)
+        hi, hj = self._h_codes // W, self._h_codes % W
+        vi, vj = self._v_codes // W, self._v_codes % W
+        a = np.concatenate([np.searchsorted(self._node_codes, enc(hi, hj)),
+                            np.searchsorted(self._node_codes, enc(vi, vj))])
+        b = np.concatenate([np.searchsorted(self._node_codes, enc(hi, hj + 1)),
+                            np.searchsorted(self._node_codes, enc(vi + 1, vj))])
+        self.joint_pairs = np.column_stack([a, b]).astype(np.int64)
+        self._joint_ij = np.column_stack([np.concatenate([hi, vi]), np.concatenate([hj, vj])])
+        self.n_h = int(self._h_codes.size)
+        self._lazy = {}
+
+    # -- fast look-ups -----------------------------------------------------------------------
+    def node_id(self, i, j):
+        """Index of node (i, j), or -1."""
+        import numpy as np
+        code = i * self._W + j
+        if j < 0 or j >= self._W or i < 0:
+            return -1
+        k = int(np.searchsorted(self._node_codes, code))
+        return k if k < self.n_nodes and self._node_codes[k] == code else -1
+
+    def joint_id(self, kind, i, j):
+        """Index of joint (kind, i, j), or -1."""
+        import numpy as np
+        if j < 0 or j >= self._W or i < 0:
+            return -1
+        codes, off = (self._h_codes, 0) if kind == "H" else (self._v_codes, self.n_h)
+        code = i * self._W + j
+        k = int(np.searchsorted(codes, code))
+        return off + k if k < codes.size and codes[k] == code else -1
 
     def has_joint(self, name):
-        return name in self.joint_index
+        kind, i, j = parse_joint(name)
+        return self.joint_id(kind, i, j) >= 0
 
     def node_ij(self):
         import numpy as np
-        return np.array(self.nodes, dtype=np.int64).reshape(-1, 2)
+        return np.column_stack([self._node_codes // self._W, self._node_codes % self._W])
+
+    def joint_ij(self):
+        """(n_joints, 2) array of the (i, j) of every joint (kinds: first ``n_h`` are H)."""
+        return self._joint_ij
+
+    def joint_kinds(self):
+        import numpy as np
+        return np.array(["H"] * self.n_h + ["V"] * (self.n_joints - self.n_h))
+
+    # -- lazy list / dict views ----------------------------------------------------------------
+    def _get(self, key, fn):
+        if key not in self._lazy:
+            self._lazy[key] = fn()
+        return self._lazy[key]
+
+    @property
+    def cells(self):
+        return self._get("cells", lambda: [tuple(map(int, c)) for c in self.cell_array])
+
+    @property
+    def cellset(self):
+        return self._get("cellset", lambda: set(self.cells))
+
+    @property
+    def nodes(self):
+        return self._get("nodes", lambda: [tuple(map(int, n)) for n in self.node_ij()])
+
+    @property
+    def node_index(self):
+        return self._get("node_index", lambda: {n: k for k, n in enumerate(self.nodes)})
+
+    @property
+    def joints(self):
+        def build():
+            ij = self._joint_ij.tolist()
+            return [("H" if k < self.n_h else "V", i, j) for k, (i, j) in enumerate(ij)]
+        return self._get("joints", build)
+
+    @property
+    def joint_names(self):
+        return self._get("joint_names", lambda: [joint_name(*t) for t in self.joints])
+
+    @property
+    def joint_index(self):
+        return self._get("joint_index", lambda: {name: k for k, name in enumerate(self.joint_names)})
 
     def joint_cells(self, kind, i, j):
         """The (one or two) cells that a joint borders."""
@@ -120,59 +193,64 @@ def validate_layout(cells, field_name="layout"):
     * at least one cell, no duplicates, integer non-negative positions;
     * every cell shares an edge with another one (when there are several);
     * the cells form one connected structure;
-    * no closed contour of cells encloses a hole (the empty cells all reach the outside).
+    * no closed contour of cells encloses a hole (the empty cells all reach the outside; a contour
+      closed through a shared corner node counts as closed).
     """
-    if not cells:
+    import numpy as np
+    from scipy import ndimage
+
+    if cells is None or len(cells) == 0:
         raise SceneError(field_name, "the layout has no cells; give at least one cell")
-    seen = set()
-    for k, c in enumerate(cells):
-        if (not isinstance(c, (list, tuple)) or len(c) != 2
-                or not all(isinstance(x, int) and not isinstance(x, bool) for x in c)):
-            raise SceneError(f"{field_name}.cells[{k}]", f"expected [row, column] integers, got {c!r}")
-        if c[0] < 0 or c[1] < 0:
-            raise SceneError(f"{field_name}.cells[{k}]", f"{list(c)!r} has a negative index; rows and columns "
-                                                         f"start at 0")
-        if tuple(c) in seen:
-            raise SceneError(f"{field_name}.cells[{k}]", f"cell {list(c)!r} is listed twice")
-        seen.add(tuple(c))
-    if len(seen) == 1:
+    if not hasattr(cells, "shape"):
+        for k, c in enumerate(cells):
+            if (not isinstance(c, (list, tuple)) or len(c) != 2
+                    or not all(isinstance(x, int) and not isinstance(x, bool) for x in c)):
+                raise SceneError(f"{field_name}.cells[{k}]", f"expected [row, column] integers, got {c!r}")
+    arr = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
+    neg = np.flatnonzero((arr < 0).any(axis=1))
+    if neg.size:
+        k = int(neg[0])
+        raise SceneError(f"{field_name}.cells[{k}]", f"{arr[k].tolist()!r} has a negative index; rows and "
+                                                     f"columns start at 0")
+    w = int(arr[:, 1].max()) + 1
+    uniq, counts = np.unique(arr[:, 0] * w + arr[:, 1], return_counts=True)
+    if (counts > 1).any():
+        code = uniq[counts > 1][0]
+        dup = np.array([code // w, code % w])
+        k = int(np.flatnonzero((arr == dup).all(axis=1))[1])
+        raise SceneError(f"{field_name}.cells[{k}]", f"cell {dup.tolist()!r} is listed twice")
+    if len(arr) == 1:
         return
-    nbrs = lambda c: [(c[0] - 1, c[1]), (c[0] + 1, c[1]), (c[0], c[1] - 1), (c[0], c[1] + 1)]
-    lonely = sorted(c for c in seen if not any(n in seen for n in nbrs(c)))
-    if lonely:
-        raise SceneError(field_name, f"cell {list(lonely[0])} shares no edge with another cell; every cell must "
-                                     f"have at least one edge neighbour ({len(lonely)} such cell(s))")
-    start = min(seen)
-    stack, reached = [start], {start}
-    while stack:
-        c = stack.pop()
-        for n in nbrs(c):
-            if n in seen and n not in reached:
-                reached.add(n)
-                stack.append(n)
-    if len(reached) != len(seen):
-        other = sorted(seen - reached)[0]
-        raise SceneError(field_name, f"the layout is not connected: cell {list(other)} cannot be reached from "
-                                     f"cell {list(start)} through shared edges")
-    # holes: flood the empty cells from outside the bounding box (4-neighbourhood; a contour closed
-    # through a shared corner node counts as closed)
-    r0 = min(c[0] for c in seen) - 1
-    r1 = max(c[0] for c in seen) + 1
-    c0 = min(c[1] for c in seen) - 1
-    c1 = max(c[1] for c in seen) + 1
-    outside = {(r0, c0)}
-    stack = [(r0, c0)]
-    while stack:
-        c = stack.pop()
-        for n in nbrs(c):
-            if r0 <= n[0] <= r1 and c0 <= n[1] <= c1 and n not in seen and n not in outside:
-                outside.add(n)
-                stack.append(n)
-    holes = sorted((i, j) for i in range(r0, r1 + 1) for j in range(c0, c1 + 1)
-                   if (i, j) not in seen and (i, j) not in outside)
-    if holes:
-        raise SceneError(field_name, f"the cells form a closed contour around the empty cell {list(holes[0])}; "
-                                     f"a layout may not enclose a hole ({len(holes)} enclosed empty cell(s))")
+    r0, c0 = arr.min(axis=0) - 1
+    r1, c1 = arr.max(axis=0) + 1
+    img = np.zeros((r1 - r0 + 1, c1 - c0 + 1), dtype=bool)
+    img[arr[:, 0] - r0, arr[:, 1] - c0] = True
+    nb = np.zeros_like(img)
+    nb[1:, :] |= img[:-1, :]
+    nb[:-1, :] |= img[1:, :]
+    nb[:, 1:] |= img[:, :-1]
+    nb[:, :-1] |= img[:, 1:]
+    lonely = np.argwhere(img & ~nb)
+    if len(lonely):
+        c = (lonely[0] + (r0, c0)).tolist()
+        raise SceneError(field_name, f"cell {c} shares no edge with another cell; every cell must have at least "
+                                     f"one edge neighbour ({len(lonely)} such cell(s))")
+    four = ndimage.generate_binary_structure(2, 1)
+    labels, n = ndimage.label(img, structure=four)
+    if n > 1:
+        start = arr[np.lexsort((arr[:, 1], arr[:, 0]))[0]]
+        lab0 = labels[start[0] - r0, start[1] - c0]
+        other = np.argwhere(img & (labels != lab0))
+        other = other[np.lexsort((other[:, 1], other[:, 0]))][0] + (r0, c0)
+        raise SceneError(field_name, f"the layout is not connected: cell {other.tolist()} cannot be reached from "
+                                     f"cell {start.tolist()} through shared edges")
+    elabels, en = ndimage.label(~img, structure=four)
+    outside = elabels[0, 0]
+    holes = np.argwhere((~img) & (elabels != outside))
+    if len(holes):
+        h = (holes[0] + (r0, c0)).tolist()
+        raise SceneError(field_name, f"the cells form a closed contour around the empty cell {h}; a layout may not "
+                                     f"enclose a hole ({len(holes)} enclosed empty cell(s))")
 
 
 def cells_from_layout(layout, field_name="layout"):
@@ -194,11 +272,14 @@ def cells_from_layout(layout, field_name="layout"):
             raise SceneError(f"{field_name}.grid", f"{list(val)!r}: both cell counts must be >= 1")
         if r * c > 4_000_000:
             raise SceneError(f"{field_name}.grid", f"{list(val)!r} has {r * c} cells; at most 4000000 are allowed")
-        return [(i, j) for i in range(r) for j in range(c)]
+        import numpy as np
+        ii, jj = np.meshgrid(np.arange(r), np.arange(c), indexing="ij")
+        return np.column_stack([ii.ravel(), jj.ravel()])
     if key == "chain":
         if not isinstance(val, int) or isinstance(val, bool) or val < 1:
             raise SceneError(f"{field_name}.chain", f"expected a cell count >= 1, got {val!r}")
-        return [(0, j) for j in range(val)]
+        import numpy as np
+        return np.column_stack([np.zeros(val, dtype=np.int64), np.arange(val)])
     if key == "rows":
         if not isinstance(val, list) or not all(isinstance(s, str) for s in val):
             raise SceneError(f"{field_name}.rows", "expected a list of strings, '#' for a cell and '.' for none")
@@ -284,7 +365,7 @@ class Scene:
         self.cell_size_mm = DEFAULT_CELL_SIZE_MM
         self.hinge = dict(DEFAULT_HINGE)
         self.layout = {"grid": [1, 1]}
-        self.cells = [(0, 0)]
+        self._cells = None
         self.joint_overrides = {}      # joint name -> dict of override fields (without "joint")
         self.axes = []
         self.actuators = []
@@ -324,10 +405,11 @@ class Scene:
                    for k, v in DEFAULT_HINGE.items()}
         _check_hinge_sizes("hinge", s.hinge, s.cell_size_mm)
         s.layout = data.get("layout", {"grid": [1, 1]})
-        s.cells = cells_from_layout(s.layout)
-        validate_layout([list(c) if isinstance(c, tuple) else c for c in s.cells])
-        s.cells = sorted(tuple(c) for c in s.cells)
-        topo = s.topology
+        cells = cells_from_layout(s.layout)
+        validate_layout(cells if hasattr(cells, "shape") else [list(c) if isinstance(c, tuple) else c
+                                                                for c in cells])
+        s._topology = Topology(cells)
+        s._cells = None
 
         # per-joint overrides
         joints = data.get("joints", [])
@@ -496,17 +578,24 @@ class Scene:
     @property
     def topology(self):
         if self._topology is None:
-            self._topology = Topology(self.cells)
+            self._topology = Topology([(0, 0)])
         return self._topology
+
+    @property
+    def cells(self):
+        """Sorted list of ``(i, j)`` cells."""
+        return self.topology.cells
 
     def _joint(self, text, field_name):
         kind, i, j = parse_joint(text, field_name)
         name = joint_name(kind, i, j)
-        if not self.topology.has_joint(name):
+        topo = self.topology
+        if topo.joint_id(kind, i, j) < 0:
+            ca = topo.cell_array
             raise SceneError(field_name, f"joint {name} does not exist in this layout "
-                                         f"({len(self.cells)} cells, {self.topology.n_joints} joints; "
-                                         f"rows {min(c[0] for c in self.cells)}..{max(c[0] for c in self.cells)}, "
-                                         f"columns {min(c[1] for c in self.cells)}..{max(c[1] for c in self.cells)})")
+                                         f"({len(ca)} cells, {topo.n_joints} joints; "
+                                         f"cell rows {ca[:, 0].min()}..{ca[:, 0].max()}, "
+                                         f"cell columns {ca[:, 1].min()}..{ca[:, 1].max()})")
         return name
 
     def joint_hinge(self, name):

@@ -254,7 +254,7 @@ def scene_groups(scene):
     groups = []
     for _, item in scene.fixed_items():
         kind, i, j = parse_joint(item.joint)
-        groups.append((item.name, [topo.node_index[n] for n in joint_nodes(kind, i, j)]))
+        groups.append((item.name, [topo.node_id(*n) for n in joint_nodes(kind, i, j)]))
     return groups
 
 
@@ -264,9 +264,22 @@ def model_for_scene(scene, calibration=None, backend="auto"):
 
     topo = scene.topology
     k1, k2 = joint_stiffness(scene, calibration)
-    names = [node_name(*n) for n in topo.nodes]
-    return QuadraticModel(topo.n_nodes, topo.joint_pairs, k1, k2, scene_groups(scene), node_names=names,
-                          joint_names=topo.joint_names, backend=backend)
+    return QuadraticModel(topo.n_nodes, topo.joint_pairs, k1, k2, scene_groups(scene),
+                          node_names=_LazyNames(topo, "node"), joint_names=_LazyNames(topo, "joint"),
+                          backend=backend)
+
+
+class _LazyNames:
+    """Node / joint names for messages, built only when a message needs one."""
+
+    def __init__(self, topo, what):
+        self.topo, self.what = topo, what
+
+    def __getitem__(self, k):
+        if self.what == "node":
+            i, j = self.topo.node_ij()[k]
+            return node_name(int(i), int(j))
+        return self.topo.joint_names[k]
 
 
 def scene_values(scene):
