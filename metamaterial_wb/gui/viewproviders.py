@@ -1,0 +1,54 @@
+"""View providers of the metamaterial objects (icons, colours, double-click opens a panel)."""
+import FreeCADGui
+
+from metamaterial_wb.objects.common import ViewProviderBase, set_color
+
+
+class ViewProviderScene(ViewProviderBase):
+    ICON = "MM_Simulate.svg"
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        from metamaterial_wb.gui import taskpanels
+        taskpanels.show(taskpanels.SimulatePanel(vobj.Object))
+        return True
+
+    def unsetEdit(self, vobj, mode=0):
+        return True
+
+    def doubleClicked(self, vobj):
+        from metamaterial_wb.gui import taskpanels
+        if FreeCADGui.Control.activeDialog():
+            return True
+        taskpanels.show(taskpanels.SimulatePanel(vobj.Object))
+        return True
+
+
+class ViewProviderShapeSource(ViewProviderBase):
+    ICON = "MM_NewStructure.svg"
+
+
+class ViewProviderItem(ViewProviderBase):
+    ICON = "MM_PlaceMotor.svg"
+
+    def __init__(self, vobj):
+        super().__init__(vobj)
+        obj = vobj.Object
+        if getattr(obj, "Kind", "actuator") == "constraint":
+            set_color(vobj, (0.15, 0.35, 0.95))
+        else:
+            set_color(vobj, (0.90, 0.08, 0.08))
+
+    def getIcon(self):
+        import metamaterial_wb
+        kind = getattr(getattr(self, "Object", None), "Kind", "actuator")
+        return metamaterial_wb.icon_path("MM_PlaceConstraint.svg" if kind == "constraint" else "MM_PlaceMotor.svg")
+
+
+class ViewProviderModule(ViewProviderBase):
+    ICON = "MM_AddModule.svg"
+
+    def __init__(self, vobj):
+        super().__init__(vobj)
+        set_color(vobj, (0.20, 0.65, 0.30))

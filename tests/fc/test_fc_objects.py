@@ -1,0 +1,217 @@
+"""App-level (no GUI) tests of the scene document objects: mirror, dependencies, errors, round trip, undo.
+
+References are the core package called directly (solve_scene + kinematics.node_poses), which the
+objects must reproduce, and FreeCAD's own save / load.
+"""
+import json
+import os
+
+import numpy as np
+import pytest
+
+FreeCAD = pytest.importorskip("FreeCAD")
+
+import metamaterial_wb  # noqa: E402
+from metamaterial_wb.core import kinematics  # noqa: E402
+from metamaterial_wb.core.scene import Scene  # noqa: E402
+from metamaterial_wb.core.solver import solve_scene  # noqa: E402
+from metamaterial_wb.objects import structure  # noqa: E402
+from metamaterial_wb.objects.common import execute_count  # noqa: E402
+
+
+@pytest.fixture
+def doc():
+    d = FreeCAD.newDocument("MMApp")
+    name = d.Name
+    yield d
+    if name in FreeCAD.listDocuments():
+        FreeCAD.closeDocument(name)
+
+
+def fish():
+    return Scene.load(metamaterial_wb.example_path("fish"))
+
+
+def placements_xyz(arr):
+    return np.array([[p.Base.x, p.Base.y, p.Base.z] for p in arr.PlacementList])
+
+
+def placements_angle_z(arr):
+    out = []
+    for p in arr.PlacementList:
+        ax = p.Rotation.Axis
+        out.append(p.Rotation.Angle * (1 if ax.z >= 0 else -1))
+    return np.array(out)
+
+
+def core_reference(scene):
+    D, _m, _w, _t = solve_scene(scene)
+    pos, R, phi = kinematics.node_poses(scene, D)
+    return D, pos, phi
+
+
+def test_structure_mirrors_the_core_solution(doc):
+    sc = structure.make_structure(doc, fish())
+    assert sc.isValid(), sc.State
+    scene = fish()
+    D, pos, phi = core_reference(scene)
+    assert sc.NodeCount == scene.topology.n_nodes == 21
+    assert sc.JointCount == scene.topology.n_joints
+    np.testing.assert_allclose(sc.Deformation, D, atol=1e-12)
+    np.testing.assert_allclose(placements_xyz(sc.NodeArray), pos, atol=1e-6)
+    np.testing.assert_allclose(placements_angle_z(sc.NodeArray), phi, atol=1e-6)
+    assert len(sc.HingeArray.PlacementList) == scene.topology.n_joints
+    # two motors, red markers linked in Items, named as in the file
+    names = sorted(o.ItemName for o in sc.Items)
+    assert names == ["head", "tail"]
+    # the composed scene equals the file (items come back from the marker objects)
+    assert structure.compose_scene(sc).to_dict() == scene.to_dict()
+    for o in doc.Objects:
+        assert o.isValid(), (o.Name, o.State)
+
+
+def test_hinge_ends_meet_the_node_corners(doc):
+    """Each hinge centre is the midpoint of the two node corners it joins (exact mechanism: they coincide
+    up to the hinge length)."""
+    sc = structure.make_structure(doc, fish())
+    scene = structure.compose_scene(sc)
+    nodes = sc.NodeArray.PlacementList
+    hinges = sc.HingeArray.PlacementList
+    half = 0.5 * (scene.cell_size_mm - scene.hinge["length_mm"])
+    for k, (kind, i, j) in enumerate(scene.topology.joints):
+        a, b = scene.topology.joint_pairs[k]
+        # the hinge centre lies within half a hinge length of both nodes' nearest corners
+        c = hinges[k].Base
+        da = min((nodes[a].multVec(FreeCAD.Vector(sx * half, sy * half, 0)) - c).Length
+                 for sx in (-1, 1) for sy in (-1, 1))
+        db = min((nodes[b].multVec(FreeCAD.Vector(sx * half, sy * half, 0)) - c).Length
+                 for sx in (-1, 1) for sy in (-1, 1))
+        assert da <= scene.hinge["length_mm"] and db <= scene.hinge["length_mm"], (kind, i, j, da, db)
+
+
+def test_motor_joint_change_recomputes_scene_not_shapes(doc):
+    sc = structure.make_structure(doc, fish())
+    ns = doc.getObject("NodeShape")
+    builds = ns.BuildCount
+    n_exec = execute_count(sc)
+    head = [o for o in sc.Items if o.ItemName == "head"][0]
+    head.Joint = "V1,2"
+    doc.recompute()
+    assert sc.isValid(), sc.State
+    assert execute_count(sc) == n_exec + 1
+    assert ns.BuildCount == builds, "the node shape must not be rebuilt when only a motor moves"
+    scene = fish()
+    scene.actuators[0].joint = "V1,2"
+    scene = Scene.from_dict(scene.to_dict())
+    D, pos, _phi = core_reference(scene)
+    np.testing.assert_allclose(sc.Deformation, D, atol=1e-12)
+    np.testing.assert_allclose(placements_xyz(sc.NodeArray), pos, atol=1e-6)
+    # the marker sits over its new joint: hinge V1,2's centre (x, y)
+    k = scene.topology.joint_index["V1,2"]
+    h = sc.HingeArray.PlacementList[k].Base
+    assert abs(head.Placement.Base.x - h.x) < 1e-6 and abs(head.Placement.Base.y - h.y) < 1e-6
+    assert head.Placement.Base.z > h.z
+
+
+def test_global_deformation_property_changes_only_the_scene(doc):
+    sc = structure.make_structure(doc, fish())
+    head = sc.Items[0]
+    n_item = execute_count(head)
+    sc.UseGlobal = True
+    sc.GlobalDeformation = 0.5
+    doc.recompute()
+    assert execute_count(head) == n_item
+    assert np.allclose(sc.Deformation, 0.5)
+    scene = fish()
+    pos, _R, _phi = kinematics.node_poses(scene, np.full(scene.topology.n_nodes, 0.5))
+    np.testing.assert_allclose(placements_xyz(sc.NodeArray), pos, atol=1e-6)
+
+
+def test_cell_size_rebuilds_the_node_shape(doc):
+    sc = structure.make_structure(doc, fish())
+    ns = doc.getObject("NodeShape")
+    b0 = ns.BuildCount
+    sc.CellSize = 30.0
+    doc.recompute()
+    assert sc.isValid() and ns.isValid()
+    assert ns.BuildCount == b0 + 1
+    side = 30.0 - sc.HingeLength.Value
+    assert abs(ns.Shape.BoundBox.XLength - side) < 1e-6
+    # node pitch follows: flat neighbours 30 mm apart when D = 0
+    sc.UseGlobal = True
+    sc.GlobalDeformation = 0.0
+    doc.recompute()
+    xyz = placements_xyz(sc.NodeArray)
+    assert abs(np.linalg.norm(xyz[1] - xyz[0]) - 30.0) < 1e-6
+
+
+def test_bad_joint_makes_the_scene_invalid_with_its_name(doc):
+    sc = structure.make_structure(doc, fish())
+    head = sc.Items[0]
+    head.Joint = "V9,9"
+    doc.recompute()
+    assert not sc.isValid()
+    with pytest.raises(Exception, match="V9,9"):
+        structure.compose_scene(sc)
+    head.Joint = "V0,1"
+    doc.recompute()
+    assert sc.isValid()
+
+
+def test_layout_property_changes_topology(doc):
+    sc = structure.make_structure(doc, Scene.grid(2, 3))
+    sc.Layout = ["###", "#.."]
+    doc.recompute()
+    assert sc.isValid(), sc.State
+    s = structure.compose_scene(sc)
+    assert sorted(s.cells) == [(0, 0), (0, 1), (0, 2), (1, 0)]
+    assert sc.NodeArray.ElementCount == s.topology.n_nodes == len(sc.NodeArray.PlacementList)
+
+
+def test_save_close_reopen_restores_everything(doc, tmp_path):
+    sc = structure.make_structure(doc, fish())
+    structure.make_module(doc, sc, "friction_pad", "N0,0")
+    structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 2, "fold_deg": 30.0}])
+    sc.Items[1].PhaseDeg = 45.0
+    doc.recompute()
+    before_json = sc.SceneJSON
+    before_pl = placements_xyz(sc.NodeArray)
+    names = sorted(o.Name for o in doc.Objects)
+    sc_name = sc.Name
+    path = str(tmp_path / "fish.FCStd")
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    d2 = FreeCAD.openDocument(path)
+    try:
+        assert sorted(o.Name for o in d2.Objects) == names
+        sc2 = d2.getObject(sc_name)
+        assert sc2.Proxy.Type == "MetamaterialScene"
+        assert sc2.SceneJSON == before_json
+        assert json.loads(sc2.SceneJSON)["axes"][0]["fold_deg"] == 30.0
+        assert sc2.NodeArray is not None and sc2.NodeArray.Name == "Nodes"
+        np.testing.assert_allclose(placements_xyz(sc2.NodeArray), before_pl, atol=1e-9)
+        tail = [o for o in sc2.Items if o.ItemName == "tail"][0]
+        assert tail.Proxy.Type == "MetamaterialItem" and tail.PhaseDeg == 45.0
+        assert sc2.Modules[0].Proxy.Type == "MetamaterialModule"
+        # the reopened objects still compute
+        d2.recompute()
+        for o in d2.Objects:
+            assert o.isValid(), (o.Name, o.State)
+        assert structure.compose_scene(sc2).to_json() == before_json
+    finally:
+        FreeCAD.closeDocument(d2.Name)
+
+
+def test_one_undo_step_removes_a_motor(doc):
+    doc.UndoMode = 1
+    sc = structure.make_structure(doc, fish())
+    n = len(doc.Objects)
+    doc.openTransaction("Place motor")
+    structure.make_item(doc, sc, "actuator", "m3", "H2,3", 0.2)
+    doc.recompute()
+    doc.commitTransaction()
+    assert len(doc.Objects) == n + 1 and len(sc.Items) == 3
+    doc.undo()
+    doc.recompute()
+    assert len(doc.Objects) == n and len(sc.Items) == 2
+    assert sc.isValid()
