@@ -1,0 +1,112 @@
+"""Higher-fidelity lattice models (rigid plates + TPU beam hinges): "linear" and "nonlinear".
+
+Importing this package only registers the two models; the numerical modules are imported when a
+lattice model actually runs, so selecting the quadratic model never builds (or imports) them
+(tests/fidelity/test_leave_out.py).
+
+Options (``run_model(name, scene, **options)``; ``solve --model ... --option key=value``):
+
+* both: ``planar`` (bool, default: automatic = no tilted hinge in the scene);
+* nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
+  step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
+  ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
+  ``contact_stiffness`` (1e4, times the hinge's soft bending stiffness), ``fallback`` (dynamic
+  relaxation when Newton fails, true), ``dr_max_iter`` (20000).
+"""
+import time
+
+import numpy as np
+
+from metamaterial_wb.core.models import ModelResult, register_model
+
+_LINEAR_OPTS = {"planar"}
+_NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
+                   "contact_stiffness", "fallback", "dr_max_iter", "predictor"}
+
+
+def _check_options(model, options, allowed):
+    from metamaterial_wb.core.errors import SceneError
+
+    for k in options:
+        if k not in allowed:
+            raise SceneError(f"--option {k}", f"unknown option of model {model!r}; allowed: {sorted(allowed)}")
+
+
+def _global(scene, g, t0):
+    from metamaterial_wb.core import kinematics
+    from metamaterial_wb.core.errors import check_number
+
+    g = check_number("global_deformation", g, -1.0, 1.0)
+    D = np.full(scene.topology.n_nodes, g)
+    pos, R, _phi = kinematics.node_poses(scene, D)
+    return ModelResult(D, pos, R, [], {"total_s": time.perf_counter() - t0}, True,
+                       {"method": "global deformation: closed-form kinematics, no solve"})
+
+
+def _range_warnings(scene, D, warnings):
+    over = np.flatnonzero(np.abs(D) > 1.0 + 1e-9)
+    if over.size:
+        k = int(over[np.argmax(np.abs(D[over]))])
+        i, j = scene.topology.nodes[k]
+        warnings.append(f"{over.size} node(s) turn further than the actuators' range, e.g. N{i},{j} at D = "
+                        f"{D[k]:.3f} (free-edge amplification; beyond +1 plates would touch)")
+
+
+def _linear(scene, global_deformation=None, planar=None, **options):
+    t0 = time.perf_counter()
+    _check_options("linear", options, _LINEAR_OPTS)
+    if global_deformation is not None:
+        return _global(scene, global_deformation, t0)
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    from metamaterial_wb.core.lattice.solve import LinearLattice, finish
+
+    geo = LatticeGeometry(scene)
+    if planar is not None:
+        geo.planar = bool(planar)
+    t1 = time.perf_counter()
+    lin = LinearLattice(scene, geo)
+    t2 = time.perf_counter()
+    X, R, q, mu = lin.solve()
+    t3 = time.perf_counter()
+    X, R, phi, D = finish(geo, X, R)
+    warnings = []
+    info = {"method": "linearised lattice, one sparse KKT solve" if lin.joints.size and np.any(lin.psi)
+            else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
+            "constraints": int(lin.joints.size)}
+    _range_warnings(scene, D, warnings)
+    timings = {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2,
+               "total_s": time.perf_counter() - t0}
+    return ModelResult(D, X, R, warnings, timings, True, info)
+
+
+def _nonlinear(scene, global_deformation=None, **options):
+    t0 = time.perf_counter()
+    _check_options("nonlinear", options, _NONLINEAR_OPTS)
+    if global_deformation is not None:
+        return _global(scene, global_deformation, t0)
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    from metamaterial_wb.core.lattice.solve import NonlinearLattice, finish
+
+    geo = LatticeGeometry(scene)
+    t1 = time.perf_counter()
+    model = NonlinearLattice(scene, geo, **options)
+    X, R, ok = model.solve()
+    t2 = time.perf_counter()
+    X, R, phi, D = finish(geo, X, R)
+    warnings = []
+    info = dict(model.stats)
+    info.update({"dofs": int(model.na), "planar": bool(model.planar), "constraints": int(model.joints.size)})
+    if hasattr(model, "last_residual"):
+        info["residual_force_rel"], info["residual_constraint_rad"] = (float(x) for x in model.last_residual)
+    if not ok:
+        warnings.append("the nonlinear model did NOT converge (Newton with load stepping and the dynamic-relaxation "
+                        f"fallback stopped at relative residual {info.get('residual_force_rel', float('nan')):.2e}); "
+                        "the result is the last iterate, not an equilibrium")
+    _range_warnings(scene, D, warnings)
+    timings = {"geometry_s": t1 - t0, "solve_s": t2 - t1, "total_s": time.perf_counter() - t0}
+    return ModelResult(D, X, R, warnings, timings, bool(ok), info)
+
+
+register_model("linear", _linear, "linearised lattice: rigid plates, TPU beam hinges, one sparse solve")
+register_model("nonlinear", _nonlinear, "nonlinear corotational lattice: Newton + line search + load stepping, "
+                                        "plate contact, dynamic-relaxation fallback")

@@ -1,0 +1,313 @@
+"""The two lattice models: "linear" (R1, one sparse solve) and "nonlinear" (R2, Newton).
+
+Both share :class:`~metamaterial_wb.core.lattice.geometry.LatticeGeometry` and the vectorised hinge
+mechanics of :mod:`~metamaterial_wb.core.lattice.mechanics`.
+
+* Actuators and angular constraints are exact constraints on the relative rotation of the two plates
+  of their joint about the hinge's soft axis (Lagrange multipliers, a symmetric KKT system).
+* Rigid motions: one node near the centre is held (all its DOFs); the result is then aligned to the
+  flat sheet by a best-fit rigid motion (Kabsch), so positions are comparable across models.
+* Planar scenes (no tilted hinge) keep 3 DOFs per node (x, y, rotation about z): out-of-plane DOFs
+  are left out because in-plane actuation cannot excite them.
+* Plate contact (nonlinear model): a one-sided penalty on the closing relative rotation of each hinge
+  once it passes ``contact_fraction`` of the contact rotation ``2 asin(lh / 2s)``.
+* Newton with a backtracking line search on an exact-penalty merit function, adaptive load stepping;
+  dynamic relaxation (kinetic damping) as the fallback, followed by a Newton polish. A result that
+  did not reach the tolerance has ``converged = False`` and a warning.
+"""
+import math
+import time
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from metamaterial_wb.core.lattice.geometry import LatticeGeometry, fixed_items
+from metamaterial_wb.core.lattice.mechanics import ElementState, Pattern, expm_so3
+
+PLANAR_DOFS = (0, 1, 5)
+
+
+# ----------------------------------------------------------------------------------------------------
+# helpers
+# ----------------------------------------------------------------------------------------------------
+def _support_node(geo):
+    c = geo.X0.mean(axis=0)
+    return int(np.argmin(np.linalg.norm(geo.X0 - c, axis=1)))
+
+
+def _dofmap(geo, planar):
+    n = geo.n
+    keep = np.ones((n, 6), dtype=bool)
+    if planar:
+        keep[:, [2, 3, 4]] = False
+    keep[_support_node(geo), :] = False
+    dm = -np.ones(6 * n + 1, dtype=np.int64)       # last slot: "no DOF"
+    flat = keep.ravel()
+    dm[:6 * n][flat] = np.arange(int(flat.sum()))
+    return dm, int(flat.sum())
+
+
+def kabsch(P, Q):
+    """Rotation Rm and translation tv minimising |Rm P_i + tv - Q_i| (rows are points)."""
+    pc, qc = P.mean(axis=0), Q.mean(axis=0)
+    Hm = (P - pc).T @ (Q - qc)
+    U, _S, Vt = np.linalg.svd(Hm)
+    d = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
+    Dm = np.diag([1.0, 1.0, d])
+    Rm = Vt.T @ Dm @ U.T
+    return Rm, qc - Rm @ pc
+
+
+def node_twist(R):
+    """In-plane rotation of every plate: the twist about its own normal (swing-twist split), radians."""
+    w = 0.5 * np.sqrt(np.maximum(0.0, 1.0 + np.trace(R, axis1=1, axis2=2)))
+    z = np.where(w > 1e-9, (R[:, 1, 0] - R[:, 0, 1]) / np.maximum(4.0 * w, 1e-300), 1.0)
+    return 2.0 * np.arctan2(z, w)
+
+
+def finish(geo, X, R, align=True):
+    """Align to the flat sheet (rigid, Kabsch), return positions, rotations and D."""
+    if align and geo.n > 1:
+        Rm, tv = kabsch(X, geo.X0)
+        X = X @ Rm.T + tv
+        R = Rm[None] @ R
+    phi = node_twist(R)
+    D = geo.D_from_phi(phi)
+    return X, R, phi, D
+
+
+def _apply(X, R, q, dofmap, n):
+    full = np.zeros(6 * n)
+    k = dofmap[:6 * n] >= 0
+    full[k] = q[dofmap[:6 * n][k]]
+    full = full.reshape(n, 6)
+    return X + full[:, :3], expm_so3(full[:, 3:]) @ R
+
+
+# ----------------------------------------------------------------------------------------------------
+# linear model (R1)
+# ----------------------------------------------------------------------------------------------------
+class LinearLattice:
+    """Linearised lattice: tangent stiffness of the flat sheet, exact linearised actuator constraints.
+
+    Factor once per scene structure and placement (``prepare``), re-solve per set of values: the
+    response is linear in the actuator values.
+    """
+
+    def __init__(self, scene, geo=None):
+        t0 = time.perf_counter()
+        self.geo = geo or LatticeGeometry(scene)
+        geo = self.geo
+        self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
+        self.dofmap, self.na = _dofmap(geo, geo.planar)
+        st = ElementState(geo, geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy(), tangent=True)
+        self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
+        Acon = st.J[self.joints, 5, :] if self.joints.size else None
+        self.KKT = self.pattern.matrix(st.H, Acon)
+        self.timings = {"assemble_s": time.perf_counter() - t0}
+        t1 = time.perf_counter()
+        self.lu = spla.splu(self.KKT, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1) if self.joints.size else None
+        self.timings["factor_s"] = time.perf_counter() - t1
+
+    def solve(self, psi=None):
+        geo = self.geo
+        psi = self.psi if psi is None else psi
+        I3 = np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy()
+        if self.lu is None or not np.any(psi):
+            return geo.X0.copy(), I3, np.zeros(self.na), np.zeros(self.joints.size)
+        rhs = np.zeros(self.pattern.N)
+        rhs[self.na:] = psi
+        sol = self.lu.solve(rhs)
+        q = sol[:self.na]
+        X, R = _apply(geo.X0, I3, q, self.dofmap, geo.n)
+        return X, R, q, sol[self.na:]
+
+
+# ----------------------------------------------------------------------------------------------------
+# nonlinear model (R2)
+# ----------------------------------------------------------------------------------------------------
+class NonlinearLattice:
+    def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4,
+                 tol=1e-8, max_iter=40, load_steps=1, min_step=1.0 / 64, fallback=True, dr_max_iter=20000,
+                 predictor=False, planar=None):
+        self.geo = geo or LatticeGeometry(scene)
+        geo = self.geo
+        self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
+        self.planar = geo.planar if planar is None else bool(planar)
+        self.dofmap, self.na = _dofmap(geo, self.planar)
+        self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
+        self.contact = contact
+        self.contact_fraction = contact_fraction
+        # contact penalty per hinge: a multiple of its soft bending stiffness, acting on the closing rotation
+        self.kc = contact_stiffness * geo.K[:, 5, 5]
+        self.kappa0 = contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt)
+        self.close_sign = -geo.parity[geo.a]                 # closing measure = close_sign * Theta_3
+        self.tol = float(tol)
+        self.max_iter = int(max_iter)
+        self.load_steps = max(1, int(load_steps))
+        self.min_step = float(min_step)
+        self.fallback = fallback
+        self.dr_max_iter = int(dr_max_iter)
+        self.predictor = predictor
+        self.stats = {"newton_iterations": 0, "load_steps": 0, "line_search_backtracks": 0,
+                      "dr_iterations": 0, "method": "newton"}
+
+    # -- energy pieces ------------------------------------------------------------------------------
+    def _state(self, X, R, tangent=True):
+        geo = self.geo
+        st = ElementState(geo, X, R, tangent=tangent)
+        E = st.energy.sum()
+        ge = st.grad
+        He = st.H
+        pen = 0.0
+        if self.contact:
+            kap = self.close_sign * st.eps[:, 5]
+            over = kap - self.kappa0
+            act = over > 0
+            if np.any(act):
+                idx = np.flatnonzero(act)
+                f = self.kc[idx] * over[idx]
+                pen = 0.5 * float(np.sum(f * over[idx]))
+                Jr = st.J[idx, 5, :] * self.close_sign[idx, None]
+                ge = ge.copy()
+                ge[idx] += f[:, None] * Jr
+                if tangent:
+                    He = He.copy()
+                    He[idx] += self.kc[idx, None, None] * Jr[:, :, None] * Jr[:, None, :]
+        return st, E + pen, ge, He
+
+    def _constraint(self, st, lam):
+        return st.eps[self.joints, 5] - lam * self.psi
+
+    # -- Newton on one load level -------------------------------------------------------------------
+    def _newton(self, X, R, lam, mu, scale_f):
+        pat = self.pattern
+        nu = None
+        for it in range(self.max_iter):
+            st, E, ge, He = self._state(X, R)
+            g = pat.vector(ge)
+            c = self._constraint(st, lam)
+            A = st.J[self.joints, 5, :]
+            Ag = pat.vector(A * mu[:, None], self.joints) if mu.size else 0.0
+            r_f = np.abs(g + Ag).max() if g.size else 0.0
+            r_c = np.abs(c).max() if c.size else 0.0
+            self.last_residual = (r_f / scale_f, r_c)
+            if r_f <= self.tol * scale_f and r_c <= self.tol * max(1e-3, np.abs(self.psi).max(initial=0.0)):
+                return X, R, mu, True, it
+            M = pat.matrix(He, A)
+            rhs = np.concatenate([-g, -c])
+            try:
+                lu = spla.splu(M, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1)
+                sol = lu.solve(rhs)
+            except RuntimeError:
+                return X, R, mu, False, it
+            if not np.all(np.isfinite(sol)):
+                return X, R, mu, False, it
+            dq = sol[:self.na]
+            mu_new = sol[self.na:]
+            nu = max(nu or 0.0, 2.0 * (np.abs(mu_new).max(initial=0.0)) + 1e-30)
+            merit0 = E + nu * np.abs(c).sum()
+            slope = float(g @ dq) - nu * np.abs(c).sum()
+            alpha = 1.0
+            ok = False
+            for _ in range(12):
+                X2, R2 = _apply(X, R, alpha * dq, self.dofmap, self.geo.n)
+                st2, E2, _g2, _H2 = self._state(X2, R2, tangent=False)
+                c2 = self._constraint(st2, lam)
+                merit = E2 + nu * np.abs(c2).sum()
+                if merit <= merit0 + 1e-4 * alpha * min(slope, 0.0) + 1e-13 * abs(merit0):
+                    ok = True
+                    break
+                alpha *= 0.5
+                self.stats["line_search_backtracks"] += 1
+            self.stats["newton_iterations"] += 1
+            if not ok:
+                return X, R, mu, False, it
+            X, R = X2, R2
+            mu = mu + alpha * (mu_new - mu)
+        st, E, ge, He = self._state(X, R, tangent=False)
+        return X, R, mu, False, self.max_iter
+
+    # -- dynamic relaxation fallback -----------------------------------------------------------------
+    def _dynamic_relaxation(self, X, R, tol_f, scale_f):
+        """Kinetic-damping dynamic relaxation on the penalised energy (constraints as stiff springs)."""
+        pat = self.pattern
+        st, E, ge, He = self._state(X, R)
+        Hd = pat.matrix(He, None if not self.joints.size else st.J[self.joints, 5, :])
+        kp = 10.0 * float(np.abs(Hd.diagonal()).max())
+        # Gershgorin bound of the penalised tangent -> fictitious masses for a stable unit time step
+        A = st.J[self.joints, 5, :]
+        gersh = np.asarray(abs(Hd[:self.na, :self.na]).sum(axis=1)).ravel()
+        if self.joints.size:
+            gersh = gersh + kp * pat.vector(np.abs(A) * np.abs(A).sum(axis=1, keepdims=True), self.joints)
+        mass = 0.5 * 2.0 * np.maximum(gersh, 1e-12)
+        v = np.zeros(self.na)
+        ke_old = 0.0
+        for it in range(self.dr_max_iter):
+            st, E, ge, _ = self._state(X, R, tangent=False)
+            c = self._constraint(st, 1.0)
+            if self.joints.size:
+                ge = ge.copy()
+                np.add.at(ge, self.joints, (kp * c)[:, None] * st.J[self.joints, 5, :])
+            f = -pat.vector(ge)
+            if np.abs(f).max() <= tol_f * scale_f and (not c.size or np.abs(c).max() <= 1e-3 * np.abs(self.psi).max()):
+                self.stats["dr_iterations"] += it
+                return X, R, True
+            v = v + f / mass
+            ke = float(v @ (mass * v))
+            if ke < ke_old:          # kinetic damping: restart from rest at a kinetic-energy peak
+                v = np.zeros_like(v)
+                ke = 0.0
+            ke_old = ke
+            X, R = _apply(X, R, v, self.dofmap, self.geo.n)
+        self.stats["dr_iterations"] += self.dr_max_iter
+        return X, R, False
+
+    # -- driver ---------------------------------------------------------------------------------------
+    def solve(self, linear=None):
+        geo = self.geo
+        I3 = np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy()
+        X, R = geo.X0.copy(), I3
+        if not self.joints.size or not np.any(self.psi):
+            self.stats["method"] = "no load (nothing to solve)"
+            return X, R, True
+        lin = linear or LinearLattice(self.geo.scene, geo)
+        q_lin = lin.solve(self.psi)[2] if self.predictor else None
+        # force scale: the largest generalised force the actuators apply in the linear solution
+        Klin_q = lin.KKT[:lin.na, :lin.na] @ lin.solve(self.psi)[2]
+        scale_f = max(float(np.abs(Klin_q).max()), 1e-30)
+        self.scale_f = scale_f
+        mu = np.zeros(self.joints.size)
+        lam = 0.0
+        dl = 1.0 / self.load_steps
+        converged = False
+        while lam < 1.0 - 1e-15:
+            step = min(dl, 1.0 - lam)
+            target = lam + step
+            X1, R1 = X, R
+            if self.predictor and q_lin is not None and lin.dofmap is not None and lin.na == self.na:
+                X1, R1 = _apply(X, R, step * q_lin, self.dofmap, geo.n) if lam == 0.0 else (X, R)
+            X2, R2, mu2, ok, _ = self._newton(X1, R1, target, mu.copy(), scale_f)
+            if not ok and (X1 is not X):
+                X2, R2, mu2, ok, _ = self._newton(X, R, target, mu.copy(), scale_f)
+            if ok:
+                X, R, mu, lam = X2, R2, mu2, target
+                self.stats["load_steps"] += 1
+                if step == dl and dl < 1.0:
+                    dl = min(1.0, 2.0 * dl)
+                continue
+            if step / 2 >= self.min_step:
+                dl = step / 2
+                continue
+            break
+        converged = lam >= 1.0 - 1e-15
+        if not converged and self.fallback:
+            self.stats["method"] = "dynamic relaxation + Newton"
+            Xd, Rd, ok = self._dynamic_relaxation(X, R, 1e-3, scale_f)
+            X3, R3, mu3, ok2, _ = self._newton(Xd, Rd, 1.0, np.zeros(self.joints.size), scale_f)
+            if ok2:
+                X, R, converged = X3, R3, True
+            else:
+                X, R = (X3, R3) if np.all(np.isfinite(X3)) else (Xd, Rd)
+        self.mu = mu
+        return X, R, converged
