@@ -52,8 +52,26 @@ def result_dict(scene, res, global_g=None, model="quadratic"):
            "actuators": {a.name: a.value for a in scene.actuators},
            "constraints": {c.name: c.value for c in scene.constraints},
            "nodes": nodes, "warnings": list(res.warnings), "timings": dict(res.timings)}
+    out["joints"] = joint_results(scene, res.rotations)
     if res.info:
         out["info"] = res.info
+    return out
+
+
+def joint_results(scene, rotations):
+    """Per joint: its nodes, signed fold (deg, between the plate normals), hinge rotation (deg) and
+    hinge tilt (deg) - measured from the node rotations, so the same for every model."""
+    from metamaterial_wb.core import design, kinematics
+
+    topo = scene.topology
+    fold, psi = kinematics.joint_angles(scene, rotations)
+    tilt = design.effective_tilts_deg(scene)
+    nodes = topo.node_ij()
+    out = []
+    for k, name in enumerate(topo.joint_names):
+        a, b = topo.joint_pairs[k]
+        out.append({"name": name, "nodes": [f"N{nodes[a][0]},{nodes[a][1]}", f"N{nodes[b][0]},{nodes[b][1]}"],
+                    "fold_deg": float(fold[k]), "hinge_rotation_deg": float(psi[k]), "tilt_deg": float(tilt[k])})
     return out
 
 
@@ -66,6 +84,8 @@ def run(args):
     scene = Scene.load(args.scene)
     for name, v in parse_sets(args.set):
         scene.set_value(name, v)
+    from metamaterial_wb.core.design import ensure_configured
+    ensure_configured(scene)    # a scene with axes but no joint configuration is configured first
     g = args.global_g if args.global_g is not None else scene.global_deformation
     opts = {"backend": args.backend} if args.model == "quadratic" else {}
     res = run_model(args.model, scene, global_deformation=g, **opts)
