@@ -1,0 +1,129 @@
+"""``build SCENE.json --out DIR [--step] [--3mf] [--modules]``: fabrication files of a scene.
+
+Writes (``NAME`` = the scene's name, else the file's stem):
+
+* ``DIR/NAME_sheet.step``: the sheet, one named body per node and hinge, PLA/TPU colours;
+* ``DIR/NAME_sheet.3mf``: PrusaSlicer layout (one object, a volume per part, per-part extruder);
+* ``DIR/NAME_sheet_components.3mf``: components layout with Bambu Studio / OrcaSlicer and Cura hints;
+* with ``--modules``: ``DIR/NAME_<module>.step`` and ``.3mf`` per module (separate prints) and
+  ``DIR/NAME_assembly.step`` (sheet and modules in place).
+
+Without ``--step`` and ``--3mf`` both are written. Progress goes to stderr. Every file is written
+to a temporary directory first and moved into DIR only when all succeeded.
+"""
+import os
+import shutil
+import sys
+import tempfile
+import time
+
+NAME = "build"
+HELP = "fabrication: build the sheet (and modules) and export STEP / 3MF for dual-extruder printers"
+
+
+def add_arguments(p):
+    p.add_argument("scene", help="scene file (JSON, docs/scene-format.md)")
+    p.add_argument("--out", required=True, help="output directory (created if missing)")
+    p.add_argument("--step", action="store_true", help="write STEP files")
+    p.add_argument("--3mf", dest="threemf", action="store_true", help="write 3MF files")
+    p.add_argument("--modules", action="store_true", help="also build the scene's modules (own files)")
+    p.add_argument("--layout", choices=("prusa", "components", "both"), default="both",
+                   help="3MF layout(s) of the sheet (default both)")
+    p.add_argument("--tolerance", type=float, default=None, metavar="MM",
+                   help="3MF tessellation tolerance in mm (default: fabrication.tolerance_mm, 0.05)")
+    p.add_argument("--no-sockets", action="store_true", help="plain nodes without snap-fit sockets")
+    p.add_argument("--clearance", type=float, default=None, metavar="MM",
+                   help="socket / plug clearance in mm (default: fabrication.clearance_mm, 0.2)")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+
+
+def safe_stem(text):
+    keep = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text)
+    return keep.strip("._") or "scene"
+
+
+def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "components"), progress=True,
+                  stem="scene", stream=None, tolerance_mm=None):
+    """Write the files of a BuildResult into ``out_dir`` (atomically as a set). Returns the file list."""
+    from metamaterial_wb.export.mesh import part_meshes
+    from metamaterial_wb.export.step import result_bodies, write_step
+    from metamaterial_wb.export.threemf import write_3mf
+    from metamaterial_wb.geometry.params import MATERIALS
+    from metamaterial_wb.geometry.progress import note
+
+    stream = stream if stream is not None else sys.stderr
+    os.makedirs(out_dir, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix=".build-", dir=out_dir)
+    written = []
+    colours = dict(MATERIALS)
+    try:
+        groups = result.groups()
+        for group, parts in groups.items():
+            t0 = time.perf_counter()
+            base = f"{stem}_{group}"
+            if group == "sheet":
+                parts = sorted(parts, key=lambda q: (q.role != "node", 0))   # nodes first: hinges win overlaps
+            if step:
+                write_step(os.path.join(tmp, base + ".step"), result_bodies(result, parts), base)
+                written.append(base + ".step")
+            if threemf:
+                meshes = part_meshes(result, parts, tolerance_mm)
+                if group == "sheet":
+                    for layout in layouts:
+                        name = base + (".3mf" if layout == "prusa" else "_components.3mf")
+                        write_3mf(os.path.join(tmp, name), meshes, layout=layout, materials=colours, object_name=base)
+                        written.append(name)
+                else:
+                    write_3mf(os.path.join(tmp, base + ".3mf"), meshes, layout="objects", materials=colours,
+                              object_name=base)
+                    written.append(base + ".3mf")
+            note(f"{group}: {len(parts)} part(s) exported in {time.perf_counter() - t0:.2f} s", progress, stream)
+        if step and len(groups) > 1:
+            base = f"{stem}_assembly"
+            write_step(os.path.join(tmp, base + ".step"), result_bodies(result, result.parts), base)
+            written.append(base + ".step")
+        umask = os.umask(0)
+        os.umask(umask)
+        for name in written:
+            os.chmod(os.path.join(tmp, name), 0o666 & ~umask)    # mkstemp files are 0600
+            os.replace(os.path.join(tmp, name), os.path.join(out_dir, name))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return [os.path.join(out_dir, n) for n in written]
+
+
+def run(args):
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.geometry.build import build_scene
+    from metamaterial_wb.geometry.params import fabrication_params
+
+    t0 = time.perf_counter()
+    scene = Scene.load(args.scene)
+    overrides = {}
+    if args.no_sockets:
+        overrides["sockets"] = False
+    if args.clearance is not None:
+        overrides["clearance_mm"] = args.clearance
+    if args.tolerance is not None:
+        overrides["tolerance_mm"] = args.tolerance
+    params = fabrication_params(scene, **overrides)       # all checks before any geometry
+    if args.modules:
+        from metamaterial_wb.geometry.modules import parse_modules
+        parse_modules(scene, params)
+    elif scene.modules and not args.quiet:
+        print(f"build: the scene has {len(scene.modules)} module(s); add --modules to build them", file=sys.stderr)
+    if os.path.exists(args.out) and not os.path.isdir(args.out):
+        raise SceneError("--out", f"{args.out!r} exists and is not a directory")
+    step = args.step or not args.threemf
+    threemf = args.threemf or not args.step
+    layouts = ("prusa", "components") if args.layout == "both" else (args.layout,)
+    result = build_scene(scene, modules=args.modules, progress=not args.quiet, params=params)
+    stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
+    files = export_result(result, args.out, step=step, threemf=threemf, layouts=layouts,
+                          progress=not args.quiet, stem=stem)
+    if not args.quiet:
+        print(f"build: wrote {len(files)} file(s) to {args.out} in {time.perf_counter() - t0:.2f} s", file=sys.stderr)
+    for f in files:
+        print(f)
+    return 0

@@ -1,0 +1,40 @@
+"""FreeCAD access for the geometry and export layers (one place that knows the library path).
+
+FreeCAD must be imported before Part (importing Part first makes Part.read segfault in 0.20).
+"""
+import os
+import sys
+
+FREECAD_LIB = "/usr/lib/freecad-python3/lib"
+
+
+def freecad():
+    """``(FreeCAD, Part)``; raises MetamaterialError with an install hint if FreeCAD is missing."""
+    try:
+        import FreeCAD  # noqa: F401
+    except ImportError:
+        if os.path.isdir(FREECAD_LIB) and FREECAD_LIB not in sys.path:
+            sys.path.append(FREECAD_LIB)
+        try:
+            import FreeCAD  # noqa: F401
+        except ImportError:
+            from metamaterial_wb.core.errors import MetamaterialError
+            raise MetamaterialError("building geometry needs FreeCAD (Debian: apt-get install freecad-python3); "
+                                    f"its Python library was not found in {FREECAD_LIB}") from None
+    import FreeCAD
+    import Part
+    return FreeCAD, Part
+
+
+def placement(x=0.0, y=0.0, z=0.0, angle_deg=0.0, axis=(0.0, 0.0, 1.0)):
+    App, _ = freecad()
+    return App.Placement(App.Vector(x, y, z), App.Rotation(App.Vector(*axis), angle_deg))
+
+
+def matrix4(pl):
+    """A FreeCAD Placement as a 4x4 numpy matrix."""
+    import numpy as np
+
+    m = pl.toMatrix()
+    return np.array([[m.A11, m.A12, m.A13, m.A14], [m.A21, m.A22, m.A23, m.A24],
+                     [m.A31, m.A32, m.A33, m.A34], [0.0, 0.0, 0.0, 1.0]])

@@ -1,0 +1,235 @@
+"""Fabrication parameters and their validation (no FreeCAD import: checked before any geometry).
+
+Every dimension is in millimetres, every angle in degrees. The parameters come from the scene
+(``cell_size_mm``, ``hinge`` + per-joint overrides, ``joint_config`` tilts) and from an optional
+top-level ``"fabrication"`` object of the scene (docs/fabrication.md); keyword overrides (CLI,
+tests) win over both.
+
+Conventions (docs/fabrication.md, "Geometry convention"):
+
+* node ``N(i,j)``: a square plate of side ``s = cell_size_mm - hinge.length_mm`` centred at
+  ``x = j * cell_size_mm``, ``y = -i * cell_size_mm``; the sheet spans ``0 <= z <= T`` (z = 0 is the
+  print bed, ``T = sheet_thickness_mm``);
+* hinges sit at the plate corners of core/kinematics.py (checkerboard), flush with the plate edge;
+* sockets: a through hole at the middle of each side, ``socket_inset_mm`` from the edge, with a
+  counterbore (the snap ledge) on both faces, so that modules plug in from the top or the bottom.
+"""
+import math
+from dataclasses import dataclass, field, asdict
+
+from metamaterial_wb.core.errors import SceneError, check_number
+
+MIN_WALL_MM = 0.4        # thinnest wall the builders leave between two features (one FDM line)
+
+MATERIALS = {
+    # name: display colour (sRGB hex) used in STEP colours and 3MF basematerials
+    "PLA": "#D9D9D9",
+    "ABS": "#F2C94C",
+    "PETG": "#9AD0C2",
+    "TPU": "#1E64FF",
+}
+
+FAB_DEFAULTS = {
+    "sheet_thickness_mm": None,      # None: the thickest hinge (hinge.thickness_mm)
+    "clearance_mm": 0.2,             # FDM fit clearance for sockets and plugs (per side)
+    "anchor_neck_mm": 1.0,           # length of the hinge neck buried in the node (the hook's lip)
+    "anchor_depth_mm": 2.0,          # depth of the enlarged anchor head behind the neck
+    "anchor_margin_mm": 1.2,         # how much wider than the hinge the anchor head is
+    "sockets": True,                 # snap-fit sockets on the four sides of every node
+    "socket_diameter_mm": 3.2,       # through hole
+    "socket_inset_mm": 3.5,          # hole centre to plate edge
+    "socket_lip_mm": 0.5,            # radial size of the snap ledge (counterbore radius - hole radius)
+    "socket_lip_height_mm": 1.5,     # counterbore depth on each face
+    "rigid_material": "PLA",
+    "flexible_material": "TPU",
+    "module_material": "ABS",        # the seed prints snap-fits in ABS (PLA is too brittle)
+    "rigid_extruder": 1,
+    "flexible_extruder": 2,
+    "tolerance_mm": 0.05,            # tessellation (3MF) chord tolerance
+}
+
+
+@dataclass(frozen=True)
+class HingeSpec:
+    """One hinge shape (all that makes two hinges geometrically different)."""
+    length_mm: float
+    width_mm: float
+    thickness_mm: float
+    tilt_deg: float
+
+    def key(self):
+        return (round(self.length_mm, 6), round(self.width_mm, 6), round(self.thickness_mm, 6),
+                round(self.tilt_deg, 6))
+
+
+@dataclass
+class FabParams:
+    cell_size_mm: float
+    sheet_thickness_mm: float
+    clearance_mm: float
+    anchor_neck_mm: float
+    anchor_depth_mm: float
+    anchor_margin_mm: float
+    sockets: bool
+    socket_diameter_mm: float
+    socket_inset_mm: float
+    socket_lip_mm: float
+    socket_lip_height_mm: float
+    rigid_material: str
+    flexible_material: str
+    module_material: str
+    rigid_extruder: int
+    flexible_extruder: int
+    tolerance_mm: float
+    hinges: dict = field(default_factory=dict)   # joint name -> HingeSpec
+
+    @property
+    def socket_radius_mm(self):
+        return 0.5 * self.socket_diameter_mm
+
+    @property
+    def counterbore_radius_mm(self):
+        return self.socket_radius_mm + self.socket_lip_mm
+
+    plate_side_mm_global: float = 0.0              # node plate side s = cell - hinge.length_mm (scene-wide)
+
+    @property
+    def gap_mm(self):
+        return self.cell_size_mm - self.plate_side_mm_global
+
+    def as_dict(self):
+        d = asdict(self)
+        d["hinges"] = {k: asdict(v) for k, v in self.hinges.items()}
+        return d
+
+
+def _num(name, value, low=None, high=None, low_open=False, high_open=False, unit="mm"):
+    return check_number(f"fabrication.{name}", value, low, high, unit, low_open=low_open, high_open=high_open)
+
+
+def fabrication_params(scene, **overrides):
+    """Validated :class:`FabParams` for ``scene`` (raises SceneError; builds no geometry)."""
+    raw = dict(FAB_DEFAULTS)
+    given = scene.extra.get("fabrication", {}) if hasattr(scene, "extra") else {}
+    if given is None:
+        given = {}
+    if not isinstance(given, dict):
+        raise SceneError("fabrication", f"expected an object of fabrication parameters, got {given!r}")
+    for k, v in list(given.items()) + list(overrides.items()):
+        if k not in FAB_DEFAULTS:
+            raise SceneError(f"fabrication.{k}", f"unknown fabrication parameter; allowed: {sorted(FAB_DEFAULTS)}")
+        if v is not None or k == "sheet_thickness_mm":
+            raw[k] = v
+    c = float(scene.cell_size_mm)
+    hinges = {}
+    thick = 0.0
+    for name in scene.topology.joint_names:
+        h = scene.joint_hinge(name)
+        tilt = float(scene.joint_tilt_deg(name))
+        hinges[name] = HingeSpec(float(h["length_mm"]), float(h["width_mm"]), float(h["thickness_mm"]), tilt)
+        thick = max(thick, float(h["thickness_mm"]))
+    T = raw["sheet_thickness_mm"]
+    T = thick if T is None else _num("sheet_thickness_mm", T, 0.0, 200.0, low_open=True)
+    clr = _num("clearance_mm", raw["clearance_mm"], 0.0, 2.0)
+    p = FabParams(
+        cell_size_mm=c, sheet_thickness_mm=T, clearance_mm=clr,
+        anchor_neck_mm=_num("anchor_neck_mm", raw["anchor_neck_mm"], 0.0, 50.0, low_open=True),
+        anchor_depth_mm=_num("anchor_depth_mm", raw["anchor_depth_mm"], 0.0, 50.0, low_open=True),
+        anchor_margin_mm=_num("anchor_margin_mm", raw["anchor_margin_mm"], 0.0, 50.0, low_open=True),
+        sockets=_bool("sockets", raw["sockets"]),
+        socket_diameter_mm=_num("socket_diameter_mm", raw["socket_diameter_mm"], 0.0, 50.0, low_open=True),
+        socket_inset_mm=_num("socket_inset_mm", raw["socket_inset_mm"], 0.0, 100.0, low_open=True),
+        socket_lip_mm=_num("socket_lip_mm", raw["socket_lip_mm"], 0.0, 20.0, low_open=True),
+        socket_lip_height_mm=_num("socket_lip_height_mm", raw["socket_lip_height_mm"], 0.0, 50.0, low_open=True),
+        rigid_material=_material("rigid_material", raw["rigid_material"]),
+        flexible_material=_material("flexible_material", raw["flexible_material"]),
+        module_material=_material("module_material", raw["module_material"]),
+        rigid_extruder=_extruder("rigid_extruder", raw["rigid_extruder"]),
+        flexible_extruder=_extruder("flexible_extruder", raw["flexible_extruder"]),
+        tolerance_mm=_num("tolerance_mm", raw["tolerance_mm"], 0.001, 1.0),
+        hinges=hinges,
+        plate_side_mm_global=c - float(scene.hinge["length_mm"]),
+    )
+    _check_fit(p)
+    return p
+
+
+def _bool(name, v):
+    if not isinstance(v, bool):
+        raise SceneError(f"fabrication.{name}", f"expected true or false, got {v!r}")
+    return v
+
+
+def _material(name, v):
+    if not isinstance(v, str) or v.upper() not in MATERIALS:
+        raise SceneError(f"fabrication.{name}", f"{v!r} is not a known material; allowed: {sorted(MATERIALS)}")
+    return v.upper()
+
+
+def _extruder(name, v):
+    if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= 16:
+        raise SceneError(f"fabrication.{name}", f"{v!r}: expected an extruder number 1..16 (1-based)")
+    return v
+
+
+def _check_fit(p):
+    """Everything that must fit inside a node plate, checked joint by joint (clear errors)."""
+    T = p.sheet_thickness_mm
+    if p.sockets:
+        if 2 * p.socket_lip_height_mm + MIN_WALL_MM > T:
+            raise SceneError("fabrication.socket_lip_height_mm",
+                             f"{p.socket_lip_height_mm} mm on both faces of a {T} mm sheet leaves less than "
+                             f"{MIN_WALL_MM} mm of hole between the ledges; allowed range (0, "
+                             f"{(T - MIN_WALL_MM) / 2:.3g}] mm")
+        if p.socket_diameter_mm <= 2 * p.clearance_mm + 0.4:
+            raise SceneError("fabrication.socket_diameter_mm",
+                             f"{p.socket_diameter_mm} mm leaves no plug after the clearance of {p.clearance_mm} mm "
+                             f"per side; use more than {2 * p.clearance_mm + 0.4:.3g} mm")
+        if p.socket_inset_mm - p.counterbore_radius_mm < MIN_WALL_MM:
+            raise SceneError("fabrication.socket_inset_mm",
+                             f"{p.socket_inset_mm} mm puts the socket ledge (radius {p.counterbore_radius_mm:.3g} mm) "
+                             f"closer than {MIN_WALL_MM} mm to the plate edge; use at least "
+                             f"{p.counterbore_radius_mm + MIN_WALL_MM:.3g} mm")
+    for name, h in p.hinges.items():
+        f = f"joints {name}"
+        s = p.plate_side_mm_global
+        gap = p.cell_size_mm - p.plate_side_mm_global
+        if h.length_mm > gap + 1e-9:
+            raise SceneError(f"{f}.length_mm",
+                             f"hinge {name} is {h.length_mm} mm long but the gap between the node plates is "
+                             f"{gap:.4g} mm (cell {p.cell_size_mm} mm - plate side {p.plate_side_mm_global:.4g} mm, "
+                             f"set by hinge.length_mm); allowed range (0, {gap:.4g}] mm (shorter hinges get rigid "
+                             f"stubs)")
+        if h.thickness_mm > T + 1e-9:
+            raise SceneError(f"{f}.thickness_mm", f"hinge thickness {h.thickness_mm} mm exceeds the sheet thickness "
+                                                  f"{T} mm; allowed range (0, {T}] mm")
+        tilt = math.radians(h.tilt_deg)
+        shift = T * abs(math.tan(tilt))
+        wa = anchor_width_mm(p, h)
+        # in-plane room: along the edge the (tilted) anchor must stay clear of the side's socket
+        reach = wa + shift
+        room_edge = 0.5 * s - ((p.counterbore_radius_mm + MIN_WALL_MM) if p.sockets else MIN_WALL_MM)
+        if reach > room_edge:
+            raise SceneError(f"{f}.tilt_deg" if h.tilt_deg else f"{f}.width_mm",
+                             f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg} deg) needs {reach:.3g} mm "
+                             f"along the plate edge but the plate (side {s:.3g} mm) has {room_edge:.3g} mm before "
+                             f"the socket; reduce the width, the tilt or the anchor margin")
+        depth = p.anchor_neck_mm + p.anchor_depth_mm
+        need = depth + ((p.counterbore_radius_mm + MIN_WALL_MM) if p.sockets else MIN_WALL_MM)
+        if 2 * need > s:
+            raise SceneError(f"{f}.length_mm",
+                             f"hinge {name} is {h.length_mm} mm long, which leaves a plate side of {s:.3g} mm in a "
+                             f"{p.cell_size_mm} mm cell; its anchors ({depth:.3g} mm deep) and the sockets need a "
+                             f"plate side of at least {2 * need:.3g} mm, so the hinge may be at most "
+                             f"{p.cell_size_mm - 2 * need:.3g} mm long (allowed range (0, "
+                             f"{p.cell_size_mm - 2 * need:.3g}] mm)")
+
+
+def neck_width_mm(h):
+    """In-plane (horizontal) width of the hinge neck: a tilted blade keeps its true width."""
+    return h.width_mm / math.cos(math.radians(h.tilt_deg))
+
+
+def anchor_width_mm(p, h):
+    """In-plane width (along the plate edge) of the anchor head of hinge spec ``h``."""
+    return neck_width_mm(h) + p.anchor_margin_mm
