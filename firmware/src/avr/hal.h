@@ -1,0 +1,16 @@
+/* Board layer of the ATmega328P firmware (register-level code; never compiled on the host). */
+#ifndef SL_HAL_H
+#define SL_HAL_H
+
+#include <stdint.h>
+
+#define HAL_N_SERVOS 8
+
+/* Servo back end: the ISR pulse sequencer on D2..D9 (servo_isr.c) or a PCA9685 over I2C
+ * (servo_pca9685.c), chosen at build time with `make BACKEND=isr|pca9685`. */
+void hal_servo_init(void);
+/* pulse widths in microseconds, 0 = no pulses on that channel */
+void hal_servo_write(const uint16_t *us, uint8_t n);
+extern const uint8_t hal_servo_caps; /* SL_CAP_PCA9685 for the I2C back end, else 0 */
+
+#endif

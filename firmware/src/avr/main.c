@@ -1,0 +1,113 @@
+/* servolink v1 firmware for the ATmega328P (Arduino Uno / Nano, 16 MHz).
+ * UART0 115200 8N1 (U2X) with an interrupt-driven receive ring; Timer2 1 kHz millisecond tick;
+ * the servo back end from hal.h; contact switches for GAIT mode on A0..A5 (to ground = on the
+ * ground, internal pull-up = in the air); the hardware watchdog (250 ms) catches firmware hangs.
+ * Everything else is the portable core in ../core (compiled and unit-tested on the host too). */
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <avr/wdt.h>
+#include <util/atomic.h>
+
+#include "../core/link.h"
+#include "hal.h"
+
+#ifndef BAUD_UBRR
+#define BAUD_UBRR 16 /* 115200 with U2X at 16 MHz (+2.1 %) */
+#endif
+
+#define RX_RING 128u /* power of two, > one maximal frame (67 bytes) */
+
+static volatile uint8_t rx_ring[RX_RING];
+static volatile uint8_t rx_head, rx_tail;
+static volatile uint32_t ms_now;
+static sl_link_t link_state;
+
+/* Keep the reset cause and stop the watchdog early (a WDT reset leaves it running). */
+uint8_t mcusr_saved __attribute__((section(".noinit")));
+void early_wdt_off(void) __attribute__((naked, used, section(".init3")));
+void early_wdt_off(void)
+{
+    mcusr_saved = MCUSR;
+    MCUSR = 0;
+    wdt_disable();
+}
+
+ISR(USART_RX_vect)
+{
+    uint8_t b = UDR0;
+    uint8_t h = rx_head;
+    uint8_t n = (uint8_t)((h + 1u) & (RX_RING - 1u));
+    if (n != rx_tail) { /* drop on overflow: the frame CRC will catch it */
+        rx_ring[h] = b;
+        rx_head = n;
+    }
+}
+
+ISR(TIMER2_COMPA_vect)
+{
+    ms_now++;
+}
+
+static uint32_t millis(void)
+{
+    uint32_t t;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { t = ms_now; }
+    return t;
+}
+
+static void uart_tx(void *user, const uint8_t *buf, uint8_t len)
+{
+    (void)user;
+    for (uint8_t i = 0; i < len; i++) {
+        while (!(UCSR0A & (1 << UDRE0)))
+            ;
+        UDR0 = buf[i];
+    }
+}
+
+static void read_contacts(void *user, uint8_t *air_mask, uint8_t n)
+{
+    (void)user;
+    uint8_t pins = PINC & 0x3F; /* A0..A5: 1 = open switch = in the air */
+    uint8_t m = (uint8_t)((1u << (n > 6 ? 6 : n)) - 1u);
+    air_mask[0] = (uint8_t)(pins & m);
+}
+
+int main(void)
+{
+    /* UART0 */
+    UBRR0H = (uint8_t)(BAUD_UBRR >> 8);
+    UBRR0L = (uint8_t)BAUD_UBRR;
+    UCSR0A = (1 << U2X0);
+    UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
+    UCSR0C = (1 << UCSZ01) | (1 << UCSZ00);
+    /* Timer2: CTC, /64, 250 counts = 1 ms */
+    TCCR2A = (1 << WGM21);
+    TCCR2B = (1 << CS22);
+    OCR2A = 249;
+    TIMSK2 = (1 << OCIE2A);
+    /* contact inputs with pull-ups */
+    DDRC &= (uint8_t)~0x3F;
+    PORTC |= 0x3F;
+
+    hal_servo_init();
+    sei();
+    wdt_enable(WDTO_250MS);
+    sl_link_init(&link_state, HAL_N_SERVOS, (uint8_t)(hal_servo_caps | SL_CAP_CONTACT_PINS), uart_tx, read_contacts,
+                 0, millis());
+
+    for (;;) {
+        wdt_reset();
+        while (rx_tail != rx_head) {
+            uint8_t t = rx_tail;
+            uint8_t b = rx_ring[t];
+            rx_tail = (uint8_t)((t + 1u) & (RX_RING - 1u));
+            sl_link_feed(&link_state, b, millis());
+        }
+        sl_link_tick(&link_state, millis());
+        if (link_state.out_changed) {
+            link_state.out_changed = 0;
+            hal_servo_write(link_state.out_us, link_state.n_ch);
+        }
+    }
+}

@@ -1,0 +1,94 @@
+/* Interrupt-driven servo pulse sequencer (Timer1 normal mode, compare A interrupt).
+ * Channels 0..7 on Arduino pins D2..D7 (PD2..PD7) and D8, D9 (PB0, PB1). One channel is high at a
+ * time; a 20 ms frame. Timer1 runs free at 2 MHz (prescaler 8, 0.5 us per tick); OCR1A is advanced
+ * by each pulse width so that both edges of a pulse come from compare matches. */
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <util/atomic.h>
+
+#include "hal.h"
+
+#define FRAME_TICKS 40000u /* 20 ms */
+#define IDLE_TICKS 100u    /* slot of a channel without pulses: 50 us */
+#define LEAD_TICKS 24u     /* wake up 12 us before an edge */
+
+const uint8_t hal_servo_caps = 0;
+
+static volatile uint16_t ticks[HAL_N_SERVOS];
+static volatile int8_t cur = -1;
+static volatile uint16_t frame_start;
+static volatile uint16_t edge; /* timer value of the next edge */
+
+static inline void pin_high(uint8_t ch)
+{
+    if (ch < 6)
+        PORTD |= (uint8_t)(1u << (ch + 2));
+    else
+        PORTB |= (uint8_t)(1u << (ch - 6));
+}
+
+static inline void pin_low(uint8_t ch)
+{
+    if (ch < 6)
+        PORTD &= (uint8_t)~(1u << (ch + 2));
+    else
+        PORTB &= (uint8_t)~(1u << (ch - 6));
+}
+
+/* The compare interrupt fires LEAD_TICKS before each edge and spins on TCNT1 until the edge's exact
+ * time: the UART and millisecond interrupts may delay the entry by a few microseconds, but not the
+ * edges (interrupts do not nest), so every pulse is exact to a fraction of a microsecond. */
+ISR(TIMER1_COMPA_vect)
+{
+    uint16_t at = edge;
+    while ((int16_t)(TCNT1 - at) < 0)
+        ;
+    int8_t c = cur;
+    if (c >= 0)
+        pin_low((uint8_t)c);
+    c++;
+    uint16_t next;
+    if (c < HAL_N_SERVOS) {
+        uint16_t t = ticks[c];
+        if (t)
+            pin_high((uint8_t)c);
+        else
+            t = IDLE_TICKS;
+        next = (uint16_t)(at + t);
+    } else {
+        uint16_t elapsed = (uint16_t)(at - frame_start);
+        next = (elapsed + IDLE_TICKS > FRAME_TICKS) ? (uint16_t)(at + IDLE_TICKS) : (uint16_t)(frame_start + FRAME_TICKS);
+        frame_start = next;
+        c = -1;
+    }
+    cur = c;
+    edge = next;
+    OCR1A = (uint16_t)(next - LEAD_TICKS);
+}
+
+void hal_servo_init(void)
+{
+    DDRD |= 0xFC; /* PD2..PD7 */
+    DDRB |= 0x03; /* PB0, PB1 */
+    PORTD &= (uint8_t)~0xFC;
+    PORTB &= (uint8_t)~0x03;
+    TCCR1A = 0;
+    TCCR1B = (1 << CS11); /* normal mode, /8 */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        frame_start = (uint16_t)(TCNT1 + 200);
+        edge = frame_start;
+        OCR1A = (uint16_t)(edge - LEAD_TICKS);
+        cur = -1;
+    }
+    TIFR1 = (1 << OCF1A);
+    TIMSK1 |= (1 << OCIE1A);
+}
+
+void hal_servo_write(const uint16_t *us, uint8_t n)
+{
+    for (uint8_t ch = 0; ch < HAL_N_SERVOS; ch++) {
+        uint16_t t = ch < n ? (uint16_t)(us[ch] * 2u) : 0u;
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { ticks[ch] = t; }
+    }
+}
