@@ -18,6 +18,8 @@ def add_arguments(p):
                    help="simulation model (default quadratic; see docs/fidelity.md for the others)")
     p.add_argument("--backend", default="auto", choices=("auto", "superlu", "cholmod", "dense"),
                    help="linear solver of the quadratic model (default: CHOLMOD when installed, else SuperLU)")
+    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                   help="model option, e.g. --option tol=1e-10 (repeatable; docs/fidelity-models.md)")
 
 
 def parse_sets(items):
@@ -34,6 +36,32 @@ def parse_sets(items):
         except ValueError:
             raise SceneError(f"--set {name}", f"{val!r} is not a number") from None
         out.append((name.strip(), v))
+    return out
+
+
+def parse_options(items):
+    """``["tol=1e-10", "contact=false"]`` -> ``{"tol": 1e-10, "contact": False}`` (numbers, booleans, text)."""
+    from metamaterial_wb.core.errors import SceneError
+
+    out = {}
+    for s in items:
+        if "=" not in s:
+            raise SceneError(f"--option {s}", "expected KEY=VALUE, e.g. --option tol=1e-10")
+        key, _, val = s.partition("=")
+        low = val.strip().lower()
+        if low in ("true", "yes", "on"):
+            v = True
+        elif low in ("false", "no", "off"):
+            v = False
+        else:
+            try:
+                v = int(val)
+            except ValueError:
+                try:
+                    v = float(val)
+                except ValueError:
+                    v = val
+        out[key.strip()] = v
     return out
 
 
@@ -88,10 +116,14 @@ def run(args):
     ensure_configured(scene)    # a scene with axes but no joint configuration is configured first
     g = args.global_g if args.global_g is not None else scene.global_deformation
     opts = {"backend": args.backend} if args.model == "quadratic" else {}
+    opts.update(parse_options(args.option))
     res = run_model(args.model, scene, global_deformation=g, **opts)
     out = result_dict(scene, res, g, args.model)
     out["timings"]["total_s"] = time.perf_counter() - t0
     write_json(args.out, out)
     for w in res.warnings:
         print(f"warning: {w}", file=sys.stderr)
+    if not res.converged:   # the file is written (marked "converged": false) but the exit status says so
+        print(f"error: model {args.model!r} did not converge; {args.out} holds the last iterate", file=sys.stderr)
+        return 1
     return 0

@@ -11,7 +11,7 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
   ``contact_stiffness`` (1e4, times the hinge's soft bending stiffness), ``fallback`` (dynamic
-  relaxation when Newton fails, true), ``dr_max_iter`` (20000).
+  relaxation when Newton fails, true), ``dr_max_iter`` (5000).
 """
 import time
 
@@ -49,7 +49,7 @@ def _range_warnings(scene, D, warnings):
         k = int(over[np.argmax(np.abs(D[over]))])
         i, j = scene.topology.nodes[k]
         warnings.append(f"{over.size} node(s) turn further than the actuators' range, e.g. N{i},{j} at D = "
-                        f"{D[k]:.3f} (free-edge amplification; beyond +1 plates would touch)")
+                        f"{D[k]:.3f} (free-edge amplification: D beyond +-1 means the plate turns further than in the uniform mechanism at its limit)")
 
 
 def _linear(scene, global_deformation=None, planar=None, **options):
@@ -99,8 +99,10 @@ def _nonlinear(scene, global_deformation=None, **options):
     if hasattr(model, "last_residual"):
         info["residual_force_rel"], info["residual_constraint_rad"] = (float(x) for x in model.last_residual)
     if not ok:
-        warnings.append("the nonlinear model did NOT converge (Newton with load stepping and the dynamic-relaxation "
-                        f"fallback stopped at relative residual {info.get('residual_force_rel', float('nan')):.2e}); "
+        how = "Newton with load stepping" + (" and the dynamic-relaxation fallback" if model.fallback else "")
+        warnings.append(f"the nonlinear model did NOT converge ({how} stopped at relative force residual "
+                        f"{info.get('residual_force_rel', float('nan')):.2e} and constraint residual "
+                        f"{info.get('residual_constraint_rad', float('nan')):.2e} rad; tolerance {model.tol:g}); "
                         "the result is the last iterate, not an equilibrium")
     _range_warnings(scene, D, warnings)
     timings = {"geometry_s": t1 - t0, "solve_s": t2 - t1, "total_s": time.perf_counter() - t0}

@@ -128,7 +128,7 @@ class LinearLattice:
 # ----------------------------------------------------------------------------------------------------
 class NonlinearLattice:
     def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4,
-                 tol=1e-8, max_iter=40, load_steps=1, min_step=1.0 / 64, fallback=True, dr_max_iter=20000,
+                 tol=1e-8, max_iter=40, load_steps=1, min_step=1.0 / 64, fallback=True, dr_max_iter=5000,
                  predictor=False, planar=None):
         self.geo = geo or LatticeGeometry(scene)
         geo = self.geo
@@ -226,31 +226,53 @@ class NonlinearLattice:
             X, R = X2, R2
             mu = mu + alpha * (mu_new - mu)
         st, E, ge, He = self._state(X, R, tangent=False)
+        g = pat.vector(ge)
+        c = self._constraint(st, lam)
+        Ag = pat.vector(st.J[self.joints, 5, :] * mu[:, None], self.joints) if mu.size else 0.0
+        self.last_residual = ((np.abs(g + Ag).max() if g.size else 0.0) / scale_f,
+                              np.abs(c).max() if c.size else 0.0)
         return X, R, mu, False, self.max_iter
 
     # -- dynamic relaxation fallback -----------------------------------------------------------------
-    def _dynamic_relaxation(self, X, R, tol_f, scale_f):
-        """Kinetic-damping dynamic relaxation on the penalised energy (constraints as stiff springs)."""
+    def _dr_masses(self, X, R, kp):
+        """Fictitious masses: Gershgorin row sums of the penalised tangent, contact penalties included
+        whether active or not (so that a contact that closes cannot destabilise the explicit steps)."""
         pat = self.pattern
-        st, E, ge, He = self._state(X, R)
-        Hd = pat.matrix(He, None if not self.joints.size else st.J[self.joints, 5, :])
-        kp = 10.0 * float(np.abs(Hd.diagonal()).max())
-        # Gershgorin bound of the penalised tangent -> fictitious masses for a stable unit time step
-        A = st.J[self.joints, 5, :]
-        gersh = np.asarray(abs(Hd[:self.na, :self.na]).sum(axis=1)).ravel()
+        st = ElementState(self.geo, X, R, tangent=True)
+        He = np.abs(st.H)
+        Jr = np.abs(st.J[:, 5, :])
+        if self.contact:
+            He = He + self.kc[:, None, None] * Jr[:, :, None] * Jr[:, None, :]
+        gersh = pat.vector(He.sum(axis=2))
         if self.joints.size:
-            gersh = gersh + kp * pat.vector(np.abs(A) * np.abs(A).sum(axis=1, keepdims=True), self.joints)
-        mass = 0.5 * 2.0 * np.maximum(gersh, 1e-12)
+            A = np.abs(st.J[self.joints, 5, :])
+            gersh = gersh + kp * pat.vector(A * A.sum(axis=1, keepdims=True), self.joints)
+        return np.maximum(gersh, 1e-12 * max(gersh.max(initial=0.0), 1e-300))
+
+    def _dynamic_relaxation(self, X, R, tol_f, scale_f):
+        """Kinetic-damping dynamic relaxation on the penalised energy (constraints as stiff springs).
+
+        Explicit pseudo-dynamics with unit time step and Gershgorin masses (refreshed every 100 steps);
+        the velocities restart from zero at every kinetic-energy peak. No linear solves: it gets through
+        states where Newton's tangent is singular or the line search stalls, and Newton then polishes.
+        """
+        pat = self.pattern
+        st = ElementState(self.geo, X, R, tangent=True)
+        kp = 10.0 * float(np.abs(st.H[:, :, :]).max())
+        psi_scale = max(np.abs(self.psi).max(initial=0.0), 1e-12)
         v = np.zeros(self.na)
         ke_old = 0.0
+        mass = None
         for it in range(self.dr_max_iter):
+            if it % 100 == 0:
+                mass = self._dr_masses(X, R, kp)
             st, E, ge, _ = self._state(X, R, tangent=False)
             c = self._constraint(st, 1.0)
             if self.joints.size:
                 ge = ge.copy()
                 np.add.at(ge, self.joints, (kp * c)[:, None] * st.J[self.joints, 5, :])
             f = -pat.vector(ge)
-            if np.abs(f).max() <= tol_f * scale_f and (not c.size or np.abs(c).max() <= 1e-3 * np.abs(self.psi).max()):
+            if np.abs(f).max() <= tol_f * scale_f and (not c.size or np.abs(c).max() <= 1e-3 * psi_scale):
                 self.stats["dr_iterations"] += it
                 return X, R, True
             v = v + f / mass
@@ -303,7 +325,7 @@ class NonlinearLattice:
         converged = lam >= 1.0 - 1e-15
         if not converged and self.fallback:
             self.stats["method"] = "dynamic relaxation + Newton"
-            Xd, Rd, ok = self._dynamic_relaxation(X, R, 1e-3, scale_f)
+            Xd, Rd, ok = self._dynamic_relaxation(X, R, 1e-2, scale_f)
             X3, R3, mu3, ok2, _ = self._newton(Xd, Rd, 1.0, np.zeros(self.joints.size), scale_f)
             if ok2:
                 X, R, converged = X3, R3, True

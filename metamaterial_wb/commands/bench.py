@@ -1,0 +1,85 @@
+"""``bench fidelity [--out docs/fidelity.md] [--img docs/img/fidelity-work-precision.png]``.
+
+Runs every model of the fidelity ladder on the standard scenes (chain, 10 x 10 and 30 x 30 grids,
+bending strip, mixed hinge sizes; two actuator amplitudes) against the nonlinear reference and writes
+the report and its work-precision plot. Both files are rendered in memory first and written atomically.
+"""
+import json
+import os
+import platform
+import sys
+import time
+
+NAME = "bench"
+HELP = "benchmarks: 'bench fidelity' writes docs/fidelity.md and its work-precision plot (error vs run time)"
+
+
+def add_arguments(p):
+    p.add_argument("what", choices=("fidelity",), help="which benchmark")
+    p.add_argument("--out", default=os.path.join("docs", "fidelity.md"), help="report (Markdown)")
+    p.add_argument("--img", default=os.path.join("docs", "img", "fidelity-work-precision.png"),
+                   help="work-precision plot (PNG)")
+    p.add_argument("--json", default=None, help="also write the raw figures as JSON")
+    p.add_argument("--scenes", default=None,
+                   help="comma-separated subset of chain,grid10,grid30,bending,mixed (default: all)")
+    p.add_argument("--amplitudes", default=None, help="comma-separated actuator amplitudes (default 0.05,0.5)")
+    p.add_argument("--repeats", type=int, default=3, help="timing runs per model (best is reported)")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+
+
+def run(args):
+    from metamaterial_wb.core import fidelity
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fileio import write_atomic, write_json
+
+    amps = fidelity.AMPLITUDES
+    if args.amplitudes:
+        try:
+            amps = tuple(float(x) for x in args.amplitudes.split(","))
+        except ValueError:
+            raise SceneError("--amplitudes", f"{args.amplitudes!r}: expected numbers like 0.05,0.5") from None
+        for a in amps:
+            if not (0 < a <= 1):
+                raise SceneError("--amplitudes", f"{a!r} is outside the allowed range (0, 1]")
+    if args.repeats < 1 or args.repeats > 20:
+        raise SceneError("--repeats", f"{args.repeats} is outside the allowed range [1, 20]")
+    keys = None
+    if args.scenes:
+        keys = [k.strip() for k in args.scenes.split(",") if k.strip()]
+        known = [k for k, _, _ in fidelity.standard_scenes()]
+        for k in keys:
+            if k not in known:
+                raise SceneError("--scenes", f"{k!r} is not a standard scene; known: {', '.join(known)}")
+
+    t0 = time.perf_counter()
+
+    def progress(msg):
+        if not args.quiet:
+            print(f"[{time.perf_counter() - t0:6.1f} s] {msg}", file=sys.stderr, flush=True)
+
+    results = []
+    for a in amps:
+        scenes = [s for s in fidelity.standard_scenes(a) if keys is None or s[0] in keys]
+        results += fidelity.run_ladder(scenes, progress=progress, repeats=args.repeats, amplitudes=(a,))
+    machine = (f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, "
+               f"Python {platform.python_version()} ({platform.machine()}); shared machine, treat times as upper "
+               f"bounds.")
+    img_rel = os.path.relpath(os.path.abspath(args.img), os.path.dirname(os.path.abspath(args.out)))
+    text = fidelity.report_markdown(results, img_rel.replace(os.sep, "/"), machine)
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp_png = os.path.join(tmp, "plot.png")
+        fidelity.plot_work_precision(results, tmp_png)
+        with open(tmp_png, "rb") as f:
+            png = f.read()
+    write_atomic(args.img, png, mode="wb")
+    write_atomic(args.out, text)
+    if args.json:
+        write_json(args.json, {"format": "metamaterial-fidelity", "version": 1, "results": results})
+    for s in fidelity.summary(results):
+        print(f"{s['key']:8s} amp {s['amplitude']:<5g} quadratic {s['quadratic_ms']:7.2f} ms  linear "
+              f"{s['linear_ms']:7.2f} ms  nonlinear {s['nonlinear_ms']:8.1f} ms  RMS dD quadratic "
+              f"{s['quadratic_rms_D']:.3g} linear {s['linear_rms_D']:.3g} (ratio {s['ratio']:.2f})"
+              f"{'' if s['nonlinear_converged'] else '  NONLINEAR NOT CONVERGED'}")
+    print(f"wrote {args.out} and {args.img} ({time.perf_counter() - t0:.1f} s)")
+    return 0 if all(r["reference_converged"] for r in results) else 1

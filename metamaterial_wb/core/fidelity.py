@@ -1,0 +1,277 @@
+"""Error against run time: the fidelity ladder on standard scenes (``bench fidelity``, docs/fidelity.md).
+
+Models compared: the seed's quadratic model (R0), the linearised lattice (R1) and the nonlinear
+lattice (R2) at several Newton tolerances; the reference is R2 with a tight tolerance and several
+load steps. Error measures (research note, section 2.4):
+
+* node angle in D units after removing the rigid rotation: ``w`` = least-squares rigid in-plane
+  rotation between the two fields (their mean difference), ``dD_i = p_i (phi_i - w - phi_ref_i) /
+  phi_max(sign D_ref_i)``; reported as RMS and max over nodes;
+* node position after rigid (Kabsch) alignment to the reference, divided by the cell size (max and RMS).
+"""
+import math
+import time
+
+import numpy as np
+
+from metamaterial_wb.core.models import run_model
+from metamaterial_wb.core.scene import Scene
+
+REFERENCE_OPTIONS = {"tol": 1e-11, "load_steps": 4, "max_iter": 60}
+
+
+# ----------------------------------------------------------------------------------------------------
+# standard scenes
+# ----------------------------------------------------------------------------------------------------
+def _grid(rows, cols, actuators, name, description, **extra):
+    d = {"format": "metamaterial-scene", "version": 1, "name": name, "description": description,
+         "layout": {"grid": [rows, cols]}, "actuators": actuators}
+    d.update(extra)
+    return Scene.from_dict(d)
+
+
+def _four_actuators(n, amp):
+    q = max(1, n // 4)
+    return [{"name": "m1", "joint": f"H{q},{q}", "value": amp},
+            {"name": "m2", "joint": f"V{q},{n - q}", "value": -0.6 * amp},
+            {"name": "m3", "joint": f"H{n - q},{n - q - 1}", "value": 0.8 * amp},
+            {"name": "m4", "joint": f"V{n - q - 1},{q}", "value": -amp}]
+
+
+def standard_scenes(amplitude=0.5):
+    """``[(key, title, scene)]``: chain, 10x10 grid, 30x30 grid, bending strip, mixed hinge sizes."""
+    a = amplitude
+    out = []
+    out.append(("chain", "chain 1 x 20, actuators at both ends",
+                _grid(1, 20, [{"name": "rear", "joint": "V0,0", "value": a},
+                              {"name": "front", "joint": "V0,20", "value": -a}],
+                      "std-chain", "fidelity benchmark: chain")))
+    out.append(("grid10", "grid 10 x 10, four actuators",
+                _grid(10, 10, _four_actuators(10, a), "std-grid10", "fidelity benchmark: 10 x 10 grid")))
+    out.append(("grid30", "grid 30 x 30, four actuators",
+                _grid(30, 30, _four_actuators(30, a), "std-grid30", "fidelity benchmark: 30 x 30 grid")))
+    cols = 12
+    tilted = {f"H{i},{j}": {"tilt_deg": 20.0} for i in range(4) for j in (3, 6, 9)}
+    out.append(("bending", "bending strip 3 x 12, hinges tilted 20 deg on three fold lines",
+                _grid(3, cols, [{"name": "m1", "joint": "H1,1", "value": a},
+                                {"name": "m2", "joint": "H1,10", "value": a}],
+                      "std-bending", "fidelity benchmark: bending strip", joint_config=tilted)))
+    joints = []
+    for i in range(11):
+        for j in range(5, 10):
+            joints.append({"joint": f"H{i},{j}", "length_mm": 4.0, "width_mm": 1.2})
+    for i in range(10):
+        for j in range(6, 11):
+            joints.append({"joint": f"V{i},{j}", "length_mm": 4.0, "width_mm": 1.2})
+    out.append(("mixed", "grid 10 x 10, right half with 4 x 1.2 mm hinges (left 2 x 0.8 mm)",
+                _grid(10, 10, _four_actuators(10, a), "std-mixed", "fidelity benchmark: mixed hinge sizes",
+                      joints=joints)))
+    return out
+
+
+# ----------------------------------------------------------------------------------------------------
+# error measures
+# ----------------------------------------------------------------------------------------------------
+def twist(R):
+    from metamaterial_wb.core.lattice.solve import node_twist
+    return node_twist(np.asarray(R, float))
+
+
+def kabsch_error(P, Q):
+    """Distances between points P and reference points Q after the best rigid alignment of P onto Q."""
+    from metamaterial_wb.core.lattice.solve import kabsch
+    if len(P) < 2:
+        return np.zeros(len(P))
+    Rm, tv = kabsch(P, Q)
+    return np.linalg.norm(P @ Rm.T + tv - Q, axis=1)
+
+
+def compare(scene, result, reference):
+    """Error of one model result against the reference (dict of RMS/max in D units and cell sizes)."""
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+
+    geo = LatticeGeometry(scene)
+    phi = twist(result.rotations)
+    phi_ref = twist(reference.rotations)
+    diff = phi - phi_ref
+    w = float(np.mean(diff))
+    Dref = geo.D_from_phi(phi_ref)
+    dD = geo.parity * (diff - w) / np.where(Dref >= 0, geo.closing_rad, geo.opening_rad)
+    dpos = kabsch_error(np.asarray(result.positions_mm, float), np.asarray(reference.positions_mm, float))
+    dpos = dpos / scene.cell_size_mm
+    return {"rms_D": float(np.sqrt(np.mean(dD ** 2))), "max_D": float(np.abs(dD).max()),
+            "rms_pos": float(np.sqrt(np.mean(dpos ** 2))), "max_pos": float(dpos.max()),
+            "rigid_rotation_deg": math.degrees(w)}
+
+
+def timed(name, scene, repeats=3, budget_s=2.0, **options):
+    """Run a model; wall time = best of up to ``repeats`` runs (fewer when a run is slow)."""
+    best = None
+    res = None
+    spent = 0.0
+    for _ in range(repeats):
+        t = time.perf_counter()
+        res = run_model(name, scene, **options)
+        dt = time.perf_counter() - t
+        best = dt if best is None else min(best, dt)
+        spent += dt
+        if spent > budget_s:
+            break
+    return res, best
+
+
+LADDER = [
+    ("quadratic", "quadratic (R0)", {}),
+    ("linear", "linear lattice (R1)", {}),
+    ("nonlinear", "nonlinear (R2), tol 1e-2", {"tol": 1e-2}),
+    ("nonlinear", "nonlinear (R2), tol 1e-4", {"tol": 1e-4}),
+    ("nonlinear", "nonlinear (R2), tol 1e-6", {"tol": 1e-6}),
+    ("nonlinear", "nonlinear (R2), tol 1e-8 (default)", {}),
+]
+
+
+AMPLITUDES = (0.05, 0.5)
+
+
+def run_ladder(scenes=None, progress=None, repeats=3, amplitudes=AMPLITUDES):
+    """Every model on every standard scene (at every amplitude) against the reference.
+
+    Returns a list of per-scene dicts (``key``, ``amplitude``, ``rows`` ...).
+    """
+    out = []
+    for amp in amplitudes:
+        items = scenes if scenes is not None else standard_scenes(amp)
+        for key, title, scene in items:
+            if progress:
+                progress(f"{key} (amplitude {amp}): reference")
+            t = time.perf_counter()
+            ref = run_model("nonlinear", scene, **REFERENCE_OPTIONS)
+            t_ref = time.perf_counter() - t
+            rows = []
+            for model, label, opts in LADDER:
+                if progress:
+                    progress(f"{key} (amplitude {amp}): {label}")
+                res, dt = timed(model, scene, repeats=repeats, **opts)
+                err = compare(scene, res, ref)
+                rows.append({"model": model, "label": label, "options": opts, "time_s": dt,
+                             "converged": bool(res.converged), **err, "info": res.info})
+            out.append({"key": key, "title": title, "amplitude": amp, "n_nodes": scene.topology.n_nodes,
+                        "n_joints": scene.topology.n_joints, "reference_time_s": t_ref,
+                        "reference_converged": bool(ref.converged), "reference_info": ref.info, "rows": rows})
+    return out
+
+
+# ----------------------------------------------------------------------------------------------------
+# report
+# ----------------------------------------------------------------------------------------------------
+def plot_work_precision(results, path):
+    """Two rows (one per amplitude) x two columns (angle error, position error) against run time."""
+    import io
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from metamaterial_wb.core.fileio import write_atomic
+
+    amps = sorted({r["amplitude"] for r in results})
+    fig, axes = plt.subplots(len(amps), 2, figsize=(12, 4.6 * len(amps)), squeeze=False)
+    markers = {"quadratic": "s", "linear": "^"}
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    keys = []
+    for r in results:
+        if r["key"] not in keys:
+            keys.append(r["key"])
+    floor = 1e-12
+    for ia, amp in enumerate(amps):
+        for ic, (metric, ylabel) in enumerate((("rms_D", "RMS node-angle error (D units)"),
+                                               ("max_pos", "max position error / cell size"))):
+            ax = axes[ia, ic]
+            for r in results:
+                if r["amplitude"] != amp:
+                    continue
+                col = colors[keys.index(r["key"]) % len(colors)]
+                nl = [row for row in r["rows"] if row["model"] == "nonlinear"]
+                ax.plot([row["time_s"] * 1e3 for row in nl], [max(row[metric], floor) for row in nl], "-o",
+                        color=col, ms=4, label=f"{r['key']}")
+                for row in r["rows"]:
+                    if row["model"] in markers:
+                        ax.plot(row["time_s"] * 1e3, max(row[metric], floor), markers[row["model"]], color=col,
+                                ms=9, mfc="none" if row["model"] == "quadratic" else col)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel("run time (ms)")
+            ax.set_ylabel(ylabel)
+            ax.set_title(f"actuator amplitude {amp}")
+            ax.grid(True, which="both", alpha=0.3)
+        axes[ia, 0].plot([], [], "s", mfc="none", color="k", label="quadratic (R0)")
+        axes[ia, 0].plot([], [], "^", color="k", label="linear lattice (R1)")
+        axes[ia, 0].plot([], [], "-o", color="k", ms=4, label="nonlinear (R2), tol 1e-2 .. 1e-8")
+        axes[ia, 0].legend(fontsize=7, loc="lower left", ncol=2)
+    fig.suptitle("Error against the nonlinear reference vs run time (floor 1e-12)")
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100)
+    plt.close(fig)
+    write_atomic(path, buf.getvalue(), mode="wb")
+
+
+def _fmt(x):
+    if x == 0:
+        return "0"
+    if 0.01 <= abs(x) < 1000:
+        return f"{x:.3g}"
+    return f"{x:.1e}"
+
+
+def summary(results):
+    """Target check figures: linear/quadratic error ratio and times per scene and amplitude."""
+    out = []
+    for r in results:
+        q = next(row for row in r["rows"] if row["model"] == "quadratic")
+        li = next(row for row in r["rows"] if row["model"] == "linear")
+        nl = next(row for row in r["rows"] if row["model"] == "nonlinear" and not row["options"])
+        out.append({"key": r["key"], "amplitude": r["amplitude"], "n_nodes": r["n_nodes"],
+                    "quadratic_ms": q["time_s"] * 1e3, "linear_ms": li["time_s"] * 1e3,
+                    "nonlinear_ms": nl["time_s"] * 1e3, "quadratic_rms_D": q["rms_D"], "linear_rms_D": li["rms_D"],
+                    "ratio": li["rms_D"] / q["rms_D"] if q["rms_D"] > 0 else float("nan"),
+                    "nonlinear_converged": nl["converged"]})
+    return out
+
+
+def report_markdown(results, img_rel, machine="", command="python3 -m metamaterial_wb bench fidelity"):
+    lines = ["# Fidelity: error against run time", "",
+             f"Generated by `{command}`; do not edit by hand, re-run it. How the models work, what the "
+             "measures mean and how to choose a model: [the model guide](fidelity-models.md).", ""]
+    if machine:
+        lines += [machine, ""]
+    lines += [f"![work-precision plot]({img_rel})", "",
+              "Reference: the nonlinear lattice with tolerance 1e-11 and 4 initial load steps. Errors against it: "
+              "node angle in D units after removing the rigid rotation (RMS and max over nodes), node position "
+              "after rigid alignment divided by the cell size (max). Times: best of up to 3 runs, wall clock, "
+              "everything included (geometry, assembly, factorisation, solve, poses). Two actuator amplitudes: "
+              "0.05 (small, where the linearised lattice is accurate) and 0.5 (working range, where plate "
+              "contact and large hinge rotations matter).", "",
+              "## Summary", "",
+              "| scene | amplitude | nodes | quadratic ms | linear ms | nonlinear ms | quadratic RMS dD | linear RMS dD "
+              "| linear / quadratic error | nonlinear converged |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for srow in summary(results):
+        lines.append(f"| {srow['key']} | {srow['amplitude']} | {srow['n_nodes']} | {srow['quadratic_ms']:.2f} | "
+                     f"{srow['linear_ms']:.2f} | {srow['nonlinear_ms']:.1f} | {_fmt(srow['quadratic_rms_D'])} | "
+                     f"{_fmt(srow['linear_rms_D'])} | {srow['ratio']:.2f} | "
+                     f"{'yes' if srow['nonlinear_converged'] else 'NO'} |")
+    lines.append("")
+    for r in results:
+        lines += [f"## {r['title']}, amplitude {r['amplitude']}", "",
+                  f"{r['n_nodes']} nodes, {r['n_joints']} hinges; reference {r['reference_time_s'] * 1e3:.0f} ms, "
+                  f"converged: {'yes' if r['reference_converged'] else 'NO'} "
+                  f"({r['reference_info'].get('newton_iterations', 0)} Newton iterations, "
+                  f"{r['reference_info'].get('load_steps', 0)} load steps, {r['reference_info'].get('method', '')}).",
+                  "", "| model | time (ms) | RMS dD | max dD | RMS dD / amplitude | max pos. err / cell | converged |",
+                  "|---|---|---|---|---|---|---|"]
+        for row in r["rows"]:
+            lines.append(f"| {row['label']} | {row['time_s'] * 1e3:.2f} | {_fmt(row['rms_D'])} | {_fmt(row['max_D'])} | "
+                         f"{_fmt(row['rms_D'] / r['amplitude'])} | {_fmt(row['max_pos'])} | "
+                         f"{'yes' if row['converged'] else 'NO'} |")
+        lines.append("")
+    return "\n".join(lines) + "\n"
