@@ -20,8 +20,14 @@ class MetamaterialWorkbench(FreeCADGui.Workbench):
     def Deactivated(self):
         pass
 
+    def ContextMenu(self, recipient):
+        from metamaterial_wb.gui import commands
+        self.appendContextMenu("Metamaterial", commands.SIMULATE)
+
     def GetClassName(self):
         return "Gui::PythonWorkbench"
 
 
 FreeCADGui.addWorkbench(MetamaterialWorkbench())
+import FreeCAD  # noqa: E402
+FreeCAD.__unit_test__ += ["TestMetamaterialGui"]

@@ -1,12 +1,22 @@
-"""Workbench set-up: registers commands, menus and toolbars."""
+"""Workbench set-up: registers commands, menus, toolbars and the preferences page."""
+import os
+
+import metamaterial_wb
 
 
 def initialize(workbench):
     """Called from InitGui.MetamaterialWorkbench.Initialize()."""
-    try:
-        from metamaterial_wb.gui import commands
-    except ImportError:  # commands arrive with the workbench issue
-        return
-    names = commands.register()
-    workbench.appendToolbar("Metamaterial", names)
-    workbench.appendMenu("Metamaterial", names)
+    import FreeCADGui
+
+    from metamaterial_wb.gui import commands
+
+    commands.register()
+    workbench.appendToolbar("Metamaterial design", commands.DESIGN)
+    workbench.appendToolbar("Metamaterial simulation", commands.SIMULATE)
+    workbench.appendToolbar("Metamaterial fabrication", commands.FABRICATE)
+    workbench.appendMenu("Metamaterial", commands.DESIGN + ["Separator"] + commands.SIMULATE + ["Separator"]
+                         + commands.FABRICATE)
+    FreeCADGui.addIconPath(os.path.join(metamaterial_wb.RESOURCES_DIR, "icons"))
+    ui = os.path.join(metamaterial_wb.RESOURCES_DIR, "ui", "preferences.ui")
+    if os.path.exists(ui):
+        FreeCADGui.addPreferencePage(ui, "Metamaterial")

@@ -148,7 +148,7 @@ class LiveSolver:
         self.prepare_s = time.perf_counter() - t0
 
     def _make_kinematics(self):
-        for cls_name in ("Kinematics3D", "SheetKinematics", "PlanarKinematics"):
+        for cls_name in ("Kinematics", "Kinematics3D", "PlanarKinematics"):
             cls = getattr(kinematics, cls_name, None)
             if cls is not None:
                 try:

@@ -1,0 +1,117 @@
+"""Commands of the Metamaterial workbench. Each one opens a task panel or does one undoable step."""
+import FreeCAD
+import FreeCADGui
+
+import metamaterial_wb
+from metamaterial_wb.objects import structure
+
+
+def current_scene(doc=None):
+    """The Scene object the user means: the selected structure, else the last one in the document."""
+    doc = doc or FreeCAD.ActiveDocument
+    if doc is None:
+        return None
+    try:
+        for o in FreeCADGui.Selection.getSelection(doc.Name):
+            sc = structure.scene_object_of(o)
+            if sc is not None:
+                return sc
+    except Exception:
+        pass
+    scenes = structure.find_scene_objects(doc)
+    return scenes[-1] if scenes else None
+
+
+class _Command:
+    NAME = ""
+    ICON = ""
+    MENU = ""
+    TIP = ""
+    NEEDS_SCENE = True
+
+    def GetResources(self):
+        return {"Pixmap": metamaterial_wb.icon_path(self.ICON), "MenuText": self.MENU, "ToolTip": self.TIP}
+
+    def IsActive(self):
+        if not self.NEEDS_SCENE:
+            return True
+        doc = FreeCAD.ActiveDocument
+        return doc is not None and any(getattr(getattr(o, "Proxy", None), "Type", "") == "MetamaterialScene"
+                                       for o in doc.Objects)
+
+    def panel(self, scene_obj):
+        raise NotImplementedError
+
+    def Activated(self):
+        from metamaterial_wb.gui import taskpanels
+        if self.NEEDS_SCENE:
+            sc = current_scene()
+            if sc is None:
+                FreeCAD.Console.PrintError(f"{self.MENU}: no metamaterial structure in the active document\n")
+                return
+            taskpanels.show(self.panel(sc))
+        else:
+            taskpanels.show(self.panel(FreeCAD.ActiveDocument))
+
+
+def _cmd(name, icon, menu, tip, make_panel, needs_scene=True):
+    cls = type(name, (_Command,), {"NAME": name, "ICON": icon, "MENU": menu, "TIP": tip,
+                                   "NEEDS_SCENE": needs_scene,
+                                   "panel": lambda self, arg: make_panel(arg)})
+    return cls()
+
+
+def _panels():
+    from metamaterial_wb.gui import taskpanels as tp
+    return tp
+
+
+COMMANDS = [
+    ("MM_NewStructure", "MM_NewStructure.svg", "New structure",
+     "Lay out a new metamaterial sheet: toggle cells on a grid, chain / grid presets, or load a scene file",
+     lambda doc: _panels().NewStructurePanel(doc), False),
+    ("MM_OpenExample", "MM_OpenExample.svg", "Open example",
+     "Open one of the bundled examples (fish, worm, ...)", lambda doc: _panels().OpenExamplePanel(doc), False),
+    ("MM_RotaryAxes", "MM_RotaryAxes.svg", "Rotary axes",
+     "Pick the grid lines the structure folds about; rule violations are listed",
+     lambda sc: _panels().RotaryAxesPanel(sc), True),
+    ("MM_FoldedShape", "MM_FoldedShape.svg", "Folded shape",
+     "One slider per axis (with its maximum); Confirm runs the joint configuration",
+     lambda sc: _panels().FoldedShapePanel(sc), True),
+    ("MM_Flexibility", "MM_Flexibility.svg", "Flexibility",
+     "Global and per-joint hinge sizes, with the resulting k1 / k2", lambda sc: _panels().FlexibilityPanel(sc), True),
+    ("MM_PlaceMotor", "MM_PlaceMotor.svg", "Place motor",
+     "Put a servo on a joint (click a hinge); shown as a red sphere",
+     lambda sc: _panels().PlaceItemPanel(sc, "actuator"), True),
+    ("MM_PlaceConstraint", "MM_PlaceConstraint.svg", "Angular constraint",
+     "Hold a joint at a fixed deformation (clip); shown as a blue disc",
+     lambda sc: _panels().PlaceItemPanel(sc, "constraint"), True),
+    ("MM_AddModule", "MM_AddModule.svg", "Add module",
+     "Servo housing, connection hubs, friction pad or clip on a node or joint",
+     lambda sc: _panels().AddModulePanel(sc), True),
+    ("MM_Simulate", "MM_Simulate.svg", "Simulate",
+     "Global-deformation slider and one slider per motor and constraint, solved live",
+     lambda sc: _panels().SimulatePanel(sc), True),
+    ("MM_Animate", "MM_Animate.svg", "Animate",
+     "Play the motors' motion profiles (sine amplitude, frequency, phase); stream to hardware",
+     lambda sc: _panels().AnimatePanel(sc), True),
+    ("MM_Export", "MM_Export.svg", "Export STEP / 3MF",
+     "Write STEP (named bodies) and 3MF (per-part materials) for dual-extruder printers",
+     lambda sc: _panels().ExportPanel(sc), True),
+]
+
+DESIGN = ["MM_NewStructure", "MM_OpenExample", "MM_RotaryAxes", "MM_FoldedShape"]
+SIMULATE = ["MM_Flexibility", "MM_PlaceMotor", "MM_PlaceConstraint", "MM_AddModule", "MM_Simulate", "MM_Animate"]
+FABRICATE = ["MM_Export"]
+
+_REGISTERED = False
+
+
+def register():
+    global _REGISTERED
+    names = [c[0] for c in COMMANDS]
+    if not _REGISTERED:
+        for name, icon, menu, tip, make, needs in COMMANDS:
+            FreeCADGui.addCommand(name, _cmd(name, icon, menu, tip, make, needs))
+        _REGISTERED = True
+    return names
