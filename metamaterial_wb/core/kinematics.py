@@ -425,36 +425,43 @@ class Kinematics:
 
     def fold_frames(self, phi):
         """(n, 3, 3) fold frames F (identity for a planar scene)."""
-        F = np.broadcast_to(np.eye(3), (self.n, 3, 3)).copy()
+        return self._fold_state(phi)[0]
+
+    def _fold_state(self, phi):
+        """``(F, theta)``: fold frames and the per-group fold fields (n, groups)."""
         if self.planar:
-            return F
+            return np.broadcast_to(np.eye(3), (self.n, 3, 3)).copy(), None
         gamma = self.joint_folds(phi)
         E = np.zeros((self.m, len(self.groups)))
         for g, (_d, _f, js) in enumerate(self.groups):
             E[js, g] = gamma[js]
         theta = self._solve_edges(E)
+        F = None
         for g, (_d, f, _js) in enumerate(self.groups):
-            F = np.einsum("nij,njk->nik", F, axis_angle_matrices(f, theta[:, g]))
-        return F
+            Rg = axis_angle_matrices(f, theta[:, g])
+            F = Rg if F is None else F @ Rg
+        return F, theta
 
-    def _chords(self, phi, F, R):
+    def _chords(self, phi, F, R, theta=None):
         a, b = self.a, self.b
         mean = 0.5 * (phi[a] + phi[b])
-        if self.planar:
-            c, s = np.cos(mean), np.sin(mean)
-            d = self.d0
-            chord = np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1], np.zeros(self.m)])
-        else:
-            rel = np.einsum("mji,mjk->mik", F[a], F[b])
-            M = np.einsum("mij,mjk->mik", F[a], rotation_exp(0.5 * rotation_log(rel)))
-            inplane = rotation_matrices(mean)
-            chord = _matvec(M, _matvec(inplane, self.d0))
+        c, s = np.cos(mean), np.sin(mean)
+        d = self.d0
+        chord = np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1], np.zeros(self.m)])
+        if not self.planar:
+            if theta is not None and len(self.groups) == 1:
+                # one fold direction: mid(F_A, F_B) = Rot(f, (theta_A + theta_B) / 2) exactly
+                M = axis_angle_matrices(self.groups[0][1], 0.5 * (theta[a, 0] + theta[b, 0]))
+            else:
+                Fa = F[a]
+                M = Fa @ rotation_exp(0.5 * rotation_log(np.swapaxes(Fa, 1, 2) @ F[b]))
+            chord = _matvec(M, chord)
         return chord + _matvec(R[a], self.ra) - _matvec(R[b], self.rb)
 
     def rotations(self, phi, F=None):
         F = self.fold_frames(phi) if F is None else F
         Rz = rotation_matrices(phi)
-        return Rz if self.planar else np.einsum("nij,njk->nik", F, Rz)
+        return Rz if self.planar else F @ Rz
 
     # -- public --------------------------------------------------------------------------------
     def poses(self, D):
@@ -465,9 +472,9 @@ class Kinematics:
 
     def poses_from_angles(self, phi):
         phi = np.asarray(phi, dtype=float)
-        F = self.fold_frames(phi)
+        F, theta = self._fold_state(phi)
         R = self.rotations(phi, F)
-        e = self._chords(phi, F, R)
+        e = self._chords(phi, F, R, theta)
         pos = self._solve_edges(e)
         pos += self.flat.mean(axis=0) - pos.mean(axis=0)
         return pos, R
@@ -491,8 +498,8 @@ class Kinematics:
         F = self.fold_frames(phi)
         gamma = self.joint_folds(phi)
         f = joint_fold_vectors(self.scene)
-        want = np.einsum("mij,mjk->mik", F[self.a], axis_angle_matrices(f, gamma))
-        err = rotation_log(np.einsum("mji,mjk->mik", want, F[self.b]))
+        want = F[self.a] @ axis_angle_matrices(f, gamma)
+        err = rotation_log(np.swapaxes(want, 1, 2) @ F[self.b])
         return float(np.linalg.norm(err, axis=1).max()) if self.m else 0.0
 
 
@@ -523,6 +530,6 @@ def joint_angles(scene, rotations):
     cross = np.cross(na, nb)
     sign = np.where(np.einsum("mi,mi->m", cross, fa) < 0, -1.0, 1.0)
     fold = sign * np.degrees(np.arctan2(np.linalg.norm(cross, axis=1), np.einsum("mi,mi->m", na, nb)))
-    rel = np.einsum("mji,mjk->mik", R[a], R[b])
+    rel = np.swapaxes(R[a], 1, 2) @ R[b]
     psi = np.degrees(np.linalg.norm(rotation_log(rel), axis=1))
     return fold, psi

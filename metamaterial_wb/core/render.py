@@ -48,7 +48,7 @@ def render_png(scene, pos, R, D, path=None, title=None, elev=28.0, azim=-62.0, s
         ax = fig.add_subplot(111, projection="3d")
         corners = plate_corners(scene, pos, R)
         cmap = plt.get_cmap("coolwarm")
-        colours = cmap(0.5 + 0.5 * np.clip(D, -1, 1))
+        colours = cmap(0.5 + 0.4 * np.clip(D, -1, 1))
         lw = 0.6 if topo.n_nodes <= 400 else 0.15
         poly = Poly3DCollection(corners, facecolors=colours, edgecolors=(0.2, 0.2, 0.25, 1.0), linewidths=lw,
                                 alpha=0.95)
