@@ -1,0 +1,143 @@
+"""Reading FD curves: peaks and valleys, snapping events, two-hysteron sequencing, PV curves."""
+import numpy as np
+
+
+def extrema(F, rel_prominence=0.02):
+    """Alternating peaks and valleys of a sampled curve ``F`` (in path order).
+
+    A local maximum counts as a peak (minimum as a valley) only if the curve falls (rises) by more
+    than ``rel_prominence`` times the curve's range before the next extremum of the other kind, so
+    that numerical wiggles do not count. Returns lists of indices ``(peaks, valleys)``.
+    """
+    F = np.asarray(F, dtype=float)
+    if len(F) < 3:
+        return [], []
+    thr = rel_prominence * max(np.ptp(F), 1e-300)
+    peaks, valleys = [], []
+    mode = "up"          # looking for a peak
+    cand = 0
+    for i in range(1, len(F)):
+        if mode == "up":
+            if F[i] > F[cand]:
+                cand = i
+            elif F[cand] - F[i] > thr:
+                peaks.append(cand)
+                mode, cand = "down", i
+        else:
+            if F[i] < F[cand]:
+                cand = i
+            elif F[i] - F[cand] > thr:
+                valleys.append(cand)
+                mode, cand = "up", i
+    return peaks, valleys
+
+
+def peaks_valleys(d, F, rel_prominence=0.02):
+    """``{"peaks": [[d, F], ...], "valleys": [[d, F], ...]}`` of a loading curve."""
+    p, v = extrema(F, rel_prominence)
+    return {"peaks": [[float(d[i]), float(F[i])] for i in p],
+            "valleys": [[float(d[i]), float(F[i])] for i in v]}
+
+
+def snapped(states, geoms_of_cells):
+    """Boolean (n, ncells): cell's top has passed the beams' chord (d > h), i.e. the beams are inverted."""
+    h = np.array([g.h / g.L for g in geoms_of_cells])
+    return np.asarray(states) > h[None, :]
+
+
+def snap_order(path, cell_types, geoms_of_cells):
+    """Order in which cell *types* change state along a path, from the per-cell snapped flags.
+
+    Returns (order_of_types, events) where events are (index, d, [cells], state_after).
+    """
+    s = snapped(path.states, geoms_of_cells)
+    events = []
+    for i in range(1, len(s)):
+        changed = np.nonzero(s[i] != s[i - 1])[0]
+        if len(changed):
+            events.append((i, float(path.d[i]), [int(c) for c in changed], bool(s[i][changed[0]])))
+    order = []
+    for _, _, cells, _ in events:
+        for c in cells:
+            t = int(cell_types[c])
+            if t not in order:
+                order.append(t)
+    return order, events
+
+
+def two_hysteron_sequence(thresholds):
+    """Two-hysteron prediction (seed 002, section 2.3, after Van Raemdonck et al.).
+
+    ``thresholds``: per cell type ``(P1, V2)``: first-peak (forward snapping) and second-valley
+    (backward snapping) force of the uniform ring made of that type. On loading the type with the
+    lower P1 snaps first; on unloading the type with the higher V2 snaps back first. The sequence
+    is *symmetric* when unloading reverses loading (first to snap is last to snap back).
+    """
+    types = list(range(len(thresholds)))
+    loading = sorted(types, key=lambda k: (thresholds[k][0], k))
+    unloading = sorted(types, key=lambda k: (-thresholds[k][1], k))
+    symmetric = unloading == loading[::-1]
+    combination = None
+    if len(types) == 2:
+        (p1, v1), (p2, v2) = thresholds
+        combination = {(True, True): 1, (True, False): 2, (False, False): 3, (False, True): 4}[(p1 > p2, v1 > v2)]
+    return {"loading": loading, "unloading": unloading, "symmetric": bool(symmetric),
+            "combination": combination}
+
+
+def lean_direction(tilt):
+    """Horizontal direction (unit vector) the top plate's normal leans to for tilt (psi_x, psi_y)."""
+    n = np.array([tilt[1], -tilt[0]])
+    nn = np.linalg.norm(n)
+    return n / nn if nn > 0 else n
+
+
+# ------------------------------------------------------------------------------------------------
+# PV curves
+def pv_curve(d_mm, F_N, cap_area_mm2, membrane_kPa_per_mL=0.0):
+    """Volume-controlled PV curve from an FD curve: V = A x, p = F / A + k_m V.
+
+    Returns (V_mL, p_kPa). 1 N/mm^2 = 1000 kPa, 1 mL = 1000 mm^3.
+    """
+    V = np.asarray(d_mm) * cap_area_mm2 / 1000.0
+    p = np.asarray(F_N) / cap_area_mm2 * 1000.0 + membrane_kPa_per_mL * V
+    return V, p
+
+
+def pressure_control(V, p, loading=True):
+    """Pressure-controlled response derived from a volume-controlled curve ``(V, p)``.
+
+    Under monotonically increasing pressure (``loading``) the state follows the curve while ``p``
+    rises; at a local maximum it jumps (at constant pressure) to the first later point where the
+    curve exceeds that pressure. Unloading (``loading=False``, curve given from large V to small V):
+    mirror image at local minima. Returns (V_path, p_path, jumps) with jumps as
+    ``[(p, V_from, V_to), ...]``. Pressures never reached (beyond the curve's end) are cut.
+    """
+    V = np.asarray(V, float)
+    p = np.asarray(p, float)
+    sgn = 1.0 if loading else -1.0
+    q = sgn * p
+    outV, outp, jumps = [V[0]], [p[0]], []
+    level = q[0]
+    i = 1
+    while i < len(V):
+        if q[i] >= level:
+            level = q[i]
+            outV.append(V[i]); outp.append(p[i])
+            i += 1
+            continue
+        # pressure cannot drop: jump to the first later point with q >= level
+        later = np.nonzero(q[i:] >= level)[0]
+        if len(later) == 0:
+            break
+        j = i + int(later[0])
+        # interpolate the landing point
+        if j > 0 and q[j] != q[j - 1]:
+            a = (level - q[j - 1]) / (q[j] - q[j - 1])
+            Vl = V[j - 1] + a * (V[j] - V[j - 1])
+        else:
+            Vl = V[j]
+        jumps.append((float(sgn * level), float(outV[-1]), float(Vl)))
+        outV.append(Vl); outp.append(sgn * level)
+        i = j
+    return np.array(outV), np.array(outp), jumps

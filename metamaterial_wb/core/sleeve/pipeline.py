@@ -1,0 +1,202 @@
+"""Everything the ``sleeve`` command computes for one spec: unit cells, uniform rings, the sleeve's
+ring, sequencing, PV curves, design maps and the walker. Returns plain data (and curves for plots)."""
+import math
+import time
+
+import numpy as np
+
+from metamaterial_wb.core.sleeve.analysis import (extrema, lean_direction, peaks_valleys, pressure_control,
+                                                  pv_curve, snap_order, two_hysteron_sequence)
+from metamaterial_wb.core.sleeve.cell import CellGeometry
+from metamaterial_wb.core.sleeve.model import SleeveModel, default_stroke
+from metamaterial_wb.core.sleeve.walker import walker_cycle
+
+
+def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None):
+    m = SleeveModel([geom], None, n_el, plane)
+    d_max = default_stroke([geom]) if d_max is None else d_max
+    d = np.linspace(0.0, d_max, steps + 1)
+    up = m.trace(d)
+    down = m.trace(d[::-1], q0=m.last_q)
+    p, v = extrema(up.F)
+    peak = p[0] if p else int(np.argmax(up.F))
+    after = up.F[peak:]
+    valley = (v[0] if v else peak + int(np.argmin(after)))
+    F = up.F
+    sign_changes = int(np.sum(np.diff(np.sign(F[1:])) != 0))
+    res = {"t_mm": geom.t, "h_mm": geom.h, "t_over_L": geom.t / geom.L, "h_over_L": geom.h / geom.L,
+           "peak_force": float(F[peak]), "peak_displacement": float(up.d[peak]),
+           "valley_force": float(F[valley]), "valley_displacement": float(up.d[valley]),
+           "bistable": bool(F[valley] < 0), "zero_crossings": sign_changes,
+           "hysteresis": float(np.max(np.abs(up.F - down.F[::-1]))),
+           "seconds": up.seconds + down.seconds}
+    return res, up, down
+
+
+def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, unload=True,
+               imperfection=1e-4, progress=None):
+    """Load (and unload) a sleeve. ``imperfection`` (relative thickness scatter that fixes the tilt
+    direction, like the seed's mesh imperfections) is applied to uniform sleeves only: mixed
+    sleeves break the symmetry by design."""
+    uniform = len({t for row in pattern for t in row}) == 1
+    m = SleeveModel(cells, pattern, n_el, plane, imperfection=imperfection if uniform else 0.0)
+    used = [cells[t] for row in pattern for t in row]
+    d_max = default_stroke(used) * len(pattern) if d_max is None else d_max
+    d = np.linspace(0.0, d_max, steps + 1)
+    up = m.trace(d, progress=progress)
+    down = m.trace(d[::-1], q0=m.last_q, progress=progress) if unload else None
+    return m, up, down
+
+
+def ring_thresholds(up):
+    """First peak P1 and second valley V2 (last valley when there is only one) of a loading curve."""
+    p, v = extrema(up.F)
+    P1 = float(up.F[p[0]]) if p else float(np.max(up.F))
+    V2 = float(up.F[v[1]]) if len(v) >= 2 else (float(up.F[v[0]]) if v else float(np.min(up.F)))
+    return P1, V2, len(p), len(v)
+
+
+def simulated_sequence(model, up, down):
+    """Snapping order of the cell types along the traced loading and unloading paths, and tilts."""
+    types = [t for (_, _, t) in model.cell_index]
+    geoms = [model.cells[t] for t in types]
+    lo, ev_up = snap_order(up, types, geoms)
+    un, ev_dn = snap_order(down, types, geoms)
+    sym = lo[::-1] == un
+    ti_up = up.tilt[np.argmax(np.linalg.norm(up.tilt, axis=1))]
+    ti_dn = down.tilt[np.argmax(np.linalg.norm(down.tilt, axis=1))]
+    lu, ld = lean_direction(ti_up), lean_direction(ti_dn)
+    return {"loading": lo, "unloading": un, "symmetric": bool(sym),
+            "max_tilt_loading_deg": float(math.degrees(np.linalg.norm(ti_up))),
+            "max_tilt_unloading_deg": float(math.degrees(np.linalg.norm(ti_dn))),
+            "lean_loading_deg": float(math.degrees(math.atan2(lu[1], lu[0]))) if np.any(lu) else None,
+            "lean_unloading_deg": float(math.degrees(math.atan2(ld[1], ld[0]))) if np.any(ld) else None,
+            "lean_reverses": bool(np.dot(lu, ld) < 0),
+            "events_loading": [{"d": e[1], "cells": e[2], "snapped": e[3]} for e in ev_up],
+            "events_unloading": [{"d": e[1], "cells": e[2], "snapped": e[3]} for e in ev_dn]}
+
+
+def design_map(L, c, delta, T, t_range, h_range, ring=False, n_el=8, steps=120, plane="strain",
+               n_cells=4, progress=None):
+    """Peak/valley over a grid of t/L and h/L (seed figure 2C; with ``ring`` also P1/V2, fig. 2F)."""
+    ts = np.linspace(*t_range[:2], t_range[2])
+    hs = np.linspace(*h_range[:2], h_range[2])
+    out = {"t_over_L": ts.tolist(), "h_over_L": hs.tolist(), "peak": [], "valley": []}
+    if ring:
+        out.update({"P1": [], "V2": [], "peaks_count": []})
+    k = 0
+    for h in hs:
+        rowp, rowv, rp1, rv2, rn = [], [], [], [], []
+        for t in ts:
+            g = CellGeometry(L=L, t=t * L, h=h * L, c=c, delta=delta, T=T)
+            res, _, _ = unit_cell_result(g, n_el, steps, plane)
+            rowp.append(res["peak_force"]); rowv.append(res["valley_force"])
+            if ring:
+                _, up, _ = ring_trace([g], [[0] * n_cells], n_el, steps, plane, unload=False)
+                P1, V2, n_p, _ = ring_thresholds(up)
+                rp1.append(P1); rv2.append(V2); rn.append(n_p)
+            k += 1
+            if progress:
+                progress(k, len(ts) * len(hs))
+        out["peak"].append(rowp); out["valley"].append(rowv)
+        if ring:
+            out["P1"].append(rp1); out["V2"].append(rv2); out["peaks_count"].append(rn)
+    return out
+
+
+def analyse(spec, progress=None, log=None):
+    """Run everything for a :class:`SleeveSpec`. Returns (summary dict, curves dict)."""
+    t0 = time.perf_counter()
+    say = log or (lambda s: None)
+    L, G = spec.L, spec.G
+    Fscale = G * L * L                  # N per normalised force unit (MPa * mm^2)
+    curves = {"cells": [], "uniform": [], "ring": None}
+    unit_cells = []
+    dmax = None if spec.d_max_mm is None else spec.d_max_mm / L
+    for i, g in enumerate(spec.cells):
+        say(f"unit cell {i}: t = {g.t:g} mm, h = {g.h:g} mm")
+        res, up, down = unit_cell_result(g, spec.n_el_cell, spec.steps, spec.plane, dmax)
+        res["type"] = i
+        res["peak_force_N"] = res["peak_force"] * Fscale
+        res["valley_force_N"] = res["valley_force"] * Fscale
+        unit_cells.append(res)
+        curves["cells"].append((up, down))
+    used = sorted({t for row in spec.pattern for t in row})
+    n = spec.N
+    thresholds = []
+    uniform = []
+    for i in used:
+        say(f"uniform ring of type {i} ({n} cells)")
+        _, up, _ = ring_trace([spec.cells[i]], [[0] * n], spec.n_el_ring, spec.steps, spec.plane,
+                              dmax, unload=False, imperfection=spec.imperfection)
+        P1, V2, n_p, n_v = ring_thresholds(up)
+        pv = peaks_valleys(up.d, up.F)
+        uniform.append({"type": i, "P1": P1, "V2": V2, "two_peaks": n_p >= 2 and n_v >= 2,
+                        "peaks": [f for _, f in pv["peaks"]], "valleys": [f for _, f in pv["valleys"]],
+                        "seconds": up.seconds})
+        thresholds.append((P1, V2))
+        curves["uniform"].append((i, up))
+    say(f"sleeve: {spec.M} ring(s) x {n} cells, pattern {spec.pattern}")
+    model, up, down = ring_trace(spec.cells, spec.pattern, spec.n_el_ring, spec.steps, spec.plane,
+                                 dmax * spec.M if dmax else None, imperfection=spec.imperfection,
+                                 progress=progress)
+    curves["ring"] = (model, up, down)
+    pv = peaks_valleys(up.d, up.F)
+    pvd = peaks_valleys(down.d[::-1], down.F[::-1])
+    ring = {"cells": n, "rings": spec.M, "pattern": spec.pattern,
+            "peaks": [f for _, f in pv["peaks"]], "valleys": [f for _, f in pv["valleys"]],
+            "peak_displacements": [d for d, _ in pv["peaks"]],
+            "valley_displacements": [d for d, _ in pv["valleys"]],
+            "unloading_peaks": [f for _, f in pvd["peaks"]], "unloading_valleys": [f for _, f in pvd["valleys"]],
+            "max_tilt_deg": float(math.degrees(np.max(np.linalg.norm(up.tilt, axis=1)))),
+            "radius_mm": spec.radius_mm, "seconds_loading": up.seconds, "seconds_unloading": down.seconds,
+            "degrees_of_freedom": int(model.nred)}
+    seq = two_hysteron_sequence([thresholds[used.index(i)] for i in used])
+    seq["loading"] = [used[k] for k in seq["loading"]]
+    seq["unloading"] = [used[k] for k in seq["unloading"]]
+    seq["method"] = "two-hysteron rule on the uniform rings' first peak and second valley"
+    seq["thresholds"] = {str(i): {"P1": thresholds[k][0], "V2": thresholds[k][1]} for k, i in enumerate(used)}
+    sim = simulated_sequence(model, up, down)
+    seq["simulated"] = sim
+    seq["agrees"] = bool(sim["loading"] == seq["loading"] and sim["unloading"] == seq["unloading"])
+    # PV curve
+    A = math.pi * (spec.core_diameter / 2) ** 2
+    Vl, pl = pv_curve(up.d * L, up.F * Fscale, A, spec.membrane)
+    Vu, pu = pv_curve(down.d * L, down.F * Fscale, A, spec.membrane)
+    Vpc, ppc, jl = pressure_control(Vl, pl, True)
+    Vpu, ppu, ju = pressure_control(Vu, pu, False)
+    ppv = peaks_valleys(Vl, pl)
+    pvres = {"cap_area_mm2": A, "membrane_kPa_per_mL": spec.membrane,
+             "peaks_kPa": [p for _, p in ppv["peaks"]], "valleys_kPa": [p for _, p in ppv["valleys"]],
+             "peak_volumes_mL": [v for v, _ in ppv["peaks"]],
+             "pressure_control_loading_jumps": [{"p_kPa": a, "V_from_mL": b, "V_to_mL": c} for a, b, c in jl],
+             "pressure_control_unloading_jumps": [{"p_kPa": a, "V_from_mL": b, "V_to_mL": c} for a, b, c in ju],
+             "needs_vacuum_to_reset": bool(np.min(pu) < 0)}
+    curves["pv"] = {"load": (Vl, pl), "unload": (Vu, pu), "pc_load": (Vpc, ppc), "pc_unload": (Vpu, ppu)}
+    summary = {"format": "metamaterial-sleeve-summary", "version": 1, "name": spec.name,
+               "normalisation": {"force": "F / (G L^2)", "displacement": "d / L", "G_MPa": G, "L_mm": L,
+                                 "force_unit_N": Fscale},
+               "cell": {"width_mm": spec.cells[0].width, "height_mm": max(g.height for g in spec.cells),
+                        "c_mm": spec.c, "delta_mm": spec.delta, "T_mm": spec.T},
+               "unit_cells": unit_cells, "uniform_rings": uniform, "ring": ring, "sequence": seq,
+               "pv": pvres}
+    if spec.walker:
+        wk = spec.walker
+        H = spec.M * max(g.height for g in spec.cells)
+        cyc = walker_cycle(up.d * L, up.tilt, down.d * L, down.tilt, H, wk["foot_length_mm"],
+                           wk["contact_band_mm"])
+        curves["walker"] = cyc
+        summary["walker"] = {k: cyc[k] for k in ("area_mm2", "orientation", "lateral_stroke_mm", "lift_mm",
+                                                   "step_per_cycle_mm", "direction")}
+        summary["walker"].update({"legs": 4, "pairs_in_antiphase": [[1, 3], [2, 4]],
+                                  "sleeve_height_mm": H, "foot_length_mm": wk["foot_length_mm"]})
+    if spec.design_map:
+        dm = spec.design_map
+        say("design map")
+        summary["design_map"] = design_map(L, spec.c, spec.delta, spec.T, dm["t_over_L"], dm["h_over_L"],
+                                           dm["ring"], spec.n_el_ring, max(60, spec.steps // 2), spec.plane,
+                                           n)
+    summary["timings"] = {"total_s": time.perf_counter() - t0,
+                          "unit_cell_s": [u["seconds"] for u in unit_cells],
+                          "ring_s": up.seconds + down.seconds}
+    return summary, curves

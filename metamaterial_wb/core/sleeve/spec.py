@@ -1,0 +1,141 @@
+"""Sleeve spec files (``"format": "metamaterial-sleeve"``), validation with clear errors.
+
+See ``docs/scene-format.md`` section "Sleeve spec" for every field.
+"""
+import json
+import math
+
+from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.sleeve.cell import CellGeometry
+
+FORMAT = "metamaterial-sleeve"
+
+
+class SleeveSpec:
+    def __init__(self, data, source="spec"):
+        if not isinstance(data, dict):
+            raise SceneError("", f"{source}: expected a JSON object")
+        self.raw = data
+        fmt = data.get("format")
+        if fmt != FORMAT:
+            raise SceneError("format", f"{fmt!r}; expected {FORMAT!r}")
+        ver = data.get("version", 1)
+        if ver != 1:
+            raise SceneError("version", f"{ver!r}; supported: 1")
+        self.name = str(data.get("name", "sleeve"))
+        num = lambda k, d, lo, hi, unit="mm", lo_open=True: check_number(  # noqa: E731
+            k, data.get(k, d), lo, hi, unit, low_open=lo_open)
+        self.L = num("L_mm", 18.0, 0, 1000)
+        self.c = num("c_mm", 4.0, 0, 1000)
+        self.delta = num("delta_mm", 0.5, 0, 1000)
+        self.T = num("T_mm", 1.8, 0, 1000)
+        self.G = num("shear_modulus_MPa", 28.0, 0, 1e5, "MPa")
+        types = data.get("cell_types")
+        if not isinstance(types, list) or not types:
+            raise SceneError("cell_types", "expected a non-empty list of {\"t_mm\": ..., \"h_mm\": ...}")
+        self.cells = []
+        for i, ct in enumerate(types):
+            f = f"cell_types[{i}]"
+            if not isinstance(ct, dict):
+                raise SceneError(f, f"expected an object, got {ct!r}")
+            for k in ("t_mm", "h_mm"):
+                if k not in ct:
+                    raise SceneError(f"{f}.{k}", "missing")
+            t = check_number(f"{f}.t_mm", ct["t_mm"], 0, 0.25 * self.L, "mm", low_open=True)
+            h = check_number(f"{f}.h_mm", ct["h_mm"], 0, 0.6 * self.L, "mm", low_open=True)
+            self.cells.append(CellGeometry.checked(f, L=self.L, t=t, h=h, c=self.c, delta=self.delta, T=self.T))
+        if "pattern" in data:
+            pat = data["pattern"]
+            if not isinstance(pat, list) or not pat or not all(isinstance(r, list) for r in pat):
+                raise SceneError("pattern", "expected a list of rings, each a list of cell type indices")
+        else:
+            ring = data.get("ring")
+            if not isinstance(ring, list):
+                raise SceneError("ring", "expected a list of cell type indices around the circumference, e.g. [0, 0, 1, 1]")
+            rings = data.get("rings", 1)
+            if isinstance(rings, bool) or not isinstance(rings, int) or not 1 <= rings <= 12:
+                raise SceneError("rings", f"{rings!r} is outside the allowed range [1, 12] (integer)")
+            pat = [list(ring) for _ in range(rings)]
+        n = len(pat[0])
+        for r, row in enumerate(pat):
+            f = "ring" if "pattern" not in data else f"pattern[{r}]"
+            if len(row) != n:
+                raise SceneError(f, f"has {len(row)} cells; every ring needs the same number ({n})")
+            if not 2 <= n <= 32:
+                raise SceneError(f, f"{n} cells around; allowed range [2, 32]")
+            for k, v in enumerate(row):
+                if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < len(self.cells):
+                    raise SceneError(f"{f}[{k}]", f"{v!r} is not a cell type index in [0, {len(self.cells) - 1}]")
+        self.pattern = pat
+        m = data.get("model", {})
+        if not isinstance(m, dict):
+            raise SceneError("model", "expected an object")
+        self.n_el_cell = int(check_number("model.elements_cell", m.get("elements_cell", 10), 2, 80, ""))
+        self.n_el_ring = int(check_number("model.elements_ring", m.get("elements_ring", 8), 2, 40, ""))
+        self.steps = int(check_number("model.steps", m.get("steps", 160), 20, 2000, ""))
+        self.plane = m.get("plane", "strain")
+        if self.plane not in ("strain", "stress"):
+            raise SceneError("model.plane", f"{self.plane!r}; allowed: 'strain', 'stress'")
+        self.imperfection = check_number("model.imperfection", m.get("imperfection", 1e-4), 0, 0.1, "")
+        dm = m.get("max_displacement_mm")
+        self.d_max_mm = None if dm is None else check_number("model.max_displacement_mm", dm, 0, 10 * self.L, "mm", low_open=True)
+        a = data.get("actuator", {})
+        if not isinstance(a, dict):
+            raise SceneError("actuator", "expected an object")
+        self.core_diameter = check_number("actuator.core_diameter_mm", a.get("core_diameter_mm", 24.6), 0, 1000, "mm", low_open=True)
+        self.membrane = check_number("actuator.membrane_kPa_per_mL", a.get("membrane_kPa_per_mL", 0.0), 0, 1e4, "kPa/mL")
+        dmap = data.get("design_map")
+        self.design_map = None
+        if dmap:
+            if dmap is True:
+                dmap = {}
+            if not isinstance(dmap, dict):
+                raise SceneError("design_map", "expected true or an object")
+            self.design_map = {
+                "t_over_L": _range3("design_map.t_over_L", dmap.get("t_over_L", [0.045, 0.072, 5]), 0, 0.25),
+                "h_over_L": _range3("design_map.h_over_L", dmap.get("h_over_L", [0.30, 0.42, 5]), 0, 0.6),
+                "ring": bool(dmap.get("ring", False))}
+        w = data.get("walker")
+        self.walker = None
+        if w:
+            if w is True:
+                w = {}
+            if not isinstance(w, dict):
+                raise SceneError("walker", "expected true or an object")
+            self.walker = {
+                "foot_length_mm": check_number("walker.foot_length_mm", w.get("foot_length_mm", 20.0), 0, 1000, "mm"),
+                "body_length_mm": check_number("walker.body_length_mm", w.get("body_length_mm", 120.0), 0, 5000, "mm", low_open=True),
+                "contact_band_mm": check_number("walker.contact_band_mm", w.get("contact_band_mm", 1.0), 0, 100, "mm", low_open=True)}
+
+    @classmethod
+    def load(cls, path):
+        with open(path) as f:
+            try:
+                data = json.load(f)
+            except json.JSONDecodeError as exc:
+                raise SceneError("", f"{path}: not valid JSON ({exc})") from None
+        return cls(data, str(path))
+
+    @property
+    def N(self):
+        return len(self.pattern[0])
+
+    @property
+    def M(self):
+        return len(self.pattern)
+
+    @property
+    def radius_mm(self):
+        """Mid radius of the sleeve wall: the circumference holds N cell widths."""
+        return self.N * (self.L + self.c) / (2 * math.pi)
+
+
+def _range3(field, v, lo, hi):
+    if not (isinstance(v, list) and len(v) == 3):
+        raise SceneError(field, f"{v!r}; expected [min, max, count]")
+    a = check_number(f"{field}[0]", v[0], lo, hi, "", low_open=True)
+    b = check_number(f"{field}[1]", v[1], a, hi, "")
+    n = v[2]
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 40:
+        raise SceneError(f"{field}[2]", f"{n!r} is outside the allowed range [1, 40] (integer)")
+    return (a, b, n)
