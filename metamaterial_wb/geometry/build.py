@@ -34,6 +34,7 @@ class BuildResult:
         self.shapes = {}
         self.parts = []
         self.modules = []          # ModuleSpec list (geometry/modules.py)
+        self.module_parts = {}     # module shape key -> names of its parts
         self.timings = {}
 
     def groups(self):

@@ -1,16 +1,552 @@
-"""Snap-fit modules (separate prints, ABS by default) placed on a node or a joint of the scene.
+"""Snap-fit modules: separate prints (ABS by default) that plug into the node sockets.
 
-Placeholder: filled in below.
+Scene format (docs/scene-format.md, "## Modules")::
+
+    "modules": [
+      {"type": "servo_housing", "joint": "V0,1", "servo": "SG90"},
+      {"type": "friction_pad", "node": "N0,0", "mu": 0.9},
+      {"type": "connection_hub", "node": "N2,6"},
+      {"type": "stable_hub", "joint": "H0,2"},
+      {"type": "constraint_clip", "joint": "V1,0", "angle_deg": 20}
+    ]
+
+Every module plugs in with split snap pins (radius = socket radius - clearance, a barb that latches
+under the socket's counterbore ledge). ``side`` says which face of the sheet it sits on: "top"
+(default; z > sheet thickness) or "bottom" (mirrored; default of the friction pad, the face that
+touches the ground).
+
+Frames: a node module is built around its node centre; a joint module around the joint midpoint
+(halfway between the two node centres, where the servo shaft goes) with ``u`` pointing from its
+first node ``A`` to its second node ``B``. All checks run in :func:`parse_modules`, before any
+geometry.
 """
-from metamaterial_wb.core.errors import SceneError
+import math
+import re
+from dataclasses import dataclass, field
+
+from metamaterial_wb.core.errors import SceneError, check_number
+
+MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip")
+JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
+NODE_MODULES = ("connection_hub", "friction_pad")
+
+# Approximate public datasheet figures (mm); measure your servo and override with "dims".
+SERVO_PRESETS = {
+    "SG90": {"body_length_mm": 22.5, "body_width_mm": 11.8, "body_height_mm": 22.7, "tab_length_mm": 32.2,
+             "tab_thickness_mm": 2.5, "tab_z_mm": 15.9, "shaft_offset_mm": 5.9, "shaft_top_mm": 27.0,
+             "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 14.0,
+             "horn_arm_width_mm": 4.0},
+    "MG90S": {"body_length_mm": 22.8, "body_width_mm": 12.2, "body_height_mm": 22.5, "tab_length_mm": 32.5,
+              "tab_thickness_mm": 2.5, "tab_z_mm": 16.0, "shaft_offset_mm": 6.1, "shaft_top_mm": 28.4,
+              "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.8, "horn_arm_length_mm": 14.0,
+              "horn_arm_width_mm": 4.5},
+}
+SERVO_KEYS = tuple(SERVO_PRESETS["SG90"])
+
+COMMON_KEYS = {"type", "name", "side", "material", "extruder"}
+TYPE_KEYS = {
+    "servo_housing": {"joint", "servo", "dims", "housing_node", "wall_mm", "floor_mm", "pad_mm"},
+    "connection_hub": {"node", "thickness_mm"},
+    "stable_hub": {"joint", "height_mm", "platform_mm", "beam_width_mm", "beam_height_mm"},
+    "friction_pad": {"node", "mu", "thickness_mm", "pocket_depth_mm", "pocket_inset_mm"},
+    "constraint_clip": {"joint", "angle_deg", "thickness_mm"},
+}
+TYPE_DEFAULTS = {
+    "servo_housing": {"wall_mm": 1.6, "floor_mm": 1.6, "pad_mm": 2.0},
+    "connection_hub": {"thickness_mm": 3.0},
+    "stable_hub": {"height_mm": 6.0, "platform_mm": 8.0, "beam_width_mm": 1.2, "beam_height_mm": 3.0},
+    "friction_pad": {"thickness_mm": 3.0, "pocket_depth_mm": 1.5, "pocket_inset_mm": 1.5},
+    "constraint_clip": {"thickness_mm": 3.0},
+}
+_NODE_RE = re.compile(r"^\s*[Nn]\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
+PIN_OVERLAP_MM = 0.5        # pins reach this far into the module body so that the fuse joins them
+
+
+@dataclass
+class ModuleSpec:
+    index: int
+    type: str
+    name: str
+    side: str
+    material: str
+    extruder: int
+    node: tuple = None                 # (i, j) for node modules
+    joint: str = None                  # joint name for joint modules
+    a: tuple = None                    # joint modules: first node (i, j) (housing / u < 0)
+    b: tuple = None                    # second node (i, j)
+    values: dict = field(default_factory=dict)
+    sockets: list = field(default_factory=list)    # [((i, j), "N"|"E"|"S"|"W")]
+    mu: float = None
+
+    @property
+    def field(self):
+        return f"modules[{self.index}] ({self.name})"
+
+
+def parse_node(text, scene, field_name):
+    m = _NODE_RE.match(text) if isinstance(text, str) else None
+    if not m:
+        raise SceneError(field_name, f"{text!r} is not a node name; write \"N<i>,<j>\" (row i, column j)")
+    ij = (int(m.group(1)), int(m.group(2)))
+    if ij not in scene.topology.node_index:
+        nodes = scene.topology.nodes
+        raise SceneError(field_name, f"node N{ij[0]},{ij[1]} does not exist in this layout ({len(nodes)} nodes; "
+                                     f"rows 0..{max(n[0] for n in nodes)}, columns 0..{max(n[1] for n in nodes)})")
+    return ij
+
+
+def _lateral_labels(a, b):
+    """Socket labels of the two sides parallel to the A -> B direction."""
+    return ("N", "S") if a[0] == b[0] else ("E", "W")
+
+
+def _servo_dims(item, f):
+    servo = item.get("servo", "SG90")
+    if not isinstance(servo, str) or servo.upper() not in list(SERVO_PRESETS) + ["CUSTOM"]:
+        raise SceneError(f"{f}.servo", f"{servo!r} is not a known servo; allowed: {sorted(SERVO_PRESETS)} or "
+                                       f"\"custom\" with \"dims\"")
+    servo = servo.upper()
+    dims = item.get("dims", {})
+    if not isinstance(dims, dict):
+        raise SceneError(f"{f}.dims", f"expected an object of servo dimensions in mm, got {dims!r}")
+    for k in dims:
+        if k not in SERVO_KEYS:
+            raise SceneError(f"{f}.dims.{k}", f"unknown servo dimension; allowed: {list(SERVO_KEYS)}")
+    if servo == "CUSTOM":
+        missing = [k for k in SERVO_KEYS if k not in dims]
+        if missing:
+            raise SceneError(f"{f}.dims", f"a custom servo needs every dimension; missing: {missing}")
+        d = {}
+    else:
+        d = dict(SERVO_PRESETS[servo])
+    for k, v in dims.items():
+        d[k] = check_number(f"{f}.dims.{k}", v, 0.0, 500.0, "mm", low_open=True)
+    if d["tab_length_mm"] < d["body_length_mm"]:
+        raise SceneError(f"{f}.dims.tab_length_mm", f"{d['tab_length_mm']} mm is shorter than the body "
+                                                    f"({d['body_length_mm']} mm); it is the length over both tabs")
+    if not 0 < d["shaft_offset_mm"] < d["body_length_mm"]:
+        raise SceneError(f"{f}.dims.shaft_offset_mm", f"{d['shaft_offset_mm']} mm is outside the body; allowed "
+                                                      f"range (0, {d['body_length_mm']}) mm")
+    if d["tab_z_mm"] + d["tab_thickness_mm"] > d["body_height_mm"]:
+        raise SceneError(f"{f}.dims.tab_z_mm", f"tabs at {d['tab_z_mm']} mm + {d['tab_thickness_mm']} mm stick out of "
+                                               f"the {d['body_height_mm']} mm body")
+    if d["shaft_top_mm"] - d["horn_thickness_mm"] <= d["body_height_mm"]:
+        raise SceneError(f"{f}.dims.shaft_top_mm", f"the horn ({d['horn_thickness_mm']} mm) under the shaft top at "
+                                                   f"{d['shaft_top_mm']} mm would touch the body top "
+                                                   f"({d['body_height_mm']} mm)")
+    d["servo"] = servo
+    return d
 
 
 def parse_modules(scene, p):
+    """Validate ``scene.modules`` against the layout and the fabrication parameters.
+
+    Returns a list of :class:`ModuleSpec`; raises SceneError naming the module, the value and the
+    allowed range. Also rejects two modules that use the same socket of the same face.
+    """
     mods = scene.modules or []
-    if mods:
-        raise SceneError("modules", "modules are not implemented yet")
-    return []
+    if not isinstance(mods, list):
+        raise SceneError("modules", f"expected a list of modules, got {mods!r}")
+    specs = []
+    names = set()
+    used = {}
+    for k, item in enumerate(mods):
+        f = f"modules[{k}]"
+        if not isinstance(item, dict):
+            raise SceneError(f, f"expected an object with \"type\" and a node or joint, got {item!r}")
+        typ = item.get("type")
+        if typ not in MODULE_TYPES:
+            raise SceneError(f"{f}.type", f"{typ!r} is not a module type; allowed: {list(MODULE_TYPES)}")
+        allowed = COMMON_KEYS | TYPE_KEYS[typ]
+        for key in item:
+            if key not in allowed:
+                raise SceneError(f"{f}.{key}", f"unknown field for a {typ}; allowed: {sorted(allowed)}")
+        name = item.get("name", f"{typ}_{k + 1}")
+        if not isinstance(name, str) or not re.match(r"^[A-Za-z_][A-Za-z0-9_\-]{0,63}$", name):
+            raise SceneError(f"{f}.name", f"{name!r} is not a valid module name (letters, digits, _ -)")
+        if name in names or name == "sheet" or name == "assembly":
+            raise SceneError(f"{f}.name", f"module name {name!r} is used twice (or reserved)")
+        names.add(name)
+        side = item.get("side", "bottom" if typ == "friction_pad" else "top")
+        if side not in ("top", "bottom"):
+            raise SceneError(f"{f}.side", f"{side!r}; allowed: \"top\" or \"bottom\"")
+        mat = item.get("material", p.module_material)
+        from metamaterial_wb.geometry.params import MATERIALS
+        if not isinstance(mat, str) or mat.upper() not in MATERIALS:
+            raise SceneError(f"{f}.material", f"{mat!r} is not a known material; allowed: {sorted(MATERIALS)}")
+        ext = item.get("extruder", p.rigid_extruder)
+        if isinstance(ext, bool) or not isinstance(ext, int) or not 1 <= ext <= 16:
+            raise SceneError(f"{f}.extruder", f"{ext!r}: expected an extruder number 1..16")
+        spec = ModuleSpec(k, typ, name, side, mat.upper(), ext)
+        values = dict(TYPE_DEFAULTS[typ])
+        for key in TYPE_DEFAULTS[typ]:
+            if key in item:
+                values[key] = check_number(f"{f}.{key} ({name})", item[key], 0.0, 200.0, "mm", low_open=True)
+        spec.values = values
+        if typ in JOINT_MODULES:
+            if "joint" not in item:
+                raise SceneError(f"{f}.joint", f"a {typ} sits on a joint; give \"joint\": \"H<i>,<j>\" or \"V<i>,<j>\"")
+            spec.joint = scene._joint(item["joint"], f"{f}.joint ({name})")
+            from metamaterial_wb.core.scene import parse_joint, joint_nodes
+            a, b = joint_nodes(*parse_joint(spec.joint))
+            if typ == "servo_housing" and "housing_node" in item:
+                hn = parse_node(item["housing_node"], scene, f"{f}.housing_node ({name})")
+                if hn not in (a, b):
+                    raise SceneError(f"{f}.housing_node ({name})", f"N{hn[0]},{hn[1]} is not a node of joint "
+                                                                   f"{spec.joint} (N{a[0]},{a[1]} or N{b[0]},{b[1]})")
+                if hn == b:
+                    a, b = b, a
+            spec.a, spec.b = a, b
+            lat = _lateral_labels(a, b)
+            spec.sockets = [(a, lat[0]), (a, lat[1]), (b, lat[0]), (b, lat[1])]
+        else:
+            if "node" not in item:
+                raise SceneError(f"{f}.node", f"a {typ} sits on a node; give \"node\": \"N<i>,<j>\"")
+            spec.node = parse_node(item["node"], scene, f"{f}.node ({name})")
+            spec.sockets = [(spec.node, s) for s in ("E", "N", "W", "S")]
+        if (typ in JOINT_MODULES or typ in NODE_MODULES) and not p.sockets:
+            raise SceneError(f"{f} ({name})", "modules plug into the node sockets, but fabrication.sockets is false")
+        if typ == "servo_housing":
+            spec.values.update(_servo_dims(item, f"{f} ({name})"))
+            _check_servo_fit(spec, p, f)
+        elif typ == "friction_pad":
+            if "mu" in item:
+                spec.mu = check_number(f"{f}.mu ({name})", item["mu"], 0.0, 10.0)
+            v = spec.values
+            if v["pocket_depth_mm"] >= v["thickness_mm"] - PIN_OVERLAP_MM - 0.4:
+                raise SceneError(f"{f}.pocket_depth_mm ({name})",
+                                 f"{v['pocket_depth_mm']} mm leaves less than 0.4 mm above the pins in a "
+                                 f"{v['thickness_mm']} mm pad; allowed range (0, "
+                                 f"{v['thickness_mm'] - PIN_OVERLAP_MM - 0.4:.3g}) mm")
+            if 2 * v["pocket_inset_mm"] >= p.plate_side_mm_global - 2.0:
+                raise SceneError(f"{f}.pocket_inset_mm ({name})", f"{v['pocket_inset_mm']} mm leaves no pocket")
+        elif typ == "constraint_clip":
+            if "angle_deg" in item:
+                spec.values["angle_deg"] = check_number(f"{f}.angle_deg ({name})", item["angle_deg"], -60.0, 60.0,
+                                                        "deg")
+            else:
+                spec.values["angle_deg"] = _constraint_angle(scene, spec, f)
+        elif typ == "stable_hub":
+            v = spec.values
+            if v["platform_mm"] >= p.cell_size_mm - 2.0:
+                raise SceneError(f"{f}.platform_mm ({name})", f"{v['platform_mm']} mm leaves no room for the beams "
+                                                              f"between the node centres ({p.cell_size_mm} mm apart); "
+                                                              f"allowed range (0, {p.cell_size_mm - 2.0:.3g}) mm")
+        for ij, lab in spec.sockets:
+            key = (ij, lab, side)
+            if key in used:
+                raise SceneError(f"{f} ({name})", f"socket {lab} of node N{ij[0]},{ij[1]} ({side}) is already used "
+                                                  f"by module {used[key]!r}; modules on one face may not share a "
+                                                  f"socket")
+            used[key] = name
+        specs.append(spec)
+    return specs
+
+
+def _constraint_angle(scene, spec, f):
+    """Relative in-plane rotation (deg) of node B to node A held by the scene's constraint on the joint."""
+    from metamaterial_wb.core.kinematics import rotation_limits
+
+    for c in scene.constraints:
+        if c.joint == spec.joint:
+            closing, opening = rotation_limits(scene)
+            D = c.value
+            mag = closing if D >= 0 else opening
+            pa = 1.0 if (spec.a[0] + spec.a[1]) % 2 == 0 else -1.0
+            return math.degrees(-2.0 * pa * D * mag)
+    raise SceneError(f"{f}.angle_deg ({spec.name})", f"give the clip's angle (degrees, range [-60, 60]); the scene "
+                                                     f"has no constraint on joint {spec.joint} to take it from")
+
+
+def servo_layout(spec, p):
+    """Key u / z coordinates (mm, module frame) of the servo housing and the horn adapter."""
+    v = spec.values
+    T = p.sheet_thickness_mm
+    clr = p.clearance_mm
+    a = v["shaft_offset_mm"]
+    L = v["body_length_mm"]
+    tab_end = a + 0.5 * (v["tab_length_mm"] - L)
+    standoff = v["pad_mm"] + clr
+    lay = {
+        "a": a, "L": L, "clr": clr,
+        "hu0": a - L - clr - v["wall_mm"], "hu1": a + clr + v["wall_mm"],
+        "hv": 0.5 * v["body_width_mm"] + clr + v["wall_mm"],
+        "z_floor": T + standoff, "zb": T + standoff + v["floor_mm"],
+        "col_u0": max(a + clr + v["wall_mm"], tab_end) + 1.0,
+        "col_t": 3.0, "arm_t": max(2.5, v["horn_thickness_mm"] + clr + 1.0),
+    }
+    lay["z_arm"] = lay["zb"] + v["shaft_top_mm"] - v["horn_thickness_mm"]
+    return lay
+
+
+def _check_servo_fit(spec, p, f):
+    lay = servo_layout(spec, p)
+    c = p.cell_size_mm
+    s = p.plate_side_mm_global
+    gap = p.gap_mm
+    far_b = 0.5 * gap + s
+    if lay["col_u0"] + lay["col_t"] > far_b - 0.3:
+        raise SceneError(f"{f}.servo ({spec.name})",
+                         f"the horn adapter's column needs {lay['col_u0'] + lay['col_t']:.3g} mm from the shaft but "
+                         f"node N{spec.b[0]},{spec.b[1]} ends {far_b:.3g} mm from it; this servo needs cells of at "
+                         f"least {c + (lay['col_u0'] + lay['col_t'] - far_b + 0.3):.3g} mm (cell_size_mm is {c})")
+    if 0.5 * s - p.socket_inset_mm + p.socket_radius_mm > lay["hv"] + 2.0:
+        pass  # feet are widened to the sockets (see build)
+
+
+# ----------------------------------------------------------------------------------------------
+# geometry (FreeCAD)
+# ----------------------------------------------------------------------------------------------
+def _fc():
+    from metamaterial_wb.geometry.fc import freecad
+    return freecad()
+
+
+def box(u0, u1, v0, v1, z0, z1):
+    App, Part = _fc()
+    return Part.makeBox(u1 - u0, v1 - v0, z1 - z0, App.Vector(u0, v0, z0))
+
+
+def make_pin(p, up=False):
+    """Split snap pin at the origin (socket axis). Down (default): from the sheet top face into the socket,
+    barb latching under the bottom ledge. ``up``: the same pin mirrored to stick up from z = 0."""
+    App, Part = _fc()
+    V = App.Vector
+    T = p.sheet_thickness_mm
+    clr = p.clearance_mm
+    lip = p.socket_lip_height_mm
+    r = p.socket_radius_mm - clr
+    rb = p.counterbore_radius_mm - clr
+    z_tip = clr
+    z_sh = lip - clr
+    shaft = Part.makeCylinder(r, T + PIN_OVERLAP_MM - z_sh, V(0, 0, z_sh))
+    barb = Part.makeCone(r, rb, z_sh - z_tip, V(0, 0, z_tip))
+    pin = shaft.fuse(barb)
+    slot_w = max(0.6, 0.3 * 2 * r)
+    slot = Part.makeBox(slot_w, 2 * rb + 2, 0.65 * T + 1.0, V(-0.5 * slot_w, -rb - 1, z_tip - 1.0))
+    pin = pin.cut(slot).removeSplitter()
+    pin = pin.Solids[0] if len(pin.Solids) == 1 else pin
+    if up:
+        pin = pin.mirror(V(0, 0, 0.5 * T), V(0, 0, 1))       # now from z = -overlap up to T - clearance
+    return pin
+
+
+def _pins_at(p, points, up=False, z_shift=0.0):
+    App, _ = _fc()
+    proto = make_pin(p, up)
+    out = []
+    for (u, v) in points:
+        m = App.Matrix()
+        m.move(App.Vector(u, v, z_shift))
+        out.append(proto.transformed(m))
+    return out
+
+
+def _lateral_points(p, u_centre):
+    d = 0.5 * p.plate_side_mm_global - p.socket_inset_mm
+    return [(u_centre, d), (u_centre, -d)]
+
+
+def _finish(body_parts, cutters, what):
+    """One fuse for all bodies, one cut for all cutters; returns a single valid solid."""
+    base, rest = body_parts[0], body_parts[1:]
+    shape = base.fuse(rest) if rest else base
+    if cutters:
+        shape = shape.cut(cutters)
+    shape = shape.removeSplitter()
+    if len(shape.Solids) != 1:
+        from metamaterial_wb.core.errors import MetamaterialError
+        raise MetamaterialError(f"{what}: the module came out as {len(shape.Solids)} solids")
+    return shape.Solids[0]
+
+
+def build_servo_housing(spec, p):
+    App, Part = _fc()
+    V = App.Vector
+    v = spec.values
+    lay = servo_layout(spec, p)
+    T = p.sheet_thickness_mm
+    c, s, gap = p.cell_size_mm, p.plate_side_mm_global, p.gap_mm
+    clr = p.clearance_mm
+    a, L = lay["a"], lay["L"]
+    hv = lay["hv"]
+    top = lay["zb"] + v["tab_z_mm"]
+    outer = box(lay["hu0"], lay["hu1"], -hv, hv, lay["z_floor"], top)
+    inner = box(a - L - clr, a + clr, -(0.5 * v["body_width_mm"] + clr), 0.5 * v["body_width_mm"] + clr,
+                lay["zb"], top + 1.0)
+    cable = box(lay["hu0"] - 1.0, a - L, -2.0, 2.0, lay["zb"], top + 1.0)
+    d = 0.5 * s - p.socket_inset_mm
+    fv = max(hv, d + p.counterbore_radius_mm + 1.0)
+    u_a = -0.5 * c
+    fu0 = max(-0.5 * gap - s + 0.3, min(lay["hu0"], u_a - p.counterbore_radius_mm - 1.0))
+    fu1 = -0.5 * gap - 0.3
+    feet = box(fu0, fu1, -fv, fv, T, lay["z_floor"] + 0.01)
+    # a floor patch joining wider feet to the tub
+    bridge = box(max(fu0, lay["hu0"]), fu1, -fv, fv, lay["z_floor"], lay["zb"])
+    pins = _pins_at(p, _lateral_points(p, u_a))
+    housing = _finish([outer, feet, bridge] + pins, [inner, cable], f"{spec.name} housing")
+    # horn adapter on node B: pad with pins, column, arm with the horn pocket over the shaft
+    u_b = 0.5 * c
+    far_b = 0.5 * gap + s - 0.3
+    pu0 = min(lay["col_u0"], u_b - p.counterbore_radius_mm - 1.0)
+    pu0 = max(pu0, lay["hu1"] + clr + 0.2, 0.5 * gap + 0.3)
+    pad = box(pu0, far_b, -fv, fv, T, T + v["pad_mm"])
+    cw = max(4.0, 0.5 * v["horn_arm_width_mm"] + 2.0)
+    col = box(lay["col_u0"], lay["col_u0"] + lay["col_t"], -cw, cw, T, lay["z_arm"] + lay["arm_t"])
+    hub_r = 0.5 * v["horn_hub_diameter_mm"]
+    arm = box(-hub_r - 2.0, lay["col_u0"] + lay["col_t"], -cw, cw, lay["z_arm"], lay["z_arm"] + lay["arm_t"])
+    depth = v["horn_thickness_mm"] + clr
+    hub = Part.makeCylinder(hub_r + clr, depth + 1.0, V(0, 0, lay["z_arm"] - 1.0))
+    horn = box(0.0, min(v["horn_arm_length_mm"], lay["col_u0"] - 0.5), -(0.5 * v["horn_arm_width_mm"] + clr),
+               0.5 * v["horn_arm_width_mm"] + clr, lay["z_arm"] - 1.0, lay["z_arm"] + depth)
+    shaft_hole = Part.makeCylinder(1.2, lay["arm_t"] + 2.0, V(0, 0, lay["z_arm"] - 1.0))  # horn screw
+    pins_b = _pins_at(p, _lateral_points(p, u_b))
+    adapter = _finish([pad, col, arm] + pins_b, [hub, horn, shaft_hole], f"{spec.name} horn adapter")
+    return [("housing", housing), ("horn_adapter", adapter)]
+
+
+def build_connection_hub(spec, p):
+    T = p.sheet_thickness_mm
+    t = spec.values["thickness_mm"]
+    s = p.plate_side_mm_global
+    h = 0.5 * s - 0.3
+    plate = box(-h, h, -h, h, T, T + t)
+    d = 0.5 * s - p.socket_inset_mm
+    pts = [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)]
+    down = _pins_at(p, pts)
+    # the second structure lies upside down on the hub: its top face at z = T + t, pins point up into it
+    up = _pins_at(p, pts, up=True, z_shift=T + t)
+    return [("hub", _finish([plate] + down + up, [], spec.name))]
+
+
+def build_friction_pad(spec, p):
+    T = p.sheet_thickness_mm
+    v = spec.values
+    s = p.plate_side_mm_global
+    h = 0.5 * s - 0.3
+    t = v["thickness_mm"]
+    plate = box(-h, h, -h, h, T, T + t)
+    ins = h - v["pocket_inset_mm"]
+    pocket = box(-ins, ins, -ins, ins, T + t - v["pocket_depth_mm"], T + t + 1.0)
+    d = 0.5 * s - p.socket_inset_mm
+    pins = _pins_at(p, [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)])
+    return [("pad", _finish([plate] + pins, [pocket], spec.name))]
+
+
+def build_stable_hub(spec, p):
+    App, Part = _fc()
+    V = App.Vector
+    T = p.sheet_thickness_mm
+    v = spec.values
+    c, s = p.cell_size_mm, p.plate_side_mm_global
+    d = 0.5 * s - p.socket_inset_mm
+    fv = d + p.counterbore_radius_mm + 1.0
+    foot_t = 2.0
+    zp = T + v["height_mm"]
+    bw, bh = 0.5 * v["beam_width_mm"], v["beam_height_mm"]
+    P = 0.5 * v["platform_mm"]
+    parts = []
+    pins = []
+    for uc in (-0.5 * c, 0.5 * c):
+        parts.append(box(uc - 3.0, uc + 3.0, -fv, fv, T, T + foot_t))
+        parts.append(box(uc - 1.5, uc + 1.5, -1.5, 1.5, T + foot_t - 0.01, zp + bh))
+        u0, u1 = (uc, -P + 0.01) if uc < 0 else (P - 0.01, uc)
+        parts.append(box(u0, u1, -bw, bw, zp, zp + bh))
+        pins += _pins_at(p, _lateral_points(p, uc))
+    parts.append(box(-P, P, -P, P, zp, zp + bh))
+    hole = Part.makeCylinder(1.6, bh + 2.0, V(0, 0, zp - 1.0))     # M3 clearance for the attached shape
+    return [("hub", _finish(parts + pins, [hole], spec.name))]
+
+
+def clip_pivot(spec, p, placement):
+    """The joint's hinge point (edge line, gap centre) in the module frame."""
+    from metamaterial_wb.core.scene import parse_joint
+    from metamaterial_wb.geometry.sheet import joint_frame
+
+    kind, i, j = parse_joint(spec.joint)
+    x, y, _, _ = joint_frame(kind, i, j, p)
+    App, _ = _fc()
+    loc = placement.inverse().multVec(App.Vector(x, y, 0.0))
+    return (round(loc.x, 6), round(loc.y, 6))
+
+
+def build_constraint_clip(spec, p, pivot):
+    App, Part = _fc()
+    V = App.Vector
+    T = p.sheet_thickness_mm
+    c, s, gap = p.cell_size_mm, p.plate_side_mm_global, p.gap_mm
+    t = spec.values["thickness_mm"]
+    h = 0.5 * s - 0.3
+    ang = spec.values["angle_deg"]
+    half_a = box(-0.5 * gap - s + 0.3, 0.0, -h, h, T, T + t)
+    half_b = box(0.0, 0.5 * gap + s - 0.3, -h, h, T, T + t)
+    pins_a = _pins_at(p, _lateral_points(p, -0.5 * c))
+    pins_b = _pins_at(p, _lateral_points(p, 0.5 * c))
+    rot = App.Placement(V(pivot[0], pivot[1], 0), App.Rotation(V(0, 0, 1), ang)).multiply(
+        App.Placement(V(-pivot[0], -pivot[1], 0), App.Rotation()))
+    m = rot.toMatrix()
+    half_b = half_b.transformed(m)
+    pins_b = [q.transformed(m) for q in pins_b]
+    r = min(0.5 * s, 8.0)
+    bridge = Part.makeCylinder(r, t, V(pivot[0], pivot[1], T))
+    return [("clip", _finish([half_a, half_b, bridge] + pins_a + pins_b, [], spec.name))]
+
+
+def module_placement(spec, p):
+    App, _ = _fc()
+    V = App.Vector
+    c = p.cell_size_mm
+    if spec.node is not None:
+        i, j = spec.node
+        return App.Placement(V(j * c, -i * c, 0.0), App.Rotation())
+    (ia, ja), (ib, jb) = spec.a, spec.b
+    ax, ay, bx, by = ja * c, -ia * c, jb * c, -ib * c
+    ang = math.degrees(math.atan2(by - ay, bx - ax))
+    return App.Placement(V(0.5 * (ax + bx), 0.5 * (ay + by), 0.0), App.Rotation(V(0, 0, 1), ang))
+
+
+def _fab_key(p):
+    return (p.cell_size_mm, p.plate_side_mm_global, p.sheet_thickness_mm, p.clearance_mm, p.socket_diameter_mm,
+            p.socket_inset_mm, p.socket_lip_mm, p.socket_lip_height_mm)
 
 
 def build_module(res, spec):
-    raise NotImplementedError
+    """Build (or reuse) the shapes of one module and add its parts to the BuildResult."""
+    from metamaterial_wb.geometry.build import PlacedPart
+
+    App, _ = _fc()
+    V = App.Vector
+    p = res.params
+    pl = module_placement(spec, p)
+    extra = ()
+    if spec.type == "constraint_clip":
+        pivot = clip_pivot(spec, p, pl)
+        extra = (pivot,)
+    vals = tuple(sorted((k, v) for k, v in spec.values.items()))
+    key0 = ("module", spec.type, spec.side, vals, extra, _fab_key(p))
+    builders = {"servo_housing": build_servo_housing, "connection_hub": build_connection_hub,
+                "friction_pad": build_friction_pad, "stable_hub": build_stable_hub}
+    if key0 not in res.module_parts:
+        if spec.type == "constraint_clip":
+            built = build_constraint_clip(spec, p, extra[0])
+        else:
+            built = builders[spec.type](spec, p)
+        if spec.side == "bottom":
+            T = p.sheet_thickness_mm
+            built = [(n, sh.mirror(V(0, 0, 0.5 * T), V(0, 0, 1))) for n, sh in built]
+        res.module_parts[key0] = [n for n, _ in built]
+        for n, sh in built:
+            res.shapes[key0 + (n,)] = sh
+    for n in res.module_parts[key0]:
+        info = {"type": spec.type, "module": spec.name, "side": spec.side}
+        if spec.joint:
+            info["joint"] = spec.joint
+            info["nodes"] = [f"N{spec.a[0]},{spec.a[1]}", f"N{spec.b[0]},{spec.b[1]}"]
+        if spec.node:
+            info["node"] = f"N{spec.node[0]},{spec.node[1]}"
+        if spec.mu is not None:
+            info["mu"] = spec.mu
+        if spec.type == "constraint_clip":
+            info["angle_deg"] = spec.values["angle_deg"]
+        res.parts.append(PlacedPart(f"{spec.name}_{n}", "module", spec.material, spec.extruder, key0 + (n,), pl,
+                                    spec.name, info))

@@ -1,0 +1,122 @@
+"""Checks of a BuildResult: valid closed solids, rigid/flexible overlap only at the anchors, modules
+clear of the sheet in the rest state. Each returns a list of problems (empty = fine)."""
+import math
+
+VOLUME_TOL_MM3 = 1e-3
+
+
+def check_solids(result):
+    """Every unique shape: valid, exactly one solid, closed shells, positive volume."""
+    problems = []
+    for key, shape in result.shapes.items():
+        what = f"shape {key[0]} {key[1] if len(key) > 1 else ''}"
+        if not shape.isValid():
+            problems.append(f"{what}: not a valid B-rep")
+        if len(shape.Solids) != 1:
+            problems.append(f"{what}: {len(shape.Solids)} solids instead of 1")
+        if not all(sh.isClosed() for sh in shape.Shells):
+            problems.append(f"{what}: a shell is open")
+        if not shape.Volume > 0:
+            problems.append(f"{what}: volume {shape.Volume}")
+    return problems
+
+
+def _placed(result, parts):
+    return [(q, result.placed_shape(q)) for q in parts]
+
+
+def _bbox_hit(a, b, grow=0.0):
+    return (a.XMin - grow <= b.XMax and b.XMin - grow <= a.XMax and a.YMin - grow <= b.YMax and
+            b.YMin - grow <= a.YMax and a.ZMin - grow <= b.ZMax and b.ZMin - grow <= a.ZMax)
+
+
+def check_sheet(result):
+    """Rigid and flexible bodies share no volume; a hinge touches only its own two nodes; the part of a
+    hinge inside the node plates' envelope equals its two anchors (closed form)."""
+    from metamaterial_wb.geometry import sheet
+    from metamaterial_wb.geometry.fc import freecad
+    from metamaterial_wb.geometry.params import anchor_width_mm, neck_width_mm
+
+    App, Part = freecad()
+    p = result.params
+    s, T = p.plate_side_mm_global, p.sheet_thickness_mm
+    nodes = _placed(result, [q for q in result.parts if q.role == "node"])
+    hinges = _placed(result, [q for q in result.parts if q.role == "hinge"])
+    by_node = {q.info["node"]: (q, sh) for q, sh in nodes}
+    problems = []
+    from metamaterial_wb.core.scene import parse_joint, joint_nodes
+    for hq, hs in hinges:
+        kind, i, j = parse_joint(hq.info["joint"])
+        own = {f"N{a},{b}" for (a, b) in joint_nodes(kind, i, j)}
+        for nq, ns in nodes:
+            if not _bbox_hit(hs.BoundBox, ns.BoundBox, 0.01):
+                continue
+            common = hs.common(ns).Volume
+            if common > VOLUME_TOL_MM3:
+                problems.append(f"{hq.name} and {nq.name} share {common:.4g} mm3 of material")
+            if nq.info["node"] not in own and hs.distToShape(ns)[0] < 1e-6:
+                problems.append(f"{hq.name} touches {nq.name}, which is not one of its nodes")
+        h = p.hinges[hq.info["joint"]]
+        anchor = (p.anchor_depth_mm * anchor_width_mm(p, h) + p.anchor_neck_mm * neck_width_mm(h)) * h.thickness_mm
+        for name in sorted(own):
+            nq, _ = by_node[name]
+            cx, cy = nq.placement.Base.x, nq.placement.Base.y
+            env = Part.makeBox(s, s, T, App.Vector(cx - 0.5 * s, cy - 0.5 * s, 0.0))
+            inside = hs.common(env).Volume
+            if abs(inside - anchor) > 1e-3 * max(anchor, 1.0):
+                problems.append(f"{hq.name}: {inside:.4g} mm3 inside {nq.name}'s plate, expected the anchor's "
+                                f"{anchor:.4g} mm3")
+        # nothing of the hinge outside its own two plates and the gap between them
+    for k, (aq, a) in enumerate(hinges):
+        for bq, b in hinges[k + 1:]:
+            if _bbox_hit(a.BoundBox, b.BoundBox) and a.common(b).Volume > VOLUME_TOL_MM3:
+                problems.append(f"hinges {aq.name} and {bq.name} overlap")
+    return problems
+
+
+def check_modules(result):
+    """Modules share no volume with the sheet (rest state) nor with each other. A constraint clip is
+    checked against its second node turned by the clip angle about the hinge point (the state it
+    holds), its own joint's hinge excluded (that hinge bends)."""
+    from metamaterial_wb.geometry.fc import freecad
+    from metamaterial_wb.geometry.modules import clip_pivot, module_placement
+
+    App, _ = freecad()
+    sheet_parts = _placed(result, [q for q in result.parts if q.group == "sheet"])
+    mods = _placed(result, [q for q in result.parts if q.role == "module"])
+    spec_by_name = {m.name: m for m in result.modules}
+    problems = []
+    for mq, ms in mods:
+        spec = spec_by_name.get(mq.group)
+        turned = None
+        if spec is not None and spec.type == "constraint_clip":
+            pl = module_placement(spec, result.params)
+            pv = clip_pivot(spec, result.params, pl)
+            gp = pl.multVec(App.Vector(pv[0], pv[1], 0.0))
+            rot = App.Placement(gp, App.Rotation(App.Vector(0, 0, 1), spec.values["angle_deg"])).multiply(
+                App.Placement(-gp, App.Rotation()))
+            turned = (f"N{spec.b[0]},{spec.b[1]}", rot, spec.joint)
+        for sq, ss in sheet_parts:
+            if turned is not None:
+                if sq.info.get("joint") == turned[2]:
+                    continue
+                if sq.info.get("node") == turned[0]:
+                    ss = ss.transformed(turned[1].toMatrix())
+            if not _bbox_hit(ms.BoundBox, ss.BoundBox):
+                continue
+            common = ms.common(ss).Volume
+            if common > VOLUME_TOL_MM3:
+                problems.append(f"module part {mq.name} collides with {sq.name} ({common:.4g} mm3)")
+    for k, (aq, a) in enumerate(mods):
+        for bq, b in mods[k + 1:]:
+            if _bbox_hit(a.BoundBox, b.BoundBox) and a.common(b).Volume > VOLUME_TOL_MM3:
+                problems.append(f"module parts {aq.name} and {bq.name} collide")
+    return problems
+
+
+def check_all(result):
+    return check_solids(result) + check_sheet(result) + (check_modules(result) if result.modules else [])
+
+
+def angle_between_deg(a, b):
+    return math.degrees(math.atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1]))
