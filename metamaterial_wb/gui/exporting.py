@@ -29,8 +29,10 @@ def _stem(scene, scene_obj):
     return keep.strip("._") or "structure"
 
 
-def export_structure(scene_obj, out_dir, step=True, threemf=True, modules=True):
-    """Write the files into ``out_dir``; returns their paths."""
+def export_structure(scene_obj, out_dir, step=True, threemf=True, modules=True, warnings=None, sockets=True):
+    """Write the files into ``out_dir``; returns their paths. Problems that do not stop the export
+    (modules the fabrication package cannot build yet) are appended to ``warnings``."""
+    warnings = warnings if warnings is not None else []
     if not out_dir:
         raise MetamaterialError("export: give an output folder")
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
@@ -46,11 +48,17 @@ def export_structure(scene_obj, out_dir, step=True, threemf=True, modules=True):
                      "rigid_material": preferences.get("RigidMaterial"),
                      "flexible_material": preferences.get("FlexibleMaterial"),
                      "module_material": preferences.get("ModuleMaterial")}
+        if not sockets:
+            overrides["sockets"] = False
         params = fabrication_params(scene, **overrides)
         with_modules = bool(modules and scene.modules)
         if with_modules:
             from metamaterial_wb.geometry.modules import parse_modules
-            parse_modules(scene, params)
+            try:
+                parse_modules(scene, params)
+            except (MetamaterialError, NotImplementedError) as exc:
+                warnings.append(f"modules not exported: {exc}")
+                with_modules = False
         result = build_scene(scene, modules=with_modules, progress=False, params=params)
         return export_result(result, out_dir, step=step, threemf=threemf, progress=False, stem=stem)
     return _fallback_export(scene_obj, out_dir, stem, step, threemf, modules)

@@ -307,8 +307,19 @@ class NewStructurePanel(BasePanel):
 
 
 def example_files():
+    """Bundled scene files (other JSON files in examples/, e.g. sleeve models, are left out)."""
     d = metamaterial_wb.EXAMPLES_DIR
-    return sorted(f for f in os.listdir(d) if f.endswith(".json")) if os.path.isdir(d) else []
+    out = []
+    for f in sorted(os.listdir(d)) if os.path.isdir(d) else []:
+        if not f.endswith(".json"):
+            continue
+        try:
+            with open(os.path.join(d, f), encoding="utf-8") as fh:
+                if json.load(fh).get("format") == "metamaterial-scene":
+                    out.append(f)
+        except (OSError, ValueError, AttributeError):
+            continue
+    return out
 
 
 class OpenExamplePanel(BasePanel):
@@ -1243,7 +1254,10 @@ class ExportPanel(BasePanel):
         self.threemf.setChecked(True)
         self.modules = QtGui.QCheckBox("Modules as separate files")
         self.modules.setChecked(True)
+        self.sockets = QtGui.QCheckBox("Snap-fit sockets on the nodes")
+        self.sockets.setChecked(True)
         f.addRow("Folder", self.path)
+        f.addRow(self.sockets)
         f.addRow(self.step)
         f.addRow(self.threemf)
         f.addRow(self.modules)
@@ -1258,6 +1272,10 @@ class ExportPanel(BasePanel):
         from metamaterial_wb.gui import exporting
         if not (self.step.isChecked() or self.threemf.isChecked()):
             raise MetamaterialError("choose STEP, 3MF or both")
+        self.warnings = []
         self.written = exporting.export_structure(self.obj, self.path.text().strip(), step=self.step.isChecked(),
-                                                  threemf=self.threemf.isChecked(), modules=self.modules.isChecked())
+                                                  threemf=self.threemf.isChecked(), modules=self.modules.isChecked(),
+                                                  warnings=self.warnings, sockets=self.sockets.isChecked())
+        for w in self.warnings:
+            FreeCAD.Console.PrintWarning(f"Metamaterial export: {w}\n")
         FreeCAD.Console.PrintMessage("Metamaterial export: " + ", ".join(self.written) + "\n")

@@ -534,7 +534,8 @@ class ModuleProxy(ProxyBase):
             obj.TargetKind = ["node", "joint"]
         ensure_property(obj, "App::PropertyString", "Target", "Module", "Node (N1,2) or joint (V0,1)")
         ensure_property(obj, "App::PropertyString", "ModuleData", "Module", "Other fields (JSON)")
-        ensure_property(obj, "App::PropertyLink", "Scene", "Module", "Scene whose sizes the module follows")
+        # hidden link: the Scene depends on its modules (it links them in Modules), not the reverse
+        ensure_property(obj, "App::PropertyLinkHidden", "Scene", "Module", "Scene the module belongs to")
         ensure_property(obj, "App::PropertyString", "GeometrySource", "Module",
                         "Which builder made the shape", attr=OUTPUT, readonly=True)
 

@@ -174,6 +174,8 @@ def test_save_close_reopen_restores_everything(doc, tmp_path):
     structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 2, "fold_deg": 30.0}])
     sc.Items[1].PhaseDeg = 45.0
     doc.recompute()
+    for o in doc.Objects:   # a dependency cycle would leave objects touched
+        assert o.isValid() and "Touched" not in o.State, (o.Name, o.State)
     before_json = sc.SceneJSON
     before_pl = placements_xyz(sc.NodeArray)
     names = sorted(o.Name for o in doc.Objects)
