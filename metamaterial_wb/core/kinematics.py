@@ -167,7 +167,6 @@ def rotation_limit_info(scene, tilts_rad=None):
     fold contact of tilted joints. Opening: the mechanism's 45 degrees, hinge strain, fold contact.
     One limit for the whole sheet (the smallest), so that uniform D is the exact mechanism.
     """
-    names = scene.topology.joint_names if scene.topology.n_joints < 5000 else None
     lh, wh, th = joint_hinge_arrays(scene)
     tilt = joint_tilts_rad(scene) if tilts_rad is None else np.asarray(tilts_rad, dtype=float)
     eps = hinge_strain_limit(scene)
@@ -178,9 +177,9 @@ def rotation_limit_info(scene, tilts_rad=None):
     fold = _phi_limit_fold_contact(tilt, lh, th) if len(lh) else np.array([math.pi / 2])
 
     def jname(k):
-        if names is not None:
-            return names[k]
-        return scene.topology.joint_names[k]
+        topo = scene.topology
+        i, j = topo.joint_ij()[k]
+        return f"{'H' if k < topo.n_h else 'V'}{int(i)},{int(j)}"
 
     def pick(cands):
         label, val = min(cands, key=lambda c: c[1])
