@@ -292,3 +292,53 @@ def test_tilted_joint_limits_opening_by_fold_contact():
     # the reverse fold 2 atan(tan(alpha) sin(phi)) reaches plate contact 2 atan(lh/t) at phi:
     assert info["opening_rad"] == pytest.approx(math.asin((5.0 / 7.0) / math.tan(alpha)))
     assert "fold contact" in info["opening_binding"]
+
+
+# ------------------------------------------------------------------------------------------------
+# independent geometric checks of the limits and of the non-uniform path
+# ------------------------------------------------------------------------------------------------
+def _overlap(P, Q):
+    """Separating-axis test of two convex quads (2D), touching counts as apart."""
+    for poly in (P, Q):
+        for k in range(4):
+            e = poly[(k + 1) % 4] - poly[k]
+            n = np.array([-e[1], e[0]])
+            a, b = P @ n, Q @ n
+            if a.max() <= b.min() + 1e-12 or b.max() <= a.min() + 1e-12:
+                return False
+    return True
+
+
+@pytest.mark.parametrize("lh", [2.0, 5.0, 8.0])
+def test_closing_limit_is_where_plates_touch(lh):
+    """Plates drawn at their poses overlap just beyond asin(lh/2s) and not just before it; the
+    opening sense stays free of contact up to 45 deg."""
+    from metamaterial_wb.core.render import plate_corners
+    s = Scene.from_dict({"layout": {"grid": [3, 3]}, "hinge": {"length_mm": lh, "width_mm": 0.5}})
+    kin = K.Kinematics(s)
+    par = K.node_parity(s)
+    phic = math.asin(lh / (2 * (20.0 - lh)))
+    for f, expect in ((0.98, False), (1.02, True)):
+        pos, R = kin.poses_from_angles(par * phic * f)
+        C = plate_corners(s, pos, R)[:, :, :2]
+        hit = any(_overlap(C[i], C[j]) for i in range(len(C)) for j in range(i + 1, len(C)))
+        assert hit == expect, f
+    pos, R = kin.poses_from_angles(-par * math.pi / 4 * 0.999)
+    C = plate_corners(s, pos, R)[:, :, :2]
+    assert not any(_overlap(C[i], C[j]) for i in range(len(C)) for j in range(i + 1, len(C)))
+
+
+def test_nonuniform_poses_converge_to_the_exact_mechanism():
+    """Least-squares poses are continuous: D = g + eps * noise -> exact uniform poses as eps -> 0."""
+    s = Scene.from_dict({"layout": {"grid": [3, 5]}, "hinge": {"length_mm": 5.0},
+                         "axes": [{"direction": "vertical", "line": 2, "fold_deg": 45}]})
+    kin = K.Kinematics(s)
+    n = s.topology.n_nodes
+    noise = np.random.default_rng(3).uniform(-1, 1, n)
+    p0, R0, _ = kin.poses(np.full(n, 0.8))
+    errs = []
+    for eps in (1e-2, 1e-3, 1e-4):
+        p, R, _ = kin.poses(np.clip(0.8 + eps * noise, -1, 1))
+        errs.append(max(np.abs(p - p0).max(), np.abs(R - R0).max()))
+    assert errs[0] > errs[1] > errs[2]
+    assert errs[2] < 1e-2 * errs[0] * 1.5      # first order in eps
