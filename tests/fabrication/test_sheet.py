@@ -102,7 +102,7 @@ def test_grid_counts_volumes_tilts_and_stubs(grid_result):
             ij = tuple(int(x) for x in q.info["node"][1:].split(","))
             assert vol == pytest.approx(expected_node_volume(topo, ij, tilts, stubs), rel=1e-9), q.name
     # every node of a 4 x 4 node grid differs (corners, edges, parity, tilts); hinges repeat
-    assert len([k for k in r.shapes if k[0] == "hinge"]) == 4     # untilted x 2 sides, 2 tilted
+    assert len([k for k in r.shapes if k[0] == "hinge"]) == 5     # untilted x 2 sides, 2 tilted, 1 short
 
 
 def test_tilted_hinge_leans_towards_the_fold_vector(grid_result):
