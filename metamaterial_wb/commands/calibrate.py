@@ -1,0 +1,99 @@
+"""``calibrate model|measured ...``: fit the quadratic model's (k1, k2) per hinge size (docs/calibration.md).
+
+* ``calibrate model [--out TABLE.json] [--lengths ...] [--widths ...]``: fit to the nonlinear lattice
+  model and write a calibration table (default: print a summary, write nothing unless ``--out``).
+  ``--out metamaterial_wb/core/data/calibration.json`` regenerates the shipped table.
+* ``calibrate measured PIECE.json ANGLES.csv [--table IN.json --out OUT.json]``: fit k1 (and a k2
+  ratio for a piece with two hinge widths) to node angles measured on a printed test piece; with
+  ``--out`` the fitted k1 (and width factor) is inserted into a copy of the table.
+"""
+import json
+import sys
+
+NAME = "calibrate"
+HELP = "fit the quadratic model's k1/k2 per hinge size to the nonlinear model or to measured node angles"
+
+
+def _floats(text, field):
+    from metamaterial_wb.core.errors import SceneError
+
+    try:
+        vals = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise SceneError(field, f"{text!r}: expected comma-separated numbers in mm") from None
+    if not vals or any(v <= 0 for v in vals) or sorted(set(vals)) != vals:
+        raise SceneError(field, f"{text!r}: expected strictly increasing positive numbers in mm")
+    return vals
+
+
+def add_arguments(p):
+    p.add_argument("source", choices=("model", "measured"), help="fit to the nonlinear model or to measurements")
+    p.add_argument("piece", nargs="?", help="measured: the test piece's scene (JSON) with its constraint values")
+    p.add_argument("angles", nargs="?", help="measured: CSV 'node,angle_deg' of measured plate rotations")
+    p.add_argument("--out", default=None, help="write the calibration table (JSON) here")
+    p.add_argument("--table", default=None, help="measured: table to update (default: the shipped table)")
+    p.add_argument("--lengths", default=None, help="model: hinge lengths in mm (comma-separated)")
+    p.add_argument("--widths", default=None, help="model: hinge widths in mm (comma-separated)")
+
+
+def run(args):
+    from metamaterial_wb.core import calibrate as C
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fileio import write_atomic
+
+    if args.source == "model":
+        if args.piece or args.angles:
+            raise SceneError("calibrate model", "takes no positional files (did you mean 'calibrate measured'?)")
+        lengths = _floats(args.lengths, "--lengths") if args.lengths else C.DEFAULT_LENGTHS_MM
+        widths = _floats(args.widths, "--widths") if args.widths else C.DEFAULT_WIDTHS_MM
+        if C.REFERENCE_WIDTH_MM not in widths:
+            raise SceneError("--widths", f"must include the reference width {C.REFERENCE_WIDTH_MM} mm (factor 1)")
+        table, kl, kw = C.fit_table_to_model(lengths, widths,
+                                              progress=lambda m: print(m, file=sys.stderr, flush=True))
+        print("length_mm  k1        rms_D   max_D   (fit residual, D units)")
+        for r in kl:
+            print(f"{r['length_mm']:8.3g}  {r['k1']:.6f}  {r['rms_D']:.4f}  {r['max_D']:.4f}")
+        print("width_mm  k2 factor  rms_D mixed piece (equal k2)")
+        for r in kw:
+            print(f"{r['width_mm']:8.3g}  {r['factor']:9.4g}  {r['rms_D']:.4f} ({r['rms_D_equal']:.4f})")
+        if args.out:
+            write_atomic(args.out, C.table_json(table))
+            print(f"wrote {args.out}")
+        return 0
+
+    if not args.piece or not args.angles:
+        raise SceneError("calibrate measured", "needs PIECE.json and ANGLES.csv")
+    from metamaterial_wb.core.calibration import Calibration, _DEFAULT_PATH
+    from metamaterial_wb.core.scene import Scene
+
+    scene = Scene.load(args.piece)
+    if not scene.constraints and not scene.actuators:
+        raise SceneError("constraints", "the test piece has no angular constraint or actuator; the fit needs the "
+                                        "deformation you imposed")
+    idx, ang = C.read_angles_csv(args.angles, scene)
+    fit = C.fit_measured(scene, idx, ang)
+    print(f"k1 = {fit['k1']:.6f}" + (f", k2 ratio (width {fit['widths_mm'][1]} / {fit['widths_mm'][0]} mm) = "
+                                      f"{fit['k2_ratio']:.4g}" if fit["k2_ratio"] is not None else ""))
+    print(f"residual: RMS {fit['rms_D']:.4f} / max {fit['max_D']:.4f} D units, RMS {fit['rms_deg']:.3f} deg "
+          f"over {len(fit['nodes'])} measured free nodes")
+    for n, r in zip(fit["nodes"], fit["residual_deg"]):
+        print(f"  {n}: {r:+.3f} deg")
+    if args.out:
+        with open(args.table or _DEFAULT_PATH, encoding="utf-8") as f:
+            table = json.load(f)
+        Calibration(table)
+        widths = fit["widths_mm"]
+        base_w = scene.hinge["width_mm"]
+        w_other = [w for w in widths if w != base_w]
+        factor = None
+        if fit["k2_ratio"] is not None and w_other:
+            cal = Calibration(table)
+            factor = cal.k2(base_w, cal.t_ref) * fit["k2_ratio"]
+        table = C.update_table(table, scene.hinge["length_mm"], round(fit["k1"], 6),
+                               w_other[0] if factor is not None else None, factor)
+        table["source"] = (table.get("source", "") + f" Updated from measured angles: {args.angles} on {args.piece} "
+                           f"(k1 = {fit['k1']:.4f} at {scene.hinge['length_mm']} mm, RMS residual "
+                           f"{fit['rms_deg']:.3f} deg).")
+        write_atomic(args.out, C.table_json(table))
+        print(f"wrote {args.out}")
+    return 0

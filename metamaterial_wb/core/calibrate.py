@@ -1,0 +1,363 @@
+"""Calibration of the quadratic model's (k1, k2) per hinge size (docs/calibration.md).
+
+The seed (section 3.2) printed test pieces, fixed some joints with angular constraints and fitted
+k1, k2 per hinge size to the measured deformation. This module does the same against two sources:
+
+* the nonlinear lattice model (:func:`fit_table_to_model`, which regenerates
+  ``core/data/calibration.json``), and
+* node angles a user measured on a printed test piece (:func:`fit_measured`, CSV ``node,angle_deg``).
+
+Fit measure: node angles in D units after removing the least-squares rigid rotation (the same
+measure as docs/fidelity.md), over the nodes that are not held by a constraint. k1 is fitted on a
+test piece with one hinge size; the k2 factor of a width is fitted on a test piece whose right half
+has that width and whose left half has the reference width (only ratios of k2 matter).
+"""
+import csv
+import math
+import re
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from metamaterial_wb.core.errors import MetamaterialError, SceneError
+from metamaterial_wb.core.scene import Scene, joint_nodes, parse_joint
+
+REFERENCE_WIDTH_MM = 0.8
+REFERENCE_THICKNESS_MM = 7.0
+DEFAULT_LENGTHS_MM = (0.25, 0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 9.5)
+DEFAULT_WIDTHS_MM = (0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.6, 2.0, 3.0, 4.0)
+TEST_PIECE = {"rows": 5, "cols": 5, "joint": "H2,2", "value": 0.3}
+MIXED_PIECE = {"rows": 5, "cols": 6, "joint": "H2,1", "value": 0.3}
+
+
+# ----------------------------------------------------------------------------------------------------
+# test pieces
+# ----------------------------------------------------------------------------------------------------
+def test_piece(length_mm, width_mm=REFERENCE_WIDTH_MM, thickness_mm=REFERENCE_THICKNESS_MM, right_width_mm=None,
+               rows=None, cols=None, joint=None, value=None, cell_size_mm=20.0):
+    """The k1 test piece: 5 x 5 cells with one angular constraint (D = 0.3) on the central joint H2,2.
+
+    With ``right_width_mm``: the mixed piece, 5 x 6 cells whose right half (columns >= 3) has hinges of
+    that width, constraint on H2,1 in the left half (used to check a k2 ratio on the D field).
+    """
+    spec = dict(MIXED_PIECE if right_width_mm is not None else TEST_PIECE)
+    for k, v in (("rows", rows), ("cols", cols), ("joint", joint), ("value", value)):
+        if v is not None:
+            spec[k] = v
+    rows, cols = spec["rows"], spec["cols"]
+    d = {"format": "metamaterial-scene", "version": 1, "name": "calibration-test-piece",
+         "cell_size_mm": cell_size_mm,
+         "hinge": {"length_mm": length_mm, "width_mm": width_mm, "thickness_mm": thickness_mm},
+         "layout": {"grid": [rows, cols]},
+         "constraints": [{"name": "clip", "joint": spec["joint"], "value": spec["value"]}]}
+    if right_width_mm is not None:
+        half = cols // 2
+        joints = []
+        for r in range(rows + 1):
+            for c in range(half, cols):
+                joints.append({"joint": f"H{r},{c}", "width_mm": right_width_mm})
+        for r in range(rows):
+            for c in range(half + 1, cols + 1):
+                joints.append({"joint": f"V{r},{c}", "width_mm": right_width_mm})
+        d["joints"] = joints
+    return Scene.from_dict(d)
+
+
+# ----------------------------------------------------------------------------------------------------
+# fitting machinery
+# ----------------------------------------------------------------------------------------------------
+class _Fitter:
+    """Quadratic-model node angles as a function of per-group (k1, k2) on one scene."""
+
+    def __init__(self, scene, phi_ref, groups_of_joints=None):
+        from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+        from metamaterial_wb.core.solver import scene_groups
+
+        self.scene = scene
+        self.geo = LatticeGeometry(scene)
+        topo = scene.topology
+        self.pairs = topo.joint_pairs
+        self.groups = scene_groups(scene)
+        self.values = np.array([it.value for _, it in scene.fixed_items()], float)
+        fixed = set()
+        for _, nodes in self.groups:
+            fixed.update(int(n) for n in nodes)
+        self.free = np.array([k for k in range(topo.n_nodes) if k not in fixed], dtype=np.int64)
+        self.phi_ref = np.asarray(phi_ref, float)
+        self.jg = np.zeros(topo.n_joints, dtype=np.int64) if groups_of_joints is None else groups_of_joints
+
+    def D(self, k1, k2):
+        from metamaterial_wb.core.solver import QuadraticModel
+
+        k1 = np.asarray(k1, float)[self.jg]
+        k2 = np.asarray(k2, float)[self.jg]
+        m = QuadraticModel(self.scene.topology.n_nodes, self.pairs, k1, k2, self.groups)
+        return m.solve(self.values)
+
+    def residual(self, k1, k2):
+        """D-unit residual over the free nodes after removing the rigid rotation; also its angle form."""
+        geo = self.geo
+        phi_q = geo.phi_from_D(self.D(k1, k2))
+        diff = (phi_q - self.phi_ref)[self.free]
+        w = float(diff.mean()) if diff.size else 0.0
+        Dref = geo.D_from_phi(self.phi_ref)[self.free]
+        r = geo.parity[self.free] * (diff - w) / np.where(Dref >= 0, geo.closing_rad, geo.opening_rad)
+        return r, diff - w
+
+    def rms(self, k1, k2):
+        r, _ = self.residual(k1, k2)
+        return float(np.sqrt(np.mean(r ** 2))) if r.size else 0.0
+
+
+def _fit_k1(fitter, k2=(1.0,)):
+    res = minimize_scalar(lambda k: fitter.rms([k], k2), bounds=(0.0, 1.0), method="bounded",
+                          options={"xatol": 1e-6})
+    k1 = float(res.x)
+    # the bounded search never evaluates the end points: compare with them explicitly
+    for edge in (0.0, 1.0 - 1e-9):
+        if fitter.rms([edge], k2) < fitter.rms([k1], k2):
+            k1 = edge
+    return k1
+
+
+def _fit_k2_ratio(fitter, k1):
+    f = lambda lr: fitter.rms([k1, k1], [1.0, 10.0 ** lr])
+    res = minimize_scalar(f, bounds=(-4.0, 4.0), method="bounded", options={"xatol": 1e-5})
+    return float(10.0 ** res.x)
+
+
+def reference_angles(scene, model="nonlinear", **options):
+    """In-plane node rotations (radians) of a scene from a lattice model."""
+    from metamaterial_wb.core.lattice.solve import node_twist
+    from metamaterial_wb.core.models import run_model
+
+    res = run_model(model, scene, **options)
+    if not res.converged:
+        raise MetamaterialError(f"calibration: the {model} model did not converge on the test piece "
+                                f"({scene.hinge}); no fit made")
+    return node_twist(res.rotations)
+
+
+def fit_length(length_mm, model="nonlinear", **piece):
+    """Fit k1 for one hinge length (reference width and thickness). Returns dict with residuals."""
+    sc = test_piece(length_mm, **piece)
+    p = dict(TEST_PIECE, **{k: v for k, v in piece.items() if k in TEST_PIECE})
+    fitter = _Fitter(sc, reference_angles(sc, model))
+    k1 = _fit_k1(fitter)
+    r, dphi = fitter.residual([k1], [1.0])
+    return {"length_mm": length_mm, "k1": k1, "rms_D": float(np.sqrt(np.mean(r ** 2))),
+            "max_D": float(np.abs(r).max()), "rms_D_rel": float(np.sqrt(np.mean(r ** 2))) / abs(p["value"]),
+            "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2))))}
+
+
+def fit_width(width_mm, k1, length_mm=2.0, model="nonlinear"):
+    """The k2 factor of a hinge width relative to the reference width (0.8 mm).
+
+    k2 is the quadratic model's energy scale: for a fixed D field its energy is proportional to k2. The
+    factor is therefore fitted on the energy: the lattice model's elastic energy of the k1 test piece
+    with hinges of this width, divided by the same piece with reference hinges (same clip value). The
+    D field is insensitive to a common k2, so the factor is then checked on the mixed piece (right
+    half of this width): ``rms_D`` is its D-field residual with the fitted factor, ``rms_D_equal`` the
+    residual with equal k2 (both against the lattice model).
+    """
+    from metamaterial_wb.core.models import run_model
+
+    energies = []
+    for w in (REFERENCE_WIDTH_MM, width_mm):
+        res = run_model(model, test_piece(length_mm, width_mm=w))
+        if not res.converged:
+            raise MetamaterialError(f"calibration: the {model} model did not converge for width {w} mm")
+        energies.append(res.info["elastic_energy_Nmm"])
+    factor = energies[1] / energies[0]
+    sc = test_piece(length_mm, right_width_mm=width_mm)
+    topo = sc.topology
+    jg = np.array([1 if sc.joint_hinge(n)["width_mm"] == width_mm and width_mm != REFERENCE_WIDTH_MM else 0
+                   for n in topo.joint_names], dtype=np.int64)
+    fitter = _Fitter(sc, reference_angles(sc, model), jg)
+    r, dphi = fitter.residual([k1, k1], [1.0, factor])
+    return {"width_mm": width_mm, "factor": factor, "energy_Nmm": energies[1],
+            "rms_D": float(np.sqrt(np.mean(r ** 2))), "max_D": float(np.abs(r).max()),
+            "rms_D_equal": fitter.rms([k1, k1], [1.0, 1.0]),
+            "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2))))}
+
+
+def fit_table_to_model(lengths=DEFAULT_LENGTHS_MM, widths=DEFAULT_WIDTHS_MM, model="nonlinear", progress=None):
+    """Regenerate the calibration table (same format as core/data/calibration.json) from a lattice model."""
+    kl = []
+    for L in lengths:
+        if progress:
+            progress(f"k1: hinge length {L} mm")
+        kl.append(fit_length(L, model))
+    k1_ref = float(np.interp(2.0, [r["length_mm"] for r in kl], [r["k1"] for r in kl]))
+    kw = []
+    for w in widths:
+        if progress:
+            progress(f"k2: hinge width {w} mm")
+        kw.append(fit_width(w, k1_ref, model=model))
+    p = TEST_PIECE
+    table = {
+        "format": "metamaterial-calibration", "version": 1,
+        "source": (f"Fitted to the {model} lattice model by 'python3 -m metamaterial_wb calibrate model' "
+                   f"(metamaterial_wb.core.calibrate.fit_table_to_model): test piece {p['rows']} x {p['cols']} cells "
+                   f"of 20 mm with one angular constraint D = {p['value']} on joint {p['joint']}; k1 per hinge length "
+                   f"(width {REFERENCE_WIDTH_MM} mm, thickness {REFERENCE_THICKNESS_MM} mm) by least squares on the "
+                   f"node angles in D units after removing the rigid rotation; k2 factor per width (length 2 mm) from "
+                   f"the lattice's elastic energy of the same piece relative to {REFERENCE_WIDTH_MM} mm hinges. "
+                   f"See docs/calibration.md."),
+        "assumptions": [
+            "k1 depends only on the flexible length; k2 only on the cross-section (only ratios of k2 matter)",
+            "TPU hinges (modulus 26 MPa, Poisson 0.45) between rigid plates, 20 mm cells, hinge thickness 7 mm",
+            "k2 scales linearly with the hinge thickness (the table's reference thickness)",
+            "the fit depends on the test piece's size and on the amplitude: the quadratic model cannot "
+            "represent the lattice's free-edge amplification; fit residuals in docs/calibration.md",
+        ],
+        "k1_vs_length": {"length_mm": [float(r["length_mm"]) for r in kl], "k1": [round(r["k1"], 6) for r in kl]},
+        "k2_vs_width": {"width_mm": [float(r["width_mm"]) for r in kw],
+                        "factor": [float(f"{r['factor']:.6g}") for r in kw]},
+        "k2_thickness_reference_mm": REFERENCE_THICKNESS_MM,
+    }
+    return table, kl, kw
+
+
+# ----------------------------------------------------------------------------------------------------
+# measured angles (CSV)
+# ----------------------------------------------------------------------------------------------------
+_NODE_RE = re.compile(r"^\s*N?\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
+
+
+def read_angles_csv(path, scene):
+    """``node,angle_deg`` rows (header optional; node as ``N1,2``) -> (node indices, angles in rad).
+
+    The angle is the plate's measured in-plane rotation from the printed (flat) state, degrees,
+    counter-clockwise positive seen from the top.
+    """
+    topo = scene.topology
+    idx, ang = [], []
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    for ln, row in enumerate(rows, start=1):
+        if not row or all(not c.strip() for c in row) or row[0].strip().startswith("#"):
+            continue
+        if len(row) == 3:             # N,i,j form: "N1,2" split by the CSV reader -> ["N1", "2", angle]
+            row = [f"{row[0]},{row[1]}", row[2]]
+        if len(row) != 2:
+            raise SceneError(f"{path}:{ln}", f"expected 2 columns 'node,angle_deg', got {len(row)}: {row!r}")
+        if ln == 1 and row[1].strip().lower().startswith("angle"):
+            continue
+        m = _NODE_RE.match(row[0].replace('"', ""))
+        if not m:
+            raise SceneError(f"{path}:{ln}", f"{row[0]!r} is not a node name like N1,2")
+        key = (int(m.group(1)), int(m.group(2)))
+        if key not in topo.node_index:
+            raise SceneError(f"{path}:{ln}", f"node N{key[0]},{key[1]} is not in the test piece's layout")
+        try:
+            a = float(row[1])
+        except ValueError:
+            raise SceneError(f"{path}:{ln}", f"angle {row[1]!r} is not a number (degrees)") from None
+        if not math.isfinite(a) or abs(a) > 90:
+            raise SceneError(f"{path}:{ln}", f"angle {a!r} deg is outside the allowed range [-90, 90]")
+        if topo.node_index[key] in idx:
+            raise SceneError(f"{path}:{ln}", f"node N{key[0]},{key[1]} is listed twice")
+        idx.append(topo.node_index[key])
+        ang.append(math.radians(a))
+    if len(idx) < 2:
+        raise SceneError(str(path), f"{len(idx)} measured node(s); at least 2 are needed for a fit")
+    return np.array(idx, dtype=np.int64), np.array(ang)
+
+
+def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
+    """Fit k1 (and, for a piece with two hinge widths, the k2 ratio) to measured node angles.
+
+    Only the measured nodes enter the residual. Returns a dict with k1, k2 ratio, residuals (D units
+    and degrees) and per-node residuals.
+    """
+    topo = scene.topology
+    widths = sorted({scene.joint_hinge(n)["width_mm"] for n in topo.joint_names})
+    if len(widths) > 2:
+        raise SceneError("joints", f"the test piece has {len(widths)} hinge widths; use one (k1 fit) or two "
+                                   f"(k1 and k2 ratio fit)")
+    base_w = scene.hinge["width_mm"]
+    jg = np.array([0 if scene.joint_hinge(n)["width_mm"] == base_w else 1 for n in topo.joint_names], dtype=np.int64)
+    two = len(widths) == 2 if fit_k2 is None else bool(fit_k2)
+    phi_ref = np.zeros(topo.n_nodes)
+    phi_ref[node_idx] = angles_rad
+    fitter = _Fitter(scene, phi_ref, jg)
+    fixed_nodes = set(range(topo.n_nodes)) - set(int(k) for k in fitter.free)
+    use = np.array([k for k in node_idx if int(k) not in fixed_nodes], dtype=np.int64)
+    if use.size < 1:
+        raise SceneError("angles", "every measured node is held by a constraint; measure free nodes")
+    fitter.free = use
+    if two:
+        best = None
+        for _ in range(3):          # alternate k1 and the k2 ratio (each a 1-D fit)
+            ratio = 1.0 if best is None else best[1]
+            k1 = _fit_k1(fitter, [1.0, ratio])
+            ratio = _fit_k2_ratio(fitter, k1)
+            best = (k1, ratio)
+        k1, ratio = best
+        k2 = [1.0, ratio]
+    else:
+        k1 = _fit_k1(fitter, [1.0, 1.0])
+        ratio = None
+        k2 = [1.0, 1.0]
+    r, dphi = fitter.residual([k1, k1], k2)
+    nodes = [f"N{topo.nodes[k][0]},{topo.nodes[k][1]}" for k in use]
+    return {"k1": k1, "k2_ratio": ratio, "widths_mm": widths, "rms_D": float(np.sqrt(np.mean(r ** 2))),
+            "max_D": float(np.abs(r).max()), "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2)))),
+            "nodes": nodes, "residual_deg": [float(x) for x in np.degrees(dphi)]}
+
+
+def table_json(table):
+    """The table as JSON text in the shipped file's layout (one line per list of numbers)."""
+    import json
+
+    lines = ["{"]
+    items = list(table.items())
+    for k, (key, val) in enumerate(items):
+        end = "," if k < len(items) - 1 else ""
+        if isinstance(val, dict):
+            inner = ", ".join(f"{json.dumps(a)}: {json.dumps(b)}" for a, b in val.items())
+            lines.append(f" {json.dumps(key)}: {{{inner}}}{end}")
+        elif isinstance(val, list) and all(isinstance(x, str) for x in val):
+            lines.append(f" {json.dumps(key)}: [")
+            lines += [f"  {json.dumps(x)}{',' if i < len(val) - 1 else ''}" for i, x in enumerate(val)]
+            lines.append(f" ]{end}")
+        else:
+            lines.append(f" {json.dumps(key)}: {json.dumps(val, allow_nan=False)}{end}")
+    lines.append("}")
+    text = "\n".join(lines) + "\n"
+    assert json.loads(text) == json.loads(json.dumps(table))
+    return text
+
+
+def update_table(table, length_mm, k1, width_mm=None, factor=None):
+    """A copy of a calibration table with one k1 (and optionally one width factor) inserted/replaced."""
+    import copy
+
+    t = copy.deepcopy(table)
+    L = list(t["k1_vs_length"]["length_mm"])
+    K = list(t["k1_vs_length"]["k1"])
+    if length_mm in L:
+        K[L.index(length_mm)] = k1
+    else:
+        L.append(length_mm)
+        K.append(k1)
+        order = np.argsort(L)
+        L = [L[i] for i in order]
+        K = [K[i] for i in order]
+    t["k1_vs_length"] = {"length_mm": L, "k1": K}
+    if width_mm is not None and factor is not None:
+        W = list(t["k2_vs_width"]["width_mm"])
+        F = list(t["k2_vs_width"]["factor"])
+        if width_mm in W:
+            F[W.index(width_mm)] = factor
+        else:
+            W.append(width_mm)
+            F.append(factor)
+            order = np.argsort(W)
+            W = [W[i] for i in order]
+            F = [F[i] for i in order]
+        t["k2_vs_width"] = {"width_mm": W, "factor": F}
+    from metamaterial_wb.core.calibration import Calibration
+    Calibration(t)        # validates (monotone abscissae, ranges)
+    return t
