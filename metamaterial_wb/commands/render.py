@@ -46,7 +46,8 @@ def run(args):
         scene.set_value(name, v)
     elev, azim = view_angles(args.view)
     size = _size(args.size)
-    ensure_configured(scene)
+    for w in (ensure_configured(scene) or {}).get("warnings", []):
+        print(f"warning: {w}", file=sys.stderr)
     g = args.global_g if args.global_g is not None else (None if sets else scene.global_deformation)
     if g is not None:
         D = global_D(scene, g)

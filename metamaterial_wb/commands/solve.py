@@ -113,7 +113,8 @@ def run(args):
     for name, v in parse_sets(args.set):
         scene.set_value(name, v)
     from metamaterial_wb.core.design import ensure_configured
-    ensure_configured(scene)    # a scene with axes but no joint configuration is configured first
+    for w in (ensure_configured(scene) or {}).get("warnings", []):  # axes without joint_config: configure
+        print(f"warning: {w}", file=sys.stderr)
     g = args.global_g if args.global_g is not None else scene.global_deformation
     opts = {"backend": args.backend} if args.model == "quadratic" else {}
     opts.update(parse_options(args.option))

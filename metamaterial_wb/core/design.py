@@ -41,15 +41,11 @@ class AxisPlan:
     joints: np.ndarray                  # crossed joint indices
     joint_names: list = field(default_factory=list)
 
+    label_name: str = ""                # the axis's name, or v<line> / h<line>
+
     @property
     def field(self):
         return f"axes[{self.index}]"
-
-    @property
-    def name(self):
-        return self.label_name
-
-    label_name: str = ""
 
 
 def axis_label(k, axis):
@@ -289,9 +285,27 @@ def effective_tilts_deg(scene):
 
 
 def ensure_configured(scene):
-    """Configure a scene that has axes but no joint configuration (used by solve and render)."""
-    if scene.axes and not scene.joint_config:
+    """Configure a scene that has axes but no joint configuration (used by solve and render).
+
+    A configuration written by ``design`` (its entries name their axis) that no longer matches the
+    axes (an axis moved or its fold changed) is recomputed, with a warning in the returned report.
+    A hand-written configuration (entries without ``"axis"``) is kept as it is. Returns the report
+    of the configuration run, or None when nothing was done.
+    """
+    if not scene.axes:
+        return None
+    if not scene.joint_config:
         return configure(scene)
+    if all("axis" in c for c in scene.joint_config.values()):
+        want = compute_joint_config(scene)[0]
+        same = set(want) == set(scene.joint_config) and all(
+            abs(float(want[k]["tilt_deg"]) - float(scene.joint_config[k].get("tilt_deg", 0.0))) < 1e-6
+            for k in want)
+        if not same:
+            report = configure(scene)
+            report["warnings"].insert(0, "the scene's joint_config did not match its axes (stale design); "
+                                         "it was recomputed - run `design` to store the new one")
+            return report
     return None
 
 

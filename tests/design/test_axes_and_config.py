@@ -190,3 +190,15 @@ def test_global_deformation_between_flat_and_folded():
     assert all(x < y for x, y in zip(angles, angles[1:]))       # monotonic between flat and folded
     with pytest.raises(SceneError, match="global_deformation"):
         design.global_D(s, 1.5)
+
+
+def test_stale_design_configuration_is_recomputed_but_hand_written_one_is_kept():
+    s = scene({"chain": 4}, [V(1, 30.0)])
+    design.configure(s)
+    s.axes[0].fold_deg = 45.0                       # the user changed the fold after designing
+    rep = design.ensure_configured(s)
+    assert rep is not None and "stale" in rep["warnings"][0]
+    assert s.joint_config["H0,1"]["fold_deg"] == 45.0
+    assert design.ensure_configured(s) is None      # now consistent
+    hand = scene({"chain": 4}, [V(1, 30.0)], joint_config={"H0,1": {"tilt_deg": 10.0}})
+    assert design.ensure_configured(hand) is None and hand.joint_tilt_deg("H0,1") == 10.0
