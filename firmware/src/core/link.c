@@ -61,14 +61,24 @@ static void update_outputs(sl_link_t *l)
     for (uint8_t ch = 0; ch < l->n_ch; ch++) {
         uint16_t us = 0;
         if (pulses_on(l)) {
-            uint8_t dummy = 0;
-            us = l->raw_us[ch] ? l->raw_us[ch] : sl_cdeg_to_us(&l->cfg[ch], l->cur[ch], &dummy);
+            if (l->raw_us[ch]) {
+                us = l->raw_us[ch];
+            } else {
+                /* the 32-bit division is slow on the AVR: map only when the angle or the config changed */
+                if (l->remap || l->cur[ch] != l->mapped_cdeg[ch] || !l->mapped_us[ch]) {
+                    uint8_t dummy = 0;
+                    l->mapped_cdeg[ch] = l->cur[ch];
+                    l->mapped_us[ch] = sl_cdeg_to_us(&l->cfg[ch], l->cur[ch], &dummy);
+                }
+                us = l->mapped_us[ch];
+            }
         }
         if (us != l->out_us[ch]) {
             l->out_us[ch] = us;
             l->out_changed = 1;
         }
     }
+    l->remap = 0;
 }
 
 void sl_link_init(sl_link_t *l, uint8_t n_ch, uint8_t extra_caps, sl_tx_fn tx, sl_contacts_fn contacts, void *user,
@@ -219,6 +229,7 @@ static void do_config_ch(sl_link_t *l, const sl_packet_t *rq)
     l->cfg[ch] = c;
     l->target[ch] = sl_limit_cdeg(&c, l->target[ch], &dummy);
     l->cur[ch] = sl_limit_cdeg(&c, l->cur[ch], &dummy);
+    l->remap = 1;
     update_outputs(l);
     uint8_t out[2];
     ack(l, rq, out, 2);

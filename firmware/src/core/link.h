@@ -62,6 +62,9 @@ typedef struct {
     uint16_t raw_us[SL_MAX_CH];  /* SET_PULSES override, 0 = none */
     uint16_t out_us[SL_MAX_CH];  /* what the driver outputs now, 0 = no pulses */
     uint8_t out_changed;
+    int16_t mapped_cdeg[SL_MAX_CH]; /* cache of the last angle -> pulse mapping */
+    uint16_t mapped_us[SL_MAX_CH];
+    uint8_t remap;
     sl_osc_t osc[SL_MAX_CH];
     uint8_t osc_on;              /* bit per channel */
     uint32_t osc_t0;

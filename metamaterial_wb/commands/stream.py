@@ -1,0 +1,93 @@
+"""``stream SCENE.json --port PORT [--seconds S] [--dry-run] [--map NAME=CH,...] [--channels FILE] ...``
+
+Streams the scene's actuator motion profiles to the servolink firmware (firmware/, docs/firmware.md) at
+50 Hz: handshake, channel configuration, watchdog timing, ARM, then one SET_ANGLES frame per 20 ms with
+the angle ``value * 90 deg`` per actuator (configurable per channel). ``--dry-run`` runs everything over
+pyserial's ``loop://`` without hardware.
+"""
+import json
+import sys
+
+NAME = "stream"
+HELP = "stream a scene's motion to servo firmware over a serial port (servolink v1, 50 Hz)"
+
+
+def add_arguments(p):
+    p.add_argument("scene", help="scene file (JSON, docs/scene-format.md)")
+    p.add_argument("--port", help="serial port (/dev/ttyUSB0, /dev/ttyACM0, an emulator pty) or a pyserial URL")
+    p.add_argument("--seconds", type=float, default=10.0, help="how long to stream (default 10 s)")
+    p.add_argument("--dry-run", action="store_true", help="no hardware: stream over pyserial's loop://")
+    p.add_argument("--baud", type=int, default=115200, help="baud rate (default 115200)")
+    p.add_argument("--rate", type=float, default=50.0, help="frames per second (default 50, allowed 1..100)")
+    p.add_argument("--map", default="", metavar="NAME=CH,...",
+                   help="actuator -> channel, e.g. head=0,tail=3 (default: the scene's servo.channel, else order)")
+    p.add_argument("--channels", metavar="FILE",
+                   help="JSON {actuator: {channel, scale_deg, invert, trim_deg, limits_deg, min_us, max_us, "
+                        "park_deg, max_slew_dps}} (docs/firmware.md)")
+    p.add_argument("--clamp", action="store_true",
+                   help="clamp angles to the channel limits instead of refusing a motion that leaves them")
+    p.add_argument("--watchdog-ms", type=int, default=500, help="host silence before the firmware holds (default 500)")
+    p.add_argument("--park-after-ms", type=int, default=500, help="hold time before parking (default 500)")
+    p.add_argument("--release-after-ms", type=int, default=5000,
+                   help="time parked before the pulses stop (default 5000)")
+    p.add_argument("--disarm", action="store_true", help="stop the pulses at the end (servos go limp)")
+    p.add_argument("--report", metavar="FILE", help="write the statistics as JSON")
+
+
+def run(args):
+    from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number
+    from metamaterial_wb.core.fileio import write_json
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.hardware import Link, Streamer, channel_map, check_motion, parse_map
+    from metamaterial_wb.hardware.mapping import load_channel_file
+
+    if not args.port and not args.dry_run:
+        raise SceneError("--port", "a serial port is required (or --dry-run to stream over loop://)")
+    check_number("--seconds", args.seconds, 0.0, 86400.0, "s", low_open=True)
+    check_number("--rate", args.rate, 1.0, 100.0, "Hz")
+    check_number("--watchdog-ms", args.watchdog_ms, 50, 10000, "ms")
+    check_number("--park-after-ms", args.park_after_ms, 0, 60000, "ms")
+    check_number("--release-after-ms", args.release_after_ms, 0, 60000, "ms")
+    scene = Scene.load(args.scene)
+    overrides = load_channel_file(args.channels) if args.channels else None
+    channels = channel_map(scene, parse_map(args.map), overrides)
+    if not args.clamp:
+        check_motion(scene, channels, args.seconds, args.rate)
+
+    port = "loop://" if args.dry_run and not args.port else args.port
+    link = Link.open(port, baud=args.baud, dry_run=args.dry_run)
+    try:
+        streamer = Streamer(link, channels, rate_hz=args.rate, clamp=args.clamp)
+        streamer.prepare(args.watchdog_ms, args.park_after_ms, args.release_after_ms)
+        info = link.info
+        print(f"{link.name}: servolink {info.proto_major}.{info.proto_minor}, firmware "
+              f"{'.'.join(map(str, info.fw_version))}, {info.n_channels} channels"
+              f"{' (dry run)' if args.dry_run else ''}; streaming "
+              + ", ".join(f"{c.name}->ch{c.channel}" for c in channels)
+              + f" for {args.seconds:g} s at {args.rate:g} Hz", file=sys.stderr)
+        try:
+            stats = streamer.run(scene, args.seconds)
+        except KeyboardInterrupt:
+            streamer.stop()
+            stats = streamer.stats
+        if args.disarm:
+            link.disarm()
+    finally:
+        link.close()
+    s = stats.summary()
+    s["port"] = link.name
+    s["dry_run"] = bool(args.dry_run)
+    s["channels"] = [c.to_dict() for c in channels]
+    if args.report:
+        write_json(args.report, s)
+    rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
+           if s["rtt_ms_median"] is not None else "no replies")
+    print(f"{s['frames']} frames in {s['duration_s']:.2f} s ({s['rate_hz']:.1f} Hz): {s['acked']} acked, "
+          f"{s['naked']} NAKed{' ' + json.dumps(s['nak_reasons']) if s['nak_reasons'] else ''}, {s['lost']} lost, "
+          f"{s['skipped']} skipped; {rtt}; {s['clamped_frames']} frames clamped")
+    if stats.error:
+        raise MetamaterialError(f"stream stopped: {stats.error}")
+    if s["lost"] or s["naked"]:
+        print(f"error: {s['lost']} frames lost and {s['naked']} refused out of {s['frames']}", file=sys.stderr)
+        return 1
+    return 0

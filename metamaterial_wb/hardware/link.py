@@ -1,0 +1,219 @@
+"""pyserial link to the servolink firmware: open, handshake, requests with retries, fire-and-forget frames.
+
+    link = Link.open("/dev/ttyUSB0")        # or "loop://" with dry_run=True, or a simulator pty
+    info = link.handshake()                  # HELLO until HELLO_ACK (expects the DTR reset of an Uno/Nano)
+    link.configure(channels); link.arm()
+    seq = link.send(protocol.SET_ANGLES, payload)   # latest wins: never retried
+    reply = link.wait_reply(seq, 0.02)
+
+``pyserial`` is imported lazily so that the workbench loads without it. Nothing here imports FreeCAD.
+Dry run: over ``loop://`` every frame comes back unchanged; the link decodes its own frame and counts it
+as acknowledged, so the whole path (encoding, framing, pacing) runs without hardware.
+"""
+from __future__ import annotations
+
+import threading
+import time
+
+from metamaterial_wb.core.errors import MetamaterialError
+
+from . import protocol as P
+
+
+READ_TIMEOUT_S = 0.002  # the serial port's read timeout: the longest a poll blocks in one read
+
+
+class LinkError(MetamaterialError):
+    """The device did not answer, refused a request, or speaks another protocol version."""
+
+
+class Link:
+    def __init__(self, ser, dry_run=False, name=""):
+        self.ser = ser
+        self.dry_run = dry_run
+        self.name = name or getattr(ser, "port", "") or "serial"
+        self.reader = P.FrameReader()
+        self._seq = 0
+        self._lock = threading.RLock()
+        self.pending = {}   # seq -> Reply received but not yet claimed
+        self.events = []    # (time, Reply) for EVENT packets and unsolicited HELLO_ACKs
+        self.on_event = None
+        self.info = None
+        self.resets_seen = 0
+        self.rx_errors = 0
+
+    # -------------------------------------------------------------------------------------------
+    @classmethod
+    def open(cls, port, baud=115200, dry_run=False):
+        try:
+            import serial
+        except ImportError as exc:  # pragma: no cover - pyserial is a declared dependency
+            raise LinkError("pyserial is not installed (Debian: python3-serial)") from exc
+        url = "loop://" if dry_run and not port else port
+        try:
+            ser = serial.serial_for_url(url, baudrate=baud, timeout=READ_TIMEOUT_S, write_timeout=1.0)
+        except (serial.SerialException, ValueError) as exc:
+            raise LinkError(f"port {url}: cannot open ({exc})") from None
+        return cls(ser, dry_run=dry_run, name=url)
+
+    def close(self):
+        try:
+            self.ser.close()
+        except Exception:
+            pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    # -------------------------------------------------------------------------------------------
+    def next_seq(self):
+        """1..254 (0 is the boot HELLO_ACK, 255 marks NAKs of undecodable frames)."""
+        with self._lock:
+            self._seq = self._seq + 1 if self._seq < 254 else 1
+            return self._seq
+
+    def write_raw(self, data: bytes):
+        with self._lock:  # writers from several threads never interleave their frames
+            self.ser.write(data)
+
+    def send(self, ptype, payload=b"", seq=None):
+        seq = self.next_seq() if seq is None else seq
+        self.write_raw(P.build_frame(ptype, seq, payload))
+        return seq
+
+    def _handle(self, pkt, now):
+        if self.dry_run and pkt.type < 0x7F:  # our own request, echoed by loop://
+            data = b""
+            if pkt.type in (P.SET_ANGLES, P.SET_PULSES) and len(pkt.payload) >= 2:
+                data = b"\x00\x00" + bytes([pkt.payload[1]])
+            if pkt.type == P.HELLO:
+                self.pending[pkt.seq] = P.Reply("HELLO_ACK", pkt.seq, data=bytes(
+                    [P.PROTO_MAJOR, P.PROTO_MINOR, 0, 0, 0, 8, 100, 0xF4, 0x01, 0x03, 0, 0, 0, 0, 0]))
+                return
+            self.pending[pkt.seq] = P.Reply("ACK", pkt.seq, request=pkt.type, state=P.ST_ARMED, data=data)
+            return
+        try:
+            r = P.parse_reply(pkt)
+        except P.ProtocolError:
+            self.rx_errors += 1
+            return
+        if r.kind == "EVENT" or (r.kind == "HELLO_ACK" and r.seq == 0):
+            if r.kind == "HELLO_ACK":
+                self.resets_seen += 1
+            self.events.append((now, r))
+            if self.on_event:
+                self.on_event(r)
+            return
+        r.time = now
+        self.pending[r.seq] = r
+
+    def poll(self, timeout=0.0):
+        """Read what has arrived (waiting up to ``timeout`` s for the first byte); returns new replies' seqs.
+        Waits in the serial port's own blocking read (select), so a reply is seen as soon as it arrives."""
+        end = time.perf_counter() + timeout
+        got = []
+        while True:
+            n = self.ser.in_waiting
+            if n:
+                data = self.ser.read(n)
+            elif timeout > 0:
+                data = self.ser.read(1)  # blocks for at most READ_TIMEOUT_S
+            else:
+                data = b""
+            if data:
+                now = time.perf_counter()
+                for pkt in self.reader.feed(data):
+                    before = set(self.pending)
+                    self._handle(pkt, now)
+                    got += [s for s in self.pending if s not in before]
+                self.rx_errors = len(self.reader.errors)
+                if got:
+                    return got
+            if time.perf_counter() >= end:
+                return got
+
+    def wait_reply(self, seq, timeout):
+        """The reply (ACK / NAK / HELLO_ACK) with this seq, or None after ``timeout`` seconds."""
+        end = time.perf_counter() + timeout
+        while True:
+            if seq in self.pending:
+                return self.pending.pop(seq)
+            left = end - time.perf_counter()
+            if left <= 0:
+                return None
+            self.poll(min(left, 0.005))
+
+    def request(self, ptype, payload=b"", retries=3, timeout=0.25, expect_ack=True):
+        """Send a stateful request and wait for its reply, retrying on silence (the requests are idempotent).
+        Raises LinkError on a NAK (naming the reason) or when every try stays unanswered."""
+        for _ in range(retries):
+            seq = self.send(ptype, payload)
+            r = self.wait_reply(seq, timeout)
+            if r is None:
+                continue
+            if r.kind == "NAK" and expect_ack:
+                raise LinkError(f"{self.name}: {P.TYPE_NAMES.get(ptype, hex(ptype))} refused: NAK {r.reason} "
+                                f"(detail {r.detail})")
+            return r
+        raise LinkError(f"{self.name}: no reply to {P.TYPE_NAMES.get(ptype, hex(ptype))} after {retries} tries "
+                        f"of {timeout * 1000:.0f} ms")
+
+    # -------------------------------------------------------------------------------------------
+    def handshake(self, total_s=4.0, interval_s=0.25, min_channels=1):
+        """HELLO every ``interval_s`` until a HELLO_ACK answers (a board resets when the port opens, and its
+        bootloader needs up to ~2 s). Checks the protocol major version and the channel count."""
+        try:
+            self.ser.reset_input_buffer()
+        except Exception:
+            pass
+        self.write_raw(b"\x00")  # end any partial frame in the device's receiver
+        end = time.perf_counter() + total_s
+        while time.perf_counter() < end:
+            seq = self.send(P.HELLO, P.hello_payload())
+            r = self.wait_reply(seq, interval_s)
+            if r is None:
+                continue
+            if r.kind == "NAK":
+                if r.code == P.E_VERSION:
+                    raise LinkError(f"{self.name}: the firmware speaks servolink {r.detail}.x, this host "
+                                    f"{P.PROTO_MAJOR}.{P.PROTO_MINOR}; update the firmware (firmware/README in docs/firmware.md)")
+                continue
+            info = P.parse_hello_ack(r.data)
+            if info.proto_major != P.PROTO_MAJOR:
+                raise LinkError(f"{self.name}: protocol {info.proto_major}.{info.proto_minor}, expected "
+                                f"{P.PROTO_MAJOR}.x")
+            if info.n_channels < min_channels:
+                raise LinkError(f"{self.name}: the firmware drives {info.n_channels} channels; the scene "
+                                f"needs {min_channels}")
+            self.info = info
+            return info
+        raise LinkError(f"{self.name}: no HELLO_ACK within {total_s:g} s (is the servolink firmware flashed, "
+                        f"and the baud rate 115200?)")
+
+    def configure(self, channels):
+        for c in channels:
+            self.request(P.CONFIG_CH, c.config_payload())
+
+    def configure_watchdog(self, watchdog_ms=500, park_after_ms=500, release_after_ms=5000):
+        self.request(P.CONFIG_LINK, P.config_link_payload(watchdog_ms, park_after_ms, release_after_ms))
+
+    def arm(self):
+        return self.request(P.ARM)
+
+    def disarm(self):
+        return self.request(P.DISARM)
+
+    def ping(self):
+        r = self.request(P.PING)
+        out = P.parse_ping(r.data) if not self.dry_run else {}
+        out["state"] = r.state
+        return out
+
+    def get_state(self):
+        r = self.request(P.GET_STATE)
+        out = P.parse_state(r.data) if not self.dry_run else {"pulse_us": []}
+        out["state"] = r.state
+        return out

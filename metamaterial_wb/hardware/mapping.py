@@ -1,0 +1,231 @@
+"""Actuator value -> servo channel and angle.
+
+An actuator value ``v`` in [-1, 1] (the solver's node deformation D imposed by a servo) is commanded as
+the joint angle ``v * scale_deg`` (default 90: the seed's -90..90 degree servos). Per channel:
+
+* ``channel``: firmware channel 0..7 (Arduino pins D2..D9); by default the scene's actuators in order;
+* ``limits_deg`` [lo, hi]: soft limits of the commanded angle (inside [-90, 90]); the firmware enforces
+  them too and reports any clamping in the ACK;
+* ``invert``, ``trim_deg``: calibration applied by the firmware (pulse = f(±angle + trim));
+* ``min_us``, ``max_us``: pulse widths at -90 and +90 degrees (default 500 / 2500 us);
+* ``park_deg``: where the firmware parks the joint when the host goes silent;
+* ``max_slew_dps``: firmware slew limit in degrees per second (0 = none).
+
+These come from an actuator's optional ``"servo"`` object in the scene (docs/scene-format.md), then
+from ``--map`` / ``--channels`` on the command line. Pure Python: no FreeCAD, no pyserial.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass, field
+
+from metamaterial_wb.core.errors import SceneError, check_number
+
+from . import protocol as P
+
+MAX_CHANNELS = 8
+SERVO_KEYS = ("channel", "scale_deg", "invert", "trim_deg", "limits_deg", "min_us", "max_us", "park_deg",
+              "max_slew_dps")
+
+
+@dataclass
+class ChannelConfig:
+    name: str
+    channel: int
+    scale_deg: float = 90.0
+    invert: bool = False
+    trim_deg: float = 0.0
+    limits_deg: tuple = (-90.0, 90.0)
+    min_us: int = 500
+    max_us: int = 2500
+    park_deg: float = 0.0
+    max_slew_dps: float = 0.0
+    extra: dict = field(default_factory=dict)
+
+    def angle_deg(self, value: float) -> float:
+        """Commanded joint angle for an actuator value (no clamping)."""
+        return float(value) * self.scale_deg
+
+    def cdeg(self, value: float) -> int:
+        return int(round(self.angle_deg(value) * 100.0))
+
+    def within_limits(self, angle_deg: float) -> bool:
+        lo, hi = self.limits_deg
+        return lo - 1e-9 <= angle_deg <= hi + 1e-9
+
+    def config_payload(self) -> bytes:
+        lo, hi = self.limits_deg
+        return P.config_ch_payload(self.channel, int(self.min_us), int(self.max_us), int(round(self.trim_deg * 100)),
+                                   self.invert, int(round(lo * 100)), int(round(hi * 100)),
+                                   int(round(self.park_deg * 100)), int(round(self.max_slew_dps)))
+
+    def to_dict(self):
+        d = asdict(self)
+        d.pop("extra")
+        d["limits_deg"] = list(self.limits_deg)
+        return d
+
+
+def _check_servo(field_name, spec, n_channels):
+    if not isinstance(spec, dict):
+        raise SceneError(field_name, f"expected an object with any of {list(SERVO_KEYS)}, got {spec!r}")
+    for k in spec:
+        if k not in SERVO_KEYS:
+            raise SceneError(f"{field_name}.{k}", f"unknown servo field; allowed: {list(SERVO_KEYS)}")
+    out = {}
+    if "channel" in spec:
+        ch = spec["channel"]
+        if isinstance(ch, bool) or not isinstance(ch, int) or not 0 <= ch < n_channels:
+            raise SceneError(f"{field_name}.channel", f"{ch!r} is not a channel; allowed: integers 0..{n_channels - 1}")
+        out["channel"] = ch
+    if "scale_deg" in spec:
+        out["scale_deg"] = check_number(f"{field_name}.scale_deg", spec["scale_deg"], 0.0, 90.0, "deg",
+                                        low_open=True)
+    if "invert" in spec:
+        if not isinstance(spec["invert"], bool):
+            raise SceneError(f"{field_name}.invert", f"expected true or false, got {spec['invert']!r}")
+        out["invert"] = spec["invert"]
+    if "trim_deg" in spec:
+        out["trim_deg"] = check_number(f"{field_name}.trim_deg", spec["trim_deg"], -20.0, 20.0, "deg")
+    if "limits_deg" in spec:
+        lim = spec["limits_deg"]
+        if not isinstance(lim, (list, tuple)) or len(lim) != 2:
+            raise SceneError(f"{field_name}.limits_deg", f"expected [lo, hi] in degrees, got {lim!r}")
+        lo = check_number(f"{field_name}.limits_deg[0]", lim[0], -90.0, 90.0, "deg")
+        hi = check_number(f"{field_name}.limits_deg[1]", lim[1], -90.0, 90.0, "deg")
+        if lo >= hi:
+            raise SceneError(f"{field_name}.limits_deg", f"[{lo}, {hi}]: lo must be below hi")
+        out["limits_deg"] = (lo, hi)
+    for k in ("min_us", "max_us"):
+        if k in spec:
+            v = check_number(f"{field_name}.{k}", spec[k], 400, 2600, "us")
+            if v != int(v):
+                raise SceneError(f"{field_name}.{k}", f"{v} us must be a whole number of microseconds")
+            out[k] = int(v)
+    if "park_deg" in spec:
+        out["park_deg"] = check_number(f"{field_name}.park_deg", spec["park_deg"], -90.0, 90.0, "deg")
+    if "max_slew_dps" in spec:
+        out["max_slew_dps"] = check_number(f"{field_name}.max_slew_dps", spec["max_slew_dps"], 0.0, 3600.0, "deg/s")
+    return out
+
+
+def _finish(cfg: ChannelConfig, field_name):
+    if cfg.min_us >= cfg.max_us:
+        raise SceneError(f"{field_name}.min_us", f"{cfg.min_us} us must be below max_us {cfg.max_us} us")
+    lo, hi = cfg.limits_deg
+    if not lo <= cfg.park_deg <= hi:
+        raise SceneError(f"{field_name}.park_deg", f"{cfg.park_deg} deg is outside the limits [{lo}, {hi}] deg")
+    return cfg
+
+
+def parse_map(text):
+    """``"head=0,tail=3"`` -> ``{"head": 0, "tail": 3}``."""
+    out = {}
+    for item in [s for s in (text or "").split(",") if s.strip()]:
+        name, sep, ch = item.partition("=")
+        if not sep:
+            raise SceneError(f"--map {item}", "expected NAME=CHANNEL, e.g. --map head=0,tail=1")
+        try:
+            out[name.strip()] = int(ch)
+        except ValueError:
+            raise SceneError(f"--map {name.strip()}", f"{ch!r} is not a channel number") from None
+    return out
+
+
+def load_channel_file(path):
+    """A JSON object ``{actuator_name: {servo fields...}}`` (see docs/firmware.md)."""
+    with open(path, encoding="utf-8") as f:
+        try:
+            data = json.load(f)
+        except json.JSONDecodeError as exc:
+            raise SceneError(str(path), f"not valid JSON: {exc}") from None
+    if not isinstance(data, dict):
+        raise SceneError(str(path), "expected an object {actuator name: {servo fields}}")
+    return data
+
+
+def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
+    """The channel configuration of every actuator of ``scene``.
+
+    ``mapping``: ``{name: channel}`` (from ``--map``); ``overrides``: ``{name: {servo fields}}`` (from
+    ``--channels FILE``). Order of precedence: overrides, mapping, the actuator's ``"servo"`` object, defaults
+    (channel = position of the actuator in the scene).
+    """
+    names = [a.name for a in scene.actuators]
+    if not names:
+        raise SceneError("actuators", "the scene has no actuator to stream")
+    for src, label in ((mapping or {}, "--map"), (overrides or {}, "--channels")):
+        for k in src:
+            if k not in names:
+                raise SceneError(f"{label} {k}", f"no actuator named {k!r}; actuators: {', '.join(names)}")
+    out = []
+    for k, a in enumerate(scene.actuators):
+        fname = f"actuators[{k}].servo"
+        spec = dict(_check_servo(fname, a.extra.get("servo", {}), n_channels))
+        if mapping and a.name in mapping:
+            spec.update(_check_servo(f"--map {a.name}", {"channel": mapping[a.name]}, n_channels))
+        if overrides and a.name in overrides:
+            spec.update(_check_servo(f"--channels {a.name}", overrides[a.name], n_channels))
+        spec.setdefault("channel", k)
+        if spec["channel"] >= n_channels:
+            raise SceneError(f"{fname}.channel", f"{spec['channel']}: the firmware has {n_channels} channels "
+                                                 f"(0..{n_channels - 1}); map the actuator with --map")
+        out.append(_finish(ChannelConfig(a.name, **spec), fname))
+    seen = {}
+    for c in out:
+        if c.channel in seen:
+            raise SceneError("channels", f"actuators {seen[c.channel]!r} and {c.name!r} both use channel {c.channel}")
+        seen[c.channel] = c.name
+    return out
+
+
+def check_motion(scene, channels, duration_s, rate_hz=50.0):
+    """Raise SceneError if the scene's motion leaves a channel's limits within ``duration_s`` (sampled at the
+    stream rate and at 1 kHz). Returns the largest |angle| per actuator (degrees)."""
+    import numpy as np
+
+    from metamaterial_wb.core.motion import profile_value
+
+    t = np.union1d(np.arange(0.0, duration_s + 1e-9, 1.0 / rate_hz), np.arange(0.0, duration_s + 1e-9, 1e-3))
+    by_name = {a.name: a for a in scene.actuators}
+    peaks = {}
+    for k, c in enumerate(channels):
+        a = by_name[c.name]
+        v = np.atleast_1d(profile_value(a.profile, t, a.value)) * np.ones_like(t)
+        ang = v * c.scale_deg
+        lo, hi = c.limits_deg
+        bad = np.nonzero((ang < lo - 1e-9) | (ang > hi + 1e-9))[0]
+        if bad.size:
+            i = bad[0]
+            raise SceneError(f"actuators[{[x.name for x in scene.actuators].index(c.name)}] ({c.name})",
+                             f"the motion reaches {ang[i]:.1f} deg at t = {t[i]:.3f} s; channel {c.channel} "
+                             f"allows [{lo:g}, {hi:g}] deg; lower the profile, widen servo.limits_deg, or pass --clamp")
+        peaks[c.name] = float(np.max(np.abs(ang))) if ang.size else 0.0
+    return peaks
+
+
+def expected_pulse_us(cfg: ChannelConfig, angle_deg: float) -> float:
+    """Real-valued pulse width for a commanded angle (for reports; the firmware rounds to 1 us):
+    lo <= angle <= hi, then mid + (±angle + trim) * (max - min) / 180."""
+    lo, hi = cfg.limits_deg
+    a = min(max(angle_deg, lo), hi)
+    a = (-a if cfg.invert else a) + cfg.trim_deg
+    us = (cfg.min_us + cfg.max_us) / 2.0 + a * (cfg.max_us - cfg.min_us) / 180.0
+    return min(max(us, cfg.min_us), cfg.max_us)
+
+
+def runs(channels):
+    """Group channels into contiguous runs ``[(first, [cfg, ...]), ...]`` (one SET_ANGLES frame each)."""
+    cs = sorted(channels, key=lambda c: c.channel)
+    out = []
+    for c in cs:
+        if out and out[-1][0] + len(out[-1][1]) == c.channel:
+            out[-1][1].append(c)
+        else:
+            out.append((c.channel, [c]))
+    return out
+
+
+def isfinite_all(values):
+    return all(math.isfinite(v) for v in values)

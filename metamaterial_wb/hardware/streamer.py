@@ -1,0 +1,212 @@
+"""50 Hz streaming of a scene's motion to the servolink firmware, in its own thread.
+
+    from metamaterial_wb.hardware import Link, Streamer, channel_map
+    link = Link.open("/dev/ttyUSB0")
+    streamer = Streamer(link, channel_map(scene))
+    streamer.start(scene)            # or start(callable t -> {actuator name: value in [-1, 1]})
+    ...
+    stats = streamer.stop()          # StreamStats: sent, acked, naked, lost, round-trip times
+
+Frames carry absolute angles: the latest wins, a lost frame is never retransmitted (the next one, 20 ms
+later, supersedes it). Deadlines are absolute (``next += period``), so the rate does not drift; a frame
+that would be more than one period late is skipped and counted. The GUI calls ``start``/``stop`` from
+its thread; the sending happens here, never in the Qt event loop.
+"""
+from __future__ import annotations
+
+import statistics
+import threading
+import time
+from dataclasses import dataclass, field
+
+from metamaterial_wb.core.errors import MetamaterialError
+
+from . import protocol as P
+from .link import LinkError
+from .mapping import runs
+
+
+@dataclass
+class StreamStats:
+    frames: int = 0           # SET_ANGLES frames sent
+    acked: int = 0
+    naked: int = 0
+    lost: int = 0             # sent, never answered
+    skipped: int = 0          # deadlines missed by more than one period (not sent)
+    clamped_frames: int = 0   # ACKs whose clamp mask was not zero
+    nak_reasons: dict = field(default_factory=dict)
+    rtt_ms: list = field(default_factory=list)
+    duration_s: float = 0.0
+    events: list = field(default_factory=list)
+    error: str = ""
+
+    def summary(self):
+        r = sorted(self.rtt_ms)
+        def pct(q):
+            return r[min(len(r) - 1, int(q * len(r)))] if r else float("nan")
+        return {"frames": self.frames, "acked": self.acked, "naked": self.naked, "lost": self.lost,
+                "skipped": self.skipped, "clamped_frames": self.clamped_frames, "nak_reasons": self.nak_reasons,
+                "duration_s": round(self.duration_s, 4),
+                "rate_hz": round(self.frames / self.duration_s, 3) if self.duration_s > 0 else 0.0,
+                "rtt_ms_median": round(statistics.median(r), 3) if r else None,
+                "rtt_ms_p99": round(pct(0.99), 3) if r else None,
+                "rtt_ms_max": round(r[-1], 3) if r else None,
+                "events": self.events, "error": self.error}
+
+
+def source_function(source):
+    """A Scene (its actuators' motion profiles) or a callable ``t -> {name: value}``."""
+    if callable(source):
+        return source
+    if hasattr(source, "actuators"):
+        from metamaterial_wb.core.motion import scene_values_at
+
+        return lambda t: scene_values_at(source, t)
+    raise MetamaterialError(f"stream source: expected a scene or a function of time, got {type(source).__name__}")
+
+
+class Streamer:
+    def __init__(self, link, channels, rate_hz=50.0, clamp=False, reply_timeout_s=0.1):
+        if not 1.0 <= rate_hz <= 100.0:
+            raise MetamaterialError(f"rate {rate_hz} Hz is outside the allowed range [1, 100] Hz")
+        self.link = link
+        self.channels = list(channels)
+        self.rate_hz = float(rate_hz)
+        self.clamp = clamp
+        self.reply_timeout_s = reply_timeout_s
+        self.stats = StreamStats()
+        self.on_frame = None   # callback(t, {name: angle_deg}) after each frame (from the streaming thread)
+        self.on_error = None   # callback(message) when the stream stops on an error
+        self._thread = None
+        self._stop = threading.Event()
+        self._outstanding = {}  # seq -> send time
+
+    # ------------------------------------------------------------------------------------------
+    def prepare(self, watchdog_ms=500, park_after_ms=500, release_after_ms=5000, handshake=True):
+        """Handshake (if not done), send the channel configuration and the watchdog timing, ARM."""
+        if handshake and self.link.info is None:
+            self.link.handshake(min_channels=max(c.channel for c in self.channels) + 1)
+        self.link.configure(self.channels)
+        self.link.configure_watchdog(watchdog_ms, park_after_ms, release_after_ms)
+        self.link.arm()
+
+    def frame_payloads(self, values):
+        """``{name: value}`` -> [(payload, {name: angle})] for the channel runs, checking the limits."""
+        out = []
+        for first, cfgs in runs(self.channels):
+            cdeg, angles = [], {}
+            for c in cfgs:
+                v = float(values.get(c.name, 0.0))
+                a = c.angle_deg(v)
+                lo, hi = c.limits_deg
+                if not c.within_limits(a):
+                    if not self.clamp:
+                        raise MetamaterialError(f"actuator {c.name!r}: {a:.2f} deg (value {v:.4f}) is outside channel "
+                                                f"{c.channel}'s limits [{lo:g}, {hi:g}] deg")
+                    a = min(max(a, lo), hi)
+                angles[c.name] = a
+                cdeg.append(int(round(a * 100)))
+            out.append((P.set_angles_payload(first, cdeg), angles))
+        return out
+
+    def _collect(self, timeout):
+        for seq in self.link.poll(timeout):
+            if seq not in self._outstanding:
+                continue
+            r = self.link.pending.pop(seq)
+            sent = self._outstanding.pop(seq)
+            if r.kind == "ACK":
+                self.stats.acked += 1
+                self.stats.rtt_ms.append((getattr(r, "time", time.perf_counter()) - sent) * 1000.0)
+                if r.clamp_mask:
+                    self.stats.clamped_frames += 1
+            else:
+                self.stats.naked += 1
+                self.stats.nak_reasons[r.reason] = self.stats.nak_reasons.get(r.reason, 0) + 1
+
+    def run(self, source, duration_s=None, t0=0.0):
+        """Stream in the calling thread until ``duration_s`` (None: until stop()). Returns the stats."""
+        fn = source_function(source)
+        period = 1.0 / self.rate_hz
+        self.stats = StreamStats()
+        self._outstanding = {}
+        n_events = len(self.link.events)
+        start = time.perf_counter()
+        deadline = start
+        k = 0
+        try:
+            while not self._stop.is_set():
+                t = t0 + k * period
+                if duration_s is not None and k * period >= duration_s - 1e-9:
+                    break
+                for payload, angles in self.frame_payloads(fn(t)):
+                    seq = self.link.send(P.SET_ANGLES, payload)
+                    self._outstanding[seq] = time.perf_counter()
+                    self.stats.frames += 1
+                    if self.on_frame:
+                        self.on_frame(t, angles)
+                deadline += period
+                k += 1
+                # collect replies until the next deadline
+                while True:
+                    left = deadline - time.perf_counter()
+                    if left <= 0:
+                        break
+                    self._collect(min(left, 0.005))
+                late = time.perf_counter() - deadline
+                if late > period:  # fell behind: skip the missed deadlines, keep the time base
+                    missed = int(late // period)
+                    self.stats.skipped += missed
+                    deadline += missed * period
+                    k += missed
+            end = time.perf_counter() + self.reply_timeout_s
+            while self._outstanding and time.perf_counter() < end:
+                self._collect(0.005)
+        except (LinkError, MetamaterialError) as exc:
+            self.stats.error = str(exc)
+            if self.on_error:
+                self.on_error(str(exc))
+            if self._thread is None:
+                raise
+        except Exception as exc:  # serial errors (unplugged cable) end the stream with a message
+            self.stats.error = f"{type(exc).__name__}: {exc}"
+            if self.on_error:
+                self.on_error(self.stats.error)
+            if self._thread is None:
+                raise LinkError(f"{self.link.name}: {self.stats.error}") from None
+        finally:
+            self.stats.duration_s = time.perf_counter() - start
+            self.stats.lost = len(self._outstanding)
+            self.stats.events = [P.EVENT_NAMES.get(r.code, hex(r.code)) if r.kind == "EVENT" else "RESET"
+                                 for _, r in self.link.events[n_events:]]
+        return self.stats
+
+    # ------------------------------------------------------------------------------------------
+    @property
+    def running(self):
+        return self._thread is not None and self._thread.is_alive()
+
+    def start(self, source, duration_s=None, t0=0.0):
+        """Start streaming ``source`` in a background thread (the link must be prepared: see prepare())."""
+        if self.running:
+            raise MetamaterialError("the streamer is already running; stop() it first")
+        fn = source_function(source)
+        self.frame_payloads(fn(t0))  # fail now, in the caller's thread, on a bad first frame
+        self._stop.clear()
+        self._thread = threading.Thread(target=self.run, args=(fn, duration_s, t0), name="servolink-stream",
+                                        daemon=True)
+        self._thread.start()
+
+    def stop(self, disarm=False, timeout=2.0):
+        """Stop the thread; ``disarm=True`` also stops the pulses (servos go limp); otherwise the firmware's
+        watchdog holds, then parks, then releases the servos. Returns the stats."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout)
+            self._thread = None
+        if disarm:
+            try:
+                self.link.disarm()
+            except LinkError as exc:
+                self.stats.error = self.stats.error or str(exc)
+        return self.stats

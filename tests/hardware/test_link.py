@@ -1,0 +1,160 @@
+"""The pyserial link: dry run over loop://, and a scripted fake device on a real pseudo-terminal
+(handshake after a boot banner, retries, NAK reasons, events arriving in the same read as a reply)."""
+import os
+import pty
+import threading
+import time
+import tty
+
+import pytest
+
+serial = pytest.importorskip("serial")
+
+from metamaterial_wb.hardware import protocol as P  # noqa: E402
+from metamaterial_wb.hardware.link import Link, LinkError  # noqa: E402
+
+
+class FakeDevice(threading.Thread):
+    """Answers servolink requests on the master side of a pty. ``drop``: {type: how many to ignore};
+    ``nak``: {type: (code, detail)}; ``event_before_ack``: send an EVENT in the same write as each ACK."""
+
+    def __init__(self, drop=None, nak=None, event_before_ack=False, major=P.PROTO_MAJOR, n_channels=8):
+        super().__init__(daemon=True)
+        self.master, self.slave = pty.openpty()
+        tty.setraw(self.slave)
+        self.port = os.ttyname(self.slave)
+        self.drop = dict(drop or {})
+        self.nak = nak or {}
+        self.event_before_ack = event_before_ack
+        self.major = major
+        self.n_channels = n_channels
+        self.received = []
+        self.stop_flag = False
+        os.write(self.master, P.build_frame(P.HELLO_ACK, 0, self.hello()))  # boot banner, already waiting
+
+    def hello(self):
+        return bytes([self.major, 0, 1, 0, 0, self.n_channels, 100, 0xF4, 0x01, 3, 0x28, 0, 0, 0, 0])
+
+    def run(self):
+        rd = P.FrameReader()
+        import select
+        while not self.stop_flag:
+            r, _, _ = select.select([self.master], [], [], 0.02)
+            if not r:
+                continue
+            try:
+                data = os.read(self.master, 256)
+            except OSError:
+                return
+            for pkt in rd.feed(data):
+                self.received.append(pkt)
+                if self.drop.get(pkt.type, 0) > 0:
+                    self.drop[pkt.type] -= 1
+                    continue
+                if pkt.type in self.nak:
+                    out = P.build_frame(P.NAK, pkt.seq, bytes(self.nak[pkt.type]))
+                elif pkt.type == P.HELLO:
+                    out = P.build_frame(P.HELLO_ACK, pkt.seq, self.hello())
+                else:
+                    out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, 0, 0, 1]))
+                    if self.event_before_ack:
+                        out = P.build_frame(P.EVENT, 0, bytes([P.EV_HOLD, P.ST_HOLD])) + out
+                os.write(self.master, out)
+
+    def close(self):
+        self.stop_flag = True
+        self.join(1)
+        os.close(self.master)
+        os.close(self.slave)
+
+
+@pytest.fixture
+def device(request):
+    devs = []
+
+    def make(**kw):
+        d = FakeDevice(**kw)
+        d.start()
+        devs.append(d)
+        return d
+    yield make
+    for d in devs:
+        d.close()
+
+
+def test_handshake_skips_boot_banner_and_retries(device):
+    dev = device(drop={P.HELLO: 2})
+    with Link.open(dev.port) as link:
+        t0 = time.perf_counter()
+        info = link.handshake(interval_s=0.1)
+        assert info.n_channels == 8 and info.proto_major == 1
+        assert time.perf_counter() - t0 >= 0.2  # two HELLOs went unanswered
+        hellos = [p for p in dev.received if p.type == P.HELLO]
+        assert len(hellos) == 3 and len({p.seq for p in hellos}) == 3
+
+
+def test_handshake_refuses_other_major_and_too_few_channels(device):
+    dev = device(major=2)
+    with Link.open(dev.port) as link, pytest.raises(LinkError, match="protocol 2"):
+        link.handshake(total_s=1.0)
+    dev2 = device(n_channels=2)
+    with Link.open(dev2.port) as link, pytest.raises(LinkError, match="drives 2 channels"):
+        link.handshake(total_s=1.0, min_channels=4)
+
+
+def test_request_retries_then_raises_on_silence_and_names_nak(device):
+    dev = device(drop={P.CONFIG_LINK: 2}, nak={P.ARM: (P.E_RANGE, 3)})
+    with Link.open(dev.port) as link:
+        link.handshake()
+        link.configure_watchdog(200, 100, 1000)  # answered on the third try
+        assert sum(p.type == P.CONFIG_LINK for p in dev.received) == 3
+        with pytest.raises(LinkError, match="NAK RANGE"):
+            link.arm()
+    dev2 = device(drop={P.PING: 99})
+    with Link.open(dev2.port) as link:
+        link.handshake()
+        with pytest.raises(LinkError, match="no reply to PING after 2 tries"):
+            link.request(P.PING, retries=2, timeout=0.05)
+
+
+def test_event_in_same_read_as_reply_is_kept(device):
+    dev = device(event_before_ack=True)
+    with Link.open(dev.port) as link:
+        link.handshake()
+        seen = []
+        link.on_event = seen.append
+        for _ in range(5):
+            seq = link.send(P.PING)
+            r = link.wait_reply(seq, 0.5)
+            assert r is not None and r.kind == "ACK" and r.seq == seq
+        assert len(seen) == 5 and all(e.code == P.EV_HOLD for e in seen)
+        assert link.resets_seen == 0  # the boot banner was discarded by the handshake's input flush
+
+
+def test_unsolicited_hello_ack_counts_as_reset(device):
+    dev = device()
+    with Link.open(dev.port) as link:
+        link.handshake()
+        os.write(dev.master, P.build_frame(P.HELLO_ACK, 0, dev.hello()))
+        link.poll(0.2)
+        assert link.resets_seen == 1
+
+
+def test_dry_run_over_loop_decodes_its_own_frames():
+    with Link.open("loop://", dry_run=True) as link:
+        info = link.handshake()
+        assert info.n_channels == 8
+        seq = link.send(P.SET_ANGLES, P.set_angles_payload(0, [100, -200, 300]))
+        r = link.wait_reply(seq, 0.2)
+        assert r.kind == "ACK" and r.request == P.SET_ANGLES and r.data[2] == 3
+        # a corrupted frame written to the loop is not acknowledged
+        bad = bytearray(P.build_frame(P.SET_ANGLES, 77, P.set_angles_payload(0, [1])))
+        bad[1] ^= 0x40  # the type byte (byte 0 is a COBS code)
+        link.write_raw(bytes(bad))
+        assert link.wait_reply(77, 0.05) is None
+        assert link.reader.errors == ["CRC"]
+
+
+def test_open_bad_port_is_a_clean_error():
+    with pytest.raises(LinkError, match="cannot open"):
+        Link.open("/dev/does-not-exist-servolink")

@@ -1,0 +1,168 @@
+"""Actuator -> channel mapping, the 50 Hz streamer and the ``stream`` CLI, without hardware (loop://).
+The angles on the wire are decoded independently (struct) from the frames the link wrote and compared with
+the scene's motion profiles evaluated in closed form."""
+import json
+import math
+import os
+import struct
+import subprocess
+import sys
+
+import pytest
+
+pytest.importorskip("serial")
+
+from metamaterial_wb.core.errors import MetamaterialError, SceneError  # noqa: E402
+from metamaterial_wb.core.scene import Scene  # noqa: E402
+from metamaterial_wb.hardware import Link, Streamer, channel_map, check_motion, parse_map  # noqa: E402
+from metamaterial_wb.hardware import protocol as P  # noqa: E402
+from metamaterial_wb.hardware.mapping import expected_pulse_us, runs  # noqa: E402
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+FISH = os.path.join(REPO, "examples", "fish.json")
+
+
+def fish(**servo):
+    d = json.load(open(FISH))
+    for a in d["actuators"]:
+        if a["name"] in servo:
+            a["servo"] = servo[a["name"]]
+    return Scene.from_dict(d)
+
+
+def test_default_mapping_is_scene_order_and_90_degrees():
+    ch = channel_map(fish())
+    assert [(c.name, c.channel) for c in ch] == [("head", 0), ("tail", 1)]
+    assert ch[1].angle_deg(0.5) == 45.0 and ch[1].angle_deg(-1) == -90.0
+    assert ch[0].cdeg(0.3) == 2700
+
+
+def test_mapping_precedence_and_errors():
+    s = fish(tail={"channel": 5, "invert": True, "trim_deg": 2.5, "limits_deg": [-85, 85]})
+    ch = {c.name: c for c in channel_map(s)}
+    assert ch["tail"].channel == 5 and ch["tail"].invert and ch["tail"].limits_deg == (-85, 85)
+    ch = {c.name: c for c in channel_map(s, parse_map("tail=3"), {"tail": {"scale_deg": 45}})}
+    assert ch["tail"].channel == 3 and ch["tail"].scale_deg == 45 and ch["tail"].trim_deg == 2.5
+    with pytest.raises(SceneError, match="both use channel 0"):
+        channel_map(s, {"tail": 0})
+    with pytest.raises(SceneError, match="no actuator named 'fin'"):
+        channel_map(s, {"fin": 1})
+    with pytest.raises(SceneError, match=r"trim_deg: 30.*\[-20.0, 20.0\]"):
+        channel_map(fish(head={"trim_deg": 30}))
+    with pytest.raises(SceneError, match="park_deg"):
+        channel_map(fish(head={"limits_deg": [-10, 10], "park_deg": 20}))
+    with pytest.raises(SceneError, match="unknown servo field"):
+        channel_map(fish(head={"chanel": 1}))
+    with pytest.raises(SceneError, match="expected NAME=CHANNEL"):
+        parse_map("head:1")
+
+
+def test_check_motion_names_actuator_time_and_limits():
+    # tail: 0.9 * sin(2 pi t + 90 deg) -> 81 deg at t = 0; limits 60 deg
+    s = fish(tail={"limits_deg": [-60, 60]})
+    with pytest.raises(SceneError, match=r"actuators\[1\] \(tail\).*81.0 deg at t = 0.000 s.*\[-60, 60\]"):
+        check_motion(s, channel_map(s), 2.0)
+    peaks = check_motion(fish(), channel_map(fish()), 2.0)
+    assert peaks["tail"] == pytest.approx(81.0) and peaks["head"] == pytest.approx(27.0, abs=1e-6)
+
+
+def test_expected_pulse_formula():
+    c = channel_map(fish(head={"invert": True, "trim_deg": 5}))[0]
+    assert expected_pulse_us(c, 45) == pytest.approx(1500 + (-45 + 5) / 90 * 1000)
+    assert runs(channel_map(fish(head={"channel": 4}, tail={"channel": 6})))[1][0] == 6
+
+
+def decode_angles(frames_bytes):
+    """SET_ANGLES frames written to the loop -> [[angle_deg per channel]]"""
+    out = []
+    for pkt in P.FrameReader().feed(frames_bytes):
+        if pkt.type == P.SET_ANGLES:
+            first, n = pkt.payload[0], pkt.payload[1]
+            out.append((first, [v / 100 for v in struct.unpack(f"<{n}h", pkt.payload[2:])]))
+    return out
+
+
+class Tap:
+    """A serial object wrapper that records every byte written."""
+
+    def __init__(self, ser):
+        self.ser, self.written = ser, bytearray()
+
+    def write(self, b):
+        self.written += b
+        return self.ser.write(b)
+
+    def __getattr__(self, k):
+        return getattr(self.ser, k)
+
+
+def test_streamer_sends_the_scene_motion_at_50_hz():
+    scene = fish()
+    link = Link.open("loop://", dry_run=True)
+    tap = Tap(link.ser)
+    link.ser = tap
+    st = Streamer(link, channel_map(scene))
+    st.prepare()
+    stats = st.run(scene, 1.0)
+    assert stats.frames == 50 and stats.acked == 50 and stats.lost == 0
+    assert 0.98 <= stats.duration_s <= 1.3
+    frames = decode_angles(bytes(tap.written))
+    assert len(frames) == 50
+    for k, (first, angles) in enumerate(frames):
+        t = k / 50
+        head = 90 * 0.3 * math.sin(2 * math.pi * 0.5 * t)
+        tail = 90 * 0.9 * math.sin(2 * math.pi * 1.0 * t + math.pi / 2)
+        assert first == 0
+        assert angles == pytest.approx([head, tail], abs=0.0051)
+    # CONFIG_CH for both channels and ARM went out before the first frame
+    types = [p.type for p in P.FrameReader().feed(bytes(tap.written))]
+    assert types.index(P.ARM) < types.index(P.SET_ANGLES)
+    assert types.count(P.CONFIG_CH) == 2
+
+
+def test_streamer_thread_start_stop_and_callable_source():
+    link = Link.open("loop://", dry_run=True)
+    st = Streamer(link, channel_map(fish()))
+    st.prepare()
+    seen = []
+    st.on_frame = lambda t, angles: seen.append((t, angles))
+    st.start(lambda t: {"head": 0.5, "tail": -0.25})
+    import time
+    time.sleep(0.3)
+    assert st.running
+    stats = st.stop()
+    assert not st.running
+    assert stats.frames >= 10 and stats.lost == 0
+    assert all(a == {"head": 45.0, "tail": -22.5} for _, a in seen)
+    with pytest.raises(MetamaterialError, match="outside channel 1's limits"):
+        st.start(lambda t: {"head": 0.0, "tail": 1.5})
+    st.clamp = True
+    assert st.frame_payloads({"tail": 1.5})[0][1]["tail"] == 90.0
+
+
+def run_cli(*args):
+    return subprocess.run([sys.executable, "-m", "metamaterial_wb", "stream", *args], capture_output=True, text=True,
+                          cwd=REPO, timeout=60)
+
+
+def test_cli_dry_run_and_report(tmp_path):
+    rep = tmp_path / "r.json"
+    r = run_cli(FISH, "--dry-run", "--seconds", "0.5", "--report", str(rep))
+    assert r.returncode == 0, r.stderr
+    assert "25 frames" in r.stdout and "25 acked" in r.stdout and "0 lost" in r.stdout
+    d = json.loads(rep.read_text())
+    assert d["frames"] == 25 and d["dry_run"] and [c["channel"] for c in d["channels"]] == [0, 1]
+
+
+def test_cli_errors_are_one_line_exit_2(tmp_path):
+    r = run_cli(FISH, "--seconds", "1")
+    assert r.returncode == 2 and r.stderr.strip().count("\n") == 0 and "--port" in r.stderr
+    chans = tmp_path / "c.json"
+    chans.write_text(json.dumps({"tail": {"limits_deg": [-45, 45]}}))
+    r = run_cli(FISH, "--dry-run", "--channels", str(chans))
+    assert r.returncode == 2 and "tail" in r.stderr and "[-45, 45]" in r.stderr
+    r = run_cli(FISH, "--dry-run", "--channels", str(chans), "--clamp", "--seconds", "0.2")
+    assert r.returncode == 0 and "frames clamped" in r.stdout
+    r = run_cli(FISH, "--port", "/dev/nonexistent-tty", "--seconds", "1")
+    assert r.returncode == 2 and "cannot open" in r.stderr
+    assert not (tmp_path / "never.json").exists()
