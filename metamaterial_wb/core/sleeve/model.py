@@ -60,7 +60,7 @@ class CellMesh:
 
 
 def build_cell_mesh(geom: CellGeometry, n_el=10, plane="strain", t_scale=1.0):
-    """Beam mesh of one unit cell, normalised by L. ``t_scale`` perturbs the thickness (imperfection)."""
+    """Beam mesh of one unit cell, normalised by L. ``t_scale`` scales the beam thickness."""
     L = geom.L
     E = modulus(plane)
     t, T = geom.t * t_scale / L, geom.T / L
@@ -112,7 +112,7 @@ class SleeveModel:
     """
 
     def __init__(self, cells, pattern=None, n_el=10, plane="strain", radius_L=None,
-                 imperfection=0.0):
+                 imperfection=0.0, top_rotation="free"):
         self.cells = list(cells)
         self.unit = pattern is None
         self.pattern = [[0]] if pattern is None else [list(r) for r in pattern]
@@ -129,9 +129,7 @@ class SleeveModel:
         nn = 0
         for r, row in enumerate(self.pattern):
             for k, typ in enumerate(row):
-                # deterministic tiny imperfection: alternating thickness perturbation
-                sc = 1.0 + imperfection * (1 if (k + r) % 2 == 0 else -1) * (0.5 + 0.5 * k / max(1, self.N))
-                cm = build_cell_mesh(self.cells[typ], n_el, plane, sc)
+                cm = build_cell_mesh(self.cells[typ], n_el, plane)
                 meshes.append(cm)
                 offsets.append(nn)
                 X.append(cm.X0); conn.append(cm.conn + nn); EA.append(cm.EA); EI.append(cm.EI)
@@ -153,8 +151,11 @@ class SleeveModel:
         free = [i for i in range(nfull) if i not in fixed_dofs and i not in slaved]
         # reduced unknowns: free nodal DOFs, then plate DOFs
         self.nfree = len(free)
+        if top_rotation not in ("free", "fixed"):
+            raise MetamaterialError(f"top_rotation: {top_rotation!r}; allowed: 'free', 'fixed'")
+        self.rot_free = top_rotation == "free"
         if self.unit:
-            nplate = 1                              # the cell's top rotation
+            nplate = 1 if self.rot_free else 0      # the cell's top rotation
         else:
             nplate = 4 * (self.M - 1) + 3           # interfaces (w, psi_x, psi_y, twist); top: no w
         nred = self.nfree + nplate
@@ -164,7 +165,8 @@ class SleeveModel:
         if self.unit:
             o = offsets[0]
             P[3 * o + 1] = 1.0
-            T[3 * o + 2, self.nfree] = 1.0
+            if self.rot_free:
+                T[3 * o + 2, self.nfree] = 1.0
         else:
             def plate(p):
                 """Columns (w, psi_x, psi_y, twist) of plate p (0 = fixed bottom, M = top)."""
@@ -194,6 +196,15 @@ class SleeveModel:
                         T[3 * o + 2, py] += sgn * sn
         import scipy.sparse as sp
         self.T, self.P = sp.csr_matrix(T), P
+        # imperfection: a tiny constant moment on the top plate (about the axis at -45 deg, which
+        # lengthens cells 0 and 1 of a four-cell ring) so that a uniform ring tilts the same way on
+        # loading and unloading, like the seed's mesh imperfections; zero by default
+        self.bias = np.zeros(nred)
+        if imperfection and not self.unit:
+            b = self.nfree + 4 * (self.M - 1)
+            mag = imperfection * float(np.max(self.mesh.EA)) / LINK_FACTOR * self.radius
+            self.bias[b] = mag / np.sqrt(2)
+            self.bias[b + 1] = -mag / np.sqrt(2)
         self.TT = self.T.T.tocsr()
         self.nred = nred
         self.phi = np.array([2 * np.pi * k / self.N for (_, k, _) in self.cell_index])
@@ -204,7 +215,8 @@ class SleeveModel:
 
     def evaluate(self, q, d, need_hessian=True):
         e, g, K = self.mesh.evaluate(self.full(q, d), need_hessian)
-        gr = self.TT @ g
+        e -= float(self.bias @ q)
+        gr = self.TT @ g - self.bias
         Kr = None if K is None else np.asarray(self.TT @ np.asarray(self.TT @ K).T)
         return e, gr, Kr, float(self.P @ g)
 
@@ -256,7 +268,7 @@ class SleeveModel:
             if smax > 0.05:
                 a = 0.05 / smax
             for _ in range(30):
-                e2 = self.mesh.evaluate(self.full(q + a * step, d), False)[0]
+                e2 = self.mesh.evaluate(self.full(q + a * step, d), False)[0] - float(self.bias @ (q + a * step))
                 if e2 <= e + 1e-14 * max(1.0, abs(e)):
                     break
                 a *= 0.5
@@ -332,9 +344,9 @@ def default_stroke(cells):
     return 2.0 * h + 0.12
 
 
-def cell_curve(geom, n_el=10, steps=200, d_max=None, plane="strain", unload=True):
+def cell_curve(geom, n_el=10, steps=200, d_max=None, plane="strain", unload=True, top_rotation="free"):
     """Loading (and unloading) FD path of one unit cell. Returns (load, unload_or_None)."""
-    m = SleeveModel([geom], None, n_el, plane)
+    m = SleeveModel([geom], None, n_el, plane, top_rotation=top_rotation)
     d_max = default_stroke([geom]) if d_max is None else d_max
     d = np.linspace(0, d_max, steps + 1)
     up = m.trace(d)

@@ -35,9 +35,10 @@ def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None):
 
 def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, unload=True,
                imperfection=1e-4, progress=None):
-    """Load (and unload) a sleeve. ``imperfection`` (relative thickness scatter that fixes the tilt
-    direction, like the seed's mesh imperfections) is applied to uniform sleeves only: mixed
-    sleeves break the symmetry by design."""
+    """Load (and unload) a sleeve. ``imperfection`` (a tiny bias moment on the top plate, relative
+    to the beams' axial stiffness times the radius, that fixes the tilt direction like the seed's
+    mesh imperfections) is applied to uniform sleeves only: mixed sleeves break the symmetry by
+    design."""
     uniform = len({t for row in pattern for t in row}) == 1
     m = SleeveModel(cells, pattern, n_el, plane, imperfection=imperfection if uniform else 0.0)
     used = [cells[t] for row in pattern for t in row]

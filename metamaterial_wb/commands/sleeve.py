@@ -1,0 +1,217 @@
+"""``sleeve SPEC.json --out DIR [--step] [--3mf]``: metamaterial sleeve actuator analysis.
+
+Writes ``DIR/summary.json`` (unit cells, ring FD peaks/valleys, snapping sequence, PV, walker) and
+plots ``DIR/fd_cells.png``, ``DIR/fd_ring.png``, ``DIR/pv.png`` (+ ``design_map.png``,
+``walker.png`` when the spec asks for them); ``--step`` / ``--3mf`` export the sleeve's geometry
+(FreeCAD needed). Everything is written to a temporary folder first and moved into ``DIR`` at the
+end, so a failure leaves nothing half-written.
+"""
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")   # small dense systems: threads only cost time
+
+import shutil  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+
+NAME = "sleeve"
+HELP = "metamaterial sleeve actuator: unit-cell and sleeve FD curves, PV curve, sequence, export"
+
+
+def add_arguments(p):
+    p.add_argument("spec", help="sleeve spec (JSON, docs/scene-format.md section 'Sleeve spec')")
+    p.add_argument("--out", required=True, help="output folder (created; files in it are replaced)")
+    p.add_argument("--step", action="store_true", help="also export the sleeve as STEP (needs FreeCAD)")
+    p.add_argument("--3mf", dest="threemf", action="store_true",
+                   help="also export a 3MF with TPU sleeve and PLA rings/caps (needs FreeCAD)")
+    p.add_argument("--no-plots", action="store_true", help="summary.json only")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+
+
+def _progress(quiet):
+    if quiet:
+        return None, (lambda s: None)
+    state = {"last": -1}
+
+    def prog(i, n):
+        pc = int(100 * i / n)
+        if pc // 10 != state["last"]:
+            state["last"] = pc // 10
+            print(f"  {pc:3d} %", file=sys.stderr, flush=True)
+
+    def log(s):
+        state["last"] = -1
+        print(s, file=sys.stderr, flush=True)
+    return prog, log
+
+
+def run(args):
+    from metamaterial_wb.core.fileio import write_json
+    from metamaterial_wb.core.sleeve.pipeline import analyse
+    from metamaterial_wb.core.sleeve.spec import SleeveSpec
+
+    spec = SleeveSpec.load(args.spec)
+    prog, log = _progress(args.quiet)
+    summary, curves = analyse(spec, progress=None, log=log)
+    out = os.path.abspath(args.out)
+    parent = os.path.dirname(out)
+    os.makedirs(parent, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix=".sleeve-", dir=parent)
+    try:
+        files = []
+        if not args.no_plots:
+            files += write_plots(spec, summary, curves, tmp)
+        if args.step or args.threemf:
+            log("geometry")
+            from metamaterial_wb.geometry.sleeve import export_sleeve
+            files += export_sleeve(spec, tmp, step=args.step, threemf=args.threemf)
+        summary["files"] = sorted(["summary.json"] + files)
+        write_json(os.path.join(tmp, "summary.json"), summary)
+        os.makedirs(out, exist_ok=True)
+        for f in os.listdir(tmp):
+            os.replace(os.path.join(tmp, f), os.path.join(out, f))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    seq = summary["sequence"]
+    log(f"ring peaks {['%.3g' % p for p in summary['ring']['peaks']]}, valleys "
+        f"{['%.3g' % v for v in summary['ring']['valleys']]} (F/GL^2); sequence {seq['loading']}|{seq['unloading']} "
+        f"({'symmetric' if seq['symmetric'] else 'asymmetric'}); wrote {out}")
+    return 0
+
+
+# ------------------------------------------------------------------------------------------------
+def write_plots(spec, summary, curves, folder):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    files = []
+    # unit cells
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for i, (up, down) in enumerate(curves["cells"]):
+        g = spec.cells[i]
+        ax.plot(up.d, up.F * 1e3, label=f"type {i}: t/L={g.t / g.L:.3f}, h/L={g.h / g.L:.3f}")
+        u = summary["unit_cells"][i]
+        ax.plot([u["peak_displacement"]], [u["peak_force"] * 1e3], "^k")
+        ax.plot([u["valley_displacement"]], [u["valley_force"] * 1e3], "vk")
+    ax.axhline(0, color="0.6", lw=0.8)
+    ax.set_xlabel("displacement d/L [-]")
+    ax.set_ylabel("force F/(G L$^2$) [x1e-3]")
+    ax.set_title("unit cell FD (beam model)")
+    ax.set_ylim(_ylim([c[0].F for c in curves["cells"]], 1e3))
+    ax.legend(fontsize=8)
+    fig.tight_layout(); fig.savefig(os.path.join(folder, "fd_cells.png"), dpi=110); plt.close(fig)
+    files.append("fd_cells.png")
+    # ring / sleeve
+    model, up, down = curves["ring"]
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(6, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1.4]})
+    for i, u in curves["uniform"]:
+        ax.plot(u.d, u.F * 1e3, lw=1, alpha=0.7, label=f"uniform ring, type {i}")
+    ax.plot(up.d, up.F * 1e3, "k", lw=2, label=f"sleeve {spec.pattern} loading")
+    ax.plot(down.d, down.F * 1e3, "k--", lw=1.5, label="unloading")
+    pv = summary["ring"]
+    ax.plot(pv["peak_displacements"], np.array(pv["peaks"]) * 1e3, "^r")
+    ax.plot(pv["valley_displacements"], np.array(pv["valleys"]) * 1e3, "vb")
+    ax.axhline(0, color="0.6", lw=0.8)
+    ax.set_ylabel("force F/(G L$^2$) [x1e-3]")
+    ax.set_ylim(_ylim([up.F] + [u.F for _, u in curves["uniform"]], 1e3))
+    seq = summary["sequence"]
+    ax.set_title(f"sleeve FD: sequence {seq['loading']}|{seq['unloading']} "
+                 f"({'symmetric' if seq['symmetric'] else 'asymmetric'})", fontsize=10)
+    ax.legend(fontsize=7)
+    import math
+    lean_up = up.tilt @ _lean_axis(up.tilt)
+    lean_dn = down.tilt @ _lean_axis(up.tilt)
+    ax2.plot(up.d, np.degrees(lean_up), "k", label="loading")
+    ax2.plot(down.d, np.degrees(lean_dn), "k--", label="unloading")
+    ax2.set_ylabel("tilt [deg]")
+    ax2.set_xlabel("displacement d/L [-]")
+    ax2.legend(fontsize=7)
+    fig.tight_layout(); fig.savefig(os.path.join(folder, "fd_ring.png"), dpi=110); plt.close(fig)
+    files.append("fd_ring.png")
+    # PV
+    c = curves["pv"]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(*c["load"], "k", label="volume control, inflation")
+    ax.plot(*c["unload"], "k--", label="volume control, deflation")
+    ax.plot(*c["pc_load"], "r", lw=1, label="pressure control, inflation")
+    ax.plot(*c["pc_unload"], "b", lw=1, label="pressure control, deflation")
+    ax.axhline(0, color="0.6", lw=0.8)
+    ax.set_xlabel("volume change [mL]"); ax.set_ylabel("pressure [kPa]")
+    ax.set_ylim(_ylim([c["load"][1]], 1))
+    ax.set_title(f"PV (cap area {summary['pv']['cap_area_mm2']:.0f} mm$^2$, G = {spec.G:g} MPa)", fontsize=10)
+    ax.legend(fontsize=7)
+    fig.tight_layout(); fig.savefig(os.path.join(folder, "pv.png"), dpi=110); plt.close(fig)
+    files.append("pv.png")
+    if "design_map" in summary:
+        files.append(plot_design_map(summary["design_map"], os.path.join(folder, "design_map.png")))
+    if "walker" in curves:
+        files.append(plot_walker(curves["walker"], os.path.join(folder, "walker.png")))
+    return files
+
+
+def _lean_axis(tilt):
+    import numpy as np
+    k = int(np.argmax(np.linalg.norm(tilt, axis=1)))
+    v = tilt[k]
+    n = np.linalg.norm(v)
+    return v / n if n > 0 else np.array([1.0, 0.0])
+
+
+def _ylim(Fs, scale):
+    """A y range that shows peaks and valleys (the stretching branch is clipped)."""
+    import numpy as np
+    lo = min(float(np.min(F)) for F in Fs) * scale
+    # highest value before the final stiffening: the maximum over the first 75 % of the path
+    hi = max(float(np.max(F[: max(3, int(0.75 * len(F)))])) for F in Fs) * scale
+    span = hi - lo
+    return lo - 0.15 * span, hi + 0.35 * span
+
+
+def plot_design_map(dm, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    keys = [("peak", "unit cell peak $F_p$"), ("valley", "unit cell valley $F_v$")]
+    if "P1" in dm:
+        keys += [("P1", "ring first peak $P_1$"), ("V2", "ring second valley $V_2$")]
+    fig, axes = plt.subplots(1, len(keys), figsize=(3.3 * len(keys), 3.2))
+    t, h = np.array(dm["t_over_L"]), np.array(dm["h_over_L"])
+    for ax, (k, title) in zip(np.atleast_1d(axes), keys):
+        Z = np.array(dm[k]) * 1e3
+        im = ax.pcolormesh(t, h, Z, shading="nearest", cmap="viridis")
+        fig.colorbar(im, ax=ax, label="F/(G L$^2$) x1e-3")
+        if k in ("P1", "V2") and "peaks_count" in dm:
+            one = np.array(dm["peaks_count"]) < 2
+            for (i, j) in zip(*np.nonzero(one)):
+                ax.plot(t[j], h[i], "wx", ms=5)
+        ax.set_xlabel("t/L"); ax.set_ylabel("h/L"); ax.set_title(title, fontsize=9)
+    fig.tight_layout(); fig.savefig(path, dpi=110); plt.close(fig)
+    return os.path.basename(path)
+
+
+def plot_walker(cyc, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    tip = cyc["tip"]
+    n = len(tip) // 2
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(9, 4))
+    ax.plot(tip[:n, 0], -tip[:n, 1], "r", label="inflation")
+    ax.plot(tip[n:, 0], -tip[n:, 1], "b", label="deflation")
+    ax.fill(tip[:, 0], -tip[:, 1], color="0.85", zorder=0)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("lateral [mm]"); ax.set_ylabel("height [mm] (leg hangs down)")
+    ax.set_title(f"leg tip loop, area {cyc['area_mm2']:.1f} mm$^2$", fontsize=10)
+    ax.legend(fontsize=8)
+    ph = cyc["phase"]
+    for leg, tr in cyc["legs"].items():
+        ax2.plot(ph, tr[:, 0], label=f"leg {leg}", ls="-" if leg in (1, 3) else "--")
+    ax2.set_xlabel("cycle phase"); ax2.set_ylabel("tip lateral [mm]")
+    ax2.set_title("diagonal pairs 1-3 / 2-4 in antiphase", fontsize=10)
+    ax2.legend(fontsize=8)
+    fig.tight_layout(); fig.savefig(path, dpi=110); plt.close(fig)
+    return os.path.basename(path)
