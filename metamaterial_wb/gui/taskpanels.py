@@ -231,6 +231,8 @@ class NewStructurePanel(BasePanel):
                 b.toggled.connect(self._changed)
                 self.grid.addWidget(b, i, j)
                 self.buttons[(i, j)] = b
+        for c in range(self.MAX + 1):   # keep the toggle buttons packed to the left
+            self.grid.setColumnStretch(c, 1 if c == self.cols.value() else 0)
         self._changed()
 
     def preset_grid(self):
@@ -962,16 +964,13 @@ class SimulatePanel(BasePanel):
 # ----------------------------------------------------------------------------------------------
 # Animate
 # ----------------------------------------------------------------------------------------------
-def hardware_streamer_class():
-    """The serial streamer of the hardware package, or None when it is not available."""
+def hardware_available():
+    """True when the hardware package (serial link + streamer) can be imported."""
     try:
-        from metamaterial_wb.hardware import streamer as _st  # type: ignore
+        from metamaterial_wb.hardware import Link, Streamer, channel_map  # noqa: F401
+        return True
     except ImportError:
-        try:
-            from metamaterial_wb import hardware as _st  # type: ignore
-        except ImportError:
-            return None
-    return getattr(_st, "Streamer", None)
+        return False
 
 
 class AnimatePanel(BasePanel):
@@ -1037,17 +1036,21 @@ class AnimatePanel(BasePanel):
         hl.addWidget(self.port)
         hl.addWidget(self.connect_btn)
         self.layout.addLayout(hl)
-        self.streamer_cls = hardware_streamer_class()
-        if self.streamer_cls is None:
+        if not hardware_available():
             self.connect_btn.setEnabled(False)
-            self.connect_btn.setToolTip("the hardware package (metamaterial_wb.hardware) has no Streamer yet")
+            self.connect_btn.setToolTip("the hardware package (metamaterial_wb.hardware) is not available")
+        else:
+            self.connect_btn.setToolTip("Stream the values shown to the servo firmware at 50 Hz "
+                                        "(port loop:// = dry run without hardware)")
         self.stats = QtGui.QLabel("")
         self.layout.addWidget(self.stats)
         self.finish_layout()
         self.t = 0.0
         self.frames = 0
         self.streamer = None
-        self.stream_errors = 0
+        self.link = None
+        self.stream_error = None
+        self.shown_values = {}
         self.preview_scene = self.scene
         fps = max(1, int(preferences.get("AnimationFps")))
         self.dt = 1.0 / fps
@@ -1120,13 +1123,12 @@ class AnimatePanel(BasePanel):
         self.timeline.setValue(int(round(1000 * min(t, dur) / dur)))
         self.timeline.blockSignals(False)
         self.time_label.setText(f"t = {t:.2f} s")
-        if self.streamer is not None:
-            try:
-                self._stream(vals)
-            except Exception as exc:  # pragma: no cover - hardware
-                self.stream_errors += 1
-                self.show_error(f"streaming stopped: {exc}")
-                self.connect_btn.setChecked(False)
+        # what is shown is what the streamer sends (its thread reads this dict at 50 Hz)
+        self.shown_values = {a.name: float(vals[a.name]) for a in self.scene.actuators}
+        if self.stream_error:
+            self.show_error(f"streaming stopped: {self.stream_error}")
+            self.stream_error = None
+            self.connect_btn.setChecked(False)
         self.stats.setText(f"frame {self.frames}: {1000 * (time.perf_counter() - t0):.1f} ms (no recompute)")
 
     def step(self, n=1):
@@ -1165,44 +1167,68 @@ class AnimatePanel(BasePanel):
     # hardware ---------------------------------------------------------------------------
     def _connect_toggled(self, on):
         if on:
-            try:
-                self.streamer = self.streamer_cls(self.port.text().strip())
-                for meth in ("connect", "open", "start"):
-                    if hasattr(self.streamer, meth):
-                        getattr(self.streamer, meth)()
-                        break
-                self.connect_btn.setText("Disconnect")
-            except Exception as exc:
-                self.streamer = None
-                self.show_error(f"cannot connect to {self.port.text()}: {exc}")
-                self.connect_btn.blockSignals(True)
-                self.connect_btn.setChecked(False)
-                self.connect_btn.blockSignals(False)
+            self.connect(self.port.text().strip())
         else:
-            self._disconnect()
+            self.disconnect()
 
-    def _disconnect(self):
+    def connect(self, port):
+        """Open the serial link, hand-shake, ARM and stream what the panel shows (50 Hz thread)."""
+        from metamaterial_wb.hardware import Link, Streamer, channel_map
+        link = None
+        try:
+            dry = port.startswith("loop://")
+            link = Link.open(port, dry_run=dry)
+            streamer = Streamer(link, channel_map(self.preview_scene))
+            streamer.prepare()
+            streamer.on_error = self._stream_failed
+            if not self.shown_values:
+                self.show_time(self.t)
+            streamer.start(lambda _t: dict(self.shown_values))
+        except Exception as exc:
+            if link is not None:
+                try:
+                    link.close()
+                except Exception:
+                    pass
+            self.show_error(f"cannot stream to {port}: {exc}")
+            self.connect_btn.blockSignals(True)
+            self.connect_btn.setChecked(False)
+            self.connect_btn.blockSignals(False)
+            return False
+        self.link, self.streamer = link, streamer
+        self.connect_btn.blockSignals(True)
+        self.connect_btn.setChecked(True)
+        self.connect_btn.blockSignals(False)
+        self.connect_btn.setText("Disconnect")
+        return True
+
+    def _stream_failed(self, message):  # called from the streaming thread
+        self.stream_error = message
+
+    def disconnect(self):
+        stats = None
         if self.streamer is not None:
-            for meth in ("close", "disconnect", "stop"):
-                if hasattr(self.streamer, meth):
-                    try:
-                        getattr(self.streamer, meth)()
-                    except Exception:
-                        pass
-                    break
-        self.streamer = None
+            try:
+                stats = self.streamer.stop(disarm=False)
+            except Exception:
+                pass
+        if self.link is not None:
+            try:
+                self.link.close()
+            except Exception:
+                pass
+        self.streamer = self.link = None
+        self.connect_btn.blockSignals(True)
+        self.connect_btn.setChecked(False)
+        self.connect_btn.blockSignals(False)
         self.connect_btn.setText("Connect")
-
-    def _stream(self, vals):
-        acts = {a.name: vals[a.name] for a in self.scene.actuators}
-        for meth in ("send_values", "send", "write_values", "stream_values"):
-            if hasattr(self.streamer, meth):
-                getattr(self.streamer, meth)(acts)
-                return
+        if stats is not None:
+            self.stats.setText(f"streamed {stats.frames} frames, {stats.acked} acknowledged")
+        return stats
 
     def cleanup(self):
         self.timer.stop()
-        self._disconnect()
+        self.disconnect()
         super().cleanup()
 
     def apply(self):

@@ -443,3 +443,32 @@ def test_double_click_scene_opens_simulate(doc):
     process_events()
     assert isinstance(taskpanels.ACTIVE, taskpanels.SimulatePanel)
     taskpanels.ACTIVE.reject()
+
+
+def test_animate_connect_streams_what_is_shown(doc):
+    """The Connect button streams the values shown to the firmware link (dry run over loop://)."""
+    from metamaterial_wb.gui.taskpanels import hardware_available
+    if not hardware_available():
+        pytest.skip("metamaterial_wb.hardware is not in this checkout")
+    pytest.importorskip("serial")
+    import time as _time
+    from metamaterial_wb.hardware import channel_map
+    sc = open_fish(doc)
+    p = run_panel("MM_Animate")
+    assert p.connect("loop://") is True, p.error.text()
+    sent = []
+    p.streamer.on_frame = lambda t, angles: sent.append(dict(angles))
+    p.show_time(0.3)
+    shown = dict(p.shown_values)
+    deadline = _time.time() + 2.0
+    while len(sent) < 5 and _time.time() < deadline:
+        process_events()
+        _time.sleep(0.02)
+    assert len(sent) >= 5, "no frames streamed"
+    chans = {c.name: c for c in channel_map(structure.compose_scene(sc))}
+    for name, v in shown.items():
+        assert sent[-1][name] == pytest.approx(chans[name].angle_deg(v), abs=1e-9)
+    stats = p.disconnect()
+    assert stats.frames >= 5 and not stats.error and stats.acked == stats.frames
+    assert p.connect_btn.text() == "Connect"
+    p.reject()

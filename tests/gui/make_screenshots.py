@@ -1,0 +1,149 @@
+"""Screenshots of the main panels for docs/gui.md (a FreeCAD macro, not a test):
+
+    xvfb-run -a -s "-screen 0 1680x1050x24" freecad -u <copy of resources/test_user.cfg> \
+        tests/gui/make_screenshots.py -M "$PWD"
+
+Writes docs/img/gui-*.png (whole main window, 3D view plus task panel) and ends FreeCAD.
+"""
+import os
+import sys
+import traceback
+
+from PySide import QtCore, QtGui
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+OUT = os.path.join(REPO, "docs", "img")
+
+
+def settle(n=5):
+    import FreeCADGui
+    for _ in range(n):
+        QtGui.QApplication.processEvents()
+    try:
+        FreeCADGui.ActiveDocument.ActiveView.redraw()
+    except Exception:
+        pass
+    FreeCADGui.updateGui()
+    for _ in range(n):
+        QtGui.QApplication.processEvents()
+
+
+def shot(name):
+    import FreeCADGui
+    settle()
+    mw = FreeCADGui.getMainWindow()
+    pix = QtGui.QGuiApplication.primaryScreen().grabWindow(0)   # the whole (virtual) screen
+    if pix.isNull():
+        pix = mw.grab()
+    path = os.path.join(OUT, f"gui-{name}.png")
+    pix.save(path)
+    print("wrote", path, file=sys.__stdout__)
+
+
+def view(iso=True):
+    import FreeCADGui
+    v = FreeCADGui.ActiveDocument.ActiveView
+    if iso:
+        v.viewIsometric()
+    else:
+        v.viewTop()
+    v.fitAll()
+
+
+def run():
+    rc = 0
+    try:
+        sys.path.insert(0, REPO)
+        import FreeCAD
+        import FreeCADGui
+        from metamaterial_wb.gui import taskpanels
+        from metamaterial_wb.objects import structure
+
+        mw = FreeCADGui.getMainWindow()
+        mw.setGeometry(0, 0, 1680, 1050)
+        docks = {d.objectName() or d.windowTitle(): d for d in mw.findChildren(QtGui.QDockWidget)}
+        for name, d in docks.items():
+            if "Python" in name or "Report" in name:
+                d.hide()
+        combo = [d for n, d in docks.items() if "Combo" in n or "Tree" in n]
+        if combo and hasattr(mw, "resizeDocks"):
+            mw.resizeDocks(combo[:1], [460], QtCore.Qt.Horizontal)
+        FreeCADGui.activateWorkbench("MetamaterialWorkbench")
+        doc = FreeCAD.newDocument("fish")
+        FreeCAD.setActiveDocument(doc.Name)
+        FreeCADGui.runCommand("MM_NewStructure")
+        p = taskpanels.ACTIVE
+        p.name.setText("fish")
+        p.rows.setValue(2)
+        p.cols.setValue(6)
+        p.preset_grid()
+        shot("new-structure")
+        p.reject()
+
+        FreeCADGui.runCommand("MM_OpenExample")
+        p = taskpanels.ACTIVE
+        p.select("fish_axes" if p.list.findItems("fish_axes", QtCore.Qt.MatchExactly) else "fish")
+        p.accept()
+        sc = structure.find_scene_objects(doc)[-1]
+        view(False)
+        FreeCADGui.runCommand("MM_RotaryAxes")
+        shot("rotary-axes")
+        taskpanels.ACTIVE.reject()
+
+        view(True)
+        FreeCADGui.runCommand("MM_FoldedShape")
+        p = taskpanels.ACTIVE
+        p.global_slider.setValue(100)
+        p.preview()
+        view(True)
+        shot("folded-shape")
+        p.reject()
+
+        FreeCADGui.runCommand("MM_Flexibility")
+        shot("flexibility")
+        taskpanels.ACTIVE.reject()
+
+        view(False)
+        FreeCADGui.runCommand("MM_PlaceMotor")
+        p = taskpanels.ACTIVE
+        p.joint.setCurrentText("H2,3")
+        shot("place-motor")
+        p.reject()
+
+        view(True)
+        FreeCADGui.runCommand("MM_Simulate")
+        p = taskpanels.ACTIVE
+        p.set_value("tail", 0.9)
+        p.set_value("head", -0.5)
+        view(True)
+        shot("simulate")
+        p.reject()
+
+        FreeCADGui.runCommand("MM_Animate")
+        p = taskpanels.ACTIVE
+        p.step(20)
+        view(True)
+        shot("animate")
+        p.reject()
+
+        FreeCADGui.runCommand("MM_Export")
+        shot("export")
+        taskpanels.ACTIVE.reject()
+
+        ui = os.path.join(REPO, "resources", "ui", "preferences.ui")
+        w = FreeCADGui.PySideUic.loadUi(ui)
+        w.resize(520, 360)
+        w.show()
+        settle()
+        w.grab().save(os.path.join(OUT, "gui-preferences.png"))
+        w.close()
+        FreeCAD.closeDocument(doc.Name)
+    except Exception:
+        traceback.print_exc(file=sys.__stderr__)
+        rc = 1
+    sys.__stdout__.flush()
+    os._exit(rc)
+
+
+QtCore.QTimer.singleShot(240 * 1000, lambda: os._exit(124))
+QtCore.QTimer.singleShot(500, run)
