@@ -92,12 +92,13 @@ def _nonlinear(scene, global_deformation=None, **options):
     model = NonlinearLattice(scene, geo, **options)
     X, R, ok = model.solve()
     t2 = time.perf_counter()
-    energy = float(model._state(X, R, tangent=False)[1])
+    st_end, total_energy = model._state(X, R, tangent=False)[:2]
+    energy = float(st_end.energy.sum())
     X, R, phi, D = finish(geo, X, R)
     warnings = []
     info = dict(model.stats)
     info.update({"dofs": int(model.na), "planar": bool(model.planar), "constraints": int(model.joints.size),
-                 "elastic_energy_Nmm": energy})
+                 "elastic_energy_Nmm": energy, "contact_energy_Nmm": float(total_energy) - energy})
     if hasattr(model, "last_residual"):
         info["residual_force_rel"], info["residual_constraint_rad"] = (float(x) for x in model.last_residual)
     if not ok:

@@ -143,8 +143,8 @@ class Pattern:
             ck = cd >= 0
             self.con_keep = ck.ravel()
             crow = np.repeat(n_active + np.arange(nc), 12).reshape(nc, 12)
-            rows += [crow.ravel()[self.con_keep], cd.ravel()[self.con_keep]]
-            cols += [cd.ravel()[self.con_keep], crow.ravel()[self.con_keep]]
+            rows += [crow.ravel()[self.con_keep], cd.ravel()[self.con_keep], n_active + np.arange(nc)]
+            cols += [cd.ravel()[self.con_keep], crow.ravel()[self.con_keep], n_active + np.arange(nc)]
         rows = np.concatenate(rows)
         cols = np.concatenate(cols)
         N = n_active + nc
@@ -157,11 +157,13 @@ class Pattern:
         colidx = uniq // N
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(colidx, minlength=N))]).astype(np.int32)
 
-    def matrix(self, He, Acon=None, diag_shift=None):
+    def matrix(self, He, Acon=None, reg=0.0):
+        """KKT matrix ``[[H, A^T], [A, -reg I]]``. A tiny ``reg`` keeps it regular when constraints are
+        redundant (e.g. clips on every joint around a cell: their relative rotations are dependent)."""
         parts = [He.reshape(He.shape[0], -1).ravel()[self.keep_elem]]
         if self.nc:
             a = Acon.ravel()[self.con_keep]
-            parts += [a, a]
+            parts += [a, a, np.full(self.nc, -float(reg))]
         data = np.bincount(self.inv, weights=np.concatenate(parts), minlength=self.nnz)
         M = sp.csc_matrix((data, self.indices, self.indptr), shape=(self.N, self.N))
         return M

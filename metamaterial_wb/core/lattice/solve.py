@@ -47,6 +47,19 @@ def _dofmap(geo, planar):
     return dm, int(flat.sum())
 
 
+def _kkt_solve(pat, He, A, reg, rhs):
+    """Solve the KKT system; only if it is singular (redundant constraints) with the multiplier shift."""
+    try:
+        return spla.splu(pat.matrix(He, A, 0.0), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1).solve(rhs)
+    except RuntimeError:
+        return spla.splu(pat.matrix(He, A, reg), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1).solve(rhs)
+
+
+def kkt_regularisation(geo):
+    """Multiplier-block shift of the KKT matrix (1/rad units: 1e-10 of the softest hinge compliance)."""
+    return 1e-10 / float(geo.K[:, 5, 5].max())
+
+
 def kabsch(P, Q):
     """Rotation Rm and translation tv minimising |Rm P_i + tv - Q_i| (rows are points)."""
     pc, qc = P.mean(axis=0), Q.mean(axis=0)
@@ -103,10 +116,17 @@ class LinearLattice:
         st = ElementState(geo, geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy(), tangent=True)
         self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
         Acon = st.J[self.joints, 5, :] if self.joints.size else None
-        self.KKT = self.pattern.matrix(st.H, Acon)
+        self.reg = kkt_regularisation(geo)
+        self.KKT = self.pattern.matrix(st.H, Acon, 0.0)
         self.timings = {"assemble_s": time.perf_counter() - t0}
         t1 = time.perf_counter()
-        self.lu = spla.splu(self.KKT, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1) if self.joints.size else None
+        self.lu = None
+        if self.joints.size:
+            try:
+                self.lu = spla.splu(self.KKT, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1)
+            except RuntimeError:     # redundant constraints (e.g. clips on every joint around a cell)
+                self.KKT = self.pattern.matrix(st.H, Acon, self.reg)
+                self.lu = spla.splu(self.KKT, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1)
         self.timings["factor_s"] = time.perf_counter() - t1
 
     def solve(self, psi=None):
@@ -136,6 +156,9 @@ class NonlinearLattice:
         self.planar = geo.planar if planar is None else bool(planar)
         self.dofmap, self.na = _dofmap(geo, self.planar)
         self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
+        self.reg = kkt_regularisation(geo)
+        # rounding floor of the force residual: forces are differences of positions ~ the cell size
+        self.force_floor = 100.0 * np.finfo(float).eps * float(geo.K[:, 0, 0].max()) * geo.cell_size_mm
         self.contact = contact
         self.contact_fraction = contact_fraction
         # contact penalty per hinge: a multiple of its soft bending stiffness, acting on the closing rotation
@@ -192,19 +215,18 @@ class NonlinearLattice:
             r_f = np.abs(g + Ag).max() if g.size else 0.0
             r_c = np.abs(c).max() if c.size else 0.0
             self.last_residual = (r_f / scale_f, r_c)
-            if r_f <= self.tol * scale_f and r_c <= self.tol * max(1e-3, np.abs(self.psi).max(initial=0.0)):
+            if r_f <= max(self.tol * scale_f, self.force_floor) and \
+                    r_c <= self.tol * max(1e-3, np.abs(self.psi).max(initial=0.0)):
                 return X, R, mu, True, it
-            M = pat.matrix(He, A)
-            rhs = np.concatenate([-g, -c])
+            rhs = np.concatenate([-(g + Ag), -c])      # increments of the state and of the multipliers
             try:
-                lu = spla.splu(M, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1)
-                sol = lu.solve(rhs)
+                sol = _kkt_solve(pat, He, A, self.reg, rhs)
             except RuntimeError:
                 return X, R, mu, False, it
             if not np.all(np.isfinite(sol)):
                 return X, R, mu, False, it
             dq = sol[:self.na]
-            mu_new = sol[self.na:]
+            mu_new = mu + sol[self.na:]
             nu = max(nu or 0.0, 2.0 * (np.abs(mu_new).max(initial=0.0)) + 1e-30)
             merit0 = E + nu * np.abs(c).sum()
             slope = float(g @ dq) - nu * np.abs(c).sum()
