@@ -1002,6 +1002,8 @@ class AnimatePanel(BasePanel):
                 self.table.setCellWidget(r, c, w)
                 sp.append(w)
             self.spins[a.name] = sp
+        self.table.setMaximumHeight(40 + 30 * max(1, len(self.scene.actuators)))
+        self.table.horizontalHeader().setStretchLastSection(True)
         self.layout.addWidget(self.table)
         tl = QtGui.QHBoxLayout()
         self.play_btn = QtGui.QPushButton("Play")
