@@ -152,14 +152,22 @@ def analyse(spec, progress=None, log=None):
             "max_tilt_deg": float(math.degrees(np.max(np.linalg.norm(up.tilt, axis=1)))),
             "radius_mm": spec.radius_mm, "seconds_loading": up.seconds, "seconds_unloading": down.seconds,
             "degrees_of_freedom": int(model.nred)}
-    seq = two_hysteron_sequence([thresholds[used.index(i)] for i in used])
-    seq["loading"] = [used[k] for k in seq["loading"]]
-    seq["unloading"] = [used[k] for k in seq["unloading"]]
-    seq["method"] = "two-hysteron rule on the uniform rings' first peak and second valley"
-    seq["thresholds"] = {str(i): {"P1": thresholds[k][0], "V2": thresholds[k][1]} for k, i in enumerate(used)}
+    rule = two_hysteron_sequence([thresholds[used.index(i)] for i in used])
+    rule["loading"] = [used[k] for k in rule["loading"]]
+    rule["unloading"] = [used[k] for k in rule["unloading"]]
+    rule["thresholds"] = {str(i): {"P1": thresholds[k][0], "V2": thresholds[k][1]} for k, i in enumerate(used)}
     sim = simulated_sequence(model, up, down)
-    seq["simulated"] = sim
-    seq["agrees"] = bool(sim["loading"] == seq["loading"] and sim["unloading"] == seq["unloading"])
+    seq = {"loading": sim["loading"], "unloading": sim["unloading"], "symmetric": sim["symmetric"],
+           "method": "direct simulation of the sleeve (snapping order of the cell types along the "
+                     "displacement-controlled loading and unloading paths)",
+           "lean_reverses": sim["lean_reverses"],
+           "lean_loading_deg": sim["lean_loading_deg"], "lean_unloading_deg": sim["lean_unloading_deg"],
+           "max_tilt_loading_deg": sim["max_tilt_loading_deg"],
+           "max_tilt_unloading_deg": sim["max_tilt_unloading_deg"],
+           "events_loading": sim["events_loading"], "events_unloading": sim["events_unloading"],
+           "two_hysteron": rule,
+           "agrees_with_two_hysteron": bool(sim["loading"] == rule["loading"]
+                                            and sim["unloading"] == rule["unloading"])}
     # PV curve
     A = math.pi * (spec.core_diameter / 2) ** 2
     Vl, pl = pv_curve(up.d * L, up.F * Fscale, A, spec.membrane)
