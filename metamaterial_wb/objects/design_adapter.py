@@ -131,3 +131,20 @@ def configure(scene):
         raise SceneError("design", "metamaterial_wb.core.design has no configure(scene)")
     report = fn(sc)
     return sc, report if isinstance(report, dict) else None
+
+
+def ensure_configured(scene):
+    """Configure a scene with axes but no (or a stale, design-made) joint configuration, in place.
+
+    Returns the warnings to show (empty when nothing was done or the design package is missing).
+    """
+    design = _design()
+    if design is None or not scene.axes:
+        return []
+    fn = getattr(design, "ensure_configured", None)
+    if fn is None:
+        return []
+    report = fn(scene)
+    if not report:
+        return []
+    return list(report.get("warnings", [])) or ["joint configuration computed from the axes"]

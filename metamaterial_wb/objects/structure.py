@@ -126,6 +126,8 @@ class SceneProxy(ProxyBase):
     def execute(self, obj):
         count_execute(obj)
         scene = compose_scene(obj)
+        from metamaterial_wb.objects.design_adapter import ensure_configured
+        design_warnings = ensure_configured(scene)   # axes without (or with a stale) joint configuration
         solver = solver_for(obj, scene)
         frame = solver.frame(global_deformation=obj.GlobalDeformation if obj.UseGlobal else None)
         text = scene.to_json()
@@ -141,7 +143,7 @@ class SceneProxy(ProxyBase):
         except Exception:
             pass
         obj.Deformation = [float(x) for x in frame.D]
-        obj.SolveWarnings = list(solver.warnings)
+        obj.SolveWarnings = list(design_warnings) + list(solver.warnings)
         apply_frame(obj, solver, frame, purge=True)
 
 

@@ -145,6 +145,50 @@ def test_cell_size_rebuilds_the_node_shape(doc):
     assert abs(np.linalg.norm(xyz[1] - xyz[0]) - 30.0) < 1e-6
 
 
+def test_hinge_length_rebuilds_shapes_but_not_the_markers(doc):
+    sc = structure.make_structure(doc, fish())
+    ns, hs = doc.getObject("NodeShape"), doc.getObject("HingeShape")
+    b_node, b_hinge = ns.BuildCount, hs.BuildCount
+    marker_execs = [execute_count(o) for o in sc.Items]
+    sc.HingeLength = 3.0
+    doc.recompute()
+    assert sc.isValid()
+    assert (ns.BuildCount, hs.BuildCount) == (b_node + 1, b_hinge + 1)
+    assert [execute_count(o) for o in sc.Items] == marker_execs, "markers do not depend on the hinge size"
+    assert abs(ns.Shape.BoundBox.XLength - (sc.CellSize.Value - 3.0)) < 1e-6
+    from metamaterial_wb.core.calibration import default_calibration
+    assert sc.K1 == pytest.approx(default_calibration().k1(3.0))
+    scene = fish()
+    scene.hinge["length_mm"] = 3.0
+    scene = Scene.from_dict(scene.to_dict())
+    _D, pos, _phi = core_reference(scene)
+    np.testing.assert_allclose(placements_xyz(sc.NodeArray), pos, atol=1e-6)
+
+
+def test_axes_are_configured_and_kept_fresh(doc):
+    from metamaterial_wb.objects import design_adapter
+    if not design_adapter.design_available():
+        pytest.skip("core.design is not in this checkout")
+    from metamaterial_wb.core import design
+    sc = structure.make_structure(doc, fish())
+    structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 4, "fold_deg": 3.0}])
+    doc.recompute()
+    assert sc.isValid(), sc.State
+    cfg = json.loads(sc.SceneJSON)["joint_config"]
+    ref = fish()
+    ref = Scene.from_dict(dict(ref.to_dict(), axes=[{"direction": "vertical", "line": 4, "fold_deg": 3.0}]))
+    design.configure(ref)
+    assert set(cfg) == set(ref.joint_config)
+    for k in cfg:
+        assert cfg[k]["tilt_deg"] == pytest.approx(ref.joint_config[k]["tilt_deg"])
+    # a longer hinge needs another tilt for the same fold: the stored configuration follows
+    sc.HingeLength = 3.0
+    doc.recompute()
+    cfg2 = json.loads(sc.SceneJSON)["joint_config"]
+    assert any(abs(cfg2[k]["tilt_deg"] - cfg[k]["tilt_deg"]) > 1e-6 for k in cfg)
+    assert any("stale" in w for w in sc.SolveWarnings)
+
+
 def test_bad_joint_makes_the_scene_invalid_with_its_name(doc):
     sc = structure.make_structure(doc, fish())
     head = sc.Items[0]
