@@ -1,0 +1,319 @@
+"""STEP and 3MF exports: names and volumes survive a re-import, lib3mf strict validation, and the
+PrusaSlicer CLI slices the sheet on two extruders with the TPU extruder printing the hinges only."""
+import json
+import os
+import re
+import subprocess
+import sys
+import zipfile
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES, REPO
+
+NS = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}
+
+
+# ------------------------------------------------------------------------------------------------
+# helpers
+# ------------------------------------------------------------------------------------------------
+def lib3mf_read(path):
+    """Read with lib3mf in strict mode; returns {name: (n_vertices, n_triangles)} of mesh objects."""
+    lib3mf = pytest.importorskip("lib3mf")
+    w = lib3mf.get_wrapper()
+    model = w.CreateModel()
+    reader = model.QueryReader("3mf")
+    reader.SetStrictModeActive(True)
+    reader.ReadFromFile(str(path))
+    warnings = [reader.GetWarning(k) for k in range(reader.GetWarningCount())]
+    assert warnings == [], warnings
+    out = {}
+    it = model.GetMeshObjects()
+    while it.MoveNext():
+        o = it.GetCurrentMeshObject()
+        out[o.GetName()] = (o.GetVertexCount(), o.GetTriangleCount())
+    return out
+
+
+def gcode_extrusions(path):
+    """Extruding moves per tool: {tool: array of (x, y, z) end points}."""
+    tool, rel, e_abs = None, False, 0.0
+    x = y = z = None
+    pts = {}
+    with open(path) as f:
+        for raw in f:
+            line = raw.split(";", 1)[0].strip()
+            if not line:
+                continue
+            if re.fullmatch(r"T\d+", line):
+                tool = int(line[1:])
+                continue
+            word = line.split()[0]
+            if word == "M83":
+                rel = True
+            elif word == "M82":
+                rel = False
+            elif word == "G92":
+                m = re.search(r"E(-?[\d.]+)", line)
+                if m:
+                    e_abs = float(m.group(1))
+            elif word in ("G0", "G1"):
+                vals = dict((k, float(v)) for k, v in re.findall(r"([XYZE])(-?[\d.]+)", line))
+                x, y, z = vals.get("X", x), vals.get("Y", y), vals.get("Z", z)
+                if "E" in vals:
+                    de = vals["E"] if rel else vals["E"] - e_abs
+                    if not rel:
+                        e_abs = vals["E"]
+                    if de > 1e-6 and tool is not None and x is not None and y is not None:
+                        pts.setdefault(tool, []).append((x, y, z))
+    return {k: np.array(v) for k, v in pts.items()}
+
+
+def filament_used(path):
+    text = open(path).read()
+    m = re.search(r"^; filament used \[mm\] = (.*)$", text, re.M)
+    assert m, "no filament summary in the G-code"
+    return [float(v) for v in m.group(1).split(",")]
+
+
+def slice_3mf(exe, ini, path, out, extra=()):
+    r = subprocess.run([exe, "--loglevel", "1", "--export-gcode", "--load", ini, *extra, "-o", str(out), str(path)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, (r.stdout[-2000:], r.stderr[-2000:])
+    return str(out)
+
+
+def footprints(meshes, role_of):
+    """XY boxes (xmin, ymin, xmax, ymax) per role from the meshes written to the 3MF."""
+    boxes = {}
+    for name, V, T, mat, ext in meshes:
+        boxes.setdefault(role_of(name), []).append((V[:, 0].min(), V[:, 1].min(), V[:, 0].max(), V[:, 1].max()))
+    return {k: np.array(v) for k, v in boxes.items()}
+
+
+def assert_tpu_prints_hinges_only(gcode, meshes, thickness_mm, grow_mm=0.45):
+    """Both extruders print; every TPU (T1) extrusion lies in a hinge footprint and below the sheet top,
+    every PLA (T0) extrusion in a node footprint. The slicer centres the model: the shift is taken from
+    the centre of all extrusions vs the centre of all meshes."""
+    used = filament_used(gcode)
+    assert len(used) == 2 and min(used) > 0, f"filament used per extruder: {used}"
+    ex = gcode_extrusions(gcode)
+    assert set(ex) == {0, 1}, f"extruding tools: {sorted(ex)}"
+    allv = np.vstack([m[1] for m in meshes])
+    allp = np.vstack([ex[0], ex[1]])
+    shift = 0.5 * (allp[:, :2].min(0) + allp[:, :2].max(0)) - 0.5 * (allv[:, :2].min(0) + allv[:, :2].max(0))
+    fp = footprints(meshes, lambda n: "hinge" if n.startswith("hinge") else "node")
+    for tool, role in ((1, "hinge"), (0, "node")):
+        p = ex[tool][:, :2] - shift
+        b = fp[role]
+        inside = ((p[:, None, 0] >= b[None, :, 0] - grow_mm) & (p[:, None, 0] <= b[None, :, 2] + grow_mm) &
+                  (p[:, None, 1] >= b[None, :, 1] - grow_mm) & (p[:, None, 1] <= b[None, :, 3] + grow_mm)).any(1)
+        assert inside.all(), f"T{tool}: {int((~inside).sum())} of {len(p)} extrusions outside every {role}"
+    assert ex[1][:, 2].max() <= thickness_mm + 1e-6
+
+
+# ------------------------------------------------------------------------------------------------
+# STEP
+# ------------------------------------------------------------------------------------------------
+def test_step_reimport_keeps_names_and_volumes(fc, chain_result, tmp_path):
+    import Import
+    from metamaterial_wb.export.step import result_bodies, write_step
+    r = chain_result
+    path = tmp_path / "chain.step"
+    write_step(str(path), result_bodies(r, r.parts), "chain_sheet")
+    doc = fc.newDocument("reimport")
+    try:
+        Import.insert(str(path), doc.Name, useLinkGroup=False)
+        feats = {o.Label: o for o in doc.Objects if o.TypeId == "Part::Feature"}
+        assert set(feats) == {q.name for q in r.parts}
+        for q in r.parts:
+            shape = feats[q.name].Shape
+            assert shape.Volume == pytest.approx(r.placed_shape(q).Volume, rel=1e-6), q.name
+            bb, ref = shape.BoundBox, r.placed_shape(q).BoundBox
+            assert (bb.XMin, bb.YMin, bb.ZMax) == pytest.approx((ref.XMin, ref.YMin, ref.ZMax), abs=1e-6)
+        assert any(o.TypeId == "App::Part" and o.Label == "chain_sheet" for o in doc.Objects)
+    finally:
+        fc.closeDocument(doc.Name)
+
+
+def test_step_has_one_colour_per_body(fc, chain_result, tmp_path):
+    from metamaterial_wb.export.step import result_bodies, write_step
+    r = chain_result
+    path = tmp_path / "c.step"
+    write_step(str(path), result_bodies(r, r.parts), "c")
+    text = path.read_text()
+    assert text.count("STYLED_ITEM('color'") == len(r.parts)
+    rgb = re.findall(r"COLOUR_RGB\('',([\d.]+),([\d.]+),([\d.]+)\)", text)
+    got = {tuple(round(float(c) * 255) for c in t) for t in rgb}
+    assert got == {(0xD9, 0xD9, 0xD9), (0x1E, 0x64, 0xFF)}       # PLA grey, TPU blue
+    # every styled item points at a solid
+    solids = set(re.findall(r"#(\d+) = MANIFOLD_SOLID_BREP", text))
+    styled = set(re.findall(r"STYLED_ITEM\('color',\(#\d+\),#(\d+)\)", text))
+    assert styled == solids and len(solids) == len(r.parts)
+
+
+# ------------------------------------------------------------------------------------------------
+# 3MF
+# ------------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def chain_meshes(chain_result):
+    from metamaterial_wb.export.mesh import open_edges, part_meshes, signed_volume
+    parts = sorted(chain_result.parts, key=lambda q: q.role != "node")
+    meshes = part_meshes(chain_result, parts)
+    for (name, V, T, _, _), q in zip(meshes, parts):
+        assert open_edges(T) == 0, name                                  # closed and consistently oriented
+        assert signed_volume(V, T) == pytest.approx(chain_result.placed_shape(q).Volume, rel=5e-3)
+    return meshes
+
+
+def test_3mf_prusa_layout(chain_meshes, tmp_path):
+    from metamaterial_wb.export.threemf import write_3mf
+    path = tmp_path / "p.3mf"
+    write_3mf(str(path), chain_meshes, layout="prusa")
+    objs = lib3mf_read(path)
+    assert len(objs) == 1 and list(objs.values())[0][1] == sum(len(m[2]) for m in chain_meshes)
+    cfg = ET.fromstring(zipfile.ZipFile(path).read("Metadata/Slic3r_PE_model.config"))
+    vols = cfg.findall("./object/volume")
+    assert len(vols) == len(chain_meshes)
+    first = 0
+    for vol, (name, V, T, mat, ext) in zip(vols, chain_meshes):
+        meta = {m.get("key"): m.get("value") for m in vol.findall("metadata")}
+        assert meta["name"] == name and int(meta["extruder"]) == ext
+        assert (int(vol.get("firstid")), int(vol.get("lastid"))) == (first, first + len(T) - 1)
+        first += len(T)
+    model = ET.fromstring(zipfile.ZipFile(path).read("3D/3dmodel.model"))
+    bases = [b.get("name") for b in model.findall(".//m:basematerials/m:base", NS)]
+    assert bases == ["PLA", "TPU"]
+
+
+@pytest.mark.parametrize("layout", ["components", "objects"])
+def test_3mf_components_and_objects_layouts(chain_meshes, tmp_path, layout):
+    from metamaterial_wb.export.threemf import write_3mf
+    path = tmp_path / f"{layout}.3mf"
+    write_3mf(str(path), chain_meshes, layout=layout)
+    objs = lib3mf_read(path)
+    assert set(objs) == {m[0] for m in chain_meshes}
+    z = zipfile.ZipFile(path)
+    model = ET.fromstring(z.read("3D/3dmodel.model"))
+    ext_of = {m[0]: m[4] for m in chain_meshes}
+    for o in model.findall("m:resources/m:object", NS):
+        md = o.find("m:metadatagroup/m:metadata", NS)
+        if o.find("m:mesh", NS) is not None:
+            assert int(md.text) == ext_of[o.get("name")] - 1               # Cura: 0-based
+    bambu = ET.fromstring(z.read("Metadata/model_settings.config"))
+    items = model.findall("m:build/m:item", NS)
+    if layout == "components":
+        assert len(items) == 1 and bambu.find("object").get("id") == items[0].get("objectid")
+        parts = bambu.findall("object/part")
+        assert len(parts) == len(chain_meshes)
+        names = {o.get("id"): o.get("name") for o in model.findall("m:resources/m:object", NS)}
+        for part in parts:
+            meta = {m.get("key"): m.get("value") for m in part.findall("metadata")}
+            assert int(meta["extruder"]) == ext_of[names[part.get("id")]]
+    else:
+        assert len(items) == len(chain_meshes)
+
+
+def test_3mf_writer_rejects_bad_input(tmp_path):
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.export.threemf import write_3mf
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    T = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    with pytest.raises(MetamaterialError, match="extruder 0"):
+        write_3mf(str(tmp_path / "a.3mf"), [("a", V, T, "PLA", 0)])
+    with pytest.raises(MetamaterialError, match="outside the vertex range"):
+        write_3mf(str(tmp_path / "a.3mf"), [("a", V, T + 1, "PLA", 1)])
+    with pytest.raises(MetamaterialError, match="used twice"):
+        write_3mf(str(tmp_path / "a.3mf"), [("a", V, T, "PLA", 1), ("a", V, T, "TPU", 2)])
+    with pytest.raises(MetamaterialError, match="layout"):
+        write_3mf(str(tmp_path / "a.3mf"), [("a", V, T, "PLA", 1)], layout="bambu-project")
+    assert not os.listdir(tmp_path)                                        # nothing half-written
+    write_3mf(str(tmp_path / "tet.3mf"), [("a", V, T, "PLA", 1)])          # the generic API on a tetrahedron
+    assert lib3mf_read(tmp_path / "tet.3mf") == {"tet": (4, 4)}
+
+
+# ------------------------------------------------------------------------------------------------
+# slicing
+# ------------------------------------------------------------------------------------------------
+def test_prusaslicer_two_extruders_tpu_prints_hinges_only(prusa_slicer, dual_ini, chain_meshes, chain_result,
+                                                          tmp_path):
+    from metamaterial_wb.export.threemf import write_3mf
+    path = tmp_path / "chain.3mf"
+    write_3mf(str(path), chain_meshes, layout="prusa")
+    g = slice_3mf(prusa_slicer, dual_ini, path, tmp_path / "chain.gcode")
+    assert_tpu_prints_hinges_only(g, chain_meshes, chain_result.params.sheet_thickness_mm)
+
+
+def test_mutation_hinges_on_first_extruder_fails(prusa_slicer, dual_ini, chain_meshes, chain_result, tmp_path):
+    """The check above must fail when the hinges go to extruder 1 (the mutation)."""
+    from metamaterial_wb.export.threemf import write_3mf
+    bad = [(n, V, T, m, 1) for (n, V, T, m, e) in chain_meshes]
+    path = tmp_path / "bad.3mf"
+    write_3mf(str(path), bad, layout="prusa")
+    g = slice_3mf(prusa_slicer, dual_ini, path, tmp_path / "bad.gcode")
+    with pytest.raises(AssertionError):
+        assert_tpu_prints_hinges_only(g, bad, chain_result.params.sheet_thickness_mm)
+    # and swapping the extruders (nodes in TPU) fails too
+    swapped = [(n, V, T, m, 3 - e) for (n, V, T, m, e) in chain_meshes]
+    write_3mf(str(path), swapped, layout="prusa")
+    g = slice_3mf(prusa_slicer, dual_ini, path, tmp_path / "swapped.gcode")
+    with pytest.raises(AssertionError):
+        assert_tpu_prints_hinges_only(g, swapped, chain_result.params.sheet_thickness_mm)
+
+
+def test_components_layout_sliced_on_two_extruders(prusa_slicer, dual_ini, chain_meshes, tmp_path):
+    from metamaterial_wb.export.threemf import write_3mf
+    path = tmp_path / "comp.3mf"
+    write_3mf(str(path), chain_meshes, layout="components")
+    g = slice_3mf(prusa_slicer, dual_ini, path, tmp_path / "comp.gcode", extra=("--dont-arrange",))
+    used = filament_used(g)
+    assert len(used) == 2 and min(used) > 0
+    # TPU share of the filament ~ hinge share of the volume (PrusaSlicer loads components as objects)
+    vol = {True: 0.0, False: 0.0}
+    from metamaterial_wb.export.mesh import signed_volume
+    for n, V, T, m, e in chain_meshes:
+        vol[n.startswith("hinge")] += signed_volume(V, T)
+    assert used[1] / sum(used) == pytest.approx(vol[True] / (vol[True] + vol[False]), abs=0.08)
+
+
+# ------------------------------------------------------------------------------------------------
+# the seed's fish and gripper through the CLI
+# ------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("example", ["fish", "gripper"])
+def test_examples_build_export_and_slice(fc, prusa_slicer, dual_ini, tmp_path, example):
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.export.mesh import part_meshes
+    from metamaterial_wb.geometry.build import build_scene
+    from metamaterial_wb.geometry import validity
+    scene_path = os.path.join(EXAMPLES, f"{example}.json")
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", scene_path, "--out", str(out),
+                        "--modules"], cwd=REPO, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr[-3000:]
+    assert "build: sheet parts" in r.stderr                                # progress on stderr
+    files = sorted(os.listdir(out))
+    scene = Scene.load(scene_path)
+    mods = [m.get("name") for m in scene.modules]
+    assert f"{example}_sheet.step" in files and f"{example}_sheet.3mf" in files
+    assert f"{example}_sheet_components.3mf" in files and f"{example}_assembly.step" in files
+    for name in mods:                                                     # modules print separately
+        assert f"{example}_{name}.3mf" in files and f"{example}_{name}.step" in files
+    for f in files:
+        if f.endswith(".3mf"):
+            objs = lib3mf_read(out / f)
+            if f.endswith("_sheet.3mf"):
+                assert len(objs) == 1
+            elif not f.endswith("_components.3mf"):
+                assert all(not k.startswith(("node", "hinge")) for k in objs)
+    res = build_scene(scene, progress=False)
+    assert validity.check_all(res) == []
+    sheet = sorted([q for q in res.parts if q.group == "sheet"], key=lambda q: q.role != "node")
+    # the classic perimeter generator slices these 28-node sheets ~2x faster than Arachne (2.5's default)
+    g = slice_3mf(prusa_slicer, dual_ini, out / f"{example}_sheet.3mf", tmp_path / "sheet.gcode",
+                  extra=("--perimeter-generator", "classic", "--resolution", "0.05"))
+    assert_tpu_prints_hinges_only(g, part_meshes(res, sheet), res.params.sheet_thickness_mm)
+    # one module file slices on a single extruder
+    g2 = slice_3mf(prusa_slicer, dual_ini, out / f"{example}_{mods[0]}.3mf", tmp_path / "mod.gcode")
+    assert len(filament_used(g2)) == 1
