@@ -110,12 +110,14 @@ class _Fitter:
 
 
 def _fit_k1(fitter, k2=(1.0,)):
-    res = minimize_scalar(lambda k: fitter.rms([k], k2), bounds=(0.0, 1.0), method="bounded",
-                          options={"xatol": 1e-6})
+    """One k1 for every joint group (k2 per group held)."""
+    ng = len(k2)
+    f = lambda k: fitter.rms([k] * ng, k2)
+    res = minimize_scalar(f, bounds=(0.0, 1.0), method="bounded", options={"xatol": 1e-7})
     k1 = float(res.x)
     # the bounded search never evaluates the end points: compare with them explicitly
     for edge in (0.0, 1.0 - 1e-9):
-        if fitter.rms([edge], k2) < fitter.rms([k1], k2):
+        if f(edge) < f(k1):
             k1 = edge
     return k1
 
@@ -294,7 +296,11 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
             k1 = _fit_k1(fitter, [1.0, ratio])
             ratio = _fit_k2_ratio(fitter, k1)
             best = (k1, ratio)
-        k1, ratio = best
+        from scipy.optimize import least_squares
+        sol = least_squares(lambda x: fitter.residual([x[0], x[0]], [1.0, 10.0 ** x[1]])[0],
+                            [best[0], math.log10(best[1])], bounds=([0.0, -4.0], [1.0, 4.0]),
+                            x_scale=[1e-2, 0.1], xtol=1e-12, ftol=1e-12)
+        k1, ratio = float(sol.x[0]), float(10.0 ** sol.x[1])
         k2 = [1.0, ratio]
     else:
         k1 = _fit_k1(fitter, [1.0, 1.0])
