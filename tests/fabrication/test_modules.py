@@ -1,0 +1,133 @@
+"""Modules: valid solids, placed where the scene says, clear of the sheet at rest, parametric."""
+import math
+
+import pytest
+
+from conftest import make_scene
+
+C, S, T, CLR = 20.0, 18.0, 7.0, 0.2
+MODULES = [
+    {"type": "servo_housing", "name": "servo", "joint": "V0,1", "servo": "SG90"},
+    {"type": "friction_pad", "name": "pad", "node": "N0,0", "mu": 0.9},
+    {"type": "connection_hub", "name": "hub", "node": "N2,3"},
+    {"type": "stable_hub", "name": "stable", "joint": "H0,2"},
+    {"type": "constraint_clip", "name": "clip", "joint": "H2,1", "angle_deg": 12.0},
+]
+
+
+@pytest.fixture(scope="module")
+def mod_result(fc):
+    from metamaterial_wb.geometry.build import build_scene
+    return build_scene(make_scene({"grid": [2, 3]}, modules=MODULES), progress=False)
+
+
+def _part(r, name):
+    return r.placed_shape(r.by_name(name))
+
+
+def test_every_module_is_one_valid_solid_in_its_own_group(mod_result):
+    from metamaterial_wb.geometry import validity
+    r = mod_result
+    assert validity.check_solids(r) == []
+    groups = r.groups()
+    assert list(groups) == ["sheet", "servo", "pad", "hub", "stable", "clip"]
+    assert [q.name for q in groups["servo"]] == ["servo_housing", "servo_horn_adapter"]
+    assert all(q.material == "ABS" and q.extruder == 1 for g in list(groups)[1:] for q in groups[g])
+
+
+def test_modules_clear_of_the_sheet_at_rest(mod_result):
+    from metamaterial_wb.geometry import validity
+    assert validity.check_modules(mod_result) == []
+
+
+def test_clip_holds_its_angle(mod_result):
+    """At rest the clip's second half does not fit node N2,2: it fits N2,2 turned by angle_deg."""
+    r = mod_result
+    clip = _part(r, "clip_clip")
+    node_b = _part(r, "node_2_2")
+    assert clip.common(node_b).Volume > 1.0               # would collide in the flat state ...
+    assert clip.common(_part(r, "node_2_1")).Volume < 1e-3     # ... but fits its first node
+
+
+def test_servo_shaft_on_the_joint_midpoint(mod_result):
+    """The horn pocket's hub cylinder is centred on the midpoint of N0,1 and N1,1 (x = 20, y = -10)."""
+    r = mod_result
+    adapter = _part(r, "servo_horn_adapter")
+    hub_r = 0.5 * 7.0 + CLR
+    cyl = [f for f in adapter.Faces if f.Surface.__class__.__name__ == "Cylinder"
+           and abs(f.Surface.Radius - hub_r) < 1e-9]
+    assert cyl, "no horn hub pocket"
+    for f in cyl:
+        assert (f.Surface.Center.x, f.Surface.Center.y) == pytest.approx((C, -C / 2), abs=1e-9)
+        assert abs(f.Surface.Axis.z) == pytest.approx(1.0)
+    # the housing sits on the first node N0,1, the adapter on the second N1,1 (below it, y < -10)
+    hb, ab = _part(r, "servo_housing").BoundBox, adapter.BoundBox
+    assert hb.YMax > -C / 2 > hb.YMin                       # housing spans the joint (shaft inside it)
+    assert ab.YMax == pytest.approx(-C / 2 + 3.5 + 2.0)        # the arm ends 2 mm beyond the horn hub
+
+
+def test_pins_reach_into_the_sockets(mod_result):
+    r = mod_result
+    for name in ("servo_housing", "servo_horn_adapter", "hub_hub", "stable_hub", "clip_clip"):
+        assert _part(r, name).BoundBox.ZMin == pytest.approx(CLR), name      # pin tips just above the bed
+    pad = _part(r, "pad_pad").BoundBox                          # bottom side: mirrored
+    assert (pad.ZMin, pad.ZMax) == pytest.approx((-3.0, T - CLR))
+    hub = _part(r, "hub_hub").BoundBox                          # two-way: pins up into a second sheet
+    assert hub.ZMax == pytest.approx(T + 3.0 + T - CLR)
+
+
+def test_friction_pad_mu_reaches_the_scene_and_the_parts(mod_result):
+    r = mod_result
+    assert r.by_name("pad_pad").info["mu"] == 0.9
+    assert [m.get("mu") for m in r.scene.modules if m["type"] == "friction_pad"] == [0.9]
+
+
+def test_friction_pad_pocket_volume(mod_result):
+    """Pad = plate - pocket + 4 pins; the pocket volume follows the parameters."""
+    from metamaterial_wb.geometry.build import build_scene
+    r = mod_result
+    v1 = r.placed_shape(r.by_name("pad_pad")).Volume
+    sc = make_scene({"grid": [2, 3]}, modules=[dict(MODULES[1], pocket_depth_mm=1.0)])
+    r2 = build_scene(sc, progress=False)
+    v2 = r2.placed_shape(r2.by_name("pad_pad")).Volume
+    side = S - 0.6 - 2 * 1.5
+    assert v2 - v1 == pytest.approx(side * side * (1.5 - 1.0), rel=1e-9)
+
+
+def test_servo_presets_and_custom_dims(fc):
+    from metamaterial_wb.geometry.build import build_scene
+
+    def housing_width(**kw):
+        m = dict({"type": "servo_housing", "name": "s", "joint": "H0,0"}, **kw)
+        r = build_scene(make_scene({"grid": [1, 2]}, modules=[m]), progress=False)
+        bb = r.placed_shape(r.by_name("s_housing")).BoundBox
+        return bb.YMax - bb.YMin, r
+
+    w_sg, _ = housing_width(servo="SG90")
+    w_mg, _ = housing_width(servo="MG90S")
+    # the tub is the body + clearance + wall on each side where it is wider than the feet
+    assert w_mg - w_sg == pytest.approx(12.2 - 11.8, abs=1e-9) or (w_sg == w_mg)
+    dims = {"body_length_mm": 23.0, "body_width_mm": 16.0, "body_height_mm": 20.0, "tab_length_mm": 30.0,
+            "tab_thickness_mm": 2.0, "tab_z_mm": 14.0, "shaft_offset_mm": 6.0, "shaft_top_mm": 25.0,
+            "horn_hub_diameter_mm": 6.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 10.0,
+            "horn_arm_width_mm": 4.0}
+    w_c, r = housing_width(servo="custom", dims=dims)
+    assert w_c == pytest.approx(16.0 + 2 * (CLR + 1.6))
+    # the housing's cavity fits the custom body with the clearance: its inner length along the joint
+    inner = [f for f in r.placed_shape(r.by_name("s_housing")).Faces
+             if f.Surface.__class__.__name__ == "Plane" and abs(abs(f.normalAt(0, 0).x) - 1) < 1e-9]
+    xs = sorted({round(f.CenterOfMass.x, 6) for f in inner})
+    assert any(abs((b - a) - (23.0 + 2 * CLR)) < 1e-6 for a in xs for b in xs)
+
+
+def test_clip_angle_from_the_scene_constraint(fc):
+    """Without angle_deg the clip takes the relative rotation of the constrained joint's nodes."""
+    from metamaterial_wb.core.kinematics import rotation_limits
+    from metamaterial_wb.geometry.modules import parse_modules
+    from metamaterial_wb.geometry.params import fabrication_params
+    sc = make_scene({"chain": 3}, constraints=[{"name": "c1", "joint": "H0,1", "value": 0.5}],
+                    modules=[{"type": "constraint_clip", "joint": "H0,1"}])
+    spec = parse_modules(sc, fabrication_params(sc))[0]
+    closing, _ = rotation_limits(sc)
+    # N0,1 (odd) turns by -0.5 * closing, N0,2 (even) by +0.5 * closing: B relative to A = +closing
+    assert spec.values["angle_deg"] == pytest.approx(math.degrees(closing), rel=1e-9)
