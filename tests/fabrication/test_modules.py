@@ -100,13 +100,17 @@ def test_servo_presets_and_custom_dims(fc):
     def housing_width(**kw):
         m = dict({"type": "servo_housing", "name": "s", "joint": "H0,0"}, **kw)
         r = build_scene(make_scene({"grid": [1, 2]}, modules=[m]), progress=False)
-        bb = r.placed_shape(r.by_name("s_housing")).BoundBox
+        import Part
+        h = r.placed_shape(r.by_name("s_housing"))
+        slab = Part.makeBox(200, 200, 5, fc.Vector(-100, -100, T + 8))     # the tub, above the wider feet
+        bb = h.common(slab).BoundBox
         return bb.YMax - bb.YMin, r
 
     w_sg, _ = housing_width(servo="SG90")
     w_mg, _ = housing_width(servo="MG90S")
     # the tub is the body + clearance + wall on each side where it is wider than the feet
-    assert w_mg - w_sg == pytest.approx(12.2 - 11.8, abs=1e-9) or (w_sg == w_mg)
+    assert w_sg == pytest.approx(11.8 + 2 * (CLR + 1.6))
+    assert w_mg - w_sg == pytest.approx(12.2 - 11.8, abs=1e-9)
     dims = {"body_length_mm": 23.0, "body_width_mm": 16.0, "body_height_mm": 20.0, "tab_length_mm": 30.0,
             "tab_thickness_mm": 2.0, "tab_z_mm": 14.0, "shaft_offset_mm": 6.0, "shaft_top_mm": 25.0,
             "horn_hub_diameter_mm": 6.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 10.0,
