@@ -99,3 +99,23 @@ def test_contact_terms_only_where_needed():
     b = run_model("nonlinear", sc, contact=False)
     assert a.info["contact_energy_Nmm"] == 0.0
     assert np.array_equal(a.D, b.D)
+
+
+def test_linear_model_called_again_with_new_values_reuses_the_factorisation():
+    """The animation path: run_model('linear', scene) with only actuator values changed reuses the cached
+    factorisation; the answer equals a cold build, and a structural change is never served from the cache."""
+    import metamaterial_wb.core.lattice as lattice
+
+    lattice.clear_cache()
+    acts = [{"name": "m1", "joint": "H2,1", "value": 0.3}, {"name": "m2", "joint": "V1,3", "value": -0.2}]
+    a = run_model("linear", grid(8, acts))
+    assert a.info["reused_factorisation"] is False
+    acts2 = [dict(acts[0], value=-0.15), dict(acts[1], value=0.4)]
+    warm = run_model("linear", grid(8, acts2))
+    assert warm.info["reused_factorisation"] is True
+    lattice.clear_cache()
+    cold = run_model("linear", grid(8, acts2))
+    assert cold.info["reused_factorisation"] is False
+    assert np.array_equal(warm.D, cold.D)
+    other = run_model("linear", grid(8, acts2, hinge={"length_mm": 3.0, "width_mm": 0.8, "thickness_mm": 7}))
+    assert other.info["reused_factorisation"] is False and not np.allclose(other.D, cold.D)

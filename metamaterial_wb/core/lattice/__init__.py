@@ -13,7 +13,9 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   ``contact_stiffness`` (1e4, times the hinge's soft bending stiffness), ``fallback`` (dynamic
   relaxation when Newton fails, true), ``dr_max_iter`` (5000).
 """
+import json
 import time
+from collections import OrderedDict
 
 import numpy as np
 
@@ -52,6 +54,24 @@ def _range_warnings(scene, D, warnings):
                         f"{D[k]:.3f} (free-edge amplification: D beyond +-1 means the plate turns further than in the uniform mechanism at its limit)")
 
 
+_LINEAR_CACHE = OrderedDict()
+_LINEAR_CACHE_SIZE = 4
+
+
+def _structure_key(scene, planar):
+    """Everything but the actuator/constraint values: scenes with equal keys share a factorisation."""
+    d = scene.to_dict()
+    for k in ("actuators", "constraints"):
+        d[k] = [{kk: vv for kk, vv in item.items() if kk not in ("value", "profile")} for item in d.get(k, [])]
+    for k in ("name", "description", "global_deformation", "modules"):
+        d.pop(k, None)
+    return json.dumps(d, sort_keys=True, default=str) + f"|planar={planar}"
+
+
+def clear_cache():
+    _LINEAR_CACHE.clear()
+
+
 def _linear(scene, global_deformation=None, planar=None, **options):
     t0 = time.perf_counter()
     _check_options("linear", options, _LINEAR_OPTS)
@@ -60,19 +80,34 @@ def _linear(scene, global_deformation=None, planar=None, **options):
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
     from metamaterial_wb.core.lattice.solve import LinearLattice, finish
 
-    geo = LatticeGeometry(scene)
-    if planar is not None:
-        geo.planar = bool(planar)
+    from metamaterial_wb.core.lattice.geometry import fixed_items
+
+    key = _structure_key(scene, planar)
+    cached = _LINEAR_CACHE.get(key)
+    reused = cached is not None
+    if reused:                       # only actuator values changed: reuse geometry and factorisation
+        lin = cached
+        geo = lin.geo
+        _LINEAR_CACHE.move_to_end(key)
     t1 = time.perf_counter()
-    lin = LinearLattice(scene, geo)
+    if not reused:
+        geo = LatticeGeometry(scene)
+        if planar is not None:
+            geo.planar = bool(planar)
+        t1 = time.perf_counter()
+        lin = LinearLattice(scene, geo)
+        _LINEAR_CACHE[key] = lin
+        while len(_LINEAR_CACHE) > _LINEAR_CACHE_SIZE:
+            _LINEAR_CACHE.popitem(last=False)
     t2 = time.perf_counter()
-    X, R, q, mu = lin.solve()
+    psi = fixed_items(scene, geo)[2] if reused else lin.psi
+    X, R, q, mu = lin.solve(psi)
     t3 = time.perf_counter()
     X, R, phi, D = finish(geo, X, R)
     warnings = []
-    info = {"method": "linearised lattice, one sparse KKT solve" if lin.joints.size and np.any(lin.psi)
+    info = {"method": "linearised lattice, one sparse KKT solve" if lin.joints.size and np.any(psi)
             else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
-            "constraints": int(lin.joints.size)}
+            "constraints": int(lin.joints.size), "reused_factorisation": reused}
     _range_warnings(scene, D, warnings)
     timings = {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2,
                "total_s": time.perf_counter() - t0}
