@@ -43,15 +43,20 @@ class _Command:
         raise NotImplementedError
 
     def Activated(self):
+        from metamaterial_wb.core.errors import MetamaterialError
         from metamaterial_wb.gui import taskpanels
-        if self.NEEDS_SCENE:
-            sc = current_scene()
-            if sc is None:
-                FreeCAD.Console.PrintError(f"{self.MENU}: no metamaterial structure in the active document\n")
-                return
-            taskpanels.show(self.panel(sc))
-        else:
-            taskpanels.show(self.panel(FreeCAD.ActiveDocument))
+        try:
+            if self.NEEDS_SCENE:
+                sc = current_scene()
+                if sc is None:
+                    FreeCAD.Console.PrintError(f"{self.MENU}: no metamaterial structure in the active document\n")
+                    return
+                taskpanels.show(self.panel(sc))
+            else:
+                taskpanels.show(self.panel(FreeCAD.ActiveDocument))
+        except MetamaterialError as exc:   # e.g. the structure is invalid: say why, open nothing
+            FreeCAD.Console.PrintError(f"{self.MENU}: {exc}\n")
+            self.last_error = str(exc)
 
 
 def _cmd(name, icon, menu, tip, make_panel, needs_scene=True):
@@ -105,6 +110,7 @@ SIMULATE = ["MM_Flexibility", "MM_PlaceMotor", "MM_PlaceConstraint", "MM_AddModu
 FABRICATE = ["MM_Export"]
 
 _REGISTERED = False
+INSTANCES = {}   # command name -> the Python command object (tests read last_error)
 
 
 def register():
@@ -112,6 +118,7 @@ def register():
     names = [c[0] for c in COMMANDS]
     if not _REGISTERED:
         for name, icon, menu, tip, make, needs in COMMANDS:
-            FreeCADGui.addCommand(name, _cmd(name, icon, menu, tip, make, needs))
+            INSTANCES[name] = _cmd(name, icon, menu, tip, make, needs)
+            FreeCADGui.addCommand(name, INSTANCES[name])
         _REGISTERED = True
     return names

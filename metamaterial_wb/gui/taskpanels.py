@@ -376,6 +376,66 @@ class OpenExamplePanel(BasePanel):
 # ----------------------------------------------------------------------------------------------
 # Rotary axes
 # ----------------------------------------------------------------------------------------------
+class AxisOverlay:
+    """Temporary Coin lines in the 3D view: candidate grid lines (grey) and chosen axes (orange)."""
+
+    def __init__(self, doc):
+        from pivy import coin
+        self.coin = coin
+        self.view = None
+        gd = FreeCADGui.getDocument(doc.Name)
+        if gd is not None and hasattr(gd.ActiveView, "getSceneGraph"):
+            self.view = gd.ActiveView
+        self.root = coin.SoSeparator()
+        self.root.setName("MetamaterialAxes")
+        if self.view is not None:
+            self.view.getSceneGraph().addChild(self.root)
+
+    def _group(self, segments, rgb, width, pattern):
+        coin = self.coin
+        sep = coin.SoSeparator()
+        col = coin.SoBaseColor()
+        col.rgb = rgb
+        style = coin.SoDrawStyle()
+        style.lineWidth = width
+        style.linePattern = pattern
+        pts = coin.SoCoordinate3()
+        pts.point.setValues(0, len(segments) * 2, [p for seg in segments for p in seg])
+        lines = coin.SoLineSet()
+        lines.numVertices.setValues(0, len(segments), [2] * len(segments))
+        for n in (col, style, pts, lines):
+            sep.addChild(n)
+        return sep
+
+    def show(self, candidates, chosen):
+        self.root.removeAllChildren()
+        self.n_candidates, self.n_chosen = len(candidates), len(chosen)
+        if candidates:
+            self.root.addChild(self._group(candidates, (0.55, 0.55, 0.6), 1.0, 0x0F0F))
+        if chosen:
+            self.root.addChild(self._group(chosen, (1.0, 0.5, 0.0), 4.0, 0xFFFF))
+
+    def remove(self):
+        if self.view is not None:
+            try:
+                self.view.getSceneGraph().removeChild(self.root)
+            except Exception:  # pragma: no cover - view already gone
+                pass
+        self.view = None
+
+
+def axis_segment(scene, direction, line, z):
+    """End points (flat sheet, mm) of the grid line an axis lies on, over the cells it runs through."""
+    p = scene.cell_size_mm
+    if direction == "vertical":
+        rows = [i for (i, j) in scene.cells if j == line]
+        x = (line + 0.5) * p
+        return ((x, -(min(rows) - 0.6) * p, z), (x, -(max(rows) + 0.6) * p, z))
+    cols = [j for (i, j) in scene.cells if i == line]
+    y = -(line + 0.5) * p
+    return (((min(cols) - 0.6) * p, y, z), ((max(cols) + 0.6) * p, y, z))
+
+
 class RotaryAxesPanel(BasePanel):
     TITLE = "Rotary axes"
     ICON = "MM_RotaryAxes.svg"
@@ -409,6 +469,16 @@ class RotaryAxesPanel(BasePanel):
         self.violations.setStyleSheet("color: #c00000;")
         self.layout.addWidget(self.violations)
         self.finish_layout()
+        # the flat sheet (every D = 0) with the grid lines drawn over it while the panel is open
+        self.saved = structure.display_state(scene_obj)
+        self.overlay = None
+        try:
+            from metamaterial_wb.objects.engine import LiveSolver
+            solver = LiveSolver(self.scene)
+            structure.apply_frame(scene_obj, solver, solver.frame(global_deformation=0.0), purge=True)
+            self.overlay = AxisOverlay(scene_obj.Document)
+        except Exception as exc:  # pragma: no cover - display only
+            FreeCAD.Console.PrintWarning(f"Metamaterial: no axis overlay ({exc})\n")
         self._changed()
         self.watch_selection(scene_obj, on_joint=self.pick_joint)
 
@@ -438,11 +508,27 @@ class RotaryAxesPanel(BasePanel):
     def _changed(self, *_):
         v = self.current_violations()
         self.violations.setText("\n".join(v) if v else "")
+        if getattr(self, "overlay", None) is not None:
+            z = 0.5 * self.scene.hinge["thickness_mm"] + 0.5
+            cand = [axis_segment(self.scene, d, line, z) for (d, line) in sorted(self.buttons)]
+            chosen = [axis_segment(self.scene, d, line, z) for (d, line), b in sorted(self.buttons.items())
+                      if b.isChecked()]
+            self.overlay.show(cand, chosen)
+
+    def cleanup(self):
+        if getattr(self, "overlay", None) is not None:
+            self.overlay.remove()
+            self.overlay = None
+        if getattr(self, "saved", None) is not None:
+            structure.restore_display(self.obj, self.saved)
+            self.saved = None
+        super().cleanup()
 
     def apply(self):
         v = self.current_violations()
         if v:
             raise MetamaterialError("the axes break the rules: " + "; ".join(v))
+        self.cleanup()
         doc = self.obj.Document
         doc.openTransaction("Rotary axes")
         try:

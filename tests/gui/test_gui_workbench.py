@@ -134,6 +134,17 @@ def test_new_structure_panel_layout_editor(doc):
     assert not structure.find_scene_objects(doc)
 
 
+def test_command_on_an_invalid_structure_reports_and_opens_nothing(doc):
+    sc = open_fish(doc)
+    sc.Items[0].Joint = "V7,7"
+    doc.recompute()
+    assert not sc.isValid()
+    FreeCADGui.runCommand("MM_Simulate")
+    process_events()
+    assert not FreeCADGui.Control.activeDialog()
+    assert "V7,7" in commands.INSTANCES["MM_Simulate"].last_error
+
+
 def test_new_structure_from_scene_file(doc):
     p = run_panel("MM_NewStructure")
     assert p.load_file(metamaterial_wb.example_path("worm")) is not None
@@ -167,8 +178,17 @@ def test_rotary_axes_rules_and_picking(doc):
     process_events()
     assert p.buttons[("vertical", 1)].isChecked()
     FreeCADGui.Selection.clearSelection()
+    # while the panel is open: the flat sheet, with the 8 candidate lines and the 2 chosen axes drawn
+    flat = xyz(sc.NodeArray)
+    _D, pos0, _phi = core_positions(scene, g=0.0)
+    np.testing.assert_allclose(flat, pos0, atol=1e-6)
+    assert (p.overlay.n_candidates, p.overlay.n_chosen) == (8, 2)
+    graph = FreeCADGui.getDocument(doc.Name).ActiveView.getSceneGraph()
+    assert graph.findChild(p.overlay.root) >= 0
+    root = p.overlay.root
     undo0 = doc.UndoCount
     assert p.accept() is True
+    assert graph.findChild(root) < 0, "the axis overlay must be removed when the panel closes"
     axes = json.loads(sc.SceneJSON)["axes"]
     assert [(a["direction"], a["line"]) for a in axes] == [("vertical", 1), ("vertical", 3)]
     assert doc.UndoCount == undo0 + 1
