@@ -425,15 +425,20 @@ class AxisOverlay:
 
 
 def axis_segment(scene, direction, line, z):
-    """End points (flat sheet, mm) of the grid line an axis lies on, over the cells it runs through."""
+    """End points (flat sheet, mm) of an axis' grid line: across every joint it crosses, plus a margin.
+
+    Node N(i,j) sits at (j p, -i p); a vertical axis on cell column k lies at x = (k + 1/2) p and crosses
+    H(i,k) for the node rows i of its cells; a horizontal one on cell row k lies at y = -(k + 1/2) p.
+    """
     p = scene.cell_size_mm
+    m = 0.6
     if direction == "vertical":
         rows = [i for (i, j) in scene.cells if j == line]
         x = (line + 0.5) * p
-        return ((x, -(min(rows) - 0.6) * p, z), (x, -(max(rows) + 0.6) * p, z))
+        return ((x, -(min(rows) - m) * p, z), (x, -(max(rows) + 1 + m) * p, z))
     cols = [j for (i, j) in scene.cells if i == line]
     y = -(line + 0.5) * p
-    return (((min(cols) - 0.6) * p, y, z), ((max(cols) + 0.6) * p, y, z))
+    return (((min(cols) - m) * p, y, z), ((max(cols) + 1 + m) * p, y, z))
 
 
 class RotaryAxesPanel(BasePanel):
