@@ -169,6 +169,7 @@ class Link:
             self.ser.reset_input_buffer()
         except Exception:
             pass
+        t_start, resets_before = time.perf_counter(), self.resets_seen
         self.write_raw(b"\x00")  # end any partial frame in the device's receiver
         end = time.perf_counter() + total_s
         while time.perf_counter() < end:
@@ -189,6 +190,9 @@ class Link:
                 raise LinkError(f"{self.name}: the firmware drives {info.n_channels} channels; the scene "
                                 f"needs {min_channels}")
             self.info = info
+            # a boot banner (HELLO_ACK seq 0) that arrived during the handshake is the reset we expected
+            self.events = [(t, e) for t, e in self.events if not (e.kind == "HELLO_ACK" and t >= t_start)]
+            self.resets_seen = resets_before
             return info
         raise LinkError(f"{self.name}: no HELLO_ACK within {total_s:g} s (is the servolink firmware flashed, "
                         f"and the baud rate 115200?)")

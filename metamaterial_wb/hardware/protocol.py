@@ -260,6 +260,11 @@ class Reply:
         return NAK_NAMES.get(self.code, str(self.code)) if self.kind == "NAK" else None
 
     @property
+    def time_ms(self):
+        """EVENT: the firmware's clock (ms since boot) when it happened."""
+        return struct.unpack("<I", self.data[:4])[0] if self.kind == "EVENT" and len(self.data) >= 4 else None
+
+    @property
     def clamp_mask(self):
         return struct.unpack("<H", self.data[:2])[0] if len(self.data) >= 2 else 0
 
@@ -277,7 +282,7 @@ def parse_reply(pkt: Packet) -> Reply:
     if pkt.type == EVENT:
         if len(p) < 2:
             raise ProtocolError("EVENT shorter than 2 bytes")
-        return Reply("EVENT", pkt.seq, code=p[0], state=p[1])
+        return Reply("EVENT", pkt.seq, code=p[0], state=p[1], data=bytes(p[2:]))
     if pkt.type == HELLO_ACK:
         return Reply("HELLO_ACK", pkt.seq, data=bytes(p))
     raise ProtocolError(f"unexpected packet type 0x{pkt.type:02x} from the device")

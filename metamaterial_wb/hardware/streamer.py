@@ -9,7 +9,7 @@
 
 Frames carry absolute angles: the latest wins, a lost frame is never retransmitted (the next one, 20 ms
 later, supersedes it). Deadlines are absolute (``next += period``), so the rate does not drift; a frame
-that would be more than one period late is skipped and counted. The GUI calls ``start``/``stop`` from
+that would be more than one period late is skipped and counted (``catch_up=True`` sends it late instead). The GUI calls ``start``/``stop`` from
 its thread; the sending happens here, never in the Qt event loop.
 """
 from __future__ import annotations
@@ -37,6 +37,7 @@ class StreamStats:
     nak_reasons: dict = field(default_factory=dict)
     rtt_ms: list = field(default_factory=list)
     duration_s: float = 0.0
+    last_t: float = None      # motion time of the last frame sent (s)
     events: list = field(default_factory=list)
     error: str = ""
 
@@ -46,7 +47,7 @@ class StreamStats:
             return r[min(len(r) - 1, int(q * len(r)))] if r else float("nan")
         return {"frames": self.frames, "acked": self.acked, "naked": self.naked, "lost": self.lost,
                 "skipped": self.skipped, "clamped_frames": self.clamped_frames, "nak_reasons": self.nak_reasons,
-                "duration_s": round(self.duration_s, 4),
+                "duration_s": round(self.duration_s, 4), "last_t": self.last_t,
                 "rate_hz": round(self.frames / self.duration_s, 3) if self.duration_s > 0 else 0.0,
                 "rtt_ms_median": round(statistics.median(r), 3) if r else None,
                 "rtt_ms_p99": round(pct(0.99), 3) if r else None,
@@ -66,7 +67,7 @@ def source_function(source):
 
 
 class Streamer:
-    def __init__(self, link, channels, rate_hz=50.0, clamp=False, reply_timeout_s=0.1):
+    def __init__(self, link, channels, rate_hz=50.0, clamp=False, reply_timeout_s=0.1, catch_up=False):
         if not 1.0 <= rate_hz <= 100.0:
             raise MetamaterialError(f"rate {rate_hz} Hz is outside the allowed range [1, 100] Hz")
         self.link = link
@@ -74,6 +75,7 @@ class Streamer:
         self.rate_hz = float(rate_hz)
         self.clamp = clamp
         self.reply_timeout_s = reply_timeout_s
+        self.catch_up = catch_up  # True: after a stall send the missed frames back to back instead of skipping
         self.stats = StreamStats()
         self.on_frame = None   # callback(t, {name: angle_deg}) after each frame (from the streaming thread)
         self.on_error = None   # callback(message) when the stream stops on an error
@@ -143,6 +145,7 @@ class Streamer:
                     seq = self.link.send(P.SET_ANGLES, payload)
                     self._outstanding[seq] = time.perf_counter()
                     self.stats.frames += 1
+                    self.stats.last_t = t
                     if self.on_frame:
                         self.on_frame(t, angles)
                 deadline += period
@@ -154,7 +157,7 @@ class Streamer:
                         break
                     self._collect(min(left, 0.005))
                 late = time.perf_counter() - deadline
-                if late > period:  # fell behind: skip the missed deadlines, keep the time base
+                if late > period and not self.catch_up:  # fell behind: skip the missed deadlines, keep the time base
                     missed = int(late // period)
                     self.stats.skipped += missed
                     deadline += missed * period

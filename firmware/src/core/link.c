@@ -24,10 +24,11 @@ static void ack(sl_link_t *l, const sl_packet_t *rq, uint8_t *p, uint8_t n)
     send(l, SL_T_ACK, rq->seq, p, n);
 }
 
-static void event(sl_link_t *l, uint8_t code)
+static void event(sl_link_t *l, uint8_t code, uint32_t now)
 {
-    uint8_t p[2] = {code, l->state};
-    send(l, SL_T_EVENT, 0, p, 2);
+    uint8_t p[6] = {code, l->state};
+    sl_put_u32(p + 2, now);
+    send(l, SL_T_EVENT, 0, p, 6);
 }
 
 static void send_hello_ack(sl_link_t *l, uint8_t seq)
@@ -528,18 +529,18 @@ void sl_link_tick(sl_link_t *l, uint32_t now)
             l->target[ch] = l->cur[ch];
             l->raw_us[ch] = 0;
         }
-        event(l, SL_EV_HOLD);
+        event(l, SL_EV_HOLD, now);
     }
     if (l->state == SL_ST_HOLD && (uint32_t)(now - l->trip_ms) >= l->park_after_ms) {
         l->state = SL_ST_PARK;
         for (uint8_t ch = 0; ch < l->n_ch; ch++)
             l->target[ch] = l->cfg[ch].park_cdeg;
-        event(l, SL_EV_PARK);
+        event(l, SL_EV_PARK, now);
     }
     if (l->state == SL_ST_PARK &&
         (uint32_t)(now - l->trip_ms) >= (uint32_t)l->park_after_ms + l->release_after_ms) {
         l->state = SL_ST_RELEASED;
-        event(l, SL_EV_RELEASE);
+        event(l, SL_EV_RELEASE, now);
     }
 
     uint32_t dt = now - l->last_slew_ms;

@@ -6,6 +6,11 @@
 
 #include "common.h"
 
+static uint32_t sl_get_u32_test(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+
 static void arm(sl_link_t *l, capture_t *c, uint32_t now)
 {
     sl_packet_t *r = request(l, c, SL_T_ARM, 1, NULL, 0, now);
@@ -159,6 +164,8 @@ static void test_watchdog(void)
     CHECK(c.n == events + 3 && c.pkt[events].type == SL_T_EVENT && c.pkt[events].payload[0] == SL_EV_HOLD &&
               c.pkt[events + 1].payload[0] == SL_EV_PARK && c.pkt[events + 2].payload[0] == SL_EV_RELEASE,
           "three events");
+    CHECK(sl_get_u32_test(c.pkt[events].payload + 2) == 1201 && sl_get_u32_test(c.pkt[events + 2].payload + 2) == 2501,
+          "event timestamps");
     /* motion needs an explicit ARM again */
     r = request(&l, &c, SL_T_SET_ANGLES, 4, p, 4, 4001);
     CHECK(r && r->type == SL_T_NAK && r->payload[0] == SL_E_NOT_ARMED && r->payload[1] == SL_ST_RELEASED,

@@ -12,6 +12,7 @@
 #include <fcntl.h>
 #include <math.h>
 #include <pty.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,6 +40,13 @@ static double last_width[N_CH];
 static int pin_on[N_CH];
 static uint8_t inbuf[4096];
 static size_t in_len, in_pos;
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1;
+}
 
 static double sim_seconds(void) { return (double)avr->cycle / (double)avr->frequency; }
 
@@ -232,6 +240,8 @@ int main(int argc, char **argv)
     fflush(stdout);
     clock_gettime(CLOCK_MONOTONIC, &wall0);
 
+    signal(SIGTERM, on_signal);
+    signal(SIGINT, on_signal);
     avr_cycle_count_t stop = seconds > 0 ? (avr_cycle_count_t)(seconds * (double)avr->frequency) : 0;
     for (;;) {
         int st = avr_run(avr);
@@ -239,9 +249,12 @@ int main(int argc, char **argv)
             fprintf(stderr, "simhost: firmware stopped (state %d) at %.3f s\n", st, sim_seconds());
             break;
         }
-        if (stop && avr->cycle >= stop)
+        if ((stop && avr->cycle >= stop) || stop_requested)
             break;
     }
+    double wall = wall_seconds();
+    fprintf(stderr, "simhost: %.3f s simulated in %.3f s wall (%.2fx real time)\n", sim_seconds(), wall,
+            wall > 0 ? sim_seconds() / wall : 0.0);
     if (link_path)
         unlink(link_path);
     return 0;

@@ -1,0 +1,87 @@
+"""The firmware builds for the ATmega328P with -Werror inside its flash/RAM budget (both servo back ends),
+its portable core passes the host unit tests under ASan/UBSan with the shared vectors, and the frame parser
+survives a time-bounded fuzz run."""
+import json
+import os
+import re
+import shutil
+
+import pytest
+
+import simrun
+
+REPO = simrun.FIRMWARE and os.path.dirname(simrun.FIRMWARE)
+GAIT_VECTORS = os.path.join(REPO, "tests", "vectors", "gait_rule.json")
+
+
+@pytest.fixture(scope="module")
+def build_dir(tmp_path_factory):
+    reason = simrun.tools_missing()
+    if reason:
+        pytest.skip(reason)
+    return str(tmp_path_factory.mktemp("fw"))
+
+
+def sizes(out):
+    m = re.search(r"flash=(\d+)/(\d+) ram=(\d+)/(\d+)", out)
+    assert m, out
+    return tuple(int(x) for x in m.groups())
+
+
+@pytest.mark.parametrize("backend", ["isr", "pca9685"])
+def test_avr_build_werror_within_budget(build_dir, backend):
+    r = simrun.make(build_dir, "avr", extra=[f"BACKEND={backend}"])
+    assert r.returncode == 0, r.stdout + r.stderr
+    flash, fbudget, ram, rbudget = sizes(r.stdout)
+    assert fbudget == 30720 and rbudget == 1536
+    assert 1000 < flash <= fbudget and 100 < ram <= rbudget
+    name = "servolink" if backend == "isr" else "servolink-pca9685"
+    hexfile = os.path.join(build_dir, "avr", name + ".hex")
+    lines = open(hexfile).read().split()
+    assert lines[-1] == ":00000001FF"  # Intel HEX end record
+    # the hex holds exactly the flash image the size check counted (data records, bytes 1..)
+    assert sum(int(ln[1:3], 16) for ln in lines if ln[7:9] == "00") == flash
+
+
+def test_werror_and_budget_checks_are_real(build_dir):
+    """A warning breaks the AVR build, and a budget below the image size fails the size check."""
+    r = simrun.make(build_dir + "/warn", "avr", extra=["CFLAGS_EXTRA=-Wcast-qual -Wconversion -Wsign-conversion"])
+    assert r.returncode != 0 and "error:" in (r.stdout + r.stderr)
+    r = simrun.make(build_dir, "avr", extra=["FLASH_BUDGET=2000"])
+    assert r.returncode != 0 and "OVER BUDGET" in r.stderr
+
+
+def test_host_unit_tests_under_sanitizers(build_dir):
+    assert os.path.exists(GAIT_VECTORS), "the dynamics engineer's shared gait vectors"
+    r = simrun.make(build_dir, "host-test", extra=[f"GAIT_VECTORS={GAIT_VECTORS}"])
+    out = r.stdout + r.stderr
+    assert r.returncode == 0, out
+    results = re.findall(r"^(test_\w+): (\d+) passed, (\d+) failed$", out, re.M)
+    assert {n for n, _, _ in results} == {"test_proto", "test_servo", "test_link", "test_gait"}, out
+    assert all(int(p) > 0 and f == "0" for _, p, f in results), out
+    # built with the sanitizers
+    nm = shutil.which("nm")
+    if nm:
+        import subprocess
+        syms = subprocess.run([nm, os.path.join(build_dir, "host", "test_link")], capture_output=True, text=True).stdout
+        assert "__asan" in syms and "__ubsan" in syms
+
+
+def test_host_tests_really_read_the_vectors(build_dir, tmp_path):
+    """Changing one expected pulse width in a copy of the vectors makes the C test fail."""
+    vec = json.load(open(os.path.join(simrun.FIRMWARE, "test_vectors", "protocol.json")))
+    vec["angle_to_us"][1]["us"] += 1
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(vec))
+    r = simrun.make(build_dir, "host-test", extra=[f"VECTORS={bad}", f"GAIT_VECTORS={GAIT_VECTORS}"])
+    assert r.returncode != 0
+    assert re.search(r"test_servo: \d+ passed, 1 failed", r.stdout)
+
+
+def test_fuzz_frame_parser_bounded(build_dir):
+    r = simrun.make(build_dir, "fuzz", extra=["FUZZ_SECONDS=15"])
+    out = r.stdout + r.stderr
+    assert r.returncode == 0, out[-3000:]
+    m = re.search(r"Done (\d+) runs|fuzz_link: (\d+) runs", out)
+    assert m, out[-2000:]
+    assert int(m.group(1) or m.group(2)) > 1000

@@ -1,0 +1,251 @@
+"""End to end: the real ATmega328P firmware in simavr (firmware/test/sim/simhost.c exposes UART0 as a pty and
+measures the servo pins), driven by the Python link through pyserial.
+
+Expected pulse widths are written here in closed form from the documented mapping
+(1500 us + angle / 90 deg * 1000 us for the default 500..2500 us range), independent of the code."""
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+from metamaterial_wb.hardware import Link, Streamer, channel_map
+from metamaterial_wb.hardware import protocol as P
+from metamaterial_wb.hardware.link import LinkError
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+VEC = json.load(open(os.path.join(REPO, "firmware", "test_vectors", "protocol.json")))
+GAIT = json.load(open(os.path.join(REPO, "tests", "vectors", "gait_rule.json")))
+TOL_US = 10.0
+
+
+def settle_pulses(sim, link, ms=100):
+    """Pulses after at least ``ms`` of *firmware* time has passed since everything sent so far was processed
+    (a loaded machine may run the simulator slower than the wall clock)."""
+    t0 = link.ping()["uptime_ms"]
+    end = time.perf_counter() + 20
+    while link.ping()["uptime_ms"] < t0 + ms and time.perf_counter() < end:
+        time.sleep(0.02)
+    return sim.pulses()
+
+
+def test_boot_banner_then_handshake(sim):
+    with Link.open(sim.port) as link:
+        # the unsolicited HELLO_ACK of the boot (seq 0) waits in the pty
+        end = time.perf_counter() + 10
+        while link.resets_seen == 0 and time.perf_counter() < end:
+            link.poll(0.05)
+        assert link.resets_seen == 1
+        info = link.handshake()
+        assert (info.proto_major, info.n_channels, info.watchdog_ms) == (1, 8, 500)
+        assert info.caps & P.CAP_OSC and info.caps & P.CAP_GAIT and info.caps & P.CAP_CONTACT_PINS
+        st = link.get_state()
+        assert st["state"] == P.ST_DISARMED and st["pulse_us"] == [0] * 8
+    # no pulses before ARM
+    assert all(w is None for w in sim.pulses().values())
+
+
+def test_malformed_and_refused_frames_get_the_right_nak(link):
+    n = 0
+    for e in VEC["exchanges"]:
+        (link.arm if e["armed"] else link.disarm)()
+        if "raw_hex" in e:
+            link.write_raw(bytes.fromhex(e["raw_hex"]))
+        else:
+            link.write_raw(P.build_frame(e["type"], e["seq"], bytes.fromhex(e["payload_hex"])))
+        want = e["reply"]
+        r = link.wait_reply(want["seq"], 0.5)
+        assert r is not None, e["name"]
+        kind = {P.NAK: "NAK", P.ACK: "ACK", P.HELLO_ACK: "HELLO_ACK"}[want["type"]]
+        assert r.kind == kind, (e["name"], r)
+        if "code" in want:
+            assert r.code == want["code"], (e["name"], r.reason)
+        if "detail" in want:
+            assert r.detail == want["detail"], e["name"]
+        n += 1
+    assert n == len(VEC["exchanges"]) >= 10
+    stats = link.ping()
+    assert stats["crc_err"] >= 1 and stats["framing_err"] >= 3
+
+
+def test_pulse_widths_match_commanded_angles(link, sim):
+    cfg = {  # channel: servo fields -> closed-form expected width for an angle a
+        0: ({}, lambda a: 1500 + a / 90 * 1000),
+        1: ({"invert": True}, lambda a: 1500 - a / 90 * 1000),
+        2: ({"trim_deg": 5.0}, lambda a: 1500 + (a + 5) / 90 * 1000),
+        3: ({"min_us": 1000, "max_us": 2000}, lambda a: 1500 + a / 90 * 500),
+        4: ({"limits_deg": [-45, 45]}, lambda a: 1500 + max(-45, min(45, a)) / 90 * 1000),
+        5: ({"min_us": 544, "max_us": 2400}, lambda a: 1472 + a / 90 * 928),
+        6: ({}, lambda a: 1500 + a / 90 * 1000),
+        7: ({}, lambda a: 1500 + a / 90 * 1000),
+    }
+    from metamaterial_wb.hardware.mapping import ChannelConfig
+    chans = []
+    for ch, (spec, _) in cfg.items():
+        c = ChannelConfig(f"c{ch}", ch, **{k: tuple(v) if k == "limits_deg" else v for k, v in spec.items()})
+        chans.append(c)
+    link.configure(chans)
+    link.arm()
+    worst = 0.0
+    for angles in ([0] * 8, [90, 60, 30, 0, -30, -60, -90, 45], [-90, -45, 12.34, 89.99, 80, 1, -0.5, 7.5]):
+        seq = link.send(P.SET_ANGLES, P.set_angles_payload(0, [round(a * 100) for a in angles]))
+        r = link.wait_reply(seq, 0.5)
+        assert r.kind == "ACK" and r.data[2] == 8
+        clamped = {ch for ch in range(8) if r.clamp_mask >> ch & 1}
+        assert clamped == ({4} if abs(angles[4]) > 45 else set())
+        got = settle_pulses(sim, link)
+        for ch, a in enumerate(angles):
+            want = cfg[ch][1](a)
+            assert got[ch] is not None
+            worst = max(worst, abs(got[ch] - want))
+            assert abs(got[ch] - want) <= TOL_US, (ch, a, got[ch], want)
+    # the firmware's own report agrees with the pins
+    st = link.get_state()
+    assert all(abs(u - sim.pulses()[ch]) <= TOL_US for ch, u in enumerate(st["pulse_us"]))
+
+
+def test_1000_frames_at_50_hz_all_acknowledged(link, sim):
+    chans = [c for c in channel_map(_scene_8())]
+    st = Streamer(link, chans, catch_up=True, reply_timeout_s=5.0)
+    st.prepare(handshake=False)
+    before = link.ping()
+
+    def motion(t):
+        return {f"a{k}": 0.9 * math.sin(2 * math.pi * 0.5 * t + k * math.pi / 4) for k in range(8)}
+
+    stats = st.run(motion, 20.0)
+    assert stats.frames == 1000
+    assert stats.acked == 1000 and stats.naked == 0 and stats.lost == 0, stats.summary()
+    assert stats.duration_s >= 19.9  # paced at 50 Hz (never faster)
+    assert stats.events == []  # the watchdog never tripped
+    ping = link.ping()  # the firmware's own counters: every frame arrived intact and in sequence
+    assert ping["rx_ok"] - before["rx_ok"] == 1001
+    assert (ping["crc_err"], ping["framing_err"], ping["seq_gaps"]) == (
+        before["crc_err"], before["framing_err"], before["seq_gaps"])
+    # the pins hold the last frame's angles (t = 19.98 s)
+    last = motion(999 / 50)
+    got = settle_pulses(sim, link)
+    for k in range(8):
+        assert abs(got[k] - (1500 + last[f"a{k}"] * 90 / 90 * 1000)) <= TOL_US
+
+
+def _scene_8():
+    from metamaterial_wb.core.scene import Scene
+    d = json.load(open(os.path.join(REPO, "examples", "fish.json")))
+    d["layout"] = {"grid": [2, 6]}
+    d["actuators"] = [{"name": f"a{k}", "joint": j, "value": 0.0} for k, j in
+                      enumerate(["V0,1", "V1,5", "V0,2", "V0,3", "V0,4", "V1,1", "V1,2", "V1,3"])]
+    return Scene.from_dict(d)
+
+
+def test_watchdog_holds_parks_releases_and_needs_arm(link, sim):
+    link.configure_watchdog(watchdog_ms=200, park_after_ms=300, release_after_ms=800)
+    link.arm()
+    r = link.wait_reply(link.send(P.SET_ANGLES, P.set_angles_payload(0, [6000, -3000])), 0.5)
+    assert r.kind == "ACK"
+    last_rx = link.ping()["uptime_ms"]  # the last frame before the host goes silent
+    seen = {}
+    end = time.perf_counter() + 20
+    while time.perf_counter() < end and "RELEASE" not in seen:
+        link.poll(0.01)
+        for _, e in link.events:
+            if e.kind == "EVENT" and P.EVENT_NAMES[e.code] not in seen:
+                seen[P.EVENT_NAMES[e.code]] = e.time_ms
+    # firmware time: HOLD just after 200 ms of silence, PARK 300 ms later, RELEASE 800 ms after that
+    assert list(seen) == ["HOLD", "PARK", "RELEASE"], seen
+    assert 200 < seen["HOLD"] - last_rx <= 215
+    assert seen["PARK"] - seen["HOLD"] == 300
+    assert seen["RELEASE"] - seen["PARK"] == 800
+    after = settle_pulses(sim, link)  # the harness reports a pin "off" 60 ms after its last pulse
+    lines = [(t, w) for t, ch, w in sim.pulse_lines() if ch == 0]
+    hold_s, park_s, rel_s = (seen[k] / 1000 for k in ("HOLD", "PARK", "RELEASE"))
+    # HOLD keeps the last position
+    held = [w for t, w in lines if t <= park_s]
+    assert held and abs(held[-1] - (1500 + 60 / 90 * 1000)) <= TOL_US
+    # PARK ramps to the park angle (0 deg) at 90 deg/s, not a jump: 60 deg take ~0.67 s
+    ramp = [(t, w) for t, w in lines if park_s < t <= rel_s + 0.001 and w is not None]
+    assert sum(1 for _, w in ramp if 1550 < w < 2100) >= 10
+    reached = next(t for t, w in ramp if abs(w - 1500) <= TOL_US)
+    assert 0.6 <= reached - park_s <= 0.75
+    # RELEASE stops the pulses on every pin
+    assert lines[-1][1] is None and lines[-1][0] >= rel_s
+    assert all(w is None for w in after.values()), (after, sim.pulse_lines()[-20:])
+    with pytest.raises(LinkError, match="NOT_ARMED"):
+        link.request(P.SET_ANGLES, P.set_angles_payload(0, [0]))
+    link.arm()
+    r = link.request(P.SET_ANGLES, P.set_angles_payload(0, [-4500]))
+    assert r.kind == "ACK"
+    assert abs(settle_pulses(sim, link)[0] - 1000) <= TOL_US
+
+
+def test_osc_mode_generates_the_sine_on_board(link, sim):
+    link.arm()
+    link.request(P.OSC_SET, P.osc_set_payload(0, 4500, 0, 1000, 0))  # 45 deg, 1 s
+    t_mode = link.request(P.SET_MODE, bytes([P.MODE_OSC])) and link.ping()["uptime_ms"]
+    end = time.perf_counter() + 30
+    while link.ping()["uptime_ms"] < t_mode + 2300 and time.perf_counter() < end:  # pings feed the watchdog
+        time.sleep(0.05)
+    lines = [(t, w) for t, ch, w in sim.pulse_lines() if ch == 0 and w is not None]
+    ts = [t for t, _ in lines]
+    ws = [w for _, w in lines]
+    assert max(ws) == pytest.approx(2000, abs=TOL_US) and min(ws) == pytest.approx(1000, abs=TOL_US)
+    # period from upward crossings of 1500 us
+    ups = [ts[i] for i in range(1, len(ws)) if ws[i - 1] < 1500 <= ws[i]]
+    periods = [b - a for a, b in zip(ups, ups[1:])]
+    assert periods and all(abs(p - 1.0) < 0.03 for p in periods), periods
+
+
+def test_gait_rule_vectors_in_the_emulator(link):
+    n = 0
+    for v in GAIT["vectors"]:
+        cells = len(v["c_air"])
+        link.request(P.GAIT_SET, P.gait_set_payload(cells, v["n1"], v["n2"], closed=v["closed"]))
+        r = link.request(P.GAIT_CONTACTS, P.pack_mask(v["c_air"]))
+        assert P.unpack_mask(r.data, cells) == v["act"], v["name"]
+        n += 1
+    assert n == len(GAIT["vectors"]) >= 10
+
+
+def test_gait_mode_drives_the_servos(link, sim):
+    # the shared vector "belt8_high_torque": cells 0..2 on the ground -> cells 3 and 7 inflate
+    v = next(x for x in GAIT["vectors"] if x["name"] == "belt8_high_torque")
+    link.request(P.GAIT_SET, P.gait_set_payload(8, v["n1"], v["n2"], closed=True, inflate_cdeg=6000,
+                                                vent_cdeg=-3000))
+    link.request(P.GAIT_CONTACTS, P.pack_mask(v["c_air"]))
+    link.arm()
+    link.request(P.SET_MODE, bytes([P.MODE_GAIT]))
+    got = settle_pulses(sim, link, 200)
+    for ch in range(8):
+        want = 1500 + (60 if v["act"][ch] else -30) / 90 * 1000
+        assert abs(got[ch] - want) <= TOL_US, (ch, got[ch], want)
+    # the ground moves on: new contacts, new actuation
+    c2 = v["c_air"][-1:] + v["c_air"][:-1]  # rotate by one cell
+    link.request(P.GAIT_CONTACTS, P.pack_mask(c2))
+    got = settle_pulses(sim, link, 200)
+    act2 = v["act"][-1:] + v["act"][:-1]  # the rule is shift-equivariant on a closed belt
+    for ch in range(8):
+        assert abs(got[ch] - (1500 + (60 if act2[ch] else -30) / 90 * 1000)) <= TOL_US
+    with pytest.raises(LinkError, match="MODE"):
+        link.request(P.SET_ANGLES, P.set_angles_payload(0, [0]))
+
+
+def test_cli_streams_the_fish_into_the_emulator(sim, tmp_path):
+    rep = tmp_path / "stream.json"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "stream", os.path.join(REPO, "examples", "fish.json"),
+                        "--port", sim.port, "--seconds", "2", "--report", str(rep)],
+                       capture_output=True, text=True, cwd=REPO, timeout=60)
+    assert r.returncode == 0, r.stdout + r.stderr
+    d = json.loads(rep.read_text())
+    assert d["frames"] == d["acked"] and d["lost"] == 0 and d["naked"] == 0
+    assert d["frames"] + d["skipped"] == 100 and d["frames"] >= 80  # a loaded machine may skip a late frame
+    # the last frame (t = 1.98 s unless skipped): head 0.3 sin(2 pi 0.5 t), tail 0.9 sin(2 pi t + 90 deg), x 90 deg
+    t = d["last_t"]
+    head = 27 * math.sin(math.pi * t)
+    tail = 81 * math.sin(2 * math.pi * t + math.pi / 2)
+    with Link.open(sim.port) as link:
+        got = settle_pulses(sim, link)
+    assert abs(got[0] - (1500 + head / 90 * 1000)) <= TOL_US
+    assert abs(got[1] - (1500 + tail / 90 * 1000)) <= TOL_US
