@@ -970,6 +970,10 @@ class SimulatePanel(BasePanel):
         self.layout.addWidget(ibox)
         self.stats = QtGui.QLabel("")
         self.layout.addWidget(self.stats)
+        self.warn = QtGui.QLabel("")
+        self.warn.setWordWrap(True)
+        self.warn.setStyleSheet("color: #a05a00;")
+        self.layout.addWidget(self.warn)
         self.finish_layout()
         self.solver = None
         self.frames = 0
@@ -986,6 +990,8 @@ class SimulatePanel(BasePanel):
                 from metamaterial_wb.objects.engine import LiveSolver
                 self.solver = LiveSolver(self.scene, model=name)
             self.error.setText("")
+            self.warn.setText("\n".join(list(self.obj.SolveWarnings) + [w for w in self.solver.warnings
+                                                                          if w not in self.obj.SolveWarnings]))
             self.update()
         except MetamaterialError as exc:
             self.show_error(str(exc))

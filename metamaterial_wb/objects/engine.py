@@ -145,6 +145,9 @@ class LiveSolver:
         # a hinge box is modelled along x; V joints are turned by -90 deg about z
         self.is_v = np.array([kind == "V" for kind, _, _ in topo.joints], dtype=bool)
         self.warnings = list(self.qmodel.warnings) if self.qmodel is not None else []
+        if not self.item_names:
+            self.warnings.append("the structure has no motor or constraint: every D = 0 unless the global "
+                                 "deformation is used")
         self.prepare_s = time.perf_counter() - t0
 
     def _make_kinematics(self):

@@ -332,6 +332,26 @@ def test_simulate_ok_commits_the_values_in_one_undo_step(doc):
     np.testing.assert_allclose(xyz(sc.NodeArray), pos, atol=1e-6)
 
 
+def test_simulate_shows_solver_warnings(doc):
+    """A sheet without motor or constraint is reported (every D = 0 then), not hidden."""
+    sc = structure.make_structure(doc, Scene.from_dict({
+        "format": "metamaterial-scene", "version": 1, "layout": {"rows": ["###"]}, "actuators": []}))
+    p = run_panel("MM_Simulate")
+    assert p.sliders == {}
+    assert "no motor" in p.warn.text()
+    p.global_slider.setValue(30)
+    process_events()
+    _D, pos, _phi = core_positions(structure.compose_scene(sc), g=0.3)
+    np.testing.assert_allclose(xyz(sc.NodeArray), pos, atol=1e-6)
+    p.reject()
+    assert any("no motor" in w for w in sc.SolveWarnings)
+    structure.make_item(doc, sc, "constraint", "c1", "V0,0", 0.5)
+    doc.recompute()
+    p = run_panel("MM_Simulate")
+    assert p.warn.text() == "", p.warn.text()
+    p.reject()
+
+
 def test_simulate_other_model_selector(doc):
     sc = open_fish(doc)
     p = run_panel("MM_Simulate")
