@@ -21,6 +21,7 @@ def render_png(result, path, parts=None, elev=35.0, azim=-60.0, size_in=(8.0, 5.
     ax = fig.add_subplot(111, projection="3d")
     lo = np.full(3, np.inf)
     hi = np.full(3, -np.inf)
+    all_tri, all_col = [], []
     for name, V, T, material, _ in meshes:
         tri = V[T]
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
@@ -28,10 +29,14 @@ def render_png(result, path, parts=None, elev=35.0, azim=-60.0, size_in=(8.0, 5.
         shade = 0.35 + 0.65 * np.clip(n @ light, 0, 1)
         base = np.array([int(MATERIALS.get(material, "#888888")[k:k + 2], 16) / 255 for k in (1, 3, 5)])
         cols = np.clip(base[None, :] * shade[:, None], 0, 1)
-        pc = Poly3DCollection(tri, facecolors=cols, edgecolors="none", linewidths=0)
-        ax.add_collection3d(pc)
+        all_tri.append(tri)
+        all_col.append(cols)
         lo = np.minimum(lo, V.min(axis=0))
         hi = np.maximum(hi, V.max(axis=0))
+    # one collection: matplotlib depth-sorts within a collection, not across collections
+    cols = np.concatenate(all_col)
+    pc = Poly3DCollection(np.concatenate(all_tri), facecolors=cols, edgecolors=cols, linewidths=0.25)
+    ax.add_collection3d(pc)
     centre = 0.5 * (lo + hi)
     half = 0.5 * float(np.max(hi - lo)) * (zoom or 0.62)
     ax.set_xlim(centre[0] - half, centre[0] + half)

@@ -58,6 +58,8 @@ TYPE_DEFAULTS = {
     "friction_pad": {"thickness_mm": 3.0, "pocket_depth_mm": 1.5, "pocket_inset_mm": 1.5},
     "constraint_clip": {"thickness_mm": 3.0},
 }
+TYPE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
+                "hub": "connection_hub", "pad": "friction_pad"}
 _NODE_RE = re.compile(r"^\s*[Nn]\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
 PIN_OVERLAP_MM = 0.5        # pins reach this far into the module body so that the fuse joins them
 
@@ -95,43 +97,52 @@ def parse_node(text, scene, field_name):
     return ij
 
 
+def _joint_of_node(scene, ij):
+    """A stable hub given by one node (the GUI's form): the joint to its right, else left, below, above."""
+    i, j = ij
+    for name in (f"H{i},{j}", f"H{i},{j - 1}", f"V{i},{j}", f"V{i - 1},{j}"):
+        if scene.topology.has_joint(name):
+            return name
+    raise SceneError("modules", f"node N{i},{j} has no joint")
+
+
 def _lateral_labels(a, b):
     """Socket labels of the two sides parallel to the A -> B direction."""
     return ("N", "S") if a[0] == b[0] else ("E", "W")
 
 
-def _servo_dims(item, f):
+def _servo_dims(item, f, nm):
     servo = item.get("servo", "SG90")
     if not isinstance(servo, str) or servo.upper() not in list(SERVO_PRESETS) + ["CUSTOM"]:
-        raise SceneError(f"{f}.servo", f"{servo!r} is not a known servo; allowed: {sorted(SERVO_PRESETS)} or "
+        raise SceneError(f"{f}.servo ({nm})", f"{servo!r} is not a known servo; allowed: {sorted(SERVO_PRESETS)} or "
                                        f"\"custom\" with \"dims\"")
     servo = servo.upper()
     dims = item.get("dims", {})
     if not isinstance(dims, dict):
-        raise SceneError(f"{f}.dims", f"expected an object of servo dimensions in mm, got {dims!r}")
+        raise SceneError(f"{f}.dims ({nm})", f"expected an object of servo dimensions in mm, got {dims!r}")
     for k in dims:
         if k not in SERVO_KEYS:
-            raise SceneError(f"{f}.dims.{k}", f"unknown servo dimension; allowed: {list(SERVO_KEYS)}")
+            raise SceneError(f"{f}.dims.{k} ({nm})", f"unknown servo dimension; allowed: {list(SERVO_KEYS)}")
     if servo == "CUSTOM":
         missing = [k for k in SERVO_KEYS if k not in dims]
         if missing:
-            raise SceneError(f"{f}.dims", f"a custom servo needs every dimension; missing: {missing}")
+            raise SceneError(f"{f}.dims ({nm})", f"a custom servo needs every dimension; missing: {missing}")
         d = {}
     else:
         d = dict(SERVO_PRESETS[servo])
     for k, v in dims.items():
-        d[k] = check_number(f"{f}.dims.{k}", v, 0.0, 500.0, "mm", low_open=True)
+        d[k] = check_number(f"{f}.dims.{k} ({nm})", v, 0.0, 500.0, "mm", low_open=True)
     if d["tab_length_mm"] < d["body_length_mm"]:
-        raise SceneError(f"{f}.dims.tab_length_mm", f"{d['tab_length_mm']} mm is shorter than the body "
+        raise SceneError(f"{f}.dims.tab_length_mm ({nm})", f"{d['tab_length_mm']} mm is shorter than the body "
                                                     f"({d['body_length_mm']} mm); it is the length over both tabs")
     if not 0 < d["shaft_offset_mm"] < d["body_length_mm"]:
-        raise SceneError(f"{f}.dims.shaft_offset_mm", f"{d['shaft_offset_mm']} mm is outside the body; allowed "
+        raise SceneError(f"{f}.dims.shaft_offset_mm ({nm})", f"{d['shaft_offset_mm']} mm is outside the body; allowed "
                                                       f"range (0, {d['body_length_mm']}) mm")
     if d["tab_z_mm"] + d["tab_thickness_mm"] > d["body_height_mm"]:
-        raise SceneError(f"{f}.dims.tab_z_mm", f"tabs at {d['tab_z_mm']} mm + {d['tab_thickness_mm']} mm stick out of "
+        raise SceneError(f"{f}.dims.tab_z_mm ({nm})", f"tabs at {d['tab_z_mm']} mm + {d['tab_thickness_mm']} mm stick out of "
                                                f"the {d['body_height_mm']} mm body")
     if d["shaft_top_mm"] - d["horn_thickness_mm"] <= d["body_height_mm"]:
-        raise SceneError(f"{f}.dims.shaft_top_mm", f"the horn ({d['horn_thickness_mm']} mm) under the shaft top at "
+        raise SceneError(f"{f}.dims.shaft_top_mm ({nm})", f"the horn ({d['horn_thickness_mm']} mm) under the shaft top at "
                                                    f"{d['shaft_top_mm']} mm would touch the body top "
                                                    f"({d['body_height_mm']} mm)")
     d["servo"] = servo
@@ -154,7 +165,10 @@ def parse_modules(scene, p):
         f = f"modules[{k}]"
         if not isinstance(item, dict):
             raise SceneError(f, f"expected an object with \"type\" and a node or joint, got {item!r}")
-        typ = item.get("type")
+        typ = TYPE_ALIASES.get(item.get("type"), item.get("type"))
+        if typ == "stable_hub" and "node" in item and "joint" not in item:
+            item = dict(item)
+            item["joint"] = _joint_of_node(scene, parse_node(item.pop("node"), scene, f"{f}.node"))
         if typ not in MODULE_TYPES:
             raise SceneError(f"{f}.type", f"{typ!r} is not a module type; allowed: {list(MODULE_TYPES)}")
         allowed = COMMON_KEYS | TYPE_KEYS[typ]
@@ -207,7 +221,7 @@ def parse_modules(scene, p):
         if (typ in JOINT_MODULES or typ in NODE_MODULES) and not p.sockets:
             raise SceneError(f"{f} ({name})", "modules plug into the node sockets, but fabrication.sockets is false")
         if typ == "servo_housing":
-            spec.values.update(_servo_dims(item, f"{f} ({name})"))
+            spec.values.update(_servo_dims(item, f, name))
             _check_servo_fit(spec, p, f)
         elif typ == "friction_pad":
             if "mu" in item:

@@ -1,0 +1,124 @@
+"""Benchmark: build + export of square sheets with sockets, against a naive per-part fuse loop.
+
+    /usr/bin/python3 benchmarks/bench_build.py [--sizes 3 10 20] [--naive-sizes 3 10] [--naive-limit-s 600]
+
+For each size N (N x N cells, (N+1)^2 nodes with four snap-fit sockets each, 2N(N+1) hinges):
+
+* ``build``: validation + geometry (each unique shape once, copies by transform, one boolean call per
+  node variant);
+* ``3mf``: tessellation of the unique shapes + PrusaSlicer-layout 3MF;
+* ``step``: named STEP assembly with colours;
+* ``naive``: the same solids built part by part the way a straightforward script would -- every
+  node rebuilt from its box with one ``cut`` per feature, every hinge rebuilt, and the whole sheet
+  accumulated with ``acc = acc.fuse(part)`` -- measured in the same run (skipped above
+  ``--naive-sizes``; stopped at ``--naive-limit-s`` and then reported as a lower bound).
+
+Prints one table (markdown) with the ratios naive / build and naive / (build + 3MF + STEP).
+"""
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+sys.path.append("/usr/lib/freecad-python3/lib")
+
+
+def scene(n):
+    from metamaterial_wb.core.scene import Scene
+    return Scene.grid(n, n)
+
+
+def run_ours(n, tmp):
+    from metamaterial_wb.export.mesh import part_meshes
+    from metamaterial_wb.export.step import result_bodies, write_step
+    from metamaterial_wb.export.threemf import write_3mf
+    from metamaterial_wb.geometry.build import build_scene
+
+    sc = scene(n)
+    t0 = time.perf_counter()
+    res = build_scene(sc, progress=False)
+    t1 = time.perf_counter()
+    parts = sorted(res.parts, key=lambda q: q.role != "node")
+    write_3mf(os.path.join(tmp, f"s{n}.3mf"), part_meshes(res, parts), layout="prusa")
+    t2 = time.perf_counter()
+    write_step(os.path.join(tmp, f"s{n}.step"), result_bodies(res, parts), f"s{n}")
+    t3 = time.perf_counter()
+    return res, {"build": t1 - t0, "3mf": t2 - t1, "step": t3 - t2}
+
+
+def run_naive(res, limit_s):
+    """Rebuild every part from scratch (one cut per feature) and fuse them one by one."""
+    import FreeCAD as App
+    import Part
+    from metamaterial_wb.geometry import sheet
+
+    p = res.params
+    s, T = p.plate_side_mm_global, p.sheet_thickness_mm
+    topo = res.scene.topology
+    spec_by_key = {h.key(): h for h in p.hinges.values()}
+    t0 = time.perf_counter()
+    acc = None
+    done = 0
+    total = len(res.parts)
+    for q in res.parts:
+        if time.perf_counter() - t0 > limit_s:
+            return time.perf_counter() - t0, done, total
+        if q.role == "node":
+            i, j = (int(x) for x in q.info["node"][1:].split(","))
+            shape = Part.makeBox(s, s, T, App.Vector(-0.5 * s, -0.5 * s, 0.0))
+            for f in sheet.node_features(topo, (i, j), p):
+                key, side, ang, dx, dy, sign, _ = f
+                pl = App.Placement(App.Vector(dx, dy, 0), App.Rotation(App.Vector(0, 0, 1), ang))
+                shape = shape.cut(sheet.make_hinge(p, spec_by_key[key], side).transformed(pl.toMatrix()))
+            for tool in sheet.socket_tools(p):
+                shape = shape.cut(tool)
+        else:
+            h = p.hinges[q.info["joint"]]
+            shape = sheet.make_hinge(p, h, q.info["side"])
+        shape = shape.transformed(q.placement.toMatrix())
+        acc = shape if acc is None else acc.fuse(shape)
+        done += 1
+    return time.perf_counter() - t0, done, total
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[3, 10, 20])
+    ap.add_argument("--naive-sizes", type=int, nargs="+", default=[3, 10])
+    ap.add_argument("--naive-limit-s", type=float, default=600.0)
+    args = ap.parse_args(argv)
+    import FreeCAD  # noqa: F401
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in args.sizes:
+            res, t = run_ours(n, tmp)
+            row = {"n": n, "parts": len(res.parts), "unique": len(res.shapes), **t}
+            row["total"] = t["build"] + t["3mf"] + t["step"]
+            if n in args.naive_sizes:
+                dt, done, total = run_naive(res, args.naive_limit_s)
+                row["naive"] = dt
+                row["naive_complete"] = done == total
+                row["naive_done"] = f"{done}/{total}"
+            rows.append(row)
+            print(f"bench_build: {n} x {n} done ({row['parts']} parts)", file=sys.stderr, flush=True)
+    print("| sheet | parts (unique shapes) | build s | 3MF s | STEP s | build+export s | naive fuse loop s | "
+          "naive / build | naive / (build+export) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        if "naive" in r:
+            lb = "" if r["naive_complete"] else ">= "
+            naive = f"{lb}{r['naive']:.2f}" + ("" if r["naive_complete"] else f" (stopped at {r['naive_done']})")
+            ratio1 = f"{lb}{r['naive'] / r['build']:.0f}x"
+            ratio2 = f"{lb}{r['naive'] / r['total']:.1f}x"
+        else:
+            naive, ratio1, ratio2 = "not run", "-", "-"
+        print(f"| {r['n']} x {r['n']} | {r['parts']} ({r['unique']}) | {r['build']:.2f} | {r['3mf']:.2f} | "
+              f"{r['step']:.2f} | {r['total']:.2f} | {naive} | {ratio1} | {ratio2} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
