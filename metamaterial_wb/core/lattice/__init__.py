@@ -6,7 +6,9 @@ lattice model actually runs, so selecting the quadratic model never builds (or i
 
 Options (``run_model(name, scene, **options)``; ``solve --model ... --option key=value``):
 
-* both: ``planar`` (bool, default: automatic = no tilted hinge in the scene);
+* both: ``planar`` (bool, default: automatic = no tilted hinge in the scene), ``contact`` (plate
+  contact, true: one-sided constraints in the linear model, a penalty in the nonlinear one),
+  ``contact_fraction`` (0.98 of the plate-contact rotation);
 * nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
@@ -21,7 +23,7 @@ import numpy as np
 
 from metamaterial_wb.core.models import ModelResult, register_model
 
-_LINEAR_OPTS = {"planar"}
+_LINEAR_OPTS = {"planar", "contact", "contact_fraction"}
 _NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
                    "contact_stiffness", "fallback", "dr_max_iter", "predictor"}
 
@@ -72,7 +74,7 @@ def clear_cache():
     _LINEAR_CACHE.clear()
 
 
-def _linear(scene, global_deformation=None, planar=None, **options):
+def _linear(scene, global_deformation=None, planar=None, contact=True, contact_fraction=0.98, **options):
     t0 = time.perf_counter()
     _check_options("linear", options, _LINEAR_OPTS)
     if global_deformation is not None:
@@ -82,7 +84,7 @@ def _linear(scene, global_deformation=None, planar=None, **options):
 
     from metamaterial_wb.core.lattice.geometry import fixed_items
 
-    key = _structure_key(scene, planar)
+    key = _structure_key(scene, planar) + f"|contact={bool(contact)},{float(contact_fraction)!r}"
     cached = _LINEAR_CACHE.get(key)
     reused = cached is not None
     if reused:                       # only actuator values changed: reuse geometry and factorisation
@@ -95,7 +97,7 @@ def _linear(scene, global_deformation=None, planar=None, **options):
         if planar is not None:
             geo.planar = bool(planar)
         t1 = time.perf_counter()
-        lin = LinearLattice(scene, geo)
+        lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction)
         _LINEAR_CACHE[key] = lin
         while len(_LINEAR_CACHE) > _LINEAR_CACHE_SIZE:
             _LINEAR_CACHE.popitem(last=False)
@@ -108,10 +110,15 @@ def _linear(scene, global_deformation=None, planar=None, **options):
     info = {"method": "linearised lattice, one sparse KKT solve" if lin.joints.size and np.any(psi)
             else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
             "constraints": int(lin.joints.size), "reused_factorisation": reused}
+    info.update(lin.contact_info)
+    if lin.contact_info.get("active_set_iterations"):
+        info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"
+    if info.get("active_set_converged") is False:
+        warnings.append("the linear model's contact active set did not settle in 100 iterations")
     _range_warnings(scene, D, warnings)
     timings = {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2,
                "total_s": time.perf_counter() - t0}
-    return ModelResult(D, X, R, warnings, timings, True, info)
+    return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 
 
 def _nonlinear(scene, global_deformation=None, **options):

@@ -103,21 +103,32 @@ def _apply(X, R, q, dofmap, n):
 class LinearLattice:
     """Linearised lattice: tangent stiffness of the flat sheet, exact linearised actuator constraints.
 
-    Factor once per scene structure and placement (``prepare``), re-solve per set of values: the
-    response is linear in the actuator values.
+    Factor once per scene structure and placement, re-solve per set of values (the response without
+    contact is linear in the actuator values). Plate contact (``contact=True``): hinges whose linearised
+    closing rotation passes ``contact_fraction`` of the contact rotation get the nonlinear model's stiff
+    one-sided spring; the set of such hinges is found by re-solving until it stops changing (semismooth
+    Newton on a piecewise-quadratic energy), so the answer is piecewise linear. When no hinge reaches
+    contact (small amplitudes) this costs nothing extra.
     """
 
-    def __init__(self, scene, geo=None):
+    def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4):
         t0 = time.perf_counter()
         self.geo = geo or LatticeGeometry(scene)
         geo = self.geo
         self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
         self.dofmap, self.na = _dofmap(geo, geo.planar)
         st = ElementState(geo, geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy(), tangent=True)
+        self.He = st.H
+        self.J5 = st.J[:, 5, :].copy()
         self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
-        Acon = st.J[self.joints, 5, :] if self.joints.size else None
+        Acon = self.J5[self.joints] if self.joints.size else None
         self.reg = kkt_regularisation(geo)
         self.KKT = self.pattern.matrix(st.H, Acon, 0.0)
+        self.contact = bool(contact)
+        self.close_sign = -geo.parity[geo.a]
+        self.kappa_c = contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt)
+        self.kc = contact_stiffness * geo.K[:, 5, 5]
+        self.contact_info = {"contact_hinges": 0, "active_set_iterations": 0}
         self.timings = {"assemble_s": time.perf_counter() - t0}
         t1 = time.perf_counter()
         self.lu = None
@@ -129,18 +140,68 @@ class LinearLattice:
                 self.lu = spla.splu(self.KKT, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1)
         self.timings["factor_s"] = time.perf_counter() - t1
 
+    def _energy(self, q):
+        qe = self.pattern.gather(q)
+        e = 0.5 * np.einsum("mi,mij,mj->", qe, self.He, qe)
+        over = self.close_sign * np.einsum("mi,mi->m", self.J5, qe) - self.kappa_c
+        return float(e + 0.5 * np.sum(self.kc * np.maximum(over, 0.0) ** 2))
+
+    def _closing(self, q):
+        return self.close_sign * np.einsum("mi,mi->m", self.J5, self.pattern.gather(q))
+
+    def _solve_with_contacts(self, psi, active):
+        """KKT solve with stiff one-sided springs (the nonlinear model's contact penalty) on ``active``."""
+        kc = self.kc[active]
+        Jr = self.close_sign[active, None] * self.J5[active]
+        He = self.He.copy()
+        He[active] += kc[:, None, None] * Jr[:, :, None] * Jr[:, None, :]
+        A = self.J5[self.joints]
+        rhs = np.zeros(self.pattern.N)
+        rhs[:self.na] = self.pattern.vector((kc * self.kappa_c[active])[:, None] * Jr, active)
+        rhs[self.na:] = psi
+        sol = _kkt_solve(self.pattern, He, A, self.reg, rhs)
+        return sol[:self.na], sol[self.na:]
+
     def solve(self, psi=None):
         geo = self.geo
         psi = self.psi if psi is None else psi
         I3 = np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy()
+        self.contact_info = {"contact_hinges": 0, "active_set_iterations": 0}
         if self.lu is None or not np.any(psi):
             return geo.X0.copy(), I3, np.zeros(self.na), np.zeros(self.joints.size)
         rhs = np.zeros(self.pattern.N)
         rhs[self.na:] = psi
         sol = self.lu.solve(rhs)
         q = sol[:self.na]
+        mu = sol[self.na:]
+        if self.contact:
+            # semismooth Newton on the penalised piecewise-quadratic (convex) energy: solve with the hinges
+            # past the contact onset penalised, then a backtracking line search on the energy (both
+            # iterates satisfy the linear actuator constraints, so every point between them does too)
+            active = None
+            e_old = self._energy(q)
+            for it in range(100):
+                new = np.flatnonzero(self._closing(q) > self.kappa_c)
+                if active is not None and np.array_equal(new, active):
+                    break
+                active = new
+                q_new, mu_new = self._solve_with_contacts(psi, active)
+                alpha = 1.0
+                for _ in range(30):
+                    q_try = q + alpha * (q_new - q)
+                    e_try = self._energy(q_try)
+                    if e_try <= e_old + 1e-14 * abs(e_old):
+                        break
+                    alpha *= 0.5
+                q, e_old = q_try, e_try
+                mu = mu + alpha * (mu_new - mu)
+                self.contact_info = {"contact_hinges": int(active.size), "active_set_iterations": it + 1}
+                if alpha < 1e-8:
+                    break
+            else:
+                self.contact_info["active_set_converged"] = False
         X, R = _apply(geo.X0, I3, q, self.dofmap, geo.n)
-        return X, R, q, sol[self.na:]
+        return X, R, q, mu
 
 
 # ----------------------------------------------------------------------------------------------------
