@@ -10,7 +10,7 @@
 
 #define FRAME_TICKS 40000u /* 20 ms */
 #define IDLE_TICKS 100u    /* slot of a channel without pulses: 50 us */
-#define LEAD_TICKS 24u     /* wake up 12 us before an edge */
+#define LEAD_TICKS 40u     /* wake up 20 us before an edge */
 
 const uint8_t hal_servo_caps = 0;
 
@@ -19,41 +19,30 @@ static volatile int8_t cur = -1;
 static volatile uint16_t frame_start;
 static volatile uint16_t edge; /* timer value of the next edge */
 
-static inline void pin_high(uint8_t ch)
-{
-    if (ch < 6)
-        PORTD |= (uint8_t)(1u << (ch + 2));
-    else
-        PORTB |= (uint8_t)(1u << (ch - 6));
-}
+/* bit of each channel in PORTD (channels 0..5) or PORTB (6, 7) */
+static const uint8_t pin_mask[HAL_N_SERVOS] = {1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 0, 1u << 1};
 
-static inline void pin_low(uint8_t ch)
-{
-    if (ch < 6)
-        PORTD &= (uint8_t)~(1u << (ch + 2));
-    else
-        PORTB &= (uint8_t)~(1u << (ch - 6));
-}
-
-/* The compare interrupt fires LEAD_TICKS before each edge and spins on TCNT1 until the edge's exact
- * time: the UART and millisecond interrupts may delay the entry by a few microseconds, but not the
- * edges (interrupts do not nest), so every pulse is exact to a fraction of a microsecond. */
+/* The compare interrupt fires LEAD_TICKS before each edge, prepares the new port values, then spins on
+ * TCNT1 until the edge's exact time and writes PORTD and PORTB back to back (the falling edge of one
+ * channel and the rising edge of the next are one cycle apart). The UART and millisecond interrupts may
+ * delay the entry by a few microseconds but not the edges, and every channel takes the same path, so a
+ * pulse is exact to the timer's 0.5 us resolution. */
 ISR(TIMER1_COMPA_vect)
 {
     uint16_t at = edge;
-    while ((int16_t)(TCNT1 - at) < 0)
-        ;
-    int8_t c = cur;
-    if (c >= 0)
-        pin_low((uint8_t)c);
-    c++;
+    int8_t c = (int8_t)(cur + 1);
+    uint8_t d = PORTD & (uint8_t)~0xFCu, b = PORTB & (uint8_t)~0x03u; /* every servo pin low ... */
     uint16_t next;
     if (c < HAL_N_SERVOS) {
         uint16_t t = ticks[c];
-        if (t)
-            pin_high((uint8_t)c);
-        else
+        if (t) { /* ... except the next channel's */
+            if (c < 6)
+                d |= pin_mask[c];
+            else
+                b |= pin_mask[c];
+        } else {
             t = IDLE_TICKS;
+        }
         next = (uint16_t)(at + t);
     } else {
         uint16_t elapsed = (uint16_t)(at - frame_start);
@@ -61,6 +50,10 @@ ISR(TIMER1_COMPA_vect)
         frame_start = next;
         c = -1;
     }
+    while ((int16_t)(TCNT1 - at) < 0)
+        ;
+    PORTD = d;
+    PORTB = b;
     cur = c;
     edge = next;
     OCR1A = (uint16_t)(next - LEAD_TICKS);
