@@ -30,7 +30,7 @@ def _cutter(Part, App, poly, r1, r2, rm, s0, z0):
     # flat facets between wrapped vertices sag by r (1 - cos(span / 2)): push the outer skin out
     # so that every facet still lies outside the wall
     span = (poly[:, 0].max() - poly[:, 0].min()) / rm
-    r2 = max(r2, (r2 + 0.5) / math.cos(min(span, 2.5) / 2))
+    r2 = max(r2, (r2 + 0.5) / math.cos(min(span, 2.9) / 2))
     ang = (poly[:, 0] + s0) / rm
     z = poly[:, 1] + z0
     inner = [App.Vector(r1 * math.cos(a), r1 * math.sin(a), zz) for a, zz in zip(ang, z)]

@@ -94,7 +94,7 @@ class CellGeometry:
                 "delta/L": self.delta / self.L, "T/L": self.T / self.L}
 
     # --- 2-D outline for the B-rep -------------------------------------------------------------
-    def holes(self, samples=24):
+    def holes(self, samples=24, top=None, left=None):
         """Closed polygons (lists of (x, y), counter-clockwise) of the voids of one cell, in the
         cell frame: x in [-W/2, W/2] (pillar centres at the edges), y in [0, H].
 
@@ -102,6 +102,11 @@ class CellGeometry:
         (between the two beams) and ``above`` (over the upper beams). ``above`` spans the edge
         pillar at x = -W/2 (it continues over the pillar top through the gap ``delta`` into the left
         neighbour), so that N copies shifted by W tile a ring without overlap.
+
+        ``top``: height of the top bar's lower face (default ``H - c/2``; a taller value lengthens the
+        central pillar and the gap over the edge pillars, used when shorter cell types share a ring
+        with taller ones). ``left``: the left neighbour's CellGeometry (default: the same), whose
+        upper beam bounds the ``above`` void's left part.
         """
         L, c, d, t = self.L, self.c, self.delta, self.t
         W, H = self.width, self.height
@@ -116,8 +121,11 @@ class CellGeometry:
         up_top_l = self.beam_surface(xl, 1, +1)
         up_top_r = self.beam_surface(xr, 1, +1)
         ybar = c / 2
-        ytop = H - c / 2
+        ytop = H - c / 2 if top is None else top
         pillar_top = self.centre_line(L / 2, 1) + t / 2   # top of the edge pillars
+        nb = self if left is None else left
+        nb_top_r = nb.beam_surface(np.linspace(nb.c / 2, nb.L / 2, samples), 1, +1)
+        nb_pillar_top = nb.centre_line(nb.L / 2, 1) + nb.t / 2
         cp_bot = ybar + d                                  # bottom of the central pillar
         # void 0: below the lower beam, above the bottom bar, between the edge pillars; it passes
         # below the central pillar through the gap delta
@@ -131,8 +139,8 @@ class CellGeometry:
         mid_l = [tuple(p) for p in lo_top_l] + [tuple(p) for p in up_bot_l[::-1]]
         # void 2: above the upper beams, below the top bar; it spans the edge pillar at x = -W/2
         # (right half of the left neighbour, gap delta over the pillar, left half of this cell)
-        v2 = [(c / 2 - W, ytop)] + [(p[0] - W, p[1]) for p in up_top_r]
-        v2 += [(L / 2 - W, pillar_top), (-L / 2, pillar_top)]
+        v2 = [(c / 2 - W, ytop)] + [(p[0] - W, p[1]) for p in nb_top_r]
+        v2 += [(L / 2 - W, nb_pillar_top), (-L / 2, pillar_top)]
         v2 += [tuple(p) for p in up_top_l] + [(-c / 2, ytop)]
         polys = {"below": _ccw(v0), "between_left": _ccw(mid_l), "between_right": _ccw(mid_r),
                  "above": _ccw(v2)}
@@ -159,3 +167,35 @@ def _ccw(pts):
 def polygon_area(pts):
     return 0.5 * abs(sum(pts[i][0] * pts[(i + 1) % len(pts)][1] - pts[(i + 1) % len(pts)][0] * pts[i][1]
                          for i in range(len(pts))))
+
+
+def triangulate_polygon(pts):
+    """Ear-clipping triangulation of a simple counter-clockwise polygon: list of index triples."""
+    P = [tuple(map(float, p)) for p in pts]
+    idx = list(range(len(P)))
+    tris = []
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    def inside(p, a, b, c):
+        return cross(a, b, p) >= -1e-14 and cross(b, c, p) >= -1e-14 and cross(c, a, p) >= -1e-14
+
+    guard = 0
+    while len(idx) > 3 and guard < 10 * len(P) ** 2:
+        guard += 1
+        n = len(idx)
+        for k in range(n):
+            i0, i1, i2 = idx[(k - 1) % n], idx[k], idx[(k + 1) % n]
+            a, b, c = P[i0], P[i1], P[i2]
+            if cross(a, b, c) <= 1e-14:
+                continue                      # reflex or degenerate corner
+            if any(inside(P[j], a, b, c) for j in idx if j not in (i0, i1, i2)):
+                continue
+            tris.append((i0, i1, i2))
+            idx.pop(k)
+            break
+        else:
+            raise ValueError("polygon could not be triangulated (self-intersecting?)")
+    tris.append(tuple(idx))
+    return tris

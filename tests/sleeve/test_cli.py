@@ -1,0 +1,52 @@
+"""``python -m metamaterial_wb sleeve``: the summary contract of issue 9 and clean failures."""
+import json
+import os
+import subprocess
+import sys
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SPEC = {"format": "metamaterial-sleeve", "version": 1, "L_mm": 18, "c_mm": 4, "delta_mm": 0.5, "T_mm": 1.8,
+        "shear_modulus_MPa": 28, "cell_types": [{"t_mm": 1.0, "h_mm": 6.7}, {"t_mm": 1.1, "h_mm": 7.5}],
+        "ring": [0, 0, 1, 1], "model": {"elements_cell": 6, "elements_ring": 6, "steps": 90},
+        "walker": {"foot_length_mm": 15}}
+
+
+def _run(tmp_path, spec, *extra):
+    p = tmp_path / "spec.json"
+    p.write_text(json.dumps(spec))
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "sleeve", str(p), "--out", str(out), "--quiet", *extra],
+                       cwd=REPO, capture_output=True, text=True, timeout=600)
+    return r, out
+
+
+def test_summary_contract(tmp_path):
+    r, out = _run(tmp_path, SPEC)
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert len(s["unit_cells"]) == 2
+    for u in s["unit_cells"]:
+        assert u["peak_force"] > 0 > u["valley_force"]
+        assert abs(u["peak_force_N"] - u["peak_force"] * 28 * 18 ** 2) < 1e-9 * u["peak_force_N"]
+    assert len(s["ring"]["peaks"]) == 2 and len(s["ring"]["valleys"]) == 2
+    seq = s["sequence"]
+    assert sorted(seq["loading"]) == [0, 1] and sorted(seq["unloading"]) == [0, 1]
+    assert isinstance(seq["symmetric"], bool)
+    assert seq["symmetric"] == (seq["unloading"] == seq["loading"][::-1])
+    assert s["walker"]["area_mm2"] >= 0
+    for f in ("fd_cells.png", "fd_ring.png", "pv.png", "walker.png"):
+        assert (out / f).stat().st_size > 1000
+    # PV peaks are the ring's FD peaks divided by the cap area (independent unit conversion)
+    A = 3.141592653589793 * (24.6 / 2) ** 2
+    assert abs(s["pv"]["peaks_kPa"][0] - s["ring"]["peaks"][0] * 28 * 18 ** 2 / A * 1000) < 1e-6 * s["pv"]["peaks_kPa"][0]
+
+
+def test_bad_spec_fails_cleanly(tmp_path):
+    bad = dict(SPEC, cell_types=[{"t_mm": -1, "h_mm": 6}])
+    r, out = _run(tmp_path, bad)
+    assert r.returncode == 2
+    assert "cell_types[0].t_mm" in r.stderr and "-1" in r.stderr
+    assert not out.exists()
+    bad = dict(SPEC, ring=[0, 0, 3, 1])
+    r, out = _run(tmp_path, bad)
+    assert r.returncode == 2 and "ring[2]" in r.stderr and not out.exists()
