@@ -1,0 +1,110 @@
+"""Fidelity-ladder targets (issue 6): run time and error of the linear and nonlinear lattice models
+against the quadratic model measured in the same run (the baseline), on the standard 10 x 10 and
+30 x 30 grids at two actuator amplitudes.
+
+    /usr/bin/python3 benchmarks/bench_fidelity.py [--no-write]
+
+Prints a table and writes it into docs/benchmarks.md between ``<!-- begin:fidelity -->`` and
+``<!-- end:fidelity -->`` (only that section is touched). The full report with every scene and the
+work-precision plot comes from ``python3 -m metamaterial_wb bench fidelity`` (docs/fidelity.md).
+
+Targets: linear model on 10 x 10 <= 5 ms with at most a third of the quadratic model's error;
+nonlinear model on 10 x 10 <= 200 ms and on 30 x 30 <= 1 s.
+"""
+import os
+import platform
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+sys.path.insert(0, REPO)
+
+from metamaterial_wb.core import fidelity  # noqa: E402
+from metamaterial_wb.core.models import run_model  # noqa: E402
+
+BEGIN, END = "<!-- begin:fidelity -->", "<!-- end:fidelity -->"
+
+
+def resolve_time(scene, repeats=20):
+    """Linear model, values only changed (cached factorisation): best of ``repeats``."""
+    import metamaterial_wb.core.lattice as lattice
+    lattice.clear_cache()
+    run_model("linear", scene)
+    best = None
+    for _ in range(repeats):
+        t = time.perf_counter()
+        run_model("linear", scene)
+        dt = time.perf_counter() - t
+        best = dt if best is None else min(best, dt)
+    return best
+
+
+def main():
+    write = "--no-write" not in sys.argv
+    rows = []
+    for amp in fidelity.AMPLITUDES:
+        for key, title, scene in fidelity.standard_scenes(amp):
+            if key not in ("grid10", "grid30"):
+                continue
+            ref = run_model("nonlinear", scene, **fidelity.REFERENCE_OPTIONS)
+            out = {"key": key, "amp": amp}
+            for model in ("quadratic", "linear", "nonlinear"):
+                res, dt = fidelity.timed(model, scene, repeats=5)
+                err = fidelity.compare(scene, res, ref)
+                out[model] = (dt, err["rms_D"], err["max_pos"], res.converged)
+            out["resolve"] = resolve_time(scene)
+            rows.append(out)
+            q, li, nl = out["quadratic"], out["linear"], out["nonlinear"]
+            print(f"{key} amp {amp}: quadratic {q[0] * 1e3:.2f} ms (baseline), linear {li[0] * 1e3:.2f} ms "
+                  f"(x{li[0] / q[0]:.1f}; re-solve {out['resolve'] * 1e3:.2f} ms), nonlinear {nl[0] * 1e3:.1f} ms "
+                  f"(x{nl[0] / q[0]:.0f}); RMS dD quadratic {q[1]:.3g}, linear {li[1]:.3g} "
+                  f"(x{li[1] / q[1]:.2f}), nonlinear {nl[1]:.1e}", flush=True)
+    lines = [BEGIN, "## Fidelity ladder (issue 6)", "",
+             "`/usr/bin/python3 benchmarks/bench_fidelity.py` (standard scenes of `core/fidelity.py`, four "
+             "actuators; reference = nonlinear model at tolerance 1e-11). Times are cold runs (geometry, assembly, "
+             "factorisation, solve, poses), best of 5; *re-solve* is the linear model called again with new actuator "
+             "values (cached factorisation). Errors: RMS node angle in D units after removing the rigid rotation. "
+             "Ratios are against the quadratic model measured in the same run. Full report and work-precision "
+             "plot: [fidelity.md](fidelity.md).", "",
+             f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, Python "
+             f"{platform.python_version()}; the machine is shared (load from other jobs), treat times as upper "
+             f"bounds.", "",
+             "| scene | amplitude | quadratic (baseline) | linear | linear re-solve | nonlinear | RMS dD quadratic | "
+             "RMS dD linear (ratio) | RMS dD nonlinear (default tol) |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        q, li, nl = r["quadratic"], r["linear"], r["nonlinear"]
+        lines.append(f"| {r['key']} | {r['amp']} | {q[0] * 1e3:.2f} ms | {li[0] * 1e3:.2f} ms (x{li[0] / q[0]:.1f}) | "
+                     f"{r['resolve'] * 1e3:.2f} ms | {nl[0] * 1e3:.1f} ms (x{nl[0] / q[0]:.0f}) | {q[1]:.3g} | "
+                     f"{li[1]:.3g} ({li[1] / q[1]:.2f}) | {nl[1]:.1e} |")
+    g10 = [r for r in rows if r["key"] == "grid10"]
+    g30 = [r for r in rows if r["key"] == "grid30"]
+    lin_ok = all(r["linear"][0] <= 5e-3 for r in g10)
+    ratio_ok = [r["amp"] for r in g10 if r["linear"][1] <= r["quadratic"][1] / 3]
+    nl10 = max(r["nonlinear"][0] for r in g10)
+    nl30 = max(r["nonlinear"][0] for r in g30)
+    t10 = ", ".join("%.2f ms" % (r["linear"][0] * 1e3) for r in g10)
+    ratios = ", ".join("%.2f" % (r["linear"][1] / r["quadratic"][1]) for r in g10)
+    lines += ["", "Targets: linear 10 x 10 <= 5 ms: " + ("met" if lin_ok else "NOT met") + f" ({t10}); "
+              f"linear error <= 1/3 of quadratic on 10 x 10: met at amplitude(s) {ratio_ok or 'none'} "
+              f"(ratios {ratios}); nonlinear 10 x 10 <= 200 ms: {'met' if nl10 <= 0.2 else 'NOT met'} "
+              f"({nl10 * 1e3:.0f} ms); nonlinear 30 x 30 <= 1 s: {'met' if nl30 <= 1.0 else 'NOT met'} "
+              f"({nl30 * 1e3:.0f} ms).", END]
+    block = "\n".join(lines)
+    print(block)
+    if write:
+        path = os.path.join(REPO, "docs", "benchmarks.md")
+        from metamaterial_wb.core.fileio import write_atomic
+        text = open(path, encoding="utf-8").read() if os.path.exists(path) else "# Benchmarks\n"
+        if BEGIN in text and END in text:
+            a = text.index(BEGIN)
+            b = text.index(END) + len(END)
+            text = text[:a] + block + text[b:]
+        else:
+            text = text.rstrip("\n") + "\n\n" + block + "\n"
+        write_atomic(path, text)
+        print(f"updated {path}")
+
+
+if __name__ == "__main__":
+    main()
