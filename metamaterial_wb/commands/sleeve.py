@@ -24,6 +24,7 @@ def add_arguments(p):
     p.add_argument("--step", action="store_true", help="also export the sleeve as STEP (needs FreeCAD)")
     p.add_argument("--3mf", dest="threemf", action="store_true",
                    help="also export a 3MF with TPU sleeve and PLA rings/caps (needs FreeCAD)")
+    p.add_argument("--render", action="store_true", help="also write sleeve.png, a picture of the geometry (needs FreeCAD)")
     p.add_argument("--no-plots", action="store_true", help="summary.json only")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
@@ -61,10 +62,10 @@ def run(args):
         files = []
         if not args.no_plots:
             files += write_plots(spec, summary, curves, tmp)
-        if args.step or args.threemf:
+        if args.step or args.threemf or args.render:
             log("geometry")
             from metamaterial_wb.geometry.sleeve import export_sleeve
-            files += export_sleeve(spec, tmp, step=args.step, threemf=args.threemf)
+            files += export_sleeve(spec, tmp, step=args.step, threemf=args.threemf, render=args.render)
         summary["files"] = sorted(["summary.json"] + files)
         write_json(os.path.join(tmp, "summary.json"), summary)
         os.makedirs(out, exist_ok=True)
