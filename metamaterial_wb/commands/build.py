@@ -5,6 +5,7 @@ Writes (``NAME`` = the scene's name, else the file's stem):
 * ``DIR/NAME_sheet.step``: the sheet, one named body per node and hinge, PLA/TPU colours;
 * ``DIR/NAME_sheet.3mf``: PrusaSlicer layout (one object, a volume per part, per-part extruder);
 * ``DIR/NAME_sheet_components.3mf``: components layout with Bambu Studio / OrcaSlicer and Cura hints;
+* ``--check``: geometry checks (geometry/validity.py) before anything is written;
 * with ``--modules``: ``DIR/NAME_<module>.step`` and ``.3mf`` per module (separate prints) and
   ``DIR/NAME_assembly.step`` (sheet and modules in place).
 
@@ -34,6 +35,9 @@ def add_arguments(p):
     p.add_argument("--no-sockets", action="store_true", help="plain nodes without snap-fit sockets")
     p.add_argument("--clearance", type=float, default=None, metavar="MM",
                    help="socket / plug clearance in mm (default: fabrication.clearance_mm, 0.2)")
+    p.add_argument("--check", action="store_true",
+                   help="check the solids (valid, closed), rigid/flexible overlap only at the anchors and module "
+                        "clearance before writing; problems stop the command (exit 2)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
 
 
@@ -119,6 +123,15 @@ def run(args):
     threemf = args.threemf or not args.step
     layouts = ("prusa", "components") if args.layout == "both" else (args.layout,)
     result = build_scene(scene, modules=args.modules, progress=not args.quiet, params=params)
+    if args.check:
+        from metamaterial_wb.core.errors import MetamaterialError
+        from metamaterial_wb.geometry.validity import check_all
+        t1 = time.perf_counter()
+        problems = check_all(result)
+        if problems:
+            raise MetamaterialError(f"{len(problems)} geometry problem(s), nothing written; first: {problems[0]}")
+        if not args.quiet:
+            print(f"build: checks passed in {time.perf_counter() - t1:.2f} s", file=sys.stderr)
     stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
     files = export_result(result, args.out, step=step, threemf=threemf, layouts=layouts,
                           progress=not args.quiet, stem=stem)

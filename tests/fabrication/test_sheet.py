@@ -177,3 +177,32 @@ def test_progress_goes_to_stderr(fc, capsys):
     build_scene(make_scene({"grid": [2, 2]}), progress=True)
     out, err = capsys.readouterr()
     assert out == "" and "build: sheet parts 21/21 done" in err
+
+
+def test_hinge_thinner_than_the_sheet(fc):
+    """A 5 mm hinge in an 8 mm sheet sits on the mid-plane in blind anchor pockets."""
+    from metamaterial_wb.geometry import validity
+    from metamaterial_wb.geometry.build import build_scene
+    r = build_scene(make_scene({"chain": 1}, hinge={"length_mm": 2, "width_mm": 0.8, "thickness_mm": 5},
+                               fabrication={"sheet_thickness_mm": 8.0}), progress=False)
+    h = r.placed_shape(r.by_name("hinge_H0_0")).BoundBox
+    assert (h.ZMin, h.ZMax) == pytest.approx((1.5, 6.5))
+    n = r.placed_shape(r.by_name("node_0_0"))
+    assert n.Volume == pytest.approx(S * S * 8.0 - 4 * socket_vol(8.0) - 2 * anchor_vol(t=5.0), rel=1e-9)
+    assert validity.check_solids(r) == [] and validity.check_sheet(r) == []
+
+
+def test_cli_check_flag(tmp_path):
+    import json
+    import os
+    import subprocess
+    import sys
+    from conftest import REPO
+    sp = tmp_path / "s.json"
+    sp.write_text(json.dumps({"format": "metamaterial-scene", "version": 1, "name": "two", "layout": {"chain": 2}}))
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(sp), "--out", str(tmp_path / "o"),
+                        "--check", "--3mf"], cwd=REPO, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert "checks passed" in r.stderr
+    assert sorted(os.listdir(tmp_path / "o")) == ["two_sheet.3mf", "two_sheet_components.3mf"]
+    assert [os.path.basename(x) for x in r.stdout.split()] == ["two_sheet.3mf", "two_sheet_components.3mf"]
