@@ -49,7 +49,7 @@ def safe_stem(text):
 def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "components"), progress=True,
                   stem="scene", stream=None, tolerance_mm=None):
     """Write the files of a BuildResult into ``out_dir`` (atomically as a set). Returns the file list."""
-    from metamaterial_wb.export.mesh import part_meshes
+    from metamaterial_wb.export.mesh import lay_out_for_print, part_meshes
     from metamaterial_wb.export.step import result_bodies, write_step
     from metamaterial_wb.export.threemf import write_3mf
     from metamaterial_wb.geometry.params import MATERIALS
@@ -78,6 +78,9 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                         write_3mf(os.path.join(tmp, name), meshes, layout=layout, materials=colours, object_name=base)
                         written.append(name)
                 else:
+                    # print orientation: pins up (top modules turned over; bottom ones already are), side by side
+                    flip = not all(q.info.get("side") == "bottom" for q in parts)
+                    meshes = lay_out_for_print(meshes, flip=flip)
                     write_3mf(os.path.join(tmp, base + ".3mf"), meshes, layout="objects", materials=colours,
                               object_name=base)
                     written.append(base + ".3mf")

@@ -70,3 +70,20 @@ def part_meshes(result, parts, tolerance_mm=None):
         P, T = cache[part.key]
         out.append((part.name, transform(P, matrix4(part.placement)), T, part.material, part.extruder))
     return out
+
+
+def lay_out_for_print(meshes, flip=True, gap_mm=5.0):
+    """Separate prints (modules): turn each part upside down (``flip``: 180 deg about x, so that the
+    snap pins point up and the flat top lies on the bed), put it on z = 0 and line the parts up along x
+    with ``gap_mm`` between them. ``meshes``: ``[(name, V, T, material, extruder)]``; returns a new list."""
+    out = []
+    x = 0.0
+    for name, V, T, mat, ext in meshes:
+        W = V.copy()
+        if flip:
+            W[:, 1] = -W[:, 1]
+            W[:, 2] = -W[:, 2]          # rotation by 180 deg about x keeps the orientation of the triangles
+        W -= np.array([W[:, 0].min() - x, W[:, 1].min(), W[:, 2].min()])
+        x = W[:, 0].max() + gap_mm
+        out.append((name, W, T, mat, ext))
+    return out

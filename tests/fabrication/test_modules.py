@@ -145,3 +145,20 @@ def test_gui_forms_are_accepted(fc):
                                                {"type": "stable_hub", "node": "N1,0"}])
     specs = parse_modules(sc, fabrication_params(sc))
     assert [(m.type, m.joint) for m in specs] == [("constraint_clip", "V0,1"), ("stable_hub", "H1,0")]
+
+
+def test_modules_laid_out_for_printing(mod_result):
+    """Module 3MF files: each part turned pins-up, on the bed, side by side; triangles stay outward."""
+    from metamaterial_wb.export.mesh import lay_out_for_print, open_edges, part_meshes, signed_volume
+    r = mod_result
+    parts = r.groups()["servo"]
+    meshes = part_meshes(r, parts)
+    laid = lay_out_for_print(meshes)
+    xs = []
+    for (n, V, T, m, e), (_, V0, T0, _, _) in zip(laid, meshes):
+        assert V[:, 2].min() == pytest.approx(0.0) and open_edges(T) == 0
+        assert signed_volume(V, T) == pytest.approx(signed_volume(V0, T0), rel=1e-9) and signed_volume(V, T) > 0
+        # pins up: the highest points of the turned part are the pin tips that were the lowest (z = clearance)
+        assert V[:, 2].max() == pytest.approx(V0[:, 2].max() - V0[:, 2].min(), abs=1e-4)
+        xs.append((V[:, 0].min(), V[:, 0].max()))
+    assert xs[0][1] + 5.0 == pytest.approx(xs[1][0])
