@@ -79,17 +79,18 @@ def main():
                      f"{li[1]:.3g} ({li[1] / q[1]:.2f}) | {nl[1]:.1e} |")
     g10 = [r for r in rows if r["key"] == "grid10"]
     g30 = [r for r in rows if r["key"] == "grid30"]
-    lin_ok = all(r["linear"][0] <= 5e-3 for r in g10)
-    ratio_ok = [r["amp"] for r in g10 if r["linear"][1] <= r["quadratic"][1] / 3]
     nl10 = max(r["nonlinear"][0] for r in g10)
     nl30 = max(r["nonlinear"][0] for r in g30)
-    t10 = ", ".join("%.2f ms" % (r["linear"][0] * 1e3) for r in g10)
-    ratios = ", ".join("%.2f" % (r["linear"][1] / r["quadratic"][1]) for r in g10)
-    lines += ["", "Targets: linear 10 x 10 <= 5 ms: " + ("met" if lin_ok else "NOT met") + f" ({t10}); "
-              f"linear error <= 1/3 of quadratic on 10 x 10: met at amplitude(s) {ratio_ok or 'none'} "
-              f"(ratios {ratios}); nonlinear 10 x 10 <= 200 ms: {'met' if nl10 <= 0.2 else 'NOT met'} "
-              f"({nl10 * 1e3:.0f} ms); nonlinear 30 x 30 <= 1 s: {'met' if nl30 <= 1.0 else 'NOT met'} "
-              f"({nl30 * 1e3:.0f} ms).", END]
+    t10 = "; ".join("%.2f ms at amplitude %g (%s)" % (r["linear"][0] * 1e3, r["amp"],
+                                                        "met" if r["linear"][0] <= 5e-3 else "not met") for r in g10)
+    ratios = "; ".join("%.2f at amplitude %g (%s)" % (r["linear"][1] / r["quadratic"][1], r["amp"],
+                                                      "met" if r["linear"][1] <= r["quadratic"][1] / 3 else "not met")
+                       for r in g10)
+    lines += ["", f"Targets: linear 10 x 10 <= 5 ms: {t10}. Linear error <= 1/3 of the quadratic model's on "
+              f"10 x 10: {ratios}. Nonlinear 10 x 10 <= 200 ms: {'met' if nl10 <= 0.2 else 'not met'} "
+              f"(worst {nl10 * 1e3:.0f} ms); nonlinear 30 x 30 <= 1 s: {'met' if nl30 <= 1.0 else 'not met'} "
+              f"(worst {nl30 * 1e3:.0f} ms). At amplitude 0.5 plate contact needs a few low-rank re-solves in the "
+              f"linear model and the remaining error is geometric nonlinearity.", END]
     block = "\n".join(lines)
     print(block)
     if write:

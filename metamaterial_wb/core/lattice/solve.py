@@ -162,27 +162,42 @@ class LinearLattice:
         rows = np.repeat(np.arange(active.size), 12).reshape(-1, 12)[keep]
         return sp.csr_matrix((Jr[keep], (rows, ed[keep])), shape=(active.size, self.pattern.N))
 
+    def _rows(self, active, V):
+        """``U @ V`` for the active hinges' closing-gradient rows U, V of shape (N,) or (N, c)."""
+        ed = self.pattern.ed[active]                                   # (k, 12), -1 = no DOF
+        Vp = np.concatenate([V[:self.na], np.zeros((1,) + V.shape[1:])])
+        Jr = self.close_sign[active, None] * self.J5[active]
+        if V.ndim == 1:
+            return np.einsum("ki,ki->k", Jr, Vp[ed])
+        return np.einsum("ki,kic->kc", Jr, Vp[ed])
+
     def _solve_with_contacts(self, psi, active):
         """KKT solve with stiff one-sided springs (the nonlinear model's contact penalty) on ``active``:
         a low-rank (Woodbury) update of the cached base factorisation, no new factorisation:
         ``x = y - Z (C^-1 + U Z)^-1 U y`` with ``Z = M^-1 U^T`` (one cached back-substitution per hinge)."""
         rhs = np.zeros(self.pattern.N)
         rhs[self.na:] = psi
-        kc = self.kc[active]
         if active.size == 0:
             y = self.lu.solve(rhs)
             return y[:self.na], y[self.na:]
-        U = self._U(active)
-        rhs += U.T @ (kc * self.kappa_c[active])                     # the springs' preload
+        kc = self.kc[active]
+        Jr = self.close_sign[active, None] * self.J5[active]
+        rhs[:self.na] += self.pattern.vector((kc * self.kappa_c[active])[:, None] * Jr, active)   # preload
         y = self.lu.solve(rhs)
-        missing = [int(h) for h in active if int(h) not in self._zcache]
-        if missing:
-            Zm = self.lu.solve(np.ascontiguousarray(self._U(np.array(missing)).T.toarray()))
+        missing = np.array([int(h) for h in active if int(h) not in self._zcache], dtype=np.int64)
+        if missing.size:
+            Ut = np.zeros((self.pattern.N, missing.size))
+            Jm = self.close_sign[missing, None] * self.J5[missing]
+            edm = self.pattern.ed[missing]
+            cols = np.broadcast_to(np.arange(missing.size)[:, None], edm.shape)
+            ok = edm >= 0
+            np.add.at(Ut, (edm[ok], cols[ok]), Jm[ok])
+            Zm = self.lu.solve(Ut)
             for k, h in enumerate(missing):
-                self._zcache[h] = Zm[:, k]
+                self._zcache[int(h)] = Zm[:, k]
         Z = np.column_stack([self._zcache[int(h)] for h in active])
-        S = np.diag(1.0 / kc) + U @ Z
-        x = y - Z @ np.linalg.solve(S, U @ y)
+        S = np.diag(1.0 / kc) + self._rows(active, Z)
+        x = y - Z @ np.linalg.solve(S, self._rows(active, y))
         return x[:self.na], x[self.na:]
 
     def solve(self, psi=None):
@@ -205,7 +220,7 @@ class LinearLattice:
             e_old = self._energy(q)
             for it in range(100):
                 new = np.flatnonzero(self._closing(q) > self.kappa_c)
-                if active is not None and np.array_equal(new, active):
+                if (active is None and new.size == 0) or (active is not None and np.array_equal(new, active)):
                     break
                 active = new
                 q_new, mu_new = self._solve_with_contacts(psi, active)
