@@ -281,7 +281,7 @@ def test_components_layout_sliced_on_two_extruders(prusa_slicer, dual_ini, chain
 # ------------------------------------------------------------------------------------------------
 # the seed's fish and gripper through the CLI
 # ------------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("example", ["fish", "gripper"])
+@pytest.mark.parametrize("example", ["fish_modules", "gripper"])
 def test_examples_build_export_and_slice(fc, prusa_slicer, dual_ini, tmp_path, example):
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.export.mesh import part_meshes
