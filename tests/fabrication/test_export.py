@@ -317,3 +317,22 @@ def test_examples_build_export_and_slice(fc, prusa_slicer, dual_ini, tmp_path, e
     # one module file slices on a single extruder
     g2 = slice_3mf(prusa_slicer, dual_ini, out / f"{example}_{mods[0]}.3mf", tmp_path / "mod.gcode")
     assert len(filament_used(g2)) == 1
+
+
+def test_prusaslicer_reads_one_object_with_named_parts(prusa_slicer, chain_meshes, tmp_path):
+    """PrusaSlicer's own 3MF round trip: one object whose volumes carry our names and extruders."""
+    from metamaterial_wb.export.threemf import write_3mf
+    src = tmp_path / "p.3mf"
+    write_3mf(str(src), chain_meshes, layout="prusa")
+    rt = tmp_path / "rt.3mf"
+    r = subprocess.run([prusa_slicer, "--loglevel", "1", "--export-3mf", "-o", str(rt), str(src)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    cfg = ET.fromstring(zipfile.ZipFile(rt).read("Metadata/Slic3r_PE_model.config"))
+    objects = cfg.findall("object")
+    assert len(objects) == 1
+    got = []
+    for vol in objects[0].findall("volume"):
+        meta = {m.get("key"): m.get("value") for m in vol.findall("metadata")}
+        got.append((meta["name"], int(meta.get("extruder", 0))))
+    assert got == [(m[0], m[4]) for m in chain_meshes]
