@@ -864,9 +864,9 @@ class AddModulePanel(BasePanel):
     TITLE = "Add module"
     ICON = "MM_AddModule.svg"
     LABELS = {"servo_housing": "Servo housing (across a joint)", "connection_hub": "Connection hub (node)",
-              "stable_hub": "Stable connection hub (node)", "friction_pad": "Friction pad (node)",
-              "clip": "Angular-constraint clip (joint)"}
-    ON_JOINT = {"servo_housing", "clip"}
+              "stable_hub": "Stable connection hub (across a joint)", "friction_pad": "Friction pad (node)",
+              "constraint_clip": "Angular-constraint clip (joint)"}
+    ON_JOINT = structure.JOINT_MODULES
 
     def __init__(self, scene_obj):
         super().__init__()

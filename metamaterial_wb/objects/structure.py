@@ -34,7 +34,11 @@ from metamaterial_wb.objects.common import (HIDDEN, OUTPUT, READONLY, ProxyBase,
                                             count_execute, ensure_property)
 from metamaterial_wb.objects import engine as _engine
 
-MODULE_TYPES = ["servo_housing", "connection_hub", "stable_hub", "friction_pad", "clip"]
+# module types of the fabrication package (geometry/modules.py); joint modules sit across a joint
+MODULE_TYPES = ["servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip"]
+JOINT_MODULES = {"servo_housing", "stable_hub", "constraint_clip"}
+MODULE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
+                  "hub": "connection_hub", "pad": "friction_pad"}
 PROFILE_SHAPES = ["none", "sine", "constant", "steps", "keyframes"]
 
 _SOLVERS = {}   # (doc name, scene object name) -> (scene JSON, model, LiveSolver): reused by panels
@@ -143,7 +147,16 @@ class SceneProxy(ProxyBase):
         except Exception:
             pass
         obj.Deformation = [float(x) for x in frame.D]
-        obj.SolveWarnings = list(design_warnings) + list(solver.warnings)
+        module_warnings = []
+        for m in obj.Modules:
+            if getattr(getattr(m, "Proxy", None), "Type", "") != "MetamaterialModule":
+                continue
+            try:
+                if m.Proxy.refresh(m, scene):
+                    m.purgeTouched()
+            except SceneError as exc:
+                module_warnings.append(str(exc))
+        obj.SolveWarnings = list(design_warnings) + list(solver.warnings) + module_warnings
         apply_frame(obj, solver, frame, purge=True)
 
 
@@ -296,9 +309,14 @@ def marker_placements(obj, solver, frame):
     for it in list(obj.Items) + list(obj.Modules):
         typ = getattr(getattr(it, "Proxy", None), "Type", "")
         try:
-            if typ == "MetamaterialItem" or (typ == "MetamaterialModule" and it.TargetKind == "joint"):
-                k = solver.joint_index(it.Joint if typ == "MetamaterialItem" else it.Target)
+            if typ == "MetamaterialItem":
+                k = solver.joint_index(it.Joint)
                 p, q = frame.hinge_positions[k], frame.hinge_quaternions[k]
+            elif typ == "MetamaterialModule" and it.TargetKind == "joint":
+                # module frame: midpoint of the two node centres, u from the first to the second node
+                k = solver.joint_index(it.Target)
+                a, b = solver.ja[k], solver.jb[k]
+                p, q = 0.5 * (frame.positions[a] + frame.positions[b]), frame.hinge_quaternions[k]
             elif typ == "MetamaterialModule":
                 k = solver.node_index(it.Target)
                 p, q = frame.positions[k], frame.quaternions[k]
@@ -306,7 +324,8 @@ def marker_placements(obj, solver, frame):
                 continue
         except SceneError:
             continue
-        lift = 0.5 * t + (float(it.Radius.Value) if typ == "MetamaterialItem" else 0.0)
+        # markers sit on the top face; module solids are built on a sheet spanning z = 0..t
+        lift = 0.5 * t + float(it.Radius.Value) if typ == "MetamaterialItem" else -0.5 * t
         pos = _offset_positions(np.asarray([p]), np.asarray([q]), np.array([0.0, 0.0, lift]))[0]
         out[it.Name] = _engine.to_placements(pos[None, :], np.asarray([q]))[0]
     return out
@@ -522,7 +541,13 @@ def make_item(doc, scene_obj, kind, name, joint, value=0.0, profile=None, extra=
 # modules
 # ----------------------------------------------------------------------------------------------
 class ModuleProxy(ProxyBase):
-    """A snap-fit module on a node (hubs, friction pad) or a joint (servo housing, clip)."""
+    """A snap-fit module on a node (connection hub, friction pad) or across a joint (servo housing,
+    stable hub, constraint clip). Its solid comes from ``metamaterial_wb.geometry.modules`` (the same
+    builder as the STEP / 3MF export); without that package a stand-in of the right size class is shown.
+
+    The Scene links its modules (it depends on them); a module does not depend on the Scene (hidden link),
+    so when the scene's sizes change the Scene refreshes stale module solids itself (see ``refresh``).
+    """
     Type = "MetamaterialModule"
 
     def __init__(self, obj):
@@ -540,17 +565,30 @@ class ModuleProxy(ProxyBase):
         ensure_property(obj, "App::PropertyLinkHidden", "Scene", "Module", "Scene the module belongs to")
         ensure_property(obj, "App::PropertyString", "GeometrySource", "Module",
                         "Which builder made the shape", attr=OUTPUT, readonly=True)
+        ensure_property(obj, "App::PropertyString", "BuiltFor", "Module", "Parameters of the current shape",
+                        attr=OUTPUT, readonly=True, hidden=True)
 
     def onDocumentRestored(self, obj):
         self._ensure_properties(obj)
 
     def execute(self, obj):
         count_execute(obj)
+        sc = obj.Scene
+        scene = compose_scene(sc) if sc is not None else None
+        self.refresh(obj, scene, force=True)
+
+    def refresh(self, obj, scene, force=False):
+        """(Re)build the solid when its parameters changed; raises SceneError naming the module."""
+        key = module_build_key(obj, scene)
+        if not force and obj.BuiltFor == key and not obj.Shape.isNull():
+            return False
         pl = FreeCAD.Placement(obj.Placement)
-        shape, source = build_module_shape(obj)
+        shape, source = build_module_shape(obj, scene)
         obj.Shape = shape
         obj.GeometrySource = source
+        obj.BuiltFor = key
         obj.Placement = pl
+        return True
 
 
 def module_to_dict(obj):
@@ -562,44 +600,76 @@ def module_to_dict(obj):
     return d
 
 
-def build_module_shape(obj):
-    """The module's solid: from ``metamaterial_wb.geometry`` when it offers a builder, else a simple
-    stand-in of the right size class (documented in docs/gui.md)."""
+def module_build_key(obj, scene):
+    d = module_to_dict(obj)
+    if scene is not None:
+        d["_scene"] = [scene.cell_size_mm, scene.hinge, [c.to_dict() for c in scene.constraints]]
+    return json.dumps(d, sort_keys=True)
+
+
+def geometry_modules_available():
+    try:
+        from metamaterial_wb.geometry import modules as gmod  # noqa: F401
+        from metamaterial_wb.geometry.build import BuildResult  # noqa: F401
+        return hasattr(gmod, "build_module") and hasattr(gmod, "parse_modules")
+    except ImportError:
+        return False
+
+
+def build_module_shape(obj, scene):
+    """``(solid, source)``: the fabrication package's module in its own frame (sheet from z = 0 to its
+    thickness, joint modules with u from the first to the second node), or a stand-in."""
     import Part
-    sc = obj.Scene
-    cell = float(sc.CellSize.Value) if sc is not None else 20.0
-    t = float(sc.HingeThickness.Value) if sc is not None else 7.0
-    try:  # the fabrication package, when it provides module builders
-        from metamaterial_wb.geometry import modules as gmod  # type: ignore
-        fn = getattr(gmod, "module_shape", None) or getattr(gmod, "build_module", None)
-        if fn is not None and sc is not None:
-            scene = compose_scene(sc)
-            shape = fn(scene, module_to_dict(obj))
-            if hasattr(shape, "isNull") and not shape.isNull():
-                return shape, "geometry.modules"
-    except Exception:
-        pass
+    if scene is not None and geometry_modules_available():
+        from metamaterial_wb.core.scene import Scene as _Scene
+        from metamaterial_wb.geometry.build import BuildResult
+        from metamaterial_wb.geometry.modules import build_module, parse_modules
+        from metamaterial_wb.geometry.params import fabrication_params
+        # the module only needs the sheet's sizes and sockets: drop axes / tilts (their fit is checked
+        # by the export of the sheet) and the other modules (sockets they use are checked there too)
+        d = scene.to_dict()
+        for k in ("axes", "joint_config", "joints"):
+            d.pop(k, None)
+        d["modules"] = [module_to_dict(obj)]
+        one = _Scene.from_dict(d)
+        try:
+            p = fabrication_params(one)
+            spec = parse_modules(one, p)[0]
+            res = BuildResult(one, p)
+            build_module(res, spec)
+        except SceneError as exc:
+            raise SceneError(f"module {obj.Label}", exc.message if hasattr(exc, "message") else str(exc)) from None
+        shapes = [res.shapes[part.key] for part in res.parts]
+        return (shapes[0] if len(shapes) == 1 else Part.makeCompound(shapes)), "geometry.modules"
+    cell = scene.cell_size_mm if scene is not None else 20.0
+    t = scene.hinge["thickness_mm"] if scene is not None else 7.0
+    side = cell - (scene.hinge["length_mm"] if scene is not None else 2.0)
     typ = obj.ModuleType
-    if typ == "servo_housing":  # SG90-sized box across the joint
-        return Part.makeBox(23.0, 12.5, 22.0, FreeCAD.Vector(-11.5, -6.25, 0)), "stand-in"
-    if typ == "friction_pad":
-        s = 0.7 * (cell - float(sc.HingeLength.Value) if sc is not None else cell)
-        return Part.makeBox(s, s, 2.0, FreeCAD.Vector(-s / 2, -s / 2, 0)), "stand-in"
-    if typ == "clip":
-        return Part.makeCylinder(0.25 * cell, 0.4 * t), "stand-in"
+    V = FreeCAD.Vector
+    if typ == "servo_housing":  # SG90-sized body above the joint
+        return Part.makeBox(23.0, 12.5, 22.0, V(-11.5, -6.25, t)), "stand-in"
+    if typ == "friction_pad":  # under the node
+        s = 0.7 * side
+        return Part.makeBox(s, s, 3.0, V(-s / 2, -s / 2, -3.0)), "stand-in"
+    if typ == "constraint_clip":
+        return Part.makeBox(cell, 0.5 * side, 3.0, V(-cell / 2, -0.25 * side, t)), "stand-in"
     if typ == "stable_hub":
-        return Part.makeBox(1.6 * cell, 0.5 * cell, 3.0, FreeCAD.Vector(-0.8 * cell, -0.25 * cell, 0)), "stand-in"
-    return Part.makeCylinder(0.3 * cell, t), "stand-in"
+        return Part.makeBox(0.6 * cell, 0.6 * cell, 6.0, V(-0.3 * cell, -0.3 * cell, t)), "stand-in"
+    return Part.makeCylinder(0.3 * side, 3.0, V(0, 0, t)), "stand-in"
 
 
 def make_module(doc, scene_obj, module_type, target, data=None):
+    module_type = MODULE_ALIASES.get(module_type, module_type)
     if module_type not in MODULE_TYPES:
         raise SceneError("module.type", f"{module_type!r}; allowed: {', '.join(MODULE_TYPES)}")
+    tgt = str(target).strip().upper()
+    kind = "joint" if module_type in JOINT_MODULES else "node"
+    if (kind == "node") != tgt.startswith("N"):
+        raise SceneError("module", f"a {module_type} sits on a {kind}; {tgt!r} is not a {kind} name")
     obj = doc.addObject("Part::FeaturePython", "Module_" + module_type)
     ModuleProxy(obj)
     obj.ModuleType = module_type
-    tgt = str(target).strip().upper()
-    obj.TargetKind = "node" if tgt.startswith("N") else "joint"
+    obj.TargetKind = kind
     obj.Target = tgt
     obj.Scene = scene_obj
     if data:
@@ -671,8 +741,11 @@ def make_structure(doc, scene, recompute=True):
     for c in scene.constraints:
         make_item(doc, sc, "constraint", c.name, c.joint, c.value, None, c.extra)
     for m in scene.modules or []:
-        if isinstance(m, dict) and m.get("type") in MODULE_TYPES and ("node" in m or "joint" in m):
-            make_module(doc, sc, m["type"], m.get("node") or m.get("joint"), m)
+        typ = MODULE_ALIASES.get(m.get("type"), m.get("type")) if isinstance(m, dict) else None
+        if typ in MODULE_TYPES and ("node" in m or "joint" in m):
+            make_module(doc, sc, typ, m.get("joint") or m.get("node"), m)
+        else:
+            FreeCAD.Console.PrintWarning(f"Metamaterial: module {m!r} kept in the scene JSON only (not shown)\n")
     if recompute:
         doc.recompute()
     return sc

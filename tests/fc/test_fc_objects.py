@@ -261,3 +261,50 @@ def test_one_undo_step_removes_a_motor(doc):
     doc.recompute()
     assert len(doc.Objects) == n and len(sc.Items) == 2
     assert sc.isValid()
+
+
+@pytest.mark.parametrize("mtype,target", [("servo_housing", "V0,1"), ("friction_pad", "N2,3"),
+                                          ("connection_hub", "N0,6"), ("stable_hub", "H1,2")])
+def test_module_solid_and_place_match_the_fabrication_build(doc, mtype, target):
+    """In the flat state the document's module is the fabrication package's module at the same place
+    (our sheet is centred on z = 0, the fabrication sheet spans z = 0..t)."""
+    if not structure.geometry_modules_available():
+        pytest.skip("geometry.modules is not in this checkout")
+    from metamaterial_wb.geometry.build import build_scene
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, mtype, target)
+    sc.UseGlobal = True
+    sc.GlobalDeformation = 0.0
+    doc.recompute()
+    assert m.isValid() and sc.isValid(), (m.State, sc.State)
+    assert m.GeometrySource == "geometry.modules"
+    scene = structure.compose_scene(sc)
+    res = build_scene(scene, modules=True, progress=False)
+    name = f"{mtype}_{len(scene.modules)}"    # the fabrication package's default name of our (last) module
+    parts = [p for p in res.parts if p.role == "module" and p.group == name]
+    assert parts, sorted({p.group for p in res.parts})
+    ref = parts[0]
+    placed = res.placed_shape(ref)
+    mine = m.Shape.copy()   # Part shapes carry the object's placement
+    t = scene.hinge["thickness_mm"]
+    assert abs(mine.Volume - sum(res.placed_shape(p).Volume for p in parts)) < 1e-6 * max(1.0, mine.Volume)
+    bb_ref = placed.BoundBox if len(parts) == 1 else None
+    if bb_ref is not None:
+        bb = mine.BoundBox
+        for a, b in ((bb.XMin, bb_ref.XMin), (bb.XMax, bb_ref.XMax), (bb.YMin, bb_ref.YMin),
+                     (bb.YMax, bb_ref.YMax), (bb.ZMin, bb_ref.ZMin - 0.5 * t), (bb.ZMax, bb_ref.ZMax - 0.5 * t)):
+            assert abs(a - b) < 1e-6, (mtype, a, b)
+
+
+def test_module_follows_cell_size_without_a_dependency_cycle(doc):
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "connection_hub", "N1,1")
+    doc.recompute()
+    key0 = m.BuiltFor
+    sc.CellSize = 24.0
+    doc.recompute()
+    assert m.BuiltFor != key0, "the Scene refreshes its modules' solids when the sizes change"
+    for o in doc.Objects:
+        assert o.isValid() and "Touched" not in o.State, (o.Name, o.State)
+    node = sc.NodeArray.PlacementList[structure.compose_scene(sc).topology.node_index[(1, 1)]].Base
+    assert abs(m.Placement.Base.x - node.x) < 1e-6 and abs(m.Placement.Base.y - node.y) < 1e-6
