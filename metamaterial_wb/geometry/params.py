@@ -123,9 +123,10 @@ def fabrication_params(scene, **overrides):
     c = float(scene.cell_size_mm)
     hinges = {}
     thick = 0.0
+    tilts = _tilts_deg(scene)
     for name in scene.topology.joint_names:
         h = scene.joint_hinge(name)
-        tilt = float(scene.joint_tilt_deg(name))
+        tilt = tilts[name]
         hinges[name] = HingeSpec(float(h["length_mm"]), float(h["width_mm"]), float(h["thickness_mm"]), tilt)
         thick = max(thick, float(h["thickness_mm"]))
     T = raw["sheet_thickness_mm"]
@@ -152,6 +153,21 @@ def fabrication_params(scene, **overrides):
     )
     _check_fit(p)
     return p
+
+
+def _tilts_deg(scene):
+    """Hinge tilt (deg) of every joint as the kinematics sees it: per-joint overrides, else
+    ``joint_config``, else (a scene with axes but no joint configuration) configured on the fly by the
+    design stage, so that the printed hinges bend the way the simulation does."""
+    names = scene.topology.joint_names
+    try:
+        from metamaterial_wb.core.design import effective_tilts_deg
+    except ImportError:                       # design stage not available: the scene's own fields
+        return {n: float(scene.joint_tilt_deg(n)) for n in names}
+    topo = scene.topology
+    t = effective_tilts_deg(scene)
+    from metamaterial_wb.core.scene import parse_joint
+    return {n: float(t[topo.joint_id(*parse_joint(n))]) for n in names}
 
 
 def _bool(name, v):

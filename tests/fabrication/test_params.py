@@ -126,3 +126,22 @@ def test_cli_error_is_one_line_and_writes_nothing(tmp_path):
     lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "V3,3" in lines[0] and "does not exist" in lines[0]
     assert not out.exists() or not os.listdir(out)
+
+
+def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
+    """A scene with axes but no joint_config is configured on the fly (as the kinematics does), so the
+    printed hinges are the ones the simulation bends; tilts steeper than the plate allows are errors."""
+    from metamaterial_wb.core.design import compute_joint_config
+    from metamaterial_wb.geometry.params import fabrication_params
+    base = dict(cell_size_mm=25, hinge={"length_mm": 5, "width_mm": 1.0, "thickness_mm": 7},
+                axes=[{"direction": "vertical", "line": 1, "fold_deg": 10}])
+    sc = make_scene({"chain": 3}, **base)
+    p = fabrication_params(sc)
+    config = compute_joint_config(sc)[0]
+    assert set(config) == {"H0,1", "H1,1"}
+    for name, h in p.hinges.items():
+        want = config.get(name, {}).get("tilt_deg", 0.0)
+        assert h.tilt_deg == pytest.approx(want) and (want != 0.0) == (name in config)
+    steep = make_scene({"chain": 3}, **dict(base, axes=[{"direction": "vertical", "line": 1, "fold_deg": 30}]))
+    with pytest.raises(SceneError, match="tilt"):
+        fabrication_params(steep)
