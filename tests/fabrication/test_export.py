@@ -336,3 +336,17 @@ def test_prusaslicer_reads_one_object_with_named_parts(prusa_slicer, chain_meshe
         meta = {m.get("key"): m.get("value") for m in vol.findall("metadata")}
         got.append((meta["name"], int(meta.get("extruder", 0))))
     assert got == [(m[0], m[4]) for m in chain_meshes]
+
+
+def test_cura_parser_reads_the_extruder_of_every_part(chain_meshes, tmp_path):
+    """Cura's own 3MF parser (libSavitar, Debian python3-savitar) sees one group whose children are our
+    parts, each with its 0-based extruder_nr."""
+    Savitar = pytest.importorskip("Savitar")
+    from metamaterial_wb.export.threemf import write_3mf
+    path = tmp_path / "cura.3mf"
+    write_3mf(str(path), chain_meshes, layout="components", object_name="chain")
+    scene = Savitar.ThreeMFParser().parse(zipfile.ZipFile(path).read("3D/3dmodel.model"))
+    nodes = scene.getSceneNodes()
+    assert len(nodes) == 1 and nodes[0].getName() == "chain"
+    got = [(c.getName(), int(c.getSettings()["extruder_nr"].value)) for c in nodes[0].getChildren()]
+    assert got == [(m[0], m[4] - 1) for m in chain_meshes]
