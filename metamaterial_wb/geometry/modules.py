@@ -25,6 +25,7 @@ import re
 from dataclasses import dataclass, field
 
 from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.geometry.params import pin_slot_width_mm
 
 MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip")
 JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
@@ -336,7 +337,7 @@ def make_pin(p, up=False):
     shaft = Part.makeCylinder(r, T + PIN_OVERLAP_MM - z_sh, V(0, 0, z_sh))
     barb = Part.makeCone(r, rb, z_sh - z_tip, V(0, 0, z_tip))
     pin = shaft.fuse(barb)
-    slot_w = max(0.6, 0.3 * 2 * r)
+    slot_w = pin_slot_width_mm(p)
     slot = Part.makeBox(slot_w, 2 * rb + 2, 0.65 * T + 1.0, V(-0.5 * slot_w, -rb - 1, z_tip - 1.0))
     pin = pin.cut(slot).removeSplitter()
     pin = pin.Solids[0] if len(pin.Solids) == 1 else pin

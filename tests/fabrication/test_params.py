@@ -145,3 +145,10 @@ def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
     steep = make_scene({"chain": 3}, **dict(base, axes=[{"direction": "vertical", "line": 1, "fold_deg": 30}]))
     with pytest.raises(SceneError, match="tilt"):
         fabrication_params(steep)
+
+
+def test_snap_barb_must_pass_the_hole(no_geometry):
+    """A 1 mm ledge makes the barb 1.6 mm wider than the hole: more than the plug's slot can close."""
+    with pytest.raises(SceneError) as e:
+        _build(make_scene({"chain": 1}, fabrication={"socket_lip_mm": 1.0}))
+    assert e.value.field == "fabrication.socket_lip_mm" and "slot" in str(e.value)
