@@ -663,9 +663,9 @@ def make_module(doc, scene_obj, module_type, target, data=None):
     if module_type not in MODULE_TYPES:
         raise SceneError("module.type", f"{module_type!r}; allowed: {', '.join(MODULE_TYPES)}")
     tgt = str(target).strip().upper()
-    kind = "joint" if module_type in JOINT_MODULES else "node"
-    if (kind == "node") != tgt.startswith("N"):
-        raise SceneError("module", f"a {module_type} sits on a {kind}; {tgt!r} is not a {kind} name")
+    # the target's own form decides (a stable hub may be given by a node); the fabrication package
+    # validates the combination when it builds the solid
+    kind = "node" if tgt.startswith("N") else "joint"
     obj = doc.addObject("Part::FeaturePython", "Module_" + module_type)
     ModuleProxy(obj)
     obj.ModuleType = module_type

@@ -308,3 +308,27 @@ def test_module_follows_cell_size_without_a_dependency_cycle(doc):
         assert o.isValid() and "Touched" not in o.State, (o.Name, o.State)
     node = sc.NodeArray.PlacementList[structure.compose_scene(sc).topology.node_index[(1, 1)]].Base
     assert abs(m.Placement.Base.x - node.x) < 1e-6 and abs(m.Placement.Base.y - node.y) < 1e-6
+
+
+def _example_scenes():
+    import glob
+    out = []
+    for f in sorted(glob.glob(os.path.join(metamaterial_wb.EXAMPLES_DIR, "*.json"))):
+        with open(f, encoding="utf-8") as fh:
+            if json.load(fh).get("format") == "metamaterial-scene":
+                out.append(os.path.basename(f)[:-5])
+    return out
+
+
+@pytest.mark.parametrize("name", _example_scenes())
+def test_every_example_becomes_a_valid_structure_that_round_trips(doc, name):
+    scene = Scene.load(metamaterial_wb.example_path(name))
+    sc = structure.make_structure(doc, scene)
+    for o in doc.Objects:
+        assert o.isValid(), (name, o.Name, o.State)
+    again = structure.compose_scene(sc).to_dict()
+    want = scene.to_dict()
+    # the document may add the joint configuration of the axes (design stage); everything else is equal
+    if "joint_config" not in want:
+        again.pop("joint_config", None)
+    assert again == want

@@ -130,6 +130,23 @@ def run():
         shot("export")
         taskpanels.ACTIVE.reject()
 
+        # modules on the moving sheet (the fish with servo housings and fin mounts)
+        if taskpanels.example_files().count("fish_modules.json"):
+            FreeCADGui.runCommand("MM_OpenExample")
+            p = taskpanels.ACTIVE
+            p.select("fish_modules")
+            p.accept()
+            for o in list(doc.Objects):
+                if o.TypeId == "App::Part" and o.Label != "fish_modules" and hasattr(o, "ViewObject"):
+                    o.ViewObject.Visibility = False
+            FreeCADGui.runCommand("MM_Simulate")
+            p = taskpanels.ACTIVE
+            p.set_value("tail", 0.9)
+            p.set_value("head", 0.6)
+            view(True)
+            shot("modules")
+            p.reject()
+
         ui = os.path.join(REPO, "resources", "ui", "preferences.ui")
         w = FreeCADGui.PySideUic.loadUi(ui)
         w.resize(520, 360)
