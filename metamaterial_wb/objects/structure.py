@@ -600,8 +600,19 @@ def module_to_dict(obj):
     return d
 
 
+PREFS_PATH = "User parameter:BaseApp/Preferences/Mod/Metamaterial"
+
+
+def fabrication_overrides():
+    """Clearance and module material from the workbench preferences (same group as gui/preferences.py)."""
+    prm = FreeCAD.ParamGet(PREFS_PATH)
+    return {"clearance_mm": prm.GetFloat("PrinterClearance", 0.2),
+            "module_material": prm.GetString("ModuleMaterial", "ABS") or "ABS"}
+
+
 def module_build_key(obj, scene):
     d = module_to_dict(obj)
+    d["_fab"] = fabrication_overrides()
     if scene is not None:
         d["_scene"] = [scene.cell_size_mm, scene.hinge, [c.to_dict() for c in scene.constraints]]
     return json.dumps(d, sort_keys=True)
@@ -633,7 +644,7 @@ def build_module_shape(obj, scene):
         d["modules"] = [module_to_dict(obj)]
         one = _Scene.from_dict(d)
         try:
-            p = fabrication_params(one)
+            p = fabrication_params(one, **fabrication_overrides())
             spec = parse_modules(one, p)[0]
             res = BuildResult(one, p)
             build_module(res, spec)

@@ -332,3 +332,21 @@ def test_every_example_becomes_a_valid_structure_that_round_trips(doc, name):
     if "joint_config" not in want:
         again.pop("joint_config", None)
     assert again == want
+
+
+def test_preference_clearance_reaches_the_module_solid(doc):
+    if not structure.geometry_modules_available():
+        pytest.skip("geometry.modules is not in this checkout")
+    prm = FreeCAD.ParamGet(structure.PREFS_PATH)
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "connection_hub", "N1,2")
+    doc.recompute()
+    v0 = m.Shape.Volume
+    try:
+        prm.SetFloat("PrinterClearance", 0.4)
+        m.touch()
+        doc.recompute()
+        assert m.isValid()
+        assert m.Shape.Volume < v0, "a larger clearance makes the snap pins thinner"
+    finally:
+        prm.RemFloat("PrinterClearance")
