@@ -138,6 +138,13 @@ class LatticeGeometry:
                 tilt[k] = math.radians(scene.joint_tilt_deg(name))
             else:
                 L[k], w[k], t[k] = base["length_mm"], base["width_mm"], base["thickness_mm"]
+        if scene.axes and not config:
+            # axes but no joint configuration yet: the tilts the kinematics would use (design stage)
+            try:
+                from metamaterial_wb.core import design
+                tilt = np.radians(design.effective_tilts_deg(scene))
+            except ImportError:
+                pass
         self.L, self.w, self.t = L, w, t
         self.tilt = tilt
         ca, sa = np.cos(tilt)[:, None], np.sin(tilt)[:, None]
