@@ -254,3 +254,31 @@ def test_D_is_derived_from_the_plate_rotation_with_the_sign_rule():
     a, b = sc.topology.joint_pairs[k]
     assert np.sign(phi[a]) == -np.sign(phi[b])
     assert res.D[a] + res.D[b] == pytest.approx(0.6, abs=1e-6)
+
+
+def test_fallback_dynamic_relaxation_then_newton_end_to_end():
+    """Newton starved (3 iterations, no load stepping) fails; dynamic relaxation takes over and a Newton
+    polish converges to the same equilibrium as the normal path."""
+    sc = grid(3, [{"name": "m", "joint": "H1,1", "value": 0.6}])
+    ref = run_model("nonlinear", sc)
+    res = run_model("nonlinear", sc, max_iter=3, min_step=1.0)
+    assert res.converged and res.info["method"] == "dynamic relaxation + Newton"
+    assert res.info["dr_iterations"] > 0
+    assert np.abs(res.D - ref.D).max() < 1e-8
+
+
+def test_scene_with_axes_but_no_joint_configuration_folds_like_a_configured_one():
+    from metamaterial_wb.core.design import ensure_configured
+
+    d = {"format": "metamaterial-scene", "version": 1, "layout": {"chain": 6},
+         "hinge": {"length_mm": 5, "width_mm": 0.8, "thickness_mm": 7},
+         "axes": [{"direction": "vertical", "line": 3, "fold_deg": 40}],
+         "actuators": [{"name": "m", "joint": "V0,3", "value": 0.8}]}
+    raw = Scene.from_dict(d)
+    configured = Scene.from_dict(d)
+    ensure_configured(configured)
+    assert configured.joint_config and not raw.joint_config
+    a = run_model("linear", raw)
+    b = run_model("linear", configured)
+    assert np.ptp(a.positions_mm[:, 2]) > 1e-3
+    assert np.allclose(a.positions_mm, b.positions_mm, atol=1e-9)
