@@ -254,3 +254,42 @@ def test_islands_without_actuators():
         assert res.converged and np.all(res.D == 0)
         assert "nothing to solve" in res.info["method"]
         assert np.allclose(res.positions_mm, LatticeGeometry(sc).X0)
+
+
+def _square(c, R, a):
+    pts = np.array([[a, a, 0], [-a, a, 0], [-a, -a, 0], [a, -a, 0]])
+    return (pts @ R.T + c)[:, :2]
+
+
+def _penetration(P, Q):
+    """Separating-axis test of two convex quadrilaterals: > 0 = overlap depth (mm), < 0 = gap."""
+    best = np.inf
+    for poly in (P, Q):
+        for k in range(4):
+            e = poly[(k + 1) % 4] - poly[k]
+            n = np.array([-e[1], e[0]]) / np.linalg.norm(e)
+            p, q = P @ n, Q @ n
+            best = min(best, min(p.max(), q.max()) - max(p.min(), q.min()))
+    return best
+
+
+@pytest.mark.parametrize("contact", [True, False])
+def test_plates_do_not_overlap_geometrically_at_full_actuation(contact):
+    """Independent geometric check of the contact model: the actual plate squares (from the nonlinear
+    model's positions and rotations) of every pair of neighbouring and diagonal plates, separating-axis
+    test. With contact they never overlap; without it they do (so the check has teeth)."""
+    sc = scene(6, [{"name": "m", "joint": "H3,2", "value": 1.0}, {"name": "n", "joint": "V1,4", "value": 1.0}])
+    geo = LatticeGeometry(sc)
+    res = run_model("nonlinear", sc, contact=contact)
+    assert res.converged
+    a = geo.plate_side_mm / 2
+    worst = -np.inf
+    for i in range(geo.n):
+        for j in range(i + 1, geo.n):
+            if np.linalg.norm(geo.X0[i] - geo.X0[j]) < 1.5 * geo.cell_size_mm:
+                worst = max(worst, _penetration(_square(res.positions_mm[i], res.rotations[i], a),
+                                                _square(res.positions_mm[j], res.rotations[j], a)))
+    if contact:
+        assert worst <= 1e-3
+    else:
+        assert worst > 0.5
