@@ -350,3 +350,28 @@ def test_cura_parser_reads_the_extruder_of_every_part(chain_meshes, tmp_path):
     assert len(nodes) == 1 and nodes[0].getName() == "chain"
     got = [(c.getName(), int(c.getSettings()["extruder_nr"].value)) for c in nodes[0].getChildren()]
     assert got == [(m[0], m[4] - 1) for m in chain_meshes]
+
+
+def test_step_colours_read_back_by_freecad_gui(fc, chain_result, tmp_path):
+    """FreeCAD's GUI importer (OCCT's XCAF reader, independent of our writer) finds the PLA and TPU colours
+    on every body."""
+    import shutil
+    if shutil.which("xvfb-run") is None or shutil.which("freecad") is None:
+        pytest.skip("needs xvfb-run and the FreeCAD GUI")
+    from metamaterial_wb.export.step import result_bodies, write_step
+    r = chain_result
+    step = tmp_path / "c.step"
+    write_step(str(step), result_bodies(r, r.parts), "c")
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+    cfg = tmp_path / "user.cfg"
+    shutil.copy(os.path.join(here, "freecad_user.cfg"), cfg)        # FreeCAD rewrites it on exit
+    out = tmp_path / "colours.json"
+    env = dict(os.environ, STEP=str(step), OUT=str(out))
+    p = subprocess.run(["xvfb-run", "-a", "freecad", "-u", str(cfg), os.path.join(here, "step_colours_macro.py")],
+                       env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr[-2000:]
+    colours = json.loads(out.read_text())
+    assert set(colours) == {q.name for q in r.parts}
+    for q in r.parts:
+        want = (0x1E / 255, 0x64 / 255, 1.0) if q.role == "hinge" else (0xD9 / 255,) * 3
+        assert colours[q.name] == pytest.approx(want, abs=2e-3), q.name
