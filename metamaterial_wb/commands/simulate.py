@@ -1,0 +1,160 @@
+"""``simulate SCENE.json --seconds S --out DIR [--frames] [--method M] [--dt DT] [--fps F]``.
+
+Writes into DIR (created; files written atomically, nothing half-way):
+
+* ``summary.json``: ``displacement_mm`` (centre-of-mass travel along x, positive towards increasing
+  column / cell index), mean speed, energy bookkeeping, integrator statistics, model info;
+* ``trajectory.json``: times and per-body poses (x, y in mm, angle in degrees) in the floor frame,
+  plus which scene nodes / cells each body stands for (the animation panel plays it);
+* with ``--frames``: ``frames/frame_0000.png ...`` and ``motion.gif`` (matplotlib + ImageMagick if
+  available, otherwise PNG frames only).
+"""
+import math
+import os
+import shutil
+import sys
+import tempfile
+
+NAME = "simulate"
+HELP = "simulate a scene's dynamics (contact, gravity, gaits) and write trajectory + summary"
+
+
+def add_arguments(p):
+    p.add_argument("scene", help="scene file (JSON, docs/scene-format.md, section Dynamics)")
+    p.add_argument("--seconds", type=float, required=True, help="simulated time (s)")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--frames", action="store_true", help="also write PNG frames and an animated GIF")
+    p.add_argument("--method", default=None, choices=("auto", "symplectic", "implicit"),
+                   help="integrator (default: the scene's dynamics.integrator.method, else auto)")
+    p.add_argument("--dt", type=float, default=None, help="time step (s); default: automatic")
+    p.add_argument("--fps", type=float, default=30.0, help="trajectory / frame rate (default 30)")
+    p.add_argument("--incline", type=float, default=None, metavar="DEG",
+                   help="override dynamics.incline_deg")
+
+
+def trajectory_dict(model, traj):
+    import numpy as np
+
+    t, q = traj.arrays()
+    out = {"format": "metamaterial-trajectory", "version": 1, "model": model.kind,
+           "frame": "floor frame: x along the floor towards increasing column index, y up from the floor, "
+                    "angles counter-clockwise; the floor is y = 0, tilted by incline_deg",
+           "incline_deg": model.cfg["incline_deg"],
+           "times_s": [round(float(x), 6) for x in t],
+           "bodies": int(q.shape[1]) if q.size else 0,
+           "poses": np.round(np.concatenate([q[:, :, :2] * 1e3, np.degrees(q[:, :, 2:])], axis=2), 4).tolist()}
+    if model.kind == "sheet":
+        out["body_of_node"] = {f"N{i},{j}": int(b) for (i, j), b in
+                               zip(model.scene_nodes, model.node_body)} if hasattr(model, "scene_nodes") else {}
+        out["body_columns"] = model.info["columns"]
+    else:
+        out["cell_of_body"] = [int(c) for c in model.seg_cell]
+        if traj.extra:
+            out["cell_pressure_kpa"] = np.round(np.array(traj.extra), 3).tolist()
+    return out
+
+
+def write_frames(model, traj, folder, every=1):
+    """PNG frames (matplotlib, Agg) + motion.gif when ImageMagick's convert is available."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from metamaterial_wb.core.dynamics.system import _rot
+
+    t, q = traj.arrays()
+    sys_ = model.system
+    os.makedirs(folder, exist_ok=True)
+    pts_all = np.concatenate([sys_.contact_points(qq) for qq in q]) * 1e3
+    xmin, xmax = pts_all[:, 0].min(), pts_all[:, 0].max()
+    ymax = max(q[:, :, 1].max() * 1e3 * 2, 10)
+    pad = 0.1 * (xmax - xmin) + 10
+    names = []
+    a, b = sys_.ha, sys_.hb
+    for k in range(0, len(t), every):
+        qq = q[k]
+        fig, ax = plt.subplots(figsize=(6, 3), dpi=80)
+        ax.axhline(0, color="0.3", lw=2)
+        pa = (qq[a, :2] + _rot(qq[a, 2], sys_.ra)) * 1e3
+        pb = (qq[b, :2] + _rot(qq[b, 2], sys_.rb)) * 1e3
+        ca = qq[a, :2] * 1e3
+        cbp = qq[b, :2] * 1e3
+        for i in range(len(a)):
+            ax.plot([ca[i, 0], pa[i, 0], cbp[i, 0]], [ca[i, 1], pa[i, 1], cbp[i, 1]], "-", color="tab:blue", lw=2)
+        ax.plot(qq[:, 0] * 1e3, qq[:, 1] * 1e3, "o", ms=3, color="k")
+        if model.kind == "belt" and traj.extra:
+            p = traj.extra[k][model.seg_cell]
+            on = p > 0.5 * max(model.cfg["belt"]["pressure_kpa"], 1e-9)
+            ax.plot(qq[on, 0] * 1e3, qq[on, 1] * 1e3, "o", ms=6, color="tab:red")
+        ax.set_xlim(xmin - pad, xmax + pad)
+        ax.set_ylim(-5, ymax + 5)
+        ax.set_aspect("equal")
+        ax.set_title(f"t = {t[k]:.2f} s   incline {model.cfg['incline_deg']:g} deg", fontsize=9)
+        ax.set_xlabel("x (mm)")
+        fig.tight_layout()
+        name = os.path.join(folder, f"frame_{k // every:04d}.png")
+        fig.savefig(name)
+        plt.close(fig)
+        names.append(name)
+    return names
+
+
+def run(args):
+    import numpy as np  # noqa: F401
+
+    from metamaterial_wb.core.dynamics.builders import build, dynamics_config
+    from metamaterial_wb.core.dynamics.simulate import simulate
+    from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number
+    from metamaterial_wb.core.fileio import write_json
+    from metamaterial_wb.core.scene import Scene
+
+    seconds = check_number("--seconds", args.seconds, 0.0, 1e5, "s", low_open=True)
+    fps = check_number("--fps", args.fps, 0.0, 1000.0, "Hz", low_open=True)
+    if args.dt is not None:
+        check_number("--dt", args.dt, 0.0, 1.0, "s", low_open=True)
+    scene = Scene.load(args.scene)
+    if args.incline is not None:
+        dyn = dict(scene.extra.get("dynamics", {}))
+        dyn["incline_deg"] = args.incline
+        scene.extra["dynamics"] = dyn
+    cfg = dynamics_config(scene)
+    model = build(scene, cfg)
+    if model.kind == "sheet":
+        model.scene_nodes = scene.topology.nodes
+    if os.path.exists(args.out) and not os.path.isdir(args.out):
+        raise MetamaterialError(f"--out {args.out}: exists and is not a directory")
+    summary, traj, model, sim = simulate(scene, seconds, method=args.method, dt=args.dt,
+                                         record_dt=1.0 / fps, cfg=cfg, model=model)
+    os.makedirs(args.out, exist_ok=True)
+    tmp = tempfile.mkdtemp(dir=args.out, prefix=".tmp-simulate-")
+    try:
+        write_json(os.path.join(tmp, "trajectory.json"), trajectory_dict(model, traj), indent=None)
+        if args.frames:
+            names = write_frames(model, traj, os.path.join(tmp, "frames"))
+            conv = shutil.which("convert")
+            if conv and names:
+                import subprocess
+                delay = max(1, int(round(100.0 / fps)))
+                r = subprocess.run([conv, "-delay", str(delay), "-loop", "0"] + names
+                                   + [os.path.join(tmp, "motion.gif")], capture_output=True)
+                summary["frames"] = {"count": len(names), "gif": r.returncode == 0}
+            else:
+                summary["frames"] = {"count": len(names), "gif": False}
+        write_json(os.path.join(tmp, "summary.json"), summary)
+        for name in os.listdir(tmp):
+            dst = os.path.join(args.out, name)
+            if os.path.isdir(dst):
+                shutil.rmtree(dst)
+            os.replace(os.path.join(tmp, name), dst)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    it = summary["integrator"]
+    print(f"{scene.name or args.scene}: {summary['displacement_mm']:+.2f} mm in {seconds:g} s "
+          f"({it['method']}, {it['steps']} steps, {it['wall_s']:.2f} s wall, "
+          f"{it['realtime_factor']:.1f}x real time)")
+    for fb in it.get("fallbacks", []):
+        print(f"warning: at t = {fb['at_s']} s {fb['reason']}; {fb['action']}", file=sys.stderr)
+    if it.get("note"):
+        print(f"note: {it['note']}", file=sys.stderr)
+    return 0

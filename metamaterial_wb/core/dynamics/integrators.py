@@ -1,0 +1,316 @@
+"""Time integration of a :class:`PlanarSystem`: semi-implicit Euler and linearly implicit Euler.
+
+* ``symplectic``: semi-implicit (symplectic) Euler, ``v += dt M^-1 Q(q, v, t); q += dt v``. Its
+  step is limited by the stiffest mode: the guard ``dt <= safety * 2 / (omega_K + c_max)`` is
+  computed from Gershgorin bounds of the assembled stiffness and damping (``stiffness_bound``),
+  every contact assumed active and sticking. A requested larger step is reduced to the guard and
+  the reduction is reported in the statistics (``dt_reduced_from``).
+* ``implicit``: backward Euler linearised once per step (one Newton step with the analytic sparse
+  Jacobian, i.e. a Rosenbrock-Euler / Baraff-Witkin step):
+  ``(M - dt dQ/dv - dt^2 dQ/dq) dv = dt (Q + dt dQ/dq v)``. A-stable for the linear part, so stiff
+  hinges and contacts do not limit the step; it damps the highest modes (numerical dissipation,
+  reported separately in the energy bookkeeping).
+
+Safety: every ``check_every`` steps the state is checked (finite, speeds below ``v_limit``, energy
+not growing by more than the actuators' work); on failure the run returns to the last checkpoint
+and either falls back (symplectic -> implicit, implicit -> half step, up to 6 times) or raises a
+:class:`DynamicsError` that names the time, the symptom and what to change. Never a silent blow-up.
+
+Energy bookkeeping (joules): ``E = kinetic + gravity + elastic + contact``; actuator work is the
+change of elastic energy caused by moving rest angles / anchors at fixed positions; friction
+dissipation is the energy released when a contact anchor slips; damping dissipation is integrated
+from the damper powers; ``numerical_J`` is what is left (E0 + W - D - E_end).
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse.linalg as spla
+
+from .system import DynamicsError, PlanarSystem
+
+METHODS = ("auto", "symplectic", "implicit")
+
+
+class Simulator:
+    """State + integrators + energy ledger for one system.
+
+    ``actuate(t, sim)``: optional callback that sets the system's actuation (theta0, anchors) for
+    time ``t``; it may read ``sim.q``, ``sim.v`` and ``sim.contact_state()``.
+    """
+
+    def __init__(self, system: PlanarSystem, q0, v0=None, actuate=None, v_limit=50.0, safety=0.5):
+        self.sys = system
+        self.q = np.array(q0, float).reshape(system.n, 3)
+        self.v = np.zeros_like(self.q) if v0 is None else np.array(v0, float).reshape(system.n, 3)
+        self.v[system.fixed] = 0.0
+        self.t = 0.0
+        self.actuate = actuate
+        self.v_limit = float(v_limit)
+        self.safety = float(safety)
+        p = system.contact_points(self.q) if system.cb.size else np.zeros((0, 2))
+        self.anchors = p[:, 0].copy()
+        self.inside = (p[:, 1] < 0) if p.size else np.zeros(0, bool)
+        self.ledger = {"actuator_work_J": 0.0, "damping_J": 0.0, "friction_J": 0.0}
+        self.stats = {"steps": 0, "force_evaluations": 0, "linear_solves": 0, "rejected_checks": 0,
+                      "fallbacks": [], "max_penetration_mm": 0.0, "max_speed_m_s": 0.0}
+        if actuate is not None:
+            actuate(0.0, self)
+        self.E0 = system.energy(self.q, self.v, self.anchors)["total_J"]
+        omega_k, c_max = system.stiffness_bound()
+        self.omega_max = omega_k
+        self.damping_rate_max = c_max
+        denom = omega_k + c_max
+        self.dt_limit = 2.0 / denom if denom > 0 else math.inf     # semi-implicit Euler stability limit
+        self.dt_guard = self.safety * self.dt_limit
+
+    # -- helpers ------------------------------------------------------------------------------
+    def contact_state(self):
+        """Per contact point: (inside, normal force N) at the current state."""
+        if not self.sys.cb.size:
+            return np.zeros(0, bool), np.zeros(0)
+        _, st = self.sys.forces(self.q, self.v, self.anchors)
+        return st["inside"], st["fn"]
+
+    def _apply_actuation(self, t):
+        if self.actuate is None:
+            return
+        before = self.sys.elastic_energy(self.q)
+        self.actuate(t, self)
+        self.ledger["actuator_work_J"] += self.sys.elastic_energy(self.q) - before
+
+    def _damping_power(self, v):
+        s = self.sys
+        P = 0.0
+        if s.ha.size:
+            a, b = s.ha, s.hb
+            from .system import _perp, _rot
+            Ra = _rot(self.q[a, 2], s.ra)
+            Rb = _rot(self.q[b, 2], s.rb)
+            vd = v[b, :2] + v[b, 2][:, None] * _perp(Rb) - v[a, :2] - v[a, 2][:, None] * _perp(Ra)
+            P += float(np.sum(s.cp * np.sum(vd * vd, axis=1)) + np.sum(s.cr * (v[b, 2] - v[a, 2]) ** 2))
+        return P
+
+    def _update_anchors(self):
+        s = self.sys
+        if not s.cb.size:
+            return
+        p = s.contact_points(self.q)
+        inside = p[:, 1] < 0
+        new = inside & ~self.inside
+        self.anchors = np.where(inside & ~new, self.anchors, p[:, 0])
+        if np.any(inside):
+            from .system import _perp, _rot
+            u = _rot(self.q[s.cb, 2], s.rc)
+            vpy = self.v[s.cb, 1] + self.v[s.cb, 2] * u[:, 0]
+            fn = np.where(inside, np.maximum(0.0, -s.kn * p[:, 1] - s.cn * vpy), 0.0)
+            spring = -s.kt * (p[:, 0] - self.anchors)
+            cap = s.mu * fn
+            slip = inside & (np.abs(spring) > cap)
+            if np.any(slip):
+                old = p[:, 0] - self.anchors
+                anc = np.where(slip, p[:, 0] + np.sign(spring) * cap / np.where(s.kt > 0, s.kt, 1.0),
+                               self.anchors)
+                newd = p[:, 0] - anc
+                self.ledger["friction_J"] += float(0.5 * np.sum(s.kt * (old * old - newd * newd)))
+                self.anchors = anc
+            pen = float(np.max(-p[:, 1])) * 1e3
+            if pen > self.stats["max_penetration_mm"]:
+                self.stats["max_penetration_mm"] = pen
+        self.inside = inside
+
+    # -- single steps -------------------------------------------------------------------------
+    def step_symplectic(self, dt):
+        self._apply_actuation(self.t)
+        Q, _ = self.sys.forces(self.q, self.v, self.anchors)
+        self.stats["force_evaluations"] += 1
+        acc = Q / self.sys.M
+        acc[self.sys.fixed] = 0.0
+        v_new = self.v + dt * acc
+        self.ledger["damping_J"] += dt * self.sys.last_damping_power
+        self.v = v_new
+        self.q = self.q + dt * self.v
+        self.t += dt
+        self._update_anchors()
+
+    def _solve(self, A, rhs, dense):
+        self.stats["linear_solves"] += 1
+        if dense:
+            return sla.solve(A, rhs, check_finite=False)
+        return spla.spsolve(A.tocsc(), rhs, permc_spec="MMD_AT_PLUS_A")
+
+    newton_max = 4
+
+    def step_implicit(self, dt):
+        """Backward Euler: one linearised step, then Newton iterations while the set of touching
+        contact points at the end of the step differs from the one the Jacobian was built with."""
+        s = self.sys
+        self._apply_actuation(self.t + dt)
+        Q, st = s.forces(self.q, self.v, self.anchors)
+        self.stats["force_evaluations"] += 1
+        dense = 3 * s.n <= 300
+        A, K = s.system_matrix(self.q, self.v, self.anchors, st, dt, dense=dense)
+        v0 = self.v.ravel()
+        rhs = dt * (Q.ravel() + dt * (K @ v0))
+        rhs[~s.free_dof] = 0.0
+        v1 = v0 + self._solve(A, rhs, dense)
+        damp_power = s.last_damping_power
+        active = st["pushing"] if st is not None else None
+        if active is not None:
+            Mf = s.M.ravel()
+            for _ in range(self.newton_max):
+                q1 = self.q + dt * v1.reshape(-1, 3)
+                p1 = s.contact_points(q1)
+                if np.array_equal(p1[:, 1] < 0, active):
+                    break
+                V1 = v1.reshape(-1, 3)
+                Q1, st1 = s.forces(q1, V1, self.anchors)
+                self.stats["force_evaluations"] += 1
+                self.stats["newton_iterations"] = self.stats.get("newton_iterations", 0) + 1
+                R = Mf * (v1 - v0) - dt * Q1.ravel()
+                R[~s.free_dof] = 0.0
+                A1, _ = s.system_matrix(q1, V1, self.anchors, st1, dt, dense=dense)
+                v1 = v1 - self._solve(A1, R, dense)
+                active = st1["inside"]
+        v_new = v1.reshape(-1, 3)
+        v_new[s.fixed] = 0.0
+        self.ledger["damping_J"] += dt * damp_power
+        self.v = v_new
+        self.q = self.q + dt * self.v
+        self.t += dt
+        self._update_anchors()
+
+    # -- checks ------------------------------------------------------------------------------
+    def _health(self):
+        """None if fine, else a sentence describing the symptom."""
+        if not (np.all(np.isfinite(self.q)) and np.all(np.isfinite(self.v))):
+            return "the state became non-finite (NaN/inf)"
+        vmax = float(np.max(np.abs(self.v[:, :2]))) if self.v.size else 0.0
+        self.stats["max_speed_m_s"] = max(self.stats["max_speed_m_s"], vmax)
+        if vmax > self.v_limit:
+            return f"a body reached {vmax:.3g} m/s (limit {self.v_limit:g} m/s)"
+        E = self.sys.energy(self.q, self.v, self.anchors)["total_J"]
+        budget = self.E0 + self.ledger["actuator_work_J"] - self.ledger["friction_J"] - self.ledger["damping_J"]
+        scale = abs(self.E0) + abs(self.ledger["actuator_work_J"]) + 1e-6 + self.energy_scale
+        if E - budget > 0.5 * scale:
+            return (f"the energy grew to {E:.4g} J, {E - budget:.3g} J more than the initial energy plus the "
+                    f"actuators' work allows")
+        return None
+
+    def _checkpoint(self):
+        return (self.q.copy(), self.v.copy(), self.t, self.anchors.copy(), self.inside.copy(),
+                dict(self.ledger), self.sys.theta0.copy(), self.sys.ra.copy(), self.sys.rb.copy(),
+                self.actuate.state() if hasattr(self.actuate, "state") else None)
+
+    def _restore(self, cp):
+        (self.q, self.v, self.t, self.anchors, self.inside, ledger, th0, ra, rb, ast) = cp
+        self.q, self.v, self.anchors, self.inside = self.q.copy(), self.v.copy(), self.anchors.copy(), self.inside.copy()
+        self.ledger = dict(ledger)
+        self.sys.theta0[:] = th0
+        self.sys.ra[:] = ra
+        self.sys.rb[:] = rb
+        if ast is not None:
+            self.actuate.restore(ast)
+
+    # -- driver ------------------------------------------------------------------------------
+    def choose(self, method, dt, t_end):
+        """Resolve ``method`` ("auto" picks the cheaper one) and the step size. Returns (method, dt, note)."""
+        if method not in METHODS:
+            raise DynamicsError(f"integrator {method!r}; allowed: {', '.join(METHODS)}")
+        note = None
+        if method == "auto":
+            # implicit steps cost ~4-8 explicit steps; take the explicit one when its guard step is
+            # not much smaller than the implicit default step
+            dt_imp = dt if dt is not None else self.default_implicit_dt
+            method = "symplectic" if self.dt_guard * 6.0 >= dt_imp else "implicit"
+        if method == "symplectic":
+            if dt is None:
+                dt = self.dt_guard
+            elif dt > self.dt_limit:
+                note = (f"requested dt = {dt:.3g} s exceeds the semi-implicit Euler stability limit "
+                        f"2/omega = {self.dt_limit:.3g} s; reduced to the guard {self.dt_guard:.3g} s")
+                self.stats["dt_reduced_from"] = dt
+                dt = self.dt_guard
+        else:
+            if dt is None:
+                dt = self.default_implicit_dt
+        if not (dt > 0 and math.isfinite(dt)):
+            raise DynamicsError(f"time step {dt!r} s must be a positive finite number")
+        return method, min(dt, t_end) if t_end > 0 else dt, note
+
+    default_implicit_dt = 2e-3
+    energy_scale = 0.0
+
+    def run(self, t_end, method="auto", dt=None, record_dt=None, check_every=100, on_record=None,
+            max_steps=50_000_000):
+        """Integrate to ``t_end`` (s). Records frames every ``record_dt`` (s) through ``on_record(sim)``."""
+        t0 = time.perf_counter()
+        method, dt, note = self.choose(method, dt, t_end)
+        self.stats.update({"method": method, "dt_s": dt, "dt_guard_s": self.dt_guard,
+                           "dt_stability_limit_s": self.dt_limit, "omega_max_rad_s": self.omega_max})
+        if note:
+            self.stats["note"] = note
+        next_rec = 0.0
+        if on_record is not None:
+            on_record(self)
+            next_rec = record_dt
+        cp = self._checkpoint()
+        since = 0
+        retries = 0
+        eps = 1e-12
+        while self.t < t_end - eps:
+            h = min(dt, t_end - self.t)
+            if method == "symplectic":
+                self.step_symplectic(h)
+            else:
+                self.step_implicit(h)
+            self.stats["steps"] += 1
+            since += 1
+            if self.stats["steps"] > max_steps:
+                raise DynamicsError(f"more than {max_steps} steps; raise dt or use the implicit integrator")
+            crossed = on_record is not None and self.t >= next_rec - eps
+            if since >= check_every or crossed or self.t >= t_end - eps:
+                bad = self._health()
+                if bad is not None:
+                    self.stats["rejected_checks"] += 1
+                    t_bad = self.t
+                    self._restore(cp)
+                    since = 0
+                    if method == "symplectic":
+                        method = "implicit"
+                        dt = self.default_implicit_dt
+                        self.stats["fallbacks"].append(
+                            {"at_s": round(t_bad, 6), "reason": bad, "action": f"switched to implicit, dt={dt:g} s"})
+                        self.stats["method"] = "symplectic->implicit"
+                        continue
+                    retries += 1
+                    if retries > 6:
+                        raise DynamicsError(
+                            f"simulation unstable at t = {t_bad:.4g} s: {bad}; even the implicit integrator "
+                            f"with dt = {dt:.3g} s failed. Check for very large forces (stiffness, pressure, "
+                            f"servo amplitude) or set dynamics.integrator.dt_s smaller")
+                    dt *= 0.5
+                    self.stats["fallbacks"].append(
+                        {"at_s": round(t_bad, 6), "reason": bad, "action": f"halved implicit dt to {dt:g} s"})
+                    continue
+                cp = self._checkpoint()
+                since = 0
+                while crossed and self.t >= next_rec - eps:
+                    on_record(self)
+                    next_rec += record_dt
+                    crossed = self.t >= next_rec - eps
+        self.stats["dt_final_s"] = dt
+        self.stats["wall_s"] = time.perf_counter() - t0
+        return self
+
+    def energy_report(self):
+        e = self.sys.energy(self.q, self.v, self.anchors)
+        W = self.ledger["actuator_work_J"]
+        out = {"initial_J": self.E0, "final_J": e["total_J"], "final_parts_J": e,
+               "actuator_work_J": W, "damping_dissipated_J": self.ledger["damping_J"],
+               "friction_dissipated_J": self.ledger["friction_J"]}
+        out["numerical_J"] = self.E0 + W - self.ledger["damping_J"] - self.ledger["friction_J"] - e["total_J"]
+        return out
