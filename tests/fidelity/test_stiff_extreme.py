@@ -293,3 +293,13 @@ def test_plates_do_not_overlap_geometrically_at_full_actuation(contact):
         assert worst <= 1e-3
     else:
         assert worst > 0.5
+
+
+def test_actuator_and_clip_on_one_joint_with_equal_values_are_one_constraint():
+    acts = [{"name": "m", "joint": "H1,1", "value": 0.4}]
+    both = scene(3, acts, constraints=[{"name": "c", "joint": "H1,1", "value": 0.4}])
+    one = scene(3, acts)
+    for model in ("linear", "nonlinear"):
+        a, b = run_model(model, both), run_model(model, one)
+        assert a.converged and a.info["constraints"] == 1
+        assert np.allclose(a.D, b.D, atol=1e-9)

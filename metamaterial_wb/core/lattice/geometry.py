@@ -189,15 +189,20 @@ def fixed_items(scene, geo):
         joints.append(topo.joint_index[name])
         values.append(float(item.value))
         names.append(item.name)
-    joints = np.asarray(joints, dtype=np.int64)
-    values = np.asarray(values, dtype=float)
-    if joints.size and np.unique(joints).size != joints.size:
-        seen = {}
-        for n, jn in zip(names, joints):
-            if jn in seen:
-                raise SceneError(n, f"joint {topo.joint_names[jn]} carries two fixed items ({seen[jn]!r} and {n!r}); "
-                                    f"the lattice models accept one per joint")
-            seen[jn] = n
+    # two items on one joint (an actuator and a clip): the scene only allows that with equal values
+    # (core/scene.check_fixed_conflicts), so they are one constraint here
+    keep, seen = [], {}
+    for k, (jn, v, n) in enumerate(zip(joints, values, names)):
+        if jn in seen:
+            if values[seen[jn]] != v:
+                raise SceneError(n, f"joint {topo.joint_names[jn]} carries {names[seen[jn]]!r} = {values[seen[jn]]} "
+                                    f"and {n!r} = {v}; a joint takes one value")
+            continue
+        seen[jn] = k
+        keep.append(k)
+    joints = np.asarray([joints[k] for k in keep], dtype=np.int64)
+    values = np.asarray([values[k] for k in keep], dtype=float)
+    names = [names[k] for k in keep]
     pA = geo.parity[geo.a[joints]] if joints.size else np.zeros(0)
     psi = -2.0 * pA * values * geo.phi_max(values) / np.cos(geo.tilt[joints]) if joints.size else np.zeros(0)
     return joints, values, psi, names
