@@ -37,8 +37,9 @@ class BeamMesh:
     def ndof(self):
         return 3 * len(self.X0)
 
-    def evaluate(self, q, need_hessian=True):
-        """Energy, gradient (ndof,) and dense tangent (ndof, ndof) at nodal DOFs ``q``."""
+    def evaluate(self, q, need_hessian=True, sparse=False):
+        """Energy, gradient (ndof,) and tangent (ndof, ndof) at nodal DOFs ``q``; the tangent is a
+        dense array, or a scipy CSR matrix with ``sparse=True``."""
         q = np.asarray(q, dtype=float)
         ue = q[self.dofs]                                   # (m, 6)
         dx = self.d0[:, 0] + ue[:, 3] - ue[:, 0]
@@ -76,8 +77,12 @@ class BeamMesh:
               + k[:, None, None] * (b1[:, :, None] * b2[:, None, :] + b2[:, :, None] * b1[:, None, :])
               + (N / ln)[:, None, None] * z[:, :, None] * z[:, None, :]
               + ((M1 + M2) / ln ** 2)[:, None, None] * (r[:, :, None] * z[:, None, :] + z[:, :, None] * r[:, None, :]))
-        K = np.zeros((self.ndof, self.ndof))
         I = np.broadcast_to(self.dofs[:, :, None], Ke.shape)
         J = np.broadcast_to(self.dofs[:, None, :], Ke.shape)
+        if sparse:
+            import scipy.sparse as sp
+            K = sp.csr_matrix((Ke.ravel(), (I.ravel(), J.ravel())), shape=(self.ndof, self.ndof))
+            return energy, g, K
+        K = np.zeros((self.ndof, self.ndof))
         np.add.at(K, (I, J), Ke)
         return energy, g, K

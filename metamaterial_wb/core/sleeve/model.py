@@ -206,6 +206,8 @@ class SleeveModel:
             self.bias[b] = mag / np.sqrt(2)
             self.bias[b + 1] = -mag / np.sqrt(2)
         self.TT = self.T.T.tocsr()
+        # sparse LDL^T-like factorisation (SuperLU, symmetric mode, diagonal pivots) for larger systems
+        self.sparse = nred > 200
         self.nred = nred
         self.phi = np.array([2 * np.pi * k / self.N for (_, k, _) in self.cell_index])
 
@@ -214,10 +216,15 @@ class SleeveModel:
         return self.T @ q + self.P * d
 
     def evaluate(self, q, d, need_hessian=True):
-        e, g, K = self.mesh.evaluate(self.full(q, d), need_hessian)
+        e, g, K = self.mesh.evaluate(self.full(q, d), need_hessian, self.sparse)
         e -= float(self.bias @ q)
         gr = self.TT @ g - self.bias
-        Kr = None if K is None else np.asarray(self.TT @ np.asarray(self.TT @ K).T)
+        if K is None:
+            Kr = None
+        elif self.sparse:
+            Kr = (self.TT @ K @ self.T).tocsc()
+        else:
+            Kr = np.asarray(self.TT @ np.asarray(self.TT @ K).T)
         return e, gr, Kr, float(self.P @ g)
 
     def tilt_of(self, q):
@@ -239,16 +246,14 @@ class SleeveModel:
             it += 1
             e, g, K, F = self.evaluate(q, d)
             gn = np.linalg.norm(g)
-            try:
-                C = sla.cho_factor(K, check_finite=False)
-                pd = True
-            except np.linalg.LinAlgError:
-                pd = False
+            solve, pd = self._factor(K)
             if pd and gn < tol:
                 return q, F, it
             if pd:
-                step = -sla.cho_solve(C, g, check_finite=False)
+                step = -solve(g)
             else:
+                if self.sparse:
+                    K = K.toarray()
                 lam, vec = sla.eigh(K, subset_by_index=[0, 0], check_finite=False)
                 v = vec[:, 0]
                 if gn < tol:
@@ -274,6 +279,33 @@ class SleeveModel:
                 a *= 0.5
             q = q + a * step
         raise _NoConvergence()
+
+    def _factor(self, K):
+        """``(solve, positive_definite)`` for the reduced tangent ``K``."""
+        if not self.sparse:
+            try:
+                C = sla.cho_factor(K, check_finite=False)
+            except np.linalg.LinAlgError:
+                return None, False
+            return (lambda b: sla.cho_solve(C, b, check_finite=False)), True
+        import scipy.sparse.linalg as spla
+        try:
+            lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+        except RuntimeError:                  # exactly singular
+            return None, False
+        if not np.array_equal(lu.perm_r, lu.perm_c):
+            # off-diagonal pivoting happened: inertia unknown from U; decide densely
+            return self._factor_dense(K.toarray())
+        # symmetric permutation P K P^T = L D L^T (Sylvester): positive definite <=> all pivots > 0
+        return lu.solve, bool(np.all(lu.U.diagonal() > 0))
+
+    def _factor_dense(self, K):
+        try:
+            C = sla.cho_factor(K, check_finite=False)
+        except np.linalg.LinAlgError:
+            return None, False
+        return (lambda b: sla.cho_solve(C, b, check_finite=False)), True
 
     def trace(self, d_values, q0=None, tol=None, progress=None):
         """Follow the stable equilibrium path through the prescribed displacements ``d_values``."""

@@ -70,8 +70,8 @@ class SleeveSpec:
         m = data.get("model", {})
         if not isinstance(m, dict):
             raise SceneError("model", "expected an object")
-        self.n_el_cell = int(check_number("model.elements_cell", m.get("elements_cell", 10), 2, 80, ""))
-        self.n_el_ring = int(check_number("model.elements_ring", m.get("elements_ring", 8), 2, 40, ""))
+        self.n_el_cell = int(check_number("model.elements_cell", m.get("elements_cell", 16), 2, 80, ""))
+        self.n_el_ring = int(check_number("model.elements_ring", m.get("elements_ring", 24), 2, 80, ""))
         self.steps = int(check_number("model.steps", m.get("steps", 160), 20, 2000, ""))
         self.plane = m.get("plane", "strain")
         if self.plane not in ("strain", "stress"):
