@@ -6,7 +6,7 @@
 
 #define HAL_N_SERVOS 8
 
-/* Servo back end: the ISR pulse sequencer on D2..D9 (servo_isr.c) or a PCA9685 over I2C
+/* Servo back end: the ISR pulse sequencer on D4..D11 (servo_isr.c) or a PCA9685 over I2C
  * (servo_pca9685.c), chosen at build time with `make BACKEND=isr|pca9685`. */
 void hal_servo_init(void);
 /* pulse widths in microseconds, 0 = no pulses on that channel */

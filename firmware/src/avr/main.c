@@ -1,10 +1,11 @@
 /* servolink v1 firmware for the ATmega328P (Arduino Uno / Nano, 16 MHz).
  * UART0 115200 8N1 (U2X) with an interrupt-driven receive ring; Timer2 1 kHz millisecond tick;
- * the servo back end from hal.h; contact switches for GAIT mode on A0..A5 (to ground = on the
- * ground, internal pull-up = in the air); the hardware watchdog (250 ms) catches firmware hangs.
+ * the servo back end from hal.h; contact switches for GAIT mode on A0..A3, D2, D3 (cells 0..5; closed to
+ * ground = on the ground, internal pull-up = in the air); the hardware watchdog (250 ms) catches firmware hangs.
  * Everything else is the portable core in ../core (compiled and unit-tested on the host too). */
 #include <avr/interrupt.h>
 #include <avr/io.h>
+#include <avr/sleep.h>
 #include <avr/wdt.h>
 #include <util/atomic.h>
 
@@ -68,7 +69,8 @@ static void uart_tx(void *user, const uint8_t *buf, uint8_t len)
 static void read_contacts(void *user, uint8_t *air_mask, uint8_t n)
 {
     (void)user;
-    uint8_t pins = PINC & 0x3F; /* A0..A5: 1 = open switch = in the air */
+    /* cells 0..3 on A0..A3 (PC0..PC3), cells 4, 5 on D2, D3 (PD2, PD3); 1 = open switch = in the air */
+    uint8_t pins = (uint8_t)((PINC & 0x0F) | ((PIND & 0x0C) << 2));
     uint8_t m = (uint8_t)((1u << (n > 6 ? 6 : n)) - 1u);
     air_mask[0] = (uint8_t)(pins & m);
 }
@@ -76,9 +78,9 @@ static void read_contacts(void *user, uint8_t *air_mask, uint8_t n)
 int main(void)
 {
     /* UART0 */
+    UCSR0A = (1 << U2X0); /* before UBRR: simavr derives the baud rate when UBRR is written */
     UBRR0H = (uint8_t)(BAUD_UBRR >> 8);
     UBRR0L = (uint8_t)BAUD_UBRR;
-    UCSR0A = (1 << U2X0);
     UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
     UCSR0C = (1 << UCSZ01) | (1 << UCSZ00);
     /* Timer2: CTC, /64, 250 counts = 1 ms */
@@ -87,10 +89,13 @@ int main(void)
     OCR2A = 249;
     TIMSK2 = (1 << OCIE2A);
     /* contact inputs with pull-ups */
-    DDRC &= (uint8_t)~0x3F;
-    PORTC |= 0x3F;
+    DDRC &= (uint8_t)~0x0F;
+    PORTC |= 0x0F;
+    DDRD &= (uint8_t)~0x0C;
+    PORTD |= 0x0C;
 
     hal_servo_init();
+    set_sleep_mode(SLEEP_MODE_IDLE);
     sei();
     wdt_enable(WDTO_250MS);
     sl_link_init(&link_state, HAL_N_SERVOS, (uint8_t)(hal_servo_caps | SL_CAP_CONTACT_PINS), uart_tx, read_contacts,
@@ -109,5 +114,15 @@ int main(void)
             link_state.out_changed = 0;
             hal_servo_write(link_state.out_us, link_state.n_ch);
         }
+        /* idle until the next interrupt (UART byte, 1 ms tick, servo edge); checked with interrupts off so
+         * that a byte arriving now is not slept over */
+        cli();
+        if (rx_tail == rx_head) {
+            sleep_enable();
+            sei();
+            sleep_cpu();
+            sleep_disable();
+        }
+        sei();
     }
 }

@@ -1,5 +1,6 @@
 /* Interrupt-driven servo pulse sequencer (Timer1 normal mode, compare A interrupt).
- * Channels 0..7 on Arduino pins D2..D7 (PD2..PD7) and D8, D9 (PB0, PB1). One channel is high at a
+ * Channels 0..7 on Arduino pins D4..D11 (PD4..PD7, PB0..PB3). D2/D3 (INT0/INT1) stay free: they read
+ * contact switches, and simavr polls an external-interrupt pin driven as an output on every cycle. One channel is high at a
  * time; a 20 ms frame. Timer1 runs free at 2 MHz (prescaler 8, 0.5 us per tick); OCR1A is advanced
  * by each pulse width so that both edges of a pulse come from compare matches. */
 #include <avr/interrupt.h>
@@ -19,8 +20,8 @@ static volatile int8_t cur = -1;
 static volatile uint16_t frame_start;
 static volatile uint16_t edge; /* timer value of the next edge */
 
-/* bit of each channel in PORTD (channels 0..5) or PORTB (6, 7) */
-static const uint8_t pin_mask[HAL_N_SERVOS] = {1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 0, 1u << 1};
+/* bit of each channel in PORTD (channels 0..3) or PORTB (4..7) */
+static const uint8_t pin_mask[HAL_N_SERVOS] = {1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 0, 1u << 1, 1u << 2, 1u << 3};
 
 /* The compare interrupt fires LEAD_TICKS before each edge, prepares the new port values, then spins on
  * TCNT1 until the edge's exact time and writes PORTD and PORTB back to back (the falling edge of one
@@ -31,12 +32,12 @@ ISR(TIMER1_COMPA_vect)
 {
     uint16_t at = edge;
     int8_t c = (int8_t)(cur + 1);
-    uint8_t d = PORTD & (uint8_t)~0xFCu, b = PORTB & (uint8_t)~0x03u; /* every servo pin low ... */
+    uint8_t d = PORTD & (uint8_t)~0xF0u, b = PORTB & (uint8_t)~0x0Fu; /* every servo pin low ... */
     uint16_t next;
     if (c < HAL_N_SERVOS) {
         uint16_t t = ticks[c];
         if (t) { /* ... except the next channel's */
-            if (c < 6)
+            if (c < 4)
                 d |= pin_mask[c];
             else
                 b |= pin_mask[c];
@@ -61,10 +62,10 @@ ISR(TIMER1_COMPA_vect)
 
 void hal_servo_init(void)
 {
-    DDRD |= 0xFC; /* PD2..PD7 */
-    DDRB |= 0x03; /* PB0, PB1 */
-    PORTD &= (uint8_t)~0xFC;
-    PORTB &= (uint8_t)~0x03;
+    DDRD |= 0xF0; /* PD4..PD7 = D4..D7 */
+    DDRB |= 0x0F; /* PB0..PB3 = D8..D11 */
+    PORTD &= (uint8_t)~0xF0;
+    PORTB &= (uint8_t)~0x0F;
     TCCR1A = 0;
     TCCR1B = (1 << CS11); /* normal mode, /8 */
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)

@@ -139,19 +139,18 @@ static void do_set_angles(sl_link_t *l, const sl_packet_t *rq)
         uint8_t ch = (uint8_t)(first + k), c = 0;
         const sl_chan_cfg_t *cfg = &l->cfg[ch];
         int16_t a = sl_limit_cdeg(cfg, v[k], &c);
-        sl_cdeg_to_us(cfg, a, &c);
-        if (c)
+        if (c || sl_pulse_clamps(cfg, a))
             mask |= (uint16_t)(1u << ch);
         l->target[ch] = a;
         l->raw_us[ch] = 0;
         if (cfg->max_slew_dps == 0)
             l->cur[ch] = a;
     }
-    update_outputs(l);
     uint8_t out[5];
     sl_put_u16(out + 2, mask);
     out[4] = count;
-    ack(l, rq, out, 5);
+    ack(l, rq, out, 5); /* accepted and committed: answer first, then map the pulses */
+    update_outputs(l);
 }
 
 static void do_set_pulses(sl_link_t *l, const sl_packet_t *rq)

@@ -21,7 +21,7 @@
 #define SL_MAX_RATE_HZ 100
 #define SL_PARK_DEFAULT_DPS 90 /* park speed when a channel has no slew limit */
 #define SL_SLEW_PERIOD_MS 10
-#define SL_GAIT_PIN_CELLS 6    /* contact switches on A0..A5 */
+#define SL_GAIT_PIN_CELLS 6    /* contact switches on A0..A3, D2, D3 */
 
 /* link states */
 #define SL_ST_DISARMED 0

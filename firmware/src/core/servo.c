@@ -66,6 +66,12 @@ uint16_t sl_cdeg_to_us(const sl_chan_cfg_t *c, int16_t cdeg, uint8_t *clamped)
     return (uint16_t)us;
 }
 
+uint8_t sl_pulse_clamps(const sl_chan_cfg_t *c, int16_t cdeg)
+{
+    int32_t a = (c->invert ? -(int32_t)cdeg : (int32_t)cdeg) + c->trim_cdeg;
+    return (uint8_t)(a > SL_CDEG_MAX || a < -SL_CDEG_MAX);
+}
+
 int16_t sl_slew(int16_t cur, int16_t target, uint16_t max_slew_dps, uint16_t dt_ms)
 {
     if (max_slew_dps == 0)

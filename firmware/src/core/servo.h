@@ -33,6 +33,10 @@ int16_t sl_limit_cdeg(const sl_chan_cfg_t *c, int16_t cdeg, uint8_t *clamped);
  * clamped to [min_us, max_us] (sets *clamped). */
 uint16_t sl_cdeg_to_us(const sl_chan_cfg_t *c, int16_t cdeg, uint8_t *clamped);
 
+/* 1 if the pulse of this (limited) angle leaves [min_us, max_us], i.e. |(invert ? -a : a) + trim| > 90 deg:
+ * what sl_cdeg_to_us would clamp, without its division. */
+uint8_t sl_pulse_clamps(const sl_chan_cfg_t *c, int16_t cdeg);
+
 /* Move cur towards target by at most max_slew_dps * dt_ms (centidegrees); unlimited if 0. */
 int16_t sl_slew(int16_t cur, int16_t target, uint16_t max_slew_dps, uint16_t dt_ms);
 

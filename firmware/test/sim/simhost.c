@@ -5,12 +5,13 @@
  * Prints "PTY /dev/pts/N" on stdout once the pty is ready; pyserial opens it like a real board.
  * --pulse-log writes "<sim_seconds> <channel> <width_us>" whenever a servo pin's pulse width changes by more
  * than 0.3 us, and "<sim_seconds> <channel> off" when a pin stops pulsing (no rising edge for 60 ms).
- * Channels 0..7 are Arduino D2..D9 (PD2..PD7, PB0, PB1), the pins of the firmware's ISR servo driver.
+ * Channels 0..7 are Arduino D4..D11 (PD4..PD7, PB0..PB3), the pins of the firmware's ISR servo driver.
  * --realtime paces simulated time to the wall clock (needed for any timing-related test). */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <poll.h>
 #include <pty.h>
 #include <signal.h>
 #include <stdio.h>
@@ -46,6 +47,14 @@ static void on_signal(int sig)
 {
     (void)sig;
     stop_requested = 1;
+}
+
+/* The AVR sleeps between interrupts; simavr then skips to the next event. Its default "raw" sleep callback
+ * would also usleep() for that long; pacing is done here instead (--realtime), so do nothing. */
+static void no_sleep(avr_t *a, avr_cycle_count_t how_long)
+{
+    (void)a;
+    (void)how_long;
 }
 
 static double sim_seconds(void) { return (double)avr->cycle / (double)avr->frequency; }
@@ -134,9 +143,15 @@ static avr_cycle_count_t poll_timer(struct avr_t *a, avr_cycle_count_t when, voi
         }
     }
     if (realtime) {
+        /* wait until the wall clock catches up, but wake at once when the host writes (lower latency) */
         double ahead = sim_seconds() - wall_seconds();
-        if (ahead > 0.0005)
+        if (ahead > 0.0005 && in_pos >= in_len) {
+            struct pollfd pfd = {pty_master, POLLIN, 0};
+            int ms = (int)(ahead * 1000.0);
+            poll(&pfd, 1, ms > 0 ? ms : 1);
+        } else if (ahead > 0.0005) {
             usleep((useconds_t)(ahead * 1e6));
+        }
     }
     return when + a->frequency / 10000;
 }
@@ -191,6 +206,7 @@ int main(int argc, char **argv)
     avr_load_firmware(avr, &fw);
     avr->frequency = (uint32_t)freq;
     avr->log = 1;
+    avr->sleep = no_sleep;
 
     if (log_path) {
         pulse_log = fopen(log_path, "w");
@@ -223,14 +239,15 @@ int main(int argc, char **argv)
 
     uint32_t flags = 0;
     avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
-    flags &= ~(uint32_t)AVR_UART_FLAG_STDIO;
+    /* no console printing; no usleep() when the firmware polls UCSR0A (its transmitter waits on UDRE) */
+    flags &= ~(uint32_t)(AVR_UART_FLAG_STDIO | AVR_UART_FLAG_POLL_SLEEP);
     avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT), uart_out_hook, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON), xon_hook, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XOFF), xoff_hook, NULL);
     for (int ch = 0; ch < N_CH; ch++) {
-        char port = ch < 6 ? 'D' : 'B';
-        int pin = ch < 6 ? ch + 2 : ch - 6;
+        char port = ch < 4 ? 'D' : 'B';
+        int pin = ch < 4 ? ch + 4 : ch - 4;
         avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), IOPORT_IRQ_PIN0 + pin), pin_hook,
                                 (void *)(intptr_t)ch);
     }
