@@ -113,13 +113,12 @@ def _all_joints_actuated(n, value):
     return grid(n, acts)
 
 
-@pytest.mark.parametrize("value", [0.5, 1.0, -0.1])
+@pytest.mark.parametrize("value", [0.5, 1.0, -0.1, -0.3, -0.6])
 def test_uniform_mechanism_matches_rotating_squares_closed_form(value):
     """Every joint actuated to the same D (redundant but consistent constraints around every cell): the
-    rotating-squares mechanism with every hinge in pure bending. Pitch = closed form of core/kinematics,
-    energy = sum EI (2 phi)^2 / (2 L). (The corotational element measures the hinge in plate A's frame,
-    an O(theta^2) approximation of a bent beam: at -0.3 (hinges bent by 27 deg) the pitch is 0.24 % off,
-    docs/fidelity-models.md; here the hinges turn by at most 9 deg.)"""
+    rotating-squares mechanism with every hinge in pure bending by 2 phi. Closed forms: energy
+    sum EI (2 phi)^2 / (2 L); pitch = arc chord lh sin(phi)/phi + s (cos phi -+ sin phi) (core/kinematics'
+    pitch with the straight hinge link replaced by the bent hinge's chord). Up to 54-degree hinge bends."""
     from metamaterial_wb.core import kinematics
 
     sc = _all_joints_actuated(3, value)
@@ -128,14 +127,18 @@ def test_uniform_mechanism_matches_rotating_squares_closed_form(value):
     assert np.allclose(res.D, value, atol=1e-6)
     geo = LatticeGeometry(sc)
     phi = abs(value) * (geo.closing_rad if value > 0 else geo.opening_rad)
+    lh = sc.hinge["length_mm"]
     I3 = sc.hinge["thickness_mm"] * sc.hinge["width_mm"] ** 3 / 12
-    E_closed = geo.m * geo.E * I3 * (2 * phi) ** 2 / (2 * sc.hinge["length_mm"])
-    assert res.info["elastic_energy_Nmm"] == pytest.approx(E_closed, rel=2e-3)
-    pos = res.positions_mm
+    E_closed = geo.m * geo.E * I3 * (2 * phi) ** 2 / (2 * lh)
+    assert res.info["elastic_energy_Nmm"] == pytest.approx(E_closed, rel=1e-6)
+    s = geo.plate_side_mm
+    pitch_closed = lh * math.sin(phi) / phi + s * (math.cos(phi) - math.copysign(1, value) * math.sin(phi))
     topo = sc.topology
     a, b = topo.node_index[(1, 0)], topo.node_index[(1, 3)]
-    pitch = np.linalg.norm(pos[b] - pos[a]) / 3
-    assert pitch == pytest.approx(kinematics.uniform_pitch_mm(sc, value), rel=3e-4)
+    pitch = np.linalg.norm(res.positions_mm[b] - res.positions_mm[a]) / 3
+    assert pitch == pytest.approx(pitch_closed, rel=1e-7)
+    # core/kinematics' straight-link closed form differs only by the hinge's arc: lh (1 - sin(phi)/phi)
+    assert abs(pitch - kinematics.uniform_pitch_mm(sc, value)) <= lh * (1 - math.sin(phi) / phi) + 1e-9
 
 
 def test_linear_is_the_small_amplitude_limit_of_nonlinear():

@@ -155,6 +155,7 @@ class LatticeGeometry:
         self.E, self.nu = hinge_material(scene)
         self.K = beam_tip_stiffness(L, w, t, self.E, self.nu)
         self.rest = lh                                  # rest chord along e1 (the gap between plates)
+        self.arc_correction = True                      # exact pure bending at large hinge rotations
         # rotation limits (same rule as core/kinematics.rotation_limits, per scene)
         self.contact_rad = math.asin(min(1.0, lh / (2.0 * s)))   # plate contact (closing sense)
         self.closing_rad, self.opening_rad = scene_rotation_limits(scene, self.contact_rad)

@@ -64,10 +64,78 @@ def inv_left_jacobian(T):
     return I - 0.5 * S + c[:, None, None] * (S @ S)
 
 
+def _cross_e1(T):
+    """T x e1 for (m, 3) arrays."""
+    out = np.zeros_like(T)
+    out[:, 1] = T[:, 2]
+    out[:, 2] = -T[:, 1]
+    return out
+
+
+def _arc_coefficients(t2):
+    """A = (1 - cos t)/t^2, B = (t - sin t)/t^3 and their derivatives with respect to t^2 (series near 0)."""
+    small = t2 < 1e-2          # Taylor series below 0.1 rad (truncation < 1e-14), closed forms above
+    t2s = np.where(small, 1.0, t2)
+    th = np.sqrt(t2s)
+    c, sn = np.cos(th), np.sin(th)
+    t = t2
+    A = np.where(small, 0.5 - t / 24.0 + t * t / 720.0 - t ** 3 / 40320.0, (1.0 - c) / t2s)
+    B = np.where(small, 1.0 / 6.0 - t / 120.0 + t * t / 5040.0 - t ** 3 / 362880.0, (th - sn) / (t2s * th))
+    dA = np.where(small, -1.0 / 24.0 + t / 360.0 - t * t / 13440.0, (th * sn - 2.0 + 2.0 * c) / (2.0 * t2s * t2s))
+    dB = np.where(small, -1.0 / 120.0 + t / 2520.0 - t * t / 120960.0,
+                  ((1.0 - c) * th - 3.0 * (th - sn)) / (2.0 * t2s * t2s * th))
+    return A, B, dA, dB
+
+
+def arc_offset(T, rest):
+    """Offset of the far end of a hinge bent and twisted uniformly by the rotation vector ``T``, relative
+    to where the linear beam law puts it: ``rest (V(T) e1 - e1) - rest/2 (T x e1)``, with ``V`` the left
+    Jacobian of SO(3) (``rest V(T) e1`` is the chord of a constant-curvature arc). O(|T|^2)."""
+    return _arc(T, rest, derivative=False)[0]
+
+
+def _arc(T, rest, derivative=True):
+    t2 = np.sum(T * T, axis=1)
+    A, B, dA, dB = _arc_coefficients(t2)
+    x = _cross_e1(T)                                   # T x e1
+    y = T * T[:, 0:1]                                  # T x (T x e1) = T (T.e1) - e1 (T.T)
+    y[:, 0] -= t2
+    c = rest * ((A - 0.5)[:, None] * x + B[:, None] * y)
+    if not derivative:
+        return c, None
+    m = T.shape[0]
+    E1 = np.zeros((3, 3))                              # d(T x e1)/dT
+    E1[1, 2] = 1.0
+    E1[2, 1] = -1.0
+    dy = T[:, :, None] * np.array([1.0, 0.0, 0.0])[None, None, :]     # T e1^T
+    dy = dy + T[:, 0][:, None, None] * np.eye(3)[None]              # + (T.e1) I
+    dy[:, 0, :] -= 2.0 * T                                            # - 2 e1 T^T
+    dc = ((A - 0.5)[:, None, None] * E1[None] + 2.0 * dA[:, None, None] * x[:, :, None] * T[:, None, :]
+          + B[:, None, None] * dy + 2.0 * dB[:, None, None] * y[:, :, None] * T[:, None, :])
+    return c, rest * dc
+
+
+def arc_offset_derivatives(T, rest, second=True):
+    """``(c, dc/dT (m,3,3), d2c/dT2 (m,3,3,3))``: first derivatives in closed form, second by central
+    differences of the first (only used in the tangent)."""
+    c, dc = _arc(T, rest)
+    if not second:
+        return c, dc, None
+    d2 = np.empty(T.shape + (3, 3))
+    hs = 1e-6
+    for l in range(3):
+        Tp = T.copy()
+        Tp[:, l] += hs
+        Tm = T.copy()
+        Tm[:, l] -= hs
+        d2[:, :, :, l] = (_arc(Tp, rest)[1] - _arc(Tm, rest)[1]) / (2 * hs)
+    return c, dc, 0.5 * (d2 + np.swapaxes(d2, 2, 3))
+
+
 class ElementState:
     """Strains, Jacobians and (optionally) element tangents of every hinge at one state."""
 
-    def __init__(self, geo, X, R, tangent=True, Kmat=None):
+    def __init__(self, geo, X, R, tangent=True, Kmat=None, arc=None):
         a, b = geo.a, geo.b
         K = geo.K if Kmat is None else Kmat
         RA = R[a]
@@ -93,6 +161,12 @@ class ElementState:
         JL = inv_left_jacobian(Th) @ Wt
         J[:, 3:6, 3:6] = -JL
         J[:, 3:6, 9:12] = JL
+        arc = getattr(geo, "arc_correction", False) if arc is None else arc
+        if arc:
+            # measure u from the chord of a uniformly bent/twisted hinge (exact pure bending, see arc_offset)
+            c, dc, d2c = arc_offset_derivatives(Th, geo.rest, second=tangent)
+            eps[:, 0:3] -= c
+            J[:, 0:3, :] -= dc @ J[:, 3:6, :]
         s = (K @ eps[:, :, None])[:, :, 0]
         self.eps, self.J, self.s, self.W = eps, J, s, W
         self.energy = 0.5 * np.einsum("mi,mi->m", eps, s)
@@ -115,6 +189,10 @@ class ElementState:
             X_ = -rhoB[:, :, None] * v[:, None, :] + vr * I
             H[:, 3:6, 9:12] += X_
             H[:, 9:12, 3:6] += np.transpose(X_, (0, 2, 1))
+            if arc:
+                JT = J[:, 3:6, :]
+                Hc = np.einsum("mi,mikl->mkl", s[:, 0:3], d2c)
+                H -= np.transpose(JT, (0, 2, 1)) @ Hc @ JT
             self.H = H
 
 

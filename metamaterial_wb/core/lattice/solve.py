@@ -120,7 +120,8 @@ class LinearLattice:
         geo = self.geo
         self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
         self.dofmap, self.na = _dofmap(geo, geo.planar)
-        st = ElementState(geo, geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy(), tangent=True)
+        # at the flat sheet the arc correction and its first derivative vanish: leave it out
+        st = ElementState(geo, geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy(), tangent=True, arc=False)
         self.He = st.H
         self.J5 = st.J[:, 5, :].copy()
         self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
