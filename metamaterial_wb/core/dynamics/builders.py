@@ -48,7 +48,7 @@ BELT_DEFAULTS = {
     "width_mm": 30.0,
     "thickness_mm": 6.0,
     "density_kg_m3": 1070.0,       # silicone
-    "modulus_kpa": 400.0,
+    "modulus_kpa": 1500.0,
     "extra_mass_g": 29.0,          # electronics / valve per cell (seed: 0.64 lb for 8 cells)
     "segments_per_cell": None,     # default 4 (<= 64 cells) or 1
     "pressure_kpa": 31.0,          # 4.5 psi

@@ -78,9 +78,19 @@ class Simulator:
     def _apply_actuation(self, t):
         if self.actuate is None:
             return
-        before = self.sys.elastic_energy(self.q)
+        s = self.sys
+        th_old, ra_old, rb_old = s.theta0.copy(), s.ra.copy(), s.rb.copy()
         self.actuate(t, self)
-        self.ledger["actuator_work_J"] += self.sys.elastic_energy(self.q) - before
+        # work done by the actuators = change of elastic energy at fixed positions
+        rel = self.q[s.hb, 2] - self.q[s.ha, 2]
+        W = 0.5 * float(np.sum(s.kr * ((rel - s.theta0) ** 2 - (rel - th_old) ** 2)))
+        if not (np.array_equal(ra_old, s.ra) and np.array_equal(rb_old, s.rb)):
+            from .system import _rot
+            qa, qb = self.q[s.ha], self.q[s.hb]
+            d_new = qb[:, :2] + _rot(qb[:, 2], s.rb) - qa[:, :2] - _rot(qa[:, 2], s.ra)
+            d_old = qb[:, :2] + _rot(qb[:, 2], rb_old) - qa[:, :2] - _rot(qa[:, 2], ra_old)
+            W += 0.5 * float(np.sum(s.kp * (np.sum(d_new * d_new, 1) - np.sum(d_old * d_old, 1))))
+        self.ledger["actuator_work_J"] += W
 
     def _damping_power(self, v):
         s = self.sys
@@ -111,11 +121,10 @@ class Simulator:
             cap = s.mu * fn
             slip = inside & (np.abs(spring) > cap)
             if np.any(slip):
-                old = p[:, 0] - self.anchors
                 anc = np.where(slip, p[:, 0] + np.sign(spring) * cap / np.where(s.kt > 0, s.kt, 1.0),
                                self.anchors)
-                newd = p[:, 0] - anc
-                self.ledger["friction_J"] += float(0.5 * np.sum(s.kt * (old * old - newd * newd)))
+                # work of the (capped) friction force over the slip of the anchor
+                self.ledger["friction_J"] += float(np.sum(np.where(slip, cap * np.abs(anc - self.anchors), 0.0)))
                 self.anchors = anc
             pen = float(np.max(-p[:, 1])) * 1e3
             if pen > self.stats["max_penetration_mm"]:
@@ -143,43 +152,86 @@ class Simulator:
         return spla.spsolve(A.tocsc(), rhs, permc_spec="MMD_AT_PLUS_A")
 
     newton_max = 4
+    jacobian_max_age = 8      # steps a factored Jacobian is reused (same step, same contact/stick set)
+
+    def _factor(self, q, v, st, h, dense):
+        """Solver for the Newton matrix A = M - h dQ/dv - h^2 dQ/dq. The factorisation is reused while
+        the step size and the set of touching / sticking contacts stay the same, for at most
+        ``jacobian_max_age`` steps (a lagged Jacobian: the residual is always exact, so this changes
+        only the convergence rate, never the equations being solved)."""
+        s = self.sys
+        key_in = st["pushing"] if st is not None else None
+        key_st = st["stick"] if st is not None else None
+        f = getattr(self, "_fact", None)
+        if (f is not None and f["h"] == h and f["age"] < self.jacobian_max_age
+                and (key_in is None or (np.array_equal(f["inside"], key_in)
+                                        and np.array_equal(f["stick"], key_st)))):
+            f["uses"] += 1
+            return f["solve"]
+        A, _ = s.system_matrix(q, v, self.anchors, st, h, dense=dense)
+        self.stats["jacobians"] = self.stats.get("jacobians", 0) + 1
+        if dense:
+            lu = sla.lu_factor(A, check_finite=False)
+            solve = lambda r: sla.lu_solve(lu, r, check_finite=False)
+        else:
+            lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A")
+            solve = lu.solve
+        self._fact = {"h": h, "inside": key_in, "stick": key_st, "age": 0, "uses": 0, "solve": solve,
+                      "step": self.stats["steps"]}
+        return solve
+    bdf2 = True
 
     def step_implicit(self, dt):
-        """Backward Euler: one linearised step, then Newton iterations while the set of touching
-        contact points at the end of the step differs from the one the Jacobian was built with."""
+        """BDF2 (backward Euler on the first step, after a restart or a change of dt), solved by
+        Newton's method with the analytic sparse Jacobian: one iteration per step, more while the
+        set of touching contact points changes during the step (at most ``newton_max``)::
+
+            q1 = qh + h v1,  M (v1 - vh) = h Q(q1, v1)
+            BE:   h = dt,      qh = q_n,                  vh = v_n
+            BDF2: h = 2/3 dt,  qh = (4 q_n - q_{n-1})/3,  vh = (4 v_n - v_{n-1})/3
+        """
         s = self.sys
         self._apply_actuation(self.t + dt)
-        Q, st = s.forces(self.q, self.v, self.anchors)
-        self.stats["force_evaluations"] += 1
+        prev = getattr(self, "_prev", None)
+        if self.bdf2 and prev is not None and abs(prev[2] - dt) <= 1e-12 * dt:
+            h = 2.0 * dt / 3.0
+            qh = (4.0 * self.q - prev[0]) / 3.0
+            vh = ((4.0 * self.v - prev[1]) / 3.0).ravel()
+            v1 = (2.0 * self.v - prev[1]).ravel()          # predictor: linear extrapolation
+            self.stats["bdf2_steps"] = self.stats.get("bdf2_steps", 0) + 1
+        else:
+            h = dt
+            qh = self.q
+            vh = self.v.ravel()
+            v1 = vh.copy()
         dense = 3 * s.n <= 300
-        A, K = s.system_matrix(self.q, self.v, self.anchors, st, dt, dense=dense)
-        v0 = self.v.ravel()
-        rhs = dt * (Q.ravel() + dt * (K @ v0))
-        rhs[~s.free_dof] = 0.0
-        v1 = v0 + self._solve(A, rhs, dense)
-        damp_power = s.last_damping_power
-        active = st["pushing"] if st is not None else None
-        if active is not None:
-            Mf = s.M.ravel()
-            for _ in range(self.newton_max):
-                q1 = self.q + dt * v1.reshape(-1, 3)
-                p1 = s.contact_points(q1)
-                if np.array_equal(p1[:, 1] < 0, active):
+        Mf = s.M.ravel()
+        active = None
+        damp_power = None
+        has_contacts = s.cb.size > 0
+        for it in range(self.newton_max + 1):
+            V1 = v1.reshape(-1, 3)
+            q1 = qh + h * V1
+            if it > 0:
+                if not has_contacts or np.array_equal(s.contact_points(q1)[:, 1] < 0, active):
                     break
-                V1 = v1.reshape(-1, 3)
-                Q1, st1 = s.forces(q1, V1, self.anchors)
-                self.stats["force_evaluations"] += 1
                 self.stats["newton_iterations"] = self.stats.get("newton_iterations", 0) + 1
-                R = Mf * (v1 - v0) - dt * Q1.ravel()
-                R[~s.free_dof] = 0.0
-                A1, _ = s.system_matrix(q1, V1, self.anchors, st1, dt, dense=dense)
-                v1 = v1 - self._solve(A1, R, dense)
-                active = st1["inside"]
+            Q1, st1 = s.forces(q1, V1, self.anchors)
+            self.stats["force_evaluations"] += 1
+            if damp_power is None:
+                damp_power = s.last_damping_power
+            R = Mf * (v1 - vh) - h * Q1.ravel()
+            R[~s.free_dof] = 0.0
+            v1 = v1 - self._factor(q1, V1, st1, h, dense)(R)
+            active = st1["inside"] if has_contacts else None
         v_new = v1.reshape(-1, 3)
         v_new[s.fixed] = 0.0
         self.ledger["damping_J"] += dt * damp_power
+        self._prev = (self.q, self.v, dt)
+        if getattr(self, "_fact", None) is not None:
+            self._fact["age"] += 1
         self.v = v_new
-        self.q = self.q + dt * self.v
+        self.q = qh + h * v_new
         self.t += dt
         self._update_anchors()
 
@@ -214,6 +266,8 @@ class Simulator:
         self.sys.rb[:] = rb
         if ast is not None:
             self.actuate.restore(ast)
+        self._prev = None
+        self._fact = None
 
     # -- driver ------------------------------------------------------------------------------
     def choose(self, method, dt, t_end):
