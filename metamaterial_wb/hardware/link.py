@@ -34,7 +34,8 @@ class Link:
         self.name = name or getattr(ser, "port", "") or "serial"
         self.reader = P.FrameReader()
         self._seq = 0
-        self._lock = threading.RLock()
+        self._lock = threading.RLock()       # writers
+        self._read_lock = threading.Lock()   # readers
         self.pending = {}   # seq -> Reply received but not yet claimed
         self.events = []    # (time, Reply) for EVENT packets and unsolicited HELLO_ACKs
         self.on_event = None
@@ -116,20 +117,26 @@ class Link:
         end = time.perf_counter() + timeout
         got = []
         while True:
-            n = self.ser.in_waiting
-            if n:
-                data = self.ser.read(n)
-            elif timeout > 0:
-                data = self.ser.read(1)  # blocks for at most READ_TIMEOUT_S
-            else:
-                data = b""
-            if data:
-                now = time.perf_counter()
-                for pkt in self.reader.feed(data):
-                    before = set(self.pending)
-                    self._handle(pkt, now)
-                    got += [s for s in self.pending if s not in before]
-                self.rx_errors = len(self.reader.errors)
+            # one reader at a time (the streaming thread and e.g. a GUI ping); replies land in self.pending,
+            # where every thread looks for its own seq
+            if self._read_lock.acquire(timeout=max(0.0, min(end - time.perf_counter(), 0.01))):
+                try:
+                    n = self.ser.in_waiting
+                    if n:
+                        data = self.ser.read(n)
+                    elif timeout > 0:
+                        data = self.ser.read(1)  # blocks for at most READ_TIMEOUT_S
+                    else:
+                        data = b""
+                    if data:
+                        now = time.perf_counter()
+                        for pkt in self.reader.feed(data):
+                            before = set(self.pending)
+                            self._handle(pkt, now)
+                            got += [s for s in self.pending if s not in before]
+                        self.rx_errors = len(self.reader.errors)
+                finally:
+                    self._read_lock.release()
                 if got:
                     return got
             if time.perf_counter() >= end:

@@ -33,6 +33,7 @@ class StreamStats:
     naked: int = 0
     lost: int = 0             # sent, never answered
     skipped: int = 0          # deadlines missed by more than one period (not sent)
+    resets: int = 0           # board reboots seen (re-configured and re-armed)
     clamped_frames: int = 0   # ACKs whose clamp mask was not zero
     nak_reasons: dict = field(default_factory=dict)
     rtt_ms: list = field(default_factory=list)
@@ -46,7 +47,8 @@ class StreamStats:
         def pct(q):
             return r[min(len(r) - 1, int(q * len(r)))] if r else float("nan")
         return {"frames": self.frames, "acked": self.acked, "naked": self.naked, "lost": self.lost,
-                "skipped": self.skipped, "clamped_frames": self.clamped_frames, "nak_reasons": self.nak_reasons,
+                "skipped": self.skipped, "resets": self.resets, "clamped_frames": self.clamped_frames,
+                "nak_reasons": self.nak_reasons,
                 "duration_s": round(self.duration_s, 4), "last_t": self.last_t,
                 "rate_hz": round(self.frames / self.duration_s, 3) if self.duration_s > 0 else 0.0,
                 "rtt_ms_median": round(statistics.median(r), 3) if r else None,
@@ -82,10 +84,13 @@ class Streamer:
         self._thread = None
         self._stop = threading.Event()
         self._outstanding = {}  # seq -> send time
+        self._link_timing = (500, 500, 5000)
+        self._events_seen = 0
 
     # ------------------------------------------------------------------------------------------
     def prepare(self, watchdog_ms=500, park_after_ms=500, release_after_ms=5000, handshake=True):
         """Handshake (if not done), send the channel configuration and the watchdog timing, ARM."""
+        self._link_timing = (watchdog_ms, park_after_ms, release_after_ms)
         if handshake and self.link.info is None:
             self.link.handshake(min_channels=max(c.channel for c in self.channels) + 1)
         self.link.configure(self.channels)
@@ -112,9 +117,8 @@ class Streamer:
         return out
 
     def _collect(self, timeout):
-        for seq in self.link.poll(timeout):
-            if seq not in self._outstanding:
-                continue
+        self.link.poll(timeout)
+        for seq in [q for q in self._outstanding if q in self.link.pending]:  # also replies read by another thread
             r = self.link.pending.pop(seq)
             sent = self._outstanding.pop(seq)
             if r.kind == "ACK":
@@ -133,11 +137,25 @@ class Streamer:
         self.stats = StreamStats()
         self._outstanding = {}
         n_events = len(self.link.events)
+        self._events_seen = 0
         start = time.perf_counter()
         deadline = start
         k = 0
         try:
+            resets = self.link.resets_seen
             while not self._stop.is_set():
+                if self.link.resets_seen != resets:  # the board rebooted (brown-out, cable): set it up again
+                    resets = self.link.resets_seen
+                    self.stats.resets += 1
+                    self._outstanding.clear()
+                    self.prepare(*self._link_timing, handshake=False)
+                for _, e in self.link.events[n_events + self._events_seen:]:
+                    self._events_seen += 1
+                    if e.kind == "EVENT":
+                        raise LinkError(f"{self.link.name}: the firmware's link watchdog tripped "
+                                        f"({P.EVENT_NAMES.get(e.code, hex(e.code))} at {e.time_ms} ms): the stream "
+                                        f"stalled for longer than its watchdog; the servos hold, then park; "
+                                        f"connect again to re-ARM")
                 t = t0 + k * period
                 if duration_s is not None and k * period >= duration_s - 1e-9:
                     break

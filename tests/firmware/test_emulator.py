@@ -251,3 +251,26 @@ def test_cli_streams_the_fish_into_the_emulator(sim, tmp_path):
         got = settle_pulses(sim, link)
     assert abs(got[0] - (1500 + head / 90 * 1000)) <= TOL_US
     assert abs(got[1] - (1500 + tail / 90 * 1000)) <= TOL_US
+
+
+def test_panel_style_streaming_follows_the_shown_values(sim):
+    """What the Animate panel's Connect does: a streamer thread sends whatever the GUI shows right now."""
+    from metamaterial_wb.core.scene import Scene
+    scene = Scene.load(os.path.join(REPO, "examples", "fish.json"))
+    shown = {"head": 0.0, "tail": 0.0}
+    with Link.open(sim.port) as link:
+        st = Streamer(link, channel_map(scene))
+        st.prepare()
+        st.start(lambda _t: dict(shown))
+        try:
+            for head, tail in ((0.5, -0.5), (-0.25, 0.9), (0.0, 0.1)):
+                shown.update(head=head, tail=tail)  # the GUI thread moves the slider / timeline
+                time.sleep(0.1)
+                got = settle_pulses(sim, link)
+                assert abs(got[0] - (1500 + head * 1000)) <= TOL_US
+                assert abs(got[1] - (1500 + tail * 1000)) <= TOL_US
+            assert st.running
+        finally:
+            stats = st.stop(disarm=True)
+        assert not st.running and stats.lost == 0 and stats.naked == 0 and stats.acked == stats.frames > 10
+        assert all(w is None for w in settle_pulses(sim, link).values())  # disarmed: servos limp

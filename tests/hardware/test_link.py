@@ -18,7 +18,8 @@ class FakeDevice(threading.Thread):
     """Answers servolink requests on the master side of a pty. ``drop``: {type: how many to ignore};
     ``nak``: {type: (code, detail)}; ``event_before_ack``: send an EVENT in the same write as each ACK."""
 
-    def __init__(self, drop=None, nak=None, event_before_ack=False, major=P.PROTO_MAJOR, n_channels=8):
+    def __init__(self, drop=None, nak=None, event_before_ack=False, major=P.PROTO_MAJOR, n_channels=8,
+                 after_angles=None):
         super().__init__(daemon=True)
         self.master, self.slave = pty.openpty()
         tty.setraw(self.slave)
@@ -28,6 +29,7 @@ class FakeDevice(threading.Thread):
         self.event_before_ack = event_before_ack
         self.major = major
         self.n_channels = n_channels
+        self.after_angles = after_angles  # (n, bytes): written once after the n-th SET_ANGLES reply
         self.received = []
         self.stop_flag = False
         os.write(self.master, P.build_frame(P.HELLO_ACK, 0, self.hello()))  # boot banner, already waiting
@@ -60,6 +62,9 @@ class FakeDevice(threading.Thread):
                     if self.event_before_ack:
                         out = P.build_frame(P.EVENT, 0, bytes([P.EV_HOLD, P.ST_HOLD])) + out
                 os.write(self.master, out)
+                if self.after_angles and pkt.type == P.SET_ANGLES:
+                    if sum(p.type == P.SET_ANGLES for p in self.received) == self.after_angles[0]:
+                        os.write(self.master, self.after_angles[1])
 
     def close(self):
         self.stop_flag = True
@@ -158,3 +163,35 @@ def test_dry_run_over_loop_decodes_its_own_frames():
 def test_open_bad_port_is_a_clean_error():
     with pytest.raises(LinkError, match="cannot open"):
         Link.open("/dev/does-not-exist-servolink")
+
+
+def _streamer(link):
+    from metamaterial_wb.hardware import Streamer
+    from metamaterial_wb.hardware.mapping import ChannelConfig
+    return Streamer(link, [ChannelConfig("a", 0), ChannelConfig("b", 1)])
+
+
+def test_streamer_reconfigures_after_a_board_reset(device):
+    dev = device()
+    dev.after_angles = (10, P.build_frame(P.HELLO_ACK, 0, dev.hello()))  # the board reboots mid-stream
+    with Link.open(dev.port) as link:
+        st = _streamer(link)
+        st.prepare()
+        stats = st.run(lambda t: {"a": 0.1, "b": -0.1}, 0.5)
+    assert stats.resets == 1 and stats.lost == 0 and stats.acked == stats.frames == 25
+    types = [p.type for p in dev.received]
+    assert types.count(P.CONFIG_CH) == 4 and types.count(P.CONFIG_LINK) == 2 and types.count(P.ARM) == 2
+    # the second ARM comes after the 10th frame, before the 11th
+    angles_before_rearm = types[:[i for i, t in enumerate(types) if t == P.ARM][1]].count(P.SET_ANGLES)
+    assert angles_before_rearm == 10
+
+
+def test_streamer_stops_with_a_message_when_the_watchdog_trips(device):
+    dev = device()
+    dev.after_angles = (5, P.build_frame(P.EVENT, 0, bytes([P.EV_HOLD, P.ST_HOLD, 0xE8, 0x03, 0, 0])))
+    with Link.open(dev.port) as link:
+        st = _streamer(link)
+        st.prepare()
+        with pytest.raises(LinkError, match=r"watchdog tripped \(HOLD at 1000 ms\)"):
+            st.run(lambda t: {"a": 0.0, "b": 0.0}, 1.0)
+        assert st.stats.frames < 10
