@@ -251,34 +251,51 @@ class SleeveModel:
                 return q, F, it
             if pd:
                 step = -solve(g)
+                if np.abs(step).max() < 1e-12:    # converged to round-off (fine meshes)
+                    return q + step, F, it
             else:
                 if self.sparse:
                     K = K.toarray()
                 lam, vec = sla.eigh(K, subset_by_index=[0, 0], check_finite=False)
-                v = vec[:, 0]
+                v = vec[:, 0] / max(np.abs(vec[:, 0]).max(), 1e-300)
+                gv = float(g @ v)
+                if gv > 0 or (abs(gv) <= 1e-12 * max(gn, 1e-300) and v[np.argmax(np.abs(v))] < 0):
+                    v = -v
+                # negative curvature: expanding search along the descent direction v
+                best_a, best_e, a = 0.0, e, 1e-3
+                while a <= 0.5:
+                    ea = self._energy(q + a * v, d)
+                    if ea < best_e:
+                        best_a, best_e = a, ea
+                        a *= 2.0
+                    else:
+                        break
+                if best_a > 0:
+                    q = q + best_a * v
+                    continue
                 if gn < tol:
-                    # a stationary point that is not a minimum: leave it along negative curvature
                     kicked += 1
                     if kicked > 20:
                         break
-                    v = v * (1 if v[np.argmax(np.abs(v))] > 0 else -1)
-                    step = v * 1e-3 / max(np.abs(v).max(), 1e-300)
-                else:
-                    shift = -lam[0] * 1.5 + 1e-8 * np.mean(np.abs(np.diag(K)))
-                    Ks = K + shift * np.eye(len(K))
-                    step = -np.linalg.solve(Ks, g)
+                    q = q + 1e-3 * v
+                    continue
+                shift = -lam[0] * 1.5 + 1e-8 * np.mean(np.abs(np.diag(K)))
+                step = -np.linalg.solve(K + shift * np.eye(len(K)), g)
             # backtracking on the energy (full step accepted when it does not raise the energy)
             a = 1.0
             smax = np.abs(step).max()
             if smax > 0.05:
                 a = 0.05 / smax
             for _ in range(30):
-                e2 = self.mesh.evaluate(self.full(q + a * step, d), False)[0] - float(self.bias @ (q + a * step))
+                e2 = self._energy(q + a * step, d)
                 if e2 <= e + 1e-14 * max(1.0, abs(e)):
                     break
                 a *= 0.5
             q = q + a * step
         raise _NoConvergence()
+
+    def _energy(self, q, d):
+        return self.mesh.evaluate(self.full(q, d), False)[0] - float(self.bias @ q)
 
     def _factor(self, K):
         """``(solve, positive_definite)`` for the reduced tangent ``K``."""
