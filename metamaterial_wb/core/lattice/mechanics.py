@@ -164,7 +164,7 @@ class ElementState:
         arc = getattr(geo, "arc_correction", False) if arc is None else arc
         if arc:
             # measure u from the chord of a uniformly bent/twisted hinge (exact pure bending, see arc_offset)
-            c, dc, d2c = arc_offset_derivatives(Th, geo.rest, second=tangent)
+            c, dc, _ = arc_offset_derivatives(Th, geo.rest, second=False)
             eps[:, 0:3] -= c
             J[:, 0:3, :] -= dc @ J[:, 3:6, :]
         s = (K @ eps[:, :, None])[:, :, 0]
@@ -172,7 +172,17 @@ class ElementState:
         self.energy = 0.5 * np.einsum("mi,mi->m", eps, s)
         self.grad = (s[:, None, :] @ J)[:, 0, :]
         self.H = None
+        self._keep = (K, D0, rhoB, Th, arc, geo.rest)
         if tangent:
+            self.tangent()
+
+    def tangent(self):
+        """Element tangents (m, 12, 12), computed once on demand."""
+        if self.H is not None:
+            return self.H
+        K, D0, rhoB, Th, arc, rest = self._keep
+        J, s, W = self.J, self.s, self.W
+        if True:
             Jt = np.transpose(J, (0, 2, 1))
             H = Jt @ (K @ J)
             v = (W @ s[:, 0:3, None])[:, :, 0]           # spatial force conjugate to u
@@ -190,10 +200,12 @@ class ElementState:
             H[:, 3:6, 9:12] += X_
             H[:, 9:12, 3:6] += np.transpose(X_, (0, 2, 1))
             if arc:
+                d2c = arc_offset_derivatives(Th, rest, second=True)[2]
                 JT = J[:, 3:6, :]
                 Hc = np.einsum("mi,mikl->mkl", s[:, 0:3], d2c)
                 H -= np.transpose(JT, (0, 2, 1)) @ Hc @ JT
             self.H = H
+        return self.H
 
 
 class Pattern:

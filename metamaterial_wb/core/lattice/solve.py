@@ -277,27 +277,40 @@ class NonlinearLattice:
 
     # -- energy pieces ------------------------------------------------------------------------------
     def _state(self, X, R, tangent=True):
-        geo = self.geo
-        st = ElementState(geo, X, R, tangent=tangent)
-        E = st.energy.sum()
+        """``(element state, energy incl. contact, element gradients, element tangents or None)``."""
+        st = ElementState(self.geo, X, R, tangent=False)
+        E, ge = self._energy_grad(st)
+        return st, E, ge, (self._tangent(st) if tangent else None)
+
+    def _contact_terms(self, st):
+        if not self.contact:
+            return None
+        over = self.close_sign * st.eps[:, 5] - self.kappa0
+        idx = np.flatnonzero(over > 0)
+        if not idx.size:
+            return None
+        return idx, over[idx], st.J[idx, 5, :] * self.close_sign[idx, None]
+
+    def _energy_grad(self, st):
+        E = float(st.energy.sum())
         ge = st.grad
-        He = st.H
-        pen = 0.0
-        if self.contact:
-            kap = self.close_sign * st.eps[:, 5]
-            over = kap - self.kappa0
-            act = over > 0
-            if np.any(act):
-                idx = np.flatnonzero(act)
-                f = self.kc[idx] * over[idx]
-                pen = 0.5 * float(np.sum(f * over[idx]))
-                Jr = st.J[idx, 5, :] * self.close_sign[idx, None]
-                ge = ge.copy()
-                ge[idx] += f[:, None] * Jr
-                if tangent:
-                    He = He.copy()
-                    He[idx] += self.kc[idx, None, None] * Jr[:, :, None] * Jr[:, None, :]
-        return st, E + pen, ge, He
+        ct = self._contact_terms(st)
+        if ct is not None:
+            idx, over, Jr = ct
+            f = self.kc[idx] * over
+            E += 0.5 * float(np.sum(f * over))
+            ge = ge.copy()
+            ge[idx] += f[:, None] * Jr
+        return E, ge
+
+    def _tangent(self, st):
+        He = st.tangent()
+        ct = self._contact_terms(st)
+        if ct is not None:
+            idx, over, Jr = ct
+            He = He.copy()
+            He[idx] += self.kc[idx, None, None] * Jr[:, :, None] * Jr[:, None, :]
+        return He
 
     def _constraint(self, st, lam):
         return st.eps[self.joints, 5] - lam * self.psi
@@ -306,8 +319,12 @@ class NonlinearLattice:
     def _newton(self, X, R, lam, mu, scale_f):
         pat = self.pattern
         nu = None
+        carried = None
         for it in range(self.max_iter):
-            st, E, ge, He = self._state(X, R)
+            if carried is None:
+                st, E, ge, _ = self._state(X, R, tangent=False)
+            else:
+                st, E, ge = carried
             g = pat.vector(ge)
             c = self._constraint(st, lam)
             A = st.J[self.joints, 5, :]
@@ -318,6 +335,7 @@ class NonlinearLattice:
             if r_f <= max(self.tol * scale_f, self.force_floor) and \
                     r_c <= self.tol * max(1e-3, np.abs(self.psi).max(initial=0.0)):
                 return X, R, mu, True, it
+            He = self._tangent(st)
             rhs = np.concatenate([-(g + Ag), -c])      # increments of the state and of the multipliers
             try:
                 sol = _kkt_solve(pat, He, A, self.reg, rhs)
@@ -334,7 +352,7 @@ class NonlinearLattice:
             ok = False
             for _ in range(12):
                 X2, R2 = _apply(X, R, alpha * dq, self.dofmap, self.geo.n)
-                st2, E2, _g2, _H2 = self._state(X2, R2, tangent=False)
+                st2, E2, g2, _H2 = self._state(X2, R2, tangent=False)
                 c2 = self._constraint(st2, lam)
                 merit = E2 + nu * np.abs(c2).sum()
                 if merit <= merit0 + 1e-4 * alpha * min(slope, 0.0) + 1e-13 * abs(merit0):
@@ -346,6 +364,7 @@ class NonlinearLattice:
             if not ok:
                 return X, R, mu, False, it
             X, R = X2, R2
+            carried = (st2, E2, g2)
             mu = mu + alpha * (mu_new - mu)
         st, E, ge, He = self._state(X, R, tangent=False)
         g = pat.vector(ge)
