@@ -6,7 +6,9 @@
  * --pulse-log writes "<sim_seconds> <channel> <width_us>" whenever a servo pin's pulse width changes by more
  * than 0.3 us, and "<sim_seconds> <channel> off" when a pin stops pulsing (no rising edge for 60 ms).
  * Channels 0..7 are Arduino D4..D11 (PD4..PD7, PB0..PB3), the pins of the firmware's ISR servo driver.
- * --realtime paces simulated time to the wall clock (needed for any timing-related test). */
+ * --realtime paces simulated time to the wall clock (needed for any timing-related test).
+ * --pca9685 attaches an emulated PCA9685 at I2C address 0x40 instead of watching the pins (the firmware's
+ * BACKEND=pca9685 build); its channels are logged the same way. */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <fcntl.h>
@@ -22,6 +24,7 @@
 #include <unistd.h>
 
 #include "avr_ioport.h"
+#include "avr_twi.h"
 #include "avr_uart.h"
 #include "sim_avr.h"
 #include "sim_elf.h"
@@ -39,6 +42,16 @@ static avr_cycle_count_t rise[N_CH];
 static avr_cycle_count_t last_rise[N_CH];
 static double last_width[N_CH];
 static int pin_on[N_CH];
+/* --pca9685: a PCA9685 PWM driver at I2C address 0x40, answering the firmware's TWI master. Its register
+ * file is kept here; after each write transaction every LEDn channel is reported in the pulse log like a
+ * pin: width = OFF count * (PRESCALE + 1) / 25 MHz (ON must be 0), "off" for the full-off bit. */
+static int pca_enabled;
+static uint8_t pca_reg[256];
+static uint8_t pca_ptr, pca_selected, pca_first_byte;
+
+static double pca_last[N_CH];
+static int pca_logged[N_CH];
+
 static uint8_t inbuf[4096];
 static size_t in_len, in_pos;
 static volatile sig_atomic_t stop_requested;
@@ -118,6 +131,64 @@ static void pin_hook(struct avr_irq_t *irq, uint32_t value, void *param)
     }
 }
 
+static void pca_report(void)
+{
+    for (int ch = 0; ch < N_CH; ch++) {
+        const uint8_t *r = &pca_reg[0x06 + 4 * ch];
+        int on = r[0] | ((r[1] & 0x0F) << 8), off = r[2] | ((r[3] & 0x0F) << 8);
+        int full_off = r[3] & 0x10, sleeping = pca_reg[0] & 0x10;
+        double w = (full_off || sleeping) ? -1.0 : (double)(off - on) * (pca_reg[0xFE] + 1) / 25.0;
+        if (pca_logged[ch] && fabs(w - pca_last[ch]) < 0.01)
+            continue;
+        if (!pca_logged[ch] && w < 0)
+            continue;
+        pca_logged[ch] = 1;
+        pca_last[ch] = w;
+        if (pulse_log) {
+            if (w < 0)
+                fprintf(pulse_log, "%.6f %d off\n", sim_seconds(), ch);
+            else
+                fprintf(pulse_log, "%.6f %d %.2f\n", sim_seconds(), ch, w);
+            fflush(pulse_log);
+        }
+    }
+}
+
+static void twi_hook(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq;
+    (void)param;
+    avr_twi_msg_irq_t v;
+    v.u.v = value;
+    avr_irq_t *in = avr_io_getirq(avr, AVR_IOCTL_TWI_GETIRQ(0), TWI_IRQ_INPUT);
+    if (v.u.twi.msg & TWI_COND_STOP) {
+        if (pca_selected)
+            pca_report();
+        pca_selected = 0;
+    }
+    if (v.u.twi.msg & TWI_COND_START) {
+        pca_selected = 0;
+        if ((v.u.twi.addr >> 1) == 0x40 && !(v.u.twi.addr & 1)) { /* our address, write */
+            pca_selected = v.u.twi.addr;
+            pca_first_byte = 1;
+            avr_raise_irq(in, avr_twi_irq_msg(TWI_COND_ACK, pca_selected, 1));
+        }
+    }
+    if (pca_selected && (v.u.twi.msg & TWI_COND_WRITE)) {
+        avr_raise_irq(in, avr_twi_irq_msg(TWI_COND_ACK, pca_selected, 1));
+        if (pca_first_byte) {
+            pca_ptr = v.u.twi.data;
+            pca_first_byte = 0;
+        } else {
+            /* PRESCALE is writable only while the oscillator sleeps (datasheet) */
+            if (pca_ptr != 0xFE || (pca_reg[0] & 0x10))
+                pca_reg[pca_ptr] = v.u.twi.data;
+            if (pca_reg[0] & 0x20) /* auto-increment */
+                pca_ptr++;
+        }
+    }
+}
+
 /* every 100 us of simulated time: feed the UART from the pty, pace to the wall clock, check for
  * pins that stopped pulsing */
 static avr_cycle_count_t poll_timer(struct avr_t *a, avr_cycle_count_t when, void *param)
@@ -158,7 +229,7 @@ static avr_cycle_count_t poll_timer(struct avr_t *a, avr_cycle_count_t when, voi
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: simhost [--realtime] [--pulse-log FILE] [--link PATH] [--seconds S] [--mcu NAME] "
+    fprintf(stderr, "usage: simhost [--realtime] [--pca9685] [--pulse-log FILE] [--link PATH] [--seconds S] [--mcu NAME] "
                     "[--freq HZ] FIRMWARE.elf\n");
     exit(2);
 }
@@ -171,6 +242,8 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--realtime"))
             realtime = 1;
+        else if (!strcmp(argv[i], "--pca9685"))
+            pca_enabled = 1;
         else if (!strcmp(argv[i], "--pulse-log") && i + 1 < argc)
             log_path = argv[++i];
         else if (!strcmp(argv[i], "--link") && i + 1 < argc)
@@ -245,7 +318,14 @@ int main(int argc, char **argv)
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT), uart_out_hook, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON), xon_hook, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XOFF), xoff_hook, NULL);
-    for (int ch = 0; ch < N_CH; ch++) {
+    if (pca_enabled) {
+        pca_reg[0] = 0x11; /* power-on MODE1: sleep, all-call */
+        pca_reg[0xFE] = 0x1E;
+        for (int ch = 0; ch < 16; ch++)
+            pca_reg[0x06 + 4 * ch + 3] = 0x10; /* full off */
+        avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_TWI_GETIRQ(0), TWI_IRQ_OUTPUT), twi_hook, NULL);
+    }
+    for (int ch = 0; ch < N_CH && !pca_enabled; ch++) {
         char port = ch < 4 ? 'D' : 'B';
         int pin = ch < 4 ? ch + 4 : ch - 4;
         avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), IOPORT_IRQ_PIN0 + pin), pin_hook,

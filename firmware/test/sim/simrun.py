@@ -35,26 +35,34 @@ def make(build_dir, *targets, extra=()):
 
 
 def build(build_dir):
+    """Both firmware variants (ISR pins, PCA9685) and the harness."""
     r = make(build_dir, "avr", "sim")
-    if r.returncode:
-        raise RuntimeError(f"firmware build failed:\n{r.stdout}\n{r.stderr}")
+    r2 = make(build_dir, "avr", extra=["BACKEND=pca9685"])
+    for x in (r, r2):
+        if x.returncode:
+            raise RuntimeError(f"firmware build failed:\n{x.stdout}\n{x.stderr}")
     return {"elf": os.path.join(build_dir, "avr", "servolink.elf"),
+            "elf_pca9685": os.path.join(build_dir, "avr", "servolink-pca9685.elf"),
             "simhost": os.path.join(build_dir, "sim", "simhost"), "size_line": r.stdout.strip()}
 
 
 class SimAVR:
-    def __init__(self, paths, realtime=True, log_dir=None):
+    def __init__(self, paths, realtime=True, log_dir=None, pca9685=False):
         self.paths = paths
         self.realtime = realtime
+        self.pca9685 = pca9685  # the PCA9685 firmware with an emulated PCA9685 on I2C
         self.log_dir = log_dir or tempfile.mkdtemp(prefix="simavr-")
         self.pulse_log = os.path.join(self.log_dir, "pulses.txt")
         self.proc = None
         self.port = None
 
     def start(self, timeout=10.0):
-        cmd = [self.paths["simhost"], "--pulse-log", self.pulse_log, self.paths["elf"]]
+        cmd = [self.paths["simhost"], "--pulse-log", self.pulse_log,
+               self.paths["elf_pca9685" if self.pca9685 else "elf"]]
         if self.realtime:
             cmd.insert(1, "--realtime")
+        if self.pca9685:
+            cmd.insert(1, "--pca9685")
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         end = time.monotonic() + timeout
         while time.monotonic() < end:
