@@ -80,7 +80,7 @@ def filament_used(path):
 
 def slice_3mf(exe, ini, path, out, extra=()):
     r = subprocess.run([exe, "--loglevel", "1", "--export-gcode", "--load", ini, *extra, "-o", str(out), str(path)],
-                       capture_output=True, text=True, timeout=300)
+                       capture_output=True, encoding="utf-8", errors="replace", timeout=300)
     assert r.returncode == 0, (r.stdout[-2000:], r.stderr[-2000:])
     return str(out)
 
@@ -290,7 +290,7 @@ def test_examples_build_export_and_slice(fc, prusa_slicer, dual_ini, tmp_path, e
     scene_path = os.path.join(EXAMPLES, f"{example}.json")
     out = tmp_path / "out"
     r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", scene_path, "--out", str(out),
-                        "--modules"], cwd=REPO, capture_output=True, text=True, timeout=600)
+                        "--modules"], cwd=REPO, capture_output=True, encoding="utf-8", errors="replace", timeout=600)
     assert r.returncode == 0, r.stderr[-3000:]
     assert "build: sheet parts" in r.stderr                                # progress on stderr
     files = sorted(os.listdir(out))
@@ -326,7 +326,7 @@ def test_prusaslicer_reads_one_object_with_named_parts(prusa_slicer, chain_meshe
     write_3mf(str(src), chain_meshes, layout="prusa")
     rt = tmp_path / "rt.3mf"
     r = subprocess.run([prusa_slicer, "--loglevel", "1", "--export-3mf", "-o", str(rt), str(src)],
-                       capture_output=True, text=True, timeout=300)
+                       capture_output=True, encoding="utf-8", errors="replace", timeout=300)
     assert r.returncode == 0, r.stderr[-2000:]
     cfg = ET.fromstring(zipfile.ZipFile(rt).read("Metadata/Slic3r_PE_model.config"))
     objects = cfg.findall("object")
@@ -368,7 +368,7 @@ def test_step_colours_read_back_by_freecad_gui(fc, chain_result, tmp_path):
     out = tmp_path / "colours.json"
     env = dict(os.environ, STEP=str(step), OUT=str(out))
     p = subprocess.run(["xvfb-run", "-a", "freecad", "-u", str(cfg), os.path.join(here, "step_colours_macro.py")],
-                       env=env, capture_output=True, text=True, timeout=300)
+                       env=env, capture_output=True, encoding="utf-8", errors="replace", timeout=300)
     assert p.returncode == 0, p.stderr[-2000:]
     colours = json.loads(out.read_text())
     assert set(colours) == {q.name for q in r.parts}

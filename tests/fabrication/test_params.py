@@ -121,7 +121,7 @@ def test_cli_error_is_one_line_and_writes_nothing(tmp_path):
     sp.write_text(json.dumps(scene))
     out = tmp_path / "out"
     r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(sp), "--out", str(out), "--modules"],
-                       cwd=REPO, capture_output=True, text=True, timeout=120)
+                       cwd=REPO, capture_output=True, encoding="utf-8", errors="replace", timeout=120)
     assert r.returncode == 2, r.stderr
     lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "V3,3" in lines[0] and "does not exist" in lines[0]

@@ -201,7 +201,7 @@ def test_cli_check_flag(tmp_path):
     sp = tmp_path / "s.json"
     sp.write_text(json.dumps({"format": "metamaterial-scene", "version": 1, "name": "two", "layout": {"chain": 2}}))
     r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(sp), "--out", str(tmp_path / "o"),
-                        "--check", "--3mf"], cwd=REPO, capture_output=True, text=True, timeout=300)
+                        "--check", "--3mf"], cwd=REPO, capture_output=True, encoding="utf-8", errors="replace", timeout=300)
     assert r.returncode == 0, r.stderr
     assert "checks passed" in r.stderr
     assert sorted(os.listdir(tmp_path / "o")) == ["two_sheet.3mf", "two_sheet_components.3mf"]
