@@ -206,3 +206,25 @@ def test_cli_check_flag(tmp_path):
     assert "checks passed" in r.stderr
     assert sorted(os.listdir(tmp_path / "o")) == ["two_sheet.3mf", "two_sheet_components.3mf"]
     assert [os.path.basename(x) for x in r.stdout.split()] == ["two_sheet.3mf", "two_sheet_components.3mf"]
+
+
+def test_hinges_sit_on_the_kinematic_corners(chain_result):
+    """The corner each hinge joins in core/kinematics.py (its own corner table) is the outer corner of the
+    printed hinge's neck: on the plate edge line the hinge is flush with, at the plate face."""
+    from metamaterial_wb.core import kinematics
+    r = chain_result
+    topo = r.scene.topology
+    a, b, ra, rb, _ = kinematics._hinge_geometry(r.scene)
+    centres = kinematics.flat_positions_mm(r.scene)
+    for k, name in enumerate(topo.joint_names):
+        kind, rest = name[0], name[1:]
+        i, j = (int(x) for x in rest.split(","))
+        bb = r.placed_shape(r.by_name(f"hinge_{kind}{i}_{j}")).BoundBox
+        for node, off in ((a[k], ra[k]), (b[k], rb[k])):
+            cx, cy = centres[node][0] + off[0], centres[node][1] + off[1]
+            # inside the hinge's footprint, on its flush side
+            assert bb.XMin - 1e-9 <= cx <= bb.XMax + 1e-9 and bb.YMin - 1e-9 <= cy <= bb.YMax + 1e-9, name
+            if kind == "H":
+                assert min(abs(cy - bb.YMin), abs(cy - bb.YMax)) < 1e-9, name
+            else:
+                assert min(abs(cx - bb.XMin), abs(cx - bb.XMax)) < 1e-9, name
