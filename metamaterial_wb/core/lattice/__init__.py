@@ -25,7 +25,7 @@ from metamaterial_wb.core.models import ModelResult, register_model
 
 _LINEAR_OPTS = {"planar", "contact", "contact_fraction"}
 _NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
-                   "contact_stiffness", "fallback", "dr_max_iter", "predictor"}
+                   "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method"}
 
 
 def _check_options(model, options, allowed):

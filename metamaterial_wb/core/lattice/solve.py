@@ -249,7 +249,11 @@ class LinearLattice:
 class NonlinearLattice:
     def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4,
                  tol=1e-8, max_iter=40, load_steps=1, min_step=1.0 / 64, fallback=True, dr_max_iter=5000,
-                 predictor=False, planar=None):
+                 predictor=False, planar=None, method="newton"):
+        from metamaterial_wb.core.errors import SceneError
+        if method not in ("newton", "dynamic_relaxation"):
+            raise SceneError("--option method", f"{method!r}; allowed: newton, dynamic_relaxation")
+        self.method = method
         self.geo = geo or LatticeGeometry(scene)
         geo = self.geo
         self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
@@ -446,6 +450,15 @@ class NonlinearLattice:
             lin.kappa_c, lin.kc = self.kappa0, self.kc
             q_lin = lin.solve(self.psi)[2]
         self.scale_f = scale_f
+        if self.method == "dynamic_relaxation":
+            # dynamic relaxation alone (for comparison; the default uses it only as Newton's fallback)
+            self.stats["method"] = "dynamic relaxation"
+            X, R, ok = self._dynamic_relaxation(X, R, self.tol, scale_f)
+            st = ElementState(geo, X, R, tangent=False)
+            g = self.pattern.vector(self._energy_grad(st)[1])
+            self.last_residual = (float(np.abs(g).max()) / scale_f, float(np.abs(self._constraint(st, 1.0)).max()))
+            self.mu = np.zeros(self.joints.size)
+            return X, R, ok
         mu = np.zeros(self.joints.size)
         lam = 0.0
         dl = 1.0 / self.load_steps
