@@ -285,3 +285,20 @@ def test_scene_with_axes_but_no_joint_configuration_folds_like_a_configured_one(
     b = run_model("linear", configured)
     assert np.ptp(a.positions_mm[:, 2]) > 1e-3
     assert np.allclose(a.positions_mm, b.positions_mm, atol=1e-9)
+
+
+def test_dynamic_relaxation_alone_is_reported_as_such_and_bad_options_rejected():
+    from metamaterial_wb.core.errors import SceneError
+
+    sc = Scene.from_dict({"layout": {"chain": 4}, "actuators": [{"name": "m", "joint": "V0,1", "value": 0.05}]})
+    ref = run_model("nonlinear", sc)
+    res = run_model("nonlinear", sc, method="dynamic_relaxation", tol=1e-2, dr_max_iter=20000)
+    assert res.info["method"] == "dynamic relaxation"
+    if res.converged:
+        assert np.abs(res.D - ref.D).max() < 0.05 * np.abs(ref.D).max()
+    else:
+        assert any("did NOT converge" in w for w in res.warnings)
+    with pytest.raises(SceneError, match="method"):
+        run_model("nonlinear", sc, method="magic")
+    with pytest.raises(SceneError, match="unknown option"):
+        run_model("linear", sc, tol=1e-3)
