@@ -295,7 +295,7 @@ def test_dynamic_relaxation_alone_is_reported_as_such_and_bad_options_rejected()
     res = run_model("nonlinear", sc, method="dynamic_relaxation", tol=1e-2, dr_max_iter=20000)
     assert res.info["method"] == "dynamic relaxation"
     if res.converged:
-        assert np.abs(res.D - ref.D).max() < 0.05 * np.abs(ref.D).max()
+        assert np.abs(res.D - ref.D).max() < 0.1 * np.abs(ref.D).max()     # tol 1e-2 on forces
     else:
         assert any("did NOT converge" in w for w in res.warnings)
     with pytest.raises(SceneError, match="method"):
