@@ -167,6 +167,26 @@ def plan_axes(scene):
 # ----------------------------------------------------------------------------------------------
 # limits
 # ----------------------------------------------------------------------------------------------
+def _fab_tilt(scene, widths, ignore_switch):
+    """``(max printable tilt deg, width mm)`` of the narrowest-margin hinge among ``widths``."""
+    from metamaterial_wb.geometry.params import max_fabricable_tilt_deg  # pure module, no FreeCAD
+
+    ws = sorted(set(np.round(np.asarray(widths, dtype=float), 9).tolist()))
+    if not ws:
+        return 90.0, 0.0
+    return min((max_fabricable_tilt_deg(scene, w, ignore_switch=ignore_switch), w) for w in ws)
+
+
+def printable_fold_deg(scene, plan, phi_c=None):
+    """``(fold deg, max tilt deg, width mm)``: the largest fold of an axis whose hinge tilts the
+    default fabrication (geometry/params.py) can print, whatever ``limit_design_tilt`` says."""
+    phi_c = planar_closing_rad(scene) if phi_c is None else phi_c
+    _lh, wh, _th = kin.joint_hinge_arrays(scene)
+    tilt, w = _fab_tilt(scene, wh[plan.joints], ignore_switch=True)
+    fold = 2.0 * math.atan(math.tan(math.radians(max(tilt, 0.0))) * math.sin(phi_c))
+    return math.degrees(fold), tilt, w
+
+
 def planar_closing_rad(scene):
     """Node rotation at D = +1 of the untilted sheet (the state the target fold is defined in)."""
     return kin.rotation_limit_info(scene, np.zeros(scene.topology.n_joints))["closing_rad"]
@@ -176,7 +196,10 @@ def axis_limits(scene, plan, phi_c=None):
     """``(max_fold_deg, binding)`` of one axis at D = +1.
 
     Limits, per crossed joint: hinge tilt |alpha| <= 80 deg (fold ``2 atan(tan 80 sin phi_c)``),
-    hinge strain <= the scene's limit at D = +1, plate contact across the fold ``2 atan(lh / t)``.
+    when the scene's ``fabrication.limit_design_tilt`` is true, the tilt that the printed hinge can
+    have inside its node plate (``geometry.params.max_fabricable_tilt_deg``; otherwise it is only
+    reported, see :func:`printable_fold_deg`), hinge strain <= the scene's limit at D = +1, plate
+    contact across the fold ``2 atan(lh / t)``.
     """
     phi_c = planar_closing_rad(scene) if phi_c is None else phi_c
     lh, wh, th = kin.joint_hinge_arrays(scene)
@@ -184,6 +207,8 @@ def axis_limits(scene, plan, phi_c=None):
     eps = kin.hinge_strain_limit(scene)
     tilt_max = math.radians(kin.MAX_TILT_DEG)
     g_tilt = 2.0 * math.atan(math.tan(tilt_max) * math.sin(phi_c))
+    fab = _fab_tilt(scene, wh[js], ignore_switch=False)
+    g_fab = 2.0 * math.atan(math.tan(math.radians(max(fab[0], 0.0))) * math.sin(phi_c))
     psi_max = 2.0 * lh[js] * eps / wh[js]
     ratio = np.cos(0.5 * np.minimum(psi_max, math.pi)) / math.cos(phi_c)
     g_strain = np.where(psi_max >= math.pi, math.pi, 2.0 * np.arccos(np.clip(ratio, -1.0, 1.0)))
@@ -193,7 +218,9 @@ def axis_limits(scene, plan, phi_c=None):
     cands = [(g_tilt, f"hinge tilt limit {kin.MAX_TILT_DEG:g} deg at closing rotation "
                       f"{math.degrees(phi_c):.2f} deg"),
              (float(g_strain[ks]), f"hinge strain {eps:g} at joint {names[ks]}"),
-             (float(g_contact[kc]), f"plate contact across the fold 2 atan(lh/t) at joint {names[kc]}")]
+             (float(g_contact[kc]), f"plate contact across the fold 2 atan(lh/t) at joint {names[kc]}"),
+             (g_fab, f"fabrication: a {fab[1]:g} mm wide hinge fits its node plate up to a tilt of "
+                     f"{max(fab[0], 0.0):.1f} deg (docs/fabrication.md)")]
     val, why = min(cands, key=lambda c: c[0])
     return math.degrees(val), why
 
@@ -223,8 +250,10 @@ def compute_joint_config(scene, plans=None, strict=True):
         for j, t in zip(p.joints.tolist(), tilts.tolist()):
             config[topo.joint_names[j]] = {"tilt_deg": round(float(t), 9), "fold_deg": p.fold_deg,
                                            "axis": p.label_name}
+        pf, ptilt, pw = printable_fold_deg(scene, p, phi_c)
         rows.append({"axis": p.label_name, "index": p.index, "direction": p.direction, "line": p.line,
                      "fold_deg": p.fold_deg, "max_fold_deg": mx, "binding": why,
+                     "printable_fold_deg": pf, "printable_tilt_deg": ptilt, "printable_width_mm": pw,
                      "joints": len(p.joints), "tilt_deg": float(np.abs(tilts).max()) if tilts.size else 0.0,
                      "cells": [list(c) for c in p.cells]})
     return config, {"axes": rows, "closing_deg": math.degrees(phi_c)}
@@ -242,6 +271,14 @@ def configure(scene, strict=True):
         if "tilt_deg" in ov and name in config:
             warnings.append(f"joint {name}: its override tilt_deg = {ov['tilt_deg']} wins over the configured "
                             f"{config[name]['tilt_deg']:.3f} deg of axis {config[name]['axis']}")
+    for row in report["axes"]:
+        if abs(row["fold_deg"]) > row["printable_fold_deg"] + 1e-9:
+            warnings.append(
+                f"axis {row['axis']}: fold {row['fold_deg']:g} deg needs hinge tilts up to {row['tilt_deg']:.1f} deg, "
+                f"but a {row['printable_width_mm']:g} mm wide hinge fits its node plate only up to "
+                f"{max(row['printable_tilt_deg'], 0.0):.1f} deg (printable fold <= {row['printable_fold_deg']:.2f} deg); "
+                f"`build` will reject it: use longer or narrower hinges, a thinner sheet, or set "
+                f"fabrication.limit_design_tilt to make this a hard limit")
     scene.joint_config = config
     info = kin.rotation_limit_info(scene)
     par = kin.joint_parity(scene)

@@ -46,6 +46,7 @@ FAB_DEFAULTS = {
     "rigid_extruder": 1,
     "flexible_extruder": 2,
     "tolerance_mm": 0.05,            # tessellation (3MF) chord tolerance
+    "limit_design_tilt": False,      # True: the design stage's maximum fold keeps every tilt printable
 }
 
 
@@ -107,8 +108,7 @@ def _num(name, value, low=None, high=None, low_open=False, high_open=False, unit
     return check_number(f"fabrication.{name}", value, low, high, unit, low_open=low_open, high_open=high_open)
 
 
-def fabrication_params(scene, **overrides):
-    """Validated :class:`FabParams` for ``scene`` (raises SceneError; builds no geometry)."""
+def _raw_params(scene, overrides):
     raw = dict(FAB_DEFAULTS)
     given = scene.extra.get("fabrication", {}) if hasattr(scene, "extra") else {}
     if given is None:
@@ -120,19 +120,15 @@ def fabrication_params(scene, **overrides):
             raise SceneError(f"fabrication.{k}", f"unknown fabrication parameter; allowed: {sorted(FAB_DEFAULTS)}")
         if v is not None or k == "sheet_thickness_mm":
             raw[k] = v
+    return raw
+
+
+def _params(scene, raw, hinges, thick):
     c = float(scene.cell_size_mm)
-    hinges = {}
-    thick = 0.0
-    tilts = _tilts_deg(scene)
-    for name in scene.topology.joint_names:
-        h = scene.joint_hinge(name)
-        tilt = tilts[name]
-        hinges[name] = HingeSpec(float(h["length_mm"]), float(h["width_mm"]), float(h["thickness_mm"]), tilt)
-        thick = max(thick, float(h["thickness_mm"]))
     T = raw["sheet_thickness_mm"]
     T = thick if T is None else _num("sheet_thickness_mm", T, 0.0, 200.0, low_open=True)
     clr = _num("clearance_mm", raw["clearance_mm"], 0.0, 2.0)
-    p = FabParams(
+    return FabParams(
         cell_size_mm=c, sheet_thickness_mm=T, clearance_mm=clr,
         anchor_neck_mm=_num("anchor_neck_mm", raw["anchor_neck_mm"], 0.0, 50.0, low_open=True),
         anchor_depth_mm=_num("anchor_depth_mm", raw["anchor_depth_mm"], 0.0, 50.0, low_open=True),
@@ -151,8 +147,58 @@ def fabrication_params(scene, **overrides):
         hinges=hinges,
         plate_side_mm_global=c - float(scene.hinge["length_mm"]),
     )
+
+
+def fabrication_params(scene, **overrides):
+    """Validated :class:`FabParams` for ``scene`` (raises SceneError; builds no geometry)."""
+    raw = _raw_params(scene, overrides)
+    hinges = {}
+    thick = 0.0
+    tilts = _tilts_deg(scene)
+    for name in scene.topology.joint_names:
+        h = scene.joint_hinge(name)
+        tilt = tilts[name]
+        hinges[name] = HingeSpec(float(h["length_mm"]), float(h["width_mm"]), float(h["thickness_mm"]), tilt)
+        thick = max(thick, float(h["thickness_mm"]))
+    p = _params(scene, raw, hinges, thick)
     _check_fit(p)
     return p
+
+
+def max_fabricable_tilt_deg(scene, width_mm, ignore_switch=False, **overrides):
+    """Largest hinge tilt (deg) whose tilted anchor still fits along the node plate edge.
+
+    The same criterion as the build's check (``_check_fit``): anchor width ``w / cos(tilt) + margin``
+    plus the shear ``T tan(tilt)`` through the sheet must stay clear of the side's socket. The design
+    stage uses it so that the maximum fold it reports is one that can be printed. Returns a negative
+    number when even an untilted hinge of this width does not fit, and 90 when the scene's
+    ``fabrication.limit_design_tilt`` is false (the default) unless ``ignore_switch``.
+    """
+    raw = _raw_params(scene, overrides)
+    if not ignore_switch and not _bool("limit_design_tilt", raw["limit_design_tilt"]):
+        return 90.0
+    thick = max([float(scene.hinge["thickness_mm"])] +
+                [float(scene.joint_hinge(n)["thickness_mm"]) for n in scene.joint_overrides])
+    p = _params(scene, raw, {}, thick)
+    T = p.sheet_thickness_mm
+    s = p.plate_side_mm_global
+    room = 0.5 * s - ((p.counterbore_radius_mm + MIN_WALL_MM) if p.sockets else MIN_WALL_MM)
+
+    def reach(t):
+        return width_mm / math.cos(t) + p.anchor_margin_mm + T * math.tan(t)
+
+    if reach(0.0) > room:
+        return -1.0
+    lo, hi = 0.0, math.radians(89.9)
+    if reach(hi) <= room:
+        return math.degrees(hi)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if reach(mid) <= room:
+            lo = mid
+        else:
+            hi = mid
+    return math.degrees(lo)
 
 
 def _tilts_deg(scene):

@@ -127,6 +127,38 @@ def test_max_fold_bound_by_hinge_strain():
     assert 3.0 * psi / (2 * 5.0) == pytest.approx(0.2, rel=1e-6)
 
 
+def test_max_fold_bound_by_fabrication():
+    """With fabrication.limit_design_tilt the design keeps every tilt printable: at the reported
+    maximum the build's own fit check passes, just beyond it the build rejects the hinge. Without
+    it (the default) the printable fold is reported and exceeding it is a warning."""
+    from metamaterial_wb.geometry.params import fabrication_params, max_fabricable_tilt_deg
+    d = {"layout": {"chain": 4}, "hinge": {"length_mm": 5.0, "width_mm": 0.8, "thickness_mm": 7.0},
+         "axes": [V(1, 1.0)], "fabrication": {"limit_design_tilt": True}}
+    s = Scene.from_dict(d)
+    mx, why = design.axis_limits(s, design.plan_axes(s)[0])
+    assert "fabrication" in why
+    assert mx == pytest.approx(design.printable_fold_deg(s, design.plan_axes(s)[0])[0])
+    # independent check of the fit criterion at the limit tilt: anchor + shear == room before the socket
+    tilt = math.radians(max_fabricable_tilt_deg(s, 0.8))
+    p = fabrication_params(Scene.from_dict(d))
+    room = 0.5 * (20 - 5) - (p.counterbore_radius_mm + 0.4)
+    assert 0.8 / math.cos(tilt) + p.anchor_margin_mm + 7.0 * math.tan(tilt) == pytest.approx(room, abs=1e-9)
+    for fold, ok in ((mx - 1e-6, True), (mx * 1.02, False)):
+        s2 = Scene.from_dict(dict(d, axes=[V(1, fold)]))
+        design.configure(s2, strict=False)
+        if ok:
+            fabrication_params(s2)
+        else:
+            with pytest.raises(SceneError, match="tilt"):
+                fabrication_params(s2)
+    # default: not a hard limit, but a warning that names the axis and the printable fold
+    free = Scene.from_dict(dict(d, axes=[V(1, mx * 1.5, name="spine")], fabrication={}))
+    rep = design.configure(free)
+    assert any("spine" in w and "printable" in w for w in rep["warnings"])
+    ok = Scene.from_dict(dict(d, axes=[V(1, mx * 0.5, name="spine")], fabrication={}))
+    assert not any("printable" in w for w in design.configure(ok)["warnings"])
+
+
 def test_fold_beyond_the_maximum_is_an_error_that_gives_the_maximum():
     s = scene({"chain": 4}, [V(1, 75.0)], lh=5.0, t=7.0)
     mx = design.max_fold_deg(s, 0)
