@@ -68,8 +68,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     sl_rx_init(&s.rx);
     uint32_t now = 0;
     sl_link_init(&l, SL_MAX_CH, 0, sink_tx, NULL, &s, now);
-    /* input bytes are fed to the link; a byte 0xFE followed by k advances the clock by k * 8 ms so that
-     * the watchdog, slew and generators are exercised too */
+    /* The input is a byte stream for the link with two escapes:
+     *   0xFE k            advance the clock by k * 8 ms (watchdog, slew, generators);
+     *   0xFD n t p[n-1]   a *valid* frame of type t with payload p, built here with its COBS and CRC, so that
+     *                     the fuzzer reaches the dispatcher without having to forge CRCs.
+     * Every other byte goes to the link as it is (framing, COBS and CRC errors). */
+    uint8_t seq = 1;
     for (size_t i = 0; i < size; i++) {
         if (data[i] == 0xFE && i + 1 < size) {
             now += (uint32_t)data[++i] * 8u;
@@ -77,13 +81,31 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             check_outputs(&l);
             continue;
         }
-        uint16_t before[SL_MAX_CH];
-        memcpy(before, l.out_us, sizeof before);
-        int acks = s.acks;
-        sl_link_feed(&l, data[i], now);
-        if (s.acks == acks && memcmp(before, l.out_us, sizeof before))
-            fz_abort("outputs changed without an ACK");
-        check_outputs(&l);
+        uint8_t frame[SL_MAX_ENCODED + 1];
+        const uint8_t *bytes = &data[i];
+        uint8_t nbytes = 1;
+        if (data[i] == 0xFD && i + 2 < size) {
+            uint8_t n = data[i + 1];
+            if (n < 1)
+                n = 1;
+            if (n > SL_MAX_PAYLOAD + 1)
+                n = SL_MAX_PAYLOAD + 1;
+            if (i + 2 + n > size)
+                n = (uint8_t)(size - i - 2);
+            nbytes = sl_build_frame(data[i + 2], seq, &data[i + 3], (uint8_t)(n - 1), frame);
+            seq = (uint8_t)(seq >= 254 ? 1 : seq + 1);
+            bytes = frame;
+            i += 1 + n;
+        }
+        for (uint8_t k = 0; k < nbytes; k++) {
+            uint16_t before[SL_MAX_CH];
+            memcpy(before, l.out_us, sizeof before);
+            int acks = s.acks;
+            sl_link_feed(&l, bytes[k], now);
+            if (s.acks == acks && memcmp(before, l.out_us, sizeof before))
+                fz_abort("outputs changed without an ACK");
+            check_outputs(&l);
+        }
     }
     return 0;
 }
