@@ -255,8 +255,9 @@ class SleeveModel:
                     return q + step, F, it
             else:
                 if self.sparse:
-                    K = K.toarray()
-                lam, vec = sla.eigh(K, subset_by_index=[0, 0], check_finite=False)
+                    lam, vec = self._min_eig_sparse(K)
+                else:
+                    lam, vec = sla.eigh(K, subset_by_index=[0, 0], check_finite=False)
                 v = vec[:, 0] / max(np.abs(vec[:, 0]).max(), 1e-300)
                 gv = float(g @ v)
                 if gv > 0 or (abs(gv) <= 1e-12 * max(gn, 1e-300) and v[np.argmax(np.abs(v))] < 0):
@@ -279,8 +280,13 @@ class SleeveModel:
                         break
                     q = q + 1e-3 * v
                     continue
-                shift = -lam[0] * 1.5 + 1e-8 * np.mean(np.abs(np.diag(K)))
-                step = -np.linalg.solve(K + shift * np.eye(len(K)), g)
+                shift = -lam[0] * 1.5 + 1e-8 * np.mean(np.abs(K.diagonal()))
+                if self.sparse:
+                    import scipy.sparse as sp
+                    import scipy.sparse.linalg as spla
+                    step = -spla.spsolve((K + shift * sp.identity(K.shape[0], format="csc")).tocsc(), g)
+                else:
+                    step = -np.linalg.solve(K + shift * np.eye(len(K)), g)
             # backtracking on the energy (full step accepted when it does not raise the energy)
             a = 1.0
             smax = np.abs(step).max()
@@ -316,6 +322,50 @@ class SleeveModel:
             return self._factor_dense(K.toarray())
         # symmetric permutation P K P^T = L D L^T (Sylvester): positive definite <=> all pivots > 0
         return lu.solve, bool(np.all(lu.U.diagonal() > 0))
+
+    def _min_eig_sparse(self, K):
+        """Smallest eigenpair of a sparse symmetric indefinite ``K``: bracket the eigenvalue by
+        inertia (signs of the symmetric-mode LU pivots of K - s I, Sylvester), then shift-invert."""
+        import scipy.sparse as sp
+        import scipy.sparse.linalg as spla
+        n = K.shape[0]
+        I = sp.identity(n, format="csc")
+        absK = abs(K)
+        gersh = float(np.min(2 * K.diagonal() - np.asarray(absK.sum(axis=1)).ravel()))
+        lo = min(gersh, -1e-300) * 1.01          # below every eigenvalue
+
+        def below(sv):
+            """True when some eigenvalue lies below sv (None if the inertia is unknown)."""
+            try:
+                lu = spla.splu((K - sv * I).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                               options={"SymmetricMode": True})
+            except RuntimeError:
+                return True
+            if not np.array_equal(lu.perm_r, lu.perm_c):
+                return None
+            return bool(np.any(lu.U.diagonal() < 0))
+
+        hi = -abs(lo) * 1e-15
+        ok = True
+        for _ in range(60):                      # geometric bisection on the magnitude
+            if abs(lo) / abs(hi) < 4:
+                break
+            mid = -np.sqrt(abs(lo) * abs(hi))
+            b = below(mid)
+            if b is None:
+                ok = False
+                break
+            if b:
+                hi = mid
+            else:
+                lo = mid
+        try:
+            if not ok:
+                raise RuntimeError
+            lam, vec = spla.eigsh(K, k=1, sigma=lo, which="LM", tol=1e-8)
+            return lam, vec
+        except Exception:
+            return sla.eigh(K.toarray(), subset_by_index=[0, 0], check_finite=False)
 
     def _factor_dense(self, K):
         try:
