@@ -247,6 +247,11 @@ class LinearLattice:
 # nonlinear model (R2)
 # ----------------------------------------------------------------------------------------------------
 class NonlinearLattice:
+    """Nonlinear corotational lattice: ``solve()`` returns ``(X, R, converged)``; ``stats`` says how.
+
+    Options are those of the "nonlinear" model (core/lattice/__init__.py, docs/fidelity-models.md).
+    """
+
     def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4,
                  tol=1e-8, max_iter=40, load_steps=1, min_step=1.0 / 64, fallback=True, dr_max_iter=5000,
                  predictor=False, planar=None, method="newton"):
