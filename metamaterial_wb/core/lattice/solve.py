@@ -172,19 +172,14 @@ class LinearLattice:
             return np.einsum("ki,ki->k", Jr, Vp[ed])
         return np.einsum("ki,kic->kc", Jr, Vp[ed])
 
-    def _solve_with_contacts(self, psi, active):
+    def _solve_with_contacts(self, y_free, active):
         """KKT solve with stiff one-sided springs (the nonlinear model's contact penalty) on ``active``:
         a low-rank (Woodbury) update of the cached base factorisation, no new factorisation:
-        ``x = y - Z (C^-1 + U Z)^-1 U y`` with ``Z = M^-1 U^T`` (one cached back-substitution per hinge)."""
-        rhs = np.zeros(self.pattern.N)
-        rhs[self.na:] = psi
+        ``x = y - Z (C^-1 + U Z)^-1 U y`` with ``Z = M^-1 U^T`` (one cached back-substitution per hinge)
+        and ``y = y_free + Z C kappa_c`` (the springs' preload)."""
         if active.size == 0:
-            y = self.lu.solve(rhs)
-            return y[:self.na], y[self.na:]
+            return y_free[:self.na], y_free[self.na:]
         kc = self.kc[active]
-        Jr = self.close_sign[active, None] * self.J5[active]
-        rhs[:self.na] += self.pattern.vector((kc * self.kappa_c[active])[:, None] * Jr, active)   # preload
-        y = self.lu.solve(rhs)
         missing = np.array([int(h) for h in active if int(h) not in self._zcache], dtype=np.int64)
         if missing.size:
             Ut = np.zeros((self.pattern.N, missing.size))
@@ -197,6 +192,7 @@ class LinearLattice:
             for k, h in enumerate(missing):
                 self._zcache[int(h)] = Zm[:, k]
         Z = np.column_stack([self._zcache[int(h)] for h in active])
+        y = y_free + Z @ (kc * self.kappa_c[active])
         S = np.diag(1.0 / kc) + self._rows(active, Z)
         x = y - Z @ np.linalg.solve(S, self._rows(active, y))
         return x[:self.na], x[self.na:]
@@ -224,7 +220,7 @@ class LinearLattice:
                 if (active is None and new.size == 0) or (active is not None and np.array_equal(new, active)):
                     break
                 active = new
-                q_new, mu_new = self._solve_with_contacts(psi, active)
+                q_new, mu_new = self._solve_with_contacts(sol, active)
                 alpha = 1.0
                 for _ in range(30):
                     q_try = q + alpha * (q_new - q)
