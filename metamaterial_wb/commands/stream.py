@@ -17,6 +17,9 @@ def add_arguments(p):
     p.add_argument("--port", help="serial port (/dev/ttyUSB0, /dev/ttyACM0, an emulator pty) or a pyserial URL")
     p.add_argument("--seconds", type=float, default=10.0, help="how long to stream (default 10 s)")
     p.add_argument("--dry-run", action="store_true", help="no hardware: stream over pyserial's loop://")
+    p.add_argument("--mode", choices=("stream", "osc"), default="stream",
+                   help="stream: send a frame every 1/rate s (any profile); osc: send sine profiles once and let "
+                        "the firmware generate them (no host timing jitter), keeping the link alive with PINGs")
     p.add_argument("--baud", type=int, default=115200, help="baud rate (default 115200)")
     p.add_argument("--rate", type=float, default=50.0, help="frames per second (default 50, allowed 1..100)")
     p.add_argument("--map", default="", metavar="NAME=CH,...",
@@ -51,7 +54,10 @@ def run(args):
     scene = Scene.load(args.scene)
     overrides = load_channel_file(args.channels) if args.channels else None
     channels = channel_map(scene, parse_map(args.map), overrides)
-    if not args.clamp:
+    if args.mode == "osc":
+        from metamaterial_wb.hardware.onboard import osc_params
+        osc_params(scene, channels)  # refuse a scene the generator cannot run before opening the port
+    elif not args.clamp:
         check_motion(scene, channels, args.seconds, args.rate)
 
     port = "loop://" if args.dry_run and not args.port else args.port
@@ -62,9 +68,13 @@ def run(args):
         info = link.info
         print(f"{link.name}: servolink {info.proto_major}.{info.proto_minor}, firmware "
               f"{'.'.join(map(str, info.fw_version))}, {info.n_channels} channels"
-              f"{' (dry run)' if args.dry_run else ''}; streaming "
+              f"{' (dry run)' if args.dry_run else ''}; "
+              + ("on-board oscillators " if args.mode == "osc" else "streaming ")
               + ", ".join(f"{c.name}->ch{c.channel}" for c in channels)
-              + f" for {args.seconds:g} s at {args.rate:g} Hz", file=sys.stderr)
+              + f" for {args.seconds:g} s" + ("" if args.mode == "osc" else f" at {args.rate:g} Hz"),
+              file=sys.stderr)
+        if args.mode == "osc":
+            return _run_osc(args, scene, channels, link)
         try:
             stats = streamer.run(scene, args.seconds)
         except KeyboardInterrupt:
@@ -90,4 +100,34 @@ def run(args):
     if s["lost"] or s["naked"]:
         print(f"error: {s['lost']} frames lost and {s['naked']} refused out of {s['frames']}", file=sys.stderr)
         return 1
+    return 0
+
+
+def _run_osc(args, scene, channels, link):
+    """--mode osc: the firmware generates the sine profiles; the host only keeps the link alive."""
+    import statistics
+
+    from metamaterial_wb.core.fileio import write_json
+    from metamaterial_wb.hardware.onboard import osc_params, run_oscillators
+
+    params = osc_params(scene, channels)
+    for p in params:
+        f = f"{1000.0 / p.period_ms:.4g} Hz" if p.period_ms else "constant"
+        print(f"  {p.name} -> ch{p.channel}: {p.offset_cdeg / 100:g} + {p.amp_cdeg / 100:g} deg sin(2 pi {f} t + "
+              f"{p.phase_cdeg / 100:g} deg)" + (f", frequency off by {p.frequency_error:+.2%}"
+                                                  if abs(p.frequency_error) > 1e-4 else ""), file=sys.stderr)
+    try:
+        res = run_oscillators(link, params, args.seconds)
+    except KeyboardInterrupt:
+        res = {"pings": 0, "rtt_ms": [], "t_start_ms": None}
+    if args.disarm:
+        link.disarm()
+    s = {"mode": "osc", "port": link.name, "dry_run": bool(args.dry_run), "seconds": args.seconds,
+         "pings": res["pings"], "firmware_start_ms": res["t_start_ms"],
+         "ping_rtt_ms_median": round(statistics.median(res["rtt_ms"]), 3) if res["rtt_ms"] else None,
+         "oscillators": [vars(p) for p in params], "channels": [c.to_dict() for c in channels]}
+    if args.report:
+        write_json(args.report, s)
+    print(f"on-board oscillators ran {args.seconds:g} s; {s['pings']} keep-alive pings, round trip median "
+          f"{s['ping_rtt_ms_median']} ms")
     return 0

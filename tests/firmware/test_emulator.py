@@ -293,3 +293,27 @@ def test_pca9685_back_end_over_i2c(fw_build, tmp_path):
                 assert abs(got[ch] - (1500 + a / 90 * 1000)) <= TOL_US, (ch, a, got[ch])
         link.disarm()
         assert all(w is None for w in settle_pulses(sim, link).values())  # full-off bits
+
+
+def test_cli_osc_mode_runs_the_fish_on_board(sim, tmp_path):
+    """``stream --mode osc``: the fish's sines run on the chip; the pins show the amplitudes, the periods and the
+    tail's 90 deg phase lead from the start of the mode (firmware time)."""
+    rep = tmp_path / "osc.json"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "stream", os.path.join(REPO, "examples", "fish.json"),
+                        "--port", sim.port, "--mode", "osc", "--seconds", "2.6", "--report", str(rep)],
+                       capture_output=True, text=True, cwd=REPO, timeout=60)
+    assert r.returncode == 0, r.stdout + r.stderr
+    t_mode = json.loads(rep.read_text())["firmware_start_ms"] / 1000.0
+    lines = sim.pulse_lines()
+    for ch, amp_us, period in ((0, 300, 2.0), (1, 900, 1.0)):
+        # from one servo frame (+ one 10 ms generator step) after the start: earlier pulses began before it
+        pts = [(t, w) for t, c, w in lines if c == ch and w is not None and t >= t_mode + 0.031]
+        ws = [w for _, w in pts]
+        assert max(ws) == pytest.approx(1500 + amp_us, abs=TOL_US) and min(ws) == pytest.approx(1500 - amp_us,
+                                                                                                  abs=TOL_US)
+        # every logged width agrees with the profile at its firmware time (t_mode: from the SET_MODE ACK)
+        phase = math.pi / 2 if ch == 1 else 0.0
+        err = [abs(w - (1500 + amp_us * math.sin(2 * math.pi * (t - t_mode) / period + phase))) for t, w in pts]
+        # the generator is sampled every 10 ms and a pin shows a new width at its next 20 ms servo frame
+        slope = 2 * math.pi * amp_us / period  # us per second at the steepest point
+        assert max(err) <= TOL_US + slope * 0.031, max(err)

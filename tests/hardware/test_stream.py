@@ -166,3 +166,33 @@ def test_cli_errors_are_one_line_exit_2(tmp_path):
     r = run_cli(FISH, "--port", "/dev/nonexistent-tty", "--seconds", "1")
     assert r.returncode == 2 and "cannot open" in r.stderr
     assert not (tmp_path / "never.json").exists()
+
+
+def test_osc_params_from_profiles_and_refusals():
+    from metamaterial_wb.hardware.onboard import osc_params
+    ps = osc_params(fish(), channel_map(fish()))
+    # head: 0.3 sin(2 pi 0.5 t) -> 27 deg, 2000 ms; tail: 0.9 sin(2 pi t + 90 deg) -> 81 deg, 1000 ms, 90 deg
+    assert [(p.channel, p.amp_cdeg, p.offset_cdeg, p.period_ms, p.phase_cdeg) for p in ps] == [
+        (0, 2700, 0, 2000, 0), (1, 8100, 0, 1000, 9000)]
+    inv = osc_params(fish(tail={"scale_deg": 45}), channel_map(fish(tail={"scale_deg": 45})))
+    assert inv[1].amp_cdeg == 4050
+    d = json.load(open(FISH))
+    d["actuators"][0]["profile"] = {"shape": "steps", "times_s": [0, 1], "values": [0, 0.5], "period_s": 2}
+    s = Scene.from_dict(d)
+    with pytest.raises(SceneError, match=r"actuators\[0\] \(head\).profile.shape.*sine and constant"):
+        osc_params(s, channel_map(s))
+    s = fish(tail={"limits_deg": [-45, 45]})
+    with pytest.raises(SceneError, match=r"swings over \[-81.0, 81.0\] deg; channel 1 allows \[-45, 45\]"):
+        osc_params(s, channel_map(s))
+    d = json.load(open(FISH))
+    d["actuators"][1]["profile"]["frequency_hz"] = 3.0  # period 333 ms: frequency off by 0.1 %
+    p = osc_params(Scene.from_dict(d), channel_map(Scene.from_dict(d)))[1]
+    assert p.period_ms == 333 and p.frequency_error == pytest.approx(1000 / 333 / 3 - 1)
+
+
+def test_cli_osc_mode_dry_run():
+    r = run_cli(os.path.join(REPO, "examples", "worm.json"), "--dry-run", "--mode", "osc", "--seconds", "0.3")
+    assert r.returncode == 0, r.stderr
+    assert "rear -> ch0: 0 + 72 deg sin(2 pi 0.5 Hz t + 0 deg)" in r.stderr
+    assert "front -> ch1: 0 + 72 deg sin(2 pi 0.5 Hz t + 90 deg)" in r.stderr
+    assert "keep-alive pings" in r.stdout

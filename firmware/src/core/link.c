@@ -321,8 +321,9 @@ static void do_set_mode(sl_link_t *l, const sl_packet_t *rq, uint32_t now)
     l->osc_t0 = now;
     for (uint8_t ch = 0; ch < l->n_ch; ch++)
         l->raw_us[ch] = 0;
-    uint8_t out[2];
-    ack(l, rq, out, 2);
+    uint8_t out[6];
+    sl_put_u32(out + 2, now); /* the time origin of the oscillators */
+    ack(l, rq, out, 6);
 }
 
 static void gait_apply(sl_link_t *l)

@@ -1,0 +1,89 @@
+"""On-board motion: let the firmware generate the scene's sine profiles itself (OSC mode).
+
+The seed's worm / fish / butterfly gaits are sinusoids; sent once as oscillator parameters they run on the
+microcontroller with its own clock, so the host's timing jitter (a busy FreeCAD, a loaded PC) no longer
+matters. The host then only keeps the link watchdog fed with PINGs.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+from metamaterial_wb.core.errors import SceneError
+
+from . import protocol as P
+
+
+@dataclass
+class OscParams:
+    name: str
+    channel: int
+    amp_cdeg: int
+    offset_cdeg: int
+    period_ms: int
+    phase_cdeg: int
+    frequency_error: float = 0.0  # relative error of the frequency after rounding the period to 1 ms
+
+    def payload(self):
+        return P.osc_set_payload(self.channel, self.amp_cdeg, self.offset_cdeg, self.period_ms, self.phase_cdeg)
+
+
+def osc_params(scene, channels):
+    """Oscillator parameters of every channel from its actuator's profile (sine or constant, or none = the
+    actuator's value). Raises SceneError for other profile shapes or frequencies the firmware cannot run."""
+    by_name = {a.name: (k, a) for k, a in enumerate(scene.actuators)}
+    out = []
+    for c in channels:
+        k, a = by_name[c.name]
+        p = a.profile or {"shape": "constant", "value": a.value}
+        shape = p.get("shape", "sine")
+        field = f"actuators[{k}] ({a.name}).profile"
+        if shape == "constant":
+            amp, off, period, phase, ferr = 0.0, p.get("value", 0.0), 0, 0.0, 0.0
+        elif shape == "sine":
+            amp, off = p.get("amplitude", 1.0), p.get("offset", 0.0)
+            f = float(p.get("frequency_hz", 1.0))
+            if f == 0.0:
+                amp, off, period, ferr = 0.0, off + amp * math.sin(math.radians(p.get("phase_deg", 0.0))), 0, 0.0
+            else:
+                period = int(round(1000.0 / f))
+                if not 20 <= period <= 65535:
+                    raise SceneError(f"{field}.frequency_hz", f"{f} Hz: the on-board generator runs periods of "
+                                                              f"20 ms .. 65.5 s, i.e. 0.0153 .. 50 Hz")
+                ferr = (1000.0 / period) / f - 1.0
+            phase = p.get("phase_deg", 0.0)
+        else:
+            raise SceneError(f"{field}.shape", f"{shape!r}: the on-board generator runs sine and constant "
+                                               f"profiles only; stream this scene instead (--mode stream)")
+        amp_deg, off_deg = amp * c.scale_deg, off * c.scale_deg
+        lo, hi = c.limits_deg
+        if off_deg - amp_deg < lo - 1e-9 or off_deg + amp_deg > hi + 1e-9:
+            raise SceneError(field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg; "
+                                    f"channel {c.channel} allows [{lo:g}, {hi:g}] deg")
+        out.append(OscParams(c.name, c.channel, int(round(amp_deg * 100)), int(round(off_deg * 100)), period,
+                             int(round((phase % 360.0) * 100)) % 36000, ferr))
+    return out
+
+
+def run_oscillators(link, params, seconds, keepalive_s=0.1, stop=None):
+    """Send the oscillators, switch to OSC mode, keep the link alive for ``seconds`` (or until ``stop()``
+    returns true). Returns {"pings", "rtt_ms": [...], "t_start_ms": firmware time of the start}."""
+    n_events = len(link.events)
+    for p in params:
+        link.request(P.OSC_SET, p.payload())
+    r = link.request(P.SET_MODE, bytes([P.MODE_OSC]))
+    t_fw = int.from_bytes(r.data[:4], "little") if len(r.data) >= 4 else None  # the oscillators' time origin
+    rtts = []
+    end = time.perf_counter() + seconds
+    while time.perf_counter() < end and not (stop and stop()):
+        t0 = time.perf_counter()
+        link.request(P.PING)
+        rtts.append((time.perf_counter() - t0) * 1000.0)
+        time.sleep(max(0.0, keepalive_s - (time.perf_counter() - t0)))
+    for _, e in link.events[n_events:]:
+        if e.kind == "EVENT":
+            from .link import LinkError
+            raise LinkError(f"{link.name}: the firmware's watchdog tripped during on-board motion "
+                            f"({P.EVENT_NAMES.get(e.code, hex(e.code))})")
+    return {"pings": len(rtts), "rtt_ms": rtts, "t_start_ms": t_fw}
