@@ -219,3 +219,38 @@ def render_png(parts, path, elev=22.0, azim=-60.0, size_in=(5.0, 5.0), title=Non
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path
+
+
+def build_unit_cell(geom, samples=24):
+    """The flat unit cell (seed figure 2A) as a solid: the W x H plate minus its voids, T thick
+    (x across, y up, z through the thickness; centred on x = 0)."""
+    App, Part = freecad()
+    W, H = geom.width, geom.height
+    plate = Part.makeBox(W, H, geom.T, App.Vector(-W / 2, 0, 0))
+    cut = []
+    for name, poly in geom.holes(samples).items():
+        pts = [App.Vector(x, y, -1.0) for x, y in poly]
+        wire = Part.makePolygon(pts + [pts[0]])
+        cut.append(Part.Face(wire).extrude(App.Vector(0, 0, geom.T + 2.0)))
+        if name == "above":                      # the part beyond x = -W/2 belongs to the next cell
+            cut.append(cut[-1].translated(App.Vector(W, 0, 0)))
+    cell = plate.cut(cut[0].multiFuse(cut[1:])).removeSplitter()
+    return cell
+
+
+def add_to_document(spec, doc=None, progress=None):
+    """Build the sleeve's parts and add them to a FreeCAD document as Part::Feature objects
+    (coloured when the GUI is up). Returns the created objects."""
+    App, Part = freecad()
+    doc = doc or App.ActiveDocument or App.newDocument("Sleeve")
+    objs = []
+    for name, shape, colour, material in build_all(spec, progress=progress):
+        o = doc.addObject("Part::Feature", name)
+        o.Shape = shape
+        o.Label = f"{name} ({material})"
+        vo = getattr(o, "ViewObject", None)
+        if vo is not None:
+            vo.ShapeColor = tuple(int(colour[k:k + 2], 16) / 255 for k in (1, 3, 5))
+        objs.append(o)
+    doc.recompute()
+    return objs

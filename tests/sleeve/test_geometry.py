@@ -84,3 +84,40 @@ def test_step_and_3mf_export(tmp_path):
     with zipfile.ZipFile(tmp_path / "sleeve.3mf") as z:
         model = z.read("3D/3dmodel.model").decode()
     assert "TPU" in model and "PLA" in model
+
+
+def test_flat_unit_cell_solid_area():
+    from metamaterial_wb.core.sleeve.cell import CellGeometry
+    from metamaterial_wb.geometry.sleeve import build_unit_cell
+    g = CellGeometry()
+    s = build_unit_cell(g, samples=16)
+    assert s.isValid() and len(s.Solids) == 1
+    voids = sum(polygon_area(p) for p in g.holes(16).values())
+    assert s.Volume == pytest.approx((g.width * g.height - voids) * g.T, rel=1e-9)
+
+
+def test_document_objects():
+    import FreeCAD as App
+    from metamaterial_wb.geometry.sleeve import add_to_document
+    doc = App.newDocument("sleeve_test")
+    try:
+        objs = add_to_document(SleeveSpec(dict(SPEC, ring=[0, 1])), doc)
+        assert [o.Name for o in objs] == ["sleeve", "ring_bottom", "ring_top", "cap_bottom", "cap_top"]
+        assert all(o.Shape.isValid() for o in objs)
+    finally:
+        App.closeDocument(doc.Name)
+
+
+@pytest.mark.skipif(__import__("shutil").which("prusa-slicer") is None, reason="PrusaSlicer not installed")
+def test_3mf_reads_in_prusaslicer_as_manifold(tmp_path):
+    """An independent reader: PrusaSlicer's --info on the exported 3MF."""
+    import subprocess
+    spec = SleeveSpec(dict(SPEC, ring=[0, 1]))
+    export_sleeve(spec, str(tmp_path), step=False, threemf=True)
+    r = subprocess.run(["prusa-slicer", "--info", str(tmp_path / "sleeve.3mf")], capture_output=True,
+                       text=True, timeout=300)
+    out = r.stdout
+    assert out.count("manifold = yes") == 5 and "manifold = no" not in out
+    vols = [float(line.split("=")[1]) for line in out.splitlines() if line.strip().startswith("volume =")]
+    brep = build_sleeve(spec).Volume
+    assert vols[0] == pytest.approx(brep, rel=0.01)
