@@ -55,6 +55,7 @@ BELT_DEFAULTS = {
     "strain_per_kpa": 0.001,       # eps = strain_per_kpa * p
     "fill_time_s": 0.5,
     "ground_threshold_mm": None,   # a cell "touches the ground" if a contact point is this close (default h/2)
+    "boundary_stiffness_ratio": 1.0,  # bending stiffness of the hinge between two cells (valve / PCB) / inside a cell
 }
 
 GAIT_TYPES = ("none", "open_loop", "closed_loop")
@@ -137,6 +138,10 @@ def _belt_config(scene, raw):
     k = b["segments_per_cell"]
     if not isinstance(k, int) or isinstance(k, bool) or not 1 <= k <= 32:
         raise SceneError(f"{f}.segments_per_cell", f"{k!r}; allowed: an integer 1..32")
+    b["boundary_stiffness_ratio"] = check_number(f"{f}.boundary_stiffness_ratio", b["boundary_stiffness_ratio"],
+                                                 1e-3, 1e4)
+    if b["boundary_stiffness_ratio"] != 1.0 and k < 2:
+        raise SceneError(f"{f}.boundary_stiffness_ratio", "needs segments_per_cell >= 2 (a hinge inside each cell)")
     b["pressure_kpa"] = check_number(f"{f}.pressure_kpa", b["pressure_kpa"], 0.0, 1000.0, "kPa")
     b["strain_per_kpa"] = check_number(f"{f}.strain_per_kpa", b["strain_per_kpa"], 0.0, 1.0, "1/kPa")
     b["fill_time_s"] = check_number(f"{f}.fill_time_s", b["fill_time_s"], 0.0, 100.0, "s")
@@ -250,6 +255,11 @@ def build_belt(scene, cfg):
     base = 2 * math.pi / S
     wrap = np.zeros(S)
     wrap[-1] = -2 * math.pi
+    seg_cell = np.arange(S) // k
+    boundary = seg_cell[a] != seg_cell[bb]
+    ratio = np.where(boundary, b["boundary_stiffness_ratio"], 1.0)
+    kr = kr * ratio
+    cr = cr * np.sqrt(ratio)
     system.set_hinges(a, bb, np.tile([ls / 2, 0.0], (S, 1)), np.tile([-ls / 2, 0.0], (S, 1)),
                       kp, cp, kr, cr, theta0=base + wrap)
     # two contact points per segment on the outer face
@@ -266,14 +276,18 @@ def build_belt(scene, cfg):
     system.rb[:, 0] *= -1.0
     system.rc[:, 0] *= -1.0
     system.theta0 *= -1.0
-    # hinge -> the cells it belongs to (weights), for the rest curvature
-    seg_cell = np.arange(S) // k
+    # hinge -> the cells it belongs to, for the rest curvature. With a stiff boundary (k >= 2) a cell's
+    # whole bend kappa * L goes to its k - 1 inner hinges; otherwise it is spread over its k hinges.
     h_cells = np.column_stack([seg_cell[a], seg_cell[bb]])
+    if b["boundary_stiffness_ratio"] != 1.0:
+        h_weight = np.where(boundary, 0.0, k / (k - 1.0))
+    else:
+        h_weight = np.ones(S)
     kappa_per_kpa = 2 * math.sqrt(3) * b["strain_per_kpa"] / h        # 1/m per kPa (seed 2, eq. 2)
-    ctrl = BeltController(scene, cfg, system, h_cells, -ls, -(base + wrap), kappa_per_kpa, seg_cell)
+    ctrl = BeltController(scene, cfg, system, h_cells, -ls * h_weight, -(base + wrap), kappa_per_kpa, seg_cell)
     info = {"bodies": S, "cells": N, "segments_per_cell": k, "segment_mass_kg": m_seg,
             "total_mass_kg": float(mass.sum()), "ring_radius_mm": R * 1e3,
-            "hinge_kr_Nm_per_rad": kr, "hinge_kp_N_per_m": kp, "contact_kn_N_per_m": kn,
+            "hinge_kr_Nm_per_rad": sorted({float(x) for x in kr}), "hinge_kp_N_per_m": kp, "contact_kn_N_per_m": kn,
             "kappa_per_kpa_1_per_m": kappa_per_kpa, "gait": cfg["gait"]}
     model = Model("belt", system, q0, ctrl, cfg, info)
     model.seg_cell = seg_cell

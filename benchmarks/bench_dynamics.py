@@ -1,0 +1,223 @@
+"""Dynamics benchmarks and result figures (docs/dynamics.md, docs/dynamics-fidelity.md).
+
+    /usr/bin/python3 benchmarks/bench_dynamics.py speed            # the issue's targets (real-time factors)
+    /usr/bin/python3 benchmarks/bench_dynamics.py incline [--seconds 10]   # belt speed vs incline per gait
+    /usr/bin/python3 benchmarks/bench_dynamics.py worm             # worm displacement per cycle vs phase offset
+    /usr/bin/python3 benchmarks/bench_dynamics.py fidelity         # integrators on the 1000-cell belt
+
+Figures go to docs/img/dyn-*.png, raw numbers to benchmarks/results/dyn-*.json.
+Timings are wall clock on a shared 2-core machine; the ratio column compares against a baseline
+measured in the same run (the explicit integrator at its automatic step guard).
+"""
+import argparse
+import copy
+import json
+import math
+import os
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, ROOT)
+
+from metamaterial_wb.core.dynamics.builders import build, dynamics_config  # noqa: E402
+from metamaterial_wb.core.dynamics.integrators import Simulator  # noqa: E402
+from metamaterial_wb.core.dynamics.simulate import simulate  # noqa: E402
+from metamaterial_wb.core.scene import Scene  # noqa: E402
+
+IMG = os.path.join(ROOT, "docs", "img")
+RES = os.path.join(HERE, "results")
+
+GAITS = {
+    "open-loop normal torque": {"type": "open_loop", "torque": "normal", "tau_on_s": 1.0, "tau_off_s": 0.3},
+    "open-loop high torque": {"type": "open_loop", "torque": "high", "tau_on_s": 1.0, "tau_off_s": 0.3},
+    "closed-loop (n1=1, n2=0)": {"type": "closed_loop", "n1": 1, "n2": 0},
+    "closed-loop high torque (n1=1, n2=5)": {"type": "closed_loop", "n1": 1, "n2": 5},
+}
+
+
+def load(name):
+    with open(os.path.join(ROOT, "examples", name)) as f:
+        return json.load(f)
+
+
+def scene_with(d, **dyn):
+    d = copy.deepcopy(d)
+    for k, v in dyn.items():
+        d["dynamics"][k] = v
+    return Scene.from_dict(d)
+
+
+def belt1000():
+    return Scene.from_dict(load("belt1000.json"))
+
+
+def save(name, obj):
+    os.makedirs(RES, exist_ok=True)
+    with open(os.path.join(RES, name), "w") as f:
+        json.dump(obj, f, indent=1)
+
+
+def run_speed(args):
+    rows = []
+    cases = [("worm (examples/worm_crawl.json)", Scene.load(os.path.join(ROOT, "examples", "worm_crawl.json")), 10.0),
+             ("8-cell belt, closed loop (examples/belt8.json)", Scene.load(os.path.join(ROOT, "examples", "belt8.json")), 10.0),
+             ("1000-cell belt, closed loop (examples/belt1000.json)", belt1000(), 10.0)]
+    for label, sc, T in cases:
+        res = {}
+        for method, dt in (("symplectic", None), (None, None)):
+            if method == "symplectic" and "1000" in label:
+                # the explicit baseline at its guard step is far too slow for 10 s: time 0.05 s, extrapolate
+                s, *_ = simulate(sc, 0.05, method="symplectic")
+                res["symplectic"] = dict(wall_s=s["integrator"]["wall_s"] * T / 0.05, steps=s["integrator"]["steps"] * T / 0.05,
+                                         dt=s["integrator"]["dt_s"], extrapolated=True)
+                continue
+            s, *_ = simulate(sc, T, method=method, dt=dt)
+            it = s["integrator"]
+            res[method or "default"] = dict(wall_s=it["wall_s"], steps=it["steps"], dt=it["dt_s"], method=it["method"],
+                                           disp=s["displacement_mm"])
+        base = res["symplectic"]["wall_s"]
+        d = res["default"]
+        rows.append({"case": label, "simulated_s": T, "default": d, "explicit_baseline": res["symplectic"],
+                     "realtime_factor": T / d["wall_s"], "speedup_vs_explicit": base / d["wall_s"]})
+        print(f"{label}: {T:g} s simulated in {d['wall_s']:.2f} s wall ({d['method']}, dt={d['dt']:g} s, "
+              f"{d['steps']} steps) = {T / d['wall_s']:.1f}x real time; explicit baseline "
+              f"{base:.2f} s{' (extrapolated)' if res['symplectic'].get('extrapolated') else ''} "
+              f"(dt={res['symplectic']['dt']:.3g} s) -> {base / d['wall_s']:.1f}x faster", flush=True)
+    save("dyn-speed.json", rows)
+
+
+def run_incline(args):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    base = load("belt8.json")
+    inclines = [float(x) for x in args.inclines.split(",")]
+    out = {}
+    for name, gait in GAITS.items():
+        out[name] = []
+        for a in inclines:
+            sc = scene_with(base, gait=gait, incline_deg=a)
+            s, *_ = simulate(sc, args.seconds)
+            r = {"incline_deg": a, "displacement_mm": s["displacement_mm"], "speed_mm_s": s["mean_speed_mm_s"],
+                 "min_mm": s["min_com_displacement_mm"], "wall_s": s["integrator"]["wall_s"]}
+            out[name].append(r)
+            print(f"{name:40s} {a:5.1f} deg: {r['displacement_mm']:+8.1f} mm  ({r['speed_mm_s']:+6.1f} mm/s, "
+                  f"min {r['min_mm']:+.1f} mm) {r['wall_s']:.1f} s", flush=True)
+    save("dyn-incline.json", out)
+    fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
+    for name, rows in out.items():
+        ax.plot([r["incline_deg"] for r in rows], [r["speed_mm_s"] for r in rows], "o-", label=name)
+    ax.axhline(0, color="k", lw=0.8)
+    ax.set_xlabel("incline (deg)")
+    ax.set_ylabel(f"mean speed over {args.seconds:g} s (mm/s, + = uphill)")
+    ax.set_title("8-cell pneumatic belt: speed vs incline per gait (negative = rolls back)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    os.makedirs(IMG, exist_ok=True)
+    fig.savefig(os.path.join(IMG, "dyn-belt-speed-vs-incline.png"))
+    print("wrote docs/img/dyn-belt-speed-vs-incline.png")
+
+
+def run_worm(args):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    base = load("worm_crawl.json")
+    f = base["actuators"][0]["profile"]["frequency_hz"]
+    cycles = args.cycles
+    rows = []
+    for ph in range(-180, 181, 30):
+        d = copy.deepcopy(base)
+        d["actuators"][1]["profile"]["phase_deg"] = ph
+        s, *_ = simulate(Scene.from_dict(d), cycles / f)
+        rows.append({"phase_deg": ph, "per_cycle_mm": s["displacement_mm"] / cycles})
+        print(f"phase {ph:+4d} deg: {rows[-1]['per_cycle_mm']:+.2f} mm/cycle", flush=True)
+    save("dyn-worm-phase.json", rows)
+    fig, ax = plt.subplots(figsize=(6, 3.8), dpi=110)
+    ax.plot([r["phase_deg"] for r in rows], [r["per_cycle_mm"] for r in rows], "o-")
+    ax.axhline(0, color="k", lw=0.8)
+    ax.set_xlabel("phase of the front motor relative to the rear motor (deg)")
+    ax.set_ylabel("displacement per cycle (mm)")
+    ax.set_title("Worm: crawl per cycle vs phase offset (0.5 Hz, amplitude 0.8)")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    os.makedirs(IMG, exist_ok=True)
+    fig.savefig(os.path.join(IMG, "dyn-worm-phase.png"))
+    print("wrote docs/img/dyn-worm-phase.png")
+
+
+def run_fidelity(args):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    sc = belt1000()
+    T = args.horizon
+    cfg = dynamics_config(sc)
+
+    def run(method, dt):
+        model = build(sc, cfg)
+        sim = Simulator(model.system, model.q0, actuate=model.actuate)
+        sim.energy_scale = float(model.system.mass.sum() * 9.81 * 0.05)
+        t0 = time.perf_counter()
+        sim.run(T, method=method, dt=dt)
+        wall = time.perf_counter() - t0
+        return sim.q.copy(), model.com_x(sim.q), wall, sim.stats
+
+    print(f"reference: implicit BDF2, dt = {args.ref_dt:g} s, horizon {T:g} s", flush=True)
+    q_ref, com_ref, wall_ref, _ = run("implicit", args.ref_dt)
+    L = cfg["belt"]["cell_length_mm"] * 1e-3
+    rows = []
+    ladder = [("symplectic", None), ("symplectic", "half")] + [("implicit", d) for d in (0.01, 0.005, 0.002, 0.001)]
+    for method, dt in ladder:
+        if dt == "half":
+            probe = Simulator(build(sc, cfg).system, build(sc, cfg).q0)
+            dt = probe.dt_guard / 2
+        q, com, wall, st = run(method, dt)
+        err = float(np.max(np.linalg.norm(q[:, :2] - q_ref[:, :2], axis=1)) / L)
+        rows.append({"method": method, "dt_s": st["dt_s"], "wall_s": wall, "steps": st["steps"],
+                     "max_position_error_cells": err, "com_error_mm": abs(com - com_ref) * 1e3,
+                     "fallbacks": st["fallbacks"]})
+        print(f"{method:10s} dt={st['dt_s']:.3g} s  wall {wall:7.2f} s  steps {st['steps']:6d}  "
+              f"max error {err:.3g} cell lengths  COM error {abs(com - com_ref) * 1e3:.3g} mm", flush=True)
+    save("dyn-fidelity.json", {"horizon_s": T, "reference_dt_s": args.ref_dt, "reference_wall_s": wall_ref, "rows": rows})
+    fig, ax = plt.subplots(figsize=(6, 4), dpi=110)
+    for method, mk in (("symplectic", "s-"), ("implicit", "o-")):
+        rr = [r for r in rows if r["method"] == method]
+        ax.loglog([r["wall_s"] for r in rr], [max(r["max_position_error_cells"], 1e-12) for r in rr], mk,
+                  label=f"{method} ({'dt = guard, guard/2' if method == 'symplectic' else 'dt = 10, 5, 2, 1 ms'})")
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("max node position error (cell lengths)")
+    ax.set_title(f"1000-cell belt, {T:g} s simulated, vs BDF2 dt={args.ref_dt:g} s")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    os.makedirs(IMG, exist_ok=True)
+    fig.savefig(os.path.join(IMG, "dyn-fidelity-belt1000.png"))
+    print("wrote docs/img/dyn-fidelity-belt1000.png")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = p.add_subparsers(dest="what", required=True)
+    sub.add_parser("speed")
+    pi = sub.add_parser("incline")
+    pi.add_argument("--seconds", type=float, default=10.0)
+    pi.add_argument("--inclines", default="0,2,4,6,8,10")
+    pw = sub.add_parser("worm")
+    pw.add_argument("--cycles", type=float, default=3.0)
+    pf = sub.add_parser("fidelity")
+    pf.add_argument("--horizon", type=float, default=0.5)
+    pf.add_argument("--ref-dt", type=float, default=1e-4)
+    args = p.parse_args()
+    {"speed": run_speed, "incline": run_incline, "worm": run_worm, "fidelity": run_fidelity}[args.what](args)
+
+
+if __name__ == "__main__":
+    main()

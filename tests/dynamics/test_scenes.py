@@ -1,0 +1,159 @@
+"""Scene-level dynamics: the worm, the belt and its gaits, the bimorph law, validation, the CLI."""
+import copy
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from metamaterial_wb.core.dynamics.builders import build, dynamics_config
+from metamaterial_wb.core.dynamics.integrators import Simulator
+from metamaterial_wb.core.dynamics.simulate import simulate
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.scene import Scene
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+EX = os.path.join(ROOT, "examples")
+
+
+def load(name):
+    with open(os.path.join(EX, name)) as f:
+        return json.load(f)
+
+
+def belt(**dyn):
+    d = load("belt8.json")
+    d["dynamics"].update(dyn)
+    return Scene.from_dict(d)
+
+
+def test_worm_crawls_and_reverses_with_the_phase_sign():
+    fwd, *_ = simulate(Scene.from_dict(load("worm_crawl.json")), 4.0)
+    rev, *_ = simulate(Scene.from_dict(load("worm_crawl_reverse.json")), 4.0)
+    assert fwd["displacement_mm"] > 2.0
+    assert rev["displacement_mm"] < -2.0
+    # no phase offset: the two motors move together and the crawl (nearly) vanishes
+    d = load("worm_crawl.json")
+    d["actuators"][1]["profile"]["phase_deg"] = 0
+    zero, *_ = simulate(Scene.from_dict(d), 4.0)
+    assert abs(zero["displacement_mm"]) < 0.3 * min(fwd["displacement_mm"], -rev["displacement_mm"])
+
+
+def test_worm_needs_its_friction_pads():
+    # with the pads as slippery as the body, the crawl changes: the pads matter (per-node friction)
+    d = load("worm_crawl.json")
+    for m in d["modules"]:
+        m["mu"] = 0.05
+    slippery, *_ = simulate(Scene.from_dict(d), 4.0)
+    fwd, *_ = simulate(Scene.from_dict(load("worm_crawl.json")), 4.0)
+    assert abs(slippery["displacement_mm"] - fwd["displacement_mm"]) > 0.2 * abs(fwd["displacement_mm"])
+
+
+def test_worm_rests_on_the_floor_within_tolerance():
+    d = load("worm_crawl.json")
+    for a in d["actuators"]:
+        a["profile"]["amplitude"] = 0.0
+    s, traj, model, sim = simulate(Scene.from_dict(d), 1.0)
+    tol = dynamics_config(Scene.from_dict(d))["contact"]["penetration_tol_mm"]
+    pts = model.system.contact_points(sim.q)
+    assert -pts[:, 1].min() * 1e3 < tol           # resting penetration below the tolerance
+    assert abs(s["displacement_mm"]) < 0.01
+    assert np.max(np.abs(sim.v[:, :2])) < 1e-3
+
+
+def test_bimorph_rest_curvature_follows_two_sqrt3_eps_over_h():
+    sc = belt(gait={"type": "none"})
+    cfg = dynamics_config(sc)
+    model = build(sc, cfg)
+    b = cfg["belt"]
+    ctrl = model.actuate
+    sim = Simulator(model.system, model.q0, actuate=None)
+    theta_rest = model.system.theta0.copy()
+    b_fill = b["fill_time_s"]
+    ctrl.b = dict(b, fill_time_s=0.0)
+    ctrl.profiles = []
+    ctrl.p_cmd = np.zeros(b["cells"])
+    ctrl.command = lambda t, q: None
+    ctrl.p_cmd[3] = 20.0                          # kPa in cell 3 only
+    ctrl(0.0, sim)
+    eps = b["strain_per_kpa"] * 20.0
+    kappa = 2 * math.sqrt(3) * eps / (b["thickness_mm"] * 1e-3)
+    dtheta = model.system.theta0 - theta_rest
+    cells = model.seg_cell
+    on = (cells[model.system.ha] == 3) | (cells[model.system.hb] == 3)
+    assert np.all(dtheta[~on] == 0)
+    # the cell's total extra bend is kappa times its length, bending inwards (clockwise ring: negative)
+    assert -dtheta.sum() == pytest.approx(kappa * b["cell_length_mm"] * 1e-3, rel=1e-9)
+    assert b_fill > 0
+
+
+def test_belt_closed_loop_rolls_forward_on_flat_floor():
+    s, *_ = simulate(belt(), 4.0)
+    assert s["displacement_mm"] > 15.0            # towards increasing cell index (+x)
+    assert s["integrator"]["max_penetration_mm"] < 1.0
+
+
+def test_closed_loop_does_not_roll_back_where_open_loop_does():
+    a = 10.0
+    cell = 38.0
+    closed, *_ = simulate(belt(incline_deg=a, gait={"type": "closed_loop", "n1": 1, "n2": 0}), 8.0)
+    opened, *_ = simulate(belt(incline_deg=a, gait={"type": "open_loop", "torque": "normal"}), 8.0)
+    assert opened["displacement_mm"] < -5 * cell          # rolls back down the slope
+    assert closed["displacement_mm"] > -cell              # stuck at a rolling step at worst
+
+
+def test_bad_dynamics_fields_are_named():
+    d = load("belt8.json")
+    d["dynamics"]["gait"] = {"type": "closed_loop", "n1": 99}
+    with pytest.raises(SceneError, match=r"dynamics\.gait\.n1.*0\.\.7"):
+        dynamics_config(Scene.from_dict(d))
+    d = load("belt8.json")
+    d["dynamics"]["belt"]["colour"] = "red"
+    with pytest.raises(SceneError, match=r"dynamics\.belt\.colour"):
+        dynamics_config(Scene.from_dict(d))
+    d = load("worm_crawl.json")
+    d["modules"][0]["node"] = "N5,5"
+    with pytest.raises(SceneError, match=r"modules\[0\]\.node"):
+        build(Scene.from_dict(d))
+    d = load("worm_crawl.json")
+    d["dynamics"]["incline_deg"] = 90
+    with pytest.raises(SceneError, match="incline_deg"):
+        dynamics_config(Scene.from_dict(d))
+
+
+def cli(*args):
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    return subprocess.run([sys.executable, "-m", "metamaterial_wb", "simulate", *args], capture_output=True,
+                          text=True, cwd=ROOT, env=env, timeout=300)
+
+
+def test_cli_writes_summary_trajectory_and_frames(tmp_path):
+    out = tmp_path / "run"
+    r = cli(os.path.join(EX, "worm_crawl.json"), "--seconds", "0.4", "--out", str(out), "--frames", "--fps", "10")
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    for key in ("displacement_mm", "energy", "integrator"):
+        assert key in s
+    assert {"initial_J", "final_J", "actuator_work_J", "damping_dissipated_J", "numerical_J"} <= set(s["energy"])
+    assert s["integrator"]["steps"] > 0 and s["integrator"]["method"] in ("implicit", "symplectic")
+    tr = json.loads((out / "trajectory.json").read_text())
+    assert len(tr["times_s"]) == len(tr["poses"]) >= 4
+    assert len(tr["poses"][0]) == tr["bodies"] == 9
+    # the trajectory's centre of mass agrees with the summary (equal-mass check is not assumed)
+    assert (out / "frames" / "frame_0000.png").exists()
+    assert not [p for p in out.iterdir() if p.name.startswith(".tmp")]
+
+
+def test_cli_bad_input_exits_2_and_writes_nothing(tmp_path):
+    d = load("belt8.json")
+    d["dynamics"]["gait"] = {"type": "closed_loop", "n1": 99}
+    f = tmp_path / "bad.json"
+    f.write_text(json.dumps(d))
+    out = tmp_path / "run"
+    r = cli(str(f), "--seconds", "1", "--out", str(out))
+    assert r.returncode == 2
+    assert "n1" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert not out.exists()
