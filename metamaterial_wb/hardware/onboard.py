@@ -87,3 +87,28 @@ def run_oscillators(link, params, seconds, keepalive_s=0.1, stop=None):
             raise LinkError(f"{link.name}: the firmware's watchdog tripped during on-board motion "
                             f"({P.EVENT_NAMES.get(e.code, hex(e.code))})")
     return {"pings": len(rtts), "rtt_ms": rtts, "t_start_ms": t_fw}
+
+
+class FirmwareGait:
+    """The distributed gait rule (seed 001, Algorithm 1) evaluated by the firmware.
+
+    ``step(c_air)`` has the meaning of ``metamaterial_wb.core.gait.gait_rule_step``: ``c_air[i] = 1`` when cell
+    i is in the air; returns 1 for the cells to inflate. With ``pins=True`` the board reads its own contact
+    switches (A0..A3, D2, D3) instead. ``start()`` lets the board drive its servos (GAIT mode; needs ARM):
+    channel k shows cell ``first_cell + k`` at ``inflate_deg`` or ``vent_deg``."""
+
+    def __init__(self, link, n_cells, n1, n2, closed=True, pins=False, first_cell=0, inflate_deg=45.0,
+                 vent_deg=0.0):
+        self.link, self.n = link, int(n_cells)
+        link.request(P.GAIT_SET, P.gait_set_payload(self.n, int(n1), int(n2), closed=closed, pins=pins,
+                                                    first_cell=first_cell, inflate_cdeg=int(round(inflate_deg * 100)),
+                                                    vent_cdeg=int(round(vent_deg * 100))))
+
+    def step(self, c_air):
+        if len(c_air) != self.n:
+            raise SceneError("gait contacts", f"{len(c_air)} sensor values for {self.n} cells")
+        r = self.link.request(P.GAIT_CONTACTS, P.pack_mask(c_air))
+        return P.unpack_mask(r.data, self.n)
+
+    def start(self):
+        return self.link.request(P.SET_MODE, bytes([P.MODE_GAIT]))

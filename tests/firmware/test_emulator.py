@@ -317,3 +317,45 @@ def test_cli_osc_mode_runs_the_fish_on_board(sim, tmp_path):
         # the generator is sampled every 10 ms and a pin shows a new width at its next 20 ms servo frame
         slope = 2 * math.pi * amp_us / period  # us per second at the steepest point
         assert max(err) <= TOL_US + slope * 0.031, max(err)
+
+
+def test_firmware_gait_rule_matches_the_python_reference_on_random_chains(link):
+    """Differential test beyond the fixed vectors: 150 random chains (1..64 cells, open or closed, random n1,
+    n2, random contacts) through the firmware and through core/gait.py (written independently)."""
+    import random
+
+    from metamaterial_wb.core.gait import gait_rule_step
+    from metamaterial_wb.hardware.onboard import FirmwareGait
+    rnd = random.Random(2026)
+    for _ in range(50):
+        n = rnd.randint(1, 64)
+        n1, n2, closed = rnd.randrange(n), rnd.randrange(n), rnd.random() < 0.5
+        g = FirmwareGait(link, n, n1, n2, closed=closed)
+        for _ in range(3):
+            c = [int(rnd.random() < 0.6) for _ in range(n)]
+            assert g.step(c) == gait_rule_step(c, n1, n2, closed), (n, n1, n2, closed, c)
+
+
+def test_gait_mode_reads_the_contact_switches(fw_build, tmp_path):
+    """GAIT mode with contacts from the pins (A0..A5; switch closed = on the ground), as on a robot with a
+    switch per cell: the harness drives the input pins, the servos follow Algorithm 1."""
+    import simrun
+
+    from metamaterial_wb.core.gait import gait_rule_step
+    from metamaterial_wb.hardware.onboard import FirmwareGait
+    with simrun.SimAVR(fw_build, log_dir=str(tmp_path), contacts=True) as sim, Link.open(sim.port) as link:
+        link.handshake()
+        g = FirmwareGait(link, 6, 1, 1, closed=True, pins=True, inflate_deg=60, vent_deg=-30)
+        with pytest.raises(LinkError, match="MODE"):
+            g.step([1] * 6)  # the contacts come from the pins
+        link.arm()
+        g.start()
+        for c in ([0, 0, 1, 1, 1, 1], [1, 1, 0, 0, 0, 1], [1, 0, 1, 1, 0, 1], [0, 0, 0, 0, 0, 0]):
+            sim.set_contacts(c)
+            got = settle_pulses(sim, link, 100)
+            act = gait_rule_step(c, 1, 1, closed=True)
+            for ch in range(6):
+                assert abs(got[ch] - (1500 + (60 if act[ch] else -30) / 90 * 1000)) <= TOL_US, (c, ch)
+            assert abs(got[6] - 1500) <= TOL_US and abs(got[7] - 1500) <= TOL_US  # no cell: channels hold
+        with pytest.raises(LinkError, match="RANGE"):  # 7 cells: more than the board's 6 inputs
+            FirmwareGait(link, 7, 1, 1, pins=True)

@@ -12,5 +12,8 @@ void hal_servo_init(void);
 /* pulse widths in microseconds, 0 = no pulses on that channel */
 void hal_servo_write(const uint16_t *us, uint8_t n);
 extern const uint8_t hal_servo_caps; /* SL_CAP_PCA9685 for the I2C back end, else 0 */
+/* contact switches for GAIT mode: cell k on A0 + k (PC0..PC5), 6 cells, or 4 (A0..A3) when the I2C back end
+ * uses A4, A5 */
+extern const uint8_t hal_contact_cells;
 
 #endif

@@ -1,7 +1,7 @@
 /* servolink v1 firmware for the ATmega328P (Arduino Uno / Nano, 16 MHz).
  * UART0 115200 8N1 (U2X) with an interrupt-driven receive ring; Timer2 1 kHz millisecond tick;
- * the servo back end from hal.h; contact switches for GAIT mode on A0..A3, D2, D3 (cells 0..5; closed to
- * ground = on the ground, internal pull-up = in the air); the hardware watchdog (250 ms) catches firmware hangs.
+ * the servo back end from hal.h; contact switches for GAIT mode on A0..A5 (cells 0..5; A0..A3 with the I2C
+ * back end; closed to ground = on the ground, internal pull-up = in the air); the hardware watchdog (250 ms) catches firmware hangs.
  * Everything else is the portable core in ../core (compiled and unit-tested on the host too). */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -69,10 +69,12 @@ static void uart_tx(void *user, const uint8_t *buf, uint8_t len)
 static void read_contacts(void *user, uint8_t *air_mask, uint8_t n)
 {
     (void)user;
-    /* cells 0..3 on A0..A3 (PC0..PC3), cells 4, 5 on D2, D3 (PD2, PD3); 1 = open switch = in the air */
-    uint8_t pins = (uint8_t)((PINC & 0x0F) | ((PIND & 0x0C) << 2));
-    uint8_t m = (uint8_t)((1u << (n > 6 ? 6 : n)) - 1u);
-    air_mask[0] = (uint8_t)(pins & m);
+    /* cell k on A0 + k (PC0..PC5); 1 = open switch = in the air. (Port C only: the servo interrupt rewrites
+     * PORTD and PORTB, which an emulator may take for a change of those ports' input pins.) */
+    uint8_t pins = PINC & 0x3F;
+    if (n > hal_contact_cells)
+        n = hal_contact_cells;
+    air_mask[0] = (uint8_t)(pins & (uint8_t)((1u << n) - 1u));
 }
 
 int main(void)
@@ -89,10 +91,9 @@ int main(void)
     OCR2A = 249;
     TIMSK2 = (1 << OCIE2A);
     /* contact inputs with pull-ups */
-    DDRC &= (uint8_t)~0x0F;
-    PORTC |= 0x0F;
-    DDRD &= (uint8_t)~0x0C;
-    PORTD |= 0x0C;
+    uint8_t cmask = (uint8_t)((1u << hal_contact_cells) - 1u);
+    DDRC &= (uint8_t)~cmask;
+    PORTC |= cmask;
 
     hal_servo_init();
     set_sleep_mode(SLEEP_MODE_IDLE);
@@ -100,6 +101,7 @@ int main(void)
     wdt_enable(WDTO_250MS);
     sl_link_init(&link_state, HAL_N_SERVOS, (uint8_t)(hal_servo_caps | SL_CAP_CONTACT_PINS), uart_tx, read_contacts,
                  0, millis());
+    link_state.pin_cells = hal_contact_cells;
 
     for (;;) {
         wdt_reset();

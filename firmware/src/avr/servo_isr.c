@@ -1,6 +1,6 @@
 /* Interrupt-driven servo pulse sequencer (Timer1 normal mode, compare A interrupt).
- * Channels 0..7 on Arduino pins D4..D11 (PD4..PD7, PB0..PB3). D2/D3 (INT0/INT1) stay free: they read
- * contact switches, and simavr polls an external-interrupt pin driven as an output on every cycle. One channel is high at a
+ * Channels 0..7 on Arduino pins D4..D11 (PD4..PD7, PB0..PB3). D2/D3 (INT0/INT1) stay free: simavr polls
+ * an external-interrupt pin driven as an output on every cycle. One channel is high at a
  * time; a 20 ms frame. Timer1 runs free at 2 MHz (prescaler 8, 0.5 us per tick); OCR1A is advanced
  * by each pulse width so that both edges of a pulse come from compare matches. */
 #include <avr/interrupt.h>
@@ -14,6 +14,7 @@
 #define LEAD_TICKS 40u     /* wake up 20 us before an edge */
 
 const uint8_t hal_servo_caps = 0;
+const uint8_t hal_contact_cells = 6;
 
 static volatile uint16_t ticks[HAL_N_SERVOS];
 static volatile int8_t cur = -1;

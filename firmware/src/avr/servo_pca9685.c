@@ -14,6 +14,7 @@
 #define PCA_LED0 0x06
 
 const uint8_t hal_servo_caps = SL_CAP_PCA9685;
+const uint8_t hal_contact_cells = 4; /* A4, A5 are the I2C bus */
 
 static uint8_t prescale;
 static uint16_t last[HAL_N_SERVOS];

@@ -340,7 +340,7 @@ static void do_gait_set(sl_link_t *l, const sl_packet_t *rq)
     }
     uint8_t n = p[0], n1 = p[1], n2 = p[2], flags = p[3], first = p[4];
     int16_t inflate = sl_get_i16(p + 5), vent = sl_get_i16(p + 7);
-    if (n < 1 || n > SL_GAIT_MAX_CELLS || ((flags & SL_GAIT_PINS) && n > SL_GAIT_PIN_CELLS)) {
+    if (n < 1 || n > SL_GAIT_MAX_CELLS || ((flags & SL_GAIT_PINS) && n > l->pin_cells)) {
         nak(l, rq->seq, SL_E_RANGE, 1);
         return;
     }
@@ -352,7 +352,7 @@ static void do_gait_set(sl_link_t *l, const sl_packet_t *rq)
         nak(l, rq->seq, SL_E_RANGE, 3);
         return;
     }
-    if (flags & ~(SL_GAIT_CLOSED | SL_GAIT_PINS) || ((flags & SL_GAIT_PINS) && !(l->caps & SL_CAP_CONTACT_PINS))) {
+    if (flags & ~(SL_GAIT_CLOSED | SL_GAIT_PINS) || ((flags & SL_GAIT_PINS) && !l->pin_cells)) {
         nak(l, rq->seq, SL_E_RANGE, 4);
         return;
     }

@@ -21,7 +21,7 @@
 #define SL_MAX_RATE_HZ 100
 #define SL_PARK_DEFAULT_DPS 90 /* park speed when a channel has no slew limit */
 #define SL_SLEW_PERIOD_MS 10
-#define SL_GAIT_PIN_CELLS 6    /* contact switches on A0..A3, D2, D3 */
+#define SL_GAIT_PIN_CELLS 6    /* at most: contact switches on A0..A5 */
 
 /* link states */
 #define SL_ST_DISARMED 0
@@ -54,6 +54,7 @@ typedef struct {
     /* configuration */
     uint8_t n_ch;
     uint8_t caps;
+    uint8_t pin_cells;           /* contact inputs of this board (0 = none), set by the board code */
     sl_chan_cfg_t cfg[SL_MAX_CH];
     uint16_t wd_ms, park_after_ms, release_after_ms;
     /* state */

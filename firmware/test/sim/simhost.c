@@ -8,7 +8,8 @@
  * Channels 0..7 are Arduino D4..D11 (PD4..PD7, PB0..PB3), the pins of the firmware's ISR servo driver.
  * --realtime paces simulated time to the wall clock (needed for any timing-related test).
  * --pca9685 attaches an emulated PCA9685 at I2C address 0x40 instead of watching the pins (the firmware's
- * BACKEND=pca9685 build); its channels are logged the same way. */
+ * BACKEND=pca9685 build); its channels are logged the same way.
+ * --contacts FILE drives the GAIT-mode contact switch inputs from a file ("00011111": cell 0 first). */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <fcntl.h>
@@ -51,6 +52,28 @@ static uint8_t pca_ptr, pca_selected, pca_first_byte;
 
 static double pca_last[N_CH];
 static int pca_logged[N_CH];
+
+/* --contacts FILE: the contact switches of GAIT mode. The file holds one character per cell, '1' = in the
+ * air (switch open), '0' = on the ground (switch closed to GND); it is re-read every 10 ms of simulated time
+ * and drives the input pins: cell k = A0 + k (PC0..PC5). */
+static const char *contacts_path;
+static char contacts_last[16];
+
+static void contacts_poll(void)
+{
+    char buf[16] = {0};
+    FILE *f = fopen(contacts_path, "r");
+    if (!f)
+        return;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    if (!strcmp(buf, contacts_last))
+        return;
+    strcpy(contacts_last, buf);
+    for (int cell = 0; cell < 6 && buf[cell] && buf[cell] != '\n'; cell++)
+        avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'), IOPORT_IRQ_PIN0 + cell), buf[cell] == '1');
+}
 
 static uint8_t inbuf[4096];
 static size_t in_len, in_pos;
@@ -203,6 +226,9 @@ static avr_cycle_count_t poll_timer(struct avr_t *a, avr_cycle_count_t when, voi
      * anyway; the UART's fifo flow control (XOFF) is respected */
     for (int k = 0; k < 2 && in_pos < in_len && !uart_xoff; k++)
         avr_raise_irq(avr_io_getirq(a, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT), inbuf[in_pos++]);
+    static unsigned polls;
+    if (contacts_path && ++polls % 100 == 0)
+        contacts_poll();
     avr_cycle_count_t gap = (avr_cycle_count_t)(0.060 * (double)a->frequency);
     for (int ch = 0; ch < N_CH; ch++) {
         if (pin_on[ch] && a->cycle - last_rise[ch] > gap) {
@@ -229,7 +255,7 @@ static avr_cycle_count_t poll_timer(struct avr_t *a, avr_cycle_count_t when, voi
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: simhost [--realtime] [--pca9685] [--pulse-log FILE] [--link PATH] [--seconds S] [--mcu NAME] "
+    fprintf(stderr, "usage: simhost [--realtime] [--pca9685] [--contacts FILE] [--pulse-log FILE] [--link PATH] [--seconds S] [--mcu NAME] "
                     "[--freq HZ] FIRMWARE.elf\n");
     exit(2);
 }
@@ -244,6 +270,8 @@ int main(int argc, char **argv)
             realtime = 1;
         else if (!strcmp(argv[i], "--pca9685"))
             pca_enabled = 1;
+        else if (!strcmp(argv[i], "--contacts") && i + 1 < argc)
+            contacts_path = argv[++i];
         else if (!strcmp(argv[i], "--pulse-log") && i + 1 < argc)
             log_path = argv[++i];
         else if (!strcmp(argv[i], "--link") && i + 1 < argc)

@@ -47,12 +47,13 @@ def build(build_dir):
 
 
 class SimAVR:
-    def __init__(self, paths, realtime=True, log_dir=None, pca9685=False):
+    def __init__(self, paths, realtime=True, log_dir=None, pca9685=False, contacts=False):
         self.paths = paths
         self.realtime = realtime
         self.pca9685 = pca9685  # the PCA9685 firmware with an emulated PCA9685 on I2C
         self.log_dir = log_dir or tempfile.mkdtemp(prefix="simavr-")
         self.pulse_log = os.path.join(self.log_dir, "pulses.txt")
+        self.contacts_file = os.path.join(self.log_dir, "contacts.txt") if contacts else None
         self.proc = None
         self.port = None
 
@@ -63,6 +64,9 @@ class SimAVR:
             cmd.insert(1, "--realtime")
         if self.pca9685:
             cmd.insert(1, "--pca9685")
+        if self.contacts_file:
+            self.set_contacts([1] * 6)
+            cmd[1:1] = ["--contacts", self.contacts_file]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         end = time.monotonic() + timeout
         while time.monotonic() < end:
@@ -74,6 +78,13 @@ class SimAVR:
                 return self
         self.stop()
         raise RuntimeError("simhost did not report its pty")
+
+    def set_contacts(self, c_air):
+        """Contact switches: c_air[i] = 1 -> cell i in the air (open), 0 -> on the ground (closed)."""
+        tmp = self.contacts_file + ".tmp"
+        with open(tmp, "w") as f:
+            f.write("".join("1" if v else "0" for v in c_air))
+        os.replace(tmp, self.contacts_file)
 
     def stop(self):
         if self.proc is not None:
