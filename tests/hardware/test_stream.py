@@ -163,9 +163,10 @@ def test_cli_errors_are_one_line_exit_2(tmp_path):
     assert r.returncode == 2 and "tail" in r.stderr and "[-45, 45]" in r.stderr
     r = run_cli(FISH, "--dry-run", "--channels", str(chans), "--clamp", "--seconds", "0.2")
     assert r.returncode == 0 and "frames clamped" in r.stdout
-    r = run_cli(FISH, "--port", "/dev/nonexistent-tty", "--seconds", "1")
+    never = tmp_path / "never.json"
+    r = run_cli(FISH, "--port", "/dev/nonexistent-tty", "--seconds", "1", "--report", str(never))
     assert r.returncode == 2 and "cannot open" in r.stderr
-    assert not (tmp_path / "never.json").exists()
+    assert not never.exists()  # no report of a stream that never ran
 
 
 def test_osc_params_from_profiles_and_refusals():
