@@ -359,3 +359,20 @@ def test_gait_mode_reads_the_contact_switches(fw_build, tmp_path):
             assert abs(got[6] - 1500) <= TOL_US and abs(got[7] - 1500) <= TOL_US  # no cell: channels hold
         with pytest.raises(LinkError, match="RANGE"):  # 7 cells: more than the board's 6 inputs
             FirmwareGait(link, 7, 1, 1, pins=True)
+
+
+def test_two_boards_share_one_chain(link, sim):
+    """A 16-cell belt driven by two boards: this one is given first_cell = 8 and drives cells 8..15 on its
+    channels 0..7 from the whole chain's contacts (the other board would take cells 0..7)."""
+    from metamaterial_wb.core.gait import gait_rule_step
+    from metamaterial_wb.hardware.onboard import FirmwareGait
+    c = [0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 1, 1, 1]
+    g = FirmwareGait(link, 16, 2, 1, closed=True, first_cell=8, inflate_deg=45, vent_deg=0)
+    act = gait_rule_step(c, 2, 1, closed=True)
+    assert g.step(c) == act
+    link.arm()
+    g.start()
+    got = settle_pulses(sim, link, 100)
+    for ch in range(8):
+        assert abs(got[ch] - (2000 if act[8 + ch] else 1500)) <= TOL_US, (ch, got[ch], act[8 + ch])
+    assert sum(act[8:]) >= 2 and sum(act[8:]) < 8  # the check sees both angles
