@@ -205,5 +205,21 @@ def fixed_items(scene, geo):
     values = np.asarray([values[k] for k in keep], dtype=float)
     names = [names[k] for k in keep]
     pA = geo.parity[geo.a[joints]] if joints.size else np.zeros(0)
-    psi = -2.0 * pA * values * geo.phi_max(values) / np.cos(geo.tilt[joints]) if joints.size else np.zeros(0)
+    psi = hinge_target(geo.tilt[joints], values * geo.phi_max(values), pA) if joints.size else np.zeros(0)
     return joints, values, psi, names
+
+
+def hinge_target(tilt, phi, parity):
+    """Rotation of plate B relative to plate A about the hinge's soft axis that puts the joint in the
+    rotating-squares mechanism with in-plane node rotations ``phi_A = p phi``, ``phi_B = -p phi``.
+
+    Untilted: ``-2 p phi``. Tilted: the hinge also folds, ``tan(gamma/2) = -tan(tilt) sin(phi_A)``, and turns
+    in all by ``psi`` with ``cos(psi/2) = cos(gamma/2) cos(phi)`` (core/kinematics, exact); for small angles
+    ``psi ~ 2 phi / cos(tilt)``.
+    """
+    tilt = np.asarray(tilt, float)
+    phi = np.asarray(phi, float)
+    gamma = -2.0 * np.arctan(np.tan(tilt) * np.sin(parity * phi))
+    c = np.cos(0.5 * gamma) * np.cos(phi)
+    sn = np.sqrt(np.sin(0.5 * gamma) ** 2 + (np.cos(0.5 * gamma) * np.sin(phi)) ** 2)   # sqrt(1 - c^2), stable
+    return -np.sign(parity * phi) * 2.0 * np.arctan2(sn, c)
