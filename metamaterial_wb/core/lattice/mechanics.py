@@ -9,9 +9,10 @@ Per hinge e = (A, B), with ``W = R_A Q0`` (A's hinge frame), ``rho = R r`` (corn
 * ``Theta = log(W^T R_B Q0)``           (rotation of B's hinge frame relative to A's)
 
 Energy ``E = 1/2 eps^T K eps``. The Jacobian of ``u`` and its second derivatives are exact
-(``exp([omega])`` to second order); ``Theta``'s Jacobian is exact (inverse left Jacobian of SO(3)),
-its second derivatives are left out of the tangent (they vanish for in-plane motion, so Newton is
-exactly quadratic for planar scenes and nearly so with tilted hinges).
+(``exp([omega])`` to second order); ``Theta``'s Jacobian is exact (inverse left Jacobian of SO(3)); the
+curvature of the rotation logarithm (zero for in-plane motion) enters the tangent by central differences
+of its exact gradient, so the tangent is the symmetric Hessian (checked against finite differences of the
+energy in tests/fidelity/test_lattice_models.py).
 """
 import numpy as np
 import scipy.sparse as sp
@@ -202,12 +203,19 @@ class ElementState:
         self.energy = 0.5 * np.einsum("mi,mi->m", eps, s)
         self.grad = (s[:, None, :] @ J)[:, 0, :]
         self.H = None
-        # the curvature of the rotation logarithm is left out of the tangent unless asked for: measured on
-        # the examples, the tangent without it (positive where it matters) globalises better at large folds
+        # geo.exact_tangent (default True) includes the curvature of the rotation logarithm (3-D only)
         self._keep = (K, D0, rhoB, Th, arc, geo.rest, WB, dc if arc else None,
-                      bool(getattr(geo, "exact_tangent", False)) and not getattr(geo, "planar", False))
+                      bool(getattr(geo, "exact_tangent", True)) and not getattr(geo, "planar", False))
         if tangent:
             self.tangent()
+
+    def soft_axis_curvature(self, idx, weight):
+        """``sum weight * d2(Theta_3)/dq2`` for the elements ``idx`` on their rotational DOFs (k, 6, 6): the
+        curvature of the soft-axis rotation (actuator constraints, contact); zero for in-plane motion."""
+        sigma = np.zeros((len(idx), 3))
+        sigma[:, 2] = weight
+        WB = self._keep[6]
+        return _log_curvature(self.W[idx], WB[idx], sigma)
 
     def tangent(self):
         """Element tangents (m, 12, 12), computed once on demand."""

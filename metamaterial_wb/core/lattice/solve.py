@@ -25,6 +25,7 @@ from metamaterial_wb.core.lattice.geometry import LatticeGeometry, fixed_items
 from metamaterial_wb.core.lattice.mechanics import ElementState, Pattern, expm_so3
 
 PLANAR_DOFS = (0, 1, 5)
+_ROT_DOFS = np.array([3, 4, 5, 9, 10, 11])
 # symmetric KKT matrices: symmetric fill-reducing ordering, diagonal preferred, threshold pivoting only
 # where the diagonal is too small (the zero multiplier block); measured 4x faster than partial pivoting
 _SPLU = {"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.01, "options": {"SymmetricMode": True}}
@@ -308,13 +309,23 @@ class NonlinearLattice:
             ge[idx] += f[:, None] * Jr
         return E, ge
 
-    def _tangent(self, st):
+    def _tangent(self, st, mu=None):
+        """Element tangents of the Lagrangian: hinges, contact springs and, away from the plane, the
+        curvature of the soft-axis rotation weighted by the contact forces and actuator multipliers."""
         He = st.tangent()
         ct = self._contact_terms(st)
+        spatial = not self.geo.planar and getattr(self.geo, "exact_tangent", True)
         if ct is not None:
             idx, over, Jr = ct
             He = He.copy()
             He[idx] += self.kc[idx, None, None] * Jr[:, :, None] * Jr[:, None, :]
+            if spatial:
+                He[np.ix_(idx, _ROT_DOFS, _ROT_DOFS)] += st.soft_axis_curvature(idx, self.kc[idx] * over *
+                                                                                 self.close_sign[idx])
+        if spatial and mu is not None and mu.size and np.any(mu):
+            He = He.copy() if ct is None else He
+            # constraints share joints only once (fixed_items), so the fancy-index update is safe
+            He[np.ix_(self.joints, _ROT_DOFS, _ROT_DOFS)] += st.soft_axis_curvature(self.joints, mu)
         return He
 
     def _kkt_norm(self, r_f, c, scale_f):
@@ -345,7 +356,7 @@ class NonlinearLattice:
             if r_f <= max(self.tol * scale_f, self.force_floor) and \
                     r_c <= self.tol * max(1e-3, np.abs(self.psi).max(initial=0.0)):
                 return X, R, mu, True, it
-            He = self._tangent(st)
+            He = self._tangent(st, mu)
             rhs = np.concatenate([-(g + Ag), -c])      # increments of the state and of the multipliers
             try:
                 sol = _kkt_solve(pat, He, A, self.reg, rhs)
