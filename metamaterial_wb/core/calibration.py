@@ -62,16 +62,22 @@ def default_calibration():
 
 
 def joint_stiffness(scene, calibration=None):
-    """Arrays ``(k1, k2)`` over ``scene.topology.joints`` (overrides win over the table)."""
+    """Arrays ``(k1, k2)`` over ``scene.topology.joints`` (overrides win over the table).
+
+    The default hinge is looked up in the table only for the values some joint still needs, so a
+    scene whose every joint sets k1 (or k2) directly may use a base hinge outside the table.
+    """
+    from metamaterial_wb.core.scene import parse_joint
+
     cal = calibration or default_calibration()
     topo = scene.topology
     h = scene.hinge
-    k1_0 = cal.k1(h["length_mm"], "hinge")
-    k2_0 = cal.k2(h["width_mm"], h["thickness_mm"], "hinge")
-    k1 = np.full(topo.n_joints, k1_0)
-    k2 = np.full(topo.n_joints, k2_0)
+    n = topo.n_joints
+    ov_k1 = sum(1 for ov in scene.joint_overrides.values() if "k1" in ov)
+    ov_k2 = sum(1 for ov in scene.joint_overrides.values() if "k2" in ov)
+    k1 = np.full(n, cal.k1(h["length_mm"], "hinge") if ov_k1 < n else np.nan)
+    k2 = np.full(n, cal.k2(h["width_mm"], h["thickness_mm"], "hinge") if ov_k2 < n else np.nan)
     for name, ov in scene.joint_overrides.items():
-        from metamaterial_wb.core.scene import parse_joint
         idx = topo.joint_id(*parse_joint(name))
         hh = scene.joint_hinge(name)
         where = f"joints.{name}"

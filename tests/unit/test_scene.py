@@ -135,3 +135,19 @@ def test_calibration_table_and_overrides():
     assert k1[ti["H0,0"]] == 0.123
     assert k1[ti["H1,1"]] == cal.k1(4.0)
     assert k1[ti["V0,0"]] == cal.k1(2.0)
+
+
+def test_direct_stiffness_on_every_joint_needs_no_table_entry():
+    from metamaterial_wb.core.calibration import joint_stiffness
+    base = Scene.from_dict({"layout": {"chain": 2}})
+    names = base.topology.joint_names
+    # a 0.1 mm wide hinge is outside the table: fine when every joint gives k2 (and k1) directly
+    s = Scene.from_dict({"layout": {"chain": 2}, "hinge": {"width_mm": 0.1},
+                         "joints": [{"joint": n, "k1": 0.5, "k2": 2.0} for n in names]})
+    k1, k2 = joint_stiffness(s)
+    assert (k1 == 0.5).all() and (k2 == 2.0).all()
+    # one joint without k2 needs the table again, and the error names the hinge width
+    s = Scene.from_dict({"layout": {"chain": 2}, "hinge": {"width_mm": 0.1},
+                         "joints": [{"joint": n, "k1": 0.5, "k2": 2.0} for n in names[1:]]})
+    with pytest.raises(SceneError, match="width_mm"):
+        joint_stiffness(s)
