@@ -148,6 +148,8 @@ class LiveSolver:
         if not self.item_names:
             self.warnings.append("the structure has no motor or constraint: every D = 0 unless the global "
                                  "deformation is used")
+        self._last = None           # (D, pos, R, q, hinge_pos, hinge_q) of the last frame
+        self.pose_evaluations = 0   # how often poses were really computed (tests, diagnostics)
         self.prepare_s = time.perf_counter() - t0
 
     def _make_kinematics(self):
@@ -207,12 +209,21 @@ class LiveSolver:
             D, pos, R = res.D, np.asarray(res.positions_mm, float), np.asarray(res.rotations, float)
         else:
             D = self.solve(values, global_deformation)
-            t1 = time.perf_counter()
+            last = self._last
+            if last is not None and np.array_equal(last[0], D):
+                # nothing changed (a paused timeline, a slider released on the same value): leave the
+                # poses as they are instead of recomputing them
+                return Frame(D=D, positions=last[1], rotations=last[2], quaternions=last[3],
+                             hinge_positions=last[4], hinge_quaternions=last[5],
+                             timings={"total_s": time.perf_counter() - t0, "hinges_s": 0.0, "reused": True})
             pos, R = self.poses(D)
+            self.pose_evaluations += 1
         t2 = time.perf_counter()
         q = matrices_to_quaternions(R)
         hp, hq = self.hinge_frames(pos, R, q)
         t3 = time.perf_counter()
+        if self.model_name == "quadratic" or global_deformation is not None:
+            self._last = (D.copy(), pos, R, q, hp, hq)
         return Frame(D=D, positions=pos, rotations=R, quaternions=q, hinge_positions=hp, hinge_quaternions=hq,
                      timings={"total_s": t3 - t0, "hinges_s": t3 - t2})
 
