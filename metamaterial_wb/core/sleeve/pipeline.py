@@ -203,7 +203,7 @@ def analyse(spec, progress=None, log=None):
         dm = spec.design_map
         say("design map")
         summary["design_map"] = design_map(L, spec.c, spec.delta, spec.T, dm["t_over_L"], dm["h_over_L"],
-                                           dm["ring"], spec.n_el_ring, max(60, spec.steps // 2), spec.plane,
+                                           dm["ring"], dm["elements"], max(60, spec.steps // 2), spec.plane,
                                            n)
     summary["timings"] = {"total_s": time.perf_counter() - t0,
                           "unit_cell_s": [u["seconds"] for u in unit_cells],

@@ -94,7 +94,8 @@ class SleeveSpec:
             self.design_map = {
                 "t_over_L": _range3("design_map.t_over_L", dmap.get("t_over_L", [0.045, 0.072, 5]), 0, 0.25),
                 "h_over_L": _range3("design_map.h_over_L", dmap.get("h_over_L", [0.30, 0.42, 5]), 0, 0.6),
-                "ring": bool(dmap.get("ring", False))}
+                "ring": bool(dmap.get("ring", False)),
+                "elements": int(check_number("design_map.elements", dmap.get("elements", 10), 2, 80, ""))}
         w = data.get("walker")
         self.walker = None
         if w:
