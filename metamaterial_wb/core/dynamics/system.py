@@ -109,8 +109,11 @@ class PlanarSystem:
         return q[self.cb, :2] + _rot(q[self.cb, 2], self.rc)
 
     # -- forces -------------------------------------------------------------------------------
-    def forces(self, q, v, anchors):
-        """Generalised forces Q (n, 3) and the contact state used (dict)."""
+    def forces(self, q, v, anchors, frozen=None):
+        """Generalised forces Q (n, 3) and the contact state used (dict).
+
+        ``frozen``: a contact state from an earlier call; its touching / sticking / slip-direction
+        flags are reused (a smooth residual for Newton's method within one implicit step)."""
         n = self.n
         Q = np.zeros((n, 3))
         Q[:, 0] = self.mass * self.gravity[0]
@@ -138,12 +141,15 @@ class PlanarSystem:
             p = q[c, :2] + u
             vp = v[c, :2] + v[c, 2][:, None] * _perp(u)
             pen = -p[:, 1]
-            inside = pen > 0
+            inside = pen > 0 if frozen is None else frozen["inside"]
             fn = np.where(inside, np.maximum(0.0, self.kn * pen - self.cn * vp[:, 1]), 0.0)
             trial = -self.kt * (p[:, 0] - anchors) - self.ct * vp[:, 0]
             cap = self.mu * fn
-            stick = np.abs(trial) <= cap
-            sgn = np.sign(trial)
+            if frozen is None:
+                stick = np.abs(trial) <= cap
+                sgn = np.sign(trial)
+            else:
+                stick, sgn = frozen["stick"], frozen["sgn"]
             ft = np.where(inside, np.where(stick, trial, sgn * cap), 0.0)
             fc = np.column_stack([ft, fn])
             Q[:, 0] += np.bincount(c, ft, n)
