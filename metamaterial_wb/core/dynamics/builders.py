@@ -421,21 +421,25 @@ def build_sheet(scene, cfg):
     inertia = mass * (s * s + t * t) / 12.0
     system = PlanarSystem(mass, inertia, gravity=_gravity(cfg))
 
-    # friction pads
+    # friction pads (the fabrication's module: "mu", "thickness_mm" = how far it stands out, "side")
     pads = []
     for k, mod in enumerate(scene.modules):
-        if not isinstance(mod, dict) or mod.get("type") != "friction_pad":
+        if not isinstance(mod, dict) or mod.get("type") not in ("friction_pad", "pad"):
             continue
         f = f"modules[{k}]"
         if "node" not in mod:
-            raise SceneError(f"{f}.node", "a friction pad sits under a node, e.g. \"node\": \"N0,3\"")
+            raise SceneError(f"{f}.node", "a friction pad sits on a node, e.g. \"node\": \"N0,3\"")
         ni, nj = _parse_node(mod["node"], f"{f}.node")
         if (ni, nj) not in topo.node_index:
             raise SceneError(f"{f}.node", f"node N{ni},{nj} does not exist in this layout")
         mu = check_number(f"{f}.mu", mod.get("mu", 1.0), 0.0, 10.0)
-        hp = check_number(f"{f}.height_mm", mod.get("height_mm", 0.0), 0.0, 50.0, "mm") * 1e-3
-        pads.append((col_index[nj], mu, hp))
-        mass[col_index[nj]] += check_number(f"{f}.mass_g", mod.get("mass_g", 1.0), 0.0, 1e4, "g") * 1e-3
+        hp = check_number(f"{f}.thickness_mm", mod.get("thickness_mm", 3.0), 0.0, 50.0, "mm") * 1e-3
+        side = mod.get("side", "bottom")
+        if side not in ("top", "bottom"):
+            raise SceneError(f"{f}.side", f"{side!r}; allowed: \"bottom\" (on the floor) or \"top\"")
+        mass[col_index[nj]] += 1050.0 * s * s * hp          # ABS pad under the whole node face
+        if side == "bottom":
+            pads.append((col_index[nj], mu, hp))
     system.mass[:] = mass
     system.inertia[:] = mass * (s * s + t * t) / 12.0
     system.M = np.column_stack([system.mass, system.mass, system.inertia])
