@@ -168,3 +168,32 @@ def test_explicit_instability_is_caught_and_falls_back():
     assert sim.stats["fallbacks"], "the blow-up went unnoticed"
     assert sim.stats["method"] == "symplectic->implicit"
     assert np.all(np.isfinite(sim.q)) and np.max(np.abs(sim.v)) < 10
+
+
+def test_analytic_jacobian_matches_finite_differences():
+    # hinges with offsets and rest angles, one contact sticking, one slipping, one in the air
+    rng = np.random.default_rng(0)
+    n = 4
+    s = PlanarSystem(rng.uniform(0.1, 1, n), rng.uniform(0.01, 0.1, n), gravity=(0.3, -9.8))
+    s.set_hinges([0, 1, 2], [1, 2, 3], rng.normal(size=(3, 2)) * 0.1, rng.normal(size=(3, 2)) * 0.1,
+                 kp=rng.uniform(10, 100, 3), cp=rng.uniform(0.1, 1, 3), kr=rng.uniform(1, 5, 3),
+                 cr=rng.uniform(0.1, 1, 3), theta0=rng.normal(size=3))
+    s.set_contacts([0, 1, 2, 3], [[0, -0.05], [0.02, -0.05], [0, -0.05], [0, -0.05]], 0.5, 1e3, 5.0, 1e3, 5.0)
+    q = np.column_stack([rng.normal(size=n) * 0.1, [-0.01, -0.02, 0.2, -0.03], rng.normal(size=n) * 0.3])
+    v = rng.normal(size=(n, 3))
+    anc = s.contact_points(q)[:, 0] + np.array([0.001, -0.5, 0.0, 0.0])
+    Q, st = s.forces(q, v, anc)
+    assert st["stick"][0] and not st["stick"][1] and not st["inside"][2]
+    A, K = s.system_matrix(q, v, anc, st, 1.0, dense=True)
+    C = np.diag(s.M.ravel()) - A - K            # A = M - dt C - dt^2 K with dt = 1
+    eps = 1e-7
+    Kfd = np.zeros((3 * n, 3 * n))
+    Cfd = np.zeros((3 * n, 3 * n))
+    for j in range(3 * n):
+        d = np.zeros(3 * n)
+        d[j] = eps
+        d = d.reshape(n, 3)
+        Kfd[:, j] = (s.forces(q + d, v, anc)[0] - s.forces(q - d, v, anc)[0]).ravel() / (2 * eps)
+        Cfd[:, j] = (s.forces(q, v + d, anc)[0] - s.forces(q, v - d, anc)[0]).ravel() / (2 * eps)
+    assert np.abs(K - Kfd).max() < 1e-5 * np.abs(Kfd).max()
+    assert np.abs(C - Cfd).max() < 1e-5 * np.abs(Cfd).max()

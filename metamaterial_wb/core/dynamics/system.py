@@ -209,13 +209,14 @@ class PlanarSystem:
             wa, wb = v[a, 2], v[b, 2]
             vd = v[b, :2] + wb[:, None] * _perp(Rb) - v[a, :2] - wa[:, None] * _perp(Ra)
             f = -self.kp[:, None] * d - self.cp[:, None] * vd
-            JtJ = np.einsum("mki,mkj->mij", Jd, Jd)
+            JdT = Jd.transpose(0, 2, 1)
+            JtJ = np.matmul(JdT, Jd)
             G = np.zeros((m, 2, 6))
             G[:, :, 2] = wa[:, None] * Ra
             G[:, :, 5] = -wb[:, None] * Rb
-            Kh = -self.kp[:, None, None] * JtJ - self.cp[:, None, None] * np.einsum("mki,mkj->mij", Jd, G)
-            Kh[:, 2, 2] += np.einsum("mk,mk->m", Ra, f)
-            Kh[:, 5, 5] -= np.einsum("mk,mk->m", Rb, f)
+            Kh = -self.kp[:, None, None] * JtJ - self.cp[:, None, None] * np.matmul(JdT, G)
+            Kh[:, 2, 2] += (Ra * f).sum(axis=1)
+            Kh[:, 5, 5] -= (Rb * f).sum(axis=1)
             Ch = -self.cp[:, None, None] * JtJ
             for (i, j, s) in ((5, 5, -1), (5, 2, 1), (2, 5, 1), (2, 2, -1)):
                 Kh[:, i, j] += s * self.kr
@@ -244,11 +245,10 @@ class PlanarSystem:
             C[:, 0, 1] = sl * self.mu * st["sgn"] * self.cn
             dvdq = np.zeros((p, 2, 3))
             dvdq[:, :, 2] = -w[:, None] * u
-            KJ = np.einsum("pij,pjk->pik", K, Jp)
-            CG = np.einsum("pij,pjk->pik", C, dvdq)
-            Kc = -np.einsum("pji,pjk->pik", Jp, KJ + CG)
-            Kc[:, 2, 2] -= np.einsum("pk,pk->p", u, st["fc"])
-            Cc = -np.einsum("pji,pjk->pik", Jp, np.einsum("pij,pjk->pik", C, Jp))
+            JpT = Jp.transpose(0, 2, 1)
+            Kc = -np.matmul(JpT, np.matmul(K, Jp) + np.matmul(C, dvdq))
+            Kc[:, 2, 2] -= (u * st["fc"]).sum(axis=1)
+            Cc = -np.matmul(JpT, np.matmul(C, Jp))
         return Kh, Ch, Kc, Cc
 
     def system_matrix(self, q, v, anchors, st, dt, dense=False):
