@@ -276,7 +276,9 @@ class Simulator:
         if vmax > self.v_limit:
             return f"a body reached {vmax:.3g} m/s (limit {self.v_limit:g} m/s)"
         E = self.sys.energy(self.q, self.v, self.anchors)["total_J"]
-        budget = self.E0 + self.ledger["actuator_work_J"] - self.ledger["friction_J"] - self.ledger["damping_J"]
+        # dissipation only removes energy: the energy can never exceed the initial energy plus the
+        # actuators' work (the dissipation estimates are not used here, so they cannot raise false alarms)
+        budget = self.E0 + self.ledger["actuator_work_J"]
         scale = abs(self.E0) + abs(self.ledger["actuator_work_J"]) + 1e-6 + self.energy_scale
         if E - budget > 0.5 * scale:
             return (f"the energy grew to {E:.4g} J, {E - budget:.3g} J more than the initial energy plus the "
