@@ -153,8 +153,8 @@ class Simulator:
 
     newton_max = 6
     freeze_contacts = False   # reuse the contact flags of the first iterate within a step (off: measured worse)
-    newton_tol_abs = 1e-6     # m/s (and rad/s): Newton stops when the velocity update is below
-    newton_tol_rel = 1e-4     # newton_tol_abs + newton_tol_rel * max |v|
+    newton_tol_abs = 1e-5     # m/s (and rad/s): Newton stops when the velocity update is below
+    newton_tol_rel = 1e-3     # newton_tol_abs + newton_tol_rel * max |v|
     refactor_on_contact_change = True    # also rebuild when the touching / sticking set changes
     jacobian_max_age = 8      # steps a factored Jacobian is reused (same step, same contact/stick set)
 
