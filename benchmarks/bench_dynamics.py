@@ -12,7 +12,6 @@ measured in the same run (the explicit integrator at its automatic step guard).
 import argparse
 import copy
 import json
-import math
 import os
 import sys
 import time

@@ -9,7 +9,6 @@ Writes into DIR (created; files written atomically, nothing half-way):
 * with ``--frames``: ``frames/frame_0000.png ...`` and ``motion.gif`` (matplotlib + ImageMagick if
   available, otherwise PNG frames only).
 """
-import math
 import os
 import shutil
 import sys
@@ -105,7 +104,7 @@ def run(args):
 
     from metamaterial_wb.core.dynamics.builders import build, dynamics_config
     from metamaterial_wb.core.dynamics.simulate import simulate
-    from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number
+    from metamaterial_wb.core.errors import MetamaterialError, check_number
     from metamaterial_wb.core.fileio import write_json
     from metamaterial_wb.core.scene import Scene
 

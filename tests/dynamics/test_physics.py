@@ -156,6 +156,7 @@ def test_stiff_hinges_do_not_blow_up_the_implicit_integrator():
     assert np.all(np.isfinite(sim2.q))
 
 
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")     # the sabotaged explicit run overflows on purpose
 def test_explicit_instability_is_caught_and_falls_back():
     n = 10
     s = PlanarSystem(np.full(n, 0.01), np.full(n, 1e-6), fixed=[True] + [False] * (n - 1), gravity=(0, -G))

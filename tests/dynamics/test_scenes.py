@@ -1,5 +1,4 @@
 """Scene-level dynamics: the worm, the belt and its gaits, the bimorph law, validation, the CLI."""
-import copy
 import json
 import math
 import os

@@ -92,18 +92,6 @@ class Simulator:
             W += 0.5 * float(np.sum(s.kp * (np.sum(d_new * d_new, 1) - np.sum(d_old * d_old, 1))))
         self.ledger["actuator_work_J"] += W
 
-    def _damping_power(self, v):
-        s = self.sys
-        P = 0.0
-        if s.ha.size:
-            a, b = s.ha, s.hb
-            from .system import _perp, _rot
-            Ra = _rot(self.q[a, 2], s.ra)
-            Rb = _rot(self.q[b, 2], s.rb)
-            vd = v[b, :2] + v[b, 2][:, None] * _perp(Rb) - v[a, :2] - v[a, 2][:, None] * _perp(Ra)
-            P += float(np.sum(s.cp * np.sum(vd * vd, axis=1)) + np.sum(s.cr * (v[b, 2] - v[a, 2]) ** 2))
-        return P
-
     def _update_anchors(self):
         s = self.sys
         if not s.cb.size:
@@ -113,7 +101,7 @@ class Simulator:
         new = inside & ~self.inside
         self.anchors = np.where(inside & ~new, self.anchors, p[:, 0])
         if np.any(inside):
-            from .system import _perp, _rot
+            from .system import _rot
             u = _rot(self.q[s.cb, 2], s.rc)
             vpy = self.v[s.cb, 1] + self.v[s.cb, 2] * u[:, 0]
             fn = np.where(inside, np.maximum(0.0, -s.kn * p[:, 1] - s.cn * vpy), 0.0)

@@ -1,7 +1,6 @@
 """High level: simulate a scene for some seconds and summarise (used by the CLI, tests, benchmarks)."""
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -57,5 +56,6 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
         "model_info": model.info,
     }
     if model.kind == "belt":
-        summary["rolled_back"] = bool(disp_mm < -0.5 * model.info["ring_radius_mm"] * 0.1)
+        # "rolls back": the centre of mass ends more than one cell length downhill / backwards
+        summary["rolled_back"] = bool(disp_mm < -cfg["belt"]["cell_length_mm"])
     return summary, traj, model, sim
