@@ -9,26 +9,7 @@ FREECAD_LIB = "/usr/lib/freecad-python3/lib"
 if os.path.isdir(FREECAD_LIB) and FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-EXAMPLES = os.path.join(REPO, "examples")
-
-DUAL_INI = """printer_technology = FFF
-bed_shape = 0x0,250x0,250x210,0x210
-max_print_height = 210
-gcode_flavor = marlin2
-nozzle_diameter = 0.4,0.4
-filament_diameter = 1.75,1.75
-filament_type = PLA;FLEX
-temperature = 215,230
-first_layer_temperature = 215,230
-bed_temperature = 60,60
-first_layer_bed_temperature = 60,60
-extruder_offset = 0x0,0x0
-layer_height = 0.2
-first_layer_height = 0.2
-skirts = 0
-wipe_tower = 0
-"""
+from fabhelpers import DUAL_INI, EXAMPLES, REPO, make_scene  # noqa: E402,F401
 
 
 @pytest.fixture(scope="session")
@@ -51,13 +32,6 @@ def dual_ini(tmp_path_factory):
     path = tmp_path_factory.mktemp("slicer") / "dual.ini"
     path.write_text(DUAL_INI)
     return str(path)
-
-
-def make_scene(layout, **kw):
-    from metamaterial_wb.core.scene import Scene
-    d = {"format": "metamaterial-scene", "version": 1, "name": kw.pop("name", "t"), "layout": layout}
-    d.update(kw)
-    return Scene.from_dict(d)
 
 
 @pytest.fixture(scope="session")

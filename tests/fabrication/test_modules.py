@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from conftest import make_scene
+from fabhelpers import make_scene
 
 C, S, T, CLR = 20.0, 18.0, 7.0, 0.2
 MODULES = [

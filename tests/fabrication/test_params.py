@@ -8,7 +8,7 @@ import pytest
 
 from metamaterial_wb.core.errors import SceneError
 
-from conftest import REPO, make_scene
+from fabhelpers import REPO, make_scene
 
 
 @pytest.fixture

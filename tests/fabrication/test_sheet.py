@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from conftest import make_scene
+from fabhelpers import make_scene
 
 C, LH, W, TH = 20.0, 2.0, 0.8, 7.0          # scene defaults: cell, hinge length / width / thickness
 S = C - LH                                   # plate side
@@ -197,7 +197,7 @@ def test_cli_check_flag(tmp_path):
     import os
     import subprocess
     import sys
-    from conftest import REPO
+    from fabhelpers import REPO
     sp = tmp_path / "s.json"
     sp.write_text(json.dumps({"format": "metamaterial-scene", "version": 1, "name": "two", "layout": {"chain": 2}}))
     r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(sp), "--out", str(tmp_path / "o"),

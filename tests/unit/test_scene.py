@@ -105,13 +105,25 @@ def test_minimal_contract_from_issue():
     assert s.constraints[0].name == "c1"
 
 
-@pytest.mark.parametrize("name", sorted(f for f in os.listdir(EXAMPLES_DIR) if f.endswith(".json")))
+def _example_scenes():
+    out = []
+    for f in sorted(os.listdir(EXAMPLES_DIR)):
+        if f.endswith(".json"):
+            with open(os.path.join(EXAMPLES_DIR, f)) as fh:
+                if json.load(fh).get("format", "metamaterial-scene") == "metamaterial-scene":
+                    out.append(f)
+    return out
+
+
+def test_examples_include_the_seed_scenes():
+    names = _example_scenes()
+    assert {"fish.json", "worm.json", "fish_axes.json", "gripper.json"} <= set(names)
+
+
+@pytest.mark.parametrize("name", _example_scenes())
 def test_examples_load(name):
-    with open(os.path.join(EXAMPLES_DIR, name)) as f:
-        data = json.load(f)
-    if data.get("format") != "metamaterial-scene":
-        pytest.skip("not a scene (another spec format)")
-    Scene.from_dict(data)
+    s = Scene.load(os.path.join(EXAMPLES_DIR, name))
+    assert Scene.from_dict(s.to_dict()).to_dict() == s.to_dict()
 
 
 def test_calibration_table_and_overrides():
