@@ -10,6 +10,7 @@ Rules kept by every panel:
 
 ``ACTIVE`` is the panel being shown (the GUI tests drive it through its widgets).
 """
+import contextlib
 import json
 import os
 import time
@@ -24,6 +25,18 @@ from metamaterial_wb.core.scene import Scene, validate_layout
 from metamaterial_wb.objects import design_adapter, structure
 
 ACTIVE = None
+
+
+@contextlib.contextmanager
+def transaction(doc, name):
+    """One undo step: everything inside is committed together, or aborted on an error."""
+    doc.openTransaction(name)
+    try:
+        yield
+    except Exception:
+        doc.abortTransaction()
+        raise
+    doc.commitTransaction()
 
 
 def show(panel):
@@ -298,13 +311,8 @@ class NewStructurePanel(BasePanel):
     def apply(self):
         scene = self.scene()
         doc = self.doc or FreeCAD.ActiveDocument or FreeCAD.newDocument()
-        doc.openTransaction("New metamaterial structure")
-        try:
+        with transaction(doc, "New metamaterial structure"):
             self.result = structure.make_structure(doc, scene)
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
         _fit(doc)
 
 
@@ -363,13 +371,8 @@ class OpenExamplePanel(BasePanel):
             raise MetamaterialError("choose an example")
         scene = Scene.load(metamaterial_wb.example_path(item.text()))
         doc = self.doc or FreeCAD.ActiveDocument or FreeCAD.newDocument(scene.name or "Metamaterial")
-        doc.openTransaction("Open example")
-        try:
+        with transaction(doc, "Open example"):
             self.result = structure.make_structure(doc, scene)
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
         _fit(doc)
 
 
@@ -535,15 +538,10 @@ class RotaryAxesPanel(BasePanel):
             raise MetamaterialError("the axes break the rules: " + "; ".join(v))
         self.cleanup()
         doc = self.obj.Document
-        doc.openTransaction("Rotary axes")
-        try:
+        with transaction(doc, "Rotary axes"):
             # changing the axes invalidates a previous joint configuration
             structure.set_scene_fields(self.obj, axes=self.axes() or None, joint_config=None)
             doc.recompute()
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -641,15 +639,10 @@ class FoldedShapePanel(BasePanel):
                 raise MetamaterialError(f"fold {f} deg exceeds the maximum {mx:.1f} deg")
         structure.restore_display(self.obj, self.saved)
         doc = self.obj.Document
-        doc.openTransaction("Folded shape")
-        try:
+        with transaction(doc, "Folded shape"):
             structure.set_scene_fields(self.obj, axes=[a.to_dict() for a in sc.axes] or None,
                                        joint_config=sc.joint_config or None)
             doc.recompute()
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
 
     def reject(self):
         structure.restore_display(self.obj, self.saved)
@@ -776,17 +769,12 @@ class FlexibilityPanel(BasePanel):
         from metamaterial_wb.core.calibration import joint_stiffness
         joint_stiffness(Scene.from_dict(d))  # and against the calibration table
         doc = self.obj.Document
-        doc.openTransaction("Flexibility")
-        try:
+        with transaction(doc, "Flexibility"):
             self.obj.HingeLength = float(self.length.value())
             self.obj.HingeWidth = float(self.width.value())
             self.obj.HingeThickness = float(self.thick.value())
             structure.set_scene_fields(self.obj, joints=joints or None)
             doc.recompute()
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -849,15 +837,10 @@ class PlaceItemPanel(BasePanel):
         d["actuators" if self.kind == "actuator" else "constraints"].append(item)
         Scene.from_dict(d)
         doc = self.obj.Document
-        doc.openTransaction(self.TITLE)
-        try:
+        with transaction(doc, self.TITLE):
             self.result = structure.make_item(doc, self.obj, self.kind, name, joint, float(self.value.value()),
                                               profile)
             doc.recompute()
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
 
 
 class AddModulePanel(BasePanel):
@@ -909,18 +892,13 @@ class AddModulePanel(BasePanel):
         if not target:
             raise MetamaterialError("choose a node or joint for the module")
         doc = self.obj.Document
-        doc.openTransaction("Add module")
-        try:
+        with transaction(doc, "Add module"):
             data = {}
             if t == "servo_housing":
                 from metamaterial_wb.gui import preferences
                 data["servo"] = preferences.get("DefaultServo")
             self.result = structure.make_module(doc, self.obj, t, target, data)
             doc.recompute()
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -1038,8 +1016,7 @@ class SimulatePanel(BasePanel):
         structure.restore_display(self.obj, self.saved)
         vals = self.values()
         doc = self.obj.Document
-        doc.openTransaction("Simulate")
-        try:
+        with transaction(doc, "Simulate"):
             for it in self.obj.Items:
                 if it.ItemName in vals and abs(it.Value - vals[it.ItemName]) > 1e-12:
                     it.Value = vals[it.ItemName]
@@ -1048,10 +1025,6 @@ class SimulatePanel(BasePanel):
             if self.obj.Model != self.model.currentText():
                 self.obj.Model = self.model.currentText()
             doc.recompute()
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
 
     def reject(self):
         structure.restore_display(self.obj, self.saved)
@@ -1335,8 +1308,7 @@ class AnimatePanel(BasePanel):
         structure.restore_display(self.obj, self.saved)
         prof = self.profiles()
         doc = self.obj.Document
-        doc.openTransaction("Animate: motion profiles")
-        try:
+        with transaction(doc, "Animate: motion profiles"):
             for it in self.obj.Items:
                 p = prof.get(it.ItemName)
                 if it.Kind != "actuator" or p is None or p.get("shape") != "sine":
@@ -1348,10 +1320,6 @@ class AnimatePanel(BasePanel):
                     if abs(getattr(it, prop) - p[key]) > 1e-12:
                         setattr(it, prop, p[key])
             doc.recompute()
-        except Exception:
-            doc.abortTransaction()
-            raise
-        doc.commitTransaction()
 
     def reject(self):
         self.timer.stop()
