@@ -200,6 +200,9 @@ class Link:
             # a boot banner (HELLO_ACK seq 0) that arrived during the handshake is the reset we expected
             self.events = [(t, e) for t, e in self.events if not (e.kind == "HELLO_ACK" and t >= t_start)]
             self.resets_seen = resets_before
+            # replies still queued answer frames from before the handshake (e.g. a NAK for HELLO bytes that
+            # reached a booting board only in part): they would be taken for answers to later requests
+            self.pending.clear()
             return info
         raise LinkError(f"{self.name}: no HELLO_ACK within {total_s:g} s (is the servolink firmware flashed, "
                         f"and the baud rate 115200?)")

@@ -195,3 +195,13 @@ def test_streamer_stops_with_a_message_when_the_watchdog_trips(device):
         with pytest.raises(LinkError, match=r"watchdog tripped \(HOLD at 1000 ms\)"):
             st.run(lambda t: {"a": 0.0, "b": 0.0}, 1.0)
         assert st.stats.frames < 10
+
+
+def test_replies_queued_before_the_handshake_are_dropped():
+    """A NAK for HELLO bytes that reached a booting board only in part (seq 255) must not be taken later
+    as the answer to a malformed frame (seen under load in the emulator test)."""
+    with Link.open("loop://", dry_run=True) as link:
+        link.pending[255] = P.Reply("NAK", 255, code=P.E_CRC)
+        link.handshake()
+        assert 255 not in link.pending
+        assert link.wait_reply(255, 0.05) is None
