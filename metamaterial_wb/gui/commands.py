@@ -103,11 +103,16 @@ COMMANDS = [
     ("MM_Export", "MM_Export.svg", "Export STEP / 3MF",
      "Write STEP (named bodies) and 3MF (per-part materials) for dual-extruder printers",
      lambda sc: _panels().ExportPanel(sc), True),
+    ("MM_Sleeve", "MM_Sleeve.svg", "Sleeve actuator",
+     "Design a metamaterial sleeve actuator (curved-beam cells around a cylinder) from a spec file or "
+     "parameters, build it, predict its force-displacement peaks and snapping sequence",
+     lambda doc: _panels().SleevePanel(doc), False),
 ]
 
 DESIGN = ["MM_NewStructure", "MM_OpenExample", "MM_RotaryAxes", "MM_FoldedShape"]
 SIMULATE = ["MM_Flexibility", "MM_PlaceMotor", "MM_PlaceConstraint", "MM_AddModule", "MM_Simulate", "MM_Animate"]
 FABRICATE = ["MM_Export"]
+SLEEVE = ["MM_Sleeve"]
 
 _REGISTERED = False
 INSTANCES = {}   # command name -> the Python command object (tests read last_error)

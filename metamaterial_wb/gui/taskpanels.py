@@ -12,6 +12,7 @@ Rules kept by every panel:
 """
 import contextlib
 import json
+import math
 import os
 import time
 
@@ -25,6 +26,11 @@ from metamaterial_wb.core.scene import Scene, validate_layout
 from metamaterial_wb.objects import design_adapter, structure
 
 ACTIVE = None
+
+
+def np_zeros(n):
+    import numpy as np
+    return np.zeros(n)
 
 
 @contextlib.contextmanager
@@ -1114,9 +1120,48 @@ class AnimatePanel(BasePanel):
         else:
             self.connect_btn.setToolTip("Stream the values shown to the servo firmware at 50 Hz "
                                         "(port loop:// = dry run without hardware)")
+        # simulated trajectory (core.dynamics): load DIR/trajectory.json or simulate in the background
+        tg = QtGui.QGroupBox("Simulated trajectory (dynamics: gravity, floor contact, friction)")
+        tv = QtGui.QVBoxLayout(tg)
+        th = QtGui.QHBoxLayout()
+        self.traj_load_btn = QtGui.QPushButton("Load...")
+        self.traj_load_btn.setToolTip("Play DIR/trajectory.json written by "
+                                      "'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'")
+        self.traj_seconds = QtGui.QDoubleSpinBox()
+        self.traj_seconds.setRange(0.05, 600.0)
+        self.traj_seconds.setValue(4.0)
+        self.traj_seconds.setSuffix(" s")
+        self.traj_sim_btn = QtGui.QPushButton("Simulate")
+        self.traj_sim_btn.setToolTip("Run the dynamics model on this structure in the background, then play it")
+        self.traj_off_btn = QtGui.QPushButton("Motors")
+        self.traj_off_btn.setToolTip("Back to the motion profiles (quadratic model)")
+        self.traj_off_btn.setEnabled(False)
+        th.addWidget(self.traj_load_btn)
+        th.addWidget(self.traj_seconds)
+        th.addWidget(self.traj_sim_btn)
+        th.addWidget(self.traj_off_btn)
+        tv.addLayout(th)
+        self.traj_progress = QtGui.QProgressBar()
+        self.traj_progress.setRange(0, 1000)
+        self.traj_progress.setValue(0)
+        self.traj_progress.setVisible(False)
+        tv.addWidget(self.traj_progress)
+        self.traj_label = QtGui.QLabel("playing: the motors' profiles")
+        self.traj_label.setWordWrap(True)
+        tv.addWidget(self.traj_label)
+        self.layout.addWidget(tg)
         self.stats = QtGui.QLabel("")
         self.layout.addWidget(self.stats)
         self.finish_layout()
+        self.trajectory = None
+        self.trajectory_data = None
+        self.sim_job = None
+        self.sim_timer = QtCore.QTimer()
+        self.sim_timer.setInterval(100)
+        self.sim_timer.timeout.connect(self._poll_simulation)
+        self.traj_load_btn.clicked.connect(self._browse_trajectory)
+        self.traj_sim_btn.clicked.connect(lambda: self.simulate_trajectory(self.traj_seconds.value()))
+        self.traj_off_btn.clicked.connect(self.clear_trajectory)
         self.t = 0.0
         self.frames = 0
         self.streamer = None
@@ -1177,12 +1222,126 @@ class AnimatePanel(BasePanel):
         from metamaterial_wb.core.motion import scene_values_at
         return self.solver.values_with(scene_values_at(self.preview_scene, t))
 
+    # simulated trajectory ---------------------------------------------------------------------
+    def _browse_trajectory(self):  # pragma: no cover - modal file dialog, tests call load_trajectory
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Trajectory", "", "Trajectory (*.json)")
+        if path:
+            self.load_trajectory(path)
+
+    def load_trajectory(self, source):
+        """Play a trajectory: a path to ``trajectory.json`` or its parsed dict. Returns True on success."""
+        from metamaterial_wb.objects.engine import TrajectoryPlayer
+        try:
+            if isinstance(source, dict):
+                data, label = source, "simulated here"
+            else:
+                try:
+                    with open(source) as f:
+                        data = json.load(f)
+                except (OSError, ValueError) as exc:
+                    raise MetamaterialError(f"trajectory {source}: cannot read it ({exc})") from None
+                label = os.path.basename(os.path.dirname(os.path.abspath(source))) + "/" + os.path.basename(source)
+            flat, _R = self.solver.poses(np_zeros(self.scene.topology.n_nodes))
+            player = TrajectoryPlayer(data, self.scene, flat)
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+            return False
+        self.pause()
+        self.trajectory, self.trajectory_data = player, data
+        self.duration.setValue(max(0.1, round(player.duration, 3)))
+        self.table.setEnabled(False)
+        self.traj_off_btn.setEnabled(True)
+        self.traj_label.setText(f"playing: {label}, {player.times.size} frames, {player.duration:.2f} s, "
+                                f"incline {math.degrees(player.incline):g} deg (side view mapped onto the "
+                                "x-z plane: one rigid body per column)")
+        self.error.setText("")
+        self.show_time(0.0)
+        return True
+
+    def clear_trajectory(self):
+        self.pause()
+        self.trajectory = self.trajectory_data = None
+        self.table.setEnabled(True)
+        self.traj_off_btn.setEnabled(False)
+        self.traj_label.setText("playing: the motors' profiles")
+        self.duration.setValue(self.default_duration())
+        self.solver._last = None
+        self.show_time(0.0)
+
+    def simulate_trajectory(self, seconds):
+        """Run core.dynamics on this structure in a background thread (progress bar); plays it when done."""
+        import threading
+
+        from metamaterial_wb.objects.engine import run_dynamics
+        if self.sim_job is not None:
+            self.show_error("a simulation is already running")
+            return False
+        scene = structure.compose_scene(self.obj)
+        d = scene.to_dict()
+        prof = self.profiles()
+        for a in d["actuators"]:
+            a["profile"] = prof[a["name"]]
+        scene = Scene.from_dict(d)
+        job = {"progress": 0.0, "result": None, "error": None, "done": False, "seconds": float(seconds),
+               "fps": 1.0 / self.dt}
+
+        def work():
+            try:
+                job["result"] = run_dynamics(scene, job["seconds"], fps=job["fps"],
+                                             progress=lambda f: job.__setitem__("progress", f))
+            except Exception as exc:  # noqa: BLE001 - reported in the panel
+                job["error"] = str(exc)
+            job["done"] = True
+
+        self.sim_job = job
+        self.traj_sim_btn.setEnabled(False)
+        self.traj_progress.setValue(0)
+        self.traj_progress.setVisible(True)
+        self.traj_label.setText(f"simulating {seconds:g} s ...")
+        job["thread"] = threading.Thread(target=work, daemon=True)
+        job["thread"].start()
+        self.sim_timer.start()
+        return True
+
+    def _poll_simulation(self):
+        job = self.sim_job
+        if job is None:
+            self.sim_timer.stop()
+            return
+        self.traj_progress.setValue(int(1000 * min(1.0, job["progress"])))
+        if not job["done"]:
+            return
+        self.sim_timer.stop()
+        self.sim_job = None
+        self.traj_sim_btn.setEnabled(True)
+        self.traj_progress.setVisible(False)
+        if job["error"]:
+            self.show_error(f"simulation failed: {job['error']}")
+            self.traj_label.setText("playing: the motors' profiles")
+            return
+        data, summary = job["result"]
+        self.last_simulation = summary
+        if self.load_trajectory(data):
+            self.traj_label.setText(self.traj_label.text() + f"; centre of mass moved "
+                                    f"{summary['displacement_mm']:+.2f} mm")
+
+    def wait_simulation(self, timeout_s=60.0):
+        """Block (processing events) until the background simulation is done (tests, scripts)."""
+        end = time.perf_counter() + timeout_s
+        while self.sim_job is not None and time.perf_counter() < end:
+            QtGui.QApplication.processEvents()
+            time.sleep(0.01)
+        return self.sim_job is None
+
     def show_time(self, t):
         t0 = time.perf_counter()
         self.t = t
         vals = self.values_at(t)
         try:
-            frame = self.solver.frame(values=vals)
+            if self.trajectory is not None:
+                frame = self.trajectory.frame(self.solver, min(t, self.trajectory.duration))
+            else:
+                frame = self.solver.frame(values=vals)
         except MetamaterialError as exc:
             self.show_error(str(exc))
             self.pause()
@@ -1300,6 +1459,9 @@ class AnimatePanel(BasePanel):
 
     def cleanup(self):
         self.timer.stop()
+        self.sim_timer.stop()
+        if self.sim_job is not None:
+            self.sim_job = None       # the daemon thread finishes on its own; its result is dropped
         self.disconnect()
         super().cleanup()
 
@@ -1325,6 +1487,264 @@ class AnimatePanel(BasePanel):
         self.timer.stop()
         structure.restore_display(self.obj, self.saved)
         return super().reject()
+
+
+# ----------------------------------------------------------------------------------------------
+# Sleeve actuator (issue 9): spec file or parameters -> geometry in the document, prediction
+# ----------------------------------------------------------------------------------------------
+def sleeve_summary_text(summary):
+    """The panel's short report of a ``core.sleeve.pipeline.analyse`` summary (plain text lines)."""
+    lines = []
+    for uc in summary["unit_cells"]:
+        lines.append(f"cell type {uc['type']}: peak {uc['peak_force']:.4g}, valley {uc['valley_force']:.4g} "
+                     f"(F / G L^2)")
+    ring = summary["ring"]
+    fmt = lambda xs: ", ".join(f"{x:.4g}" for x in xs) or "none"  # noqa: E731
+    lines.append(f"sleeve ({ring['rings']} x {ring['cells']} cells): peaks {fmt(ring['peaks'])}; "
+                 f"valleys {fmt(ring['valleys'])}")
+    seq = summary["sequence"]
+    lines.append(f"sequence: loading {seq['loading']}, unloading {seq['unloading']} -> "
+                 f"{'symmetric' if seq['symmetric'] else 'asymmetric'}")
+    pv = summary.get("pv", {})
+    if pv.get("peaks_kPa"):
+        lines.append(f"pressure peaks {fmt(pv['peaks_kPa'])} kPa")
+    return lines
+
+
+class SleevePanel(BasePanel):
+    """Open a ``metamaterial-sleeve`` spec, edit its main parameters, build the sleeve (OK, one undo
+    step) and optionally run the prediction (core.sleeve.pipeline.analyse) in the background."""
+    TITLE = "Sleeve actuator"
+    ICON = "MM_Sleeve.svg"
+    DEFAULT = os.path.join(metamaterial_wb.EXAMPLES_DIR, "sleeve.json")
+
+    def __init__(self, doc=None):
+        super().__init__()
+        self.doc = doc
+        self.raw = {}
+        fl = QtGui.QHBoxLayout()
+        self.path = QtGui.QLineEdit("")
+        self.open_btn = QtGui.QPushButton("Open...")
+        fl.addWidget(QtGui.QLabel("Spec"))
+        fl.addWidget(self.path)
+        fl.addWidget(self.open_btn)
+        self.layout.addLayout(fl)
+        f = QtGui.QFormLayout()
+        self.name = QtGui.QLineEdit("sleeve")
+        f.addRow("Name", self.name)
+        self.dims = {}
+        for key, label, lo, hi in (("L_mm", "L (beam span)", 1.0, 500.0), ("c_mm", "c (pillar width)", 0.1, 100.0),
+                                   ("delta_mm", "delta (gap)", 0.01, 50.0), ("T_mm", "T (wall thickness)", 0.1, 50.0),
+                                   ("shear_modulus_MPa", "G (shear modulus)", 0.01, 1e4)):
+            w = QtGui.QDoubleSpinBox()
+            w.setDecimals(3)
+            w.setRange(lo, hi)
+            w.setSingleStep(0.1)
+            w.setSuffix(" MPa" if key.endswith("MPa") else " mm")
+            f.addRow(label, w)
+            self.dims[key] = w
+        self.layout.addLayout(f)
+        self.types = QtGui.QTableWidget(0, 2)
+        self.types.setHorizontalHeaderLabels(["t (mm)", "h (mm)"])
+        self.types.setMaximumHeight(130)
+        self.layout.addWidget(QtGui.QLabel("Cell types (row = type index)"))
+        self.layout.addWidget(self.types)
+        bl = QtGui.QHBoxLayout()
+        add, rem = QtGui.QPushButton("Add type"), QtGui.QPushButton("Remove last")
+        add.clicked.connect(lambda: self.add_type(1.0, 7.0))
+        rem.clicked.connect(self.remove_type)
+        bl.addWidget(add)
+        bl.addWidget(rem)
+        self.layout.addLayout(bl)
+        f2 = QtGui.QFormLayout()
+        self.ring = QtGui.QLineEdit("0, 0, 1, 1")
+        self.ring.setToolTip("cell type index of each cell around the circumference")
+        self.rings = QtGui.QSpinBox()
+        self.rings.setRange(1, 12)
+        f2.addRow("Ring pattern", self.ring)
+        f2.addRow("Rings", self.rings)
+        self.layout.addLayout(f2)
+        pl = QtGui.QHBoxLayout()
+        self.predict_btn = QtGui.QPushButton("Predict")
+        self.predict_btn.setToolTip("Unit-cell and sleeve force-displacement curves, snapping sequence "
+                                    "(core.sleeve, about a second per curve)")
+        self.progress = QtGui.QProgressBar()
+        self.progress.setRange(0, 0)
+        self.progress.setVisible(False)
+        pl.addWidget(self.predict_btn)
+        pl.addWidget(self.progress)
+        self.layout.addLayout(pl)
+        self.result = QtGui.QLabel("")
+        self.result.setWordWrap(True)
+        self.result.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        self.layout.addWidget(self.result)
+        self.finish_layout()
+        self.summary = None
+        self.job = None
+        self.created = []
+        self.timer = QtCore.QTimer()
+        self.timer.setInterval(100)
+        self.timer.timeout.connect(self._poll)
+        self.open_btn.clicked.connect(self._browse)
+        self.predict_btn.clicked.connect(self.predict)
+        if os.path.exists(self.DEFAULT):
+            self.load_spec(self.DEFAULT)
+
+    def _browse(self):  # pragma: no cover - modal file dialog, tests call load_spec
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Sleeve spec", "", "Sleeve spec (*.json)")
+        if path:
+            self.load_spec(path)
+
+    def add_type(self, t, h):
+        r = self.types.rowCount()
+        self.types.insertRow(r)
+        for c, v in enumerate((t, h)):
+            w = QtGui.QDoubleSpinBox()
+            w.setDecimals(3)
+            w.setRange(0.001, 300.0)
+            w.setSingleStep(0.05)
+            w.setValue(float(v))
+            self.types.setCellWidget(r, c, w)
+
+    def remove_type(self):
+        if self.types.rowCount() > 1:
+            self.types.removeRow(self.types.rowCount() - 1)
+
+    def load_spec(self, path):
+        """Fill the widgets from a spec file (validated by core.sleeve.spec). Returns True on success."""
+        from metamaterial_wb.core.sleeve.spec import SleeveSpec
+        try:
+            spec = SleeveSpec.load(path)
+        except (OSError, MetamaterialError) as exc:
+            self.show_error(f"{path}: {exc}")
+            return False
+        self.path.setText(str(path))
+        self.set_spec(spec)
+        return True
+
+    def set_spec(self, spec):
+        self.raw = dict(spec.raw)
+        self.name.setText(spec.name)
+        for key, attr in (("L_mm", "L"), ("c_mm", "c"), ("delta_mm", "delta"), ("T_mm", "T"),
+                          ("shear_modulus_MPa", "G")):
+            self.dims[key].setValue(getattr(spec, attr))
+        self.types.setRowCount(0)
+        for g in spec.cells:
+            self.add_type(g.t, g.h)
+        uniform = all(row == spec.pattern[0] for row in spec.pattern)
+        self.ring.setText(", ".join(str(v) for v in spec.pattern[0]))
+        self.rings.setValue(spec.M)
+        self.ring.setEnabled(uniform)
+        self.rings.setEnabled(uniform)
+        self.summary = None
+        self.result.setText("")
+        self.error.setText("")
+        if not uniform:
+            self.result.setText("this spec has a per-ring pattern; it is kept as in the file")
+
+    def spec_dict(self):
+        """The spec the widgets describe: the loaded file's other fields (model, actuator, ...) kept."""
+        d = {k: v for k, v in self.raw.items() if k not in ("cell_types",)}
+        d["format"] = "metamaterial-sleeve"
+        d.setdefault("version", 1)
+        d["name"] = self.name.text().strip() or "sleeve"
+        for key, w in self.dims.items():
+            d[key] = round(w.value(), 6)
+        d["cell_types"] = [{"t_mm": round(self.types.cellWidget(r, 0).value(), 6),
+                            "h_mm": round(self.types.cellWidget(r, 1).value(), 6)} for r in range(self.types.rowCount())]
+        if self.ring.isEnabled():
+            try:
+                d["ring"] = [int(x) for x in self.ring.text().replace(";", ",").split(",") if x.strip()]
+            except ValueError:
+                raise MetamaterialError(f"ring pattern {self.ring.text()!r}: expected cell type indices "
+                                        "separated by commas, e.g. 0, 0, 1, 1") from None
+            d["rings"] = int(self.rings.value())
+            d.pop("pattern", None)
+        return d
+
+    def spec(self):
+        from metamaterial_wb.core.sleeve.spec import SleeveSpec
+        return SleeveSpec(self.spec_dict(), "panel")
+
+    # prediction (background thread) -------------------------------------------------------
+    def predict(self):
+        import threading
+
+        from metamaterial_wb.core.sleeve.pipeline import analyse
+        if self.job is not None:
+            return False
+        try:
+            spec = self.spec()
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+            return False
+        self.error.setText("")
+        job = {"done": False, "summary": None, "error": None, "stage": "", "spec": spec}
+
+        def work():
+            try:
+                job["summary"], _curves = analyse(spec, log=lambda s: job.__setitem__("stage", s))
+            except Exception as exc:  # noqa: BLE001 - reported in the panel
+                job["error"] = str(exc)
+            job["done"] = True
+
+        self.job = job
+        self.predict_btn.setEnabled(False)
+        self.progress.setVisible(True)
+        self.result.setText("predicting ...")
+        threading.Thread(target=work, daemon=True).start()
+        self.timer.start()
+        return True
+
+    def _poll(self):
+        job = self.job
+        if job is None:
+            self.timer.stop()
+            return
+        if not job["done"]:
+            if job["stage"]:
+                self.result.setText("predicting: " + job["stage"])
+            return
+        self.timer.stop()
+        self.job = None
+        self.predict_btn.setEnabled(True)
+        self.progress.setVisible(False)
+        if job["error"]:
+            self.result.setText("")
+            self.show_error(f"prediction failed: {job['error']}")
+            return
+        self.summary = job["summary"]
+        self.result.setText("\n".join(sleeve_summary_text(self.summary)))
+
+    def wait_prediction(self, timeout_s=120.0):
+        end = time.perf_counter() + timeout_s
+        while self.job is not None and time.perf_counter() < end:
+            QtGui.QApplication.processEvents()
+            time.sleep(0.01)
+        return self.job is None
+
+    def cleanup(self):
+        self.timer.stop()
+        self.job = None
+        super().cleanup()
+
+    def apply(self):
+        from metamaterial_wb.geometry import sleeve as geo
+        spec = self.spec()
+        doc = self.doc or FreeCAD.ActiveDocument or FreeCAD.newDocument("Sleeve")
+        self.doc = doc
+        with transaction(doc, "Sleeve actuator"):
+            part = doc.addObject("App::Part", "Sleeve")
+            part.Label = spec.name
+            part.addProperty("App::PropertyString", "SleeveSpec", "Metamaterial",
+                             "the sleeve spec (metamaterial-sleeve JSON) the parts were built from")
+            part.SleeveSpec = json.dumps(self.spec_dict(), indent=1)
+            objs = geo.add_to_document(spec, doc)
+            for o in objs:
+                part.addObject(o)
+            doc.recompute()
+        self.created = [part] + list(objs)
+        _fit(doc)
 
 
 # ----------------------------------------------------------------------------------------------

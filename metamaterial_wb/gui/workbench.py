@@ -14,8 +14,9 @@ def initialize(workbench):
     workbench.appendToolbar("Metamaterial design", commands.DESIGN)
     workbench.appendToolbar("Metamaterial simulation", commands.SIMULATE)
     workbench.appendToolbar("Metamaterial fabrication", commands.FABRICATE)
+    workbench.appendToolbar("Metamaterial sleeve", commands.SLEEVE)
     workbench.appendMenu("Metamaterial", commands.DESIGN + ["Separator"] + commands.SIMULATE + ["Separator"]
-                         + commands.FABRICATE)
+                         + commands.FABRICATE + ["Separator"] + commands.SLEEVE)
     FreeCADGui.addIconPath(os.path.join(metamaterial_wb.RESOURCES_DIR, "icons"))
     ui = os.path.join(metamaterial_wb.RESOURCES_DIR, "ui", "preferences.ui")
     if os.path.exists(ui):
