@@ -50,6 +50,39 @@ def view(iso=True):
     v.fitAll()
 
 
+def new_shots(FreeCAD, FreeCADGui, taskpanels, structure):
+    """The simulated-trajectory player (Animate) and the Sleeve actuator panel."""
+    doc = FreeCAD.newDocument("worm")
+    FreeCAD.setActiveDocument(doc.Name)
+    structure.load_scene_file(doc, os.path.join(REPO, "examples", "worm_crawl.json"))
+    doc.recompute()
+    FreeCADGui.runCommand("MM_Animate")
+    p = taskpanels.ACTIVE
+    p.traj_seconds.setValue(3.0)
+    p.simulate_trajectory(3.0)
+    p.wait_simulation(120.0)
+    p.show_time(2.4)
+    v = FreeCADGui.ActiveDocument.ActiveView
+    v.viewIsometric()
+    v.fitAll()
+    shot("animate-trajectory")
+    p.reject()
+    FreeCAD.closeDocument(doc.Name)
+
+    doc = FreeCAD.newDocument("sleeve")
+    FreeCAD.setActiveDocument(doc.Name)
+    FreeCADGui.runCommand("MM_Sleeve")
+    taskpanels.ACTIVE.accept()
+    FreeCADGui.runCommand("MM_Sleeve")
+    p = taskpanels.ACTIVE
+    p.predict()
+    p.wait_prediction(180.0)
+    view(True)
+    shot("sleeve")
+    p.reject()
+    FreeCAD.closeDocument(doc.Name)
+
+
 def run():
     rc = 0
     try:
@@ -69,6 +102,10 @@ def run():
         if combo and hasattr(mw, "resizeDocks"):
             mw.resizeDocks(combo[:1], [460], QtCore.Qt.Horizontal)
         FreeCADGui.activateWorkbench("MetamaterialWorkbench")
+        new_shots(FreeCAD, FreeCADGui, taskpanels, structure)
+        if os.environ.get("MM_SHOTS_NEW_ONLY"):
+            sys.__stdout__.flush()
+            os._exit(0)
         doc = FreeCAD.newDocument("fish")
         FreeCAD.setActiveDocument(doc.Name)
         FreeCADGui.runCommand("MM_NewStructure")
