@@ -29,6 +29,7 @@ import time
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
+from scipy.linalg.lapack import dgbtrf as _gbtrf, dgbtrs as _gbtrs
 
 from .system import DynamicsError, PlanarSystem
 
@@ -140,11 +141,16 @@ class Simulator:
         return spla.spsolve(A.tocsc(), rhs, permc_spec="MMD_AT_PLUS_A")
 
     newton_max = 6
+    newton_max_band = 10      # banded path: iterations are cheap, allow more (fewer unconverged steps)
     linearized_first_step = False  # accept the first Newton step when its Jacobian is fresh (measured: blew up the worm at 5 ms, no gain on the belt)
+    freeze_after = None       # freeze the contact flags from this Newton iteration on (None: never)
     freeze_contacts = False   # reuse the contact flags of the first iterate within a step (off: measured worse)
     newton_tol_abs = 1e-5     # m/s (and rad/s): Newton stops when the velocity update is below
     newton_tol_rel = 1e-3     # newton_tol_abs + newton_tol_rel * max |v|
     refactor_on_contact_change = True    # also rebuild when the touching / sticking set changes
+    lag_hinges = True         # banded path: keep the hinge part of the Jacobian within a step
+    _newton_it = 0
+    use_band = True           # chains / rings: banded LU in reverse Cuthill-McKee order (O(n))
     jacobian_max_age = 8      # steps a factored Jacobian is reused (same step, same contact/stick set)
 
     def _factor(self, q, v, st, h, dense, refresh=False):
@@ -162,9 +168,28 @@ class Simulator:
                 and (same_contacts or not self.refactor_on_contact_change)):
             f["uses"] += 1
             return f["solve"]
-        A, _ = s.system_matrix(q, v, self.anchors, st, h, dense=dense)
+        band = None if dense or not self.use_band else s.band_layout()
+        if band is not None or dense:
+            # within one step the hinges' part of the Jacobian is lagged (from the step's first
+            # build) unless convergence is slow; the touching contacts are always current
+            A = s.band_system_matrix(q, v, st, h, reuse_hinges=self._newton_it > 0 and self.lag_hinges and not refresh,
+                                     dense=band is None)
+        else:
+            A, _ = s.system_matrix(q, v, self.anchors, st, h, dense=dense)
         self.stats["jacobians"] = self.stats.get("jacobians", 0) + 1
-        if dense:
+        if band is not None:
+            kl, ku, perm, pos = band["kl"], band["ku"], band["perm"], band["pos"]
+            lu, piv, info = _gbtrf(A, kl, ku, overwrite_ab=1)
+            if info > 0:      # singular: let the caller see non-finite values (handled by the checks)
+                solve = lambda r: np.full(r.shape, np.nan)
+            else:
+                def solve(r, lu=lu, piv=piv):
+                    x, _ = _gbtrs(lu, kl, ku, r[perm], piv)
+                    out = np.empty_like(x)
+                    out[perm] = x
+                    return out
+            self.stats["banded_lu"] = True
+        elif dense:
             lu = sla.lu_factor(A, check_finite=False)
             solve = lambda r: sla.lu_solve(lu, r, check_finite=False)
         else:
@@ -219,10 +244,20 @@ class Simulator:
         refresh = False
         converged = False
         st0 = None
-        for it in range(self.newton_max):
+        banded = not dense and self.use_band and s.band_layout() is not None
+        for it in range(self.newton_max_band if banded else self.newton_max):
             V1 = v1.reshape(-1, 3)
             q1 = qh + h * V1
-            Q1, st1 = s.forces(q1, V1, self.anchors, frozen=st0 if (it > 0 and self.freeze_contacts) else None)
+            if it > 0 and self.freeze_contacts:
+                frozen = st0
+            elif self.freeze_after is not None and it >= self.freeze_after:
+                # the active set (touching / sticking flags) cycles between iterates: keep the last
+                # one, the residual becomes smooth and Newton converges
+                frozen = st_last
+            else:
+                frozen = None
+            Q1, st1 = s.forces(q1, V1, self.anchors, frozen=frozen)
+            st_last = st1
             if it == 0:
                 st0 = st1
             self.stats["force_evaluations"] += 1
@@ -230,6 +265,7 @@ class Simulator:
                 damp_power = s.last_damping_power
             R = Mf * (v1 - vh) - h * Q1.ravel()
             R[~s.free_dof] = 0.0
+            self._newton_it = it
             dv = self._factor(q1, V1, st1, h, dense, refresh)(R)
             v1 = v1 - dv
             nrm = float(np.max(np.abs(dv))) if dv.size else 0.0

@@ -81,6 +81,8 @@ class PlanarSystem:
         self.rc = np.zeros((0, 2))
         self.mu = self.kn = self.cn = self.kt = self.ct = np.zeros(0)
         self._pattern = None
+        self._band = None
+        self._fsc = None
         self.last_damping_power = 0.0
 
     # -- construction -----------------------------------------------------------------------
@@ -93,6 +95,8 @@ class PlanarSystem:
         f = lambda x: np.broadcast_to(np.asarray(x, float), (m,)).copy()
         self.kp, self.cp, self.kr, self.cr, self.theta0 = f(kp), f(cp), f(kr), f(cr), f(theta0)
         self._pattern = None
+        self._band = None
+        self._fsc = None
 
     def set_contacts(self, body, rc, mu, kn, cn, kt, ct):
         p = len(body)
@@ -103,6 +107,8 @@ class PlanarSystem:
         if np.any(self.mu < 0):
             raise DynamicsError("friction coefficients must be >= 0")
         self._pattern = None
+        self._band = None
+        self._fsc = None
 
     # -- geometry -----------------------------------------------------------------------------
     def contact_points(self, q):
@@ -115,35 +121,47 @@ class PlanarSystem:
         ``frozen``: a contact state from an earlier call; its touching / sticking / slip-direction
         flags are reused (a smooth residual for Newton's method within one implicit step)."""
         n = self.n
-        Q = np.zeros((n, 3))
-        Q[:, 0] = self.mass * self.gravity[0]
-        Q[:, 1] = self.mass * self.gravity[1]
+        if getattr(self, "_fsc", None) is None:
+            self._build_force_scatter()
+        th = q[:, 2]
+        cth, sth = np.cos(th), np.sin(th)
+        parts = []
         a, b = self.ha, self.hb
         if a.size:
-            Ra = _rot(q[a, 2], self.ra)
-            Rb = _rot(q[b, 2], self.rb)
-            d = q[b, :2] + Rb - q[a, :2] - Ra
-            wa, wb = v[a, 2], v[b, 2]
-            vd = v[b, :2] + wb[:, None] * _perp(Rb) - v[a, :2] - wa[:, None] * _perp(Ra)
-            f = -self.kp[:, None] * d - self.cp[:, None] * vd
-            tr = -self.kr * (q[b, 2] - q[a, 2] - self.theta0) - self.cr * (wb - wa)
-            self.last_damping_power = float(np.sum(self.cp * np.sum(vd * vd, axis=1))
-                                            + np.sum(self.cr * (wb - wa) ** 2))
-            tb = _cross(Rb, f) + tr
-            ta = -_cross(Ra, f) - tr
-            Q[:, 0] += np.bincount(b, f[:, 0], n) - np.bincount(a, f[:, 0], n)
-            Q[:, 1] += np.bincount(b, f[:, 1], n) - np.bincount(a, f[:, 1], n)
-            Q[:, 2] += np.bincount(b, tb, n) + np.bincount(a, ta, n)
+            rax, ray, rbx, rby = self.ra[:, 0], self.ra[:, 1], self.rb[:, 0], self.rb[:, 1]   # actuators move them
+            ca, sa, cb, sb = cth[a], sth[a], cth[b], sth[b]
+            Rax = ca * rax - sa * ray
+            Ray = sa * rax + ca * ray
+            Rbx = cb * rbx - sb * rby
+            Rby = sb * rbx + cb * rby
+            qa, qb, va, vb = q[a], q[b], v[a], v[b]
+            wa, wb = va[:, 2], vb[:, 2]
+            dx = qb[:, 0] + Rbx - qa[:, 0] - Rax
+            dy = qb[:, 1] + Rby - qa[:, 1] - Ray
+            vdx = vb[:, 0] - wb * Rby - va[:, 0] + wa * Ray
+            vdy = vb[:, 1] + wb * Rbx - va[:, 1] - wa * Rax
+            fx = -self.kp * dx - self.cp * vdx
+            fy = -self.kp * dy - self.cp * vdy
+            dw = wb - wa
+            tr = -self.kr * (qb[:, 2] - qa[:, 2] - self.theta0) - self.cr * dw
+            self.last_damping_power = float(self.cp @ (vdx * vdx + vdy * vdy) + self.cr @ (dw * dw))
+            parts += [fx, fy, Rbx * fy - Rby * fx + tr, Ray * fx - Rax * fy - tr]
         st = None
         if self.cb.size:
             c = self.cb
-            u = _rot(q[c, 2], self.rc)
-            p = q[c, :2] + u
-            vp = v[c, :2] + v[c, 2][:, None] * _perp(u)
-            pen = -p[:, 1]
-            inside = pen > 0 if frozen is None else frozen["inside"]
-            fn = np.where(inside, np.maximum(0.0, self.kn * pen - self.cn * vp[:, 1]), 0.0)
-            trial = -self.kt * (p[:, 0] - anchors) - self.ct * vp[:, 0]
+            rcx, rcy = self.rc[:, 0], self.rc[:, 1]
+            cc, sc = cth[c], sth[c]
+            ux = cc * rcx - sc * rcy
+            uy = sc * rcx + cc * rcy
+            qc, vc = q[c], v[c]
+            w = vc[:, 2]
+            px = qc[:, 0] + ux
+            py = qc[:, 1] + uy
+            vpx = vc[:, 0] - w * uy
+            vpy = vc[:, 1] + w * ux
+            inside = py < 0 if frozen is None else frozen["inside"]
+            fn = np.where(inside, np.maximum(0.0, -self.kn * py - self.cn * vpy), 0.0)
+            trial = -self.kt * (px - anchors) - self.ct * vpx
             cap = self.mu * fn
             if frozen is None:
                 stick = np.abs(trial) <= cap
@@ -151,13 +169,33 @@ class PlanarSystem:
             else:
                 stick, sgn = frozen["stick"], frozen["sgn"]
             ft = np.where(inside, np.where(stick, trial, sgn * cap), 0.0)
-            fc = np.column_stack([ft, fn])
-            Q[:, 0] += np.bincount(c, ft, n)
-            Q[:, 1] += np.bincount(c, fn, n)
-            Q[:, 2] += np.bincount(c, _cross(u, fc), n)
-            st = {"u": u, "p": p, "vp": vp, "inside": inside, "fn": fn, "stick": stick, "sgn": sgn,
-                  "fc": fc, "pushing": inside & (fn > 0)}
-        return Q, st
+            parts += [ft, fn, ux * fn - uy * ft]
+            st = {"ux": ux, "uy": uy, "inside": inside, "fn": fn, "ft": ft, "stick": stick, "sgn": sgn,
+                  "pushing": inside & (fn > 0)}
+        Q = np.empty((n, 3))
+        Q[:, 0] = self.mass * self.gravity[0]
+        Q[:, 1] = self.mass * self.gravity[1]
+        Q[:, 2] = 0.0
+        Q = Q.ravel()
+        if parts:
+            Q += self._fsc @ np.concatenate(parts)
+        return Q.reshape(n, 3), st
+
+    def _build_force_scatter(self):
+        """A constant sparse matrix that sums the hinge and contact forces into Q (one product
+        instead of many scatter-adds)."""
+        n, m, p = self.n, self.ha.size, self.cb.size
+        a, b, c = self.ha, self.hb, self.cb
+        ar_m, ar_p = np.arange(m), np.arange(p)
+        rows = [3 * b, 3 * a, 3 * b + 1, 3 * a + 1, 3 * b + 2, 3 * a + 2, 3 * c, 3 * c + 1, 3 * c + 2]
+        cols = [ar_m, ar_m, m + ar_m, m + ar_m, 2 * m + ar_m, 3 * m + ar_m,
+                4 * m + ar_p, 4 * m + p + ar_p, 4 * m + 2 * p + ar_p]
+        vals = [np.ones(m), -np.ones(m), np.ones(m), -np.ones(m), np.ones(m), np.ones(m),
+                np.ones(p), np.ones(p), np.ones(p)]
+        if not m:
+            rows, cols, vals = rows[6:], [x - 4 * m for x in cols[6:]], vals[6:]
+        self._fsc = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                  shape=(3 * n, (4 * m if m else 0) + 3 * p))
 
     # -- Jacobians ---------------------------------------------------------------------------
     def _build_pattern(self):
@@ -191,6 +229,21 @@ class PlanarSystem:
 
     def jacobian_blocks(self, q, v, anchors, st):
         """Flattened dQ/dq and dQ/dv entries in pattern order (hinge blocks, contact blocks)."""
+        Kh, Ch = self._hinge_blocks(q, v)
+        p = self.cb.size
+        Kc = np.zeros((p, 3, 3))
+        Cc = np.zeros((p, 3, 3))
+        if p:
+            # only touching contacts contribute: compute their blocks and scatter them
+            idx = self._active_contacts(st)
+            Kc[idx], Cc[idx] = self._contact_blocks(idx, v, st)
+        return Kh, Ch, Kc, Cc
+
+    @staticmethod
+    def _active_contacts(st):
+        return np.flatnonzero(st["pushing"] | (st["ft"] != 0.0) | (st["fn"] != 0.0))
+
+    def _hinge_blocks(self, q, v):
         a, b = self.ha, self.hb
         m = a.size
         Kh = np.zeros((m, 6, 6))
@@ -209,47 +262,103 @@ class PlanarSystem:
             wa, wb = v[a, 2], v[b, 2]
             vd = v[b, :2] + wb[:, None] * _perp(Rb) - v[a, :2] - wa[:, None] * _perp(Ra)
             f = -self.kp[:, None] * d - self.cp[:, None] * vd
-            JdT = Jd.transpose(0, 2, 1)
-            JtJ = np.matmul(JdT, Jd)
+            # small per-hinge products as broadcast sums (much faster than stacked matmul)
+            JtJ = (Jd[:, :, :, None] * Jd[:, :, None, :]).sum(axis=1)
             G = np.zeros((m, 2, 6))
             G[:, :, 2] = wa[:, None] * Ra
             G[:, :, 5] = -wb[:, None] * Rb
-            Kh = -self.kp[:, None, None] * JtJ - self.cp[:, None, None] * np.matmul(JdT, G)
+            Kh = -self.kp[:, None, None] * JtJ - self.cp[:, None, None] * (Jd[:, :, :, None] * G[:, :, None, :]).sum(axis=1)
             Kh[:, 2, 2] += (Ra * f).sum(axis=1)
             Kh[:, 5, 5] -= (Rb * f).sum(axis=1)
             Ch = -self.cp[:, None, None] * JtJ
             for (i, j, s) in ((5, 5, -1), (5, 2, 1), (2, 5, 1), (2, 2, -1)):
                 Kh[:, i, j] += s * self.kr
                 Ch[:, i, j] += s * self.cr
-        p = self.cb.size
-        Kc = np.zeros((p, 3, 3))
-        Cc = np.zeros((p, 3, 3))
-        if p:
-            u, pushing, stick = st["u"], st["pushing"], st["stick"]
-            w = v[self.cb, 2]
-            Jp = np.zeros((p, 2, 3))
-            Jp[:, 0, 0] = 1.0
-            Jp[:, 1, 1] = 1.0
-            Jp[:, :, 2] = _perp(u)
-            K = np.zeros((p, 2, 2))
-            C = np.zeros((p, 2, 2))
-            on = pushing.astype(float)
-            st_ = (pushing & stick).astype(float)
-            sl = (pushing & ~stick).astype(float)
-            K[:, 1, 1] = on * self.kn
-            C[:, 1, 1] = on * self.cn
-            K[:, 0, 0] = st_ * self.kt
-            C[:, 0, 0] = st_ * self.ct
-            # sliding: ft = sgn * mu * fn, fn = -kn py - cn vy  ->  dft/dpy = -sgn mu kn  (K = -df/dp)
-            K[:, 0, 1] = sl * self.mu * st["sgn"] * self.kn
-            C[:, 0, 1] = sl * self.mu * st["sgn"] * self.cn
-            dvdq = np.zeros((p, 2, 3))
-            dvdq[:, :, 2] = -w[:, None] * u
-            JpT = Jp.transpose(0, 2, 1)
-            Kc = -np.matmul(JpT, np.matmul(K, Jp) + np.matmul(C, dvdq))
-            Kc[:, 2, 2] -= (u * st["fc"]).sum(axis=1)
-            Cc = -np.matmul(JpT, np.matmul(C, Jp))
-        return Kh, Ch, Kc, Cc
+        return Kh, Ch
+
+    def _contact_blocks(self, idx, v, st):
+        p = idx.size
+        if not p:
+            return np.zeros((0, 3, 3)), np.zeros((0, 3, 3))
+        u = np.column_stack([st["ux"][idx], st["uy"][idx]])
+        pushing, stick = st["pushing"][idx], st["stick"][idx]
+        kn, cn, kt, ct, mu = self.kn[idx], self.cn[idx], self.kt[idx], self.ct[idx], self.mu[idx]
+        w = v[self.cb[idx], 2]
+        Jp = np.zeros((p, 2, 3))
+        Jp[:, 0, 0] = 1.0
+        Jp[:, 1, 1] = 1.0
+        Jp[:, :, 2] = _perp(u)
+        K = np.zeros((p, 2, 2))
+        C = np.zeros((p, 2, 2))
+        on = pushing.astype(float)
+        st_ = (pushing & stick).astype(float)
+        sl = (pushing & ~stick).astype(float)
+        K[:, 1, 1] = on * kn
+        C[:, 1, 1] = on * cn
+        K[:, 0, 0] = st_ * kt
+        C[:, 0, 0] = st_ * ct
+        # sliding: ft = sgn * mu * fn, fn = -kn py - cn vy  ->  dft/dpy = -sgn mu kn  (K = -df/dp)
+        K[:, 0, 1] = sl * mu * st["sgn"][idx] * kn
+        C[:, 0, 1] = sl * mu * st["sgn"][idx] * cn
+        dvdq = np.zeros((p, 2, 3))
+        dvdq[:, :, 2] = -w[:, None] * u
+        JpT = Jp.transpose(0, 2, 1)
+        Kc = -np.matmul(JpT, np.matmul(K, Jp) + np.matmul(C, dvdq))
+        Kc[:, 2, 2] -= u[:, 0] * st["ft"][idx] + u[:, 1] * st["fn"][idx]
+        Cc = -np.matmul(JpT, np.matmul(C, Jp))
+        return Kc, Cc
+
+    def band_system_matrix(self, q, v, st, dt, reuse_hinges=False, dense=False):
+        """A = M - dt dQ/dv - dt^2 dQ/dq in LAPACK band storage (``band_layout`` order), or dense
+        (``dense=True``, natural order). With
+        ``reuse_hinges`` the hinge part of the last call (same dt) is kept and only the touching
+        contacts are re-evaluated: within one Newton solve the hinges' Jacobian is lagged (the
+        residual stays exact, so only the convergence rate can change) while the contact set,
+        which is what changes between iterates, is always current."""
+        self._ensure_scatter()
+        P = self._pattern
+        c = getattr(self, "_hcache", None)
+        if not (reuse_hinges and c is not None and c[0] == dt):
+            Kh, Ch = self._hinge_blocks(q, v)
+            base = P["Mdata"] - P["Sh"] @ (dt * Ch.ravel() + (dt * dt) * Kh.ravel())
+            self._hcache = c = (dt, base)
+        A_data = c[1].copy()
+        if self.cb.size and st is not None:
+            idx = self._active_contacts(st)
+            if idx.size:
+                Kc, Cc = self._contact_blocks(idx, v, st)
+                cols = P["cmap"][idx].ravel()
+                vals = (dt * Cc + (dt * dt) * Kc).ravel()
+                ok = cols >= 0
+                A_data -= np.bincount(cols[ok], vals[ok], P["nnz"])
+        if dense:
+            N = P["N"]
+            A = np.zeros((N, N))
+            A[P["rows"], P["cols"]] = A_data
+            fx = ~self.free_dof
+            A[fx, fx] = 1.0
+            return A
+        return self._band_matrix(A_data)
+
+    def _ensure_scatter(self):
+        if self._pattern is None:
+            self._build_pattern()
+        P = self._pattern
+        if "S" in P:
+            return
+        # scatter matrix: block entries (hinges, contacts) -> unique pattern entries; the mass
+        # diagonal is a constant part
+        nb = P["nh"] + P["nc"]
+        keep = P["keep"][:nb]
+        nk = int(keep.sum())
+        P["S"] = sp.csr_matrix((np.ones(nk), (P["inv"][:nk], np.flatnonzero(keep))), shape=(P["nnz"], nb))
+        P["Sh"] = P["S"][:, :P["nh"]].tocsr()
+        full = np.full(nb, -1, np.int64)
+        full[np.flatnonzero(keep)] = P["inv"][:nk]
+        P["cmap"] = full[P["nh"]:].reshape(-1, 9)
+        Mdiag = np.where(self.free_dof, self.M.ravel(), 1.0)
+        md = np.concatenate([np.zeros(nb), Mdiag])[P["keep"]]
+        P["Mdata"] = np.bincount(P["inv"], md, P["nnz"])
 
     def system_matrix(self, q, v, anchors, st, dt, dense=False):
         """A = M - dt dQ/dv - dt^2 dQ/dq on the free dofs (identity on fixed dofs), and dQ/dq."""
@@ -258,13 +367,14 @@ class PlanarSystem:
         P = self._pattern
         Kh, Ch, Kc, Cc = self.jacobian_blocks(q, v, anchors, st)
         N = P["N"]
-        Mdiag = np.where(self.free_dof, self.M.ravel(), 1.0)
-        kq = np.concatenate([Kh.ravel(), Kc.ravel(), np.zeros(N)])[P["keep"]]
-        cv = np.concatenate([Ch.ravel(), Cc.ravel(), np.zeros(N)])[P["keep"]]
-        md = np.concatenate([np.zeros(P["nh"] + P["nc"]), Mdiag])[P["keep"]]
-        vals_A = md - dt * cv - dt * dt * kq
-        A_data = np.bincount(P["inv"], vals_A, P["nnz"])
-        K_data = np.bincount(P["inv"], kq, P["nnz"])
+        self._ensure_scatter()
+        S = P["S"]
+        kq_all = np.concatenate([Kh.ravel(), Kc.ravel()])
+        cv_all = np.concatenate([Ch.ravel(), Cc.ravel()])
+        A_data = P["Mdata"] - S @ (dt * cv_all + (dt * dt) * kq_all)
+        if dense == "band":
+            return self._band_matrix(A_data), None
+        K_data = S @ kq_all
         # fixed dofs: identity
         if dense:
             A = np.zeros((N, N))
@@ -281,6 +391,46 @@ class PlanarSystem:
             A = A + sp.csr_matrix((np.ones(fx.size), (fx, fx)), shape=(N, N))
         return A, K
 
+    # -- banded form (chains and rings) --------------------------------------------------------
+    band_max = 64     # use the banded LU when the reordered half-bandwidth is at most this
+
+    def band_layout(self):
+        """A reverse Cuthill-McKee ordering of the dofs and its half-bandwidth, or None when the
+        matrix is not narrow-banded. A chain numbered along itself is banded as it is; a ring
+        (a closed chain) becomes banded with half-bandwidth ~ 3 * 2 + 2 after the reordering
+        (the zig-zag 0, n-1, 1, n-2, ...), so one LAPACK band LU (dgbtrf) costs O(n) instead of a
+        general sparse LU."""
+        if getattr(self, "_band", None) is not None:
+            return self._band or None
+        if self._pattern is None:
+            self._build_pattern()
+        P = self._pattern
+        N = P["N"]
+        from scipy.sparse.csgraph import reverse_cuthill_mckee
+        G = sp.csr_matrix((np.ones(P["nnz"]), (P["rows"], P["cols"])), shape=(N, N))
+        G = (G + G.T + sp.identity(N, format="csr")).tocsr()
+        perm = np.asarray(reverse_cuthill_mckee(G, symmetric_mode=True), np.int64)
+        pos = np.empty(N, np.int64)
+        pos[perm] = np.arange(N)
+        r, c = pos[P["rows"]], pos[P["cols"]]
+        kl = int(max(0, np.max(r - c))) if r.size else 0
+        ku = int(max(0, np.max(c - r))) if r.size else 0
+        if max(kl, ku) > self.band_max or N < 60:
+            self._band = False
+            return None
+        fx = np.flatnonzero(~self.free_dof)
+        self._band = {"perm": perm, "pos": pos, "kl": kl, "ku": ku, "N": N,
+                      "brow": kl + ku + r - c, "bcol": c, "fx_row": np.full(fx.size, kl + ku), "fx_col": pos[fx]}
+        return self._band
+
+    def _band_matrix(self, A_data):
+        B = self._band
+        ab = np.zeros((2 * B["kl"] + B["ku"] + 1, B["N"]))
+        ab[B["brow"], B["bcol"]] = A_data
+        if B["fx_col"].size:
+            ab[B["fx_row"], B["fx_col"]] = 1.0
+        return ab
+
     def stiffness_bound(self):
         """(omega_K, omega_C): the stiffest mode (rad/s) and the strongest damping rate (1/s) of the
         mass-scaled symmetric parts (Lanczos / dense eigenvalues, +5 %), else upper bounds from Gershgorin row sums of M^-1/2 dQ/dq M^-1/2 and M^-1/2 dQ/dv M^-1/2 with every contact pushing and sticking."""
@@ -289,8 +439,9 @@ class PlanarSystem:
         if self._pattern is None:
             self._build_pattern()
         p = self.cb.size
-        st = {"u": _rot(np.zeros(p), self.rc), "pushing": np.ones(p, bool), "stick": np.ones(p, bool),
-              "sgn": np.zeros(p), "fc": np.zeros((p, 2))}
+        u0 = _rot(np.zeros(p), self.rc)
+        st = {"ux": u0[:, 0], "uy": u0[:, 1], "pushing": np.ones(p, bool), "stick": np.ones(p, bool),
+              "sgn": np.zeros(p), "ft": np.zeros(p), "fn": np.zeros(p)}
         Kh, Ch, Kc, Cc = self.jacobian_blocks(q, v, None, st)
         # friction while sliding couples the normal stiffness into the tangent direction
         P = self._pattern
