@@ -1578,6 +1578,15 @@ class SleevePanel(BasePanel):
         self.result.setWordWrap(True)
         self.result.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         self.layout.addWidget(self.result)
+        el = QtGui.QHBoxLayout()
+        self.export_dir = QtGui.QLineEdit(os.path.join(os.path.expanduser("~"), "sleeve_export"))
+        self.export_btn = QtGui.QPushButton("Export STEP + 3MF")
+        self.export_btn.setToolTip("sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, "
+                                   "per-part extruders), as 'sleeve SPEC --step --3mf'")
+        self.export_btn.clicked.connect(lambda: self.export(self.export_dir.text().strip()))
+        el.addWidget(self.export_dir)
+        el.addWidget(self.export_btn)
+        self.layout.addLayout(el)
         self.finish_layout()
         self.summary = None
         self.job = None
@@ -1722,6 +1731,40 @@ class SleevePanel(BasePanel):
             QtGui.QApplication.processEvents()
             time.sleep(0.01)
         return self.job is None
+
+    def export(self, folder):
+        """Write sleeve.step and sleeve.3mf into ``folder`` (via a temporary folder: nothing half-written).
+        Returns the paths written, or [] with the error shown."""
+        import shutil
+        import tempfile
+
+        from metamaterial_wb.geometry.sleeve import export_sleeve
+        if not folder:
+            self.show_error("export: choose a folder")
+            return []
+        folder = os.path.abspath(folder)
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        tmp = None
+        try:
+            spec = self.spec()
+            os.makedirs(os.path.dirname(folder), exist_ok=True)
+            tmp = tempfile.mkdtemp(prefix=".sleeve-export-", dir=os.path.dirname(folder))
+            names = export_sleeve(spec, tmp, step=True, threemf=True)
+            os.makedirs(folder, exist_ok=True)
+            for n in names:
+                os.replace(os.path.join(tmp, n), os.path.join(folder, n))
+        except (MetamaterialError, OSError) as exc:
+            self.show_error(f"export: {exc}")
+            return []
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+            if tmp:
+                shutil.rmtree(tmp, ignore_errors=True)
+        self.error.setText("")
+        paths = [os.path.join(folder, n) for n in names]
+        FreeCAD.Console.PrintMessage("Metamaterial sleeve export: " + ", ".join(paths) + "\n")
+        self.result.setText((self.result.text() + "\n" if self.result.text() else "") + "wrote " + ", ".join(names))
+        return paths
 
     def cleanup(self):
         self.timer.stop()

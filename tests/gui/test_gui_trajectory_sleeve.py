@@ -205,6 +205,19 @@ def test_sleeve_command_builds_a_valid_sleeve_and_predicts_like_the_core(doc, tm
     word = "symmetric" if ref["sequence"]["symmetric"] else "asymmetric"
     assert f"-> {word}" in text and f"loading {ref['sequence']['loading']}" in text
 
+    # export: STEP that re-imports as the five printed parts, 3MF with TPU and PLA
+    import zipfile
+
+    import Part
+    paths = p.export(str(tmp_path / "exp"))
+    assert sorted(os.path.basename(x) for x in paths) == ["sleeve.3mf", "sleeve.step"], p.error.text()
+    shp = Part.read(str(tmp_path / "exp" / "sleeve.step"))
+    assert shp.isValid() and len(shp.Solids) == 5
+    with zipfile.ZipFile(tmp_path / "exp" / "sleeve.3mf") as z:
+        text = " ".join(z.read(n).decode("utf-8", "replace") for n in z.namelist() if n.endswith((".model", ".config")))
+    assert "TPU" in text and "PLA" in text
+    assert not [n for n in os.listdir(tmp_path) if n.startswith(".sleeve-export-")], "temporary folder left"
+
     n0, undo0 = len(doc.Objects), doc.UndoCount
     assert p.accept() is True, p.error.text()
     assert doc.UndoCount == undo0 + 1, "building the sleeve is one undo step"
