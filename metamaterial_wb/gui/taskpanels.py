@@ -1229,12 +1229,15 @@ class AnimatePanel(BasePanel):
             self.load_trajectory(path)
 
     def load_trajectory(self, source):
-        """Play a trajectory: a path to ``trajectory.json`` or its parsed dict. Returns True on success."""
+        """Play a trajectory: a path to ``trajectory.json`` (or the ``simulate --out`` folder holding it) or
+        its parsed dict. Returns True on success (False with the reason shown in the panel)."""
         from metamaterial_wb.objects.engine import TrajectoryPlayer
         try:
             if isinstance(source, dict):
                 data, label = source, "simulated here"
             else:
+                if os.path.isdir(source):                  # the simulate --out folder
+                    source = os.path.join(source, "trajectory.json")
                 try:
                     with open(source) as f:
                         data = json.load(f)

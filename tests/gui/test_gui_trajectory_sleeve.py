@@ -161,7 +161,7 @@ def test_trajectory_of_another_layout_is_refused(doc, tmp_path):
     doc.recompute()
     data = simulate_cli(0.1, tmp_path / "sim")
     p = run_panel("MM_Animate")
-    assert p.load_trajectory(str(tmp_path / "sim" / "trajectory.json")) is False
+    assert p.load_trajectory(str(tmp_path / "sim")) is False          # the --out folder works too
     assert "not in the trajectory" in p.error.text() or "different layout" in p.error.text()
     assert p.trajectory is None
     p.reject()
