@@ -433,6 +433,39 @@ class AxisOverlay:
         self.view = None
 
 
+class FloorOverlay:
+    """Temporary translucent floor (Coin) under a simulated trajectory, tilted by its incline."""
+
+    def __init__(self, doc, corners):
+        from pivy import coin
+        self.view = None
+        self.root = coin.SoSeparator()
+        self.root.setName("MetamaterialFloor")
+        mat = coin.SoMaterial()
+        mat.diffuseColor = (0.45, 0.38, 0.3)
+        mat.transparency = 0.5
+        pts = coin.SoCoordinate3()
+        pts.point.setValues(0, 4, [tuple(float(v) for v in c) for c in corners])
+        face = coin.SoFaceSet()
+        face.numVertices.setValues(0, 1, [4])
+        hints = coin.SoShapeHints()
+        hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
+        for n in (hints, mat, pts, face):
+            self.root.addChild(n)
+        gd = FreeCADGui.getDocument(doc.Name)
+        if gd is not None and hasattr(gd.ActiveView, "getSceneGraph"):
+            self.view = gd.ActiveView
+            self.view.getSceneGraph().addChild(self.root)
+
+    def remove(self):
+        if self.view is not None:
+            try:
+                self.view.getSceneGraph().removeChild(self.root)
+            except Exception:  # pragma: no cover - view already gone
+                pass
+        self.view = None
+
+
 def axis_segment(scene, direction, line, z):
     """End points (flat sheet, mm) of an axis' grid line: across every joint it crosses, plus a margin.
 
@@ -1155,6 +1188,7 @@ class AnimatePanel(BasePanel):
         self.finish_layout()
         self.trajectory = None
         self.trajectory_data = None
+        self.floor = None
         self.sim_job = None
         self.sim_timer = QtCore.QTimer()
         self.sim_timer.setInterval(100)
@@ -1250,7 +1284,12 @@ class AnimatePanel(BasePanel):
             self.show_error(str(exc))
             return False
         self.pause()
+        self._remove_floor()
         self.trajectory, self.trajectory_data = player, data
+        try:
+            self.floor = FloorOverlay(self.obj.Document, player.floor_corners(float(self.scene.cell_size_mm)))
+        except Exception as exc:  # pragma: no cover - display only (no 3D view)
+            FreeCAD.Console.PrintWarning(f"Metamaterial: no floor shown ({exc})\n")
         self.duration.setValue(max(0.1, round(player.duration, 3)))
         self.table.setEnabled(False)
         self.traj_off_btn.setEnabled(True)
@@ -1261,8 +1300,14 @@ class AnimatePanel(BasePanel):
         self.show_time(0.0)
         return True
 
+    def _remove_floor(self):
+        if getattr(self, "floor", None) is not None:
+            self.floor.remove()
+        self.floor = None
+
     def clear_trajectory(self):
         self.pause()
+        self._remove_floor()
         self.trajectory = self.trajectory_data = None
         self.table.setEnabled(True)
         self.traj_off_btn.setEnabled(False)
@@ -1463,6 +1508,7 @@ class AnimatePanel(BasePanel):
     def cleanup(self):
         self.timer.stop()
         self.sim_timer.stop()
+        self._remove_floor()
         if self.sim_job is not None:
             self.sim_job = None       # the daemon thread finishes on its own; its result is dropped
         self.disconnect()

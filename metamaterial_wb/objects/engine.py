@@ -390,6 +390,17 @@ class TrajectoryPlayer:
         R[:, 2, 2] = c
         return pos, R
 
+    def floor_corners(self, margin_mm=20.0):
+        """(4, 3) corners of the floor (floor-frame y = 0) under the whole motion, in view coordinates."""
+        xs = self.poses[:, :, 0]
+        x_lo, x_hi = float(xs.min()) - margin_mm, float(xs.max()) + margin_mm
+        y_lo, y_hi = float(self.flat[:, 1].min()) - margin_mm, float(self.flat[:, 1].max()) + margin_mm
+        out = []
+        for xf, yv in ((x_lo, y_lo), (x_hi, y_lo), (x_hi, y_hi), (x_lo, y_hi)):
+            X, Z = self._floor_to_view(xf, 0.0)
+            out.append([X + self.ox, yv, Z - self.oz])
+        return np.array(out)
+
     def frame(self, solver, t):
         """A :class:`Frame` (nodes, hinges) for ``structure.apply_frame``."""
         pos, R = self.node_poses(t)

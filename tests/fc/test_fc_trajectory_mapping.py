@@ -49,6 +49,12 @@ def test_slide_along_the_floor_follows_the_incline(incline):
     np.testing.assert_allclose(pl.node_poses(0.5)[0] - pos0, 0.5 * (pos1 - pos0), atol=1e-9)
     # the incline tilts the plates: their x axis runs up the slope
     np.testing.assert_allclose(R0[:, :, 0], np.tile([math.cos(i), 0.0, math.sin(i)], (len(flat), 1)), atol=1e-12)
+    # the floor lies under the sheet, on the tilted plane, at the rest height below the nodes' mid-plane
+    n = np.array([-math.sin(i), 0.0, math.cos(i)])
+    fc = pl.floor_corners(10.0)
+    assert np.allclose((fc - fc[0]) @ n, 0.0, atol=1e-9)
+    np.testing.assert_allclose((pos1 - fc[0]) @ n, 3.5, atol=1e-9)
+    assert fc[:, 1].min() < pos1[:, 1].min() and fc[:, 1].max() > pos1[:, 1].max()
     fr = pl.frame(solver, 1.0)
     assert fr.hinge_positions.shape == (sc.topology.n_joints, 3)
 

@@ -92,6 +92,9 @@ def test_animate_plays_a_simulated_trajectory_and_restores(doc, tmp_path):
     p = run_panel("MM_Animate")
     assert p.load_trajectory(str(tmp_path / "sim" / "trajectory.json")) is True
     assert p.duration.value() == pytest.approx(data["times_s"][-1], abs=1e-3)
+    graph = FreeCADGui.getDocument(doc.Name).ActiveView.getSceneGraph()
+    assert p.floor is not None and graph.findChild(p.floor.root) >= 0, "the floor is shown"
+    floor_root = p.floor.root
     p.loop.setChecked(False)
     p.speed.setValue(1.0)
     n = 17
@@ -127,6 +130,7 @@ def test_animate_plays_a_simulated_trajectory_and_restores(doc, tmp_path):
     p.step(int(2.0 / p.dt))
     assert p.t == pytest.approx(p.duration.value())
     p.reject()
+    assert graph.findChild(floor_root) < 0, "the floor is removed on close"
     pos, ex = node_state(sc.NodeArray)
     np.testing.assert_allclose(pos, pos0, atol=1e-9)
     np.testing.assert_allclose(ex, ex0, atol=1e-9)
