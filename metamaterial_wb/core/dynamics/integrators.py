@@ -141,14 +141,15 @@ class Simulator:
         return spla.spsolve(A.tocsc(), rhs, permc_spec="MMD_AT_PLUS_A")
 
     newton_max = 6
-    newton_max_band = 10      # banded path: iterations are cheap, allow more (fewer unconverged steps)
+    newton_max_band = 6       # banded path (10 measured: more unconverged-step work, no gain)
     linearized_first_step = False  # accept the first Newton step when its Jacobian is fresh (measured: blew up the worm at 5 ms, no gain on the belt)
     freeze_after = None       # freeze the contact flags from this Newton iteration on (None: never)
     freeze_contacts = False   # reuse the contact flags of the first iterate within a step (off: measured worse)
     newton_tol_abs = 1e-5     # m/s (and rad/s): Newton stops when the velocity update is below
     newton_tol_rel = 1e-3     # newton_tol_abs + newton_tol_rel * max |v|
     refactor_on_contact_change = True    # also rebuild when the touching / sticking set changes
-    lag_hinges = True         # banded path: keep the hinge part of the Jacobian within a step
+    lag_hinges = False        # banded path: keep the hinge part of the Jacobian within a step (measured: more
+                              # Newton iterations on the rolling 1000-cell belt, slower overall; off)
     _newton_it = 0
     use_band = True           # chains / rings: banded LU in reverse Cuthill-McKee order (O(n))
     jacobian_max_age = 8      # steps a factored Jacobian is reused (same step, same contact/stick set)
@@ -170,9 +171,12 @@ class Simulator:
             return f["solve"]
         band = None if dense or not self.use_band else s.band_layout()
         if band is not None or dense:
-            # within one step the hinges' part of the Jacobian is lagged (from the step's first
-            # build) unless convergence is slow; the touching contacts are always current
-            A = s.band_system_matrix(q, v, st, h, reuse_hinges=self._newton_it > 0 and self.lag_hinges and not refresh,
+            # banded path: within one step the hinges' part of the Jacobian is lagged (from the step's
+            # first build) unless convergence is slow; the touching contacts are always current.
+            # Not on the small dense path: there it saves little, and servo-driven stiff pins (the
+            # worm) need the current hinge Jacobian (measured: a fallback at 5 ms)
+            A = s.band_system_matrix(q, v, st, h, reuse_hinges=(band is not None and self._newton_it > 0 and self.lag_hinges
+                                                   and not refresh),
                                      dense=band is None)
         else:
             A, _ = s.system_matrix(q, v, self.anchors, st, h, dense=dense)
