@@ -23,38 +23,10 @@ from PySide import QtGui  # noqa: E402
 import metamaterial_wb  # noqa: E402
 from metamaterial_wb.gui import taskpanels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
+from guihelpers import doc, run_panel, workbench  # noqa: E402,F401
 
 PY = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(metamaterial_wb.__file__)))
-
-
-@pytest.fixture(scope="module", autouse=True)
-def workbench():
-    FreeCADGui.activateWorkbench("MetamaterialWorkbench")
-    yield
-
-
-@pytest.fixture
-def doc():
-    d = FreeCAD.newDocument("MMTraj")
-    FreeCAD.setActiveDocument(d.Name)
-    name = d.Name
-    yield d
-    if FreeCADGui.Control.activeDialog():
-        if taskpanels.ACTIVE is not None:
-            taskpanels.ACTIVE.reject()
-        else:
-            FreeCADGui.Control.closeDialog()
-    if name in FreeCAD.listDocuments():
-        FreeCAD.closeDocument(name)
-
-
-def run_panel(cmd):
-    FreeCADGui.runCommand(cmd)
-    QtGui.QApplication.processEvents()
-    p = taskpanels.ACTIVE
-    assert p is not None and FreeCADGui.Control.activeDialog(), f"{cmd} opened no task panel"
-    return p
 
 
 def node_state(arr):

@@ -25,39 +25,11 @@ from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.gui import commands, taskpanels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
+from guihelpers import doc, run_panel, workbench  # noqa: E402,F401
 
 
 def process_events():
     QtGui.QApplication.processEvents()
-
-
-@pytest.fixture(scope="module", autouse=True)
-def workbench():
-    FreeCADGui.activateWorkbench("MetamaterialWorkbench")
-    yield
-
-
-@pytest.fixture
-def doc():
-    d = FreeCAD.newDocument("MMGui")
-    FreeCAD.setActiveDocument(d.Name)
-    name = d.Name
-    yield d
-    if FreeCADGui.Control.activeDialog():
-        if taskpanels.ACTIVE is not None:
-            taskpanels.ACTIVE.reject()
-        else:
-            FreeCADGui.Control.closeDialog()
-    if name in FreeCAD.listDocuments():
-        FreeCAD.closeDocument(name)
-
-
-def run_panel(cmd):
-    FreeCADGui.runCommand(cmd)
-    process_events()
-    p = taskpanels.ACTIVE
-    assert p is not None and FreeCADGui.Control.activeDialog(), f"{cmd} opened no task panel"
-    return p
 
 
 def open_fish(doc):
