@@ -10,6 +10,16 @@ import time
 DOC = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "docs", "benchmarks.md")
 
 
+def best_of(fn, repeat):
+    """``(shortest wall time in s, last result)`` of ``repeat`` calls of ``fn()``."""
+    ts, out = [], None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        ts.append(time.perf_counter() - t)
+    return min(ts), out
+
+
 def machine_line():
     return (f"Measured {time.strftime('%Y-%m-%d')} on {os.cpu_count()} cores, Python {platform.python_version()}"
             f" ({platform.machine()}).")

@@ -15,21 +15,12 @@ import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from benchmarks._report import machine_line, update_section  # noqa: E402
+from benchmarks._report import best_of, machine_line, update_section  # noqa: E402
 from metamaterial_wb.core.sleeve.analysis import extrema  # noqa: E402
 from metamaterial_wb.core.sleeve.cell import CellGeometry  # noqa: E402
 from metamaterial_wb.core.sleeve.pipeline import ring_trace, unit_cell_result  # noqa: E402
 
 SEED_MIN = (55, 732)
-
-
-def best_of(fn, repeat):
-    ts, out = [], None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t)
-    return min(ts), out
 
 
 def main():

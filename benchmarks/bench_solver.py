@@ -18,19 +18,9 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from benchmarks._report import machine_line, update_section  # noqa: E402
+from benchmarks._report import best_of, machine_line, update_section  # noqa: E402
 from metamaterial_wb.core import solver  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
-
-
-def best_of(fn, repeat):
-    ts = []
-    out = None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t)
-    return min(ts), out
 
 
 def bench(n, backend, repeat):
