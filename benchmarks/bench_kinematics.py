@@ -14,7 +14,6 @@ Usage: /usr/bin/python3 benchmarks/bench_kinematics.py [--no-write] [--repeat 5]
 import argparse
 import os
 import sys
-import time
 
 import numpy as np
 

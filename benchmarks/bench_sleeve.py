@@ -11,7 +11,6 @@ Usage: /usr/bin/python3 benchmarks/bench_sleeve.py [--no-write] [--repeat 2]
 import argparse
 import os
 import sys
-import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
