@@ -106,18 +106,45 @@ void sl_link_init(sl_link_t *l, uint8_t n_ch, uint8_t extra_caps, sl_tx_fn tx, s
 }
 
 /* ---------------------------------------------------------------------------------------------- */
-static void do_set_angles(sl_link_t *l, const sl_packet_t *rq)
+/* The channel run of a SET_ANGLES / SET_PULSES request (first u8, count u8, count x 16-bit values).
+ * NAKs (LEN, then CHANNEL) and returns 0 when the length or the channel range is wrong. */
+static uint8_t channel_run(sl_link_t *l, const sl_packet_t *rq, uint8_t *first, uint8_t *count)
 {
     const uint8_t *p = rq->payload;
     if (rq->plen < 2 || p[1] == 0 || rq->plen != 2 + 2 * p[1]) {
         nak(l, rq->seq, SL_E_LEN, (uint8_t)(rq->plen < 2 ? 2 : 2 + 2 * p[1]));
-        return;
+        return 0;
     }
-    uint8_t first = p[0], count = p[1];
-    if (first >= l->n_ch || (uint16_t)first + count > l->n_ch) {
-        nak(l, rq->seq, SL_E_CHANNEL, first >= l->n_ch ? first : l->n_ch);
-        return;
+    *first = p[0];
+    *count = p[1];
+    if (*first >= l->n_ch || (uint16_t)*first + *count > l->n_ch) {
+        nak(l, rq->seq, SL_E_CHANNEL, *first >= l->n_ch ? *first : l->n_ch);
+        return 0;
     }
+    return 1;
+}
+
+/* Motion frames are taken only in stream mode and while armed; NAKs (MODE, then NOT_ARMED) and
+ * returns 0 otherwise. */
+static uint8_t may_move(sl_link_t *l, const sl_packet_t *rq)
+{
+    if (l->mode != SL_MODE_STREAM) {
+        nak(l, rq->seq, SL_E_MODE, l->mode);
+        return 0;
+    }
+    if (l->state != SL_ST_ARMED) {
+        nak(l, rq->seq, SL_E_NOT_ARMED, l->state);
+        return 0;
+    }
+    return 1;
+}
+
+static void do_set_angles(sl_link_t *l, const sl_packet_t *rq)
+{
+    const uint8_t *p = rq->payload;
+    uint8_t first, count;
+    if (!channel_run(l, rq, &first, &count))
+        return;
     int16_t v[SL_MAX_CH];
     for (uint8_t k = 0; k < count; k++) {
         v[k] = sl_get_i16(p + 2 + 2 * k);
@@ -126,14 +153,8 @@ static void do_set_angles(sl_link_t *l, const sl_packet_t *rq)
             return;
         }
     }
-    if (l->mode != SL_MODE_STREAM) {
-        nak(l, rq->seq, SL_E_MODE, l->mode);
+    if (!may_move(l, rq))
         return;
-    }
-    if (l->state != SL_ST_ARMED) {
-        nak(l, rq->seq, SL_E_NOT_ARMED, l->state);
-        return;
-    }
     uint16_t mask = 0;
     for (uint8_t k = 0; k < count; k++) { /* commit all channels together */
         uint8_t ch = (uint8_t)(first + k), c = 0;
@@ -156,15 +177,9 @@ static void do_set_angles(sl_link_t *l, const sl_packet_t *rq)
 static void do_set_pulses(sl_link_t *l, const sl_packet_t *rq)
 {
     const uint8_t *p = rq->payload;
-    if (rq->plen < 2 || p[1] == 0 || rq->plen != 2 + 2 * p[1]) {
-        nak(l, rq->seq, SL_E_LEN, (uint8_t)(rq->plen < 2 ? 2 : 2 + 2 * p[1]));
+    uint8_t first, count;
+    if (!channel_run(l, rq, &first, &count))
         return;
-    }
-    uint8_t first = p[0], count = p[1];
-    if (first >= l->n_ch || (uint16_t)first + count > l->n_ch) {
-        nak(l, rq->seq, SL_E_CHANNEL, first >= l->n_ch ? first : l->n_ch);
-        return;
-    }
     for (uint8_t k = 0; k < count; k++) {
         uint16_t us = sl_get_u16(p + 2 + 2 * k);
         if (us < SL_US_ABS_MIN || us > SL_US_ABS_MAX) {
@@ -172,14 +187,8 @@ static void do_set_pulses(sl_link_t *l, const sl_packet_t *rq)
             return;
         }
     }
-    if (l->mode != SL_MODE_STREAM) {
-        nak(l, rq->seq, SL_E_MODE, l->mode);
+    if (!may_move(l, rq))
         return;
-    }
-    if (l->state != SL_ST_ARMED) {
-        nak(l, rq->seq, SL_E_NOT_ARMED, l->state);
-        return;
-    }
     uint16_t mask = 0;
     for (uint8_t k = 0; k < count; k++) {
         uint8_t ch = (uint8_t)(first + k);
