@@ -366,33 +366,28 @@ def table_json(table):
     return text
 
 
+
+def _set_point(xs, ys, x, y):
+    """Table columns ``(xs, ys)`` with ``y`` at abscissa ``x``: replaced if present, else inserted in order."""
+    xs, ys = list(xs), list(ys)
+    if x in xs:
+        ys[xs.index(x)] = y
+        return xs, ys
+    xs.append(x)
+    ys.append(y)
+    order = np.argsort(xs)
+    return [xs[i] for i in order], [ys[i] for i in order]
+
+
 def update_table(table, length_mm, k1, width_mm=None, factor=None):
     """A copy of a calibration table with one k1 (and optionally one width factor) inserted/replaced."""
     import copy
 
     t = copy.deepcopy(table)
-    L = list(t["k1_vs_length"]["length_mm"])
-    K = list(t["k1_vs_length"]["k1"])
-    if length_mm in L:
-        K[L.index(length_mm)] = k1
-    else:
-        L.append(length_mm)
-        K.append(k1)
-        order = np.argsort(L)
-        L = [L[i] for i in order]
-        K = [K[i] for i in order]
+    L, K = _set_point(t["k1_vs_length"]["length_mm"], t["k1_vs_length"]["k1"], length_mm, k1)
     t["k1_vs_length"] = {"length_mm": L, "k1": K}
     if width_mm is not None and factor is not None:
-        W = list(t["k2_vs_width"]["width_mm"])
-        F = list(t["k2_vs_width"]["factor"])
-        if width_mm in W:
-            F[W.index(width_mm)] = factor
-        else:
-            W.append(width_mm)
-            F.append(factor)
-            order = np.argsort(W)
-            W = [W[i] for i in order]
-            F = [F[i] for i in order]
+        W, F = _set_point(t["k2_vs_width"]["width_mm"], t["k2_vs_width"]["factor"], width_mm, factor)
         t["k2_vs_width"] = {"width_mm": W, "factor": F}
     from metamaterial_wb.core.calibration import Calibration
     Calibration(t)        # validates (monotone abscissae, ranges)
