@@ -9,6 +9,8 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
 * both: ``planar`` (bool, default: automatic = no tilted hinge in the scene), ``contact`` (plate
   contact, true: one-sided constraints in the linear model, a penalty in the nonlinear one),
   ``contact_fraction`` (0.98 of the plate-contact rotation);
+* linear: ``poses`` (``chain``, default: positions through the hinge chain from the plate rotations;
+  ``linear``: the flat positions plus the solved displacements);
 * nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
@@ -23,7 +25,7 @@ import numpy as np
 
 from metamaterial_wb.core.models import ModelResult, register_model
 
-_LINEAR_OPTS = {"planar", "contact", "contact_fraction"}
+_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses"}
 _NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
                    "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method"}
 
@@ -74,7 +76,8 @@ def clear_cache():
     _LINEAR_CACHE.clear()
 
 
-def _linear(scene, global_deformation=None, planar=None, contact=True, contact_fraction=0.98, **options):
+def _linear(scene, global_deformation=None, planar=None, contact=True, contact_fraction=0.98, poses="chain",
+            **options):
     t0 = time.perf_counter()
     _check_options("linear", options, _LINEAR_OPTS)
     if global_deformation is not None:
@@ -84,7 +87,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
 
     from metamaterial_wb.core.lattice.geometry import fixed_items
 
-    key = _structure_key(scene, planar) + f"|contact={bool(contact)},{float(contact_fraction)!r}"
+    key = _structure_key(scene, planar) + f"|contact={bool(contact)},{float(contact_fraction)!r}|poses={poses}"
     cached = _LINEAR_CACHE.get(key)
     reused = cached is not None
     if reused:                       # only actuator values changed: reuse geometry and factorisation
@@ -97,7 +100,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
         if planar is not None:
             geo.planar = bool(planar)
         t1 = time.perf_counter()
-        lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction)
+        lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction, poses=poses)
         _LINEAR_CACHE[key] = lin
         while len(_LINEAR_CACHE) > _LINEAR_CACHE_SIZE:
             _LINEAR_CACHE.popitem(last=False)
@@ -109,7 +112,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     warnings = []
     info = {"method": "linearised lattice, one sparse KKT solve" if lin.joints.size and np.any(psi)
             else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
-            "constraints": int(lin.joints.size), "reused_factorisation": reused}
+            "constraints": int(lin.joints.size), "reused_factorisation": reused, "poses": lin.poses}
     info.update(lin.contact_info)
     if lin.contact_info.get("active_set_iterations"):
         info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"

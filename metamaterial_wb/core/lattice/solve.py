@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry, fixed_items
-from metamaterial_wb.core.lattice.mechanics import ElementState, Pattern, expm_so3
+from metamaterial_wb.core.lattice.mechanics import ElementState, Pattern, _arc_coefficients, _cross_e1, expm_so3, log_so3
 
 PLANAR_DOFS = (0, 1, 5)
 _ROT_DOFS = np.array([3, 4, 5, 9, 10, 11])
@@ -93,6 +93,70 @@ def finish(geo, X, R, align=True):
     return X, R, phi, D
 
 
+class ChainPositions:
+    """Node positions from the plate rotations through the hinge chain (the linear model's poses).
+
+    Every hinge, force-free and bent uniformly by its relative rotation ``Theta = log(W_A^T W_B)``, puts its
+    far end at the arc chord ``rest V(Theta) e1`` in plate A's hinge frame (the nonlinear model's zero-strain
+    state, ``core/lattice/mechanics``). Each hinge thus gives a relation
+    ``X_B - X_A = R_A r_A + W_A rest V(Theta) e1 - R_B r_B`` between its two node centres; the positions are
+    their least-squares solution over the hinge graph (the linear model adds each hinge's elastic offset
+    beyond uniform bending, ``u - rest/2 Theta x e1`` of its solution, so that both pose rules agree to first
+    order) (one factorisation of the graph Laplacian per
+    structure, one back-substitution per call). A rigid rotation keeps every plate square and every hinge
+    chord exact, which adding linear displacements does not (a plate corner turned by ``phi`` moves by
+    ``2 sin(phi/2)`` times its radius, not ``phi``). Each connected part keeps the mean position of the
+    positions it is given (the gauge; results are aligned afterwards anyway).
+    """
+
+    def __init__(self, geo):
+        import scipy.sparse as sp
+        from scipy.sparse.csgraph import connected_components
+
+        self.geo = geo
+        n, m = geo.n, geo.m
+        self.lu = None
+        if n < 2 or m == 0:
+            return
+        rows = np.concatenate([np.arange(m), np.arange(m)])
+        inc = sp.csr_matrix((np.concatenate([-np.ones(m), np.ones(m)]), (rows, np.concatenate([geo.a, geo.b]))),
+                            shape=(m, n))
+        self.incT = inc.T.tocsr()
+        ncomp, self.labels = connected_components(inc.T @ inc, directed=False)
+        self.ncomp = ncomp
+        first = np.array([np.flatnonzero(self.labels == c)[0] for c in range(ncomp)])
+        self.free = np.setdiff1d(np.arange(n), first)          # one node per part is held (the gauge)
+        L = (inc.T @ inc).tocsc()[self.free][:, self.free]
+        self.lu = spla.splu(L.tocsc(), permc_spec="MMD_AT_PLUS_A")
+
+    def chords(self, R, strain=None):
+        """(m, 3) relations ``X_B - X_A`` for plate rotations ``R`` (``strain``: (m, 3) elastic offsets of the
+        hinge ends beyond uniform bending, in A's hinge frame)."""
+        geo = self.geo
+        W = R[geo.a] @ geo.Q0
+        T = log_so3(np.einsum("mji,mjk->mik", W, R[geo.b] @ geo.Q0))
+        t2 = np.einsum("mi,mi->m", T, T)
+        A, B = _arc_coefficients(t2)[:2]
+        y = T * T[:, 0:1]                                       # T x (T x e1)
+        y[:, 0] -= t2
+        loc = geo.rest * (A[:, None] * _cross_e1(T) + B[:, None] * y)
+        loc[:, 0] += geo.rest                                   # rest V(Theta) e1
+        if strain is not None:
+            loc += strain
+        return (np.einsum("mij,mj->mi", W, loc) + np.einsum("mij,mj->mi", R[geo.a], geo.rA)
+                - np.einsum("mij,mj->mi", R[geo.b], geo.rB))
+
+    def __call__(self, R, X_gauge, strain=None):
+        if self.lu is None:
+            return X_gauge.copy()
+        X = np.zeros_like(X_gauge)
+        X[self.free] = self.lu.solve(np.ascontiguousarray((self.incT @ self.chords(R, strain))[self.free]))
+        for c in range(self.ncomp):                             # each part keeps its mean position
+            k = self.labels == c
+            X[k] += X_gauge[k].mean(axis=0) - X[k].mean(axis=0)
+        return X
+
+
 def _apply(X, R, q, dofmap, n):
     full = np.zeros(6 * n)
     k = dofmap[:6 * n] >= 0
@@ -113,10 +177,20 @@ class LinearLattice:
     one-sided spring; the set of such hinges is found by re-solving until it stops changing (semismooth
     Newton on a piecewise-quadratic energy), so the answer is piecewise linear. When no hinge reaches
     contact (small amplitudes) this costs nothing extra.
+
+    Poses: the plate rotations are ``exp`` of the solved rotation increments; the positions come from those
+    rotations through the hinge chain (:class:`ChainPositions`, ``poses="chain"``, the default) rather than
+    from adding the solved displacements to the flat sheet (``poses="linear"``), which stretches every hinge
+    by the second-order motion of the plate corners. Both agree to first order; ``q`` is the same.
     """
 
-    def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4):
+    def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4, poses="chain"):
         t0 = time.perf_counter()
+        if poses not in ("chain", "linear"):
+            from metamaterial_wb.core.errors import SceneError
+            raise SceneError("--option poses", f"{poses!r}; allowed: chain, linear")
+        self.poses = poses
+        self._chain = None
         self.geo = geo or LatticeGeometry(scene)
         geo = self.geo
         self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
@@ -125,6 +199,7 @@ class LinearLattice:
         st = ElementState(geo, geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy(), tangent=True, arc=False)
         self.He = st.H
         self.J5 = st.J[:, 5, :].copy()
+        self.J6 = st.J                      # strains (u, Theta) of the flat sheet per element DOF
         self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
         Acon = self.J5[self.joints] if self.joints.size else None
         self.reg = kkt_regularisation(geo)
@@ -237,6 +312,12 @@ class LinearLattice:
             else:
                 self.contact_info["active_set_converged"] = False
         X, R = _apply(geo.X0, I3, q, self.dofmap, geo.n)
+        if self.poses == "chain":        # positions through the hinge chain from the plate rotations
+            if self._chain is None:
+                self._chain = ChainPositions(geo)
+            eps = (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0]
+            strain = eps[:, 0:3] - 0.5 * geo.rest * _cross_e1(eps[:, 3:6])    # beyond uniform bending
+            X = self._chain(R, X, strain)
         return X, R, q, mu
 
 
