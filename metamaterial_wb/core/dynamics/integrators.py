@@ -31,6 +31,7 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgbtrf as _gbtrf, dgbtrs as _gbtrs
 
+from . import fastkernel
 from .system import DynamicsError, PlanarSystem
 
 METHODS = ("auto", "symplectic", "implicit")
@@ -96,6 +97,15 @@ class Simulator:
     def _update_anchors(self):
         s = self.sys
         if not s.cb.size:
+            return
+        k = self._kern
+        if k is not None and self._kern_used and k.matches(s) and self.anchors.flags.c_contiguous \
+                and self.anchors.dtype == np.float64 and self.inside.dtype == bool and self.inside.flags.c_contiguous:
+            # the same update in the compiled kernel (anchors and inside flags in place)
+            fr, pen = k.update_anchors(self.q, self.v, self.anchors, self.inside, self.ledger["friction_J"],
+                                       self.stats["max_penetration_mm"])
+            self.ledger["friction_J"] = fr
+            self.stats["max_penetration_mm"] = pen
             return
         p = s.contact_points(self.q)
         inside = p[:, 1] < 0
@@ -217,6 +227,47 @@ class Simulator:
                       "step": self.stats["steps"]}
         return solve
     bdf2 = True
+    kernel = "auto"           # "auto": the compiled kernel (fastkernel.py) when available, else numpy;
+                              # "numpy": always the numpy path; "c": the compiled kernel or a DynamicsError
+    _kern = None
+    _kern_used = False
+
+    def _kernel_for(self, dense, banded):
+        """The compiled kernel for this step, or None (numpy path). Only the default Newton options
+        are compiled; the experimental ones (freezing, lagging, linearised first step) and the
+        general sparse (SuperLU) path stay in numpy."""
+        s = self.sys
+        k = self._kern
+        if self.kernel == "numpy":
+            self.stats["kernel"] = "numpy"
+            return None
+        if (self.freeze_contacts or self.freeze_after is not None or self.linearized_first_step or self.lag_hinges
+                or not self.refactor_on_contact_change or not (dense or banded)):
+            why = "a non-default Newton option or a layout without band structure"
+        elif k is not None and k.matches(s):
+            return k
+        else:
+            why = getattr(self, "_kern_fail", None)
+            if why is None:
+                lib = fastkernel.load()
+                if lib is None:
+                    why = fastkernel.note()
+                else:
+                    try:
+                        layout = fastkernel.layout_for(s, band_max=s.band_max)
+                        if layout is None:
+                            why = "the system matrix is neither narrow-banded nor small"
+                        else:
+                            self._kern = k = fastkernel.Kernel(lib, s, layout)
+                            return k
+                    except ValueError as e:
+                        why = str(e)
+                self._kern_fail = why
+        if self.kernel == "c":
+            raise DynamicsError(f"compiled dynamics kernel requested but not usable: {why}")
+        self.stats["kernel"] = "numpy"
+        self.stats["kernel_note"] = why
+        return None
 
     def step_implicit(self, dt):
         """BDF2 (backward Euler on the first step, after a restart or a change of dt), solved by
@@ -249,6 +300,37 @@ class Simulator:
         converged = False
         st0 = None
         banded = not dense and self.use_band and s.band_layout() is not None
+        kern = self._kernel_for(dense, banded)
+        self._kern_used = kern is not None
+        if kern is not None:
+            # the same Newton loop, compiled (fastkernel.py / _kernel.c): one call per step
+            qh = np.ascontiguousarray(qh, float)
+            vh = np.ascontiguousarray(vh, float)
+            v1 = np.array(v1, float)
+            if not (self.anchors.flags.c_contiguous and self.anchors.dtype == np.float64):
+                self.anchors = np.ascontiguousarray(self.anchors, float)
+            ks = kern.newton(qh, vh, v1, h, self.anchors, self.newton_max_band if banded else self.newton_max,
+                             self.newton_tol_abs, self.newton_tol_rel, self.jacobian_max_age)
+            st = self.stats
+            st["kernel"] = "c"
+            st["force_evaluations"] += int(ks[0])
+            if ks[1]:
+                st["jacobians"] = st.get("jacobians", 0) + int(ks[1])
+            if ks[2]:
+                st["newton_iterations"] = st.get("newton_iterations", 0) + int(ks[2])
+            if banded:
+                st["banded_lu"] = True
+            if not ks[3]:
+                st["newton_unconverged_steps"] = st.get("newton_unconverged_steps", 0) + 1
+            v_new = v1.reshape(-1, 3)
+            v_new[s.fixed] = 0.0
+            self.ledger["damping_J"] += dt * float(ks[4])
+            self._prev = (self.q, self.v, dt)
+            self.v = v_new
+            self.q = qh + h * v_new
+            self.t += dt
+            self._update_anchors()
+            return
         for it in range(self.newton_max_band if banded else self.newton_max):
             V1 = v1.reshape(-1, 3)
             q1 = qh + h * V1
@@ -337,6 +419,8 @@ class Simulator:
             self.actuate.restore(ast)
         self._prev = None
         self._fact = None
+        if self._kern is not None:
+            self._kern.invalidate()
 
     # -- driver ------------------------------------------------------------------------------
     def choose(self, method, dt, t_end):

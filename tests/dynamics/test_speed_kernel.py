@@ -1,0 +1,233 @@
+"""The compiled dynamics kernel (core/dynamics/fastkernel.py + _kernel.c) against the numpy path.
+
+The numpy code in system.py / integrators.py is the reference: forces, contact state, the Newton
+matrix, the band LU and short trajectories must agree to round-off, with the same step, Jacobian,
+Newton-iteration and force-evaluation counts. The fallback (no compiler, or forced) must give the
+numpy path's results exactly.
+"""
+import math
+import os
+
+import numpy as np
+import pytest
+
+from metamaterial_wb.core.dynamics import PlanarSystem, Simulator
+from metamaterial_wb.core.dynamics import fastkernel
+from metamaterial_wb.core.dynamics.builders import build, dynamics_config
+from metamaterial_wb.core.dynamics.simulate import simulate
+from metamaterial_wb.core.dynamics.system import DynamicsError
+from metamaterial_wb.core.scene import Scene
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def scene(name):
+    return Scene.load(os.path.join(ROOT, "examples", name))
+
+
+def lib_or_skip():
+    lib = fastkernel.load()
+    if lib is None:
+        pytest.skip(f"no compiled kernel here: {fastkernel.note()}")
+    return lib
+
+
+def pendulum_on_floor():
+    """A fixed pivot (fixed dofs), a swinging body and a third one with contacts: every code path."""
+    s = PlanarSystem([1.0, 0.2, 0.3], [1.0, 1e-3, 2e-3], fixed=[True, False, False], gravity=(-1.0, -9.81))
+    s.set_hinges([0, 1], [1, 2], [[0.0, 0.0], [0.05, 0.01]], [[0.0, 0.4], [-0.05, 0.0]],
+                 kp=[2e4, 5e3], cp=[3.0, 1.0], kr=[0.0, 2.0], cr=[0.1, 0.05], theta0=[0.0, 0.3])
+    s.set_contacts([1, 2, 2, 2], [[0.0, -0.02], [0.03, -0.01], [-0.03, -0.01], [0.0, 0.02]],
+                   mu=[0.5, 0.8, 0.3, 1.0], kn=1e4, cn=5.0, kt=8e3, ct=2.0)
+    return s
+
+
+def random_states(system, rng, count):
+    """States near the floor: some contacts inside (pushing / pulling-clamped), some sticking,
+    some sliding, non-zero velocities and rotations."""
+    n = system.n
+    for _ in range(count):
+        q = np.zeros((n, 3))
+        q[:, 0] = rng.uniform(-0.3, 0.3, n)
+        q[:, 1] = rng.uniform(-0.004, 0.01, n)
+        q[:, 2] = rng.uniform(-0.4, 0.4, n)
+        v = rng.normal(0.0, 0.3, (n, 3))
+        q[system.fixed] = 0.0
+        v[system.fixed] = 0.0
+        if system.cb.size:
+            p = system.contact_points(q)
+            anchors = p[:, 0] + rng.normal(0.0, 1.0, p.shape[0]) * 10 ** rng.uniform(-6, -1.5, p.shape[0])
+        else:
+            anchors = np.zeros(0)
+        yield q, v, anchors
+
+
+def systems():
+    out = [("pendulum_on_floor", pendulum_on_floor())]
+    for name in ("belt8.json", "worm_crawl.json"):
+        sc = scene(name)
+        m = build(sc, dynamics_config(sc))
+        out.append((name, m.system))
+    return out
+
+
+@pytest.mark.parametrize("label,system", systems(), ids=lambda x: x if isinstance(x, str) else "")
+def test_forces_and_newton_matrix_match_numpy(label, system):
+    lib = lib_or_skip()
+    k = fastkernel.Kernel(lib, system, fastkernel.layout_for(system))
+    rng = np.random.default_rng(7)
+    seen = {"inside": 0, "stick": 0, "slide": 0}
+    for q, v, anchors in random_states(system, rng, 12):
+        Qn, stn = system.forces(q, v, anchors)
+        dpn = system.last_damping_power
+        Qc, stc, dpc = k.forces(q, v, anchors)
+        scale = np.max(np.abs(Qn))
+        assert np.max(np.abs(Qc - Qn)) <= 1e-10 * scale
+        assert dpc == pytest.approx(dpn, rel=1e-10, abs=1e-300)
+        if stn is not None:
+            for key in ("inside", "stick", "pushing"):
+                assert np.array_equal(stc[key], stn[key]), key
+            for key in ("fn", "ft", "ux", "uy"):
+                assert np.allclose(stc[key], stn[key], rtol=1e-10, atol=1e-12 * (1 + np.max(np.abs(stn[key])))), key
+            seen["inside"] += int(stn["pushing"].sum())
+            seen["stick"] += int((stn["pushing"] & stn["stick"]).sum())
+            seen["slide"] += int((stn["pushing"] & ~stn["stick"]).sum())
+        for h in (2e-3, 1.3e-3):
+            An = system.band_system_matrix(q, v, stn, h, dense=True)
+            Ac = k.matrix(q, v, anchors, h)
+            assert np.max(np.abs(Ac - An)) <= 1e-10 * np.max(np.abs(An))
+            # and the band LU solves it like LAPACK's dense LU
+            b = rng.normal(size=An.shape[0])
+            x, info = k.solve(An, b)
+            assert info == 0
+            xr = np.linalg.solve(An, b)
+            assert np.max(np.abs(x - xr)) <= 1e-9 * np.max(np.abs(xr))
+    if system.cb.size:
+        # the random states exercised touching, sticking and sliding contacts
+        assert seen["inside"] > 0 and seen["stick"] > 0 and seen["slide"] > 0, seen
+
+
+def _run(sc, seconds, kernel, dt=None, perturb=0.0):
+    cfg = dynamics_config(sc)
+    model = build(sc, cfg)
+    sim = Simulator(model.system, model.q0 * (1.0 + perturb), actuate=model.actuate)
+    sim.energy_scale = float(model.system.mass.sum() * 9.81 * 0.05)
+    sim.kernel = kernel
+    sim.run(seconds, method="implicit", dt=dt or cfg["integrator"]["dt_s"])
+    return sim
+
+
+COUNTS = ("steps", "force_evaluations", "jacobians", "newton_iterations", "newton_unconverged_steps")
+
+
+@pytest.mark.parametrize("name,seconds", [("belt8.json", 0.6), ("worm_crawl.json", 0.3), ("belt1000.json", 0.04)])
+def test_short_trajectory_matches_numpy_path(name, seconds):
+    """Same counts; states equal to round-off. Stick-slip friction amplifies round-off (the numpy
+    path itself, started 1e-15 relative away, drifts by 1e-7 m on the worm within 0.2 s), so the
+    bound is 1e-9 of the model size or, where that amplification dominates, the numpy path's own
+    spread under a 1e-15 relative perturbation of the start."""
+    lib_or_skip()
+    sc = scene(name)
+    a = _run(sc, seconds, "numpy")
+    b = _run(sc, seconds, "c")
+    assert a.stats["kernel"] == "numpy" and b.stats["kernel"] == "c"
+    for key in COUNTS:
+        assert a.stats.get(key, 0) == b.stats.get(key, 0), key
+    L = max(float(np.max(np.ptp(a.q[:, :2], axis=0))), 1e-3)
+    c = _run(sc, seconds, "numpy", perturb=1e-15)
+    dq = float(np.max(np.abs(b.q - a.q)))
+    assert dq <= max(1e-9 * L, 10 * float(np.max(np.abs(c.q - a.q)))), dq
+    assert np.array_equal(a.inside, b.inside)
+    assert np.allclose(b.anchors, a.anchors, rtol=0, atol=max(10 * dq, 1e-12))
+    for key in ("actuator_work_J", "damping_J", "friction_J"):
+        spread = abs(c.ledger[key] - a.ledger[key])
+        assert abs(b.ledger[key] - a.ledger[key]) <= max(1e-9 * abs(a.ledger[key]), 10 * spread, 1e-15), key
+    pa, pb, pc = (x.stats["max_penetration_mm"] for x in (a, b, c))
+    assert abs(pb - pa) <= max(1e-9 * pa, 10 * abs(pc - pa))
+
+
+def test_fixed_dofs_and_restart_match_numpy():
+    """A pivot (fixed body), contacts and a change of dt (backward Euler restart)."""
+    lib_or_skip()
+    out = []
+    for kernel in ("numpy", "c"):
+        s = pendulum_on_floor()
+        q0 = np.array([[0, 0, 0], [0.2, -0.35, 0.5], [0.3, 0.005, 0.1]])
+        sim = Simulator(s, q0)
+        sim.kernel = kernel
+        sim.run(0.3, method="implicit", dt=2e-3)
+        sim.run(0.5, method="implicit", dt=1e-3)
+        out.append(sim)
+    a, b = out
+    assert b.stats["kernel"] == "c"
+    for key in COUNTS:
+        assert a.stats.get(key, 0) == b.stats.get(key, 0), key
+    assert np.max(np.abs(a.q - b.q)) < 1e-10
+    assert np.all(b.q[0] == 0.0) and np.all(b.v[0] == 0.0)
+
+
+def test_fallback_without_compiler_gives_the_numpy_results(monkeypatch, tmp_path):
+    sc = scene("belt8.json")
+    ref = _run(sc, 0.3, "numpy")
+    monkeypatch.setenv("PATH", str(tmp_path))          # no cc / gcc on PATH
+    monkeypatch.delenv("CC", raising=False)
+    monkeypatch.setenv("METAMATERIAL_CACHE_DIR", str(tmp_path))
+    fastkernel.reset()
+    try:
+        assert fastkernel.load() is None
+        assert "no C compiler" in fastkernel.note()
+        sim = _run(sc, 0.3, "auto")
+        assert sim.stats["kernel"] == "numpy"
+        assert "no C compiler" in sim.stats["kernel_note"]
+        # the numpy path (a process's first run can differ from later ones in the last bit)
+        assert np.allclose(sim.q, ref.q, rtol=0, atol=1e-12) and np.allclose(sim.v, ref.v, rtol=0, atol=1e-9)
+        for key in COUNTS:
+            assert sim.stats.get(key, 0) == ref.stats.get(key, 0)
+        with pytest.raises(DynamicsError, match="compiled dynamics kernel requested"):
+            _run(sc, 0.01, "c")
+        # the simulate() summary reports the fallback
+        summary, *_ = simulate(sc, 0.05)
+        assert summary["integrator"]["kernel"] == "numpy"
+    finally:
+        fastkernel.reset()
+
+
+def test_environment_switch_forces_numpy(monkeypatch):
+    monkeypatch.setenv(fastkernel.ENV_SWITCH, "numpy")
+    fastkernel.reset()
+    try:
+        sim = _run(scene("worm_crawl.json"), 0.05, "auto")
+        assert sim.stats["kernel"] == "numpy"
+        assert fastkernel.ENV_SWITCH in sim.stats["kernel_note"]
+    finally:
+        monkeypatch.delenv(fastkernel.ENV_SWITCH)
+        fastkernel.reset()
+
+
+def test_kernel_builds_into_an_empty_cache_dir(monkeypatch, tmp_path):
+    """The first use compiles the C source into the per-user cache (what CI does on a fresh machine)."""
+    if fastkernel._compiler() is None:
+        pytest.skip("no C compiler")
+    monkeypatch.setenv("METAMATERIAL_CACHE_DIR", str(tmp_path))
+    fastkernel.reset()
+    try:
+        assert fastkernel.load() is not None, fastkernel.note()
+        built = [f for f in os.listdir(tmp_path) if f.startswith("dynkernel-") and f.endswith(".so")]
+        assert len(built) == 1
+        sim = _run(scene("belt8.json"), 0.05, "auto")
+        assert sim.stats["kernel"] == "c"
+    finally:
+        fastkernel.reset()
+
+
+def test_singular_matrix_is_reported_not_hidden():
+    """A zero pivot gives non-finite values (as the numpy path), which the run's checks catch."""
+    lib = lib_or_skip()
+    s = pendulum_on_floor()
+    k = fastkernel.Kernel(lib, s, fastkernel.layout_for(s))
+    A = np.eye(9)
+    A[4, 4] = 0.0
+    A[4, 3] = 0.0
+    x, info = k.solve(A, np.ones(9))
+    assert info > 0
+    assert not math.isfinite(float(np.max(np.abs(x)))) or info > 0
