@@ -100,39 +100,39 @@ class ChainPositions:
     far end at the arc chord ``rest V(Theta) e1`` in plate A's hinge frame (the nonlinear model's zero-strain
     state, ``core/lattice/mechanics``). Each hinge thus gives a relation
     ``X_B - X_A = R_A r_A + W_A rest V(Theta) e1 - R_B r_B`` between its two node centres; the positions are
-    their least-squares solution over the hinge graph (the linear model adds each hinge's elastic offset
-    beyond uniform bending, ``u - rest/2 Theta x e1`` of its solution, so that both pose rules agree to first
-    order) (one factorisation of the graph Laplacian per
-    structure, one back-substitution per call). A rigid rotation keeps every plate square and every hinge
-    chord exact, which adding linear displacements does not (a plate corner turned by ``phi`` moves by
-    ``2 sin(phi/2)`` times its radius, not ``phi``). Each connected part keeps the mean position of the
-    positions it is given (the gauge; results are aligned afterwards anyway).
+    their least-squares solution over the hinge graph (one factorisation of the graph Laplacian per
+    structure, one back-substitution per call). The linear model adds each hinge's elastic offset beyond
+    uniform bending (``u - rest/2 Theta x e1`` of its solution), so that both pose rules agree to first
+    order. A rigid rotation keeps every plate square and every hinge chord exact, which adding linear
+    displacements does not (a plate corner turned by ``phi`` moves by ``2 sin(phi/2)`` times its radius, not
+    ``phi``). The result keeps the mean of the positions it is given (the gauge; results are aligned
+    afterwards anyway).
     """
 
     def __init__(self, geo):
         import scipy.sparse as sp
-        from scipy.sparse.csgraph import connected_components
 
         self.geo = geo
         n, m = geo.n, geo.m
         self.lu = None
         if n < 2 or m == 0:
             return
-        rows = np.concatenate([np.arange(m), np.arange(m)])
-        inc = sp.csr_matrix((np.concatenate([-np.ones(m), np.ones(m)]), (rows, np.concatenate([geo.a, geo.b]))),
-                            shape=(m, n))
-        self.incT = inc.T.tocsr()
-        ncomp, self.labels = connected_components(inc.T @ inc, directed=False)
-        self.ncomp = ncomp
-        first = np.array([np.flatnonzero(self.labels == c)[0] for c in range(ncomp)])
-        self.free = np.setdiff1d(np.arange(n), first)          # one node per part is held (the gauge)
-        L = (inc.T @ inc).tocsc()[self.free][:, self.free]
-        self.lu = spla.splu(L.tocsc(), permc_spec="MMD_AT_PLUS_A")
+        # graph Laplacian of the hinges (layouts are connected: scene validation), node 0 held (the gauge)
+        a, b = geo.a, geo.b
+        deg = np.bincount(np.concatenate([a, b]), minlength=n).astype(float)
+        r = np.concatenate([a, b, np.arange(n)]) - 1
+        c = np.concatenate([b, a, np.arange(n)]) - 1
+        v = np.concatenate([-np.ones(2 * m), deg])
+        k = (r >= 0) & (c >= 0)
+        L = sp.csc_matrix((v[k], (r[k], c[k])), shape=(n - 1, n - 1))
+        self.lu = spla.splu(L, permc_spec="MMD_AT_PLUS_A")
 
     def chords(self, R, strain=None):
         """(m, 3) relations ``X_B - X_A`` for plate rotations ``R`` (``strain``: (m, 3) elastic offsets of the
         hinge ends beyond uniform bending, in A's hinge frame)."""
         geo = self.geo
+        if geo.planar:
+            return self._planar_chords(R, strain)
         W = R[geo.a] @ geo.Q0
         T = log_so3(np.einsum("mji,mjk->mik", W, R[geo.b] @ geo.Q0))
         t2 = np.einsum("mi,mi->m", T, T)
@@ -146,15 +146,38 @@ class ChainPositions:
         return (np.einsum("mij,mj->mi", W, loc) + np.einsum("mij,mj->mi", R[geo.a], geo.rA)
                 - np.einsum("mij,mj->mi", R[geo.b], geo.rB))
 
+    def _planar_chords(self, R, strain):
+        """Same as :meth:`chords` for rotations about the sheet normal (Theta = (0, 0, phi_B - phi_A))."""
+        geo = self.geo
+        phi = np.arctan2(R[:, 1, 0], R[:, 0, 0])
+        a, b = geo.a, geo.b
+        t = phi[b] - phi[a]
+        t = t - 2.0 * np.pi * np.round(t / (2.0 * np.pi))
+        A, B = _arc_coefficients(t * t)[:2]
+        loc = np.zeros((geo.m, 3))
+        loc[:, 0] = geo.rest * (1.0 - B * t * t)               # rest V(Theta) e1 in the hinge frame
+        loc[:, 1] = geo.rest * A * t
+        if strain is not None:
+            loc += strain
+        v = np.einsum("mij,mj->mi", geo.Q0, loc)               # in the flat sheet's axes
+        ca, sa, cb, sb = np.cos(phi[a]), np.sin(phi[a]), np.cos(phi[b]), np.sin(phi[b])
+        out = np.zeros((geo.m, 3))
+        out[:, 0] = ca * (v[:, 0] + geo.rA[:, 0]) - sa * (v[:, 1] + geo.rA[:, 1]) - (cb * geo.rB[:, 0] - sb * geo.rB[:, 1])
+        out[:, 1] = sa * (v[:, 0] + geo.rA[:, 0]) + ca * (v[:, 1] + geo.rA[:, 1]) - (sb * geo.rB[:, 0] + cb * geo.rB[:, 1])
+        out[:, 2] = v[:, 2]
+        return out
+
     def __call__(self, R, X_gauge, strain=None):
         if self.lu is None:
             return X_gauge.copy()
+        geo = self.geo
+        e = self.chords(R, strain)
+        rhs = np.empty((geo.n, 3))
+        for d in range(3):                                      # incidence^T e: +e at B, -e at A
+            rhs[:, d] = np.bincount(geo.b, e[:, d], geo.n) - np.bincount(geo.a, e[:, d], geo.n)
         X = np.zeros_like(X_gauge)
-        X[self.free] = self.lu.solve(np.ascontiguousarray((self.incT @ self.chords(R, strain))[self.free]))
-        for c in range(self.ncomp):                             # each part keeps its mean position
-            k = self.labels == c
-            X[k] += X_gauge[k].mean(axis=0) - X[k].mean(axis=0)
-        return X
+        X[1:] = self.lu.solve(np.ascontiguousarray(rhs[1:]))
+        return X + (X_gauge.mean(axis=0) - X.mean(axis=0))     # keeps the mean position it is given
 
 
 def _apply(X, R, q, dofmap, n):
@@ -210,6 +233,7 @@ class LinearLattice:
         self.kc = contact_stiffness * geo.K[:, 5, 5]
         self.contact_info = {"contact_hinges": 0, "active_set_iterations": 0}
         self._zcache = {}
+        self._Jc = None
         self.timings = {"assemble_s": time.perf_counter() - t0}
         t1 = time.perf_counter()
         self.lu = None
@@ -222,13 +246,24 @@ class LinearLattice:
         self.timings["factor_s"] = time.perf_counter() - t1
 
     def _energy(self, q):
-        qe = self.pattern.gather(q)
-        e = 0.5 * np.einsum("mi,mij,mj->", qe, self.He, qe)
-        over = self.close_sign * np.einsum("mi,mi->m", self.J5, qe) - self.kappa_c
+        """Elastic energy ``q.H q / 2`` (H = the factored KKT matrix's stiffness block) plus the contact
+        penalty; sparse products (this is evaluated in every active-set line search)."""
+        qz = np.zeros(self.pattern.N)
+        qz[:self.na] = q
+        e = 0.5 * float(q @ (self.KKT @ qz)[:self.na])
+        over = self._closing(q) - self.kappa_c
         return float(e + 0.5 * np.sum(self.kc * np.maximum(over, 0.0) ** 2))
 
     def _closing(self, q):
-        return self.close_sign * np.einsum("mi,mi->m", self.J5, self.pattern.gather(q))
+        """Closing rotation of every hinge (linearised): a sparse (m, na) matrix built on first use."""
+        if self._Jc is None:
+            import scipy.sparse as sp
+            ed = self.pattern.ed
+            J = self.close_sign[:, None] * self.J5
+            keep = (ed >= 0) & (J != 0.0)
+            rows = np.broadcast_to(np.arange(ed.shape[0])[:, None], ed.shape)[keep]
+            self._Jc = sp.csr_matrix((J[keep], (rows, ed[keep])), shape=(ed.shape[0], self.na))
+        return self._Jc @ q
 
     def _U(self, active):
         """Sparse (k, N) rows: the closing-rotation gradient of each active hinge on the KKT unknowns."""
