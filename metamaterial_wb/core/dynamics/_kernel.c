@@ -30,6 +30,7 @@ typedef struct {
     const int64_t *hmap, *cmap, *dmap, *perm;                /* (m*36), (p*9), (N), (N) */
     /* workspace (owned by Python, sizes: N, N, p each, ldab*N) */
     double *Q, *R, *dv, *x;
+    double *cth, *sth;               /* (n) cos / sin of the body angles at the last evaluation */
     double *ux, *uy, *fn, *ft, *sgn;
     uint8_t *inside, *stick, *pushing;
     /* factorisation state */
@@ -47,7 +48,10 @@ double mm_forces(Sys *S, const double *q, const double *v, const double *anchors
 {
     int64_t n = S->n, m = S->m, p = S->p, i;
     double damp = 0.0, damp_r = 0.0;
+    const double *cth = S->cth, *sth = S->sth;
     for (i = 0; i < n; i++) {
+        S->cth[i] = cos(q[3 * i + 2]);
+        S->sth[i] = sin(q[3 * i + 2]);
         Q[3 * i] = S->M[3 * i] * S->gravity[0];
         Q[3 * i + 1] = S->M[3 * i + 1] * S->gravity[1];
         Q[3 * i + 2] = 0.0;
@@ -55,7 +59,7 @@ double mm_forces(Sys *S, const double *q, const double *v, const double *anchors
     for (i = 0; i < m; i++) {
         int64_t a = S->ha[i], b = S->hb[i];
         double tha = q[3 * a + 2], thb = q[3 * b + 2];
-        double ca = cos(tha), sa = sin(tha), cb = cos(thb), sb = sin(thb);
+        double ca = cth[a], sa = sth[a], cb = cth[b], sb = sth[b];
         double rax = S->ra[2 * i], ray = S->ra[2 * i + 1], rbx = S->rb[2 * i], rby = S->rb[2 * i + 1];
         double Rax = ca * rax - sa * ray, Ray = sa * rax + ca * ray;
         double Rbx = cb * rbx - sb * rby, Rby = sb * rbx + cb * rby;
@@ -79,7 +83,7 @@ double mm_forces(Sys *S, const double *q, const double *v, const double *anchors
     }
     for (i = 0; i < p; i++) {
         int64_t c = S->cb[i];
-        double th = q[3 * c + 2], cc = cos(th), sc = sin(th);
+        double cc = cth[c], sc = sth[c];
         double rcx = S->rc[2 * i], rcy = S->rc[2 * i + 1];
         double ux = cc * rcx - sc * rcy, uy = sc * rcx + cc * rcy;
         double w = v[3 * c + 2];
@@ -120,6 +124,11 @@ void mm_assemble(Sys *S, const double *q, const double *v, double h, double *ab)
 {
     int64_t m = S->m, p = S->p, N = S->N, i, r, c;
     double h2 = h * h;
+    double *cth = S->cth, *sth = S->sth;
+    for (i = 0; i < S->n; i++) {
+        cth[i] = cos(q[3 * i + 2]);
+        sth[i] = sin(q[3 * i + 2]);
+    }
     memset(ab, 0, sizeof(double) * S->ldab * N);
     for (i = 0; i < N; i++) {
         int64_t k = S->dmap[i];
@@ -128,8 +137,7 @@ void mm_assemble(Sys *S, const double *q, const double *v, double h, double *ab)
     }
     for (i = 0; i < m; i++) {
         int64_t a = S->ha[i], b = S->hb[i];
-        double tha = q[3 * a + 2], thb = q[3 * b + 2];
-        double ca = cos(tha), sa = sin(tha), cb = cos(thb), sb = sin(thb);
+        double ca = cth[a], sa = sth[a], cb = cth[b], sb = sth[b];
         double rax = S->ra[2 * i], ray = S->ra[2 * i + 1], rbx = S->rb[2 * i], rby = S->rb[2 * i + 1];
         double Rax = ca * rax - sa * ray, Ray = sa * rax + ca * ray;
         double Rbx = cb * rbx - sb * rby, Rby = sb * rbx + cb * rby;
@@ -342,9 +350,13 @@ void mm_update_anchors(Sys *S, const double *q, const double *v, double *anchors
     int64_t p = S->p, i;
     int any_in = 0;
     double pen = -INFINITY, fr = 0.0;
+    for (i = 0; i < S->n; i++) {
+        S->cth[i] = cos(q[3 * i + 2]);
+        S->sth[i] = sin(q[3 * i + 2]);
+    }
     for (i = 0; i < p; i++) {
         int64_t c = S->cb[i];
-        double th = q[3 * c + 2], cc = cos(th), sc = sin(th);
+        double cc = S->cth[c], sc = S->sth[c];
         double rcx = S->rc[2 * i], rcy = S->rc[2 * i + 1];
         double ux = cc * rcx - sc * rcy, uy = sc * rcx + cc * rcy;
         double px = q[3 * c] + ux, py = q[3 * c + 1] + uy;

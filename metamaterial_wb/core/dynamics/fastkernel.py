@@ -131,7 +131,7 @@ class _Sys(ctypes.Structure):
                 + [(k, ctypes.c_void_p) for k in ("M", "gravity", "free_dof", "ha", "hb", "cb", "ra", "rb", "kp", "cp",
                                                   "kr", "cr", "theta0", "rc", "mu", "kn", "cn", "kt", "ct")]
                 + [(k, ctypes.c_int64) for k in ("N", "kl", "ku", "ldab")]
-                + [(k, ctypes.c_void_p) for k in ("hmap", "cmap", "dmap", "perm", "Q", "R", "dv", "x", "ux", "uy", "fn",
+                + [(k, ctypes.c_void_p) for k in ("hmap", "cmap", "dmap", "perm", "Q", "R", "dv", "x", "cth", "sth", "ux", "uy", "fn",
                                                   "ft", "sgn", "inside", "stick", "pushing", "lu", "ipiv", "f_push",
                                                   "f_stick")]
                 + [("f_valid", ctypes.c_int64), ("f_age", ctypes.c_int64), ("f_singular", ctypes.c_int64),
@@ -187,6 +187,7 @@ class Kernel:
         f = lambda k: np.zeros(k)
         self.Q, self.R, self.dv, self.x = f(N), f(N), f(N), f(N)
         self.q1 = f(N)
+        self.cth, self.sth = f(n), f(n)
         self.ux, self.uy, self.fn, self.ft, self.sgn = f(p), f(p), f(p), f(p), f(p)
         self.inside, self.stick, self.pushing = (np.zeros(p, np.uint8) for _ in range(3))
         self.lu = f(ldab * N)
@@ -201,7 +202,7 @@ class Kernel:
             setattr(S, k, _ptr(a))
         S.free_dof = _ptr(self.free_u8)
         S.N, S.kl, S.ku, S.ldab = N, kl, ku, ldab
-        for k in ("hmap", "cmap", "dmap", "perm", "Q", "R", "dv", "x", "ux", "uy", "fn", "ft", "sgn", "inside",
+        for k in ("hmap", "cmap", "dmap", "perm", "Q", "R", "dv", "x", "cth", "sth", "ux", "uy", "fn", "ft", "sgn", "inside",
                   "stick", "pushing", "lu", "ipiv", "f_push", "f_stick"):
             setattr(S, k, _ptr(getattr(self, k)))
         S.f_valid = 0
