@@ -232,7 +232,8 @@ class LinearLattice:
         self.kappa_c = contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt)
         self.kc = contact_stiffness * geo.K[:, 5, 5]
         self.contact_info = {"contact_hinges": 0, "active_set_iterations": 0}
-        self._zcache = {}
+        self._zcol = None            # column of each hinge's cached back-substitution in self._Z (-1: none yet)
+        self._Z = None
         self._Jc = None
         self.timings = {"assemble_s": time.perf_counter() - t0}
         t1 = time.perf_counter()
@@ -291,7 +292,10 @@ class LinearLattice:
         if active.size == 0:
             return y_free[:self.na], y_free[self.na:]
         kc = self.kc[active]
-        missing = np.array([int(h) for h in active if int(h) not in self._zcache], dtype=np.int64)
+        if self._zcol is None:
+            self._zcol = -np.ones(self.geo.m, dtype=np.int64)
+            self._Z = np.zeros((self.pattern.N, 0))
+        missing = active[self._zcol[active] < 0]
         if missing.size:
             Ut = np.zeros((self.pattern.N, missing.size))
             Jm = self.close_sign[missing, None] * self.J5[missing]
@@ -299,10 +303,9 @@ class LinearLattice:
             cols = np.broadcast_to(np.arange(missing.size)[:, None], edm.shape)
             ok = edm >= 0
             np.add.at(Ut, (edm[ok], cols[ok]), Jm[ok])
-            Zm = self.lu.solve(Ut)
-            for k, h in enumerate(missing):
-                self._zcache[int(h)] = Zm[:, k]
-        Z = np.column_stack([self._zcache[int(h)] for h in active])
+            self._zcol[missing] = self._Z.shape[1] + np.arange(missing.size)
+            self._Z = np.hstack([self._Z, self.lu.solve(Ut)])
+        Z = self._Z[:, self._zcol[active]]
         y = y_free + Z @ (kc * self.kappa_c[active])
         S = np.diag(1.0 / kc) + self._rows(active, Z)
         x = y - Z @ np.linalg.solve(S, self._rows(active, y))
