@@ -56,7 +56,14 @@ BELT_DEFAULTS = {
     "fill_time_s": 0.5,
     "ground_threshold_mm": None,   # a cell "touches the ground" if a contact point is this close (default h/2)
     "boundary_stiffness_ratio": 1.0,  # bending stiffness of the hinge between two cells (valve / PCB) / inside a cell
+    "initial_pressure": "vented",  # "vented": every cell starts at 0 kPa; "gait": the cells start at the pressures
+                                   # the gait commands at t = 0 (closed loop: its decision for the initial contacts)
+    "loss_factor": 0.0,            # silicone hysteresis: extra bending damper eta * kr / (2 pi f) (Kelvin-Voigt)
+    "loss_frequency_hz": 1.0,      # ... matched at this frequency (a rolling step of the belt)
+    "start_rotation_deg": 0.0,     # the ring is released turned by this angle (which part of it touches first)
 }
+
+INITIAL_PRESSURES = ("vented", "gait")
 
 GAIT_TYPES = ("none", "open_loop", "closed_loop")
 
@@ -149,6 +156,13 @@ def _belt_config(scene, raw):
         b["ground_threshold_mm"] = 0.5 * b["thickness_mm"]
     b["ground_threshold_mm"] = check_number(f"{f}.ground_threshold_mm", b["ground_threshold_mm"], 0.0, 1000.0,
                                             "mm")
+    b["loss_factor"] = check_number(f"{f}.loss_factor", b["loss_factor"], 0.0, 10.0)
+    b["loss_frequency_hz"] = check_number(f"{f}.loss_frequency_hz", b["loss_frequency_hz"], 0.0, 1e4, "Hz",
+                                          low_open=True)
+    b["start_rotation_deg"] = check_number(f"{f}.start_rotation_deg", b["start_rotation_deg"], -360.0, 360.0, "deg")
+    if b["initial_pressure"] not in INITIAL_PRESSURES:
+        raise SceneError(f"{f}.initial_pressure", f"{b['initial_pressure']!r}; allowed: \"vented\" (every cell at "
+                                                  f"0 kPa) or \"gait\" (the pressures the gait commands at t = 0)")
     return b
 
 
@@ -260,6 +274,9 @@ def build_belt(scene, cfg):
     ratio = np.where(boundary, b["boundary_stiffness_ratio"], 1.0)
     kr = kr * ratio
     cr = cr * np.sqrt(ratio)
+    # viscoelastic silicone (Kelvin-Voigt): a bending damper that dissipates eta * 2 pi * (peak elastic energy)
+    # per cycle at loss_frequency_hz, i.e. the loss factor eta = c omega / k at that frequency
+    cr = cr + b["loss_factor"] * kr / (2 * math.pi * b["loss_frequency_hz"])
     system.set_hinges(a, bb, np.tile([ls / 2, 0.0], (S, 1)), np.tile([-ls / 2, 0.0], (S, 1)),
                       kp, cp, kr, cr, theta0=base + wrap)
     # two contact points per segment on the outer face
@@ -276,6 +293,15 @@ def build_belt(scene, cfg):
     system.rb[:, 0] *= -1.0
     system.rc[:, 0] *= -1.0
     system.theta0 *= -1.0
+    rot = math.radians(b["start_rotation_deg"])
+    if rot != 0.0:
+        # release the ring turned about its centre (counter-clockwise in the side view), its lowest point
+        # as high above the floor as that of the unturned ring
+        y_low = system.contact_points(q0)[:, 1].min()
+        c, s_ = math.cos(rot), math.sin(rot)
+        x, y = q0[:, 0] - cx, q0[:, 1] - cy
+        q0 = np.column_stack([cx + c * x - s_ * y, cy + s_ * x + c * y, q0[:, 2] + rot])
+        q0[:, 1] += y_low - system.contact_points(q0)[:, 1].min()
     # hinge -> the cells it belongs to, for the rest curvature. With a stiff boundary (k >= 2) a cell's
     # whole bend kappa * L goes to its k - 1 inner hinges; otherwise it is spread over its k hinges.
     h_cells = np.column_stack([seg_cell[a], seg_cell[bb]])
@@ -285,6 +311,8 @@ def build_belt(scene, cfg):
         h_weight = np.ones(S)
     kappa_per_kpa = 2 * math.sqrt(3) * b["strain_per_kpa"] / h        # 1/m per kPa (seed 2, eq. 2)
     ctrl = BeltController(scene, cfg, system, h_cells, -ls * h_weight, -(base + wrap), kappa_per_kpa, seg_cell)
+    if b["initial_pressure"] == "gait":
+        ctrl.prefill(q0)
     info = {"bodies": S, "cells": N, "segments_per_cell": k, "segment_mass_kg": m_seg,
             "total_mass_kg": float(mass.sum()), "ring_radius_mm": R * 1e3,
             "hinge_kr_Nm_per_rad": sorted({float(x) for x in kr}), "hinge_kp_N_per_m": kp, "contact_kn_N_per_m": kn,
@@ -334,6 +362,14 @@ class BeltController:
         self.p_cmd, self.p = self.p_cmd.copy(), self.p.copy()
         del self.history[nh:]
 
+    def prefill(self, q0):
+        """Start with every cell at the pressure the gait commands at t = 0 (already filled), and the rest
+        angles that go with it. For the closed loop this is its own decision for the initial contact state:
+        the real controller runs while the belt is put down, so its cells are filled when it is let go."""
+        self.command(0.0, q0)
+        self.p = self.p_cmd.copy()
+        self._set_rest_angles()
+
     def cell_air(self, q):
         """Seed's sensor c_i: 1 = in the air, 0 = touching the ground (any contact point within the threshold)."""
         pts = self.sys.contact_points(q)
@@ -380,6 +416,9 @@ class BeltController:
         else:
             self.p = self.p_cmd.copy()
         self.t_last = t
+        self._set_rest_angles()
+
+    def _set_rest_angles(self):
         kap = self.kappa_per_kpa * self.p                       # extra curvature per cell, 1/m
         kh = 0.5 * (kap[self.h_cells[:, 0]] + kap[self.h_cells[:, 1]])
         self.sys.theta0[:] = self.theta_base + kh * self.ls
