@@ -460,6 +460,8 @@ class Simulator:
                            "dt_stability_limit_s": self.dt_limit, "omega_max_rad_s": self.omega_max})
         if note:
             self.stats["note"] = note
+        if method == "symplectic":
+            self.stats.setdefault("kernel", "numpy")      # the explicit integrator is numpy only
         next_rec = 0.0
         if on_record is not None:
             on_record(self)
