@@ -65,7 +65,9 @@ def run(args):
                f"Python {platform.python_version()} ({platform.machine()}); shared machine, treat times as upper "
                f"bounds.")
     img_rel = os.path.relpath(os.path.abspath(args.img), os.path.dirname(os.path.abspath(args.out)))
-    text = fidelity.report_markdown(results, img_rel.replace(os.sep, "/"), machine)
+    command = "python3 -m metamaterial_wb bench fidelity" + (f" --repeats {args.repeats}" if args.repeats != 3 else "")
+    text = fidelity.report_markdown(results, img_rel.replace(os.sep, "/"), machine, command=command,
+                                    repeats=args.repeats)
     import tempfile
     with tempfile.TemporaryDirectory() as tmp:
         tmp_png = os.path.join(tmp, "plot.png")
