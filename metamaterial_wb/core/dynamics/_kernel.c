@@ -120,15 +120,16 @@ double mm_forces(Sys *S, const double *q, const double *v, const double *anchors
 /* Newton matrix A = M - h dQ/dv - h^2 dQ/dq in band storage (ab, ldab * N), at (q, v) and the  */
 /* contact state of the last mm_forces call                                                     */
 /* ----------------------------------------------------------------------------------------- */
-void mm_assemble(Sys *S, const double *q, const double *v, double h, double *ab)
+static void assemble(Sys *S, const double *q, const double *v, double h, double *ab, int trig_ready)
 {
     int64_t m = S->m, p = S->p, N = S->N, i, r, c;
     double h2 = h * h;
     double *cth = S->cth, *sth = S->sth;
-    for (i = 0; i < S->n; i++) {
-        cth[i] = cos(q[3 * i + 2]);
-        sth[i] = sin(q[3 * i + 2]);
-    }
+    if (!trig_ready)
+        for (i = 0; i < S->n; i++) {
+            cth[i] = cos(q[3 * i + 2]);
+            sth[i] = sin(q[3 * i + 2]);
+        }
     memset(ab, 0, sizeof(double) * S->ldab * N);
     for (i = 0; i < N; i++) {
         int64_t k = S->dmap[i];
@@ -203,6 +204,11 @@ void mm_assemble(Sys *S, const double *q, const double *v, double h, double *ab)
                 if (k >= 0) ab[k] -= h * Cc + h2 * Kc;
             }
     }
+}
+
+void mm_assemble(Sys *S, const double *q, const double *v, double h, double *ab)
+{
+    assemble(S, q, v, h, ab, 0);
 }
 
 /* ----------------------------------------------------------------------------------------- */
@@ -283,7 +289,7 @@ static void solve_perm(Sys *S, const double *r, double *x)
 
 static void factor(Sys *S, const double *q, const double *v, double h)
 {
-    mm_assemble(S, q, v, h, S->lu);
+    assemble(S, q, v, h, S->lu, 1);       /* cos / sin of the body angles from mm_forces at this q */
     S->f_singular = mm_gbtrf(S->N, S->kl, S->ku, S->lu, S->ldab, S->ipiv) > 0;
     memcpy(S->f_push, S->pushing, (size_t)S->p);
     memcpy(S->f_stick, S->stick, (size_t)S->p);
