@@ -232,7 +232,7 @@ def build_unit_cell(geom, samples=24):
         pts = [App.Vector(x, y, -1.0) for x, y in poly]
         wire = Part.makePolygon(pts + [pts[0]])
         cut.append(Part.Face(wire).extrude(App.Vector(0, 0, geom.T + 2.0)))
-        if name == "above":                      # the part beyond x = -W/2 belongs to the next cell
+        if min(x for x, _ in poly) < -W / 2:     # the part beyond x = -W/2 belongs to the next cell
             cut.append(cut[-1].translated(App.Vector(W, 0, 0)))
     cell = plate.cut(cut[0].multiFuse(cut[1:])).removeSplitter()
     return cell

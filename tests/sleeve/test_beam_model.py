@@ -45,15 +45,18 @@ def test_rigid_body_motion_costs_no_energy():
     assert abs(e) < 1e-20 and np.abs(g).max() < 1e-12
 
 
-def test_straight_limit_matches_clamped_guided_beams():
-    """h -> 0: four clamped-guided segments of length (L - c)/2 in parallel: k = 4 * 12 EI / l^3."""
+@pytest.mark.parametrize("layout,segments", [("single", 2), ("double", 4)])
+def test_straight_limit_matches_clamped_guided_beams(layout, segments):
+    """h -> 0: clamped-guided segments of length (L - c)/2 in parallel: k = n * 12 EI / l^3 (one beam
+    = two segments in the single layout, whose flexible pillars are in series but ~1000x stiffer;
+    two beams = four segments in the double layout)."""
     L, c, t, T = 1.0, 0.2, 0.02, 0.1
-    g = CellGeometry(L=L, t=t, h=1e-7, c=c, delta=0.01, T=T)
+    g = CellGeometry(L=L, t=t, h=1e-7, c=c, delta=0.01, T=T, layout=layout)
     up, _ = cell_curve(g, n_el=6, steps=4, d_max=1e-5, unload=False)
     EI = 4.0 * T * t ** 3 / 12.0                     # E = 4 G (plane strain, incompressible)
     ell = (L - c) / 2
     k_model = up.F[1] / up.d[1]
-    assert k_model == pytest.approx(48 * EI / ell ** 3, rel=2e-3)
+    assert k_model == pytest.approx(segments * 12 * EI / ell ** 3, rel=2e-3)
 
 
 def _qiu_shallow(Q):
@@ -70,12 +73,12 @@ def _qiu_shallow(Q):
 
 
 def test_shallow_double_beam_matches_qiu_closed_form_and_converges():
-    """c -> 0 and a fixed top rotation make the cell two clamped cosine beams joined at the centre
-    (Qiu's double beam, mode 2 constrained). Qiu's modal truncation is known to over-predict the
+    """c -> 0 and a fixed top rotation make the double-layout cell two clamped cosine beams joined
+    at the centre (Qiu's double beam, mode 2 constrained; rigid pillars). Qiu's modal truncation is known to over-predict the
     snap force by a few per cent; 40-element chains are within 1 % of the converged value."""
     h, Q = 0.03, 6.0
     t = h / Q
-    g = CellGeometry(L=1.0, t=t, h=h, c=0.01, delta=0.01, T=0.1)
+    g = CellGeometry(L=1.0, t=t, h=h, c=0.01, delta=0.01, T=0.1, layout="double")
     EI = 4.0 * 0.1 * t ** 3 / 12.0
     tops, bots = [], []
     for n in (6, 12, 24):

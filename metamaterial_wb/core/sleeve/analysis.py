@@ -6,13 +6,17 @@ def extrema(F, rel_prominence=0.02):
     """Alternating peaks and valleys of a sampled curve ``F`` (in path order).
 
     A local maximum counts as a peak (minimum as a valley) only if the curve falls (rises) by more
-    than ``rel_prominence`` times the curve's range before the next extremum of the other kind, so
-    that numerical wiggles do not count. Returns lists of indices ``(peaks, valleys)``.
+    than ``rel_prominence`` times the curve's range (up to its lowest point) before the next
+    extremum of the other kind, so that numerical wiggles do not count. Returns lists of indices ``(peaks, valleys)``.
     """
     F = np.asarray(F, dtype=float)
     if len(F) < 3:
         return [], []
-    thr = rel_prominence * max(np.ptp(F), 1e-300)
+    # the scale is the curve's range up to its lowest point (first peak to last valley), so that
+    # the stiff stretching branch after the last valley does not hide a second peak
+    imin = int(np.argmin(F))
+    scale = np.ptp(F[:imin + 1]) if imin > 0 else np.ptp(F)
+    thr = rel_prominence * max(scale, 1e-300)
     peaks, valleys = [], []
     mode = "up"          # looking for a peak
     cand = 0
@@ -45,23 +49,41 @@ def snapped(states, geoms_of_cells):
     return np.asarray(states) > h[None, :]
 
 
-def snap_order(path, cell_types, geoms_of_cells):
-    """Order in which cell *types* change state along a path, from the per-cell snapped flags.
+def snap_order(path, cell_types, geoms_of_cells, units=None):
+    """Order in which cell *types* change state along a path, from the snapped flags.
 
-    Returns (order_of_types, events) where events are (index, d, [cells], state_after).
+    ``path.states`` has one column per snapping beam part (``cell_types`` and ``geoms_of_cells``
+    per column). ``units`` (optional, per column): the hysteron the part belongs to - in the
+    single-beam layout the edge pillar that carries two beam halves, which snap together; a unit
+    is snapped when the mean of its parts' rises exceeds their mean h. Types are ordered by the
+    first change of a unit made of one type only (a pillar between two types cannot be attributed
+    to either); if there is none, by all units.
+
+    Returns (order_of_types, events) where events are (index, d, [units], state_after).
     """
-    s = snapped(path.states, geoms_of_cells)
+    states = np.asarray(path.states)
+    h = np.array([g.h / g.L for g in geoms_of_cells])
+    if units is None:
+        units = list(range(states.shape[1]))
+    ids = sorted(set(units))
+    cols = [[j for j, u in enumerate(units) if u == uid] for uid in ids]
+    s = np.stack([np.mean(states[:, c] - h[None, c], axis=1) > 0 for c in cols], axis=1)
+    utypes = [sorted({int(cell_types[j]) for j in c}) for c in cols]
+    pure = [len(t) == 1 for t in utypes]
     events = []
     for i in range(1, len(s)):
         changed = np.nonzero(s[i] != s[i - 1])[0]
         if len(changed):
             events.append((i, float(path.d[i]), [int(c) for c in changed], bool(s[i][changed[0]])))
     order = []
-    for _, _, cells, _ in events:
-        for c in cells:
-            t = int(cell_types[c])
-            if t not in order:
-                order.append(t)
+    use_pure = any(pure)
+    for _, _, us, _ in events:
+        for u in us:
+            if use_pure and not pure[u]:
+                continue
+            for t in utypes[u]:
+                if t not in order:
+                    order.append(t)
     return order, events
 
 

@@ -19,7 +19,10 @@ import numpy as np
 class BeamMesh:
     """Nodes (reference positions), element connectivity and section stiffnesses."""
 
-    def __init__(self, X0, conn, EA, EI):
+    def __init__(self, X0, conn, EA, EI, shift=None):
+        """``shift`` (m, 2), optional: added to an element's reference chord ``X0[j] - X0[i]``, so
+        that an element can join a node to the periodic image of another (a ring closing on
+        itself, a periodic unit cell); the displacements are shared, the geometry is shifted."""
         self.X0 = np.asarray(X0, dtype=float).reshape(-1, 2)
         self.conn = np.asarray(conn, dtype=int).reshape(-1, 2)
         m = len(self.conn)
@@ -27,6 +30,8 @@ class BeamMesh:
         self.EI = np.broadcast_to(np.asarray(EI, dtype=float), (m,)).copy()
         i, j = self.conn[:, 0], self.conn[:, 1]
         d0 = self.X0[j] - self.X0[i]
+        if shift is not None:
+            d0 = d0 + np.asarray(shift, dtype=float).reshape(-1, 2)
         self.L0 = np.hypot(d0[:, 0], d0[:, 1])
         if np.any(self.L0 <= 0):
             raise ValueError("zero-length beam element")

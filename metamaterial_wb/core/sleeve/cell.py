@@ -1,6 +1,21 @@
 """Parametric unit cell of the metamaterial sleeve (seed 002, figure 2A), pure geometry.
 
-Our reading of the seed's figure 2A (the figure itself is not in the text; the parameters are):
+Two readings of the seed's figure 2A (the figure itself is not in the text; the parameters are).
+``layout = "single"`` (default since the seed's supplementary S3.1 was read closely, see
+docs/sleeves.md):
+
+* ONE curved beam of thickness ``t`` per cell, cosine centre line of amplitude ``h/2`` and
+  wavelength ``L``, highest at the centre: ``y(x) = y0 + h/2 (1 + cos(2 pi x / L))``, its two halves
+  being "both beams" that the seed sees "sequentially buckle";
+* a *central pillar* of width ``c`` stands on the bottom bar (height ``c/2``) and carries the beam's
+  centre; the beam's top leaves a gap ``delta`` under the top bar;
+* *edge pillars* of width ``c`` (half in each neighbouring cell) hang from the top bar and carry the
+  beam ends, the beams' "lower points" that the seed sees "move outward (away from the structure)"
+  when not held by neighbours; they stop a gap ``delta`` above the bottom bar;
+* pulling the top bar up lifts the beam ends over the centre: the beam snaps from "bent up" to
+  "bent down". The cell is ``W = L + c`` wide and ``H = c + 2 delta + t + h`` high.
+
+``layout = "double"`` (the first reading, kept for comparison):
 
 * two curved beams of thickness ``t`` with a cosine centre line of amplitude ``h/2`` and wavelength
   ``L``: ``y(x) = y0 + h/2 (1 - cos(2 pi x / L))`` for ``x`` in ``[-L/2, L/2]``, lowest at the centre;
@@ -33,11 +48,15 @@ class CellGeometry:
     c: float = 4.0         # pillar width (bars are c/2 high), mm
     delta: float = 0.5     # gap between pillars and bars, mm
     T: float = 1.8         # out-of-plane (radial) thickness, mm
+    layout: str = "single"  # "single" (one beam per cell, default) or "double" (the former reading)
 
     @classmethod
     def checked(cls, field="cell", **kw):
         """Build and validate; errors name ``field`` and the allowed range."""
         g = cls(**kw)
+        if g.layout not in ("single", "double"):
+            from metamaterial_wb.core.errors import SceneError
+            raise SceneError(f"{field}.layout", f"{g.layout!r}; allowed: 'single', 'double'")
         check_number(f"{field}.L_mm", g.L, 0, None, "mm", low_open=True)
         check_number(f"{field}.t_mm", g.t, 0, 0.25 * g.L, "mm", low_open=True)
         check_number(f"{field}.h_mm", g.h, 0, 0.6 * g.L, "mm", low_open=True)
@@ -50,7 +69,9 @@ class CellGeometry:
         return g
 
     def as_dict(self):
-        return {f"{k}_mm": v for k, v in asdict(self).items()}
+        d = {f"{k}_mm": v for k, v in asdict(self).items() if k != "layout"}
+        d["layout"] = self.layout
+        return d
 
     # --- derived sizes -------------------------------------------------------------------------
     @property
@@ -64,20 +85,28 @@ class CellGeometry:
 
     @property
     def height(self):
+        if self.layout == "single":
+            return self.c + 2 * self.delta + self.t + self.h
         return 2 * self.c + 2 * self.delta + 2 * self.t + self.h
 
     @property
     def y_lower(self):
-        """Centre-line height of the lower beam at its centre (x = 0)."""
+        """Centre-line height of the (lower) beam's lowest point: its ends (single layout) or its
+        centre (double layout)."""
         return self.c / 2 + self.delta + self.t / 2
 
     def centre_line(self, x, which=0):
-        """Centre line y(x) of beam ``which`` (0 lower, 1 upper) for |x| <= L/2."""
+        """Centre line y(x) of beam ``which`` (0 lower, 1 upper; single layout: one beam) for
+        |x| <= L/2. Single layout: highest at the centre (on the central pillar), lowest at the
+        ends (on the edge pillars); double layout: lowest at the centre."""
         x = np.asarray(x, dtype=float)
+        if self.layout == "single":
+            return self.y_lower + 0.5 * self.h * (1 + np.cos(2 * np.pi * x / self.L))
         return self.y_lower + which * self.spacing + 0.5 * self.h * (1 - np.cos(2 * np.pi * x / self.L))
 
     def slope(self, x):
-        return 0.5 * self.h * (2 * np.pi / self.L) * np.sin(2 * np.pi * np.asarray(x, float) / self.L)
+        sgn = -1.0 if self.layout == "single" else 1.0
+        return sgn * 0.5 * self.h * (2 * np.pi / self.L) * np.sin(2 * np.pi * np.asarray(x, float) / self.L)
 
     def beam_surface(self, x, which=0, side=+1):
         """Points of the beam's upper (side=+1) or lower (side=-1) surface, offset t/2 along the normal."""
@@ -108,6 +137,8 @@ class CellGeometry:
         with taller ones). ``left``: the left neighbour's CellGeometry (default: the same), whose
         upper beam bounds the ``above`` void's left part.
         """
+        if self.layout == "single":
+            return self._holes_single(samples, top, left)
         L, c, d, t = self.L, self.c, self.delta, self.t
         W, H = self.width, self.height
         xl = np.linspace(-L / 2, -c / 2, samples)
@@ -145,6 +176,30 @@ class CellGeometry:
         polys = {"below": _ccw(v0), "between_left": _ccw(mid_l), "between_right": _ccw(mid_r),
                  "above": _ccw(v2)}
         return polys
+
+    def _holes_single(self, samples, top, left):
+        """Voids of a single-layout cell: ``above`` the beam (between the edge pillars, under the
+        top bar; it passes over the central pillar, which stops at the beam) and ``below`` it. The
+        ``below`` void spans the edge pillar at x = -W/2: it runs from the left neighbour's central
+        pillar under its right beam half, through the gap delta under the edge pillar, and under
+        this cell's left beam half to this cell's central pillar."""
+        L, c, d, t = self.L, self.c, self.delta, self.t
+        W = self.width
+        ytop = self.height - c / 2 if top is None else top
+        nb = self if left is None else left
+        ybar = c / 2
+        xl = np.linspace(-c / 2, -L / 2, samples)                  # centre -> left end
+        lo_l = self.beam_surface(xl, 0, -1)
+        xn = np.linspace(nb.L / 2, nb.c / 2, samples)              # neighbour: right end -> centre
+        lo_n = nb.beam_surface(xn, 0, -1)
+        below = [(-W + nb.c / 2, ybar), (-c / 2, ybar)]
+        below += [tuple(p) for p in lo_l]
+        below += [(-L / 2, ybar + d), (nb.L / 2 - W, ybar + d)]
+        below += [(p[0] - W, p[1]) for p in lo_n]
+        xa = np.linspace(-L / 2, L / 2, 2 * samples + 1)
+        up = self.beam_surface(xa, 0, +1)
+        above = [(L / 2, ytop), (-L / 2, ytop)] + [tuple(p) for p in up]
+        return {"below": _ccw(below), "above": _ccw(above)}
 
 
 def _clean(pts, tol=1e-9):

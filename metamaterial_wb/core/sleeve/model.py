@@ -2,22 +2,27 @@
 
 Mechanics (see ``docs/sleeves.md``):
 
-* every free part of the two curved beams (left and right of the central pillar, lower and upper
-  beam: four segments per cell) is a chain of corotational beam elements (``beam.py``) along the
-  cosine centre line; the edge pillars and the bottom bar are clamped; the central pillar and the
-  top bar form one rigid body (stiff link elements from a reference node to the four inner beam
-  ends);
+* single layout (default): per cell one cosine beam whose two free halves are chains of
+  corotational beam elements (``beam.py``); the central pillar (standing on the bottom bar) and the
+  edge pillars (hanging from the top bar, each shared by two neighbouring cells) are beam chains of
+  width ``c``; the bars are rigid with their ring interface. Double layout (the former reading):
+  two parallel beams, rigid pillars, central pillar rigid with the top bar;
 * units: lengths / L, forces / (G L^2): the material enters only through ``E = 4 G`` (incompressible
   neo-Hookean, small-strain plane-strain modulus, out-of-plane motion restricted as in the seed) or
   ``E = 3 G`` (``plane="stress"``); section ``A = t T``, ``I = T t^3 / 12``;
-* unit cell: the top body's vertical displacement ``d`` is prescribed, its horizontal displacement
-  and rotation are free (the seed's kinematic coupling); neighbours enter through the clamped,
-  shared edge pillars (periodicity);
-* ring of N cells (angles ``phi_k = 2 pi k / N`` on the mid radius ``R``) and M rings in series:
-  every ring interface is a rigid plate with axial displacement ``w`` and tilt ``(psi_x, psi_y)``;
-  cell k of ring r sees ``v = dw + R (dpsi_x sin phi_k - dpsi_y cos phi_k)`` and the in-plane
-  rotation of its top bar ``theta = dpsi_x cos phi_k + dpsi_y sin phi_k`` (the tilt component about
-  its radial axis); the top plate's ``w = d`` is prescribed, all tilts are free;
+* unit cell: the top bar's vertical displacement ``d`` is prescribed, its horizontal shift free;
+  the periodic left/right edges share the edge pillar (elements joined to its periodic image), so
+  the top bar cannot rotate (single layout; the double layout's central pillar may rotate);
+* ring of N cells (the cells unrolled side by side, closing on themselves; a point at unrolled x
+  sits at the angle ``phi = x / R`` on the mid radius ``R``) and M rings in series: every ring
+  interface is a rigid plate with axial displacement ``w``, tilt ``(psi_x, psi_y)`` and twist; a
+  node fixed to it at ``phi`` moves by ``v = w + R (psi_x sin phi - psi_y cos phi)``, rotates in
+  the cell's plane by ``psi_x cos phi + psi_y sin phi`` and shifts tangentially by ``R * twist``;
+  the top plate's ``w = d`` is prescribed, all tilts are free;
+* ring curvature (single layout, ``radial_end_stiffness``): the beams are arcs on the cylinder;
+  their axial force presses the pillars outward, which lengthens the arcs (tangential springs at the
+  beam ends), and a tilted bar swings its pillars' tips radially (tilt-dependent shifts of the beam
+  ends). A flat unit cell has neither;
 * path following: displacement control with a secant predictor; at every step the total energy is
   *minimised* (Newton with Cholesky; a negative-curvature direction from the smallest eigenvector
   when the tangent is indefinite), so the traced path is the stable one a slow, quasi-static
@@ -33,7 +38,6 @@ import scipy.linalg as sla
 
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.sleeve.beam import BeamMesh
-from metamaterial_wb.core.sleeve.cell import CellGeometry
 
 LINK_FACTOR = 1.0e3     # stiffness of the rigid-body links relative to the beam's axial stiffness
 
@@ -47,47 +51,174 @@ def modulus(plane="strain"):
     raise MetamaterialError(f"plane: {plane!r}; allowed: 'strain', 'stress'")
 
 
-@dataclass
-class CellMesh:
-    """Nodes (in units of L) of one cell; node 0 is the top body's reference node."""
-    X0: np.ndarray
-    conn: np.ndarray
-    EA: np.ndarray
-    EI: np.ndarray
-    fixed_nodes: list
-    top: int = 0
-    segments: list = field(default_factory=list)    # node index lists, centre side first
+class _MeshBuilder:
+    """Accumulates nodes and elements (units of L) of a sleeve, and the nodes rigidly attached to a
+    ring interface ("plate"): ``ties`` = (node, plate, angle)."""
+
+    def __init__(self):
+        self.X, self.conn, self.EA, self.EI, self.shift = [], [], [], [], []
+        self.ties = []
+        self.slaves = []     # (node, master node, plate, x, coef): node = master shifted by coef * tilt
+        self.states = []     # (outer node, inner node or None, cell number): one per snapping beam part
+        self.units = []      # per state: the hysteron (rigid body) it belongs to
+
+    def node(self, x, y):
+        self.X.append(np.array([x, y], dtype=float))
+        return len(self.X) - 1
+
+    def element(self, i, j, EA, EI, shift=(0.0, 0.0)):
+        self.conn.append((i, j)); self.EA.append(EA); self.EI.append(EI)
+        self.shift.append(np.asarray(shift, dtype=float))
+
+    def link(self, i, j, EA_b, shift=(0.0, 0.0), k_axial=None):
+        """Rigid link (stiff beam element) between nodes i and j; ``k_axial``: an elastic axial
+        stiffness (force per length) instead of a rigid one (bending stays rigid)."""
+        ell = float(np.hypot(*(self.X[j] - self.X[i] + np.asarray(shift))))
+        EA = LINK_FACTOR * EA_b if k_axial is None else k_axial * ell
+        self.element(i, j, EA, LINK_FACTOR * EA_b * ell ** 2 / 12.0, shift)
+
+    def chain(self, xs, ys, EA, EI):
+        idx = [self.node(x, y) for x, y in zip(xs, ys)]
+        for i, j in zip(idx[:-1], idx[1:]):
+            self.element(i, j, EA, EI)
+        return idx
 
 
-def build_cell_mesh(geom: CellGeometry, n_el=10, plane="strain", t_scale=1.0):
-    """Beam mesh of one unit cell, normalised by L. ``t_scale`` scales the beam thickness."""
-    L = geom.L
-    E = modulus(plane)
-    t, T = geom.t * t_scale / L, geom.T / L
-    EA_b, EI_b = E * t * T, E * T * t ** 3 / 12.0
-    c = geom.c / L
-    ref = np.array([0.0, (geom.y_lower + 0.5 * geom.spacing) / L])
-    X = [ref]
-    conn, EA, EI, fixed, segs = [], [], [], [], []
-    for which in (0, 1):
+def _segment_nodes(geom, n_el, side, which=0):
+    """Cosine-graded nodes (units of L) of one free beam segment, from the central pillar outward."""
+    L, c = geom.L, geom.c / geom.L
+    s = 0.5 * (1 - np.cos(np.linspace(0, np.pi, n_el + 1)))
+    xs = side * (c / 2 + (0.5 - c / 2) * s)
+    return xs, geom.centre_line(xs * L, which) / L
+
+
+def _sections(geom, E, t_scale=1.0):
+    t, T = geom.t * t_scale / geom.L, geom.T / geom.L
+    return E * t * T, E * T * t ** 3 / 12.0
+
+
+PILLAR_ELEMENTS = 3
+E_RADIAL = 3.0     # modulus / G for bending through the wall thickness T (narrow sections: plane stress)
+PILLAR_TIP = {"free": 3.0, "guided": 12.0}   # cantilever k_r = coef E I / a^3 by the tip's rotation
+
+
+def pillar_tip_coefficient(pillar_tip):
+    """``"guided"`` (12: tip rotation held, the default), ``"free"`` (3) or a number in [3, 12]."""
+    if isinstance(pillar_tip, str):
+        if pillar_tip not in PILLAR_TIP:
+            raise MetamaterialError(f"pillar_tip: {pillar_tip!r}; allowed: 'guided', 'free' or a number in [3, 12]")
+        return PILLAR_TIP[pillar_tip]
+    v = float(pillar_tip)
+    if not 3.0 <= v <= 12.0:
+        raise MetamaterialError(f"pillar_tip: {pillar_tip!r} is outside the allowed range [3, 12]")
+    return v
+
+
+def radial_end_stiffness(g, radius, pillar_tip="guided"):
+    """Tangential stiffness (units G L) that the ring's curvature leaves at the two ends of a free
+    beam half (central-pillar end, edge-pillar end), or (None, None) for a flat cell.
+
+    On a cylinder of radius R the beams are arcs: an axial force P in a half of length l presses
+    the arc outward with P / R per length, P l / (2 R) on each end pillar; every pillar carries two
+    halves, so it is pushed out by F = P l / R. A pillar is a cantilever from its bar (length a,
+    bent through the wall thickness: k_r = 3 E I / a^3, I = c T^3 / 12), so it moves out by
+    u = F / k_r, and the arc between two pillars lengthens by l (u_c + u_e) / (2 R): the half
+    behaves as if its ends sat on tangential springs k = 2 R^2 k_r / l^2 (one per end). The pillar
+    tip's rotation is restrained by the two beam halves it carries: between a free tip (k_r =
+    3 E I / a^3) and a guided one (12 E I / a^3, ``pillar_tip="guided"``, the default; see
+    docs/sleeves.md for why and for the sensitivity). This is the
+    seed's observation (SI S3.1) that the beams' end points move outward, away from the structure,
+    which limits the negative stiffness; a flat periodic cell (the seed's unit cell, out-of-plane
+    motion restricted) has none of it.
+    """
+    if radius is None or not np.isfinite(radius):
+        return None, None
+    L = g.L
+    c, T = g.c / L, g.T / L
+    l = 0.5 * (g.L - g.c) / L
+    I = c * T ** 3 / 12.0
+    a_c = (g.centre_line(0.0) - 0.5 * g.c) / L                       # central pillar, on the bottom bar
+    a_e = (g.height - 0.5 * g.c - g.y_lower) / L                      # edge pillar, from the top bar
+    coef = pillar_tip_coefficient(pillar_tip)
+    k_c = coef * E_RADIAL * I / a_c ** 3
+    k_e = coef * E_RADIAL * I / a_e ** 3
+    return 2 * radius ** 2 * k_c / l ** 2, 2 * radius ** 2 * k_e / l ** 2
+
+
+def add_row_double(mb, row, cells, n_el, E, plate_lo, plate_hi, x_of, cell_no):
+    """Double layout (the former reading): two parallel beams per cell, edge pillars rigid with the
+    lower bar (beam outer ends clamped there), central pillar rigid with the upper bar (one reference
+    node, rigid links to the four inner beam ends)."""
+    for k, typ in enumerate(row):
+        g = cells[typ]
+        EA_b, EI_b = _sections(g, E)
+        x0 = x_of(k)
+        ref = mb.node(x0, (g.y_lower + 0.5 * g.spacing) / g.L)
+        mb.ties.append((ref, plate_hi, x0))
+        for which in (0, 1):
+            for side in (-1, 1):
+                xs, ys = _segment_nodes(g, n_el, side, which)
+                idx = mb.chain(x0 + xs, ys, EA_b, EI_b)
+                mb.ties.append((idx[-1], plate_lo, x0 + xs[-1]))
+                mb.link(ref, idx[0], EA_b)
+        mb.states.append((ref, None, cell_no + k))
+        mb.units.append(("cell", cell_no + k))
+
+
+def add_row_single(mb, row, cells, n_el, E, plate_lo, plate_hi, x_of, cell_no, periodic_width,
+                   radius=None, pillar_tip="guided"):
+    """Single layout (default): one cosine beam per cell, highest at its centre. The central pillar
+    stands on the lower bar and carries the beam's centre; the edge pillars hang from the upper bar
+    and carry the beam ends; each edge pillar is shared by two neighbouring cells. Pillars are beam
+    chains of width c (same material: they bend and stretch), clamped into their bar; the bars are
+    rigid with their ring interface. ``periodic_width``: x distance after which the row closes on
+    itself (N W for a ring, W for a periodic unit cell)."""
+    n = len(row)
+    pillar_bottom = []
+    # edge pillars at x_of(k) + W/2, between cell k and k + 1
+    for k in range(n):
+        g, gn = cells[row[k]], cells[row[(k + 1) % n]]
+        c = max(g.c, gn.c) / g.L
+        EA_p, EI_p = E * (g.T / g.L) * c, E * (g.T / g.L) * c ** 3 / 12.0
+        xe = x_of(k) + 0.5 * g.width / g.L
+        ytop = (max(g.height, gn.height) - 0.5 * g.c) / g.L
+        ybot = min(g.y_lower, gn.y_lower) / g.L
+        ys = np.linspace(ytop, ybot, PILLAR_ELEMENTS + 1)
+        idx = mb.chain([xe] * len(ys), ys, EA_p, EI_p)
+        mb.ties.append((idx[0], plate_hi, xe))
+        pillar_bottom.append((idx[-1], xe))
+    for k, typ in enumerate(row):
+        g = cells[typ]
+        EA_b, EI_b = _sections(g, E)
+        c = g.c / g.L
+        EA_p, EI_p = E * (g.T / g.L) * c, E * (g.T / g.L) * c ** 3 / 12.0
+        x0 = x_of(k)
+        ys = np.linspace(0.5 * g.c / g.L, g.centre_line(0.0) / g.L, PILLAR_ELEMENTS + 1)
+        cp = mb.chain([x0] * len(ys), ys, EA_p, EI_p)
+        mb.ties.append((cp[0], plate_lo, x0))
+        k_c, k_e = radial_end_stiffness(g, radius, pillar_tip)
         for side in (-1, 1):
-            # graded towards both ends (clamps): cosine spacing
-            s = 0.5 * (1 - np.cos(np.linspace(0, np.pi, n_el + 1)))
-            xs = side * (c / 2 + (0.5 - c / 2) * s)
-            ys = geom.centre_line(xs * L, which) / L
-            first = len(X)
-            for x, y in zip(xs, ys):
-                X.append(np.array([x, y]))
-            idx = list(range(first, first + n_el + 1))
-            segs.append(idx)
-            for a, b in zip(idx[:-1], idx[1:]):
-                conn.append((a, b)); EA.append(EA_b); EI.append(EI_b)
-            fixed.append(idx[-1])                  # outer end on the edge pillar: clamped
-            # rigid link: reference node -> inner end (on the central pillar)
-            ell = np.hypot(*(X[idx[0]] - ref))
-            conn.append((0, idx[0])); EA.append(LINK_FACTOR * EA_b)
-            EI.append(LINK_FACTOR * EA_b * ell ** 2 / 12.0)
-    return CellMesh(np.array(X), np.array(conn), np.array(EA), np.array(EI), fixed, 0, segs)
+            xs, ys = _segment_nodes(g, n_el, side)
+            idx = mb.chain(x0 + xs, ys, EA_b, EI_b)
+            pb, xe = pillar_bottom[k if side > 0 else (k - 1) % n]
+            ca, ea = cp[-1], pb
+            if radius is not None:
+                # a tilted bar swings its pillars' tips radially (hanging: outward where the bar
+                # rises; standing: inward), which lengthens the arcs between them: the halves' ends
+                # follow the tips shifted tangentially by (l / 2R) * (radial tip displacement)
+                l = 0.5 * (g.L - g.c) / g.L
+                a_c = (g.centre_line(0.0) - 0.5 * g.c) / g.L
+                a_e = (g.height - 0.5 * g.c - g.y_lower) / g.L
+                ca = mb.node(*mb.X[cp[-1]])
+                mb.slaves.append((ca, cp[-1], plate_lo, x0, side * l * a_c / (2 * radius)))
+                ea = mb.node(*mb.X[pb])
+                mb.slaves.append((ea, pb, plate_hi, xe, side * l * a_e / (2 * radius)))
+            mb.link(ca, idx[0], EA_b, k_axial=k_c)
+            # the left end of cell 0 joins the last edge pillar's periodic image
+            shift = (0.0, 0.0) if side > 0 or k > 0 else (periodic_width, 0.0)
+            mb.link(ea, idx[-1], EA_b, shift, k_axial=k_e)
+            mb.states.append((idx[-1], idx[0], cell_no + k))
+            mb.units.append(("pillar", plate_hi, k if side > 0 else (k - 1) % n))
 
 
 @dataclass
@@ -112,8 +243,10 @@ class SleeveModel:
     """
 
     def __init__(self, cells, pattern=None, n_el=10, plane="strain", radius_L=None,
-                 imperfection=0.0, top_rotation="free"):
+                 imperfection=0.0, top_rotation="default", curvature=True, pillar_tip="guided"):
         self.cells = list(cells)
+        self.curvature = curvature
+        pillar_tip_coefficient(pillar_tip)           # validate early
         self.unit = pattern is None
         self.pattern = [[0]] if pattern is None else [list(r) for r in pattern]
         self.M = len(self.pattern)
@@ -123,39 +256,47 @@ class SleeveModel:
             raise MetamaterialError("cell_types: every type must have the same L (cells share the ring)")
         W = self.cells[0].width / L
         self.radius = radius_L if radius_L is not None else self.N * W / (2 * np.pi)
-        meshes, offsets = [], []
-        X, conn, EA, EI, fixed = [], [], [], [], []
+        layouts = {g.layout for g in self.cells}
+        if len(layouts) > 1:
+            raise MetamaterialError("cell_types: every type must have the same layout")
+        self.layout = layouts.pop()
+        E = modulus(plane)
+        mb = _MeshBuilder()
         self.cell_index = []
-        nn = 0
         for r, row in enumerate(self.pattern):
-            for k, typ in enumerate(row):
-                cm = build_cell_mesh(self.cells[typ], n_el, plane)
-                meshes.append(cm)
-                offsets.append(nn)
-                X.append(cm.X0); conn.append(cm.conn + nn); EA.append(cm.EA); EI.append(cm.EI)
-                fixed.extend(np.array(cm.fixed_nodes) + nn)
-                self.cell_index.append((r, k, typ))
-                nn += len(cm.X0)
-        self.meshes = meshes
-        self.mesh = BeamMesh(np.vstack(X), np.vstack(conn), np.concatenate(EA), np.concatenate(EI))
-        self.tops = np.array(offsets)
+            x_of = lambda k: k * W            # noqa: E731  unrolled position of cell k's centre
+            if self.layout == "double":
+                add_row_double(mb, row, self.cells, n_el, E, r, r + 1, x_of, len(self.cell_index))
+            else:
+                add_row_single(mb, row, self.cells, n_el, E, r, r + 1, x_of, len(self.cell_index),
+                               self.N * W, None if (self.unit or not self.curvature) else self.radius,
+                               pillar_tip)
+            self.cell_index.extend((r, k, typ) for k, typ in enumerate(row))
+        self.mesh = BeamMesh(np.vstack(mb.X), np.array(mb.conn), np.array(mb.EA), np.array(mb.EI),
+                             np.vstack(mb.shift))
+        # one "state" per snapping beam part: the rise of its outer end over its inner end (double
+        # layout: of the central pillar), / L; snapped when it exceeds h / L
+        self.state_nodes = [(a_, b_) for a_, b_, _ in mb.states]
+        self.state_cells = [ci for _, _, ci in mb.states]
+        uids = sorted(set(mb.units), key=mb.units.index)
+        self.state_units = [uids.index(u) for u in mb.units]
+        self.state_types = [self.cell_index[ci][2] for ci in self.state_cells]
+        self.state_geoms = [self.cells[t] for t in self.state_types]
+        self.tops = np.array([a_ for a_, _, _ in mb.states])
         nfull = self.mesh.ndof
-        fixed_dofs = set()
-        for n in fixed:
-            fixed_dofs.update((3 * n, 3 * n + 1, 3 * n + 2))
-        slaved = set()
-        for o in offsets:
-            slaved.update((3 * o + 1, 3 * o + 2))
-            if not self.unit:
-                slaved.add(3 * o)                   # tangential: ring twist
-        free = [i for i in range(nfull) if i not in fixed_dofs and i not in slaved]
-        # reduced unknowns: free nodal DOFs, then plate DOFs
+        tied = {n for n, _, _ in mb.ties} | {n for n, _, _, _, _ in mb.slaves}
+        free = [i for i in range(nfull) if i // 3 not in tied]
         self.nfree = len(free)
-        if top_rotation not in ("free", "fixed"):
+        if top_rotation not in ("free", "fixed", "default"):
             raise MetamaterialError(f"top_rotation: {top_rotation!r}; allowed: 'free', 'fixed'")
+        if top_rotation == "default":
+            # a single-layout cell's top bar carries the edge pillars, which the periodic edges tie
+            # to each other (seed: periodic left/right edges): no rigid rotation; a double-layout
+            # cell's top is its central pillar, free to rotate (seed: kinematic coupling)
+            top_rotation = "fixed" if self.layout == "single" else "free"
         self.rot_free = top_rotation == "free"
         if self.unit:
-            nplate = 1 if self.rot_free else 0      # the cell's top rotation
+            nplate = 2 if self.rot_free else 1      # the top's horizontal shift (and rotation)
         else:
             nplate = 4 * (self.M - 1) + 3           # interfaces (w, psi_x, psi_y, twist); top: no w
         nred = self.nfree + nplate
@@ -163,10 +304,14 @@ class SleeveModel:
         P = np.zeros(nfull)
         T[free, np.arange(self.nfree)] = 1.0
         if self.unit:
-            o = offsets[0]
-            P[3 * o + 1] = 1.0
-            if self.rot_free:
-                T[3 * o + 2, self.nfree] = 1.0
+            for n, p, x in mb.ties:
+                if p == 0:
+                    continue                                     # on the clamped bottom bar
+                P[3 * n + 1] = 1.0
+                T[3 * n, self.nfree] = 1.0                       # common horizontal shift
+                if self.rot_free:                                # rigid rotation about x = 0
+                    T[3 * n + 2, self.nfree + 1] = 1.0
+                    T[3 * n + 1, self.nfree + 1] = x
         else:
             def plate(p):
                 """Columns (w, psi_x, psi_y, twist) of plate p (0 = fixed bottom, M = top)."""
@@ -177,23 +322,30 @@ class SleeveModel:
                     return ("d", b, b + 1, b + 2)
                 b = self.nfree + 4 * (p - 1)
                 return (b, b + 1, b + 2, b + 3)
-            for ci, (r, k, typ) in enumerate(self.cell_index):
-                o = offsets[ci]
-                phi = 2 * np.pi * k / self.N
+            for n, p, x in mb.ties:
+                phi = x / self.radius
                 sn, cs = np.sin(phi), np.cos(phi)
-                for p, sgn in ((r + 1, 1.0), (r, -1.0)):
-                    w, px, py, tw = plate(p)
-                    if tw is not None:
-                        T[3 * o, tw] += sgn * self.radius
-                    if w == "d":
-                        P[3 * o + 1] += sgn
-                    elif w is not None:
-                        T[3 * o + 1, w] += sgn
-                    if px is not None:
-                        T[3 * o + 1, px] += sgn * self.radius * sn
-                        T[3 * o + 1, py] += -sgn * self.radius * cs
-                        T[3 * o + 2, px] += sgn * cs
-                        T[3 * o + 2, py] += sgn * sn
+                w, px, py, tw = plate(p)
+                if w is None:
+                    continue
+                T[3 * n, tw] += self.radius
+                if w == "d":
+                    P[3 * n + 1] += 1.0
+                else:
+                    T[3 * n + 1, w] += 1.0
+                T[3 * n + 1, px] += self.radius * sn
+                T[3 * n + 1, py] += -self.radius * cs
+                T[3 * n + 2, px] += cs
+                T[3 * n + 2, py] += sn
+            for n, m, p, x, coef in mb.slaves:
+                T[3 * n:3 * n + 3] = T[3 * m:3 * m + 3]
+                P[3 * n:3 * n + 3] = P[3 * m:3 * m + 3]
+                w, px, py, tw = plate(p)
+                if px is None:
+                    continue
+                phi = x / self.radius
+                T[3 * n, px] += coef * np.sin(phi)
+                T[3 * n, py] -= coef * np.cos(phi)
         import scipy.sparse as sp
         self.T, self.P = sp.csr_matrix(T), P
         # imperfection: a tiny constant moment on the top plate (about the axis at -45 deg, which
@@ -234,8 +386,11 @@ class SleeveModel:
         return np.array([q[b], q[b + 1]])
 
     def cell_states(self, q, d):
+        """Per snapping beam part: rise of its outer end over its inner end (/ L) and the outer
+        end's rotation."""
         qf = self.full(q, d)
-        return qf[3 * self.tops + 1].copy(), qf[3 * self.tops + 2].copy()
+        v = np.array([qf[3 * a + 1] - (qf[3 * b + 1] if b is not None else 0.0) for a, b in self.state_nodes])
+        return v, qf[3 * self.tops + 2].copy()
 
     # ------------------------------------------------------------------------------------------
     def minimise(self, q, d, tol, maxit=60):
@@ -443,7 +598,7 @@ def default_stroke(cells):
     return 2.0 * h + 0.12
 
 
-def cell_curve(geom, n_el=10, steps=200, d_max=None, plane="strain", unload=True, top_rotation="free"):
+def cell_curve(geom, n_el=10, steps=200, d_max=None, plane="strain", unload=True, top_rotation="default"):
     """Loading (and unloading) FD path of one unit cell. Returns (load, unload_or_None)."""
     m = SleeveModel([geom], None, n_el, plane, top_rotation=top_rotation)
     d_max = default_stroke([geom]) if d_max is None else d_max

@@ -34,13 +34,14 @@ def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None):
 
 
 def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, unload=True,
-               imperfection=1e-4, progress=None):
+               imperfection=1e-4, progress=None, curvature=True, pillar_tip="guided"):
     """Load (and unload) a sleeve. ``imperfection`` (a tiny bias moment on the top plate, relative
     to the beams' axial stiffness times the radius, that fixes the tilt direction like the seed's
     mesh imperfections) is applied to uniform sleeves only: mixed sleeves break the symmetry by
     design."""
     uniform = len({t for row in pattern for t in row}) == 1
-    m = SleeveModel(cells, pattern, n_el, plane, imperfection=imperfection if uniform else 0.0)
+    m = SleeveModel(cells, pattern, n_el, plane, imperfection=imperfection if uniform else 0.0,
+                    curvature=curvature, pillar_tip=pillar_tip)
     used = [cells[t] for row in pattern for t in row]
     d_max = default_stroke(used) * len(pattern) if d_max is None else d_max
     d = np.linspace(0.0, d_max, steps + 1)
@@ -59,10 +60,9 @@ def ring_thresholds(up):
 
 def simulated_sequence(model, up, down):
     """Snapping order of the cell types along the traced loading and unloading paths, and tilts."""
-    types = [t for (_, _, t) in model.cell_index]
-    geoms = [model.cells[t] for t in types]
-    lo, ev_up = snap_order(up, types, geoms)
-    un, ev_dn = snap_order(down, types, geoms)
+    types, geoms, units = model.state_types, model.state_geoms, model.state_units
+    lo, ev_up = snap_order(up, types, geoms, units)
+    un, ev_dn = snap_order(down, types, geoms, units)
     sym = lo[::-1] == un
     ti_up = up.tilt[np.argmax(np.linalg.norm(up.tilt, axis=1))]
     ti_dn = down.tilt[np.argmax(np.linalg.norm(down.tilt, axis=1))]
@@ -78,7 +78,7 @@ def simulated_sequence(model, up, down):
 
 
 def design_map(L, c, delta, T, t_range, h_range, ring=False, n_el=8, steps=120, plane="strain",
-               n_cells=4, progress=None):
+               n_cells=4, progress=None, layout="single", curvature=True, pillar_tip="guided"):
     """Peak/valley over a grid of t/L and h/L (seed figure 2C; with ``ring`` also P1/V2, fig. 2F)."""
     ts = np.linspace(*t_range[:2], t_range[2])
     hs = np.linspace(*h_range[:2], h_range[2])
@@ -89,11 +89,12 @@ def design_map(L, c, delta, T, t_range, h_range, ring=False, n_el=8, steps=120, 
     for h in hs:
         rowp, rowv, rp1, rv2, rn = [], [], [], [], []
         for t in ts:
-            g = CellGeometry(L=L, t=t * L, h=h * L, c=c, delta=delta, T=T)
+            g = CellGeometry(L=L, t=t * L, h=h * L, c=c, delta=delta, T=T, layout=layout)
             res, _, _ = unit_cell_result(g, n_el, steps, plane)
             rowp.append(res["peak_force"]); rowv.append(res["valley_force"])
             if ring:
-                _, up, _ = ring_trace([g], [[0] * n_cells], n_el, steps, plane, unload=False)
+                _, up, _ = ring_trace([g], [[0] * n_cells], n_el, steps, plane, unload=False,
+                                      curvature=curvature, pillar_tip=pillar_tip)
                 P1, V2, n_p, _ = ring_thresholds(up)
                 rp1.append(P1); rv2.append(V2); rn.append(n_p)
             k += 1
@@ -129,7 +130,8 @@ def analyse(spec, progress=None, log=None):
     for i in used:
         say(f"uniform ring of type {i} ({n} cells)")
         _, up, _ = ring_trace([spec.cells[i]], [[0] * n], spec.n_el_ring, spec.steps, spec.plane,
-                              dmax, unload=False, imperfection=spec.imperfection)
+                              dmax, unload=False, imperfection=spec.imperfection,
+                              curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip)
         P1, V2, n_p, n_v = ring_thresholds(up)
         pv = peaks_valleys(up.d, up.F)
         uniform.append({"type": i, "P1": P1, "V2": V2, "two_peaks": n_p >= 2 and n_v >= 2,
@@ -140,7 +142,7 @@ def analyse(spec, progress=None, log=None):
     say(f"sleeve: {spec.M} ring(s) x {n} cells, pattern {spec.pattern}")
     model, up, down = ring_trace(spec.cells, spec.pattern, spec.n_el_ring, spec.steps, spec.plane,
                                  dmax * spec.M if dmax else None, imperfection=spec.imperfection,
-                                 progress=progress)
+                                 progress=progress, curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip)
     curves["ring"] = (model, up, down)
     pv = peaks_valleys(up.d, up.F)
     pvd = peaks_valleys(down.d[::-1], down.F[::-1])
@@ -204,7 +206,8 @@ def analyse(spec, progress=None, log=None):
         say("design map")
         summary["design_map"] = design_map(L, spec.c, spec.delta, spec.T, dm["t_over_L"], dm["h_over_L"],
                                            dm["ring"], dm["elements"], max(60, spec.steps // 2), spec.plane,
-                                           n)
+                                           n, layout=spec.layout, curvature=spec.ring_curvature,
+                                           pillar_tip=spec.pillar_tip)
     summary["timings"] = {"total_s": time.perf_counter() - t0,
                           "unit_cell_s": [u["seconds"] for u in unit_cells],
                           "ring_s": up.seconds + down.seconds}

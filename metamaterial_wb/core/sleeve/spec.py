@@ -30,6 +30,10 @@ class SleeveSpec:
         self.delta = num("delta_mm", 0.5, 0, 1000)
         self.T = num("T_mm", 1.8, 0, 1000)
         self.G = num("shear_modulus_MPa", 28.0, 0, 1e5, "MPa")
+        self.layout = data.get("layout", "single")
+        if self.layout not in ("single", "double"):
+            raise SceneError("layout", f"{self.layout!r}; allowed: 'single' (one beam per cell, default), "
+                                       "'double' (two parallel beams, the former reading)")
         types = data.get("cell_types")
         if not isinstance(types, list) or not types:
             raise SceneError("cell_types", "expected a non-empty list of {\"t_mm\": ..., \"h_mm\": ...}")
@@ -43,7 +47,8 @@ class SleeveSpec:
                     raise SceneError(f"{f}.{k}", "missing")
             t = check_number(f"{f}.t_mm", ct["t_mm"], 0, 0.25 * self.L, "mm", low_open=True)
             h = check_number(f"{f}.h_mm", ct["h_mm"], 0, 0.6 * self.L, "mm", low_open=True)
-            self.cells.append(CellGeometry.checked(f, L=self.L, t=t, h=h, c=self.c, delta=self.delta, T=self.T))
+            self.cells.append(CellGeometry.checked(f, L=self.L, t=t, h=h, c=self.c, delta=self.delta, T=self.T,
+                                                   layout=self.layout))
         if "pattern" in data:
             pat = data["pattern"]
             if not isinstance(pat, list) or not pat or not all(isinstance(r, list) for r in pat):
@@ -77,6 +82,17 @@ class SleeveSpec:
         if self.plane not in ("strain", "stress"):
             raise SceneError("model.plane", f"{self.plane!r}; allowed: 'strain', 'stress'")
         self.imperfection = check_number("model.imperfection", m.get("imperfection", 1e-4), 0, 0.1, "")
+        tip = m.get("pillar_tip", "guided")
+        if isinstance(tip, str):
+            if tip not in ("guided", "free"):
+                raise SceneError("model.pillar_tip", f"{tip!r}; allowed: 'guided', 'free' or a number in [3, 12]")
+        else:
+            tip = check_number("model.pillar_tip", tip, 3, 12, "")
+        self.pillar_tip = tip
+        curv = m.get("ring_curvature", True)
+        if not isinstance(curv, bool):
+            raise SceneError("model.ring_curvature", f"{curv!r}; expected true or false")
+        self.ring_curvature = curv
         dm = m.get("max_displacement_mm")
         self.d_max_mm = None if dm is None else check_number("model.max_displacement_mm", dm, 0, 10 * self.L, "mm", low_open=True)
         a = data.get("actuator", {})
