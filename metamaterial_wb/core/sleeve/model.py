@@ -517,7 +517,8 @@ class SleeveModel:
         try:
             if not ok:
                 raise RuntimeError
-            lam, vec = spla.eigsh(K, k=1, sigma=lo, which="LM", tol=1e-8)
+            lam, vec = spla.eigsh(K, k=1, sigma=lo, which="LM", tol=1e-8,
+                                  v0=np.ones(K.shape[0]))      # deterministic start
             return lam, vec
         except Exception:
             return sla.eigh(K.toarray(), subset_by_index=[0, 0], check_finite=False)

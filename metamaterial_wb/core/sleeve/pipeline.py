@@ -67,12 +67,27 @@ def simulated_sequence(model, up, down):
     ti_up = up.tilt[np.argmax(np.linalg.norm(up.tilt, axis=1))]
     ti_dn = down.tilt[np.argmax(np.linalg.norm(down.tilt, axis=1))]
     lu, ld = lean_direction(ti_up), lean_direction(ti_dn)
+    # the design's axis: from the lowest type's cells to the highest type's; a lean "reverses"
+    # when its component along that axis changes sign (which of two mirror-image cells joins the
+    # first-snapping group is a symmetric bifurcation and may turn the lean by 90 degrees)
+    typs = [t for (_, _, t) in model.cell_index]
+    lo_t, hi_t = min(typs), max(typs)
+    axis = np.zeros(2)
+    for (_, k, t) in model.cell_index:
+        sgn = 1.0 if t == hi_t else (-1.0 if t == lo_t else 0.0)
+        phi = 2 * math.pi * k / model.N
+        axis += sgn * np.array([math.cos(phi), math.sin(phi)])
+    if hi_t != lo_t and np.linalg.norm(axis) > 1e-9:
+        axis /= np.linalg.norm(axis)
+        reverses = bool(np.dot(lu, axis) * np.dot(ld, axis) < 0)
+    else:
+        reverses = bool(np.dot(lu, ld) < 0)
     return {"loading": lo, "unloading": un, "symmetric": bool(sym),
             "max_tilt_loading_deg": float(math.degrees(np.linalg.norm(ti_up))),
             "max_tilt_unloading_deg": float(math.degrees(np.linalg.norm(ti_dn))),
             "lean_loading_deg": float(math.degrees(math.atan2(lu[1], lu[0]))) if np.any(lu) else None,
             "lean_unloading_deg": float(math.degrees(math.atan2(ld[1], ld[0]))) if np.any(ld) else None,
-            "lean_reverses": bool(np.dot(lu, ld) < 0),
+            "lean_reverses": reverses,
             "events_loading": [{"d": e[1], "cells": e[2], "snapped": e[3]} for e in ev_up],
             "events_unloading": [{"d": e[1], "cells": e[2], "snapped": e[3]} for e in ev_dn]}
 
