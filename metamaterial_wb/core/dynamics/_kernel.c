@@ -153,8 +153,8 @@ static void assemble(Sys *S, const double *q, const double *v, double h, double 
         double vdy = v[3 * b + 1] + wb * Rbx - v[3 * a + 1] - wa * Rax;
         double fx = -kp * dx - cp * vdx, fy = -kp * dy - cp * vdy;
         double K[6][6], C[6][6];
-        for (r = 0; r < 6; r++)
-            for (c = 0; c < 6; c++) {
+        _Pragma("GCC unroll 6") for (r = 0; r < 6; r++)
+            _Pragma("GCC unroll 6") for (c = 0; c < 6; c++) {
                 double jtj = J[0][r] * J[0][c] + J[1][r] * J[1][c];
                 double jg = 0.0;
                 if (c == 2) jg = J[0][r] * G2[0] + J[1][r] * G2[1];
@@ -167,8 +167,8 @@ static void assemble(Sys *S, const double *q, const double *v, double h, double 
         K[5][5] -= kr; K[5][2] += kr; K[2][5] += kr; K[2][2] -= kr;
         C[5][5] -= cr; C[5][2] += cr; C[2][5] += cr; C[2][2] -= cr;
         const int64_t *mp = S->hmap + 36 * i;
-        for (r = 0; r < 6; r++)
-            for (c = 0; c < 6; c++) {
+        _Pragma("GCC unroll 6") for (r = 0; r < 6; r++)
+            _Pragma("GCC unroll 6") for (c = 0; c < 6; c++) {
                 int64_t k = mp[6 * r + c];
                 if (k >= 0) ab[k] -= h * C[r][c] + h2 * K[r][c];
             }
@@ -240,10 +240,12 @@ int64_t mm_gbtrf(int64_t n, int64_t kl, int64_t ku, double *ab, int64_t ldab, in
             if (km > 0) {
                 double rp = 1.0 / AB(j, j);
                 for (i = 1; i <= km; i++) AB(j + i, j) *= rp;
+                const double *restrict l = &AB(j + 1, j);
                 for (int64_t c = j + 1; c <= ju; c++) {
                     double u = AB(j, c);
+                    double *restrict col = &AB(j + 1, c);
                     if (u != 0.0)
-                        for (i = 1; i <= km; i++) AB(j + i, c) -= AB(j + i, j) * u;
+                        for (i = 0; i < km; i++) col[i] -= l[i] * u;
                 }
             }
         } else if (info == 0) {
