@@ -307,7 +307,7 @@ static void factor(Sys *S, const double *q, const double *v, double h)
  *              [3] converged (0/1), [4] damper power at the first iterate */
 void mm_newton(Sys *S, const double *qh, const double *vh, double *v1, double *q1, double h,
                const double *anchors, int64_t max_it, double tol_abs, double tol_rel, int64_t max_age,
-               double *stats)
+               int64_t refactor_on_contact_change, double *stats)
 {
     int64_t N = S->N, p = S->p, i, it;
     double prev = -1.0;
@@ -321,8 +321,8 @@ void mm_newton(Sys *S, const double *qh, const double *vh, double *v1, double *q
         for (i = 0; i < N; i++) S->R[i] = S->free_dof[i] ? S->M[i] * (v1[i] - vh[i]) - h * S->Q[i] : 0.0;
         /* reuse the factorisation while the step, the touching / sticking set and the rate allow */
         int reuse = !refresh && S->f_valid && S->f_h == h && S->f_age < max_age
-                    && memcmp(S->f_push, S->pushing, (size_t)p) == 0
-                    && memcmp(S->f_stick, S->stick, (size_t)p) == 0;
+                    && (!refactor_on_contact_change || (memcmp(S->f_push, S->pushing, (size_t)p) == 0
+                                                        && memcmp(S->f_stick, S->stick, (size_t)p) == 0));
         if (!reuse) {
             factor(S, q1, v1, h);
             stats[1] += 1.0;

@@ -106,7 +106,7 @@ def load():
         lib.mm_gbtrf.restype = I
         lib.mm_gbtrs.argtypes = [I, I, I, P, I, P, P]
         lib.mm_gbtrs.restype = None
-        lib.mm_newton.argtypes = [P, P, P, P, P, D, P, I, D, D, I, P]
+        lib.mm_newton.argtypes = [P, P, P, P, P, D, P, I, D, D, I, I, P]
         lib.mm_newton.restype = None
         lib.mm_update_anchors.argtypes = [P, P, P, P, P, P]
         lib.mm_update_anchors.restype = None
@@ -274,11 +274,12 @@ class Kernel:
         return out, int(info)
 
     # -- the hot calls -------------------------------------------------------------------------
-    def newton(self, qh, vh, v1, h, anchors, max_it, tol_abs, tol_rel, max_age):
+    def newton(self, qh, vh, v1, h, anchors, max_it, tol_abs, tol_rel, max_age, refactor_on_contact_change=True):
         """Newton loop of one implicit step; ``v1`` (contiguous, N) is overwritten by the solution.
         Returns the stats array [force evaluations, Jacobians, Newton iterations, converged, damper power]."""
         self.lib.mm_newton(self.Sp, qh.ctypes.data, vh.ctypes.data, v1.ctypes.data, self._q1_p, h,
-                           anchors.ctypes.data, max_it, tol_abs, tol_rel, max_age, self._stats_p)
+                           anchors.ctypes.data, max_it, tol_abs, tol_rel, max_age,
+                           int(bool(refactor_on_contact_change)), self._stats_p)
         return self.stats
 
     def update_anchors(self, q, v, anchors, inside, friction_J, max_pen_mm):

@@ -242,7 +242,7 @@ class Simulator:
             self.stats["kernel"] = "numpy"
             return None
         if (self.freeze_contacts or self.freeze_after is not None or self.linearized_first_step or self.lag_hinges
-                or not self.refactor_on_contact_change or not (dense or banded)):
+                or not (dense or banded)):
             why = "a non-default Newton option or a layout without band structure"
         elif k is not None and k.matches(s):
             return k
@@ -310,7 +310,8 @@ class Simulator:
             if not (self.anchors.flags.c_contiguous and self.anchors.dtype == np.float64):
                 self.anchors = np.ascontiguousarray(self.anchors, float)
             ks = kern.newton(qh, vh, v1, h, self.anchors, self.newton_max_band if banded else self.newton_max,
-                             self.newton_tol_abs, self.newton_tol_rel, self.jacobian_max_age)
+                             self.newton_tol_abs, self.newton_tol_rel, self.jacobian_max_age,
+                             self.refactor_on_contact_change)
             st = self.stats
             st["kernel"] = "c"
             st["force_evaluations"] += int(ks[0])
