@@ -72,9 +72,14 @@ def systems():
 
 
 @pytest.mark.parametrize("label,system", systems(), ids=lambda x: x if isinstance(x, str) else "")
-def test_forces_and_newton_matrix_match_numpy(label, system):
+@pytest.mark.parametrize("full_band", [False, True], ids=["rcm-band", "full-band"])
+def test_forces_and_newton_matrix_match_numpy(label, system, full_band):
+    """full_band: the layout of small systems that are not narrow-banded (natural order, kl = ku = N - 1)."""
     lib = lib_or_skip()
-    k = fastkernel.Kernel(lib, system, fastkernel.layout_for(system))
+    layout = fastkernel.layout_for(system, band_max=-1 if full_band else 64)
+    if full_band:
+        assert layout[1] == layout[2] == 3 * system.n - 1
+    k = fastkernel.Kernel(lib, system, layout)
     rng = np.random.default_rng(7)
     seen = {"inside": 0, "stick": 0, "slide": 0}
     for q, v, anchors in random_states(system, rng, 12):
@@ -146,12 +151,14 @@ def test_short_trajectory_matches_numpy_path(name, seconds):
     assert abs(pb - pa) <= max(1e-9 * pa, 10 * abs(pc - pa))
 
 
-def test_fixed_dofs_and_restart_match_numpy():
+@pytest.mark.parametrize("band_max", [64, -1], ids=["rcm-band", "full-band"])
+def test_fixed_dofs_and_restart_match_numpy(band_max):
     """A pivot (fixed body), contacts and a change of dt (backward Euler restart)."""
     lib_or_skip()
     out = []
     for kernel in ("numpy", "c"):
         s = pendulum_on_floor()
+        s.band_max = band_max
         q0 = np.array([[0, 0, 0], [0.2, -0.35, 0.5], [0.3, 0.005, 0.1]])
         sim = Simulator(s, q0)
         sim.kernel = kernel
