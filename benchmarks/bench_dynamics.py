@@ -213,6 +213,46 @@ def run_incline(args):
     png = f"dyn-belt-speed-vs-incline{suffix}.png"
     fig.savefig(os.path.join(IMG, png))
     print(f"wrote docs/img/{png}")
+    if args.variant == "after" and args.pressures:
+        _incline_pressure_sweep(args, np, plt, cell)
+
+
+def _incline_pressure_sweep(args, np, plt, cell):
+    """Seed 2, figure 11: the closed loop's speed against the supply pressure on a 10 degree incline."""
+    base = load("belt8.json")
+    rows = []
+    for psi in [float(x) for x in args.pressures.split(",")]:
+        runs = []
+        for k in range(args.starts):
+            d = copy.deepcopy(base)
+            d["dynamics"]["incline_deg"] = args.sweep_incline
+            d["dynamics"]["belt"]["pressure_kpa"] = psi * 6.895
+            d["dynamics"]["belt"]["start_rotation_deg"] = 45.0 * k / args.starts
+            s, *_ = simulate(Scene.from_dict(d), args.seconds)
+            runs.append((s["mean_speed_mm_s"], s["displacement_mm"]))
+        r = np.array(runs)
+        row = {"pressure_psi": psi, "speed_mm_s": float(np.median(r[:, 0])), "speed_min_mm_s": float(r[:, 0].min()),
+               "speed_max_mm_s": float(r[:, 0].max()), "rolled_back": int(np.sum(r[:, 1] < -cell))}
+        rows.append(row)
+        print(f"closed loop, {args.sweep_incline:g} deg, {psi:4.1f} psi: median {row['speed_mm_s']:+7.1f} mm/s "
+              f"[{row['speed_min_mm_s']:+.1f}, {row['speed_max_mm_s']:+.1f}], rolled back {row['rolled_back']}/"
+              f"{args.starts}", flush=True)
+    save("dyn-incline-pressure.json", {"incline_deg": args.sweep_incline, "seconds": args.seconds,
+                                        "start_rotations": args.starts, "rows": rows})
+    fig, ax = plt.subplots(figsize=(5.5, 3.6), dpi=110)
+    x = [r["pressure_psi"] for r in rows]
+    ax.plot(x, [r["speed_mm_s"] for r in rows], "o-", color="tab:green", label="closed loop, median")
+    ax.fill_between(x, [r["speed_min_mm_s"] for r in rows], [r["speed_max_mm_s"] for r in rows], color="tab:green",
+                    alpha=0.15, label="range over start positions")
+    ax.axhline(0, color="k", lw=0.8)
+    ax.set_xlabel("supply pressure (psi)")
+    ax.set_ylabel("mean speed over %g s (mm/s)" % args.seconds)
+    ax.set_title(f"8-cell belt, closed loop on {args.sweep_incline:g} deg: speed vs pressure", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(IMG, "dyn-belt-speed-vs-pressure.png"))
+    print("wrote docs/img/dyn-belt-speed-vs-pressure.png")
 
 
 def run_worm(args):
@@ -312,6 +352,8 @@ def main():
     pi.add_argument("--starts", type=int, default=8, help="start positions per incline (turned by 1/starts of a cell)")
     pi.add_argument("--variant", choices=("after", "before"), default="after",
                     help="before: cells vented at the start, no silicone loss, every gait at 4.5 psi")
+    pi.add_argument("--pressures", default="3,4.5,6,7,9", help="closed-loop pressure sweep, psi (seed 2, figure 11)")
+    pi.add_argument("--sweep-incline", type=float, default=10.0)
     pw = sub.add_parser("worm")
     pw.add_argument("--cycles", type=float, default=3.0)
     pf = sub.add_parser("fidelity")
