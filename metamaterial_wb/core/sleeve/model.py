@@ -406,7 +406,9 @@ class SleeveModel:
                 return q, F, it
             if pd:
                 step = -solve(g)
-                if np.abs(step).max() < 1e-12:    # converged to round-off (fine meshes)
+                # converged to round-off: a tiny step, or a Newton decrement (the energy the step
+                # would still release) at the energy's round-off level (soft modes, large forces)
+                if np.abs(step).max() < 1e-12 or abs(float(g @ step)) < 1e-16 * max(abs(e), 1e-30):
                     return q + step, F, it
             else:
                 if self.sparse:
