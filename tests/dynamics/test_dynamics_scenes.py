@@ -105,9 +105,9 @@ def _com_mm(traj, model, t):
 
 def test_closed_loop_holds_on_an_incline_where_the_open_loop_rolls_back():
     # seed 2, section 5: the open-loop normal-torque gait fails above ~5 deg "by rolling backward";
-    # the closed loop "does not fall back, but rather gets stuck at a rolling step". The belt is
-    # released as a vented circle, so every gait loses some ground while it lands and the first
-    # cells fill (fill time 0.5 s); the statement is checked after that start-up (from t = 2 s).
+    # the closed loop "does not fall back, but rather gets stuck at a rolling step". belt8.json
+    # starts with the cells at the gait's pressures and with the silicone loss factor (docs/dynamics.md);
+    # the released circle still rocks while it settles, so the statement is checked from t = 2 s.
     a = 6.0
     cell = 38.0
     t0, t1 = 2.0, 8.0
