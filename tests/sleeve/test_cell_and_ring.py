@@ -83,13 +83,17 @@ def test_second_peak_is_lost_with_three_cells_around():
 
 def test_ring_curvature_is_what_changes_the_trends():
     """Without the ring's curvature (flat cells side by side) the second valley falls with t like
-    the unit cell's valley; with it, it rises (seed figure 2F)."""
+    the unit cell's valley and a three-cell ring keeps two peaks; with it, the valley rises (seed
+    figure 2F) and the second peak goes (test above)."""
     def v2(tl, curvature):
         _, up, _ = ring_trace([cell(tl, 0.372)], [[0] * 4], n_el=6, steps=110, unload=False,
                               curvature=curvature)
         return ring_thresholds(up)[1]
     assert v2(0.065, False) < v2(0.055, False)
     assert v2(0.065, True) > v2(0.055, True)
+    # and it is what removes the second peak of a three-cell ring
+    _, up, _ = ring_trace([cell(1 / 18, 7.5 / 18)], [[0] * 3], n_el=6, steps=120, unload=False, curvature=False)
+    assert ring_thresholds(up)[2] == 2
 
 
 def test_rings_in_series_share_the_force():
