@@ -57,7 +57,7 @@ class Simulator:
         self.anchors = p[:, 0].copy()
         self.inside = (p[:, 1] < 0) if p.size else np.zeros(0, bool)
         self.ledger = {"actuator_work_J": 0.0, "damping_J": 0.0, "friction_J": 0.0}
-        self.stats = {"steps": 0, "force_evaluations": 0, "linear_solves": 0, "rejected_checks": 0,
+        self.stats = {"steps": 0, "force_evaluations": 0, "rejected_checks": 0,
                       "fallbacks": [], "max_penetration_mm": 0.0, "max_speed_m_s": 0.0}
         if actuate is not None:
             actuate(0.0, self)
@@ -143,12 +143,6 @@ class Simulator:
         self.q = self.q + dt * self.v
         self.t += dt
         self._update_anchors()
-
-    def _solve(self, A, rhs, dense):
-        self.stats["linear_solves"] += 1
-        if dense:
-            return sla.solve(A, rhs, check_finite=False)
-        return spla.spsolve(A.tocsc(), rhs, permc_spec="MMD_AT_PLUS_A")
 
     newton_max = 6
     newton_max_band = 6       # banded path (10 measured: more unconverged-step work, no gain)
