@@ -10,7 +10,9 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   contact, true: one-sided constraints in the linear model, a penalty in the nonlinear one),
   ``contact_fraction`` (0.98 of the plate-contact rotation);
 * linear: ``poses`` (``chain``, default: positions through the hinge chain from the plate rotations;
-  ``linear``: the flat positions plus the solved displacements);
+  ``linear``: the flat positions plus the solved displacements); ``about`` (``flat``, default: linearised
+  at the flat sheet, factorisation cached across actuator values; ``quadratic``: linearised about the
+  quadratic model's predicted state, material tangent, one factorisation per call);
 * nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
@@ -25,7 +27,7 @@ import numpy as np
 
 from metamaterial_wb.core.models import ModelResult, register_model
 
-_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses"}
+_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses", "about"}
 _NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
                    "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method"}
 
@@ -77,11 +79,16 @@ def clear_cache():
 
 
 def _linear(scene, global_deformation=None, planar=None, contact=True, contact_fraction=0.98, poses="chain",
-            **options):
+            about="flat", **options):
     t0 = time.perf_counter()
     _check_options("linear", options, _LINEAR_OPTS)
+    if about not in ("flat", "quadratic"):
+        from metamaterial_wb.core.errors import SceneError
+        raise SceneError("--option about", f"{about!r}; allowed: flat, quadratic")
     if global_deformation is not None:
         return _global(scene, global_deformation, t0)
+    if about == "quadratic":
+        return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, t0)
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
     from metamaterial_wb.core.lattice.solve import LinearLattice, finish
 
@@ -121,6 +128,46 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     _range_warnings(scene, D, warnings)
     timings = {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2,
                "total_s": time.perf_counter() - t0}
+    return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
+
+
+def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, t0):
+    """The lattice linearised about the quadratic model's predicted state (``about=quadratic``): one R0 solve
+    for D, plate rotations from D, positions through the hinge chain, then one lattice solve with the
+    corotational strains and forces of that state and its material (Gauss-Newton) tangent; actuators as
+    constraints linearised there, plate contact by the same active set. Not cached: the state depends on
+    the actuator values."""
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    from metamaterial_wb.core.lattice.solve import ChainPositions, LinearLattice, finish, quadratic_state
+
+    geo = LatticeGeometry(scene)
+    if planar is not None:
+        geo.planar = bool(planar)
+    chain = ChainPositions(geo)
+    t1 = time.perf_counter()
+    _D0, Xb, Rb = quadratic_state(scene, geo, chain)
+    t2 = time.perf_counter()
+    lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction, poses=poses,
+                        base=(Xb, Rb), tangent="material")
+    lin._chain = chain
+    t3 = time.perf_counter()
+    X, R, q, mu = lin.solve()
+    t4 = time.perf_counter()
+    X, R, phi, D = finish(geo, X, R)
+    warnings = []
+    loaded = bool(lin.joints.size and np.any(lin.psi))
+    info = {"method": "lattice linearised about the quadratic model's state, one sparse KKT solve" if loaded
+            else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
+            "constraints": int(lin.joints.size), "reused_factorisation": False, "poses": lin.poses,
+            "about": "quadratic"}
+    info.update(lin.contact_info)
+    if lin.contact_info.get("active_set_iterations"):
+        info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"
+    if info.get("active_set_converged") is False:
+        warnings.append("the linear model's contact active set did not settle in 100 iterations")
+    _range_warnings(scene, D, warnings)
+    timings = {"geometry_s": t1 - t0, "quadratic_state_s": t2 - t1, "assemble_factor_s": t3 - t2,
+               "solve_s": t4 - t3, "total_s": time.perf_counter() - t0}
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 
 

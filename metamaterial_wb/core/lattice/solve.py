@@ -188,6 +188,30 @@ def _apply(X, R, q, dofmap, n):
     return X + full[:, :3], expm_so3(full[:, 3:]) @ R
 
 
+def quadratic_state(scene, geo, chain=None, pose="rotations"):
+    """The quadratic model's (R0) predicted state in lattice terms: ``(D, X, R)``.
+
+    ``D`` from one sparse solve of the seed's energy (``core/solver``); the plate rotations from D with the
+    quadratic model's own rule (``core/kinematics``: in-plane angle ``p D phi_max``, plus the folds of tilted
+    hinges). Positions: ``pose="rotations"`` (default) puts the plates through the hinge chain from those
+    rotations (:class:`ChainPositions`, the linear model's pose rule), ``pose="full"`` takes the quadratic
+    model's own positions (``core/kinematics``, straight hinge chords).
+    """
+    from metamaterial_wb.core import kinematics
+    from metamaterial_wb.core.solver import solve_scene
+
+    D = solve_scene(scene)[0]
+    if geo.planar and pose == "rotations":
+        R = kinematics.rotation_matrices(geo.phi_from_D(D))
+        X = None
+    else:
+        kin = kinematics.Kinematics(scene)
+        X, R = kin.poses_from_angles(kin.angles(D))
+    if pose == "rotations":
+        X = (chain or ChainPositions(geo))(R, geo.X0)
+    return D, X, R
+
+
 # ----------------------------------------------------------------------------------------------------
 # linear model (R1)
 # ----------------------------------------------------------------------------------------------------
@@ -207,7 +231,8 @@ class LinearLattice:
     by the second-order motion of the plate corners. Both agree to first order; ``q`` is the same.
     """
 
-    def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4, poses="chain"):
+    def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4, poses="chain",
+                 base=None, tangent="full"):
         t0 = time.perf_counter()
         if poses not in ("chain", "linear"):
             from metamaterial_wb.core.errors import SceneError
@@ -218,18 +243,32 @@ class LinearLattice:
         geo = self.geo
         self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
         self.dofmap, self.na = _dofmap(geo, geo.planar)
-        # at the flat sheet the arc correction and its first derivative vanish: leave it out
-        st = ElementState(geo, geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy(), tangent=True, arc=False)
+        self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
+        if base is None:
+            # at the flat sheet the arc correction and its first derivative vanish: leave it out
+            self.base = (geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy())
+            st = ElementState(geo, self.base[0], self.base[1], tangent=True, arc=False)
+            self.g0 = None                  # no force, no strain at the flat sheet
+            self.eps0 = None
+        else:
+            # linearised about a deformed state (X, R): corotational strains, forces and tangent there
+            self.base = (np.asarray(base[0], float), np.asarray(base[1], float))
+            st = ElementState(geo, self.base[0], self.base[1], tangent=(tangent == "full"))
+            self.g0 = self.pattern.vector(st.grad)
+            self.eps0 = st.eps
+            if tangent != "full":        # material (Gauss-Newton) part J^T K J only: no stress terms
+                st.H = np.transpose(st.J, (0, 2, 1)) @ (geo.K @ st.J)
         self.He = st.H
         self.J5 = st.J[:, 5, :].copy()
         self.J6 = st.J                      # strains (u, Theta) of the flat sheet per element DOF
-        self.pattern = Pattern(geo.dofs, self.dofmap, self.na, self.joints, None)
         Acon = self.J5[self.joints] if self.joints.size else None
         self.reg = kkt_regularisation(geo)
         self.KKT = self.pattern.matrix(st.H, Acon, 0.0)
         self.contact = bool(contact)
         self.close_sign = -geo.parity[geo.a]
         self.kappa_c = contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt)
+        if self.eps0 is not None:        # closing rotation measured from the base state
+            self.kappa_c = self.kappa_c - self.close_sign * self.eps0[:, 5]
         self.kc = contact_stiffness * geo.K[:, 5, 5]
         self.contact_info = {"contact_hinges": 0, "active_set_iterations": 0}
         self._zcol = None            # column of each hinge's cached back-substitution in self._Z (-1: none yet)
@@ -252,6 +291,8 @@ class LinearLattice:
         qz = np.zeros(self.pattern.N)
         qz[:self.na] = q
         e = 0.5 * float(q @ (self.KKT @ qz)[:self.na])
+        if self.g0 is not None:
+            e += float(self.g0 @ q)
         over = self._closing(q) - self.kappa_c
         return float(e + 0.5 * np.sum(self.kc * np.maximum(over, 0.0) ** 2))
 
@@ -320,6 +361,9 @@ class LinearLattice:
             return geo.X0.copy(), I3, np.zeros(self.na), np.zeros(self.joints.size)
         rhs = np.zeros(self.pattern.N)
         rhs[self.na:] = psi
+        if self.eps0 is not None:        # residual forces and constraint offsets of the base state
+            rhs[:self.na] = -self.g0
+            rhs[self.na:] -= self.eps0[self.joints, 5]
         sol = self.lu.solve(rhs)
         q = sol[:self.na]
         mu = sol[self.na:]
@@ -349,11 +393,13 @@ class LinearLattice:
                     break
             else:
                 self.contact_info["active_set_converged"] = False
-        X, R = _apply(geo.X0, I3, q, self.dofmap, geo.n)
+        X, R = _apply(self.base[0], self.base[1], q, self.dofmap, geo.n)
         if self.poses == "chain":        # positions through the hinge chain from the plate rotations
             if self._chain is None:
                 self._chain = ChainPositions(geo)
             eps = (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0]
+            if self.eps0 is not None:
+                eps = eps + self.eps0
             strain = eps[:, 0:3] - 0.5 * geo.rest * _cross_e1(eps[:, 3:6])    # beyond uniform bending
             X = self._chain(R, X, strain)
         return X, R, q, mu
