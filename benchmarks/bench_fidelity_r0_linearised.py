@@ -14,7 +14,9 @@ model's active set (low-rank updates, no new factorisation), one factorisation. 
   (adds the stress terms of the residual forces, which the R0 state has plenty of: its rotations are no
   lattice mechanism, so its hinges are stretched);
 * ``+ls``: a backtracking line search along the (fixed) step on the nonlinear energy plus an exact penalty
-  of the actuator constraints (``alpha`` = 1, 1/2, ... until the merit is below the R0 state's).
+  of the actuator constraints, evaluated at the poses the model returns (hinge-chain positions)
+  (``alpha`` = 1, 1/2, ... until the merit is below the R0 state's); ``+min``: the step length that
+  minimises a parabola through the merit at alpha = 0, 1/2, 1 (kept if its merit is below alpha = 1's).
 
 Every cell: the RMS node-angle error (D units, rigid rotation removed) against the nonlinear reference,
 divided by the quadratic model's error measured in the same run, and the wall time in ms (best of
@@ -43,15 +45,23 @@ from metamaterial_wb.core.models import ModelResult, run_model  # noqa: E402
 CONTACT_FRACTION = 0.98
 
 
-def merit_along(lin, geo, q, mu):
-    """Nonlinear energy (hinges + contact penalty) plus an exact penalty of the constraints at
-    ``base (+) alpha q``: a function of alpha."""
+def step_pose(lin, geo, chain, q, alpha):
+    """The pose the model returns for the step ``alpha q``: rotations ``exp(alpha omega) R``, positions
+    through the hinge chain (the linear model's pose rule) with the linearised elastic offsets."""
     Xb, Rb = lin.base
+    X, R = _apply(Xb, Rb, alpha * q, lin.dofmap, geo.n)
+    eps = lin.eps0 + alpha * (lin.J6 @ lin.pattern.gather(q)[:, :, None])[:, :, 0]
+    return chain(R, X, eps[:, 0:3] - 0.5 * geo.rest * _cross_e1(eps[:, 3:6])), R
+
+
+def merit_along(lin, geo, chain, q, mu):
+    """Nonlinear energy (hinges + contact penalty) plus an exact penalty of the constraints at the pose of
+    the step ``alpha q``: a function of alpha."""
     kappa0 = CONTACT_FRACTION * 2.0 * geo.contact_rad / np.cos(geo.tilt)
     nu = 2.0 * float(np.abs(mu).max(initial=0.0)) + 1e-30
 
     def merit(alpha):
-        X, R = _apply(Xb, Rb, alpha * q, lin.dofmap, geo.n)
+        X, R = step_pose(lin, geo, chain, q, alpha)
         st = ElementState(geo, X, R, tangent=False)
         over = np.maximum(lin.close_sign * st.eps[:, 5] - kappa0, 0.0)
         c = st.eps[lin.joints, 5] - lin.psi
@@ -69,21 +79,28 @@ def about_quadratic(scene, pose="rot", tangent="material", line_search=False):
     X, R, q, mu = lin.solve()
     alpha = 1.0
     if line_search and q.size:
-        merit = merit_along(lin, geo, q, mu)
-        m0 = merit(0.0)
-        while alpha > 1.0 / 64 and not merit(alpha) <= m0:
-            alpha *= 0.5
-        if alpha != 1.0:                 # poses of the shortened step (chain rule, as the model does)
-            X, R = _apply(Xb, Rb, alpha * q, lin.dofmap, geo.n)
-            eps = lin.eps0 + alpha * (lin.J6 @ lin.pattern.gather(q)[:, :, None])[:, :, 0]
-            X = chain(R, X, eps[:, 0:3] - 0.5 * geo.rest * _cross_e1(eps[:, 3:6]))
+        merit = merit_along(lin, geo, chain, q, mu)
+        m0, m1 = merit(0.0), merit(1.0)
+        if line_search == "min":
+            # the merit's minimum along the step: a parabola through alpha = 0, 1/2, 1 (kept if it is lower)
+            mh = merit(0.5)
+            curv = 2.0 * (m1 - 2.0 * mh + m0)
+            if curv > 0:
+                a = min(2.0, max(1.0 / 64, (3.0 * m0 + m1 - 4.0 * mh) / (2.0 * curv)))
+                if merit(a) < m1:
+                    alpha = a
+        else:
+            while alpha > 1.0 / 64 and not (m1 if alpha == 1.0 else merit(alpha)) <= m0:
+                alpha *= 0.5
+        if alpha != 1.0:
+            X, R = step_pose(lin, geo, chain, q, alpha)
     X, R, _phi, D = finish(geo, X, R)
     return ModelResult(D, X, R, [], {}, True, dict(lin.contact_info)), alpha
 
 
 VARIANTS = [("flat", None)] + [
-    (f"{p}, {t}{', +ls' if ls else ''}", (p, t, ls))
-    for t in ("material", "full") for p in ("rot", "pose") for ls in (False, True)]
+    (f"{p}, {t}{', +' + ls if ls else ''}", (p, t, ls))
+    for t in ("material", "full") for p in ("rot", "pose") for ls in ("", "ls", "min")]
 
 
 def best_time(fn, repeats):
@@ -126,7 +143,7 @@ def main():
             print(f"# {key} {amp} done", file=sys.stderr, flush=True)
 
     print("RMS node-angle error / the quadratic model's (same run), and wall time in ms (best of "
-          f"{args.repeats}, cold); +ls: step length alpha in brackets where it was shortened\n")
+          f"{args.repeats}, cold); +ls, +min: step length alpha in brackets where it is not 1\n")
     for amp in fidelity.AMPLITUDES:
         print(f"Amplitude {amp}\n")
         print("| variant | " + " | ".join(keys) + " |")

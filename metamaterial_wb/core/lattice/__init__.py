@@ -27,7 +27,7 @@ import numpy as np
 
 from metamaterial_wb.core.models import ModelResult, register_model
 
-_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses", "about"}
+_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses", "about", "line_search"}
 _NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
                    "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method"}
 
@@ -79,7 +79,7 @@ def clear_cache():
 
 
 def _linear(scene, global_deformation=None, planar=None, contact=True, contact_fraction=0.98, poses="chain",
-            about="flat", **options):
+            about="flat", line_search=True, **options):
     t0 = time.perf_counter()
     _check_options("linear", options, _LINEAR_OPTS)
     if about not in ("flat", "quadratic"):
@@ -88,7 +88,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     if global_deformation is not None:
         return _global(scene, global_deformation, t0)
     if about == "quadratic":
-        return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, t0)
+        return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, bool(line_search), t0)
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
     from metamaterial_wb.core.lattice.solve import LinearLattice, finish
 
@@ -131,7 +131,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 
 
-def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, t0):
+def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, line_search, t0):
     """The lattice linearised about the quadratic model's predicted state (``about=quadratic``): one R0 solve
     for D, plate rotations from D, positions through the hinge chain, then one lattice solve with the
     corotational strains and forces of that state and its material (Gauss-Newton) tangent; actuators as
@@ -152,6 +152,9 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, t0)
     lin._chain = chain
     t3 = time.perf_counter()
     X, R, q, mu = lin.solve()
+    alpha = 1.0
+    if line_search:
+        alpha, X, R = lin.line_search(q, mu, X, R)
     t4 = time.perf_counter()
     X, R, phi, D = finish(geo, X, R)
     warnings = []
@@ -159,7 +162,7 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, t0)
     info = {"method": "lattice linearised about the quadratic model's state, one sparse KKT solve" if loaded
             else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
             "constraints": int(lin.joints.size), "reused_factorisation": False, "poses": lin.poses,
-            "about": "quadratic"}
+            "about": "quadratic", "step_length": alpha}
     info.update(lin.contact_info)
     if lin.contact_info.get("active_set_iterations"):
         info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"

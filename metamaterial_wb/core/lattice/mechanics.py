@@ -163,6 +163,20 @@ def _log_curvature(W, WB, sigma, h=1e-6):
     return 0.5 * (Hr + np.transpose(Hr, (0, 2, 1)))
 
 
+def hinge_strains(geo, X, R):
+    """(m, 6) strains ``eps = (u, Theta)`` of every hinge at the state ``(X, R)``: the same as
+    :class:`ElementState` ``.eps`` without the Jacobians (for energy evaluations, e.g. line searches)."""
+    a, b = geo.a, geo.b
+    W = R[a] @ geo.Q0
+    d = (X[b] - X[a] + np.einsum("mij,mj->mi", R[b], geo.rB) - np.einsum("mij,mj->mi", R[a], geo.rA))
+    u = np.einsum("mji,mj->mi", W, d)
+    u[:, 0] -= geo.rest
+    Th = log_so3(np.einsum("mji,mjk->mik", W, R[b] @ geo.Q0))
+    if getattr(geo, "arc_correction", False):
+        u -= _arc(Th, geo.rest, derivative=False)[0]
+    return np.concatenate([u, Th], axis=1)
+
+
 class ElementState:
     """Strains, Jacobians and (optionally) element tangents of every hinge at one state."""
 

@@ -22,7 +22,8 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry, fixed_items
-from metamaterial_wb.core.lattice.mechanics import ElementState, Pattern, _arc_coefficients, _cross_e1, expm_so3, log_so3
+from metamaterial_wb.core.lattice.mechanics import (ElementState, Pattern, _arc_coefficients, _cross_e1, expm_so3,
+                                                    hinge_strains, log_so3)
 
 PLANAR_DOFS = (0, 1, 5)
 _ROT_DOFS = np.array([3, 4, 5, 9, 10, 11])
@@ -267,6 +268,7 @@ class LinearLattice:
         self.contact = bool(contact)
         self.close_sign = -geo.parity[geo.a]
         self.kappa_c = contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt)
+        self.kappa_onset = self.kappa_c
         if self.eps0 is not None:        # closing rotation measured from the base state
             self.kappa_c = self.kappa_c - self.close_sign * self.eps0[:, 5]
         self.kc = contact_stiffness * geo.K[:, 5, 5]
@@ -393,16 +395,56 @@ class LinearLattice:
                     break
             else:
                 self.contact_info["active_set_converged"] = False
-        X, R = _apply(self.base[0], self.base[1], q, self.dofmap, geo.n)
+        X, R = self.pose(q)
+        return X, R, q, mu
+
+    def pose(self, q, alpha=1.0):
+        """Positions and rotations of the step ``alpha q`` from the base state: rotations ``exp`` of the
+        rotation increments, positions by the pose rule (``chain``: through the hinge chain)."""
+        geo = self.geo
+        X, R = _apply(self.base[0], self.base[1], alpha * q, self.dofmap, geo.n)
         if self.poses == "chain":        # positions through the hinge chain from the plate rotations
             if self._chain is None:
                 self._chain = ChainPositions(geo)
-            eps = (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0]
+            eps = alpha * (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0]
             if self.eps0 is not None:
                 eps = eps + self.eps0
             strain = eps[:, 0:3] - 0.5 * geo.rest * _cross_e1(eps[:, 3:6])    # beyond uniform bending
             X = self._chain(R, X, strain)
-        return X, R, q, mu
+        return X, R
+
+    def merit(self, eps, nu):
+        """The nonlinear model's energy at hinge strains ``eps`` (hinges and, with contact, its penalty on the
+        closing rotation past the onset) plus the exact penalty ``nu |c|_1`` of the actuator constraints."""
+        e = 0.5 * float(np.einsum("mi,mij,mj->", eps, self.geo.K, eps))
+        if self.contact:
+            over = np.maximum(self.close_sign * eps[:, 5] - self.kappa_onset, 0.0)
+            e += 0.5 * float(np.sum(self.kc * over * over))
+        if self.joints.size:
+            e += nu * float(np.abs(eps[self.joints, 5] - self.psi).sum())
+        return e
+
+    def line_search(self, q, mu, X1, R1):
+        """Step length along the solved step that minimises the merit (nonlinear energy + constraint penalty,
+        evaluated at the poses the model returns): a parabola through alpha = 0, 1/2, 1; its minimum is taken
+        only if its merit is below the full step's. Returns ``(alpha, X, R)``."""
+        if self.eps0 is None or not q.size:
+            return 1.0, X1, R1
+        nu = 2.0 * float(np.abs(mu).max(initial=0.0))
+        m0 = self.merit(self.eps0, nu)
+        m1 = self.merit(hinge_strains(self.geo, X1, R1), nu)
+        Xh, Rh = self.pose(q, 0.5)
+        mh = self.merit(hinge_strains(self.geo, Xh, Rh), nu)
+        curv = 2.0 * (m1 - 2.0 * mh + m0)
+        if not curv > 0:
+            return 1.0, X1, R1
+        a = min(2.0, max(1.0 / 64, (3.0 * m0 + m1 - 4.0 * mh) / (2.0 * curv)))
+        if a == 1.0:
+            return 1.0, X1, R1
+        Xa, Ra = (Xh, Rh) if a == 0.5 else self.pose(q, a)
+        if self.merit(hinge_strains(self.geo, Xa, Ra), nu) < m1:
+            return a, Xa, Ra
+        return 1.0, X1, R1
 
 
 # ----------------------------------------------------------------------------------------------------
