@@ -167,11 +167,27 @@ def hinge_strains(geo, X, R):
     """(m, 6) strains ``eps = (u, Theta)`` of every hinge at the state ``(X, R)``: the same as
     :class:`ElementState` ``.eps`` without the Jacobians (for energy evaluations, e.g. line searches)."""
     a, b = geo.a, geo.b
-    W = R[a] @ geo.Q0
-    d = (X[b] - X[a] + np.einsum("mij,mj->mi", R[b], geo.rB) - np.einsum("mij,mj->mi", R[a], geo.rA))
-    u = np.einsum("mji,mj->mi", W, d)
-    u[:, 0] -= geo.rest
-    Th = log_so3(np.einsum("mji,mjk->mik", W, R[b] @ geo.Q0))
+    if getattr(geo, "planar", False) and np.abs(R[:, 2, 2] - 1.0).max(initial=0.0) <= 1e-14:
+        # rotations about the sheet normal only (planar scenes): 2-D arithmetic, same values
+        phi = np.arctan2(R[:, 1, 0], R[:, 0, 0])
+        ca, sa, cb, sb = np.cos(phi[a]), np.sin(phi[a]), np.cos(phi[b]), np.sin(phi[b])
+        rA, rB = geo.rA, geo.rB
+        dx = X[b, 0] - X[a, 0] + cb * rB[:, 0] - sb * rB[:, 1] - ca * rA[:, 0] + sa * rA[:, 1]
+        dy = X[b, 1] - X[a, 1] + sb * rB[:, 0] + cb * rB[:, 1] - sa * rA[:, 0] - ca * rA[:, 1]
+        lx, ly = ca * dx + sa * dy, -sa * dx + ca * dy              # in plate A's axes
+        Q = geo.Q0
+        u = np.column_stack([Q[:, 0, 0] * lx + Q[:, 1, 0] * ly, Q[:, 0, 1] * lx + Q[:, 1, 1] * ly,
+                             X[b, 2] - X[a, 2]])
+        u[:, 0] -= geo.rest
+        t = phi[b] - phi[a]
+        Th = np.zeros((a.size, 3))
+        Th[:, 2] = t - 2.0 * np.pi * np.round(t / (2.0 * np.pi))
+    else:
+        W = R[a] @ geo.Q0
+        d = (X[b] - X[a] + np.einsum("mij,mj->mi", R[b], geo.rB) - np.einsum("mij,mj->mi", R[a], geo.rA))
+        u = np.einsum("mji,mj->mi", W, d)
+        u[:, 0] -= geo.rest
+        Th = log_so3(np.einsum("mji,mjk->mik", W, R[b] @ geo.Q0))
     if getattr(geo, "arc_correction", False):
         u -= _arc(Th, geo.rest, derivative=False)[0]
     return np.concatenate([u, Th], axis=1)

@@ -406,7 +406,9 @@ class LinearLattice:
         if self.poses == "chain":        # positions through the hinge chain from the plate rotations
             if self._chain is None:
                 self._chain = ChainPositions(geo)
-            eps = alpha * (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0]
+            if getattr(self, "_step", (None,))[0] is not q:       # linearised strains of the step (once per q)
+                self._step = (q, (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0])
+            eps = alpha * self._step[1]
             if self.eps0 is not None:
                 eps = eps + self.eps0
             strain = eps[:, 0:3] - 0.5 * geo.rest * _cross_e1(eps[:, 3:6])    # beyond uniform bending
@@ -425,23 +427,34 @@ class LinearLattice:
         return e
 
     def line_search(self, q, mu, X1, R1):
-        """Step length along the solved step that minimises the merit (nonlinear energy + constraint penalty,
-        evaluated at the poses the model returns): a parabola through alpha = 0, 1/2, 1; its minimum is taken
-        only if its merit is below the full step's. Returns ``(alpha, X, R)``."""
+        """Step length along the solved step that minimises the merit (the nonlinear energy plus the constraint
+        penalty, at the poses the model returns): the parabola through the merit and its slope at the base
+        state and the merit of the full step; its minimum is taken only if its merit is below the full
+        step's. Returns ``(alpha, X, R)``. The slope at the base is exact: to first order the returned poses
+        move along the solved increments (the hinge-chain positions satisfy the same linearised relations)."""
         if self.eps0 is None or not q.size:
             return 1.0, X1, R1
         nu = 2.0 * float(np.abs(mu).max(initial=0.0))
         m0 = self.merit(self.eps0, nu)
         m1 = self.merit(hinge_strains(self.geo, X1, R1), nu)
-        Xh, Rh = self.pose(q, 0.5)
-        mh = self.merit(hinge_strains(self.geo, Xh, Rh), nu)
-        curv = 2.0 * (m1 - 2.0 * mh + m0)
-        if not curv > 0:
+        if getattr(self, "_step", (None,))[0] is not q:
+            self._step = (q, (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0])
+        deps = self._step[1]
+        slope = float(self.g0 @ q)
+        if self.contact:
+            over = self.close_sign * self.eps0[:, 5] - self.kappa_onset
+            on = over > 0
+            slope += float(np.sum(self.kc[on] * over[on] * self.close_sign[on] * deps[on, 5]))
+        if self.joints.size:
+            c0 = self.eps0[self.joints, 5] - self.psi
+            slope += nu * float(np.sum(np.sign(c0) * deps[self.joints, 5]))
+        curv = m1 - m0 - slope
+        if not (slope < 0 and curv > 0):
             return 1.0, X1, R1
-        a = min(2.0, max(1.0 / 64, (3.0 * m0 + m1 - 4.0 * mh) / (2.0 * curv)))
+        a = min(2.0, max(1.0 / 64, -slope / (2.0 * curv)))
         if a == 1.0:
             return 1.0, X1, R1
-        Xa, Ra = (Xh, Rh) if a == 0.5 else self.pose(q, a)
+        Xa, Ra = self.pose(q, a)
         if self.merit(hinge_strains(self.geo, Xa, Ra), nu) < m1:
             return a, Xa, Ra
         return 1.0, X1, R1
