@@ -12,7 +12,8 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
 * linear: ``poses`` (``chain``, default: positions through the hinge chain from the plate rotations;
   ``linear``: the flat positions plus the solved displacements); ``about`` (``flat``, default: linearised
   at the flat sheet, factorisation cached across actuator values; ``quadratic``: linearised about the
-  quadratic model's predicted state, material tangent, one factorisation per call);
+  quadratic model's predicted state, material tangent, one factorisation per call); ``line_search``
+  (with ``about=quadratic``: step length minimising the nonlinear energy along the solved step, true);
 * nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),

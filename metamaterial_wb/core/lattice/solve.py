@@ -230,6 +230,14 @@ class LinearLattice:
     rotations through the hinge chain (:class:`ChainPositions`, ``poses="chain"``, the default) rather than
     from adding the solved displacements to the flat sheet (``poses="linear"``), which stretches every hinge
     by the second-order motion of the plate corners. Both agree to first order; ``q`` is the same.
+
+    ``base=(X, R)`` linearises about that state instead of the flat sheet (the ``about=quadratic`` option:
+    the quadratic model's predicted state, :func:`quadratic_state`): the corotational strains and hinge
+    forces of the state enter the right-hand side, the actuator constraints and the contact onset are
+    measured from it, and ``q`` is the increment from it. ``tangent="material"`` keeps only ``J^T K J``
+    (positive semi-definite; the state's non-equilibrium stress terms mislead the step,
+    docs/fidelity-models.md); ``"full"`` is the exact tangent. :meth:`line_search` then picks the step
+    length along ``q`` from the nonlinear energy.
     """
 
     def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4, poses="chain",
