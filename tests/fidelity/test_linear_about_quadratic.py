@@ -17,7 +17,8 @@ import pytest
 from metamaterial_wb.core import fidelity
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry
-from metamaterial_wb.core.lattice.solve import LinearLattice, node_twist
+from metamaterial_wb.core.lattice.mechanics import hinge_strains
+from metamaterial_wb.core.lattice.solve import ChainPositions, LinearLattice, node_twist, quadratic_state
 from metamaterial_wb.core.models import run_model
 from metamaterial_wb.core.scene import Scene
 
@@ -101,6 +102,31 @@ def test_near_mechanism_chain_at_working_amplitude_beats_the_flat_linearisation(
     e["about"] = fidelity.compare(sc, run_model("linear", sc, about="quadratic"), ref)["rms_D"]
     assert e["about"] < 0.5 * e["flat"]
     assert e["about"] < 0.5 * e["quadratic"]
+
+
+@pytest.mark.parametrize("which", ["grid10", "bending"])
+def test_step_length_slope_is_the_derivative_of_the_merit_along_the_returned_poses(which):
+    """The line search's analytic slope at the quadratic state equals a central difference of the merit
+    (nonlinear energy + constraint penalty) along the poses the model returns (hinge-chain positions), on a
+    planar grid and on the folded bending strip; the chosen step never has a higher merit than the full one."""
+    sc = dict((k, s) for k, _, s in fidelity.standard_scenes(0.5))[which]
+    geo = LatticeGeometry(sc)
+    chain = ChainPositions(geo)
+    _D, Xb, Rb = quadratic_state(sc, geo, chain)
+    lin = LinearLattice(sc, geo, base=(Xb, Rb), tangent="material")
+    lin._chain = chain
+    X1, R1, q, mu = lin.solve()
+    nu = 2.0 * float(np.abs(mu).max())
+    h = 1e-6
+
+    def merit(a):
+        return lin.merit(hinge_strains(geo, *lin.pose(q, a)), nu)
+    fd = (merit(h) - merit(-h)) / (2 * h)
+    assert lin.merit_slope(q, nu) == pytest.approx(fd, rel=1e-4)
+    assert lin.merit_slope(q, nu) < 0
+    alpha, Xa, Ra = lin.line_search(q, mu, X1, R1)
+    assert 0 < alpha <= 2
+    assert lin.merit(hinge_strains(geo, Xa, Ra), nu) <= lin.merit(hinge_strains(geo, X1, R1), nu)
 
 
 def test_option_is_validated_and_cli_output_format_is_unchanged(tmp_path):

@@ -434,17 +434,9 @@ class LinearLattice:
             e += nu * float(np.abs(eps[self.joints, 5] - self.psi).sum())
         return e
 
-    def line_search(self, q, mu, X1, R1):
-        """Step length along the solved step that minimises the merit (the nonlinear energy plus the constraint
-        penalty, at the poses the model returns): the parabola through the merit and its slope at the base
-        state and the merit of the full step; its minimum is taken only if its merit is below the full
-        step's. Returns ``(alpha, X, R)``. The slope at the base is exact: to first order the returned poses
-        move along the solved increments (the hinge-chain positions satisfy the same linearised relations)."""
-        if self.eps0 is None or not q.size:
-            return 1.0, X1, R1
-        nu = 2.0 * float(np.abs(mu).max(initial=0.0))
-        m0 = self.merit(self.eps0, nu)
-        m1 = self.merit(hinge_strains(self.geo, X1, R1), nu)
+    def merit_slope(self, q, nu):
+        """d merit / d alpha at alpha = 0 along the step ``alpha q`` from the base state (analytic: hinge
+        forces of the state, contact springs already past the onset, and the constraint penalty)."""
         if getattr(self, "_step", (None,))[0] is not q:
             self._step = (q, (self.J6 @ self.pattern.gather(q)[:, :, None])[:, :, 0])
         deps = self._step[1]
@@ -456,6 +448,20 @@ class LinearLattice:
         if self.joints.size:
             c0 = self.eps0[self.joints, 5] - self.psi
             slope += nu * float(np.sum(np.sign(c0) * deps[self.joints, 5]))
+        return slope
+
+    def line_search(self, q, mu, X1, R1):
+        """Step length along the solved step that minimises the merit (the nonlinear energy plus the constraint
+        penalty, at the poses the model returns): the parabola through the merit and its slope at the base
+        state and the merit of the full step; its minimum is taken only if its merit is below the full
+        step's. Returns ``(alpha, X, R)``. The slope at the base is exact: to first order the returned poses
+        move along the solved increments (the hinge-chain positions satisfy the same linearised relations)."""
+        if self.eps0 is None or not q.size:
+            return 1.0, X1, R1
+        nu = 2.0 * float(np.abs(mu).max(initial=0.0))
+        m0 = self.merit(self.eps0, nu)
+        m1 = self.merit(hinge_strains(self.geo, X1, R1), nu)
+        slope = self.merit_slope(q, nu)
         curv = m1 - m0 - slope
         if not (slope < 0 and curv > 0):
             return 1.0, X1, R1
