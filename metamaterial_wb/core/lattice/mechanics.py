@@ -298,6 +298,18 @@ class Pattern:
         self.n_active = n_active
         ed = dofmap[elem_dofs]                       # (m, 12)
         self.ed = ed
+        self.nc = 0 if con_elems is None else len(con_elems)
+        self.N = n_active + self.nc
+        self._con_elems = con_elems
+        self._ready = False          # the KKT pattern (a sort) is built on the first matrix() call
+        self._stiff = None
+
+    def _build(self):
+        """Pattern of the KKT matrix (repeated assemblies, e.g. Newton, reuse it)."""
+        self._ready = True
+        ed = self.ed
+        n_active = self.n_active
+        con_elems = self._con_elems
         m = ed.shape[0]
         r = np.repeat(ed, 12, axis=1)                # (m, 144)
         c = np.tile(ed, (1, 12))
@@ -326,9 +338,41 @@ class Pattern:
         colidx = uniq // N
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(colidx, minlength=N))]).astype(np.int32)
 
+    def stiffness(self, He):
+        """The assembled stiffness block alone, (n_active, n_active) CSC, for a single assembly (duplicates
+        summed by scipy's compressed-format conversion: no sort of the whole pattern)."""
+        if self._stiff is None:
+            # only the element DOFs that are active somewhere (planar scenes: 6 of 12)
+            loc = np.flatnonzero((self.ed >= 0).any(axis=0))
+            ed = self.ed[:, loc]
+            k = loc.size
+            r = np.repeat(ed, k, axis=1).ravel()
+            c = np.tile(ed, (1, k)).ravel()
+            keep = (r >= 0) & (c >= 0)
+            full = (loc[:, None] * 12 + loc[None, :]).ravel()          # (k*k,) positions in a 12 x 12 block
+            idx = (np.arange(ed.shape[0])[:, None] * 144 + full[None, :]).ravel()[keep]
+            self._stiff = (idx, r[keep], c[keep])
+        idx, r, c = self._stiff
+        n = self.n_active
+        M = sp.coo_matrix((He.reshape(-1)[idx], (r, c)), shape=(n, n)).tocsc()
+        M.sum_duplicates()
+        return M
+
+    def rows(self, Ae, elems):
+        """Element rows ``Ae`` (k, 12) of the elements ``elems`` -> dense (k, n_active) rows."""
+        out = np.zeros((len(elems), self.n_active))
+        if len(elems):
+            ed = self.ed[elems]
+            k = ed >= 0
+            rr = np.broadcast_to(np.arange(len(elems))[:, None], ed.shape)
+            np.add.at(out, (rr[k], ed[k]), Ae[k])
+        return out
+
     def matrix(self, He, Acon=None, reg=0.0):
         """KKT matrix ``[[H, A^T], [A, -reg I]]``. A tiny ``reg`` keeps it regular when constraints are
         redundant (e.g. clips on every joint around a cell: their relative rotations are dependent)."""
+        if not self._ready:
+            self._build()
         parts = [He.reshape(He.shape[0], -1).ravel()[self.keep_elem]]
         if self.nc:
             a = Acon.ravel()[self.con_keep]

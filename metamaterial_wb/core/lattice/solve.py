@@ -15,6 +15,7 @@ mechanics of :mod:`~metamaterial_wb.core.lattice.mechanics`.
   dynamic relaxation (kinetic damping) as the fallback, followed by a Newton polish. A result that
   did not reach the tolerance has ``converged = False`` and a warning.
 """
+import contextlib
 import math
 import time
 
@@ -58,6 +59,87 @@ def _kkt_solve(pat, He, A, reg, rhs):
         return spla.splu(pat.matrix(He, A, 0.0), **_SPLU).solve(rhs)
     except RuntimeError:
         return spla.splu(pat.matrix(He, A, reg), **_SPLU).solve(rhs)
+
+
+try:                                     # CHOLMOD (scikit-sparse, optional: tools/pip-optional.txt)
+    from sksparse.cholmod import cholesky as _cholmod
+except Exception:  # pragma: no cover - depends on the machine
+    _cholmod = None
+# the Schur-complement KKT solve keeps the multipliers' block dense: only for a few constraints
+SCHUR_MAX_CONSTRAINTS = 64
+
+
+class SchurKKT:
+    """Solver of the KKT system ``[[H, A^T], [A, -reg I]] [x; y] = [f; g]`` for a positive definite ``H``
+    (the material tangent ``J^T K J`` with one plate held): a sparse Cholesky factorisation of ``H``
+    (CHOLMOD) and the small dense Schur complement ``S = A H^-1 A^T + reg I`` of the few actuator constraints.
+    ``y = S^-1 (A H^-1 f - g)``, ``x = H^-1 (f - A^T y)``. Same answer as a sparse LU of the KKT matrix
+    (to rounding), with a cheaper factorisation and much cheaper back-substitutions (the contact updates
+    need one per hinge in contact). ``reg`` is used only when ``S`` is singular (redundant constraints),
+    like the LU path's fallback. ``build`` returns None where it does not apply (no CHOLMOD, too many
+    constraints, ``H`` not positive definite); the caller then factors the KKT matrix by LU."""
+
+    def __init__(self, F, A, HA, S_factor, na):
+        self._F, self.A, self.HA, self._S, self.na = F, A, HA, S_factor, na
+
+    @classmethod
+    def build(cls, H, A, reg):
+        import scipy.linalg as sla
+        if _cholmod is None or A.shape[0] > SCHUR_MAX_CONSTRAINTS or H.shape[0] == 0:
+            return None
+        import warnings
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")          # CHOLMOD warns (not raises) on a non-definite matrix
+                F = _cholmod(H, mode="supernodal") if H.shape[0] > 20000 else _cholmod(H)
+                Ld = F.D() if hasattr(F, "D") else None
+        except Exception:
+            return None
+        if Ld is not None and not (np.all(Ld > 0) and np.all(np.isfinite(Ld))):
+            return None                                  # indefinite tangent: the LU path pivots
+        HA = F(np.ascontiguousarray(A.T)) if A.shape[0] else np.zeros((H.shape[0], 0))
+        S = A @ HA
+        Sf = None
+        if A.shape[0]:
+            d = np.diag(S)
+            try:
+                Sf = sla.cho_factor(S, lower=True)
+                ok = np.min(np.abs(np.diag(Sf[0]))) ** 2 > 1e-12 * max(float(d.max()), 1e-300)
+            except np.linalg.LinAlgError:
+                ok = False
+            if not ok:                                   # redundant constraints: the multiplier shift
+                Sf = sla.cho_factor(S + reg * np.eye(S.shape[0]), lower=True)
+        return cls(F, A, HA, Sf, H.shape[0])
+
+    def solve(self, rhs):
+        import scipy.linalg as sla
+        na = self.na
+        f, g = rhs[:na], rhs[na:]
+        u = self._F(np.ascontiguousarray(f))
+        if self._S is None:
+            return np.concatenate([u, g * 0.0])
+        y = sla.cho_solve(self._S, self.A @ u - g)
+        return np.concatenate([u - self.HA @ y, y])
+
+
+@contextlib.contextmanager
+def reference_paths():
+    """Within the block, the linear model runs its plain reference paths (sparse LU of the whole KKT
+    matrix, LU for the hinge-chain positions, no CHOLMOD): for tests that the fast paths agree with it."""
+    global _cholmod
+    saved = _cholmod
+    _cholmod = None
+    try:
+        yield
+    finally:
+        _cholmod = saved
+
+
+class _Cholesky:
+    """CHOLMOD factor of an SPD matrix with the ``solve(rhs)`` interface of SuperLU."""
+
+    def __init__(self, M):
+        self.solve = _cholmod(M)
 
 
 def kkt_regularisation(geo):
@@ -125,8 +207,12 @@ class ChainPositions:
         c = np.concatenate([b, a, np.arange(n)]) - 1
         v = np.concatenate([-np.ones(2 * m), deg])
         k = (r >= 0) & (c >= 0)
-        L = sp.csc_matrix((v[k], (r[k], c[k])), shape=(n - 1, n - 1))
-        self.lu = spla.splu(L, permc_spec="MMD_AT_PLUS_A")
+        L = sp.coo_matrix((v[k], (r[k], c[k])), shape=(n - 1, n - 1)).tocsc()
+        if _cholmod is not None:                    # SPD: Cholesky when CHOLMOD is there (cheaper)
+            L.sum_duplicates()
+            self.lu = _Cholesky(L)
+        else:
+            self.lu = spla.splu(L, permc_spec="MMD_AT_PLUS_A")
 
     def chords(self, R, strain=None):
         """(m, 3) relations ``X_B - X_A`` for plate rotations ``R`` (``strain``: (m, 3) elastic offsets of the
@@ -271,8 +357,10 @@ class LinearLattice:
         self.J5 = st.J[:, 5, :].copy()
         self.J6 = st.J                      # strains (u, Theta) of the flat sheet per element DOF
         Acon = self.J5[self.joints] if self.joints.size else None
+        self._Acon = Acon
         self.reg = kkt_regularisation(geo)
-        self.KKT = self.pattern.matrix(st.H, Acon, 0.0)
+        self._KKT = None
+        self._schur_ok = base is None or tangent != "full"      # positive definite tangents only
         self.contact = bool(contact)
         self.close_sign = -geo.parity[geo.a]
         self.kappa_c = contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt)
@@ -287,20 +375,30 @@ class LinearLattice:
         self.timings = {"assemble_s": time.perf_counter() - t0}
         t1 = time.perf_counter()
         self.lu = None
+        self.H = self.pattern.stiffness(st.H)        # (na, na) CSC stiffness block
         if self.joints.size:
-            try:
-                self.lu = spla.splu(self.KKT, **_SPLU)
-            except RuntimeError:     # redundant constraints (e.g. clips on every joint around a cell)
-                self.KKT = self.pattern.matrix(st.H, Acon, self.reg)
-                self.lu = spla.splu(self.KKT, **_SPLU)
+            if self._schur_ok:
+                self.lu = SchurKKT.build(self.H, self.pattern.rows(Acon, self.joints), self.reg)
+            if self.lu is None:
+                try:
+                    self.lu = spla.splu(self.KKT, **_SPLU)
+                except RuntimeError:     # redundant constraints (e.g. clips on every joint around a cell)
+                    self._KKT = self.pattern.matrix(st.H, Acon, self.reg)
+                    self.lu = spla.splu(self._KKT, **_SPLU)
         self.timings["factor_s"] = time.perf_counter() - t1
+
+    @property
+    def KKT(self):
+        """The KKT matrix ``[[H, A^T], [A, 0]]`` (sparse; built on first use: the factorisation does not
+        need it when the Schur-complement solver applies)."""
+        if self._KKT is None:
+            self._KKT = self.pattern.matrix(self.He, self._Acon, 0.0)
+        return self._KKT
 
     def _energy(self, q):
         """Elastic energy ``q.H q / 2`` (H = the factored KKT matrix's stiffness block) plus the contact
         penalty; sparse products (this is evaluated in every active-set line search)."""
-        qz = np.zeros(self.pattern.N)
-        qz[:self.na] = q
-        e = 0.5 * float(q @ (self.KKT @ qz)[:self.na])
+        e = 0.5 * float(q @ (self.H @ q))
         if self.g0 is not None:
             e += float(self.g0 @ q)
         over = self._closing(q) - self.kappa_c
@@ -353,7 +451,7 @@ class LinearLattice:
             edm = self.pattern.ed[missing]
             cols = np.broadcast_to(np.arange(missing.size)[:, None], edm.shape)
             ok = edm >= 0
-            np.add.at(Ut, (edm[ok], cols[ok]), Jm[ok])
+            Ut[edm[ok], cols[ok]] = Jm[ok]        # one hinge per column, its DOFs distinct: no repeats
             self._zcol[missing] = self._Z.shape[1] + np.arange(missing.size)
             self._Z = np.hstack([self._Z, self.lu.solve(Ut)])
         Z = self._Z[:, self._zcol[active]]
@@ -706,7 +804,7 @@ class NonlinearLattice:
         lin = linear or LinearLattice(self.geo.scene, geo, contact=False)
         q0 = lin.solve(self.psi)[2]
         # force scale: the largest generalised force the actuators apply in the linear solution
-        Klin_q = lin.KKT[:lin.na, :lin.na] @ q0
+        Klin_q = lin.H @ q0
         scale_f = max(float(np.abs(Klin_q).max()), 1e-30)
         q_lin = None
         if self.predictor and lin.na == self.na:
