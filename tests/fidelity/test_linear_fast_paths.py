@@ -6,6 +6,8 @@ positions by LU, no CHOLMOD, no Schur complement, no planar shortcuts. Both are 
 scenes of the fidelity benchmark at amplitudes 0.05 and 0.5, with the default linearisation and with
 ``about=quadratic``; node rotations, positions and D must agree to rounding (1e-10).
 """
+import re
+
 import numpy as np
 import pytest
 
@@ -56,3 +58,70 @@ def test_reference_switch_is_restored_and_really_different():
         assert isinstance(fast_lin.lu, lattice_solve.SchurKKT)
     else:
         pytest.skip("CHOLMOD (scikit-sparse) not installed: the fast path is the LU path")
+
+
+def _quadratic_cases():
+    import glob
+    import os
+
+    from metamaterial_wb.core.scene import Scene
+
+    cases = [(f"{key}@{amp}", sc) for amp in SCENES for key, _t, sc in SCENES[amp]]
+    root = os.path.join(os.path.dirname(__file__), "..", "..", "examples")
+    for path in sorted(glob.glob(os.path.join(root, "*.json"))):
+        try:
+            cases.append((os.path.basename(path), Scene.load(path)))
+        except Exception:          # not a metamaterial scene (e.g. a sleeve specification)
+            continue
+    names = Scene.grid(1, 6).topology.joint_names
+    # an island: two strips joined only through a clipped joint's nodes, every hinge k1 = 1
+    cases.append(("island", Scene.from_dict({"layout": {"grid": [1, 6]},
+                                             "joints": [{"joint": j, "k1": 1.0} for j in names],
+                                             "constraints": [{"name": "c", "joint": "V0,3", "value": 0.0}]})))
+    # islands next to a driven part, per-joint stiffness overrides, an actuator and an equal clip sharing a node
+    cases.append(("driven+island", Scene.from_dict({
+        "layout": {"grid": [4, 4]},
+        "joints": [{"joint": "H1,1", "k1": 0.3, "k2": 2.5}, {"joint": "V2,2", "k2": 0.01}],
+        "actuators": [{"name": "m", "joint": "H1,1", "value": 0.7}],
+        "constraints": [{"name": "c", "joint": "V1,1", "value": 0.7}, {"name": "z", "joint": "H3,2", "value": -0.2}]})))
+    cases.append(("nothing fixed", Scene.from_dict({"layout": {"grid": [3, 3]}})))
+    return cases
+
+
+def test_lean_quadratic_solve_equals_the_quadratic_model():
+    """``about=quadratic``'s predictor solves the quadratic model leanly (free block only, one right-hand
+    side): D equals ``core/solver.solve_scene`` on every example scene, the standard scenes, islands (D = 0),
+    stiffness overrides and shared nodes."""
+    from metamaterial_wb.core.solver import solve_scene
+
+    cases = _quadratic_cases()
+    assert len(cases) >= 14
+    from metamaterial_wb.core.errors import MetamaterialError
+
+    solved = 0
+    for name, sc in cases:
+        try:
+            ref = solve_scene(sc)[0]
+        except MetamaterialError as exc:       # e.g. a hinge outside the calibration table: same refusal
+            with pytest.raises(MetamaterialError, match=re.escape(str(exc))):
+                lattice_solve.quadratic_D(sc)
+            continue
+        solved += 1
+        lean = lattice_solve.quadratic_D(sc)
+        assert np.abs(lean - ref).max() <= 1e-11 * max(1.0, np.abs(ref).max()), name
+        assert np.array_equal(lean == 0.0, ref == 0.0) or np.abs(ref[lean == 0.0]).max() < 1e-12, name
+    assert solved >= 14
+
+
+def test_lean_quadratic_solve_rejects_like_the_quadratic_model():
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.core.solver import solve_scene
+
+    sc = Scene.from_dict({"layout": {"grid": [3, 3]}, "actuators": [{"name": "m", "joint": "H1,1", "value": 0.5}]})
+    sc.actuators[0].value = 1.5            # bypassing validation: the quadratic model's own check answers
+    with pytest.raises(MetamaterialError) as ref:
+        solve_scene(sc)
+    with pytest.raises(MetamaterialError) as lean:
+        lattice_solve.quadratic_D(sc)
+    assert str(lean.value) == str(ref.value)

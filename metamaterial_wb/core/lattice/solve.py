@@ -67,6 +67,7 @@ except Exception:  # pragma: no cover - depends on the machine
     _cholmod = None
 # the Schur-complement KKT solve keeps the multipliers' block dense: only for a few constraints
 SCHUR_MAX_CONSTRAINTS = 64
+_FAST = True          # the fast paths (False inside reference_paths(): the plain reference computations)
 
 
 class SchurKKT:
@@ -109,16 +110,16 @@ class SchurKKT:
                 ok = False
             if not ok:                                   # redundant constraints: the multiplier shift
                 Sf = sla.cho_factor(S + reg * np.eye(S.shape[0]), lower=True)
-        return cls(F, A, HA, Sf, H.shape[0])
+        Sinv = sla.cho_solve(Sf, np.eye(A.shape[0])) if Sf is not None else None    # a few x a few
+        return cls(F, A, HA, Sinv, H.shape[0])
 
     def solve(self, rhs):
-        import scipy.linalg as sla
         na = self.na
         f, g = rhs[:na], rhs[na:]
         u = self._F(np.ascontiguousarray(f))
         if self._S is None:
             return np.concatenate([u, g * 0.0])
-        y = sla.cho_solve(self._S, self.A @ u - g)
+        y = self._S @ (self.A @ u - g)
         return np.concatenate([u - self.HA @ y, y])
 
 
@@ -126,13 +127,13 @@ class SchurKKT:
 def reference_paths():
     """Within the block, the linear model runs its plain reference paths (sparse LU of the whole KKT
     matrix, LU for the hinge-chain positions, no CHOLMOD): for tests that the fast paths agree with it."""
-    global _cholmod
-    saved = _cholmod
-    _cholmod = None
+    global _cholmod, _FAST
+    saved = _cholmod, _FAST
+    _cholmod, _FAST = None, False
     try:
         yield
     finally:
-        _cholmod = saved
+        _cholmod, _FAST = saved
 
 
 class _Cholesky:
@@ -272,7 +273,85 @@ def _apply(X, R, q, dofmap, n):
     k = dofmap[:6 * n] >= 0
     full[k] = q[dofmap[:6 * n][k]]
     full = full.reshape(n, 6)
+    if _FAST and not np.any(full[:, 3:5]):       # rotations about the sheet normal only: 2-D arithmetic
+        c, s = np.cos(full[:, 5]), np.sin(full[:, 5])
+        R2 = np.empty_like(R)
+        R2[:, 0, :] = c[:, None] * R[:, 0, :] - s[:, None] * R[:, 1, :]
+        R2[:, 1, :] = s[:, None] * R[:, 0, :] + c[:, None] * R[:, 1, :]
+        R2[:, 2, :] = R[:, 2, :]
+        return X + full[:, :3], R2
     return X + full[:, :3], expm_so3(full[:, 3:]) @ R
+
+
+def quadratic_D(scene):
+    """The quadratic model's D field (``core/solver.solve_scene(scene)[0]``, same energy, fixed nodes and
+    islands), assembled lean for one solve: only the free-node block of the Hessian, one right-hand side,
+    no response matrix. Anything the quadratic model would reject (values out of range, a node given two
+    values, bad stiffness) goes through ``solve_scene`` itself, which raises its error."""
+    from scipy.sparse.csgraph import connected_components
+    import scipy.sparse as sp
+
+    from metamaterial_wb.core.calibration import joint_stiffness
+    from metamaterial_wb.core.solver import scene_groups, scene_values, solve_scene
+
+    if not _FAST:
+        return solve_scene(scene)[0]
+    topo = scene.topology
+    n = topo.n_nodes
+    k1, k2 = (np.asarray(x, float) for x in joint_stiffness(scene))
+    values = scene_values(scene)
+    D = np.zeros(n)
+    fixed = np.zeros(n, dtype=bool)
+    for name, nodes in scene_groups(scene):
+        v = values[name]
+        nodes = np.asarray(nodes, dtype=np.int64)
+        if not (np.isfinite(v) and -1.0 <= v <= 1.0) or np.any(fixed[nodes] & (D[nodes] != v)):
+            return solve_scene(scene)[0]
+        new = nodes[~fixed[nodes]]
+        D[new] = v
+        fixed[new] = True
+    if not (np.all(np.isfinite(k1) & (k1 >= 0) & (k1 <= 1)) and np.all(np.isfinite(k2) & (k2 > 0))):
+        return solve_scene(scene)[0]
+    a, b = topo.joint_pairs[:, 0], topo.joint_pairs[:, 1]
+    free = np.flatnonzero(~fixed)
+    if not free.size:
+        return D
+    pos = -np.ones(n, dtype=np.int64)
+    pos[free] = np.arange(free.size)
+    ff = ~fixed[a] & ~fixed[b]
+    # islands: free components with no joint to a fixed node keep D = 0 (as the quadratic model)
+    adj = sp.coo_matrix((np.ones(int(ff.sum())), (pos[a[ff]], pos[b[ff]])), shape=(free.size, free.size))
+    ncomp, labels = connected_components(adj, directed=False)
+    touches = np.zeros(ncomp, dtype=bool)
+    touches[labels[pos[a[~fixed[a] & fixed[b]]]]] = True
+    touches[labels[pos[b[fixed[a] & ~fixed[b]]]]] = True
+    solved = touches[labels]
+    if not np.any(solved):
+        return D
+    # Hessian of sum k2 (k1 (Da - Db)^2 + (1 - k1)(Da^2 + Db^2)) on the solved free nodes
+    keep = -np.ones(n, dtype=np.int64)
+    sfree = free[solved]
+    keep[sfree] = np.arange(sfree.size)
+    diag = np.bincount(a, weights=2 * k2, minlength=n) + np.bincount(b, weights=2 * k2, minlength=n)
+    off = -2.0 * k1 * k2
+    both = (keep[a] >= 0) & (keep[b] >= 0)
+    rows = np.concatenate([np.arange(sfree.size), keep[a[both]], keep[b[both]]])
+    cols = np.concatenate([np.arange(sfree.size), keep[b[both]], keep[a[both]]])
+    vals = np.concatenate([diag[sfree], off[both], off[both]])
+    H = sp.coo_matrix((vals, (rows, cols)), shape=(sfree.size, sfree.size)).tocsc()
+    H.sum_duplicates()
+    # right-hand side -H_FA D_A: joints from a solved free node to a fixed one
+    rhs = np.zeros(sfree.size)
+    ka = (keep[a] >= 0) & fixed[b]
+    kb = fixed[a] & (keep[b] >= 0)
+    rhs -= np.bincount(keep[a[ka]], weights=off[ka] * D[b[ka]], minlength=sfree.size)
+    rhs -= np.bincount(keep[b[kb]], weights=off[kb] * D[a[kb]], minlength=sfree.size)
+    if _cholmod is not None:
+        D[sfree] = _cholmod(H)(rhs)
+    else:
+        D[sfree] = spla.splu(H, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                             options={"SymmetricMode": True}).solve(rhs)
+    return D
 
 
 def quadratic_state(scene, geo, chain=None, pose="rotations"):
@@ -285,9 +364,8 @@ def quadratic_state(scene, geo, chain=None, pose="rotations"):
     model's own positions (``core/kinematics``, straight hinge chords).
     """
     from metamaterial_wb.core import kinematics
-    from metamaterial_wb.core.solver import solve_scene
 
-    D = solve_scene(scene)[0]
+    D = quadratic_D(scene)
     if geo.planar and pose == "rotations":
         R = kinematics.rotation_matrices(geo.phi_from_D(D))
         X = None
@@ -371,6 +449,7 @@ class LinearLattice:
         self.contact_info = {"contact_hinges": 0, "active_set_iterations": 0}
         self._zcol = None            # column of each hinge's cached back-substitution in self._Z (-1: none yet)
         self._Z = None
+        self._Ut = None
         self._Jc = None
         self.timings = {"assemble_s": time.perf_counter() - t0}
         t1 = time.perf_counter()
@@ -454,10 +533,18 @@ class LinearLattice:
             Ut[edm[ok], cols[ok]] = Jm[ok]        # one hinge per column, its DOFs distinct: no repeats
             self._zcol[missing] = self._Z.shape[1] + np.arange(missing.size)
             self._Z = np.hstack([self._Z, self.lu.solve(Ut)])
-        Z = self._Z[:, self._zcol[active]]
+            if _FAST:                               # keep the rows U too: U V is then one dense product
+                self._Ut = Ut if self._Ut is None else np.hstack([self._Ut, Ut])
+        cols = self._zcol[active]
+        Z = self._Z[:, cols]
         y = y_free + Z @ (kc * self.kappa_c[active])
-        S = np.diag(1.0 / kc) + self._rows(active, Z)
-        x = y - Z @ np.linalg.solve(S, self._rows(active, y))
+        if _FAST and self._Ut is not None and self._Ut.shape[1] == self._Z.shape[1]:
+            U = self._Ut[:, cols].T
+            S = np.diag(1.0 / kc) + U @ Z
+            x = y - Z @ np.linalg.solve(S, U @ y)
+        else:
+            S = np.diag(1.0 / kc) + self._rows(active, Z)
+            x = y - Z @ np.linalg.solve(S, self._rows(active, y))
         return x[:self.na], x[self.na:]
 
     def solve(self, psi=None):
