@@ -73,19 +73,19 @@ _FAST = True          # the fast paths (False inside reference_paths(): the plai
 class SchurKKT:
     """Solver of the KKT system ``[[H, A^T], [A, -reg I]] [x; y] = [f; g]`` for a positive definite ``H``
     (the material tangent ``J^T K J`` with one plate held): a sparse Cholesky factorisation of ``H``
-    (CHOLMOD) and the small dense Schur complement ``S = A H^-1 A^T + reg I`` of the few actuator constraints.
-    ``y = S^-1 (A H^-1 f - g)``, ``x = H^-1 (f - A^T y)``. Same answer as a sparse LU of the KKT matrix
-    (to rounding), with a cheaper factorisation and much cheaper back-substitutions (the contact updates
-    need one per hinge in contact). ``reg`` is used only when ``S`` is singular (redundant constraints),
-    like the LU path's fallback. ``build`` returns None where it does not apply (no CHOLMOD, too many
-    constraints, ``H`` not positive definite); the caller then factors the KKT matrix by LU."""
+    (CHOLMOD) and the small dense Schur complement ``S = A H^-1 A^T`` of the few actuator constraints:
+    ``y = S^-1 (A H^-1 f - g)``, ``x = H^-1 (f - A^T y)`` (``reg = 0``). Same answer as a sparse LU of the KKT
+    matrix (to rounding), with a cheaper factorisation and much cheaper back-substitutions (the contact
+    updates need one per hinge in contact). Redundant constraints (``S`` singular): pseudo-inverse of ``S``
+    (the plates' motion is unique, the multipliers are the least-norm ones). ``build`` returns None where it
+    does not apply (no CHOLMOD, too many constraints, ``H`` not positive definite); the caller then factors
+    the KKT matrix by LU."""
 
     def __init__(self, F, A, HA, S_factor, na):
         self._F, self.A, self.HA, self._S, self.na = F, A, HA, S_factor, na
 
     @classmethod
-    def build(cls, H, A, reg):
-        import scipy.linalg as sla
+    def build(cls, H, A):
         if _cholmod is None or A.shape[0] > SCHUR_MAX_CONSTRAINTS or H.shape[0] == 0:
             return None
         import warnings
@@ -100,17 +100,14 @@ class SchurKKT:
             return None                                  # indefinite tangent: the LU path pivots
         HA = F(np.ascontiguousarray(A.T)) if A.shape[0] else np.zeros((H.shape[0], 0))
         S = A @ HA
-        Sf = None
+        Sinv = None
         if A.shape[0]:
-            d = np.diag(S)
-            try:
-                Sf = sla.cho_factor(S, lower=True)
-                ok = np.min(np.abs(np.diag(Sf[0]))) ** 2 > 1e-12 * max(float(d.max()), 1e-300)
-            except np.linalg.LinAlgError:
-                ok = False
-            if not ok:                                   # redundant constraints: the multiplier shift
-                Sf = sla.cho_factor(S + reg * np.eye(S.shape[0]), lower=True)
-        Sinv = sla.cho_solve(Sf, np.eye(A.shape[0])) if Sf is not None else None    # a few x a few
+            # S is symmetric positive semi-definite; redundant constraints (e.g. every joint around a cell
+            # actuated) make it singular. Its null directions v have A^T v = 0 (H is definite), so they do
+            # not move the plates: leave them out (pseudo-inverse) rather than amplify rounding along them.
+            w, V = np.linalg.eigh(0.5 * (S + S.T))
+            keep = w > 1e-10 * max(float(w.max()), 1e-300)
+            Sinv = (V[:, keep] / w[keep]) @ V[:, keep].T
         return cls(F, A, HA, Sinv, H.shape[0])
 
     def solve(self, rhs):
@@ -457,7 +454,7 @@ class LinearLattice:
         self.H = self.pattern.stiffness(st.H)        # (na, na) CSC stiffness block
         if self.joints.size:
             if self._schur_ok:
-                self.lu = SchurKKT.build(self.H, self.pattern.rows(Acon, self.joints), self.reg)
+                self.lu = SchurKKT.build(self.H, self.pattern.rows(Acon, self.joints))
             if self.lu is None:
                 try:
                     self.lu = spla.splu(self.KKT, **_SPLU)
