@@ -125,3 +125,59 @@ def test_lean_quadratic_solve_rejects_like_the_quadratic_model():
     with pytest.raises(MetamaterialError) as lean:
         lattice_solve.quadratic_D(sc)
     assert str(lean.value) == str(ref.value)
+
+
+@pytest.mark.parametrize("arc", [True, False])
+def test_planar_element_state_equals_the_general_one(arc):
+    """The 2-D kernel gives ElementState's strains, hinge forces, Jacobian and material tangent on the DOFs a
+    planar scene keeps, at a planar state far from the flat sheet (plates turned up to 0.6 rad, hinges
+    stretched and sheared, one hinge bent past pi/2 relative rotation)."""
+    from metamaterial_wb.core import kinematics
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    from metamaterial_wb.core.lattice.mechanics import ElementState, PlanarElementState
+
+    scene = SCENES[0.5][4][2]                    # mixed hinge sizes
+    geo = LatticeGeometry(scene)
+    rng = np.random.default_rng(3)
+    phi = rng.uniform(-0.6, 0.6, geo.n)
+    phi[geo.b[0]] = phi[geo.a[0]] + 1.9
+    R = kinematics.rotation_matrices(phi)
+    X = geo.X0 + rng.normal(scale=0.3, size=geo.X0.shape) * np.array([1.0, 1.0, 0.0])
+    assert PlanarElementState.applies(geo, R)
+    ref = ElementState(geo, X, R, tangent=False, arc=arc)
+    fast = PlanarElementState(geo, X, R, arc=arc)
+    inplane = [0, 1, 5, 6, 7, 11]
+    assert np.abs(fast.eps - ref.eps).max() <= 1e-12 * np.abs(ref.eps).max()
+    assert np.abs(fast.J[:, :, inplane] - ref.J[:, :, inplane]).max() <= 1e-12 * np.abs(ref.J).max()
+    assert np.abs(fast.grad[:, inplane] - ref.grad[:, inplane]).max() <= 1e-12 * np.abs(ref.grad).max()
+    Hm = np.transpose(ref.J, (0, 2, 1)) @ (geo.K @ ref.J)
+    sub = np.ix_(np.arange(geo.m), inplane, inplane)
+    assert np.abs(fast.H[sub] - Hm[sub]).max() <= 1e-12 * np.abs(Hm).max()
+    assert np.abs(ref.eps[:, 5]).max() > 1.8         # the large relative rotation is really there
+
+
+def test_fast_linear_model_uses_the_fast_kernels():
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    from metamaterial_wb.core.lattice.mechanics import PlanarElementState
+
+    made = []
+    orig = PlanarElementState.__init__
+
+    def spy(self, *a, **k):
+        made.append(1)
+        orig(self, *a, **k)
+
+    PlanarElementState.__init__ = spy
+    try:
+        scene = SCENES[0.5][1][2]
+        run_model("linear", scene, about="quadratic")
+        n_fast = len(made)
+        with lattice_solve.reference_paths():
+            lattice.clear_cache()
+            run_model("linear", scene, about="quadratic")
+    finally:
+        PlanarElementState.__init__ = orig
+    assert n_fast >= 1 and len(made) == n_fast            # used on the fast path, never on the reference path
+    eye = np.broadcast_to(np.eye(3), (4, 3, 3))
+    assert PlanarElementState.applies(LatticeGeometry(scene), eye)
+    assert not PlanarElementState.applies(LatticeGeometry(SCENES[0.5][3][2]), eye)      # tilted hinges: 3-D

@@ -391,3 +391,71 @@ class Pattern:
         """Active global vector -> (m, 12) element values (0 for left-out DOFs)."""
         full = np.concatenate([q, [0.0]])
         return full[self.ed]
+
+
+class PlanarElementState:
+    """:class:`ElementState`'s strains, Jacobians and hinge forces for a planar scene at a planar state
+    (every plate turned about the sheet normal only), in 2-D arithmetic: the same values (to rounding) on the
+    in-plane DOFs (x, y and the rotation about z of both plates), which are the only ones a planar scene
+    keeps; the out-of-plane entries of ``J`` are left zero. ``H`` is the material tangent ``J^T K J`` (at the
+    flat sheet, where the forces vanish, the full tangent). Used by the linear model (tests:
+    tests/fidelity/test_linear_fast_paths.py)."""
+
+    def __init__(self, geo, X, R, arc=True):
+        a, b = geo.a, geo.b
+        K = geo.K
+        m = a.size
+        RA, RB = R[a], R[b]
+        Q = geo.Q0
+        # hinge axes of plate A in space (in-plane: the third components vanish), rows of W^T
+        w1x = RA[:, 0, 0] * Q[:, 0, 0] + RA[:, 0, 1] * Q[:, 1, 0]
+        w1y = RA[:, 1, 0] * Q[:, 0, 0] + RA[:, 1, 1] * Q[:, 1, 0]
+        w2x = RA[:, 0, 0] * Q[:, 0, 1] + RA[:, 0, 1] * Q[:, 1, 1]
+        w2y = RA[:, 1, 0] * Q[:, 0, 1] + RA[:, 1, 1] * Q[:, 1, 1]
+        rA, rB = geo.rA, geo.rB
+        rhoAx = RA[:, 0, 0] * rA[:, 0] + RA[:, 0, 1] * rA[:, 1]
+        rhoAy = RA[:, 1, 0] * rA[:, 0] + RA[:, 1, 1] * rA[:, 1]
+        rhoBx = RB[:, 0, 0] * rB[:, 0] + RB[:, 0, 1] * rB[:, 1]
+        rhoBy = RB[:, 1, 0] * rB[:, 0] + RB[:, 1, 1] * rB[:, 1]
+        D0x = X[b, 0] - X[a, 0] + rhoBx
+        D0y = X[b, 1] - X[a, 1] + rhoBy
+        dx, dy = D0x - rhoAx, D0y - rhoAy
+        eps = np.zeros((m, 6))
+        eps[:, 0] = w1x * dx + w1y * dy - geo.rest
+        eps[:, 1] = w2x * dx + w2y * dy
+        eps[:, 2] = X[b, 2] - X[a, 2]
+        phi = np.arctan2(R[:, 1, 0], R[:, 0, 0])
+        t = phi[b] - phi[a]
+        t = t - 2.0 * np.pi * np.round(t / (2.0 * np.pi))
+        eps[:, 5] = t
+        J = np.zeros((m, 6, 12))
+        J[:, 0, 0], J[:, 0, 1], J[:, 0, 6], J[:, 0, 7] = -w1x, -w1y, w1x, w1y
+        J[:, 1, 0], J[:, 1, 1], J[:, 1, 6], J[:, 1, 7] = -w2x, -w2y, w2x, w2y
+        J[:, 0, 5] = w1x * D0y - w1y * D0x                 # (w x D0)_z
+        J[:, 1, 5] = w2x * D0y - w2y * D0x
+        J[:, 0, 11] = rhoBx * w1y - rhoBy * w1x            # (rhoB x w)_z
+        J[:, 1, 11] = rhoBx * w2y - rhoBy * w2x
+        J[:, 5, 5] = -1.0
+        J[:, 5, 11] = 1.0
+        if arc:
+            # measure u from the chord of the uniformly bent hinge (ElementState with Theta = (0, 0, t))
+            t2 = t * t
+            A_, B_, dA, dB = _arc_coefficients(t2)
+            rest = geo.rest
+            eps[:, 0] -= rest * (-B_ * t2)
+            eps[:, 1] -= rest * ((A_ - 0.5) * t)
+            dc0 = rest * (-2.0 * B_ * t - 2.0 * dB * t2 * t)
+            dc1 = rest * ((A_ - 0.5) + 2.0 * dA * t2)
+            J[:, 0, 5] += dc0
+            J[:, 0, 11] -= dc0
+            J[:, 1, 5] += dc1
+            J[:, 1, 11] -= dc1
+        s = (K @ eps[:, :, None])[:, :, 0]
+        self.eps, self.J, self.s = eps, J, s
+        self.grad = (s[:, None, :] @ J)[:, 0, :]
+        self.H = np.transpose(J, (0, 2, 1)) @ (K @ J)
+
+    @staticmethod
+    def applies(geo, R):
+        """A planar scene at a state turned about the sheet normal only (as ``hinge_strains``' shortcut)."""
+        return bool(getattr(geo, "planar", False) and np.abs(R[:, 2, 2] - 1.0).max(initial=0.0) <= 1e-14)

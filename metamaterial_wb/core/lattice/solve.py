@@ -23,8 +23,8 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry, fixed_items
-from metamaterial_wb.core.lattice.mechanics import (ElementState, Pattern, _arc_coefficients, _cross_e1, expm_so3,
-                                                    hinge_strains, log_so3)
+from metamaterial_wb.core.lattice.mechanics import (ElementState, Pattern, PlanarElementState, _arc_coefficients,
+                                                    _cross_e1, expm_so3, hinge_strains, log_so3)
 
 PLANAR_DOFS = (0, 1, 5)
 _ROT_DOFS = np.array([3, 4, 5, 9, 10, 11])
@@ -417,17 +417,23 @@ class LinearLattice:
         if base is None:
             # at the flat sheet the arc correction and its first derivative vanish: leave it out
             self.base = (geo.X0, np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy())
-            st = ElementState(geo, self.base[0], self.base[1], tangent=True, arc=False)
+            if _FAST and PlanarElementState.applies(geo, self.base[1]):
+                st = PlanarElementState(geo, self.base[0], self.base[1], arc=False)
+            else:
+                st = ElementState(geo, self.base[0], self.base[1], tangent=True, arc=False)
             self.g0 = None                  # no force, no strain at the flat sheet
             self.eps0 = None
         else:
             # linearised about a deformed state (X, R): corotational strains, forces and tangent there
             self.base = (np.asarray(base[0], float), np.asarray(base[1], float))
-            st = ElementState(geo, self.base[0], self.base[1], tangent=(tangent == "full"))
+            if _FAST and tangent != "full" and PlanarElementState.applies(geo, self.base[1]):
+                st = PlanarElementState(geo, self.base[0], self.base[1])      # material tangent included
+            else:
+                st = ElementState(geo, self.base[0], self.base[1], tangent=(tangent == "full"))
+                if tangent != "full":        # material (Gauss-Newton) part J^T K J only: no stress terms
+                    st.H = np.transpose(st.J, (0, 2, 1)) @ (geo.K @ st.J)
             self.g0 = self.pattern.vector(st.grad)
             self.eps0 = st.eps
-            if tangent != "full":        # material (Gauss-Newton) part J^T K J only: no stress terms
-                st.H = np.transpose(st.J, (0, 2, 1)) @ (geo.K @ st.J)
         self.He = st.H
         self.J5 = st.J[:, 5, :].copy()
         self.J6 = st.J                      # strains (u, Theta) of the flat sheet per element DOF
