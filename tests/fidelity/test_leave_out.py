@@ -102,20 +102,21 @@ def test_contact_terms_only_where_needed():
 
 
 def test_linear_model_called_again_with_new_values_reuses_the_factorisation():
-    """The animation path: run_model('linear', scene) with only actuator values changed reuses the cached
-    factorisation; the answer equals a cold build, and a structural change is never served from the cache."""
+    """The animation path: run_model('linear', scene, about='flat') with only actuator values changed reuses the
+    cached factorisation; the answer equals a cold build, and a structural change is never served from the cache."""
     import metamaterial_wb.core.lattice as lattice
 
     lattice.clear_cache()
     acts = [{"name": "m1", "joint": "H2,1", "value": 0.3}, {"name": "m2", "joint": "V1,3", "value": -0.2}]
-    a = run_model("linear", grid(8, acts))
+    a = run_model("linear", grid(8, acts), about="flat")
     assert a.info["reused_factorisation"] is False
     acts2 = [dict(acts[0], value=-0.15), dict(acts[1], value=0.4)]
-    warm = run_model("linear", grid(8, acts2))
+    warm = run_model("linear", grid(8, acts2), about="flat")
     assert warm.info["reused_factorisation"] is True
     lattice.clear_cache()
-    cold = run_model("linear", grid(8, acts2))
+    cold = run_model("linear", grid(8, acts2), about="flat")
     assert cold.info["reused_factorisation"] is False
     assert np.allclose(warm.D, cold.D, rtol=0, atol=1e-10)
-    other = run_model("linear", grid(8, acts2, hinge={"length_mm": 3.0, "width_mm": 0.8, "thickness_mm": 7}))
+    other = run_model("linear", grid(8, acts2, hinge={"length_mm": 3.0, "width_mm": 0.8, "thickness_mm": 7}),
+                      about="flat")
     assert other.info["reused_factorisation"] is False and not np.allclose(other.D, cold.D)

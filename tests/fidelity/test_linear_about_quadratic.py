@@ -98,7 +98,7 @@ def test_near_mechanism_chain_at_working_amplitude_beats_the_flat_linearisation(
     ref = run_model("nonlinear", sc, **fidelity.REFERENCE_OPTIONS)
     e = {name: fidelity.compare(sc, run_model(*args), ref)["rms_D"]
          for name, args in (("quadratic", ("quadratic", sc)),)}
-    e["flat"] = fidelity.compare(sc, run_model("linear", sc), ref)["rms_D"]
+    e["flat"] = fidelity.compare(sc, run_model("linear", sc, about="flat"), ref)["rms_D"]
     e["about"] = fidelity.compare(sc, run_model("linear", sc, about="quadratic"), ref)["rms_D"]
     assert e["about"] < 0.5 * e["flat"]
     assert e["about"] < 0.5 * e["quadratic"]
@@ -136,21 +136,44 @@ def test_option_is_validated_and_cli_output_format_is_unchanged(tmp_path):
     p = tmp_path / "s.json"
     p.write_text(sc.to_json())
     docs = {}
-    for extra in ([], ["--option", "about=quadratic"]):
-        out = tmp_path / f"r{len(extra)}.json"
+    for extra in (["--option", "about=flat"], ["--option", "about=quadratic"], []):
+        out = tmp_path / f"r{'-'.join(extra) or 'default'}.json"
         r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "solve", str(p), "--out", str(out), "--model",
                             "linear"] + extra, cwd=REPO, capture_output=True, text=True)
         assert r.returncode == 0, r.stderr
-        docs[len(extra)] = json.loads(out.read_text())
-    assert set(docs[0]) == set(docs[2])
-    assert set(docs[0]["nodes"][0]) == set(docs[2]["nodes"][0])
+        docs[extra[-1] if extra else "default"] = json.loads(out.read_text())
+    flat, quad, default = docs["about=flat"], docs["about=quadratic"], docs["default"]
+    assert set(flat) == set(quad) == set(default)
+    assert set(flat["nodes"][0]) == set(quad["nodes"][0])
     # same scene, different linearisation point: close (small actuation), not identical
-    D0 = np.array([n["D"] for n in docs[0]["nodes"]])
-    D2 = np.array([n["D"] for n in docs[2]["nodes"]])
+    D0 = np.array([n["D"] for n in flat["nodes"]])
+    D2 = np.array([n["D"] for n in quad["nodes"]])
     assert 0 < np.abs(D0 - D2).max() < 0.1
+    # the default is about=quadratic
+    assert np.array_equal(np.array([n["D"] for n in default["nodes"]]), D2)
 
 
 def test_no_load_is_the_flat_sheet():
     sc = grid(3, 3, [{"name": "m1", "joint": "H1,1", "value": 0.0}])
     res = run_model("linear", sc, about="quadratic")
     assert res.converged and np.all(res.D == 0)
+
+
+def test_default_is_about_quadratic_and_falls_back_to_flat_where_the_quadratic_model_cannot_predict():
+    sc = grid(3, 3, [{"name": "m1", "joint": "H1,1", "value": 0.3}])
+    res = run_model("linear", sc)
+    assert res.info["about"] == "quadratic" and not res.warnings
+    assert np.array_equal(res.D, run_model("linear", sc, about="quadratic").D)
+    # hinges outside the calibration table: the quadratic model refuses the scene ...
+    odd = grid(3, 3, [{"name": "m1", "joint": "H1,1", "value": 0.3}],
+               hinge={"length_mm": 9.99, "width_mm": 0.8, "thickness_mm": 7})
+    with pytest.raises(SceneError, match="calibration table"):
+        run_model("quadratic", odd)
+    with pytest.raises(SceneError, match="calibration table"):          # asked for explicitly: refused too
+        run_model("linear", odd, about="quadratic")
+    # ... the default linear model still solves it, at the flat sheet, and says so
+    res = run_model("linear", odd)
+    flat = run_model("linear", odd, about="flat")
+    assert res.info["about"] == "flat" and "calibration table" in res.info["about_fallback"]
+    assert any("linearised at the flat sheet instead" in w for w in res.warnings)
+    assert np.array_equal(res.D, flat.D) and res.converged

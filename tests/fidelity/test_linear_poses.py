@@ -45,7 +45,7 @@ def test_uniform_mechanism_pitch_is_the_closed_form(value):
     a, b = sc.topology.node_index[(1, 0)], sc.topology.node_index[(1, 3)]
     out = {}
     for poses in ("chain", "linear"):
-        res = run_model("linear", sc, poses=poses)
+        res = run_model("linear", sc, poses=poses, about="flat")
         assert res.converged and res.info["poses"] == poses
         out[poses] = (np.linalg.norm(res.positions_mm[b] - res.positions_mm[a]) / 3, np.abs(res.D - value).max())
     assert out["chain"][0] == pytest.approx(pitch_closed, rel=1e-8)
@@ -73,8 +73,8 @@ def test_chain_poses_agree_with_linear_displacements_to_second_order():
     diffs = []
     for f in (1.0, 0.5, 0.25):
         sc = grid(5, [dict(a, value=a["value"] * f) for a in acts])
-        c = run_model("linear", sc, poses="chain", contact=False)
-        l = run_model("linear", sc, poses="linear", contact=False)
+        c = run_model("linear", sc, poses="chain", contact=False, about="flat")
+        l = run_model("linear", sc, poses="linear", contact=False, about="flat")
         assert _same_up_to_a_rigid_turn(c, l)             # rotations untouched (alignment aside)
         diffs.append(np.abs(c.positions_mm - l.positions_mm).max())
     assert diffs[0] > 0
@@ -102,8 +102,8 @@ def test_chain_poses_halve_the_position_error_at_the_working_amplitude():
     sc = dict((k, s) for k, _, s in fidelity.standard_scenes(0.5))["grid10"]
     ref = run_model("nonlinear", sc)
     assert ref.converged
-    chain = run_model("linear", sc)
-    old = run_model("linear", sc, poses="linear")
+    chain = run_model("linear", sc, about="flat")
+    old = run_model("linear", sc, poses="linear", about="flat")
     e_chain, e_old = _pos_error(sc, chain, ref), _pos_error(sc, old, ref)
     assert e_chain < 0.5 * e_old and e_chain < 0.5
     assert _same_up_to_a_rigid_turn(chain, old)

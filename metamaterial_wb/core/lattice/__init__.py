@@ -10,10 +10,12 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   contact, true: one-sided constraints in the linear model, a penalty in the nonlinear one),
   ``contact_fraction`` (0.98 of the plate-contact rotation);
 * linear: ``poses`` (``chain``, default: positions through the hinge chain from the plate rotations;
-  ``linear``: the flat positions plus the solved displacements); ``about`` (``flat``, default: linearised
-  at the flat sheet, factorisation cached across actuator values; ``quadratic``: linearised about the
-  quadratic model's predicted state, material tangent, one factorisation per call); ``line_search``
-  (with ``about=quadratic``: step length minimising the nonlinear energy along the solved step, true);
+  ``linear``: the flat positions plus the solved displacements); ``about`` (``quadratic``, default:
+  linearised about the quadratic model's predicted state, material tangent, one factorisation per call,
+  about a third of the quadratic model's error at working amplitudes; ``flat``: linearised at the flat
+  sheet, factorisation cached across actuator values, so a value-only change re-solves in a fraction of a
+  millisecond); ``line_search`` (with ``about=quadratic``: step length minimising the nonlinear energy
+  along the solved step, true);
 * nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
@@ -80,16 +82,24 @@ def clear_cache():
 
 
 def _linear(scene, global_deformation=None, planar=None, contact=True, contact_fraction=0.98, poses="chain",
-            about="flat", line_search=True, **options):
+            about=None, line_search=True, **options):
     t0 = time.perf_counter()
     _check_options("linear", options, _LINEAR_OPTS)
-    if about not in ("flat", "quadratic"):
-        from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.errors import SceneError
+    if about not in (None, "flat", "quadratic"):
         raise SceneError("--option about", f"{about!r}; allowed: flat, quadratic")
     if global_deformation is not None:
         return _global(scene, global_deformation, t0)
-    if about == "quadratic":
-        return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, bool(line_search), t0)
+    fallback = None
+    if about in (None, "quadratic"):
+        try:
+            return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, bool(line_search), t0)
+        except SceneError as exc:
+            # the default only: a scene the quadratic model cannot predict (e.g. hinges outside its
+            # calibration table) is linearised at the flat sheet instead, with a warning
+            if about == "quadratic" or not _quadratic_cannot_predict(scene):
+                raise
+            fallback = str(exc)
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
     from metamaterial_wb.core.lattice.solve import LinearLattice, finish
 
@@ -120,7 +130,12 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     warnings = []
     info = {"method": "linearised lattice, one sparse KKT solve" if lin.joints.size and np.any(psi)
             else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
-            "constraints": int(lin.joints.size), "reused_factorisation": reused, "poses": lin.poses}
+            "constraints": int(lin.joints.size), "reused_factorisation": reused, "poses": lin.poses,
+            "about": "flat"}
+    if fallback:
+        info["about_fallback"] = fallback
+        warnings.append(f"the quadratic model cannot predict this scene ({fallback}); the linear model is "
+                        "linearised at the flat sheet instead (about=flat)")
     info.update(lin.contact_info)
     if lin.contact_info.get("active_set_iterations"):
         info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"
@@ -130,6 +145,17 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     timings = {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2,
                "total_s": time.perf_counter() - t0}
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
+
+
+def _quadratic_cannot_predict(scene):
+    """True when the quadratic model itself rejects the scene (so the default falls back to about=flat)."""
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.core.solver import solve_scene
+    try:
+        solve_scene(scene)
+    except MetamaterialError:
+        return True
+    return False
 
 
 def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, line_search, t0):
