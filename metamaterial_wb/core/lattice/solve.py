@@ -452,7 +452,7 @@ class LinearLattice:
         self.contact_info = {"contact_hinges": 0, "active_set_iterations": 0}
         self._zcol = None            # column of each hinge's cached back-substitution in self._Z (-1: none yet)
         self._Z = None
-        self._Ut = None
+        self._nz = 0
         self._Jc = None
         self.timings = {"assemble_s": time.perf_counter() - t0}
         t1 = time.perf_counter()
@@ -526,6 +526,7 @@ class LinearLattice:
         if self._zcol is None:
             self._zcol = -np.ones(self.geo.m, dtype=np.int64)
             self._Z = np.zeros((self.pattern.N, 0))
+            self._nz = 0
         missing = active[self._zcol[active] < 0]
         if missing.size:
             Ut = np.zeros((self.pattern.N, missing.size))
@@ -534,20 +535,21 @@ class LinearLattice:
             cols = np.broadcast_to(np.arange(missing.size)[:, None], edm.shape)
             ok = edm >= 0
             Ut[edm[ok], cols[ok]] = Jm[ok]        # one hinge per column, its DOFs distinct: no repeats
-            self._zcol[missing] = self._Z.shape[1] + np.arange(missing.size)
-            self._Z = np.hstack([self._Z, self.lu.solve(Ut)])
-            if _FAST:                               # keep the rows U too: U V is then one dense product
-                self._Ut = Ut if self._Ut is None else np.hstack([self._Ut, Ut])
-        cols = self._zcol[active]
-        Z = self._Z[:, cols]
+            used = self._nz
+            self._zcol[missing] = used + np.arange(missing.size)
+            if not _FAST:
+                self._Z = np.hstack([self._Z[:, :used], self.lu.solve(Ut)])
+            else:                   # column-major buffer with spare room: no copy per update, contiguous columns
+                if used + missing.size > self._Z.shape[1]:
+                    Zn = np.empty((self.pattern.N, max(2 * (used + missing.size), 16)), order="F")
+                    Zn[:, :used] = self._Z[:, :used]
+                    self._Z = Zn
+                self._Z[:, used:used + missing.size] = self.lu.solve(Ut)
+            self._nz = used + missing.size
+        Z = self._Z[:, self._zcol[active]]
         y = y_free + Z @ (kc * self.kappa_c[active])
-        if _FAST and self._Ut is not None and self._Ut.shape[1] == self._Z.shape[1]:
-            U = self._Ut[:, cols].T
-            S = np.diag(1.0 / kc) + U @ Z
-            x = y - Z @ np.linalg.solve(S, U @ y)
-        else:
-            S = np.diag(1.0 / kc) + self._rows(active, Z)
-            x = y - Z @ np.linalg.solve(S, self._rows(active, y))
+        S = np.diag(1.0 / kc) + self._rows(active, Z)
+        x = y - Z @ np.linalg.solve(S, self._rows(active, y))
         return x[:self.na], x[self.na:]
 
     def solve(self, psi=None):
