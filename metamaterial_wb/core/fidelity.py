@@ -283,8 +283,8 @@ def _targets(results):
             for x in g10) + ".")
         if any(x["flat_ms"] == x["flat_ms"] for x in g10):
             out.append("* For comparison, the linear model's option `about=flat` (linearised at the flat sheet, the "
-                       "default before; it caches its factorisation, so a value-only change re-solves in a fraction "
-                       "of a millisecond) on 10 x 10: " + "; ".join(
+                       "default before; it caches its factorisation, so a value-only change re-solves without a new "
+                       "factorisation) on 10 x 10: " + "; ".join(
                            f"ratio {x['flat_ratio']:.2f} in {x['flat_ms']:.2f} ms at amplitude {x['amplitude']} "
                            f"({'both targets met' if x['flat_ratio'] <= 1 / 3 and x['flat_ms'] <= 5 else 'not both met'})"
                            for x in g10) + ".")
@@ -319,7 +319,7 @@ def _targets(results):
         if x["flat_ms"] == x["flat_ms"]:
             out[-1] += (f" It takes {x['linear_ms'] / x['flat_ms']:.1f} x the flat linearisation's cold time there; "
                         f"the flat one stays available for animation, where only actuator values change and its "
-                        f"cached factorisation re-solves in a fraction of a millisecond.")
+                        f"cached factorisation re-solves without a new factorisation.")
     pos = [x for x in summ if x["amplitude"] == a_hi and x["key"] in ("grid10", "grid30", "mixed")]
     if pos:
         out[-1] += (f" Positions: the linear model places its plates through the hinge chain from their rotations; "
