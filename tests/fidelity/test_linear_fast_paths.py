@@ -27,11 +27,18 @@ def _run(scene, about, reference):
     return run_model("linear", scene, about=about)
 
 
+@pytest.mark.parametrize("cholmod", [True, False])
 @pytest.mark.parametrize("amp", [0.05, 0.5])
 @pytest.mark.parametrize("about", ["quadratic", "flat"])
-def test_fast_paths_agree_with_reference(amp, about):
+def test_fast_paths_agree_with_reference(amp, about, cholmod, monkeypatch):
+    """With CHOLMOD (Schur complement) and without it (LU of a KKT matrix assembled from the stiffness block)."""
+    if cholmod and lattice_solve._cholmod is None:
+        pytest.skip("CHOLMOD (scikit-sparse) not installed")
     for key, _title, scene in SCENES[amp]:
-        fast = _run(scene, about, reference=False)
+        with monkeypatch.context() as mp:
+            if not cholmod:
+                mp.setattr(lattice_solve, "_cholmod", None)
+            fast = _run(scene, about, reference=False)
         ref = _run(scene, about, reference=True)
         cell = scene.cell_size_mm
         assert np.abs(fast.rotations - ref.rotations).max() <= 1e-10, key

@@ -474,7 +474,20 @@ class LinearLattice:
         """The KKT matrix ``[[H, A^T], [A, 0]]`` (sparse; built on first use: the factorisation does not
         need it when the Schur-complement solver applies)."""
         if self._KKT is None:
-            self._KKT = self.pattern.matrix(self.He, self._Acon, 0.0)
+            if _FAST:           # from the assembled stiffness block and the constraint rows (no pattern sort)
+                import scipy.sparse as sp
+                H = self.H.tocoo()
+                na = self.na
+                Ad = self.pattern.rows(self._Acon, self.joints) if self.joints.size else np.zeros((0, na))
+                nc = Ad.shape[0]
+                r, c = np.nonzero(Ad)
+                v = Ad[r, c]
+                d = na + np.arange(nc)
+                self._KKT = sp.csc_matrix((np.concatenate([H.data, v, v, np.zeros(nc)]),
+                                           (np.concatenate([H.row, na + r, c, d]), np.concatenate([H.col, c, na + r, d]))),
+                                          shape=(na + nc, na + nc))
+            else:
+                self._KKT = self.pattern.matrix(self.He, self._Acon, 0.0)
         return self._KKT
 
     def _energy(self, q):
