@@ -94,12 +94,12 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     if about in (None, "quadratic"):
         try:
             return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, bool(line_search), t0)
-        except SceneError as exc:
-            # the default only: a scene the quadratic model cannot predict (e.g. hinges outside its
-            # calibration table) is linearised at the flat sheet instead, with a warning
-            if about == "quadratic" or not _quadratic_cannot_predict(scene):
-                raise
-            fallback = str(exc)
+        except _PredictorRefused as exc:
+            # the default only: a scene the quadratic model refuses (e.g. hinges outside its calibration
+            # table) is linearised at the flat sheet instead, with a warning
+            if about == "quadratic":
+                raise exc.error from None
+            fallback = str(exc.error)
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
     from metamaterial_wb.core.lattice.solve import LinearLattice, finish
 
@@ -147,15 +147,12 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 
 
-def _quadratic_cannot_predict(scene):
-    """True when the quadratic model itself rejects the scene (so the default falls back to about=flat)."""
-    from metamaterial_wb.core.errors import MetamaterialError
-    from metamaterial_wb.core.solver import solve_scene
-    try:
-        solve_scene(scene)
-    except MetamaterialError:
-        return True
-    return False
+class _PredictorRefused(Exception):
+    """The quadratic model refused the scene (``about=quadratic`` has no predictor); carries its error."""
+
+    def __init__(self, error):
+        super().__init__(str(error))
+        self.error = error
 
 
 def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, line_search, t0):
@@ -164,15 +161,23 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, lin
     corotational strains and forces of that state and its material (Gauss-Newton) tangent; actuators as
     constraints linearised there, plate contact by the same active set. Not cached: the state depends on
     the actuator values."""
+    from metamaterial_wb.core.errors import MetamaterialError
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
-    from metamaterial_wb.core.lattice.solve import ChainPositions, LinearLattice, finish, quadratic_state
+    from metamaterial_wb.core.lattice.solve import (ChainPositions, LinearLattice, finish, quadratic_D,
+                                                    quadratic_state)
 
+    tq = time.perf_counter()
+    try:
+        D0 = quadratic_D(scene)          # first: a scene the quadratic model refuses costs nothing more
+    except MetamaterialError as exc:
+        raise _PredictorRefused(exc) from exc
+    tq = time.perf_counter() - tq
     geo = LatticeGeometry(scene)
     if planar is not None:
         geo.planar = bool(planar)
     chain = ChainPositions(geo)
     t1 = time.perf_counter()
-    _D0, Xb, Rb = quadratic_state(scene, geo, chain)
+    _D0, Xb, Rb = quadratic_state(scene, geo, chain, D=D0)
     t2 = time.perf_counter()
     lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction, poses=poses,
                         base=(Xb, Rb), tangent="material")
@@ -196,7 +201,7 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, lin
     if info.get("active_set_converged") is False:
         warnings.append("the linear model's contact active set did not settle in 100 iterations")
     _range_warnings(scene, D, warnings)
-    timings = {"geometry_s": t1 - t0, "quadratic_state_s": t2 - t1, "assemble_factor_s": t3 - t2,
+    timings = {"geometry_s": t1 - t0 - tq, "quadratic_state_s": t2 - t1 + tq, "assemble_factor_s": t3 - t2,
                "solve_s": t4 - t3, "total_s": time.perf_counter() - t0}
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 

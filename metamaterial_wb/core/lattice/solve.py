@@ -351,18 +351,20 @@ def quadratic_D(scene):
     return D
 
 
-def quadratic_state(scene, geo, chain=None, pose="rotations"):
+def quadratic_state(scene, geo, chain=None, pose="rotations", D=None):
     """The quadratic model's (R0) predicted state in lattice terms: ``(D, X, R)``.
 
     ``D`` from one sparse solve of the seed's energy (``core/solver``); the plate rotations from D with the
     quadratic model's own rule (``core/kinematics``: in-plane angle ``p D phi_max``, plus the folds of tilted
     hinges). Positions: ``pose="rotations"`` (default) puts the plates through the hinge chain from those
     rotations (:class:`ChainPositions`, the linear model's pose rule), ``pose="full"`` takes the quadratic
-    model's own positions (``core/kinematics``, straight hinge chords).
+    model's own positions (``core/kinematics``, straight hinge chords). ``D``: the quadratic model's field if
+    already solved.
     """
     from metamaterial_wb.core import kinematics
 
-    D = quadratic_D(scene)
+    if D is None:
+        D = quadratic_D(scene)
     if geo.planar and pose == "rotations":
         R = kinematics.rotation_matrices(geo.phi_from_D(D))
         X = None
