@@ -14,8 +14,9 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   linearised about the quadratic model's predicted state, material tangent, one factorisation per call,
   about a third of the quadratic model's error at working amplitudes; ``flat``: linearised at the flat
   sheet, factorisation cached across actuator values, so a value-only change re-solves without a new
-  factorisation, 0.3-1 ms on 10 x 10); ``line_search`` (with ``about=quadratic``: step length minimising the nonlinear energy
-  along the solved step, true);
+  factorisation, 0.3-1 ms on 10 x 10); ``line_search`` (with ``about=quadratic``: step length minimising
+  the nonlinear energy along the solved step, true). Without CHOLMOD (scikit-sparse) the linear model
+  factors its KKT matrix by SuperLU: same results, ~1.4 x the time;
 * nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),

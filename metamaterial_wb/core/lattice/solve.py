@@ -485,8 +485,9 @@ class LinearLattice:
                 r, c = np.nonzero(Ad)
                 v = Ad[r, c]
                 d = na + np.arange(nc)
-                self._KKT = sp.csc_matrix((np.concatenate([H.data, v, v, np.zeros(nc)]),
-                                           (np.concatenate([H.row, na + r, c, d]), np.concatenate([H.col, c, na + r, d]))),
+                rows = np.concatenate([H.row, na + r, c, d])
+                cols = np.concatenate([H.col, c, na + r, d])
+                self._KKT = sp.csc_matrix((np.concatenate([H.data, v, v, np.zeros(nc)]), (rows, cols)),
                                           shape=(na + nc, na + nc))
             else:
                 self._KKT = self.pattern.matrix(self.He, self._Acon, 0.0)
