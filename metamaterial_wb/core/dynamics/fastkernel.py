@@ -299,19 +299,7 @@ def layout_for(system, band_max=64, dense_max=300):
     b = s.band_layout()
     if b is not None:
         return b["perm"], b["kl"], b["ku"]
-    if s._pattern is None:
-        s._build_pattern()
-    P = s._pattern
-    import scipy.sparse as sp
-    from scipy.sparse.csgraph import reverse_cuthill_mckee
-    G = sp.csr_matrix((np.ones(P["nnz"]), (P["rows"], P["cols"])), shape=(N, N))
-    G = (G + G.T + sp.identity(N, format="csr")).tocsr()
-    perm = np.asarray(reverse_cuthill_mckee(G, symmetric_mode=True), np.int64)
-    pos = np.empty(N, np.int64)
-    pos[perm] = np.arange(N)
-    r, c = pos[P["rows"]], pos[P["cols"]]
-    kl = int(max(0, np.max(r - c))) if r.size else 0
-    ku = int(max(0, np.max(c - r))) if r.size else 0
+    perm, _pos, _r, _c, kl, ku = s.rcm_order()
     if max(kl, ku) <= band_max:
         return perm, kl, ku
     if N <= dense_max:

@@ -315,16 +315,7 @@ class Simulator:
                 st["newton_iterations"] = st.get("newton_iterations", 0) + int(ks[2])
             if banded:
                 st["banded_lu"] = True
-            if not ks[3]:
-                st["newton_unconverged_steps"] = st.get("newton_unconverged_steps", 0) + 1
-            v_new = v1.reshape(-1, 3)
-            v_new[s.fixed] = 0.0
-            self.ledger["damping_J"] += dt * float(ks[4])
-            self._prev = (self.q, self.v, dt)
-            self.v = v_new
-            self.q = qh + h * v_new
-            self.t += dt
-            self._update_anchors()
+            self._end_implicit_step(qh, h, v1, dt, bool(ks[3]), float(ks[4]))
             return
         for it in range(self.newton_max_band if banded else self.newton_max):
             V1 = v1.reshape(-1, 3)
@@ -366,14 +357,18 @@ class Simulator:
             refresh = prev is not None and nrm > 0.25 * prev
             prev = nrm
             self.stats["newton_iterations"] = self.stats.get("newton_iterations", 0) + 1
+        if getattr(self, "_fact", None) is not None:
+            self._fact["age"] += 1
+        self._end_implicit_step(qh, h, v1, dt, converged, damp_power)
+
+    def _end_implicit_step(self, qh, h, v1, dt, converged, damp_power):
+        """Accept the Newton result of a BDF2 / backward-Euler step (numpy path or compiled kernel)."""
         if not converged:
             self.stats["newton_unconverged_steps"] = self.stats.get("newton_unconverged_steps", 0) + 1
         v_new = v1.reshape(-1, 3)
-        v_new[s.fixed] = 0.0
+        v_new[self.sys.fixed] = 0.0
         self.ledger["damping_J"] += dt * damp_power
         self._prev = (self.q, self.v, dt)
-        if getattr(self, "_fact", None) is not None:
-            self._fact["age"] += 1
         self.v = v_new
         self.q = qh + h * v_new
         self.t += dt

@@ -394,14 +394,10 @@ class PlanarSystem:
     # -- banded form (chains and rings) --------------------------------------------------------
     band_max = 64     # use the banded LU when the reordered half-bandwidth is at most this
 
-    def band_layout(self):
-        """A reverse Cuthill-McKee ordering of the dofs and its half-bandwidth, or None when the
-        matrix is not narrow-banded. A chain numbered along itself is banded as it is; a ring
-        (a closed chain) becomes banded with half-bandwidth ~ 3 * 2 + 2 after the reordering
-        (the zig-zag 0, n-1, 1, n-2, ...), so one LAPACK band LU (dgbtrf) costs O(n) instead of a
-        general sparse LU."""
-        if getattr(self, "_band", None) is not None:
-            return self._band or None
+    def rcm_order(self):
+        """Reverse Cuthill-McKee order of the dofs on the Jacobian's pattern: ``(perm, pos, rows, cols, kl,
+        ku)`` with ``pos`` the inverse permutation, ``rows``/``cols`` the pattern's entries in that order
+        and ``kl``/``ku`` the lower/upper half-bandwidths there."""
         if self._pattern is None:
             self._build_pattern()
         P = self._pattern
@@ -415,6 +411,18 @@ class PlanarSystem:
         r, c = pos[P["rows"]], pos[P["cols"]]
         kl = int(max(0, np.max(r - c))) if r.size else 0
         ku = int(max(0, np.max(c - r))) if r.size else 0
+        return perm, pos, r, c, kl, ku
+
+    def band_layout(self):
+        """A reverse Cuthill-McKee ordering of the dofs and its half-bandwidth, or None when the
+        matrix is not narrow-banded. A chain numbered along itself is banded as it is; a ring
+        (a closed chain) becomes banded with half-bandwidth ~ 3 * 2 + 2 after the reordering
+        (the zig-zag 0, n-1, 1, n-2, ...), so one LAPACK band LU (dgbtrf) costs O(n) instead of a
+        general sparse LU."""
+        if getattr(self, "_band", None) is not None:
+            return self._band or None
+        perm, pos, r, c, kl, ku = self.rcm_order()
+        N = perm.size
         if max(kl, ku) > self.band_max or N < 60:
             self._band = False
             return None
