@@ -101,10 +101,8 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
             if about == "quadratic":
                 raise exc.error from None
             fallback = str(exc.error)
-    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
-    from metamaterial_wb.core.lattice.solve import LinearLattice, finish
-
     from metamaterial_wb.core.lattice.geometry import fixed_items
+    from metamaterial_wb.core.lattice.solve import LinearLattice, finish
 
     key = _structure_key(scene, planar) + f"|contact={bool(contact)},{float(contact_fraction)!r}|poses={poses}"
     cached = _LINEAR_CACHE.get(key)
@@ -115,9 +113,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
         _LINEAR_CACHE.move_to_end(key)
     t1 = time.perf_counter()
     if not reused:
-        geo = LatticeGeometry(scene)
-        if planar is not None:
-            geo.planar = bool(planar)
+        geo = _geometry(scene, planar)
         t1 = time.perf_counter()
         lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction, poses=poses)
         _LINEAR_CACHE[key] = lin
@@ -137,14 +133,28 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
         info["about_fallback"] = fallback
         warnings.append(f"the quadratic model cannot predict this scene ({fallback}); the linear model is "
                         "linearised at the flat sheet instead (about=flat)")
+    return _linear_result(scene, lin, D, X, R, info, warnings, t0,
+                          {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2})
+
+
+def _geometry(scene, planar):
+    """The lattice geometry of a scene, with the caller's planar override (None: as the scene is)."""
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    geo = LatticeGeometry(scene)
+    if planar is not None:
+        geo.planar = bool(planar)
+    return geo
+
+
+def _linear_result(scene, lin, D, X, R, info, warnings, t0, timings):
+    """The linear model's result, either linearisation: contact report, range warnings, total time."""
     info.update(lin.contact_info)
     if lin.contact_info.get("active_set_iterations"):
         info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"
     if info.get("active_set_converged") is False:
         warnings.append("the linear model's contact active set did not settle in 100 iterations")
     _range_warnings(scene, D, warnings)
-    timings = {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2,
-               "total_s": time.perf_counter() - t0}
+    timings["total_s"] = time.perf_counter() - t0
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 
 
@@ -163,7 +173,6 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, lin
     constraints linearised there, plate contact by the same active set. Not cached: the state depends on
     the actuator values."""
     from metamaterial_wb.core.errors import MetamaterialError
-    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
     from metamaterial_wb.core.lattice.solve import (ChainPositions, LinearLattice, finish, quadratic_D,
                                                     quadratic_state)
 
@@ -173,16 +182,13 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, lin
     except MetamaterialError as exc:
         raise _PredictorRefused(exc) from exc
     tq = time.perf_counter() - tq
-    geo = LatticeGeometry(scene)
-    if planar is not None:
-        geo.planar = bool(planar)
+    geo = _geometry(scene, planar)
     chain = ChainPositions(geo)
     t1 = time.perf_counter()
     _D0, Xb, Rb = quadratic_state(scene, geo, chain, D=D0)
     t2 = time.perf_counter()
     lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction, poses=poses,
-                        base=(Xb, Rb), tangent="material")
-    lin._chain = chain
+                        base=(Xb, Rb), tangent="material", chain=chain)
     t3 = time.perf_counter()
     X, R, q, mu = lin.solve()
     alpha = 1.0
@@ -196,15 +202,9 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, lin
             else "no load (nothing to solve)", "dofs": int(lin.na), "planar": bool(geo.planar),
             "constraints": int(lin.joints.size), "reused_factorisation": False, "poses": lin.poses,
             "about": "quadratic", "step_length": alpha}
-    info.update(lin.contact_info)
-    if lin.contact_info.get("active_set_iterations"):
-        info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"
-    if info.get("active_set_converged") is False:
-        warnings.append("the linear model's contact active set did not settle in 100 iterations")
-    _range_warnings(scene, D, warnings)
-    timings = {"geometry_s": t1 - t0 - tq, "quadratic_state_s": t2 - t1 + tq, "assemble_factor_s": t3 - t2,
-               "solve_s": t4 - t3, "total_s": time.perf_counter() - t0}
-    return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
+    return _linear_result(scene, lin, D, X, R, info, warnings, t0,
+                          {"geometry_s": t1 - t0 - tq, "quadratic_state_s": t2 - t1 + tq,
+                           "assemble_factor_s": t3 - t2, "solve_s": t4 - t3})
 
 
 def _nonlinear(scene, global_deformation=None, **options):

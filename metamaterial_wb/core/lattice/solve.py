@@ -404,13 +404,13 @@ class LinearLattice:
     """
 
     def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4, poses="chain",
-                 base=None, tangent="full"):
+                 base=None, tangent="full", chain=None):
         t0 = time.perf_counter()
         if poses not in ("chain", "linear"):
             from metamaterial_wb.core.errors import SceneError
             raise SceneError("--option poses", f"{poses!r}; allowed: chain, linear")
         self.poses = poses
-        self._chain = None
+        self._chain = chain          # the hinge-chain position rule of geo (built on first use if None)
         self.geo = geo or LatticeGeometry(scene)
         geo = self.geo
         self.joints, self.values, self.psi, self.names = fixed_items(scene, geo)
