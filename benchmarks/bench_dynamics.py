@@ -35,13 +35,6 @@ def load(name):
         return json.load(f)
 
 
-def scene_with(d, **dyn):
-    d = copy.deepcopy(d)
-    for k, v in dyn.items():
-        d["dynamics"][k] = v
-    return Scene.from_dict(d)
-
-
 def belt1000():
     return Scene.from_dict(load("belt1000.json"))
 
