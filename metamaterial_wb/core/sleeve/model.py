@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 
-from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number
 from metamaterial_wb.core.sleeve.beam import BeamMesh
 
 LINK_FACTOR = 1.0e3     # stiffness of the rigid-body links relative to the beam's axial stiffness
@@ -106,12 +106,9 @@ def pillar_tip_coefficient(pillar_tip):
     """``"guided"`` (12: tip rotation held, the default), ``"free"`` (3) or a number in [3, 12]."""
     if isinstance(pillar_tip, str):
         if pillar_tip not in PILLAR_TIP:
-            raise MetamaterialError(f"pillar_tip: {pillar_tip!r}; allowed: 'guided', 'free' or a number in [3, 12]")
+            raise SceneError("model.pillar_tip", f"{pillar_tip!r}; allowed: 'guided', 'free' or a number in [3, 12]")
         return PILLAR_TIP[pillar_tip]
-    v = float(pillar_tip)
-    if not 3.0 <= v <= 12.0:
-        raise MetamaterialError(f"pillar_tip: {pillar_tip!r} is outside the allowed range [3, 12]")
-    return v
+    return check_number("model.pillar_tip", pillar_tip, 3, 12, "")
 
 
 def radial_end_stiffness(g, radius, pillar_tip="guided"):

@@ -7,6 +7,7 @@ import math
 
 from metamaterial_wb.core.errors import SceneError, check_number
 from metamaterial_wb.core.sleeve.cell import CellGeometry
+from metamaterial_wb.core.sleeve.model import pillar_tip_coefficient
 
 FORMAT = "metamaterial-sleeve"
 
@@ -83,12 +84,8 @@ class SleeveSpec:
             raise SceneError("model.plane", f"{self.plane!r}; allowed: 'strain', 'stress'")
         self.imperfection = check_number("model.imperfection", m.get("imperfection", 1e-4), 0, 0.1, "")
         tip = m.get("pillar_tip", "guided")
-        if isinstance(tip, str):
-            if tip not in ("guided", "free"):
-                raise SceneError("model.pillar_tip", f"{tip!r}; allowed: 'guided', 'free' or a number in [3, 12]")
-        else:
-            tip = check_number("model.pillar_tip", tip, 3, 12, "")
-        self.pillar_tip = tip
+        coef = pillar_tip_coefficient(tip)             # checks it: "guided", "free" or a number in [3, 12]
+        self.pillar_tip = tip if isinstance(tip, str) else coef
         curv = m.get("ring_curvature", True)
         if not isinstance(curv, bool):
             raise SceneError("model.ring_curvature", f"{curv!r}; expected true or false")
