@@ -651,7 +651,8 @@ def build_module_shape(obj, scene):
         except SceneError as exc:
             raise SceneError(f"module {obj.Label}", exc.message if hasattr(exc, "message") else str(exc)) from None
         shapes = [res.shapes[part.key] for part in res.parts]
-        return (shapes[0] if len(shapes) == 1 else Part.makeCompound(shapes)), "geometry.modules"
+        # Part.Compound, not Part.makeCompound: the latter kills FreeCAD 1.0/1.1 run from plain Python
+        return (shapes[0] if len(shapes) == 1 else Part.Compound(shapes)), "geometry.modules"
     cell = scene.cell_size_mm if scene is not None else 20.0
     t = scene.hinge["thickness_mm"] if scene is not None else 7.0
     side = cell - (scene.hinge["length_mm"] if scene is not None else 2.0)

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Run one FreeCAD lane:  tools/run-lane.sh 0.20|1.0|1.1 [pytest args...]
+#   0.20  the host (Debian 12's FreeCAD 0.20.2, Python 3.11, numpy 1.24)
+#   1.0   a Debian 13 "trixie" root (FreeCAD 1.0, Python 3.13, numpy 2.x)
+#   1.1   a Debian testing "forky" root (FreeCAD 1.1, Qt 6, Python 3.14, numpy 2.x)
+# Roots live in $METAMATERIAL_LANE_ROOTS (default /var/cache/metamaterial-wb/roots) and are made by
+# tools/lane-root.sh when missing or stale. The checkout, /proc, /dev, /dev/pts and /dev/shm are mounted into
+# the root for the run and unmounted on every exit path. A root that cannot be made fails the lane.
+set -euo pipefail
+lane="$1"; shift
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(dirname "$here")"
+case "$lane" in
+  0.20) exec bash "$here/run-suite.sh" 0.20 "$@" ;;
+  1.0)  suite=trixie ;;
+  1.1)  suite=forky ;;
+  *) echo "run-lane: unknown lane '$lane' (allowed: 0.20, 1.0, 1.1)" >&2; exit 2 ;;
+esac
+[ "$(id -u)" = 0 ] || { echo "run-lane: lane $lane needs root (chroot, mount); run with sudo" >&2; exit 2; }
+roots="${METAMATERIAL_LANE_ROOTS:-/var/cache/metamaterial-wb/roots}"
+root="$roots/$suite"
+if ! bash "$here/lane-root.sh" "$suite" "$root"; then
+  echo "LANE-RESULT $lane root 0 0 0 1 1"
+  echo "run-lane: lane $lane FAILED: the $suite root could not be made" >&2
+  exit 1
+fi
+mounts=()
+cleanup() {
+  local i
+  for ((i=${#mounts[@]}-1; i>=0; i--)); do
+    umount "${mounts[i]}" 2>/dev/null || umount -l "${mounts[i]}" 2>/dev/null || \
+      echo "run-lane: could not unmount ${mounts[i]}" >&2
+  done
+  mounts=()
+}
+trap cleanup EXIT
+trap 'cleanup; exit 130' INT
+trap 'cleanup; exit 143' TERM
+bindmount() {  # bindmount SRC TARGET-INSIDE-ROOT
+  mkdir -p "$root$2"
+  mount --bind "$1" "$root$2"
+  mounts+=("$root$2")
+}
+mkdir -p "$root/proc"; mount -t proc proc "$root/proc"; mounts+=("$root/proc")
+bindmount /dev /dev
+bindmount /dev/pts /dev/pts
+[ -d /dev/shm ] && bindmount /dev/shm /dev/shm
+bindmount "$repo" "$repo"
+set +e
+chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb CI="${CI:-}" \
+  PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+  /bin/bash "$repo/tools/run-suite.sh" "$lane" "$@"
+rc=$?
+set -e
+exit $rc

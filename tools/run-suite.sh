@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Run the test suite on the system this runs on (the host, or inside a lane root):
+#   tools/run-suite.sh LANE [pytest args...]
+# 1. pytest on tests/ with /usr/bin/python3 (pure core + FreeCAD App tests; firmware tests only on the host lane);
+# 2. the GUI tests inside a real FreeCAD under Xvfb (tests/run_gui_pytest.py).
+# Ends with one line 'LANE-RESULT <lane> <part> <passed> <failed> <skipped> <errors> <rc>' per part.
+set -uo pipefail
+lane="$1"; shift
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+export PYTHONDONTWRITEBYTECODE=1
+py=/usr/bin/python3
+args=(-q -p no:cacheprovider)
+if [ "$lane" != 0.20 ]; then
+  args+=(--ignore=tests/firmware)      # AVR toolchain and simavr live on the host lane
+fi
+logs="$(mktemp -d)"
+trap 'rm -rf "$logs"' EXIT
+count() {  # count WORD FILE: the number before WORD on pytest's closing line
+  grep -E '^=*.* in [0-9.]+s' "$2" | tail -n1 | grep -oE "[0-9]+ $1" | awk '{print $1}' | head -n1
+}
+result() {  # result PART LOG RC
+  local p f s e
+  p=$(count passed "$2"); f=$(count failed "$2"); s=$(count skipped "$2"); e=$(count error "$2")
+  echo "LANE-RESULT $lane $1 ${p:-0} ${f:-0} ${s:-0} ${e:-0} $3"
+}
+$py -c 'import sys; sys.path.append("/usr/lib/freecad-python3/lib"); import FreeCAD, numpy, scipy;
+print("lane %s: FreeCAD %s, Python %s, numpy %s, scipy %s" % (sys.argv[1], ".".join(FreeCAD.Version()[:3]),
+      sys.version.split()[0], numpy.__version__, scipy.__version__))' "$lane" || true
+$py -m pytest "${args[@]}" tests "$@" 2>&1 | tee "$logs/app.log"
+rc_app=${PIPESTATUS[0]}
+rc_gui=0
+if [ -f tests/run_gui_pytest.py ]; then
+  cfgdir="$(mktemp -d)"; cp resources/test_user.cfg "$cfgdir/user.cfg"
+  timeout 1200 xvfb-run -a -s "-screen 0 1600x1000x24" freecad -u "$cfgdir/user.cfg" \
+    tests/run_gui_pytest.py -M "$PWD" 2>&1 | tee "$logs/gui.log"
+  rc_gui=${PIPESTATUS[0]}
+  rm -rf "$cfgdir"
+  result gui "$logs/gui.log" "$rc_gui" > "$logs/gui.res"
+fi
+result app "$logs/app.log" "$rc_app"
+[ -f "$logs/gui.res" ] && cat "$logs/gui.res"
+[ "$rc_app" = 0 ] && [ "$rc_gui" = 0 ]
