@@ -4,7 +4,7 @@ The package never imports FreeCAD at top level; ``core`` never imports it at all
 """
 import os
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 REPO_DIR = os.path.dirname(PACKAGE_DIR)

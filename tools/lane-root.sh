@@ -31,8 +31,8 @@ for attempt in 1 2; do
   [ -z "$(mounted_below "$tmp")" ] || { echo "lane-root: $tmp has mounts inside it" >&2; exit 1; }
   rm -rf "$tmp"
   echo "lane-root: making the $suite root in $dir (attempt $attempt, takes 1-4 min)" >&2
-  if timeout 1500 mmdebstrap --quiet --variant=apt "${opts[@]}" \
-       --include="$(IFS=,; echo "${pkgs[*]}")" "$suite" "$tmp" >&2; then
+  if timeout 1500 mmdebstrap --variant=apt "${opts[@]}" \
+       --include="$(IFS=,; echo "${pkgs[*]}")" "$suite" "$tmp" 2>&1 | { grep -v "^I: " >&2 || true; }; then
     echo "$want" > "$tmp/.metamaterial-lane"
     rm -rf "$dir"
     mv "$tmp" "$dir"

@@ -38,3 +38,22 @@ def matrix4(pl):
     m = pl.toMatrix()
     return np.array([[m.A11, m.A12, m.A13, m.A14], [m.A21, m.A22, m.A23, m.A24],
                      [m.A31, m.A32, m.A33, m.A34], [0.0, 0.0, 0.0, 1.0]])
+
+
+def set_shape_colour(vobj, rgb):
+    """Set a view object's shape colour: ``ShapeAppearance`` where FreeCAD has it (1.0 and later, where
+    ``ShapeColor`` is a deprecated alias), else ``ShapeColor`` (0.20). ``rgb``: three floats in 0..1 or a
+    ``#rrggbb`` string. Display only: a view object that refuses the colour is left as it is."""
+    if isinstance(rgb, str):
+        rgb = tuple(int(rgb[k:k + 2], 16) / 255 for k in (1, 3, 5))
+    rgb = tuple(float(c) for c in rgb[:3])
+    try:
+        if hasattr(vobj, "ShapeAppearance"):
+            mats = list(vobj.ShapeAppearance)
+            for mat in mats:
+                mat.DiffuseColor = rgb + (getattr(mat, "DiffuseColor", (0, 0, 0, 0))[3:4] or (0.0,))
+            vobj.ShapeAppearance = mats
+        else:
+            vobj.ShapeColor = rgb
+    except Exception:  # noqa: BLE001 - display only
+        pass

@@ -17,7 +17,7 @@ import numpy as np
 
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.sleeve.cell import triangulate_polygon
-from metamaterial_wb.geometry.fc import freecad
+from metamaterial_wb.geometry.fc import freecad, set_shape_colour
 
 TPU = "#1E64FF"
 PLA = "#D9D9D9"
@@ -250,7 +250,7 @@ def add_to_document(spec, doc=None, progress=None):
         o.Label = f"{name} ({material})"
         vo = getattr(o, "ViewObject", None)
         if vo is not None:
-            vo.ShapeColor = tuple(int(colour[k:k + 2], 16) / 255 for k in (1, 3, 5))
+            set_shape_colour(vo, colour)
         objs.append(o)
     doc.recompute()
     return objs

@@ -84,16 +84,9 @@ class ViewProviderBase:
 
 
 def set_color(vobj, rgb):
-    """Shape colour for 0.20 (ShapeColor) and 1.x (ShapeAppearance)."""
-    try:
-        if hasattr(vobj, "ShapeAppearance") and not hasattr(vobj, "ShapeColor"):
-            mat = vobj.ShapeAppearance[0]
-            mat.DiffuseColor = rgb
-            vobj.ShapeAppearance = [mat]
-        else:
-            vobj.ShapeColor = rgb
-    except Exception:  # pragma: no cover - display only
-        pass
+    """Shape colour for 0.20 (ShapeColor) and 1.x (ShapeAppearance): see geometry.fc.set_shape_colour."""
+    from metamaterial_wb.geometry.fc import set_shape_colour
+    set_shape_colour(vobj, rgb)
 
 
 def attach_view_provider(obj, vp_class_name, module="metamaterial_wb.gui.viewproviders"):
