@@ -40,6 +40,7 @@ from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_num
 from metamaterial_wb.core.sleeve.beam import BeamMesh
 
 LINK_FACTOR = 1.0e3     # stiffness of the rigid-body links relative to the beam's axial stiffness
+DEGENERATE = 0.05       # two lowest eigenvalues within 5 %: one (symmetry-degenerate) mode pair
 
 
 def modulus(plane="strain"):
@@ -98,6 +99,7 @@ def _sections(geom, E, t_scale=1.0):
 
 
 PILLAR_ELEMENTS = 3
+BIAS_ANGLE = 0.5   # the imperfection's direction, in units of pi / N from cell 0's centre
 E_RADIAL = 3.0     # modulus / G for bending through the wall thickness T (narrow sections: plane stress)
 PILLAR_TIP = {"free": 3.0, "guided": 12.0}   # cantilever k_r = coef E I / a^3 by the tip's rotation
 
@@ -345,15 +347,22 @@ class SleeveModel:
                 T[3 * n, py] -= coef * np.cos(phi)
         import scipy.sparse as sp
         self.T, self.P = sp.csr_matrix(T), P
-        # imperfection: a tiny constant moment on the top plate (about the axis at -45 deg, which
-        # lengthens cells 0 and 1 of a four-cell ring) so that a uniform ring tilts the same way on
-        # loading and unloading, like the seed's mesh imperfections; zero by default
+        # imperfection: a tiny constant moment on the top plate that makes it rise towards the angle
+        # BIAS_ANGLE * pi / N, half-way between a cell's centre (phi = 0) and the next edge pillar
+        # (phi = pi / N): on no mirror axis of the ring (the axes pass through cells and pillars),
+        # so no symmetric bifurcation is left for the solver (or the mesh) to decide, as the
+        # seed's mesh imperfections decide it. ``tilt_reference``: the same direction as a unit
+        # tilt in reduced coordinates, the mesh-independent tie-break of ``minimise``.
         self.bias = np.zeros(nred)
-        if imperfection and not self.unit:
+        self.tilt_reference = np.zeros(nred)
+        if not self.unit:
             b = self.nfree + 4 * (self.M - 1)
-            mag = imperfection * float(np.max(self.mesh.EA)) / LINK_FACTOR * self.radius
-            self.bias[b] = mag / np.sqrt(2)
-            self.bias[b + 1] = -mag / np.sqrt(2)
+            phi_b = BIAS_ANGLE * np.pi / self.N
+            # a pillar at phi rises by R (psi_x sin phi - psi_y cos phi): psi ~ (sin phi_b, -cos phi_b)
+            self.tilt_reference[b], self.tilt_reference[b + 1] = np.sin(phi_b), -np.cos(phi_b)
+            if imperfection:
+                mag = imperfection * float(np.max(self.mesh.EA)) / LINK_FACTOR * self.radius
+                self.bias = mag * self.tilt_reference
         self.TT = self.T.T.tocsr()
         # sparse LDL^T-like factorisation (SuperLU, symmetric mode, diagonal pivots) for larger systems
         self.sparse = nred > 200
@@ -408,14 +417,7 @@ class SleeveModel:
                 if np.abs(step).max() < 1e-12 or abs(float(g @ step)) < 1e-16 * max(abs(e), 1e-30):
                     return q + step, F, it
             else:
-                if self.sparse:
-                    lam, vec = self._min_eig_sparse(K)
-                else:
-                    lam, vec = sla.eigh(K, subset_by_index=[0, 0], check_finite=False)
-                v = vec[:, 0] / max(np.abs(vec[:, 0]).max(), 1e-300)
-                gv = float(g @ v)
-                if gv > 0 or (abs(gv) <= 1e-12 * max(gn, 1e-300) and v[np.argmax(np.abs(v))] < 0):
-                    v = -v
+                v = self._descent_direction(q, d, e, g, K)
                 # negative curvature: expanding search along the descent direction v
                 best_a, best_e, a = 0.0, e, 1e-3
                 while a <= 0.5:
@@ -434,7 +436,7 @@ class SleeveModel:
                         break
                     q = q + 1e-3 * v
                     continue
-                shift = -lam[0] * 1.5 + 1e-8 * np.mean(np.abs(K.diagonal()))
+                shift = -self._last_min_eig * 1.5 + 1e-8 * np.mean(np.abs(K.diagonal()))
                 if self.sparse:
                     import scipy.sparse as sp
                     import scipy.sparse.linalg as spla
@@ -453,6 +455,50 @@ class SleeveModel:
                 a *= 0.5
             q = q + a * step
         raise _NoConvergence()
+
+    def _descent_direction(self, q, d, e, g, K):
+        """Negative-curvature direction at an indefinite tangent, chosen independently of the mesh.
+
+        The two lowest eigenpairs are computed; when they are (nearly) degenerate - the two tilt
+        modes of a ring with a rotational symmetry - the direction is taken inside their span
+        (the part of -g in it, else of the tilt reference), not the combination the eigensolver
+        happens to return. The sign is the descending one; when the gradient cannot tell (a
+        symmetric state), the one of lower energy a small step away; when both are equal, the
+        one along the tilt reference (the imperfection's direction)."""
+        if self.sparse:
+            lam, vec = self._min_eig_sparse(K, k=2)
+        else:
+            lam, vec = sla.eigh(K, subset_by_index=[0, min(1, len(K) - 1)], check_finite=False)
+        order = np.argsort(lam)
+        lam, vec = np.asarray(lam)[order], vec[:, order]
+        V = vec[:, :1]
+        if len(lam) > 1 and lam[1] < 0 and (lam[1] - lam[0]) <= DEGENERATE * abs(lam[0]):
+            V = vec[:, :2]
+        v = V[:, 0]
+        gn = float(np.linalg.norm(g))
+        if V.shape[1] > 1:
+            w = -(V @ (V.T @ g))
+            if np.linalg.norm(w) <= 1e-6 * max(gn, 1e-300):
+                w = V @ (V.T @ self.tilt_reference)
+            if np.linalg.norm(w) > 1e-12:
+                v = w
+        v = v / max(np.abs(v).max(), 1e-300)
+        gv = float(g @ v)
+        if abs(gv) <= 1e-6 * max(gn, 1e-300):
+            # the gradient does not pick a side: compare the energies a small step either way
+            a = 1e-3
+            ep, em = self._energy(q + a * v, d), self._energy(q - a * v, d)
+            tol_e = 1e-13 * max(abs(e), 1e-30)
+            if ep - em > tol_e:
+                v = -v
+            elif abs(ep - em) <= tol_e:
+                r = float(self.tilt_reference @ v)
+                if r < -1e-12 or (abs(r) <= 1e-12 and v[np.argmax(np.abs(v))] < 0):
+                    v = -v
+        elif gv > 0:
+            v = -v
+        self._last_min_eig = float(lam[0])
+        return v
 
     def _energy(self, q, d):
         return self.mesh.evaluate(self.full(q, d), False)[0] - float(self.bias @ q)
@@ -477,7 +523,7 @@ class SleeveModel:
         # symmetric permutation P K P^T = L D L^T (Sylvester): positive definite <=> all pivots > 0
         return lu.solve, bool(np.all(lu.U.diagonal() > 0))
 
-    def _min_eig_sparse(self, K):
+    def _min_eig_sparse(self, K, k=1):
         """Smallest eigenpair of a sparse symmetric indefinite ``K``: bracket the eigenvalue by
         inertia (signs of the symmetric-mode LU pivots of K - s I, Sylvester), then shift-invert."""
         import scipy.sparse as sp
@@ -516,11 +562,11 @@ class SleeveModel:
         try:
             if not ok:
                 raise RuntimeError
-            lam, vec = spla.eigsh(K, k=1, sigma=lo, which="LM", tol=1e-8,
+            lam, vec = spla.eigsh(K, k=k, sigma=lo, which="LM", tol=1e-8,
                                   v0=np.ones(K.shape[0]))      # deterministic start
             return lam, vec
         except Exception:
-            return sla.eigh(K.toarray(), subset_by_index=[0, 0], check_finite=False)
+            return sla.eigh(K.toarray(), subset_by_index=[0, k - 1], check_finite=False)
 
     def _factor_dense(self, K):
         try:
