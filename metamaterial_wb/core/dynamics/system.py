@@ -181,6 +181,44 @@ class PlanarSystem:
             Q += self._fsc @ np.concatenate(parts)
         return Q.reshape(n, 3), st
 
+    def dissipation_power(self, q, v, anchors, dt=None):
+        """``(hinge dampers, contact dampers)`` power in W at the state (q, v): what the dampers take
+        out of the mechanical energy. Contacts: the normal force's non-elastic part,
+        ``-(fn - kn pen) v_n`` (the damper ``cn v_n``, and the penalty energy a separating point
+        loses while ``fn`` is clamped at 0), and the tangential damper ``ct v_t^2`` of sticking points
+        (slip losses are booked as friction when the anchors move). ``dt``: the step over which the
+        power is applied; a clamped point's loss is capped at its penalty energy per step (it cannot
+        lose more than it holds)."""
+        ph = 0.0
+        a, b = self.ha, self.hb
+        if a.size:
+            Ra, Rb = _rot(q[a, 2], self.ra), _rot(q[b, 2], self.rb)
+            wa, wb = v[a, 2], v[b, 2]
+            vdx = v[b, 0] - wb * Rb[:, 1] - v[a, 0] + wa * Ra[:, 1]
+            vdy = v[b, 1] + wb * Rb[:, 0] - v[a, 1] - wa * Ra[:, 0]
+            dw = wb - wa
+            ph = float(self.cp @ (vdx * vdx + vdy * vdy) + self.cr @ (dw * dw))
+        pc = 0.0
+        if self.cb.size:
+            c = self.cb
+            u = _rot(q[c, 2], self.rc)
+            py = q[c, 1] + u[:, 1]
+            inside = py < 0
+            if np.any(inside):
+                px = q[c, 0] + u[:, 0]
+                vpx = v[c, 0] - v[c, 2] * u[:, 1]
+                vpy = v[c, 1] + v[c, 2] * u[:, 0]
+                pen = -py
+                fn = np.maximum(0.0, self.kn * pen - self.cn * vpy)
+                dn = -(fn - self.kn * pen) * vpy
+                if dt is not None:
+                    dn = np.where(fn > 0, dn, np.minimum(dn, 0.5 * self.kn * pen * pen / dt))
+                trial = -self.kt * (px - anchors) - self.ct * vpx
+                stick = np.abs(trial) <= self.mu * fn
+                dt_ = np.where(stick, self.ct * vpx * vpx, 0.0)
+                pc = float(np.sum(np.where(inside, dn + dt_, 0.0)))
+        return ph, pc
+
     def _build_force_scatter(self):
         """A constant sparse matrix that sums the hinge and contact forces into Q (one product
         instead of many scatter-adds)."""
