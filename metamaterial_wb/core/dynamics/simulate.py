@@ -114,8 +114,9 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
     summary["initial_state"] = dict(kind=cfg["initial_state"], **(settled or {}))
     study = None
     if dt_check and seconds > 0:
-        study = dt_study(scene, cfg, sim.stats["method"].split("->")[0], sim.stats["dt_s"],
-                         min(seconds, DT_CHECK_WINDOW_S))
+        # the integrator and step the accepted run ended with (after a fallback: the implicit one)
+        study = dt_study(scene, cfg, sim.stats["method"].split("->")[-1],
+                         sim.stats.get("dt_final_s", sim.stats["dt_s"]), min(seconds, DT_CHECK_WINDOW_S))
         summary["dt_study"] = study
     summary["warnings"] = convergence_warnings(summary["energy"], sim.energy_scale, study)
     if model.kind == "belt":
