@@ -25,12 +25,15 @@ def damped_block(m=0.1, kn=2e4):
     return s
 
 
-@pytest.mark.parametrize("method,dt,tol", [("implicit", 1e-4, 0.05), ("symplectic", None, 0.2)])
+@pytest.mark.parametrize("method,dt,tol", [("implicit", 1e-5, 0.05), ("symplectic", None, 0.2),
+                                            ("implicit", 1e-3, 0.25)])
 def test_contact_damping_is_booked_and_the_ledger_closes(method, dt, tol):
     """A block dropped 5 mm onto damped contacts: the loss is the contact dampers' (no hinge, little
-    slip); before, all of it landed in ``numerical_J``."""
+    slip); before, all of it landed in ``numerical_J``. At a coarse implicit step (a tenth of the
+    contact period) the booking must not overshoot either (an end-of-step estimate booked 3.5x the
+    loss: impacts start mid-step)."""
     sim = Simulator(damped_block(), np.array([[0.0, 0.015, 0.1]]), v0=np.array([[0.05, 0.0, 0.0]]))
-    sim.run(0.5, method=method, dt=dt)
+    sim.run(0.15, method=method, dt=dt)
     e = sim.energy_report()
     lost = e["initial_J"] - e["final_J"]
     assert lost > 1e-3

@@ -374,7 +374,8 @@ class Simulator:
         self.q = qh + h * v_new
         # the dampers' power at the step's end state (where the implicit step evaluates its forces),
         # hinges and contacts alike; the same for the numpy path and the compiled kernel
-        ph, pc = self.sys.dissipation_power(self.q, self.v, self.anchors, dt)
+        ph, pc = self.sys.dissipation_power(self.q, self.v, self.anchors, dt, q_start=self._prev[0],
+                                            v_start=self._prev[1])
         self.ledger["damping_J"] += dt * ph
         self.ledger["contact_damping_J"] += dt * pc
         self.t += dt

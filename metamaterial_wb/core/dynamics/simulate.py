@@ -61,9 +61,10 @@ def convergence_warnings(energy, scale_J, study=None):
     turnover = max(abs(energy["actuator_work_J"]), energy["damping_dissipated_J"] + energy["friction_dissipated_J"]
                    + energy.get("contact_damping_dissipated_J", 0.0), scale_J, 1e-12)
     if energy["numerical_J"] < -ENERGY_GAIN_TOL * turnover:
-        out.append(f"the integrator created {-energy['numerical_J']:.3g} J of energy "
-                   f"({-100 * energy['numerical_J'] / turnover:.0f} % of the energy turnover {turnover:.3g} J): "
-                   f"the result is not converged; use a smaller dt or the implicit integrator")
+        out.append(f"the energy ledger does not close: the integrator created {-energy['numerical_J']:.3g} J of "
+                   f"energy ({-100 * energy['numerical_J'] / turnover:.0f} % of the energy turnover {turnover:.3g} J; "
+                   f"or the contacts' stick / slip is not resolved at this step): check with a smaller dt or the "
+                   f"implicit integrator")
     if study is not None and not study["converged"]:
         a, b = study["com_displacement_mm"]
         out.append(f"dt study: over the first {study['window_s']:g} s the centre of mass travels {a:+.2f} mm at "

@@ -181,14 +181,16 @@ class PlanarSystem:
             Q += self._fsc @ np.concatenate(parts)
         return Q.reshape(n, 3), st
 
-    def dissipation_power(self, q, v, anchors, dt=None):
+    def dissipation_power(self, q, v, anchors, dt=None, q_start=None, v_start=None):
         """``(hinge dampers, contact dampers)`` power in W at the state (q, v): what the dampers take
         out of the mechanical energy. Contacts: the normal force's non-elastic part,
         ``-(fn - kn pen) v_n`` (the damper ``cn v_n``, and the penalty energy a separating point
         loses while ``fn`` is clamped at 0), and the tangential damper ``ct v_t^2`` of sticking points
         (slip losses are booked as friction when the anchors move). ``dt``: the step over which the
         power is applied; a clamped point's loss is capped at its penalty energy per step (it cannot
-        lose more than it holds)."""
+        lose more than it holds). ``q_start, v_start``: the state at the step's start; a point that
+        enters the floor during the step counts for the part of its motion spent in the floor, and
+        one that leaves it counts, at the start state's power, for the part spent before leaving."""
         ph = 0.0
         a, b = self.ha, self.hb
         if a.size:
@@ -198,26 +200,45 @@ class PlanarSystem:
             vdy = v[b, 1] + wb * Rb[:, 0] - v[a, 1] - wa * Ra[:, 0]
             dw = wb - wa
             ph = float(self.cp @ (vdx * vdx + vdy * vdy) + self.cr @ (dw * dw))
+        if not self.cb.size:
+            return ph, 0.0
+        py_end, p_end = self._contact_damper_power(q, v, anchors, dt)
+        if q_start is None:
+            return ph, float(np.sum(p_end))
+        c = self.cb
+        py0 = q_start[c, 1] + _rot(q_start[c, 2], self.rc)[:, 1]
         pc = 0.0
-        if self.cb.size:
-            c = self.cb
-            u = _rot(q[c, 2], self.rc)
-            py = q[c, 1] + u[:, 1]
-            inside = py < 0
-            if np.any(inside):
-                px = q[c, 0] + u[:, 0]
-                vpx = v[c, 0] - v[c, 2] * u[:, 1]
-                vpy = v[c, 1] + v[c, 2] * u[:, 0]
-                pen = -py
-                fn = np.maximum(0.0, self.kn * pen - self.cn * vpy)
-                dn = -(fn - self.kn * pen) * vpy
-                if dt is not None:
-                    dn = np.where(fn > 0, dn, np.minimum(dn, 0.5 * self.kn * pen * pen / dt))
-                trial = -self.kt * (px - anchors) - self.ct * vpx
-                stick = np.abs(trial) <= self.mu * fn
-                dt_ = np.where(stick, self.ct * vpx * vpx, 0.0)
-                pc = float(np.sum(np.where(inside, dn + dt_, 0.0)))
+        enter = (py0 >= 0) & (py_end < 0)
+        stay = (py0 < 0) & (py_end < 0)
+        pc += float(np.sum(p_end[stay]))
+        if np.any(enter):
+            pc += float(np.sum(p_end[enter] * (-py_end[enter]) / (py0[enter] - py_end[enter])))
+        leave = (py0 < 0) & (py_end >= 0)
+        if np.any(leave) and v_start is not None:
+            _, p0 = self._contact_damper_power(q_start, v_start, anchors, dt)
+            pc += float(np.sum(p0[leave] * (-py0[leave]) / (py_end[leave] - py0[leave])))
         return ph, pc
+
+    def _contact_damper_power(self, q, v, anchors, dt=None):
+        """Per contact point: height ``py`` and the contact dampers' power (0 in the air)."""
+        c = self.cb
+        u = _rot(q[c, 2], self.rc)
+        py = q[c, 1] + u[:, 1]
+        out = np.zeros(len(c))
+        inside = py < 0
+        if np.any(inside):
+            px = q[c, 0] + u[:, 0]
+            vpx = v[c, 0] - v[c, 2] * u[:, 1]
+            vpy = v[c, 1] + v[c, 2] * u[:, 0]
+            pen = -py
+            fn = np.maximum(0.0, self.kn * pen - self.cn * vpy)
+            dn = -(fn - self.kn * pen) * vpy
+            if dt is not None:
+                dn = np.where(fn > 0, dn, np.minimum(dn, 0.5 * self.kn * pen * pen / dt))
+            trial = -self.kt * (px - anchors) - self.ct * vpx
+            stick = np.abs(trial) <= self.mu * fn
+            out = np.where(inside, dn + np.where(stick, self.ct * vpx * vpx, 0.0), 0.0)
+        return py, out
 
     def _build_force_scatter(self):
         """A constant sparse matrix that sums the hinge and contact forces into Q (one product
