@@ -1,4 +1,7 @@
-"""``simulate SCENE.json --seconds S --out DIR [--frames] [--method M] [--dt DT] [--fps F]``.
+"""``simulate SCENE.json --seconds S --out DIR [--frames] [--method M] [--dt DT] [--fps F] [--no-dt-check]``.
+
+The summary's ``warnings`` (also printed on stderr) say when the energy ledger does not close or when the
+dt study (the first 2 s again at dt / 2, skipped with ``--no-dt-check``) changes the motion.
 
 Writes into DIR (created; files written atomically, nothing half-way):
 
