@@ -372,11 +372,12 @@ class Simulator:
         self._prev = (self.q, self.v, dt)
         self.v = v_new
         self.q = qh + h * v_new
-        # the dampers' power at the step's end state (where the implicit step evaluates its forces),
-        # hinges and contacts alike; the same for the numpy path and the compiled kernel
-        ph, pc = self.sys.dissipation_power(self.q, self.v, self.anchors, dt, q_start=self._prev[0],
-                                            v_start=self._prev[1])
-        self.ledger["damping_J"] += dt * ph
+        # hinge dampers: the power of the step's first force evaluation (numpy path and compiled kernel
+        # alike); contact dampers: at the step's end state (where the implicit step evaluates its
+        # forces), entering / leaving points for their part of the step
+        _, pc = self.sys.dissipation_power(self.q, self.v, self.anchors, dt, q_start=self._prev[0],
+                                           v_start=self._prev[1], hinges=False)
+        self.ledger["damping_J"] += dt * damp_power
         self.ledger["contact_damping_J"] += dt * pc
         self.t += dt
         self._update_anchors()

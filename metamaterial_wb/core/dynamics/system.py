@@ -181,7 +181,7 @@ class PlanarSystem:
             Q += self._fsc @ np.concatenate(parts)
         return Q.reshape(n, 3), st
 
-    def dissipation_power(self, q, v, anchors, dt=None, q_start=None, v_start=None):
+    def dissipation_power(self, q, v, anchors, dt=None, q_start=None, v_start=None, hinges=True):
         """``(hinge dampers, contact dampers)`` power in W at the state (q, v): what the dampers take
         out of the mechanical energy. Contacts: the normal force's non-elastic part,
         ``-(fn - kn pen) v_n`` (the damper ``cn v_n``, and the penalty energy a separating point
@@ -193,7 +193,7 @@ class PlanarSystem:
         one that leaves it counts, at the start state's power, for the part spent before leaving."""
         ph = 0.0
         a, b = self.ha, self.hb
-        if a.size:
+        if a.size and hinges:
             Ra, Rb = _rot(q[a, 2], self.ra), _rot(q[b, 2], self.rb)
             wa, wb = v[a, 2], v[b, 2]
             vdx = v[b, 0] - wb * Rb[:, 1] - v[a, 0] + wa * Ra[:, 1]
@@ -225,19 +225,21 @@ class PlanarSystem:
         u = _rot(q[c, 2], self.rc)
         py = q[c, 1] + u[:, 1]
         out = np.zeros(len(c))
-        inside = py < 0
-        if np.any(inside):
-            px = q[c, 0] + u[:, 0]
-            vpx = v[c, 0] - v[c, 2] * u[:, 1]
-            vpy = v[c, 1] + v[c, 2] * u[:, 0]
-            pen = -py
-            fn = np.maximum(0.0, self.kn * pen - self.cn * vpy)
-            dn = -(fn - self.kn * pen) * vpy
+        k = np.nonzero(py < 0)[0]
+        if k.size:
+            ck, uk = c[k], u[k]
+            vpx = v[ck, 0] - v[ck, 2] * uk[:, 1]
+            vpy = v[ck, 1] + v[ck, 2] * uk[:, 0]
+            pen = -py[k]
+            kn, cn = self.kn[k], self.cn[k]
+            fn = np.maximum(0.0, kn * pen - cn * vpy)
+            dn = -(fn - kn * pen) * vpy
             if dt is not None:
-                dn = np.where(fn > 0, dn, np.minimum(dn, 0.5 * self.kn * pen * pen / dt))
-            trial = -self.kt * (px - anchors) - self.ct * vpx
-            stick = np.abs(trial) <= self.mu * fn
-            out = np.where(inside, dn + np.where(stick, self.ct * vpx * vpx, 0.0), 0.0)
+                dn = np.where(fn > 0, dn, np.minimum(dn, 0.5 * kn * pen * pen / dt))
+            ct = self.ct[k]
+            trial = -self.kt[k] * (q[ck, 0] + uk[:, 0] - anchors[k]) - ct * vpx
+            stick = np.abs(trial) <= self.mu[k] * fn
+            out[k] = dn + np.where(stick, ct * vpx * vpx, 0.0)
         return py, out
 
     def _build_force_scatter(self):
