@@ -1,4 +1,7 @@
-"""``simulate SCENE.json --seconds S --out DIR [--frames] [--method M] [--dt DT] [--fps F]``.
+"""``simulate SCENE.json --seconds S --out DIR [--frames] [--method M] [--dt DT] [--fps F] [--no-dt-check]``.
+
+The summary's ``warnings`` (also printed on stderr) say when the energy ledger does not close or when the
+dt study (the first 2 s again at dt / 2, skipped with ``--no-dt-check``) changes the motion.
 
 Writes into DIR (created; files written atomically, nothing half-way):
 
@@ -29,6 +32,8 @@ def add_arguments(p):
     p.add_argument("--fps", type=float, default=30.0, help="trajectory / frame rate (default 30)")
     p.add_argument("--incline", type=float, default=None, metavar="DEG",
                    help="override dynamics.incline_deg")
+    p.add_argument("--no-dt-check", dest="dt_check", action="store_false",
+                   help="skip the dt study (the first 2 s again at dt / 2; a warning when the motion changes)")
 
 
 def trajectory_dict(model, traj):
@@ -124,7 +129,7 @@ def run(args):
     if os.path.exists(args.out) and not os.path.isdir(args.out):
         raise MetamaterialError(f"--out {args.out}: exists and is not a directory")
     summary, traj, model, sim = simulate(scene, seconds, method=args.method, dt=args.dt,
-                                         record_dt=1.0 / fps, cfg=cfg, model=model)
+                                         record_dt=1.0 / fps, cfg=cfg, model=model, dt_check=args.dt_check)
     os.makedirs(args.out, exist_ok=True)
     tmp = tempfile.mkdtemp(dir=args.out, prefix=".tmp-simulate-")
     try:
@@ -156,4 +161,6 @@ def run(args):
         print(f"warning: at t = {fb['at_s']} s {fb['reason']}; {fb['action']}", file=sys.stderr)
     if it.get("note"):
         print(f"note: {it['note']}", file=sys.stderr)
+    for w in summary.get("warnings", []):
+        print(f"warning: {w}", file=sys.stderr)
     return 0

@@ -122,11 +122,22 @@ def write_plots(spec, summary, curves, folder):
                  f"({'symmetric' if seq['symmetric'] else 'asymmetric'})", fontsize=10)
     ax.legend(fontsize=7)
     import math
-    lean_up = up.tilt @ _lean_axis(up.tilt)
-    lean_dn = down.tilt @ _lean_axis(up.tilt)
+    from metamaterial_wb.core.sleeve.pipeline import design_axis
+    axis = design_axis(model)
+    if axis is None:                 # uniform ring: along the largest tilt
+        lean_up = up.tilt @ _lean_axis(up.tilt)
+        lean_dn = down.tilt @ _lean_axis(up.tilt)
+        ax2.set_ylabel("tilt [deg]")
+    else:                            # mixed ring: the lean's component along the design axis (signed)
+        def along(tilt, a):
+            return np.stack([tilt[:, 1], -tilt[:, 0]], axis=1) @ a
+        lean_up, lean_dn = along(up.tilt, axis), along(down.tilt, axis)
+        across = np.array([-axis[1], axis[0]])
+        ax2.plot(up.d, np.degrees(along(up.tilt, across)), color="0.6", lw=1, label="across the axis, loading")
+        ax2.plot(down.d, np.degrees(along(down.tilt, across)), "--", color="0.6", lw=1, label="across, unloading")
+        ax2.set_ylabel("lean along the\ndesign axis [deg]", fontsize=9)
     ax2.plot(up.d, np.degrees(lean_up), "k", label="loading")
     ax2.plot(down.d, np.degrees(lean_dn), "k--", label="unloading")
-    ax2.set_ylabel("tilt [deg]")
     ax2.set_xlabel("displacement d/L [-]")
     ax2.legend(fontsize=7)
     fig.tight_layout(); fig.savefig(os.path.join(folder, "fd_ring.png"), dpi=110); plt.close(fig)

@@ -1,4 +1,9 @@
-"""``solve SCENE.json --out RESULT.json [--set NAME=VALUE ...] [--global G] [--model M]``."""
+"""``solve SCENE.json --out RESULT.json [--set NAME=VALUE ...] [--global G] [--model M]
+[--fields D,poses,joints] [--npz]``.
+
+``--fields`` picks what is written per node / joint (default all three); ``--npz`` writes the
+arrays to ``RESULT.npz`` beside a small ``RESULT.json`` that holds everything else
+(``core/resultfile.py``, docs/scene-format.md "Result file")."""
 import math
 import sys
 import time
@@ -20,6 +25,11 @@ def add_arguments(p):
                    help="linear solver of the quadratic model (default: CHOLMOD when installed, else SuperLU)")
     p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
                    help="model option, e.g. --option tol=1e-10 (repeatable; docs/fidelity-models.md)")
+    p.add_argument("--fields", default="D,poses,joints", metavar="LIST",
+                   help="what to write per node / joint: any of D, poses, joints, comma-separated (default all)")
+    p.add_argument("--npz", action="store_true",
+                   help="write the per-node / per-joint arrays to RESULT.npz (binary, numpy.load) beside a "
+                        "small RESULT.json; much faster than JSON for large sheets")
 
 
 def parse_sets(items):
@@ -65,22 +75,23 @@ def parse_options(items):
     return out
 
 
-def result_dict(scene, res, global_g=None, model="quadratic"):
-    """The result document (shared by ``solve`` and the GUI's export of a solved state)."""
-    topo = scene.topology
-    nodes = []
-    for k, (i, j) in enumerate(topo.nodes):
-        R = res.rotations[k]
-        nodes.append({"i": i, "j": j, "name": f"N{i},{j}", "D": float(res.D[k]),
-                      "rotation_deg": math.degrees(math.atan2(R[1, 0], R[0, 0])),
-                      "position_mm": [float(x) for x in res.positions_mm[k]],
-                      "rotation": [[float(x) for x in row] for row in R]})
+def result_dict(scene, res, global_g=None, model="quadratic", fields=None, arrays=None):
+    """The result document (shared by ``solve`` and the GUI's export of a solved state).
+    ``fields``: any of ``core.resultfile.FIELDS`` (default all); ``arrays``: with ``--npz``, the
+    per-node / per-joint arrays are not listed (they go to the ``.npz`` file)."""
+    from metamaterial_wb.core import resultfile
+
+    fields = resultfile.FIELDS if fields is None else tuple(fields)
     out = {"format": "metamaterial-result", "version": 1, "scene": scene.name, "model": model,
            "converged": bool(res.converged), "global_deformation": global_g,
            "actuators": {a.name: a.value for a in scene.actuators},
            "constraints": {c.name: c.value for c in scene.constraints},
-           "nodes": nodes, "warnings": list(res.warnings), "timings": dict(res.timings)}
-    out["joints"] = joint_results(scene, res.rotations)
+           "fields": list(fields), "warnings": list(res.warnings), "timings": dict(res.timings)}
+    if arrays is None:
+        a = resultfile.result_arrays(scene, res, fields)
+        out["nodes"] = resultfile.node_list(a)
+        if "joints" in fields:
+            out["joints"] = resultfile.joint_list(a)
     if res.info:
         out["info"] = res.info
     return out
@@ -118,10 +129,23 @@ def run(args):
     g = args.global_g if args.global_g is not None else scene.global_deformation
     opts = {"backend": args.backend} if args.model == "quadratic" else {}
     opts.update(parse_options(args.option))
+    from metamaterial_wb.core import resultfile
+    fields = resultfile.parse_fields(args.fields)
     res = run_model(args.model, scene, global_deformation=g, **opts)
-    out = result_dict(scene, res, g, args.model)
-    out["timings"]["total_s"] = time.perf_counter() - t0
-    write_json(args.out, out)
+    if args.npz:
+        import os
+        base = args.out[:-5] if args.out.endswith(".json") else args.out
+        npz_path = base + ".npz"
+        arrays = resultfile.result_arrays(scene, res, fields)
+        out = result_dict(scene, res, g, args.model, fields, arrays=arrays)
+        out["arrays"] = {"file": os.path.basename(npz_path), "keys": sorted(arrays)}
+        out["timings"]["total_s"] = time.perf_counter() - t0
+        resultfile.write_npz(npz_path, arrays, out)
+        write_json(args.out, out)
+    else:
+        out = result_dict(scene, res, g, args.model, fields)
+        out["timings"]["total_s"] = time.perf_counter() - t0
+        write_json(args.out, out)
     for w in res.warnings:
         print(f"warning: {w}", file=sys.stderr)
     if not res.converged:   # the file is written (marked "converged": false) but the exit status says so

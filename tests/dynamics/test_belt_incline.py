@@ -12,6 +12,13 @@ from metamaterial_wb.core.dynamics.simulate import simulate
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene import Scene
 
+
+def _trapezoid(y, x):
+    """Trapezoidal integral (numpy 2.x removed ``np.trapz``; ``np.trapezoid`` is new in 2.0)."""
+    y, x = np.asarray(y, float), np.asarray(x, float)
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)))
+
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CELL_MM = 38.0
 
@@ -67,7 +74,7 @@ def test_loss_factor_dissipates_pi_eta_k_a2_per_cycle():
         Q0, _ = s.forces(q, np.zeros_like(q), anchors)
         tau = Q1[s.hb[h], 2] - Q0[s.hb[h], 2]            # damper torques on the segment (the pin damper is off)
         power.append(-tau * v[s.hb[h], 2])
-    dissipated = np.trapz(power, ts)
+    dissipated = _trapezoid(power, ts)
     both = (s.ha == s.hb[h]) | (s.hb == s.hb[h])
     assert both.sum() == 2 and len(set(s.kr[both])) == 2
     assert dissipated == pytest.approx(math.pi * eta * s.kr[both].sum() * A * A, rel=2e-3)

@@ -160,6 +160,8 @@ def test_cli_writes_summary_trajectory_and_frames(tmp_path):
         assert key in s
     assert {"initial_J", "final_J", "actuator_work_J", "damping_dissipated_J", "numerical_J"} <= set(s["energy"])
     assert s["integrator"]["steps"] > 0 and s["integrator"]["method"] in ("implicit", "symplectic")
+    assert "contact_damping_dissipated_J" in s["energy"] and s["initial_state"]["kind"] == "settled"
+    assert s["dt_study"]["window_s"] == 0.4 and s["dt_study"]["converged"] and s["warnings"] == []
     tr = json.loads((out / "trajectory.json").read_text())
     assert len(tr["times_s"]) == len(tr["poses"]) >= 4
     assert len(tr["poses"][0]) == tr["bodies"] == 9

@@ -41,6 +41,8 @@ DEFAULTS = {
     "servo_mass_g": 9.0,           # each servo adds its mass to the nodes of its joint
     "contact": {"penetration_tol_mm": 0.2, "support_points": 4, "damping_ratio": 0.5},
     "integrator": {"method": "auto", "dt_s": None},
+    "initial_state": None,         # "settled" (static equilibrium under gravity and the actuation at
+                                   # t = 0) | "as_built"; default: "settled" for sheets, "as_built" for belts
 }
 
 BELT_DEFAULTS = {
@@ -115,6 +117,11 @@ def dynamics_config(scene):
     if model not in ("sheet", "belt"):
         raise SceneError(f"{f}.model", f"{model!r}; allowed: \"sheet\" (rigid nodes, e.g. the worm) or \"belt\"")
     cfg["model"] = model
+    init = cfg["initial_state"] or ("as_built" if model == "belt" else "settled")
+    if init not in ("settled", "as_built"):
+        raise SceneError(f"{f}.initial_state", f"{init!r}; allowed: \"settled\" (static equilibrium under "
+                         f"gravity and the actuators' values at t = 0) or \"as_built\"")
+    cfg["initial_state"] = init
     if model == "belt":
         cfg["belt"] = _belt_config(scene, cfg["belt"] or {})
     elif cfg["belt"] is not None:

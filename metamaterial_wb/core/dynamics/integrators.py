@@ -56,7 +56,7 @@ class Simulator:
         p = system.contact_points(self.q) if system.cb.size else np.zeros((0, 2))
         self.anchors = p[:, 0].copy()
         self.inside = (p[:, 1] < 0) if p.size else np.zeros(0, bool)
-        self.ledger = {"actuator_work_J": 0.0, "damping_J": 0.0, "friction_J": 0.0}
+        self.ledger = {"actuator_work_J": 0.0, "damping_J": 0.0, "friction_J": 0.0, "contact_damping_J": 0.0}
         self.stats = {"steps": 0, "force_evaluations": 0, "rejected_checks": 0,
                       "fallbacks": [], "max_penetration_mm": 0.0, "max_speed_m_s": 0.0}
         if actuate is not None:
@@ -138,7 +138,9 @@ class Simulator:
         acc = Q / self.sys.M
         acc[self.sys.fixed] = 0.0
         v_new = self.v + dt * acc
-        self.ledger["damping_J"] += dt * self.sys.last_damping_power
+        ph, pc = self.sys.dissipation_power(self.q, 0.5 * (self.v + v_new), self.anchors, dt)
+        self.ledger["damping_J"] += dt * ph
+        self.ledger["contact_damping_J"] += dt * pc
         self.v = v_new
         self.q = self.q + dt * self.v
         self.t += dt
@@ -367,10 +369,16 @@ class Simulator:
             self.stats["newton_unconverged_steps"] = self.stats.get("newton_unconverged_steps", 0) + 1
         v_new = v1.reshape(-1, 3)
         v_new[self.sys.fixed] = 0.0
-        self.ledger["damping_J"] += dt * damp_power
         self._prev = (self.q, self.v, dt)
         self.v = v_new
         self.q = qh + h * v_new
+        # hinge dampers: the power of the step's first force evaluation (numpy path and compiled kernel
+        # alike); contact dampers: at the step's end state (where the implicit step evaluates its
+        # forces), entering / leaving points for their part of the step
+        _, pc = self.sys.dissipation_power(self.q, self.v, self.anchors, dt, q_start=self._prev[0],
+                                           v_start=self._prev[1], hinges=False)
+        self.ledger["damping_J"] += dt * damp_power
+        self.ledger["contact_damping_J"] += dt * pc
         self.t += dt
         self._update_anchors()
 
@@ -396,10 +404,18 @@ class Simulator:
     def _checkpoint(self):
         return (self.q.copy(), self.v.copy(), self.t, self.anchors.copy(), self.inside.copy(),
                 dict(self.ledger), self.sys.theta0.copy(), self.sys.ra.copy(), self.sys.rb.copy(),
-                self.actuate.state() if hasattr(self.actuate, "state") else None)
+                self.actuate.state() if hasattr(self.actuate, "state") else None,
+                {k: self.stats[k] for k in self.ACCEPTED_STATS})
+
+    # extremes that describe the motion: they come from the accepted trajectory only (a discarded
+    # attempt's blow-up is reported in its fallback entry, not as the run's penetration)
+    ACCEPTED_STATS = ("max_penetration_mm", "max_speed_m_s")
 
     def _restore(self, cp):
-        (self.q, self.v, self.t, self.anchors, self.inside, ledger, th0, ra, rb, ast) = cp
+        (self.q, self.v, self.t, self.anchors, self.inside, ledger, th0, ra, rb, ast, acc) = cp
+        self.stats["discarded_max_penetration_mm"] = max(self.stats.get("discarded_max_penetration_mm", 0.0),
+                                                         self.stats["max_penetration_mm"])
+        self.stats.update(acc)
         self.q, self.v, self.anchors, self.inside = self.q.copy(), self.v.copy(), self.anchors.copy(), self.inside.copy()
         self.ledger = dict(ledger)
         self.sys.theta0[:] = th0
@@ -411,6 +427,60 @@ class Simulator:
         self._fact = None
         if self._kern is not None:
             self._kern.invalidate()
+
+    def settle(self, max_iter=300, tol=1e-9, h_max=0.1):
+        """Move the bodies to a static equilibrium under gravity, contacts and the actuation at the
+        current time (the profiles' first values), at rest: backward-Euler steps with the velocities
+        zeroed after each one (a proximal-point iteration on the static forces: each accepted step
+        lowers the potential energy) and a step growing from 1 ms to ``h_max`` while Newton converges
+        and the energy falls (a step that fails either is undone and retried 4x shorter). Time,
+        ledger and step statistics are left as they were; the initial energy is taken at the settled
+        state. Returns ``{"iterations", "moved_mm", "residual_m"}``; a :class:`DynamicsError` when
+        no equilibrium is found."""
+        act, self.actuate = self.actuate, None
+        ledger, stats = dict(self.ledger), dict(self.stats)
+        t, q_start = self.t, self.q.copy()
+        v0 = np.zeros_like(self.v)
+        h, step_max = 1e-3, math.inf
+        E = self.sys.energy(self.q, v0, self.anchors)["total_J"]
+        it = 0
+        try:
+            for it in range(1, max_iter + 1):
+                q_old, anc_old, ins_old = self.q.copy(), self.anchors.copy(), self.inside.copy()
+                bad_before = self.stats.get("newton_unconverged_steps", 0)
+                self._prev = None
+                self._fact = None
+                self.step_implicit(h)
+                self.t = t
+                self.v[:] = 0.0
+                E_new = self.sys.energy(self.q, v0, self.anchors)["total_J"] if np.all(np.isfinite(self.q)) else math.inf
+                unconverged = self.stats.get("newton_unconverged_steps", 0) > bad_before
+                if not math.isfinite(E_new) or E_new > E + 1e-9 * max(abs(E), 1e-6) or unconverged:
+                    self.q, self.anchors, self.inside = q_old, anc_old, ins_old
+                    h *= 0.25
+                    if h < 1e-7:
+                        break
+                    continue
+                E = E_new
+                step_max = float(np.max(np.abs(self.q - q_old))) if self.q.size else 0.0
+                if step_max < tol:
+                    break
+                h = min(h_max, 2.0 * h)
+        finally:
+            self._prev = None
+            self._fact = None
+            if self._kern is not None:
+                self._kern.invalidate()
+            self.actuate = act
+            self.ledger, self.stats = ledger, stats
+        if not step_max < tol:
+            raise DynamicsError(f"no static equilibrium found for the initial state after {it} relaxation steps "
+                                f"(last change {step_max:.3g} m); set dynamics.initial_state to \"as_built\"")
+        p = self.sys.contact_points(self.q) if self.sys.cb.size else np.zeros((0, 2))
+        self.inside = (p[:, 1] < 0) if p.size else np.zeros(0, bool)
+        self.E0 = self.sys.energy(self.q, self.v, self.anchors)["total_J"]
+        moved = float(np.max(np.linalg.norm(self.q[:, :2] - q_start[:, :2], axis=1))) * 1e3 if self.q.size else 0.0
+        return {"iterations": it, "moved_mm": moved, "residual_m": step_max}
 
     # -- driver ------------------------------------------------------------------------------
     def choose(self, method, dt, t_end):
@@ -510,6 +580,8 @@ class Simulator:
         W = self.ledger["actuator_work_J"]
         out = {"initial_J": self.E0, "final_J": e["total_J"], "final_parts_J": e,
                "actuator_work_J": W, "damping_dissipated_J": self.ledger["damping_J"],
-               "friction_dissipated_J": self.ledger["friction_J"]}
-        out["numerical_J"] = self.E0 + W - self.ledger["damping_J"] - self.ledger["friction_J"] - e["total_J"]
+               "friction_dissipated_J": self.ledger["friction_J"],
+               "contact_damping_dissipated_J": self.ledger["contact_damping_J"]}
+        out["numerical_J"] = (self.E0 + W - self.ledger["damping_J"] - self.ledger["friction_J"]
+                              - self.ledger["contact_damping_J"] - e["total_J"])
         return out

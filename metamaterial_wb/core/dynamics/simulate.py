@@ -19,16 +19,73 @@ class Trajectory:
         return np.array(self.t), np.array(self.q)
 
 
-def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, model=None):
-    """Run the scene's dynamics. Returns ``(summary dict, Trajectory, model, simulator)``."""
+DT_CHECK_WINDOW_S = 2.0      # the dt study's window (one worm cycle; four belt control periods ...)
+DT_CHECK_TOL = 0.1           # change of the window's motion at dt / 2 that is "not converged": this
+DT_CHECK_CELLS = 0.05        # fraction of its travel, and at least this fraction of a cell length
+ENERGY_GAIN_TOL = 0.05       # energy created by the integrator, relative to the energy turnover
+
+
+def _start(scene, cfg, model, settle):
+    sim = Simulator(model.system, model.q0, actuate=model.actuate)
+    sim.energy_scale = float(model.system.mass.sum() * 9.81 * 0.05)
+    info = None
+    if settle and cfg["initial_state"] == "settled":
+        info = sim.settle()
+    return sim, info
+
+
+def dt_study(scene, cfg, method, dt, window, settle=True):
+    """The same run on a short window at ``dt`` and at ``dt / 2``: centre-of-mass travel of both and
+    the largest body position difference at the window's end (mm)."""
+    out = []
+    for h in (dt, 0.5 * dt):
+        model = build(scene, cfg)
+        sim, _ = _start(scene, cfg, model, settle)
+        c0 = model.com_x(sim.q)
+        sim.run(window, method=method, dt=h)
+        out.append((model.com_x(sim.q) - c0, sim.q.copy(), sim.stats["dt_s"]))
+    (d1, q1, h1), (d2, q2, h2) = out
+    diff = float(np.max(np.linalg.norm(q1[:, :2] - q2[:, :2], axis=1))) * 1e3
+    travel = max(abs(d1), abs(d2)) * 1e3
+    cell = cfg["belt"]["cell_length_mm"] if cfg["model"] == "belt" else scene.cell_size_mm
+    tol = max(DT_CHECK_TOL * travel, DT_CHECK_CELLS * cell)
+    return {"window_s": window, "dt_s": [h1, h2], "com_displacement_mm": [d1 * 1e3, d2 * 1e3],
+            "com_difference_mm": abs(d1 - d2) * 1e3, "max_position_difference_mm": diff, "tolerance_mm": tol,
+            "converged": bool(abs(d1 - d2) * 1e3 <= tol)}
+
+
+def convergence_warnings(energy, scale_J, study=None):
+    """Sentences for the summary's ``warnings``: energy created by the integrator, a dt study that
+    changed the answer."""
+    out = []
+    turnover = max(abs(energy["actuator_work_J"]), energy["damping_dissipated_J"] + energy["friction_dissipated_J"]
+                   + energy.get("contact_damping_dissipated_J", 0.0), scale_J, 1e-12)
+    if energy["numerical_J"] < -ENERGY_GAIN_TOL * turnover:
+        out.append(f"the energy ledger does not close: the integrator created {-energy['numerical_J']:.3g} J of "
+                   f"energy ({-100 * energy['numerical_J'] / turnover:.0f} % of the energy turnover {turnover:.3g} J; "
+                   f"or the contacts' stick / slip is not resolved at this step): check with a smaller dt or the "
+                   f"implicit integrator")
+    if study is not None and not study["converged"]:
+        a, b = study["com_displacement_mm"]
+        out.append(f"dt study: over the first {study['window_s']:g} s the centre of mass travels {a:+.2f} mm at "
+                   f"dt = {study['dt_s'][0]:.3g} s and {b:+.2f} mm at dt / 2: the answer depends on the step; "
+                   f"use a smaller dt")
+    return out
+
+
+def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, model=None, dt_check=False):
+    """Run the scene's dynamics. Returns ``(summary dict, Trajectory, model, simulator)``.
+
+    The bodies start at a static equilibrium under gravity and the actuators' values at t = 0 when
+    ``dynamics.initial_state`` is ``"settled"`` (the default for sheets). ``dt_check``: also run the
+    first ``DT_CHECK_WINDOW_S`` at dt / 2 and warn when the motion changes (``summary["dt_study"]``)."""
     t_wall = time.perf_counter()
     cfg = cfg or dynamics_config(scene)
     model = model or build(scene, cfg)
     method = method or cfg["integrator"]["method"]
     if dt is None:
         dt = cfg["integrator"]["dt_s"]
-    sim = Simulator(model.system, model.q0, actuate=model.actuate)
-    sim.energy_scale = float(model.system.mass.sum() * 9.81 * 0.05)
+    sim, settled = _start(scene, cfg, model, True)
     traj = Trajectory()
     if record_dt is None:
         record_dt = max(seconds / 200.0, 1e-3)
@@ -55,6 +112,14 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
         "incline_deg": cfg["incline_deg"],
         "model_info": model.info,
     }
+    summary["initial_state"] = dict(kind=cfg["initial_state"], **(settled or {}))
+    study = None
+    if dt_check and seconds > 0:
+        # the integrator and step the accepted run ended with (after a fallback: the implicit one)
+        study = dt_study(scene, cfg, sim.stats["method"].split("->")[-1],
+                         sim.stats.get("dt_final_s", sim.stats["dt_s"]), min(seconds, DT_CHECK_WINDOW_S))
+        summary["dt_study"] = study
+    summary["warnings"] = convergence_warnings(summary["energy"], sim.energy_scale, study)
     if model.kind == "belt":
         # "rolls back": the centre of mass ends more than one cell length downhill / backwards
         summary["rolled_back"] = bool(disp_mm < -cfg["belt"]["cell_length_mm"])

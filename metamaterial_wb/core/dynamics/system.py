@@ -181,6 +181,67 @@ class PlanarSystem:
             Q += self._fsc @ np.concatenate(parts)
         return Q.reshape(n, 3), st
 
+    def dissipation_power(self, q, v, anchors, dt=None, q_start=None, v_start=None, hinges=True):
+        """``(hinge dampers, contact dampers)`` power in W at the state (q, v): what the dampers take
+        out of the mechanical energy. Contacts: the normal force's non-elastic part,
+        ``-(fn - kn pen) v_n`` (the damper ``cn v_n``, and the penalty energy a separating point
+        loses while ``fn`` is clamped at 0), and the tangential damper ``ct v_t^2`` of sticking points
+        (slip losses are booked as friction when the anchors move). ``dt``: the step over which the
+        power is applied; a clamped point's loss is capped at its penalty energy per step (it cannot
+        lose more than it holds). ``q_start, v_start``: the state at the step's start; a point that
+        enters the floor during the step counts for the part of its motion spent in the floor, and
+        one that leaves it counts, at the start state's power, for the part spent before leaving."""
+        ph = 0.0
+        a, b = self.ha, self.hb
+        if a.size and hinges:
+            Ra, Rb = _rot(q[a, 2], self.ra), _rot(q[b, 2], self.rb)
+            wa, wb = v[a, 2], v[b, 2]
+            vdx = v[b, 0] - wb * Rb[:, 1] - v[a, 0] + wa * Ra[:, 1]
+            vdy = v[b, 1] + wb * Rb[:, 0] - v[a, 1] - wa * Ra[:, 0]
+            dw = wb - wa
+            ph = float(self.cp @ (vdx * vdx + vdy * vdy) + self.cr @ (dw * dw))
+        if not self.cb.size:
+            return ph, 0.0
+        py_end, p_end = self._contact_damper_power(q, v, anchors, dt)
+        if q_start is None:
+            return ph, float(np.sum(p_end))
+        c = self.cb
+        py0 = q_start[c, 1] + _rot(q_start[c, 2], self.rc)[:, 1]
+        pc = 0.0
+        enter = (py0 >= 0) & (py_end < 0)
+        stay = (py0 < 0) & (py_end < 0)
+        pc += float(np.sum(p_end[stay]))
+        if np.any(enter):
+            pc += float(np.sum(p_end[enter] * (-py_end[enter]) / (py0[enter] - py_end[enter])))
+        leave = (py0 < 0) & (py_end >= 0)
+        if np.any(leave) and v_start is not None:
+            _, p0 = self._contact_damper_power(q_start, v_start, anchors, dt)
+            pc += float(np.sum(p0[leave] * (-py0[leave]) / (py_end[leave] - py0[leave])))
+        return ph, pc
+
+    def _contact_damper_power(self, q, v, anchors, dt=None):
+        """Per contact point: height ``py`` and the contact dampers' power (0 in the air)."""
+        c = self.cb
+        u = _rot(q[c, 2], self.rc)
+        py = q[c, 1] + u[:, 1]
+        out = np.zeros(len(c))
+        k = np.nonzero(py < 0)[0]
+        if k.size:
+            ck, uk = c[k], u[k]
+            vpx = v[ck, 0] - v[ck, 2] * uk[:, 1]
+            vpy = v[ck, 1] + v[ck, 2] * uk[:, 0]
+            pen = -py[k]
+            kn, cn = self.kn[k], self.cn[k]
+            fn = np.maximum(0.0, kn * pen - cn * vpy)
+            dn = -(fn - kn * pen) * vpy
+            if dt is not None:
+                dn = np.where(fn > 0, dn, np.minimum(dn, 0.5 * kn * pen * pen / dt))
+            ct = self.ct[k]
+            trial = -self.kt[k] * (q[ck, 0] + uk[:, 0] - anchors[k]) - ct * vpx
+            stick = np.abs(trial) <= self.mu[k] * fn
+            out[k] = dn + np.where(stick, ct * vpx * vpx, 0.0)
+        return py, out
+
     def _build_force_scatter(self):
         """A constant sparse matrix that sums the hinge and contact forces into Q (one product
         instead of many scatter-adds)."""

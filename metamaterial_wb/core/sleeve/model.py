@@ -38,6 +38,7 @@ import scipy.linalg as sla
 
 from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number
 from metamaterial_wb.core.sleeve.beam import BeamMesh
+from metamaterial_wb.core.sleeve.tangent import TangentSolver
 
 LINK_FACTOR = 1.0e3     # stiffness of the rigid-body links relative to the beam's axial stiffness
 
@@ -98,6 +99,7 @@ def _sections(geom, E, t_scale=1.0):
 
 
 PILLAR_ELEMENTS = 3
+BIAS_ANGLE = 0.5   # the imperfection's direction, in units of pi / N from cell 0's centre
 E_RADIAL = 3.0     # modulus / G for bending through the wall thickness T (narrow sections: plane stress)
 PILLAR_TIP = {"free": 3.0, "guided": 12.0}   # cantilever k_r = coef E I / a^3 by the tip's rotation
 
@@ -231,7 +233,7 @@ class Path:
     seconds: float = 0.0
 
 
-class SleeveModel:
+class SleeveModel(TangentSolver):
     """M rings of N cells (or one bare unit cell when ``ring is None``).
 
     ``cells``: list of CellGeometry, one per cell type; ``pattern``: list of rings, each a list of
@@ -345,15 +347,22 @@ class SleeveModel:
                 T[3 * n, py] -= coef * np.cos(phi)
         import scipy.sparse as sp
         self.T, self.P = sp.csr_matrix(T), P
-        # imperfection: a tiny constant moment on the top plate (about the axis at -45 deg, which
-        # lengthens cells 0 and 1 of a four-cell ring) so that a uniform ring tilts the same way on
-        # loading and unloading, like the seed's mesh imperfections; zero by default
+        # imperfection: a tiny constant moment on the top plate that makes it rise towards the angle
+        # BIAS_ANGLE * pi / N, half-way between a cell's centre (phi = 0) and the next edge pillar
+        # (phi = pi / N): on no mirror axis of the ring (the axes pass through cells and pillars),
+        # so no symmetric bifurcation is left for the solver (or the mesh) to decide, as the
+        # seed's mesh imperfections decide it. ``tilt_reference``: the same direction as a unit
+        # tilt in reduced coordinates, the mesh-independent tie-break of ``minimise``.
         self.bias = np.zeros(nred)
-        if imperfection and not self.unit:
+        self.tilt_reference = np.zeros(nred)
+        if not self.unit:
             b = self.nfree + 4 * (self.M - 1)
-            mag = imperfection * float(np.max(self.mesh.EA)) / LINK_FACTOR * self.radius
-            self.bias[b] = mag / np.sqrt(2)
-            self.bias[b + 1] = -mag / np.sqrt(2)
+            phi_b = BIAS_ANGLE * np.pi / self.N
+            # a pillar at phi rises by R (psi_x sin phi - psi_y cos phi): psi ~ (sin phi_b, -cos phi_b)
+            self.tilt_reference[b], self.tilt_reference[b + 1] = np.sin(phi_b), -np.cos(phi_b)
+            if imperfection:
+                mag = imperfection * float(np.max(self.mesh.EA)) / LINK_FACTOR * self.radius
+                self.bias = mag * self.tilt_reference
         self.TT = self.T.T.tocsr()
         # sparse LDL^T-like factorisation (SuperLU, symmetric mode, diagonal pivots) for larger systems
         self.sparse = nred > 200
@@ -408,14 +417,7 @@ class SleeveModel:
                 if np.abs(step).max() < 1e-12 or abs(float(g @ step)) < 1e-16 * max(abs(e), 1e-30):
                     return q + step, F, it
             else:
-                if self.sparse:
-                    lam, vec = self._min_eig_sparse(K)
-                else:
-                    lam, vec = sla.eigh(K, subset_by_index=[0, 0], check_finite=False)
-                v = vec[:, 0] / max(np.abs(vec[:, 0]).max(), 1e-300)
-                gv = float(g @ v)
-                if gv > 0 or (abs(gv) <= 1e-12 * max(gn, 1e-300) and v[np.argmax(np.abs(v))] < 0):
-                    v = -v
+                v = self._descent_direction(q, d, e, g, K)
                 # negative curvature: expanding search along the descent direction v
                 best_a, best_e, a = 0.0, e, 1e-3
                 while a <= 0.5:
@@ -434,7 +436,7 @@ class SleeveModel:
                         break
                     q = q + 1e-3 * v
                     continue
-                shift = -lam[0] * 1.5 + 1e-8 * np.mean(np.abs(K.diagonal()))
+                shift = -self._last_min_eig * 1.5 + 1e-8 * np.mean(np.abs(K.diagonal()))
                 if self.sparse:
                     import scipy.sparse as sp
                     import scipy.sparse.linalg as spla
@@ -456,78 +458,6 @@ class SleeveModel:
 
     def _energy(self, q, d):
         return self.mesh.evaluate(self.full(q, d), False)[0] - float(self.bias @ q)
-
-    def _factor(self, K):
-        """``(solve, positive_definite)`` for the reduced tangent ``K``."""
-        if not self.sparse:
-            try:
-                C = sla.cho_factor(K, check_finite=False)
-            except np.linalg.LinAlgError:
-                return None, False
-            return (lambda b: sla.cho_solve(C, b, check_finite=False)), True
-        import scipy.sparse.linalg as spla
-        try:
-            lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                           options={"SymmetricMode": True})
-        except RuntimeError:                  # exactly singular
-            return None, False
-        if not np.array_equal(lu.perm_r, lu.perm_c):
-            # off-diagonal pivoting happened: inertia unknown from U; decide densely
-            return self._factor_dense(K.toarray())
-        # symmetric permutation P K P^T = L D L^T (Sylvester): positive definite <=> all pivots > 0
-        return lu.solve, bool(np.all(lu.U.diagonal() > 0))
-
-    def _min_eig_sparse(self, K):
-        """Smallest eigenpair of a sparse symmetric indefinite ``K``: bracket the eigenvalue by
-        inertia (signs of the symmetric-mode LU pivots of K - s I, Sylvester), then shift-invert."""
-        import scipy.sparse as sp
-        import scipy.sparse.linalg as spla
-        n = K.shape[0]
-        I = sp.identity(n, format="csc")
-        absK = abs(K)
-        gersh = float(np.min(2 * K.diagonal() - np.asarray(absK.sum(axis=1)).ravel()))
-        lo = min(gersh, -1e-300) * 1.01          # below every eigenvalue
-
-        def below(sv):
-            """True when some eigenvalue lies below sv (None if the inertia is unknown)."""
-            try:
-                lu = spla.splu((K - sv * I).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                               options={"SymmetricMode": True})
-            except RuntimeError:
-                return True
-            if not np.array_equal(lu.perm_r, lu.perm_c):
-                return None
-            return bool(np.any(lu.U.diagonal() < 0))
-
-        hi = -abs(lo) * 1e-15
-        ok = True
-        for _ in range(60):                      # geometric bisection on the magnitude
-            if abs(lo) / abs(hi) < 4:
-                break
-            mid = -np.sqrt(abs(lo) * abs(hi))
-            b = below(mid)
-            if b is None:
-                ok = False
-                break
-            if b:
-                hi = mid
-            else:
-                lo = mid
-        try:
-            if not ok:
-                raise RuntimeError
-            lam, vec = spla.eigsh(K, k=1, sigma=lo, which="LM", tol=1e-8,
-                                  v0=np.ones(K.shape[0]))      # deterministic start
-            return lam, vec
-        except Exception:
-            return sla.eigh(K.toarray(), subset_by_index=[0, 0], check_finite=False)
-
-    def _factor_dense(self, K):
-        try:
-            C = sla.cho_factor(K, check_finite=False)
-        except np.linalg.LinAlgError:
-            return None, False
-        return (lambda b: sla.cho_solve(C, b, check_finite=False)), True
 
     def trace(self, d_values, q0=None, tol=None, progress=None):
         """Follow the stable equilibrium path through the prescribed displacements ``d_values``."""

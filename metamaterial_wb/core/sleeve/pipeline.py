@@ -35,12 +35,13 @@ def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None):
 
 def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, unload=True,
                imperfection=1e-4, progress=None, curvature=True, pillar_tip="guided"):
-    """Load (and unload) a sleeve. ``imperfection`` (a tiny bias moment on the top plate, relative
-    to the beams' axial stiffness times the radius, that fixes the tilt direction like the seed's
-    mesh imperfections) is applied to uniform sleeves only: mixed sleeves break the symmetry by
-    design."""
-    uniform = len({t for row in pattern for t in row}) == 1
-    m = SleeveModel(cells, pattern, n_el, plane, imperfection=imperfection if uniform else 0.0,
+    """Load (and unload) a sleeve. ``imperfection``: a tiny bias moment on the top plate, relative
+    to the beams' axial stiffness times the radius, in a direction on no mirror axis of the ring
+    (``model.BIAS_ANGLE``), that fixes the tilt direction like the seed's mesh imperfections. It
+    is applied to mixed sleeves too: a pattern such as [0, 0, 1, 1] keeps one mirror axis, and
+    which of two mirror-image pillars joins the first-snapping group would otherwise be decided
+    by round-off, i.e. by the mesh."""
+    m = SleeveModel(cells, pattern, n_el, plane, imperfection=imperfection,
                     curvature=curvature, pillar_tip=pillar_tip)
     used = [cells[t] for row in pattern for t in row]
     d_max = default_stroke(used) * len(pattern) if d_max is None else d_max
@@ -58,6 +59,21 @@ def ring_thresholds(up):
     return P1, V2, len(p), len(v)
 
 
+def design_axis(model):
+    """Unit vector from the lowest cell type's cells to the highest type's (None for a uniform ring
+    or a pattern without a direction)."""
+    typs = [t for (_, _, t) in model.cell_index]
+    lo_t, hi_t = min(typs), max(typs)
+    axis = np.zeros(2)
+    for (_, k, t) in model.cell_index:
+        sgn = 1.0 if t == hi_t else (-1.0 if t == lo_t else 0.0)
+        phi = 2 * math.pi * k / model.N
+        axis += sgn * np.array([math.cos(phi), math.sin(phi)])
+    if hi_t == lo_t or np.linalg.norm(axis) <= 1e-9:
+        return None
+    return axis / np.linalg.norm(axis)
+
+
 def simulated_sequence(model, up, down):
     """Snapping order of the cell types along the traced loading and unloading paths, and tilts."""
     types, geoms, units = model.state_types, model.state_geoms, model.state_units
@@ -68,17 +84,10 @@ def simulated_sequence(model, up, down):
     ti_dn = down.tilt[np.argmax(np.linalg.norm(down.tilt, axis=1))]
     lu, ld = lean_direction(ti_up), lean_direction(ti_dn)
     # the design's axis: from the lowest type's cells to the highest type's; a lean "reverses"
-    # when its component along that axis changes sign (which of two mirror-image cells joins the
-    # first-snapping group is a symmetric bifurcation and may turn the lean by 90 degrees)
-    typs = [t for (_, _, t) in model.cell_index]
-    lo_t, hi_t = min(typs), max(typs)
-    axis = np.zeros(2)
-    for (_, k, t) in model.cell_index:
-        sgn = 1.0 if t == hi_t else (-1.0 if t == lo_t else 0.0)
-        phi = 2 * math.pi * k / model.N
-        axis += sgn * np.array([math.cos(phi), math.sin(phi)])
-    if hi_t != lo_t and np.linalg.norm(axis) > 1e-9:
-        axis /= np.linalg.norm(axis)
+    # when its component along that axis changes sign (the component across it is set by the
+    # imperfection: which of two mirror-image pillars joins the first-snapping group)
+    axis = design_axis(model)
+    if axis is not None:
         reverses = bool(np.dot(lu, axis) * np.dot(ld, axis) < 0)
     else:
         reverses = bool(np.dot(lu, ld) < 0)
@@ -210,7 +219,7 @@ def analyse(spec, progress=None, log=None):
         wk = spec.walker
         H = spec.M * max(g.height for g in spec.cells)
         cyc = walker_cycle(up.d * L, up.tilt, down.d * L, down.tilt, H, wk["foot_length_mm"],
-                           wk["contact_band_mm"])
+                           wk["contact_band_mm"], design_axis(model))
         curves["walker"] = cyc
         summary["walker"] = {k: cyc[k] for k in ("area_mm2", "orientation", "lateral_stroke_mm", "lift_mm",
                                                    "step_per_cycle_mm", "direction")}

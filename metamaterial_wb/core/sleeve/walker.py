@@ -40,18 +40,22 @@ def loop_area(points):
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
-def walker_cycle(load_d_mm, load_tilt, unload_d_mm, unload_tilt, height_mm, foot_mm, contact_band_mm=1.0):
+def walker_cycle(load_d_mm, load_tilt, unload_d_mm, unload_tilt, height_mm, foot_mm, contact_band_mm=1.0,
+                 direction=None):
     """One inflation (load) / deflation (unload) cycle of a leg and the quadruped gait.
 
     Returns a dict: the closed tip loop (lateral, down) of one leg, its swept area, lateral stroke,
     lift, and the stance estimate: the foot touches the ground while it is within
     ``contact_band_mm`` of its lowest point; the lateral travel of the foot during that contact
     (with the body moving the other way) is the step per cycle. Legs 1 and 3 run in phase, legs 2
-    and 4 half a cycle later (diagonal pairs in antiphase).
+    and 4 half a cycle later (diagonal pairs in antiphase). ``direction``: the walking direction
+    (unit 2-vector; default the lean of the largest tilt). The sleeve pipeline passes the design's
+    axis (from the first cell type to the second), along which the lean reverses: the lean's
+    component across it is kept on unloading and sweeps no area in the walking plane.
     """
     d = np.concatenate([load_d_mm, unload_d_mm])
     tilt = np.concatenate([load_tilt, unload_tilt])
-    tip, direction = tip_trajectory(d, tilt, height_mm, foot_mm)
+    tip, direction = tip_trajectory(d, tilt, height_mm, foot_mm, direction)
     area = loop_area(tip)
     down = tip[:, 1]
     contact = down >= down.max() - contact_band_mm
