@@ -21,7 +21,9 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
   ``contact_stiffness`` (1e4, times the hinge's soft bending stiffness), ``fallback`` (dynamic
-  relaxation when Newton fails, true), ``dr_max_iter`` (5000).
+  relaxation when Newton fails, true), ``dr_max_iter`` (5000), ``hinge_elements`` (corotational
+  Timoshenko elements per hinge, 1; more resolve a hinge's deformed shape at large rotations:
+  ``core/lattice/refine``, convergence study in docs/fidelity.md).
 """
 import json
 import time
@@ -33,7 +35,7 @@ from metamaterial_wb.core.models import ModelResult, register_model
 
 _LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses", "about", "line_search"}
 _NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
-                   "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method"}
+                   "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method", "hinge_elements"}
 
 
 def _check_options(model, options, allowed):
@@ -213,20 +215,29 @@ def _nonlinear(scene, global_deformation=None, **options):
     if global_deformation is not None:
         return _global(scene, global_deformation, t0)
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    from metamaterial_wb.core.lattice.refine import refine
     from metamaterial_wb.core.lattice.solve import NonlinearLattice, finish
 
-    geo = LatticeGeometry(scene)
+    base = LatticeGeometry(scene)
+    geo = refine(base, options.pop("hinge_elements", 1))
     t1 = time.perf_counter()
     model = NonlinearLattice(scene, geo, **options)
     X, R, ok = model.solve()
     t2 = time.perf_counter()
     st_end, total_energy = model._state(X, R, tangent=False)[:2]
     energy = float(st_end.energy.sum())
-    X, R, phi, D = finish(geo, X, R)
+    chord = None
+    if geo is not base:
+        chord = geo.chord_stretch(X, R)
+        X, R = geo.plates(X, R)
+    X, R, phi, D = finish(base, X, R)
     warnings = []
     info = dict(model.stats)
     info.update({"dofs": int(model.na), "planar": bool(model.planar), "constraints": int(model.joints.size),
-                 "elastic_energy_Nmm": energy, "contact_energy_Nmm": float(total_energy) - energy})
+                 "elastic_energy_Nmm": energy, "contact_energy_Nmm": float(total_energy) - energy,
+                 "hinge_elements": getattr(geo, "hinge_elements", 1)})
+    if chord is not None and chord.size:
+        info["hinge_chord_stretch_range"] = [float(chord.min()), float(chord.max())]
     if hasattr(model, "last_residual"):
         info["residual_force_rel"], info["residual_constraint_rad"] = (float(x) for x in model.last_residual)
     if not ok:

@@ -1,0 +1,119 @@
+"""Hinges of ``n`` corotational Timoshenko elements (the nonlinear model's option ``hinge_elements``).
+
+The one-element hinge measures each hinge by one corotational element between the two plates: exact for
+pure bending (the arc correction of ``core/lattice/mechanics``) and for the linear response to end loads
+(the tip stiffness of the Timoshenko beam), but only approximate once a hinge that also carries end forces
+turns through tens of degrees. :func:`refine` splits every hinge into ``n`` elements of length ``L/n``
+joined by ``n - 1`` hinge-internal nodes (each a point with a frame: 3 DOFs in a planar scene, 6 otherwise),
+so the hinge's deformed shape is resolved and the model converges to the geometrically exact
+(Reissner-Timoshenko) beam as ``n`` grows; ``docs/fidelity.md`` gives the convergence study.
+
+The refined geometry keeps the plates as nodes ``0 .. n_plates - 1`` (so supports, actuators and results
+read as before) and lists the elements as:
+
+* ``0 .. m - 1``: one *whole-hinge* element per joint, from plate A's hinge corner to plate B's, with zero
+  stiffness. It carries what belongs to the hinge as a whole: the actuator constraints (relative rotation
+  of the two plates about the soft axis) and the plate-contact penalty (closing rotation of the hinge);
+* ``m ..``: the ``n m`` stiff sub-elements, hinge by hinge, from plate A through the internal nodes to
+  plate B.
+
+Everything the element mechanics reads (``a``, ``b``, ``rA``, ``rB``, ``Q0``, ``K``, ``rest``, ``tilt``, ``dofs``)
+is per element, so :class:`~metamaterial_wb.core.lattice.mechanics.ElementState` and the nonlinear solver run
+unchanged on it.
+"""
+import numpy as np
+
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.lattice.geometry import beam_tip_stiffness
+
+MAX_HINGE_ELEMENTS = 64
+
+
+def check_hinge_elements(value):
+    """The option's value as an int in [1, MAX_HINGE_ELEMENTS], or a SceneError naming it."""
+    try:
+        n = int(value)
+        ok = float(value) == n
+    except (TypeError, ValueError):
+        ok = False
+    if not ok or not (1 <= n <= MAX_HINGE_ELEMENTS):
+        raise SceneError("--option hinge_elements", f"{value!r}: expected an integer in [1, {MAX_HINGE_ELEMENTS}]")
+    return n
+
+
+class RefinedGeometry:
+    """A :class:`~metamaterial_wb.core.lattice.geometry.LatticeGeometry` with ``n`` elements per hinge."""
+
+    def __init__(self, base, n):
+        self.base = base
+        self.hinge_elements = n
+        m, np_ = base.m, base.n
+        self.scene = base.scene
+        self.n_plates = np_
+        self.m_hinges = m
+        self.n = np_ + m * (n - 1)
+        self.m = m * (n + 1)
+        for k in ("plate_side_mm", "cell_size_mm", "gap_mm", "E", "nu", "contact_rad", "closing_rad",
+                  "opening_rad", "arc_correction", "is_h", "joint_parity"):
+            setattr(self, k, getattr(base, k))
+        self.planar = base.planar
+        e1 = base.Q0[:, :, 0]
+        # internal nodes of hinge k: np_ + k (n - 1) + (0 .. n - 2), spaced along the hinge chord
+        start = base.X0[base.a] + base.rA                      # plate A's hinge corner (flat sheet)
+        frac = np.arange(1, n) / n
+        Xi = start[:, None, :] + frac[None, :, None] * (base.rest * e1)[:, None, :]
+        self.X0 = np.concatenate([base.X0, Xi.reshape(-1, 3)], axis=0)
+        self.parity = np.concatenate([base.parity, np.ones(m * (n - 1))])
+        # sub-element chains: node sequence a, i_1 .. i_{n-1}, b for every hinge
+        internal = np_ + np.arange(m * (n - 1)).reshape(m, n - 1)
+        chain = np.concatenate([base.a[:, None], internal, base.b[:, None]], axis=1)     # (m, n + 1)
+        sa = chain[:, :-1].ravel()
+        sb = chain[:, 1:].ravel()
+        zero = np.zeros((m, n, 3))
+        rA = zero.copy()
+        rA[:, 0, :] = base.rA
+        rB = zero.copy()
+        rB[:, -1, :] = base.rB
+        rep = np.repeat(np.arange(m), n)                      # hinge of every sub-element
+        self.hinge_of = np.concatenate([np.arange(m), rep])
+        self.a = np.concatenate([base.a, sa])
+        self.b = np.concatenate([base.b, sb])
+        self.rA = np.concatenate([base.rA, rA.reshape(-1, 3)])
+        self.rB = np.concatenate([base.rB, rB.reshape(-1, 3)])
+        self.Q0 = base.Q0[self.hinge_of]
+        self.tilt = base.tilt[self.hinge_of]
+        self.L = np.concatenate([base.L, base.L[rep] / n])
+        self.w, self.t = base.w[self.hinge_of], base.t[self.hinge_of]
+        Ksub = beam_tip_stiffness(base.L[rep] / n, base.w[rep], base.t[rep], base.E, base.nu)
+        self.K = np.concatenate([np.zeros((m, 6, 6)), Ksub])
+        self.rest = np.concatenate([np.full(m, float(base.rest)), np.full(m * n, float(base.rest) / n)])
+        # contact acts on the whole-hinge elements only, with the one-element hinge's penalty stiffness
+        self.contact_k = np.concatenate([base.K[:, 5, 5], np.zeros(m * n)])
+        self.contact_mask = np.concatenate([np.ones(m, bool), np.zeros(m * n, bool)])
+        self.dofs = np.concatenate([6 * self.a[:, None] + np.arange(6), 6 * self.b[:, None] + np.arange(6)], axis=1)
+
+    def phi_max(self, D):
+        return self.base.phi_max(D)
+
+    def D_from_phi(self, phi):
+        return self.base.D_from_phi(phi)
+
+    def phi_from_D(self, D):
+        return self.base.phi_from_D(D)
+
+    def plates(self, X, R):
+        """The plate nodes' part of a refined state."""
+        return X[:self.n_plates], R[:self.n_plates]
+
+    def chord_stretch(self, X, R):
+        """(m,) relative change of every hinge's end-to-end chord against its rest length (the gap)."""
+        b = self.base
+        pA = X[b.a] + np.einsum("mij,mj->mi", R[b.a], b.rA)
+        pB = X[b.b] + np.einsum("mij,mj->mi", R[b.b], b.rB)
+        return np.linalg.norm(pB - pA, axis=1) / b.rest - 1.0
+
+
+def refine(geo, n):
+    """``geo`` itself for ``n = 1``, else its :class:`RefinedGeometry` with ``n`` elements per hinge."""
+    n = check_hinge_elements(n)
+    return geo if n == 1 else RefinedGeometry(geo, n)
