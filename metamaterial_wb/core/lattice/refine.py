@@ -117,3 +117,70 @@ def refine(geo, n):
     """``geo`` itself for ``n = 1``, else its :class:`RefinedGeometry` with ``n`` elements per hinge."""
     n = check_hinge_elements(n)
     return geo if n == 1 else RefinedGeometry(geo, n)
+
+
+def hinge_end_response(L, w, t, E, nu, angles, held=False, n=1):
+    """One hinge alone, as the lattice models it: ``n`` corotational Timoshenko elements clamped at plate
+    A's end, the far end turned about the sheet normal ``e3`` by each of ``angles`` (radians, in order), its
+    translations free (``held=False``: pure bending) or held at the rest chord. Returns
+    ``{"angle_rad", "moment_Nmm", "end_u_mm" (k, 3), "end_force_N" (k, 3)}``: the end moment about ``e3``,
+    the end's displacement and the force on it (the reaction where it is held). For the comparison with
+    the solid FE hinge (``metamaterial_wb/fe/hinge``)."""
+    import types
+
+    from metamaterial_wb.core.lattice.mechanics import ElementState
+
+    n = check_hinge_elements(n)
+    geo = types.SimpleNamespace(
+        a=np.arange(n), b=np.arange(1, n + 1), rA=np.zeros((n, 3)), rB=np.zeros((n, 3)),
+        Q0=np.broadcast_to(np.eye(3), (n, 3, 3)).copy(), rest=L / n, arc_correction=True, planar=True,
+        K=beam_tip_stiffness(np.full(n, L / n), np.full(n, w), np.full(n, t), E, nu))
+    X = np.column_stack([np.linspace(0.0, L, n + 1), np.zeros(n + 1), np.zeros(n + 1)])
+    phi = np.zeros(n + 1)
+    loc = [0, 1, 5, 6, 7, 11]                        # planar DOFs of both element ends
+
+    def rot(p):
+        c, s = np.cos(p), np.sin(p)
+        R = np.zeros((p.size, 3, 3))
+        R[:, 0, 0], R[:, 0, 1], R[:, 1, 0], R[:, 1, 1], R[:, 2, 2] = c, -s, s, c, 1.0
+        return R
+
+    def assemble(X, phi):
+        st = ElementState(geo, X, rot(phi), tangent=True)
+        g = np.zeros(3 * (n + 1))
+        H = np.zeros((3 * (n + 1),) * 2)
+        for e in range(n):
+            idx = np.arange(3 * e, 3 * e + 6)
+            g[idx] += st.grad[e, loc]
+            H[np.ix_(idx, idx)] += st.H[e][np.ix_(loc, loc)]
+        return g, H
+
+    last = 3 * n
+    free = [k for k in range(3, 3 * (n + 1)) if k != last + 2 and not (held and k in (last, last + 1))]
+    free = np.array(free, dtype=np.int64)
+    out = {"angle_rad": [], "moment_Nmm": [], "end_u_mm": [], "end_force_N": []}
+    scale = float(geo.K[0, 5, 5]) / L
+    prev = 0.0
+    for th in np.asarray(angles, float):
+        sub = max(1, int(np.ceil(abs(th - prev) / 0.05)))
+        for target in np.linspace(prev, th, sub + 1)[1:]:
+            phi[-1] = target
+            for _ in range(50):
+                g, H = assemble(X, phi)
+                if not free.size or np.abs(g[free]).max() <= 1e-11 * scale:
+                    break
+                dq = np.linalg.solve(H[np.ix_(free, free)], -g[free])
+                full = np.zeros(3 * (n + 1))
+                full[free] = dq
+                full = full.reshape(n + 1, 3)
+                X[:, :2] += full[:, :2]
+                phi += full[:, 2]
+            else:
+                raise RuntimeError(f"hinge_end_response: Newton did not converge at {target:.3f} rad")
+        prev = th
+        g, _ = assemble(X, phi)
+        out["angle_rad"].append(th)
+        out["moment_Nmm"].append(g[last + 2])
+        out["end_u_mm"].append([X[-1, 0] - L, X[-1, 1], 0.0])
+        out["end_force_N"].append([g[last], g[last + 1], 0.0])
+    return {k: np.asarray(v, float) for k, v in out.items()}
