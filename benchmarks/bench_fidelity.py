@@ -21,7 +21,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 sys.path.insert(0, REPO)
 
-from metamaterial_wb.core import fidelity  # noqa: E402
+from metamaterial_wb.bench import fidelity  # noqa: E402
 from metamaterial_wb.core.models import run_model  # noqa: E402
 
 BEGIN, END = "<!-- begin:fidelity -->", "<!-- end:fidelity -->"

@@ -42,7 +42,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-from metamaterial_wb.core import fidelity  # noqa: E402
+from metamaterial_wb.bench import fidelity  # noqa: E402
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry  # noqa: E402
 from metamaterial_wb.core.lattice.mechanics import _cross_e1, hinge_strains  # noqa: E402
 from metamaterial_wb.core.lattice.solve import ChainPositions, LinearLattice, _apply, finish, quadratic_state  # noqa: E402

@@ -29,7 +29,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-from metamaterial_wb.core import fidelity  # noqa: E402
+from metamaterial_wb.bench import fidelity  # noqa: E402
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry  # noqa: E402
 from metamaterial_wb.core.lattice.solve import LinearLattice, NonlinearLattice, _apply, _kkt_solve, finish  # noqa: E402
 from metamaterial_wb.core.models import ModelResult, run_model  # noqa: E402

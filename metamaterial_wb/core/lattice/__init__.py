@@ -215,7 +215,7 @@ def _nonlinear(scene, global_deformation=None, **options):
     if global_deformation is not None:
         return _global(scene, global_deformation, t0)
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry
-    from metamaterial_wb.core.lattice.refine import refine
+    from metamaterial_wb.core.lattice.refine import chord_stretch, refine
     from metamaterial_wb.core.lattice.solve import NonlinearLattice, finish
 
     base = LatticeGeometry(scene)
@@ -226,9 +226,8 @@ def _nonlinear(scene, global_deformation=None, **options):
     t2 = time.perf_counter()
     st_end, total_energy = model._state(X, R, tangent=False)[:2]
     energy = float(st_end.energy.sum())
-    chord = None
+    chord = chord_stretch(base, X, R)
     if geo is not base:
-        chord = geo.chord_stretch(X, R)
         X, R = geo.plates(X, R)
     X, R, phi, D = finish(base, X, R)
     warnings = []

@@ -107,10 +107,15 @@ class RefinedGeometry:
 
     def chord_stretch(self, X, R):
         """(m,) relative change of every hinge's end-to-end chord against its rest length (the gap)."""
-        b = self.base
-        pA = X[b.a] + np.einsum("mij,mj->mi", R[b.a], b.rA)
-        pB = X[b.b] + np.einsum("mij,mj->mi", R[b.b], b.rB)
-        return np.linalg.norm(pB - pA, axis=1) / b.rest - 1.0
+        return chord_stretch(self.base, X, R)
+
+
+def chord_stretch(geo, X, R):
+    """(m,) relative change of every hinge's end-to-end chord (plate corner to plate corner) against its rest
+    length (the gap), for a one-element geometry ``geo`` and a state whose first nodes are its plates."""
+    pA = X[geo.a] + np.einsum("mij,mj->mi", R[geo.a], geo.rA)
+    pB = X[geo.b] + np.einsum("mij,mj->mi", R[geo.b], geo.rB)
+    return np.linalg.norm(pB - pA, axis=1) / geo.rest - 1.0
 
 
 def refine(geo, n):
