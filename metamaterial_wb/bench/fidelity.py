@@ -321,6 +321,50 @@ def _targets(results):
     return out
 
 
+TRUST_MODELS = (("quadratic", "quadratic (R0)"), ("linear", "linear lattice (R1)"),
+                ("nonlinear", "nonlinear (R2), 1 element per hinge"), ("nonlinear_n2", "nonlinear (R2), 2 elements per hinge"),
+                ("nonlinear_n4", "nonlinear (R2), 4 elements per hinge"))
+
+
+def _pick(r, model):
+    if model == "nonlinear":
+        return next((row for row in r["rows"] if row["model"] == "nonlinear" and not row["options"]), None)
+    if model.startswith("nonlinear_n"):
+        n = int(model[len("nonlinear_n"):])
+        return next((row for row in r["rows"] if row["model"] == "nonlinear_n"
+                     and row["options"].get("hinge_elements") == n), None)
+    return next((row for row in r["rows"] if row["model"] == model), None)
+
+
+def trust_table(results):
+    """Where each model can be trusted, measured: its worst RMS and max angle error relative to the amplitude
+    over the standard scenes, per amplitude, against the converged reference (+- its uncertainty)."""
+    amps = sorted({r["amplitude"] for r in results})
+    out = ["## Where each model can be trusted (measured)", "",
+           "Worst case over the standard scenes of this run (" + ", ".join(sorted({r['key'] for r in results})) +
+           "; hinge aspect ratios length / in-plane width 2.5 and 3.3), error against the converged reference "
+           "relative to the actuation amplitude; the scene where the worst case sits in brackets.", "",
+           "| model | " + " | ".join(f"RMS dD / amplitude at {a:g} | max dD / amplitude at {a:g}" for a in amps) + " |",
+           "|---|" + "---|---|" * len(amps)]
+    for model, label in TRUST_MODELS:
+        cells = []
+        for a in amps:
+            best = None
+            for r in results:
+                if r["amplitude"] != a:
+                    continue
+                row = _pick(r, model)
+                if row is None:
+                    continue
+                cand = (row["rms_D"] / a, row["max_D"] / a, row["ref_rms_D"] / a, r["key"])
+                if best is None or cand[0] > best[0]:
+                    best = cand
+            cells += [f"{_fmt(best[0])} +- {_fmt(best[2])} ({best[3]})", f"{_fmt(best[1])}"] if best else ["-", "-"]
+        out.append(f"| {label} | " + " | ".join(cells) + " |")
+    out.append("")
+    return out
+
+
 def _convergence_table(r):
     """The reference's convergence in the number of hinge elements (one scene)."""
     st = r.get("reference_study")
@@ -381,6 +425,7 @@ def report_markdown(results, img_rel, machine="", command="python3 -m metamateri
                      f"{srow['flat_ratio']:.2f} |")
     lines.append("")
     lines += _targets(results)
+    lines += trust_table(results)
     if fe_markdown:
         lines += [fe_markdown]
     for r in results:

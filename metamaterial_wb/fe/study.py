@@ -68,7 +68,8 @@ def _f(x):
 
 
 def markdown(study):
-    """The FE section of docs/fidelity.md from :func:`run_hinge_study`'s result."""
+    """The FE section of docs/fidelity.md from :func:`run_hinge_study`'s result (and ``study["patch"]``, the
+    result of :func:`run_patch_study`, if there)."""
     L = []
     L.append("## FE top rung: one hinge in CalculiX\n")
     L.append(f"Hinge: {study['description']}; plate blocks {study['spec']['plate_len']:g} mm long, "
@@ -133,6 +134,88 @@ def markdown(study):
                 L.append(f"| {'held' if held else 'free'} | lattice, n = {r['n']} | {_f(r['moment_Nmm'][i15])} | "
                          f"{_f(r['moment_Nmm'][i45])} | {_f(r['end_force_N'][i45][0])} | "
                          f"({_f(u[0])}, {_f(u[1])}) | {r['wall_s']:.3f} |")
+        L.append("")
+    if study.get("patch"):
+        L.append(patch_markdown(study["patch"]))
+    return "\n".join(L) + "\n"
+
+
+PATCH_MESHES = ((0.5, 2), (0.35, 3), (0.25, 4))      # (element size in the hinge, elements through t)
+PATCH_AMPLITUDES = (0.05, 0.5)
+PATCH_MODELS = (("quadratic", "quadratic (R0)", {}),
+                ("linear", "linear lattice (R1), no contact", {"contact": False}),
+                ("nonlinear", "nonlinear (R2), 1 element/hinge, no contact", {"contact": False}),
+                ("nonlinear", "nonlinear (R2), 2 elements/hinge, no contact", {"contact": False, "hinge_elements": 2}),
+                ("nonlinear", "nonlinear (R2), 4 elements/hinge, no contact", {"contact": False, "hinge_elements": 4}),
+                ("nonlinear", "nonlinear (R2), 8 elements/hinge, no contact", {"contact": False, "hinge_elements": 8}),
+                ("nonlinear", "nonlinear (R2), default (1 element, plate contact)", {}))
+
+
+def run_patch_study(amplitudes=PATCH_AMPLITUDES, meshes=PATCH_MESHES, timeout_s=3600.0, progress=None):
+    """The 3 x 3 patch with two actuated joints in CalculiX at every mesh, extrapolated in the mesh
+    (Richardson on the plate rotations and positions), and every model's error against it."""
+    from metamaterial_wb.bench.fidelity import compare
+    from metamaterial_wb.bench.reference import ExtrapolatedReference
+    from metamaterial_wb.core.models import run_model
+    from metamaterial_wb.fe import patch
+
+    say = progress or (lambda m: None)
+    out = []
+    for amp in amplitudes:
+        scene = patch.patch_scene(amp)
+        fes = []
+        for h, nz in meshes:
+            r = patch.solve_patch(scene, h, nz, increments=4 if amp <= 0.1 else 10, timeout_s=timeout_s)
+            fes.append(r)
+            say(f"FE patch, amplitude {amp}, h = {h:g} mm: {r.info['dofs']} DOFs, {r.info['wall_s']:.1f} s")
+        hs = [m[0] for m in meshes]
+        phi0 = fes[-1].phi
+        phis = [f.phi - np.mean(f.phi - phi0) for f in fes]
+        ext_phi, _e, p_phi = hinge.richardson(hs, phis)
+        ext_pos, _e2, _p = hinge.richardson(hs, [f.positions_mm for f in fes])
+        ref = ExtrapolatedReference(ext_phi, ext_pos)
+        unc = compare(scene, fes[-1], ref)
+        row = {"amplitude": amp, "fe": [], "models": [],
+               "fe_uncertainty": {k: float(unc[k]) for k in ("rms_D", "max_D", "max_pos")}}
+        for f in fes:
+            e = compare(scene, f, ref)
+            row["fe"].append({"h_mm": f.info["h_mm"], "nz": f.info["nz"], "dofs": f.info["dofs"],
+                              "wall_s": f.info["wall_s"], "increments": f.info["increments"],
+                              **{k: float(e[k]) for k in ("rms_D", "max_D", "max_pos")}})
+        for name, label, opts in PATCH_MODELS:
+            best, res = None, None
+            for _ in range(3):
+                t0 = time.perf_counter()
+                res = run_model(name, scene, **opts)
+                dt = time.perf_counter() - t0
+                best = dt if best is None else min(best, dt)
+            e = compare(scene, res, ref)
+            row["models"].append({"label": label, "time_s": best, "converged": bool(res.converged),
+                                  **{k: float(e[k]) for k in ("rms_D", "max_D", "max_pos")}})
+        out.append(row)
+    return out
+
+
+def patch_markdown(rows):
+    L = ["### 3 x 3 patch, two actuated joints: every model against CalculiX\n",
+         "Rigid plates joined by solid TPU hinges (C3D20R, Neo-Hooke, `NLGEOM`; `metamaterial_wb/fe/patch.py`), "
+         "the actuators' relative plate rotations prescribed to the lattice's own targets, the centre plate held; "
+         "no plate contact in the FE, so the lattice models run with `contact=False` (the default nonlinear model "
+         "with contact is listed last). The FE reference is extrapolated in the mesh (Richardson); its uncertainty "
+         "is the correction to the finest mesh, and every error below carries it.\n"]
+    for r in rows:
+        u = r["fe_uncertainty"]
+        L.append(f"Amplitude {r['amplitude']}: FE uncertainty RMS dD {_f(u['rms_D'])}, max dD {_f(u['max_D'])}, "
+                 f"max position {_f(u['max_pos'])} cells.\n")
+        L.append("| model | time (ms) | RMS dD vs FE | max dD | RMS dD / amplitude | max pos. err / cell |")
+        L.append("|---|---|---|---|---|---|")
+        for f in r["fe"]:
+            L.append(f"| CalculiX, h = {f['h_mm']:g} mm, {f['nz']} through t ({f['dofs']} DOFs) | "
+                     f"{1e3 * f['wall_s']:.0f} | {_f(f['rms_D'])} | {_f(f['max_D'])} | "
+                     f"{_f(f['rms_D'] / r['amplitude'])} | {_f(f['max_pos'])} |")
+        for m in r["models"]:
+            L.append(f"| {m['label']} | {1e3 * m['time_s']:.2f} | {_f(m['rms_D'])} +- {_f(u['rms_D'])} | "
+                     f"{_f(m['max_D'])} | {_f(m['rms_D'] / r['amplitude'])} | {_f(m['max_pos'])} +- {_f(u['max_pos'])} |")
         L.append("")
     return "\n".join(L) + "\n"
 
