@@ -83,6 +83,7 @@ def run(args):
             else:
                 try:
                     fe_study = study.run_hinge_study(progress=progress)
+                    fe_study["aspect"] = study.run_aspect_study(progress=progress)
                     fe_study["patch"] = study.run_patch_study(progress=progress)
                 except MetamaterialError as exc:
                     fe_note = f"FE rung failed: {exc}"

@@ -135,6 +135,8 @@ def markdown(study):
                          f"{_f(r['moment_Nmm'][i45])} | {_f(r['end_force_N'][i45][0])} | "
                          f"({_f(u[0])}, {_f(u[1])}) | {r['wall_s']:.3f} |")
         L.append("")
+    if study.get("aspect"):
+        L.append(aspect_markdown(study["aspect"]))
     if study.get("patch"):
         L.append(patch_markdown(study["patch"]))
     return "\n".join(L) + "\n"
@@ -217,6 +219,41 @@ def patch_markdown(rows):
             L.append(f"| {m['label']} | {1e3 * m['time_s']:.2f} | {_f(m['rms_D'])} +- {_f(u['rms_D'])} | "
                      f"{_f(m['max_D'])} | {_f(m['rms_D'] / r['amplitude'])} | {_f(m['max_pos'])} +- {_f(u['max_pos'])} |")
         L.append("")
+    return "\n".join(L) + "\n"
+
+
+ASPECT_LENGTHS = (1.0, 2.0, 4.0, 6.0)
+ASPECT_SIZE = 0.283
+
+
+def run_aspect_study(lengths=ASPECT_LENGTHS, h=ASPECT_SIZE, timeout_s=1800.0, progress=None):
+    """FE stiffness against beam theory for hinges of several lengths (width 0.8, thickness 7 mm): where the
+    lattice's beam law can be trusted in hinge aspect ratio (length / in-plane width)."""
+    say = progress or (lambda m: None)
+    rows = []
+    for L in lengths:
+        spec = hinge.HingeSpec(length=L)
+        K, info = hinge.stiffness(spec, h, timeout_s)
+        beam = spec.beam_K()
+        rows.append({"length_mm": L, "aspect": L / spec.w, "h_mm": h, "wall_s": info["wall_s"],
+                     "fe_diag": np.diag(K).tolist(), "beam_diag": np.diag(beam).tolist(),
+                     "fe_bending": condensed_bending(K), "beam_bending": condensed_bending(beam)})
+        say(f"FE hinge stiffness, L = {L:g} mm (aspect {L / spec.w:.2g}): {info['wall_s']:.1f} s")
+    return rows
+
+
+def aspect_markdown(rows):
+    L = ["### Beam law against FE by hinge aspect ratio\n",
+         f"FE stiffness / beam-theory stiffness (the lattice's hinge law) for hinges 0.8 mm wide and 7 mm thick "
+         f"of several lengths, mesh h = {rows[0]['h_mm']:g} mm (the mesh study above gives its error for the "
+         "default hinge).\n",
+         "| length (mm) | length / width | " + " | ".join(DOF_NAMES) + " | pure bending | FE run time (s) |",
+         "|---|---|" + "---|" * (len(DOF_NAMES) + 2)]
+    for r in rows:
+        ratios = np.asarray(r["fe_diag"]) / np.asarray(r["beam_diag"])
+        L.append(f"| {r['length_mm']:g} | {r['aspect']:.2g} | " + " | ".join(f"{x:.2f}" for x in ratios) +
+                 f" | {r['fe_bending'] / r['beam_bending']:.2f} | {r['wall_s']:.0f} |")
+    L.append("")
     return "\n".join(L) + "\n"
 
 
