@@ -24,7 +24,9 @@ def work_precision(results, path, fe_study=None):
     from metamaterial_wb.core.fileio import write_atomic
 
     amps = sorted({r["amplitude"] for r in results})
-    nrows = len(amps) + (1 if fe_study else 0)
+    has_hinge = bool(fe_study and fe_study.get("bending"))
+    has_patch = bool(fe_study and fe_study.get("patch"))
+    nrows = len(amps) + int(has_hinge) + int(has_patch)
     fig, axes = plt.subplots(nrows, 2, figsize=(12, 4.6 * nrows), squeeze=False)
     markers = {"quadratic": "s", "linear": "^", "linear_flat": "v", "dr": "x"}
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -42,7 +44,7 @@ def work_precision(results, path, fe_study=None):
                 col = colors[keys.index(r["key"]) % len(colors)]
                 nl = [row for row in r["rows"] if row["model"] == "nonlinear"]
                 ax.plot([row["time_s"] * 1e3 for row in nl], [max(row[metric], FLOOR) for row in nl], "-o",
-                        color=col, ms=3, alpha=0.6, label=f"{r['key']}")
+                        color=col, ms=3, alpha=0.6)
                 nn = [row for row in r["rows"] if row["model"] == "nonlinear_n"]
                 one = [row for row in nl if not row["options"]]
                 chain = one + nn
@@ -64,20 +66,24 @@ def work_precision(results, path, fe_study=None):
             ax.set_ylabel(ylabel)
             ax.set_title(f"actuator amplitude {amp}")
             ax.grid(True, which="both", alpha=0.3)
-        ax0 = axes[ia, 0]
-        ax0.plot([], [], "s", mfc="none", color="k", label="quadratic (R0)")
-        ax0.plot([], [], "^", color="k", label="linear lattice (R1, about the quadratic state)")
-        ax0.plot([], [], "v", color="k", label="linear lattice at the flat sheet (about=flat)")
-        ax0.plot([], [], "-o", color="k", ms=3, label="nonlinear (R2), 1 element/hinge, tol 1e-2 .. 1e-8")
-        ax0.plot([], [], "--D", color="k", ms=5, label="nonlinear (R2), 1, 2, 4, 8 elements/hinge")
-        ax0.plot([], [], ":", color="k", label="reference uncertainty (error bars)")
-        ax0.plot([], [], "x", color="k", ms=9, label="dynamic relaxation alone")
-        ax0.legend(fontsize=7, loc="lower left", ncol=2)
-    if fe_study:
-        _fe_rows(axes[-1], fe_study)
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], ls="none", marker="s", mfc="none", color="k", label="quadratic (R0)"),
+               Line2D([], [], ls="none", marker="^", color="k", label="linear lattice (R1, about the quadratic state)"),
+               Line2D([], [], ls="none", marker="v", color="k", label="linear lattice at the flat sheet (about=flat)"),
+               Line2D([], [], ls="-", marker="o", ms=3, color="k", label="nonlinear (R2), 1 element/hinge, tol 1e-2 .. 1e-8"),
+               Line2D([], [], ls="--", marker="D", ms=5, color="k", label="nonlinear (R2), 1, 2, 4, 8 elements/hinge"),
+               Line2D([], [], ls=":", color="k", label="reference uncertainty (= error bar)"),
+               Line2D([], [], ls="none", marker="x", color="k", label="dynamic relaxation alone"),
+               Line2D([], [], ls="none", marker="P", color="C3", label="CalculiX (mesh study)")]
+    handles += [Line2D([], [], ls="-", color=colors[i % len(colors)], label=k) for i, k in enumerate(keys)]
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    if has_hinge:
+        _fe_rows(axes[len(amps)], fe_study)
+    if has_patch:
+        _patch_row(axes[-1], fe_study["patch"])
     fig.suptitle("Error against the converged reference (lattice: hinges of n -> infinity elements; hinge: CalculiX) "
                  "vs run time", fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.07 if nrows > 1 else 0.12, 1, 0.97))
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100)
     plt.close(fig)
@@ -112,14 +118,45 @@ def _fe_rows(axes, study):
     pts = fe_hinge_errors(study)
     for ax, key, title in ((axes[0], "free", "one hinge, pure bending to 45 deg"),
                            (axes[1], "held", "one hinge, end turned in place to 45 deg")):
-        for label, t, e, u in pts[key]:
+        lattice = [p for p in pts[key] if not p[0].startswith("FE")]
+        same = len(lattice) > 1 and max(p[2] for p in lattice) - min(p[2] for p in lattice) < 1e-3 * max(p[2] for p in lattice)
+        for k, (label, t, e, u) in enumerate(pts[key]):
             mk = "P" if label.startswith("FE") else "D"
+            if same and mk == "D":
+                label = "lattice n = 1 .. 8 (equal)" if k == len(pts[key]) - len(lattice) else ""
             ax.errorbar(t * 1e3, max(e, FLOOR), yerr=_bar(e, u), fmt=mk, ms=8, capsize=3,
                         color="C3" if mk == "P" else "C0")
-            ax.annotate(label, (t * 1e3, max(e, FLOOR)), textcoords="offset points", xytext=(5, 4), fontsize=7)
+            if label:
+                ax.annotate(label, (t * 1e3, max(e, FLOOR)), textcoords="offset points",
+                            xytext=(5, 4 if k % 2 == 0 else -10), fontsize=7)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("run time (ms)")
         ax.set_ylabel("relative moment error vs FE (extrapolated)")
         ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.3)
+
+
+def _patch_row(axes, rows):
+    """The 3 x 3 patch: every model and every FE mesh against the extrapolated FE solution."""
+    marks = {"quadratic": ("s", "C0"), "linear": ("^", "C1"), "nonlinear (R2), default": ("o", "C4")}
+    for ax, r in zip(axes, rows[:2]):
+        u = r["fe_uncertainty"]["rms_D"]
+        for f in r["fe"]:
+            ax.errorbar(f["wall_s"] * 1e3, max(f["rms_D"], FLOOR), yerr=_bar(f["rms_D"], u), fmt="P", color="C3",
+                        ms=8, capsize=3)
+            ax.annotate(f"CalculiX h = {f['h_mm']:g}", (f["wall_s"] * 1e3, max(f["rms_D"], FLOOR)),
+                        textcoords="offset points", xytext=(5, 4), fontsize=7)
+        nl = [m for m in r["models"] if "elements/hinge" in m["label"] or "1 element/hinge" in m["label"]]
+        ax.plot([m["time_s"] * 1e3 for m in nl], [max(m["rms_D"], FLOOR) for m in nl], "--D", color="C2", ms=5)
+        for m in r["models"]:
+            mk, col = next((v for k, v in marks.items() if m["label"].startswith(k)), ("D", "C2"))
+            ax.errorbar(m["time_s"] * 1e3, max(m["rms_D"], FLOOR), yerr=_bar(m["rms_D"], u), fmt=mk, color=col,
+                        ms=7, capsize=3, mfc="none" if mk == "s" else col)
+        ax.axhline(u, color="C3", lw=0.8, ls=":")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("run time (ms)")
+        ax.set_ylabel("RMS node-angle error vs CalculiX (D units)")
+        ax.set_title(f"3 x 3 patch, two actuators, amplitude {r['amplitude']} (no contact)")
         ax.grid(True, which="both", alpha=0.3)
