@@ -373,7 +373,10 @@ def _convergence_table(r):
     unc = st["uncertainty"]
     out = [f"Reference convergence in the number of elements per hinge (Richardson from n = "
            f"{', '.join(str(n) for n in st['used_levels'][-3:])}, observed order {st['order']:.2f}"
-           + (", assumed" if st["order_assumed"] else "") + f"; uncertainty of the extrapolated reference: RMS dD "
+           + (", assumed" if st["order_assumed"] else "")
+           + ("" if st.get("asymptotic", True) else "; NOT in the asymptotic range (a doubling of n did not halve "
+              "the change), so the uncertainty is the conservative one, the second finest level's distance")
+           + f"; uncertainty of the extrapolated reference: RMS dD "
            f"{_fmt(unc['rms_D'])}, max dD {_fmt(unc['max_D'])}, max position {_fmt(unc['max_pos'])} cells):", "",
            "| elements per hinge | time (ms) | Newton iterations | RMS dD vs extrapolated | max dD | "
            "max pos. err / cell | hinge chord stretch (min .. max) | converged |",

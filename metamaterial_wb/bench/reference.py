@@ -6,7 +6,9 @@ the correction the extrapolation made to the finest level (``|extrapolated - fin
 the errors: RMS and max D, max position / cell): by the triangle inequality every model's error against the
 unknown converged answer lies within that band of its error against the reference, which is what the error
 bars of docs/fidelity.md show. The observed order comes from the last three levels (clipped to [1, 4]); with
-fewer converged levels order 2 is assumed and said so.
+fewer converged levels order 2 is assumed and said so. Where the levels are not in the asymptotic range (a
+doubling of n does not at least halve the RMS change, e.g. a plate that snaps to another branch between
+levels) the uncertainty is the conservative one: the second finest level's distance from the reference.
 """
 import time
 
@@ -93,11 +95,18 @@ def converged_reference(scene, levels=HINGE_LEVELS, options=None, progress=None)
     else:
         phi_ext, P_ext = phis[-1], Ps[-1]
     ref = ExtrapolatedReference(phi_ext, P_ext)
-    unc = compare(scene, ok[-1]["result"], ref) if len(ok) >= 2 else \
-        {"rms_D": float("nan"), "max_D": float("nan"), "max_pos": float("nan")}
+    # asymptotic: every doubling of n shrinks the RMS change by at least 2; if not (a branch switch somewhere,
+    # or pre-asymptotic levels) the uncertainty is the conservative one: the error of the second finest level
+    changes = [float(np.sqrt(np.mean((phis[k + 1] - phis[k]) ** 2))) for k in range(len(phis) - 1)]
+    asymptotic = all(changes[k + 1] <= 0.5 * changes[k] for k in range(len(changes) - 1))
+    if len(ok) < 2:
+        unc = {"rms_D": float("nan"), "max_D": float("nan"), "max_pos": float("nan")}
+    else:
+        unc = compare(scene, ok[-1 if asymptotic else -2]["result"], ref)
     for r in runs:
         r["error"] = compare(scene, r["result"], ref)
-    study = {"levels": runs, "order": p, "order_assumed": assumed, "used_levels": used,
+    study = {"levels": runs, "order": p, "order_assumed": assumed, "used_levels": used, "asymptotic": asymptotic,
+             "rms_changes_rad": changes,
              "uncertainty": {k: float(unc[k]) for k in ("rms_D", "max_D", "max_pos")}}
     return ref, study
 

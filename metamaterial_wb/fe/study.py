@@ -153,9 +153,11 @@ PATCH_MODELS = (("quadratic", "quadratic (R0)", {}),
                 ("nonlinear", "nonlinear (R2), default (1 element, plate contact)", {}))
 
 
-def run_patch_study(amplitudes=PATCH_AMPLITUDES, meshes=PATCH_MESHES, timeout_s=3600.0, progress=None):
+def run_patch_study(amplitudes=PATCH_AMPLITUDES, meshes=PATCH_MESHES, timeout_s=3600.0, progress=None,
+                    on_row=None):
     """The 3 x 3 patch with two actuated joints in CalculiX at every mesh, extrapolated in the mesh
-    (Richardson on the plate rotations and positions), and every model's error against it."""
+    (Richardson on the plate rotations and positions), and every model's error against it. ``meshes``: one
+    tuple of (h, nz) for all amplitudes, or a dict amplitude -> tuple. ``on_row(rows)`` after each amplitude."""
     from metamaterial_wb.bench.fidelity import compare
     from metamaterial_wb.bench.reference import ExtrapolatedReference
     from metamaterial_wb.core.models import run_model
@@ -166,11 +168,11 @@ def run_patch_study(amplitudes=PATCH_AMPLITUDES, meshes=PATCH_MESHES, timeout_s=
     for amp in amplitudes:
         scene = patch.patch_scene(amp)
         fes = []
-        for h, nz in meshes:
+        for h, nz in (meshes.get(amp, PATCH_MESHES) if isinstance(meshes, dict) else meshes):
             r = patch.solve_patch(scene, h, nz, increments=4 if amp <= 0.1 else 10, timeout_s=timeout_s)
             fes.append(r)
             say(f"FE patch, amplitude {amp}, h = {h:g} mm: {r.info['dofs']} DOFs, {r.info['wall_s']:.1f} s")
-        hs = [m[0] for m in meshes]
+        hs = [f.info["h_mm"] for f in fes]
         phi0 = fes[-1].phi
         phis = [f.phi - np.mean(f.phi - phi0) for f in fes]
         ext_phi, _e, p_phi = hinge.richardson(hs, phis)
@@ -195,6 +197,8 @@ def run_patch_study(amplitudes=PATCH_AMPLITUDES, meshes=PATCH_MESHES, timeout_s=
             row["models"].append({"label": label, "time_s": best, "converged": bool(res.converged),
                                   **{k: float(e[k]) for k in ("rms_D", "max_D", "max_pos")}})
         out.append(row)
+        if on_row:
+            on_row(out)
     return out
 
 

@@ -28,7 +28,7 @@ def test_bench_fidelity_writes_report_and_plot(tmp_path):
         return [float(ln.split("|")[3].split("+-")[0]) for ln in rows]
 
     one = err("| nonlinear (R2), tol 1e-8")
-    two, four, eight = (err(f"| nonlinear (R2), {n} elements per hinge") for n in (2, 4, 8))
+    two, four, eight = (err(f"| nonlinear (R2), {n} elements per hinge, tol 1e-11") for n in (2, 4, 8))
     assert len(one) == len(two) == len(four) == len(eight) == 2
     for a, b, c, d in zip(one, two, four, eight):
         assert a > b > c > d
