@@ -33,6 +33,9 @@ def add_arguments(p):
                    help="with --fe: reuse the FE study stored in this JSON file (written by --fe-json-out) "
                         "instead of running ccx again")
     p.add_argument("--fe-json-out", default=None, help="with --fe: also write the FE study as JSON")
+    p.add_argument("--from-json", default=None,
+                   help="render the report and plot from the raw figures of a previous run (its --json file) "
+                        "instead of running the models again")
 
 
 def run(args):
@@ -91,7 +94,14 @@ def run(args):
         if fe_study is not None and args.fe_json_out:
             write_json(args.fe_json_out, fe_study)
     results = []
-    for a in amps:
+    if args.from_json:
+        try:
+            with open(args.from_json) as f:
+                results = json.load(f)["results"]
+        except (OSError, ValueError, KeyError) as exc:
+            raise SceneError("--from-json", f"{args.from_json!r}: cannot read the raw figures ({exc})") from None
+        results = [r for r in results if (keys is None or r["key"] in keys) and r["amplitude"] in amps]
+    for a in ([] if args.from_json else amps):
         scenes = [s for s in fidelity.standard_scenes(a) if keys is None or s[0] in keys]
         results += fidelity.run_ladder(scenes, progress=progress, repeats=args.repeats, amplitudes=(a,))
     machine = (f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, "
