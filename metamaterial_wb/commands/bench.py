@@ -70,7 +70,8 @@ def run(args):
 
     fe_study, fe_note = None, None
     if args.fe:
-        from metamaterial_wb.fe import ccx, study
+        from metamaterial_wb.bench import fe_study as study
+        from metamaterial_wb.fe import ccx
         if args.fe_json:
             try:
                 with open(args.fe_json) as f:
@@ -113,7 +114,7 @@ def run(args):
         command += " --fe"
     fe_md = None
     if args.fe:
-        from metamaterial_wb.fe import study
+        from metamaterial_wb.bench import fe_study as study
         fe_md = (study.markdown(fe_study) if fe_study else "## FE top rung: one hinge in CalculiX\n\n") + \
             (f"\n{fe_note}\n" if fe_note else "")
     text = fidelity.report_markdown(results, img_rel.replace(os.sep, "/"), machine, command=command,

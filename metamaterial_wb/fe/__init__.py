@@ -5,6 +5,7 @@ Imports only ``core``. Decks are written in the Abaqus input format CalculiX rea
 
 * :mod:`.mesh`: structured 20-node brick meshes (C3D20R) of unions of boxes (plates and hinges);
 * :mod:`.ccx`: the solver runner and the ``.dat`` parser; ``available()`` says whether ccx is installed;
+* :mod:`.patch`: a small patch of rigid plates and solid hinges with actuated joints;
 * :mod:`.hinge`: one TPU hinge between two PLA plates: its 6 x 6 stiffness and its large-rotation
   moment-rotation curve, against the lattice's beam law.
 """

@@ -10,7 +10,8 @@ import shutil
 import numpy as np
 import pytest
 
-from metamaterial_wb.fe import ccx, hinge, study
+from metamaterial_wb.bench import fe_study as study
+from metamaterial_wb.fe import ccx, hinge
 from metamaterial_wb.fe.mesh import box_union_mesh, graded
 
 HAVE_CCX = ccx.available()[0]

@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.fe import ccx, hinge
+from metamaterial_wb.fe import ccx, hinge  # noqa: F401 (ccx re-exported for callers)
 
 DOF_NAMES = ("axial u1", "in-plane shear u2", "out-of-plane shear u3", "torsion T1", "out-of-plane bending T2",
              "in-plane bending T3")
