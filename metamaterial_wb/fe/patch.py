@@ -11,7 +11,6 @@ run with ``contact=False`` (at amplitude 0.05 no hinge comes near contact).
 
 Untilted (planar) scenes only.
 """
-import math
 
 import numpy as np
 
@@ -138,4 +137,4 @@ def patch_scene(amplitude, n=3):
                                           {"name": "m2", "joint": f"H{n - 1},{n - 1}", "value": -amplitude}]})
 
 
-__all__ = ["patch_deck", "solve_patch", "patch_scene", "FEPatchResult", "math"]
+__all__ = ["patch_deck", "solve_patch", "patch_scene", "FEPatchResult"]
