@@ -2,7 +2,7 @@
 
     /usr/bin/python3 benchmarks/bench_fidelity_r0_linearised.py [--repeats 5]
 
-One idea, measured on the five standard scenes of ``core/fidelity.py`` at amplitudes 0.05 and 0.5: take the
+One idea, measured on the five standard scenes of ``metamaterial_wb/bench/fidelity.py`` at amplitudes 0.05 and 0.5: take the
 quadratic model's (R0) predicted state (one R0 solve for D, plate rotations from D), then ONE lattice solve
 there: the corotational strains, forces and tangent of the nonlinear lattice at that state
 (``core/lattice/mechanics``), the actuators as constraints linearised there, plate contact by the linear
