@@ -139,3 +139,20 @@ def test_smallest_patch_case_ranks_the_models():
     assert err["nonlinear"] < err["linear"] < err["quadratic"]
     assert err["nonlinear"] < 0.1 * 0.05
     assert fe.info["wall_s"] < 60
+
+
+def test_bench_fe_without_ccx_says_so_and_runs_the_rest(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    md, png = tmp_path / "f.md", tmp_path / "img" / "wp.png"
+    env = dict(os.environ, PATH=str(tmp_path))          # no ccx on the PATH
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "bench", "fidelity", "--fe", "--out", str(md),
+                        "--img", str(png), "--scenes", "chain", "--amplitudes", "0.05", "--repeats", "1", "--quiet"],
+                       cwd=repo, env=env, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    text = md.read_text()
+    assert "FE rung not run: CalculiX (ccx) is not installed" in text
+    assert "| chain | 0.05 |" in text and png.exists()
