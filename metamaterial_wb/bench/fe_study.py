@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.fe import ccx, hinge  # noqa: F401 (ccx re-exported for callers)
+from metamaterial_wb.fe import hinge
 
 DOF_NAMES = ("axial u1", "in-plane shear u2", "out-of-plane shear u3", "torsion T1", "out-of-plane bending T2",
              "in-plane bending T3")
@@ -284,4 +284,4 @@ def ci_case(spec=None, timeout_s=120.0):
     return K, kinfo, c, binfo
 
 
-__all__ = ["run_hinge_study", "markdown", "ci_case", "condensed_bending", "ccx"]
+__all__ = ["run_hinge_study", "run_aspect_study", "run_patch_study", "markdown", "ci_case", "condensed_bending"]
