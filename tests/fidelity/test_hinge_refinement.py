@@ -142,3 +142,27 @@ def test_tiny_amplitude_every_n_gives_the_one_element_answer():
 def test_bad_hinge_elements_is_a_scene_error(bad):
     with pytest.raises(SceneError, match="hinge_elements"):
         run_model("nonlinear", _grid(0.1), hinge_elements=bad)
+
+
+def test_fe_hinge_law_scales_the_beam_to_the_calculix_table():
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry, apply_hinge_law, fe_hinge_factors
+
+    scene = _grid(0.05)
+    beam = LatticeGeometry(scene)
+    fe = apply_hinge_law(LatticeGeometry(scene), "fe")
+    ratio = np.einsum("mii->mi", fe.K) / np.einsum("mii->mi", beam.K)
+    # the default hinge (2 x 0.8 mm, aspect 2.5) is a row of the table: in-plane bending 1.25, torsion 8.2
+    assert np.allclose(ratio[:, 5], 1.2484, atol=1e-4) and np.allclose(ratio[:, 3], 8.1754, atol=1e-4)
+    assert np.all(np.linalg.eigvalsh(fe.K) > 0)
+    # a uniform stiffening barely moves the plates but raises the energy (the servo's work) by ~25 %
+    a = run_model("nonlinear", scene)
+    b = run_model("nonlinear", scene, hinge_law="fe")
+    assert np.sqrt(np.mean((a.D - b.D) ** 2)) < 1e-3
+    assert 1.2 < b.info["elastic_energy_Nmm"] / a.info["elastic_energy_Nmm"] < 1.3
+    assert b.info["hinge_law"] == "fe"
+    assert run_model("nonlinear", scene, hinge_law="fe", hinge_elements=2).converged
+    assert run_model("linear", scene, hinge_law="fe").converged
+    with pytest.raises(SceneError, match="outside the FE-calibrated range"):
+        fe_hinge_factors([20.0], [0.8], [7.0])
+    with pytest.raises(SceneError, match="hinge_law"):
+        run_model("nonlinear", scene, hinge_law="abaqus")

@@ -85,6 +85,11 @@ class RefinedGeometry:
         self.L = np.concatenate([base.L, base.L[rep] / n])
         self.w, self.t = base.w[self.hinge_of], base.t[self.hinge_of]
         Ksub = beam_tip_stiffness(base.L[rep] / n, base.w[rep], base.t[rep], base.E, base.nu)
+        f = getattr(base, "hinge_law_factors", None)
+        if f is not None:                                  # the FE-calibrated law, per hinge (geometry.apply_hinge_law)
+            sq = np.sqrt(f[rep])
+            Ksub = Ksub * sq[:, :, None] * sq[:, None, :]
+        self.hinge_law = getattr(base, "hinge_law", "beam")
         self.K = np.concatenate([np.zeros((m, 6, 6)), Ksub])
         self.rest = np.concatenate([np.full(m, float(base.rest)), np.full(m * n, float(base.rest) / n)])
         # contact acts on the whole-hinge elements only, with the one-element hinge's penalty stiffness
