@@ -56,6 +56,9 @@ def resolve_time(scene, repeats=20):
     return best
 
 
+LOAD = os.getloadavg()
+
+
 def main():
     write = "--no-write" not in sys.argv
     rows = []
@@ -100,7 +103,7 @@ def main():
              "plot: [fidelity.md](fidelity.md).", "",
              f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, Python "
              f"{platform.python_version()}; the machine is shared (load from other jobs), treat times as upper "
-             f"bounds.", "",
+             f"bounds (load average {LOAD[0]:.1f} at the start, {os.getloadavg()[0]:.1f} at the end of this run).", "",
              "| scene | amplitude | reference uncertainty (RMS dD) | quadratic (baseline) | linear | nonlinear | RMS dD quadratic | "
              "RMS dD linear (ratio) | RMS dD nonlinear (default: 1 element per hinge) | max pos. err / cell quadratic | "
              "max pos. err / cell linear (ratio) | about=flat: time, re-solve, RMS dD (ratio) |",
