@@ -107,7 +107,8 @@ def run(args):
         results += fidelity.run_ladder(scenes, progress=progress, repeats=args.repeats, amplitudes=(a,))
     machine = (f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, "
                f"Python {platform.python_version()} ({platform.machine()}); shared machine, treat times as upper "
-               f"bounds.")
+               f"bounds" + ("" if args.from_json else f" (load average {os.getloadavg()[0]:.1f} at the end of the run)")
+               + ".")
     img_rel = os.path.relpath(os.path.abspath(args.img), os.path.dirname(os.path.abspath(args.out)))
     command = "python3 -m metamaterial_wb bench fidelity" + (f" --repeats {args.repeats}" if args.repeats != 3 else "")
     if args.fe:
