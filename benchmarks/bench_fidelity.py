@@ -21,7 +21,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 sys.path.insert(0, REPO)
 
-from metamaterial_wb.core import fidelity  # noqa: E402
+from metamaterial_wb.bench import fidelity  # noqa: E402
+from metamaterial_wb.bench.reference import converged_reference  # noqa: E402
 from metamaterial_wb.core.models import run_model  # noqa: E402
 
 BEGIN, END = "<!-- begin:fidelity -->", "<!-- end:fidelity -->"
@@ -55,6 +56,9 @@ def resolve_time(scene, repeats=20):
     return best
 
 
+LOAD = os.getloadavg()
+
+
 def main():
     write = "--no-write" not in sys.argv
     rows = []
@@ -62,8 +66,8 @@ def main():
         for key, title, scene in fidelity.standard_scenes(amp):
             if key not in ("grid10", "grid30"):
                 continue
-            ref = run_model("nonlinear", scene, **fidelity.REFERENCE_OPTIONS)
-            out = {"key": key, "amp": amp}
+            ref, study = converged_reference(scene)
+            out = {"key": key, "amp": amp, "unc": study["uncertainty"]["rms_D"]}
             for model in ("quadratic", "linear", "nonlinear"):
                 res, dt = fidelity.timed(model, scene, repeats=5)
                 err = fidelity.compare(scene, res, ref)
@@ -86,8 +90,10 @@ def main():
                   f"(re-solve {out['resolve'] * 1e3:.2f} ms), RMS dD {out['flat'][1]:.3g} "
                   f"(x{out['flat'][1] / q[1]:.2f})", flush=True)
     lines = [BEGIN, "## Fidelity ladder (issue 6)", "",
-             "`/usr/bin/python3 benchmarks/bench_fidelity.py` (standard scenes of `core/fidelity.py`, four "
-             "actuators; reference = nonlinear model at tolerance 1e-11). Times are cold runs (geometry, assembly, "
+             "`/usr/bin/python3 benchmarks/bench_fidelity.py` (standard scenes of `metamaterial_wb/bench/fidelity.py`, "
+             "four actuators; reference = nonlinear model at tolerance 1e-11 with 1, 2, 4, 8 elements per hinge, "
+             "extrapolated to infinitely many (`bench/reference.py`); every error is uncertain by the reference's "
+             "uncertainty, given per row). Times are cold runs (geometry, assembly, "
              "factorisation, solve, poses), best of 5 (10 x 10: also best and median of 20); *linear* is the linear "
              "model as it runs by default (`about=quadratic`, linearised about the quadratic model's predicted state); "
              "*about=flat* is its flat-sheet linearisation, whose *re-solve* is the model called again with new actuator "
@@ -97,16 +103,16 @@ def main():
              "plot: [fidelity.md](fidelity.md).", "",
              f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, Python "
              f"{platform.python_version()}; the machine is shared (load from other jobs), treat times as upper "
-             f"bounds.", "",
-             "| scene | amplitude | quadratic (baseline) | linear | nonlinear | RMS dD quadratic | "
-             "RMS dD linear (ratio) | RMS dD nonlinear (default tol) | max pos. err / cell quadratic | "
+             f"bounds (load average {LOAD[0]:.1f} at the start, {os.getloadavg()[0]:.1f} at the end of this run).", "",
+             "| scene | amplitude | reference uncertainty (RMS dD) | quadratic (baseline) | linear | nonlinear | RMS dD quadratic | "
+             "RMS dD linear (ratio) | RMS dD nonlinear (default: 1 element per hinge) | max pos. err / cell quadratic | "
              "max pos. err / cell linear (ratio) | about=flat: time, re-solve, RMS dD (ratio) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         q, li, nl = r["quadratic"], r["linear"], r["nonlinear"]
         c20 = (f"; 20 runs: best {r['cold20'][0] * 1e3:.2f}, median {r['cold20'][1] * 1e3:.2f} ms"
                if "cold20" in r else "")
-        lines.append(f"| {r['key']} | {r['amp']} | {q[0] * 1e3:.2f} ms | {li[0] * 1e3:.2f} ms (x{li[0] / q[0]:.1f}{c20}) | "
+        lines.append(f"| {r['key']} | {r['amp']} | {r['unc']:.1e} | {q[0] * 1e3:.2f} ms | {li[0] * 1e3:.2f} ms (x{li[0] / q[0]:.1f}{c20}) | "
                      f"{nl[0] * 1e3:.1f} ms (x{nl[0] / q[0]:.0f}) | {q[1]:.3g} | "
                      f"{li[1]:.3g} ({li[1] / q[1]:.2f}) | {nl[1]:.1e} | {q[2]:.3g} | {li[2]:.3g} ({li[2] / q[2]:.2f}) | "
                      f"{r['flat'][0] * 1e3:.2f} ms, {r['resolve'] * 1e3:.2f} ms, {r['flat'][1]:.3g} "

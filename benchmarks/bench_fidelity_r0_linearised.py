@@ -2,7 +2,7 @@
 
     /usr/bin/python3 benchmarks/bench_fidelity_r0_linearised.py [--repeats 5]
 
-One idea, measured on the five standard scenes of ``core/fidelity.py`` at amplitudes 0.05 and 0.5: take the
+One idea, measured on the five standard scenes of ``metamaterial_wb/bench/fidelity.py`` at amplitudes 0.05 and 0.5: take the
 quadratic model's (R0) predicted state (one R0 solve for D, plate rotations from D), then ONE lattice solve
 there: the corotational strains, forces and tangent of the nonlinear lattice at that state
 (``core/lattice/mechanics``), the actuators as constraints linearised there, plate contact by the linear
@@ -42,7 +42,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-from metamaterial_wb.core import fidelity  # noqa: E402
+from metamaterial_wb.bench import fidelity  # noqa: E402
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry  # noqa: E402
 from metamaterial_wb.core.lattice.mechanics import _cross_e1, hinge_strains  # noqa: E402
 from metamaterial_wb.core.lattice.solve import ChainPositions, LinearLattice, _apply, finish, quadratic_state  # noqa: E402

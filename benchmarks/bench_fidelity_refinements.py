@@ -2,7 +2,7 @@
 
     /usr/bin/python3 benchmarks/bench_fidelity_refinements.py [--steps 3]
 
-Measures, on the standard scenes of ``core/fidelity.py`` (chain, 10 x 10 grid, mixed hinge sizes) at
+Measures, on the standard scenes of ``metamaterial_wb/bench/fidelity.py`` (chain, 10 x 10 grid, mixed hinge sizes) at
 amplitudes 0.05 and 0.5, the RMS node-angle error (D units, rigid rotation removed) against the nonlinear
 reference, divided by the quadratic model's error measured in the same run, for four ways of refining the
 linear model's answer (docs/fidelity-models.md, "Why the linear model stays one solve"):
@@ -29,7 +29,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-from metamaterial_wb.core import fidelity  # noqa: E402
+from metamaterial_wb.bench import fidelity  # noqa: E402
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry  # noqa: E402
 from metamaterial_wb.core.lattice.solve import LinearLattice, NonlinearLattice, _apply, _kkt_solve, finish  # noqa: E402
 from metamaterial_wb.core.models import ModelResult, run_model  # noqa: E402

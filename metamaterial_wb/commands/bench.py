@@ -1,8 +1,9 @@
 """``bench fidelity [--out docs/fidelity.md] [--img docs/img/fidelity-work-precision.png]``.
 
 Runs every model of the fidelity ladder on the standard scenes (chain, 10 x 10 and 30 x 30 grids,
-bending strip, mixed hinge sizes; two actuator amplitudes) against the nonlinear reference and writes
-the report and its work-precision plot. Both files are rendered in memory first and written atomically.
+bending strip, mixed hinge sizes; two actuator amplitudes) against the converged nonlinear reference (hinges
+of 1, 2, 4, 8 elements, extrapolated) and writes the report and its work-precision plot; ``--fe`` adds the
+CalculiX rung (metamaterial_wb/fe). Both files are rendered in memory first and written atomically.
 """
 import json
 import os
@@ -25,11 +26,21 @@ def add_arguments(p):
     p.add_argument("--amplitudes", default=None, help="comma-separated actuator amplitudes (default 0.05,0.5)")
     p.add_argument("--repeats", type=int, default=3, help="timing runs per model (best is reported)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.add_argument("--fe", action="store_true",
+                   help="also run the CalculiX rung (one hinge: stiffness and bending curves; the 3 x 3 patch "
+                        "at amplitudes 0.05 and 0.5; mesh studies; 20-60 min on a shared machine); without ccx the report says so and the rest still runs")
+    p.add_argument("--fe-json", default=None,
+                   help="with --fe: reuse the FE study stored in this JSON file (written by --fe-json-out) "
+                        "instead of running ccx again")
+    p.add_argument("--fe-json-out", default=None, help="with --fe: also write the FE study as JSON")
+    p.add_argument("--from-json", default=None,
+                   help="render the report and plot from the raw figures of a previous run (its --json file) "
+                        "instead of running the models again")
 
 
 def run(args):
-    from metamaterial_wb.core import fidelity
-    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.bench import fidelity
+    from metamaterial_wb.core.errors import MetamaterialError, SceneError
     from metamaterial_wb.core.fileio import write_atomic, write_json
 
     amps = fidelity.AMPLITUDES
@@ -57,21 +68,62 @@ def run(args):
         if not args.quiet:
             print(f"[{time.perf_counter() - t0:6.1f} s] {msg}", file=sys.stderr, flush=True)
 
+    fe_study, fe_note = None, None
+    if args.fe:
+        from metamaterial_wb.bench import fe_study as study
+        from metamaterial_wb.fe import ccx
+        if args.fe_json:
+            try:
+                with open(args.fe_json) as f:
+                    fe_study = json.load(f)
+            except (OSError, ValueError) as exc:
+                raise SceneError("--fe-json", f"{args.fe_json!r}: cannot read the FE study ({exc})") from None
+            fe_note = f"FE figures read from `{os.path.basename(args.fe_json)}` (a previous `--fe` run)."
+        else:
+            ok, why = ccx.available()
+            if not ok:
+                fe_note = f"FE rung not run: {why}."
+                progress(fe_note)
+            else:
+                try:
+                    fe_study = study.run_hinge_study(progress=progress)
+                    fe_study["aspect"] = study.run_aspect_study(progress=progress)
+                    fe_study["patch"] = study.run_patch_study(progress=progress)
+                except MetamaterialError as exc:
+                    fe_note = f"FE rung failed: {exc}"
+                    progress(fe_note)
+        if fe_study is not None and args.fe_json_out:
+            write_json(args.fe_json_out, fe_study)
     results = []
-    for a in amps:
+    if args.from_json:
+        try:
+            with open(args.from_json) as f:
+                results = json.load(f)["results"]
+        except (OSError, ValueError, KeyError) as exc:
+            raise SceneError("--from-json", f"{args.from_json!r}: cannot read the raw figures ({exc})") from None
+        results = [r for r in results if (keys is None or r["key"] in keys) and r["amplitude"] in amps]
+    for a in ([] if args.from_json else amps):
         scenes = [s for s in fidelity.standard_scenes(a) if keys is None or s[0] in keys]
         results += fidelity.run_ladder(scenes, progress=progress, repeats=args.repeats, amplitudes=(a,))
     machine = (f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, "
                f"Python {platform.python_version()} ({platform.machine()}); shared machine, treat times as upper "
-               f"bounds.")
+               f"bounds" + ("" if args.from_json else f" (load average {os.getloadavg()[0]:.1f} at the end of the run)")
+               + ".")
     img_rel = os.path.relpath(os.path.abspath(args.img), os.path.dirname(os.path.abspath(args.out)))
     command = "python3 -m metamaterial_wb bench fidelity" + (f" --repeats {args.repeats}" if args.repeats != 3 else "")
+    if args.fe:
+        command += " --fe"
+    fe_md = None
+    if args.fe:
+        from metamaterial_wb.bench import fe_study as study
+        fe_md = (study.markdown(fe_study) if fe_study else "## FE top rung: one hinge in CalculiX\n\n") + \
+            (f"\n{fe_note}\n" if fe_note else "")
     text = fidelity.report_markdown(results, img_rel.replace(os.sep, "/"), machine, command=command,
-                                    repeats=args.repeats)
+                                    repeats=args.repeats, fe_markdown=fe_md)
     import tempfile
     with tempfile.TemporaryDirectory() as tmp:
         tmp_png = os.path.join(tmp, "plot.png")
-        fidelity.plot_work_precision(results, tmp_png)
+        fidelity.plot_work_precision(results, tmp_png, fe_study)
         with open(tmp_png, "rb") as f:
             png = f.read()
     write_atomic(args.img, png, mode="wb")

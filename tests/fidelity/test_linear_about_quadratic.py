@@ -14,7 +14,7 @@ import sys
 import numpy as np
 import pytest
 
-from metamaterial_wb.core import fidelity
+from metamaterial_wb.bench import fidelity
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry
 from metamaterial_wb.core.lattice.mechanics import hinge_strains

@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 
-from metamaterial_wb.core import fidelity
+from metamaterial_wb.bench import fidelity
 from metamaterial_wb.core.lattice import solve as lattice_solve
 import metamaterial_wb.core.lattice as lattice
 from metamaterial_wb.core.models import run_model

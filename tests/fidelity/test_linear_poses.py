@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from metamaterial_wb.core import fidelity
+from metamaterial_wb.bench import fidelity
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry
 from metamaterial_wb.core.lattice.mechanics import expm_so3
 from metamaterial_wb.core.lattice.solve import ChainPositions, kabsch, node_twist

@@ -21,7 +21,11 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   step, 40), ``load_steps`` (initial number of load steps, 1; halved adaptively down to
   ``min_step``), ``contact`` (plate-contact penalty, true), ``contact_fraction`` (0.98),
   ``contact_stiffness`` (1e4, times the hinge's soft bending stiffness), ``fallback`` (dynamic
-  relaxation when Newton fails, true), ``dr_max_iter`` (5000).
+  relaxation when Newton fails, true), ``dr_max_iter`` (5000), ``hinge_elements`` (corotational
+  Timoshenko elements per hinge, 1; more resolve a hinge's deformed shape at large rotations:
+  ``core/lattice/refine``, convergence study in docs/fidelity.md);
+* both: ``hinge_law`` (``beam``, default: Timoshenko beam theory; ``fe``: its stiffness scaled per DOF to the
+  CalculiX hinge study, ``core/data/fe_hinge_law.json``, hinges of length / width 1.25-7.5).
 """
 import json
 import time
@@ -31,9 +35,9 @@ import numpy as np
 
 from metamaterial_wb.core.models import ModelResult, register_model
 
-_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses", "about", "line_search"}
+_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses", "about", "line_search", "hinge_law"}
 _NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
-                   "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method"}
+                   "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method", "hinge_elements", "hinge_law"}
 
 
 def _check_options(model, options, allowed):
@@ -83,18 +87,22 @@ def clear_cache():
 
 
 def _linear(scene, global_deformation=None, planar=None, contact=True, contact_fraction=0.98, poses="chain",
-            about=None, line_search=True, **options):
+            about=None, line_search=True, hinge_law=None, **options):
     t0 = time.perf_counter()
     _check_options("linear", options, _LINEAR_OPTS)
     from metamaterial_wb.core.errors import SceneError
     if about not in (None, "flat", "quadratic"):
         raise SceneError("--option about", f"{about!r}; allowed: flat, quadratic")
+    from metamaterial_wb.core.lattice.geometry import HINGE_LAWS
+    if hinge_law not in (None,) + HINGE_LAWS:
+        raise SceneError("--option hinge_law", f"{hinge_law!r}; allowed: {', '.join(HINGE_LAWS)}")
     if global_deformation is not None:
         return _global(scene, global_deformation, t0)
     fallback = None
     if about in (None, "quadratic"):
         try:
-            return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, bool(line_search), t0)
+            return _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, bool(line_search), t0,
+                                           hinge_law)
         except _PredictorRefused as exc:
             # the default only: a scene the quadratic model refuses (e.g. hinges outside its calibration
             # table) is linearised at the flat sheet instead, with a warning
@@ -104,7 +112,8 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
     from metamaterial_wb.core.lattice.geometry import fixed_items
     from metamaterial_wb.core.lattice.solve import LinearLattice, finish
 
-    key = _structure_key(scene, planar) + f"|contact={bool(contact)},{float(contact_fraction)!r}|poses={poses}"
+    key = (_structure_key(scene, planar) + f"|contact={bool(contact)},{float(contact_fraction)!r}|poses={poses}"
+           f"|law={hinge_law or 'beam'}")
     cached = _LINEAR_CACHE.get(key)
     reused = cached is not None
     if reused:                       # only actuator values changed: reuse geometry and factorisation
@@ -113,7 +122,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
         _LINEAR_CACHE.move_to_end(key)
     t1 = time.perf_counter()
     if not reused:
-        geo = _geometry(scene, planar)
+        geo = _geometry(scene, planar, hinge_law)
         t1 = time.perf_counter()
         lin = LinearLattice(scene, geo, contact=contact, contact_fraction=contact_fraction, poses=poses)
         _LINEAR_CACHE[key] = lin
@@ -137,10 +146,11 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
                           {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2})
 
 
-def _geometry(scene, planar):
-    """The lattice geometry of a scene, with the caller's planar override (None: as the scene is)."""
-    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
-    geo = LatticeGeometry(scene)
+def _geometry(scene, planar, hinge_law=None):
+    """The lattice geometry of a scene, with the caller's planar override (None: as the scene is) and hinge
+    law (``beam``, default, or ``fe``: core/lattice/geometry.apply_hinge_law)."""
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry, apply_hinge_law
+    geo = apply_hinge_law(LatticeGeometry(scene), hinge_law)
     if planar is not None:
         geo.planar = bool(planar)
     return geo
@@ -166,7 +176,7 @@ class _PredictorRefused(Exception):
         self.error = error
 
 
-def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, line_search, t0):
+def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, line_search, t0, hinge_law=None):
     """The lattice linearised about the quadratic model's predicted state (``about=quadratic``): one R0 solve
     for D, plate rotations from D, positions through the hinge chain, then one lattice solve with the
     corotational strains and forces of that state and its material (Gauss-Newton) tangent; actuators as
@@ -182,7 +192,7 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, lin
     except MetamaterialError as exc:
         raise _PredictorRefused(exc) from exc
     tq = time.perf_counter() - tq
-    geo = _geometry(scene, planar)
+    geo = _geometry(scene, planar, hinge_law)
     chain = ChainPositions(geo)
     t1 = time.perf_counter()
     _D0, Xb, Rb = quadratic_state(scene, geo, chain, D=D0)
@@ -212,21 +222,29 @@ def _nonlinear(scene, global_deformation=None, **options):
     _check_options("nonlinear", options, _NONLINEAR_OPTS)
     if global_deformation is not None:
         return _global(scene, global_deformation, t0)
-    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
+    from metamaterial_wb.core.lattice.geometry import LatticeGeometry, apply_hinge_law
+    from metamaterial_wb.core.lattice.refine import chord_stretch, refine
     from metamaterial_wb.core.lattice.solve import NonlinearLattice, finish
 
-    geo = LatticeGeometry(scene)
+    base = apply_hinge_law(LatticeGeometry(scene), options.pop("hinge_law", None))
+    geo = refine(base, options.pop("hinge_elements", 1))
     t1 = time.perf_counter()
     model = NonlinearLattice(scene, geo, **options)
     X, R, ok = model.solve()
     t2 = time.perf_counter()
     st_end, total_energy = model._state(X, R, tangent=False)[:2]
     energy = float(st_end.energy.sum())
-    X, R, phi, D = finish(geo, X, R)
+    chord = chord_stretch(base, X, R)
+    if geo is not base:
+        X, R = geo.plates(X, R)
+    X, R, phi, D = finish(base, X, R)
     warnings = []
     info = dict(model.stats)
     info.update({"dofs": int(model.na), "planar": bool(model.planar), "constraints": int(model.joints.size),
-                 "elastic_energy_Nmm": energy, "contact_energy_Nmm": float(total_energy) - energy})
+                 "elastic_energy_Nmm": energy, "contact_energy_Nmm": float(total_energy) - energy,
+                 "hinge_elements": getattr(geo, "hinge_elements", 1), "hinge_law": base.hinge_law})
+    if chord is not None and chord.size:
+        info["hinge_chord_stretch_range"] = [float(chord.min()), float(chord.max())]
     if hasattr(model, "last_residual"):
         info["residual_force_rel"], info["residual_constraint_rad"] = (float(x) for x in model.last_residual)
     if not ok:

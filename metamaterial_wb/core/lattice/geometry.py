@@ -223,3 +223,47 @@ def hinge_target(tilt, phi, parity):
     c = np.cos(0.5 * gamma) * np.cos(phi)
     sn = np.sqrt(np.sin(0.5 * gamma) ** 2 + (np.cos(0.5 * gamma) * np.sin(phi)) ** 2)   # sqrt(1 - c^2), stable
     return -np.sign(parity * phi) * 2.0 * np.arctan2(sn, c)
+
+
+_FE_LAW = None
+FE_LAW_PATH = __import__("os").path.join(__import__("os").path.dirname(__file__), "..", "data", "fe_hinge_law.json")
+HINGE_LAWS = ("beam", "fe")
+
+
+def fe_hinge_factors(L, w, t):
+    """(m, 6) FE / beam-theory stiffness factors per hinge DOF (u1, u2, u3, T1, T2, T3) from the CalculiX
+    hinge study (``core/data/fe_hinge_law.json``), interpolated in the aspect ratio length / width (log scale).
+    A hinge outside the calibrated aspect range is a SceneError; the section the factors were measured on
+    (0.8 x 7 mm) is in the file's ``assumptions``."""
+    global _FE_LAW
+    if _FE_LAW is None:
+        import json
+        with open(FE_LAW_PATH) as f:
+            _FE_LAW = json.load(f)
+    rows = sorted(_FE_LAW["factors"], key=lambda r: r["aspect"])
+    a = np.log([r["aspect"] for r in rows])
+    F = np.array([r["fe_over_beam"] for r in rows])
+    x = np.log(np.asarray(L, float) / np.asarray(w, float))
+    lo, hi = a[0], a[-1]
+    bad = (x < lo - 1e-9) | (x > hi + 1e-9)
+    if np.any(bad):
+        k = int(np.flatnonzero(bad)[0])
+        raise SceneError("--option hinge_law", f"fe: a hinge of length / width {math.exp(x[k]):.3g} is outside the "
+                                               f"FE-calibrated range [{math.exp(lo):.3g}, {math.exp(hi):.3g}]")
+    return np.column_stack([np.interp(x, a, F[:, d]) for d in range(6)])
+
+
+def apply_hinge_law(geo, law):
+    """Set the hinge law of ``geo``: ``"beam"`` (default, Timoshenko beam theory) or ``"fe"`` (the beam stiffness
+    scaled per DOF to the CalculiX hinge: ``K <- S K S`` with ``S = diag(sqrt(factors))``, so the diagonal takes
+    the FE values and the couplings the geometric mean)."""
+    law = "beam" if law is None else law
+    if law not in HINGE_LAWS:
+        raise SceneError("--option hinge_law", f"{law!r}; allowed: {', '.join(HINGE_LAWS)}")
+    geo.hinge_law = law
+    if law == "fe":
+        f = fe_hinge_factors(geo.L, geo.w, geo.t)
+        s = np.sqrt(f)
+        geo.K = geo.K * s[:, :, None] * s[:, None, :]
+        geo.hinge_law_factors = f
+    return geo

@@ -96,6 +96,9 @@ def arc_offset(T, rest):
 
 
 def _arc(T, rest, derivative=True):
+    rest = np.asarray(rest, float)
+    if rest.ndim:                                      # per-element rest chords (refined hinges)
+        rest = rest[:, None]
     t2 = np.sum(T * T, axis=1)
     A, B, dA, dB = _arc_coefficients(t2)
     x = _cross_e1(T)                                   # T x e1
@@ -113,7 +116,7 @@ def _arc(T, rest, derivative=True):
     dy[:, 0, :] -= 2.0 * T                                            # - 2 e1 T^T
     dc = ((A - 0.5)[:, None, None] * E1[None] + 2.0 * dA[:, None, None] * x[:, :, None] * T[:, None, :]
           + B[:, None, None] * dy + 2.0 * dB[:, None, None] * y[:, :, None] * T[:, None, :])
-    return c, rest * dc
+    return c, (rest[:, :, None] if rest.ndim else rest) * dc
 
 
 def arc_offset_derivatives(T, rest, second=True):

@@ -37,8 +37,9 @@ _SPLU = {"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.01, "options": {"
 # helpers
 # ----------------------------------------------------------------------------------------------------
 def _support_node(geo):
-    c = geo.X0.mean(axis=0)
-    return int(np.argmin(np.linalg.norm(geo.X0 - c, axis=1)))
+    X0 = geo.X0[:getattr(geo, "n_plates", geo.n)]          # a plate, never a hinge-internal node
+    c = X0.mean(axis=0)
+    return int(np.argmin(np.linalg.norm(X0 - c, axis=1)))
 
 
 def _dofmap(geo, planar):
@@ -708,8 +709,10 @@ class NonlinearLattice:
         self.contact = contact
         self.contact_fraction = contact_fraction
         # contact penalty per hinge: a multiple of its soft bending stiffness, acting on the closing rotation
-        self.kc = contact_stiffness * geo.K[:, 5, 5]
-        self.kappa0 = contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt)
+        # refined hinges (core/lattice/refine): contact on the whole-hinge elements only
+        self.kc = contact_stiffness * getattr(geo, "contact_k", geo.K[:, 5, 5])
+        self.kappa0 = np.where(getattr(geo, "contact_mask", True),
+                               contact_fraction * 2.0 * geo.contact_rad / np.cos(geo.tilt), np.inf)
         self.close_sign = -geo.parity[geo.a]                 # closing measure = close_sign * Theta_3
         self.tol = float(tol)
         self.max_iter = int(max_iter)
@@ -909,7 +912,8 @@ class NonlinearLattice:
         if not self.joints.size or not np.any(self.psi):
             self.stats["method"] = "no load (nothing to solve)"
             return X, R, True
-        lin = linear or LinearLattice(self.geo.scene, geo, contact=False)
+        # refined hinges: the force scale from the one-element lattice (the same loads on the plates)
+        lin = linear or LinearLattice(self.geo.scene, getattr(geo, "base", geo), contact=False)
         q0 = lin.solve(self.psi)[2]
         # force scale: the largest generalised force the actuators apply in the linear solution
         Klin_q = lin.H @ q0

@@ -1,8 +1,10 @@
 """Error against run time: the fidelity ladder on standard scenes (``bench fidelity``, docs/fidelity.md).
 
 Models compared: the seed's quadratic model (R0), the linearised lattice (R1) and the nonlinear
-lattice (R2) at several Newton tolerances; the reference is R2 with a tight tolerance and several
-load steps. Error measures (research note, section 2.4):
+lattice (R2) at several Newton tolerances and with 1, 2, 4, 8 elements per hinge; the reference is R2 with a
+tight tolerance and several load steps, converged in the number of hinge elements and extrapolated to an
+infinite number (:mod:`metamaterial_wb.bench.reference`), with its uncertainty. Error measures (research
+note, section 2.4):
 
 * node angle in D units after removing the rigid rotation: ``w`` = least-squares rigid in-plane
   rotation between the two fields (their mean difference), ``dD_i = p_i (phi_i - w - phi_ref_i) /
@@ -92,7 +94,7 @@ def compare(scene, result, reference):
 
     geo = LatticeGeometry(scene)
     phi = twist(result.rotations)
-    phi_ref = twist(reference.rotations)
+    phi_ref = reference.phi if hasattr(reference, "phi") else twist(reference.rotations)
     diff = phi - phi_ref
     w = float(np.mean(diff))
     Dref = geo.D_from_phi(phi_ref)
@@ -147,91 +149,56 @@ DR_RUNG = [("dr", "dynamic relaxation alone (R2'), tol 1e-2", {"method": "dynami
                                                                 "dr_max_iter": 20000})]
 
 
-def run_ladder(scenes=None, progress=None, repeats=3, amplitudes=AMPLITUDES):
-    """Every model on every standard scene (at every amplitude) against the reference.
+# hinge-element levels of the converged reference per scene (default: all of HINGE_LEVELS)
+REFERENCE_LEVELS = {}
 
-    Returns a list of per-scene dicts (``key``, ``amplitude``, ``rows`` ...).
+
+def run_ladder(scenes=None, progress=None, repeats=3, amplitudes=AMPLITUDES, levels=None):
+    """Every model on every standard scene (at every amplitude) against the converged reference.
+
+    Returns a list of per-scene dicts (``key``, ``amplitude``, ``rows``, ``reference_study`` ...). Every row
+    carries the reference's uncertainty (``ref_rms_D``, ``ref_max_D``, ``ref_max_pos``): its error bar.
     """
+    from metamaterial_wb.bench.reference import HINGE_LEVELS, converged_reference, strip
+
     out = []
     for amp in amplitudes:
         items = scenes if scenes is not None else standard_scenes(amp)
         for key, title, scene in items:
-            if progress:
-                progress(f"{key} (amplitude {amp}): reference")
-            t = time.perf_counter()
-            ref = run_model("nonlinear", scene, **REFERENCE_OPTIONS)
-            t_ref = time.perf_counter() - t
+            lv = levels or REFERENCE_LEVELS.get(key, HINGE_LEVELS)
+            say = (lambda m, k=key: progress(f"{k} (amplitude {amp}): {m}")) if progress else None
+            ref, study = converged_reference(scene, lv, progress=say)
+            unc = study["uncertainty"]
+            bars = {"ref_rms_D": unc["rms_D"], "ref_max_D": unc["max_D"], "ref_max_pos": unc["max_pos"]}
             rows = []
             ladder = list(LADDER) + (DR_RUNG if key in DR_SCENES else [])
             for model, label, opts in ladder:
-                if progress:
-                    progress(f"{key} (amplitude {amp}): {label}")
+                if say:
+                    say(label)
                 run_as = {"dr": "nonlinear", "linear_flat": "linear"}.get(model, model)
                 res, dt = timed(run_as, scene, repeats=1 if model == "dr" else repeats, **opts)
                 err = compare(scene, res, ref)
                 rows.append({"model": model, "label": label, "options": opts, "time_s": dt,
-                             "converged": bool(res.converged), **err, "info": res.info})
+                             "converged": bool(res.converged), **err, **bars, "info": res.info})
+            for lev in study["levels"][1:]:
+                rows.append({"model": "nonlinear_n", "label": f"nonlinear (R2), {lev['n']} elements per hinge, tol 1e-11",
+                             "options": {"hinge_elements": lev["n"]}, "time_s": lev["time_s"],
+                             "converged": lev["converged"], **lev["error"], **bars, "info": lev["info"]})
+            first = study["levels"][0]
             out.append({"key": key, "title": title, "amplitude": amp, "n_nodes": scene.topology.n_nodes,
-                        "n_joints": scene.topology.n_joints, "reference_time_s": t_ref,
-                        "reference_converged": bool(ref.converged), "reference_info": ref.info, "rows": rows})
+                        "n_joints": scene.topology.n_joints, "reference_time_s": sum(l["time_s"] for l in study["levels"]),
+                        "reference_converged": all(l["converged"] for l in study["levels"]),
+                        "reference_info": first["info"], "reference_study": strip(study), "rows": rows})
     return out
 
 
 # ----------------------------------------------------------------------------------------------------
 # report
 # ----------------------------------------------------------------------------------------------------
-def plot_work_precision(results, path):
-    """Two rows (one per amplitude) x two columns (angle error, position error) against run time."""
-    import io
-
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from metamaterial_wb.core.fileio import write_atomic
-
-    amps = sorted({r["amplitude"] for r in results})
-    fig, axes = plt.subplots(len(amps), 2, figsize=(12, 4.6 * len(amps)), squeeze=False)
-    markers = {"quadratic": "s", "linear": "^", "linear_flat": "v", "dr": "x"}
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    keys = []
-    for r in results:
-        if r["key"] not in keys:
-            keys.append(r["key"])
-    floor = 1e-12
-    for ia, amp in enumerate(amps):
-        for ic, (metric, ylabel) in enumerate((("rms_D", "RMS node-angle error (D units)"),
-                                               ("max_pos", "max position error / cell size"))):
-            ax = axes[ia, ic]
-            for r in results:
-                if r["amplitude"] != amp:
-                    continue
-                col = colors[keys.index(r["key"]) % len(colors)]
-                nl = [row for row in r["rows"] if row["model"] == "nonlinear"]
-                ax.plot([row["time_s"] * 1e3 for row in nl], [max(row[metric], floor) for row in nl], "-o",
-                        color=col, ms=4, label=f"{r['key']}")
-                for row in r["rows"]:
-                    if row["model"] in markers:
-                        ax.plot(row["time_s"] * 1e3, max(row[metric], floor), markers[row["model"]], color=col,
-                                ms=9, mfc="none" if row["model"] == "quadratic" else col)
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.set_xlabel("run time (ms)")
-            ax.set_ylabel(ylabel)
-            ax.set_title(f"actuator amplitude {amp}")
-            ax.grid(True, which="both", alpha=0.3)
-        axes[ia, 0].plot([], [], "s", mfc="none", color="k", label="quadratic (R0)")
-        axes[ia, 0].plot([], [], "^", color="k", label="linear lattice (R1, about the quadratic state)")
-        axes[ia, 0].plot([], [], "v", color="k", label="linear lattice at the flat sheet (about=flat)")
-        axes[ia, 0].plot([], [], "-o", color="k", ms=4, label="nonlinear (R2), tol 1e-2 .. 1e-8")
-        axes[ia, 0].plot([], [], "x", color="k", ms=9, label="dynamic relaxation alone")
-        axes[ia, 0].legend(fontsize=7, loc="lower left", ncol=2)
-    fig.suptitle("Error against the nonlinear reference vs run time (floor 1e-12)")
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=100)
-    plt.close(fig)
-    write_atomic(path, buf.getvalue(), mode="wb")
+def plot_work_precision(results, path, fe_study=None):
+    """The work-precision diagram (:mod:`metamaterial_wb.bench.plots`)."""
+    from metamaterial_wb.bench.plots import work_precision
+    work_precision(results, path, fe_study)
 
 
 def _fmt(x):
@@ -250,7 +217,13 @@ def summary(results):
         li = next(row for row in r["rows"] if row["model"] == "linear")
         lf = next((row for row in r["rows"] if row["model"] == "linear_flat"), None)
         nl = next(row for row in r["rows"] if row["model"] == "nonlinear" and not row["options"])
-        out.append({"key": r["key"], "amplitude": r["amplitude"], "n_nodes": r["n_nodes"],
+        st = r.get("reference_study") or {}
+        out.append({"ref_rms_D": q.get("ref_rms_D", float("nan")), "ref_order": st.get("order", float("nan")),
+                    "ref_levels": st.get("used_levels", []), "nonlinear1_rms_D": nl["rms_D"],
+                    "nonlinear1_max_pos": nl["max_pos"], "linear_max_pos": li["max_pos"],
+                    "quadratic_max_pos": q["max_pos"],
+                    "ratio_range": _ratio_range(li["rms_D"], q["rms_D"], q.get("ref_rms_D", 0.0)),
+                    "key": r["key"], "amplitude": r["amplitude"], "n_nodes": r["n_nodes"],
                     "quadratic_ms": q["time_s"] * 1e3, "linear_ms": li["time_s"] * 1e3,
                     "nonlinear_ms": nl["time_s"] * 1e3, "quadratic_rms_D": q["rms_D"], "linear_rms_D": li["rms_D"],
                     "ratio": li["rms_D"] / q["rms_D"] if q["rms_D"] > 0 else float("nan"),
@@ -261,6 +234,15 @@ def summary(results):
                     "flat_ms": lf["time_s"] * 1e3 if lf else float("nan"),
                     "flat_ratio": lf["rms_D"] / q["rms_D"] if lf and q["rms_D"] > 0 else float("nan")})
     return out
+
+
+def _ratio_range(a, b, u):
+    """Bounds of a / b when both errors are uncertain by +-u (the reference's uncertainty)."""
+    if not (u == u) or b <= 0:
+        return (float("nan"), float("nan"))
+    lo = max(a - u, 0.0) / (b + u)
+    hi = (a + u) / (b - u) if b > u else float("inf")
+    return (lo, hi)
 
 
 def _span(values):
@@ -325,8 +307,26 @@ def _targets(results):
         out[-1] += (f" Positions: the linear model places its plates through the hinge chain from their rotations; "
                     f"its largest position error is {_span([x['pos_ratio'] for x in pos])} of the quadratic "
                     f"model's on the grids at {a_hi:g}.")
-    out[-1] += (" The nonlinear model converges quadratically: its error falls from the 1e-2 to the 1e-8 "
-                "tolerance for little extra time, so the default tolerance costs almost nothing.")
+    def fmt_span(v):
+        return f"{_fmt(min(v))}-{_fmt(max(v))}" if v else "-"
+
+    gain = {2: [], 4: []}
+    per_amp = {}
+    for r in results:
+        if r["key"] == "mixed":
+            continue
+        one = _pick(r, "nonlinear")
+        per_amp.setdefault(r["amplitude"], []).append(one["rms_D"] / r["amplitude"])
+        for n in (2, 4):
+            rn = _pick(r, f"nonlinear_n{n}")
+            if rn and rn["rms_D"] > 0 and r["amplitude"] == a_hi:
+                gain[n].append(one["rms_D"] / rn["rms_D"])
+    out[-1] += (" The nonlinear model's Newton converges quadratically (the tolerance rows differ little), so "
+                "what is left of its error against the converged reference is the one-element hinge (scenes with "
+                "one hinge size): " + ", ".join(f"{fmt_span(v)} of the amplitude (RMS) at {a:g}"
+                                                for a, v in sorted(per_amp.items()))
+                + (f"; at {a_hi:g} two elements per hinge cut it {fmt_span(gain[2])} x, four {fmt_span(gain[4])} x"
+                   if gain[2] and gain[4] else "") + " (per-scene convergence tables below).")
     for r in results:
         dr = [row for row in r["rows"] if row["model"] == "dr"]
         nl = [row for row in r["rows"] if row["model"] == "nonlinear" and not row["options"]]
@@ -339,14 +339,100 @@ def _targets(results):
     return out
 
 
-def report_markdown(results, img_rel, machine="", command="python3 -m metamaterial_wb bench fidelity", repeats=3):
+TRUST_MODELS = (("quadratic", "quadratic (R0)"), ("linear", "linear lattice (R1)"),
+                ("nonlinear", "nonlinear (R2), 1 element per hinge"), ("nonlinear_n2", "nonlinear (R2), 2 elements per hinge"),
+                ("nonlinear_n4", "nonlinear (R2), 4 elements per hinge"))
+
+
+def _pick(r, model):
+    if model == "nonlinear":
+        return next((row for row in r["rows"] if row["model"] == "nonlinear" and not row["options"]), None)
+    if model.startswith("nonlinear_n"):
+        n = int(model[len("nonlinear_n"):])
+        return next((row for row in r["rows"] if row["model"] == "nonlinear_n"
+                     and row["options"].get("hinge_elements") == n), None)
+    return next((row for row in r["rows"] if row["model"] == model), None)
+
+
+def trust_table(results):
+    """Where each model can be trusted, measured: its worst RMS and max angle error relative to the amplitude
+    over the standard scenes, per amplitude, against the converged reference (+- its uncertainty)."""
+    amps = sorted({r["amplitude"] for r in results})
+    uniform = sorted({r["key"] for r in results if r["key"] != "mixed"})
+    out = ["## Where each model can be trusted (measured)", "",
+           "Worst case over the standard scenes with one hinge size (" + ", ".join(uniform) + "; hinges 2 x 0.8 x "
+           "7 mm, length / in-plane width 2.5), error against the converged reference relative to the actuation "
+           "amplitude (+- the reference's uncertainty); the scene where the worst case sits in brackets. The "
+           "`mixed` scene (4 mm hinges across a 2 mm gap) is listed apart: there the refined and the one-element "
+           "hinge law differ already in linear theory (model guide, \"Hinges of n elements\"), so its reference "
+           "is less certain. How far the beam law itself is from a solid hinge, by aspect ratio, is in the FE "
+           "section.", "",
+           "| model | " + " | ".join(f"RMS dD / amplitude at {a:g} | max dD / amplitude at {a:g}" for a in amps)
+           + "".join(f" | mixed, RMS dD / amplitude at {a:g}" for a in amps) + " |",
+           "|---|" + "---|---|" * len(amps) + "---|" * len(amps)]
+    for model, label in TRUST_MODELS:
+        cells = []
+        for a in amps:
+            best = None
+            for r in results:
+                if r["amplitude"] != a or r["key"] == "mixed":
+                    continue
+                row = _pick(r, model)
+                if row is None:
+                    continue
+                cand = (row["rms_D"] / a, row["max_D"] / a, row["ref_rms_D"] / a, r["key"])
+                if best is None or cand[0] > best[0]:
+                    best = cand
+            cells += [f"{_fmt(best[0])} +- {_fmt(best[2])} ({best[3]})", f"{_fmt(best[1])}"] if best else ["-", "-"]
+        for a in amps:
+            r = next((r for r in results if r["amplitude"] == a and r["key"] == "mixed"), None)
+            row = _pick(r, model) if r else None
+            cells.append(f"{_fmt(row['rms_D'] / a)} +- {_fmt(row['ref_rms_D'] / a)}" if row else "-")
+        out.append(f"| {label} | " + " | ".join(cells) + " |")
+    out.append("")
+    return out
+
+
+def _convergence_table(r):
+    """The reference's convergence in the number of hinge elements (one scene)."""
+    st = r.get("reference_study")
+    if not st:
+        return []
+    unc = st["uncertainty"]
+    out = [f"Reference convergence in the number of elements per hinge (Richardson from n = "
+           f"{', '.join(str(n) for n in st['used_levels'][-3:])}, observed order {st['order']:.2f}"
+           + (", assumed" if st["order_assumed"] else "")
+           + ("" if st.get("asymptotic", True) else "; NOT in the asymptotic range (a doubling of n did not halve "
+              "the change), so the uncertainty is the conservative one, the second finest level's distance")
+           + f"; uncertainty of the extrapolated reference: RMS dD "
+           f"{_fmt(unc['rms_D'])}, max dD {_fmt(unc['max_D'])}, max position {_fmt(unc['max_pos'])} cells):", "",
+           "| elements per hinge | time (ms) | Newton iterations | RMS dD vs extrapolated | max dD | "
+           "max pos. err / cell | hinge chord stretch (min .. max) | converged |",
+           "|---|---|---|---|---|---|---|---|"]
+    for lev in st["levels"]:
+        e = lev["error"]
+        ch = lev["info"].get("hinge_chord_stretch_range")
+        chs = f"{100 * ch[0]:+.1f} .. {100 * ch[1]:+.1f} %" if ch else "-"
+        out.append(f"| {lev['n']} | {lev['time_s'] * 1e3:.0f} | {lev['info'].get('newton_iterations', 0)} | "
+                   f"{_fmt(e['rms_D'])} | {_fmt(e['max_D'])} | {_fmt(e['max_pos'])} | {chs} | "
+                   f"{'yes' if lev['converged'] else 'NO'} |")
+    out.append("")
+    return out
+
+
+def report_markdown(results, img_rel, machine="", command="python3 -m metamaterial_wb bench fidelity", repeats=3,
+                    fe_markdown=None):
     lines = ["# Fidelity: error against run time", "",
              f"Generated by `{command}`; do not edit by hand, re-run it. How the models work, what the "
              "measures mean and how to choose a model: [the model guide](fidelity-models.md).", ""]
     if machine:
         lines += [machine, ""]
     lines += [f"![work-precision plot]({img_rel})", "",
-              "Reference: the nonlinear lattice with tolerance 1e-11 and 4 initial load steps. Errors against it: "
+              "Reference: the nonlinear lattice with tolerance 1e-11 and 4 initial load steps, run with 1, 2, 4 and 8 "
+              "corotational Timoshenko elements per hinge (option `hinge_elements`) and extrapolated to infinitely many "
+              "(Richardson, observed order); its uncertainty is the correction the extrapolation made to the finest "
+              "level, and every error below is uncertain by that much (the error bars of the plot; the ratio columns give "
+              "their range). Errors against it: "
               "node angle in D units after removing the rigid rotation (RMS and max over nodes), node position "
               f"after rigid alignment divided by the cell size (max). Times: best of up to {repeats} runs, wall clock, "
               "everything included (geometry, assembly, factorisation, solve, poses). Two actuator amplitudes: "
@@ -355,29 +441,39 @@ def report_markdown(results, img_rel, machine="", command="python3 -m metamateri
               "default (`about=quadratic`: linearised about the quadratic model's predicted state); the rows \"at the flat "
               "sheet\" are its option `about=flat`.", "",
               "## Summary", "",
-              "| scene | amplitude | nodes | quadratic ms | linear ms | nonlinear ms | quadratic RMS dD | linear RMS dD "
-              "| linear / quadratic error | linear / quadratic max pos. error | nonlinear converged "
+              "| scene | amplitude | nodes | reference uncertainty (RMS dD) | 1-element nonlinear RMS dD "
+              "| quadratic ms | linear ms | nonlinear ms | quadratic RMS dD | linear RMS dD "
+              "| linear / quadratic error (range) | linear / quadratic max pos. error | nonlinear converged "
               "| about=flat ms | about=flat / quadratic error |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for srow in summary(results):
-        lines.append(f"| {srow['key']} | {srow['amplitude']} | {srow['n_nodes']} | {srow['quadratic_ms']:.2f} | "
+        lo, hi = srow["ratio_range"]
+        lines.append(f"| {srow['key']} | {srow['amplitude']} | {srow['n_nodes']} | {_fmt(srow['ref_rms_D'])} | "
+                     f"{_fmt(srow['nonlinear1_rms_D'])} | {srow['quadratic_ms']:.2f} | "
                      f"{srow['linear_ms']:.2f} | {srow['nonlinear_ms']:.1f} | {_fmt(srow['quadratic_rms_D'])} | "
-                     f"{_fmt(srow['linear_rms_D'])} | {srow['ratio']:.2f} | {srow['pos_ratio']:.2f} | "
+                     f"{_fmt(srow['linear_rms_D'])} | {srow['ratio']:.2f} ({lo:.2f}-{hi:.2f}) | {srow['pos_ratio']:.2f} | "
                      f"{'yes' if srow['nonlinear_converged'] else 'NO'} | {srow['flat_ms']:.2f} | "
                      f"{srow['flat_ratio']:.2f} |")
     lines.append("")
     lines += _targets(results)
+    lines += trust_table(results)
+    if fe_markdown:
+        lines += [fe_markdown]
     for r in results:
         lines += [f"## {r['title']}, amplitude {r['amplitude']}", "",
                   f"{r['n_nodes']} nodes, {r['n_joints']} hinges; reference {r['reference_time_s'] * 1e3:.0f} ms, "
                   f"converged: {'yes' if r['reference_converged'] else 'NO'} "
                   f"({r['reference_info'].get('newton_iterations', 0)} Newton iterations, "
                   f"{r['reference_info'].get('load_steps', 0)} load steps, {r['reference_info'].get('method', '')}).",
-                  "", "| model | time (ms) | RMS dD | max dD | RMS dD / amplitude | max pos. err / cell | converged |",
+                  ""]
+        lines += _convergence_table(r)
+        lines += ["| model | time (ms) | RMS dD | max dD | RMS dD / amplitude | max pos. err / cell | converged |",
                   "|---|---|---|---|---|---|---|"]
         for row in r["rows"]:
-            lines.append(f"| {row['label']} | {row['time_s'] * 1e3:.2f} | {_fmt(row['rms_D'])} | {_fmt(row['max_D'])} | "
-                         f"{_fmt(row['rms_D'] / r['amplitude'])} | {_fmt(row['max_pos'])} | "
-                         f"{'yes' if row['converged'] else 'NO'} |")
+            u = row.get("ref_rms_D", float("nan"))
+            um = row.get("ref_max_pos", float("nan"))
+            lines.append(f"| {row['label']} | {row['time_s'] * 1e3:.2f} | {_fmt(row['rms_D'])} +- {_fmt(u)} | "
+                         f"{_fmt(row['max_D'])} | {_fmt(row['rms_D'] / r['amplitude'])} | {_fmt(row['max_pos'])} +- "
+                         f"{_fmt(um)} | {'yes' if row['converged'] else 'NO'} |")
         lines.append("")
     return "\n".join(lines) + "\n"

@@ -1,0 +1,12 @@
+"""Solid finite elements with CalculiX (``ccx``): the top rung of the fidelity ladder (issue 18).
+
+Imports only ``core``. Decks are written in the Abaqus input format CalculiX reads, run by
+:func:`metamaterial_wb.fe.ccx.run` as a subprocess with a time limit, and read back from ``.dat``.
+
+* :mod:`.mesh`: structured 20-node brick meshes (C3D20R) of unions of boxes (plates and hinges);
+* :mod:`.ccx`: the solver runner and the ``.dat`` parser; ``available()`` says whether ccx is installed;
+* :mod:`.patch`: a small patch of rigid plates and solid hinges with actuated joints;
+* :mod:`.hinge`: one TPU hinge between two PLA plates: its 6 x 6 stiffness and its large-rotation
+  moment-rotation curve, against the lattice's beam law.
+"""
+from metamaterial_wb.fe.ccx import FEError, available  # noqa: F401
