@@ -16,8 +16,9 @@ under the socket's counterbore ledge). ``side`` says which face of the sheet it 
 touches the ground).
 
 Frames: a node module is built around its node centre; a joint module around the joint midpoint
-(halfway between the two node centres, where the servo shaft goes) with ``u`` pointing from its
-first node ``A`` to its second node ``B``. All checks run in :func:`parse_modules`, before any
+(halfway between the two node centres) with ``u`` pointing from its first node ``A`` to its second
+node ``B``. The servo shaft and the clip's turn sit on the joint's pivot (core/joints.py: the hinge
+blade's centre, shifted for the design range), not on the midpoint. All checks run in :func:`parse_modules`, before any
 geometry.
 """
 import math
@@ -25,7 +26,7 @@ import re
 from dataclasses import dataclass, field
 
 from metamaterial_wb.core.errors import SceneError, check_number
-from metamaterial_wb.geometry.params import pin_slot_width_mm
+from metamaterial_wb.geometry.params import joint_pivot, pin_slot_width_mm
 
 MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip")
 JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
@@ -80,6 +81,7 @@ class ModuleSpec:
     values: dict = field(default_factory=dict)
     sockets: list = field(default_factory=list)    # [((i, j), "N"|"E"|"S"|"W")]
     mu: float = None
+    pivot: object = None               # joint modules that turn with / hold the joint: core.joints.JointPivot
 
     @property
     def field(self):
@@ -223,6 +225,15 @@ def parse_modules(scene, p):
             raise SceneError(f"{f} ({name})", "modules plug into the node sockets, but fabrication.sockets is false")
         if typ == "servo_housing":
             spec.values.update(_servo_dims(item, f, name))
+            tilt = p.hinges[spec.joint].tilt_deg
+            if abs(tilt) > 1e-9:
+                raise SceneError(f"{f}.joint ({name})",
+                                 f"joint {spec.joint} has a tilted hinge ({tilt:g} deg): its relative rotation axis "
+                                 f"leans from the sheet normal, and a servo's vertical shaft cannot be coaxial with "
+                                 f"it; put the servo on an untilted joint (tilt 0)")
+            spec.pivot = joint_pivot(scene, p, spec.joint)
+            su, sv = to_module_frame(spec, p, spec.pivot.point_mm)
+            spec.values["shaft_u_mm"], spec.values["shaft_v_mm"] = round(su, 6), round(sv, 6)
             _check_servo_fit(spec, p, f)
         elif typ == "friction_pad":
             if "mu" in item:
@@ -241,6 +252,7 @@ def parse_modules(scene, p):
                                                         "deg")
             else:
                 spec.values["angle_deg"] = _constraint_angle(scene, spec, f)
+            spec.pivot = joint_pivot(scene, p, spec.joint, range_deg=(spec.values["angle_deg"],) * 2)
         elif typ == "stable_hub":
             v = spec.values
             if v["platform_mm"] >= p.cell_size_mm - 2.0:
@@ -248,14 +260,30 @@ def parse_modules(scene, p):
                                                               f"between the node centres ({p.cell_size_mm} mm apart); "
                                                               f"allowed range (0, {p.cell_size_mm - 2.0:.3g}) mm")
         for ij, lab in spec.sockets:
-            key = (ij, lab, side)
+            # a snap pin runs through the whole socket, so a top and a bottom module cannot share one either
+            key = (ij, lab)
             if key in used:
-                raise SceneError(f"{f} ({name})", f"socket {lab} of node N{ij[0]},{ij[1]} ({side}) is already used "
-                                                  f"by module {used[key]!r}; modules on one face may not share a "
-                                                  f"socket")
-            used[key] = name
+                other, oside = used[key]
+                raise SceneError(f"{f} ({name})", f"modules {other!r} ({oside}) and {name!r} ({side}) collide: both "
+                                                  f"put a snap pin into socket {lab} of node N{ij[0]},{ij[1]} (a pin "
+                                                  f"runs through the whole socket); move one of them to another "
+                                                  f"node or joint")
+            used[key] = (name, side)
         specs.append(spec)
     return specs
+
+
+def to_module_frame(spec, p, xy):
+    """Sheet coordinates (x, y) -> the module frame (u, v) of :func:`module_placement` (pure math)."""
+    c = p.cell_size_mm
+    if spec.node is not None:
+        return (xy[0] - spec.node[1] * c, xy[1] + spec.node[0] * c)
+    (ia, ja), (ib, jb) = spec.a, spec.b
+    ax, ay, bx, by = ja * c, -ia * c, jb * c, -ib * c
+    ang = math.atan2(by - ay, bx - ax)
+    dx, dy = xy[0] - 0.5 * (ax + bx), xy[1] - 0.5 * (ay + by)
+    ca, sa = math.cos(ang), math.sin(ang)
+    return (ca * dx + sa * dy, -sa * dx + ca * dy)
 
 
 def _constraint_angle(scene, spec, f):
@@ -274,7 +302,9 @@ def _constraint_angle(scene, spec, f):
 
 
 def servo_layout(spec, p):
-    """Key u / z coordinates (mm, module frame) of the servo housing and the horn adapter."""
+    """Key u / z coordinates (mm) of the servo housing and the horn adapter, relative to the shaft
+    axis (``u`` along the joint from the housing node towards the other node). The shaft itself sits
+    on the joint's pivot (core/joints.py) at ``(shaft_u_mm, shaft_v_mm)`` of the module frame."""
     v = spec.values
     T = p.sheet_thickness_mm
     clr = p.clearance_mm
@@ -282,12 +312,15 @@ def servo_layout(spec, p):
     L = v["body_length_mm"]
     tab_end = a + 0.5 * (v["tab_length_mm"] - L)
     standoff = v["pad_mm"] + clr
+    wall = v["wall_mm"]
     lay = {
         "a": a, "L": L, "clr": clr,
-        "hu0": a - L - clr - v["wall_mm"], "hu1": a + clr + v["wall_mm"],
-        "hv": 0.5 * v["body_width_mm"] + clr + v["wall_mm"],
+        "hu0": a - L - clr - wall, "hu1": a + clr + wall,
+        "hv": 0.5 * v["body_width_mm"] + clr + wall,
         "z_floor": T + standoff, "zb": T + standoff + v["floor_mm"],
-        "col_u0": max(a + clr + v["wall_mm"], tab_end) + 1.0,
+        # the column stands 1 mm beyond the housing and its tabs (it turns against them) and beyond the
+        # whole horn arm (which turns with it: the horn pocket ends at the column)
+        "col_u0": max(max(a + clr + wall, tab_end) + 1.0, v["horn_arm_length_mm"] + clr),
         "col_t": 3.0, "arm_t": max(2.5, v["horn_thickness_mm"] + clr + 1.0),
     }
     lay["z_arm"] = lay["zb"] + v["shaft_top_mm"] - v["horn_thickness_mm"]
@@ -299,14 +332,16 @@ def _check_servo_fit(spec, p, f):
     c = p.cell_size_mm
     s = p.plate_side_mm_global
     gap = p.gap_mm
-    far_b = 0.5 * gap + s
-    if lay["col_u0"] + lay["col_t"] > far_b - 0.3:
+    su = spec.values.get("shaft_u_mm", 0.0)
+    far_b = 0.5 * gap + s - su
+    need = lay["col_u0"] + lay["col_t"]
+    if need > far_b - 0.3:
         raise SceneError(f"{f}.servo ({spec.name})",
-                         f"the horn adapter's column needs {lay['col_u0'] + lay['col_t']:.3g} mm from the shaft but "
-                         f"node N{spec.b[0]},{spec.b[1]} ends {far_b:.3g} mm from it; this servo needs cells of at "
-                         f"least {c + (lay['col_u0'] + lay['col_t'] - far_b + 0.3):.3g} mm (cell_size_mm is {c})")
-    if 0.5 * s - p.socket_inset_mm + p.socket_radius_mm > lay["hv"] + 2.0:
-        pass  # feet are widened to the sockets (see build)
+                         f"the horn adapter's column (beyond the {spec.values['horn_arm_length_mm']} mm horn arm) "
+                         f"needs {need:.3g} mm from the shaft but node N{spec.b[0]},{spec.b[1]} ends {far_b:.3g} mm "
+                         f"from it; this servo needs cells of at least {c + (need - far_b + 0.3):.3g} mm "
+                         f"(cell_size_mm is {c}) or a shorter horn (dims.horn_arm_length_mm at most "
+                         f"{spec.values['horn_arm_length_mm'] - (need - far_b + 0.3):.3g} mm)")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -376,6 +411,8 @@ def _finish(body_parts, cutters, what):
 
 
 def build_servo_housing(spec, p):
+    """Housing (tub with the servo cavity, on the housing node) and horn adapter (on the other node),
+    the shaft on the joint's pivot: the servo turns node B about the hinge, as simulated."""
     App, Part = _fc()
     V = App.Vector
     v = spec.values
@@ -385,38 +422,53 @@ def build_servo_housing(spec, p):
     clr = p.clearance_mm
     a, L = lay["a"], lay["L"]
     hv = lay["hv"]
+    su, sv = v.get("shaft_u_mm", 0.0), v.get("shaft_v_mm", 0.0)
+    shift = App.Matrix()
+    shift.move(V(su, sv, 0.0))
+
+    def at_shaft(shape):
+        return shape.transformed(shift)
+
     top = lay["zb"] + v["tab_z_mm"]
     outer = box(lay["hu0"], lay["hu1"], -hv, hv, lay["z_floor"], top)
     inner = box(a - L - clr, a + clr, -(0.5 * v["body_width_mm"] + clr), 0.5 * v["body_width_mm"] + clr,
                 lay["zb"], top + 1.0)
     cable = box(lay["hu0"] - 1.0, a - L, -2.0, 2.0, lay["zb"], top + 1.0)
     d = 0.5 * s - p.socket_inset_mm
-    fv = max(hv, d + p.counterbore_radius_mm + 1.0)
+    fv = max(d + p.counterbore_radius_mm + 1.0, 2.0)
     u_a = -0.5 * c
-    fu0 = max(-0.5 * gap - s + 0.3, min(lay["hu0"], u_a - p.counterbore_radius_mm - 1.0))
+    fu0 = max(-0.5 * gap - s + 0.3, min(lay["hu0"] + su, u_a - p.counterbore_radius_mm - 1.0))
     fu1 = -0.5 * gap - 0.3
     feet = box(fu0, fu1, -fv, fv, T, lay["z_floor"] + 0.01)
-    # a floor patch joining wider feet to the tub
-    bridge = box(max(fu0, lay["hu0"]), fu1, -fv, fv, lay["z_floor"], lay["zb"])
+    # a floor patch joining the feet to the tub (both ranges in v: the tub sits over the hinge pivot)
+    v0, v1 = min(-fv, sv - hv), max(fv, sv + hv)
+    bridge = box(max(fu0, lay["hu0"] + su), fu1, max(v0, sv - hv), min(v1, sv + hv), T, lay["zb"])
     pins = _pins_at(p, _lateral_points(p, u_a))
-    housing = _finish([outer, feet, bridge] + pins, [inner, cable], f"{spec.name} housing")
-    # horn adapter on node B: pad with pins, column, arm with the horn pocket over the shaft
+    housing = _finish([at_shaft(outer), feet, bridge] + pins, [at_shaft(inner), at_shaft(cable)],
+                      f"{spec.name} housing")
+    # horn adapter on node B: pad with pins, column beyond the horn, arm with the horn pocket over the shaft
     u_b = 0.5 * c
     far_b = 0.5 * gap + s - 0.3
-    pu0 = min(lay["col_u0"], u_b - p.counterbore_radius_mm - 1.0)
-    pu0 = max(pu0, lay["hu1"] + clr + 0.2, 0.5 * gap + 0.3)
+    pu0 = min(lay["col_u0"] + su, u_b - p.counterbore_radius_mm - 1.0)
+    pu0 = max(pu0, lay["hu1"] + su + clr + 0.2, 0.5 * gap + 0.3)
     pad = box(pu0, far_b, -fv, fv, T, T + v["pad_mm"])
     cw = max(4.0, 0.5 * v["horn_arm_width_mm"] + 2.0)
-    col = box(lay["col_u0"], lay["col_u0"] + lay["col_t"], -cw, cw, T, lay["z_arm"] + lay["arm_t"])
+    col = box(lay["col_u0"], lay["col_u0"] + lay["col_t"], -cw, cw, T,
+              lay["z_arm"] + lay["arm_t"])
     hub_r = 0.5 * v["horn_hub_diameter_mm"]
     arm = box(-hub_r - 2.0, lay["col_u0"] + lay["col_t"], -cw, cw, lay["z_arm"], lay["z_arm"] + lay["arm_t"])
     depth = v["horn_thickness_mm"] + clr
     hub = Part.makeCylinder(hub_r + clr, depth + 1.0, V(0, 0, lay["z_arm"] - 1.0))
-    horn = box(0.0, min(v["horn_arm_length_mm"], lay["col_u0"] - 0.5), -(0.5 * v["horn_arm_width_mm"] + clr),
+    horn = box(0.0, v["horn_arm_length_mm"] + clr, -(0.5 * v["horn_arm_width_mm"] + clr),
                0.5 * v["horn_arm_width_mm"] + clr, lay["z_arm"] - 1.0, lay["z_arm"] + depth)
     shaft_hole = Part.makeCylinder(1.2, lay["arm_t"] + 2.0, V(0, 0, lay["z_arm"] - 1.0))  # horn screw
+    # the column's foot joins the pad where the column stands beside it (the shaft is off the node centre line)
+    cu0, cu1 = lay["col_u0"] + su, lay["col_u0"] + lay["col_t"] + su
+    foot = box(min(cu0, pu0), max(cu1, pu0 + 0.5), min(-fv, sv - cw), max(fv, sv + cw), T, T + v["pad_mm"])
+    foot = foot.common(box(pu0, far_b, -0.5 * s + 0.3, 0.5 * s - 0.3, T, T + v["pad_mm"]))
     pins_b = _pins_at(p, _lateral_points(p, u_b))
-    adapter = _finish([pad, col, arm] + pins_b, [hub, horn, shaft_hole], f"{spec.name} horn adapter")
+    adapter = _finish([pad, foot, at_shaft(col), at_shaft(arm)] + pins_b,
+                      [at_shaft(hub), at_shaft(horn), at_shaft(shaft_hole)], f"{spec.name} horn adapter")
     return [("housing", housing), ("horn_adapter", adapter)]
 
 
@@ -473,16 +525,10 @@ def build_stable_hub(spec, p):
     return [("hub", _finish(parts + pins, [hole], spec.name))]
 
 
-def clip_pivot(spec, p, placement):
-    """The joint's hinge point (edge line, gap centre) in the module frame."""
-    from metamaterial_wb.core.scene import parse_joint
-    from metamaterial_wb.geometry.sheet import joint_frame
-
-    kind, i, j = parse_joint(spec.joint)
-    x, y, _, _ = joint_frame(kind, i, j, p)
-    App, _ = _fc()
-    loc = placement.inverse().multVec(App.Vector(x, y, 0.0))
-    return (round(loc.x, 6), round(loc.y, 6))
+def clip_pivot(spec, p, placement=None):
+    """The joint's pivot (core/joints.py, for the clip's angle) in the module frame."""
+    u, v = to_module_frame(spec, p, spec.pivot.point_mm)
+    return (round(u, 6), round(v, 6))
 
 
 def build_constraint_clip(spec, p, pivot):

@@ -49,16 +49,19 @@ def test_clip_holds_its_angle(mod_result):
     assert clip.common(_part(r, "node_2_1")).Volume < 1e-3     # ... but fits its first node
 
 
-def test_servo_shaft_on_the_joint_midpoint(mod_result):
-    """The horn pocket's hub cylinder is centred on the midpoint of N0,1 and N1,1 (x = 20, y = -10)."""
+def test_servo_shaft_on_the_joint_pivot(mod_result):
+    """The horn pocket's hub cylinder is centred on the hinge pivot of V0,1 (N0,1 odd: left corners,
+    edge line x = 20 - 9 = 11, blade centre 0.4 mm inside, shifted by the pivot offset), y = -10."""
     r = mod_result
+    spec = [m for m in r.modules if m.name == "servo"][0]
+    C_PIVOT = 11.0 + 0.4 + spec.pivot.offset_mm
     adapter = _part(r, "servo_horn_adapter")
     hub_r = 0.5 * 7.0 + CLR
     cyl = [f for f in adapter.Faces if f.Surface.__class__.__name__ == "Cylinder"
            and abs(f.Surface.Radius - hub_r) < 1e-9]
     assert cyl, "no horn hub pocket"
     for f in cyl:
-        assert (f.Surface.Center.x, f.Surface.Center.y) == pytest.approx((C, -C / 2), abs=1e-9)
+        assert (f.Surface.Center.x, f.Surface.Center.y) == pytest.approx((C_PIVOT, -C / 2), abs=2e-6)
         assert abs(f.Surface.Axis.z) == pytest.approx(1.0)
     # the housing sits on the first node N0,1, the adapter on the second N1,1 (below it, y < -10)
     hb, ab = _part(r, "servo_housing").BoundBox, adapter.BoundBox

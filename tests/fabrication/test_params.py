@@ -103,7 +103,21 @@ def test_two_modules_on_one_socket(no_geometry):
                                                {"type": "stable_hub", "joint": "H0,1"}])
     with pytest.raises(SceneError) as e:
         _build(sc)
-    assert "already used" in str(e.value) and "servo_housing_1" in str(e.value)
+    assert "collide" in str(e.value) and "servo_housing_1" in str(e.value) and "stable_hub_2" in str(e.value)
+    assert "socket N of node N0,1" in str(e.value)
+
+
+def test_worm_setup_servo_on_end_node_with_pad_under_it_is_refused(no_geometry):
+    """The seed's worm set-up: a servo on the end joint (top) and a friction pad under the end node
+    (bottom). Both snap pins run through the same sockets (42.65 mm^3 of overlap): refused, naming
+    both modules and the socket, before any geometry."""
+    sc = make_scene({"chain": 8}, actuators=[{"name": "rear", "joint": "V0,0", "value": 0.0}],
+                    modules=[{"type": "servo_housing", "name": "servo_rear", "joint": "V0,0"},
+                             {"type": "friction_pad", "name": "pad_rear", "node": "N0,0"}])
+    with pytest.raises(SceneError) as e:
+        _build(sc)
+    msg = str(e.value)
+    assert "'servo_rear' (top)" in msg and "'pad_rear' (bottom)" in msg and "socket E of node N0,0" in msg
 
 
 def test_servo_too_big_for_small_cells(no_geometry):
