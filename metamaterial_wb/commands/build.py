@@ -5,7 +5,10 @@ Writes (``NAME`` = the scene's name, else the file's stem):
 * ``DIR/NAME_sheet.step``: the sheet, one named body per node and hinge, PLA/TPU colours;
 * ``DIR/NAME_sheet.3mf``: PrusaSlicer layout (one object, a volume per part, per-part extruder);
 * ``DIR/NAME_sheet_components.3mf``: components layout with Bambu Studio / OrcaSlicer and Cura hints;
-* ``--check``: geometry checks (geometry/validity.py) before anything is written;
+* checks before anything is written (geometry/validity.py): by default the solids and the modules
+  (module/module and module/sheet collisions, the servo's horn adapter over its whole rotation);
+  ``--check`` adds the rigid/flexible overlap check of every hinge; ``--no-check`` skips them all
+  (experts). Parameter checks (walls of at least two nozzle widths, fits) always run;
 * with ``--modules``: ``DIR/NAME_<module>.step`` and ``.3mf`` per module (separate prints) and
   ``DIR/NAME_assembly.step`` (sheet and modules in place).
 
@@ -36,8 +39,10 @@ def add_arguments(p):
     p.add_argument("--clearance", type=float, default=None, metavar="MM",
                    help="socket / plug clearance in mm (default: fabrication.clearance_mm, 0.2)")
     p.add_argument("--check", action="store_true",
-                   help="check the solids (valid, closed), rigid/flexible overlap only at the anchors and module "
-                        "clearance before writing; problems stop the command (exit 2)")
+                   help="also check rigid/flexible overlap only at the anchors of every hinge (slow on large "
+                        "sheets); the solids and the modules are always checked unless --no-check")
+    p.add_argument("--no-check", action="store_true",
+                   help="experts: skip the geometry checks (collisions, solids) before writing")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
 
 
@@ -46,9 +51,29 @@ def safe_stem(text):
     return keep.strip("._") or "scene"
 
 
+def run_checks(result, checks=None, progress=True, stream=None):
+    """The geometry checks every export runs (``checks``: names for geometry.validity.check_build;
+    ``None``: its defaults; ``()``: none). Raises MetamaterialError listing the problems, nothing written.
+    Returns the names of the checks that ran."""
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.geometry.progress import note
+    from metamaterial_wb.geometry.validity import DEFAULT_CHECKS, check_build
+
+    t0 = time.perf_counter()
+    problems, ran = check_build(result, DEFAULT_CHECKS if checks is None else checks)
+    if problems:
+        more = f" (+{len(problems) - 5} more)" if len(problems) > 5 else ""
+        raise MetamaterialError(f"{len(problems)} geometry problem(s), nothing written: " + "; ".join(problems[:5]) +
+                                more)
+    if ran:
+        note(f"checks passed ({', '.join(ran)}) in {time.perf_counter() - t0:.2f} s", progress, stream)
+    return ran
+
+
 def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "components"), progress=True,
-                  stem="scene", stream=None, tolerance_mm=None):
-    """Write the files of a BuildResult into ``out_dir`` (atomically as a set). Returns the file list."""
+                  stem="scene", stream=None, tolerance_mm=None, checks=None):
+    """Check (:func:`run_checks`, ``checks=()`` to skip) and write the files of a BuildResult into
+    ``out_dir`` (atomically as a set). Returns the file list."""
     from metamaterial_wb.export.mesh import lay_out_for_print, part_meshes
     from metamaterial_wb.export.step import result_bodies, write_step
     from metamaterial_wb.export.threemf import write_3mf
@@ -56,6 +81,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     from metamaterial_wb.geometry.progress import note
 
     stream = stream if stream is not None else sys.stderr
+    result.checks_ran = run_checks(result, checks, progress, stream)
     os.makedirs(out_dir, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".build-", dir=out_dir)
     written = []
@@ -126,18 +152,11 @@ def run(args):
     threemf = args.threemf or not args.step
     layouts = ("prusa", "components") if args.layout == "both" else (args.layout,)
     result = build_scene(scene, modules=args.modules, progress=not args.quiet, params=params)
-    if args.check:
-        from metamaterial_wb.core.errors import MetamaterialError
-        from metamaterial_wb.geometry.validity import check_all
-        t1 = time.perf_counter()
-        problems = check_all(result)
-        if problems:
-            raise MetamaterialError(f"{len(problems)} geometry problem(s), nothing written; first: {problems[0]}")
-        if not args.quiet:
-            print(f"build: checks passed in {time.perf_counter() - t1:.2f} s", file=sys.stderr)
+    from metamaterial_wb.geometry.validity import ALL_CHECKS, DEFAULT_CHECKS
+    checks = () if args.no_check else (ALL_CHECKS if args.check else DEFAULT_CHECKS)
     stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
     files = export_result(result, args.out, step=step, threemf=threemf, layouts=layouts,
-                          progress=not args.quiet, stem=stem)
+                          progress=not args.quiet, stem=stem, checks=checks)
     if not args.quiet:
         print(f"build: wrote {len(files)} file(s) to {args.out} in {time.perf_counter() - t0:.2f} s", file=sys.stderr)
     for f in files:

@@ -60,6 +60,14 @@ TYPE_DEFAULTS = {
     "friction_pad": {"thickness_mm": 3.0, "pocket_depth_mm": 1.5, "pocket_inset_mm": 1.5},
     "constraint_clip": {"thickness_mm": 3.0},
 }
+# dimensions that are walls of the printed module: at least two nozzle widths (fabrication.nozzle_mm)
+WALL_KEYS = {
+    "servo_housing": ("wall_mm", "floor_mm", "pad_mm"),
+    "connection_hub": ("thickness_mm",),
+    "stable_hub": ("beam_width_mm", "beam_height_mm"),
+    "friction_pad": ("thickness_mm", "pocket_inset_mm"),
+    "constraint_clip": ("thickness_mm",),
+}
 TYPE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
                 "hub": "connection_hub", "pad": "friction_pad"}
 _NODE_RE = re.compile(r"^\s*[Nn]\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
@@ -200,6 +208,11 @@ def parse_modules(scene, p):
             if key in item:
                 values[key] = check_number(f"{f}.{key} ({name})", item[key], 0.0, 200.0, "mm", low_open=True)
         spec.values = values
+        for key in WALL_KEYS.get(typ, ()):
+            if values[key] < p.min_wall_mm - 1e-9:
+                raise SceneError(f"{f}.{key} ({name})",
+                                 f"{values[key]} mm is thinner than two nozzle widths ({p.min_wall_mm:.3g} mm for "
+                                 f"fabrication.nozzle_mm = {p.nozzle_mm}); allowed range [{p.min_wall_mm:.3g}, 200] mm")
         if typ in JOINT_MODULES:
             if "joint" not in item:
                 raise SceneError(f"{f}.joint", f"a {typ} sits on a joint; give \"joint\": \"H<i>,<j>\" or \"V<i>,<j>\"")
@@ -239,11 +252,12 @@ def parse_modules(scene, p):
             if "mu" in item:
                 spec.mu = check_number(f"{f}.mu ({name})", item["mu"], 0.0, 10.0)
             v = spec.values
-            if v["pocket_depth_mm"] >= v["thickness_mm"] - PIN_OVERLAP_MM - 0.4:
+            W = p.min_wall_mm
+            if v["pocket_depth_mm"] > v["thickness_mm"] - PIN_OVERLAP_MM - W + 1e-9:
                 raise SceneError(f"{f}.pocket_depth_mm ({name})",
-                                 f"{v['pocket_depth_mm']} mm leaves less than 0.4 mm above the pins in a "
-                                 f"{v['thickness_mm']} mm pad; allowed range (0, "
-                                 f"{v['thickness_mm'] - PIN_OVERLAP_MM - 0.4:.3g}) mm")
+                                 f"{v['pocket_depth_mm']} mm leaves less than {W:.3g} mm (two nozzle widths) above "
+                                 f"the pins in a {v['thickness_mm']} mm pad; allowed range (0, "
+                                 f"{v['thickness_mm'] - PIN_OVERLAP_MM - W:.3g}] mm")
             if 2 * v["pocket_inset_mm"] >= p.plate_side_mm_global - 2.0:
                 raise SceneError(f"{f}.pocket_inset_mm ({name})", f"{v['pocket_inset_mm']} mm leaves no pocket")
         elif typ == "constraint_clip":

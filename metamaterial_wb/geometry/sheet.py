@@ -20,7 +20,7 @@ import math
 
 from metamaterial_wb.core.joints import joint_frame as _joint_frame
 from metamaterial_wb.geometry.fc import freecad
-from metamaterial_wb.geometry.params import MIN_WALL_MM, anchor_width_mm, neck_width_mm
+from metamaterial_wb.geometry.params import anchor_width_mm, neck_width_mm
 
 
 def joint_frame(kind, i, j, p):
@@ -83,7 +83,7 @@ def stub_outline(p, h, sign):
     gap = p.gap_mm
     if gap - free <= 1e-9:
         return None
-    w = anchor_width_mm(p, h) + MIN_WALL_MM
+    w = anchor_width_mm(p, h) + p.min_wall_mm
     a, b = 0.5 * free, 0.5 * gap       # the stub spans from the free length to the plate edge
     if sign < 0:
         a, b = -b, -a
