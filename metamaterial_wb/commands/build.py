@@ -12,7 +12,10 @@ Writes (``NAME`` = the scene's name, else the file's stem):
 * with ``--modules``: ``DIR/NAME_<module>.step`` and ``.3mf`` per module (separate prints) and
   ``DIR/NAME_assembly.step`` (sheet and modules in place).
 
-Without ``--step`` and ``--3mf`` both are written. Progress goes to stderr. Every file is written
+Every build also writes ``DIR/manifest.json`` (docs/fabrication.md, "The build manifest"): parts,
+placements, files, servo shafts and joint pivots, snap-fit strains, print-pose checks, checks run.
+Module 3MF files hold each part in the axis-aligned pose that needs the least support (checked on
+the mesh: export/printpose.py). Without ``--step`` and ``--3mf`` both are written. Progress goes to stderr. Every file is written
 to a temporary directory first and moved into DIR only when all succeeded.
 """
 import os
@@ -74,7 +77,9 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                   stem="scene", stream=None, tolerance_mm=None, checks=None):
     """Check (:func:`run_checks`, ``checks=()`` to skip) and write the files of a BuildResult into
     ``out_dir`` (atomically as a set). Returns the file list."""
-    from metamaterial_wb.export.mesh import lay_out_for_print, part_meshes
+    from metamaterial_wb.export.manifest import build_manifest, write_manifest
+    from metamaterial_wb.export.mesh import part_meshes
+    from metamaterial_wb.export.printpose import lay_out_best_poses
     from metamaterial_wb.export.step import result_bodies, write_step
     from metamaterial_wb.export.threemf import write_3mf
     from metamaterial_wb.geometry.params import MATERIALS
@@ -85,6 +90,8 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     os.makedirs(out_dir, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".build-", dir=out_dir)
     written = []
+    files_by_group = {}
+    poses = {}
     colours = dict(MATERIALS)
     try:
         groups = result.groups()
@@ -93,6 +100,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
             base = f"{stem}_{group}"
             if group == "sheet":
                 parts = sorted(parts, key=lambda q: (q.role != "node", 0))   # nodes first: hinges win overlaps
+            n_before = len(written)
             if step:
                 write_step(os.path.join(tmp, base + ".step"), result_bodies(result, parts), base)
                 written.append(base + ".step")
@@ -104,17 +112,22 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                         write_3mf(os.path.join(tmp, name), meshes, layout=layout, materials=colours, object_name=base)
                         written.append(name)
                 else:
-                    # print orientation: pins up (top modules turned over; bottom ones already are), side by side
-                    flip = not all(q.info.get("side") == "bottom" for q in parts)
-                    meshes = lay_out_for_print(meshes, flip=flip)
+                    # print poses: each part in the axis-aligned pose that needs the least support, side by side
+                    meshes, reps = lay_out_best_poses(meshes)
+                    poses.update(reps)
                     write_3mf(os.path.join(tmp, base + ".3mf"), meshes, layout="objects", materials=colours,
                               object_name=base)
                     written.append(base + ".3mf")
+            files_by_group[group] = written[n_before:]
             note(f"{group}: {len(parts)} part(s) exported in {time.perf_counter() - t0:.2f} s", progress, stream)
         if step and len(groups) > 1:
             base = f"{stem}_assembly"
             write_step(os.path.join(tmp, base + ".step"), result_bodies(result, result.parts), base)
             written.append(base + ".step")
+            files_by_group["assembly"] = [base + ".step"]
+        write_manifest(os.path.join(tmp, "manifest.json"),
+                       build_manifest(result, files_by_group, stem, result.checks_ran, poses))
+        written.append("manifest.json")
         umask = os.umask(0)
         os.umask(umask)
         for name in written:

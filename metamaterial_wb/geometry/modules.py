@@ -26,24 +26,39 @@ import re
 from dataclasses import dataclass, field
 
 from metamaterial_wb.core.errors import SceneError, check_number
-from metamaterial_wb.geometry.params import joint_pivot, pin_slot_width_mm
+from metamaterial_wb.geometry.params import joint_pivot
+from metamaterial_wb.geometry.snapfit import design_snap_fit
 
 MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip")
 JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
 NODE_MODULES = ("connection_hub", "friction_pad")
 
-# Approximate public datasheet figures (mm); measure your servo and override with "dims".
+# Servo presets (mm) from public datasheet drawings, bodies at the upper end of what the parts measure
+# (SG90s measure 22.2-23.0 x 11.8-12.5 mm): the cavity adds the fit clearance on every side. ``tab_z_mm``:
+# tab underside above the body bottom; ``screw_inset_mm``: screw hole centre to the tab's end;
+# ``screw_diameter_mm``: the self-tapping screw (the seat gets a pilot hole 0.3 mm smaller).
+# ``horn_*``: the single-arm horn in the box (hub diameter, thickness, shaft axis to arm tip, arm
+# width at the hub). Measure yours and override any of them with "dims".
 SERVO_PRESETS = {
-    "SG90": {"body_length_mm": 22.5, "body_width_mm": 11.8, "body_height_mm": 22.7, "tab_length_mm": 32.2,
+    "SG90": {"body_length_mm": 23.0, "body_width_mm": 12.5, "body_height_mm": 22.7, "tab_length_mm": 32.2,
              "tab_thickness_mm": 2.5, "tab_z_mm": 15.9, "shaft_offset_mm": 5.9, "shaft_top_mm": 27.0,
+             "screw_inset_mm": 2.3, "screw_diameter_mm": 2.0,
              "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 14.0,
              "horn_arm_width_mm": 4.0},
-    "MG90S": {"body_length_mm": 22.8, "body_width_mm": 12.2, "body_height_mm": 22.5, "tab_length_mm": 32.5,
+    "MG90S": {"body_length_mm": 23.0, "body_width_mm": 12.5, "body_height_mm": 22.5, "tab_length_mm": 32.5,
               "tab_thickness_mm": 2.5, "tab_z_mm": 16.0, "shaft_offset_mm": 6.1, "shaft_top_mm": 28.4,
+              "screw_inset_mm": 2.3, "screw_diameter_mm": 2.0,
               "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.8, "horn_arm_length_mm": 14.0,
               "horn_arm_width_mm": 4.5},
+    "MG996R": {"body_length_mm": 40.7, "body_width_mm": 19.7, "body_height_mm": 37.0, "tab_length_mm": 54.0,
+               "tab_thickness_mm": 2.5, "tab_z_mm": 26.7, "shaft_offset_mm": 10.2, "shaft_top_mm": 42.9,
+               "screw_inset_mm": 3.4, "screw_diameter_mm": 3.0,
+               "horn_hub_diameter_mm": 9.0, "horn_thickness_mm": 2.5, "horn_arm_length_mm": 19.0,
+               "horn_arm_width_mm": 6.0},
 }
 SERVO_KEYS = tuple(SERVO_PRESETS["SG90"])
+SERVO_OPTIONAL = ("screw_inset_mm", "screw_diameter_mm")   # a custom servo may leave these out
+CABLE_SLOT_MM = 5.0         # height of the cable's way out at the housing's far end (above the floor)
 
 COMMON_KEYS = {"type", "name", "side", "material", "extruder"}
 TYPE_KEYS = {
@@ -90,6 +105,7 @@ class ModuleSpec:
     sockets: list = field(default_factory=list)    # [((i, j), "N"|"E"|"S"|"W")]
     mu: float = None
     pivot: object = None               # joint modules that turn with / hold the joint: core.joints.JointPivot
+    snap: object = None                # geometry.snapfit.SnapFit of its pins
 
     @property
     def field(self):
@@ -135,10 +151,12 @@ def _servo_dims(item, f, nm):
         if k not in SERVO_KEYS:
             raise SceneError(f"{f}.dims.{k} ({nm})", f"unknown servo dimension; allowed: {list(SERVO_KEYS)}")
     if servo == "CUSTOM":
-        missing = [k for k in SERVO_KEYS if k not in dims]
+        missing = [k for k in SERVO_KEYS if k not in dims and k not in SERVO_OPTIONAL]
         if missing:
             raise SceneError(f"{f}.dims ({nm})", f"a custom servo needs every dimension; missing: {missing}")
         d = {}
+        ext = 0.5 * (float(dims.get("tab_length_mm", 0)) - float(dims.get("body_length_mm", 0)))
+        d.update({"screw_inset_mm": max(0.5 * ext, 1e-3), "screw_diameter_mm": 2.0})
     else:
         d = dict(SERVO_PRESETS[servo])
     for k, v in dims.items():
@@ -156,6 +174,10 @@ def _servo_dims(item, f, nm):
         raise SceneError(f"{f}.dims.shaft_top_mm ({nm})", f"the horn ({d['horn_thickness_mm']} mm) under the shaft top at "
                                                    f"{d['shaft_top_mm']} mm would touch the body top "
                                                    f"({d['body_height_mm']} mm)")
+    ext = 0.5 * (d["tab_length_mm"] - d["body_length_mm"])
+    if not 0 < d["screw_inset_mm"] < ext:
+        raise SceneError(f"{f}.dims.screw_inset_mm ({nm})", f"{d['screw_inset_mm']} mm puts the tab's screw outside "
+                                                           f"the {ext:.3g} mm tab; allowed range (0, {ext:.3g}) mm")
     d["servo"] = servo
     return d
 
@@ -203,6 +225,8 @@ def parse_modules(scene, p):
         if isinstance(ext, bool) or not isinstance(ext, int) or not 1 <= ext <= 16:
             raise SceneError(f"{f}.extruder", f"{ext!r}: expected an extruder number 1..16")
         spec = ModuleSpec(k, typ, name, side, mat.upper(), ext)
+        if p.sockets:
+            spec.snap = design_snap_fit(p, spec.material, f)
         values = dict(TYPE_DEFAULTS[typ])
         for key in TYPE_DEFAULTS[typ]:
             if key in item:
@@ -332,9 +356,11 @@ def servo_layout(spec, p):
         "hu0": a - L - clr - wall, "hu1": a + clr + wall,
         "hv": 0.5 * v["body_width_mm"] + clr + wall,
         "z_floor": T + standoff, "zb": T + standoff + v["floor_mm"],
-        # the column stands 1 mm beyond the housing and its tabs (it turns against them) and beyond the
-        # whole horn arm (which turns with it: the horn pocket ends at the column)
-        "col_u0": max(max(a + clr + wall, tab_end) + 1.0, v["horn_arm_length_mm"] + clr),
+        # the column turns against the housing about the shaft: it stands 1 mm outside the circle through
+        # the housing's far corners (tab seats), and beyond the whole horn arm (which turns with it: the
+        # horn pocket ends at the column)
+        "col_u0": max(math.hypot(max(a + clr + wall, tab_end), 0.5 * v["body_width_mm"] + clr + wall) + 1.0,
+                      v["horn_arm_length_mm"] + clr),
         "col_t": 3.0, "arm_t": max(2.5, v["horn_thickness_mm"] + clr + 1.0),
     }
     lay["z_arm"] = lay["zb"] + v["shaft_top_mm"] - v["horn_thickness_mm"]
@@ -371,9 +397,12 @@ def box(u0, u1, v0, v1, z0, z1):
     return Part.makeBox(u1 - u0, v1 - v0, z1 - z0, App.Vector(u0, v0, z0))
 
 
-def make_pin(p, up=False):
+def make_pin(p, up=False, snap=None):
     """Split snap pin at the origin (socket axis). Down (default): from the sheet top face into the socket,
-    barb latching under the bottom ledge. ``up``: the same pin mirrored to stick up from z = 0."""
+    barb latching under the bottom ledge. ``up``: the same pin mirrored to stick up from z = 0. ``snap``:
+    the designed prongs (geometry/snapfit.py; default: designed for the module material of ``p``)."""
+    if snap is None:
+        snap = design_snap_fit(p, p.module_material)
     App, Part = _fc()
     V = App.Vector
     T = p.sheet_thickness_mm
@@ -386,8 +415,8 @@ def make_pin(p, up=False):
     shaft = Part.makeCylinder(r, T + PIN_OVERLAP_MM - z_sh, V(0, 0, z_sh))
     barb = Part.makeCone(r, rb, z_sh - z_tip, V(0, 0, z_tip))
     pin = shaft.fuse(barb)
-    slot_w = pin_slot_width_mm(p)
-    slot = Part.makeBox(slot_w, 2 * rb + 2, 0.65 * T + 1.0, V(-0.5 * slot_w, -rb - 1, z_tip - 1.0))
+    slot_w = snap.slot_mm
+    slot = Part.makeBox(slot_w, 2 * rb + 2, snap.slot_top_mm - (z_tip - 1.0), V(-0.5 * slot_w, -rb - 1, z_tip - 1.0))
     pin = pin.cut(slot).removeSplitter()
     pin = pin.Solids[0] if len(pin.Solids) == 1 else pin
     if up:
@@ -395,9 +424,9 @@ def make_pin(p, up=False):
     return pin
 
 
-def _pins_at(p, points, up=False, z_shift=0.0):
+def _pins_at(p, points, up=False, z_shift=0.0, snap=None):
     App, _ = _fc()
-    proto = make_pin(p, up)
+    proto = make_pin(p, up, snap)
     out = []
     for (u, v) in points:
         m = App.Matrix()
@@ -444,10 +473,19 @@ def build_servo_housing(spec, p):
         return shape.transformed(shift)
 
     top = lay["zb"] + v["tab_z_mm"]
+    ext = 0.5 * (v["tab_length_mm"] - L)
     outer = box(lay["hu0"], lay["hu1"], -hv, hv, lay["z_floor"], top)
+    # tab seats: the tub runs on under both tabs, so that the tab screws go into material
+    seats = [box(a - L - ext, lay["hu0"] + 0.01, -hv, hv, lay["z_floor"], top),
+             box(lay["hu1"] - 0.01, a + ext, -hv, hv, lay["z_floor"], top)]
     inner = box(a - L - clr, a + clr, -(0.5 * v["body_width_mm"] + clr), 0.5 * v["body_width_mm"] + clr,
                 lay["zb"], top + 1.0)
-    cable = box(lay["hu0"] - 1.0, a - L, -2.0, 2.0, lay["zb"], top + 1.0)
+    cable_h = min(CABLE_SLOT_MM, max(v["tab_z_mm"] - 2 * p.min_wall_mm - 4.0, 1.0))
+    cable = box(a - L - ext - 1.0, a - L, -2.0, 2.0, lay["zb"], lay["zb"] + cable_h)
+    pilot_r = 0.5 * (v["screw_diameter_mm"] - 0.3)
+    pilot_depth = v["tab_z_mm"] - cable_h - p.min_wall_mm
+    pilots = [Part.makeCylinder(pilot_r, pilot_depth + 1.0, V(u, 0.0, top - pilot_depth))
+              for u in (a - L - ext + v["screw_inset_mm"], a + ext - v["screw_inset_mm"])]
     d = 0.5 * s - p.socket_inset_mm
     fv = max(d + p.counterbore_radius_mm + 1.0, 2.0)
     u_a = -0.5 * c
@@ -457,14 +495,14 @@ def build_servo_housing(spec, p):
     # a floor patch joining the feet to the tub (both ranges in v: the tub sits over the hinge pivot)
     v0, v1 = min(-fv, sv - hv), max(fv, sv + hv)
     bridge = box(max(fu0, lay["hu0"] + su), fu1, max(v0, sv - hv), min(v1, sv + hv), T, lay["zb"])
-    pins = _pins_at(p, _lateral_points(p, u_a))
-    housing = _finish([at_shaft(outer), feet, bridge] + pins, [at_shaft(inner), at_shaft(cable)],
-                      f"{spec.name} housing")
+    pins = _pins_at(p, _lateral_points(p, u_a), snap=spec.snap)
+    housing = _finish([at_shaft(outer)] + [at_shaft(q) for q in seats] + [feet, bridge] + pins,
+                      [at_shaft(inner), at_shaft(cable)] + [at_shaft(q) for q in pilots], f"{spec.name} housing")
     # horn adapter on node B: pad with pins, column beyond the horn, arm with the horn pocket over the shaft
     u_b = 0.5 * c
     far_b = 0.5 * gap + s - 0.3
     pu0 = min(lay["col_u0"] + su, u_b - p.counterbore_radius_mm - 1.0)
-    pu0 = max(pu0, lay["hu1"] + su + clr + 0.2, 0.5 * gap + 0.3)
+    pu0 = max(pu0, 0.5 * gap + 0.3)          # the housing sits above the pad (z >= z_floor): no overlap
     pad = box(pu0, far_b, -fv, fv, T, T + v["pad_mm"])
     cw = max(4.0, 0.5 * v["horn_arm_width_mm"] + 2.0)
     col = box(lay["col_u0"], lay["col_u0"] + lay["col_t"], -cw, cw, T,
@@ -480,7 +518,7 @@ def build_servo_housing(spec, p):
     cu0, cu1 = lay["col_u0"] + su, lay["col_u0"] + lay["col_t"] + su
     foot = box(min(cu0, pu0), max(cu1, pu0 + 0.5), min(-fv, sv - cw), max(fv, sv + cw), T, T + v["pad_mm"])
     foot = foot.common(box(pu0, far_b, -0.5 * s + 0.3, 0.5 * s - 0.3, T, T + v["pad_mm"]))
-    pins_b = _pins_at(p, _lateral_points(p, u_b))
+    pins_b = _pins_at(p, _lateral_points(p, u_b), snap=spec.snap)
     adapter = _finish([pad, foot, at_shaft(col), at_shaft(arm)] + pins_b,
                       [at_shaft(hub), at_shaft(horn), at_shaft(shaft_hole)], f"{spec.name} horn adapter")
     return [("housing", housing), ("horn_adapter", adapter)]
@@ -494,9 +532,9 @@ def build_connection_hub(spec, p):
     plate = box(-h, h, -h, h, T, T + t)
     d = 0.5 * s - p.socket_inset_mm
     pts = [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)]
-    down = _pins_at(p, pts)
+    down = _pins_at(p, pts, snap=spec.snap)
     # the second structure lies upside down on the hub: its top face at z = T + t, pins point up into it
-    up = _pins_at(p, pts, up=True, z_shift=T + t)
+    up = _pins_at(p, pts, up=True, z_shift=T + t, snap=spec.snap)
     return [("hub", _finish([plate] + down + up, [], spec.name))]
 
 
@@ -510,7 +548,7 @@ def build_friction_pad(spec, p):
     ins = h - v["pocket_inset_mm"]
     pocket = box(-ins, ins, -ins, ins, T + t - v["pocket_depth_mm"], T + t + 1.0)
     d = 0.5 * s - p.socket_inset_mm
-    pins = _pins_at(p, [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)])
+    pins = _pins_at(p, [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)], snap=spec.snap)
     return [("pad", _finish([plate] + pins, [pocket], spec.name))]
 
 
@@ -533,7 +571,7 @@ def build_stable_hub(spec, p):
         parts.append(box(uc - 1.5, uc + 1.5, -1.5, 1.5, T + foot_t - 0.01, zp + bh))
         u0, u1 = (uc, -P + 0.01) if uc < 0 else (P - 0.01, uc)
         parts.append(box(u0, u1, -bw, bw, zp, zp + bh))
-        pins += _pins_at(p, _lateral_points(p, uc))
+        pins += _pins_at(p, _lateral_points(p, uc), snap=spec.snap)
     parts.append(box(-P, P, -P, P, zp, zp + bh))
     hole = Part.makeCylinder(1.6, bh + 2.0, V(0, 0, zp - 1.0))     # M3 clearance for the attached shape
     return [("hub", _finish(parts + pins, [hole], spec.name))]
@@ -555,8 +593,8 @@ def build_constraint_clip(spec, p, pivot):
     ang = spec.values["angle_deg"]
     half_a = box(-0.5 * gap - s + 0.3, 0.0, -h, h, T, T + t)
     half_b = box(0.0, 0.5 * gap + s - 0.3, -h, h, T, T + t)
-    pins_a = _pins_at(p, _lateral_points(p, -0.5 * c))
-    pins_b = _pins_at(p, _lateral_points(p, 0.5 * c))
+    pins_a = _pins_at(p, _lateral_points(p, -0.5 * c), snap=spec.snap)
+    pins_b = _pins_at(p, _lateral_points(p, 0.5 * c), snap=spec.snap)
     rot = App.Placement(V(pivot[0], pivot[1], 0), App.Rotation(V(0, 0, 1), ang)).multiply(
         App.Placement(V(-pivot[0], -pivot[1], 0), App.Rotation()))
     m = rot.toMatrix()
@@ -598,7 +636,7 @@ def build_module(res, spec):
         pivot = clip_pivot(spec, p, pl)
         extra = (pivot,)
     vals = tuple(sorted((k, v) for k, v in spec.values.items()))
-    key0 = ("module", spec.type, spec.side, vals, extra, _fab_key(p))
+    key0 = ("module", spec.type, spec.side, vals, extra, _fab_key(p), spec.snap.key() if spec.snap else None)
     builders = {"servo_housing": build_servo_housing, "connection_hub": build_connection_hub,
                 "friction_pad": build_friction_pad, "stable_hub": build_stable_hub}
     if key0 not in res.module_parts:

@@ -300,12 +300,6 @@ def _check_fit(p, scene=None):
             raise SceneError("fabrication.socket_diameter_mm",
                              f"{p.socket_diameter_mm} mm leaves no plug after the clearance of {p.clearance_mm} mm "
                              f"per side; use more than {2 * p.clearance_mm + 0.4:.3g} mm")
-        squeeze = 2.0 * (p.counterbore_radius_mm - p.clearance_mm - p.socket_radius_mm)
-        if squeeze > pin_slot_width_mm(p):
-            raise SceneError("fabrication.socket_lip_mm",
-                             f"{p.socket_lip_mm} mm: the split plug's barb must close its {pin_slot_width_mm(p):.3g} mm "
-                             f"slot by {squeeze:.3g} mm to pass the hole; allowed range (0, "
-                             f"{0.5 * pin_slot_width_mm(p) + p.clearance_mm:.3g}] mm for this socket and clearance")
         if p.socket_inset_mm - p.counterbore_radius_mm < W:
             raise SceneError("fabrication.socket_inset_mm",
                              f"{p.socket_inset_mm} mm puts the socket ledge (radius {p.counterbore_radius_mm:.3g} mm) "

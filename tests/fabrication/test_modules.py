@@ -112,8 +112,8 @@ def test_servo_presets_and_custom_dims(fc):
     w_sg, _ = housing_width(servo="SG90")
     w_mg, _ = housing_width(servo="MG90S")
     # the tub is the body + clearance + wall on each side where it is wider than the feet
-    assert w_sg == pytest.approx(11.8 + 2 * (CLR + 1.6))
-    assert w_mg - w_sg == pytest.approx(12.2 - 11.8, abs=1e-9)
+    assert w_sg == pytest.approx(12.5 + 2 * (CLR + 1.6))
+    assert w_mg - w_sg == pytest.approx(0.0, abs=1e-9)          # both presets: 12.5 mm bodies
     dims = {"body_length_mm": 23.0, "body_width_mm": 16.0, "body_height_mm": 20.0, "tab_length_mm": 30.0,
             "tab_thickness_mm": 2.0, "tab_z_mm": 14.0, "shaft_offset_mm": 6.0, "shaft_top_mm": 25.0,
             "horn_hub_diameter_mm": 6.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 10.0,

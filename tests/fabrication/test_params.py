@@ -162,7 +162,10 @@ def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
 
 
 def test_snap_barb_must_pass_the_hole(no_geometry):
-    """A 1 mm ledge makes the barb 1.6 mm wider than the hole: more than the plug's slot can close."""
+    """A 1 mm ledge makes the barb 1.6 mm wider than the hole: the slot that lets it close leaves
+    prongs thinner than two nozzle widths, so no pin fits (the sheet alone still builds)."""
     with pytest.raises(SceneError) as e:
-        _build(make_scene({"chain": 1}, fabrication={"socket_lip_mm": 1.0}))
-    assert e.value.field == "fabrication.socket_lip_mm" and "slot" in str(e.value)
+        _build(make_scene({"chain": 1}, fabrication={"socket_lip_mm": 1.0},
+                          modules=[{"type": "connection_hub", "node": "N0,0"}]))
+    assert e.value.field == "modules[0].material" and "slot" in str(e.value)
+    assert "fabrication.socket_lip_mm" in str(e.value)
