@@ -3,8 +3,12 @@
 A pose prints without supports when every downward-facing triangle either lies on the bed or is a
 printable overhang (at most ``max_overhang_deg`` from the vertical, i.e. its normal at most that far
 below the horizontal) or belongs to a bridge: a connected downward, near-horizontal region whose
-shorter side is under ``max_bridge_mm`` (the printer spans it between two walls). The check is
+span between two walls (material below it just beyond both ends, along x or y) is under
+``max_bridge_mm``. The check is
 conservative about bridges (a region's bounding box, not its true span) and exact about overhangs.
+One allowance: a flat downward ledge at most ``MAX_LEDGE_MM`` wide (its width taken as
+``2 area / perimeter``: exact for strips and rings, such as a snap pin's barb) prints as overhanging
+perimeters and needs no support.
 
 :func:`best_pose` tries the six axis-aligned poses (each principal direction down) and keeps the one
 that needs the least support, then the largest area on the bed.
@@ -15,6 +19,7 @@ import numpy as np
 
 MAX_OVERHANG_DEG = 45.0
 MAX_BRIDGE_MM = 10.0
+MAX_LEDGE_MM = 0.8       # a flat downward ledge this narrow (two nozzle widths) prints as overhanging perimeters
 BED_TOL_MM = 1e-3
 
 
@@ -54,21 +59,59 @@ def _regions(T, mask):
     return list(out.values())
 
 
-def _anchored_both_ends(V, T, reg, verts, axis, tri_zmin, tris_of):
-    """A flat downward region is a bridge when, at both ends of its short span, its edge joins a wall
-    that goes down (material below the region on both sides), not a cantilever."""
-    z = V[verts, 2].mean()
-    regset = set(reg)
-    a = V[verts, axis]
-    for end in (a.min(), a.max()):
-        ok = False
-        for v in verts[np.abs(a - end) < 1e-3]:
-            if any(k not in regset and tri_zmin[k] < z - 0.05 for k in tris_of[int(v)]):
-                ok = True
-                break
-        if not ok:
-            return False
-    return True
+def _perimeter(V, tris):
+    """Length of the boundary of a triangle set (edges used by one of its triangles only)."""
+    e = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
+    uniq, count = np.unique(e, axis=0, return_counts=True)
+    b = uniq[count == 1]
+    return float(np.linalg.norm(V[b[:, 0]] - V[b[:, 1]], axis=1).sum())
+
+
+def inside(V, T, points):
+    """Point-in-solid test for a closed mesh (ray parity, Moller-Trumbore along a generic direction)."""
+    d = np.array([0.5773, 0.5774, 0.5775])
+    d /= np.linalg.norm(d)
+    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+    e1, e2 = b - a, c - a
+    h = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, h)
+    ok = np.abs(det) > 1e-12
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    out = []
+    for p in np.atleast_2d(points):
+        s_ = p - a
+        u = np.einsum("ij,ij->i", s_, h) * inv
+        q = np.cross(s_, e1)
+        v = (q @ d) * inv
+        t = np.einsum("ij,ij->i", e2, q) * inv
+        hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 1e-9)
+        out.append(int(hit.sum()) % 2 == 1)
+    return np.array(out)
+
+
+def _bridge_span(V, T, verts, max_bridge_mm):
+    """Span (mm) of a flat downward region bridged between two walls (material below it just beyond
+    both ends along x or along y, checked at three points per end), or None when it is not a bridge."""
+    P = V[verts]
+    z = P[:, 2].mean() - 0.3
+    lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
+    best = None
+    for ax in (0, 1):
+        span = float(hi[ax] - lo[ax])
+        if span >= max_bridge_mm:
+            continue
+        other = 1 - ax
+        pts = []
+        for end, off in ((lo[ax], -0.3), (hi[ax], 0.3)):
+            for f in (0.25, 0.5, 0.75):
+                q = np.zeros(3)
+                q[ax] = end + off
+                q[other] = lo[other] + f * (hi[other] - lo[other])
+                q[2] = z
+                pts.append(q)
+        if np.all(inside(V, T, np.array(pts))):
+            best = span if best is None else min(best, span)
+    return best
 
 
 def pose_report(V, T, max_overhang_deg=MAX_OVERHANG_DEG, max_bridge_mm=MAX_BRIDGE_MM):
@@ -77,7 +120,6 @@ def pose_report(V, T, max_overhang_deg=MAX_OVERHANG_DEG, max_bridge_mm=MAX_BRIDG
     V = np.asarray(V, dtype=float)
     z0 = V[:, 2].min()
     n, area = _normals_areas(V, T)
-    zc = V[T].mean(axis=1)[:, 2] - z0
     zmax = V[T][:, :, 2].max(axis=1) - z0
     down = n[:, 2] < 0
     on_bed = down & (zmax <= BED_TOL_MM) & (n[:, 2] < -0.999)
@@ -85,26 +127,18 @@ def pose_report(V, T, max_overhang_deg=MAX_OVERHANG_DEG, max_bridge_mm=MAX_BRIDG
     steep = down & ~on_bed & (n[:, 2] < -math.sin(math.radians(90.0 - max_overhang_deg)) - 1e-9)
     unsupported = 0.0
     widest = 0.0
-    worst_region = None
-    tri_zmin = V[T][:, :, 2].min(axis=1)
-    tris_of = {}
-    for k, tri in enumerate(T):
-        for v in tri:
-            tris_of.setdefault(int(v), []).append(k)
     for reg in _regions(T, steep):
         verts = np.unique(T[reg].reshape(-1))
-        pts = V[verts]
-        spans = np.ptp(pts[:, :2], axis=0)
-        axis = int(np.argmin(spans))
-        span = float(spans[axis])
         flat = bool(np.all(n[reg, 2] < -0.999))
         a = float(area[reg].sum())
-        if flat and span < max_bridge_mm and _anchored_both_ends(V, T, reg, verts, axis, tri_zmin, tris_of):
+        span = _bridge_span(V, T, verts, max_bridge_mm) if flat else None
+        if span is not None:
             widest = max(widest, span)
             continue
+        if flat and 2.0 * a / max(_perimeter(V, T[reg]), 1e-12) <= MAX_LEDGE_MM:
+            continue
         unsupported += a
-        if worst_region is None or a > worst_region[0]:
-            worst_region = (a, float(zc[reg].min()), float(span))
+
     return {"bed_area_mm2": round(float(area[on_bed].sum()), 3),
             "unsupported_area_mm2": round(unsupported, 3),
             "widest_bridge_mm": round(widest, 3),

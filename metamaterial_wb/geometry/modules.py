@@ -546,10 +546,22 @@ def build_friction_pad(spec, p):
     t = v["thickness_mm"]
     plate = box(-h, h, -h, h, T, T + t)
     ins = h - v["pocket_inset_mm"]
-    pocket = box(-ins, ins, -ins, ins, T + t - v["pocket_depth_mm"], T + t + 1.0)
+    # the pocket (for the friction insert) faces the bed when the pad prints pins up: ribs of two
+    # nozzle widths split it into strips narrower than a printable bridge
+    n, rib = pocket_strips(2 * ins, p.min_wall_mm)
+    w = (2 * ins - (n - 1) * rib) / n
+    z0 = T + t - v["pocket_depth_mm"]
+    pockets = [box(-ins + k * (w + rib), -ins + k * (w + rib) + w, -ins, ins, z0, T + t + 1.0) for k in range(n)]
     d = 0.5 * s - p.socket_inset_mm
     pins = _pins_at(p, [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)], snap=spec.snap)
-    return [("pad", _finish([plate] + pins, [pocket], spec.name))]
+    return [("pad", _finish([plate] + pins, pockets, spec.name))]
+
+
+def pocket_strips(width_mm, rib_mm, max_bridge_mm=9.0):
+    """``(n, rib)``: how many strips a pocket ``width_mm`` wide is split into so that each spans less
+    than ``max_bridge_mm`` (a printable bridge, with a margin under the 10 mm rule)."""
+    n = max(1, math.ceil((width_mm + rib_mm) / (max_bridge_mm + rib_mm)))
+    return n, rib_mm
 
 
 def build_stable_hub(spec, p):

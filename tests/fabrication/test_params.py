@@ -148,7 +148,8 @@ def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
     from metamaterial_wb.core.design import compute_joint_config
     from metamaterial_wb.geometry.params import fabrication_params
     base = dict(cell_size_mm=25, hinge={"length_mm": 5, "width_mm": 1.0, "thickness_mm": 7},
-                axes=[{"direction": "vertical", "line": 1, "fold_deg": 10}])
+                axes=[{"direction": "vertical", "line": 1, "fold_deg": 10}],
+                fabrication={"anchor_margin_mm": 0.8})      # the gripper's: 35 deg tilts keep 0.8 mm walls
     sc = make_scene({"chain": 3}, **base)
     p = fabrication_params(sc)
     config = compute_joint_config(sc)[0]
