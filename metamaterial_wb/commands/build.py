@@ -73,6 +73,19 @@ def run_checks(result, checks=None, progress=True, stream=None):
     return ran
 
 
+BED_MARGIN_MM = 10.0
+
+
+def onto_bed(meshes, margin_mm=BED_MARGIN_MM):
+    """Move sheet meshes (sheet coordinates: rows grow towards -y) so that their bounding box starts at
+    ``(margin, margin, 0)``: slicers that keep positions (PrusaSlicer ``--dont-arrange``, components
+    layouts) then find the sheet on the bed. Returns ``(meshes, offset)``."""
+    import numpy as np
+    lo = np.min([V.min(axis=0) for _, V, _, _, _ in meshes], axis=0)
+    off = np.array([margin_mm - lo[0], margin_mm - lo[1], -lo[2]])
+    return [(n, V + off, T, m, e) for n, V, T, m, e in meshes], [round(float(c), 6) for c in off]
+
+
 def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "components"), progress=True,
                   stem="scene", stream=None, tolerance_mm=None, checks=None):
     """Check (:func:`run_checks`, ``checks=()`` to skip) and write the files of a BuildResult into
@@ -107,6 +120,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
             if threemf:
                 meshes = part_meshes(result, parts, tolerance_mm)
                 if group == "sheet":
+                    meshes, result.bed_offset_mm = onto_bed(meshes)
                     for layout in layouts:
                         name = base + (".3mf" if layout == "prusa" else "_components.3mf")
                         write_3mf(os.path.join(tmp, name), meshes, layout=layout, materials=colours, object_name=base)

@@ -78,6 +78,8 @@ def build_manifest(result, files_by_group, stem, checks_ran, poses=None):
         "min_wall_mm": p.min_wall_mm,
         "checks": {"parameters": True, "ran": ran, "skipped": [c for c in ALL_CHECKS if c not in ran]},
         "files": sorted({f for fs in files_by_group.values() for f in fs}),
+        # the sheet's 3MF files hold it moved by this much (onto the bed); STEP keeps sheet coordinates
+        "sheet_3mf_offset_mm": getattr(result, "bed_offset_mm", None),
         "parts": parts, "modules": modules,
     }
 

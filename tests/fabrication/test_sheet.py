@@ -41,7 +41,7 @@ def expected_node_volume(topo, ij, tilts, stubs):
             if name in stubs:
                 half = (LH - stubs[name]) / 2
                 wn = W / math.cos(math.radians(tilts.get(name, 0.0)))
-                v += half * (wn + MARGIN + 0.4) * TH - half * wn * TH
+                v += half * (wn + MARGIN + 0.8) * TH - half * wn * TH    # stub: anchor + two nozzle widths
     return v
 
 
