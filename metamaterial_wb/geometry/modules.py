@@ -580,7 +580,8 @@ def build_stable_hub(spec, p):
     pins = []
     for uc in (-0.5 * c, 0.5 * c):
         parts.append(box(uc - 3.0, uc + 3.0, -fv, fv, T, T + foot_t))
-        parts.append(box(uc - 1.5, uc + 1.5, -1.5, 1.5, T + foot_t - 0.01, zp + bh))
+        # posts as wide as the feet: printed upside down (platform on the bed) nothing overhangs
+        parts.append(box(uc - 3.0, uc + 3.0, -fv, fv, T + foot_t - 0.01, zp + bh))
         u0, u1 = (uc, -P + 0.01) if uc < 0 else (P - 0.01, uc)
         parts.append(box(u0, u1, -bw, bw, zp, zp + bh))
         pins += _pins_at(p, _lateral_points(p, uc), snap=spec.snap)

@@ -15,7 +15,9 @@ from fabhelpers import REPO, make_scene
 NS = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}
 MODULES = [{"type": "servo_housing", "name": "servo", "joint": "V0,0",
             "profile_note": None}, {"type": "friction_pad", "name": "pad", "node": "N0,2"},
-           {"type": "connection_hub", "name": "hub", "node": "N1,3"}]
+           {"type": "connection_hub", "name": "hub", "node": "N1,3"},
+           {"type": "stable_hub", "name": "stable", "joint": "H0,4"},
+           {"type": "constraint_clip", "name": "clip", "joint": "V0,6", "angle_deg": 6.0}]
 
 
 def read_3mf_meshes(path):
@@ -37,7 +39,7 @@ def read_3mf_meshes(path):
 def built(tmp_path_factory, fc):
     d = tmp_path_factory.mktemp("manifest")
     sc = {"format": "metamaterial-scene", "version": 1, "name": "w", "cell_size_mm": 20,
-          "hinge": {"length_mm": 2, "width_mm": 0.8, "thickness_mm": 7}, "layout": {"chain": 4},
+          "hinge": {"length_mm": 2, "width_mm": 0.8, "thickness_mm": 7}, "layout": {"chain": 6},
           "actuators": [{"name": "m", "joint": "V0,0", "value": 0.0,
                          "profile": {"shape": "sine", "amplitude": 0.5, "frequency_hz": 1.0}}],
           "modules": [{k: v for k, v in m.items() if k != "profile_note"} for m in MODULES]}
@@ -55,8 +57,8 @@ def test_manifest_lists_every_part_file_and_check(built):
     assert m["format"] == "metamaterial-build-manifest" and m["units"] == "mm"
     assert sorted(m["files"] + ["manifest.json"]) == sorted(os.listdir(out))
     names = [p["name"] for p in m["parts"]]
-    # chain of 4 cells: 2 x 5 nodes, 4 H + 5 V... every node and hinge, then the module parts
-    assert sum(1 for p in m["parts"] if p["role"] == "node") == 10
+    # chain of 6 cells: 2 x 7 nodes; every node and hinge, then the module parts
+    assert sum(1 for p in m["parts"] if p["role"] == "node") == 14
     assert {"servo_housing", "servo_horn_adapter", "pad_pad", "hub_hub"} <= set(names)
     node = [p for p in m["parts"] if p["name"] == "node_1_3"][0]
     assert node["placement"]["base_mm"] == [60.0, -20.0, 0.0] and "w_sheet.3mf" in node["files"]
@@ -107,6 +109,9 @@ def test_print_pose_checked_on_the_exported_mesh(built):
             assert mine["unsupported_area_mm2"] == pytest.approx(rep["unsupported_area_mm2"], abs=1e-3)
     pad = [x for x in m["modules"] if x["name"] == "pad"][0]["print_pose"]["pad_pad"]
     assert pad["supports_free"] and pad["bed_area_mm2"] > 100.0 and pad["pose"] in ("+z down", "-z down")
+    for name, part in (("stable", "stable_hub"), ("clip", "clip_clip")):      # flat top on the bed, pins up
+        rep = [x for x in m["modules"] if x["name"] == name][0]["print_pose"][part]
+        assert rep["supports_free"] and rep["pose"] == "+z down" and rep["bed_area_mm2"] > 100.0, (name, rep)
     hub = [x for x in m["modules"] if x["name"] == "hub"][0]["print_pose"]["hub_hub"]
     assert not hub["supports_free"]
 
