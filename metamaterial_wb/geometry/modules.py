@@ -10,8 +10,9 @@ Scene format (docs/scene-format.md, "## Modules")::
       {"type": "constraint_clip", "joint": "V1,0", "angle_deg": 20}
     ]
 
-Every module plugs in with split snap pins (geometry/snapfit.py; the servo housing is in geometry/servo.py) (radius = socket radius - clearance, a barb that latches
-under the socket's counterbore ledge). ``side`` says which face of the sheet it sits on: "top"
+Every module plugs in with split snap pins (radius = socket radius - clearance, a barb that latches
+under the socket's counterbore ledge; prongs sized by geometry/snapfit.py). The servo housing itself
+is built in geometry/servo.py. ``side`` says which face of the sheet it sits on: "top"
 (default; z > sheet thickness) or "bottom" (mirrored; default of the friction pad, the face that
 touches the ground).
 
