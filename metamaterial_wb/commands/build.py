@@ -5,11 +5,17 @@ Writes (``NAME`` = the scene's name, else the file's stem):
 * ``DIR/NAME_sheet.step``: the sheet, one named body per node and hinge, PLA/TPU colours;
 * ``DIR/NAME_sheet.3mf``: PrusaSlicer layout (one object, a volume per part, per-part extruder);
 * ``DIR/NAME_sheet_components.3mf``: components layout with Bambu Studio / OrcaSlicer and Cura hints;
-* ``--check``: geometry checks (geometry/validity.py) before anything is written;
+* checks before anything is written (geometry/validity.py): by default the solids and the modules
+  (module/module and module/sheet collisions, the servo's horn adapter over its whole rotation);
+  ``--check`` adds the rigid/flexible overlap check of every hinge; ``--no-check`` skips them all
+  (experts). Parameter checks (walls of at least two nozzle widths, fits) always run;
 * with ``--modules``: ``DIR/NAME_<module>.step`` and ``.3mf`` per module (separate prints) and
   ``DIR/NAME_assembly.step`` (sheet and modules in place).
 
-Without ``--step`` and ``--3mf`` both are written. Progress goes to stderr. Every file is written
+Every build also writes ``DIR/manifest.json`` (docs/fabrication.md, "The build manifest"): parts,
+placements, files, servo shafts and joint pivots, snap-fit strains, print-pose checks, checks run.
+Module 3MF files hold each part in the axis-aligned pose that needs the least support (checked on
+the mesh: export/printpose.py). Without ``--step`` and ``--3mf`` both are written. Progress goes to stderr. Every file is written
 to a temporary directory first and moved into DIR only when all succeeded.
 """
 import os
@@ -36,8 +42,10 @@ def add_arguments(p):
     p.add_argument("--clearance", type=float, default=None, metavar="MM",
                    help="socket / plug clearance in mm (default: fabrication.clearance_mm, 0.2)")
     p.add_argument("--check", action="store_true",
-                   help="check the solids (valid, closed), rigid/flexible overlap only at the anchors and module "
-                        "clearance before writing; problems stop the command (exit 2)")
+                   help="also check rigid/flexible overlap only at the anchors of every hinge (slow on large "
+                        "sheets); the solids and the modules are always checked unless --no-check")
+    p.add_argument("--no-check", action="store_true",
+                   help="experts: skip the geometry checks (collisions, solids) before writing")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
 
 
@@ -46,19 +54,57 @@ def safe_stem(text):
     return keep.strip("._") or "scene"
 
 
+def run_checks(result, checks=None, progress=True, stream=None):
+    """The geometry checks every export runs (``checks``: names for geometry.validity.check_build;
+    ``None``: its defaults; ``()``: none). Raises MetamaterialError listing the problems, nothing written.
+    Returns the names of the checks that ran."""
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.geometry.progress import note
+    from metamaterial_wb.geometry.validity import DEFAULT_CHECKS, check_build
+
+    t0 = time.perf_counter()
+    problems, ran = check_build(result, DEFAULT_CHECKS if checks is None else checks)
+    if problems:
+        more = f" (+{len(problems) - 5} more)" if len(problems) > 5 else ""
+        raise MetamaterialError(f"{len(problems)} geometry problem(s), nothing written: " + "; ".join(problems[:5]) +
+                                more)
+    if ran:
+        note(f"checks passed ({', '.join(ran)}) in {time.perf_counter() - t0:.2f} s", progress, stream)
+    return ran
+
+
+BED_MARGIN_MM = 10.0
+
+
+def onto_bed(meshes, margin_mm=BED_MARGIN_MM):
+    """Move sheet meshes (sheet coordinates: rows grow towards -y) so that their bounding box starts at
+    ``(margin, margin, 0)``: slicers that keep positions (PrusaSlicer ``--dont-arrange``, components
+    layouts) then find the sheet on the bed. Returns ``(meshes, offset)``."""
+    import numpy as np
+    lo = np.min([V.min(axis=0) for _, V, _, _, _ in meshes], axis=0)
+    off = np.array([margin_mm - lo[0], margin_mm - lo[1], -lo[2]])
+    return [(n, V + off, T, m, e) for n, V, T, m, e in meshes], [round(float(c), 6) for c in off]
+
+
 def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "components"), progress=True,
-                  stem="scene", stream=None, tolerance_mm=None):
-    """Write the files of a BuildResult into ``out_dir`` (atomically as a set). Returns the file list."""
-    from metamaterial_wb.export.mesh import lay_out_for_print, part_meshes
+                  stem="scene", stream=None, tolerance_mm=None, checks=None):
+    """Check (:func:`run_checks`, ``checks=()`` to skip) and write the files of a BuildResult into
+    ``out_dir`` (atomically as a set). Returns the file list."""
+    from metamaterial_wb.export.manifest import build_manifest, write_manifest
+    from metamaterial_wb.export.mesh import part_meshes
+    from metamaterial_wb.export.printpose import lay_out_best_poses
     from metamaterial_wb.export.step import result_bodies, write_step
     from metamaterial_wb.export.threemf import write_3mf
     from metamaterial_wb.geometry.params import MATERIALS
     from metamaterial_wb.geometry.progress import note
 
     stream = stream if stream is not None else sys.stderr
+    result.checks_ran = run_checks(result, checks, progress, stream)
     os.makedirs(out_dir, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".build-", dir=out_dir)
     written = []
+    files_by_group = {}
+    poses = {}
     colours = dict(MATERIALS)
     try:
         groups = result.groups()
@@ -67,28 +113,35 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
             base = f"{stem}_{group}"
             if group == "sheet":
                 parts = sorted(parts, key=lambda q: (q.role != "node", 0))   # nodes first: hinges win overlaps
+            n_before = len(written)
             if step:
                 write_step(os.path.join(tmp, base + ".step"), result_bodies(result, parts), base)
                 written.append(base + ".step")
             if threemf:
                 meshes = part_meshes(result, parts, tolerance_mm)
                 if group == "sheet":
+                    meshes, result.bed_offset_mm = onto_bed(meshes)
                     for layout in layouts:
                         name = base + (".3mf" if layout == "prusa" else "_components.3mf")
                         write_3mf(os.path.join(tmp, name), meshes, layout=layout, materials=colours, object_name=base)
                         written.append(name)
                 else:
-                    # print orientation: pins up (top modules turned over; bottom ones already are), side by side
-                    flip = not all(q.info.get("side") == "bottom" for q in parts)
-                    meshes = lay_out_for_print(meshes, flip=flip)
+                    # print poses: each part in the axis-aligned pose that needs the least support, side by side
+                    meshes, reps = lay_out_best_poses(meshes)
+                    poses.update(reps)
                     write_3mf(os.path.join(tmp, base + ".3mf"), meshes, layout="objects", materials=colours,
                               object_name=base)
                     written.append(base + ".3mf")
+            files_by_group[group] = written[n_before:]
             note(f"{group}: {len(parts)} part(s) exported in {time.perf_counter() - t0:.2f} s", progress, stream)
         if step and len(groups) > 1:
             base = f"{stem}_assembly"
             write_step(os.path.join(tmp, base + ".step"), result_bodies(result, result.parts), base)
             written.append(base + ".step")
+            files_by_group["assembly"] = [base + ".step"]
+        write_manifest(os.path.join(tmp, "manifest.json"),
+                       build_manifest(result, files_by_group, stem, result.checks_ran, poses))
+        written.append("manifest.json")
         umask = os.umask(0)
         os.umask(umask)
         for name in written:
@@ -126,18 +179,11 @@ def run(args):
     threemf = args.threemf or not args.step
     layouts = ("prusa", "components") if args.layout == "both" else (args.layout,)
     result = build_scene(scene, modules=args.modules, progress=not args.quiet, params=params)
-    if args.check:
-        from metamaterial_wb.core.errors import MetamaterialError
-        from metamaterial_wb.geometry.validity import check_all
-        t1 = time.perf_counter()
-        problems = check_all(result)
-        if problems:
-            raise MetamaterialError(f"{len(problems)} geometry problem(s), nothing written; first: {problems[0]}")
-        if not args.quiet:
-            print(f"build: checks passed in {time.perf_counter() - t1:.2f} s", file=sys.stderr)
+    from metamaterial_wb.geometry.validity import ALL_CHECKS, DEFAULT_CHECKS
+    checks = () if args.no_check else (ALL_CHECKS if args.check else DEFAULT_CHECKS)
     stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
     files = export_result(result, args.out, step=step, threemf=threemf, layouts=layouts,
-                          progress=not args.quiet, stem=stem)
+                          progress=not args.quiet, stem=stem, checks=checks)
     if not args.quiet:
         print(f"build: wrote {len(files)} file(s) to {args.out} in {time.perf_counter() - t0:.2f} s", file=sys.stderr)
     for f in files:

@@ -7,14 +7,22 @@ from metamaterial_wb.geometry.params import MATERIALS
 def render_png(result, path, parts=None, elev=35.0, azim=-60.0, size_in=(8.0, 5.0), title=None,
                tolerance_mm=0.2, dpi=110, zoom=None):
     """Render ``parts`` (default: all) of a BuildResult to ``path`` with flat Lambert shading."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
     from metamaterial_wb.export.mesh import part_meshes
 
     parts = result.parts if parts is None else parts
     meshes = part_meshes(result, parts, tolerance_mm)
+    return render_meshes_png(meshes, path, elev=elev, azim=azim, size_in=size_in, title=title, dpi=dpi, zoom=zoom)
+
+
+def render_meshes_png(meshes, path, elev=35.0, azim=-60.0, size_in=(8.0, 5.0), title=None, dpi=110, zoom=None,
+                      colours=None):
+    """Render ``[(name, V, T, material, extruder)]`` meshes (``colours``: material -> "#RRGGBB" overrides)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    table = dict(MATERIALS, **(colours or {}))
     light = np.array([0.4, -0.5, 0.8])
     light /= np.linalg.norm(light)
     fig = plt.figure(figsize=size_in)
@@ -27,7 +35,7 @@ def render_png(result, path, parts=None, elev=35.0, azim=-60.0, size_in=(8.0, 5.
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
         shade = 0.35 + 0.65 * np.clip(n @ light, 0, 1)
-        base = np.array([int(MATERIALS.get(material, "#888888")[k:k + 2], 16) / 255 for k in (1, 3, 5)])
+        base = np.array([int(table.get(material, "#888888")[k:k + 2], 16) / 255 for k in (1, 3, 5)])
         cols = np.clip(base[None, :] * shade[:, None], 0, 1)
         all_tri.append(tri)
         all_col.append(cols)

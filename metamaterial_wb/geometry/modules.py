@@ -11,13 +11,15 @@ Scene format (docs/scene-format.md, "## Modules")::
     ]
 
 Every module plugs in with split snap pins (radius = socket radius - clearance, a barb that latches
-under the socket's counterbore ledge). ``side`` says which face of the sheet it sits on: "top"
+under the socket's counterbore ledge; prongs sized by geometry/snapfit.py). The servo housing itself
+is built in geometry/servo.py. ``side`` says which face of the sheet it sits on: "top"
 (default; z > sheet thickness) or "bottom" (mirrored; default of the friction pad, the face that
 touches the ground).
 
 Frames: a node module is built around its node centre; a joint module around the joint midpoint
-(halfway between the two node centres, where the servo shaft goes) with ``u`` pointing from its
-first node ``A`` to its second node ``B``. All checks run in :func:`parse_modules`, before any
+(halfway between the two node centres) with ``u`` pointing from its first node ``A`` to its second
+node ``B``. The servo shaft and the clip's turn sit on the joint's pivot (core/joints.py: the hinge
+blade's centre, shifted for the design range), not on the midpoint. All checks run in :func:`parse_modules`, before any
 geometry.
 """
 import math
@@ -25,24 +27,15 @@ import re
 from dataclasses import dataclass, field
 
 from metamaterial_wb.core.errors import SceneError, check_number
-from metamaterial_wb.geometry.params import pin_slot_width_mm
+from metamaterial_wb.geometry.params import joint_pivot
+from metamaterial_wb.geometry.snapfit import design_snap_fit
+from metamaterial_wb.geometry.servo import (  # noqa: F401  (re-exported: the servo housing lives in servo.py)
+    CABLE_SLOT_MM, SERVO_KEYS, SERVO_OPTIONAL, SERVO_PRESETS, _check_servo_fit, _servo_dims, build_servo_housing,
+    servo_layout)
 
 MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip")
 JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
 NODE_MODULES = ("connection_hub", "friction_pad")
-
-# Approximate public datasheet figures (mm); measure your servo and override with "dims".
-SERVO_PRESETS = {
-    "SG90": {"body_length_mm": 22.5, "body_width_mm": 11.8, "body_height_mm": 22.7, "tab_length_mm": 32.2,
-             "tab_thickness_mm": 2.5, "tab_z_mm": 15.9, "shaft_offset_mm": 5.9, "shaft_top_mm": 27.0,
-             "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 14.0,
-             "horn_arm_width_mm": 4.0},
-    "MG90S": {"body_length_mm": 22.8, "body_width_mm": 12.2, "body_height_mm": 22.5, "tab_length_mm": 32.5,
-              "tab_thickness_mm": 2.5, "tab_z_mm": 16.0, "shaft_offset_mm": 6.1, "shaft_top_mm": 28.4,
-              "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.8, "horn_arm_length_mm": 14.0,
-              "horn_arm_width_mm": 4.5},
-}
-SERVO_KEYS = tuple(SERVO_PRESETS["SG90"])
 
 COMMON_KEYS = {"type", "name", "side", "material", "extruder"}
 TYPE_KEYS = {
@@ -58,6 +51,14 @@ TYPE_DEFAULTS = {
     "stable_hub": {"height_mm": 6.0, "platform_mm": 8.0, "beam_width_mm": 1.2, "beam_height_mm": 3.0},
     "friction_pad": {"thickness_mm": 3.0, "pocket_depth_mm": 1.5, "pocket_inset_mm": 1.5},
     "constraint_clip": {"thickness_mm": 3.0},
+}
+# dimensions that are walls of the printed module: at least two nozzle widths (fabrication.nozzle_mm)
+WALL_KEYS = {
+    "servo_housing": ("wall_mm", "floor_mm", "pad_mm"),
+    "connection_hub": ("thickness_mm",),
+    "stable_hub": ("beam_width_mm", "beam_height_mm"),
+    "friction_pad": ("thickness_mm", "pocket_inset_mm"),
+    "constraint_clip": ("thickness_mm",),
 }
 TYPE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
                 "hub": "connection_hub", "pad": "friction_pad"}
@@ -80,6 +81,8 @@ class ModuleSpec:
     values: dict = field(default_factory=dict)
     sockets: list = field(default_factory=list)    # [((i, j), "N"|"E"|"S"|"W")]
     mu: float = None
+    pivot: object = None               # joint modules that turn with / hold the joint: core.joints.JointPivot
+    snap: object = None                # geometry.snapfit.SnapFit of its pins
 
     @property
     def field(self):
@@ -110,44 +113,6 @@ def _joint_of_node(scene, ij):
 def _lateral_labels(a, b):
     """Socket labels of the two sides parallel to the A -> B direction."""
     return ("N", "S") if a[0] == b[0] else ("E", "W")
-
-
-def _servo_dims(item, f, nm):
-    servo = item.get("servo", "SG90")
-    if not isinstance(servo, str) or servo.upper() not in list(SERVO_PRESETS) + ["CUSTOM"]:
-        raise SceneError(f"{f}.servo ({nm})", f"{servo!r} is not a known servo; allowed: {sorted(SERVO_PRESETS)} or "
-                                       f"\"custom\" with \"dims\"")
-    servo = servo.upper()
-    dims = item.get("dims", {})
-    if not isinstance(dims, dict):
-        raise SceneError(f"{f}.dims ({nm})", f"expected an object of servo dimensions in mm, got {dims!r}")
-    for k in dims:
-        if k not in SERVO_KEYS:
-            raise SceneError(f"{f}.dims.{k} ({nm})", f"unknown servo dimension; allowed: {list(SERVO_KEYS)}")
-    if servo == "CUSTOM":
-        missing = [k for k in SERVO_KEYS if k not in dims]
-        if missing:
-            raise SceneError(f"{f}.dims ({nm})", f"a custom servo needs every dimension; missing: {missing}")
-        d = {}
-    else:
-        d = dict(SERVO_PRESETS[servo])
-    for k, v in dims.items():
-        d[k] = check_number(f"{f}.dims.{k} ({nm})", v, 0.0, 500.0, "mm", low_open=True)
-    if d["tab_length_mm"] < d["body_length_mm"]:
-        raise SceneError(f"{f}.dims.tab_length_mm ({nm})", f"{d['tab_length_mm']} mm is shorter than the body "
-                                                    f"({d['body_length_mm']} mm); it is the length over both tabs")
-    if not 0 < d["shaft_offset_mm"] < d["body_length_mm"]:
-        raise SceneError(f"{f}.dims.shaft_offset_mm ({nm})", f"{d['shaft_offset_mm']} mm is outside the body; allowed "
-                                                      f"range (0, {d['body_length_mm']}) mm")
-    if d["tab_z_mm"] + d["tab_thickness_mm"] > d["body_height_mm"]:
-        raise SceneError(f"{f}.dims.tab_z_mm ({nm})", f"tabs at {d['tab_z_mm']} mm + {d['tab_thickness_mm']} mm stick out of "
-                                               f"the {d['body_height_mm']} mm body")
-    if d["shaft_top_mm"] - d["horn_thickness_mm"] <= d["body_height_mm"]:
-        raise SceneError(f"{f}.dims.shaft_top_mm ({nm})", f"the horn ({d['horn_thickness_mm']} mm) under the shaft top at "
-                                                   f"{d['shaft_top_mm']} mm would touch the body top "
-                                                   f"({d['body_height_mm']} mm)")
-    d["servo"] = servo
-    return d
 
 
 def parse_modules(scene, p):
@@ -193,11 +158,18 @@ def parse_modules(scene, p):
         if isinstance(ext, bool) or not isinstance(ext, int) or not 1 <= ext <= 16:
             raise SceneError(f"{f}.extruder", f"{ext!r}: expected an extruder number 1..16")
         spec = ModuleSpec(k, typ, name, side, mat.upper(), ext)
+        if p.sockets:
+            spec.snap = design_snap_fit(p, spec.material, f)
         values = dict(TYPE_DEFAULTS[typ])
         for key in TYPE_DEFAULTS[typ]:
             if key in item:
                 values[key] = check_number(f"{f}.{key} ({name})", item[key], 0.0, 200.0, "mm", low_open=True)
         spec.values = values
+        for key in WALL_KEYS.get(typ, ()):
+            if values[key] < p.min_wall_mm - 1e-9:
+                raise SceneError(f"{f}.{key} ({name})",
+                                 f"{values[key]} mm is thinner than two nozzle widths ({p.min_wall_mm:.3g} mm for "
+                                 f"fabrication.nozzle_mm = {p.nozzle_mm}); allowed range [{p.min_wall_mm:.3g}, 200] mm")
         if typ in JOINT_MODULES:
             if "joint" not in item:
                 raise SceneError(f"{f}.joint", f"a {typ} sits on a joint; give \"joint\": \"H<i>,<j>\" or \"V<i>,<j>\"")
@@ -223,16 +195,26 @@ def parse_modules(scene, p):
             raise SceneError(f"{f} ({name})", "modules plug into the node sockets, but fabrication.sockets is false")
         if typ == "servo_housing":
             spec.values.update(_servo_dims(item, f, name))
+            tilt = p.hinges[spec.joint].tilt_deg
+            if abs(tilt) > 1e-9:
+                raise SceneError(f"{f}.joint ({name})",
+                                 f"joint {spec.joint} has a tilted hinge ({tilt:g} deg): its relative rotation axis "
+                                 f"leans from the sheet normal, and a servo's vertical shaft cannot be coaxial with "
+                                 f"it; put the servo on an untilted joint (tilt 0)")
+            spec.pivot = joint_pivot(scene, p, spec.joint)
+            su, sv = to_module_frame(spec, p, spec.pivot.point_mm)
+            spec.values["shaft_u_mm"], spec.values["shaft_v_mm"] = round(su, 6), round(sv, 6)
             _check_servo_fit(spec, p, f)
         elif typ == "friction_pad":
             if "mu" in item:
                 spec.mu = check_number(f"{f}.mu ({name})", item["mu"], 0.0, 10.0)
             v = spec.values
-            if v["pocket_depth_mm"] >= v["thickness_mm"] - PIN_OVERLAP_MM - 0.4:
+            W = p.min_wall_mm
+            if v["pocket_depth_mm"] > v["thickness_mm"] - PIN_OVERLAP_MM - W + 1e-9:
                 raise SceneError(f"{f}.pocket_depth_mm ({name})",
-                                 f"{v['pocket_depth_mm']} mm leaves less than 0.4 mm above the pins in a "
-                                 f"{v['thickness_mm']} mm pad; allowed range (0, "
-                                 f"{v['thickness_mm'] - PIN_OVERLAP_MM - 0.4:.3g}) mm")
+                                 f"{v['pocket_depth_mm']} mm leaves less than {W:.3g} mm (two nozzle widths) above "
+                                 f"the pins in a {v['thickness_mm']} mm pad; allowed range (0, "
+                                 f"{v['thickness_mm'] - PIN_OVERLAP_MM - W:.3g}] mm")
             if 2 * v["pocket_inset_mm"] >= p.plate_side_mm_global - 2.0:
                 raise SceneError(f"{f}.pocket_inset_mm ({name})", f"{v['pocket_inset_mm']} mm leaves no pocket")
         elif typ == "constraint_clip":
@@ -241,6 +223,7 @@ def parse_modules(scene, p):
                                                         "deg")
             else:
                 spec.values["angle_deg"] = _constraint_angle(scene, spec, f)
+            spec.pivot = joint_pivot(scene, p, spec.joint, range_deg=(spec.values["angle_deg"],) * 2)
         elif typ == "stable_hub":
             v = spec.values
             if v["platform_mm"] >= p.cell_size_mm - 2.0:
@@ -248,14 +231,30 @@ def parse_modules(scene, p):
                                                               f"between the node centres ({p.cell_size_mm} mm apart); "
                                                               f"allowed range (0, {p.cell_size_mm - 2.0:.3g}) mm")
         for ij, lab in spec.sockets:
-            key = (ij, lab, side)
+            # a snap pin runs through the whole socket, so a top and a bottom module cannot share one either
+            key = (ij, lab)
             if key in used:
-                raise SceneError(f"{f} ({name})", f"socket {lab} of node N{ij[0]},{ij[1]} ({side}) is already used "
-                                                  f"by module {used[key]!r}; modules on one face may not share a "
-                                                  f"socket")
-            used[key] = name
+                other, oside = used[key]
+                raise SceneError(f"{f} ({name})", f"modules {other!r} ({oside}) and {name!r} ({side}) collide: both "
+                                                  f"put a snap pin into socket {lab} of node N{ij[0]},{ij[1]} (a pin "
+                                                  f"runs through the whole socket); move one of them to another "
+                                                  f"node or joint")
+            used[key] = (name, side)
         specs.append(spec)
     return specs
+
+
+def to_module_frame(spec, p, xy):
+    """Sheet coordinates (x, y) -> the module frame (u, v) of :func:`module_placement` (pure math)."""
+    c = p.cell_size_mm
+    if spec.node is not None:
+        return (xy[0] - spec.node[1] * c, xy[1] + spec.node[0] * c)
+    (ia, ja), (ib, jb) = spec.a, spec.b
+    ax, ay, bx, by = ja * c, -ia * c, jb * c, -ib * c
+    ang = math.atan2(by - ay, bx - ax)
+    dx, dy = xy[0] - 0.5 * (ax + bx), xy[1] - 0.5 * (ay + by)
+    ca, sa = math.cos(ang), math.sin(ang)
+    return (ca * dx + sa * dy, -sa * dx + ca * dy)
 
 
 def _constraint_angle(scene, spec, f):
@@ -273,42 +272,6 @@ def _constraint_angle(scene, spec, f):
                                                      f"has no constraint on joint {spec.joint} to take it from")
 
 
-def servo_layout(spec, p):
-    """Key u / z coordinates (mm, module frame) of the servo housing and the horn adapter."""
-    v = spec.values
-    T = p.sheet_thickness_mm
-    clr = p.clearance_mm
-    a = v["shaft_offset_mm"]
-    L = v["body_length_mm"]
-    tab_end = a + 0.5 * (v["tab_length_mm"] - L)
-    standoff = v["pad_mm"] + clr
-    lay = {
-        "a": a, "L": L, "clr": clr,
-        "hu0": a - L - clr - v["wall_mm"], "hu1": a + clr + v["wall_mm"],
-        "hv": 0.5 * v["body_width_mm"] + clr + v["wall_mm"],
-        "z_floor": T + standoff, "zb": T + standoff + v["floor_mm"],
-        "col_u0": max(a + clr + v["wall_mm"], tab_end) + 1.0,
-        "col_t": 3.0, "arm_t": max(2.5, v["horn_thickness_mm"] + clr + 1.0),
-    }
-    lay["z_arm"] = lay["zb"] + v["shaft_top_mm"] - v["horn_thickness_mm"]
-    return lay
-
-
-def _check_servo_fit(spec, p, f):
-    lay = servo_layout(spec, p)
-    c = p.cell_size_mm
-    s = p.plate_side_mm_global
-    gap = p.gap_mm
-    far_b = 0.5 * gap + s
-    if lay["col_u0"] + lay["col_t"] > far_b - 0.3:
-        raise SceneError(f"{f}.servo ({spec.name})",
-                         f"the horn adapter's column needs {lay['col_u0'] + lay['col_t']:.3g} mm from the shaft but "
-                         f"node N{spec.b[0]},{spec.b[1]} ends {far_b:.3g} mm from it; this servo needs cells of at "
-                         f"least {c + (lay['col_u0'] + lay['col_t'] - far_b + 0.3):.3g} mm (cell_size_mm is {c})")
-    if 0.5 * s - p.socket_inset_mm + p.socket_radius_mm > lay["hv"] + 2.0:
-        pass  # feet are widened to the sockets (see build)
-
-
 # ----------------------------------------------------------------------------------------------
 # geometry (FreeCAD)
 # ----------------------------------------------------------------------------------------------
@@ -322,9 +285,12 @@ def box(u0, u1, v0, v1, z0, z1):
     return Part.makeBox(u1 - u0, v1 - v0, z1 - z0, App.Vector(u0, v0, z0))
 
 
-def make_pin(p, up=False):
+def make_pin(p, up=False, snap=None):
     """Split snap pin at the origin (socket axis). Down (default): from the sheet top face into the socket,
-    barb latching under the bottom ledge. ``up``: the same pin mirrored to stick up from z = 0."""
+    barb latching under the bottom ledge. ``up``: the same pin mirrored to stick up from z = 0. ``snap``:
+    the designed prongs (geometry/snapfit.py; default: designed for the module material of ``p``)."""
+    if snap is None:
+        snap = design_snap_fit(p, p.module_material)
     App, Part = _fc()
     V = App.Vector
     T = p.sheet_thickness_mm
@@ -337,8 +303,8 @@ def make_pin(p, up=False):
     shaft = Part.makeCylinder(r, T + PIN_OVERLAP_MM - z_sh, V(0, 0, z_sh))
     barb = Part.makeCone(r, rb, z_sh - z_tip, V(0, 0, z_tip))
     pin = shaft.fuse(barb)
-    slot_w = pin_slot_width_mm(p)
-    slot = Part.makeBox(slot_w, 2 * rb + 2, 0.65 * T + 1.0, V(-0.5 * slot_w, -rb - 1, z_tip - 1.0))
+    slot_w = snap.slot_mm
+    slot = Part.makeBox(slot_w, 2 * rb + 2, snap.slot_top_mm - (z_tip - 1.0), V(-0.5 * slot_w, -rb - 1, z_tip - 1.0))
     pin = pin.cut(slot).removeSplitter()
     pin = pin.Solids[0] if len(pin.Solids) == 1 else pin
     if up:
@@ -346,9 +312,9 @@ def make_pin(p, up=False):
     return pin
 
 
-def _pins_at(p, points, up=False, z_shift=0.0):
+def _pins_at(p, points, up=False, z_shift=0.0, snap=None):
     App, _ = _fc()
-    proto = make_pin(p, up)
+    proto = make_pin(p, up, snap)
     out = []
     for (u, v) in points:
         m = App.Matrix()
@@ -375,51 +341,6 @@ def _finish(body_parts, cutters, what):
     return shape.Solids[0]
 
 
-def build_servo_housing(spec, p):
-    App, Part = _fc()
-    V = App.Vector
-    v = spec.values
-    lay = servo_layout(spec, p)
-    T = p.sheet_thickness_mm
-    c, s, gap = p.cell_size_mm, p.plate_side_mm_global, p.gap_mm
-    clr = p.clearance_mm
-    a, L = lay["a"], lay["L"]
-    hv = lay["hv"]
-    top = lay["zb"] + v["tab_z_mm"]
-    outer = box(lay["hu0"], lay["hu1"], -hv, hv, lay["z_floor"], top)
-    inner = box(a - L - clr, a + clr, -(0.5 * v["body_width_mm"] + clr), 0.5 * v["body_width_mm"] + clr,
-                lay["zb"], top + 1.0)
-    cable = box(lay["hu0"] - 1.0, a - L, -2.0, 2.0, lay["zb"], top + 1.0)
-    d = 0.5 * s - p.socket_inset_mm
-    fv = max(hv, d + p.counterbore_radius_mm + 1.0)
-    u_a = -0.5 * c
-    fu0 = max(-0.5 * gap - s + 0.3, min(lay["hu0"], u_a - p.counterbore_radius_mm - 1.0))
-    fu1 = -0.5 * gap - 0.3
-    feet = box(fu0, fu1, -fv, fv, T, lay["z_floor"] + 0.01)
-    # a floor patch joining wider feet to the tub
-    bridge = box(max(fu0, lay["hu0"]), fu1, -fv, fv, lay["z_floor"], lay["zb"])
-    pins = _pins_at(p, _lateral_points(p, u_a))
-    housing = _finish([outer, feet, bridge] + pins, [inner, cable], f"{spec.name} housing")
-    # horn adapter on node B: pad with pins, column, arm with the horn pocket over the shaft
-    u_b = 0.5 * c
-    far_b = 0.5 * gap + s - 0.3
-    pu0 = min(lay["col_u0"], u_b - p.counterbore_radius_mm - 1.0)
-    pu0 = max(pu0, lay["hu1"] + clr + 0.2, 0.5 * gap + 0.3)
-    pad = box(pu0, far_b, -fv, fv, T, T + v["pad_mm"])
-    cw = max(4.0, 0.5 * v["horn_arm_width_mm"] + 2.0)
-    col = box(lay["col_u0"], lay["col_u0"] + lay["col_t"], -cw, cw, T, lay["z_arm"] + lay["arm_t"])
-    hub_r = 0.5 * v["horn_hub_diameter_mm"]
-    arm = box(-hub_r - 2.0, lay["col_u0"] + lay["col_t"], -cw, cw, lay["z_arm"], lay["z_arm"] + lay["arm_t"])
-    depth = v["horn_thickness_mm"] + clr
-    hub = Part.makeCylinder(hub_r + clr, depth + 1.0, V(0, 0, lay["z_arm"] - 1.0))
-    horn = box(0.0, min(v["horn_arm_length_mm"], lay["col_u0"] - 0.5), -(0.5 * v["horn_arm_width_mm"] + clr),
-               0.5 * v["horn_arm_width_mm"] + clr, lay["z_arm"] - 1.0, lay["z_arm"] + depth)
-    shaft_hole = Part.makeCylinder(1.2, lay["arm_t"] + 2.0, V(0, 0, lay["z_arm"] - 1.0))  # horn screw
-    pins_b = _pins_at(p, _lateral_points(p, u_b))
-    adapter = _finish([pad, col, arm] + pins_b, [hub, horn, shaft_hole], f"{spec.name} horn adapter")
-    return [("housing", housing), ("horn_adapter", adapter)]
-
-
 def build_connection_hub(spec, p):
     T = p.sheet_thickness_mm
     t = spec.values["thickness_mm"]
@@ -428,9 +349,9 @@ def build_connection_hub(spec, p):
     plate = box(-h, h, -h, h, T, T + t)
     d = 0.5 * s - p.socket_inset_mm
     pts = [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)]
-    down = _pins_at(p, pts)
+    down = _pins_at(p, pts, snap=spec.snap)
     # the second structure lies upside down on the hub: its top face at z = T + t, pins point up into it
-    up = _pins_at(p, pts, up=True, z_shift=T + t)
+    up = _pins_at(p, pts, up=True, z_shift=T + t, snap=spec.snap)
     return [("hub", _finish([plate] + down + up, [], spec.name))]
 
 
@@ -442,10 +363,22 @@ def build_friction_pad(spec, p):
     t = v["thickness_mm"]
     plate = box(-h, h, -h, h, T, T + t)
     ins = h - v["pocket_inset_mm"]
-    pocket = box(-ins, ins, -ins, ins, T + t - v["pocket_depth_mm"], T + t + 1.0)
+    # the pocket (for the friction insert) faces the bed when the pad prints pins up: ribs of two
+    # nozzle widths split it into strips narrower than a printable bridge
+    n, rib = pocket_strips(2 * ins, p.min_wall_mm)
+    w = (2 * ins - (n - 1) * rib) / n
+    z0 = T + t - v["pocket_depth_mm"]
+    pockets = [box(-ins + k * (w + rib), -ins + k * (w + rib) + w, -ins, ins, z0, T + t + 1.0) for k in range(n)]
     d = 0.5 * s - p.socket_inset_mm
-    pins = _pins_at(p, [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)])
-    return [("pad", _finish([plate] + pins, [pocket], spec.name))]
+    pins = _pins_at(p, [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)], snap=spec.snap)
+    return [("pad", _finish([plate] + pins, pockets, spec.name))]
+
+
+def pocket_strips(width_mm, rib_mm, max_bridge_mm=9.0):
+    """``(n, rib)``: how many strips a pocket ``width_mm`` wide is split into so that each spans less
+    than ``max_bridge_mm`` (a printable bridge, with a margin under the 10 mm rule)."""
+    n = max(1, math.ceil((width_mm + rib_mm) / (max_bridge_mm + rib_mm)))
+    return n, rib_mm
 
 
 def build_stable_hub(spec, p):
@@ -464,25 +397,20 @@ def build_stable_hub(spec, p):
     pins = []
     for uc in (-0.5 * c, 0.5 * c):
         parts.append(box(uc - 3.0, uc + 3.0, -fv, fv, T, T + foot_t))
-        parts.append(box(uc - 1.5, uc + 1.5, -1.5, 1.5, T + foot_t - 0.01, zp + bh))
+        # posts as wide as the feet: printed upside down (platform on the bed) nothing overhangs
+        parts.append(box(uc - 3.0, uc + 3.0, -fv, fv, T + foot_t - 0.01, zp + bh))
         u0, u1 = (uc, -P + 0.01) if uc < 0 else (P - 0.01, uc)
         parts.append(box(u0, u1, -bw, bw, zp, zp + bh))
-        pins += _pins_at(p, _lateral_points(p, uc))
+        pins += _pins_at(p, _lateral_points(p, uc), snap=spec.snap)
     parts.append(box(-P, P, -P, P, zp, zp + bh))
     hole = Part.makeCylinder(1.6, bh + 2.0, V(0, 0, zp - 1.0))     # M3 clearance for the attached shape
     return [("hub", _finish(parts + pins, [hole], spec.name))]
 
 
-def clip_pivot(spec, p, placement):
-    """The joint's hinge point (edge line, gap centre) in the module frame."""
-    from metamaterial_wb.core.scene import parse_joint
-    from metamaterial_wb.geometry.sheet import joint_frame
-
-    kind, i, j = parse_joint(spec.joint)
-    x, y, _, _ = joint_frame(kind, i, j, p)
-    App, _ = _fc()
-    loc = placement.inverse().multVec(App.Vector(x, y, 0.0))
-    return (round(loc.x, 6), round(loc.y, 6))
+def clip_pivot(spec, p, placement=None):
+    """The joint's pivot (core/joints.py, for the clip's angle) in the module frame."""
+    u, v = to_module_frame(spec, p, spec.pivot.point_mm)
+    return (round(u, 6), round(v, 6))
 
 
 def build_constraint_clip(spec, p, pivot):
@@ -495,8 +423,8 @@ def build_constraint_clip(spec, p, pivot):
     ang = spec.values["angle_deg"]
     half_a = box(-0.5 * gap - s + 0.3, 0.0, -h, h, T, T + t)
     half_b = box(0.0, 0.5 * gap + s - 0.3, -h, h, T, T + t)
-    pins_a = _pins_at(p, _lateral_points(p, -0.5 * c))
-    pins_b = _pins_at(p, _lateral_points(p, 0.5 * c))
+    pins_a = _pins_at(p, _lateral_points(p, -0.5 * c), snap=spec.snap)
+    pins_b = _pins_at(p, _lateral_points(p, 0.5 * c), snap=spec.snap)
     rot = App.Placement(V(pivot[0], pivot[1], 0), App.Rotation(V(0, 0, 1), ang)).multiply(
         App.Placement(V(-pivot[0], -pivot[1], 0), App.Rotation()))
     m = rot.toMatrix()
@@ -538,7 +466,7 @@ def build_module(res, spec):
         pivot = clip_pivot(spec, p, pl)
         extra = (pivot,)
     vals = tuple(sorted((k, v) for k, v in spec.values.items()))
-    key0 = ("module", spec.type, spec.side, vals, extra, _fab_key(p))
+    key0 = ("module", spec.type, spec.side, vals, extra, _fab_key(p), spec.snap.key() if spec.snap else None)
     builders = {"servo_housing": build_servo_housing, "connection_hub": build_connection_hub,
                 "friction_pad": build_friction_pad, "stable_hub": build_stable_hub}
     if key0 not in res.module_parts:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, asdict
 
 from metamaterial_wb.core.errors import SceneError, check_number
 
-MIN_WALL_MM = 0.4        # thinnest wall the builders leave between two features (one FDM line)
+MIN_WALL_MM = 0.8        # default thinnest wall between two features: two nozzle widths (fabrication.nozzle_mm)
 
 MATERIALS = {
     # name: display colour (sRGB hex) used in STEP colours and 3MF basematerials
@@ -47,6 +47,8 @@ FAB_DEFAULTS = {
     "flexible_extruder": 2,
     "tolerance_mm": 0.05,            # tessellation (3MF) chord tolerance
     "limit_design_tilt": False,      # True: the design stage's maximum fold keeps every tilt printable
+    "nozzle_mm": 0.4,                # nozzle diameter: every wall is at least two nozzle widths
+    "simulation_only": None,         # a reason (text): this scene is not meant to be printed; build refuses
 }
 
 
@@ -83,6 +85,13 @@ class FabParams:
     flexible_extruder: int
     tolerance_mm: float
     hinges: dict = field(default_factory=dict)   # joint name -> HingeSpec
+    nozzle_mm: float = 0.4
+    sheet_from_hinge: bool = False                 # sheet thickness taken from the thickest hinge
+
+    @property
+    def min_wall_mm(self):
+        """Thinnest wall any builder may leave: two nozzle widths."""
+        return 2.0 * self.nozzle_mm
 
     @property
     def socket_radius_mm(self):
@@ -126,6 +135,7 @@ def _raw_params(scene, overrides):
 def _params(scene, raw, hinges, thick):
     c = float(scene.cell_size_mm)
     T = raw["sheet_thickness_mm"]
+    from_hinge = T is None
     T = thick if T is None else _num("sheet_thickness_mm", T, 0.0, 200.0, low_open=True)
     clr = _num("clearance_mm", raw["clearance_mm"], 0.0, 2.0)
     return FabParams(
@@ -146,12 +156,21 @@ def _params(scene, raw, hinges, thick):
         tolerance_mm=_num("tolerance_mm", raw["tolerance_mm"], 0.001, 1.0),
         hinges=hinges,
         plate_side_mm_global=c - float(scene.hinge["length_mm"]),
+        nozzle_mm=_num("nozzle_mm", raw["nozzle_mm"], 0.1, 1.2),
+        sheet_from_hinge=from_hinge,
     )
 
 
 def fabrication_params(scene, **overrides):
     """Validated :class:`FabParams` for ``scene`` (raises SceneError; builds no geometry)."""
     raw = _raw_params(scene, overrides)
+    why = raw["simulation_only"]
+    if why is not None:
+        if not isinstance(why, str) or not why.strip():
+            raise SceneError("fabrication.simulation_only", f"expected a reason (text) why the scene is not printed, "
+                                                            f"got {why!r}")
+        raise SceneError("fabrication.simulation_only", f"scene {getattr(scene, 'name', '') or ''!r} is "
+                                                        f"simulation-only: {why.strip()}")
     hinges = {}
     thick = 0.0
     tilts = _tilts_deg(scene)
@@ -161,7 +180,7 @@ def fabrication_params(scene, **overrides):
         hinges[name] = HingeSpec(float(h["length_mm"]), float(h["width_mm"]), float(h["thickness_mm"]), tilt)
         thick = max(thick, float(h["thickness_mm"]))
     p = _params(scene, raw, hinges, thick)
-    _check_fit(p)
+    _check_fit(p, scene)
     return p
 
 
@@ -182,7 +201,20 @@ def max_fabricable_tilt_deg(scene, width_mm, ignore_switch=False, **overrides):
     p = _params(scene, raw, {}, thick)
     T = p.sheet_thickness_mm
     s = p.plate_side_mm_global
-    room = 0.5 * s - ((p.counterbore_radius_mm + MIN_WALL_MM) if p.sockets else MIN_WALL_MM)
+    return _max_tilt_deg(p, width_mm)
+
+
+def _edge_room_mm(p):
+    """Room along a plate edge, from the corner, for a hinge anchor (clear of the side's socket)."""
+    w = p.min_wall_mm
+    return 0.5 * p.plate_side_mm_global - ((p.counterbore_radius_mm + w) if p.sockets else w)
+
+
+def _max_tilt_deg(p, width_mm):
+    """Largest tilt (deg) whose anchor (``w / cos + margin``, sheared by ``T tan``) fits the edge room;
+    -1 when even an untilted hinge does not fit."""
+    T = p.sheet_thickness_mm
+    room = _edge_room_mm(p)
 
     def reach(t):
         return width_mm / math.cos(t) + p.anchor_margin_mm + T * math.tan(t)
@@ -234,30 +266,45 @@ def _extruder(name, v):
     return v
 
 
-def _check_fit(p):
-    """Everything that must fit inside a node plate, checked joint by joint (clear errors)."""
+def _printable_fold_deg(scene, tilt_deg):
+    """The fold (deg) a joint of this tilt makes at full deformation (closing rotation), or None."""
+    try:
+        from metamaterial_wb.core.kinematics import fold_from_tilt, rotation_limits
+        closing, _ = rotation_limits(scene)
+        return abs(math.degrees(float(fold_from_tilt(math.radians(tilt_deg), closing))))
+    except Exception:          # noqa: BLE001 - only a hint in an error message
+        return None
+
+
+def _check_fit(p, scene=None):
+    """Everything that must fit inside a node plate, checked joint by joint (clear errors). Every wall
+    left between two features is at least two nozzle widths (``p.min_wall_mm``)."""
     T = p.sheet_thickness_mm
+    W = p.min_wall_mm
     if p.sockets:
-        if 2 * p.socket_lip_height_mm + MIN_WALL_MM > T:
+        if 2 * p.socket_lip_height_mm + W > T:
+            if p.sheet_from_hinge:
+                need = 2 * p.socket_lip_height_mm + W
+                raise SceneError("hinge.thickness_mm",
+                                 f"the sheet is as thick as its thickest hinge, {T} mm, but the snap-fit sockets need "
+                                 f"at least {need:.3g} mm (a {p.socket_lip_height_mm} mm ledge on both faces and a "
+                                 f"{W:.3g} mm wall between them); allowed range [{need:.3g}, ...) mm, or set "
+                                 f"fabrication.sheet_thickness_mm (the plates) to at least {need:.3g} mm, "
+                                 f"fabrication.socket_lip_height_mm to at most {(T - W) / 2:.3g} mm, or "
+                                 f"fabrication.sockets to false")
             raise SceneError("fabrication.socket_lip_height_mm",
                              f"{p.socket_lip_height_mm} mm on both faces of a {T} mm sheet leaves less than "
-                             f"{MIN_WALL_MM} mm of hole between the ledges; allowed range (0, "
-                             f"{(T - MIN_WALL_MM) / 2:.3g}] mm")
+                             f"{W:.3g} mm (two nozzle widths) of hole between the ledges; allowed range (0, "
+                             f"{(T - W) / 2:.3g}] mm")
         if p.socket_diameter_mm <= 2 * p.clearance_mm + 0.4:
             raise SceneError("fabrication.socket_diameter_mm",
                              f"{p.socket_diameter_mm} mm leaves no plug after the clearance of {p.clearance_mm} mm "
                              f"per side; use more than {2 * p.clearance_mm + 0.4:.3g} mm")
-        squeeze = 2.0 * (p.counterbore_radius_mm - p.clearance_mm - p.socket_radius_mm)
-        if squeeze > pin_slot_width_mm(p):
-            raise SceneError("fabrication.socket_lip_mm",
-                             f"{p.socket_lip_mm} mm: the split plug's barb must close its {pin_slot_width_mm(p):.3g} mm "
-                             f"slot by {squeeze:.3g} mm to pass the hole; allowed range (0, "
-                             f"{0.5 * pin_slot_width_mm(p) + p.clearance_mm:.3g}] mm for this socket and clearance")
-        if p.socket_inset_mm - p.counterbore_radius_mm < MIN_WALL_MM:
+        if p.socket_inset_mm - p.counterbore_radius_mm < W:
             raise SceneError("fabrication.socket_inset_mm",
                              f"{p.socket_inset_mm} mm puts the socket ledge (radius {p.counterbore_radius_mm:.3g} mm) "
-                             f"closer than {MIN_WALL_MM} mm to the plate edge; use at least "
-                             f"{p.counterbore_radius_mm + MIN_WALL_MM:.3g} mm")
+                             f"closer than {W:.3g} mm (two nozzle widths) to the plate edge; use at least "
+                             f"{p.counterbore_radius_mm + W:.3g} mm")
     for name, h in p.hinges.items():
         f = f"joints {name}"
         s = p.plate_side_mm_global
@@ -276,14 +323,25 @@ def _check_fit(p):
         wa = anchor_width_mm(p, h)
         # in-plane room: along the edge the (tilted) anchor must stay clear of the side's socket
         reach = wa + shift
-        room_edge = 0.5 * s - ((p.counterbore_radius_mm + MIN_WALL_MM) if p.sockets else MIN_WALL_MM)
+        room_edge = _edge_room_mm(p)
         if reach > room_edge:
-            raise SceneError(f"{f}.tilt_deg" if h.tilt_deg else f"{f}.width_mm",
-                             f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg} deg) needs {reach:.3g} mm "
+            t_max = _max_tilt_deg(p, h.width_mm)
+            if h.tilt_deg and t_max >= 0:
+                fold = _printable_fold_deg(scene, t_max) if scene is not None else None
+                fold_txt = (f" (at this sheet's full deformation that is a fold of at most {fold:.3g} deg per "
+                            f"joint)") if fold is not None else ""
+                raise SceneError(f"{f}.tilt_deg",
+                                 f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} "
+                                 f"mm along the plate edge but the plate (side {s:.3g} mm) has {room_edge:.3g} mm "
+                                 f"before the socket; allowed tilt range [-{t_max:.3g}, {t_max:.3g}] deg for this "
+                                 f"hinge{fold_txt}; fold less, or use longer hinges, larger cells, a thinner sheet or a smaller "
+                                 f"fabrication.anchor_margin_mm (now {p.anchor_margin_mm} mm)")
+            raise SceneError(f"{f}.width_mm",
+                             f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} mm "
                              f"along the plate edge but the plate (side {s:.3g} mm) has {room_edge:.3g} mm before "
                              f"the socket; reduce the width, the tilt or the anchor margin")
         depth = p.anchor_neck_mm + p.anchor_depth_mm
-        need = depth + ((p.counterbore_radius_mm + MIN_WALL_MM) if p.sockets else MIN_WALL_MM)
+        need = depth + ((p.counterbore_radius_mm + W) if p.sockets else W)
         if 2 * need > s:
             raise SceneError(f"{f}.length_mm",
                              f"hinge {name} is {h.length_mm} mm long, which leaves a plate side of {s:.3g} mm in a "
@@ -306,3 +364,28 @@ def neck_width_mm(h):
 def anchor_width_mm(p, h):
     """In-plane width (along the plate edge) of the anchor head of hinge spec ``h``."""
     return neck_width_mm(h) + p.anchor_margin_mm
+
+
+def joint_pivot(scene, p, joint, value_range=None, range_deg=None):
+    """The pivot of ``joint`` (core/joints.py :class:`JointPivot`) for this build's hinge sizes.
+    ``range_deg`` (B relative to A) overrides the design range taken from ``value_range`` / the
+    scene's actuators."""
+    from metamaterial_wb.core import joints
+
+    h = p.hinges[joint]
+    hinge = {"length_mm": h.length_mm, "width_mm": h.width_mm, "tilt_deg": h.tilt_deg}
+    piv = joints.joint_pivot(scene, joint, p.cell_size_mm, p.plate_side_mm_global, hinge, p.sheet_thickness_mm,
+                             value_range=value_range)
+    if range_deg is not None:
+        lo, hi = min(range_deg[0], 0.0), max(range_deg[1], 0.0)
+        e_old = piv.offset_mm
+        e = joints.best_pivot_offset(h.length_mm, lo, hi)
+        # shift the point laterally by the new offset (v = z x u of the joint frame)
+        from metamaterial_wb.core.scene import parse_joint
+        _, _, ang, _ = joints.joint_frame(*parse_joint(joint), p.cell_size_mm, p.plate_side_mm_global)
+        sa, ca = math.sin(math.radians(ang)), math.cos(math.radians(ang))
+        x, y, z = piv.point_mm
+        piv.point_mm = (x - sa * (e - e_old), y + ca * (e - e_old), z)
+        piv.offset_mm, piv.range_deg = e, (lo, hi)
+        piv.length_error = joints.max_length_error(h.length_mm, e, lo, hi)
+    return piv

@@ -18,20 +18,15 @@ boolean call; node variants are cached by their features, hinges by their spec.
 """
 import math
 
+from metamaterial_wb.core.joints import joint_frame as _joint_frame
 from metamaterial_wb.geometry.fc import freecad
-from metamaterial_wb.geometry.params import MIN_WALL_MM, anchor_width_mm, neck_width_mm
+from metamaterial_wb.geometry.params import anchor_width_mm, neck_width_mm
 
 
 def joint_frame(kind, i, j, p):
-    """``(x, y, angle_deg, side)`` of a joint's local frame: origin at the gap centre on the edge line."""
-    c = p.cell_size_mm
-    s = p.plate_side_mm_global
-    side = -1 if (i + j) % 2 == 0 else 1
-    if kind == "H":
-        y = -i * c + (0.5 * s if side < 0 else -0.5 * s)
-        return (j * c + 0.5 * c, y, 0.0, side)
-    x = j * c + (0.5 * s if side < 0 else -0.5 * s)
-    return (x, -i * c - 0.5 * c, -90.0, side)
+    """``(x, y, angle_deg, side)`` of a joint's local frame: origin at the gap centre on the edge line
+    (core/joints.py owns the convention)."""
+    return _joint_frame(kind, i, j, p.cell_size_mm, p.plate_side_mm_global)
 
 
 def node_centre(i, j, p):
@@ -88,7 +83,7 @@ def stub_outline(p, h, sign):
     gap = p.gap_mm
     if gap - free <= 1e-9:
         return None
-    w = anchor_width_mm(p, h) + MIN_WALL_MM
+    w = anchor_width_mm(p, h) + p.min_wall_mm
     a, b = 0.5 * free, 0.5 * gap       # the stub spans from the free length to the plate edge
     if sign < 0:
         a, b = -b, -a

@@ -74,14 +74,36 @@ def check_sheet(result):
     return problems
 
 
-def check_modules(result):
-    """Modules share no volume with the sheet (rest state) nor with each other. A constraint clip is
-    checked against its second node turned by the clip angle about the hinge point (the state it
-    holds), its own joint's hinge excluded (that hinge bends)."""
+def _where(result, shape):
+    """``"node N<i>,<j> (socket <L>)"``: the node (and nearest socket) under a shape's centre."""
+    from metamaterial_wb.geometry.sheet import socket_positions
+    p = result.params
+    solids = shape.Solids
+    c = solids[0].CenterOfMass if len(solids) == 1 else shape.BoundBox.Center
+    j, i = round(c.x / p.cell_size_mm), round(-c.y / p.cell_size_mm)
+    if (i, j) not in result.scene.topology.node_index:
+        return "between the nodes"
+    dx, dy = c.x - j * p.cell_size_mm, c.y + i * p.cell_size_mm
+    lab = min(socket_positions(p), key=lambda t: (t[1] - dx) ** 2 + (t[2] - dy) ** 2)[0]
+    return f"node N{i},{j} (near socket {lab})"
+
+
+def _turn_about(gp, axis, deg):
     from metamaterial_wb.geometry.fc import freecad
-    from metamaterial_wb.geometry.modules import clip_pivot, module_placement
+    App, _ = freecad()
+    return App.Placement(gp, App.Rotation(axis, deg)).multiply(App.Placement(-gp, App.Rotation()))
+
+
+def check_modules(result, sweep_steps=8):
+    """Modules share no volume with the sheet (rest state) nor with each other; a collision names both
+    modules and where. A constraint clip is checked against its second node turned by the clip angle
+    about the joint's pivot (the state it holds), its own joint's hinge excluded (that hinge bends).
+    A servo's horn adapter is turned about the shaft through the servo's design range against its
+    housing (``sweep_steps`` angles each way)."""
+    from metamaterial_wb.geometry.fc import freecad
 
     App, _ = freecad()
+    V = App.Vector
     sheet_parts = _placed(result, [q for q in result.parts if q.group == "sheet"])
     mods = _placed(result, [q for q in result.parts if q.role == "module"])
     spec_by_name = {m.name: m for m in result.modules}
@@ -90,11 +112,8 @@ def check_modules(result):
         spec = spec_by_name.get(mq.group)
         turned = None
         if spec is not None and spec.type == "constraint_clip":
-            pl = module_placement(spec, result.params)
-            pv = clip_pivot(spec, result.params, pl)
-            gp = pl.multVec(App.Vector(pv[0], pv[1], 0.0))
-            rot = App.Placement(gp, App.Rotation(App.Vector(0, 0, 1), spec.values["angle_deg"])).multiply(
-                App.Placement(-gp, App.Rotation()))
+            x, y, _ = spec.pivot.point_mm
+            rot = _turn_about(V(x, y, 0.0), V(0, 0, 1), spec.values["angle_deg"])
             turned = (f"N{spec.b[0]},{spec.b[1]}", rot, spec.joint)
         for sq, ss in sheet_parts:
             if turned is not None:
@@ -104,18 +123,74 @@ def check_modules(result):
                     ss = ss.transformed(turned[1].toMatrix())
             if not _bbox_hit(ms.BoundBox, ss.BoundBox):
                 continue
-            common = ms.common(ss).Volume
-            if common > VOLUME_TOL_MM3:
-                problems.append(f"module part {mq.name} collides with {sq.name} ({common:.4g} mm3)")
+            common = ms.common(ss)
+            if common.Volume > VOLUME_TOL_MM3:
+                what = sq.info.get("node") or f"hinge {sq.info.get('joint')}"
+                problems.append(f"module {mq.group!r} (part {mq.name}) collides with the sheet's {what} "
+                                f"({sq.name}, {common.Volume:.4g} mm3)")
     for k, (aq, a) in enumerate(mods):
         for bq, b in mods[k + 1:]:
-            if _bbox_hit(a.BoundBox, b.BoundBox) and a.common(b).Volume > VOLUME_TOL_MM3:
-                problems.append(f"module parts {aq.name} and {bq.name} collide")
+            if aq.group == bq.group or not _bbox_hit(a.BoundBox, b.BoundBox):
+                continue
+            common = a.common(b)
+            if common.Volume > VOLUME_TOL_MM3:
+                problems.append(f"modules {aq.group!r} and {bq.group!r} collide on {_where(result, common)}: parts "
+                                f"{aq.name} and {bq.name} share {common.Volume:.4g} mm3")
+    for spec in result.modules:
+        if spec.type != "servo_housing":
+            continue
+        parts = {q.name: s for q, s in mods if q.group == spec.name}
+        housing, adapter = parts.get(f"{spec.name}_housing"), parts.get(f"{spec.name}_horn_adapter")
+        if housing is None or adapter is None:
+            continue
+        x, y, _ = spec.pivot.point_mm
+        lo, hi = spec.pivot.range_deg
+        # the range is B relative to A (the joint's own order); the adapter sits on spec.b
+        sign = 1.0 if spec.b == _second_node(spec.joint) else -1.0
+        angles = sorted(set([0.0] + [lo * k / sweep_steps for k in range(1, sweep_steps + 1)] +
+                            [hi * k / sweep_steps for k in range(1, sweep_steps + 1)]))
+        for ang in angles:
+            moved = adapter.transformed(_turn_about(V(x, y, 0.0), V(0, 0, 1), sign * ang).toMatrix())
+            vol = moved.common(housing).Volume
+            if vol > VOLUME_TOL_MM3:
+                problems.append(f"module {spec.name!r}: the horn adapter hits the housing when the servo turns "
+                                f"node B by {ang:.3g} deg ({vol:.4g} mm3; design range {lo:.3g}..{hi:.3g} deg)")
+                break
     return problems
 
 
+def _second_node(joint):
+    from metamaterial_wb.core.scene import joint_nodes, parse_joint
+    return joint_nodes(*parse_joint(joint))[1]
+
+
+DEFAULT_CHECKS = ("solids", "modules")
+ALL_CHECKS = ("solids", "sheet", "modules")
+
+
+def check_build(result, checks=DEFAULT_CHECKS):
+    """Run the named checks; returns ``(problems, ran)``. The default set (every ``build`` and the
+    GUI's export) checks the unique solids and the modules (collisions with the sheet and each other,
+    the servo's rotation); ``"sheet"`` adds the rigid/flexible overlap check of every hinge (slow on
+    large sheets: ``build --check``)."""
+    problems, ran = [], []
+    for name in checks:
+        if name == "solids":
+            problems += check_solids(result)
+        elif name == "sheet":
+            problems += check_sheet(result)
+        elif name == "modules":
+            if not result.modules:
+                continue
+            problems += check_modules(result)
+        else:
+            raise ValueError(f"unknown check {name!r}; allowed: {ALL_CHECKS}")
+        ran.append(name)
+    return problems, ran
+
+
 def check_all(result):
-    return check_solids(result) + check_sheet(result) + (check_modules(result) if result.modules else [])
+    return check_build(result, ALL_CHECKS)[0]
 
 
 def angle_between_deg(a, b):

@@ -49,16 +49,19 @@ def test_clip_holds_its_angle(mod_result):
     assert clip.common(_part(r, "node_2_1")).Volume < 1e-3     # ... but fits its first node
 
 
-def test_servo_shaft_on_the_joint_midpoint(mod_result):
-    """The horn pocket's hub cylinder is centred on the midpoint of N0,1 and N1,1 (x = 20, y = -10)."""
+def test_servo_shaft_on_the_joint_pivot(mod_result):
+    """The horn pocket's hub cylinder is centred on the hinge pivot of V0,1 (N0,1 odd: left corners,
+    edge line x = 20 - 9 = 11, blade centre 0.4 mm inside, shifted by the pivot offset), y = -10."""
     r = mod_result
+    spec = [m for m in r.modules if m.name == "servo"][0]
+    C_PIVOT = 11.0 + 0.4 + spec.pivot.offset_mm
     adapter = _part(r, "servo_horn_adapter")
     hub_r = 0.5 * 7.0 + CLR
     cyl = [f for f in adapter.Faces if f.Surface.__class__.__name__ == "Cylinder"
            and abs(f.Surface.Radius - hub_r) < 1e-9]
     assert cyl, "no horn hub pocket"
     for f in cyl:
-        assert (f.Surface.Center.x, f.Surface.Center.y) == pytest.approx((C, -C / 2), abs=1e-9)
+        assert (f.Surface.Center.x, f.Surface.Center.y) == pytest.approx((C_PIVOT, -C / 2), abs=2e-6)
         assert abs(f.Surface.Axis.z) == pytest.approx(1.0)
     # the housing sits on the first node N0,1, the adapter on the second N1,1 (below it, y < -10)
     hb, ab = _part(r, "servo_housing").BoundBox, adapter.BoundBox
@@ -91,7 +94,8 @@ def test_friction_pad_pocket_volume(mod_result):
     r2 = build_scene(sc, progress=False)
     v2 = r2.placed_shape(r2.by_name("pad_pad")).Volume
     side = S - 0.6 - 2 * 1.5
-    assert v2 - v1 == pytest.approx(side * side * (1.5 - 1.0), rel=1e-9)
+    # 14.4 mm pocket: two strips with one 0.8 mm rib between them (each spans < 10 mm: bridged)
+    assert v2 - v1 == pytest.approx((side - 0.8) * side * (1.5 - 1.0), rel=1e-9)
 
 
 def test_servo_presets_and_custom_dims(fc):
@@ -109,8 +113,8 @@ def test_servo_presets_and_custom_dims(fc):
     w_sg, _ = housing_width(servo="SG90")
     w_mg, _ = housing_width(servo="MG90S")
     # the tub is the body + clearance + wall on each side where it is wider than the feet
-    assert w_sg == pytest.approx(11.8 + 2 * (CLR + 1.6))
-    assert w_mg - w_sg == pytest.approx(12.2 - 11.8, abs=1e-9)
+    assert w_sg == pytest.approx(12.5 + 2 * (CLR + 1.6))
+    assert w_mg - w_sg == pytest.approx(0.0, abs=1e-9)          # both presets: 12.5 mm bodies
     dims = {"body_length_mm": 23.0, "body_width_mm": 16.0, "body_height_mm": 20.0, "tab_length_mm": 30.0,
             "tab_thickness_mm": 2.0, "tab_z_mm": 14.0, "shaft_offset_mm": 6.0, "shaft_top_mm": 25.0,
             "horn_hub_diameter_mm": 6.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 10.0,

@@ -103,7 +103,21 @@ def test_two_modules_on_one_socket(no_geometry):
                                                {"type": "stable_hub", "joint": "H0,1"}])
     with pytest.raises(SceneError) as e:
         _build(sc)
-    assert "already used" in str(e.value) and "servo_housing_1" in str(e.value)
+    assert "collide" in str(e.value) and "servo_housing_1" in str(e.value) and "stable_hub_2" in str(e.value)
+    assert "socket N of node N0,1" in str(e.value)
+
+
+def test_worm_setup_servo_on_end_node_with_pad_under_it_is_refused(no_geometry):
+    """The seed's worm set-up: a servo on the end joint (top) and a friction pad under the end node
+    (bottom). Both snap pins run through the same sockets (42.65 mm^3 of overlap): refused, naming
+    both modules and the socket, before any geometry."""
+    sc = make_scene({"chain": 8}, actuators=[{"name": "rear", "joint": "V0,0", "value": 0.0}],
+                    modules=[{"type": "servo_housing", "name": "servo_rear", "joint": "V0,0"},
+                             {"type": "friction_pad", "name": "pad_rear", "node": "N0,0"}])
+    with pytest.raises(SceneError) as e:
+        _build(sc)
+    msg = str(e.value)
+    assert "'servo_rear' (top)" in msg and "'pad_rear' (bottom)" in msg and "socket E of node N0,0" in msg
 
 
 def test_servo_too_big_for_small_cells(no_geometry):
@@ -134,7 +148,8 @@ def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
     from metamaterial_wb.core.design import compute_joint_config
     from metamaterial_wb.geometry.params import fabrication_params
     base = dict(cell_size_mm=25, hinge={"length_mm": 5, "width_mm": 1.0, "thickness_mm": 7},
-                axes=[{"direction": "vertical", "line": 1, "fold_deg": 10}])
+                axes=[{"direction": "vertical", "line": 1, "fold_deg": 10}],
+                fabrication={"anchor_margin_mm": 0.8})      # the gripper's: 35 deg tilts keep 0.8 mm walls
     sc = make_scene({"chain": 3}, **base)
     p = fabrication_params(sc)
     config = compute_joint_config(sc)[0]
@@ -148,7 +163,10 @@ def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
 
 
 def test_snap_barb_must_pass_the_hole(no_geometry):
-    """A 1 mm ledge makes the barb 1.6 mm wider than the hole: more than the plug's slot can close."""
+    """A 1 mm ledge makes the barb 1.6 mm wider than the hole: the slot that lets it close leaves
+    prongs thinner than two nozzle widths, so no pin fits (the sheet alone still builds)."""
     with pytest.raises(SceneError) as e:
-        _build(make_scene({"chain": 1}, fabrication={"socket_lip_mm": 1.0}))
-    assert e.value.field == "fabrication.socket_lip_mm" and "slot" in str(e.value)
+        _build(make_scene({"chain": 1}, fabrication={"socket_lip_mm": 1.0},
+                          modules=[{"type": "connection_hub", "node": "N0,0"}]))
+    assert e.value.field == "modules[0].material" and "slot" in str(e.value)
+    assert "fabrication.socket_lip_mm" in str(e.value)

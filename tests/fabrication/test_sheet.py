@@ -41,7 +41,7 @@ def expected_node_volume(topo, ij, tilts, stubs):
             if name in stubs:
                 half = (LH - stubs[name]) / 2
                 wn = W / math.cos(math.radians(tilts.get(name, 0.0)))
-                v += half * (wn + MARGIN + 0.4) * TH - half * wn * TH
+                v += half * (wn + MARGIN + 0.8) * TH - half * wn * TH    # stub: anchor + two nozzle widths
     return v
 
 
@@ -204,8 +204,11 @@ def test_cli_check_flag(tmp_path):
                         "--check", "--3mf"], cwd=REPO, capture_output=True, encoding="utf-8", errors="replace", timeout=300)
     assert r.returncode == 0, r.stderr
     assert "checks passed" in r.stderr
-    assert sorted(os.listdir(tmp_path / "o")) == ["two_sheet.3mf", "two_sheet_components.3mf"]
-    assert [os.path.basename(x) for x in r.stdout.split()] == ["two_sheet.3mf", "two_sheet_components.3mf"]
+    assert sorted(os.listdir(tmp_path / "o")) == ["manifest.json", "two_sheet.3mf", "two_sheet_components.3mf"]
+    assert [os.path.basename(x) for x in r.stdout.split()] == ["two_sheet.3mf", "two_sheet_components.3mf",
+                                                               "manifest.json"]
+    m = json.load(open(tmp_path / "o" / "manifest.json"))
+    assert m["checks"]["ran"] == ["solids", "sheet"] and m["checks"]["skipped"] == ["modules"]
 
 
 def test_hinges_sit_on_the_kinematic_corners(chain_result):

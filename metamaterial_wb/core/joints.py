@@ -1,0 +1,169 @@
+"""One pivot per joint: where a printed hinge turns, in sheet coordinates (pure numpy, no FreeCAD).
+
+The kinematics (core/kinematics.py) joins two plates by a hinge of length ``lh`` between their
+corners; node B turns relative to node A by ``theta = phi_B - phi_A`` about the sheet normal. The
+printed hinge is a TPU blade of that free length lying along the plate edge line, ``width`` wide
+(docs/fabrication.md). Every module that turns with the joint or holds it (the servo shaft, the
+constraint clip, the stable hub) uses the pivot computed here, so that what prints turns as simulated.
+
+Joint frame (shared with geometry/sheet.py): origin at the gap centre on the plate edge line, ``u``
+from node A (the joint's first node) to node B, ``v = z x u``; the plates lie on ``side * v > 0``
+(``side = -1`` when i + j is even, the checkerboard corner rule of the kinematics).
+
+Pivot. A blade bent with uniform curvature by ``theta`` has its ends on a circular arc of its own
+length; the fixed point of the rigid motion of B (the pole) starts at the blade centre and moves
+towards the inside of the bend by ``L (1/theta - cot(theta/2)/2)`` (``L theta / 12`` for small
+angles). A servo turns B about one fixed axis, so the pivot is the blade centre shifted laterally
+by the offset that keeps the blade's *effective length* (the length of the circular arc through its
+two ends that turns by theta: ``chord * (theta/2) / sin(theta/2)``) closest to ``L`` over the
+joint's design range (:func:`best_pivot_offset`). :func:`length_ratio` is that effective length over
+``L``; the build reports its worst value per servo (docs/fabrication.md, manifest).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+PIVOT_LENGTH_TOLERANCE = 0.02      # the servo's pivot keeps the hinge length within 2 % over its range
+
+
+def joint_frame(kind, i, j, cell_mm, plate_side_mm):
+    """``(x, y, angle_deg, side)``: origin of the joint frame (gap centre on the edge line), the
+    direction of ``u`` (0 for H joints, -90 for V joints) and the plate side of ``v``."""
+    c, s = float(cell_mm), float(plate_side_mm)
+    side = -1 if (i + j) % 2 == 0 else 1
+    if kind == "H":
+        y = -i * c + (0.5 * s if side < 0 else -0.5 * s)
+        return (j * c + 0.5 * c, y, 0.0, side)
+    x = j * c + (0.5 * s if side < 0 else -0.5 * s)
+    return (x, -i * c - 0.5 * c, -90.0, side)
+
+
+def length_ratio(length_mm, offset_mm, theta_rad):
+    """Effective hinge length over its free length when node B turns by ``theta`` (rad, array) about
+    the point ``(0, offset)`` of the joint frame shifted to the blade centre line."""
+    L = float(length_mm)
+    e = float(offset_mm)
+    th = np.asarray(theta_rad, dtype=float)
+    c, s = np.cos(th), np.sin(th)
+    # B's blade end (L/2, 0) relative to the pivot (0, e), turned, back; A's end stays at (-L/2, 0)
+    x = c * 0.5 * L + s * e
+    y = s * 0.5 * L - c * e + e
+    chord = np.hypot(x + 0.5 * L, y)
+    return chord / (L * np.sinc(th / (2.0 * math.pi)))
+
+
+def max_length_error(length_mm, offset_mm, lo_deg, hi_deg, n=241):
+    th = np.radians(np.linspace(min(lo_deg, 0.0), max(hi_deg, 0.0), n))
+    return float(np.max(np.abs(length_ratio(length_mm, offset_mm, th) - 1.0)))
+
+
+def best_pivot_offset(length_mm, lo_deg, hi_deg):
+    """Lateral offset (mm, along v, from the blade centre line) of the fixed pivot that keeps the
+    effective hinge length closest to ``L`` over ``[lo_deg, hi_deg]`` (minimax, golden section on a
+    unimodal objective bracketed by the pole's travel)."""
+    L = float(length_mm)
+    lo, hi = math.radians(min(lo_deg, 0.0)), math.radians(max(hi_deg, 0.0))
+
+    def pole(t):
+        return 0.0 if abs(t) < 1e-9 else L * (1.0 / t - 0.5 / math.tan(0.5 * t))
+
+    a, b = min(pole(lo), pole(hi), 0.0) - 1e-9, max(pole(lo), pole(hi), 0.0) + 1e-9
+    f = lambda e: max_length_error(L, e, math.degrees(lo), math.degrees(hi))  # noqa: E731
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1, x2 = b - g * (b - a), a + g * (b - a)
+    f1, f2 = f(x1), f(x2)
+    for _ in range(60):
+        if f1 <= f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - g * (b - a)
+            f1 = f(x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + g * (b - a)
+            f2 = f(x2)
+    return 0.5 * (a + b)
+
+
+def node_parity(ij):
+    return 1.0 if (ij[0] + ij[1]) % 2 == 0 else -1.0
+
+
+def relative_rotation_deg(a_ij, D, closing_rad, opening_rad):
+    """Rotation of node B relative to node A (deg, about +z) when both nodes of the joint hold ``D``:
+    ``phi = (-1)^(i+j) D phi_max(sign D)``, ``theta = phi_B - phi_A = -2 (-1)^(i_A+j_A) D phi_max``."""
+    D = np.asarray(D, dtype=float)
+    mag = np.where(D >= 0, closing_rad, opening_rad)
+    return np.degrees(-2.0 * node_parity(a_ij) * D * mag)
+
+
+def actuator_value_range(scene, joint):
+    """``(lo, hi)`` of D that the scene drives on ``joint``: the range of its actuators' motion
+    profiles; the full range [-1, 1] for an actuator without a profile (it may be set to anything);
+    ``None`` when nothing drives it."""
+    vals = []
+    for act in scene.actuators:
+        if act.joint != joint:
+            continue
+        vals.append(float(act.value))
+        p = act.profile
+        if not p:
+            vals += [-1.0, 1.0]
+        else:
+            shape = p.get("shape", "sine")
+            if shape == "sine":
+                off, amp = float(p.get("offset", 0.0)), float(p.get("amplitude", 1.0))
+                vals += [off - amp, off + amp]
+            elif shape == "constant":
+                vals.append(float(p.get("value", 0.0)))
+            else:
+                vals += [float(v) for v in p.get("values", [])]
+    if not vals:
+        return None
+    return (min(vals + [0.0]), max(vals + [0.0]))
+
+
+@dataclass
+class JointPivot:
+    joint: str
+    point_mm: tuple          # (x, y, z) in sheet coordinates (z: mid-thickness)
+    axis: tuple              # unit vector of the relative-rotation axis (sheet normal for untilted hinges)
+    range_deg: tuple         # design range of theta (B relative to A), deg
+    value_range: tuple       # the D range it comes from
+    offset_mm: float         # lateral shift of the pivot from the blade centre line (along v)
+    length_mm: float         # free hinge length
+    length_error: float      # worst |effective length / L - 1| over the range
+
+    def as_dict(self):
+        return {"joint": self.joint, "point_mm": [round(float(c), 6) for c in self.point_mm],
+                "axis": [float(c) for c in self.axis], "range_deg": [round(float(c), 6) for c in self.range_deg],
+                "value_range": [float(c) for c in self.value_range], "offset_mm": round(self.offset_mm, 6),
+                "length_mm": self.length_mm, "length_error": round(self.length_error, 6)}
+
+
+def joint_pivot(scene, joint, cell_mm, plate_side_mm, hinge, sheet_thickness_mm, value_range=None, limits=None):
+    """The pivot of ``joint`` (a :class:`JointPivot`). ``hinge``: the joint's sizes (``length_mm``,
+    ``width_mm``, ``tilt_deg``). ``value_range``: the D range of the design (default: the scene's
+    actuators on this joint, else the full range [-1, 1])."""
+    from metamaterial_wb.core.kinematics import rotation_limits
+    from metamaterial_wb.core.scene import joint_nodes, parse_joint
+
+    kind, i, j = parse_joint(joint)
+    a, _ = joint_nodes(kind, i, j)
+    if value_range is None:
+        value_range = actuator_value_range(scene, joint) or (-1.0, 1.0)
+    closing, opening = limits if limits is not None else rotation_limits(scene)
+    th = relative_rotation_deg(a, np.array(value_range), closing, opening)
+    lo, hi = float(min(th.min(), 0.0)), float(max(th.max(), 0.0))
+    L = float(hinge["length_mm"])
+    tilt = math.radians(float(hinge.get("tilt_deg", 0.0)))
+    wn = float(hinge["width_mm"]) / math.cos(tilt)
+    e = best_pivot_offset(L, lo, hi)
+    x, y, ang, side = joint_frame(kind, i, j, cell_mm, plate_side_mm)
+    v = side * 0.5 * wn + e                       # along v from the edge line
+    ca, sa = math.cos(math.radians(ang)), math.sin(math.radians(ang))
+    px, py = x - sa * v, y + ca * v                # v = z x u = (-sin, cos)
+    # a tilted hinge leans by its tilt about u (right-hand rule): the axis turns from z towards -v
+    axis = (sa * math.sin(tilt), -ca * math.sin(tilt), math.cos(tilt))
+    return JointPivot(joint, (px, py, 0.5 * float(sheet_thickness_mm)), axis, (lo, hi), tuple(value_range), e, L,
+                      max_length_error(L, e, lo, hi))

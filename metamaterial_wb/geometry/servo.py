@@ -1,0 +1,196 @@
+"""The servo housing module: presets from real dimensions, the cavity, tab seats with screw pilot
+holes, and the horn adapter whose arm holds the whole horn over the shaft, the shaft on the joint's
+pivot (core/joints.py). Parsed and placed by geometry/modules.py (scene format: docs/scene-format.md,
+"Modules"; geometry: docs/fabrication.md)."""
+import math
+
+from metamaterial_wb.core.errors import SceneError, check_number
+
+# Servo presets (mm) from public datasheet drawings, bodies at the upper end of what the parts measure
+# (SG90s measure 22.2-23.0 x 11.8-12.5 mm): the cavity adds the fit clearance on every side. ``tab_z_mm``:
+# tab underside above the body bottom; ``screw_inset_mm``: screw hole centre to the tab's end;
+# ``screw_diameter_mm``: the self-tapping screw (the seat gets a pilot hole 0.3 mm smaller).
+# ``horn_*``: the single-arm horn in the box (hub diameter, thickness, shaft axis to arm tip, arm
+# width at the hub). Measure yours and override any of them with "dims".
+SERVO_PRESETS = {
+    "SG90": {"body_length_mm": 23.0, "body_width_mm": 12.5, "body_height_mm": 22.7, "tab_length_mm": 32.2,
+             "tab_thickness_mm": 2.5, "tab_z_mm": 15.9, "shaft_offset_mm": 5.9, "shaft_top_mm": 27.0,
+             "screw_inset_mm": 2.3, "screw_diameter_mm": 2.0,
+             "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.5, "horn_arm_length_mm": 14.0,
+             "horn_arm_width_mm": 4.0},
+    "MG90S": {"body_length_mm": 23.0, "body_width_mm": 12.5, "body_height_mm": 22.5, "tab_length_mm": 32.5,
+              "tab_thickness_mm": 2.5, "tab_z_mm": 16.0, "shaft_offset_mm": 6.1, "shaft_top_mm": 28.4,
+              "screw_inset_mm": 2.3, "screw_diameter_mm": 2.0,
+              "horn_hub_diameter_mm": 7.0, "horn_thickness_mm": 1.8, "horn_arm_length_mm": 14.0,
+              "horn_arm_width_mm": 4.5},
+    "MG996R": {"body_length_mm": 40.7, "body_width_mm": 19.7, "body_height_mm": 37.0, "tab_length_mm": 54.0,
+               "tab_thickness_mm": 2.5, "tab_z_mm": 26.7, "shaft_offset_mm": 10.2, "shaft_top_mm": 42.9,
+               "screw_inset_mm": 3.4, "screw_diameter_mm": 3.0,
+               "horn_hub_diameter_mm": 9.0, "horn_thickness_mm": 2.5, "horn_arm_length_mm": 19.0,
+               "horn_arm_width_mm": 6.0},
+}
+SERVO_KEYS = tuple(SERVO_PRESETS["SG90"])
+SERVO_OPTIONAL = ("screw_inset_mm", "screw_diameter_mm")   # a custom servo may leave these out
+CABLE_SLOT_MM = 5.0         # height of the cable's way out at the housing's far end (above the floor)
+
+
+def _servo_dims(item, f, nm):
+    servo = item.get("servo", "SG90")
+    if not isinstance(servo, str) or servo.upper() not in list(SERVO_PRESETS) + ["CUSTOM"]:
+        raise SceneError(f"{f}.servo ({nm})", f"{servo!r} is not a known servo; allowed: {sorted(SERVO_PRESETS)} or "
+                                       f"\"custom\" with \"dims\"")
+    servo = servo.upper()
+    dims = item.get("dims", {})
+    if not isinstance(dims, dict):
+        raise SceneError(f"{f}.dims ({nm})", f"expected an object of servo dimensions in mm, got {dims!r}")
+    for k in dims:
+        if k not in SERVO_KEYS:
+            raise SceneError(f"{f}.dims.{k} ({nm})", f"unknown servo dimension; allowed: {list(SERVO_KEYS)}")
+    if servo == "CUSTOM":
+        missing = [k for k in SERVO_KEYS if k not in dims and k not in SERVO_OPTIONAL]
+        if missing:
+            raise SceneError(f"{f}.dims ({nm})", f"a custom servo needs every dimension; missing: {missing}")
+        d = {}
+        ext = 0.5 * (float(dims.get("tab_length_mm", 0)) - float(dims.get("body_length_mm", 0)))
+        d.update({"screw_inset_mm": max(0.5 * ext, 1e-3), "screw_diameter_mm": 2.0})
+    else:
+        d = dict(SERVO_PRESETS[servo])
+    for k, v in dims.items():
+        d[k] = check_number(f"{f}.dims.{k} ({nm})", v, 0.0, 500.0, "mm", low_open=True)
+    if d["tab_length_mm"] < d["body_length_mm"]:
+        raise SceneError(f"{f}.dims.tab_length_mm ({nm})", f"{d['tab_length_mm']} mm is shorter than the body "
+                                                    f"({d['body_length_mm']} mm); it is the length over both tabs")
+    if not 0 < d["shaft_offset_mm"] < d["body_length_mm"]:
+        raise SceneError(f"{f}.dims.shaft_offset_mm ({nm})", f"{d['shaft_offset_mm']} mm is outside the body; allowed "
+                                                      f"range (0, {d['body_length_mm']}) mm")
+    if d["tab_z_mm"] + d["tab_thickness_mm"] > d["body_height_mm"]:
+        raise SceneError(f"{f}.dims.tab_z_mm ({nm})", f"tabs at {d['tab_z_mm']} mm + {d['tab_thickness_mm']} mm stick out of "
+                                               f"the {d['body_height_mm']} mm body")
+    if d["shaft_top_mm"] - d["horn_thickness_mm"] <= d["body_height_mm"]:
+        raise SceneError(f"{f}.dims.shaft_top_mm ({nm})", f"the horn ({d['horn_thickness_mm']} mm) under the shaft top at "
+                                                   f"{d['shaft_top_mm']} mm would touch the body top "
+                                                   f"({d['body_height_mm']} mm)")
+    ext = 0.5 * (d["tab_length_mm"] - d["body_length_mm"])
+    if not 0 < d["screw_inset_mm"] < ext:
+        raise SceneError(f"{f}.dims.screw_inset_mm ({nm})", f"{d['screw_inset_mm']} mm puts the tab's screw outside "
+                                                           f"the {ext:.3g} mm tab; allowed range (0, {ext:.3g}) mm")
+    d["servo"] = servo
+    return d
+
+
+def servo_layout(spec, p):
+    """Key u / z coordinates (mm) of the servo housing and the horn adapter, relative to the shaft
+    axis (``u`` along the joint from the housing node towards the other node). The shaft itself sits
+    on the joint's pivot (core/joints.py) at ``(shaft_u_mm, shaft_v_mm)`` of the module frame."""
+    v = spec.values
+    T = p.sheet_thickness_mm
+    clr = p.clearance_mm
+    a = v["shaft_offset_mm"]
+    L = v["body_length_mm"]
+    tab_end = a + 0.5 * (v["tab_length_mm"] - L)
+    standoff = v["pad_mm"] + clr
+    wall = v["wall_mm"]
+    lay = {
+        "a": a, "L": L, "clr": clr,
+        "hu0": a - L - clr - wall, "hu1": a + clr + wall,
+        "hv": 0.5 * v["body_width_mm"] + clr + wall,
+        "z_floor": T + standoff, "zb": T + standoff + v["floor_mm"],
+        # the column turns against the housing about the shaft: it stands 1 mm outside the circle through
+        # the housing's far corners (tab seats), and beyond the whole horn arm (which turns with it: the
+        # horn pocket ends at the column)
+        "col_u0": max(math.hypot(max(a + clr + wall, tab_end), 0.5 * v["body_width_mm"] + clr + wall) + 1.0,
+                      v["horn_arm_length_mm"] + clr),
+        "col_t": 3.0, "arm_t": max(2.5, v["horn_thickness_mm"] + clr + 1.0),
+    }
+    lay["z_arm"] = lay["zb"] + v["shaft_top_mm"] - v["horn_thickness_mm"]
+    return lay
+
+
+def _check_servo_fit(spec, p, f):
+    lay = servo_layout(spec, p)
+    c = p.cell_size_mm
+    s = p.plate_side_mm_global
+    gap = p.gap_mm
+    su = spec.values.get("shaft_u_mm", 0.0)
+    far_b = 0.5 * gap + s - su
+    need = lay["col_u0"] + lay["col_t"]
+    if need > far_b - 0.3:
+        raise SceneError(f"{f}.servo ({spec.name})",
+                         f"the horn adapter's column (beyond the {spec.values['horn_arm_length_mm']} mm horn arm) "
+                         f"needs {need:.3g} mm from the shaft but node N{spec.b[0]},{spec.b[1]} ends {far_b:.3g} mm "
+                         f"from it; this servo needs cells of at least {c + (need - far_b + 0.3):.3g} mm "
+                         f"(cell_size_mm is {c}) or a shorter horn (dims.horn_arm_length_mm at most "
+                         f"{spec.values['horn_arm_length_mm'] - (need - far_b + 0.3):.3g} mm)")
+
+
+def build_servo_housing(spec, p):
+    """Housing (tub with the servo cavity, on the housing node) and horn adapter (on the other node),
+    the shaft on the joint's pivot: the servo turns node B about the hinge, as simulated."""
+    from metamaterial_wb.geometry.modules import _fc, _finish, _lateral_points, _pins_at, box
+
+    App, Part = _fc()
+    V = App.Vector
+    v = spec.values
+    lay = servo_layout(spec, p)
+    T = p.sheet_thickness_mm
+    c, s, gap = p.cell_size_mm, p.plate_side_mm_global, p.gap_mm
+    clr = p.clearance_mm
+    a, L = lay["a"], lay["L"]
+    hv = lay["hv"]
+    su, sv = v.get("shaft_u_mm", 0.0), v.get("shaft_v_mm", 0.0)
+    shift = App.Matrix()
+    shift.move(V(su, sv, 0.0))
+
+    def at_shaft(shape):
+        return shape.transformed(shift)
+
+    top = lay["zb"] + v["tab_z_mm"]
+    ext = 0.5 * (v["tab_length_mm"] - L)
+    outer = box(lay["hu0"], lay["hu1"], -hv, hv, lay["z_floor"], top)
+    # tab seats: the tub runs on under both tabs, so that the tab screws go into material
+    seats = [box(a - L - ext, lay["hu0"] + 0.01, -hv, hv, lay["z_floor"], top),
+             box(lay["hu1"] - 0.01, a + ext, -hv, hv, lay["z_floor"], top)]
+    inner = box(a - L - clr, a + clr, -(0.5 * v["body_width_mm"] + clr), 0.5 * v["body_width_mm"] + clr,
+                lay["zb"], top + 1.0)
+    cable_h = min(CABLE_SLOT_MM, max(v["tab_z_mm"] - 2 * p.min_wall_mm - 4.0, 1.0))
+    cable = box(a - L - ext - 1.0, a - L, -2.0, 2.0, lay["zb"], lay["zb"] + cable_h)
+    pilot_r = 0.5 * (v["screw_diameter_mm"] - 0.3)
+    pilot_depth = v["tab_z_mm"] - cable_h - p.min_wall_mm
+    pilots = [Part.makeCylinder(pilot_r, pilot_depth + 1.0, V(u, 0.0, top - pilot_depth))
+              for u in (a - L - ext + v["screw_inset_mm"], a + ext - v["screw_inset_mm"])]
+    d = 0.5 * s - p.socket_inset_mm
+    fv = max(d + p.counterbore_radius_mm + 1.0, 2.0)
+    u_a = -0.5 * c
+    fu0 = max(-0.5 * gap - s + 0.3, min(lay["hu0"] + su, u_a - p.counterbore_radius_mm - 1.0))
+    fu1 = -0.5 * gap - 0.3
+    feet = box(fu0, fu1, -fv, fv, T, lay["z_floor"] + 0.01)
+    # a floor patch joining the feet to the tub (both ranges in v: the tub sits over the hinge pivot)
+    v0, v1 = min(-fv, sv - hv), max(fv, sv + hv)
+    bridge = box(max(fu0, lay["hu0"] + su), fu1, max(v0, sv - hv), min(v1, sv + hv), T, lay["zb"])
+    pins = _pins_at(p, _lateral_points(p, u_a), snap=spec.snap)
+    housing = _finish([at_shaft(outer)] + [at_shaft(q) for q in seats] + [feet, bridge] + pins,
+                      [at_shaft(inner), at_shaft(cable)] + [at_shaft(q) for q in pilots], f"{spec.name} housing")
+    # horn adapter on node B: pad with pins, column beyond the horn, arm with the horn pocket over the shaft
+    u_b = 0.5 * c
+    far_b = 0.5 * gap + s - 0.3
+    pu0 = min(lay["col_u0"] + su, u_b - p.counterbore_radius_mm - 1.0)
+    pu0 = max(pu0, 0.5 * gap + 0.3)          # the housing sits above the pad (z >= z_floor): no overlap
+    pad = box(pu0, far_b, -fv, fv, T, T + v["pad_mm"])
+    cw = max(4.0, 0.5 * v["horn_arm_width_mm"] + 2.0)
+    col = box(lay["col_u0"], lay["col_u0"] + lay["col_t"], -cw, cw, T,
+              lay["z_arm"] + lay["arm_t"])
+    hub_r = 0.5 * v["horn_hub_diameter_mm"]
+    arm = box(-hub_r - 2.0, lay["col_u0"] + lay["col_t"], -cw, cw, lay["z_arm"], lay["z_arm"] + lay["arm_t"])
+    depth = v["horn_thickness_mm"] + clr
+    hub = Part.makeCylinder(hub_r + clr, depth + 1.0, V(0, 0, lay["z_arm"] - 1.0))
+    horn = box(0.0, v["horn_arm_length_mm"] + clr, -(0.5 * v["horn_arm_width_mm"] + clr),
+               0.5 * v["horn_arm_width_mm"] + clr, lay["z_arm"] - 1.0, lay["z_arm"] + depth)
+    shaft_hole = Part.makeCylinder(1.2, lay["arm_t"] + 2.0, V(0, 0, lay["z_arm"] - 1.0))  # horn screw
+    # the column's foot joins the pad where the column stands beside it (the shaft is off the node centre line)
+    cu0, cu1 = lay["col_u0"] + su, lay["col_u0"] + lay["col_t"] + su
+    foot = box(min(cu0, pu0), max(cu1, pu0 + 0.5), min(-fv, sv - cw), max(fv, sv + cw), T, T + v["pad_mm"])
+    foot = foot.common(box(pu0, far_b, -0.5 * s + 0.3, 0.5 * s - 0.3, T, T + v["pad_mm"]))
+    pins_b = _pins_at(p, _lateral_points(p, u_b), snap=spec.snap)
+    adapter = _finish([pad, foot, at_shaft(col), at_shaft(arm)] + pins_b,
+                      [at_shaft(hub), at_shaft(horn), at_shaft(shaft_hole)], f"{spec.name} horn adapter")
+    return [("housing", housing), ("horn_adapter", adapter)]

@@ -1,0 +1,87 @@
+"""Snap-fit pins designed from the cantilever formula (no FreeCAD import).
+
+Every module plugs into a node socket with a split pin: two half-round prongs separated by a slot,
+a barb at the tip that must pass the socket's hole and latches under its bottom ledge. Inserting it
+bends each prong inward by the barb's interference ``y`` like a cantilever clamped where the slot
+ends (the module's underside) and loaded at the barb. For a constant section the peak strain is
+
+    strain = 1.5 * t * y / L**2        (t: prong thickness in the bending direction, L: free length)
+
+(the standard beam formula of snap-fit design guides: ``y = 2 eps L^2 / (3 t)``). The design takes
+the longest prong the sheet allows (``L = T - barb top``), the interference the socket sets
+(``y = socket_lip_mm - clearance_mm``) and the thickest prong whose strain stays within the module
+material's allowable strain, so that the slot closes by ``2 y`` without the prongs touching. It
+refuses (SceneError naming the material, the strain and what to change) when no prong of at least two
+nozzle widths fits.
+
+Allowable strains (design values for repeated assembly of FDM parts, a little under the 1.5-2.5 %
+that data sheets give for moulded parts in the same polymers; edit ``ALLOWABLE_STRAIN`` or give a
+module another "material" if your filament differs).
+"""
+from dataclasses import asdict, dataclass
+
+from metamaterial_wb.core.errors import SceneError
+
+ALLOWABLE_STRAIN = {"PLA": 0.015, "ABS": 0.02, "PETG": 0.025, "TPU": 0.10}
+SLOT_MARGIN_MM = 0.1          # the prongs stay this far apart when the barb passes the hole
+
+
+@dataclass(frozen=True)
+class SnapFit:
+    material: str
+    thickness_mm: float       # t: prong thickness across the slot (the bending direction)
+    deflection_mm: float      # y: barb interference each prong bends by
+    length_mm: float          # L: free prong length (barb to the slot's end)
+    slot_mm: float            # slot width between the prongs
+    slot_top_mm: float        # z of the slot's end above the pin tip's side of the sheet (module frame)
+    strain: float             # 1.5 t y / L^2
+    limit: float              # allowable strain of the material
+    bending: str = "across the layers (pins printed upright)"
+
+    def key(self):
+        return (round(self.thickness_mm, 6), round(self.slot_mm, 6), round(self.slot_top_mm, 6))
+
+    def as_dict(self):
+        return asdict(self)
+
+
+def cantilever_strain(t, y, L):
+    """Peak bending strain of a constant-section cantilever of thickness t deflected by y at length L."""
+    return 1.5 * t * y / (L * L)
+
+
+def design_snap_fit(p, material, field_name="modules"):
+    """The :class:`SnapFit` of a module pin in ``material`` for the fabrication parameters ``p``."""
+    mat = material.upper()
+    if mat not in ALLOWABLE_STRAIN:
+        raise SceneError(field_name, f"no allowable strain known for {material!r}; known: {sorted(ALLOWABLE_STRAIN)}")
+    limit = ALLOWABLE_STRAIN[mat]
+    T = p.sheet_thickness_mm
+    clr = p.clearance_mm
+    r = p.socket_radius_mm - clr                 # prong pair's outer radius
+    y = p.socket_lip_mm - clr                    # barb radius (counterbore - clearance) minus the hole radius
+    z_barb = p.socket_lip_height_mm - clr        # the barb's widest section (its latch face)
+    L = T - z_barb                               # clamped at the module's underside (z = T)
+    if y <= 0:
+        raise SceneError("fabrication.socket_lip_mm", f"{p.socket_lip_mm} mm with a clearance of {clr} mm leaves the "
+                                                      f"barb no interference to latch; allowed range "
+                                                      f"({clr}, ...) mm")
+    if L <= 0:
+        raise SceneError("fabrication.socket_lip_height_mm", f"the barb at {z_barb:.3g} mm leaves no prong in a "
+                                                             f"{T} mm sheet")
+    t_strain = limit * L * L / (1.5 * y)
+    t_slot = r - max(y + 0.5 * SLOT_MARGIN_MM, 0.5 * max(0.6, 1.5 * p.nozzle_mm))
+    t = min(t_strain, t_slot)
+    if t < p.min_wall_mm - 1e-9:
+        t_need = p.min_wall_mm
+        L_need = (1.5 * t_need * y / limit) ** 0.5
+        raise SceneError(f"{field_name}.material",
+                         f"no snap pin fits {mat} (allowable strain {100 * limit:.3g} %): a prong of two nozzle widths "
+                         f"({t_need:.3g} mm) bent by the barb's {y:.3g} mm over the {L:.3g} mm the sheet allows is "
+                         f"strained {100 * cantilever_strain(t_need, y, L):.3g} %"
+                         + (f" and the {2 * r:.3g} mm pin leaves no room for the slot" if t_slot < t_need else "")
+                         + f"; use a more flexible material ({', '.join(k for k, v in ALLOWABLE_STRAIN.items() if v > limit and k != 'TPU')}), "
+                           f"a thicker sheet (prong length at least {L_need:.3g} mm), a smaller "
+                           f"fabrication.socket_lip_mm or a larger socket_diameter_mm")
+    slot = 2.0 * (r - t)
+    return SnapFit(mat, t, y, L, slot, T, cantilever_strain(t, y, L), limit)
