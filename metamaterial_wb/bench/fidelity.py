@@ -11,15 +11,11 @@ note, section 2.4):
   phi_max(sign D_ref_i)``; reported as RMS and max over nodes;
 * node position after rigid (Kabsch) alignment to the reference, divided by the cell size (max and RMS).
 """
-import math
 import time
 
-import numpy as np
-
+from metamaterial_wb.bench.measures import REFERENCE_OPTIONS, compare, kabsch_error, twist  # noqa: F401
 from metamaterial_wb.core.models import run_model
 from metamaterial_wb.core.scene import Scene
-
-REFERENCE_OPTIONS = {"tol": 1e-11, "load_steps": 4, "max_iter": 60}
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -74,44 +70,6 @@ def standard_scenes(amplitude=0.5):
 # ----------------------------------------------------------------------------------------------------
 # error measures
 # ----------------------------------------------------------------------------------------------------
-def twist(R):
-    from metamaterial_wb.core.lattice.solve import node_twist
-    return node_twist(np.asarray(R, float))
-
-
-def kabsch_error(P, Q):
-    """Distances between points P and reference points Q after the best rigid alignment of P onto Q."""
-    from metamaterial_wb.core.lattice.solve import kabsch
-    if len(P) < 2:
-        return np.zeros(len(P))
-    Rm, tv = kabsch(P, Q)
-    return np.linalg.norm(P @ Rm.T + tv - Q, axis=1)
-
-
-def compare(scene, result, reference):
-    """Error of one model result against the reference (dict of RMS/max in D units and cell sizes)."""
-    from metamaterial_wb.core.lattice.geometry import LatticeGeometry
-
-    geo = LatticeGeometry(scene)
-    phi = twist(result.rotations)
-    phi_ref = reference.phi if hasattr(reference, "phi") else twist(reference.rotations)
-    diff = phi - phi_ref
-    w = float(np.mean(diff))
-    Dref = geo.D_from_phi(phi_ref)
-    dD = geo.parity * (diff - w) / np.where(Dref >= 0, geo.closing_rad, geo.opening_rad)
-    dpos = kabsch_error(np.asarray(result.positions_mm, float), np.asarray(reference.positions_mm, float))
-    dpos = dpos / scene.cell_size_mm
-    sq = np.sort(dD ** 2)[::-1]
-    return {"rms_D": float(np.sqrt(np.mean(dD ** 2))), "max_D": float(np.abs(dD).max()),
-            "rms_pos": float(np.sqrt(np.mean(dpos ** 2))), "max_pos": float(dpos.max()),
-            "rigid_rotation_deg": math.degrees(w),
-            # where the error sits: share of the squared angle error in the 5 worst nodes, and how far the
-            # result and the reference turn their plates (in-plane, rigid rotation removed)
-            "worst5_share": float(sq[:5].sum() / sq.sum()) if sq.sum() > 0 else 0.0,
-            "max_turn_deg": math.degrees(float(np.abs(phi - w).max())),
-            "reference_max_turn_deg": math.degrees(float(np.abs(phi_ref).max()))}
-
-
 def timed(name, scene, repeats=3, budget_s=2.0, **options):
     """Run a model; wall time = best of up to ``repeats`` cold runs (fewer when a run is slow)."""
     best = None

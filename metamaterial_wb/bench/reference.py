@@ -30,7 +30,7 @@ class ExtrapolatedReference:
 
 def _aligned(results):
     """Plate rotations (rigid rotation removed against the finest) and positions (Kabsch onto the finest)."""
-    from metamaterial_wb.bench.fidelity import twist
+    from metamaterial_wb.bench.measures import twist
     from metamaterial_wb.core.lattice.solve import kabsch
 
     fin = results[-1]
@@ -66,7 +66,7 @@ def converged_reference(scene, levels=HINGE_LEVELS, options=None, progress=None)
     ``study``: ``{"levels": [{"n", "time_s", "converged", "info", "result"}], "order", "order_assumed",
     "uncertainty": {"rms_D", "max_D", "max_pos"}, "used_levels"}``.
     """
-    from metamaterial_wb.bench.fidelity import REFERENCE_OPTIONS, compare
+    from metamaterial_wb.bench.measures import REFERENCE_OPTIONS, compare
 
     opts = dict(REFERENCE_OPTIONS if options is None else options)
     runs = []

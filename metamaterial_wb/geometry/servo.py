@@ -126,7 +126,7 @@ def _check_servo_fit(spec, p, f):
 def build_servo_housing(spec, p):
     """Housing (tub with the servo cavity, on the housing node) and horn adapter (on the other node),
     the shaft on the joint's pivot: the servo turns node B about the hinge, as simulated."""
-    from metamaterial_wb.geometry.modules import _fc, _finish, _lateral_points, _pins_at, box
+    from metamaterial_wb.geometry.solids import _fc, _finish, _lateral_points, _pins_at, box
 
     App, Part = _fc()
     V = App.Vector

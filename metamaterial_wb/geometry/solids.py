@@ -1,0 +1,71 @@
+"""Solid primitives shared by the module builders (modules.py, servo.py): boxes, the designed snap pin, pins
+placed at socket points, and the one-fuse-one-cut finish that returns a single valid solid."""
+from metamaterial_wb.geometry.snapfit import design_snap_fit
+
+PIN_OVERLAP_MM = 0.5        # pins reach this far into the module body so that the fuse joins them
+
+
+def _fc():
+    from metamaterial_wb.geometry.fc import freecad
+    return freecad()
+
+
+def box(u0, u1, v0, v1, z0, z1):
+    App, Part = _fc()
+    return Part.makeBox(u1 - u0, v1 - v0, z1 - z0, App.Vector(u0, v0, z0))
+
+
+def make_pin(p, up=False, snap=None):
+    """Split snap pin at the origin (socket axis). Down (default): from the sheet top face into the socket,
+    barb latching under the bottom ledge. ``up``: the same pin mirrored to stick up from z = 0. ``snap``:
+    the designed prongs (geometry/snapfit.py; default: designed for the module material of ``p``)."""
+    if snap is None:
+        snap = design_snap_fit(p, p.module_material)
+    App, Part = _fc()
+    V = App.Vector
+    T = p.sheet_thickness_mm
+    clr = p.clearance_mm
+    lip = p.socket_lip_height_mm
+    r = p.socket_radius_mm - clr
+    rb = p.counterbore_radius_mm - clr
+    z_tip = clr
+    z_sh = lip - clr
+    shaft = Part.makeCylinder(r, T + PIN_OVERLAP_MM - z_sh, V(0, 0, z_sh))
+    barb = Part.makeCone(r, rb, z_sh - z_tip, V(0, 0, z_tip))
+    pin = shaft.fuse(barb)
+    slot_w = snap.slot_mm
+    slot = Part.makeBox(slot_w, 2 * rb + 2, snap.slot_top_mm - (z_tip - 1.0), V(-0.5 * slot_w, -rb - 1, z_tip - 1.0))
+    pin = pin.cut(slot).removeSplitter()
+    pin = pin.Solids[0] if len(pin.Solids) == 1 else pin
+    if up:
+        pin = pin.mirror(V(0, 0, 0.5 * T), V(0, 0, 1))       # now from z = -overlap up to T - clearance
+    return pin
+
+
+def _pins_at(p, points, up=False, z_shift=0.0, snap=None):
+    App, _ = _fc()
+    proto = make_pin(p, up, snap)
+    out = []
+    for (u, v) in points:
+        m = App.Matrix()
+        m.move(App.Vector(u, v, z_shift))
+        out.append(proto.transformed(m))
+    return out
+
+
+def _lateral_points(p, u_centre):
+    d = 0.5 * p.plate_side_mm_global - p.socket_inset_mm
+    return [(u_centre, d), (u_centre, -d)]
+
+
+def _finish(body_parts, cutters, what):
+    """One fuse for all bodies, one cut for all cutters; returns a single valid solid."""
+    base, rest = body_parts[0], body_parts[1:]
+    shape = base.fuse(rest) if rest else base
+    if cutters:
+        shape = shape.cut(cutters)
+    shape = shape.removeSplitter()
+    if len(shape.Solids) != 1:
+        from metamaterial_wb.core.errors import MetamaterialError
+        raise MetamaterialError(f"{what}: the module came out as {len(shape.Solids)} solids")
+    return shape.Solids[0]
