@@ -4,7 +4,7 @@ import FreeCADGui
 import pytest
 from PySide import QtGui
 
-from metamaterial_wb.gui import taskpanels
+from metamaterial_wb.gui import panels
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -21,8 +21,8 @@ def doc():
     name = d.Name
     yield d
     if FreeCADGui.Control.activeDialog():
-        if taskpanels.ACTIVE is not None:
-            taskpanels.ACTIVE.reject()
+        if panels.active() is not None:
+            panels.active().reject()
         else:
             FreeCADGui.Control.closeDialog()
     if name in FreeCAD.listDocuments():
@@ -33,6 +33,6 @@ def run_panel(cmd):
     """Run a workbench command and return the task panel it opened."""
     FreeCADGui.runCommand(cmd)
     QtGui.QApplication.processEvents()
-    p = taskpanels.ACTIVE
+    p = panels.active()
     assert p is not None and FreeCADGui.Control.activeDialog(), f"{cmd} opened no task panel"
     return p
