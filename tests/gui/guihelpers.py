@@ -36,3 +36,133 @@ def run_panel(cmd):
     p = panels.active()
     assert p is not None and FreeCADGui.Control.activeDialog(), f"{cmd} opened no task panel"
     return p
+
+
+# ---- real widget events (QTest): clicks, typing, slider drags, the task dialog's buttons, the 3D view
+def qtest():
+    try:
+        from PySide2 import QtTest
+    except ImportError:   # FreeCAD 1.1: PySide6
+        from PySide6 import QtTest
+    return QtTest.QTest
+
+
+def process(ms=0):
+    """Process events (for ``ms`` milliseconds)."""
+    import time
+    end = time.perf_counter() + ms / 1000.0
+    QtGui.QApplication.processEvents()
+    while time.perf_counter() < end:
+        QtGui.QApplication.processEvents()
+        time.sleep(0.005)
+
+
+def click(widget):
+    """A real left click in the middle of ``widget``."""
+    from PySide import QtCore
+    assert widget.isVisible(), f"{widget} is not visible"
+    qtest().mouseClick(widget, QtCore.Qt.MouseButton.LeftButton)
+    process()
+
+
+def type_into(edit, text, enter=True):
+    """Select everything in a line edit / spin box and type ``text`` (then Return)."""
+    from PySide import QtCore
+    edit.setFocus()
+    line = edit.lineEdit() if hasattr(edit, "lineEdit") and edit.lineEdit() is not None else edit
+    line.selectAll()
+    qtest().keyClicks(line, text)
+    if enter:
+        qtest().keyClick(line, QtCore.Qt.Key.Key_Return)
+    process()
+
+
+def drag_slider(slider, value):
+    """Drag the slider's handle with the mouse to where ``value`` is (press, moves, release)."""
+    from PySide import QtCore
+    opt = QtGui.QStyleOptionSlider()
+    slider.initStyleOption(opt)
+    style = slider.style()
+    handle = style.subControlRect(QtGui.QStyle.ComplexControl.CC_Slider, opt,
+                                  QtGui.QStyle.SubControl.SC_SliderHandle, slider)
+    groove = style.subControlRect(QtGui.QStyle.ComplexControl.CC_Slider, opt,
+                                  QtGui.QStyle.SubControl.SC_SliderGroove, slider)
+    span = groove.width() - handle.width()
+
+    def x_of(v):
+        return groove.x() + handle.width() // 2 + QtGui.QStyle.sliderPositionFromValue(
+            slider.minimum(), slider.maximum(), int(v), span)
+    y = handle.center().y()
+    start = handle.center()
+    t = qtest()
+    t.mousePress(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, start)
+    x0, x1 = start.x(), x_of(value)
+    steps = 8
+    for k in range(1, steps + 1):
+        pos = QtCore.QPoint(int(round(x0 + (x1 - x0) * k / steps)), y)
+        ev = QtGui.QMouseEvent(QtCore.QEvent.Type.MouseMove, QtCore.QPointF(pos), QtCore.Qt.MouseButton.LeftButton,
+                               QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier)
+        QtGui.QApplication.sendEvent(slider, ev)
+        process()
+    t.mouseRelease(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier,
+                   QtCore.QPoint(x1, y))
+    process()
+
+
+def dialog_button(which="Ok"):
+    from metamaterial_wb.gui.panels.base import task_buttons
+    box = task_buttons()
+    assert box is not None, "no task dialog is shown"
+    return box.button(getattr(QtGui.QDialogButtonBox.StandardButton, which))
+
+
+def press_ok():
+    """Click the task dialog's OK button; True when the panel closed."""
+    b = dialog_button("Ok")
+    if b.isEnabled():
+        click(b)
+    else:
+        process()
+    return panels.active() is None
+
+
+def press_cancel():
+    click(dialog_button("Cancel"))
+    return panels.active() is None
+
+
+def view_widget():
+    """The 3D view's GL viewport (receives the mouse events Coin sees)."""
+    view = FreeCADGui.ActiveDocument.ActiveView
+    gv = view.graphicsView()
+    return gv.viewport()
+
+
+def screen_point(vec):
+    """Qt widget coordinates of a global 3D point in the active view."""
+    from PySide import QtCore
+    view = FreeCADGui.ActiveDocument.ActiveView
+    x, y = view.getPointOnScreen(vec)
+    h = view_widget().height()
+    return QtCore.QPoint(int(round(x)), int(round(h - 1 - y)))
+
+
+def hover_view(point):
+    from PySide import QtCore
+    w = view_widget()
+    ev = QtGui.QMouseEvent(QtCore.QEvent.Type.MouseMove, QtCore.QPointF(point), QtCore.Qt.MouseButton.NoButton,
+                           QtCore.Qt.MouseButton.NoButton, QtCore.Qt.KeyboardModifier.NoModifier)
+    QtGui.QApplication.sendEvent(w, ev)
+    process()
+
+
+def click_view(point):
+    from PySide import QtCore
+    hover_view(point)
+    qtest().mouseClick(view_widget(), QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, point)
+    process()
+
+
+def run_command(cmd):
+    """Run a command as the toolbar would and return the task panel it opened."""
+    return run_panel(cmd)
