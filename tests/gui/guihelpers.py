@@ -65,23 +65,28 @@ def click(widget):
     process()
 
 
-def type_into(edit, text, enter=True):
-    """Select everything in a line edit / spin box and type ``text`` (then Return)."""
+def type_into(edit, text, enter=False):
+    """Select everything in a line edit / spin box, type ``text`` and leave the field with Tab (as a
+    user moving on; ``enter=True`` presses Return instead, which also triggers the dialog's OK)."""
     from PySide import QtCore
     edit.setFocus()
     line = edit.lineEdit() if hasattr(edit, "lineEdit") and edit.lineEdit() is not None else edit
     line.selectAll()
     qtest().keyClicks(line, text)
-    if enter:
-        qtest().keyClick(line, QtCore.Qt.Key.Key_Return)
+    qtest().keyClick(line, QtCore.Qt.Key.Key_Return if enter else QtCore.Qt.Key.Key_Tab)
     process()
 
 
 def drag_slider(slider, value):
     """Drag the slider's handle with the mouse to where ``value`` is (press, moves, release)."""
     from PySide import QtCore
+    process(100)                      # the panel's layout settles (the slider gets its width)
     opt = QtGui.QStyleOptionSlider()
     slider.initStyleOption(opt)
+    opt.rect = slider.rect()
+    opt.minimum, opt.maximum = slider.minimum(), slider.maximum()
+    opt.sliderPosition = opt.sliderValue = slider.value()
+    opt.orientation = slider.orientation()
     style = slider.style()
     handle = style.subControlRect(QtGui.QStyle.ComplexControl.CC_Slider, opt,
                                   QtGui.QStyle.SubControl.SC_SliderHandle, slider)
@@ -104,6 +109,7 @@ def drag_slider(slider, value):
                                QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier)
         QtGui.QApplication.sendEvent(slider, ev)
         process()
+    drag_slider.last = (slider.rect(), handle, groove, span, x0, x1, slider.value())
     t.mouseRelease(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier,
                    QtCore.QPoint(x1, y))
     process()

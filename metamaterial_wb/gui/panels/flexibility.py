@@ -1,10 +1,16 @@
-"""Flexibility: global and per-joint hinge sizes with the resulting k1 / k2."""
+"""Flexibility: global and per-joint hinge sizes with the resulting k1 / k2.
+
+Every size change is checked at once against the scene validator (sizes that fit the cell), the
+calibration table and the design (a stored fold must stay within the axis' maximum, which depends on
+the hinge length): a problem is shown in red under the hinge sizes and OK is refused.
+"""
 from PySide import QtGui
 
-from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.errors import MetamaterialError, SceneError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.panels.base import BasePanel, transaction
+from metamaterial_wb.gui.panels.base import BasePanel
+from metamaterial_wb.gui.panels.checks import design_problem
 
 
 class FlexibilityPanel(BasePanel):
@@ -20,12 +26,13 @@ class FlexibilityPanel(BasePanel):
         f = QtGui.QFormLayout(g)
         self.length = self._spin(self.scene.hinge["length_mm"])
         self.width = self._spin(self.scene.hinge["width_mm"])
-        self.thick = self._spin(self.scene.hinge["thickness_mm"], hi=100.0)
+        self.thick = self._spin(self.scene.hinge["thickness_mm"])
         f.addRow("Length", self.length)
         f.addRow("Width", self.width)
         f.addRow("Thickness", self.thick)
         self.k_label = QtGui.QLabel("")
         f.addRow("k1, k2", self.k_label)
+        f.addRow(self.problem_label("hinge"))
         self.layout.addWidget(g)
         pj = QtGui.QGroupBox("One joint (click a hinge in the 3D view)")
         pf = QtGui.QFormLayout(pj)
@@ -46,6 +53,7 @@ class FlexibilityPanel(BasePanel):
         pf.addRow(bl)
         self.ov_list = QtGui.QListWidget()
         pf.addRow(self.ov_list)
+        pf.addRow(self.problem_label("joints"))
         self.layout.addWidget(pj)
         self.finish_layout()
         for w in (self.length, self.width, self.thick):
@@ -61,10 +69,11 @@ class FlexibilityPanel(BasePanel):
         self.watch_selection(scene_obj, on_joint=lambda j: self.joint.setCurrentText(j))
 
     @staticmethod
-    def _spin(v, hi=20.0):
+    def _spin(v, hi=1000.0):
         s = QtGui.QDoubleSpinBox()
         s.setDecimals(2)
-        s.setRange(0.01, hi)
+        s.setRange(0.01, hi)           # wide: the validator and the design say what fits, in words
+        s.setKeyboardTracking(False)
         s.setSingleStep(0.1)
         s.setSuffix(" mm")
         s.setValue(v)
@@ -80,11 +89,10 @@ class FlexibilityPanel(BasePanel):
         try:
             k1, k2 = self.k_values(self.length.value(), self.width.value(), self.thick.value())
             self.k_label.setText(f"k1 = {k1:.3f}, k2 = {k2:.3f}")
-            self.error.setText("")
-        except MetamaterialError as exc:
+        except MetamaterialError:
             self.k_label.setText("out of the calibrated range")
-            self.show_error(str(exc))
         self._update_jk()
+        self.validate()
 
     def _update_jk(self, *_):
         try:
@@ -108,28 +116,49 @@ class FlexibilityPanel(BasePanel):
     def remove_override(self):
         self.overrides.pop(self.joint.currentText(), None)
         self._refresh_list()
+        self.validate()
 
     def _refresh_list(self):
         self.ov_list.clear()
         for name, ov in sorted(self.overrides.items()):
             self.ov_list.addItem(f"{name}: " + ", ".join(f"{k} {v:g}" for k, v in sorted(ov.items())))
 
-    def apply(self):
+    def scene_dict(self):
         joints = [dict({"joint": k}, **v) for k, v in sorted(self.overrides.items()) if v]
         d = structure.compose_scene(self.obj).to_dict()
         d["hinge"] = {"length_mm": float(self.length.value()), "width_mm": float(self.width.value()),
                       "thickness_mm": float(self.thick.value())}
         d["joints"] = joints
-        Scene.from_dict(d)  # validates sizes against the cell before anything changes
-        from metamaterial_wb.core.calibration import joint_stiffness
-        joint_stiffness(Scene.from_dict(d))  # and against the calibration table
+        return d
+
+    def validate(self):
+        """Check the sizes as OK would use them; the problem is shown under the sizes it is about."""
+        hinge = joints = ""
+        try:
+            sc = Scene.from_dict(self.scene_dict())
+        except SceneError as exc:
+            if str(exc.field).startswith("joints"):
+                joints = str(exc)
+            else:
+                hinge = str(exc)
+        else:
+            problem = design_problem(sc)
+            if problem:
+                hinge = f"with these sizes: {problem}"
+        self.set_problem("hinge", hinge)
+        self.set_problem("joints", joints)
+        return not (hinge or joints)
+
+    def apply(self):
+        if not self.validate():
+            raise MetamaterialError(self.problem_text())
+        d = self.scene_dict()
+        joints = d["joints"]
         doc = self.obj.Document
-        with transaction(doc, "Flexibility"):
+
+        def change():
             self.obj.HingeLength = float(self.length.value())
             self.obj.HingeWidth = float(self.width.value())
             self.obj.HingeThickness = float(self.thick.value())
             structure.set_scene_fields(self.obj, joints=joints or None)
-            doc.recompute()
-
-
-# ----------------------------------------------------------------------------------------------
+        self.commit(doc, "Flexibility", change)
