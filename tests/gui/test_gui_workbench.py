@@ -91,7 +91,7 @@ def test_new_structure_panel_layout_editor(doc):
     p.cols.setValue(3)
     p.preset_grid()
     p.toggle(1, 1)                      # a hole in the middle: the seed forbids a closed contour
-    assert "closed contour" in p.status.text()
+    assert "closed contour" in p.problem_label("grid").text() and p.problem_label("grid").isVisible()
     assert p.accept() is False and "closed contour" in p.error.text()
     assert FreeCADGui.Control.activeDialog()
     p.preset_chain()

@@ -1,4 +1,12 @@
-"""Animate: timeline from the motors' motion profiles or a simulated trajectory; streaming."""
+"""Animate: timeline from the motors' motion profiles or a simulated trajectory; streaming.
+
+The clock follows wall time: each timer tick shows the frame of *now* (start time + elapsed wall time
+x speed), so a frame that costs more than its slot makes the next ones skip ahead (frames are dropped,
+time is not). The panel shows the achieved frame rate and the real-time factor (animation seconds per
+wall second over speed; 1.00 = real time). The stream controller sends the values for the wall-clock
+time, whatever the view manages to draw. Cancel puts the display back and leaves a saved document
+unmodified.
+"""
 import json
 import math
 import os
@@ -11,16 +19,9 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel, transaction, _slider, np_zeros
+from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
-
-
-def hardware_available():
-    """True when the hardware package (serial link + streamer) can be imported."""
-    try:
-        from metamaterial_wb.hardware import Link, Streamer, channel_map  # noqa: F401
-        return True
-    except ImportError:
-        return False
+from metamaterial_wb.gui.panels.stream import StreamController, hardware_available, servo_scales
 
 
 class AnimatePanel(BasePanel):
@@ -31,9 +32,11 @@ class AnimatePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
+        self.keep_clean(scene_obj.Document)
         self.saved = structure.display_state(scene_obj)
         self.scene = structure.compose_scene(scene_obj)
         self.solver = structure.solver_for(scene_obj, self.scene)
+        self.scales = servo_scales(self.scene)
         self.table = QtGui.QTableWidget(len(self.scene.actuators), 4)
         self.table.setHorizontalHeaderLabels(["motor", "amplitude", "freq (Hz)", "phase (deg)"])
         self.spins = {}
@@ -115,40 +118,44 @@ class AnimatePanel(BasePanel):
         th.addWidget(self.traj_sim_btn)
         th.addWidget(self.traj_off_btn)
         tv.addLayout(th)
-        self.traj_progress = QtGui.QProgressBar()
-        self.traj_progress.setRange(0, 1000)
-        self.traj_progress.setValue(0)
-        self.traj_progress.setVisible(False)
-        tv.addWidget(self.traj_progress)
+        self.sim_box = JobBox()
+        self.traj_progress = self.sim_box.progress
+        tv.addWidget(self.sim_box)
         self.traj_label = QtGui.QLabel("playing: the motors' profiles")
         self.traj_label.setWordWrap(True)
         tv.addWidget(self.traj_label)
         self.layout.addWidget(tg)
+        self.values_label = QtGui.QLabel("")
+        self.values_label.setToolTip("motor values now: servo angle (value in -1..1)")
+        self.layout.addWidget(self.values_label)
+        self.rate_label = QtGui.QLabel("")
+        self.rate_label.setToolTip("achieved frame rate while playing and the real-time factor (animation "
+                                   "seconds per wall second, over the speed): 1.00 = real time")
+        self.layout.addWidget(self.rate_label)
         self.stats = QtGui.QLabel("")
         self.layout.addWidget(self.stats)
         self.finish_layout()
         self.trajectory = None
         self.trajectory_data = None
         self.floor = None
-        self.sim_job = None
-        self.sim_timer = QtCore.QTimer()
-        self.sim_timer.setInterval(100)
-        self.sim_timer.timeout.connect(self._poll_simulation)
+        self.sim = ThreadJob(self.sim_box, self._simulated, self._simulation_failed, self._simulation_cancelled)
         self.traj_load_btn.clicked.connect(self._browse_trajectory)
         self.traj_sim_btn.clicked.connect(lambda: self.simulate_trajectory(self.traj_seconds.value()))
         self.traj_off_btn.clicked.connect(self.clear_trajectory)
         self.t = 0.0
         self.frames = 0
-        self.streamer = None
-        self.link = None
-        self.stream_error = None
+        self.stream = StreamController(self.values_at, self.clock)
         self.shown_values = {}
+        self.anchor = None            # (wall time, animation time) of the last start / scrub / speed change
+        self.rate_window = []         # (wall, animation time) of the frames shown while playing
         self.preview_scene = self.scene
         fps = max(1, int(preferences.get("AnimationFps")))
         self.dt = 1.0 / fps
         self.timer = QtCore.QTimer()
-        self.timer.setInterval(int(1000 / fps))
+        self.timer.setInterval(max(1, int(1000 / fps)))
+        self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
         self.timer.timeout.connect(self.tick)
+        self.speed.valueChanged.connect(lambda *_: self._reanchor())
         self.play_btn.toggled.connect(self._play_toggled)
         self.timeline.sliderMoved.connect(self._scrub)
         self.connect_btn.toggled.connect(self._connect_toggled)
@@ -257,12 +264,15 @@ class AnimatePanel(BasePanel):
         self.solver._last = None
         self.show_time(0.0)
 
-    def simulate_trajectory(self, seconds):
-        """Run core.dynamics on this structure in a background thread (progress bar); plays it when done."""
-        import threading
+    @property
+    def sim_job(self):
+        return self.sim if self.sim.running else None
 
+    def simulate_trajectory(self, seconds):
+        """Run core.dynamics on this structure in a background thread (progress bar + Cancel); plays it
+        when done."""
         from metamaterial_wb.objects.engine import run_dynamics
-        if self.sim_job is not None:
+        if self.sim.running:
             self.show_error("a simulation is already running")
             return False
         scene = structure.compose_scene(self.obj)
@@ -271,56 +281,34 @@ class AnimatePanel(BasePanel):
         for a in d["actuators"]:
             a["profile"] = prof[a["name"]]
         scene = Scene.from_dict(d)
-        job = {"progress": 0.0, "result": None, "error": None, "done": False, "seconds": float(seconds),
-               "fps": 1.0 / self.dt}
-
-        def work():
-            try:
-                job["result"] = run_dynamics(scene, job["seconds"], fps=job["fps"],
-                                             progress=lambda f: job.__setitem__("progress", f))
-            except Exception as exc:  # noqa: BLE001 - reported in the panel
-                job["error"] = str(exc)
-            job["done"] = True
-
-        self.sim_job = job
+        fps = 1.0 / self.dt
         self.traj_sim_btn.setEnabled(False)
-        self.traj_progress.setValue(0)
-        self.traj_progress.setVisible(True)
         self.traj_label.setText(f"simulating {seconds:g} s ...")
-        job["thread"] = threading.Thread(target=work, daemon=True)
-        job["thread"].start()
-        self.sim_timer.start()
-        return True
+        self.clear_error()
+        return self.sim.start(lambda report: run_dynamics(scene, float(seconds), fps=fps,
+                                                          progress=lambda f: report(f)),
+                              text=f"simulating {seconds:g} s of dynamics ...")
 
-    def _poll_simulation(self):
-        job = self.sim_job
-        if job is None:
-            self.sim_timer.stop()
-            return
-        self.traj_progress.setValue(int(1000 * min(1.0, job["progress"])))
-        if not job["done"]:
-            return
-        self.sim_timer.stop()
-        self.sim_job = None
+    def _simulated(self, result):
         self.traj_sim_btn.setEnabled(True)
-        self.traj_progress.setVisible(False)
-        if job["error"]:
-            self.show_error(f"simulation failed: {job['error']}")
-            self.traj_label.setText("playing: the motors' profiles")
-            return
-        data, summary = job["result"]
+        data, summary = result
         self.last_simulation = summary
         if self.load_trajectory(data):
             self.traj_label.setText(self.traj_label.text() + f"; centre of mass moved "
                                     f"{summary['displacement_mm']:+.2f} mm")
 
+    def _simulation_failed(self, message):
+        self.traj_sim_btn.setEnabled(True)
+        self.show_error(f"simulation failed: {message}")
+        self.traj_label.setText("playing: the motors' profiles")
+
+    def _simulation_cancelled(self):
+        self.traj_sim_btn.setEnabled(True)
+        self.traj_label.setText("simulation cancelled; playing: the motors' profiles")
+
     def wait_simulation(self, timeout_s=60.0):
         """Block (processing events) until the background simulation is done (tests, scripts)."""
-        end = time.perf_counter() + timeout_s
-        while self.sim_job is not None and time.perf_counter() < end:
-            QtGui.QApplication.processEvents()
-            time.sleep(0.01)
-        return self.sim_job is None
+        return self.sim.wait(timeout_s)
 
     def show_time(self, t):
         t0 = time.perf_counter()
@@ -343,29 +331,72 @@ class AnimatePanel(BasePanel):
         self.timeline.setValue(int(round(1000 * min(t, dur) / dur)))
         self.timeline.blockSignals(False)
         self.time_label.setText(f"t = {t:.2f} s")
-        # what is shown is what the streamer sends (its thread reads this dict at 50 Hz)
         self.shown_values = {a.name: float(vals[a.name]) for a in self.scene.actuators}
-        if self.stream_error:
-            self.show_error(f"streaming stopped: {self.stream_error}")
-            self.stream_error = None
+        self.values_label.setText("  ".join(f"{n} {v * self.scales.get(n, 90.0):+.1f} deg ({v:+.2f})"
+                                            for n, v in self.shown_values.items()))
+        err = self.stream.take_error()
+        if err:
+            self.show_error(f"streaming stopped: {err}")
             self.connect_btn.setChecked(False)
         self.stats.setText(f"frame {self.frames}: {1000 * (time.perf_counter() - t0):.1f} ms (no recompute)")
 
     def step(self, n=1):
-        """Advance ``n`` frames as the timer would (tests and scripted playback)."""
+        """Advance ``n`` frames of ``dt`` (scripted playback, independent of wall time)."""
         for _ in range(n):
-            self.tick()
+            self.show_time(self._wrap(self.t + self.dt * self.speed.value()))
+        self._reanchor()
 
-    def tick(self):
-        t = self.t + self.dt * self.speed.value()
+    def _wrap(self, t):
         dur = self.duration.value()
         if t > dur:
             if self.loop.isChecked():
-                t = t - dur
+                t = math.fmod(t, dur)
             else:
                 t = dur
                 self.pause()
+        return t
+
+    def _reanchor(self):
+        self.anchor = (time.perf_counter(), self.t)
+        self.rate_window = []
+
+    def clock(self, now=None):
+        """The animation time at wall time ``now`` (default: now); the paused time when not playing."""
+        if not self.timer.isActive() or self.anchor is None:
+            return self.t
+        now = time.perf_counter() if now is None else now
+        wall0, t0 = self.anchor
+        t = t0 + (now - wall0) * self.speed.value()
+        dur = self.duration.value()
+        if t > dur:
+            t = math.fmod(t, dur) if self.loop.isChecked() else dur
+        return t
+
+    def tick(self):
+        """Timer: show the frame of the wall-clock time (frames that did not fit are skipped)."""
+        now = time.perf_counter()
+        if self.anchor is None:
+            self._reanchor()
+        wall0, t0 = self.anchor
+        raw = t0 + (now - wall0) * self.speed.value()
+        t = self._wrap(raw)
         self.show_time(t)
+        if raw > self.duration.value() and self.loop.isChecked():
+            self.anchor = (now, t)          # keep the clock exact across the wrap
+        self._rate(now, raw)
+
+    def _rate(self, now, anim_t):
+        w = self.rate_window
+        w.append((now, anim_t))
+        while len(w) > 2 and now - w[0][0] > 2.0:
+            w.pop(0)
+        if len(w) >= 2 and now > w[0][0]:
+            span = now - w[0][0]
+            fps = (len(w) - 1) / span
+            rtf = (w[-1][1] - w[0][1]) / span / max(self.speed.value(), 1e-9)
+            self.achieved_fps, self.real_time_factor = fps, rtf
+            self.rate_label.setText(f"{fps:.1f} frames/s achieved (target {1.0 / self.dt:.0f}); "
+                                    f"real-time factor {rtf:.2f}")
 
     def play(self):
         self.play_btn.setChecked(True)
@@ -376,6 +407,7 @@ class AnimatePanel(BasePanel):
     def _play_toggled(self, on):
         if on:
             self.play_btn.setText("Pause")
+            self._reanchor()
             self.timer.start()
         else:
             self.play_btn.setText("Play")
@@ -383,6 +415,7 @@ class AnimatePanel(BasePanel):
 
     def _scrub(self, v):
         self.show_time(v / 1000.0 * self.duration.value())
+        self._reanchor()
 
     # hardware ---------------------------------------------------------------------------
     def _connect_toggled(self, on):
@@ -391,53 +424,31 @@ class AnimatePanel(BasePanel):
         else:
             self.disconnect()
 
+    @property
+    def streamer(self):
+        return self.stream.streamer
+
     def connect(self, port):
-        """Open the serial link, hand-shake, ARM and stream what the panel shows (50 Hz thread)."""
-        from metamaterial_wb.hardware import Link, Streamer, channel_map
-        link = None
+        """Open the serial link, hand-shake, ARM and stream the values of the animation clock (50 Hz)."""
         try:
-            dry = port.startswith("loop://")
-            link = Link.open(port, dry_run=dry)
-            streamer = Streamer(link, channel_map(self.preview_scene))
-            streamer.prepare()
-            streamer.on_error = self._stream_failed
             if not self.shown_values:
                 self.show_time(self.t)
-            streamer.start(lambda _t: dict(self.shown_values))
-        except Exception as exc:
-            if link is not None:
-                try:
-                    link.close()
-                except Exception:
-                    pass
+            self.stream.connect(port, self.preview_scene)
+        except Exception as exc:  # noqa: BLE001 - shown in the panel
             self.show_error(f"cannot stream to {port}: {exc}")
             self.connect_btn.blockSignals(True)
             self.connect_btn.setChecked(False)
             self.connect_btn.blockSignals(False)
             return False
-        self.link, self.streamer = link, streamer
+        self.clear_error()
         self.connect_btn.blockSignals(True)
         self.connect_btn.setChecked(True)
         self.connect_btn.blockSignals(False)
         self.connect_btn.setText("Disconnect")
         return True
 
-    def _stream_failed(self, message):  # called from the streaming thread
-        self.stream_error = message
-
     def disconnect(self):
-        stats = None
-        if self.streamer is not None:
-            try:
-                stats = self.streamer.stop(disarm=False)
-            except Exception:
-                pass
-        if self.link is not None:
-            try:
-                self.link.close()
-            except Exception:
-                pass
-        self.streamer = self.link = None
+        stats = self.stream.disconnect()
         self.connect_btn.blockSignals(True)
         self.connect_btn.setChecked(False)
         self.connect_btn.blockSignals(False)
@@ -448,10 +459,8 @@ class AnimatePanel(BasePanel):
 
     def cleanup(self):
         self.timer.stop()
-        self.sim_timer.stop()
+        self.sim.stop()               # the daemon thread stops at its next progress report
         self._remove_floor()
-        if self.sim_job is not None:
-            self.sim_job = None       # the daemon thread finishes on its own; its result is dropped
         self.disconnect()
         super().cleanup()
 

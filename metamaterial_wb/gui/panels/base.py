@@ -137,6 +137,7 @@ class BasePanel:
         self.problem_labels = {}     # field key -> red QLabel beside / under the field
         self.problems = {}           # field key -> message (OK is refused while not empty)
         self.picker = None
+        self._observer = None
         self._clean_docs = []
 
     def finish_layout(self):
@@ -163,7 +164,7 @@ class BasePanel:
         """Show (``text``) or clear (``""`` / None) the problem of one field; OK follows."""
         lab = self.problem_label(key)
         lab.setText(text or "")
-        lab.setVisible(bool(text))
+        lab.setVisible(bool(text) and lab.parent() is not None)   # never a floating window
         if text:
             self.problems[key] = text
         else:
@@ -221,6 +222,12 @@ class BasePanel:
         if self.picker is not None:
             self.picker.remove()
             self.picker = None
+        if self._observer is not None:
+            try:
+                FreeCADGui.Selection.removeObserver(self._observer)
+            except Exception:  # pragma: no cover
+                pass
+            self._observer = None
 
     def accept(self):
         if self.problems:
@@ -254,6 +261,39 @@ class BasePanel:
         except Exception as exc:  # pragma: no cover - no 3D view
             self.picker = None
             FreeCAD.Console.PrintWarning(f"Metamaterial: no 3D-view picking ({exc})\n")
+        # a hinge / node selected otherwise (tree, Python, a click the picker left to FreeCAD) counts too
+        panel = self
+
+        class Obs:
+            def addSelection(self, doc, obj, sub, pnt):
+                try:
+                    panel._selected(scene_obj, obj, sub, on_joint, on_node)
+                except Exception as exc:  # pragma: no cover - interactive
+                    panel.show_error(str(exc))
+
+        self._observer = Obs()
+        FreeCADGui.Selection.addObserver(self._observer, 0)   # 0: unresolved, keeps "Hinges" + "12.Face3"
+
+    def _selected(self, scene_obj, obj_name, sub, on_joint, on_node):
+        # a selection arrives as (container, "Hinges.12.Face3") or (Hinges, "12.Face3")
+        parts = str(sub or "").split(".")
+        for k in range(len(parts) - 1):
+            if parts[k] in (getattr(scene_obj.HingeArray, "Name", None), getattr(scene_obj.NodeArray, "Name", None)):
+                obj_name, sub = parts[k], ".".join(parts[k + 1:])
+                break
+        idx = pick_index(sub)
+        if idx is None:
+            return
+        from metamaterial_wb.objects import structure
+        scene = structure.compose_scene(scene_obj)
+        if scene_obj.HingeArray is not None and obj_name == scene_obj.HingeArray.Name and on_joint:
+            name = scene.topology.joint_names[idx]
+            self.picked("joint", name)
+            on_joint(name)
+        elif scene_obj.NodeArray is not None and obj_name == scene_obj.NodeArray.Name and on_node:
+            i, j = scene.topology.nodes[idx]
+            self.picked("node", f"N{i},{j}")
+            on_node(f"N{i},{j}")
 
     def picked(self, kind, name, hover=False):
         """The picker's report: say in the panel what is under the cursor / what was picked."""

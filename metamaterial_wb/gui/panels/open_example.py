@@ -9,7 +9,7 @@ import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.panels.base import BasePanel, transaction, _fit
+from metamaterial_wb.gui.panels.base import BasePanel, _fit
 
 
 def example_files():
@@ -67,8 +67,7 @@ class OpenExamplePanel(BasePanel):
             raise MetamaterialError("choose an example")
         scene = Scene.load(metamaterial_wb.example_path(item.text()))
         doc = self.doc or FreeCAD.ActiveDocument or FreeCAD.newDocument(scene.name or "Metamaterial")
-        with transaction(doc, "Open example"):
-            self.result = structure.make_structure(doc, scene)
+        self.commit(doc, "Open example", lambda: setattr(self, "result", structure.make_structure(doc, scene)))
         _fit(doc)
 
 

@@ -1,9 +1,10 @@
 """Place motor / angular constraint on a joint."""
 from PySide import QtGui
 
+from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.panels.base import BasePanel, transaction
+from metamaterial_wb.gui.panels.base import BasePanel
 
 
 class PlaceItemPanel(BasePanel):
@@ -25,10 +26,15 @@ class PlaceItemPanel(BasePanel):
         self.joint.addItems(self.scene.topology.joint_names)
         self.value = QtGui.QDoubleSpinBox()
         self.value.setRange(-1.0, 1.0)
+        self.value.setDecimals(3)
         self.value.setSingleStep(0.05)
+        self.value_deg = QtGui.QLabel("")
+        vrow = QtGui.QHBoxLayout()
+        vrow.addWidget(self.value)
+        vrow.addWidget(self.value_deg)
         f.addRow("Name", self.name)
         f.addRow("Joint (or click a hinge)", self.joint)
-        f.addRow("Value D", self.value)
+        f.addRow("Value D (-1..1)", vrow)
         if kind == "actuator":
             self.amp = QtGui.QDoubleSpinBox()
             self.amp.setRange(0.0, 1.0)
@@ -44,11 +50,25 @@ class PlaceItemPanel(BasePanel):
             f.addRow("Sine amplitude", self.amp)
             f.addRow("Frequency", self.freq)
             f.addRow("Phase offset", self.phase)
+        f.addRow(self.problem_label("item"))
         self.layout.addLayout(f)
         self.finish_layout()
+        self.value.valueChanged.connect(self._validate)
+        self.name.textChanged.connect(self._validate)
+        self.joint.currentTextChanged.connect(self._validate)
+        self._validate()
         self.watch_selection(scene_obj, on_joint=lambda j: self.joint.setCurrentText(j))
 
-    def apply(self):
+    def _validate(self, *_):
+        v = float(self.value.value())
+        self.value_deg.setText(f"= {v * 90.0:+.1f} deg servo" if self.kind == "actuator" else "")
+        try:
+            self.scene_with_item()
+            self.set_problem("item", "")
+        except MetamaterialError as exc:
+            self.set_problem("item", str(exc))
+
+    def scene_with_item(self):
         name = self.name.text().strip()
         joint = self.joint.currentText()
         profile = None
@@ -61,9 +81,10 @@ class PlaceItemPanel(BasePanel):
         if profile:
             item["profile"] = profile
         d["actuators" if self.kind == "actuator" else "constraints"].append(item)
-        Scene.from_dict(d)
+        return Scene.from_dict(d), name, joint, profile
+
+    def apply(self):
+        _sc, name, joint, profile = self.scene_with_item()   # the whole scene, validated before any change
         doc = self.obj.Document
-        with transaction(doc, self.TITLE):
-            self.result = structure.make_item(doc, self.obj, self.kind, name, joint, float(self.value.value()),
-                                              profile)
-            doc.recompute()
+        self.commit(doc, self.TITLE, lambda: setattr(self, "result", structure.make_item(
+            doc, self.obj, self.kind, name, joint, float(self.value.value()), profile)))

@@ -4,7 +4,7 @@ from PySide import QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import design_adapter, structure
-from metamaterial_wb.gui.panels.base import BasePanel, transaction
+from metamaterial_wb.gui.panels.base import BasePanel
 from metamaterial_wb.gui.panels.overlays import AxisOverlay, axis_segment
 
 
@@ -15,6 +15,7 @@ class RotaryAxesPanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
+        self.keep_clean(scene_obj.Document)
         self.scene = structure.compose_scene(scene_obj)
         self.old = {(a.direction, a.line): a.to_dict() for a in self.scene.axes}
         lines = design_adapter.candidate_lines(self.scene)
@@ -36,7 +37,7 @@ class RotaryAxesPanel(BasePanel):
                 self.buttons[(d, line)] = b
             lay.addStretch(1)
             self.layout.addWidget(box)
-        self.violations = QtGui.QLabel("")
+        self.violations = self.problem_label("axes")
         self.violations.setWordWrap(True)
         self.violations.setStyleSheet("color: #c00000;")
         self.layout.addWidget(self.violations)
@@ -79,7 +80,8 @@ class RotaryAxesPanel(BasePanel):
 
     def _changed(self, *_):
         v = self.current_violations()
-        self.violations.setText("\n".join(v) if v else "")
+        self.set_problem("axes", "\n".join(v))
+        self.clear_error()
         if getattr(self, "overlay", None) is not None:
             z = 0.5 * self.scene.hinge["thickness_mm"] + 0.5
             cand = [axis_segment(self.scene, d, line, z) for (d, line) in sorted(self.buttons)]
@@ -102,10 +104,9 @@ class RotaryAxesPanel(BasePanel):
             raise MetamaterialError("the axes break the rules: " + "; ".join(v))
         self.cleanup()
         doc = self.obj.Document
-        with transaction(doc, "Rotary axes"):
-            # changing the axes invalidates a previous joint configuration
-            structure.set_scene_fields(self.obj, axes=self.axes() or None, joint_config=None)
-            doc.recompute()
+        # changing the axes invalidates a previous joint configuration
+        self.commit(doc, "Rotary axes", lambda: structure.set_scene_fields(self.obj, axes=self.axes() or None,
+                                                                           joint_config=None))
 
 
 # ----------------------------------------------------------------------------------------------

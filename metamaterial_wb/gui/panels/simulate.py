@@ -5,7 +5,7 @@ from PySide import QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.panels.base import BasePanel, transaction, _slider
+from metamaterial_wb.gui.panels.base import BasePanel, _slider
 
 
 class SimulatePanel(BasePanel):
@@ -16,8 +16,12 @@ class SimulatePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
+        self.keep_clean(scene_obj.Document)
         self.saved = structure.display_state(scene_obj)
         self.scene = structure.compose_scene(scene_obj)
+        from metamaterial_wb.gui.panels.stream import servo_scales
+        self.scales = servo_scales(self.scene)
+        self.initial = {}
         f = QtGui.QFormLayout()
         self.model = QtGui.QComboBox()
         self.model.addItems(list(scene_obj.getEnumerationsOfProperty("Model")))
@@ -38,14 +42,18 @@ class SimulatePanel(BasePanel):
         il = QtGui.QGridLayout(ibox)
         self.sliders = {}
         self.labels = {}
+        self.kinds = {}
         for r, (kind, it) in enumerate(self.scene.fixed_items()):
             il.addWidget(QtGui.QLabel(("motor " if kind == "actuator" else "clip ") + f"{it.name} ({it.joint})"), r, 0)
-            s = _slider(-100, 100, int(round(100 * it.value)))
-            lab = QtGui.QLabel(f"{it.value:+.2f}")
+            s = _slider(-1000, 1000, int(round(1000 * it.value)))
+            self.initial[it.name] = (s.value(), float(it.value))
+            lab = QtGui.QLabel("")
             il.addWidget(s, r, 1)
             il.addWidget(lab, r, 2)
             self.sliders[it.name] = s
             self.labels[it.name] = lab
+            self.kinds[it.name] = kind
+            self._label(it.name, float(it.value))
             s.valueChanged.connect(lambda v, n=it.name: self._item_moved(n))
         if not self.sliders:
             il.addWidget(QtGui.QLabel("No motors yet: use 'Place motor'."), 0, 0)
@@ -59,9 +67,12 @@ class SimulatePanel(BasePanel):
         self.finish_layout()
         self.solver = None
         self.frames = 0
+        self.update_ms = None
+        self.update_times = []
         self.model.currentTextChanged.connect(self._model_changed)
         self.global_slider.valueChanged.connect(self._global_moved)
-        self.use_global.toggled.connect(lambda _v: self.update())
+        self.use_global.toggled.connect(self._global_toggled)
+        self._global_toggled(self.use_global.isChecked(), update=False)
         self._model_changed(self.model.currentText())
 
     def _model_changed(self, name):
@@ -78,6 +89,20 @@ class SimulatePanel(BasePanel):
         except MetamaterialError as exc:
             self.show_error(str(exc))
 
+    def _label(self, name, v):
+        if self.kinds.get(name) == "actuator":
+            self.labels[name].setText(f"{v * self.scales.get(name, 90.0):+.1f} deg ({v:+.3f})")
+        else:
+            self.labels[name].setText(f"D {v:+.3f}")
+
+    def _global_toggled(self, on, update=True):
+        """Global deformation overrides the motors: their sliders are disabled while it is on."""
+        for s in self.sliders.values():
+            s.setEnabled(not on)
+            s.setToolTip("overridden by Global deformation (untick it to use the motors)" if on else "")
+        if update:
+            self.update()
+
     def _global_moved(self, *_):
         if not self.use_global.isChecked():
             self.use_global.setChecked(True)  # toggled -> update
@@ -85,17 +110,19 @@ class SimulatePanel(BasePanel):
             self.update()
 
     def _item_moved(self, name):
-        self.labels[name].setText(f"{self.sliders[name].value() / 100:+.2f}")
-        if self.use_global.isChecked():
-            self.use_global.setChecked(False)  # toggled -> update
-        else:
-            self.update()
+        self._label(name, self.sliders[name].value() / 1000.0)
+        self.update()
 
     def values(self):
-        return {n: s.value() / 100.0 for n, s in self.sliders.items()}
+        """The values the sliders show; an untouched slider keeps the stored value exactly."""
+        out = {}
+        for n, s in self.sliders.items():
+            v0, stored = self.initial[n]
+            out[n] = stored if s.value() == v0 else s.value() / 1000.0
+        return out
 
     def set_value(self, name, value):
-        self.sliders[name].setValue(int(round(100 * value)))
+        self.sliders[name].setValue(int(round(1000 * value)))
 
     def update(self):
         if self.solver is None:
@@ -109,18 +136,25 @@ class SimulatePanel(BasePanel):
         except MetamaterialError as exc:
             self.show_error(str(exc))
             return
+        t1 = time.perf_counter()
         structure.apply_frame(self.obj, self.solver, frame, purge=True)
         self.frames += 1
         self.last_frame = frame
-        dt = (time.perf_counter() - t0) * 1000
-        self.error.setText("")
-        self.stats.setText(f"max |D| = {abs(frame.D).max():.3f}; update {dt:.1f} ms (no recompute)")
+        t2 = time.perf_counter()
+        # the panel's own update timer (solve + poses + placements; the view renders afterwards)
+        self.update_ms = {"solve": 1000 * (t1 - t0), "placements": 1000 * (t2 - t1), "total": 1000 * (t2 - t0)}
+        self.update_times.append(self.update_ms["total"])
+        self.clear_error()
+        self.stats.setText(f"max |D| = {abs(frame.D).max():.3f}; update {self.update_ms['total']:.1f} ms "
+                           f"(solve {self.update_ms['solve']:.1f}, placements {self.update_ms['placements']:.1f}; "
+                           "no recompute)")
 
     def apply(self):
         structure.restore_display(self.obj, self.saved)
         vals = self.values()
         doc = self.obj.Document
-        with transaction(doc, "Simulate"):
+
+        def change():
             for it in self.obj.Items:
                 if it.ItemName in vals and abs(it.Value - vals[it.ItemName]) > 1e-12:
                     it.Value = vals[it.ItemName]
@@ -128,7 +162,7 @@ class SimulatePanel(BasePanel):
             self.obj.GlobalDeformation = self.global_slider.value() / 100.0
             if self.obj.Model != self.model.currentText():
                 self.obj.Model = self.model.currentText()
-            doc.recompute()
+        self.commit(doc, "Simulate", change)
 
     def reject(self):
         structure.restore_display(self.obj, self.saved)
