@@ -61,7 +61,11 @@ def click(widget):
     """A real left click in the middle of ``widget``."""
     from PySide import QtCore
     assert widget.isVisible(), f"{widget} is not visible"
-    qtest().mouseClick(widget, QtCore.Qt.MouseButton.LeftButton)
+    if isinstance(widget, (QtGui.QCheckBox, QtGui.QRadioButton)):     # on the box, not the empty stretch
+        pos = QtCore.QPoint(8, widget.height() // 2)
+        qtest().mouseClick(widget, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, pos)
+    else:
+        qtest().mouseClick(widget, QtCore.Qt.MouseButton.LeftButton)
     process()
 
 
@@ -75,6 +79,10 @@ def type_into(edit, text, enter=False):
     qtest().keyClicks(line, text)
     qtest().keyClick(line, QtCore.Qt.Key.Key_Return if enter else QtCore.Qt.Key.Key_Tab)
     process()
+    if edit.hasFocus() or line.hasFocus():       # the window had no keyboard focus: leave the field anyway
+        line.clearFocus()
+        edit.clearFocus()
+        process()
 
 
 def drag_slider(slider, value):

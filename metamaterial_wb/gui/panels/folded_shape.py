@@ -11,6 +11,7 @@ from PySide import QtCore, QtGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
+from metamaterial_wb.gui.panels.checks import unconfigured
 from metamaterial_wb.objects import design_adapter, structure
 
 FOLD_RANGE = (-180.0, 180.0)     # the scene validator's range of axes[k].fold_deg
@@ -44,7 +45,7 @@ class FoldedShapePanel(BasePanel):
         self.keep_clean(scene_obj.Document)
         self.scene = structure.compose_scene(scene_obj)
         self.saved = structure.display_state(scene_obj)
-        self.limits = axis_limits(self.scene) if self.scene.axes else []
+        self.limits = axis_limits(unconfigured(self.scene)) if self.scene.axes else []
         self.spins, self.sliders, self.limit_labels = [], [], []
         if not self.scene.axes:
             self.layout.addWidget(QtGui.QLabel("No rotary axes yet: use 'Rotary axes' first."))
@@ -77,6 +78,7 @@ class FoldedShapePanel(BasePanel):
             self.limit_labels.append(lim)
             s.valueChanged.connect(lambda v, k=k: self._slider_moved(k, v))
             spin.valueChanged.connect(lambda v, k=k: self._spin_changed(k, v))
+            spin.editingFinished.connect(lambda k=k: self._spin_changed(k, self.spins[k].value()))
         grid.setColumnStretch(1, 1)
         self.layout.addLayout(grid)
         self.layout.addWidget(self.printable)
@@ -163,7 +165,7 @@ class FoldedShapePanel(BasePanel):
         self.spins[k].setValue(float(deg))
 
     def configured_scene(self):
-        d = self.scene.to_dict()
+        d = unconfigured(self.scene).to_dict()
         for a, f in zip(d.get("axes", []), self.folds()):
             a["fold_deg"] = f
         sc = Scene.from_dict(d)
