@@ -4,8 +4,7 @@ The clock follows wall time: each timer tick shows the frame of *now* (start tim
 x speed), so a frame that costs more than its slot makes the next ones skip ahead (frames are dropped,
 time is not). The panel shows the achieved frame rate and the real-time factor (animation seconds per
 wall second over speed; 1.00 = real time). The stream controller sends the values for the wall-clock
-time, whatever the view manages to draw. Cancel puts the display back and leaves a saved document
-unmodified.
+time, whatever the view manages to draw. Cancel puts the display back.
 """
 import json
 import math
@@ -32,7 +31,6 @@ class AnimatePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
-        self.keep_clean(scene_obj.Document)
         self.saved = structure.display_state(scene_obj)
         self.scene = structure.compose_scene(scene_obj)
         self.solver = structure.solver_for(scene_obj, self.scene)

@@ -5,7 +5,7 @@ Rules kept by every panel:
 * nothing is recomputed while a slider moves or the animation plays: placements are moved from the
   stored factorisation (:class:`~metamaterial_wb.objects.engine.LiveSolver`);
 * the placements the panel moved are restored when it closes (OK writes the chosen values into the
-  properties and recomputes once, inside one transaction); Cancel leaves a saved document unmodified;
+  properties and recomputes once, inside one transaction);
 * every error is shown in the panel in words, next to the field it is about (``set_problem``), never as
   a modal dialog, never only in the Report view; a message disappears as soon as its cause is fixed;
 * OK is refused (and the OK button disabled) while the panel knows of a problem, and an OK whose
@@ -138,7 +138,6 @@ class BasePanel:
         self.problems = {}           # field key -> message (OK is refused while not empty)
         self.picker = None
         self._observer = None
-        self._clean_docs = []
 
     def finish_layout(self):
         self.layout.addWidget(self.error)
@@ -186,23 +185,6 @@ class BasePanel:
     def getStandardButtons(self):
         return QtGui.QDialogButtonBox.StandardButton.Ok | QtGui.QDialogButtonBox.StandardButton.Cancel
 
-    # document state ---------------------------------------------------------------------
-    def keep_clean(self, doc):
-        """Remember whether ``doc`` has unsaved changes, so Cancel can leave a saved document unmodified
-        (restoring the display placements marks it modified otherwise)."""
-        gd = FreeCADGui.getDocument(doc.Name) if doc is not None else None
-        if gd is not None and hasattr(gd, "Modified"):
-            self._clean_docs.append((gd, bool(gd.Modified)))
-
-    def _restore_clean(self):
-        for gd, modified in self._clean_docs:
-            try:
-                if not modified:
-                    gd.Modified = False
-            except Exception:  # pragma: no cover - document closed
-                pass
-        self._clean_docs = []
-
     # OK / Cancel ------------------------------------------------------------------------
     def apply(self):
         """Do the panel's work; raise MetamaterialError to stay open with the message shown."""
@@ -245,7 +227,6 @@ class BasePanel:
     def reject(self):
         self.cleanup()
         _close()
-        self._restore_clean()
         return True
 
     # 3D-view picking --------------------------------------------------------------------

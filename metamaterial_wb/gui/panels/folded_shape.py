@@ -42,7 +42,6 @@ class FoldedShapePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
-        self.keep_clean(scene_obj.Document)
         self.scene = structure.compose_scene(scene_obj)
         self.saved = structure.display_state(scene_obj)
         self.limits = axis_limits(unconfigured(self.scene)) if self.scene.axes else []

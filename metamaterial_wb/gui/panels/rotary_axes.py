@@ -15,7 +15,6 @@ class RotaryAxesPanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
-        self.keep_clean(scene_obj.Document)
         self.scene = structure.compose_scene(scene_obj)
         self.old = {(a.direction, a.line): a.to_dict() for a in self.scene.axes}
         lines = design_adapter.candidate_lines(self.scene)

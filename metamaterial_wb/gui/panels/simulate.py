@@ -16,7 +16,6 @@ class SimulatePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
-        self.keep_clean(scene_obj.Document)
         self.saved = structure.display_state(scene_obj)
         self.scene = structure.compose_scene(scene_obj)
         from metamaterial_wb.gui.panels.stream import servo_scales
