@@ -17,9 +17,10 @@ from PySide import QtCore, QtGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.panels.base import BasePanel, transaction, _slider, np_zeros
+from metamaterial_wb.gui.panels.base import BasePanel, _slider, np_zeros
 from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
+from metamaterial_wb.gui.panels.profiles import SHAPES, KeyframeTable, keyframes_profile, wave_profile
 from metamaterial_wb.gui.panels.stream import StreamController, hardware_available, servo_scales
 
 
@@ -35,27 +36,49 @@ class AnimatePanel(BasePanel):
         self.scene = structure.compose_scene(scene_obj)
         self.solver = structure.solver_for(scene_obj, self.scene)
         self.scales = servo_scales(self.scene)
-        self.table = QtGui.QTableWidget(len(self.scene.actuators), 4)
-        self.table.setHorizontalHeaderLabels(["motor", "amplitude", "freq (Hz)", "phase (deg)"])
-        self.spins = {}
+        self.table = QtGui.QTableWidget(len(self.scene.actuators), 6)
+        self.table.setHorizontalHeaderLabels(["motor", "shape", "amplitude", "freq (Hz)", "phase (deg)",
+                                              "servo amplitude"])
+        self.spins, self.shapes, self.amp_deg, self.keys, self.stored = {}, {}, {}, {}, {}
         for r, a in enumerate(self.scene.actuators):
             p = a.profile or {"shape": "sine", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
             self.table.setItem(r, 0, QtGui.QTableWidgetItem(a.name))
+            shape = p.get("shape", "sine")
+            combo = QtGui.QComboBox()
+            combo.addItems(SHAPES)
+            if shape in ("sine", "keyframes"):
+                combo.setCurrentText(shape)
+            else:                                  # steps / constant from a file: kept as stored until changed
+                self.stored[a.name] = dict(p)
+                combo.insertItem(0, f"stored {shape}")
+                combo.setCurrentIndex(0)
+            self.keys[a.name] = list(zip(p.get("times_s", [0.0, 0.5]), p.get("values", [0.0, 0.5])))
+            self.table.setCellWidget(r, 1, combo)
+            self.shapes[a.name] = combo
             sp = []
             for c, (key, lo, hi, default) in enumerate((("amplitude", 0.0, 1.0, 0.5), ("frequency_hz", 0.0, 50.0, 0.5),
-                                                         ("phase_deg", -360.0, 360.0, 0.0)), start=1):
+                                                         ("phase_deg", -360.0, 360.0, 0.0)), start=2):
                 w = QtGui.QDoubleSpinBox()
                 w.setRange(lo, hi)
+                w.setDecimals(3 if key != "phase_deg" else 1)
                 w.setSingleStep(0.05 if key != "phase_deg" else 15.0)
-                w.setValue(float(p.get(key, default)) if p.get("shape", "sine") == "sine" else default)
-                w.setEnabled(p.get("shape", "sine") == "sine")
+                w.setValue(float(p.get(key, default)) if shape == "sine" else default)
                 w.valueChanged.connect(self._profiles_changed)
                 self.table.setCellWidget(r, c, w)
                 sp.append(w)
             self.spins[a.name] = sp
+            lab = QtGui.QLabel("")
+            self.table.setCellWidget(r, 5, lab)
+            self.amp_deg[a.name] = lab
+            combo.currentTextChanged.connect(lambda _t, n=a.name: self._shape_changed(n))
         self.table.setMaximumHeight(40 + 30 * max(1, len(self.scene.actuators)))
         self.table.horizontalHeader().setStretchLastSection(True)
         self.layout.addWidget(self.table)
+        self.keyframes = KeyframeTable(self._keys_edited)
+        self.keyframes.setVisible(False)
+        self.key_motor = None
+        self.layout.addWidget(self.keyframes)
+        self.layout.addWidget(self.problem_label("profiles"))
         tl = QtGui.QHBoxLayout()
         self.play_btn = QtGui.QPushButton("Play")
         self.play_btn.setCheckable(True)
@@ -171,15 +194,44 @@ class AnimatePanel(BasePanel):
     def profiles(self):
         out = {}
         for a in self.scene.actuators:
-            if a.profile is not None and a.profile.get("shape", "sine") != "sine":
-                out[a.name] = dict(a.profile)
+            shape = self.shapes[a.name].currentText()
+            if shape.startswith("stored"):
+                out[a.name] = dict(self.stored[a.name])
+                continue
+            if shape == "keyframes":
+                out[a.name] = keyframes_profile(self.keys[a.name], self.key_period(a.name))
                 continue
             amp, f, ph = (w.value() for w in self.spins[a.name])
-            p = {"shape": "sine", "amplitude": float(amp), "frequency_hz": float(f), "phase_deg": float(ph)}
-            if a.profile and a.profile.get("offset"):
+            p = wave_profile(shape, amp, f, ph)
+            if shape == "sine" and a.profile and a.profile.get("offset"):
                 p["offset"] = a.profile["offset"]
             out[a.name] = p
         return out
+
+    def key_period(self, name):
+        last = max((t for t, _v in self.keys[name]), default=0.0)
+        return max(self.duration.value(), last + 0.1) if hasattr(self, "duration") else last + 1.0
+
+    def _shape_changed(self, name):
+        shape = self.shapes[name].currentText()
+        for w in self.spins[name]:
+            w.setEnabled(shape in ("sine", "square", "triangle"))
+        if shape == "keyframes":
+            self.key_motor = name
+            self.keyframes.set_points(name, self.keys[name])
+            self.keyframes.setVisible(True)
+        elif self.key_motor == name:
+            self.keyframes.setVisible(False)
+            self.key_motor = None
+        self._profiles_changed()
+
+    def _keys_edited(self):
+        if self.key_motor is not None:
+            self.keys[self.key_motor] = self.keyframes.points()
+        self._profiles_changed()
+
+    def set_shape(self, name, shape):
+        self.shapes[name].setCurrentText(shape)
 
     def set_profile(self, name, amplitude=None, frequency_hz=None, phase_deg=None):
         w = self.spins[name]
@@ -192,11 +244,17 @@ class AnimatePanel(BasePanel):
         prof = self.profiles()
         for a in d["actuators"]:
             a["profile"] = prof[a["name"]]
+        for a in self.scene.actuators:
+            if a.name in self.amp_deg:
+                shape = self.shapes[a.name].currentText()
+                amp = self.spins[a.name][0].value() if shape in ("sine", "square", "triangle") else \
+                    max((abs(v) for _t, v in self.keys[a.name]), default=0.0)
+                self.amp_deg[a.name].setText(f"{amp * self.scales.get(a.name, 90.0):.1f} deg")
         try:
             self.preview_scene = Scene.from_dict(d)
-            self.error.setText("")
+            self.set_problem("profiles", "")
         except MetamaterialError as exc:
-            self.show_error(str(exc))
+            self.set_problem("profiles", str(exc))
 
     def values_at(self, t):
         from metamaterial_wb.core.motion import scene_values_at
@@ -467,18 +525,27 @@ class AnimatePanel(BasePanel):
         structure.restore_display(self.obj, self.saved)
         prof = self.profiles()
         doc = self.obj.Document
-        with transaction(doc, "Animate: motion profiles"):
+
+        def change():
+            import json
             for it in self.obj.Items:
                 p = prof.get(it.ItemName)
-                if it.Kind != "actuator" or p is None or p.get("shape") != "sine":
+                if it.Kind != "actuator" or p is None:
                     continue
-                if it.ProfileShape != "sine":
-                    it.ProfileShape = "sine"
-                for prop, key in (("Amplitude", "amplitude"), ("FrequencyHz", "frequency_hz"),
-                                  ("PhaseDeg", "phase_deg")):
-                    if abs(getattr(it, prop) - p[key]) > 1e-12:
-                        setattr(it, prop, p[key])
-            doc.recompute()
+                if p["shape"] == "sine":
+                    if it.ProfileShape != "sine":
+                        it.ProfileShape = "sine"
+                    for prop, key in (("Amplitude", "amplitude"), ("FrequencyHz", "frequency_hz"),
+                                      ("PhaseDeg", "phase_deg")):
+                        if abs(getattr(it, prop) - p[key]) > 1e-12:
+                            setattr(it, prop, p[key])
+                else:
+                    data = json.dumps({k: v for k, v in p.items() if k != "shape"})
+                    if it.ProfileShape != p["shape"]:
+                        it.ProfileShape = p["shape"]
+                    if it.ProfileData != data:
+                        it.ProfileData = data
+        self.commit(doc, "Animate: motion profiles", change)
 
     def reject(self):
         self.timer.stop()
