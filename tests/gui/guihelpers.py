@@ -155,10 +155,14 @@ def view_widget():
 def screen_point(vec):
     """Qt widget coordinates of a global 3D point in the active view."""
     from PySide import QtCore
+    process(100)                     # the panel's layout settles first (the 3D view may get narrower)
     view = FreeCADGui.ActiveDocument.ActiveView
+    w = view_widget()
+    # Quarter maps widget pixels onto Coin's viewport region, which follows a resize of the widget only at
+    # the next render (under Xvfb it lags): coin = (qx * Wc / Wq, Hc - 1 - qy * Hc / Hq) (measured)
+    wc, hc = view.getSize()
     x, y = view.getPointOnScreen(vec)
-    h = view_widget().height()
-    return QtCore.QPoint(int(round(x)), int(round(h - 1 - y)))
+    return QtCore.QPoint(int(round(x * w.width() / wc)), int(round((hc - 1 - y) * w.height() / hc)))
 
 
 def hover_view(point):

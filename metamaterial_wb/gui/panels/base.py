@@ -107,9 +107,9 @@ def _slider(lo=-100, hi=100, value=0):
 def task_buttons():
     """The task dialog's button box (OK / Cancel) of the shown panel, or None."""
     mw = FreeCADGui.getMainWindow()
+    sb = QtGui.QDialogButtonBox.StandardButton
     for box in mw.findChildren(QtGui.QDialogButtonBox):
-        ok = box.button(QtGui.QDialogButtonBox.StandardButton.Ok)
-        if ok is not None and box.isVisible():
+        if box.isVisible() and any(box.button(b) is not None for b in (sb.Ok, sb.Close)):
             return box
     return None
 
@@ -175,8 +175,9 @@ class BasePanel:
 
     def update_ok(self):
         box = task_buttons() if ACTIVE is self else None
-        if box is not None:
-            box.button(QtGui.QDialogButtonBox.StandardButton.Ok).setEnabled(not self.problems)
+        ok = box.button(QtGui.QDialogButtonBox.StandardButton.Ok) if box is not None else None
+        if ok is not None:
+            ok.setEnabled(not self.problems)
 
     def dialog_shown(self):
         """Called once the task dialog exists (the OK button can be enabled / disabled now)."""
