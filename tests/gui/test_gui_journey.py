@@ -25,9 +25,23 @@ SHOTS = os.environ.get("MM_GUI_SCREENSHOTS") == "1"
 
 
 def shot(n, name):
-    if SHOTS:
-        process(150)
-        FreeCADGui.getMainWindow().grab().save(os.path.join(IMG, f"gui-journey-{n:02d}-{name}.png"))
+    """The main window with the 3D view's own render pasted in (grab() does not see the GL image)."""
+    if not SHOTS:
+        return
+    import tempfile
+
+    from PySide import QtCore, QtGui
+    process(150)
+    mw = FreeCADGui.getMainWindow()
+    pix = mw.grab()
+    view = FreeCADGui.ActiveDocument.ActiveView
+    w = view.graphicsView().viewport()
+    tmp = os.path.join(tempfile.mkdtemp(), "view.png")
+    view.saveImage(tmp, w.width(), w.height(), "Current")
+    painter = QtGui.QPainter(pix)
+    painter.drawImage(w.mapTo(mw, QtCore.QPoint(0, 0)), QtGui.QImage(tmp))
+    painter.end()
+    pix.save(os.path.join(IMG, f"gui-journey-{n:02d}-{name}.png"))
 
 
 def hinge_point(sc, joint):

@@ -67,6 +67,7 @@ class FoldedShapePanel(BasePanel):
             s.setSingleStep(1)
             s.setPageStep(10)
             lim = QtGui.QLabel("")
+            lim.setWordWrap(True)
             lim.setToolTip(f"kinematic maximum bound by {why}" if why else "")
             grid.addWidget(s, 3 * k, 1)
             grid.addWidget(spin, 3 * k, 2)
@@ -124,8 +125,7 @@ class FoldedShapePanel(BasePanel):
             s.blockSignals(False)
             kin = f"kinematic +-{mx:.1f} deg" if mx is not None else "kinematic: n/a"
             pr = f"printable +-{pmx:.2f} deg" if pmx is not None else "printable: n/a"
-            self.limit_labels[k].setText(f"slider range +-{lim:.1f} deg; {kin}; {pr}"
-                                         if lim is not None else f"{kin}; {pr}")
+            self.limit_labels[k].setText(f"{kin}, {pr}" + (f" (slider +-{lim:.1f})" if lim is not None else ""))
         self._validate()
         self._preview_timer.start()
 
