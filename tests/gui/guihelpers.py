@@ -85,10 +85,7 @@ def type_into(edit, text, enter=False):
         process()
 
 
-def drag_slider(slider, value):
-    """Drag the slider's handle with the mouse to where ``value`` is (press, moves, release)."""
-    from PySide import QtCore
-    process(100)                      # the panel's layout settles (the slider gets its width)
+def _slider_geometry(slider):
     opt = QtGui.QStyleOptionSlider()
     slider.initStyleOption(opt)
     opt.rect = slider.rect()
@@ -100,26 +97,36 @@ def drag_slider(slider, value):
                                   QtGui.QStyle.SubControl.SC_SliderHandle, slider)
     groove = style.subControlRect(QtGui.QStyle.ComplexControl.CC_Slider, opt,
                                   QtGui.QStyle.SubControl.SC_SliderGroove, slider)
-    span = groove.width() - handle.width()
+    return handle, groove
 
-    def x_of(v):
-        return groove.x() + handle.width() // 2 + QtGui.QStyle.sliderPositionFromValue(
-            slider.minimum(), slider.maximum(), int(v), span)
+
+def _slider_x(slider, v):
+    """The handle centre's x for value ``v`` with the slider's current geometry."""
+    handle, groove = _slider_geometry(slider)
+    span = groove.width() - handle.width()
+    return groove.x() + handle.width() // 2 + QtGui.QStyle.sliderPositionFromValue(
+        slider.minimum(), slider.maximum(), int(round(v)), span)
+
+
+def drag_slider(slider, value, steps=8):
+    """Drag the slider's handle with the mouse to where ``value`` is (press, moves, release). Each move
+    is aimed with the slider's geometry of that moment (the panel may re-lay itself out while the view
+    follows the drag)."""
+    from PySide import QtCore
+    process(100)                      # the panel's layout settles (the slider gets its width)
+    handle, _groove = _slider_geometry(slider)
     y = handle.center().y()
-    start = handle.center()
+    v0 = slider.value()
     t = qtest()
-    t.mousePress(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, start)
-    x0, x1 = start.x(), x_of(value)
-    steps = 8
+    t.mousePress(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, handle.center())
+    pos = handle.center()
     for k in range(1, steps + 1):
-        pos = QtCore.QPoint(int(round(x0 + (x1 - x0) * k / steps)), y)
+        pos = QtCore.QPoint(_slider_x(slider, v0 + (value - v0) * k / steps), y)
         ev = QtGui.QMouseEvent(QtCore.QEvent.Type.MouseMove, QtCore.QPointF(pos), QtCore.Qt.MouseButton.LeftButton,
                                QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier)
         QtGui.QApplication.sendEvent(slider, ev)
         process()
-    drag_slider.last = (slider.rect(), handle, groove, span, x0, x1, slider.value())
-    t.mouseRelease(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier,
-                   QtCore.QPoint(x1, y))
+    t.mouseRelease(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, pos)
     process()
 
 

@@ -42,6 +42,8 @@ def test_click_picks_a_default_2mm_hinge_with_preselection(doc):
     sc = new_default_sheet(doc)
     assert sc.HingeLength.Value == pytest.approx(2.0)
     p = run_panel("MM_RotaryAxes")
+    # the view names the grid lines with the numbers the buttons and messages use
+    assert p.overlay.labels == [f"row {r}" for r in range(2)] + [f"col {c}" for c in range(6)]
     pt = screen_point(hinge_mid(sc, "H0,3"))
     hover_view(pt)
     assert p.pick_label.text() == "under the cursor: hinge H0,3 (click to pick it)"

@@ -34,13 +34,31 @@ class AxisOverlay:
             sep.addChild(n)
         return sep
 
-    def show(self, candidates, chosen):
+    def _label(self, text, at, rgb):
+        coin = self.coin
+        sep = coin.SoSeparator()
+        col = coin.SoBaseColor()
+        col.rgb = rgb
+        tr = coin.SoTranslation()
+        tr.translation.setValue(*at)
+        txt = coin.SoText2()
+        txt.string.setValue(text)
+        for n in (col, tr, txt):
+            sep.addChild(n)
+        return sep
+
+    def show(self, candidates, chosen, labels=()):
+        """Grid lines (grey dashed), chosen axes (orange) and, at the start of each candidate line, its
+        name ("col 3", "row 1": the numbers the panel's buttons and the messages use)."""
         self.root.removeAllChildren()
         self.n_candidates, self.n_chosen = len(candidates), len(chosen)
         if candidates:
             self.root.addChild(self._group(candidates, (0.55, 0.55, 0.6), 1.0, 0x0F0F))
         if chosen:
             self.root.addChild(self._group(chosen, (1.0, 0.5, 0.0), 4.0, 0xFFFF))
+        self.labels = list(labels)
+        for text, seg in zip(self.labels, candidates):
+            self.root.addChild(self._label(text, seg[0], (0.1, 0.1, 0.1)))
 
     def remove(self):
         if self.view is not None:

@@ -86,7 +86,8 @@ class RotaryAxesPanel(BasePanel):
             cand = [axis_segment(self.scene, d, line, z) for (d, line) in sorted(self.buttons)]
             chosen = [axis_segment(self.scene, d, line, z) for (d, line), b in sorted(self.buttons.items())
                       if b.isChecked()]
-            self.overlay.show(cand, chosen)
+            names = [f"{'col' if d == 'vertical' else 'row'} {line}" for (d, line) in sorted(self.buttons)]
+            self.overlay.show(cand, chosen, names)
 
     def cleanup(self):
         if getattr(self, "overlay", None) is not None:

@@ -1,7 +1,6 @@
 """Sleeve actuator (issue 9): spec file or parameters -> geometry in the document, prediction."""
 import json
 import os
-import time
 
 import FreeCAD
 from PySide import QtCore, QtGui
@@ -9,6 +8,7 @@ from PySide import QtCore, QtGui
 import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.panels.base import BasePanel, transaction, _fit
+from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 
 
 def sleeve_summary_text(summary):
@@ -87,12 +87,11 @@ class SleevePanel(BasePanel):
         self.predict_btn = QtGui.QPushButton("Predict")
         self.predict_btn.setToolTip("Unit-cell and sleeve force-displacement curves, snapping sequence "
                                     "(core.sleeve, about a second per curve)")
-        self.progress = QtGui.QProgressBar()
-        self.progress.setRange(0, 0)
-        self.progress.setVisible(False)
         pl.addWidget(self.predict_btn)
-        pl.addWidget(self.progress)
         self.layout.addLayout(pl)
+        self.jobbox = JobBox()
+        self.progress = self.jobbox.progress
+        self.layout.addWidget(self.jobbox)
         self.result = QtGui.QLabel("")
         self.result.setWordWrap(True)
         self.result.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
@@ -108,11 +107,8 @@ class SleevePanel(BasePanel):
         self.layout.addLayout(el)
         self.finish_layout()
         self.summary = None
-        self.job = None
         self.created = []
-        self.timer = QtCore.QTimer()
-        self.timer.setInterval(100)
-        self.timer.timeout.connect(self._poll)
+        self.prediction = ThreadJob(self.jobbox, self._predicted, self._prediction_failed, self._prediction_cancelled)
         self.open_btn.clicked.connect(self._browse)
         self.predict_btn.clicked.connect(self.predict)
         if os.path.exists(self.DEFAULT):
@@ -194,62 +190,48 @@ class SleevePanel(BasePanel):
         from metamaterial_wb.core.sleeve.spec import SleeveSpec
         return SleeveSpec(self.spec_dict(), "panel")
 
-    # prediction (background thread) -------------------------------------------------------
-    def predict(self):
-        import threading
+    # prediction (background thread, progress + Cancel) --------------------------------------
+    @property
+    def job(self):
+        return self.prediction if self.prediction.running else None
 
+    def predict(self):
         from metamaterial_wb.core.sleeve.pipeline import analyse
-        if self.job is not None:
+        if self.prediction.running:
             return False
         try:
             spec = self.spec()
         except MetamaterialError as exc:
             self.show_error(str(exc))
             return False
-        self.error.setText("")
-        job = {"done": False, "summary": None, "error": None, "stage": "", "spec": spec}
-
-        def work():
-            try:
-                job["summary"], _curves = analyse(spec, log=lambda s: job.__setitem__("stage", s))
-            except Exception as exc:  # noqa: BLE001 - reported in the panel
-                job["error"] = str(exc)
-            job["done"] = True
-
-        self.job = job
+        self.clear_error()
         self.predict_btn.setEnabled(False)
-        self.progress.setVisible(True)
         self.result.setText("predicting ...")
-        threading.Thread(target=work, daemon=True).start()
-        self.timer.start()
-        return True
+        stages = []
 
-    def _poll(self):
-        job = self.job
-        if job is None:
-            self.timer.stop()
-            return
-        if not job["done"]:
-            if job["stage"]:
-                self.result.setText("predicting: " + job["stage"])
-            return
-        self.timer.stop()
-        self.job = None
+        def work(report):
+            def log(stage):
+                stages.append(stage)
+                report(min(0.95, 0.1 * len(stages)), f"predicting: {stage}")
+            return analyse(spec, log=log)[0]
+        return self.prediction.start(work, text="predicting ...")
+
+    def _predicted(self, summary):
         self.predict_btn.setEnabled(True)
-        self.progress.setVisible(False)
-        if job["error"]:
-            self.result.setText("")
-            self.show_error(f"prediction failed: {job['error']}")
-            return
-        self.summary = job["summary"]
-        self.result.setText("\n".join(sleeve_summary_text(self.summary)))
+        self.summary = summary
+        self.result.setText("\n".join(sleeve_summary_text(summary)))
+
+    def _prediction_failed(self, message):
+        self.predict_btn.setEnabled(True)
+        self.result.setText("")
+        self.show_error(f"prediction failed: {message}")
+
+    def _prediction_cancelled(self):
+        self.predict_btn.setEnabled(True)
+        self.result.setText("prediction cancelled")
 
     def wait_prediction(self, timeout_s=120.0):
-        end = time.perf_counter() + timeout_s
-        while self.job is not None and time.perf_counter() < end:
-            QtGui.QApplication.processEvents()
-            time.sleep(0.01)
-        return self.job is None
+        return self.prediction.wait(timeout_s)
 
     def export(self, folder):
         """Write sleeve.step and sleeve.3mf into ``folder`` (via a temporary folder: nothing half-written).
@@ -286,8 +268,7 @@ class SleevePanel(BasePanel):
         return paths
 
     def cleanup(self):
-        self.timer.stop()
-        self.job = None
+        self.prediction.stop()
         super().cleanup()
 
     def apply(self):
