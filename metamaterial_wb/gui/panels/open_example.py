@@ -45,7 +45,7 @@ class OpenExamplePanel(BasePanel):
         self.finish_layout()
         self.list.currentTextChanged.connect(self._describe)
         if self.list.count():
-            items = self.list.findItems("fish", QtCore.Qt.MatchExactly)
+            items = self.list.findItems("fish", QtCore.Qt.MatchFlag.MatchExactly)
             self.list.setCurrentItem(items[0] if items else self.list.item(0))
 
     def _describe(self, name):
@@ -56,7 +56,7 @@ class OpenExamplePanel(BasePanel):
             self.desc.setText(str(exc))
 
     def select(self, name):
-        items = self.list.findItems(name, QtCore.Qt.MatchExactly)
+        items = self.list.findItems(name, QtCore.Qt.MatchFlag.MatchExactly)
         if not items:
             raise MetamaterialError(f"no example called {name!r}; have {example_files()}")
         self.list.setCurrentItem(items[0])

@@ -94,7 +94,7 @@ class SleevePanel(BasePanel):
         self.layout.addWidget(self.jobbox)
         self.result = QtGui.QLabel("")
         self.result.setWordWrap(True)
-        self.result.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        self.result.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
         self.layout.addWidget(self.result)
         el = QtGui.QHBoxLayout()
         self.export_dir = QtGui.QLineEdit(os.path.join(os.path.expanduser("~"), "sleeve_export"))
@@ -244,7 +244,7 @@ class SleevePanel(BasePanel):
             self.show_error("export: choose a folder")
             return []
         folder = os.path.abspath(folder)
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.CursorShape.WaitCursor)
         tmp = None
         try:
             spec = self.spec()
