@@ -1,6 +1,13 @@
-"""Animation frame rate of the workbench for a 10 x 10 sheet, excluding rendering.
+"""Live drag cost of the workbench (the Simulate panel's own update) and the animation frame rate.
 
     /usr/bin/python3 benchmarks/bench_gui.py [--rows 10 --cols 10 --frames 300]
+    /usr/bin/python3 benchmarks/bench_gui.py --write-doc      # 10 x 10 and 20 x 20, panel path too
+
+Panel path (issue 15, the figure users feel): FreeCAD's GUI is started under Xvfb on this same file
+(``xvfb-run freecad -u CFG benchmarks/bench_gui.py``); it builds the sheet with four motors, opens the
+Simulate panel with the real command, moves a motor slider step by step as a drag does and reads the
+panel's own update timer (``SimulatePanel.update_ms``: solve + poses + placements written to the
+link arrays, no recompute; the 3D view renders afterwards and is not counted).
 
 Measures, on the document objects the workbench creates (App level, no 3D view):
 
@@ -23,6 +30,8 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.append("/usr/lib/freecad-python3/lib")
 
 import FreeCAD  # noqa: E402
+
+GUI_OUT = os.environ.get("MM_BENCH_GUI_OUT")      # set when this file runs as a FreeCAD GUI macro
 
 if sys.path[0] != os.path.dirname(os.path.dirname(os.path.abspath(__file__))):
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -85,6 +94,94 @@ def measure(rows, cols, frames, baseline_frames):
             "live_ms": 1000 * t_live, "base_ms": 1000 * t_base}
 
 
+def measure_panel(rows, cols, moves=60):
+    """Inside the FreeCAD GUI: the Simulate panel's update timer while a motor slider is dragged."""
+    import FreeCADGui
+    from PySide import QtGui
+
+    from metamaterial_wb.gui import panels
+    FreeCADGui.activateWorkbench("MetamaterialWorkbench")
+    doc = FreeCAD.newDocument("BenchPanel")
+    FreeCAD.setActiveDocument(doc.Name)
+    sc = structure.make_structure(doc, sheet(rows, cols))
+    FreeCADGui.SendMsgToActiveView("ViewFit")
+    QtGui.QApplication.processEvents()
+    FreeCADGui.runCommand("MM_Simulate")
+    QtGui.QApplication.processEvents()
+    p = panels.active()
+    s = p.sliders["m1"]
+    p.update_times.clear()
+    wall, parts = [], []
+    for k in range(moves):
+        t0 = time.perf_counter()
+        s.setValue(int(round(1000 * math.sin(2 * math.pi * k / moves))))   # valueChanged -> the panel's update
+        wall.append(1000 * (time.perf_counter() - t0))
+        parts.append(dict(p.update_ms))
+        QtGui.QApplication.processEvents()                                  # the view renders (not counted)
+    times = sorted(p.update_times)
+    nodes = sc.NodeCount
+    p.reject()
+    FreeCAD.closeDocument(doc.Name)
+    return {"rows": rows, "cols": cols, "moves": len(times), "panel_median_ms": times[len(times) // 2],
+            "panel_p90_ms": times[int(0.9 * (len(times) - 1))], "slider_median_ms": sorted(wall)[len(wall) // 2],
+            "nodes": nodes, "solve_median_ms": sorted(q["solve"] for q in parts)[len(parts) // 2],
+            "placements_median_ms": sorted(q["placements"] for q in parts)[len(parts) // 2]}
+
+
+def gui_macro():
+    """Entry when run by FreeCAD's GUI: measure the panel path and write JSON to MM_BENCH_GUI_OUT."""
+    import json
+
+    from PySide import QtCore
+
+    def run():
+        rc = 1
+        try:
+            out = [measure_panel(n, n) for n in json.loads(os.environ.get("MM_BENCH_GUI_SIZES", "[10, 20]"))]
+            with open(GUI_OUT, "w", encoding="utf-8") as f:
+                json.dump(out, f)
+            rc = 0
+        except BaseException as exc:  # noqa: BLE001 - reported, FreeCAD must not stay open
+            print(f"bench_gui (GUI): {exc!r}", file=sys.__stderr__)
+        finally:
+            os._exit(rc)
+    QtCore.QTimer.singleShot(600 * 1000, lambda: os._exit(124))
+    QtCore.QTimer.singleShot(0, run)
+
+
+def panel_figures(sizes):
+    """Start the FreeCAD GUI under Xvfb on this file and return its panel measurements (or None)."""
+    import json
+    import shutil
+    import subprocess
+    import tempfile
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    if not (shutil.which("xvfb-run") and shutil.which("freecad")):
+        print("panel path: needs xvfb-run and freecad; skipped")
+        return None
+    tmp = tempfile.mkdtemp(prefix="bench-gui-")
+    cfg = os.path.join(tmp, "user.cfg")
+    shutil.copy(os.path.join(repo, "resources", "test_user.cfg"), cfg)
+    out = os.path.join(tmp, "panel.json")
+    env = dict(os.environ, MM_BENCH_GUI_OUT=out, MM_BENCH_GUI_SIZES=json.dumps(sizes))
+    subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "freecad", "-u", cfg, os.path.abspath(__file__),
+                    "-M", repo], env=env, timeout=900, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    if not os.path.exists(out):
+        print("panel path: the FreeCAD GUI run wrote no result")
+        return None
+    with open(out, encoding="utf-8") as f:
+        res = json.load(f)
+    shutil.rmtree(tmp, ignore_errors=True)
+    return res
+
+
+def report_panel(r, app):
+    print(f"panel path {r['rows']} x {r['cols']} ({r['moves']} slider moves, four motors): update median "
+          f"{r['panel_median_ms']:.2f} ms, p90 {r['panel_p90_ms']:.2f} ms (target <= 33 ms, aim <= 5 ms: "
+          f"{'met' if r['panel_median_ms'] <= 33 else 'NOT met'}); App-level live frame {app['live_ms']:.2f} ms; "
+          f"panel / App level {r['panel_median_ms'] / app['live_ms']:.2f} x")
+
+
 def report(r):
     fl, fs, fb = 1000 / r["live_ms"], 1000 / r["solve_ms"], 1000 / r["base_ms"]
     print(f"sheet {r['rows']} x {r['cols']}: {r['nodes']} nodes, {r['hinges']} hinges, {r['motors']} motors; "
@@ -104,15 +201,23 @@ def main(argv=None):
     ap.add_argument("--baseline-frames", type=int, default=20)
     ap.add_argument("--write-doc", action="store_true",
                     help="measure 10x10 and 20x20 and update the workbench section of docs/benchmarks.md")
+    ap.add_argument("--no-panel", action="store_true", help="skip the panel path (no FreeCAD GUI run)")
     args = ap.parse_args(argv)
     if not args.write_doc:
-        report(measure(args.rows, args.cols, args.frames, args.baseline_frames))
+        r = measure(args.rows, args.cols, args.frames, args.baseline_frames)
+        report(r)
+        if args.rows == args.cols and not args.no_panel:
+            for pr in panel_figures([args.rows]) or []:
+                report_panel(pr, r)
         return 0
     rows = []
     for n, fr, bf in ((10, args.frames, args.baseline_frames), (20, max(50, args.frames // 3), 10)):
         r = measure(n, n, fr, bf)
         report(r)
         rows.append(r)
+    panel = None if args.no_panel else panel_figures([10, 20])
+    for pr, r in zip(panel or [], rows):
+        report_panel(pr, r)
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from _report import machine_line, update_section
     lines = ["## Workbench animation frame rate (issue 5)", "",
@@ -130,14 +235,30 @@ def main(argv=None):
                      f"{r['live_ms']:.2f} | {1000 / r['live_ms']:.0f} | {r['base_ms']:.2f} | "
                      f"{r['base_ms'] / r['live_ms']:.1f} x |")
     ok = 1000 / rows[0]["live_ms"] >= 30
+    if panel:
+        lines += ["", "**Live drag, the panel's own path (issue 15)**: FreeCAD GUI under Xvfb, the Simulate panel "
+                  "opened by its command, a motor slider moved 60 times; the panel's update timer (solve + poses + "
+                  "placements written; the render that follows is not counted) beside the App-level live frame "
+                  "above. Target <= 33 ms per update on 20 x 20 with four motors (aim <= 5 ms).", "",
+                  "| sheet | panel update median (ms) | panel update p90 (ms) | App-level live frame (ms) | "
+                  "panel / App level | target <= 33 ms |", "| --- | --- | --- | --- | --- | --- |"]
+        for pr, r in zip(panel, rows):
+            lines.append(f"| {pr['rows']} x {pr['cols']} | {pr['panel_median_ms']:.2f} | {pr['panel_p90_ms']:.2f} | "
+                         f"{r['live_ms']:.2f} | {pr['panel_median_ms'] / r['live_ms']:.2f} x | "
+                         f"{'met' if pr['panel_median_ms'] <= 33 else 'NOT met'} |")
     lines += ["", f"Target (10 x 10 >= 30 frames/s excluding rendering): {'met' if ok else 'NOT met'}. "
-              "Most of a live frame is building the FreeCAD Placement objects (about 9 us each); the numpy "
-              "solve is under 1 ms. Under Xvfb with software OpenGL the render itself costs 30-110 ms per frame "
-              "(research note), so on screen the frame rate is bound by the renderer, not by the workbench.",
+              "Placements are built from one 4 x 4 matrix each (Placement(Matrix) is about 4x cheaper than "
+              "Placement(Vector, Rotation)); the numpy solve is a few ms. In the GUI, writing a link array's "
+              "PlacementList also updates its view provider, and that is most of the panel figure (measured in "
+              "the GUI on 10 x 10: hinge array about 14 ms, node array about 2 ms, solve about 1 ms), so the "
+              "panel target is NOT met on this machine (2 cores shared by about 8 engineers; timings are noisy). "
+              "Under Xvfb with software OpenGL the render itself costs 30-110 ms per frame (research note).",
               "", machine_line()]
     update_section("gui", "\n".join(lines))
     return 0
 
 
-if __name__ == "__main__":
+if GUI_OUT and getattr(FreeCAD, "GuiUp", False):
+    gui_macro()
+elif __name__ == "__main__":
     sys.exit(main())

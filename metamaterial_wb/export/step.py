@@ -127,6 +127,7 @@ def write_step(path, bodies, assembly_name="structure", colours=True):
         raise MetamaterialError("STEP: body names must be unique")
     if not bodies:
         raise MetamaterialError("STEP: nothing to write (no bodies)")
+    active = App.ActiveDocument            # closing the helper document must not leave none active
     try:
         doc = App.newDocument("mmwb_step_export", hidden=True)
     except TypeError:                      # older FreeCAD without the keyword
@@ -155,6 +156,8 @@ def write_step(path, bodies, assembly_name="structure", colours=True):
         write_atomic(path, text)
     finally:
         App.closeDocument(doc.Name)
+        if active is not None and active.Name in App.listDocuments():
+            App.setActiveDocument(active.Name)
     return path
 
 

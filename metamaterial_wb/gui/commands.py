@@ -44,16 +44,16 @@ class _Command:
 
     def Activated(self):
         from metamaterial_wb.core.errors import MetamaterialError
-        from metamaterial_wb.gui import taskpanels
+        from metamaterial_wb.gui import panels
         try:
             if self.NEEDS_SCENE:
                 sc = current_scene()
                 if sc is None:
                     FreeCAD.Console.PrintError(f"{self.MENU}: no metamaterial structure in the active document\n")
                     return
-                taskpanels.show(self.panel(sc))
+                panels.show(self.panel(sc))
             else:
-                taskpanels.show(self.panel(FreeCAD.ActiveDocument))
+                panels.show(self.panel(FreeCAD.ActiveDocument))
         except MetamaterialError as exc:   # e.g. the structure is invalid: say why, open nothing
             FreeCAD.Console.PrintError(f"{self.MENU}: {exc}\n")
             self.last_error = str(exc)
@@ -67,7 +67,7 @@ def _cmd(name, icon, menu, tip, make_panel, needs_scene=True):
 
 
 def _panels():
-    from metamaterial_wb.gui import taskpanels as tp
+    from metamaterial_wb.gui import panels as tp
     return tp
 
 

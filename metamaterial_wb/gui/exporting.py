@@ -1,92 +1,83 @@
-"""Export a structure from the document: STEP and 3MF.
+"""Export a structure: STEP and 3MF, the same pipeline as ``python -m metamaterial_wb build``.
 
-With the fabrication packages (``metamaterial_wb.geometry`` + ``metamaterial_wb.export``) the export
-is the same as ``python -m metamaterial_wb build``: one named body per node and hinge, PLA / TPU
-materials with per-part extruders, modules as separate files. The preferences (clearance, materials)
-are passed as fabrication parameters. Without those packages a simpler export of the displayed
-shapes is written (STEP through ImportGui with names and colours, 3MF through Mesh: one object).
+:func:`export_scene` does the work (no FreeCAD document, no Qt): one named body per node and hinge,
+PLA / TPU materials with per-part extruders, modules as separate files. The Export panel runs it in a
+child process (``python -m metamaterial_wb.gui.export_job``, see ``gui/panels/jobs.py``) so the GUI
+stays live and Cancel can stop it; scripts call :func:`export_structure` in-process. The preferences
+(clearance, materials) are passed as fabrication parameters.
 """
 import os
 
-import FreeCAD
-
 from metamaterial_wb.core.errors import MetamaterialError
-from metamaterial_wb.objects import structure
 
 
-def fabrication_available():
-    try:
-        from metamaterial_wb.commands.build import export_result  # noqa: F401
-        from metamaterial_wb.geometry.build import build_scene  # noqa: F401
-        return True
-    except ImportError:
-        return False
-
-
-def _stem(scene, scene_obj):
-    text = scene.name or scene_obj.Label or "structure"
+def stem_of(name, label=""):
+    text = name or label or "structure"
     keep = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text)
     return keep.strip("._") or "structure"
 
 
-def export_structure(scene_obj, out_dir, step=True, threemf=True, modules=True, warnings=None, sockets=True):
-    """Write the files into ``out_dir``; returns their paths. Problems that do not stop the export
-    (modules the fabrication package cannot build yet) are appended to ``warnings``."""
-    warnings = warnings if warnings is not None else []
+def preference_overrides():
+    """Fabrication parameters from the workbench preferences (GUI side)."""
+    from metamaterial_wb.gui import preferences
+    return {"clearance_mm": float(preferences.get("PrinterClearance")),
+            "rigid_material": preferences.get("RigidMaterial"),
+            "flexible_material": preferences.get("FlexibleMaterial"),
+            "module_material": preferences.get("ModuleMaterial")}
+
+
+def check_out_dir(out_dir):
     if not out_dir:
         raise MetamaterialError("export: give an output folder")
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise MetamaterialError(f"export: {out_dir!r} exists and is not a folder")
+
+
+def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=True, overrides=None, stem=None,
+                 warnings=None, progress=False):
+    """Write the files of ``scene`` into ``out_dir`` (atomically as a set); returns their paths.
+
+    A module the fabrication package cannot build (a conflict, an unknown servo) is an error naming it:
+    nothing is written; export without modules to get the sheet alone.
+    """
+    from metamaterial_wb.commands.build import export_result
+    from metamaterial_wb.geometry.build import build_scene
+    from metamaterial_wb.geometry.fc import freecad
+    from metamaterial_wb.geometry.params import fabrication_params
+
+    freecad()
+    warnings = warnings if warnings is not None else []
+    check_out_dir(out_dir)
+    over = dict(overrides or {})
+    if not sockets:
+        over["sockets"] = False
+    params = fabrication_params(scene, **over)
+    with_modules = bool(modules and scene.modules)
+    if with_modules:
+        from metamaterial_wb.geometry.modules import parse_modules
+        try:
+            parse_modules(scene, params)
+        except (MetamaterialError, NotImplementedError) as exc:
+            raise MetamaterialError(f"modules cannot be built ({exc}); nothing written - fix them or export "
+                                    "without modules") from None
+    elif modules is False and scene.modules:
+        warnings.append(f"{len(scene.modules)} module(s) not exported (Modules unchecked)")
+    result = build_scene(scene, modules=with_modules, progress=progress, params=params)
+    return export_result(result, out_dir, step=step, threemf=threemf, progress=progress,
+                         stem=stem or stem_of(scene.name))
+
+
+def export_structure(scene_obj, out_dir, step=True, threemf=True, modules=True, warnings=None, sockets=True):
+    """In-process export of a Scene object (scripts). The active document stays active."""
+    import FreeCAD
+
+    from metamaterial_wb.objects import structure
+    active = FreeCAD.ActiveDocument
     scene = structure.compose_scene(scene_obj)
-    stem = _stem(scene, scene_obj)
-    if fabrication_available():
-        from metamaterial_wb.commands.build import export_result
-        from metamaterial_wb.geometry.build import build_scene
-        from metamaterial_wb.geometry.params import fabrication_params
-        from metamaterial_wb.gui import preferences
-        overrides = {"clearance_mm": float(preferences.get("PrinterClearance")),
-                     "rigid_material": preferences.get("RigidMaterial"),
-                     "flexible_material": preferences.get("FlexibleMaterial"),
-                     "module_material": preferences.get("ModuleMaterial")}
-        if not sockets:
-            overrides["sockets"] = False
-        params = fabrication_params(scene, **overrides)
-        with_modules = bool(modules and scene.modules)
-        if with_modules:
-            from metamaterial_wb.geometry.modules import parse_modules
-            try:
-                parse_modules(scene, params)
-            except (MetamaterialError, NotImplementedError) as exc:
-                warnings.append(f"modules not exported: {exc}")
-                with_modules = False
-        result = build_scene(scene, modules=with_modules, progress=False, params=params)
-        return export_result(result, out_dir, step=step, threemf=threemf, progress=False, stem=stem)
-    return _fallback_export(scene_obj, out_dir, stem, step, threemf, modules)
-
-
-def _fallback_export(scene_obj, out_dir, stem, step, threemf, modules):
-    os.makedirs(out_dir, exist_ok=True)
-    doc = scene_obj.Document
-    parts = [o for o in (scene_obj.NodeArray, scene_obj.HingeArray) if o is not None]
-    written = []
-    if step:
-        path = os.path.join(out_dir, stem + "_sheet.step")
-        if FreeCAD.GuiUp:
-            import ImportGui
-            ImportGui.export(parts, path)
-        else:
-            import Import
-            Import.export(parts, path)
-        written.append(path)
-    if threemf:
-        import Mesh
-        path = os.path.join(out_dir, stem + "_sheet.3mf")
-        Mesh.export(parts, path, 0.05)
-        written.append(path)
-    if modules:
-        for k, m in enumerate(scene_obj.Modules):
-            path = os.path.join(out_dir, f"{stem}_{m.ModuleType}_{k + 1}.step")
-            m.Shape.exportStep(path)
-            written.append(path)
-    doc.recompute()
-    return written
+    try:
+        return export_scene(scene, out_dir, step=step, threemf=threemf, modules=modules, sockets=sockets,
+                            overrides=preference_overrides(), stem=stem_of(scene.name, scene_obj.Label),
+                            warnings=warnings)
+    finally:
+        if active is not None and active.Name in FreeCAD.listDocuments():
+            FreeCAD.setActiveDocument(active.Name)

@@ -10,18 +10,18 @@ class ViewProviderScene(ViewProviderBase):
     def setEdit(self, vobj, mode=0):
         if mode != 0:
             return None
-        from metamaterial_wb.gui import taskpanels
-        taskpanels.show(taskpanels.SimulatePanel(vobj.Object))
+        from metamaterial_wb.gui import panels
+        panels.show(panels.SimulatePanel(vobj.Object))
         return True
 
     def unsetEdit(self, vobj, mode=0):
         return True
 
     def doubleClicked(self, vobj):
-        from metamaterial_wb.gui import taskpanels
+        from metamaterial_wb.gui import panels
         if FreeCADGui.Control.activeDialog():
             return True
-        taskpanels.show(taskpanels.SimulatePanel(vobj.Object))
+        panels.show(panels.SimulatePanel(vobj.Object))
         return True
 
 

@@ -4,7 +4,7 @@ import FreeCADGui
 import pytest
 from PySide import QtGui
 
-from metamaterial_wb.gui import taskpanels
+from metamaterial_wb.gui import panels
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -21,8 +21,8 @@ def doc():
     name = d.Name
     yield d
     if FreeCADGui.Control.activeDialog():
-        if taskpanels.ACTIVE is not None:
-            taskpanels.ACTIVE.reject()
+        if panels.active() is not None:
+            panels.active().reject()
         else:
             FreeCADGui.Control.closeDialog()
     if name in FreeCAD.listDocuments():
@@ -33,6 +33,161 @@ def run_panel(cmd):
     """Run a workbench command and return the task panel it opened."""
     FreeCADGui.runCommand(cmd)
     QtGui.QApplication.processEvents()
-    p = taskpanels.ACTIVE
+    p = panels.active()
     assert p is not None and FreeCADGui.Control.activeDialog(), f"{cmd} opened no task panel"
     return p
+
+
+# ---- real widget events (QTest): clicks, typing, slider drags, the task dialog's buttons, the 3D view
+def qtest():
+    try:
+        from PySide2 import QtTest
+    except ImportError:   # FreeCAD 1.1: PySide6
+        from PySide6 import QtTest
+    return QtTest.QTest
+
+
+def process(ms=0):
+    """Process events (for ``ms`` milliseconds)."""
+    import time
+    end = time.perf_counter() + ms / 1000.0
+    QtGui.QApplication.processEvents()
+    while time.perf_counter() < end:
+        QtGui.QApplication.processEvents()
+        time.sleep(0.005)
+
+
+def click(widget):
+    """A real left click in the middle of ``widget``."""
+    from PySide import QtCore
+    assert widget.isVisible(), f"{widget} is not visible"
+    if isinstance(widget, (QtGui.QCheckBox, QtGui.QRadioButton)):     # on the box, not the empty stretch
+        pos = QtCore.QPoint(8, widget.height() // 2)
+        qtest().mouseClick(widget, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, pos)
+    else:
+        qtest().mouseClick(widget, QtCore.Qt.MouseButton.LeftButton)
+    process()
+
+
+def type_into(edit, text, enter=False):
+    """Select everything in a line edit / spin box, type ``text`` and leave the field with Tab (as a
+    user moving on; ``enter=True`` presses Return instead, which also triggers the dialog's OK)."""
+    from PySide import QtCore
+    edit.setFocus()
+    line = edit.lineEdit() if hasattr(edit, "lineEdit") and edit.lineEdit() is not None else edit
+    line.selectAll()
+    qtest().keyClicks(line, text)
+    qtest().keyClick(line, QtCore.Qt.Key.Key_Return if enter else QtCore.Qt.Key.Key_Tab)
+    process()
+    if edit.hasFocus() or line.hasFocus():       # the window had no keyboard focus: leave the field anyway
+        line.clearFocus()
+        edit.clearFocus()
+        process()
+
+
+def _slider_geometry(slider):
+    opt = QtGui.QStyleOptionSlider()
+    slider.initStyleOption(opt)
+    opt.rect = slider.rect()
+    opt.minimum, opt.maximum = slider.minimum(), slider.maximum()
+    opt.sliderPosition = opt.sliderValue = slider.value()
+    opt.orientation = slider.orientation()
+    style = slider.style()
+    handle = style.subControlRect(QtGui.QStyle.ComplexControl.CC_Slider, opt,
+                                  QtGui.QStyle.SubControl.SC_SliderHandle, slider)
+    groove = style.subControlRect(QtGui.QStyle.ComplexControl.CC_Slider, opt,
+                                  QtGui.QStyle.SubControl.SC_SliderGroove, slider)
+    return handle, groove
+
+
+def _slider_x(slider, v):
+    """The handle centre's x for value ``v`` with the slider's current geometry."""
+    handle, groove = _slider_geometry(slider)
+    span = groove.width() - handle.width()
+    return groove.x() + handle.width() // 2 + QtGui.QStyle.sliderPositionFromValue(
+        slider.minimum(), slider.maximum(), int(round(v)), span)
+
+
+def drag_slider(slider, value, steps=8):
+    """Drag the slider's handle with the mouse to where ``value`` is (press, moves, release). Each move
+    is aimed with the slider's geometry of that moment (the panel may re-lay itself out while the view
+    follows the drag)."""
+    from PySide import QtCore
+    process(100)                      # the panel's layout settles (the slider gets its width)
+    handle, _groove = _slider_geometry(slider)
+    y = handle.center().y()
+    v0 = slider.value()
+    t = qtest()
+    t.mousePress(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, handle.center())
+    pos = handle.center()
+    for k in range(1, steps + 1):
+        pos = QtCore.QPoint(_slider_x(slider, v0 + (value - v0) * k / steps), y)
+        ev = QtGui.QMouseEvent(QtCore.QEvent.Type.MouseMove, QtCore.QPointF(pos), QtCore.Qt.MouseButton.LeftButton,
+                               QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier)
+        QtGui.QApplication.sendEvent(slider, ev)
+        process()
+    t.mouseRelease(slider, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, pos)
+    process()
+
+
+def dialog_button(which="Ok"):
+    from metamaterial_wb.gui.panels.base import task_buttons
+    box = task_buttons()
+    assert box is not None, "no task dialog is shown"
+    return box.button(getattr(QtGui.QDialogButtonBox.StandardButton, which))
+
+
+def press_ok():
+    """Click the task dialog's OK button; True when the panel closed."""
+    b = dialog_button("Ok")
+    if b.isEnabled():
+        click(b)
+    else:
+        process()
+    return panels.active() is None
+
+
+def press_cancel():
+    click(dialog_button("Cancel"))
+    return panels.active() is None
+
+
+def view_widget():
+    """The 3D view's GL viewport (receives the mouse events Coin sees)."""
+    view = FreeCADGui.ActiveDocument.ActiveView
+    gv = view.graphicsView()
+    return gv.viewport()
+
+
+def screen_point(vec):
+    """Qt widget coordinates of a global 3D point in the active view."""
+    from PySide import QtCore
+    process(100)                     # the panel's layout settles first (the 3D view may get narrower)
+    view = FreeCADGui.ActiveDocument.ActiveView
+    w = view_widget()
+    # Quarter maps widget pixels onto Coin's viewport region, which follows a resize of the widget only at
+    # the next render (under Xvfb it lags): coin = (qx * Wc / Wq, Hc - 1 - qy * Hc / Hq) (measured)
+    wc, hc = view.getSize()
+    x, y = view.getPointOnScreen(vec)
+    return QtCore.QPoint(int(round(x * w.width() / wc)), int(round((hc - 1 - y) * w.height() / hc)))
+
+
+def hover_view(point):
+    from PySide import QtCore
+    w = view_widget()
+    ev = QtGui.QMouseEvent(QtCore.QEvent.Type.MouseMove, QtCore.QPointF(point), QtCore.Qt.MouseButton.NoButton,
+                           QtCore.Qt.MouseButton.NoButton, QtCore.Qt.KeyboardModifier.NoModifier)
+    QtGui.QApplication.sendEvent(w, ev)
+    process()
+
+
+def click_view(point):
+    from PySide import QtCore
+    hover_view(point)
+    qtest().mouseClick(view_widget(), QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier, point)
+    process()
+
+
+def run_command(cmd):
+    """Run a command as the toolbar would and return the task panel it opened."""
+    return run_panel(cmd)

@@ -50,14 +50,14 @@ def view(iso=True):
     v.fitAll()
 
 
-def new_shots(FreeCAD, FreeCADGui, taskpanels, structure):
+def new_shots(FreeCAD, FreeCADGui, panels, structure):
     """The simulated-trajectory player (Animate) and the Sleeve actuator panel."""
     doc = FreeCAD.newDocument("worm")
     FreeCAD.setActiveDocument(doc.Name)
     structure.load_scene_file(doc, os.path.join(REPO, "examples", "worm_crawl.json"))
     doc.recompute()
     FreeCADGui.runCommand("MM_Animate")
-    p = taskpanels.ACTIVE
+    p = panels.active()
     p.traj_seconds.setValue(3.0)
     p.simulate_trajectory(3.0)
     p.wait_simulation(120.0)
@@ -72,9 +72,9 @@ def new_shots(FreeCAD, FreeCADGui, taskpanels, structure):
     doc = FreeCAD.newDocument("sleeve")
     FreeCAD.setActiveDocument(doc.Name)
     FreeCADGui.runCommand("MM_Sleeve")
-    taskpanels.ACTIVE.accept()
+    panels.active().accept()
     FreeCADGui.runCommand("MM_Sleeve")
-    p = taskpanels.ACTIVE
+    p = panels.active()
     p.predict()
     p.wait_prediction(180.0)
     view(True)
@@ -89,7 +89,7 @@ def run():
         sys.path.insert(0, REPO)
         import FreeCAD
         import FreeCADGui
-        from metamaterial_wb.gui import taskpanels
+        from metamaterial_wb.gui import panels
         from metamaterial_wb.objects import structure
 
         mw = FreeCADGui.getMainWindow()
@@ -102,14 +102,14 @@ def run():
         if combo and hasattr(mw, "resizeDocks"):
             mw.resizeDocks(combo[:1], [460], QtCore.Qt.Horizontal)
         FreeCADGui.activateWorkbench("MetamaterialWorkbench")
-        new_shots(FreeCAD, FreeCADGui, taskpanels, structure)
+        new_shots(FreeCAD, FreeCADGui, panels, structure)
         if os.environ.get("MM_SHOTS_NEW_ONLY"):
             sys.__stdout__.flush()
             os._exit(0)
         doc = FreeCAD.newDocument("fish")
         FreeCAD.setActiveDocument(doc.Name)
         FreeCADGui.runCommand("MM_NewStructure")
-        p = taskpanels.ACTIVE
+        p = panels.active()
         p.name.setText("fish")
         p.rows.setValue(2)
         p.cols.setValue(6)
@@ -118,18 +118,18 @@ def run():
         p.reject()
 
         FreeCADGui.runCommand("MM_OpenExample")
-        p = taskpanels.ACTIVE
+        p = panels.active()
         p.select("fish_axes" if p.list.findItems("fish_axes", QtCore.Qt.MatchExactly) else "fish")
         p.accept()
         sc = structure.find_scene_objects(doc)[-1]
         view(False)
         FreeCADGui.runCommand("MM_RotaryAxes")
         shot("rotary-axes")
-        taskpanels.ACTIVE.reject()
+        panels.active().reject()
 
         view(True)
         FreeCADGui.runCommand("MM_FoldedShape")
-        p = taskpanels.ACTIVE
+        p = panels.active()
         p.global_slider.setValue(100)
         p.preview()
         view(True)
@@ -138,18 +138,18 @@ def run():
 
         FreeCADGui.runCommand("MM_Flexibility")
         shot("flexibility")
-        taskpanels.ACTIVE.reject()
+        panels.active().reject()
 
         view(False)
         FreeCADGui.runCommand("MM_PlaceMotor")
-        p = taskpanels.ACTIVE
+        p = panels.active()
         p.joint.setCurrentText("H2,3")
         shot("place-motor")
         p.reject()
 
         view(True)
         FreeCADGui.runCommand("MM_Simulate")
-        p = taskpanels.ACTIVE
+        p = panels.active()
         p.set_value("tail", 0.9)
         p.set_value("head", -0.5)
         view(True)
@@ -157,7 +157,7 @@ def run():
         p.reject()
 
         FreeCADGui.runCommand("MM_Animate")
-        p = taskpanels.ACTIVE
+        p = panels.active()
         p.step(20)
         view(True)
         shot("animate")
@@ -165,19 +165,19 @@ def run():
 
         FreeCADGui.runCommand("MM_Export")
         shot("export")
-        taskpanels.ACTIVE.reject()
+        panels.active().reject()
 
         # modules on the moving sheet (the fish with servo housings and fin mounts)
-        if taskpanels.example_files().count("fish_modules.json"):
+        if panels.example_files().count("fish_modules.json"):
             FreeCADGui.runCommand("MM_OpenExample")
-            p = taskpanels.ACTIVE
+            p = panels.active()
             p.select("fish_modules")
             p.accept()
             for o in list(doc.Objects):
                 if o.TypeId == "App::Part" and o.Label != "fish_modules" and hasattr(o, "ViewObject"):
                     o.ViewObject.Visibility = False
             FreeCADGui.runCommand("MM_Simulate")
-            p = taskpanels.ACTIVE
+            p = panels.active()
             p.set_value("tail", 0.9)
             p.set_value("head", 0.6)
             view(True)

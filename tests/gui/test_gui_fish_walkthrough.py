@@ -16,15 +16,15 @@ from PySide import QtGui  # noqa: E402
 from metamaterial_wb.core import kinematics  # noqa: E402
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
-from metamaterial_wb.gui import taskpanels  # noqa: E402
+from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import design_adapter, structure  # noqa: E402
 
 
 def panel(cmd):
     FreeCADGui.runCommand(cmd)
     QtGui.QApplication.processEvents()
-    assert taskpanels.ACTIVE is not None, cmd
-    return taskpanels.ACTIVE
+    assert panels.active() is not None, cmd
+    return panels.active()
 
 
 def xyz(arr):
@@ -126,6 +126,6 @@ def test_fish_from_an_empty_document(tmp_path):
         sc2 = structure.find_scene_objects(doc)[0]
         assert sc2.SceneJSON == text
     finally:
-        if FreeCADGui.Control.activeDialog() and taskpanels.ACTIVE is not None:
-            taskpanels.ACTIVE.reject()
+        if FreeCADGui.Control.activeDialog() and panels.active() is not None:
+            panels.active().reject()
         FreeCAD.closeDocument(doc.Name)

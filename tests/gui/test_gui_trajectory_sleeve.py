@@ -21,7 +21,7 @@ import FreeCADGui  # noqa: E402
 from PySide import QtGui  # noqa: E402
 
 import metamaterial_wb  # noqa: E402
-from metamaterial_wb.gui import taskpanels  # noqa: E402
+from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import doc, run_panel, workbench  # noqa: E402,F401
 

@@ -23,7 +23,7 @@ from metamaterial_wb.core import kinematics  # noqa: E402
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
-from metamaterial_wb.gui import commands, taskpanels  # noqa: E402
+from metamaterial_wb.gui import commands, panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import doc, run_panel, workbench  # noqa: E402,F401
 
@@ -91,7 +91,7 @@ def test_new_structure_panel_layout_editor(doc):
     p.cols.setValue(3)
     p.preset_grid()
     p.toggle(1, 1)                      # a hole in the middle: the seed forbids a closed contour
-    assert "closed contour" in p.status.text()
+    assert "closed contour" in p.problem_label("grid").text() and p.problem_label("grid").isVisible()
     assert p.accept() is False and "closed contour" in p.error.text()
     assert FreeCADGui.Control.activeDialog()
     p.preset_chain()
@@ -453,13 +453,13 @@ def test_double_click_scene_opens_simulate(doc):
     sc = open_fish(doc)
     sc.ViewObject.Proxy.doubleClicked(sc.ViewObject)
     process_events()
-    assert isinstance(taskpanels.ACTIVE, taskpanels.SimulatePanel)
-    taskpanels.ACTIVE.reject()
+    assert isinstance(panels.active(), panels.SimulatePanel)
+    panels.active().reject()
 
 
 def test_animate_connect_streams_what_is_shown(doc):
     """The Connect button streams the values shown to the firmware link (dry run over loop://)."""
-    from metamaterial_wb.gui.taskpanels import hardware_available
+    from metamaterial_wb.gui.panels import hardware_available
     if not hardware_available():
         pytest.skip("metamaterial_wb.hardware is not in this checkout")
     pytest.importorskip("serial")

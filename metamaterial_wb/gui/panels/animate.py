@@ -1,0 +1,556 @@
+"""Animate: timeline from the motors' motion profiles or a simulated trajectory; streaming.
+
+The clock follows wall time: each timer tick shows the frame of *now* (start time + elapsed wall time
+x speed), so a frame that costs more than its slot makes the next ones skip ahead (frames are dropped,
+time is not). The panel shows the achieved frame rate and the real-time factor (animation seconds per
+wall second over speed; 1.00 = real time). The stream controller sends the values for the wall-clock
+time, whatever the view manages to draw. Cancel puts the display back.
+"""
+import json
+import math
+import os
+import time
+
+import FreeCAD
+from PySide import QtCore, QtGui
+
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.scene import Scene
+from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.panels.base import BasePanel, _slider, np_zeros
+from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
+from metamaterial_wb.gui.panels.overlays import FloorOverlay
+from metamaterial_wb.gui.panels.profiles import SHAPES, KeyframeTable, keyframes_profile, wave_profile
+from metamaterial_wb.gui.panels.stream import StreamController, hardware_available, servo_scales
+
+
+class AnimatePanel(BasePanel):
+    """Timeline from the motors' motion profiles: play / pause / loop / speed, optional streaming."""
+    TITLE = "Animate"
+    ICON = "MM_Animate.svg"
+
+    def __init__(self, scene_obj):
+        super().__init__()
+        self.obj = scene_obj
+        self.saved = structure.display_state(scene_obj)
+        self.scene = structure.compose_scene(scene_obj)
+        self.solver = structure.solver_for(scene_obj, self.scene)
+        self.scales = servo_scales(self.scene)
+        self.table = QtGui.QTableWidget(len(self.scene.actuators), 6)
+        self.table.setHorizontalHeaderLabels(["motor", "shape", "amplitude", "freq (Hz)", "phase (deg)",
+                                              "servo amplitude"])
+        self.spins, self.shapes, self.amp_deg, self.keys, self.stored = {}, {}, {}, {}, {}
+        for r, a in enumerate(self.scene.actuators):
+            p = a.profile or {"shape": "sine", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
+            self.table.setItem(r, 0, QtGui.QTableWidgetItem(a.name))
+            shape = p.get("shape", "sine")
+            combo = QtGui.QComboBox()
+            combo.addItems(SHAPES)
+            if shape in ("sine", "keyframes"):
+                combo.setCurrentText(shape)
+            else:                                  # steps / constant from a file: kept as stored until changed
+                self.stored[a.name] = dict(p)
+                combo.insertItem(0, f"stored {shape}")
+                combo.setCurrentIndex(0)
+            self.keys[a.name] = list(zip(p.get("times_s", [0.0, 0.5]), p.get("values", [0.0, 0.5])))
+            self.table.setCellWidget(r, 1, combo)
+            self.shapes[a.name] = combo
+            sp = []
+            for c, (key, lo, hi, default) in enumerate((("amplitude", 0.0, 1.0, 0.5), ("frequency_hz", 0.0, 50.0, 0.5),
+                                                         ("phase_deg", -360.0, 360.0, 0.0)), start=2):
+                w = QtGui.QDoubleSpinBox()
+                w.setRange(lo, hi)
+                w.setDecimals(3 if key != "phase_deg" else 1)
+                w.setSingleStep(0.05 if key != "phase_deg" else 15.0)
+                w.setValue(float(p.get(key, default)) if shape == "sine" else default)
+                w.valueChanged.connect(self._profiles_changed)
+                self.table.setCellWidget(r, c, w)
+                sp.append(w)
+            self.spins[a.name] = sp
+            lab = QtGui.QLabel("")
+            self.table.setCellWidget(r, 5, lab)
+            self.amp_deg[a.name] = lab
+            combo.currentTextChanged.connect(lambda _t, n=a.name: self._shape_changed(n))
+        self.table.setMaximumHeight(40 + 30 * max(1, len(self.scene.actuators)))
+        self.table.horizontalHeader().setStretchLastSection(True)
+        self.layout.addWidget(self.table)
+        self.keyframes = KeyframeTable(self._keys_edited)
+        self.keyframes.setVisible(False)
+        self.key_motor = None
+        self.layout.addWidget(self.keyframes)
+        self.layout.addWidget(self.problem_label("profiles"))
+        tl = QtGui.QHBoxLayout()
+        self.play_btn = QtGui.QPushButton("Play")
+        self.play_btn.setCheckable(True)
+        self.loop = QtGui.QCheckBox("Loop")
+        self.loop.setChecked(True)
+        self.speed = QtGui.QDoubleSpinBox()
+        self.speed.setRange(0.05, 10.0)
+        self.speed.setValue(1.0)
+        self.speed.setSuffix(" x")
+        self.duration = QtGui.QDoubleSpinBox()
+        self.duration.setRange(0.1, 600.0)
+        self.duration.setValue(self.default_duration())
+        self.duration.setSuffix(" s")
+        tl.addWidget(self.play_btn)
+        tl.addWidget(self.loop)
+        tl.addWidget(QtGui.QLabel("speed"))
+        tl.addWidget(self.speed)
+        tl.addWidget(QtGui.QLabel("length"))
+        tl.addWidget(self.duration)
+        self.layout.addLayout(tl)
+        self.timeline = _slider(0, 1000, 0)
+        self.time_label = QtGui.QLabel("t = 0.00 s")
+        self.layout.addWidget(self.timeline)
+        self.layout.addWidget(self.time_label)
+        hl = QtGui.QHBoxLayout()
+        self.connect_btn = QtGui.QPushButton("Connect")
+        self.connect_btn.setCheckable(True)
+        from metamaterial_wb.gui import preferences
+        self.port = QtGui.QLineEdit(preferences.get("SerialPort"))
+        hl.addWidget(QtGui.QLabel("Port"))
+        hl.addWidget(self.port)
+        hl.addWidget(self.connect_btn)
+        self.layout.addLayout(hl)
+        if not hardware_available():
+            self.connect_btn.setEnabled(False)
+            self.connect_btn.setToolTip("the hardware package (metamaterial_wb.hardware) is not available")
+        else:
+            self.connect_btn.setToolTip("Stream the values shown to the servo firmware at 50 Hz "
+                                        "(port loop:// = dry run without hardware)")
+        # simulated trajectory (core.dynamics): load DIR/trajectory.json or simulate in the background
+        tg = QtGui.QGroupBox("Simulated trajectory (dynamics: gravity, floor contact, friction)")
+        tv = QtGui.QVBoxLayout(tg)
+        th = QtGui.QHBoxLayout()
+        self.traj_load_btn = QtGui.QPushButton("Load...")
+        self.traj_load_btn.setToolTip("Play DIR/trajectory.json written by "
+                                      "'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'")
+        self.traj_seconds = QtGui.QDoubleSpinBox()
+        self.traj_seconds.setRange(0.05, 600.0)
+        self.traj_seconds.setValue(4.0)
+        self.traj_seconds.setSuffix(" s")
+        self.traj_sim_btn = QtGui.QPushButton("Simulate")
+        self.traj_sim_btn.setToolTip("Run the dynamics model on this structure in the background, then play it")
+        self.traj_off_btn = QtGui.QPushButton("Motors")
+        self.traj_off_btn.setToolTip("Back to the motion profiles (quadratic model)")
+        self.traj_off_btn.setEnabled(False)
+        th.addWidget(self.traj_load_btn)
+        th.addWidget(self.traj_seconds)
+        th.addWidget(self.traj_sim_btn)
+        th.addWidget(self.traj_off_btn)
+        tv.addLayout(th)
+        self.sim_box = JobBox()
+        self.traj_progress = self.sim_box.progress
+        tv.addWidget(self.sim_box)
+        self.traj_label = QtGui.QLabel("playing: the motors' profiles")
+        self.traj_label.setWordWrap(True)
+        tv.addWidget(self.traj_label)
+        self.layout.addWidget(tg)
+        self.values_label = QtGui.QLabel("")
+        self.values_label.setToolTip("motor values now: servo angle (value in -1..1)")
+        self.layout.addWidget(self.values_label)
+        self.rate_label = QtGui.QLabel("")
+        self.rate_label.setToolTip("achieved frame rate while playing and the real-time factor (animation "
+                                   "seconds per wall second, over the speed): 1.00 = real time")
+        self.layout.addWidget(self.rate_label)
+        self.stats = QtGui.QLabel("")
+        self.layout.addWidget(self.stats)
+        self.finish_layout()
+        self.trajectory = None
+        self.trajectory_data = None
+        self.floor = None
+        self.sim = ThreadJob(self.sim_box, self._simulated, self._simulation_failed, self._simulation_cancelled)
+        self.traj_load_btn.clicked.connect(self._browse_trajectory)
+        self.traj_sim_btn.clicked.connect(lambda: self.simulate_trajectory(self.traj_seconds.value()))
+        self.traj_off_btn.clicked.connect(self.clear_trajectory)
+        self.t = 0.0
+        self.frames = 0
+        self.stream = StreamController(self.values_at, self.clock)
+        self.shown_values = {}
+        self.anchor = None            # (wall time, animation time) of the last start / scrub / speed change
+        self.rate_window = []         # (wall, animation time) of the frames shown while playing
+        self.preview_scene = self.scene
+        fps = max(1, int(preferences.get("AnimationFps")))
+        self.dt = 1.0 / fps
+        self.timer = QtCore.QTimer()
+        self.timer.setInterval(max(1, int(1000 / fps)))
+        self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
+        self.timer.timeout.connect(self.tick)
+        self.speed.valueChanged.connect(lambda *_: self._reanchor())
+        self.play_btn.toggled.connect(self._play_toggled)
+        self.timeline.sliderMoved.connect(self._scrub)
+        self.connect_btn.toggled.connect(self._connect_toggled)
+        self._profiles_changed()
+        self.show_time(0.0)
+
+    def default_duration(self):
+        freqs = [a.profile.get("frequency_hz", 0) for a in self.scene.actuators
+                 if a.profile and a.profile.get("shape", "sine") == "sine" and a.profile.get("frequency_hz", 0) > 0]
+        if freqs:
+            return round(max(1.0 / min(freqs), 0.5), 3)
+        periods = [a.profile.get("period_s") for a in self.scene.actuators if a.profile and a.profile.get("period_s")]
+        return float(max(periods)) if periods else 4.0
+
+    def profiles(self):
+        out = {}
+        for a in self.scene.actuators:
+            shape = self.shapes[a.name].currentText()
+            if shape.startswith("stored"):
+                out[a.name] = dict(self.stored[a.name])
+                continue
+            if shape == "keyframes":
+                out[a.name] = keyframes_profile(self.keys[a.name], self.key_period(a.name))
+                continue
+            amp, f, ph = (w.value() for w in self.spins[a.name])
+            p = wave_profile(shape, amp, f, ph)
+            if shape == "sine" and a.profile and a.profile.get("offset"):
+                p["offset"] = a.profile["offset"]
+            out[a.name] = p
+        return out
+
+    def key_period(self, name):
+        last = max((t for t, _v in self.keys[name]), default=0.0)
+        return max(self.duration.value(), last + 0.1) if hasattr(self, "duration") else last + 1.0
+
+    def _shape_changed(self, name):
+        shape = self.shapes[name].currentText()
+        for w in self.spins[name]:
+            w.setEnabled(shape in ("sine", "square", "triangle"))
+        if shape == "keyframes":
+            self.key_motor = name
+            self.keyframes.set_points(name, self.keys[name])
+            self.keyframes.setVisible(True)
+        elif self.key_motor == name:
+            self.keyframes.setVisible(False)
+            self.key_motor = None
+        self._profiles_changed()
+
+    def _keys_edited(self):
+        if self.key_motor is not None:
+            self.keys[self.key_motor] = self.keyframes.points()
+        self._profiles_changed()
+
+    def set_shape(self, name, shape):
+        self.shapes[name].setCurrentText(shape)
+
+    def set_profile(self, name, amplitude=None, frequency_hz=None, phase_deg=None):
+        w = self.spins[name]
+        for spin, v in zip(w, (amplitude, frequency_hz, phase_deg)):
+            if v is not None:
+                spin.setValue(v)
+
+    def _profiles_changed(self, *_):
+        d = self.scene.to_dict()
+        prof = self.profiles()
+        for a in d["actuators"]:
+            a["profile"] = prof[a["name"]]
+        for a in self.scene.actuators:
+            if a.name in self.amp_deg:
+                shape = self.shapes[a.name].currentText()
+                amp = self.spins[a.name][0].value() if shape in ("sine", "square", "triangle") else \
+                    max((abs(v) for _t, v in self.keys[a.name]), default=0.0)
+                self.amp_deg[a.name].setText(f"{amp * self.scales.get(a.name, 90.0):.1f} deg")
+        try:
+            self.preview_scene = Scene.from_dict(d)
+            self.set_problem("profiles", "")
+        except MetamaterialError as exc:
+            self.set_problem("profiles", str(exc))
+
+    def values_at(self, t):
+        from metamaterial_wb.core.motion import scene_values_at
+        return self.solver.values_with(scene_values_at(self.preview_scene, t))
+
+    # simulated trajectory ---------------------------------------------------------------------
+    def _browse_trajectory(self):  # pragma: no cover - modal file dialog, tests call load_trajectory
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Trajectory", "", "Trajectory (*.json)")
+        if path:
+            self.load_trajectory(path)
+
+    def load_trajectory(self, source):
+        """Play a trajectory: a path to ``trajectory.json`` (or the ``simulate --out`` folder holding it) or
+        its parsed dict. Returns True on success (False with the reason shown in the panel)."""
+        from metamaterial_wb.objects.engine import TrajectoryPlayer
+        try:
+            if isinstance(source, dict):
+                data, label = source, "simulated here"
+            else:
+                if os.path.isdir(source):                  # the simulate --out folder
+                    source = os.path.join(source, "trajectory.json")
+                try:
+                    with open(source) as f:
+                        data = json.load(f)
+                except (OSError, ValueError) as exc:
+                    raise MetamaterialError(f"trajectory {source}: cannot read it ({exc})") from None
+                label = os.path.basename(os.path.dirname(os.path.abspath(source))) + "/" + os.path.basename(source)
+            flat, _R = self.solver.poses(np_zeros(self.scene.topology.n_nodes))
+            player = TrajectoryPlayer(data, self.scene, flat)
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+            return False
+        self.pause()
+        self._remove_floor()
+        self.trajectory, self.trajectory_data = player, data
+        try:
+            self.floor = FloorOverlay(self.obj.Document, player.floor_corners(float(self.scene.cell_size_mm)))
+        except Exception as exc:  # pragma: no cover - display only (no 3D view)
+            FreeCAD.Console.PrintWarning(f"Metamaterial: no floor shown ({exc})\n")
+        self.duration.setValue(max(0.1, round(player.duration, 3)))
+        self.table.setEnabled(False)
+        self.traj_off_btn.setEnabled(True)
+        self.traj_label.setText(f"playing: {label}, {player.times.size} frames, {player.duration:.2f} s, "
+                                f"incline {math.degrees(player.incline):g} deg (side view mapped onto the "
+                                "x-z plane: one rigid body per column)")
+        self.error.setText("")
+        self.show_time(0.0)
+        return True
+
+    def _remove_floor(self):
+        if getattr(self, "floor", None) is not None:
+            self.floor.remove()
+        self.floor = None
+
+    def clear_trajectory(self):
+        self.pause()
+        self._remove_floor()
+        self.trajectory = self.trajectory_data = None
+        self.table.setEnabled(True)
+        self.traj_off_btn.setEnabled(False)
+        self.traj_label.setText("playing: the motors' profiles")
+        self.duration.setValue(self.default_duration())
+        self.solver._last = None
+        self.show_time(0.0)
+
+    @property
+    def sim_job(self):
+        return self.sim if self.sim.running else None
+
+    def simulate_trajectory(self, seconds):
+        """Run core.dynamics on this structure in a background thread (progress bar + Cancel); plays it
+        when done."""
+        from metamaterial_wb.objects.engine import run_dynamics
+        if self.sim.running:
+            self.show_error("a simulation is already running")
+            return False
+        scene = structure.compose_scene(self.obj)
+        d = scene.to_dict()
+        prof = self.profiles()
+        for a in d["actuators"]:
+            a["profile"] = prof[a["name"]]
+        scene = Scene.from_dict(d)
+        fps = 1.0 / self.dt
+        self.traj_sim_btn.setEnabled(False)
+        self.traj_label.setText(f"simulating {seconds:g} s ...")
+        self.clear_error()
+        return self.sim.start(lambda report: run_dynamics(scene, float(seconds), fps=fps,
+                                                          progress=lambda f: report(f)),
+                              text=f"simulating {seconds:g} s of dynamics ...")
+
+    def _simulated(self, result):
+        self.traj_sim_btn.setEnabled(True)
+        data, summary = result
+        self.last_simulation = summary
+        if self.load_trajectory(data):
+            self.traj_label.setText(self.traj_label.text() + f"; centre of mass moved "
+                                    f"{summary['displacement_mm']:+.2f} mm")
+
+    def _simulation_failed(self, message):
+        self.traj_sim_btn.setEnabled(True)
+        self.show_error(f"simulation failed: {message}")
+        self.traj_label.setText("playing: the motors' profiles")
+
+    def _simulation_cancelled(self):
+        self.traj_sim_btn.setEnabled(True)
+        self.traj_label.setText("simulation cancelled; playing: the motors' profiles")
+
+    def wait_simulation(self, timeout_s=60.0):
+        """Block (processing events) until the background simulation is done (tests, scripts)."""
+        return self.sim.wait(timeout_s)
+
+    def show_time(self, t):
+        t0 = time.perf_counter()
+        self.t = t
+        vals = self.values_at(t)
+        try:
+            if self.trajectory is not None:
+                frame = self.trajectory.frame(self.solver, min(t, self.trajectory.duration))
+            else:
+                frame = self.solver.frame(values=vals)
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+            self.pause()
+            return
+        structure.apply_frame(self.obj, self.solver, frame, purge=True)
+        self.frames += 1
+        self.last_values = vals
+        dur = self.duration.value()
+        self.timeline.blockSignals(True)
+        self.timeline.setValue(int(round(1000 * min(t, dur) / dur)))
+        self.timeline.blockSignals(False)
+        self.time_label.setText(f"t = {t:.2f} s")
+        self.shown_values = {a.name: float(vals[a.name]) for a in self.scene.actuators}
+        self.values_label.setText("  ".join(f"{n} {v * self.scales.get(n, 90.0):+.1f} deg ({v:+.2f})"
+                                            for n, v in self.shown_values.items()))
+        err = self.stream.take_error()
+        if err:
+            self.show_error(f"streaming stopped: {err}")
+            self.connect_btn.setChecked(False)
+        self.stats.setText(f"frame {self.frames}: {1000 * (time.perf_counter() - t0):.1f} ms (no recompute)")
+
+    def step(self, n=1):
+        """Advance ``n`` frames of ``dt`` (scripted playback, independent of wall time)."""
+        for _ in range(n):
+            self.show_time(self._wrap(self.t + self.dt * self.speed.value()))
+        self._reanchor()
+
+    def _wrap(self, t):
+        dur = self.duration.value()
+        if t > dur:
+            if self.loop.isChecked():
+                t = math.fmod(t, dur)
+            else:
+                t = dur
+                self.pause()
+        return t
+
+    def _reanchor(self):
+        self.anchor = (time.perf_counter(), self.t)
+        self.rate_window = []
+
+    def clock(self, now=None):
+        """The animation time at wall time ``now`` (default: now); the paused time when not playing."""
+        if not self.timer.isActive() or self.anchor is None:
+            return self.t
+        now = time.perf_counter() if now is None else now
+        wall0, t0 = self.anchor
+        t = t0 + (now - wall0) * self.speed.value()
+        dur = self.duration.value()
+        if t > dur:
+            t = math.fmod(t, dur) if self.loop.isChecked() else dur
+        return t
+
+    def tick(self):
+        """Timer: show the frame of the wall-clock time (frames that did not fit are skipped)."""
+        now = time.perf_counter()
+        if self.anchor is None:
+            self._reanchor()
+        wall0, t0 = self.anchor
+        raw = t0 + (now - wall0) * self.speed.value()
+        t = self._wrap(raw)
+        self.show_time(t)
+        if raw > self.duration.value() and self.loop.isChecked():
+            self.anchor = (now, t)          # keep the clock exact across the wrap
+        self._rate(now, raw)
+
+    def _rate(self, now, anim_t):
+        w = self.rate_window
+        w.append((now, anim_t))
+        while len(w) > 2 and now - w[0][0] > 2.0:
+            w.pop(0)
+        if len(w) >= 2 and now > w[0][0]:
+            span = now - w[0][0]
+            fps = (len(w) - 1) / span
+            rtf = (w[-1][1] - w[0][1]) / span / max(self.speed.value(), 1e-9)
+            self.achieved_fps, self.real_time_factor = fps, rtf
+            self.rate_label.setText(f"{fps:.1f} frames/s achieved (target {1.0 / self.dt:.0f}); "
+                                    f"real-time factor {rtf:.2f}")
+
+    def play(self):
+        self.play_btn.setChecked(True)
+
+    def pause(self):
+        self.play_btn.setChecked(False)
+
+    def _play_toggled(self, on):
+        if on:
+            self.play_btn.setText("Pause")
+            self._reanchor()
+            self.timer.start()
+        else:
+            self.play_btn.setText("Play")
+            self.timer.stop()
+
+    def _scrub(self, v):
+        self.show_time(v / 1000.0 * self.duration.value())
+        self._reanchor()
+
+    # hardware ---------------------------------------------------------------------------
+    def _connect_toggled(self, on):
+        if on:
+            self.connect(self.port.text().strip())
+        else:
+            self.disconnect()
+
+    @property
+    def streamer(self):
+        return self.stream.streamer
+
+    def connect(self, port):
+        """Open the serial link, hand-shake, ARM and stream the values of the animation clock (50 Hz)."""
+        try:
+            if not self.shown_values:
+                self.show_time(self.t)
+            self.stream.connect(port, self.preview_scene)
+        except Exception as exc:  # noqa: BLE001 - shown in the panel
+            self.show_error(f"cannot stream to {port}: {exc}")
+            self.connect_btn.blockSignals(True)
+            self.connect_btn.setChecked(False)
+            self.connect_btn.blockSignals(False)
+            return False
+        self.clear_error()
+        self.connect_btn.blockSignals(True)
+        self.connect_btn.setChecked(True)
+        self.connect_btn.blockSignals(False)
+        self.connect_btn.setText("Disconnect")
+        return True
+
+    def disconnect(self):
+        stats = self.stream.disconnect()
+        self.connect_btn.blockSignals(True)
+        self.connect_btn.setChecked(False)
+        self.connect_btn.blockSignals(False)
+        self.connect_btn.setText("Connect")
+        if stats is not None:
+            self.stats.setText(f"streamed {stats.frames} frames, {stats.acked} acknowledged")
+        return stats
+
+    def cleanup(self):
+        self.timer.stop()
+        self.sim.stop()               # the daemon thread stops at its next progress report
+        self._remove_floor()
+        self.disconnect()
+        super().cleanup()
+
+    def apply(self):
+        self.timer.stop()
+        structure.restore_display(self.obj, self.saved)
+        prof = self.profiles()
+        doc = self.obj.Document
+
+        def change():
+            import json
+            for it in self.obj.Items:
+                p = prof.get(it.ItemName)
+                if it.Kind != "actuator" or p is None:
+                    continue
+                if p["shape"] == "sine":
+                    if it.ProfileShape != "sine":
+                        it.ProfileShape = "sine"
+                    for prop, key in (("Amplitude", "amplitude"), ("FrequencyHz", "frequency_hz"),
+                                      ("PhaseDeg", "phase_deg")):
+                        if abs(getattr(it, prop) - p[key]) > 1e-12:
+                            setattr(it, prop, p[key])
+                else:
+                    data = json.dumps({k: v for k, v in p.items() if k != "shape"})
+                    if it.ProfileShape != p["shape"]:
+                        it.ProfileShape = p["shape"]
+                    if it.ProfileData != data:
+                        it.ProfileData = data
+        self.commit(doc, "Animate: motion profiles", change)
+
+    def reject(self):
+        self.timer.stop()
+        structure.restore_display(self.obj, self.saved)
+        return super().reject()
+
+
+# ----------------------------------------------------------------------------------------------

@@ -1,0 +1,294 @@
+"""Shared base of every task panel: layout, error labels, OK / Cancel, transactions, 3D-view picking.
+
+Rules kept by every panel:
+
+* nothing is recomputed while a slider moves or the animation plays: placements are moved from the
+  stored factorisation (:class:`~metamaterial_wb.objects.engine.LiveSolver`);
+* the placements the panel moved are restored when it closes (OK writes the chosen values into the
+  properties and recomputes once, inside one transaction);
+* every error is shown in the panel in words, next to the field it is about (``set_problem``), never as
+  a modal dialog, never only in the Report view; a message disappears as soon as its cause is fixed;
+* OK is refused (and the OK button disabled) while the panel knows of a problem, and an OK whose
+  recompute leaves an object invalid is undone with the object's own error shown.
+
+``ACTIVE`` is the panel being shown (the GUI tests drive it through its widgets).
+"""
+import contextlib
+
+import FreeCAD
+import FreeCADGui
+from PySide import QtCore, QtGui
+
+import metamaterial_wb
+from metamaterial_wb.core.errors import MetamaterialError
+
+ACTIVE = None
+RED = "color: #c00000;"
+GREEN = "color: #1a7f2a;"
+
+
+def np_zeros(n):
+    import numpy as np
+    return np.zeros(n)
+
+
+@contextlib.contextmanager
+def transaction(doc, name):
+    """One undo step: everything inside is committed together, or aborted on an error."""
+    doc.openTransaction(name)
+    try:
+        yield
+    except Exception:
+        doc.abortTransaction()
+        raise
+    doc.commitTransaction()
+
+
+def invalid_objects(doc):
+    """``[(label, message)]`` of the document's objects whose last recompute failed."""
+    out = []
+    for o in doc.Objects:
+        state = getattr(o, "State", [])
+        if "Invalid" in state or "Error" in state:
+            msg = ""
+            try:
+                msg = o.getStatusString()
+            except Exception:  # pragma: no cover - older FreeCAD
+                pass
+            out.append((o.Label, msg or "recompute failed"))
+    return out
+
+
+def recompute_checked(doc):
+    """Recompute and raise MetamaterialError (the failing object's own message) if any object is invalid
+    (FreeCAD does not raise on a failed ``execute()``)."""
+    doc.recompute()
+    bad = invalid_objects(doc)
+    if bad:
+        raise MetamaterialError("; ".join(f"{label}: {msg}" for label, msg in bad))
+
+
+def show(panel):
+    global ACTIVE
+    if FreeCADGui.Control.activeDialog():
+        FreeCADGui.Control.closeDialog()
+        if ACTIVE is not None:
+            ACTIVE.cleanup()
+    ACTIVE = panel
+    FreeCADGui.Control.showDialog(panel)
+    panel.dialog_shown()
+    return panel
+
+
+def _close():
+    global ACTIVE
+    ACTIVE = None
+    FreeCADGui.Control.closeDialog()
+
+
+def _fit(doc):
+    try:
+        gd = FreeCADGui.getDocument(doc.Name)
+        if gd is not None and gd.ActiveView is not None and hasattr(gd.ActiveView, "fitAll"):
+            gd.ActiveView.fitAll()
+    except Exception:  # pragma: no cover - display only
+        pass
+
+
+def _slider(lo=-100, hi=100, value=0):
+    s = QtGui.QSlider(QtCore.Qt.Orientation.Horizontal)
+    s.setRange(lo, hi)
+    s.setValue(value)
+    s.setTickPosition(QtGui.QSlider.TickPosition.TicksBelow)
+    s.setTickInterval(max(1, (hi - lo) // 10))
+    return s
+
+
+def task_buttons():
+    """The task dialog's button box (OK / Cancel) of the shown panel, or None."""
+    mw = FreeCADGui.getMainWindow()
+    sb = QtGui.QDialogButtonBox.StandardButton
+    for box in mw.findChildren(QtGui.QDialogButtonBox):
+        if box.isVisible() and any(box.button(b) is not None for b in (sb.Ok, sb.Close)):
+            return box
+    return None
+
+
+def red_label(text=""):
+    lab = QtGui.QLabel(text)
+    lab.setWordWrap(True)
+    lab.setStyleSheet(RED)
+    lab.setVisible(bool(text))
+    return lab
+
+
+class BasePanel:
+    TITLE = "Metamaterial"
+    ICON = "Metamaterial_Workbench.svg"
+
+    def __init__(self):
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle(self.TITLE)
+        self.form.setWindowIcon(QtGui.QIcon(metamaterial_wb.icon_path(self.ICON)))
+        self.layout = QtGui.QVBoxLayout(self.form)
+        self.error = QtGui.QLabel("")
+        self.error.setWordWrap(True)
+        self.error.setStyleSheet(RED)
+        self.problem_labels = {}     # field key -> red QLabel beside / under the field
+        self.problems = {}           # field key -> message (OK is refused while not empty)
+        self.picker = None
+        self._observer = None
+
+    def finish_layout(self):
+        self.layout.addWidget(self.error)
+        self.layout.addStretch(1)
+
+    # messages ---------------------------------------------------------------------------
+    def show_error(self, text):
+        """A panel-wide message (also written to the Report view)."""
+        self.error.setText(text)
+        if text:
+            FreeCAD.Console.PrintWarning(f"Metamaterial: {text}\n")
+
+    def clear_error(self):
+        self.error.setText("")
+
+    def problem_label(self, key):
+        """The red label of field ``key`` (created on first use; the panel puts it next to the field)."""
+        if key not in self.problem_labels:
+            self.problem_labels[key] = red_label()
+        return self.problem_labels[key]
+
+    def set_problem(self, key, text):
+        """Show (``text``) or clear (``""`` / None) the problem of one field; OK follows."""
+        lab = self.problem_label(key)
+        lab.setText(text or "")
+        lab.setVisible(bool(text) and lab.parent() is not None)   # never a floating window
+        if text:
+            self.problems[key] = text
+        else:
+            self.problems.pop(key, None)
+        self.update_ok()
+
+    def problem_text(self):
+        return "; ".join(self.problems.values())
+
+    def update_ok(self):
+        box = task_buttons() if ACTIVE is self else None
+        ok = box.button(QtGui.QDialogButtonBox.StandardButton.Ok) if box is not None else None
+        if ok is not None:
+            ok.setEnabled(not self.problems)
+
+    def dialog_shown(self):
+        """Called once the task dialog exists (the OK button can be enabled / disabled now)."""
+        self.update_ok()
+
+    def getStandardButtons(self):
+        return QtGui.QDialogButtonBox.StandardButton.Ok | QtGui.QDialogButtonBox.StandardButton.Cancel
+
+    # OK / Cancel ------------------------------------------------------------------------
+    def apply(self):
+        """Do the panel's work; raise MetamaterialError to stay open with the message shown."""
+
+    def commit(self, doc, title, change):
+        """``change()`` then a checked recompute, as one undo step; an invalid result is undone (and
+        recomputed back) and its error raised."""
+        try:
+            with transaction(doc, title):
+                change()
+                recompute_checked(doc)
+        except MetamaterialError:
+            doc.recompute()
+            raise
+
+    def cleanup(self):
+        if self.picker is not None:
+            self.picker.remove()
+            self.picker = None
+        if self._observer is not None:
+            try:
+                FreeCADGui.Selection.removeObserver(self._observer)
+            except Exception:  # pragma: no cover
+                pass
+            self._observer = None
+
+    def accept(self):
+        if self.problems:
+            self.show_error("not applied: " + self.problem_text())
+            return False
+        try:
+            self.apply()
+        except (MetamaterialError, ValueError) as exc:
+            self.show_error(str(exc))
+            return False
+        self.cleanup()
+        _close()
+        return True
+
+    def reject(self):
+        self.cleanup()
+        _close()
+        return True
+
+    # 3D-view picking --------------------------------------------------------------------
+    def watch_selection(self, scene_obj, on_joint=None, on_node=None):
+        """Pick joints / nodes in the 3D view: the one nearest to the click ray (any hinge size), with
+        the one under the cursor highlighted before the click (``picking.Picker``)."""
+        from metamaterial_wb.gui.panels.picking import Picker
+        self.pick_label = QtGui.QLabel("Click a hinge in the 3D view" if on_joint else "Click a node in the 3D view")
+        self.pick_label.setWordWrap(True)
+        self.layout.insertWidget(max(0, self.layout.count() - 2), self.pick_label)
+        try:
+            self.picker = Picker(scene_obj, on_joint=on_joint, on_node=on_node, panel=self)
+        except Exception as exc:  # pragma: no cover - no 3D view
+            self.picker = None
+            FreeCAD.Console.PrintWarning(f"Metamaterial: no 3D-view picking ({exc})\n")
+        # a hinge / node selected otherwise (tree, Python, a click the picker left to FreeCAD) counts too
+        panel = self
+
+        class Obs:
+            def addSelection(self, doc, obj, sub, pnt):
+                try:
+                    panel._selected(scene_obj, obj, sub, on_joint, on_node)
+                except Exception as exc:  # pragma: no cover - interactive
+                    panel.show_error(str(exc))
+
+        self._observer = Obs()
+        FreeCADGui.Selection.addObserver(self._observer, 0)   # 0: unresolved, keeps "Hinges" + "12.Face3"
+
+    def _selected(self, scene_obj, obj_name, sub, on_joint, on_node):
+        # a selection arrives as (container, "Hinges.12.Face3") or (Hinges, "12.Face3")
+        parts = str(sub or "").split(".")
+        for k in range(len(parts) - 1):
+            if parts[k] in (getattr(scene_obj.HingeArray, "Name", None), getattr(scene_obj.NodeArray, "Name", None)):
+                obj_name, sub = parts[k], ".".join(parts[k + 1:])
+                break
+        idx = pick_index(sub)
+        if idx is None:
+            return
+        from metamaterial_wb.objects import structure
+        scene = structure.compose_scene(scene_obj)
+        if scene_obj.HingeArray is not None and obj_name == scene_obj.HingeArray.Name and on_joint:
+            name = scene.topology.joint_names[idx]
+            self.picked("joint", name)
+            on_joint(name)
+        elif scene_obj.NodeArray is not None and obj_name == scene_obj.NodeArray.Name and on_node:
+            i, j = scene.topology.nodes[idx]
+            self.picked("node", f"N{i},{j}")
+            on_node(f"N{i},{j}")
+
+    def picked(self, kind, name, hover=False):
+        """The picker's report: say in the panel what is under the cursor / what was picked."""
+        what = "hinge" if kind == "joint" else "node"
+        if hover:
+            self.pick_label.setText(f"under the cursor: {what} {name} (click to pick it)")
+        else:
+            self.pick_label.setText(f"picked {what} {name}")
+
+
+def pick_index(sub):
+    """``"12.Face3"`` (a pick on a link array element) -> 12."""
+    if not sub:
+        return None
+    head = str(sub).split(".", 1)[0]
+    return int(head) if head.isdigit() else None

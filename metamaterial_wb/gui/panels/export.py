@@ -1,0 +1,184 @@
+"""Export STEP / 3MF from the panel, in the background (progress + Cancel), ending with a summary.
+
+The files are written by a child process into a staging folder next to the target and moved into the
+target folder only when every file succeeded: Cancel (or an error) leaves nothing behind. The document
+the structure lives in stays the active one (structure commands stay enabled).
+"""
+import json
+import os
+import shutil
+import tempfile
+
+import FreeCAD
+from PySide import QtGui
+
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.gui.panels.base import GREEN, BasePanel, _close
+from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob
+from metamaterial_wb.objects import structure
+
+
+class ExportPanel(BasePanel):
+    TITLE = "Export"
+    ICON = "MM_Export.svg"
+
+    def __init__(self, scene_obj):
+        super().__init__()
+        self.obj = scene_obj
+        self.doc = scene_obj.Document
+        f = QtGui.QFormLayout()
+        base = os.path.splitext(self.doc.FileName)[0] if self.doc.FileName else \
+            os.path.join(os.path.expanduser("~"), scene_obj.SceneName or "metamaterial")
+        self.path = QtGui.QLineEdit(base + "_export")
+        self.step = QtGui.QCheckBox("STEP (named bodies, assembly)")
+        self.step.setChecked(True)
+        self.threemf = QtGui.QCheckBox("3MF (PLA nodes / TPU hinges)")
+        self.threemf.setChecked(True)
+        self.modules = QtGui.QCheckBox("Modules as separate files")
+        self.modules.setChecked(True)
+        self.sockets = QtGui.QCheckBox("Snap-fit sockets on the nodes")
+        self.sockets.setChecked(True)
+        f.addRow("Folder", self.path)
+        f.addRow(self.problem_label("path"))
+        f.addRow(self.sockets)
+        f.addRow(self.step)
+        f.addRow(self.threemf)
+        f.addRow(self.problem_label("format"))
+        f.addRow(self.modules)
+        self.layout.addLayout(f)
+        self.export_btn = QtGui.QPushButton("Export")
+        self.export_btn.setToolTip("Build the sheet (and modules) and write the files in the background")
+        self.layout.addWidget(self.export_btn)
+        self.jobbox = JobBox()
+        self.layout.addWidget(self.jobbox)
+        self.result_label = self.jobbox.summary
+        self.finish_layout()
+        self.written = []
+        self.warnings = []
+        self.staging = None
+        self.close_when_done = False
+        self.job = ProcessJob(self.jobbox, self._done, self._failed, self._cancelled)
+        self.export_btn.clicked.connect(self.start_export)
+        for w in (self.step, self.threemf):
+            w.toggled.connect(self._check)
+        self.path.textChanged.connect(self._check)
+        self._check()
+
+    def getStandardButtons(self):
+        return QtGui.QDialogButtonBox.StandardButton.Close
+
+    def _check(self, *_):
+        self.set_problem("format", "" if (self.step.isChecked() or self.threemf.isChecked())
+                         else "choose STEP, 3MF or both")
+        out = self.path.text().strip()
+        msg = ""
+        if not out:
+            msg = "give an output folder"
+        elif os.path.exists(out) and not os.path.isdir(out):
+            msg = f"{out!r} exists and is not a folder"
+        self.set_problem("path", msg)
+        self.export_btn.setEnabled(not self.problems and not self.job.running)
+
+    # the job ----------------------------------------------------------------------------
+    def start_export(self):
+        """Start the export in the background. Returns False (reason shown) if it cannot start."""
+        from metamaterial_wb.gui import exporting
+        self.clear_error()
+        if self.problems:
+            self.show_error("not exported: " + self.problem_text())
+            return False
+        if self.job.running:
+            return False
+        try:
+            scene = structure.compose_scene(self.obj)
+        except MetamaterialError as exc:
+            self.show_error(f"not exported: {exc}")
+            return False
+        out = os.path.abspath(self.path.text().strip())
+        parent = os.path.dirname(out)
+        try:
+            os.makedirs(parent, exist_ok=True)
+            self.staging = tempfile.mkdtemp(prefix=".mm-export-", dir=parent)
+        except OSError as exc:
+            self.show_error(f"not exported: cannot write in {parent}: {exc}")
+            return False
+        self.target = out
+        job = {"scene": scene.to_dict(), "out_dir": self.staging, "step": self.step.isChecked(),
+               "threemf": self.threemf.isChecked(), "modules": self.modules.isChecked(),
+               "sockets": self.sockets.isChecked(), "overrides": exporting.preference_overrides(),
+               "stem": exporting.stem_of(scene.name, self.obj.Label)}
+        jpath = os.path.join(self.staging, ".job.json")
+        with open(jpath, "w", encoding="utf-8") as f:
+            json.dump(job, f)
+        self.export_btn.setEnabled(False)
+        self.job.start("metamaterial_wb.gui.export_job", [jpath], text="building the sheet ...")
+        return True
+
+    def _discard_staging(self):
+        if self.staging:
+            shutil.rmtree(self.staging, ignore_errors=True)
+        self.staging = None
+
+    def _done(self, result):
+        try:
+            os.makedirs(self.target, exist_ok=True)
+            written = []
+            for p in result["files"]:
+                dst = os.path.join(self.target, os.path.basename(p))
+                os.replace(p, dst)
+                written.append(dst)
+        except OSError as exc:
+            self._failed(f"cannot move the files into {self.target}: {exc}")
+            return
+        finally:
+            self._discard_staging()
+        self.written, self.warnings = written, list(result.get("warnings", []))
+        self._keep_active()
+        lines = [f"wrote {len(written)} file(s) to {self.target} in {result.get('seconds', 0.0):.1f} s:"]
+        lines += ["  " + os.path.basename(p) for p in written]
+        lines += [f"warning: {w}" for w in self.warnings]
+        self.jobbox.summary.setStyleSheet(GREEN if not self.warnings else "color: #a05a00;")
+        self.jobbox.summary.setText("\n".join(lines))
+        FreeCAD.Console.PrintMessage("Metamaterial export: " + ", ".join(written) + "\n")
+        self._check()
+        if self.close_when_done:
+            self.cleanup()
+            _close()
+
+    def _failed(self, message):
+        self._discard_staging()
+        self._keep_active()
+        self.written = []
+        self.show_error(f"not exported: {message}")
+        self._check()
+
+    def _cancelled(self):
+        self._discard_staging()
+        self._keep_active()
+        self.jobbox.summary.setStyleSheet("")
+        self.jobbox.summary.setText("export cancelled: nothing written")
+        self._check()
+
+    def _keep_active(self):
+        if self.doc.Name in FreeCAD.listDocuments() and FreeCAD.ActiveDocument is not self.doc:
+            FreeCAD.setActiveDocument(self.doc.Name)
+
+    def wait(self, timeout_s=300.0):
+        return self.job.wait(timeout_s)
+
+    # OK / Close -------------------------------------------------------------------------
+    def accept(self):
+        """Scripts: export, wait, close on success (the panel's own button is Export + Close)."""
+        if not self.start_export():
+            return False
+        self.wait()
+        if self.job.outcome != "done":
+            return False
+        self.cleanup()
+        _close()
+        return True
+
+    def cleanup(self):
+        self.job.stop()
+        self._discard_staging()
+        super().cleanup()

@@ -1,0 +1,164 @@
+"""Flexibility: global and per-joint hinge sizes with the resulting k1 / k2.
+
+Every size change is checked at once against the scene validator (sizes that fit the cell), the
+calibration table and the design (a stored fold must stay within the axis' maximum, which depends on
+the hinge length): a problem is shown in red under the hinge sizes and OK is refused.
+"""
+from PySide import QtGui
+
+from metamaterial_wb.core.errors import MetamaterialError, SceneError
+from metamaterial_wb.core.scene import Scene
+from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.panels.base import BasePanel
+from metamaterial_wb.gui.panels.checks import design_problem
+
+
+class FlexibilityPanel(BasePanel):
+    TITLE = "Flexibility"
+    ICON = "MM_Flexibility.svg"
+
+    def __init__(self, scene_obj):
+        super().__init__()
+        self.obj = scene_obj
+        self.scene = structure.compose_scene(scene_obj)
+        self.overrides = {k: dict(v) for k, v in self.scene.joint_overrides.items()}
+        g = QtGui.QGroupBox("All hinges")
+        f = QtGui.QFormLayout(g)
+        self.length = self._spin(self.scene.hinge["length_mm"])
+        self.width = self._spin(self.scene.hinge["width_mm"])
+        self.thick = self._spin(self.scene.hinge["thickness_mm"])
+        f.addRow("Length", self.length)
+        f.addRow("Width", self.width)
+        f.addRow("Thickness", self.thick)
+        self.k_label = QtGui.QLabel("")
+        f.addRow("k1, k2", self.k_label)
+        f.addRow(self.problem_label("hinge"))
+        self.layout.addWidget(g)
+        pj = QtGui.QGroupBox("One joint (click a hinge in the 3D view)")
+        pf = QtGui.QFormLayout(pj)
+        self.joint = QtGui.QComboBox()
+        self.joint.addItems(self.scene.topology.joint_names)
+        self.j_length = self._spin(self.scene.hinge["length_mm"])
+        self.j_width = self._spin(self.scene.hinge["width_mm"])
+        self.jk_label = QtGui.QLabel("")
+        pf.addRow("Joint", self.joint)
+        pf.addRow("Length", self.j_length)
+        pf.addRow("Width", self.j_width)
+        pf.addRow("k1, k2", self.jk_label)
+        bl = QtGui.QHBoxLayout()
+        self.set_btn = QtGui.QPushButton("Set for this joint")
+        self.del_btn = QtGui.QPushButton("Use global size")
+        bl.addWidget(self.set_btn)
+        bl.addWidget(self.del_btn)
+        pf.addRow(bl)
+        self.ov_list = QtGui.QListWidget()
+        pf.addRow(self.ov_list)
+        pf.addRow(self.problem_label("joints"))
+        self.layout.addWidget(pj)
+        self.finish_layout()
+        for w in (self.length, self.width, self.thick):
+            w.valueChanged.connect(self._update_k)
+        for w in (self.j_length, self.j_width):
+            w.valueChanged.connect(self._update_jk)
+        self.joint.currentTextChanged.connect(self._joint_changed)
+        self.set_btn.clicked.connect(self.set_override)
+        self.del_btn.clicked.connect(self.remove_override)
+        self._update_k()
+        self._joint_changed(self.joint.currentText())
+        self._refresh_list()
+        self.watch_selection(scene_obj, on_joint=lambda j: self.joint.setCurrentText(j))
+
+    @staticmethod
+    def _spin(v, hi=1000.0):
+        s = QtGui.QDoubleSpinBox()
+        s.setDecimals(2)
+        s.setRange(0.01, hi)           # wide: the validator and the design say what fits, in words
+        s.setKeyboardTracking(False)
+        s.setSingleStep(0.1)
+        s.setSuffix(" mm")
+        s.setValue(v)
+        return s
+
+    @staticmethod
+    def k_values(length, width, thickness):
+        from metamaterial_wb.core.calibration import default_calibration
+        cal = default_calibration()
+        return cal.k1(length), cal.k2(width, thickness)
+
+    def _update_k(self, *_):
+        try:
+            k1, k2 = self.k_values(self.length.value(), self.width.value(), self.thick.value())
+            self.k_label.setText(f"k1 = {k1:.3f}, k2 = {k2:.3f}")
+        except MetamaterialError:
+            self.k_label.setText("out of the calibrated range")
+        self._update_jk()
+        self.validate()
+
+    def _update_jk(self, *_):
+        try:
+            k1, k2 = self.k_values(self.j_length.value(), self.j_width.value(), self.thick.value())
+            self.jk_label.setText(f"k1 = {k1:.3f}, k2 = {k2:.3f}")
+        except MetamaterialError as exc:
+            self.jk_label.setText(str(exc))
+
+    def _joint_changed(self, name):
+        ov = self.overrides.get(name, {})
+        self.j_length.setValue(ov.get("length_mm", self.length.value()))
+        self.j_width.setValue(ov.get("width_mm", self.width.value()))
+
+    def set_override(self):
+        name = self.joint.currentText()
+        ov = self.overrides.setdefault(name, {})
+        ov["length_mm"] = float(self.j_length.value())
+        ov["width_mm"] = float(self.j_width.value())
+        self._refresh_list()
+
+    def remove_override(self):
+        self.overrides.pop(self.joint.currentText(), None)
+        self._refresh_list()
+        self.validate()
+
+    def _refresh_list(self):
+        self.ov_list.clear()
+        for name, ov in sorted(self.overrides.items()):
+            self.ov_list.addItem(f"{name}: " + ", ".join(f"{k} {v:g}" for k, v in sorted(ov.items())))
+
+    def scene_dict(self):
+        joints = [dict({"joint": k}, **v) for k, v in sorted(self.overrides.items()) if v]
+        d = structure.compose_scene(self.obj).to_dict()
+        d["hinge"] = {"length_mm": float(self.length.value()), "width_mm": float(self.width.value()),
+                      "thickness_mm": float(self.thick.value())}
+        d["joints"] = joints
+        return d
+
+    def validate(self):
+        """Check the sizes as OK would use them; the problem is shown under the sizes it is about."""
+        hinge = joints = ""
+        try:
+            sc = Scene.from_dict(self.scene_dict())
+        except SceneError as exc:
+            if str(exc.field).startswith("joints"):
+                joints = str(exc)
+            else:
+                hinge = str(exc)
+        else:
+            problem = design_problem(sc)
+            if problem:
+                hinge = f"with these sizes: {problem}"
+        self.set_problem("hinge", hinge)
+        self.set_problem("joints", joints)
+        return not (hinge or joints)
+
+    def apply(self):
+        if not self.validate():
+            raise MetamaterialError(self.problem_text())
+        d = self.scene_dict()
+        joints = d["joints"]
+        doc = self.obj.Document
+
+        def change():
+            self.obj.HingeLength = float(self.length.value())
+            self.obj.HingeWidth = float(self.width.value())
+            self.obj.HingeThickness = float(self.thick.value())
+            structure.set_scene_fields(self.obj, joints=joints or None)
+        self.commit(doc, "Flexibility", change)

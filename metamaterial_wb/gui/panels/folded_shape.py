@@ -1,0 +1,219 @@
+"""Folded shape: one fold per axis (spin box + slider, 0.1 deg steps); the view follows live.
+
+Each axis shows its kinematic maximum (tilt limit, hinge strain, plate contact: ``core.design``) and its
+printable maximum (the hinge tilt the printed hinge fits in its node plate) on the control. A fold is
+never rounded (12.5 deg stays 12.5) nor clamped: a fold beyond the maximum in force (the kinematic
+one, or the printable one with "Limit to printable") is shown in red next to its axis and OK is
+refused. **OK = Confirm** runs the joint configuration and stores the folds and hinge tilts.
+"""
+from PySide import QtCore, QtGui
+
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.scene import Scene
+from metamaterial_wb.gui.panels.base import BasePanel, _slider
+from metamaterial_wb.gui.panels.checks import unconfigured
+from metamaterial_wb.objects import design_adapter, structure
+
+FOLD_RANGE = (-180.0, 180.0)     # the scene validator's range of axes[k].fold_deg
+STEP = 0.1                       # deg per slider step
+
+
+def axis_limits(scene):
+    """Per axis ``(kinematic max, binding reason, printable max)`` in deg (None where unknown)."""
+    try:
+        from metamaterial_wb.core import design
+        plans = design.plan_axes(scene)
+        phi_c = design.planar_closing_rad(scene)
+        out = []
+        for p in plans:
+            mx, why = design.axis_limits(scene, p, phi_c)
+            out.append((mx, why, design.printable_fold_deg(scene, p, phi_c)[0]))
+        return out
+    except MetamaterialError:
+        raise
+    except Exception:  # pragma: no cover - design package missing
+        return [(design_adapter.max_fold_deg(scene, k), "", None) for k in range(len(scene.axes))]
+
+
+class FoldedShapePanel(BasePanel):
+    TITLE = "Folded shape"
+    ICON = "MM_FoldedShape.svg"
+
+    def __init__(self, scene_obj):
+        super().__init__()
+        self.obj = scene_obj
+        self.scene = structure.compose_scene(scene_obj)
+        self.saved = structure.display_state(scene_obj)
+        self.limits = axis_limits(unconfigured(self.scene)) if self.scene.axes else []
+        self.spins, self.sliders, self.limit_labels = [], [], []
+        if not self.scene.axes:
+            self.layout.addWidget(QtGui.QLabel("No rotary axes yet: use 'Rotary axes' first."))
+        self.printable = QtGui.QCheckBox("Limit to printable folds")
+        self.printable.setToolTip("Hold every fold within what the printed hinges fit in their node plates "
+                                  "(otherwise the kinematic maximum applies and Export may refuse the design)")
+        grid = QtGui.QGridLayout()
+        for k, a in enumerate(self.scene.axes):
+            mx, why, pmx = self.limits[k]
+            name = getattr(a, "name", "")
+            grid.addWidget(QtGui.QLabel(f"{name + ': ' if name else ''}{a.direction} {a.line}"), 3 * k, 0)
+            spin = QtGui.QDoubleSpinBox()
+            spin.setDecimals(1)
+            spin.setSingleStep(STEP)
+            spin.setRange(*FOLD_RANGE)
+            spin.setSuffix(" deg")
+            spin.setKeyboardTracking(False)
+            spin.setValue(float(a.fold_deg))
+            s = _slider(-1000, 1000, 0)
+            s.setSingleStep(1)
+            s.setPageStep(10)
+            lim = QtGui.QLabel("")
+            lim.setWordWrap(True)
+            lim.setToolTip(f"kinematic maximum bound by {why}" if why else "")
+            grid.addWidget(s, 3 * k, 1)
+            grid.addWidget(spin, 3 * k, 2)
+            grid.addWidget(lim, 3 * k + 1, 1, 1, 2)
+            grid.addWidget(self.problem_label(f"axis{k}"), 3 * k + 2, 0, 1, 3)
+            self.spins.append(spin)
+            self.sliders.append((s, mx))
+            self.limit_labels.append(lim)
+            s.valueChanged.connect(lambda v, k=k: self._slider_moved(k, v))
+            spin.valueChanged.connect(lambda v, k=k: self._spin_changed(k, v))
+            spin.editingFinished.connect(lambda k=k: self._spin_changed(k, self.spins[k].value()))
+        grid.setColumnStretch(1, 1)
+        self.layout.addLayout(grid)
+        self.layout.addWidget(self.printable)
+        gl = QtGui.QHBoxLayout()
+        gl.addWidget(QtGui.QLabel("Global deformation"))
+        self.global_slider = _slider(-100, 100, 100)
+        self.global_label = QtGui.QLabel("1.00")
+        gl.addWidget(self.global_slider, 1)
+        gl.addWidget(self.global_label)
+        self.layout.addLayout(gl)
+        self.info = QtGui.QLabel("The view follows the folds live; Confirm (OK) stores them with the joint "
+                                 "configuration.")
+        self.info.setWordWrap(True)
+        self.layout.addWidget(self.info)
+        self.finish_layout()
+        self.report = None
+        self._solver = None
+        self.previews = 0
+        self._preview_timer = QtCore.QTimer()
+        self._preview_timer.setSingleShot(True)
+        self._preview_timer.setInterval(0)
+        self._preview_timer.timeout.connect(self.preview)
+        self.global_slider.valueChanged.connect(lambda *_: self._preview_timer.start())
+        self.printable.toggled.connect(self._limits_changed)
+        self._limits_changed()
+
+    # limits -----------------------------------------------------------------------------
+    def limit_deg(self, k):
+        """The maximum in force for axis ``k`` (printable with the toggle on, else kinematic)."""
+        mx, _why, pmx = self.limits[k]
+        if self.printable.isChecked() and pmx is not None:
+            return pmx
+        return mx
+
+    def _limits_changed(self, *_):
+        for k, (s, _mx) in enumerate(self.sliders):
+            mx, _why, pmx = self.limits[k]
+            lim = self.limit_deg(k)
+            span = int(round(lim / STEP)) if lim is not None else int(FOLD_RANGE[1] / STEP)
+            s.blockSignals(True)
+            s.setRange(-span, span)
+            s.setTickInterval(max(1, span // 5))
+            s.setValue(int(round(self.spins[k].value() / STEP)))
+            s.blockSignals(False)
+            kin = f"kinematic +-{mx:.1f} deg" if mx is not None else "kinematic: n/a"
+            pr = f"printable +-{pmx:.2f} deg" if pmx is not None else "printable: n/a"
+            self.limit_labels[k].setText(f"{kin}, {pr}" + (f" (slider +-{lim:.1f})" if lim is not None else ""))
+        self._validate()
+        self._preview_timer.start()
+
+    def _validate(self):
+        for k, spin in enumerate(self.spins):
+            f = spin.value()
+            lim = self.limit_deg(k)
+            msg = ""
+            if lim is not None and abs(f) > lim + 1e-9:
+                kind = "printable" if self.printable.isChecked() and self.limits[k][2] is not None else "kinematic"
+                msg = (f"{f:g} deg is beyond the {kind} maximum of this axis: allowed range "
+                       f"[-{lim:.2f}, {lim:.2f}] deg")
+            self.set_problem(f"axis{k}", msg)
+
+    # edits ------------------------------------------------------------------------------
+    def _slider_moved(self, k, v):
+        spin = self.spins[k]
+        spin.blockSignals(True)
+        spin.setValue(v * STEP)
+        spin.blockSignals(False)
+        self._validate()
+        self._preview_timer.start()
+
+    def _spin_changed(self, k, v):
+        s = self.sliders[k][0]
+        s.blockSignals(True)
+        s.setValue(int(round(v / STEP)))     # the slider shows it; the spin box keeps the exact value
+        s.blockSignals(False)
+        self._validate()
+        self._preview_timer.start()
+
+    def folds(self):
+        return [float(round(spin.value(), 6)) for spin in self.spins]
+
+    def set_fold(self, k, deg):
+        self.spins[k].setValue(float(deg))
+
+    def configured_scene(self):
+        d = unconfigured(self.scene).to_dict()
+        for a, f in zip(d.get("axes", []), self.folds()):
+            a["fold_deg"] = f
+        sc = Scene.from_dict(d)
+        self.report = None
+        if design_adapter.design_available() and sc.axes:
+            sc, self.report = design_adapter.configure(sc)
+        return sc
+
+    def preview(self, *_):
+        """Show the folds in the 3D view now (called after every edit; nothing is recomputed)."""
+        g = self.global_slider.value() / 100.0
+        self.global_label.setText(f"{g:.2f}")
+        if self.problems:
+            return
+        try:
+            from metamaterial_wb.objects.engine import LiveSolver
+            sc = self.configured_scene()
+            key = sc.to_json()
+            if self._solver is None or self._solver[0] != key:
+                self._solver = (key, LiveSolver(sc))
+            solver = self._solver[1]
+            structure.apply_frame(self.obj, solver, solver.frame(global_deformation=g), purge=True)
+            self.previews += 1
+            self.clear_error()
+            if self.report:
+                try:
+                    from metamaterial_wb.core.design import format_report
+                    self.info.setText("\n".join(format_report(self.report)))
+                except Exception:  # pragma: no cover
+                    pass
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+
+    def apply(self):
+        self._preview_timer.stop()
+        sc = self.configured_scene()
+        structure.restore_display(self.obj, self.saved)
+        doc = self.obj.Document
+
+        def change():
+            structure.set_scene_fields(self.obj, axes=[a.to_dict() for a in sc.axes] or None,
+                                       joint_config=sc.joint_config or None)
+        self.commit(doc, "Folded shape", change)
+
+    def cleanup(self):
+        self._preview_timer.stop()
+        super().cleanup()
+
+    def reject(self):
+        self._preview_timer.stop()
+        structure.restore_display(self.obj, self.saved)
+        return super().reject()

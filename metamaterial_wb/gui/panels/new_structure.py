@@ -1,0 +1,248 @@
+"""New structure: rows / columns, toggle cells on a grid, presets, or a scene file."""
+import os
+
+import FreeCAD
+from PySide import QtCore, QtGui
+
+import metamaterial_wb
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.scene import Scene, validate_layout
+from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.panels.base import GREEN, BasePanel, _fit
+from metamaterial_wb.gui.panels.checks import design_problem
+
+
+class NewStructurePanel(BasePanel):
+    """Rows / columns and the toggle-button grid (cells named [row, col], as the rule messages name
+    them), presets, or a scene file (typed or browsed; checked as the structure would be built)."""
+    TITLE = "New metamaterial structure"
+    ICON = "MM_NewStructure.svg"
+    BUTTONS_MAX = 32          # beyond 32 x 32 the layout is the full grid (too many buttons to click)
+    GRID_MAX = 2000           # the scene validator allows at most 4,000,000 cells (it says so in words)
+
+    def __init__(self, doc=None):
+        super().__init__()
+        self.doc = doc
+        self.loaded_scene = None
+        self.loaded_path = None
+        form = QtGui.QFormLayout()
+        self.name = QtGui.QLineEdit("structure")
+        self.rows = QtGui.QSpinBox()
+        self.rows.setRange(1, self.GRID_MAX)
+        self.rows.setValue(2)
+        self.cols = QtGui.QSpinBox()
+        self.cols.setRange(1, self.GRID_MAX)
+        self.cols.setValue(6)
+        for w in (self.rows, self.cols):
+            w.setKeyboardTracking(False)
+        self.cell = QtGui.QDoubleSpinBox()
+        self.cell.setRange(0.01, 10000.0)     # the scene validator says what is allowed
+        self.cell.setValue(20.0)
+        self.cell.setSuffix(" mm")
+        self.cell.setKeyboardTracking(False)
+        form.addRow("Name", self.name)
+        form.addRow("Rows", self.rows)
+        form.addRow("Columns", self.cols)
+        form.addRow(self.problem_label("grid"))
+        form.addRow("Cell size", self.cell)
+        form.addRow(self.problem_label("cell"))
+        self.layout.addLayout(form)
+        presets = QtGui.QHBoxLayout()
+        self.grid_btn = QtGui.QPushButton("Grid")
+        self.chain_btn = QtGui.QPushButton("Chain")
+        self.clear_btn = QtGui.QPushButton("Clear")
+        for b in (self.grid_btn, self.chain_btn, self.clear_btn):
+            presets.addWidget(b)
+        self.layout.addLayout(presets)
+        self.layout.addWidget(QtGui.QLabel("Click cells [row, col] to add or remove them:"))
+        self.grid_widget = QtGui.QWidget()
+        self.grid = QtGui.QGridLayout(self.grid_widget)
+        self.grid.setSpacing(2)
+        self.layout.addWidget(self.grid_widget)
+        self.buttons = {}
+        self.headers = []
+        self.status = QtGui.QLabel("")
+        self.status.setWordWrap(True)
+        self.layout.addWidget(self.status)
+        fl = QtGui.QHBoxLayout()
+        self.file = QtGui.QLineEdit()
+        self.file.setPlaceholderText("or a scene file (.json): type its path")
+        self.browse = QtGui.QPushButton("Load scene file...")
+        fl.addWidget(self.file)
+        fl.addWidget(self.browse)
+        self.layout.addLayout(fl)
+        self.layout.addWidget(self.problem_label("file"))
+        self.finish_layout()
+        self.rows.valueChanged.connect(self._rebuild)
+        self.cols.valueChanged.connect(self._rebuild)
+        self.cell.valueChanged.connect(self._changed)
+        self.grid_btn.clicked.connect(self.preset_grid)
+        self.chain_btn.clicked.connect(self.preset_chain)
+        self.clear_btn.clicked.connect(self.clear)
+        self.browse.clicked.connect(self._browse)
+        self.file.editingFinished.connect(self._file_entered)
+        self.file.textChanged.connect(self._file_edited)
+        self._rebuild()
+        self.preset_grid()
+
+    def big(self):
+        return self.rows.value() > self.BUTTONS_MAX or self.cols.value() > self.BUTTONS_MAX
+
+    def _rebuild(self, *_):
+        keep = {k for k, b in self.buttons.items() if b.isChecked()}
+        for w in list(self.buttons.values()) + self.headers:
+            self.grid.removeWidget(w)
+            w.deleteLater()
+        self.buttons, self.headers = {}, []
+        if not self.big():
+            for j in range(self.cols.value()):
+                h = QtGui.QLabel(str(j))
+                h.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+                self.grid.addWidget(h, 0, j + 1)
+                self.headers.append(h)
+            for i in range(self.rows.value()):
+                h = QtGui.QLabel(str(i))
+                self.grid.addWidget(h, i + 1, 0)
+                self.headers.append(h)
+                for j in range(self.cols.value()):
+                    b = QtGui.QPushButton("")
+                    b.setCheckable(True)
+                    b.setFixedSize(22, 22)
+                    b.setToolTip(f"cell [{i}, {j}]")
+                    b.setAccessibleName(f"cell [{i}, {j}]")
+                    b.setStyleSheet("QPushButton:checked { background-color: #3b7dd8; }")
+                    b.setChecked((i, j) in keep)
+                    b.toggled.connect(self._changed)
+                    self.grid.addWidget(b, i + 1, j + 1)
+                    self.buttons[(i, j)] = b
+            for c in range(self.BUTTONS_MAX + 2):   # keep the toggle buttons packed to the left
+                self.grid.setColumnStretch(c, 1 if c == self.cols.value() + 1 else 0)
+        self.grid_widget.setVisible(not self.big())
+        self._changed()
+
+    def preset_grid(self):
+        for b in self.buttons.values():
+            b.setChecked(True)
+        self._changed()
+
+    def preset_chain(self):
+        for (i, j), b in self.buttons.items():
+            b.setChecked(i == 0)
+        self._changed()
+
+    def clear(self):
+        for b in self.buttons.values():
+            b.setChecked(False)
+        self._changed()
+
+    def toggle(self, i, j):
+        b = self.buttons[(i, j)]
+        b.setChecked(not b.isChecked())
+
+    def cells(self):
+        if self.big():
+            return [(i, j) for i in range(self.rows.value()) for j in range(self.cols.value())]
+        return sorted(k for k, b in self.buttons.items() if b.isChecked())
+
+    def _layout_dict(self):
+        if self.big():
+            return {"grid": [self.rows.value(), self.cols.value()]}
+        return {"rows": structure.layout_rows(self.cells())}
+
+    def _changed(self, *_):
+        if self.loaded_scene is not None or self.loaded_path is not None:
+            self.loaded_scene = self.loaded_path = None
+            self.file.blockSignals(True)
+            self.file.setText("")
+            self.file.blockSignals(False)
+            self.set_problem("file", "")
+        grid = cell = ""
+        try:
+            if self.big():
+                Scene.from_dict({"format": "metamaterial-scene", "version": 1,
+                                 "layout": {"grid": [self.rows.value(), self.cols.value()]}})
+            else:
+                validate_layout([list(c) for c in self.cells()])
+        except MetamaterialError as exc:
+            grid = str(exc)
+        try:
+            Scene.from_dict({"format": "metamaterial-scene", "version": 1, "cell_size_mm": float(self.cell.value()),
+                             "layout": {"grid": [1, 1]}})
+        except MetamaterialError as exc:
+            cell = str(exc)
+        self.set_problem("grid", grid)
+        self.set_problem("cell", cell)
+        if grid or cell:
+            self.status.setText("")
+        else:
+            self.status.setStyleSheet(GREEN)
+            n = len(self.cells())
+            self.status.setText(f"{n} cells: a valid layout" + (" (the full grid)" if self.big() else ""))
+
+    def _file_entered(self):
+        typed = self.file.text().strip()
+        if typed and typed != self.loaded_path:
+            self.load_file(typed)
+
+    def _file_edited(self, text):
+        if text.strip() != self.loaded_path:
+            self.loaded_scene = self.loaded_path = None
+            self.set_problem("file", "")      # checked again on Enter / OK
+
+    def _browse(self):  # pragma: no cover - modal file dialog, tests type the path
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Scene file", metamaterial_wb.EXAMPLES_DIR,
+                                                    "Scenes (*.json)")
+        if path:
+            self.file.setText(path)
+            self.load_file(path)
+
+    def load_file(self, path):
+        """Read and check a scene file (as the structure would be built); the problem is shown under the
+        file field. Returns the Scene or None."""
+        self.loaded_scene, self.loaded_path = None, path
+        try:
+            if not path:
+                raise MetamaterialError("type the path of a scene file")
+            scene = Scene.load(path)
+            problem = design_problem(scene)
+            if problem:
+                raise MetamaterialError(problem)
+        except (MetamaterialError, OSError) as exc:
+            self.set_problem("file", f"{os.path.basename(path) or 'scene file'}: {exc}")
+            self.status.setText("")
+            return None
+        self.loaded_scene = scene
+        if self.file.text().strip() != path:
+            self.file.blockSignals(True)
+            self.file.setText(path)
+            self.file.blockSignals(False)
+        self.set_problem("file", "")
+        self.status.setStyleSheet(GREEN)
+        self.status.setText(f"scene {os.path.basename(path)}: {len(scene.cells)} cells, "
+                            f"{len(scene.actuators)} motors")
+        return scene
+
+    def scene(self):
+        typed = self.file.text().strip()
+        if typed and typed != self.loaded_path:
+            if self.load_file(typed) is None:
+                raise MetamaterialError(self.problems.get("file", f"cannot load {typed}"))
+        if self.loaded_scene is not None:
+            return self.loaded_scene
+        if "file" in self.problems:
+            raise MetamaterialError(self.problems["file"])
+        return Scene.from_dict({"format": "metamaterial-scene", "version": 1, "name": self.name.text().strip(),
+                                "cell_size_mm": float(self.cell.value()), "layout": self._layout_dict()})
+
+    def accept(self):
+        typed = self.file.text().strip()
+        if typed and typed != self.loaded_path:
+            self.load_file(typed)           # a typed path counts even without Enter
+        return super().accept()
+
+    def apply(self):
+        scene = self.scene()
+        doc = self.doc or FreeCAD.ActiveDocument or FreeCAD.newDocument()
+        self.commit(doc, "New metamaterial structure", lambda: setattr(self, "result",
+                                                                         structure.make_structure(doc, scene)))
+        _fit(doc)

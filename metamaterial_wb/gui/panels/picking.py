@@ -1,0 +1,192 @@
+"""Picking joints and nodes in the 3D view at any hinge size.
+
+A hinge of the default 2 mm sheet covers 0-2 pixels at fit-all, so picking by what lies under the
+cursor (FreeCAD's selection) mostly lands on a node corner. The :class:`Picker` instead takes the click
+ray (from the camera through the cursor) and picks the joint whose hinge midpoint (the midpoint of its
+two node centres, as displayed) lies nearest to that ray, within half a cell pitch; nodes likewise by
+their centres. The candidate under the cursor is highlighted (a yellow marker) and named in the panel
+before the click; a click picks it and is consumed, so FreeCAD's own selection does not act on it.
+"""
+import numpy as np
+
+import FreeCAD
+import FreeCADGui
+
+from metamaterial_wb.objects import structure
+
+
+def global_placement(obj):
+    """The object's placement in the document's global frame (through its App::Part containers)."""
+    pl = FreeCAD.Placement(obj.Placement)
+    parent = obj.getParentGeoFeatureGroup() if hasattr(obj, "getParentGeoFeatureGroup") else None
+    while parent is not None:
+        pl = parent.Placement.multiply(pl)
+        parent = parent.getParentGeoFeatureGroup()
+    return pl
+
+
+def ray_through(view, x, y):
+    """``(origin, unit direction)`` (numpy, mm, global) of the ray through view pixel (x, y) (Coin
+    coordinates: origin bottom left)."""
+    p = view.getPoint(int(x), int(y))
+    p = np.array([p.x, p.y, p.z])
+    kind = ""
+    try:
+        kind = view.getCameraType()
+    except Exception:  # pragma: no cover
+        pass
+    if kind == "Perspective":
+        cam = np.array(view.getCameraNode().position.getValue().getValue(), dtype=float)
+        d = p - cam
+        o = cam
+    else:
+        v = view.getViewDirection()
+        d = np.array([v.x, v.y, v.z])
+        o = p - 1e4 * d / max(np.linalg.norm(d), 1e-12)
+    return o, d / max(np.linalg.norm(d), 1e-12)
+
+
+def nearest_to_ray(points, origin, direction):
+    """Index of the point nearest to the ray and its distance (mm)."""
+    rel = np.asarray(points, dtype=float) - origin
+    along = rel @ direction
+    perp = rel - along[:, None] * direction[None, :]
+    dist = np.linalg.norm(perp, axis=1)
+    k = int(np.argmin(dist))
+    return k, float(dist[k])
+
+
+class Picker:
+    """Hover highlight + click picking of joints (``on_joint(name)``) and nodes (``on_node(name)``)."""
+
+    def __init__(self, scene_obj, on_joint=None, on_node=None, panel=None):
+        from pivy import coin
+        self.coin = coin
+        self.obj = scene_obj
+        self.on_joint, self.on_node, self.panel = on_joint, on_node, panel
+        self.scene = structure.compose_scene(scene_obj)
+        topo = self.scene.topology
+        from metamaterial_wb.objects.engine import joint_node_indices
+        self.joint_names = list(topo.joint_names)
+        self.joint_nodes = np.array([joint_node_indices(self.scene, n) for n in self.joint_names], dtype=int) \
+            if self.joint_names else np.zeros((0, 2), dtype=int)
+        self.node_names = [f"N{i},{j}" for i, j in topo.nodes]
+        self.reach = 0.5 * float(self.scene.cell_size_mm)
+        self.hover = None
+        self.picks = []
+        gd = FreeCADGui.getDocument(scene_obj.Document.Name)
+        self.view = gd.ActiveView if gd is not None else None
+        if self.view is None or not hasattr(self.view, "addEventCallbackPivy"):
+            raise RuntimeError("no 3D view")
+        self.marker = coin.SoSeparator()
+        self.marker.setName("MetamaterialPreselection")
+        self.switch = coin.SoSwitch()
+        self.switch.whichChild = coin.SO_SWITCH_NONE
+        mat = coin.SoMaterial()
+        mat.diffuseColor = (1.0, 0.85, 0.0)
+        mat.emissiveColor = (0.6, 0.5, 0.0)
+        self.translation = coin.SoTranslation()
+        sphere = coin.SoSphere()
+        sphere.radius = 0.15 * float(self.scene.cell_size_mm)
+        for n in (mat, self.translation, sphere):
+            self.marker.addChild(n)
+        self.switch.addChild(self.marker)
+        self.view.getSceneGraph().addChild(self.switch)
+        self._cbs = [
+            (coin.SoLocation2Event.getClassTypeId(),
+             self.view.addEventCallbackPivy(coin.SoLocation2Event.getClassTypeId(), self._moved)),
+            (coin.SoMouseButtonEvent.getClassTypeId(),
+             self.view.addEventCallbackPivy(coin.SoMouseButtonEvent.getClassTypeId(), self._clicked)),
+        ]
+
+    # geometry ---------------------------------------------------------------------------
+    def node_centres(self):
+        arr = self.obj.NodeArray
+        if arr is None:
+            return np.zeros((0, 3))
+        g = global_placement(arr)
+        pts = [g.multVec(p.Base) for p in arr.PlacementList]
+        return np.array([[v.x, v.y, v.z] for v in pts]).reshape(-1, 3)
+
+    def candidates(self):
+        """``[(kind, name, point)]`` arrays: joints (hinge midpoints) and / or nodes (centres)."""
+        nodes = self.node_centres()
+        out = []
+        if self.on_joint and len(self.joint_names) and len(nodes) > int(self.joint_nodes.max(initial=0)):
+            mids = 0.5 * (nodes[self.joint_nodes[:, 0]] + nodes[self.joint_nodes[:, 1]])
+            out += [("joint", n, p) for n, p in zip(self.joint_names, mids)]
+        if self.on_node:
+            out += [("node", n, p) for n, p in zip(self.node_names, nodes)]
+        return out
+
+    def at(self, x, y):
+        """The ``(kind, name, point)`` nearest to the ray through Coin pixel (x, y), or None."""
+        cands = self.candidates()
+        if not cands:
+            return None
+        o, d = ray_through(self.view, x, y)
+        k, dist = nearest_to_ray([c[2] for c in cands], o, d)
+        return cands[k] if dist <= self.reach else None
+
+    # events -----------------------------------------------------------------------------
+    def _highlight(self, hit):
+        if hit is None:
+            self.switch.whichChild = self.coin.SO_SWITCH_NONE
+        else:
+            p = hit[2]
+            lift = 0.5 * float(self.obj.HingeThickness.Value)
+            self.translation.translation.setValue(float(p[0]), float(p[1]), float(p[2]) + lift)
+            self.switch.whichChild = 0
+
+    def _moved(self, cb):
+        try:
+            x, y = cb.getEvent().getPosition().getValue()
+            hit = self.at(x, y)
+            key = None if hit is None else hit[:2]
+            if key != (None if self.hover is None else self.hover[:2]):
+                self.hover = hit
+                self._highlight(hit)
+                if hit is not None and self.panel is not None:
+                    self.panel.picked(hit[0], hit[1], hover=True)
+        except Exception as exc:  # pragma: no cover - interactive
+            FreeCAD.Console.PrintWarning(f"Metamaterial picking: {exc}\n")
+
+    def _clicked(self, cb):
+        coin = self.coin
+        try:
+            ev = cb.getEvent()
+            if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
+                return
+            x, y = ev.getPosition().getValue()
+            hit = self.at(x, y)
+            if hit is None:
+                return
+            cb.setHandled()                     # ours: FreeCAD's selection does not see this click
+            if ev.getState() != coin.SoButtonEvent.DOWN:
+                return
+            self.pick(hit[0], hit[1])
+        except Exception as exc:  # pragma: no cover - interactive
+            FreeCAD.Console.PrintWarning(f"Metamaterial picking: {exc}\n")
+
+    def pick(self, kind, name):
+        self.picks.append((kind, name))
+        if self.panel is not None:
+            self.panel.picked(kind, name)
+        if kind == "joint" and self.on_joint:
+            self.on_joint(name)
+        elif kind == "node" and self.on_node:
+            self.on_node(name)
+
+    def remove(self):
+        if self.view is None:
+            return
+        for typ, cb in self._cbs:
+            try:
+                self.view.removeEventCallbackPivy(typ, cb)
+            except Exception:  # pragma: no cover - view closed
+                pass
+        try:
+            self.view.getSceneGraph().removeChild(self.switch)
+        except Exception:  # pragma: no cover
+            pass
+        self.view = None

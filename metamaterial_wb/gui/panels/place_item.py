@@ -1,0 +1,90 @@
+"""Place motor / angular constraint on a joint."""
+from PySide import QtGui
+
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.scene import Scene
+from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.panels.base import BasePanel
+
+
+class PlaceItemPanel(BasePanel):
+    def __init__(self, scene_obj, kind="actuator"):
+        self.kind = kind
+        self.TITLE = "Place motor" if kind == "actuator" else "Angular constraint"
+        self.ICON = "MM_PlaceMotor.svg" if kind == "actuator" else "MM_PlaceConstraint.svg"
+        super().__init__()
+        self.obj = scene_obj
+        self.scene = structure.compose_scene(scene_obj)
+        used = {it.name for _, it in self.scene.fixed_items()}
+        prefix = "m" if kind == "actuator" else "c"
+        k = 1
+        while f"{prefix}{k}" in used:
+            k += 1
+        f = QtGui.QFormLayout()
+        self.name = QtGui.QLineEdit(f"{prefix}{k}")
+        self.joint = QtGui.QComboBox()
+        self.joint.addItems(self.scene.topology.joint_names)
+        self.value = QtGui.QDoubleSpinBox()
+        self.value.setRange(-1.0, 1.0)
+        self.value.setDecimals(3)
+        self.value.setSingleStep(0.05)
+        self.value_deg = QtGui.QLabel("")
+        vrow = QtGui.QHBoxLayout()
+        vrow.addWidget(self.value)
+        vrow.addWidget(self.value_deg)
+        f.addRow("Name", self.name)
+        f.addRow("Joint (or click a hinge)", self.joint)
+        f.addRow("Value D (-1..1)", vrow)
+        if kind == "actuator":
+            self.amp = QtGui.QDoubleSpinBox()
+            self.amp.setRange(0.0, 1.0)
+            self.amp.setSingleStep(0.05)
+            self.amp.setValue(0.5)
+            self.freq = QtGui.QDoubleSpinBox()
+            self.freq.setRange(0.0, 50.0)
+            self.freq.setValue(0.5)
+            self.freq.setSuffix(" Hz")
+            self.phase = QtGui.QDoubleSpinBox()
+            self.phase.setRange(-360.0, 360.0)
+            self.phase.setSuffix(" deg")
+            f.addRow("Sine amplitude", self.amp)
+            f.addRow("Frequency", self.freq)
+            f.addRow("Phase offset", self.phase)
+        f.addRow(self.problem_label("item"))
+        self.layout.addLayout(f)
+        self.finish_layout()
+        self.value.valueChanged.connect(self._validate)
+        self.name.textChanged.connect(self._validate)
+        self.joint.currentTextChanged.connect(self._validate)
+        self._validate()
+        self.watch_selection(scene_obj, on_joint=lambda j: self.joint.setCurrentText(j))
+
+    def _validate(self, *_):
+        v = float(self.value.value())
+        self.value_deg.setText(f"= {v * 90.0:+.1f} deg servo" if self.kind == "actuator" else "")
+        try:
+            self.scene_with_item()
+            self.set_problem("item", "")
+        except MetamaterialError as exc:
+            self.set_problem("item", str(exc))
+
+    def scene_with_item(self):
+        name = self.name.text().strip()
+        joint = self.joint.currentText()
+        profile = None
+        if self.kind == "actuator":
+            profile = {"shape": "sine", "amplitude": float(self.amp.value()), "frequency_hz": float(self.freq.value()),
+                       "phase_deg": float(self.phase.value())}
+        # validate the whole scene with the new item before touching the document
+        d = self.scene.to_dict()
+        item = {"name": name, "joint": joint, "value": float(self.value.value())}
+        if profile:
+            item["profile"] = profile
+        d["actuators" if self.kind == "actuator" else "constraints"].append(item)
+        return Scene.from_dict(d), name, joint, profile
+
+    def apply(self):
+        _sc, name, joint, profile = self.scene_with_item()   # the whole scene, validated before any change
+        doc = self.obj.Document
+        self.commit(doc, self.TITLE, lambda: setattr(self, "result", structure.make_item(
+            doc, self.obj, self.kind, name, joint, float(self.value.value()), profile)))

@@ -1,0 +1,112 @@
+"""Rotary axes: toggle grid lines (panel buttons or hinge clicks); rule violations listed."""
+import FreeCAD
+from PySide import QtGui
+
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.objects import design_adapter, structure
+from metamaterial_wb.gui.panels.base import BasePanel
+from metamaterial_wb.gui.panels.overlays import AxisOverlay, axis_segment
+
+
+class RotaryAxesPanel(BasePanel):
+    TITLE = "Rotary axes"
+    ICON = "MM_RotaryAxes.svg"
+
+    def __init__(self, scene_obj):
+        super().__init__()
+        self.obj = scene_obj
+        self.scene = structure.compose_scene(scene_obj)
+        self.old = {(a.direction, a.line): a.to_dict() for a in self.scene.axes}
+        lines = design_adapter.candidate_lines(self.scene)
+        self.buttons = {}
+        self.layout.addWidget(QtGui.QLabel("Click grid lines here, or click a hinge in the 3D view.\n"
+                                           "Vertical axes run down a cell column and cross its H joints;\n"
+                                           "horizontal axes run along a cell row and cross its V joints."))
+        for d in ("vertical", "horizontal"):
+            box = QtGui.QGroupBox(f"{d.capitalize()} axes ({'columns' if d == 'vertical' else 'rows'})")
+            lay = QtGui.QHBoxLayout(box)
+            for line in lines[d]:
+                b = QtGui.QPushButton(str(line))
+                b.setCheckable(True)
+                b.setFixedWidth(30)
+                b.setStyleSheet("QPushButton:checked { background-color: #e07a00; }")
+                b.setChecked((d, line) in self.old)
+                b.toggled.connect(self._changed)
+                lay.addWidget(b)
+                self.buttons[(d, line)] = b
+            lay.addStretch(1)
+            self.layout.addWidget(box)
+        self.violations = self.problem_label("axes")
+        self.violations.setWordWrap(True)
+        self.violations.setStyleSheet("color: #c00000;")
+        self.layout.addWidget(self.violations)
+        self.finish_layout()
+        # the flat sheet (every D = 0) with the grid lines drawn over it while the panel is open
+        self.saved = structure.display_state(scene_obj)
+        self.overlay = None
+        try:
+            from metamaterial_wb.objects.engine import LiveSolver
+            solver = LiveSolver(self.scene)
+            structure.apply_frame(scene_obj, solver, solver.frame(global_deformation=0.0), purge=True)
+            self.overlay = AxisOverlay(scene_obj.Document)
+        except Exception as exc:  # pragma: no cover - display only
+            FreeCAD.Console.PrintWarning(f"Metamaterial: no axis overlay ({exc})\n")
+        self._changed()
+        self.watch_selection(scene_obj, on_joint=self.pick_joint)
+
+    def axes(self):
+        out = []
+        for (d, line), b in sorted(self.buttons.items()):
+            if b.isChecked():
+                a = dict(self.old.get((d, line), {"direction": d, "line": line, "fold_deg": 0.0}))
+                out.append(a)
+        return out
+
+    def set_axis(self, direction, line, on=True):
+        self.buttons[(direction, int(line))].setChecked(on)
+
+    def pick_joint(self, joint):
+        """A hinge clicked in the 3D view toggles the axis that crosses it."""
+        kind, rest = joint[0], joint[1:]
+        i, j = (int(x) for x in rest.split(","))
+        key = ("vertical", j) if kind == "H" else ("horizontal", i)
+        if key in self.buttons:
+            b = self.buttons[key]
+            b.setChecked(not b.isChecked())
+
+    def current_violations(self):
+        return design_adapter.axis_violations(self.scene, self.axes())
+
+    def _changed(self, *_):
+        v = self.current_violations()
+        self.set_problem("axes", "\n".join(v))
+        self.clear_error()
+        if getattr(self, "overlay", None) is not None:
+            z = 0.5 * self.scene.hinge["thickness_mm"] + 0.5
+            cand = [axis_segment(self.scene, d, line, z) for (d, line) in sorted(self.buttons)]
+            chosen = [axis_segment(self.scene, d, line, z) for (d, line), b in sorted(self.buttons.items())
+                      if b.isChecked()]
+            names = [f"{'col' if d == 'vertical' else 'row'} {line}" for (d, line) in sorted(self.buttons)]
+            self.overlay.show(cand, chosen, names)
+
+    def cleanup(self):
+        if getattr(self, "overlay", None) is not None:
+            self.overlay.remove()
+            self.overlay = None
+        if getattr(self, "saved", None) is not None:
+            structure.restore_display(self.obj, self.saved)
+            self.saved = None
+        super().cleanup()
+
+    def apply(self):
+        v = self.current_violations()
+        if v:
+            raise MetamaterialError("the axes break the rules: " + "; ".join(v))
+        self.cleanup()
+        doc = self.obj.Document
+        # changing the axes invalidates a previous joint configuration
+        self.commit(doc, "Rotary axes", lambda: structure.set_scene_fields(self.obj, axes=self.axes() or None,
+                                                                           joint_config=None))
+
+
+# ----------------------------------------------------------------------------------------------

@@ -1,0 +1,171 @@
+"""Simulate: global deformation and one slider per motor and constraint, solved live."""
+import time
+
+from PySide import QtGui
+
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.panels.base import BasePanel, _slider
+
+
+class SimulatePanel(BasePanel):
+    """Global-deformation slider and one slider per motor and constraint, solved live."""
+    TITLE = "Simulate"
+    ICON = "MM_Simulate.svg"
+
+    def __init__(self, scene_obj):
+        super().__init__()
+        self.obj = scene_obj
+        self.saved = structure.display_state(scene_obj)
+        self.scene = structure.compose_scene(scene_obj)
+        from metamaterial_wb.gui.panels.stream import servo_scales
+        self.scales = servo_scales(self.scene)
+        self.initial = {}
+        f = QtGui.QFormLayout()
+        self.model = QtGui.QComboBox()
+        self.model.addItems(list(scene_obj.getEnumerationsOfProperty("Model")))
+        self.model.setCurrentText(scene_obj.Model)
+        f.addRow("Model", self.model)
+        self.layout.addLayout(f)
+        gbox = QtGui.QGroupBox("Global deformation (perfect propagation)")
+        gl = QtGui.QHBoxLayout(gbox)
+        self.use_global = QtGui.QCheckBox("")
+        self.use_global.setChecked(bool(scene_obj.UseGlobal))
+        self.global_slider = _slider(-100, 100, int(round(100 * scene_obj.GlobalDeformation)))
+        self.global_label = QtGui.QLabel("")
+        gl.addWidget(self.use_global)
+        gl.addWidget(self.global_slider, 1)
+        gl.addWidget(self.global_label)
+        self.layout.addWidget(gbox)
+        ibox = QtGui.QGroupBox("Motors and constraints")
+        il = QtGui.QGridLayout(ibox)
+        self.sliders = {}
+        self.labels = {}
+        self.kinds = {}
+        for r, (kind, it) in enumerate(self.scene.fixed_items()):
+            il.addWidget(QtGui.QLabel(("motor " if kind == "actuator" else "clip ") + f"{it.name} ({it.joint})"), r, 0)
+            s = _slider(-1000, 1000, int(round(1000 * it.value)))
+            self.initial[it.name] = (s.value(), float(it.value))
+            lab = QtGui.QLabel("")
+            il.addWidget(s, r, 1)
+            il.addWidget(lab, r, 2)
+            self.sliders[it.name] = s
+            self.labels[it.name] = lab
+            self.kinds[it.name] = kind
+            self._label(it.name, float(it.value))
+            s.valueChanged.connect(lambda v, n=it.name: self._item_moved(n))
+        if not self.sliders:
+            il.addWidget(QtGui.QLabel("No motors yet: use 'Place motor'."), 0, 0)
+        self.layout.addWidget(ibox)
+        self.stats = QtGui.QLabel("")
+        self.layout.addWidget(self.stats)
+        self.warn = QtGui.QLabel("")
+        self.warn.setWordWrap(True)
+        self.warn.setStyleSheet("color: #a05a00;")
+        self.layout.addWidget(self.warn)
+        self.finish_layout()
+        self.solver = None
+        self.frames = 0
+        self.update_ms = None
+        self.update_times = []
+        self.model.currentTextChanged.connect(self._model_changed)
+        self.global_slider.valueChanged.connect(self._global_moved)
+        self.use_global.toggled.connect(self._global_toggled)
+        self._global_toggled(self.use_global.isChecked(), update=False)
+        self._model_changed(self.model.currentText())
+
+    def _model_changed(self, name):
+        try:
+            if name == self.obj.Model:
+                self.solver = structure.solver_for(self.obj, self.scene)   # the stored factorisation
+            else:
+                from metamaterial_wb.objects.engine import LiveSolver
+                self.solver = LiveSolver(self.scene, model=name)
+            self.error.setText("")
+            self.warn.setText("\n".join(list(self.obj.SolveWarnings) + [w for w in self.solver.warnings
+                                                                          if w not in self.obj.SolveWarnings]))
+            self.update()
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+
+    def _label(self, name, v):
+        if self.kinds.get(name) == "actuator":
+            self.labels[name].setText(f"{v * self.scales.get(name, 90.0):+.1f} deg ({v:+.3f})")
+        else:
+            self.labels[name].setText(f"D {v:+.3f}")
+
+    def _global_toggled(self, on, update=True):
+        """Global deformation overrides the motors: their sliders are disabled while it is on."""
+        for s in self.sliders.values():
+            s.setEnabled(not on)
+            s.setToolTip("overridden by Global deformation (untick it to use the motors)" if on else "")
+        if update:
+            self.update()
+
+    def _global_moved(self, *_):
+        if not self.use_global.isChecked():
+            self.use_global.setChecked(True)  # toggled -> update
+        else:
+            self.update()
+
+    def _item_moved(self, name):
+        self._label(name, self.sliders[name].value() / 1000.0)
+        self.update()
+
+    def values(self):
+        """The values the sliders show; an untouched slider keeps the stored value exactly."""
+        out = {}
+        for n, s in self.sliders.items():
+            v0, stored = self.initial[n]
+            out[n] = stored if s.value() == v0 else s.value() / 1000.0
+        return out
+
+    def set_value(self, name, value):
+        self.sliders[name].setValue(int(round(1000 * value)))
+
+    def update(self):
+        if self.solver is None:
+            return
+        t0 = time.perf_counter()
+        g = self.global_slider.value() / 100.0
+        self.global_label.setText(f"{g:+.2f}")
+        try:
+            frame = (self.solver.frame(global_deformation=g) if self.use_global.isChecked()
+                     else self.solver.frame(values=self.values()))
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+            return
+        t1 = time.perf_counter()
+        structure.apply_frame(self.obj, self.solver, frame, purge=True)
+        self.frames += 1
+        self.last_frame = frame
+        t2 = time.perf_counter()
+        # the panel's own update timer (solve + poses + placements; the view renders afterwards)
+        self.update_ms = {"solve": 1000 * (t1 - t0), "placements": 1000 * (t2 - t1), "total": 1000 * (t2 - t0)}
+        self.update_times.append(self.update_ms["total"])
+        self.clear_error()
+        self.stats.setText(f"max |D| = {abs(frame.D).max():.3f}; update {self.update_ms['total']:.1f} ms "
+                           f"(solve {self.update_ms['solve']:.1f}, placements {self.update_ms['placements']:.1f}; "
+                           "no recompute)")
+
+    def apply(self):
+        structure.restore_display(self.obj, self.saved)
+        vals = self.values()
+        doc = self.obj.Document
+
+        def change():
+            for it in self.obj.Items:
+                if it.ItemName in vals and abs(it.Value - vals[it.ItemName]) > 1e-12:
+                    it.Value = vals[it.ItemName]
+            self.obj.UseGlobal = self.use_global.isChecked()
+            self.obj.GlobalDeformation = self.global_slider.value() / 100.0
+            if self.obj.Model != self.model.currentText():
+                self.obj.Model = self.model.currentText()
+        self.commit(doc, "Simulate", change)
+
+    def reject(self):
+        structure.restore_display(self.obj, self.saved)
+        return super().reject()
+
+
+# ----------------------------------------------------------------------------------------------

@@ -1,0 +1,293 @@
+"""Sleeve actuator (issue 9): spec file or parameters -> geometry in the document, prediction."""
+import json
+import os
+
+import FreeCAD
+from PySide import QtCore, QtGui
+
+import metamaterial_wb
+from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.gui.panels.base import BasePanel, transaction, _fit
+from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
+
+
+def sleeve_summary_text(summary):
+    """The panel's short report of a ``core.sleeve.pipeline.analyse`` summary (plain text lines)."""
+    lines = []
+    for uc in summary["unit_cells"]:
+        lines.append(f"cell type {uc['type']}: peak {uc['peak_force']:.4g}, valley {uc['valley_force']:.4g} "
+                     f"(F / G L^2)")
+    ring = summary["ring"]
+    fmt = lambda xs: ", ".join(f"{x:.4g}" for x in xs) or "none"  # noqa: E731
+    lines.append(f"sleeve ({ring['rings']} x {ring['cells']} cells): peaks {fmt(ring['peaks'])}; "
+                 f"valleys {fmt(ring['valleys'])}")
+    seq = summary["sequence"]
+    lines.append(f"sequence: loading {seq['loading']}, unloading {seq['unloading']} -> "
+                 f"{'symmetric' if seq['symmetric'] else 'asymmetric'}")
+    pv = summary.get("pv", {})
+    if pv.get("peaks_kPa"):
+        lines.append(f"pressure peaks {fmt(pv['peaks_kPa'])} kPa")
+    return lines
+
+
+class SleevePanel(BasePanel):
+    """Open a ``metamaterial-sleeve`` spec, edit its main parameters, build the sleeve (OK, one undo
+    step) and optionally run the prediction (core.sleeve.pipeline.analyse) in the background."""
+    TITLE = "Sleeve actuator"
+    ICON = "MM_Sleeve.svg"
+    DEFAULT = os.path.join(metamaterial_wb.EXAMPLES_DIR, "sleeve.json")
+
+    def __init__(self, doc=None):
+        super().__init__()
+        self.doc = doc
+        self.raw = {}
+        fl = QtGui.QHBoxLayout()
+        self.path = QtGui.QLineEdit("")
+        self.open_btn = QtGui.QPushButton("Open...")
+        fl.addWidget(QtGui.QLabel("Spec"))
+        fl.addWidget(self.path)
+        fl.addWidget(self.open_btn)
+        self.layout.addLayout(fl)
+        f = QtGui.QFormLayout()
+        self.name = QtGui.QLineEdit("sleeve")
+        f.addRow("Name", self.name)
+        self.dims = {}
+        for key, label, lo, hi in (("L_mm", "L (beam span)", 1.0, 500.0), ("c_mm", "c (pillar width)", 0.1, 100.0),
+                                   ("delta_mm", "delta (gap)", 0.01, 50.0), ("T_mm", "T (wall thickness)", 0.1, 50.0),
+                                   ("shear_modulus_MPa", "G (shear modulus)", 0.01, 1e4)):
+            w = QtGui.QDoubleSpinBox()
+            w.setDecimals(3)
+            w.setRange(lo, hi)
+            w.setSingleStep(0.1)
+            w.setSuffix(" MPa" if key.endswith("MPa") else " mm")
+            f.addRow(label, w)
+            self.dims[key] = w
+        self.layout.addLayout(f)
+        self.types = QtGui.QTableWidget(0, 2)
+        self.types.setHorizontalHeaderLabels(["t (mm)", "h (mm)"])
+        self.types.setMaximumHeight(130)
+        self.layout.addWidget(QtGui.QLabel("Cell types (row = type index)"))
+        self.layout.addWidget(self.types)
+        bl = QtGui.QHBoxLayout()
+        add, rem = QtGui.QPushButton("Add type"), QtGui.QPushButton("Remove last")
+        add.clicked.connect(lambda: self.add_type(1.0, 7.0))
+        rem.clicked.connect(self.remove_type)
+        bl.addWidget(add)
+        bl.addWidget(rem)
+        self.layout.addLayout(bl)
+        f2 = QtGui.QFormLayout()
+        self.ring = QtGui.QLineEdit("0, 0, 1, 1")
+        self.ring.setToolTip("cell type index of each cell around the circumference")
+        self.rings = QtGui.QSpinBox()
+        self.rings.setRange(1, 12)
+        f2.addRow("Ring pattern", self.ring)
+        f2.addRow("Rings", self.rings)
+        self.layout.addLayout(f2)
+        pl = QtGui.QHBoxLayout()
+        self.predict_btn = QtGui.QPushButton("Predict")
+        self.predict_btn.setToolTip("Unit-cell and sleeve force-displacement curves, snapping sequence "
+                                    "(core.sleeve, about a second per curve)")
+        pl.addWidget(self.predict_btn)
+        self.layout.addLayout(pl)
+        self.jobbox = JobBox()
+        self.progress = self.jobbox.progress
+        self.layout.addWidget(self.jobbox)
+        self.result = QtGui.QLabel("")
+        self.result.setWordWrap(True)
+        self.result.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.layout.addWidget(self.result)
+        el = QtGui.QHBoxLayout()
+        self.export_dir = QtGui.QLineEdit(os.path.join(os.path.expanduser("~"), "sleeve_export"))
+        self.export_btn = QtGui.QPushButton("Export STEP + 3MF")
+        self.export_btn.setToolTip("sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, "
+                                   "per-part extruders), as 'sleeve SPEC --step --3mf'")
+        self.export_btn.clicked.connect(lambda: self.export(self.export_dir.text().strip()))
+        el.addWidget(self.export_dir)
+        el.addWidget(self.export_btn)
+        self.layout.addLayout(el)
+        self.finish_layout()
+        self.summary = None
+        self.created = []
+        self.prediction = ThreadJob(self.jobbox, self._predicted, self._prediction_failed, self._prediction_cancelled)
+        self.open_btn.clicked.connect(self._browse)
+        self.predict_btn.clicked.connect(self.predict)
+        if os.path.exists(self.DEFAULT):
+            self.load_spec(self.DEFAULT)
+
+    def _browse(self):  # pragma: no cover - modal file dialog, tests call load_spec
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Sleeve spec", "", "Sleeve spec (*.json)")
+        if path:
+            self.load_spec(path)
+
+    def add_type(self, t, h):
+        r = self.types.rowCount()
+        self.types.insertRow(r)
+        for c, v in enumerate((t, h)):
+            w = QtGui.QDoubleSpinBox()
+            w.setDecimals(3)
+            w.setRange(0.001, 300.0)
+            w.setSingleStep(0.05)
+            w.setValue(float(v))
+            self.types.setCellWidget(r, c, w)
+
+    def remove_type(self):
+        if self.types.rowCount() > 1:
+            self.types.removeRow(self.types.rowCount() - 1)
+
+    def load_spec(self, path):
+        """Fill the widgets from a spec file (validated by core.sleeve.spec). Returns True on success."""
+        from metamaterial_wb.core.sleeve.spec import SleeveSpec
+        try:
+            spec = SleeveSpec.load(path)
+        except (OSError, MetamaterialError) as exc:
+            self.show_error(f"{path}: {exc}")
+            return False
+        self.path.setText(str(path))
+        self.set_spec(spec)
+        return True
+
+    def set_spec(self, spec):
+        self.raw = dict(spec.raw)
+        self.name.setText(spec.name)
+        for key, attr in (("L_mm", "L"), ("c_mm", "c"), ("delta_mm", "delta"), ("T_mm", "T"),
+                          ("shear_modulus_MPa", "G")):
+            self.dims[key].setValue(getattr(spec, attr))
+        self.types.setRowCount(0)
+        for g in spec.cells:
+            self.add_type(g.t, g.h)
+        uniform = all(row == spec.pattern[0] for row in spec.pattern)
+        self.ring.setText(", ".join(str(v) for v in spec.pattern[0]))
+        self.rings.setValue(spec.M)
+        self.ring.setEnabled(uniform)
+        self.rings.setEnabled(uniform)
+        self.summary = None
+        self.result.setText("")
+        self.error.setText("")
+        if not uniform:
+            self.result.setText("this spec has a per-ring pattern; it is kept as in the file")
+
+    def spec_dict(self):
+        """The spec the widgets describe: the loaded file's other fields (model, actuator, ...) kept."""
+        d = {k: v for k, v in self.raw.items() if k not in ("cell_types",)}
+        d["format"] = "metamaterial-sleeve"
+        d.setdefault("version", 1)
+        d["name"] = self.name.text().strip() or "sleeve"
+        for key, w in self.dims.items():
+            d[key] = round(w.value(), 6)
+        d["cell_types"] = [{"t_mm": round(self.types.cellWidget(r, 0).value(), 6),
+                            "h_mm": round(self.types.cellWidget(r, 1).value(), 6)} for r in range(self.types.rowCount())]
+        if self.ring.isEnabled():
+            try:
+                d["ring"] = [int(x) for x in self.ring.text().replace(";", ",").split(",") if x.strip()]
+            except ValueError:
+                raise MetamaterialError(f"ring pattern {self.ring.text()!r}: expected cell type indices "
+                                        "separated by commas, e.g. 0, 0, 1, 1") from None
+            d["rings"] = int(self.rings.value())
+            d.pop("pattern", None)
+        return d
+
+    def spec(self):
+        from metamaterial_wb.core.sleeve.spec import SleeveSpec
+        return SleeveSpec(self.spec_dict(), "panel")
+
+    # prediction (background thread, progress + Cancel) --------------------------------------
+    @property
+    def job(self):
+        return self.prediction if self.prediction.running else None
+
+    def predict(self):
+        from metamaterial_wb.core.sleeve.pipeline import analyse
+        if self.prediction.running:
+            return False
+        try:
+            spec = self.spec()
+        except MetamaterialError as exc:
+            self.show_error(str(exc))
+            return False
+        self.clear_error()
+        self.predict_btn.setEnabled(False)
+        self.result.setText("predicting ...")
+        stages = []
+
+        def work(report):
+            def log(stage):
+                stages.append(stage)
+                report(min(0.95, 0.1 * len(stages)), f"predicting: {stage}")
+            return analyse(spec, log=log)[0]
+        return self.prediction.start(work, text="predicting ...")
+
+    def _predicted(self, summary):
+        self.predict_btn.setEnabled(True)
+        self.summary = summary
+        self.result.setText("\n".join(sleeve_summary_text(summary)))
+
+    def _prediction_failed(self, message):
+        self.predict_btn.setEnabled(True)
+        self.result.setText("")
+        self.show_error(f"prediction failed: {message}")
+
+    def _prediction_cancelled(self):
+        self.predict_btn.setEnabled(True)
+        self.result.setText("prediction cancelled")
+
+    def wait_prediction(self, timeout_s=120.0):
+        return self.prediction.wait(timeout_s)
+
+    def export(self, folder):
+        """Write sleeve.step and sleeve.3mf into ``folder`` (via a temporary folder: nothing half-written).
+        Returns the paths written, or [] with the error shown."""
+        import shutil
+        import tempfile
+
+        from metamaterial_wb.geometry.sleeve import export_sleeve
+        if not folder:
+            self.show_error("export: choose a folder")
+            return []
+        folder = os.path.abspath(folder)
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.CursorShape.WaitCursor)
+        tmp = None
+        try:
+            spec = self.spec()
+            os.makedirs(os.path.dirname(folder), exist_ok=True)
+            tmp = tempfile.mkdtemp(prefix=".sleeve-export-", dir=os.path.dirname(folder))
+            names = export_sleeve(spec, tmp, step=True, threemf=True)
+            os.makedirs(folder, exist_ok=True)
+            for n in names:
+                os.replace(os.path.join(tmp, n), os.path.join(folder, n))
+        except (MetamaterialError, OSError) as exc:
+            self.show_error(f"export: {exc}")
+            return []
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+            if tmp:
+                shutil.rmtree(tmp, ignore_errors=True)
+        self.error.setText("")
+        paths = [os.path.join(folder, n) for n in names]
+        FreeCAD.Console.PrintMessage("Metamaterial sleeve export: " + ", ".join(paths) + "\n")
+        self.result.setText((self.result.text() + "\n" if self.result.text() else "") + "wrote " + ", ".join(names))
+        return paths
+
+    def cleanup(self):
+        self.prediction.stop()
+        super().cleanup()
+
+    def apply(self):
+        from metamaterial_wb.geometry import sleeve as geo
+        spec = self.spec()
+        doc = self.doc or FreeCAD.ActiveDocument or FreeCAD.newDocument("Sleeve")
+        self.doc = doc
+        with transaction(doc, "Sleeve actuator"):
+            part = doc.addObject("App::Part", "Sleeve")
+            part.Label = spec.name
+            part.addProperty("App::PropertyString", "SleeveSpec", "Metamaterial",
+                             "the sleeve spec (metamaterial-sleeve JSON) the parts were built from")
+            part.SleeveSpec = json.dumps(self.spec_dict(), indent=1)
+            objs = geo.add_to_document(spec, doc)
+            for o in objs:
+                part.addObject(o)
+            doc.recompute()
+        self.created = [part] + list(objs)
+        _fit(doc)
+
+
+# ----------------------------------------------------------------------------------------------
