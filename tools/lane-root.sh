@@ -1,18 +1,50 @@
 #!/usr/bin/env bash
 # Make, or refresh, the Debian root of one FreeCAD lane:  tools/lane-root.sh SUITE DIR
-# The root is a minimal Debian SUITE (mmdebstrap --variant=apt) with the packages of tools/lane-packages.txt.
-# DIR/.metamaterial-lane records the suite and the package list; a root whose record differs is rebuilt into
-# DIR.new and swapped in only when complete. Never deletes a root while anything is mounted inside it.
+# The root is a minimal Debian SUITE (mmdebstrap --variant=apt) with the packages of tools/lane-packages.txt
+# (a line ending in "[suite,...]" is for those suites only). DIR/.metamaterial-lane records the suite and the
+# package list. A root of the same suite whose list grew gets the missing packages with apt inside it; any
+# other difference (or a failed install) rebuilds it into DIR.new, swapped in only when complete. A root is
+# never deleted while anything is mounted inside it.
 set -euo pipefail
 suite="$1" dir="$2"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-mapfile -t pkgs < <(grep -v '^\s*#' "$here/lane-packages.txt" | awk 'NF{print $1}')
+mapfile -t pkgs < <(sed 's/#.*//' "$here/lane-packages.txt" | awk -v s="$suite" '
+  NF == 0 { next }
+  { only = ""; if (match($0, /\[[^]]*\]/)) only = substr($0, RSTART + 1, RLENGTH - 2) }
+  only == "" || ("," only ",") ~ ("," s ",") { print $1 }')
 want="$suite $(printf '%s\n' "${pkgs[@]}" | sort | tr '\n' ' ')"
 stamp="$dir/.metamaterial-lane"
-if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
-  exit 0
-fi
+have="$(cat "$stamp" 2>/dev/null || true)"
+[ "$have" = "$want" ] && exit 0
 mounted_below() { findmnt -rn -o TARGET | awk -v d="$1" '$0 == d || index($0, d "/") == 1' ; }
+aptopts=()
+case "$suite" in
+  # the testing/unstable Release files served here can be past their Valid-Until date
+  forky|testing|sid|unstable) aptopts+=(-o 'Acquire::Check-Valid-Until=false') ;;
+esac
+
+if [ -n "$have" ] && [ "${have%% *}" = "$suite" ]; then   # same suite: add what is missing
+  read -r -a old <<< "${have#* }"
+  missing=($(comm -13 <(printf '%s\n' "${old[@]}" | sort) <(printf '%s\n' "${pkgs[@]}" | sort)))
+  removed=($(comm -23 <(printf '%s\n' "${old[@]}" | sort) <(printf '%s\n' "${pkgs[@]}" | sort)))
+  if [ ${#removed[@]} = 0 ] && [ ${#missing[@]} -gt 0 ] && [ -z "$(mounted_below "$dir")" ]; then
+    echo "lane-root: adding ${missing[*]} to the $suite root" >&2
+    mount -t proc proc "$dir/proc"
+    mount --bind /dev "$dir/dev"
+    trap 'umount "$dir/dev" 2>/dev/null || umount -l "$dir/dev"; umount "$dir/proc" 2>/dev/null || umount -l "$dir/proc"' EXIT
+    cp /etc/resolv.conf "$dir/etc/resolv.conf" 2>/dev/null || true
+    if chroot "$dir" apt-get "${aptopts[@]}" update -qq >&2 &&
+       DEBIAN_FRONTEND=noninteractive chroot "$dir" apt-get "${aptopts[@]}" install -y -qq "${missing[@]}" >&2; then
+      chroot "$dir" apt-get clean
+      echo "$want" > "$stamp"
+      exit 0
+    fi
+    echo "lane-root: adding packages failed; rebuilding the root" >&2
+    umount "$dir/dev" 2>/dev/null || umount -l "$dir/dev"; umount "$dir/proc" 2>/dev/null || umount -l "$dir/proc"
+    trap - EXIT
+  fi
+fi
+
 if [ -n "$(mounted_below "$dir")" ]; then
   echo "lane-root: $dir has mounts inside it; unmount them first:" >&2; mounted_below "$dir" >&2; exit 1
 fi
@@ -21,16 +53,13 @@ if ! command -v mmdebstrap >/dev/null; then
   $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq mmdebstrap >&2
 fi
 opts=()
-case "$suite" in
-  # the testing/unstable Release files served here can be past their Valid-Until date
-  forky|testing|sid|unstable) opts+=(--aptopt='Acquire::Check-Valid-Until "false"') ;;
-esac
+[ ${#aptopts[@]} = 0 ] || opts+=(--aptopt='Acquire::Check-Valid-Until "false"')
 mkdir -p "$(dirname "$dir")"
 tmp="$dir.new"
 for attempt in 1 2; do
   [ -z "$(mounted_below "$tmp")" ] || { echo "lane-root: $tmp has mounts inside it" >&2; exit 1; }
   rm -rf "$tmp"
-  echo "lane-root: making the $suite root in $dir (attempt $attempt, takes 1-4 min)" >&2
+  echo "lane-root: making the $suite root in $dir (attempt $attempt, takes 2-10 min)" >&2
   if timeout 1500 mmdebstrap --variant=apt "${opts[@]}" \
        --include="$(IFS=,; echo "${pkgs[*]}")" "$suite" "$tmp" 2>&1 | { grep -v "^I: " >&2 || true; }; then
     echo "$want" > "$tmp/.metamaterial-lane"
