@@ -32,7 +32,7 @@ def _run():
         root = os.path.dirname(HERE)
         named = [a for a in extra if not a.startswith("-") and os.path.exists(os.path.join(root, a.split("::")[0]))]
         extra = [os.path.join(root, a) if a in named else a for a in extra]
-        args = ["-q", "-p", "no:cacheprovider", "-o", f"rootdir={root}"] + ([] if named else
+        args = ["-q", "-p", "no:cacheprovider", f"--rootdir={root}"] + ([] if named else
                                                                               [os.path.join(HERE, "gui")]) + extra
         rc = int(pytest.main(args))
     except BaseException as exc:  # noqa: BLE001 - report and leave

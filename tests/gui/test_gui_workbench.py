@@ -370,7 +370,7 @@ def test_animation_plays_frames_and_restores(doc):
     p.play()
     loop = QtCore.QEventLoop()
     QtCore.QTimer.singleShot(600, loop.quit)
-    loop.exec_()
+    (loop.exec if hasattr(loop, "exec") else loop.exec_)()   # PySide6 deprecates exec_
     p.pause()
     assert p.frames > f1 + 3, "the timer did not advance the animation"
     # loop wraps the time
