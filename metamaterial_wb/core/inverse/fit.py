@@ -1,0 +1,197 @@
+"""Values-only fit: actuator values of a fixed placement that best reach a target.
+
+For a fixed placement the quadratic model's D is affine in the actuator values,
+``D = D0 + G v`` (``G`` is the solver's response matrix, :class:`~metamaterial_wb.core.solver.QuadraticModel`),
+and the poses are smooth in D (:class:`~metamaterial_wb.core.inverse.tangent.PoseTangent` gives their
+exact derivatives), so ``v`` follows from a bounded Gauss-Newton / trust-region least squares
+(``scipy.optimize.least_squares``, method ``trf``, bounds [-1, 1]) with the exact Jacobian
+``dr/dv = dr/dpose * dpose/dD * G``, jointly with the frame's rigid alignment. Frames (keyframes) are
+independent given the placement, so each is fitted on its own.
+"""
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from metamaterial_wb.core import kinematics as _k
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.inverse.residuals import FrameResidual
+from metamaterial_wb.core.inverse.surface import TargetError
+from metamaterial_wb.core.inverse.tangent import PoseTangent
+from metamaterial_wb.core.scene import joint_nodes, parse_joint
+from metamaterial_wb.core.solver import QuadraticModel
+
+
+@dataclass
+class FrameFit:
+    values: np.ndarray
+    xi: np.ndarray
+    cost: float                       # 0.5 |r|^2 (mm^2)
+    parts: dict
+    nfev: int
+    transform: tuple = None
+
+
+@dataclass
+class FitResult:
+    joints: tuple
+    frames: list
+    cost: float
+    nfev: int
+    seconds: float
+    info: dict = field(default_factory=dict)
+
+    @property
+    def values(self):
+        return np.array([f.values for f in self.frames])
+
+
+class Problem:
+    """A scene (its constraints stay fixed), a target, and everything reused across placements."""
+
+    def __init__(self, scene, target, keep_actuators=False, calibration=None):
+        from metamaterial_wb.core import design
+        from metamaterial_wb.core.calibration import joint_stiffness
+
+        scene = scene.copy()
+        design.ensure_configured(scene)
+        self.scene = scene
+        self.target = target
+        topo = scene.topology
+        self.topo = topo
+        self.k1, self.k2 = joint_stiffness(scene, calibration)
+        self.kin = _k.Kinematics(scene)
+        self.tangent = PoseTangent(self.kin)
+        self.frames = [FrameResidual(scene, fr) for fr in target.frames]
+        self.constraints = [(c.name, self._joint_nodes(c.joint), c.value) for c in scene.constraints]
+        self.fixed_nodes = set()
+        for _, nodes, _ in self.constraints:
+            self.fixed_nodes.update(nodes)
+        self.existing = [(a.name, a.joint) for a in scene.actuators] if keep_actuators else []
+
+    def _joint_nodes(self, joint):
+        kind, i, j = parse_joint(joint)
+        return [self.topo.node_id(*n) for n in joint_nodes(kind, i, j)]
+
+    # -- response ---------------------------------------------------------------------------
+    def response(self, joints):
+        """``(D0 (n,), G (n, len(joints)))`` with ``D = D0 + G v`` for servos on ``joints``."""
+        groups = [(name, nodes) for name, nodes, _ in self.constraints]
+        groups += [(f"servo{k}", self._joint_nodes(j)) for k, j in enumerate(joints)]
+        model = QuadraticModel(self.topo.n_nodes, self.topo.joint_pairs, self.k1, self.k2, groups)
+        nc, ns = len(self.constraints), len(joints)
+        ng = nc + ns
+        full = np.zeros((self.topo.n_nodes, ng))
+        full[model.fixed, model.fixed_group] = 1.0
+        if model.free.size:
+            if model.G is not None:
+                full[model.free] = model.G
+            else:
+                for g in range(ng):
+                    e = np.zeros(ng)
+                    e[g] = 1.0
+                    full[model.free, g] = model._factor.solve(-(model.H_FA @ e[model.fixed_group]))
+        cvals = np.array([v for _, _, v in self.constraints])
+        D0 = full[:, :nc] @ cvals if nc else np.zeros(self.topo.n_nodes)
+        return D0, full[:, nc:]
+
+    def check_placement(self, joints):
+        used = {}
+        for j in joints:
+            nodes = self._joint_nodes(j)
+            for n in nodes:
+                if n in self.fixed_nodes:
+                    raise SceneError(f"servo {j}", "shares a node with an angular constraint (a node takes one value)")
+                if n in used:
+                    raise SceneError(f"servo {j}", f"shares a node with servo {used[n]} (a node takes one value)")
+                used[n] = j
+
+    # -- one frame ---------------------------------------------------------------------------
+    def frame_residual(self, fi, v, xi, D0, G, want_jac=True):
+        D = D0 + G @ v
+        if want_jac:
+            pos, R, dpos, dR, F, dF = self.tangent.poses(D, G.T)
+        else:
+            phi = self.kin.angles(D)
+            F = self.kin.fold_frames(phi) if self.frames[fi].frame.folds is not None else None
+            pos, R = self.kin.poses_from_angles(phi)
+            dpos = dR = dF = None
+        return self.frames[fi].evaluate(pos, R, xi, dpos, dR, F, dF, want_jac=want_jac)
+
+    def fit_frame(self, fi, D0, G, v0=None, max_nfev=60, tol=1e-15):
+        fr = self.frames[fi]
+        ns = G.shape[1]
+        v0 = np.zeros(ns) if v0 is None else np.clip(np.asarray(v0, dtype=float), -1, 1)
+        pos0, _R, _ = self.kin.poses(np.clip(D0 + G @ v0, -1, 1))
+        xi0 = fr.initial_alignment(pos0)
+        nx = fr.n_xi
+        cache = {}
+
+        def both(x):
+            key = x.tobytes()
+            if key not in cache:
+                cache.clear()
+                r, Jv, Jx, parts = self.frame_residual(fi, x[:ns], x[ns:], D0, G)
+                cache[key] = (r, np.hstack([Jv, Jx]))
+            return cache[key]
+
+        x0 = np.concatenate([v0, xi0])
+        if ns + nx == 0:
+            r, _, _, parts = self.frame_residual(fi, v0, xi0, D0, G, want_jac=False)
+            return FrameFit(v0, xi0, 0.5 * float(r @ r), parts, 1, fr.transform(xi0))
+        lo = np.concatenate([-np.ones(ns), -np.inf * np.ones(nx)])
+        hi = np.concatenate([np.ones(ns), np.inf * np.ones(nx)])
+        x0 = np.clip(x0, lo, hi)
+        sol = least_squares(lambda x: both(x)[0], x0, jac=lambda x: both(x)[1], bounds=(lo, hi), method="trf",
+                            xtol=tol, ftol=tol, gtol=tol, max_nfev=max_nfev, x_scale=1.0)
+        v, xi = sol.x[:ns], sol.x[ns:]
+        r, _, _, parts = self.frame_residual(fi, v, xi, D0, G, want_jac=False)
+        return FrameFit(v, xi, 0.5 * float(r @ r), parts, int(sol.nfev), fr.transform(xi))
+
+    # -- a placement --------------------------------------------------------------------------
+    def fit(self, joints, v0=None, starts=None, max_nfev=60):
+        """Fit every frame for servos on ``joints``. ``v0``: (frames, servos) warm start;
+        ``starts``: extra start vectors tried per frame (the best is kept)."""
+        t0 = time.perf_counter()
+        joints = tuple(joints)
+        self.check_placement(joints)
+        D0, G = self.response(joints)
+        frames, nfev = [], 0
+        for fi in range(len(self.frames)):
+            cands = [None if v0 is None else np.asarray(v0)[fi]]
+            if fi and frames:
+                cands.append(frames[-1].values)            # previous keyframe's answer
+            for s in starts or ():
+                cands.append(np.full(len(joints), float(s)) if np.isscalar(s) else np.asarray(s))
+            best = None
+            for c in cands:
+                ff = self.fit_frame(fi, D0, G, c, max_nfev=max_nfev)
+                nfev += ff.nfev
+                if best is None or ff.cost < best.cost - 1e-15:
+                    best = ff
+            frames.append(best)
+        return FitResult(joints, frames, float(sum(f.cost for f in frames)), nfev, time.perf_counter() - t0)
+
+
+def frame_errors(parts):
+    """``{rms_mm, max_mm, rms_deg, max_deg}`` of one frame's residual parts (None where absent)."""
+    d = np.concatenate([parts[k] for k in ("node_dist_mm", "surface_dist_mm") if k in parts] or [np.zeros(0)])
+    f = parts.get("fold_err_deg")
+    out = {"rms_mm": float(np.sqrt(np.mean(d ** 2))) if d.size else None,
+           "max_mm": float(d.max()) if d.size else None,
+           "rms_deg": float(np.sqrt(np.mean(f ** 2))) if f is not None else None,
+           "max_deg": float(np.abs(f).max()) if f is not None else None}
+    return out
+
+
+def combined_errors(parts_list):
+    d = [np.concatenate([p[k] for k in ("node_dist_mm", "surface_dist_mm") if k in p] or [np.zeros(0)])
+         for p in parts_list]
+    d = np.concatenate(d) if d else np.zeros(0)
+    f = [p["fold_err_deg"] for p in parts_list if "fold_err_deg" in p]
+    f = np.concatenate(f) if f else None
+    return frame_errors({"node_dist_mm": d, **({"fold_err_deg": f} if f is not None else {})})
+
+
+__all__ = ["Problem", "FitResult", "FrameFit", "frame_errors", "combined_errors", "TargetError"]
