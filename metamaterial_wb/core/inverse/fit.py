@@ -4,7 +4,8 @@ For a fixed placement the quadratic model's D is affine in the actuator values,
 ``D = D0 + G v`` (``G`` is the solver's response matrix, :class:`~metamaterial_wb.core.solver.QuadraticModel`),
 and the poses are smooth in D (:class:`~metamaterial_wb.core.inverse.tangent.PoseTangent` gives their
 exact derivatives), so ``v`` follows from a bounded Gauss-Newton / trust-region least squares
-(``scipy.optimize.least_squares``, method ``trf``, bounds [-1, 1]) with the exact Jacobian
+(:func:`box_gauss_newton`: Levenberg-Marquardt-damped Gauss-Newton with an active set for the
+bounds [-1, 1]; ``scipy.optimize.least_squares`` is a cross-check in the tests) with the exact Jacobian
 ``dr/dv = dr/dpose * dpose/dD * G``, jointly with the frame's rigid alignment. Frames (keyframes) are
 independent given the placement, so each is fitted on its own.
 """
@@ -12,7 +13,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from metamaterial_wb.core import kinematics as _k
 from metamaterial_wb.core.errors import SceneError
@@ -142,12 +142,10 @@ class Problem:
             return FrameFit(v0, xi0, 0.5 * float(r @ r), parts, 1, fr.transform(xi0))
         lo = np.concatenate([-np.ones(ns), -np.inf * np.ones(nx)])
         hi = np.concatenate([np.ones(ns), np.inf * np.ones(nx)])
-        x0 = np.clip(x0, lo, hi)
-        sol = least_squares(lambda x: both(x)[0], x0, jac=lambda x: both(x)[1], bounds=(lo, hi), method="trf",
-                            xtol=tol, ftol=tol, gtol=tol, max_nfev=max_nfev, x_scale=1.0)
-        v, xi = sol.x[:ns], sol.x[ns:]
+        x, nfev = box_gauss_newton(both, np.clip(x0, lo, hi), lo, hi, max_nfev=max_nfev, tol=tol)
+        v, xi = x[:ns], x[ns:]
         r, _, _, parts = self.frame_residual(fi, v, xi, D0, G, want_jac=False)
-        return FrameFit(v, xi, 0.5 * float(r @ r), parts, int(sol.nfev), fr.transform(xi))
+        return FrameFit(v, xi, 0.5 * float(r @ r), parts, nfev, fr.transform(xi))
 
     # -- a placement --------------------------------------------------------------------------
     def fit(self, joints, v0=None, starts=None, max_nfev=60):
@@ -172,6 +170,59 @@ class Problem:
                     best = ff
             frames.append(best)
         return FitResult(joints, frames, float(sum(f.cost for f in frames)), nfev, time.perf_counter() - t0)
+
+
+def box_gauss_newton(fun, x0, lo, hi, max_nfev=60, tol=1e-15, max_step=0.5):
+    """Minimise ``0.5 |r(x)|^2`` over the box [lo, hi]; ``fun(x) -> (r, J)``. Returns ``(x, nfev)``.
+
+    Gauss-Newton steps on the free variables (those not at a bound with the gradient pushing out),
+    Levenberg-Marquardt damping ``mu`` raised on a failed step and lowered on a good one, the step
+    projected onto the box. Quadratic convergence on zero-residual problems (planted targets).
+    """
+    x = np.asarray(x0, dtype=float).copy()
+    r, J = fun(x)
+    cost = 0.5 * float(r @ r)
+    nfev, mu = 1, 1e-6
+    floor = 0.5 * r.size * 1e-24          # rms residual below 1e-12 mm: round-off level
+    while nfev < max_nfev and cost > floor:
+        g = J.T @ r
+        active = ((x <= lo) & (g > 0)) | ((x >= hi) & (g < 0))
+        free = ~active
+        if not np.any(free):
+            break
+        Jf = J[:, free]
+        A = Jf.T @ Jf
+        scale = np.maximum(np.diag(A), 1e-300)
+        while True:
+            try:
+                dx = np.linalg.solve(A + mu * np.diag(scale), -g[free])
+            except np.linalg.LinAlgError:
+                mu *= 10.0
+                continue
+            bounded = np.isfinite(lo[free])
+            big = float(np.abs(dx[bounded]).max()) if np.any(bounded) else 0.0
+            if big > max_step:          # a trust region in the units of the values
+                dx *= max_step / big
+            xn = x.copy()
+            xn[free] += dx
+            np.clip(xn, lo, hi, out=xn)
+            rn, Jn = fun(xn)
+            nfev += 1
+            cn = 0.5 * float(rn @ rn)
+            if cn < cost or nfev >= max_nfev:
+                break
+            mu = max(mu * 8.0, 1e-6)
+            if mu > 1e12 or float(np.abs(dx).max()) <= tol * (1.0 + float(np.abs(x).max())):
+                return x, nfev
+        if cn >= cost:
+            break
+        step = float(np.abs(xn - x).max())
+        rel = (cost - cn) / max(cost, 1e-300)
+        x, r, J, cost = xn, rn, Jn, cn
+        mu = max(mu / 5.0, 1e-12)
+        if step <= tol * (1.0 + float(np.abs(x).max())) or rel <= tol:
+            break
+    return x, nfev
 
 
 def frame_errors(parts):

@@ -178,7 +178,7 @@ class FrameResidual:
             dna, dnb = dR[:, a][..., 2], dR[:, b][..., 2]
             dc = np.cross(dna, nb[None]) + np.cross(na[None], dnb)
             du = 0.0 if dF is None else np.einsum("kjil,jl->kji", dF[:, a], f)
-            dy = np.einsum("kji,ji->kj", dc, u[None]) + (0.0 if dF is None else np.einsum("ji,kji->kj", c, du))
-            dx = np.einsum("kji,ji->kj", dna, nb[None]) + np.einsum("ji,kji->kj", na, dnb)
+            dy = np.einsum("kji,ji->kj", dc, u) + (0.0 if dF is None else np.einsum("ji,kji->kj", c, du))
+            dx = np.einsum("kji,ji->kj", dna, nb) + np.einsum("ji,kji->kj", na, dnb)
             dfold[:, joints] = np.degrees((x * dy - y * dx) / (x * x + y * y))
         return fold, dfold
