@@ -17,16 +17,16 @@ from metamaterial_wb.core.scene import Scene
 GRID_FOLD = os.path.join(REPO_DIR, "examples", "grid_fold.json")
 
 
-def _fd_check(pb, joints, x, h=1e-6):
+def _fd_check(pb, joints, x, h=1e-6, R0=np.eye(3)):
     D0, G = pb.response(joints)
     ns = len(joints)
-    r, Jv, Jx, _ = pb.frame_residual(0, x[:ns], x[ns:], D0, G)
+    r, Jv, Jx, _ = pb.frame_residual(0, x[:ns], x[ns:], R0, D0, G)
     J = np.hstack([Jv, Jx])
     for c in range(len(x)):
         e = np.zeros(len(x))
         e[c] = h
-        rp = pb.frame_residual(0, (x + e)[:ns], (x + e)[ns:], D0, G, want_jac=False)[0]
-        rm = pb.frame_residual(0, (x - e)[:ns], (x - e)[ns:], D0, G, want_jac=False)[0]
+        rp = pb.frame_residual(0, (x + e)[:ns], (x + e)[ns:], R0, D0, G, want_jac=False)[0]
+        rm = pb.frame_residual(0, (x - e)[:ns], (x - e)[ns:], R0, D0, G, want_jac=False)[0]
         fd = (rp - rm) / (2 * h)
         assert np.abs(fd - J[:, c]).max() < 1e-5 * max(1.0, np.abs(fd).max()), c
 
@@ -38,9 +38,8 @@ def test_residual_jacobian_nodes_rotations_similarity_folds_equal_finite_differe
          "rotation_weight_mm": 10.0, "align": "similarity",
          "folds": [{"axis": "left_wall", "fold_deg": -20}, {"joint": "H1,4", "fold_deg": 15}]}
     pb = Problem(s, parse_target(s, d))
-    pb.frames[0].R0 = axis_angle_matrices(np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8]),
-                                          np.array([0.4]))[0]
-    _fd_check(pb, ["V1,0", "V2,6"], np.array([0.5, 0.3, 0.05, -0.02, 0.1, 1.0, -2.0, 0.5, 0.01]))
+    R0 = axis_angle_matrices(np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8]), np.array([0.4]))[0]
+    _fd_check(pb, ["V1,0", "V2,6"], np.array([0.5, 0.3, 0.05, -0.02, 0.1, 1.0, -2.0, 0.5, 0.01]), R0=R0)
 
 
 def test_residual_jacobian_surface_equals_finite_differences(tmp_path):
@@ -135,9 +134,10 @@ def test_box_gauss_newton_matches_scipy_least_squares_on_an_unreachable_target()
     fit = pb.fit(joints)
     D0, G = pb.response(joints)
     fr = pb.frames[0]
-    x0 = np.concatenate([[0.5, 0.7], fr.initial_alignment(pb.kin.poses(D0 + G @ [0.5, 0.7])[0])])
-    fun = lambda x: pb.frame_residual(0, x[:2], x[2:], D0, G, want_jac=False)[0]  # noqa: E731
-    jac = lambda x: np.hstack(pb.frame_residual(0, x[:2], x[2:], D0, G)[1:3])  # noqa: E731
+    R0, xi0 = fr.initial_alignment(pb.kin.poses(D0 + G @ [0.5, 0.7])[0])
+    x0 = np.concatenate([[0.5, 0.7], xi0])
+    fun = lambda x: pb.frame_residual(0, x[:2], x[2:], R0, D0, G, want_jac=False)[0]  # noqa: E731
+    jac = lambda x: np.hstack(pb.frame_residual(0, x[:2], x[2:], R0, D0, G)[1:3])  # noqa: E731
     lo = np.r_[-1, -1, [-np.inf] * 6]
     sol = least_squares(fun, x0, jac=jac, bounds=(lo, -lo), method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15)
     assert abs(fit.cost - sol.cost) < 1e-9 * sol.cost

@@ -29,13 +29,12 @@ class FrameResidual:
         self.pairs = topo.joint_pairs
         self.align = frame.align if frame.has_positions else "none"
         self.n_xi = {"none": 0, "rigid": 6, "similarity": 7}[self.align]
-        self.R0 = np.eye(3)
 
     # -- alignment -------------------------------------------------------------------------
     def initial_alignment(self, pos, iterations=30):
-        """``xi0`` and ``R0`` from Kabsch on the target nodes, then ICP steps for a surface."""
+        """``(R0, xi0)`` from Kabsch on the target nodes, then ICP steps for a surface."""
         if self.n_xi == 0:
-            return np.zeros(0)
+            return np.eye(3), np.zeros(0)
         fr = self.frame
         P, Q, W = [], [], []
         if fr.nodes is not None:
@@ -56,27 +55,26 @@ class FrameResidual:
                 s, R, t = s2, R2, t2
                 if done:
                     break
-        self.R0 = R
         xi = np.zeros(self.n_xi)
         xi[3:6] = t
         if sim:
             xi[6] = math.log(s)
-        return xi
+        return R, xi
 
-    def transform(self, xi):
-        """``(s, Rfull, t)`` of the alignment parameters."""
+    def transform(self, xi, R0):
+        """``(s, R, t)`` of the alignment parameters ``xi`` about ``R0``."""
         if self.n_xi == 0:
             return 1.0, np.eye(3), np.zeros(3)
         Rw = _k.rotation_exp(xi[None, :3])[0]
         s = math.exp(xi[6]) if self.n_xi == 7 else 1.0
-        return s, Rw @ self.R0, xi[3:6]
+        return s, Rw @ R0, xi[3:6]
 
     # -- residuals ---------------------------------------------------------------------------
-    def evaluate(self, pos, R, xi, dpos=None, dR=None, F=None, dF=None, fold_deg=None, want_jac=True):
+    def evaluate(self, pos, R, xi, R0, dpos=None, dR=None, F=None, dF=None, fold_deg=None, want_jac=True):
         """``(r, Jv, Jxi, parts)``; ``parts`` holds the per-node distances and fold errors."""
         fr = self.frame
         k = 0 if dpos is None else dpos.shape[0]
-        s, RA, t = self.transform(xi)
+        s, RA, t = self.transform(xi, R0)
         rs, Jv, Jx = [], [], []
         parts = {}
         if self.n_xi:
