@@ -94,6 +94,7 @@ class SearchResult:
     screened: int                      # candidates screened (one Gauss-Newton step each)
     seconds: float
     history: list = field(default_factory=list)
+    info: dict = field(default_factory=dict)   # linearised placements evaluated, free-field bound (mm^2)
 
 
 class PlacementSearch:
@@ -325,7 +326,8 @@ class PlacementSearch:
         placed, values = tuple(placed[i] for i in order), values[:, order]
         fit = self.pb.fit(placed, v0=values, starts=(0.0, 0.5, -0.5))
         self.fits += 1
-        return SearchResult(tuple(placed), fit, self.fits, self.screened, time.perf_counter() - t0, self.history)
+        return SearchResult(tuple(placed), fit, self.fits, self.screened, time.perf_counter() - t0, self.history,
+                            {"linearised": self.lin_evaluated, "lower_bound": self.lower_bound})
 
     def _alignments(self, placed, values):
         """Per frame, the alignment parameters of the warm start (for the screen)."""
