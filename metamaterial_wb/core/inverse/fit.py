@@ -167,7 +167,14 @@ class Problem:
                     np.vstack([np.hstack([Jv, Jx]), np.hstack([lam * L, np.zeros((3 * m, nx))])]))
 
         lo = np.concatenate([-np.ones(n), -np.inf * np.ones(nx)])
-        x, _ = box_gauss_newton(both, np.concatenate([zero, xi0]), lo, -lo, max_nfev=max_nfev, tol=1e-12)
+        best = None
+        for start in ((0.0, 0.5, -0.5) if n <= 400 else (0.0,)):   # the kink at D = 0: try both sides
+            x, _ = box_gauss_newton(both, np.concatenate([np.full(n, start), xi0]), lo, -lo, max_nfev=max_nfev,
+                                    tol=1e-12)
+            c = float(np.sum(both(x, False)[0] ** 2))
+            if best is None or c < best[0]:
+                best = (c, x)
+        x = best[1]
         r, Jv, Jx, _ = self.frame_residual(fi, x[:n], x[n:], R0, zero, eye)
         if nx:
             Q, _ = np.linalg.qr(Jx)
@@ -290,7 +297,11 @@ def box_gauss_newton(fun, x0, lo, hi, max_nfev=60, tol=1e-15, radius=0.25):
         try:
             dx = np.linalg.solve(A + (mu + 1e-13) * np.diag(scale), -g[free])
         except np.linalg.LinAlgError:
-            dx = np.linalg.lstsq(A, -g[free], rcond=None)[0]
+            dx = np.full(int(free.sum()), np.nan)
+        if not np.all(np.isfinite(dx)):
+            dx = np.linalg.lstsq(A, -g[free], rcond=1e-12)[0]
+        if not np.all(np.isfinite(dx)):
+            break
         bnd = bounded_all[free]
         big = float(np.abs(dx[bnd]).max()) if np.any(bnd) else 0.0
         if big > radius:
@@ -301,6 +312,8 @@ def box_gauss_newton(fun, x0, lo, hi, max_nfev=60, tol=1e-15, radius=0.25):
         rn, _ = fun(xn, False)
         nfev += 1
         cn = 0.5 * float(rn @ rn)
+        if not np.isfinite(cn):
+            cn = np.inf
         d = (xn - x)[free]
         pred = -float(g[free] @ d + 0.5 * d @ (A @ d))
         step = float(np.abs(xn - x).max())

@@ -298,6 +298,10 @@ class PlacementSearch:
             self.progress(f"servo {step + 1}/{self.n}: {', '.join(placed)} (cost {cost:.6g} mm^2, "
                           f"{self.fits} fits, {self.screened} screened)")
         for rnd in range(self.max_swap_rounds):
+            if self.lower_bound is not None and cost < self.lower_bound * (1.0 - 1e-6) - 1e-20:
+                self.progress(f"the free field did not converge (cost {self.lower_bound:.6g} above a placement's "
+                              f"{cost:.6g}): it is no bound")
+                self.lower_bound = None
             if self.lower_bound is not None and cost <= self.lower_bound * (1.0 + 1e-6) + 1e-20:
                 self.progress("cost at the free-field lower bound: no swap can improve it")
                 break
