@@ -94,26 +94,15 @@ def main():
     closed = grip.copy()
     for a in closed.actuators:
         closed.set_value(a.name, 0.9)
-    pos = run_model("quadratic", closed).positions_mm
     topo = closed.topology
-    bar = [topo.node_id(i, j) for i in (3, 4) for j in range(8) if topo.node_id(i, j) >= 0]
-    P = pos[bar]
-    # the bar's own frame (the kinematics' frame is arbitrary): e1 along the bar, e3 its normal;
-    # a circle through the bar in the (e1, e3) plane (algebraic least squares) is the cylinder's
-    # cross-section; the cylinder (axis across the bar) is placed over the flat bar for the target
-    c0 = P.mean(axis=0)
-    _u, _s, Vt = np.linalg.svd(P - c0)
-    e1, e3 = Vt[0], Vt[2]
-    if e3[2] < 0:
-        e3 = -e3
-    a, b = (P - c0) @ e1, (P - c0) @ e3
-    A = np.column_stack([2 * a, 2 * b, np.ones(len(P))])
-    ca, cb, c = np.linalg.lstsq(A, a ** 2 + b ** 2, rcond=None)[0]
-    radius = float(np.sqrt(c + ca ** 2 + cb ** 2))
+    # a cylinder along y above the bar (the arms rise when the gripper closes): with its axes folding
+    # 10 degrees each, the bar closes onto a cylinder of about 250 mm radius; the rigid alignment
+    # places the sheet on it
+    radius = 250.0
     flat = np.array([[j * closed.cell_size_mm, -i * closed.cell_size_mm] for i in (3, 4) for j in range(8)
                      if topo.node_id(i, j) >= 0])
     fx, fy = flat.mean(axis=0)
-    cylinder_stl(os.path.join(EX, "gripper_cylinder.stl"), (fx + ca, cb), radius, fy - 60, fy + 60)
+    cylinder_stl(os.path.join(EX, "gripper_cylinder.stl"), (fx, radius), radius, fy - 60, fy + 60, n=720)
     names = [f"N{i},{j}" for i in (3, 4) for j in range(8) if topo.node_id(i, j) >= 0]
     with open(os.path.join(EX, "gripper_cylinder_target.json"), "w") as f:
         json.dump({"format": "metamaterial-target", "version": 1,

@@ -25,7 +25,10 @@ def add_arguments(p):
     p.add_argument("--values-only", action="store_true", help="keep the scene's actuators; fit their values only")
     p.add_argument("--forbid", action="append", default=[], metavar="JOINT",
                    help="a joint that may not get a servo (repeatable, or comma-separated)")
-    p.add_argument("--hinges", action="store_true", help="also fit hinge sizes per region (not available yet)")
+    p.add_argument("--hinges", action="store_true",
+                   help="also fit one hinge length per region (within the calibration table's range)")
+    p.add_argument("--hinge-regions", default="2x2", metavar="ROWSxCOLS",
+                   help="regions of --hinges: blocks of the sheet (default 2x2)")
     p.add_argument("--model", default="quadratic", choices=("quadratic", "linear", "nonlinear"),
                    help="model whose error the values minimise (placement always searched with the quadratic "
                         "model; linear / nonlinear polish the values afterwards)")
@@ -72,7 +75,8 @@ def run(args):
 
     t0 = time.perf_counter()
     if args.hinges:
-        raise SceneError("--hinges", "fitting hinge sizes is not available yet (docs/inverse.md, limits)")
+        from metamaterial_wb.core.inverse.hinges import parse_regions
+        regions = parse_regions(args.hinge_regions)
     models = [m.strip() for m in args.evaluate.split(",") if m.strip()]
     for m in models:
         if m not in ev.MODELS:
@@ -112,10 +116,23 @@ def run(args):
         info.update(fits=res.fits, screened=res.screened, linearised=res.info.get("linearised", 0))
         lower = res.info.get("lower_bound")
     values = fit.values
-    out_scene = ev.answer_scene(pb, joints, values, names)
+    hinge_report, overrides = None, None
+    if args.hinges:
+        from metamaterial_wb.core.inverse.hinges import HingeRegions
+        hr = HingeRegions(pb, *regions)
+        _progress(f"fitting {len(hr.regions)} hinge length(s) with the values")
+        hfit, lengths = hr.fit(joints, v0=values)
+        if hfit.cost < fit.cost:
+            fit, values = hfit, hfit.values
+            overrides = hr.overrides(lengths)
+        else:
+            lengths = np.array(hr.start)
+        hinge_report = hr.report(lengths)
+        info["fits"] += 1
+    out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
     if args.model != "quadratic":
         values = ev.polish_values(pb, out_scene, values, args.model, progress=_progress)
-        out_scene = ev.answer_scene(pb, joints, values, names)
+        out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
     errors = ev.evaluate_all(pb, out_scene, values, models, progress=_progress)
     picture = None
     first = next((m for m in (args.model, "quadratic") if m in errors and "per_frame" in errors[m]), None)
@@ -131,6 +148,7 @@ def run(args):
         "placement": [{"name": a.name, "joint": a.joint, "values": [float(v) for v in values[:, k]]}
                       for k, a in enumerate(out_scene.actuators)],
         "keyframes": [{"time_s": f.time_s} for f in target.frames],
+        "hinges": hinge_report,
         "errors": {m: _json_errors(e) for m, e in errors.items()},
         "fit_cost_mm2": float(fit.cost), "free_field_bound_mm2": lower,
         "candidates_evaluated": info, "workers": nworkers, "scheduler": args.scheduler,
