@@ -8,7 +8,7 @@ import numpy as np
 from metamaterial_wb.core.render import plate_corners
 
 
-def answer_png(problem, scene, evaluation, title="", size=(1400, 700), max_frames=4):
+def answer_png(problem, scene, evaluation, title="", size=None, max_frames=4):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -16,13 +16,15 @@ def answer_png(problem, scene, evaluation, title="", size=(1400, 700), max_frame
 
     frames = evaluation["per_frame"]
     nf = min(len(frames), max_frames)
+    size = size or ((1400, 700) if nf <= 2 else (1200, 1000))
     fig = plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
     per_node = evaluation["per_node"]
     vmax = max([r.get("error_mm", 0.0) for r in per_node] + [1e-9])
     cmap = plt.get_cmap("viridis")
     from metamaterial_wb.core import kinematics as _k
+    nrow, ncol = (1, nf) if nf <= 2 else (2, 2)
     for fi in range(nf):
-        ax = fig.add_subplot(1, nf, fi + 1, projection="3d")
+        ax = fig.add_subplot(nrow, ncol, fi + 1, projection="3d")
         e = frames[fi]
         al = e["alignment"]
         Rm, t, sc = np.array(al["rotation"]), np.array(al["translation_mm"]), al["scale"]
@@ -53,11 +55,18 @@ def answer_png(problem, scene, evaluation, title="", size=(1400, 700), max_frame
             pts.append(fr.nodes.pos)
         if fr.surface is not None:
             tri = fr.surface.surface.tri
-            step = max(1, len(tri) // 3000)
-            ax.add_collection3d(Poly3DCollection(tri[::step], facecolors=(1, 0.5, 0.2, 0.15),
-                                                 edgecolors=(1, 0.5, 0.2, 0.3), linewidths=0.2))
-            pts.append(tri.reshape(-1, 3)[::step])
+            lo = corners.reshape(-1, 3).min(0) - scene.cell_size_mm
+            hi = corners.reshape(-1, 3).max(0) + scene.cell_size_mm
+            cen = tri.mean(axis=1)
+            near = tri[np.all((cen >= lo) & (cen <= hi), axis=1)]      # the part of the surface at the sheet
+            step = max(1, len(near) // 3000)
+            if len(near):
+                ax.add_collection3d(Poly3DCollection(near[::step], facecolors=(1, 0.5, 0.2, 0.2),
+                                                     edgecolors=(1, 0.5, 0.2, 0.35), linewidths=0.2))
         P = np.vstack(pts)
+        ext = P.max(0) - P.min(0)
+        if ext[2] < 0.02 * max(ext[0], ext[1]):     # a planar answer: look from above
+            ax.view_init(elev=90, azim=-90)
         c, r = 0.5 * (P.min(0) + P.max(0)), 0.5 * float((P.max(0) - P.min(0)).max()) + 1e-9
         ax.set_xlim(c[0] - r, c[0] + r)
         ax.set_ylim(c[1] - r, c[1] + r)
@@ -65,13 +74,13 @@ def answer_png(problem, scene, evaluation, title="", size=(1400, 700), max_frame
         ax.set_box_aspect((1, 1, 1))
         ax.set_xlabel("x (mm)")
         ax.set_ylabel("y (mm)")
-        lab = f"t = {e['time_s']:g} s: " if nf > 1 else ""
+        lab = f"t = {e['time_s']:g} s\n" if nf > 1 else ""
         txt = []
         if e.get("rms_mm") is not None:
             txt.append(f"rms {e['rms_mm']:.3g} mm, max {e['max_mm']:.3g} mm")
         if e.get("rms_deg") is not None:
             txt.append(f"folds rms {e['rms_deg']:.3g} deg")
-        ax.set_title(lab + "; ".join(txt), fontsize=9)
+        ax.set_title(lab + "; ".join(txt), fontsize=8)
     sm = plt.cm.ScalarMappable(cmap=cmap, norm=matplotlib.colors.Normalize(0, vmax))
     fig.colorbar(sm, ax=fig.axes, shrink=0.6, label="distance to target (mm)")
     if title:
