@@ -81,6 +81,10 @@ def run(args):
     for m in models:
         if m not in ev.MODELS:
             raise SceneError("--evaluate", f"{m!r}; allowed: {', '.join(ev.MODELS)}")
+    if args.screen < 0:
+        raise SceneError("--screen", f"{args.screen} is outside the allowed range [0, 1000] (0: fit every candidate)")
+    if args.values_only and args.forbid:
+        raise SceneError("--forbid", "has no effect with --values-only (the placement is the scene's)")
     if args.workers < 1:
         raise SceneError("--workers", f"{args.workers} is outside the allowed range [1, 256]")
     scene = Scene.load(args.scene)

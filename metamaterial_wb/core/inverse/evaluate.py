@@ -154,11 +154,12 @@ def polish_values(problem, scene, values, model, max_nfev=30, progress=None):
             fold = _k.joint_angles(s, res.rotations)[0] if fr_res.frame.folds is not None else None
             return align_only(fr_res, res.positions_mm, res.rotations, fold)[0]
 
+        r0 = fun(values[fi])
+        c0 = 0.5 * float(r0 @ r0)
         sol = least_squares(fun, values[fi], bounds=(-1.0, 1.0), method="trf", diff_step=1e-4, max_nfev=max_nfev,
                             xtol=1e-10, ftol=1e-10)
         if progress:
-            progress(f"keyframe {fi}: {model} polish cost {0.5 * float(fun(values[fi]) @ fun(values[fi])):.6g} -> "
-                     f"{sol.cost:.6g} mm^2 ({sol.nfev} model runs)")
-        if sol.cost < 0.5 * float(fun(values[fi]) @ fun(values[fi])):
+            progress(f"keyframe {fi}: {model} polish cost {c0:.6g} -> {sol.cost:.6g} mm^2 ({sol.nfev} model runs)")
+        if sol.cost < c0:
             values[fi] = np.clip(sol.x, -1, 1)
     return values

@@ -67,6 +67,7 @@ def answer_png(problem, scene, evaluation, title="", size=None, max_frames=4):
         ext = P.max(0) - P.min(0)
         if ext[2] < 0.02 * max(ext[0], ext[1]):     # a planar answer: look from above
             ax.view_init(elev=90, azim=-90)
+            ax.set_zticks([])
         c, r = 0.5 * (P.min(0) + P.max(0)), 0.5 * float((P.max(0) - P.min(0)).max()) + 1e-9
         ax.set_xlim(c[0] - r, c[0] + r)
         ax.set_ylim(c[1] - r, c[1] + r)

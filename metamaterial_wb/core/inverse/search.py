@@ -86,6 +86,38 @@ def screen_batch(problem, batch):
     return out
 
 
+def lin_cost(fields, D0, G):
+    """Linearised cost ``sum_frames min_v |B (D0 + G v - D*)|^2`` and the values (frames, servos)."""
+    total, vs = 0.0, []
+    for Ds, W, _c in fields:
+        e0 = D0 - Ds
+        WG = W @ G
+        A = G.T @ WG
+        b = WG.T @ e0
+        try:
+            v = -np.linalg.solve(A + 1e-14 * np.trace(A) * np.eye(len(A)), b) if len(A) else np.zeros(0)
+        except np.linalg.LinAlgError:
+            v = -np.linalg.lstsq(A, b, rcond=None)[0]
+        v = np.clip(v, -1.0, 1.0)
+        e = e0 + G @ v
+        total += float(e @ (W @ e))
+        vs.append(v)
+    return total, np.array(vs)
+
+
+def lin_batch(problem, batch):
+    """Linearised costs of ``placed + (c,)`` for the candidates c of ``batch = (placed, cands)``
+    (response by rank-2 updates of the placed model; ``problem.fields`` from the free field)."""
+    placed, cands = batch
+    state = problem.base_state(placed)
+    out = []
+    for c in cands:
+        resp = problem.added_response(state, c)
+        D0, G = problem.response(tuple(placed) + (c,)) if resp is None else resp
+        out.append(lin_cost(problem.fields, D0, G))
+    return out
+
+
 @dataclass
 class SearchResult:
     joints: tuple
@@ -105,6 +137,7 @@ class PlacementSearch:
         self.strategy = strategy
         self.beam = max(1, int(beam))
         self.lin_evaluated = 0
+        self.lin_seconds = 0.0
         self.lower_bound = None
         self.pb = problem
         self.n = int(n_servos)
@@ -175,49 +208,34 @@ class PlacementSearch:
         return placements[order[k]], res[k]
 
     # -- stage 1: the linearised placement problem ---------------------------------------------
-    def _lin_cost(self, D0, G):
-        total, vs = 0.0, []
-        for Ds, W, _c in self.fields:
-            e0 = D0 - Ds
-            WG = W @ G
-            A = G.T @ WG
-            b = WG.T @ e0
-            try:
-                v = -np.linalg.solve(A + 1e-14 * np.trace(A) * np.eye(len(A)), b) if len(A) else np.zeros(0)
-            except np.linalg.LinAlgError:
-                v = -np.linalg.lstsq(A, b, rcond=None)[0]
-            v = np.clip(v, -1.0, 1.0)
-            e = e0 + G @ v
-            total += float(e @ (W @ e))
-            vs.append(v)
-        return total, np.array(vs)
-
-    def _lin_candidates(self, placed):
-        """Linearised cost of ``placed`` plus each compatible joint: ``{placement: (cost, values)}``."""
-        state = self.pb.base_state(placed)
+    def _lin_many(self, bases):
+        """The linearised candidates of several base placements, mapped in batches."""
+        batches = []
+        for placed in bases:
+            cands = [c for c in self.allowed if self.compatible(c, placed)]
+            for ch in _chunks(cands, 2 * self.workers if self.workers > 1 else 1):
+                batches.append((tuple(placed), ch))
+        res = self.map(lin_batch, self.pb, batches)
         out = {}
-        for c in self.allowed:
-            if not self.compatible(c, placed):
-                continue
-            resp = self.pb.added_response(state, c)
-            D0, G = self.pb.response(placed + (c,)) if resp is None else resp
-            out[placed + (c,)] = self._lin_cost(D0, G)
+        for (placed, ch), part in zip(batches, res):
+            for c, cv in zip(ch, part):
+                out[placed + (c,)] = cv
         return out
 
     def linearised_stage(self):
         """Greedy + swaps on the linearised cost ``sum_frames min_v |B (D(v) - D*)|^2`` (D* the free-field
         optimum, B its Gauss-Newton factor): every evaluation a small dense least squares."""
         self.fields = [self.pb.free_field(fi) for fi in range(len(self.pb.frames))]
+        self.pb.fields = self.fields          # travels with the problem to the workers (set before any map)
         self.lower_bound = sum(c for _, _, c in self.fields)
         seen = {}
         beam = [()]
         for _ in range(self.n):            # beam search: keep the ``beam`` best partial placements
             pool = {}
-            for placed in beam:
-                for q, cv in self._lin_candidates(placed).items():
-                    key = tuple(sorted(q))
-                    if key not in pool or cv[0] < pool[key][1][0]:
-                        pool[key] = (q, cv)
+            for q, cv in self._lin_many(beam).items():
+                key = tuple(sorted(q))
+                if key not in pool or cv[0] < pool[key][1][0]:
+                    pool[key] = (q, cv)
             seen.update({q: cv for q, cv in pool.values()})
             ranked_step = sorted(pool.values(), key=lambda t: (t[1][0], t[0]))
             beam = [q for q, _cv in ranked_step[:self.beam]]
@@ -225,7 +243,7 @@ class PlacementSearch:
         fp = self._force_placement()
         if fp is not None:
             D0, G = self.pb.response(fp)
-            seen[fp] = self._lin_cost(D0, G)
+            seen[fp] = lin_cost(self.fields, D0, G)
             starts.append(fp)
         finals = [self._lin_swaps(p0, seen) for p0 in starts]
         placed, cost = min(finals, key=lambda t: (t[1], t[0]))
@@ -261,13 +279,11 @@ class PlacementSearch:
         cost = seen[placed][0]
         for _ in range(4 * self.n + 10):
             best, bcost = None, cost
-            for p in range(len(placed)):
-                rest = placed[:p] + placed[p + 1:]
-                cand = self._lin_candidates(rest)
-                seen.update(cand)
-                for q, (cq, _v) in cand.items():
-                    if cq < bcost * (1.0 - 1e-12) - 1e-300:
-                        best, bcost = q, cq
+            cand = self._lin_many([placed[:p] + placed[p + 1:] for p in range(len(placed))])
+            seen.update(cand)
+            for q, (cq, _v) in cand.items():
+                if cq < bcost * (1.0 - 1e-12) - 1e-300:
+                    best, bcost = q, cq
             if best is None:
                 break
             placed, cost = best, bcost
@@ -279,7 +295,9 @@ class PlacementSearch:
         nf = len(self.pb.frames)
         placed, values, cost = (), np.zeros((nf, 0)), None
         if self.strategy == "linearised":
+            tl = time.perf_counter()
             ranked = self.linearised_stage()[:max(1, self.screen or 1)]
+            self.lin_seconds = time.perf_counter() - tl
             res = self._fit_many([(q, vq) for q, _c, vq in ranked])
             k = min(range(len(ranked)), key=lambda i: (res[i][0], i))
             placed, (cost, values, _n) = ranked[k][0], res[k]
@@ -331,7 +349,8 @@ class PlacementSearch:
         fit = self.pb.fit(placed, v0=values, starts=(0.0, 0.5, -0.5))
         self.fits += 1
         return SearchResult(tuple(placed), fit, self.fits, self.screened, time.perf_counter() - t0, self.history,
-                            {"linearised": self.lin_evaluated, "lower_bound": self.lower_bound})
+                            {"linearised": self.lin_evaluated, "lower_bound": self.lower_bound,
+                             "linearised_s": self.lin_seconds})
 
     def _alignments(self, placed, values):
         """Per frame, the alignment parameters of the warm start (for the screen)."""
