@@ -106,15 +106,72 @@ def lin_cost(fields, D0, G):
 
 
 def lin_batch(problem, batch):
-    """Linearised costs of ``placed + (c,)`` for the candidates c of ``batch = (placed, cands)``
-    (response by rank-2 updates of the placed model; ``problem.fields`` from the free field)."""
+    """Linearised costs of ``placed + (c,)`` for the candidates c of ``batch = (placed, cands)``:
+    ``[(cost, values (frames, servos))]``. Responses by rank-2 updates of the placed model, all
+    candidates at once (one multi-right-hand-side back-substitution, batched 2 x 2 and N x N solves);
+    candidates touching a node outside the placed model's free set fall back to a fresh model."""
     placed, cands = batch
     state = problem.base_state(placed)
-    out = []
-    for c in cands:
-        resp = problem.added_response(state, c)
-        D0, G = problem.response(tuple(placed) + (c,)) if resp is None else resp
-        out.append(lin_cost(problem.fields, D0, G))
+    model, where = state["model"], state["where"]
+    n = problem.topo.n_nodes
+    if model.fixed.size == 0 and np.all(problem.k1 < 1.0):
+        # nothing fixed yet: every node is free, H itself is SPD (k1 < 1), the first servo is a rank-2 step
+        import scipy.sparse.linalg as spla
+
+        from metamaterial_wb.core.solver import assemble_hessian
+        lu = spla.splu(assemble_hessian(n, problem.topo.joint_pairs, problem.k1, problem.k2).tocsc())
+        model = type("_Free", (), {"free": np.arange(n), "_factor": type("_F", (), {"solve": staticmethod(lu.solve)})})
+        where = np.arange(n)
+    ab = np.array([problem._joint_nodes(c) for c in cands], dtype=np.int64).reshape(-1, 2)
+    ok = np.all(where[ab] >= 0, axis=1)
+    out = [None] * len(cands)
+    for k in np.flatnonzero(~ok):
+        D0, G = problem.response(tuple(placed) + (cands[k],))
+        out[k] = lin_cost(problem.fields, D0, G)
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        nf = model.free.size
+        ia, ib = where[ab[idx, 0]], where[ab[idx, 1]]
+        # one two-column back-substitution per candidate (not one for the batch): the result must not
+        # depend on how candidates are batched (a multi-column solve rounds differently)
+        X = np.empty((idx.size, nf, 2))
+        for q in range(idx.size):
+            E = np.zeros((nf, 2))
+            E[ia[q], 0] = E[ib[q], 1] = 1.0
+            X[q] = np.asarray(model._factor.solve(E)).reshape(nf, 2)
+        kk = np.arange(idx.size)
+        S = np.stack([X[kk, ia], X[kk, ib]], axis=1)                                           # (k, 2, 2)
+        det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
+        Sinv = np.stack([np.stack([S[:, 1, 1], -S[:, 0, 1]], 1), np.stack([-S[:, 1, 0], S[:, 0, 0]], 1)], 1)
+        K = X @ (Sinv / det[:, None, None])                                                    # X S^-1
+        Kfull = np.zeros((idx.size, n, 2))
+        Kfull[:, model.free] = K
+        M = np.column_stack([state["D0"], state["G"]])                                         # (n, 1 + ns)
+        Mab = np.stack([M[ab[idx, 0]], M[ab[idx, 1]]], axis=1)                                 # (k, 2, 1 + ns)
+        Mk = M[None] - Kfull @ Mab
+        col = Kfull.sum(axis=2)
+        Mk[kk, ab[idx, 0]] = 0.0
+        Mk[kk, ab[idx, 1]] = 0.0
+        col[kk, ab[idx, 0]] = 1.0
+        col[kk, ab[idx, 1]] = 1.0
+        D0s = Mk[:, :, 0]
+        Gs = np.concatenate([Mk[:, :, 1:], col[:, :, None]], axis=2)                           # (k, n, ns)
+        costs = np.zeros(idx.size)
+        vals = []
+        for Ds, W, _c in problem.fields:
+            e0 = D0s - Ds[None]
+            WG = W @ Gs                                                   # (k, n, ns), BLAS per batch
+            A = np.swapaxes(Gs, 1, 2) @ WG
+            b = (np.swapaxes(WG, 1, 2) @ e0[:, :, None])[:, :, 0]
+            ns = A.shape[1]
+            reg = 1e-14 * np.einsum("kss->k", A)[:, None, None] * np.eye(ns)[None]
+            v = np.clip(-np.linalg.solve(A + reg, b[:, :, None])[:, :, 0], -1.0, 1.0)
+            e = e0 + (Gs @ v[:, :, None])[:, :, 0]
+            costs += np.sum((e @ W) * e, axis=1)
+            vals.append(v)
+        vals = np.stack(vals, axis=1)                                                          # (k, frames, ns)
+        for q, k in enumerate(idx):
+            out[k] = (float(costs[q]), vals[q])
     return out
 
 
