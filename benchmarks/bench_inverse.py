@@ -140,6 +140,10 @@ def main():
     for r in pl:
         lines.append(f"| {r['workers']} | {r['t']:.2f} s | {r['t'] / t1:.2f} | {', '.join(r['joints'])} | "
                      f"{r['cost']:.4g} | {r['bound']:.4g} | {r['fits']} / {r['screened']} / {r['linearised']} |")
+    lines += ["", "The placement is the planted one (its cost is the noise's, above the free-field bound because "
+                  "the free field also fits some noise). Workers share the machine's 2 cores with every other job "
+                  "on it: with the load average near the core count times four, extra workers get little extra CPU, "
+                  "so read the scaling column as an upper bound of the overhead, not as the speed-up on idle cores."]
     if qu:
         lines += ["", "Quality against exhaustive search (2 servos, an unreachable target: 3 planted servos + "
                       "0.05 mm noise):", "", "| sheet | search cost | exhaustive optimum | ratio | same placement | "

@@ -126,7 +126,12 @@ def main():
         out = os.path.join(tmp, name + "_out")
         run(scene_path, target, servos, out, args.workers)
         shutil.copy(os.path.join(out, "scene.json"), os.path.join(EX, f"{name}_inverse_solved.json"))
-        shutil.copy(os.path.join(out, "report.json"), os.path.join(EX, f"{name}_inverse_report.json"))
+        with open(os.path.join(out, "report.json")) as f:
+            rep = json.load(f)
+        rep["scene"] = f"examples/{name}.json without its actuators"
+        rep["target"] = os.path.relpath(target, REPO)
+        with open(os.path.join(EX, f"{name}_inverse_report.json"), "w") as f:
+            json.dump(rep, f, indent=1)
         shutil.copy(os.path.join(out, "result.png"), os.path.join(IMG, f"inverse_{name}.png"))
     shutil.rmtree(tmp)
 
