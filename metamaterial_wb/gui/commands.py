@@ -107,12 +107,17 @@ COMMANDS = [
      "Design a metamaterial sleeve actuator (curved-beam cells around a cylinder) from a spec file or "
      "parameters, build it, predict its force-displacement peaks and snapping sequence",
      lambda doc: _panels().SleevePanel(doc), False),
+    ("MM_FitTarget", "MM_FitTarget.svg", "Fit to target",
+     "Inverse design: place N servos and find their values so the structure best reaches a target shape "
+     "(file or document object); runs in the background",
+     lambda sc: __import__("metamaterial_wb.gui.panels.fit_target", fromlist=["x"]).FitTargetPanel(sc), True),
 ]
 
 DESIGN = ["MM_NewStructure", "MM_OpenExample", "MM_RotaryAxes", "MM_FoldedShape"]
 SIMULATE = ["MM_Flexibility", "MM_PlaceMotor", "MM_PlaceConstraint", "MM_AddModule", "MM_Simulate", "MM_Animate"]
 FABRICATE = ["MM_Export"]
 SLEEVE = ["MM_Sleeve"]
+INVERSE = ["MM_FitTarget"]
 
 _REGISTERED = False
 INSTANCES = {}   # command name -> the Python command object (tests read last_error)

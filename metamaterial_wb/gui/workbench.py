@@ -15,8 +15,9 @@ def initialize(workbench):
     workbench.appendToolbar("Metamaterial simulation", commands.SIMULATE)
     workbench.appendToolbar("Metamaterial fabrication", commands.FABRICATE)
     workbench.appendToolbar("Metamaterial sleeve", commands.SLEEVE)
+    workbench.appendToolbar("Metamaterial inverse design", commands.INVERSE)
     workbench.appendMenu("Metamaterial", commands.DESIGN + ["Separator"] + commands.SIMULATE + ["Separator"]
-                         + commands.FABRICATE + ["Separator"] + commands.SLEEVE)
+                         + commands.FABRICATE + ["Separator"] + commands.SLEEVE + ["Separator"] + commands.INVERSE)
     FreeCADGui.addIconPath(os.path.join(metamaterial_wb.RESOURCES_DIR, "icons"))
     ui = os.path.join(metamaterial_wb.RESOURCES_DIR, "ui", "preferences.ui")
     if os.path.exists(ui):

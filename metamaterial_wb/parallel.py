@@ -1,0 +1,96 @@
+"""Thin distribution layer for the inverse design's independent candidate evaluations.
+
+``make_mapper(workers, scheduler)`` returns a callable ``mapper(fn, problem, batches)`` with the
+semantics of ``[fn(problem, b) for b in batches]`` (the order is kept):
+
+* ``workers`` > 1: a local ``concurrent.futures.ProcessPoolExecutor``; the problem is sent once per
+  worker (its initializer), not once per batch;
+* ``scheduler`` ``tcp://HOST:PORT`` (or a ``distributed.Client`` / ``LocalCluster``): Dask
+  ``distributed``; the problem is scattered once to every worker (``broadcast=True``) and the batches
+  are mapped over it (``pure=False``: every batch runs).
+
+Nothing here is home-made distribution: the pool is the standard library's, the cluster Dask's. Lives
+above ``core`` (which stays numpy/scipy only and just calls the mapper it is given).
+"""
+import concurrent.futures as cf
+import multiprocessing as mp
+import pickle
+
+from metamaterial_wb.core.errors import MetamaterialError
+
+_PROBLEM = None
+
+
+def _init_worker(blob):
+    global _PROBLEM
+    _PROBLEM = pickle.loads(blob)
+
+
+def _run_in_worker(fn, batch):
+    return fn(_PROBLEM, batch)
+
+
+class PoolMapper:
+    def __init__(self, workers):
+        self.workers = int(workers)
+        self._pool = None
+        self._problem = None
+
+    def __call__(self, fn, problem, batches):
+        if self._pool is None or problem is not self._problem:
+            self.close()
+            blob = pickle.dumps(problem)
+            self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=mp.get_context("fork"),
+                                                initializer=_init_worker, initargs=(blob,))
+            self._problem = problem
+        return list(self._pool.map(_run_in_worker, [fn] * len(batches), batches))
+
+    def close(self):
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+        self._pool = None
+        self._problem = None
+
+
+class DaskMapper:
+    def __init__(self, scheduler):
+        try:
+            from distributed import Client
+        except ImportError:
+            raise MetamaterialError("--scheduler needs dask.distributed (Debian: python3-distributed)") from None
+        self._own = False
+        if isinstance(scheduler, str):
+            try:
+                self.client = Client(scheduler, timeout="10s")
+            except (OSError, TimeoutError) as exc:
+                raise MetamaterialError(f"--scheduler {scheduler}: cannot connect to a Dask scheduler ({exc})") from None
+            self._own = True
+        elif hasattr(scheduler, "scatter"):
+            self.client = scheduler
+        else:
+            self.client = Client(scheduler)
+            self._own = True
+        self._problem = None
+        self._future = None
+        self.workers = max(1, len(self.client.scheduler_info().get("workers", {})))
+
+    def __call__(self, fn, problem, batches):
+        if problem is not self._problem:
+            self._future = self.client.scatter(problem, broadcast=True, hash=False)
+            self._problem = problem
+        futs = self.client.map(fn, [self._future] * len(batches), batches, pure=False)
+        return self.client.gather(futs)
+
+    def close(self):
+        if self._own:
+            self.client.close()
+
+
+def make_mapper(workers=1, scheduler=None):
+    """``(mapper or None, n_workers)``."""
+    if scheduler is not None:
+        m = DaskMapper(scheduler)
+        return m, m.workers
+    if workers is not None and int(workers) > 1:
+        return PoolMapper(workers), int(workers)
+    return None, 1
