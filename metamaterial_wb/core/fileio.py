@@ -134,6 +134,8 @@ def _bulk_ok(obj, depth):
     types = set(map(type, obj))
     if types <= {int, bool}:
         return _ints_ok(obj)
+    if types == {str}:
+        return all(map(str.isascii, obj))
     if types == {list} and depth + 2 <= MAX_DEPTH:
         flat = list(itertools.chain.from_iterable(obj))
         return set(map(type, flat)) <= {int, bool} and _ints_ok(flat)

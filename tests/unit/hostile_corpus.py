@@ -71,6 +71,9 @@ SLEEVE_FIELDS = [("L_mm",), ("c_mm",), ("T_mm",), ("shear_modulus_MPa",), ("cell
                  ("actuator", "core_diameter_mm")]
 
 SCENE_COMMANDS = ["solve", "design", "render", "simulate", "build", "stream", "calibrate"]
+# multi-megabyte resource bombs: every command reads scenes through the same Scene.load, so these
+# run through two commands only (one file output, one folder output) to keep the corpus fast
+BIG_COMMANDS = ["solve", "simulate"]
 SLEEVE_COMMANDS = ["sleeve"]
 
 
@@ -150,12 +153,13 @@ def cases():
                         ("cells-1e18", {"cells": [[0, 10 ** 18], [0, 10 ** 18 + 1]]}),
                         ("cells-many", {"cells": [[0, j] for j in range(10 ** 6)] + [[5, 5]]})):
         out.append(_text_case(f"scene-{cid}", "scene", _scene_text(layout=layout, joints=[], axes=[], actuators=[],
-                                                                       constraints=[], modules=[])))
+                                                                       constraints=[], modules=[]),
+                              commands=BIG_COMMANDS))
     out.append(_text_case("scene-k2-huge", "scene", _scene_text(joints=[{"joint": "H0,1", "k2": 1e308}])))
     out.append(_text_case("scene-k2-subnormal", "scene", _scene_text(joints=[{"joint": "H0,1", "k2": 5e-320}])))
     out.append(_text_case("scene-name-huge", "scene", _scene_text(name="x" * 10 ** 6)))
     out.append(_text_case("scene-many-actuators", "scene",
-                          _scene_text(actuators=[{"joint": "V0,0", "value": 0.1}] * 200000)))
+                          _scene_text(actuators=[{"joint": "V0,0", "value": 0.1}] * 200000), commands=BIG_COMMANDS))
     out.append(_text_case("scene-dt-tiny", "scene",
                           _scene_text(dynamics={"model": "sheet", "integrator": {"method": "implicit",
                                                                                  "dt_s": 1e-12}})))
@@ -392,13 +396,20 @@ def main_cli(argv=None):
     sel = [c for c in all_cases if a.only is None or any(o in c.id for o in a.only)][::a.every]
     cmds = a.commands.split(",") if a.commands else None
     n_bad = 0
+    import time
+    t_start = time.process_time()
+    slow = []
     with tempfile.TemporaryDirectory(prefix="hostile-") as work:
         for c in sel:
+            t0 = time.perf_counter()
             probs = run_case(c, work, a.timeout, [x for x in c.commands if cmds is None or x in cmds])
+            slow.append((time.perf_counter() - t0, c.id))
             if probs:
                 n_bad += 1
                 print(json.dumps({"case": c.id, "problems": probs}), flush=True)
-    print(json.dumps({"cases": len(sel), "failing": n_bad}), flush=True)
+    slow.sort(reverse=True)
+    print(json.dumps({"cases": len(sel), "failing": n_bad, "cpu_s": round(time.process_time() - t_start, 1),
+                      "slowest": [[round(t, 2), cid] for t, cid in slow[:8]]}), flush=True)
     return 1 if n_bad else 0
 
 
