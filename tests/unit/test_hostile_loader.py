@@ -327,3 +327,25 @@ def test_sleeve_runs_blas_single_threaded_and_restores():
     with blas_threads(1):
         assert set(blas_thread_counts()) == {1}
     assert blas_thread_counts() == before
+
+
+def test_read_only_folder_refused(tmp_path, capsys, monkeypatch):
+    """As root a chmod 555 folder stays writable, so the refusal is exercised through os.access."""
+    from metamaterial_wb.core import fileio
+
+    real = os.access
+    monkeypatch.setattr(fileio.os, "access", lambda p, mode: False if str(p) == str(tmp_path) else real(p, mode))
+    src = tmp_path / "in.json"
+    src.write_text(scene_text())
+    rc, err = cli(["solve", str(src), "--out", str(tmp_path / "r.json")], capsys)
+    assert rc == 2 and "is not writable" in one_error(err)
+    assert sorted(os.listdir(tmp_path)) == ["in.json"]
+
+
+def test_channel_file_hostile(tmp_path, capsys):
+    src = tmp_path / "in.json"
+    src.write_text(scene_text())
+    os.mkfifo(tmp_path / "ch.json")
+    rc, err = cli(["stream", str(src), "--dry-run", "--seconds", "0.05", "--channels", str(tmp_path / "ch.json")],
+                  capsys)
+    assert rc == 2 and "--channels" in one_error(err) and "FIFO" in err
