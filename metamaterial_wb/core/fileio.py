@@ -210,7 +210,8 @@ def parse_json(text, what=""):
     except RecursionError:
         raise SceneError(what, f"too deeply nested (more than {MAX_DEPTH} levels)") from None
     except json.JSONDecodeError as exc:
-        raise SceneError(what, f"not a JSON file (not valid JSON: {exc.msg}) at line {exc.lineno} column {exc.colno}") from None
+        raise SceneError(what, f"not a JSON file (not valid JSON: {exc.msg}) at line {exc.lineno} "
+                               f"column {exc.colno}") from None
     except ValueError as exc:  # e.g. Python's integer-digit limit
         raise SceneError(what, f"not a JSON file: {exc}") from None
     check_tree(data, "")
@@ -265,8 +266,8 @@ def check_output(path, kind="file", option="--out"):
         raise SceneError(option, f"{path} is a dangling symbolic link")
     if st is not None:
         if kind == "dir" and not stat.S_ISDIR(st.st_mode):
-            raise SceneError(option, f"{path} exists and is {_kind(st.st_mode) if not stat.S_ISREG(st.st_mode) else 'a file'}, "
-                                     f"not a folder")
+            what = "a file" if stat.S_ISREG(st.st_mode) else _kind(st.st_mode)
+            raise SceneError(option, f"{path} exists and is {what}, not a folder")
         if kind == "file" and not stat.S_ISREG(st.st_mode):
             raise SceneError(option, f"{path} exists and is {_kind(st.st_mode)}, not a file; it is not replaced")
     anc = ab if (st is not None and kind == "dir") else os.path.dirname(ab)
