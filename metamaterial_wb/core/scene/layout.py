@@ -9,7 +9,7 @@ import re
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene.names import _short
 
-MAX_CELLS = 4_000_000          # documented maximum (docs/scene-format.md); measured in docs/benchmarks.md
+MAX_CELLS = 1_000_000          # documented maximum; solve of 1000 x 1000 measured (docs/scene-format.md)
 MAX_INDEX = 4_000_000          # a cell row / column index
 MAX_BOX = 16_000_000           # places in the bounding box of the cells (bool image + int32 labels: 80 MB)
 _ROW_RE = re.compile(r"[#Xx1. 0\-]*")
