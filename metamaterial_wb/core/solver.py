@@ -41,7 +41,8 @@ def cholmod_available():
     return _cholmod_cholesky is not None
 
 
-K2_MIN, K2_MAX = 1e-9, 1e9   # beyond: 2 k2 overflows / underflows in the Hessian or D loses its digits
+K2_MIN, K2_MAX = 1e-100, 1e100   # the solve is scale-invariant in k2; beyond this 2 k2 (and its squares)
+#                                   overflow or go subnormal (a scene limits k2 to [1e-9, 1e9] itself)
 
 
 def check_stiffness(k1, k2, joint_names=None):

@@ -359,3 +359,12 @@ def test_channel_file_hostile(tmp_path, capsys):
     rc, err = cli(["stream", str(src), "--dry-run", "--seconds", "0.05", "--channels", str(tmp_path / "ch.json")],
                   capsys)
     assert rc == 2 and "--channels" in one_error(err) and "FIFO" in err
+
+
+@pytest.mark.parametrize("k2", [9e307, 1e200, 5e-320, 1e-200])
+def test_solver_refuses_k2_that_overflows_or_is_subnormal(k2):
+    from metamaterial_wb.core.solver import check_stiffness
+
+    with pytest.raises(SceneError, match=r"joint H0,0\.k2"):
+        check_stiffness([0.5, 0.5], [1.0, k2][::-1], ["H0,0", "V0,0"])
+    check_stiffness([0.5], [1e12], ["H0,0"])      # scale invariance: large but normal k2 is fine
