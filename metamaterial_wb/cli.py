@@ -5,7 +5,10 @@ Sub-commands live in ``metamaterial_wb/commands/``: every module there that defi
 new file and nothing else changes.
 
 Errors: a :class:`~metamaterial_wb.core.errors.MetamaterialError` (bad input) prints one line on
-stderr and exits with status 2; no output file is left behind (commands write atomically).
+stderr and exits with status 2; so do a file the system refuses (OSError), running out of memory and
+nesting too deep for Python. No output file is left behind (commands write atomically): SIGTERM and
+SIGHUP are turned into KeyboardInterrupt so every ``finally`` removes its temporary files (exit
+128 + signal number, 130 for Ctrl-C).
 """
 import argparse
 import importlib
@@ -43,17 +46,63 @@ def build_parser():
     return parser
 
 
+class _Signalled(KeyboardInterrupt):
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _raise_signalled(signum, frame):
+    raise _Signalled(signum)
+
+
+def _install_signals():
+    """SIGTERM / SIGHUP -> exception (so ``finally`` blocks clean up); returns the previous handlers."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    old = {}
+    for sig in (signal.SIGTERM, getattr(signal, "SIGHUP", None)):
+        if sig is not None:
+            old[sig] = signal.signal(sig, _raise_signalled)
+    return old
+
+
+def _one_line(text, limit=500):
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[:limit] + " ..."
+
+
 def main(argv=None):
+    import signal
+
     parser = build_parser()
     args = parser.parse_args(argv)
+    old = _install_signals()
     try:
         return int(args._run(args) or 0)
     except MetamaterialError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {_one_line(exc)}", file=sys.stderr)
         return 2
-    except FileNotFoundError as exc:
-        print(f"error: file not found: {exc.filename}", file=sys.stderr)
+    except OSError as exc:
+        where = exc.filename if exc.filename is not None else ""
+        print(f"error: {where}{': ' if where else ''}{exc.strerror or exc}", file=sys.stderr)
         return 2
+    except MemoryError:
+        print("error: out of memory; the scene is too large for this machine (docs/scene-format.md, size "
+              "budget)", file=sys.stderr)
+        return 2
+    except RecursionError:
+        print("error: too deeply nested for this program", file=sys.stderr)
+        return 2
+    except _Signalled as exc:
+        print(f"terminated by signal {exc.signum}", file=sys.stderr)
+        return 128 + exc.signum
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    finally:
+        for sig, h in old.items():
+            signal.signal(sig, h)

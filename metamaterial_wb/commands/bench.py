@@ -43,6 +43,11 @@ def run(args):
     from metamaterial_wb.core.errors import MetamaterialError, SceneError
     from metamaterial_wb.core.fileio import write_atomic, write_json
 
+    from metamaterial_wb.core.fileio import check_output
+    check_output(args.out, "file", "--out")
+    check_output(args.img, "file", "--img")
+    if args.json is not None:
+        check_output(args.json, "file", "--json")
     amps = fidelity.AMPLITUDES
     if args.amplitudes:
         try:

@@ -21,7 +21,6 @@ to a temporary directory first and moved into DIR only when all succeeded.
 import os
 import shutil
 import sys
-import tempfile
 import time
 
 NAME = "build"
@@ -101,7 +100,8 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     stream = stream if stream is not None else sys.stderr
     result.checks_ran = run_checks(result, checks, progress, stream)
     os.makedirs(out_dir, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix=".build-", dir=out_dir)
+    from metamaterial_wb.core.fileio import commit_set, make_temp_dir
+    tmp = make_temp_dir(out_dir, "build")
     written = []
     files_by_group = {}
     poses = {}
@@ -146,7 +146,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
         os.umask(umask)
         for name in written:
             os.chmod(os.path.join(tmp, name), 0o666 & ~umask)    # mkstemp files are 0600
-            os.replace(os.path.join(tmp, name), os.path.join(out_dir, name))
+        commit_set(tmp, out_dir, written)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return [os.path.join(out_dir, n) for n in written]
@@ -158,6 +158,8 @@ def run(args):
     from metamaterial_wb.geometry.build import build_scene
     from metamaterial_wb.geometry.params import fabrication_params
 
+    from metamaterial_wb.core.fileio import check_output
+    check_output(args.out, "dir", "--out")
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
     overrides = {}

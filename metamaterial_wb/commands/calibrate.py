@@ -7,7 +7,6 @@
   ratio for a piece with two hinge widths) to node angles measured on a printed test piece; with
   ``--out`` the fitted k1 (and width factor) is inserted into a copy of the table.
 """
-import json
 import sys
 
 NAME = "calibrate"
@@ -41,6 +40,9 @@ def run(args):
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.fileio import write_atomic
 
+    from metamaterial_wb.core.fileio import check_output, read_json
+    if args.out is not None:
+        check_output(args.out, "file", "--out")
     if args.source == "model":
         if args.piece or args.angles:
             raise SceneError("calibrate model", "takes no positional files (did you mean 'calibrate measured'?)")
@@ -79,8 +81,7 @@ def run(args):
     for n, r in zip(fit["nodes"], fit["residual_deg"]):
         print(f"  {n}: {r:+.3f} deg")
     if args.out:
-        with open(args.table or _DEFAULT_PATH, encoding="utf-8") as f:
-            table = json.load(f)
+        table = read_json(args.table or _DEFAULT_PATH, "--table")
         Calibration(table)
         widths = fit["widths_mm"]
         base_w = scene.hinge["width_mm"]

@@ -47,9 +47,12 @@ def _apply_folds(scene, items):
 def run(args):
     from metamaterial_wb.core.design import configure, format_report
     from metamaterial_wb.core.errors import SceneError
-    from metamaterial_wb.core.fileio import write_atomic, write_json
+    from metamaterial_wb.core.fileio import check_output, write_atomic, write_json
     from metamaterial_wb.core.scene import Scene
 
+    check_output(args.out, "file", "--out")
+    if args.report is not None:
+        check_output(args.report, "file", "--report")
     scene = Scene.load(args.scene)
     if not scene.axes:
         raise SceneError("axes", f"{args.scene} has no rotary axes; add \"axes\": [{{\"direction\": \"vertical\", "

@@ -40,6 +40,8 @@ def run(args):
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.core.solver import solve_scene
 
+    from metamaterial_wb.core.fileio import check_output
+    check_output(args.out, "file", "--out")
     scene = Scene.load(args.scene)
     sets = parse_sets(args.set)
     for name, v in sets:

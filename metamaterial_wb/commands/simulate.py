@@ -15,7 +15,6 @@ Writes into DIR (created; files written atomically, nothing half-way):
 import os
 import shutil
 import sys
-import tempfile
 
 NAME = "simulate"
 HELP = "simulate a scene's dynamics (contact, gravity, gaits) and write trajectory + summary"
@@ -104,35 +103,50 @@ def write_frames(model, traj, folder, every=1):
     return names
 
 
+MAX_STEPS = 20_000_000   # time steps of one run (size budget, issue 19): ~1e-5 s of wall time each at best
+MAX_FRAMES = 1_000_000   # recorded trajectory frames
+
+
+def check_budget(option, n, limit, what, how):
+    from metamaterial_wb.core.errors import SceneError
+
+    if n > limit:
+        raise SceneError(option, f"{how} asks for {n:.3g} {what}; at most {limit} are allowed (the size budget)")
+
+
 def run(args):
     import numpy as np  # noqa: F401
 
     from metamaterial_wb.core.dynamics.builders import build, dynamics_config
     from metamaterial_wb.core.dynamics.simulate import simulate
-    from metamaterial_wb.core.errors import MetamaterialError, check_number
-    from metamaterial_wb.core.fileio import write_json
+    from metamaterial_wb.core.errors import check_number
+    from metamaterial_wb.core.fileio import OutputSet, check_output, write_json
     from metamaterial_wb.core.scene import Scene
 
+    check_output(args.out, "dir", "--out")
     seconds = check_number("--seconds", args.seconds, 0.0, 1e5, "s", low_open=True)
     fps = check_number("--fps", args.fps, 0.0, 1000.0, "Hz", low_open=True)
     if args.dt is not None:
         check_number("--dt", args.dt, 0.0, 1.0, "s", low_open=True)
+    check_budget("--fps", seconds * fps, MAX_FRAMES, "recorded frames", f"--seconds {seconds:g} x --fps {fps:g}")
+    if args.dt is not None:
+        check_budget("--dt", seconds / args.dt, MAX_STEPS, "time steps", f"--seconds {seconds:g} / --dt {args.dt:g}")
     scene = Scene.load(args.scene)
     if args.incline is not None:
         dyn = dict(scene.extra.get("dynamics", {}))
         dyn["incline_deg"] = args.incline
         scene.extra["dynamics"] = dyn
     cfg = dynamics_config(scene)
+    dt_scene = ((scene.extra.get("dynamics") or {}).get("integrator") or {}).get("dt_s")
+    if args.dt is None and isinstance(dt_scene, (int, float)) and dt_scene > 0:
+        check_budget("dynamics.integrator.dt_s", seconds / dt_scene, MAX_STEPS, "time steps",
+                     f"--seconds {seconds:g} / dt_s {dt_scene:g}")
     model = build(scene, cfg)
     if model.kind == "sheet":
         model.scene_nodes = scene.topology.nodes
-    if os.path.exists(args.out) and not os.path.isdir(args.out):
-        raise MetamaterialError(f"--out {args.out}: exists and is not a directory")
     summary, traj, model, sim = simulate(scene, seconds, method=args.method, dt=args.dt,
                                          record_dt=1.0 / fps, cfg=cfg, model=model, dt_check=args.dt_check)
-    os.makedirs(args.out, exist_ok=True)
-    tmp = tempfile.mkdtemp(dir=args.out, prefix=".tmp-simulate-")
-    try:
+    with OutputSet(args.out, "tmp-simulate") as tmp:
         write_json(os.path.join(tmp, "trajectory.json"), trajectory_dict(model, traj), indent=None)
         if args.frames:
             names = write_frames(model, traj, os.path.join(tmp, "frames"))
@@ -146,13 +160,6 @@ def run(args):
             else:
                 summary["frames"] = {"count": len(names), "gif": False}
         write_json(os.path.join(tmp, "summary.json"), summary)
-        for name in os.listdir(tmp):
-            dst = os.path.join(args.out, name)
-            if os.path.isdir(dst):
-                shutil.rmtree(dst)
-            os.replace(os.path.join(tmp, name), dst)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
     it = summary["integrator"]
     print(f"{scene.name or args.scene}: {summary['displacement_mm']:+.2f} mm in {seconds:g} s "
           f"({it['method']}, {it['steps']} steps, {it['wall_s']:.2f} s wall, "

@@ -7,12 +7,8 @@ plots ``DIR/fd_cells.png``, ``DIR/fd_ring.png``, ``DIR/pv.png`` (+ ``design_map.
 end, so a failure leaves nothing half-written.
 """
 import os
-
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")   # small dense systems: threads only cost time
-
-import shutil  # noqa: E402
-import sys  # noqa: E402
-import tempfile  # noqa: E402
+import shutil
+import sys
 
 NAME = "sleeve"
 HELP = "metamaterial sleeve actuator: unit-cell and sleeve FD curves, PV curve, sequence, export"
@@ -47,17 +43,19 @@ def _progress(quiet):
 
 
 def run(args):
-    from metamaterial_wb.core.fileio import write_json
+    from metamaterial_wb.core.fileio import check_output, make_temp_dir, write_json
     from metamaterial_wb.core.sleeve.pipeline import analyse
     from metamaterial_wb.core.sleeve.spec import SleeveSpec
+    from metamaterial_wb.core.threads import blas_threads
 
+    out = check_output(args.out, "dir", "--out")
     spec = SleeveSpec.load(args.spec)
     prog, log = _progress(args.quiet)
-    summary, curves = analyse(spec, progress=None, log=log)
-    out = os.path.abspath(args.out)
+    with blas_threads(1):   # many small dense systems: threads only cost time (not for other commands)
+        summary, curves = analyse(spec, progress=None, log=log)
     parent = os.path.dirname(out)
     os.makedirs(parent, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix=".sleeve-", dir=parent)
+    tmp = make_temp_dir(parent, "sleeve")
     try:
         files = []
         if not args.no_plots:

@@ -119,6 +119,8 @@ def run(args):
     from metamaterial_wb.core.models import run_model
     from metamaterial_wb.core.scene import Scene
 
+    from metamaterial_wb.core.fileio import check_output
+    check_output(args.out, "file", "--out")
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
     for name, v in parse_sets(args.set):

@@ -44,6 +44,9 @@ def run(args):
     from metamaterial_wb.hardware import Link, Streamer, channel_map, check_motion, parse_map
     from metamaterial_wb.hardware.mapping import load_channel_file
 
+    from metamaterial_wb.core.fileio import check_output
+    if args.report is not None:
+        check_output(args.report, "file", "--report")
     if not args.port and not args.dry_run:
         raise SceneError("--port", "a serial port is required (or --dry-run to stream over loop://)")
     check_number("--seconds", args.seconds, 0.0, 86400.0, "s", low_open=True)

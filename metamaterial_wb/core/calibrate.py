@@ -265,8 +265,10 @@ def read_angles_csv(path, scene):
     """
     topo = scene.topology
     idx, ang = [], []
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(f))
+    import io
+
+    from metamaterial_wb.core.fileio import read_text
+    rows = list(csv.reader(io.StringIO(read_text(path, "ANGLES.csv"), newline="")))
     for ln, row in enumerate(rows, start=1):
         if not row or all(not c.strip() for c in row) or row[0].strip().startswith("#"):
             continue

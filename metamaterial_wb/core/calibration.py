@@ -7,7 +7,6 @@ law between table points), times thickness / reference thickness. A length or wi
 table is an error that gives the table's range (no extrapolation, no silent clamping).
 Per-joint ``k1`` / ``k2`` overrides in the scene win over the table.
 """
-import json
 import os
 
 import numpy as np
@@ -20,20 +19,36 @@ _DEFAULT_PATH = os.path.join(os.path.dirname(__file__), "data", "calibration.jso
 class Calibration:
     def __init__(self, table):
         self.table = table
-        self.len_mm = np.asarray(table["k1_vs_length"]["length_mm"], dtype=float)
-        self.k1_tab = np.asarray(table["k1_vs_length"]["k1"], dtype=float)
-        self.w_mm = np.asarray(table["k2_vs_width"]["width_mm"], dtype=float)
-        self.w_fac = np.asarray(table["k2_vs_width"]["factor"], dtype=float)
-        self.t_ref = float(table.get("k2_thickness_reference_mm", 7.0))
+        try:
+            self.len_mm = np.asarray(table["k1_vs_length"]["length_mm"], dtype=float)
+            self.k1_tab = np.asarray(table["k1_vs_length"]["k1"], dtype=float)
+            self.w_mm = np.asarray(table["k2_vs_width"]["width_mm"], dtype=float)
+            self.w_fac = np.asarray(table["k2_vs_width"]["factor"], dtype=float)
+            self.t_ref = float(table.get("k2_thickness_reference_mm", 7.0))
+        except (KeyError, TypeError, ValueError, AttributeError, OverflowError):
+            raise SceneError("calibration", "expected \"k1_vs_length\": {\"length_mm\": [...], \"k1\": [...]} and "
+                                            "\"k2_vs_width\": {\"width_mm\": [...], \"factor\": [...]} (numbers)") from None
         if np.any(np.diff(self.len_mm) <= 0) or np.any(np.diff(self.w_mm) <= 0):
             raise SceneError("calibration", "table abscissae must increase strictly")
-        if np.any(self.k1_tab < 0) or np.any(self.k1_tab > 1) or np.any(self.w_fac <= 0):
-            raise SceneError("calibration", "table values must satisfy 0 <= k1 <= 1 and k2 factor > 0")
+        for name, arr in (("k1_vs_length.length_mm", self.len_mm), ("k1_vs_length.k1", self.k1_tab),
+                          ("k2_vs_width.width_mm", self.w_mm), ("k2_vs_width.factor", self.w_fac)):
+            if arr.ndim != 1 or arr.size < 1 or not np.all(np.isfinite(arr)):
+                raise SceneError(f"calibration.{name}", "expected a non-empty list of finite numbers")
+        if self.len_mm.size != self.k1_tab.size or self.w_mm.size != self.w_fac.size:
+            raise SceneError("calibration", "each table's abscissae and values must have the same length")
+        if np.any(self.k1_tab < 0) or np.any(self.k1_tab > 1):
+            raise SceneError("calibration.k1_vs_length.k1", "table values must satisfy 0 <= k1 <= 1")
+        if np.any(self.w_fac < 1e-6) or np.any(self.w_fac > 1e6):
+            raise SceneError("calibration.k2_vs_width.factor", "k2 factors must lie in [1e-06, 1e6] (k2 itself is "
+                                                               "limited to [1e-9, 1e9])")
+        if not (np.isfinite(self.t_ref) and 0.1 <= self.t_ref <= 100):
+            raise SceneError("calibration.k2_thickness_reference_mm", range_message(self.t_ref, 0.1, 100, "mm"))
 
     @classmethod
     def load(cls, path=None):
-        with open(path or _DEFAULT_PATH, encoding="utf-8") as f:
-            return cls(json.load(f))
+        from metamaterial_wb.core.fileio import read_json
+
+        return cls(read_json(path or _DEFAULT_PATH, "calibration table"))
 
     def k1(self, length_mm, where="hinge"):
         lo, hi = self.len_mm[0], self.len_mm[-1]

@@ -1,24 +1,359 @@
-"""Small file helpers: atomic writes so that nothing is ever written half-way."""
+"""Files in and out, safely (issue 19).
+
+* :func:`read_json` reads a JSON input file and fails with one :class:`SceneError` line for anything
+  that is not a readable, regular, UTF-8 JSON file of sane depth and numbers (a directory, a symlink
+  loop, a FIFO, non-UTF-8 bytes, 10^400, NaN, 900 levels of nesting, ...).
+* :func:`check_tree` is the same number / depth / unicode check for data that is already parsed
+  (``Scene.from_dict`` calls it, so the GUI's dictionaries get it too).
+* :func:`check_output` checks an output path before any work is done.
+* :func:`write_atomic` / :func:`write_json` write one file through a temporary file and a rename;
+  :class:`OutputSet` moves a whole set of files into a folder, rolling back if any move fails.
+* Temporary names carry the writer's process id (``.tmp-<pid>-...``); :func:`sweep_stale` removes
+  those of processes that no longer run (a ``kill -9`` leaves them), and is called on every write.
+"""
+import errno
 import json
+import math
 import os
+import re
+import shutil
+import stat
 import tempfile
+
+from metamaterial_wb.core.errors import SceneError
+
+MAX_INPUT_BYTES = 256 * 2 ** 20     # a scene of 4 M cells as a "cells" list is ~60 MB
+MAX_DEPTH = 32                      # the deepest real scene field is ~6 levels
+MAX_INT = 2 ** 63 - 1
+TEMP_PREFIXES = (".tmp-", ".build-", ".sleeve-", ".tmp-simulate-")
+_STALE_RE = re.compile(r"^\.(?:tmp|build|sleeve|tmp-simulate|sleeve-export)-(\d+)-")
+_KERNEL_FS = ("/proc", "/sys", "/dev")
+
+
+# ----------------------------------------------------------------------------------------------
+# input
+# ----------------------------------------------------------------------------------------------
+class _HugeInt:
+    """Placeholder for an integer literal too long to convert (Python refuses > 4300 digits)."""
+
+    def __init__(self, text):
+        self.digits = len(text.lstrip("-"))
+
+
+def _parse_int(text):
+    if len(text) > 40:
+        return _HugeInt(text)
+    return int(text)
+
+
+def _fmt_path(parts):
+    if len(parts) > 12:
+        return _fmt_path(parts[:6]) + "..." + _fmt_path(parts[-2:]) + f" (depth {len(parts)})"
+    out = ""
+    for p in parts:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out
+
+
+def check_tree(data, root=""):
+    """Refuse non-finite or huge numbers, unpaired surrogates and deep nesting anywhere in ``data``.
+
+    Iterative (no recursion), so a structure nested 10^5 deep is reported, not a RecursionError.
+    The error names the field, e.g. ``dynamics.integrator.dt_s: NaN is not a finite number``.
+    """
+    isfinite = math.isfinite
+    # stack entries: (container, depth, where) with where = (parent where, key) or None
+    stack = [(data, 0, (None, root) if root else None)]
+
+    def path_of(where, key=None):
+        parts = [] if key is None else [key]
+        while where is not None:
+            where, k = where
+            parts.append(k)
+        return _fmt_path(parts[::-1])
+
+    def bad_scalar(v, where, key):
+        t = type(v)
+        if t is int or isinstance(v, int):
+            if isinstance(v, bool) or -MAX_INT <= v <= MAX_INT:
+                return
+            raise SceneError(path_of(where, key), f"{v:.3e} is too large (integers up to 2^63)")
+        if t is float or isinstance(v, float):
+            if not isfinite(v):
+                raise SceneError(path_of(where, key), f"{v!r} is not a finite number (NaN, Infinity and "
+                                                      f"numbers beyond 1.8e308 are not allowed)")
+            if v != 0.0 and -2.2250738585072014e-308 < v < 2.2250738585072014e-308:
+                raise SceneError(path_of(where, key), f"{v!r} is subnormal (too close to zero to compute with)")
+            return
+        if t is str:
+            _check_str(v, path_of, where, key)
+            return
+        if v is None:
+            return
+        if t is _HugeInt:
+            raise SceneError(path_of(where, key), f"an integer of {v.digits} digits is far too large")
+        raise SceneError(path_of(where, key), f"{t.__name__} is not a JSON value")
+
+    if not isinstance(data, (dict, list, tuple)):
+        bad_scalar(data, None, root or None)
+        return
+    while stack:
+        obj, depth, where = stack.pop()
+        if depth > MAX_DEPTH:
+            raise SceneError(path_of(where), f"too deeply nested (more than {MAX_DEPTH} levels)")
+        if type(obj) is list and len(obj) > 16 and _bulk_ok(obj, depth):
+            continue
+        items = obj.items() if isinstance(obj, dict) else enumerate(obj)
+        for k, v in items:
+            t = type(v)
+            if t is dict or t is list or t is tuple or isinstance(v, (dict, list, tuple)):
+                stack.append((v, depth + 1, (where, k)))
+            elif t is int:
+                if not -MAX_INT <= v <= MAX_INT:
+                    bad_scalar(v, where, k)
+            elif t is float:
+                if not isfinite(v) or (v != 0.0 and -2.2250738585072014e-308 < v < 2.2250738585072014e-308):
+                    bad_scalar(v, where, k)
+            elif t is not bool and v is not None:
+                bad_scalar(v, where, k)
+            if type(k) is not int:
+                if type(k) is not str:
+                    raise SceneError(path_of(where), f"key {k!r} is not a string")
+                _check_str(k, path_of, where, k)
+
+
+def _ints_ok(values):
+    return not values or (min(values) >= -MAX_INT and max(values) <= MAX_INT)
+
+
+def _bulk_ok(obj, depth):
+    """True when a long list is all plain ints in range, or all lists of such ints (the common big
+    case: ``layout.cells``), checked at C speed; False means: look at each item."""
+    import itertools
+
+    types = set(map(type, obj))
+    if types <= {int, bool}:
+        return _ints_ok(obj)
+    if types == {str}:
+        return all(map(str.isascii, obj))
+    if types == {list} and depth + 2 <= MAX_DEPTH:
+        flat = list(itertools.chain.from_iterable(obj))
+        return set(map(type, flat)) <= {int, bool} and _ints_ok(flat)
+    return False
+
+
+def _check_str(s, path_of, where, key):
+    if s.isascii():
+        return
+    try:
+        s.encode("utf-8")
+    except UnicodeEncodeError as exc:
+        raise SceneError(path_of(where, key), f"text contains an unpaired surrogate at position {exc.start} "
+                                              f"(not valid Unicode)") from None
+
+
+def _stat_input(path, what):
+    if not isinstance(path, str) or path == "":
+        raise SceneError(what, "no file name given")
+    if "\x00" in path:
+        raise SceneError(what, f"{path!r} contains a NUL character")
+    try:
+        st = os.stat(path)
+    except OSError as exc:
+        raise SceneError(what, f"{path}: {_os_reason(exc)}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise SceneError(what, f"{path} is a directory, not a file")
+    if not stat.S_ISREG(st.st_mode):
+        raise SceneError(what, f"{path} is not a regular file ({_kind(st.st_mode)})")
+    if st.st_size > MAX_INPUT_BYTES:
+        raise SceneError(what, f"{path} has {st.st_size} bytes; at most {MAX_INPUT_BYTES} are read")
+    return st
+
+
+def _os_reason(exc):
+    return {errno.ENOENT: "file not found", errno.ELOOP: "symlink loop (too many levels of symbolic links)",
+            errno.ENOTDIR: "a part of the path is a file, not a folder", errno.EACCES: "permission denied",
+            errno.ENAMETOOLONG: "file name too long", errno.EISDIR: "is a directory"}.get(
+        exc.errno, exc.strerror or str(exc))
+
+
+def _kind(mode):
+    for test, name in ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a directory")):
+        if test(mode):
+            return name
+    return "a special file"
+
+
+def read_text(path, what="input"):
+    """The text of a regular UTF-8 file, or a SceneError naming ``what`` and the reason."""
+    _stat_input(path, what)
+    try:
+        with open(path, "rb") as f:
+            raw = f.read(MAX_INPUT_BYTES + 1)
+    except OSError as exc:
+        raise SceneError(what, f"{path}: {_os_reason(exc)}") from None
+    if len(raw) > MAX_INPUT_BYTES:
+        raise SceneError(what, f"{path} has more than {MAX_INPUT_BYTES} bytes")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise SceneError(what, f"{path} is not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start})") \
+            from None
+    return text
+
+
+def parse_json(text, what=""):
+    """``json.loads`` that never raises anything but a one-line SceneError (then :func:`check_tree`)."""
+    try:
+        data = json.loads(text, parse_int=_parse_int)
+    except RecursionError:
+        raise SceneError(what, f"too deeply nested (more than {MAX_DEPTH} levels)") from None
+    except json.JSONDecodeError as exc:
+        raise SceneError(what, f"not a JSON file (not valid JSON: {exc.msg}) at line {exc.lineno} "
+                               f"column {exc.colno}") from None
+    except ValueError as exc:  # e.g. Python's integer-digit limit
+        raise SceneError(what, f"not a JSON file: {exc}") from None
+    check_tree(data, "")
+    return data
+
+
+def read_json(path, what="input"):
+    """Read and check a JSON file (see module doc). Field names in errors get ``(in PATH)``."""
+    text = read_text(path, what)
+    try:
+        return parse_json(text, "")
+    except SceneError as exc:
+        raise SceneError(exc.field or what, f"{exc.message} (in {path})") from None
+
+
+# ----------------------------------------------------------------------------------------------
+# output
+# ----------------------------------------------------------------------------------------------
+def check_output(path, kind="file", option="--out"):
+    """Check an output path before any work: ``kind`` is "file" or "dir". Returns the absolute path.
+
+    Refused: an empty name, a NUL, a path under /proc, /sys or /dev, a name longer than 255 bytes or a
+    path longer than 4095, an existing entry of another kind (a directory for a file, a FIFO, a
+    device, a symlink loop), a parent that is a file, and a folder that cannot be written.
+    """
+    if not isinstance(path, str) or path.strip() == "":
+        raise SceneError(option, "empty path; give a file or folder name")
+    if "\x00" in path:
+        raise SceneError(option, f"{path!r} contains a NUL character")
+    ab = os.path.abspath(path)
+    if len(os.fsencode(ab)) > 4095:
+        raise SceneError(option, f"path of {len(os.fsencode(ab))} bytes is longer than the limit of 4095")
+    for part in ab.split(os.sep):
+        if len(os.fsencode(part)) > 255:
+            raise SceneError(option, f"name {part[:20]}... has {len(os.fsencode(part))} bytes; at most 255 "
+                                     f"are allowed")
+    try:
+        real = os.path.realpath(ab, strict=False)
+    except OSError:
+        real = ab
+    for p in (ab, real):
+        if any(p == k or p.startswith(k + os.sep) for k in _KERNEL_FS):
+            raise SceneError(option, f"{path} is under {p.split(os.sep)[1] and '/' + p.split(os.sep)[1]}, a "
+                                     f"kernel file system; choose a normal folder")
+    try:
+        st = os.stat(ab)
+    except FileNotFoundError:
+        st = None
+    except OSError as exc:
+        raise SceneError(option, f"{path}: {_os_reason(exc)}") from None
+    if st is None and os.path.islink(ab):
+        raise SceneError(option, f"{path} is a dangling symbolic link")
+    if st is not None:
+        if kind == "dir" and not stat.S_ISDIR(st.st_mode):
+            what = "a file" if stat.S_ISREG(st.st_mode) else _kind(st.st_mode)
+            raise SceneError(option, f"{path} exists and is {what}, not a folder")
+        if kind == "file" and not stat.S_ISREG(st.st_mode):
+            raise SceneError(option, f"{path} exists and is {_kind(st.st_mode)}, not a file; it is not replaced")
+    anc = ab if (st is not None and kind == "dir") else os.path.dirname(ab)
+    while True:
+        try:
+            ast = os.stat(anc)
+            break
+        except FileNotFoundError:
+            if os.path.islink(anc):
+                raise SceneError(option, f"{anc} is a dangling symbolic link") from None
+            anc = os.path.dirname(anc)
+        except OSError as exc:
+            raise SceneError(option, f"{anc}: {_os_reason(exc)}") from None
+    if not stat.S_ISDIR(ast.st_mode):
+        raise SceneError(option, f"{anc} is {'a file' if stat.S_ISREG(ast.st_mode) else _kind(ast.st_mode)}, "
+                                 f"not a folder, so {path} cannot be created")
+    if not os.access(anc, os.W_OK | os.X_OK) or (os.statvfs(anc).f_flag & os.ST_RDONLY):
+        raise SceneError(option, f"folder {anc} is not writable")
+    return ab
+
+
+def _pid_alive(pid):
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def sweep_stale(folder):
+    """Remove temporary files / folders left in ``folder`` by writers that no longer run (kill -9)."""
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return
+    for n in names:
+        m = _STALE_RE.match(n)
+        if not m or _pid_alive(int(m.group(1))):
+            continue
+        p = os.path.join(folder, n)
+        try:
+            if os.path.isdir(p) and not os.path.islink(p):
+                shutil.rmtree(p, ignore_errors=True)
+            else:
+                os.unlink(p)
+        except OSError:
+            pass
+
+
+def temp_prefix(kind="tmp"):
+    return f".{kind}-{os.getpid()}-"
+
+
+def make_temp_dir(parent, kind="tmp"):
+    """A fresh temporary folder in ``parent`` named ``.KIND-<pid>-...`` (stale ones are swept first)."""
+    sweep_stale(parent)
+    return tempfile.mkdtemp(dir=parent, prefix=temp_prefix(kind))
+
+
+def _mkdirs(folder):
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        raise SceneError("--out", f"cannot create folder {folder}: {_os_reason(exc)}") from None
 
 
 def write_atomic(path, data, mode="w"):
     """Write ``data`` (str or bytes) to ``path`` through a temporary file and a rename."""
     path = os.fspath(path)
     folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=os.path.basename(path))
+    _mkdirs(folder)
+    sweep_stale(folder)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=temp_prefix(), suffix="-" + os.path.basename(path)[-40:])
     try:
-        with os.fdopen(fd, mode) as f:
+        with os.fdopen(fd, mode, **({"encoding": "utf-8"} if "b" not in mode else {})) as f:
             f.write(data)
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file normal permissions
         os.replace(tmp, path)
     except BaseException:
-        if os.path.exists(tmp):
+        if os.path.lexists(tmp):
             os.unlink(tmp)
         raise
 
@@ -27,3 +362,65 @@ def write_json(path, obj, indent=1):
     """Serialise ``obj`` completely first, then write it atomically."""
     text = json.dumps(obj, indent=indent, allow_nan=False) + "\n"
     write_atomic(path, text)
+
+
+class OutputSet:
+    """Write a set of files into ``out_dir`` all together or not at all.
+
+    ``with OutputSet(out_dir, kind) as tmp:`` gives a temporary folder inside ``out_dir``; write the
+    files there. On a clean exit every entry is moved into ``out_dir`` (replacing older ones); if a
+    move fails the entries already moved are put back and the older ones restored. On any exception
+    (also KeyboardInterrupt / SIGTERM through the CLI) the temporary folder is removed.
+    """
+
+    def __init__(self, out_dir, kind="tmp"):
+        self.out_dir = os.path.abspath(out_dir)
+        self.kind = kind
+        self.tmp = None
+        self.names = []
+
+    def __enter__(self):
+        _mkdirs(self.out_dir)
+        self.tmp = make_temp_dir(self.out_dir, self.kind)
+        return self.tmp
+
+    def __exit__(self, et, ev, tb):
+        try:
+            if et is None:
+                self.names = self._commit()
+        finally:
+            shutil.rmtree(self.tmp, ignore_errors=True)
+        return False
+
+    def _commit(self):
+        names = sorted(os.listdir(self.tmp))
+        commit_set(self.tmp, self.out_dir, names)
+        return names
+
+
+def commit_set(tmp, out_dir, names):
+    """Move ``names`` from folder ``tmp`` into ``out_dir`` all together: if one move fails, the ones
+    already moved are taken back and the files they replaced restored, then the error is raised."""
+    backup = os.path.join(tmp, ".old")
+    os.makedirs(backup, exist_ok=True)
+    moved, saved = [], []
+    try:
+        for n in names:
+            dst = os.path.join(out_dir, n)
+            if os.path.lexists(dst):
+                os.replace(dst, os.path.join(backup, n))
+                saved.append(n)
+            os.replace(os.path.join(tmp, n), dst)
+            moved.append(n)
+    except BaseException:
+        for n in moved:
+            try:
+                os.replace(os.path.join(out_dir, n), os.path.join(tmp, n))
+            except OSError:
+                pass
+        for n in saved:
+            try:
+                os.replace(os.path.join(backup, n), os.path.join(out_dir, n))
+            except OSError:
+                pass
+        raise

@@ -41,9 +41,18 @@ def run_model(name, scene, global_deformation=None, **options):
     return _MODELS[name][0](scene, global_deformation=global_deformation, **options)
 
 
-def _quadratic(scene, global_deformation=None, backend="auto", model=None, **_):
+_QUADRATIC_OPTS = {"backend", "model"}
+_BACKENDS = ("auto", "superlu", "cholmod", "dense")
+
+
+def _quadratic(scene, global_deformation=None, backend="auto", model=None, **unknown):
     from metamaterial_wb.core import kinematics
     from metamaterial_wb.core.solver import solve_scene
+
+    for k in sorted(unknown):
+        raise SceneError(f"--option {k}", f"unknown option of model 'quadratic'; allowed: {sorted(_QUADRATIC_OPTS)}")
+    if backend not in _BACKENDS:
+        raise SceneError("--option backend", f"{backend!r}; allowed: {list(_BACKENDS)}")
 
     D, _m, warnings, timings = solve_scene(scene, global_deformation=global_deformation, model=model,
                                            backend=backend)

@@ -41,8 +41,12 @@ def cholmod_available():
     return _cholmod_cholesky is not None
 
 
+K2_MIN, K2_MAX = 1e-100, 1e100   # the solve is scale-invariant in k2; beyond this 2 k2 (and its squares)
+#                                   overflow or go subnormal (a scene limits k2 to [1e-9, 1e9] itself)
+
+
 def check_stiffness(k1, k2, joint_names=None):
-    """Reject k1 outside [0, 1] and k2 <= 0 (or non-finite), naming the first bad joint."""
+    """Reject k1 outside [0, 1] and k2 outside [K2_MIN, K2_MAX] (or non-finite), naming the first bad joint."""
     k1 = np.asarray(k1, dtype=float)
     k2 = np.asarray(k2, dtype=float)
     bad = np.flatnonzero(~np.isfinite(k1) | (k1 < 0) | (k1 > 1))
@@ -50,11 +54,11 @@ def check_stiffness(k1, k2, joint_names=None):
         j = bad[0]
         name = joint_names[j] if joint_names is not None else f"#{j}"
         raise SceneError(f"joint {name}.k1", range_message(float(k1[j]), 0, 1) + f" ({bad.size} bad joint(s))")
-    bad = np.flatnonzero(~np.isfinite(k2) | (k2 <= 0))
+    bad = np.flatnonzero(~np.isfinite(k2) | (k2 < K2_MIN) | (k2 > K2_MAX))
     if bad.size:
         j = bad[0]
         name = joint_names[j] if joint_names is not None else f"#{j}"
-        raise SceneError(f"joint {name}.k2", range_message(float(k2[j]), 0, "inf", low_open=True, high_open=True)
+        raise SceneError(f"joint {name}.k2", range_message(float(k2[j]), K2_MIN, K2_MAX)
                          + f" ({bad.size} bad joint(s))")
     return k1, k2
 

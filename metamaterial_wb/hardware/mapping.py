@@ -16,7 +16,6 @@ from ``--map`` / ``--channels`` on the command line. Pure Python: no FreeCAD, no
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import asdict, dataclass, field
 
@@ -135,11 +134,9 @@ def parse_map(text):
 
 def load_channel_file(path):
     """A JSON object ``{actuator_name: {servo fields...}}`` (see docs/firmware.md)."""
-    with open(path, encoding="utf-8") as f:
-        try:
-            data = json.load(f)
-        except json.JSONDecodeError as exc:
-            raise SceneError(str(path), f"not valid JSON: {exc}") from None
+    from metamaterial_wb.core.fileio import read_json
+
+    data = read_json(path, "--channels")   # one error line for unreadable / non-JSON / hostile files
     if not isinstance(data, dict):
         raise SceneError(str(path), "expected an object {actuator name: {servo fields}}")
     return data

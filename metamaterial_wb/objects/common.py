@@ -103,3 +103,162 @@ def json_prop(obj, name, default=None):
     if not txt.strip():
         return default
     return json.loads(txt)
+
+
+# ----------------------------------------------------------------------------------------------
+# documents restored without the package (issue 19)
+# ----------------------------------------------------------------------------------------------
+# FreeCAD 0.20.2 (Debian) refuses to import a proxy's module during a document restore unless it lies
+# in a Mod folder or is already imported ("PropertyPythonObject::Restore: blocked import of module
+# ..."): opening a file headless without importing this package first leaves every Proxy None, and
+# saving then writes the proxies as null. Two typed records survive such a save, because FreeCAD
+# keeps typed properties without the proxy:
+#   * every object carries a hidden ``ProxyClass`` property ("module:Class");
+#   * the document's ``Meta`` map holds ``metamaterial_wb.objects``: the names of all our objects,
+#     written at every save (the <Document> header comes first in Document.xml, so a truncated file
+#     still has it).
+# When the package is imported (before or after the document was opened) :func:`repair_document`
+# re-attaches the proxies from ``ProxyClass``, and reports objects that the manifest names but the
+# file lost. A document that cannot be repaired is locked: its FileName is cleared, so ``save()``
+# fails (FreeCAD: "Saving document failed") and only Save As to a new file is possible.
+PROXY_CLASS = "ProxyClass"
+MANIFEST_KEY = "metamaterial_wb.objects"
+_REPORTS = {}       # document name -> last repair report (tests, GUI)
+
+
+def attach_proxy(obj, proxy):
+    """``obj.Proxy = proxy`` and record the proxy class in the hidden ``ProxyClass`` property."""
+    obj.Proxy = proxy
+    tag_proxy(obj, proxy)
+
+
+def tag_proxy(obj, proxy):
+    value = f"{type(proxy).__module__}:{type(proxy).__name__}"
+    ensure_property(obj, "App::PropertyString", PROXY_CLASS, "Base",
+                    "Proxy class of this object (lets the workbench re-attach it after a restore without it)",
+                    hidden=True)
+    if getattr(obj, PROXY_CLASS) != value:
+        setattr(obj, PROXY_CLASS, value)
+
+
+def _ours(doc):
+    return [o for o in doc.Objects if PROXY_CLASS in o.PropertiesList]
+
+
+def write_manifest(doc):
+    """``doc.Meta[MANIFEST_KEY]``: {object name: number of properties} of every object of ours."""
+    text = json.dumps({o.Name: len(o.PropertiesList) for o in sorted(_ours(doc), key=lambda o: o.Name)},
+                      sort_keys=True)
+    meta = dict(doc.Meta)
+    if meta.get(MANIFEST_KEY) != text:
+        meta[MANIFEST_KEY] = text
+        doc.Meta = meta
+
+
+def repair_document(doc, announce=True):
+    """Re-attach lost proxies and report lost objects; lock the document if anything is missing.
+
+    Returns ``{"restored": [...], "lost": [...], "unknown": [...], "locked": bool}``.
+    """
+    import importlib
+
+    restored, unknown = [], []
+    for o in doc.Objects:   # files saved before ProxyClass existed: tag our objects now
+        p = getattr(o, "Proxy", None)
+        if p is not None and type(p).__module__.startswith("metamaterial_wb.") and PROXY_CLASS not in o.PropertiesList:
+            tag_proxy(o, p)
+    for o in _ours(doc):
+        if getattr(o, "Proxy", None) is not None:
+            continue
+        mod_name, _, cls_name = (getattr(o, PROXY_CLASS) or "").partition(":")
+        try:
+            if not mod_name.startswith("metamaterial_wb."):
+                raise ImportError(mod_name)
+            klass = getattr(importlib.import_module(mod_name), cls_name)
+            proxy = klass.__new__(klass)
+            o.Proxy = proxy
+            if hasattr(proxy, "onDocumentRestored"):
+                proxy.onDocumentRestored(o)
+            restored.append(o.Name)
+        except Exception:  # noqa: BLE001 - reported below, never raised into FreeCAD's restore
+            unknown.append(o.Name)
+    try:
+        expected = json.loads(dict(doc.Meta).get(MANIFEST_KEY, "{}"))
+    except ValueError:
+        expected = {}
+    if not isinstance(expected, dict):
+        expected = {}
+    # lost: missing, or its data never restored (a truncated Document.xml: the object list comes
+    # first, so the object exists but its properties, ProxyClass among them, stop at the cut)
+    lost = []
+    for name, n_props in sorted(expected.items()):
+        o = doc.getObject(name)
+        if o is None or PROXY_CLASS not in o.PropertiesList or len(o.PropertiesList) < int(n_props):
+            lost.append(name)
+    locked = bool(lost or unknown)
+    report = {"restored": restored, "lost": lost, "unknown": unknown, "locked": locked}
+    if locked and doc.FileName:
+        report["file"] = doc.FileName
+        doc.FileName = ""          # FreeCAD refuses save() without a file name: no overwrite of the original
+    _REPORTS[doc.Name] = report
+    if announce and (restored or locked):
+        msg = f"Metamaterial: document {doc.Label!r}"
+        if restored:
+            msg += (f": {len(restored)} object(s) had been restored without the metamaterial_wb package "
+                    f"(their proxies were lost); re-attached: {', '.join(restored[:8])}"
+                    + (" ..." if len(restored) > 8 else ""))
+        if lost:
+            msg += (f"; the file is damaged: {len(lost)} object(s) lost ({', '.join(lost[:8])}"
+                    + (" ..." if len(lost) > 8 else "") + ")")
+        if unknown:
+            msg += f"; {len(unknown)} object(s) could not be re-attached ({', '.join(unknown[:8])})"
+        if locked:
+            msg += f"; not saving over {report.get('file', 'the file')}: use Save As to keep what is left"
+        FreeCAD.Console.PrintWarning(msg + "\n")
+        if not FreeCAD.GuiUp:      # headless: FreeCAD's console is silent in library mode
+            import sys
+            print(msg, file=sys.stderr)
+    return report
+
+
+def repair_report(doc):
+    return _REPORTS.get(doc.Name)
+
+
+class _DocumentGuard:
+    """Document observer: repair when a document becomes active (FreeCAD 0.20's Python observers get
+    no restore signal; an opened document is activated right after its restore), and before every
+    save; write the manifest at every save."""
+
+    def slotActivateDocument(self, doc):
+        if getattr(doc, "Restoring", False) or doc.Name in _REPORTS:
+            return
+        try:
+            repair_document(doc)
+        except Exception as exc:  # noqa: BLE001 - an observer must never break FreeCAD
+            FreeCAD.Console.PrintError(f"Metamaterial: document check failed: {exc}\n")
+
+    def slotDeletedDocument(self, doc):
+        _REPORTS.pop(doc.Name, None)
+
+    def slotStartSaveDocument(self, doc, filename):
+        try:
+            if any(getattr(o, "Proxy", None) is None for o in _ours(doc)):
+                repair_document(doc)
+            write_manifest(doc)
+        except Exception as exc:  # noqa: BLE001
+            FreeCAD.Console.PrintError(f"Metamaterial: could not write the object manifest: {exc}\n")
+
+
+def install_document_guard():
+    """Register the observer once per FreeCAD session and repair the documents already open."""
+    if getattr(FreeCAD, "_metamaterial_doc_guard", None) is None:
+        guard = _DocumentGuard()
+        FreeCAD.addDocumentObserver(guard)
+        FreeCAD._metamaterial_doc_guard = guard
+        for doc in FreeCAD.listDocuments().values():
+            try:
+                repair_document(doc)
+            except Exception:  # noqa: BLE001
+                pass
+

@@ -30,7 +30,7 @@ import FreeCAD
 
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene import DEFAULT_HINGE, Scene
-from metamaterial_wb.objects.common import (HIDDEN, OUTPUT, READONLY, ProxyBase, attach_view_provider,
+from metamaterial_wb.objects.common import (HIDDEN, OUTPUT, READONLY, ProxyBase, attach_proxy, attach_view_provider,
                                             count_execute, ensure_property)
 from metamaterial_wb.objects import engine as _engine
 
@@ -76,7 +76,7 @@ class SceneProxy(ProxyBase):
     SCHEMA = 1
 
     def __init__(self, obj):
-        obj.Proxy = self
+        attach_proxy(obj, self)
         self._ensure_properties(obj)
 
     def _ensure_properties(self, obj):
@@ -373,7 +373,7 @@ def restore_display(obj, state):
 # ----------------------------------------------------------------------------------------------
 class _ShapeSource(ProxyBase):
     def __init__(self, obj):
-        obj.Proxy = self
+        attach_proxy(obj, self)
         self._ensure_properties(obj)
 
     def _ensure_properties(self, obj):
@@ -446,7 +446,7 @@ class ItemProxy(ProxyBase):
     Type = "MetamaterialItem"
 
     def __init__(self, obj):
-        obj.Proxy = self
+        attach_proxy(obj, self)
         self._ensure_properties(obj)
 
     def _ensure_properties(self, obj):
@@ -551,7 +551,7 @@ class ModuleProxy(ProxyBase):
     Type = "MetamaterialModule"
 
     def __init__(self, obj):
-        obj.Proxy = self
+        attach_proxy(obj, self)
         self._ensure_properties(obj)
 
     def _ensure_properties(self, obj):
@@ -770,3 +770,9 @@ def load_scene_file(doc, path):
 def scene_json(scene_obj):
     """The composed scene (typed properties + markers + modules) as JSON text."""
     return compose_scene(scene_obj).to_json()
+
+
+# after every proxy class exists: watch documents, repair those already open (objects/common.py)
+from metamaterial_wb.objects.common import install_document_guard  # noqa: E402
+
+install_document_guard()

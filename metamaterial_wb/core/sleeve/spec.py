@@ -2,7 +2,6 @@
 
 See ``docs/scene-format.md`` section "Sleeve spec" for every field.
 """
-import json
 import math
 
 from metamaterial_wb.core.errors import SceneError, check_number
@@ -123,12 +122,13 @@ class SleeveSpec:
 
     @classmethod
     def load(cls, path):
-        with open(path) as f:
-            try:
-                data = json.load(f)
-            except json.JSONDecodeError as exc:
-                raise SceneError("", f"{path}: not valid JSON ({exc})") from None
-        return cls(data, str(path))
+        from metamaterial_wb.core.fileio import read_json
+
+        data = read_json(path, "spec")   # one SceneError line for any unreadable / non-JSON / hostile file
+        try:
+            return cls(data, str(path))
+        except SceneError as exc:
+            raise SceneError(exc.field, f"{exc.message} (in {path})") from None
 
     @property
     def N(self):

@@ -1,0 +1,51 @@
+"""Constants of the scene format and the names of joints and nodes (seed 000, section 3.2)."""
+import re
+
+from metamaterial_wb.core.errors import SceneError
+
+FORMAT = "metamaterial-scene"
+VERSION = 1
+
+DEFAULT_CELL_SIZE_MM = 20.0
+DEFAULT_HINGE = {"length_mm": 2.0, "width_mm": 0.8, "thickness_mm": 7.0}
+
+_JOINT_RE = re.compile(r"^\s*([HVhv])\s*\(?\s*(-?\d{1,9})\s*,\s*(-?\d{1,9})\s*\)?\s*$")
+_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,63}$")
+
+KNOWN_KEYS = {"format", "version", "name", "description", "cell_size_mm", "hinge", "layout", "joints",
+              "axes", "actuators", "constraints", "modules", "joint_config", "global_deformation",
+              "material", "units"}
+JOINT_OVERRIDE_KEYS = {"joint", "k1", "k2", "length_mm", "width_mm", "thickness_mm", "tilt_deg"}
+
+
+def parse_joint(text, field_name="joint"):
+    """``"H1,2"`` -> ``("H", 1, 2)``. Accepts ``"H(1,2)"`` and spaces too."""
+    if isinstance(text, (tuple, list)) and len(text) == 3:
+        kind, i, j = text
+        text = f"{kind}{i},{j}"
+    if not isinstance(text, str):
+        raise SceneError(field_name, f"expected a joint name like \"H0,1\" or \"V2,3\", got {_short(text)}")
+    m = _JOINT_RE.match(text)
+    if not m:
+        raise SceneError(field_name, f"{_short(text)} is not a joint name; write \"H<i>,<j>\" (joins N(i,j)-N(i,j+1)) "
+                                     f"or \"V<i>,<j>\" (joins N(i,j)-N(i+1,j))")
+    return m.group(1).upper(), int(m.group(2)), int(m.group(3))
+
+
+def _short(value, n=80):
+    """``repr`` of a value, cut to ``n`` characters (error lines stay one readable line)."""
+    r = repr(value)
+    return r if len(r) <= n else r[:n] + f"... ({len(r)} characters)"
+
+
+def joint_name(kind, i, j):
+    return f"{kind}{i},{j}"
+
+
+def node_name(i, j):
+    return f"N{i},{j}"
+
+
+def joint_nodes(kind, i, j):
+    """The two node keys ``(i, j)`` that a joint joins."""
+    return ((i, j), (i, j + 1)) if kind == "H" else ((i, j), (i + 1, j))

@@ -1,0 +1,234 @@
+"""One parser per section of a scene (``Scene.from_dict`` calls them in order).
+
+Each ``parse_X(scene, data)`` reads ``data["X"]`` (the whole scene dict, already checked by
+:func:`metamaterial_wb.core.fileio.check_tree`: finite numbers, sane depth, valid unicode), validates
+it and stores it on ``scene``; an error is a :class:`SceneError` naming the field.
+"""
+import math
+
+from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.scene.items import Actuator, Axis, Constraint
+from metamaterial_wb.core.scene.layout import cells_from_layout, validate_layout
+from metamaterial_wb.core.scene.names import (_NAME_RE, DEFAULT_CELL_SIZE_MM, DEFAULT_HINGE, FORMAT,
+                                                  JOINT_OVERRIDE_KEYS, KNOWN_KEYS, VERSION, _short)
+from metamaterial_wb.core.scene.topology import Topology
+
+K2_RANGE = (1e-9, 1e9)  # relative stiffness: beyond this the solve loses every digit (issue 19)
+MAX_TEXT = 100_000      # characters of name / description
+
+
+def _text(data, key):
+    v = data.get(key, "")
+    if not isinstance(v, str):
+        raise SceneError(key, f"expected text, got {_short(v)}")
+    if len(v) > MAX_TEXT:
+        raise SceneError(key, f"{len(v)} characters; at most {MAX_TEXT} are allowed")
+    return v
+
+
+def _list(data, key, what):
+    v = data.get(key, [])
+    if not isinstance(v, list):
+        raise SceneError(key, f"expected a list of {what}, got {_short(v)}")
+    return v
+
+
+def parse_header(s, data):
+    fmt = data.get("format", FORMAT)
+    if fmt != FORMAT:
+        raise SceneError("format", f"{_short(fmt)} is not a scene; expected \"{FORMAT}\"")
+    ver = data.get("version", VERSION)
+    if ver != VERSION or isinstance(ver, bool):
+        raise SceneError("version", f"{_short(ver)} is not supported; this program reads version {VERSION}")
+    s.name = _text(data, "name")
+    s.description = _text(data, "description")
+    s.cell_size_mm = check_number("cell_size_mm", data.get("cell_size_mm", DEFAULT_CELL_SIZE_MM),
+                                  1.0, 1000.0, "mm")
+
+
+def parse_hinge(s, data):
+    hinge = data.get("hinge", {})
+    if not isinstance(hinge, dict):
+        raise SceneError("hinge", f"expected an object with length_mm, width_mm, thickness_mm; got {_short(hinge)}")
+    for k in hinge:
+        if k not in DEFAULT_HINGE:
+            raise SceneError(f"hinge.{k}", f"unknown hinge field; allowed: {sorted(DEFAULT_HINGE)}")
+    s.hinge = {}
+    for k, v in DEFAULT_HINGE.items():
+        s.hinge[k] = check_number(f"hinge.{k}", hinge.get(k, v), None, None, "mm")
+    check_hinge_sizes("hinge", s.hinge, s.cell_size_mm)
+
+
+def parse_layout(s, data):
+    s.layout = data.get("layout", {"grid": [1, 1]})
+    cells = cells_from_layout(s.layout)
+    validate_layout(cells)
+    s._topology = Topology(cells)
+    s._cells = None
+
+
+def parse_joints(s, data):
+    """``joints[]``: per-joint overrides."""
+    for k, item in enumerate(_list(data, "joints", "per-joint overrides")):
+        f = f"joints[{k}]"
+        if not isinstance(item, dict) or "joint" not in item:
+            raise SceneError(f, f"expected an object with \"joint\" and override fields, got {_short(item)}")
+        for key in item:
+            if key not in JOINT_OVERRIDE_KEYS:
+                raise SceneError(f"{f}.{key}", f"unknown field; allowed: {sorted(JOINT_OVERRIDE_KEYS)}")
+        name = s._joint(item["joint"], f"{f}.joint")
+        if name in s.joint_overrides:
+            raise SceneError(f"{f}.joint", f"joint {name} has two override entries; merge them into one")
+        ov = {}
+        if "k1" in item:
+            ov["k1"] = check_number(f"{f}.k1 ({name})", item["k1"], 0.0, 1.0)
+        if "k2" in item:
+            ov["k2"] = check_number(f"{f}.k2 ({name})", item["k2"], *K2_RANGE)
+        sizes = {key: item[key] for key in ("length_mm", "width_mm", "thickness_mm") if key in item}
+        if sizes:
+            for key, v in sizes.items():
+                check_number(f"{f}.{key} ({name})", v, None, None, "mm")
+            merged = dict(s.hinge)
+            merged.update(sizes)
+            check_hinge_sizes(f"{f} ({name})", merged, s.cell_size_mm)
+            ov.update({key: float(v) for key, v in sizes.items()})
+        if "tilt_deg" in item:
+            ov["tilt_deg"] = check_number(f"{f}.tilt_deg ({name})", item["tilt_deg"], -80.0, 80.0, "deg")
+        s.joint_overrides[name] = ov
+
+
+def parse_axes(s, data):
+    """``axes[]``: only their form here; the design stage checks them geometrically."""
+    for k, a in enumerate(_list(data, "axes", "axes")):
+        f = f"axes[{k}]"
+        if not isinstance(a, dict):
+            raise SceneError(f, f"expected an object with direction, line, fold_deg; got {_short(a)}")
+        direction = a.get("direction")
+        if direction not in ("vertical", "horizontal"):
+            raise SceneError(f"{f}.direction", f"{_short(direction)}; allowed: \"vertical\" or \"horizontal\"")
+        line = a.get("line")
+        if not isinstance(line, int) or isinstance(line, bool):
+            raise SceneError(f"{f}.line", f"expected an integer grid line, got {_short(line)}")
+        if not -1 <= line <= 4_000_001:
+            raise SceneError(f"{f}.line", f"{line} is outside the allowed range [-1, 4000001]")
+        for key in ("from", "to"):
+            if key in a and (not isinstance(a[key], int) or isinstance(a[key], bool)):
+                raise SceneError(f"{f}.{key}", f"expected an integer cell index, got {_short(a[key])}")
+        fold = check_number(f"{f}.fold_deg", a.get("fold_deg", 0.0), -180.0, 180.0, "deg")
+        name = a.get("name", "")
+        if not isinstance(name, str):
+            raise SceneError(f"{f}.name", f"expected text, got {_short(name)}")
+        extra = {kk: vv for kk, vv in a.items() if kk not in ("direction", "line", "fold_deg", "name")}
+        s.axes.append(Axis(direction, line, fold, name, extra))
+
+
+def parse_fixed(s, data):
+    """``actuators[]`` and ``constraints[]`` (names unique across both)."""
+    used_names = {}
+    n_max = max(s.topology.n_joints, 1)
+    for listname, klass in (("actuators", Actuator), ("constraints", Constraint)):
+        items = _list(data, listname, "objects")
+        if len(items) + len(used_names) > n_max:
+            raise SceneError(listname, f"{len(items) + len(used_names)} actuators and constraints on a layout of "
+                                       f"{n_max} joints; at most one per joint is allowed")
+        for k, item in enumerate(items):
+            f = f"{listname}[{k}]"
+            if not isinstance(item, dict):
+                raise SceneError(f, f"expected an object with name, joint, value; got {_short(item)}")
+            if "joint" not in item:
+                raise SceneError(f"{f}.joint", "missing: every actuator and constraint sits on a joint")
+            joint = s._joint(item["joint"], f"{f}.joint")
+            default_name = ("m" if listname == "actuators" else "c") + str(k + 1)
+            name = item.get("name", default_name)
+            if not isinstance(name, str) or not _NAME_RE.match(name):
+                raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name (letters, digits, _ . -; "
+                                              f"starting with a letter or _)")
+            if name in used_names:
+                raise SceneError(f"{f}.name", f"{name!r} is already used by {used_names[name]}")
+            used_names[name] = f
+            value = check_number(f"{f}.value ({name})", item.get("value", 0.0), -1.0, 1.0)
+            if listname == "actuators":
+                profile = item.get("profile")
+                if profile is not None:
+                    from metamaterial_wb.core.motion import validate_profile
+                    if not isinstance(profile, dict):
+                        raise SceneError(f"{f}.profile ({name})", f"expected an object, got {_short(profile)}")
+                    validate_profile(profile, f"{f}.profile ({name})")
+                extra = {kk: vv for kk, vv in item.items() if kk not in ("name", "joint", "value", "profile")}
+                s.actuators.append(Actuator(name, joint, value, profile, extra))
+            else:
+                extra = {kk: vv for kk, vv in item.items() if kk not in ("name", "joint", "value")}
+                s.constraints.append(Constraint(name, joint, value, extra))
+
+
+def parse_modules(s, data):
+    """``modules[]``: their form (an object with a text ``type`` on an existing node or joint); the
+    fabrication package (geometry/modules.py) checks the rest when it builds them."""
+    modules = _list(data, "modules", "modules")
+    if len(modules) > 4 * max(s.topology.n_nodes, 1):
+        raise SceneError("modules", f"{len(modules)} modules on {s.topology.n_nodes} nodes; at most "
+                                    f"{4 * s.topology.n_nodes} are allowed")
+    for k, m in enumerate(modules):
+        f = f"modules[{k}]"
+        if not isinstance(m, dict):
+            raise SceneError(f, f"expected an object with \"type\" and \"node\" or \"joint\", got {_short(m)}")
+        typ = m.get("type")
+        if not isinstance(typ, str):
+            raise SceneError(f"{f}.type", f"expected a module type (text), got {_short(typ)}")
+        for key in ("name", "side", "material", "servo", "node", "joint", "housing_node"):
+            if key in m and not isinstance(m[key], str):
+                raise SceneError(f"{f}.{key}", f"expected text, got {_short(m[key])}")
+        if "joint" in m:
+            s._joint(m["joint"], f"{f}.joint")
+        for key in ("node", "housing_node"):
+            if key in m:
+                s._node(m[key], f"{f}.{key}")
+    s.modules = modules
+
+
+def parse_joint_config(s, data):
+    jc = data.get("joint_config", {})
+    if not isinstance(jc, dict):
+        raise SceneError("joint_config", f"expected an object keyed by joint name, got {_short(jc)}")
+    for name, cfg in jc.items():
+        jn = s._joint(name, f"joint_config.{_short(name, 40)}")
+        if not isinstance(cfg, dict):
+            raise SceneError(f"joint_config.{jn}", f"expected an object like {{\"tilt_deg\": 20}}, got {_short(cfg)}")
+        for key in ("tilt_deg", "fold_deg"):
+            if key in cfg:
+                lim = 80.0 if key == "tilt_deg" else 180.0
+                check_number(f"joint_config.{jn}.{key}", cfg[key], -lim, lim, "deg")
+        s.joint_config[jn] = dict(cfg)
+
+
+def parse_rest(s, data):
+    """``global_deformation``, ``material``, the objects other stages read, and unknown keys (kept)."""
+    g = data.get("global_deformation")
+    if g is not None:
+        s.global_deformation = check_number("global_deformation", g, -1.0, 1.0)
+    for key in ("material", "fabrication", "dynamics", "belt", "gait"):
+        if key in data and not isinstance(data[key], dict):
+            raise SceneError(key, f"expected an object, got {_short(data[key])}")
+    mat = data.get("material", {})
+    if "hinge_strain_limit" in mat:
+        check_number("material.hinge_strain_limit", mat["hinge_strain_limit"], 0.0, 10.0, low_open=True)
+    s.material = mat
+    s.extra = {k: v for k, v in data.items() if k not in KNOWN_KEYS}
+    if "units" in data:
+        s.extra["units"] = data["units"]
+
+
+PARSERS = (parse_header, parse_hinge, parse_layout, parse_joints, parse_axes, parse_fixed, parse_modules,
+           parse_joint_config, parse_rest)
+
+
+def check_hinge_sizes(field_name, h, cell_size_mm):
+    for k in DEFAULT_HINGE:
+        v = h.get(k)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise SceneError(f"{field_name}.{k}", f"expected a number in mm, got {_short(v)}")
+    check_number(f"{field_name}.length_mm", h["length_mm"], 0.0, 0.5 * cell_size_mm, "mm", low_open=True,
+                 high_open=True)
+    check_number(f"{field_name}.width_mm", h["width_mm"], 0.0, 0.25 * (cell_size_mm - h["length_mm"]), "mm",
+                 low_open=True)
+    check_number(f"{field_name}.thickness_mm", h["thickness_mm"], 0.0, 100.0, "mm", low_open=True)
