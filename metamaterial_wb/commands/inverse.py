@@ -42,20 +42,8 @@ def add_arguments(p):
 
 
 def _mesh_loader(path):
-    """STL / OBJ by core; STEP / IGES through FreeCAD (tessellated at 0.1 mm)."""
-    from metamaterial_wb.core.inverse.surface import TargetError, load_mesh
-    ext = os.path.splitext(path)[1].lower()
-    if ext not in (".step", ".stp", ".iges", ".igs"):
-        return load_mesh(path)
-    import numpy as np
-    from metamaterial_wb.geometry.fc import freecad
-    _App, Part = freecad()
-    shape = Part.read(path)
-    pts, faces = shape.tessellate(0.1)
-    if not faces:
-        raise TargetError("surface.file", f"{path!r}: the STEP shape has no faces")
-    v = np.array([[p.x, p.y, p.z] for p in pts])
-    return v[np.array(faces)]
+    from metamaterial_wb.geometry.surface import load_surface_mesh
+    return load_surface_mesh(path)
 
 
 def _progress(msg):

@@ -123,8 +123,8 @@ def test_step_surface_through_freecad(tmp_path, scene):
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     if p.returncode != 0:
         pytest.skip(f"FreeCAD not usable here: {p.stderr[-200:]}")
-    from metamaterial_wb.commands.inverse import _mesh_loader
-    t = load_target(scene, str(tmp_path / "plate.step"), mesh_loader=_mesh_loader)
+    from metamaterial_wb.geometry.surface import load_surface_mesh
+    t = load_target(scene, str(tmp_path / "plate.step"), mesh_loader=load_surface_mesh)
     tri = t.frames[0].surface.surface.tri
     lo, hi = tri.reshape(-1, 3).min(0), tri.reshape(-1, 3).max(0)
     assert np.allclose(lo, [-10, -70, -1], atol=1e-6) and np.allclose(hi, [70, 10, 0], atol=1e-6)

@@ -123,8 +123,8 @@ class FitTargetPanel(base.BasePanel):
         path = self.path.text().strip()
         if not path:
             raise MetamaterialError("give a target file or pick a target object")
-        from metamaterial_wb.commands.inverse import _mesh_loader
-        return load_target(self.scene, path, mesh_loader=_mesh_loader)
+        from metamaterial_wb.geometry.surface import load_surface_mesh
+        return load_target(self.scene, path, mesh_loader=load_surface_mesh)
 
     # -- the background run -------------------------------------------------------------------
     def run(self):
@@ -252,7 +252,7 @@ class FitTargetPanel(base.BasePanel):
         rad = 0.12 * self.scene.cell_size_mm
         spheres = [Part.makeSphere(rad, FreeCAD.Vector(*p)) for p in pos]
         self.preview = self.doc.addObject("Part::Feature", PREVIEW_LABEL)
-        self.preview.Shape = Part.makeCompound(spheres)
+        self.preview.Shape = Part.Compound(spheres)
         vmax = max(float(dist.max()), 1e-9)
         self.preview_colours = [(min(1.0, 2 * d / vmax), min(1.0, 2 * (1 - d / vmax)), 0.0) for d in dist]
         fr = r["problem"].target.frames[0]
@@ -261,7 +261,7 @@ class FitTargetPanel(base.BasePanel):
             tgt = [Part.makeSphere(0.5 * rad, FreeCAD.Vector(*p)) for p in fr.nodes.pos]
         if tgt:
             self.preview_target = self.doc.addObject("Part::Feature", PREVIEW_LABEL + "Target")
-            self.preview_target.Shape = Part.makeCompound(tgt)
+            self.preview_target.Shape = Part.Compound(tgt)
         if fr.surface is not None:
             import Mesh
             self.preview_target = self.doc.addObject("Mesh::Feature", PREVIEW_LABEL + "Target")
