@@ -128,21 +128,17 @@ def markdown(study):
             return int(np.argmin(np.abs(a - math.radians(deg))))
 
         for held in (False, True):
-            rows = [r for r in study["bending"] if r["held"] == held]
-            for r in rows:
+            sources = [(r, f"FE h = {r['h_mm']:g} mm", f"{r['wall_s']:.0f}")
+                       for r in study["bending"] if r["held"] == held]
+            sources += [(r, f"lattice, n = {r['n']}", f"{r['wall_s']:.3f}")
+                        for r in study["lattice"] if r["held"] == held]
+            for r, label, wall in sources:
                 i15, i45 = pick(r, 15), pick(r, 45)
                 u = np.asarray(r["end_u_mm"])[i45]
                 F = r["end_force_N"][i45]
-                L.append(f"| {'held' if held else 'free'} | FE h = {r['h_mm']:g} mm | {_f(r['moment_Nmm'][i15])} | "
+                L.append(f"| {'held' if held else 'free'} | {label} | {_f(r['moment_Nmm'][i15])} | "
                          f"{_f(r['moment_Nmm'][i45])} | ({_ff(F[0])}, {_ff(F[1])}) | "
-                         f"({_f(u[0])}, {_f(u[1])}) | {r['wall_s']:.0f} |")
-            for r in [r for r in study["lattice"] if r["held"] == held]:
-                i15, i45 = pick(r, 15), pick(r, 45)
-                u = np.asarray(r["end_u_mm"])[i45]
-                F = r["end_force_N"][i45]
-                L.append(f"| {'held' if held else 'free'} | lattice, n = {r['n']} | {_f(r['moment_Nmm'][i15])} | "
-                         f"{_f(r['moment_Nmm'][i45])} | ({_ff(F[0])}, {_ff(F[1])}) | "
-                         f"({_f(u[0])}, {_f(u[1])}) | {r['wall_s']:.3f} |")
+                         f"({_f(u[0])}, {_f(u[1])}) | {wall} |")
         L.append("")
     if study.get("aspect"):
         L.append(aspect_markdown(study["aspect"]))

@@ -48,12 +48,7 @@ def build_manifest(result, files_by_group, stem, checks_ran, poses=None):
         m = {"name": spec.name, "type": spec.type, "side": spec.side, "material": spec.material,
              "extruder": spec.extruder, "sockets": [f"N{ij[0]},{ij[1]}:{lab}" for ij, lab in spec.sockets],
              "parts": [q.name for q in result.parts if q.group == spec.name],
-             "files": files_by_group.get(spec.name, [])}
-        if spec.joint:
-            m["joint"] = spec.joint
-            m["nodes"] = [f"N{spec.a[0]},{spec.a[1]}", f"N{spec.b[0]},{spec.b[1]}"]
-        if spec.node:
-            m["node"] = f"N{spec.node[0]},{spec.node[1]}"
+             "files": files_by_group.get(spec.name, []), **spec.target_fields()}
         if spec.snap is not None:
             m["snap_fit"] = _jsonable(spec.snap.as_dict())
         if spec.pivot is not None:

@@ -88,6 +88,16 @@ class ModuleSpec:
     def field(self):
         return f"modules[{self.index}] ({self.name})"
 
+    def target_fields(self):
+        """Where the module sits, as the manifest and the part info name it: joint and its two nodes, or node."""
+        out = {}
+        if self.joint:
+            out["joint"] = self.joint
+            out["nodes"] = [f"N{self.a[0]},{self.a[1]}", f"N{self.b[0]},{self.b[1]}"]
+        if self.node:
+            out["node"] = f"N{self.node[0]},{self.node[1]}"
+        return out
+
 
 def parse_node(text, scene, field_name):
     m = _NODE_RE.match(text) if isinstance(text, str) else None
@@ -415,12 +425,7 @@ def build_module(res, spec):
         for n, sh in built:
             res.shapes[key0 + (n,)] = sh
     for n in res.module_parts[key0]:
-        info = {"type": spec.type, "module": spec.name, "side": spec.side}
-        if spec.joint:
-            info["joint"] = spec.joint
-            info["nodes"] = [f"N{spec.a[0]},{spec.a[1]}", f"N{spec.b[0]},{spec.b[1]}"]
-        if spec.node:
-            info["node"] = f"N{spec.node[0]},{spec.node[1]}"
+        info = {"type": spec.type, "module": spec.name, "side": spec.side, **spec.target_fields()}
         if spec.mu is not None:
             info["mu"] = spec.mu
         if spec.type == "constraint_clip":

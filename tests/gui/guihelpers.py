@@ -191,3 +191,16 @@ def click_view(point):
 def run_command(cmd):
     """Run a command as the toolbar would and return the task panel it opened."""
     return run_panel(cmd)
+
+
+def hinge_mid(sc, joint):
+    """Midpoint (document coordinates) of the hinge of ``joint``, through the structure's parents."""
+    from metamaterial_wb.objects import structure
+    from metamaterial_wb.objects.engine import joint_node_indices
+    scene = structure.compose_scene(sc)
+    a, b = joint_node_indices(scene, joint)
+    g, parent = sc.NodeArray.Placement, sc.NodeArray.getParentGeoFeatureGroup()
+    while parent is not None:
+        g, parent = parent.Placement.multiply(g), parent.getParentGeoFeatureGroup()
+    pa, pb = (g.multVec(sc.NodeArray.PlacementList[k].Base) for k in (a, b))
+    return FreeCAD.Vector((pa.x + pb.x) / 2, (pa.y + pb.y) / 2, (pa.z + pb.z) / 2)

@@ -17,7 +17,7 @@ import FreeCADGui  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from metamaterial_wb.objects.engine import joint_node_indices  # noqa: E402
-from guihelpers import (click, click_view, dialog_button, drag_slider, press_ok, process, run_panel,  # noqa: E402
+from guihelpers import (hinge_mid, click, click_view, dialog_button, drag_slider, press_ok, process, run_panel,  # noqa: E402
                         screen_point, type_into, workbench)  # noqa: F401
 
 IMG = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "docs", "img")
@@ -45,13 +45,7 @@ def shot(n, name):
 
 
 def hinge_point(sc, joint):
-    scene = structure.compose_scene(sc)
-    a, b = joint_node_indices(scene, joint)
-    g, parent = sc.NodeArray.Placement, sc.NodeArray.getParentGeoFeatureGroup()
-    while parent is not None:
-        g, parent = parent.Placement.multiply(g), parent.getParentGeoFeatureGroup()
-    pa, pb = (g.multVec(sc.NodeArray.PlacementList[k].Base) for k in (a, b))
-    return screen_point(FreeCAD.Vector((pa.x + pb.x) / 2, (pa.y + pb.y) / 2, (pa.z + pb.z) / 2))
+    return screen_point(hinge_mid(sc, joint))
 
 
 def xyz(arr):

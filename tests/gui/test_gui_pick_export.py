@@ -14,7 +14,7 @@ import FreeCADGui  # noqa: E402
 from metamaterial_wb.gui import commands, panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from metamaterial_wb.objects.engine import joint_node_indices  # noqa: E402
-from guihelpers import (click, click_view, doc, hover_view, press_ok, process, run_panel,  # noqa: E402,F401
+from guihelpers import (hinge_mid, click, click_view, doc, hover_view, press_ok, process, run_panel,  # noqa: E402,F401
                         screen_point, type_into, workbench)
 
 
@@ -26,16 +26,6 @@ def new_default_sheet(doc):
     FreeCADGui.SendMsgToActiveView("ViewFit")
     process(50)
     return sc
-
-
-def hinge_mid(sc, joint):
-    scene = structure.compose_scene(sc)
-    a, b = joint_node_indices(scene, joint)
-    g, parent = sc.NodeArray.Placement, sc.NodeArray.getParentGeoFeatureGroup()
-    while parent is not None:
-        g, parent = parent.Placement.multiply(g), parent.getParentGeoFeatureGroup()
-    pa, pb = (g.multVec(sc.NodeArray.PlacementList[k].Base) for k in (a, b))
-    return FreeCAD.Vector((pa.x + pb.x) / 2, (pa.y + pb.y) / 2, (pa.z + pb.z) / 2)
 
 
 def test_click_picks_a_default_2mm_hinge_with_preselection(doc):

@@ -5,20 +5,9 @@ Conventions: ``skew(v) @ x = v x x``; ``vee`` is its inverse on the skew part of
 """
 import numpy as np
 
+from metamaterial_wb.core.lattice.mechanics import skew  # noqa: F401  (one cross-product matrix for both)
+
 _SMALL = 1e-6
-
-
-def skew(v):
-    """(..., 3) -> (..., 3, 3) with ``skew(v) @ x == cross(v, x)``."""
-    v = np.asarray(v, dtype=float)
-    S = np.zeros(v.shape[:-1] + (3, 3))
-    S[..., 0, 1] = -v[..., 2]
-    S[..., 0, 2] = v[..., 1]
-    S[..., 1, 0] = v[..., 2]
-    S[..., 1, 2] = -v[..., 0]
-    S[..., 2, 0] = -v[..., 1]
-    S[..., 2, 1] = v[..., 0]
-    return S
 
 
 def vee(A):

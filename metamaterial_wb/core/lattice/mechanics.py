@@ -19,7 +19,8 @@ import scipy.sparse as sp
 
 
 def skew(v):
-    """(m, 3) -> (m, 3, 3) cross-product matrices."""
+    """(..., 3) -> (..., 3, 3) cross-product matrices: ``skew(v) @ x == cross(v, x)``."""
+    v = np.asarray(v, dtype=float)
     S = np.zeros(v.shape[:-1] + (3, 3))
     S[..., 0, 1] = -v[..., 2]
     S[..., 0, 2] = v[..., 1]

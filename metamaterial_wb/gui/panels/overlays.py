@@ -2,8 +2,21 @@
 import FreeCADGui
 
 
+class _Overlay:
+    """A Coin group added to a 3D view's scene graph; ``remove`` takes it out again."""
+    view = None
+    root = None
 
-class AxisOverlay:
+    def remove(self):
+        if self.view is not None:
+            try:
+                self.view.getSceneGraph().removeChild(self.root)
+            except Exception:  # pragma: no cover - view already gone
+                pass
+        self.view = None
+
+
+class AxisOverlay(_Overlay):
     """Temporary Coin lines in the 3D view: candidate grid lines (grey) and chosen axes (orange)."""
 
     def __init__(self, doc):
@@ -60,16 +73,8 @@ class AxisOverlay:
         for text, seg in zip(self.labels, candidates):
             self.root.addChild(self._label(text, seg[0], (0.1, 0.1, 0.1)))
 
-    def remove(self):
-        if self.view is not None:
-            try:
-                self.view.getSceneGraph().removeChild(self.root)
-            except Exception:  # pragma: no cover - view already gone
-                pass
-        self.view = None
 
-
-class FloorOverlay:
+class FloorOverlay(_Overlay):
     """Temporary translucent floor (Coin) under a simulated trajectory, tilted by its incline."""
 
     def __init__(self, doc, corners):
@@ -92,14 +97,6 @@ class FloorOverlay:
         if gd is not None and hasattr(gd.ActiveView, "getSceneGraph"):
             self.view = gd.ActiveView
             self.view.getSceneGraph().addChild(self.root)
-
-    def remove(self):
-        if self.view is not None:
-            try:
-                self.view.getSceneGraph().removeChild(self.root)
-            except Exception:  # pragma: no cover - view already gone
-                pass
-        self.view = None
 
 
 def axis_segment(scene, direction, line, z):
