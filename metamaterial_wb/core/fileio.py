@@ -186,7 +186,10 @@ def _kind(mode):
 
 
 def read_text(path, what="input"):
-    """The text of a regular UTF-8 file, or a SceneError naming ``what`` and the reason."""
+    """The text of a regular UTF-8 file, or a SceneError naming ``what`` and the reason. ``path``: a str
+    or an ``os.PathLike`` (pathlib.Path)."""
+    if isinstance(path, os.PathLike):
+        path = os.fspath(path)
     _stat_input(path, what)
     try:
         with open(path, "rb") as f:
@@ -220,6 +223,8 @@ def parse_json(text, what=""):
 
 def read_json(path, what="input"):
     """Read and check a JSON file (see module doc). Field names in errors get ``(in PATH)``."""
+    if isinstance(path, os.PathLike):
+        path = os.fspath(path)
     text = read_text(path, what)
     try:
         return parse_json(text, "")

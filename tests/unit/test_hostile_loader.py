@@ -368,3 +368,16 @@ def test_solver_refuses_k2_that_overflows_or_is_subnormal(k2):
     with pytest.raises(SceneError, match=r"joint H0,0\.k2"):
         check_stiffness([0.5, 0.5], [1.0, k2][::-1], ["H0,0", "V0,0"])
     check_stiffness([0.5], [1e12], ["H0,0"])      # scale invariance: large but normal k2 is fine
+
+
+def test_path_objects_load_like_strings(tmp_path):
+    """pathlib.Path was accepted before the hardened reader; it still is (only non-paths are refused)."""
+    import pathlib
+
+    import metamaterial_wb
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.scene import Scene
+    src = pathlib.Path(metamaterial_wb.example_path("fish"))
+    assert Scene.load(src).to_dict() == Scene.load(str(src)).to_dict()
+    with pytest.raises(SceneError, match="no file name"):
+        Scene.load(12)
