@@ -60,7 +60,7 @@ def test_host_unit_tests_under_sanitizers(build_dir):
     out = r.stdout + r.stderr
     assert r.returncode == 0, out
     results = re.findall(r"^(test_\w+): (\d+) passed, (\d+) failed$", out, re.M)
-    assert {n for n, _, _ in results} == {"test_proto", "test_servo", "test_link", "test_gait"}, out
+    assert {n for n, _, _ in results} == {"test_proto", "test_servo", "test_link", "test_gait", "test_outputs"}, out
     assert all(int(p) > 0 and f == "0" for _, p, f in results), out
     # built with the sanitizers
     nm = shutil.which("nm")
