@@ -604,6 +604,8 @@ void sl_link_tick(sl_link_t *l, uint32_t now)
         }
         for (uint8_t ch = 0; ch < l->n_ch; ch++) {
             uint8_t dummy = 0; /* the limits of now, whatever they were when a generator or a target was set */
+            if (l->state == SL_ST_PARK) /* the park angle of now (a CONFIG_CH may move it while parking) */
+                l->target[ch] = l->cfg[ch].park_cdeg;
             l->target[ch] = sl_limit_cdeg(&l->cfg[ch], l->target[ch], &dummy);
             uint16_t rate = l->cfg[ch].max_slew_dps;
             if (l->state == SL_ST_PARK && rate == 0)
