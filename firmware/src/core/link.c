@@ -299,7 +299,7 @@ static void do_config_link(sl_link_t *l, const sl_packet_t *rq)
 static void do_osc_set(sl_link_t *l, const sl_packet_t *rq)
 {
     const uint8_t *p = rq->payload;
-    if (rq->plen != 9) {
+    if (rq->plen != 9 && rq->plen != 13) {
         nak(l, rq->seq, SL_E_LEN, 9);
         return;
     }
@@ -313,12 +313,24 @@ static void do_osc_set(sl_link_t *l, const sl_packet_t *rq)
     o.offset_cdeg = sl_get_i16(p + 3);
     o.period_ms = sl_get_u16(p + 5);
     o.phase_cdeg = sl_get_u16(p + 7);
+    o.gain_pos = rq->plen == 13 ? sl_get_i16(p + 9) : SL_GAIN_ONE;
+    o.gain_neg = rq->plen == 13 ? sl_get_i16(p + 11) : SL_GAIN_ONE;
     const sl_chan_cfg_t *c = &l->cfg[ch];
     if (o.amp_cdeg < 0 || o.amp_cdeg > SL_CDEG_MAX) {
         nak(l, rq->seq, SL_E_RANGE, 1);
         return;
     }
-    if ((int32_t)o.offset_cdeg - o.amp_cdeg < c->lo_cdeg || (int32_t)o.offset_cdeg + o.amp_cdeg > c->hi_cdeg) {
+    int32_t v_lo = (int32_t)o.offset_cdeg - o.amp_cdeg, v_hi = (int32_t)o.offset_cdeg + o.amp_cdeg;
+    if (v_lo < -SL_CDEG_MAX || v_hi > SL_CDEG_MAX) {
+        nak(l, rq->seq, SL_E_RANGE, 2);
+        return;
+    }
+    if ((o.gain_pos < 0 && o.gain_neg > 0) || (o.gain_pos > 0 && o.gain_neg < 0)) {
+        nak(l, rq->seq, SL_E_RANGE, 5); /* g must be monotonic: its extremes are then the swing's ends */
+        return;
+    }
+    int16_t g_lo = sl_osc_gain(&o, (int16_t)v_lo), g_hi = sl_osc_gain(&o, (int16_t)v_hi);
+    if ((g_lo < g_hi ? g_lo : g_hi) < c->lo_cdeg || (g_lo < g_hi ? g_hi : g_lo) > c->hi_cdeg) {
         nak(l, rq->seq, SL_E_RANGE, 2); /* the swing must stay inside the channel's limits */
         return;
     }
@@ -589,7 +601,8 @@ void sl_link_tick(sl_link_t *l, uint32_t now)
             for (uint8_t ch = 0; ch < l->n_ch; ch++)
                 if (l->osc_on & (1u << ch)) {
                     uint8_t dummy = 0; /* OSC_SET checked the swing against the limits */
-                    l->target[ch] = sl_limit_cdeg(&l->cfg[ch], sl_osc_value(&l->osc[ch], now - l->osc_t0), &dummy);
+                    l->target[ch] = sl_limit_cdeg(
+                        &l->cfg[ch], sl_osc_gain(&l->osc[ch], sl_osc_value(&l->osc[ch], now - l->osc_t0)), &dummy);
                 }
         } else if (l->state == SL_ST_ARMED && l->mode == SL_MODE_GAIT) {
             if ((l->gait_flags & SL_GAIT_PINS) && l->contacts) {

@@ -177,8 +177,47 @@ static void test_park_from_override_inverted(void)
     CHECK(jumps == 0, "%d jumps", jumps);
 }
 
+/* OSC with joint gains (13-byte OSC_SET): a sine in D drives a joint that closes by 15 deg and opens by 60 deg per
+ * 30 deg of v, i.e. the two half-waves have their own amplitudes; the swing check uses the mapped ends */
+static void test_osc_gains(void)
+{
+    sl_link_t l;
+    capture_t c;
+    fake_link(&l, &c, 0);
+    request(&l, &c, SL_T_ARM, 1, NULL, 0, 0);
+    uint8_t o[13] = {0};
+    sl_put_u16(o + 1, 3000);           /* v amplitude 30 "deg" */
+    sl_put_u16(o + 5, 1000);           /* 1 s */
+    sl_put_u16(o + 9, 8192);           /* gain 0.5 for v >= 0 */
+    sl_put_u16(o + 11, (uint16_t)32767); /* gain ~2 for v < 0 */
+    CHECK(acked(request(&l, &c, SL_T_OSC_SET, 2, o, 13, 0)), "OSC_SET with gains");
+    sl_put_u16(o + 11, (uint16_t)-16384);
+    sl_packet_t *r = request(&l, &c, SL_T_OSC_SET, 3, o, 13, 0);
+    CHECK(r && r->type == SL_T_NAK && r->payload[1] == 5, "gains of both signs refused");
+    sl_put_u16(o + 11, (uint16_t)32767);
+    CHECK(acked(cfg_ch(&l, &c, 1, 500, 2500, 0, 0, -5000, 9000, 0, 0, 4, 0)), "ch1 limits -50..90");
+    o[0] = 1;
+    r = request(&l, &c, SL_T_OSC_SET, 5, o, 13, 0);
+    CHECK(r && r->type == SL_T_NAK && r->payload[1] == 2, "mapped swing -60 deg outside -50 refused");
+    uint8_t m = SL_MODE_OSC;
+    request(&l, &c, SL_T_SET_MODE, 6, &m, 1, 0);
+    int lo = 9999, hi = 0;
+    for (uint32_t t = 1; t <= 1000; t++) {
+        if (t % 100 == 0)
+            request(&l, &c, SL_T_PING, (uint8_t)(7 + t / 100), NULL, 0, t);
+        sl_link_tick(&l, t);
+        if (l.out_us[0] < lo)
+            lo = l.out_us[0];
+        if (l.out_us[0] > hi)
+            hi = l.out_us[0];
+    }
+    /* +15 deg -> 1666.7 us, -60 deg -> 833.3 us (within one us of rounding) */
+    CHECK(abs(hi - 1667) <= 1 && abs(lo - 833) <= 1, "half-waves %d..%d us", lo, hi);
+}
+
 int main(void)
 {
+    test_osc_gains();
     test_config_while_disarmed();
     test_override_narrowed();
     test_gait_obeys_later_limits();
