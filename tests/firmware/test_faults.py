@@ -124,3 +124,54 @@ def test_host_and_firmware_counts_agree_under_injected_faults(sim):
     assert fw_bad == proxy.garbled == stats.nak_unreadable, summary
     # the firmware read every frame that was neither dropped nor damaged, and answered it
     assert fw_ok == stats.frames - proxy.dropped - proxy.garbled == stats.acked + proxy.acks_dropped, summary
+
+
+def test_limits_hold_on_the_pins_after_config_changes(link, sim):
+    """Issue 19 defects 1, 2 and 4 on the real AVR build (pins measured by the harness): a CONFIG_CH sent while
+    disarmed applies at the next ARM (range 1600..2600 us: 0 deg = 2100 us; trim 5 deg: 1556 us); a SET_PULSES
+    override is narrowed by a later CONFIG_CH; HOLD keeps the override's pulse."""
+    import time
+
+    from metamaterial_wb.hardware.mapping import ChannelConfig
+
+    def pins(ms=100):
+        t0 = link.ping()["uptime_ms"]
+        end = time.perf_counter() + 20
+        while link.ping()["uptime_ms"] < t0 + ms and time.perf_counter() < end:
+            time.sleep(0.02)
+        return sim.pulses()
+
+    link.arm()
+    assert abs(pins()[0] - 1500) <= 10
+    link.disarm()
+    link.configure([ChannelConfig("a", 0, min_us=1600, max_us=2600), ChannelConfig("b", 1, trim_deg=5.0)])
+    link.arm()
+    got = pins()
+    assert abs(got[0] - 2100) <= 10 and abs(got[1] - 1556) <= 10, got
+    r = link.request(P.SET_PULSES, P.set_angles_payload(0, [2500, 2300]))  # same layout: first, count, u16s
+    assert r.kind == "ACK" and r.clamp_mask == 0
+    link.configure([ChannelConfig("a", 0, min_us=1600, max_us=2000)])  # narrower than the override
+    got = pins()
+    assert abs(got[0] - 2000) <= 10 and abs(got[1] - 2300) <= 10, got
+    link.configure_watchdog(watchdog_ms=200, park_after_ms=1500, release_after_ms=5000)
+    link.request(P.SET_PULSES, P.set_angles_payload(0, [1700, 2300]))
+    t_quiet = link.ping()["uptime_ms"]
+    end = time.perf_counter() + 20  # silence (only reading): HOLD after 200 ms, PARK 1.5 s later (firmware time)
+    seen = []
+    while time.perf_counter() < end and len(seen) < 2:
+        link.poll(0.01)
+        seen = [e for _, e in link.events if e.kind == "EVENT"]
+    assert [P.EVENT_NAMES[e.code] for e in seen] == ["HOLD", "PARK"], seen
+    hold_s, park_s = seen[0].time_ms / 1000, seen[1].time_ms / 1000
+    assert park_s - hold_s == pytest.approx(1.5, abs=0.002)
+    pins(800)  # let the PARK ramp run (PINGs after the trip do not re-arm)
+    lines = sim.pulse_lines()
+    # until PARK the pins keep the override's widths: the last width logged before PARK, and no other since the
+    # last request
+    for ch, want in ((0, 1700), (1, 2300)):
+        before = [w for t, c, w in lines if c == ch and t < park_s]
+        assert before and abs(before[-1] - want) <= 10, (ch, before[-5:])
+        assert all(abs(w - want) <= 10 for t, c, w in lines if c == ch and t_quiet / 1000 < t < park_s)
+    # PARK ramps from there (90 deg/s) to 0 deg: ch1 2300 -> 1500 us through intermediate widths, no jump
+    ramp = [w for t, ch, w in lines if t > park_s and ch == 1 and w is not None]
+    assert ramp and sum(1 for w in ramp if 1550 < w < 2250) >= 10, ramp[:20]
