@@ -55,3 +55,25 @@ def test_solve_cli_hinge_rotation_matches_the_stream_angle(tmp_path):
     assert lo == pytest.approx(min(c.angle_deg(1.0), c.angle_deg(-1.0)), abs=0.01)
     assert hi == pytest.approx(max(c.angle_deg(1.0), c.angle_deg(-1.0)), abs=0.01)
     assert math.isclose(max(abs(lo), abs(hi)), 90.0, abs_tol=0.01)
+
+
+def test_tilted_joint_rotation_and_the_on_board_check():
+    """A tilted hinge (60 deg) also folds: |angle| = psi with cos(psi/2) = cos(gamma/2) cos(phi), tan(gamma/2) =
+    -tan(tilt) sin(p_A phi), phi = v phi_max (written out here); not proportional to v, so OSC mode refuses it."""
+    from dataclasses import replace
+
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.hardware.onboard import osc_params
+    s = Scene.load(os.path.join(REPO, "examples", "fish.json"))
+    ch = channel_map(s)
+    tilt = math.radians(60)
+    rot = replace(ch[1].rotation, tilt_rad=tilt)
+    for v in (1.0, 0.4, -0.3, -1.0):
+        phi = v * (rot.closing_rad if v >= 0 else rot.opening_rad)
+        gamma = -2 * math.atan(math.tan(tilt) * math.sin(rot.parity_a * phi))
+        psi = 2 * math.acos(math.cos(gamma / 2) * math.cos(phi))
+        assert abs(rot.angle_deg(v)) == pytest.approx(math.degrees(psi), abs=1e-9)
+        assert math.copysign(1, rot.angle_deg(v)) == -math.copysign(1, rot.parity_a * v)
+    ch[1].rotation, ch[1].limits_deg = rot, (-90.0, 90.0)
+    with pytest.raises(SceneError, match=r"tail.*tilted hinge.*off by 1\d\.\d\d deg \(allowed 0.25\)"):
+        osc_params(s, ch)
