@@ -116,6 +116,9 @@ def test_host_and_firmware_counts_agree_under_injected_faults(sim):
     fw_ok = after["rx_ok"] - before["rx_ok"] - 1  # minus the second PING
     fw_bad = (after["crc_err"] - before["crc_err"]) + (after["framing_err"] - before["framing_err"])
     summary = (stats.summary(), proxy.dropped, proxy.garbled, proxy.acks_dropped, fw_ok, fw_bad)
+    print(f"injected: {proxy.dropped} dropped, {proxy.garbled} damaged, {proxy.acks_dropped} ACKs dropped; host: "
+          f"{stats.frames} sent, {stats.acked} acked, {stats.lost} lost, {stats.nak_unreadable} unreadable NAKs; "
+          f"firmware: {fw_ok} read, {fw_bad} CRC/framing errors")
     assert stats.frames == 600 and injected >= 15, summary  # 12 s at 50 Hz: the seq wrapped twice
     # the host: every frame without its own answer is lost, over the whole stream
     assert stats.lost == stats.frames - stats.acked - stats.naked == injected, summary
