@@ -2,7 +2,8 @@
 
 Streams the scene's actuator motion profiles to the servolink firmware (firmware/, docs/firmware.md) at
 50 Hz: handshake, channel configuration, watchdog timing, ARM, then one SET_ANGLES frame per 20 ms with
-the angle ``value * 90 deg`` per actuator (configurable per channel). ``--dry-run`` runs everything over
+each actuated joint's simulated rotation (hardware/joint_angle.py; ``servo.scale_deg`` for a linear
+``value * scale`` instead). ``--dry-run`` runs everything over
 pyserial's ``loop://`` without hardware.
 """
 import json
@@ -34,7 +35,11 @@ def add_arguments(p):
     p.add_argument("--release-after-ms", type=int, default=5000,
                    help="time parked before the pulses stop (default 5000)")
     p.add_argument("--disarm", action="store_true", help="stop the pulses at the end (servos go limp)")
-    p.add_argument("--report", metavar="FILE", help="write the statistics as JSON")
+    p.add_argument("--max-lost", type=int, default=0, metavar="N",
+                   help="frames that may go without an answer (lost = sent - acked - NAKed over the whole stream) "
+                        "before the command fails with exit 1 (default 0)")
+    p.add_argument("--report", metavar="FILE",
+                   help="write the statistics as JSON, with the angle sent per frame and channel (frames_sent)")
 
 
 def run(args):
@@ -54,6 +59,7 @@ def run(args):
     check_number("--watchdog-ms", args.watchdog_ms, 50, 10000, "ms")
     check_number("--park-after-ms", args.park_after_ms, 0, 60000, "ms")
     check_number("--release-after-ms", args.release_after_ms, 0, 60000, "ms")
+    check_number("--max-lost", args.max_lost, 0, 10**9, "frames")
     scene = Scene.load(args.scene)
     overrides = load_channel_file(args.channels) if args.channels else None
     channels = channel_map(scene, parse_map(args.map), overrides)
@@ -78,6 +84,9 @@ def run(args):
               file=sys.stderr)
         if args.mode == "osc":
             return _run_osc(args, scene, channels, link)
+        sent = []  # (t, {name: angle_deg}) per frame: --report lists what each channel was told
+        if args.report:
+            streamer.on_frame = lambda t, angles: sent.append((t, angles))
         try:
             stats = streamer.run(scene, args.seconds)
         except KeyboardInterrupt:
@@ -92,16 +101,26 @@ def run(args):
     s["dry_run"] = bool(args.dry_run)
     s["channels"] = [c.to_dict() for c in channels]
     if args.report:
+        by_ch = {c.name: c.channel for c in channels}
+        merged = {}
+        for t, angles in sent:  # one entry per frame time (a frame per contiguous channel run)
+            merged.setdefault(round(t, 9), {}).update(angles)
+        s["frames_sent"] = [{"t": t, "angles_deg": {str(by_ch[n]): round(a, 4) for n, a in sorted(
+            angles.items(), key=lambda kv: by_ch[kv[0]])}} for t, angles in merged.items()]
+        s["frames_sent_columns"] = {str(c.channel): c.name for c in channels}
         write_json(args.report, s)
     rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
            if s["rtt_ms_median"] is not None else "no replies")
     print(f"{s['frames']} frames in {s['duration_s']:.2f} s ({s['rate_hz']:.1f} Hz): {s['acked']} acked, "
           f"{s['naked']} NAKed{' ' + json.dumps(s['nak_reasons']) if s['nak_reasons'] else ''}, {s['lost']} lost, "
-          f"{s['skipped']} skipped; {rtt}; {s['clamped_frames']} frames clamped")
+          f"{s['skipped']} skipped; {s['nak_unreadable']} unreadable-frame NAKs"
+          f"{' ' + json.dumps(s['unreadable_reasons']) if s['unreadable_reasons'] else ''}; {rtt}; "
+          f"{s['clamped_frames']} frames clamped")
     if stats.error:
         raise MetamaterialError(f"stream stopped: {stats.error}")
-    if s["lost"] or s["naked"]:
-        print(f"error: {s['lost']} frames lost and {s['naked']} refused out of {s['frames']}", file=sys.stderr)
+    if s["lost"] > args.max_lost or s["naked"]:
+        print(f"error: {s['lost']} frames lost (--max-lost {args.max_lost}) and {s['naked']} refused out of "
+              f"{s['frames']}", file=sys.stderr)
         return 1
     return 0
 
@@ -116,9 +135,12 @@ def _run_osc(args, scene, channels, link):
     params = osc_params(scene, channels)
     for p in params:
         f = f"{1000.0 / p.period_ms:.4g} Hz" if p.period_ms else "constant"
-        print(f"  {p.name} -> ch{p.channel}: {p.offset_cdeg / 100:g} + {p.amp_cdeg / 100:g} deg sin(2 pi {f} t + "
-              f"{p.phase_cdeg / 100:g} deg)" + (f", frequency off by {p.frequency_error:+.2%}"
-                                                  if abs(p.frequency_error) > 1e-4 else ""), file=sys.stderr)
+        wave = (f"{p.offset_cdeg / 100:g} + {p.amp_cdeg / 100:g} deg sin(2 pi {f} t + {p.phase_cdeg / 100:g} deg)"
+                if p.gain_pos is None else
+                f"v = {p.offset_cdeg / 9000:g} + {p.amp_cdeg / 9000:g} sin(2 pi {f} t + {p.phase_cdeg / 100:g} deg), "
+                f"joint angle {p.angle_range_deg[0]:.2f}..{p.angle_range_deg[1]:.2f} deg")
+        print(f"  {p.name} -> ch{p.channel}: {wave}" + (f", frequency off by {p.frequency_error:+.2%}"
+                                                          if abs(p.frequency_error) > 1e-4 else ""), file=sys.stderr)
     try:
         res = run_oscillators(link, params, args.seconds)
     except KeyboardInterrupt:

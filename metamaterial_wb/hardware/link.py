@@ -42,6 +42,8 @@ class Link:
         self.info = None
         self.resets_seen = 0
         self.rx_errors = 0
+        self.unreadable_naks = 0   # NAKs with seq 0xFF: the device could not decode a frame (CRC, COBS, ...)
+        self.unreadable_reasons = {}
 
     # -------------------------------------------------------------------------------------------
     @classmethod
@@ -109,6 +111,9 @@ class Link:
                 self.on_event(r)
             return
         r.time = now
+        if r.kind == "NAK" and r.seq == P.SEQ_NONE:  # the answer to no request in particular: counted (streams)
+            self.unreadable_naks += 1
+            self.unreadable_reasons[r.reason] = self.unreadable_reasons.get(r.reason, 0) + 1
         self.pending[r.seq] = r
 
     def poll(self, timeout=0.0):

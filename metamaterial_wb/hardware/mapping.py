@@ -1,15 +1,17 @@
 """Actuator value -> servo channel and angle.
 
-An actuator value ``v`` in [-1, 1] (the solver's node deformation D imposed by a servo) is commanded as
-the joint angle ``v * scale_deg`` (default 90: the seed's -90..90 degree servos). Per channel:
+An actuator value ``v`` in [-1, 1] (the solver's node deformation D imposed by a servo) is commanded as the
+**simulated relative rotation of its joint** (``joint_angle.JointRotation``: what every model holds that joint
+at, the solver's ``joints[].hinge_rotation_deg`` with the servo's sign), not a fixed ``v * 90 deg``. Per channel:
 
-* ``channel``: firmware channel 0..7 (Arduino pins D2..D9); by default the scene's actuators in order;
-* ``limits_deg`` [lo, hi]: soft limits of the commanded angle (inside [-90, 90]); the firmware enforces
-  them too and reports any clamping in the ACK;
-* ``invert``, ``trim_deg``: calibration applied by the firmware (pulse = f(±angle + trim));
+* ``channel``: firmware channel 0..7 (Arduino pins D4..D11); by default the scene's actuators in order;
+* ``limits_deg`` [lo, hi]: soft limits of the commanded angle (inside [-90, 90]); default the joint's kinematic
+  range, plate contact (v = +1) to full opening (v = -1); the firmware enforces them too and reports clamping;
+* ``invert``, ``trim_deg``: calibration applied by the firmware (pulse = f(+-angle + trim));
 * ``min_us``, ``max_us``: pulse widths at -90 and +90 degrees (default 500 / 2500 us);
 * ``park_deg``: where the firmware parks the joint when the host goes silent;
-* ``max_slew_dps``: firmware slew limit in degrees per second (0 = none).
+* ``max_slew_dps``: firmware slew limit in degrees per second (0 = none);
+* ``scale_deg``: only for a servo that does not turn its joint directly: command ``v * scale_deg`` instead.
 
 These come from an actuator's optional ``"servo"`` object in the scene (docs/scene-format.md), then
 from ``--map`` / ``--channels`` on the command line. Pure Python: no FreeCAD, no pyserial.
@@ -17,11 +19,14 @@ from ``--map`` / ``--channels`` on the command line. Pure Python: no FreeCAD, no
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
+
+import numpy as np
 
 from metamaterial_wb.core.errors import SceneError, check_number
 
 from . import protocol as P
+from .joint_angle import JointRotation, joint_rotation
 
 MAX_CHANNELS = 8
 SERVO_KEYS = ("channel", "scale_deg", "invert", "trim_deg", "limits_deg", "min_us", "max_us", "park_deg",
@@ -32,7 +37,7 @@ SERVO_KEYS = ("channel", "scale_deg", "invert", "trim_deg", "limits_deg", "min_u
 class ChannelConfig:
     name: str
     channel: int
-    scale_deg: float = 90.0
+    scale_deg: float = None   # None: the joint's simulated rotation (rotation); a number: v * scale_deg
     invert: bool = False
     trim_deg: float = 0.0
     limits_deg: tuple = (-90.0, 90.0)
@@ -41,10 +46,22 @@ class ChannelConfig:
     park_deg: float = 0.0
     max_slew_dps: float = 0.0
     extra: dict = field(default_factory=dict)
+    rotation: JointRotation = None  # the actuated joint (channel_map sets it); None and no scale_deg: v * 90
 
-    def angle_deg(self, value: float) -> float:
-        """Commanded joint angle for an actuator value (no clamping)."""
-        return float(value) * self.scale_deg
+    @property
+    def source(self):
+        if self.scale_deg is not None:
+            return f"v * {self.scale_deg:g} deg (servo.scale_deg)"
+        if self.rotation is not None:
+            return f"simulated rotation of joint {self.rotation.joint}"
+        return "v * 90 deg (no joint)"
+
+    def angle_deg(self, value):
+        """Commanded joint angle (degrees) for an actuator value or an array of them (no clamping)."""
+        if self.scale_deg is None and self.rotation is not None:
+            return self.rotation.angle_deg(value)
+        v = np.asarray(value, dtype=float) * (90.0 if self.scale_deg is None else self.scale_deg)
+        return float(v) if v.ndim == 0 else v
 
     def cdeg(self, value: float) -> int:
         return int(round(self.angle_deg(value) * 100.0))
@@ -60,9 +77,13 @@ class ChannelConfig:
                                    int(round(self.park_deg * 100)), int(round(self.max_slew_dps)))
 
     def to_dict(self):
-        d = asdict(self)
-        d.pop("extra")
+        d = {k: getattr(self, k) for k in ("name", "channel", "scale_deg", "invert", "trim_deg", "min_us", "max_us",
+                                           "park_deg", "max_slew_dps")}
         d["limits_deg"] = list(self.limits_deg)
+        d["angle"] = self.source
+        if self.rotation is not None:
+            d["joint"] = self.rotation.joint
+            d["joint_range_deg"] = [round(x, 4) for x in self.rotation.range_deg()]
         return d
 
 
@@ -165,6 +186,12 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
         if overrides and a.name in overrides:
             spec.update(_check_servo(f"--channels {a.name}", overrides[a.name], n_channels))
         spec.setdefault("channel", k)
+        rot = joint_rotation(scene, a.joint, f"actuators[{k}].joint")
+        if "limits_deg" not in spec and "scale_deg" not in spec:  # the joint's kinematic range, outward to 0.01 deg
+            lo, hi = rot.range_deg()
+            spec["limits_deg"] = (max(-90.0, math.floor(lo * 100 - 1e-6) / 100),
+                                  min(90.0, math.ceil(hi * 100 + 1e-6) / 100))
+        spec["rotation"] = rot
         if spec["channel"] >= n_channels:
             raise SceneError(f"{fname}.channel", f"{spec['channel']}: the firmware has {n_channels} channels "
                                                  f"(0..{n_channels - 1}); map the actuator with --map")
@@ -180,8 +207,6 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
 def check_motion(scene, channels, duration_s, rate_hz=50.0):
     """Raise SceneError if the scene's motion leaves a channel's limits within ``duration_s`` (sampled at the
     stream rate and at 1 kHz). Returns the largest |angle| per actuator (degrees)."""
-    import numpy as np
-
     from metamaterial_wb.core.motion import profile_value
 
     t = np.union1d(np.arange(0.0, duration_s + 1e-9, 1.0 / rate_hz), np.arange(0.0, duration_s + 1e-9, 1e-3))
@@ -190,7 +215,7 @@ def check_motion(scene, channels, duration_s, rate_hz=50.0):
     for k, c in enumerate(channels):
         a = by_name[c.name]
         v = np.atleast_1d(profile_value(a.profile, t, a.value)) * np.ones_like(t)
-        ang = v * c.scale_deg
+        ang = np.atleast_1d(c.angle_deg(v))
         lo, hi = c.limits_deg
         bad = np.nonzero((ang < lo - 1e-9) | (ang > hi + 1e-9))[0]
         if bad.size:

@@ -10,6 +10,8 @@ import math
 import time
 from dataclasses import dataclass
 
+import numpy as np
+
 from metamaterial_wb.core.errors import SceneError
 
 from . import protocol as P
@@ -24,9 +26,14 @@ class OscParams:
     period_ms: int
     phase_cdeg: int
     frequency_error: float = 0.0  # relative error of the frequency after rounding the period to 1 ms
+    gain_pos: int = None          # Q14 joint gains (None: amp/offset are angles already)
+    gain_neg: int = None
+    angle_range_deg: tuple = None  # the joint angles the swing reaches (after the gains)
+    gain_error_deg: float = 0.0    # largest difference between the on-board angle and the simulated one
 
     def payload(self):
-        return P.osc_set_payload(self.channel, self.amp_cdeg, self.offset_cdeg, self.period_ms, self.phase_cdeg)
+        return P.osc_set_payload(self.channel, self.amp_cdeg, self.offset_cdeg, self.period_ms, self.phase_cdeg,
+                                 self.gain_pos, self.gain_neg)
 
 
 def osc_params(scene, channels):
@@ -56,13 +63,39 @@ def osc_params(scene, channels):
         else:
             raise SceneError(f"{field}.shape", f"{shape!r}: the on-board generator runs sine and constant "
                                                f"profiles only; stream this scene instead (--mode stream)")
-        amp_deg, off_deg = amp * c.scale_deg, off * c.scale_deg
+        if abs(off) + abs(amp) > 1.0 + 1e-9:
+            raise SceneError(field, f"swings over [{off - amp:g}, {off + amp:g}]; actuator values are in [-1, 1]")
         lo, hi = c.limits_deg
-        if off_deg - amp_deg < lo - 1e-9 or off_deg + amp_deg > hi + 1e-9:
-            raise SceneError(field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg; "
-                                    f"channel {c.channel} allows [{lo:g}, {hi:g}] deg")
-        out.append(OscParams(c.name, c.channel, int(round(amp_deg * 100)), int(round(off_deg * 100)), period,
-                             int(round((phase % 360.0) * 100)) % 36000, ferr))
+        phase_cdeg = int(round((phase % 360.0) * 100)) % 36000
+        if c.scale_deg is not None or c.rotation is None:  # linear: amplitude and offset are angles
+            amp_deg, off_deg = c.angle_deg(amp), c.angle_deg(off)
+            if off_deg - amp_deg < lo - 1e-9 or off_deg + amp_deg > hi + 1e-9:
+                raise SceneError(field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg; "
+                                        f"channel {c.channel} allows [{lo:g}, {hi:g}] deg")
+            out.append(OscParams(c.name, c.channel, int(round(amp_deg * 100)), int(round(off_deg * 100)), period,
+                                 phase_cdeg, ferr, angle_range_deg=(off_deg - amp_deg, off_deg + amp_deg)))
+            continue
+        # the simulated joint rotation: the sine runs in units of v (9000 = 1) and the firmware maps it with one
+        # gain per sign of v (closing and opening differ); exact for untilted joints, checked for tilted ones
+        a_pos, a_neg = c.angle_deg(1.0), c.angle_deg(-1.0)
+        g_pos, g_neg = int(round(a_pos / 90.0 * P.GAIN_ONE)), int(round(-a_neg / 90.0 * P.GAIN_ONE))
+        if max(abs(g_pos), abs(g_neg)) > 32767:
+            raise SceneError(field, f"joint {c.rotation.joint} turns by {a_pos:.1f} / {a_neg:.1f} deg at v = +1 / -1: "
+                                    f"the on-board generator maps at most 180 deg per unit; stream it instead")
+        v = np.linspace(off - amp, off + amp, 401)
+        exact = np.asarray(c.angle_deg(v))
+        board = v * 90.0 * np.where(v >= 0, g_pos, g_neg) / P.GAIN_ONE
+        err = float(np.max(np.abs(board - exact)))
+        if err > 0.25:
+            raise SceneError(field, f"the rotation of joint {c.rotation.joint} (a tilted hinge) is not proportional "
+                                    f"to v over this swing: the on-board generator would be off by {err:.2f} deg "
+                                    f"(allowed 0.25); stream this scene instead (--mode stream)")
+        a_lo, a_hi = float(np.min(exact)), float(np.max(exact))
+        if a_lo < lo - 1e-9 or a_hi > hi + 1e-9:
+            raise SceneError(field, f"swings over [{a_lo:.2f}, {a_hi:.2f}] deg of joint rotation; channel "
+                                    f"{c.channel} allows [{lo:g}, {hi:g}] deg")
+        out.append(OscParams(c.name, c.channel, int(round(amp * 9000)), int(round(off * 9000)), period, phase_cdeg,
+                             ferr, g_pos, g_neg, (a_lo, a_hi), err))
     return out
 
 

@@ -198,8 +198,15 @@ def config_link_payload(watchdog_ms, park_after_ms, release_after_ms):
     return struct.pack("<HHH", watchdog_ms, park_after_ms, release_after_ms)
 
 
-def osc_set_payload(ch, amp_cdeg, offset_cdeg, period_ms, phase_cdeg):
-    return struct.pack("<BhhHH", ch, amp_cdeg, offset_cdeg, period_ms, phase_cdeg % 36000)
+GAIN_ONE = 16384  # Q14 joint gain of OSC_SET
+
+
+def osc_set_payload(ch, amp_cdeg, offset_cdeg, period_ms, phase_cdeg, gain_pos=None, gain_neg=None):
+    """9 bytes, or 13 with the joint gains (Q14): angle = v * (v >= 0 ? gain_pos : gain_neg) / 16384."""
+    p = struct.pack("<BhhHH", ch, amp_cdeg, offset_cdeg, period_ms, phase_cdeg % 36000)
+    if gain_pos is None and gain_neg is None:
+        return p
+    return p + struct.pack("<hh", gain_pos, gain_neg)
 
 
 def gait_set_payload(n_cells, n1, n2, closed=True, pins=False, first_cell=0, inflate_cdeg=4500, vent_cdeg=0):

@@ -29,13 +29,16 @@ from .mapping import runs
 @dataclass
 class StreamStats:
     frames: int = 0           # SET_ANGLES frames sent
-    acked: int = 0
-    naked: int = 0
-    lost: int = 0             # sent, never answered
+    acked: int = 0            # answered with an ACK carrying the frame's seq
+    naked: int = 0            # answered with a NAK carrying the frame's seq (read, refused)
+    lost: int = 0             # frames - acked - naked over the whole stream: no answer of their own
+    nak_unreadable: int = 0   # NAKs with seq 0xFF during the stream: the device could not decode a frame
+    rx_errors: int = 0        # replies the host could not decode
     skipped: int = 0          # deadlines missed by more than one period (not sent)
     resets: int = 0           # board reboots seen (re-configured and re-armed)
     clamped_frames: int = 0   # ACKs whose clamp mask was not zero
     nak_reasons: dict = field(default_factory=dict)
+    unreadable_reasons: dict = field(default_factory=dict)
     rtt_ms: list = field(default_factory=list)
     duration_s: float = 0.0
     last_t: float = None      # motion time of the last frame sent (s)
@@ -47,6 +50,8 @@ class StreamStats:
         def pct(q):
             return r[min(len(r) - 1, int(q * len(r)))] if r else float("nan")
         return {"frames": self.frames, "acked": self.acked, "naked": self.naked, "lost": self.lost,
+                "nak_unreadable": self.nak_unreadable, "unreadable_reasons": self.unreadable_reasons,
+                "rx_errors": self.rx_errors,
                 "skipped": self.skipped, "resets": self.resets, "clamped_frames": self.clamped_frames,
                 "nak_reasons": self.nak_reasons,
                 "duration_s": round(self.duration_s, 4), "last_t": self.last_t,
@@ -83,7 +88,7 @@ class Streamer:
         self.on_error = None   # callback(message) when the stream stops on an error
         self._thread = None
         self._stop = threading.Event()
-        self._outstanding = {}  # seq -> send time
+        self._outstanding = {}  # seq -> send time of the frames not answered yet (a seq is reused after 254 frames)
         self._link_timing = (500, 500, 5000)
         self._events_seen = 0
 
@@ -138,6 +143,8 @@ class Streamer:
         self._outstanding = {}
         n_events = len(self.link.events)
         self._events_seen = 0
+        unreadable0, reasons0 = self.link.unreadable_naks, dict(self.link.unreadable_reasons)
+        rx_errors0 = self.link.rx_errors
         start = time.perf_counter()
         deadline = start
         k = 0
@@ -161,6 +168,8 @@ class Streamer:
                     break
                 for payload, angles in self.frame_payloads(fn(t)):
                     seq = self.link.send(P.SET_ANGLES, payload)
+                    # a seq still outstanding 254 frames later was lost: it stays counted (lost = frames -
+                    # acked - naked), only its entry is replaced
                     self._outstanding[seq] = time.perf_counter()
                     self.stats.frames += 1
                     self.stats.last_t = t
@@ -197,7 +206,11 @@ class Streamer:
                 raise LinkError(f"{self.link.name}: {self.stats.error}") from None
         finally:
             self.stats.duration_s = time.perf_counter() - start
-            self.stats.lost = len(self._outstanding)
+            self.stats.lost = self.stats.frames - self.stats.acked - self.stats.naked
+            self.stats.nak_unreadable = self.link.unreadable_naks - unreadable0
+            self.stats.unreadable_reasons = {k: v - reasons0.get(k, 0) for k, v in self.link.unreadable_reasons.items()
+                                             if v - reasons0.get(k, 0)}
+            self.stats.rx_errors = self.link.rx_errors - rx_errors0
             self.stats.events = [P.EVENT_NAMES.get(r.code, hex(r.code)) if r.kind == "EVENT" else "RESET"
                                  for _, r in self.link.events[n_events:]]
         return self.stats

@@ -60,7 +60,7 @@ def test_host_unit_tests_under_sanitizers(build_dir):
     out = r.stdout + r.stderr
     assert r.returncode == 0, out
     results = re.findall(r"^(test_\w+): (\d+) passed, (\d+) failed$", out, re.M)
-    assert {n for n, _, _ in results} == {"test_proto", "test_servo", "test_link", "test_gait"}, out
+    assert {n for n, _, _ in results} == {"test_proto", "test_servo", "test_link", "test_gait", "test_outputs"}, out
     assert all(int(p) > 0 and f == "0" for _, p, f in results), out
     # built with the sanitizers
     nm = shutil.which("nm")
@@ -81,10 +81,37 @@ def test_host_tests_really_read_the_vectors(build_dir, tmp_path):
     assert re.search(r"test_servo: \d+ passed, 1 failed", r.stdout)
 
 
-def test_fuzz_frame_parser_bounded(build_dir):
-    r = simrun.make(build_dir, "fuzz", extra=["FUZZ_SECONDS=15"])
+def test_invariant_fuzzing_200k_executions(build_dir):
+    """The invariant fuzz target (limits, HOLD/PARK/RELEASE, ARM gating, counters, a reference pulse mapping)
+    passes every regression input and the corpus, then 200 000 fresh executions under ASan + UBSan."""
+    r = simrun.make(build_dir, "fuzz-ci", extra=["FUZZ_RUNS=200000"])
     out = r.stdout + r.stderr
     assert r.returncode == 0, out[-3000:]
+    m = re.search(r"fuzz-regress: (\d+) inputs passed", out)
+    assert m and int(m.group(1)) >= 17, out[-2000:]
     m = re.search(r"Done (\d+) runs|fuzz_link: (\d+) runs", out)
     assert m, out[-2000:]
-    assert int(m.group(1) or m.group(2)) > 1000
+    assert int(m.group(1) or m.group(2)) >= 200000
+    if shutil.which("clang"):
+        assert "INFO: seed corpus" in out or "INITED" in out  # libFuzzer loaded the committed corpus
+
+
+def test_fuzz_regressions_catch_the_issue_19_defects(build_dir, tmp_path):
+    """Mutation check of the harness: with one of the four fixed defects put back into a copy of the firmware (HOLD
+    dropping a SET_PULSES override; CONFIG_CH not refreshing the pulse memo), the regression inputs fail."""
+    src = os.path.join(simrun.FIRMWARE, "src", "core", "link.c")
+    text = open(src).read()
+    mutants = {
+        "hold": ("l->target[ch] = l->cur[ch]; /* keep the last pulse",
+                 "l->raw_us[ch] = 0, l->target[ch] = l->cur[ch]; /* keep the last pulse"),
+        "memo": ("l->memo_ok &= (uint8_t)~(1u << ch);", "(void)0;"),
+    }
+    for name, (a, b) in mutants.items():
+        assert a in text, name
+        fw = tmp_path / name
+        shutil.copytree(simrun.FIRMWARE, fw, ignore=shutil.ignore_patterns("build"))
+        (fw / "src" / "core" / "link.c").write_text(text.replace(a, b))
+        r = __import__("subprocess").run(["make", "-s", "-C", str(fw), f"BUILD={tmp_path / (name + '-b')}",
+                                          "fuzz-regress"], capture_output=True, text=True, timeout=300)
+        out = r.stdout + r.stderr
+        assert r.returncode != 0 and "fuzz invariant violated" in out, (name, out[-2000:])

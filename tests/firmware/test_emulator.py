@@ -22,6 +22,20 @@ GAIT = json.load(open(os.path.join(REPO, "tests", "vectors", "gait_rule.json")))
 TOL_US = 10.0
 
 
+def _joint(parity_a, v, lh=8.0, cell=27.0):
+    """The fish's actuated joints, closed form: -2 p_A v phi_max(sign v), plate contact asin(lh / 2s), 45 deg open."""
+    phi = math.asin(lh / (2 * (cell - lh))) if v >= 0 else math.pi / 4
+    return math.degrees(-2 * parity_a * v * phi)
+
+
+def HEAD(v):  # V0,1, node A = N0,1 (parity -1)
+    return _joint(-1, v)
+
+
+def TAIL(v):  # V1,5, node A = N1,5 (parity +1)
+    return _joint(+1, v)
+
+
 def settle_pulses(sim, link, ms=100):
     """Pulses after at least ``ms`` of *firmware* time has passed since everything sent so far was processed
     (a loaded machine may run the simulator slower than the wall clock)."""
@@ -130,15 +144,16 @@ def test_1000_frames_at_50_hz_all_acknowledged(link, sim):
     # the pins hold the last frame's angles (t = 19.98 s)
     last = motion(999 / 50)
     got = settle_pulses(sim, link)
-    for k in range(8):
-        assert abs(got[k] - (1500 + last[f"a{k}"] * 90 / 90 * 1000)) <= TOL_US
+    for k, c in enumerate(chans):
+        assert abs(got[k] - (1500 + c.angle_deg(last[c.name]) / 90 * 1000)) <= TOL_US
 
 
 def _scene_8():
     from metamaterial_wb.core.scene import Scene
     d = json.load(open(os.path.join(REPO, "examples", "fish.json")))
     d["layout"] = {"grid": [2, 6]}
-    d["actuators"] = [{"name": f"a{k}", "joint": j, "value": 0.0} for k, j in
+    # servo.scale_deg 90: channels commanded v * 90 deg, so that the sine sweeps the servos' whole range
+    d["actuators"] = [{"name": f"a{k}", "joint": j, "value": 0.0, "servo": {"scale_deg": 90}} for k, j in
                       enumerate(["V0,1", "V1,5", "V0,2", "V0,3", "V0,4", "V1,1", "V1,2", "V1,3"])]
     return Scene.from_dict(d)
 
@@ -243,10 +258,12 @@ def test_cli_streams_the_fish_into_the_emulator(sim, tmp_path):
     d = json.loads(rep.read_text())
     assert d["frames"] == d["acked"] and d["lost"] == 0 and d["naked"] == 0
     assert d["frames"] + d["skipped"] == 100 and d["frames"] >= 80  # a loaded machine may skip a late frame
-    # the last frame (t = 1.98 s unless skipped): head 0.3 sin(2 pi 0.5 t), tail 0.9 sin(2 pi t + 90 deg), x 90 deg
+    # the last frame (t = 1.98 s unless skipped): head 0.3 sin(2 pi 0.5 t), tail 0.9 sin(2 pi t + 90 deg), as the
+    # simulated rotations of their joints (closed form: tests/hardware/test_stream.py)
     t = d["last_t"]
-    head = 27 * math.sin(math.pi * t)
-    tail = 81 * math.sin(2 * math.pi * t + math.pi / 2)
+    head = HEAD(0.3 * math.sin(math.pi * t))
+    tail = TAIL(0.9 * math.sin(2 * math.pi * t + math.pi / 2))
+    assert d["frames_sent"][-1]["angles_deg"] == pytest.approx({"0": head, "1": tail}, abs=1e-3)
     with Link.open(sim.port) as link:
         got = settle_pulses(sim, link)
     assert abs(got[0] - (1500 + head / 90 * 1000)) <= TOL_US
@@ -267,8 +284,8 @@ def test_panel_style_streaming_follows_the_shown_values(sim):
                 shown.update(head=head, tail=tail)  # the GUI thread moves the slider / timeline
                 time.sleep(0.1)
                 got = settle_pulses(sim, link)
-                assert abs(got[0] - (1500 + head * 1000)) <= TOL_US
-                assert abs(got[1] - (1500 + tail * 1000)) <= TOL_US
+                assert abs(got[0] - (1500 + HEAD(head) / 90 * 1000)) <= TOL_US
+                assert abs(got[1] - (1500 + TAIL(tail) / 90 * 1000)) <= TOL_US
             assert st.running
         finally:
             stats = st.stop(disarm=True)
@@ -305,17 +322,19 @@ def test_cli_osc_mode_runs_the_fish_on_board(sim, tmp_path):
     assert r.returncode == 0, r.stdout + r.stderr
     t_mode = json.loads(rep.read_text())["firmware_start_ms"] / 1000.0
     lines = sim.pulse_lines()
-    for ch, amp_us, period in ((0, 300, 2.0), (1, 900, 1.0)):
+    for ch, joint, amp, period in ((0, HEAD, 0.3, 2.0), (1, TAIL, 0.9, 1.0)):
         # from one servo frame (+ one 10 ms generator step) after the start: earlier pulses began before it
         pts = [(t, w) for t, c, w in lines if c == ch and w is not None and t >= t_mode + 0.031]
         ws = [w for _, w in pts]
-        assert max(ws) == pytest.approx(1500 + amp_us, abs=TOL_US) and min(ws) == pytest.approx(1500 - amp_us,
-                                                                                                  abs=TOL_US)
+        # the two half-waves of the sine in v: the joint closes (to plate contact) and opens by different angles
+        ends = sorted(1500 + joint(x) / 90 * 1000 for x in (amp, -amp))
+        assert min(ws) == pytest.approx(ends[0], abs=TOL_US) and max(ws) == pytest.approx(ends[1], abs=TOL_US)
         # every logged width agrees with the profile at its firmware time (t_mode: from the SET_MODE ACK)
         phase = math.pi / 2 if ch == 1 else 0.0
-        err = [abs(w - (1500 + amp_us * math.sin(2 * math.pi * (t - t_mode) / period + phase))) for t, w in pts]
+        err = [abs(w - (1500 + joint(amp * math.sin(2 * math.pi * (t - t_mode) / period + phase)) / 90 * 1000))
+               for t, w in pts]
         # the generator is sampled every 10 ms and a pin shows a new width at its next 20 ms servo frame
-        slope = 2 * math.pi * amp_us / period  # us per second at the steepest point
+        slope = 2 * math.pi * (ends[1] - ends[0]) / 2 / period  # us per second at the steepest point
         assert max(err) <= TOL_US + slope * 0.031, max(err)
 
 
@@ -376,3 +395,41 @@ def test_two_boards_share_one_chain(link, sim):
     for ch in range(8):
         assert abs(got[ch] - (2000 if act[8 + ch] else 1500)) <= TOL_US, (ch, got[ch], act[8 + ch])
     assert sum(act[8:]) >= 2 and sum(act[8:]) < 8  # the check sees both angles
+
+
+def test_simulated_timeline_drives_the_pins_to_the_solved_joint_angles(sim, tmp_path):
+    """Issue 16 item 9: a timeline simulated by the solver (the fish's two actuators at five keyframes) streamed
+    into the firmware: at each keyframe the pins show 1500 us + (solved relative rotation of the joint) x
+    1000 us / 90 deg, the rotation taken from the result's node rotations (signed joints[].hinge_rotation_deg)."""
+    from metamaterial_wb.core.models import run_model
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.hardware.joint_angle import signed_joint_rotation_deg
+    d = json.load(open(os.path.join(REPO, "examples", "fish.json")))
+    for a in d["actuators"]:
+        a.pop("profile", None)
+    keys = [(0.0, 0.0), (0.3, -0.9), (-0.3, 0.9), (1.0, -1.0), (-0.6, 0.45)]
+    timeline = []
+    for head, tail in keys:  # the simulation: solve the scene at each keyframe
+        d["actuators"][0]["value"], d["actuators"][1]["value"] = head, tail
+        sc = Scene.from_dict(d)
+        res = run_model("quadratic", sc)
+        timeline.append(({"head": head, "tail": tail},
+                         [signed_joint_rotation_deg(sc, res.rotations, j) for j in ("V0,1", "V1,5")]))
+    scene = Scene.from_dict(d)
+    with Link.open(sim.port) as link:
+        st = Streamer(link, channel_map(scene), reply_timeout_s=2.0)
+        st.prepare(watchdog_ms=3000)
+        shown = dict(timeline[0][0])
+        st.start(lambda _t: dict(shown))
+        try:
+            for values, solved in timeline:
+                shown.update(values)
+                time.sleep(0.1)
+                got = settle_pulses(sim, link)
+                for ch, angle in enumerate(solved):
+                    assert abs(got[ch] - (1500 + angle / 90 * 1000)) <= TOL_US, (values, ch, got[ch], angle)
+        finally:
+            stats = st.stop(disarm=True)
+    assert stats.lost == 0 and stats.naked == 0 and stats.clamped_frames == 0, stats.summary()
+    # the keyframes reach plate contact (v = +1: 24.3 deg, within the channel's default limits) and 90 deg open
+    assert max(abs(a) for _, s in timeline for a in s) == pytest.approx(90.0, abs=1e-6)

@@ -19,7 +19,7 @@ class FakeDevice(threading.Thread):
     ``nak``: {type: (code, detail)}; ``event_before_ack``: send an EVENT in the same write as each ACK."""
 
     def __init__(self, drop=None, nak=None, event_before_ack=False, major=P.PROTO_MAJOR, n_channels=8,
-                 after_angles=None):
+                 after_angles=None, lose_angles=(), garble_angles=()):
         super().__init__(daemon=True)
         self.master, self.slave = pty.openpty()
         tty.setraw(self.slave)
@@ -31,6 +31,8 @@ class FakeDevice(threading.Thread):
         self.n_channels = n_channels
         self.after_angles = after_angles  # (n, bytes): written once after the n-th SET_ANGLES reply
         self.received = []
+        self.lose_angles = set(lose_angles)      # SET_ANGLES frames (1-based) that never arrive
+        self.garble_angles = set(garble_angles)  # SET_ANGLES frames that arrive damaged: NAK CRC with seq 0xFF
         self.stop_flag = False
         os.write(self.master, P.build_frame(P.HELLO_ACK, 0, self.hello()))  # boot banner, already waiting
 
@@ -52,6 +54,12 @@ class FakeDevice(threading.Thread):
                 self.received.append(pkt)
                 if self.drop.get(pkt.type, 0) > 0:
                     self.drop[pkt.type] -= 1
+                    continue
+                n_angles = sum(p.type == P.SET_ANGLES for p in self.received)
+                if pkt.type == P.SET_ANGLES and n_angles in self.lose_angles:
+                    continue
+                if pkt.type == P.SET_ANGLES and n_angles in self.garble_angles:
+                    os.write(self.master, P.build_frame(P.NAK, P.SEQ_NONE, bytes([P.E_CRC, 0])))
                     continue
                 if pkt.type in self.nak:
                     out = P.build_frame(P.NAK, pkt.seq, bytes(self.nak[pkt.type]))
@@ -168,7 +176,8 @@ def test_open_bad_port_is_a_clean_error():
 def _streamer(link):
     from metamaterial_wb.hardware import Streamer
     from metamaterial_wb.hardware.mapping import ChannelConfig
-    return Streamer(link, [ChannelConfig("a", 0), ChannelConfig("b", 1)])
+    # catch_up: a loaded machine sends late frames late instead of skipping them, so the counts are exact
+    return Streamer(link, [ChannelConfig("a", 0), ChannelConfig("b", 1)], catch_up=True)
 
 
 def test_streamer_reconfigures_after_a_board_reset(device):
@@ -205,3 +214,37 @@ def test_replies_queued_before_the_handshake_are_dropped():
         link.handshake()
         assert 255 not in link.pending
         assert link.wait_reply(255, 0.05) is None
+
+
+def test_lost_frames_are_counted_across_the_sequence_wrap(device):
+    """Issue 19: 10 frames dropped early in a 400-frame stream (the seq wraps after 254) and 5 answered with NAKs for
+    unreadable frames (seq 0xFF): lost = sent - acked - naked = 15, the 5 NAKs counted. Before the fix the report
+    said "lost 0" (outstanding frames were forgotten when their seq was reused) and ignored the seq 0xFF NAKs."""
+    dev = device(lose_angles=range(5, 15), garble_angles=(100, 200, 300, 301, 399))
+    with Link.open(dev.port) as link:
+        st = _streamer(link)
+        st.rate_hz, st.reply_timeout_s = 100.0, 1.0
+        st.prepare()
+        stats = st.run(lambda t: {"a": 0.1, "b": -0.1}, 4.0)
+    assert stats.frames == 400, stats.summary()
+    assert stats.lost == 15 and stats.acked == 385 and stats.naked == 0, stats.summary()
+    assert stats.nak_unreadable == 5 and stats.unreadable_reasons == {"CRC": 5}, stats.summary()
+
+
+def test_cli_exits_1_when_frames_are_lost_beyond_max_lost(device, tmp_path):
+    import json
+    import subprocess
+    import sys
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    fish = os.path.join(repo, "examples", "fish.json")
+    for max_lost, rc in ((None, 1), (3, 0), (2, 1)):
+        dev = device(lose_angles=(20, 40), garble_angles=(60,))
+        rep = tmp_path / f"r{max_lost}.json"
+        cmd = [sys.executable, "-m", "metamaterial_wb", "stream", fish, "--port", dev.port, "--seconds", "1.6",
+               "--report", str(rep)] + ([] if max_lost is None else ["--max-lost", str(max_lost)])
+        r = subprocess.run(cmd, capture_output=True, text=True, cwd=repo, timeout=60)
+        assert r.returncode == rc, (max_lost, r.stdout, r.stderr)
+        d = json.loads(rep.read_text())
+        assert d["lost"] == 3 and d["nak_unreadable"] == 1 and d["frames"] == d["acked"] + 3, d
+        if rc:
+            assert "3 frames lost (--max-lost" in r.stderr

@@ -22,6 +22,21 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 FISH = os.path.join(REPO, "examples", "fish.json")
 
 
+def sim_angle(parity_a, v, lh=8.0, cell=27.0):
+    """Closed form of the actuated joint's rotation (issue 16 item 9): -2 p_A v phi_max(sign v), phi_max(+) the
+    plate contact asin(lh / 2s) with s = cell - lh, phi_max(-) 45 deg (the fish: 8 mm hinges, 27 mm cells)."""
+    phi = math.asin(lh / (2 * (cell - lh))) if v >= 0 else math.pi / 4
+    return math.degrees(-2 * parity_a * v * phi)
+
+
+def HEAD(v):  # joint V0,1: node A = N0,1, parity -1
+    return sim_angle(-1, v)
+
+
+def TAIL(v):  # joint V1,5: node A = N1,5, parity +1
+    return sim_angle(+1, v)
+
+
 def fish(**servo):
     d = json.load(open(FISH))
     for a in d["actuators"]:
@@ -30,11 +45,20 @@ def fish(**servo):
     return Scene.from_dict(d)
 
 
-def test_default_mapping_is_scene_order_and_90_degrees():
+def test_default_mapping_is_scene_order_and_the_simulated_joint_rotation():
     ch = channel_map(fish())
     assert [(c.name, c.channel) for c in ch] == [("head", 0), ("tail", 1)]
-    assert ch[1].angle_deg(0.5) == 45.0 and ch[1].angle_deg(-1) == -90.0
-    assert ch[0].cdeg(0.3) == 2700
+    for v in (1.0, 0.5, 0.1, 0.0, -0.25, -1.0):
+        assert ch[0].angle_deg(v) == pytest.approx(HEAD(v), abs=1e-9)
+        assert ch[1].angle_deg(v) == pytest.approx(TAIL(v), abs=1e-9)
+    assert ch[1].angle_deg(0.5) == pytest.approx(-12.1532, abs=1e-4) and ch[1].angle_deg(-1) == pytest.approx(90.0)
+    assert ch[0].cdeg(0.3) == round(HEAD(0.3) * 100)
+    # limits default to the joint's kinematic range (plate contact .. full opening), rounded outward
+    assert ch[0].limits_deg == (-90.0, 24.31) and ch[1].limits_deg == (-24.31, 90.0)
+    assert ch[1].to_dict()["joint"] == "V1,5" and "simulated rotation" in ch[1].to_dict()["angle"]
+    # servo.scale_deg: the old linear command, for a servo that does not turn its joint directly
+    c = channel_map(fish(tail={"scale_deg": 90}))[1]
+    assert c.angle_deg(0.5) == 45.0 and c.limits_deg == (-90.0, 90.0)
 
 
 def test_mapping_precedence_and_errors():
@@ -60,14 +84,15 @@ def test_mapping_precedence_and_errors():
 def test_check_motion_names_actuator_time_and_limits():
     # tail: 0.9 * sin(2 pi t + 90 deg) -> 81 deg at t = 0; limits 60 deg
     s = fish(tail={"limits_deg": [-60, 60]})
-    with pytest.raises(SceneError, match=r"actuators\[1\] \(tail\).*81.0 deg at t = 0.000 s.*\[-60, 60\]"):
+    # the tail opens to 81 deg at v = -0.9 (t = 0.5 s); it first passes 60 deg at t = acos(-60/81) / 2 pi = 0.3826 s
+    with pytest.raises(SceneError, match=r"actuators\[1\] \(tail\).*60.1 deg at t = 0.383 s.*\[-60, 60\]"):
         check_motion(s, channel_map(s), 2.0)
     peaks = check_motion(fish(), channel_map(fish()), 2.0)
     assert peaks["tail"] == pytest.approx(81.0) and peaks["head"] == pytest.approx(27.0, abs=1e-6)
 
 
 def test_expected_pulse_formula():
-    c = channel_map(fish(head={"invert": True, "trim_deg": 5}))[0]
+    c = channel_map(fish(head={"invert": True, "trim_deg": 5, "limits_deg": [-90, 90]}))[0]
     assert expected_pulse_us(c, 45) == pytest.approx(1500 + (-45 + 5) / 90 * 1000)
     assert runs(channel_map(fish(head={"channel": 4}, tail={"channel": 6})))[1][0] == 6
 
@@ -110,8 +135,8 @@ def test_streamer_sends_the_scene_motion_at_50_hz():
     assert len(frames) == 50
     for k, (first, angles) in enumerate(frames):
         t = k / 50
-        head = 90 * 0.3 * math.sin(2 * math.pi * 0.5 * t)
-        tail = 90 * 0.9 * math.sin(2 * math.pi * 1.0 * t + math.pi / 2)
+        head = HEAD(0.3 * math.sin(2 * math.pi * 0.5 * t))
+        tail = TAIL(0.9 * math.sin(2 * math.pi * 1.0 * t + math.pi / 2))
         assert first == 0
         assert angles == pytest.approx([head, tail], abs=0.0051)
     # CONFIG_CH for both channels and ARM went out before the first frame
@@ -133,11 +158,12 @@ def test_streamer_thread_start_stop_and_callable_source():
     stats = st.stop()
     assert not st.running
     assert stats.frames >= 10 and stats.lost == 0
-    assert all(a == {"head": 45.0, "tail": -22.5} for _, a in seen)
+    assert all(a == pytest.approx({"head": HEAD(0.5), "tail": TAIL(-0.25)}) for _, a in seen)
+    assert seen[0][1]["tail"] == pytest.approx(22.5)  # opening: 2 x 0.25 x 45 deg
     with pytest.raises(MetamaterialError, match="outside channel 1's limits"):
         st.start(lambda t: {"head": 0.0, "tail": 1.5})
     st.clamp = True
-    assert st.frame_payloads({"tail": 1.5})[0][1]["tail"] == 90.0
+    assert st.frame_payloads({"tail": 1.5})[0][1]["tail"] == -24.31  # clamped to the plate-contact limit
 
 
 def run_cli(*args):
@@ -152,6 +178,12 @@ def test_cli_dry_run_and_report(tmp_path):
     assert "25 frames" in r.stdout and "25 acked" in r.stdout and "0 lost" in r.stdout
     d = json.loads(rep.read_text())
     assert d["frames"] == 25 and d["dry_run"] and [c["channel"] for c in d["channels"]] == [0, 1]
+    # the angle sent per frame and channel (issue 16): the simulated joint rotations at the frame times
+    assert len(d["frames_sent"]) == 25 and d["frames_sent_columns"] == {"0": "head", "1": "tail"}
+    for f in d["frames_sent"]:
+        t = f["t"]
+        assert f["angles_deg"]["0"] == pytest.approx(HEAD(0.3 * math.sin(math.pi * t)), abs=1e-4)
+        assert f["angles_deg"]["1"] == pytest.approx(TAIL(0.9 * math.sin(2 * math.pi * t + math.pi / 2)), abs=1e-4)
 
 
 def test_cli_errors_are_one_line_exit_2(tmp_path):
@@ -173,8 +205,12 @@ def test_osc_params_from_profiles_and_refusals():
     from metamaterial_wb.hardware.onboard import osc_params
     ps = osc_params(fish(), channel_map(fish()))
     # head: 0.3 sin(2 pi 0.5 t) -> 27 deg, 2000 ms; tail: 0.9 sin(2 pi t + 90 deg) -> 81 deg, 1000 ms, 90 deg
+    # the sine runs in units of v (9000 = 1); the joint gains (Q14) map it to the simulated rotation per sign of v
     assert [(p.channel, p.amp_cdeg, p.offset_cdeg, p.period_ms, p.phase_cdeg) for p in ps] == [
         (0, 2700, 0, 2000, 0), (1, 8100, 0, 1000, 9000)]
+    assert (ps[0].gain_pos, ps[0].gain_neg) == (round(HEAD(1) / 90 * 16384), round(-HEAD(-1) / 90 * 16384))
+    assert (ps[1].gain_pos, ps[1].gain_neg) == (-4425, -16384)
+    assert ps[1].angle_range_deg == pytest.approx((TAIL(0.9), TAIL(-0.9)))
     inv = osc_params(fish(tail={"scale_deg": 45}), channel_map(fish(tail={"scale_deg": 45})))
     assert inv[1].amp_cdeg == 4050
     d = json.load(open(FISH))
@@ -183,7 +219,7 @@ def test_osc_params_from_profiles_and_refusals():
     with pytest.raises(SceneError, match=r"actuators\[0\] \(head\).profile.shape.*sine and constant"):
         osc_params(s, channel_map(s))
     s = fish(tail={"limits_deg": [-45, 45]})
-    with pytest.raises(SceneError, match=r"swings over \[-81.0, 81.0\] deg; channel 1 allows \[-45, 45\]"):
+    with pytest.raises(SceneError, match=r"swings over \[-21.88, 81.00\] deg of joint rotation; channel 1 allows \[-45, 45\]"):
         osc_params(s, channel_map(s))
     d = json.load(open(FISH))
     d["actuators"][1]["profile"]["frequency_hz"] = 3.0  # period 333 ms: frequency off by 0.1 %
@@ -194,6 +230,7 @@ def test_osc_params_from_profiles_and_refusals():
 def test_cli_osc_mode_dry_run():
     r = run_cli(os.path.join(REPO, "examples", "worm.json"), "--dry-run", "--mode", "osc", "--seconds", "0.3")
     assert r.returncode == 0, r.stderr
-    assert "rear -> ch0: 0 + 72 deg sin(2 pi 0.5 Hz t + 0 deg)" in r.stderr
-    assert "front -> ch1: 0 + 72 deg sin(2 pi 0.5 Hz t + 90 deg)" in r.stderr
+    # worm: 2 mm hinges on 20 mm cells: closes by 2 asin(2/36) = 6.37 deg per unit of v, opens by 90
+    assert "rear -> ch0: v = 0 + 0.8 sin(2 pi 0.5 Hz t + 0 deg), joint angle -5.10..72.00 deg" in r.stderr
+    assert "front -> ch1: v = 0 + 0.8 sin(2 pi 0.5 Hz t + 90 deg), joint angle -5.10..72.00 deg" in r.stderr
     assert "keep-alive pings" in r.stdout

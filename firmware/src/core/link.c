@@ -57,29 +57,59 @@ static uint8_t pulses_on(const sl_link_t *l)
     return l->state == SL_ST_ARMED || l->state == SL_ST_HOLD || l->state == SL_ST_PARK;
 }
 
+/* A pulse clamped to the channel's window (sl_pulse_window); *clamped (if given) set to 1 if it moved. */
+static uint16_t window_clamp(const sl_chan_cfg_t *c, uint16_t us, uint8_t *clamped)
+{
+    uint16_t lo, hi;
+    sl_pulse_window(c, &lo, &hi);
+    uint16_t v = us < lo ? lo : us > hi ? hi : us;
+    if (clamped && v != us)
+        *clamped = 1;
+    return v;
+}
+
+uint16_t sl_link_output(const sl_link_t *l, uint8_t ch)
+{
+    if (!pulses_on(l))
+        return 0;
+    const sl_chan_cfg_t *c = &l->cfg[ch];
+    if (l->raw_us[ch])
+        return window_clamp(c, l->raw_us[ch], 0);
+    uint8_t dummy = 0;
+    return sl_cdeg_to_us(c, sl_limit_cdeg(c, l->cur[ch], &dummy), &dummy);
+}
+
+/* The only writer of out_us: every output recomputed from (state, mode, config, angle, override) after anything
+ * that may change one of them. The memo only skips the arithmetic for an unchanged (config, angle, override). */
 static void update_outputs(sl_link_t *l)
 {
     for (uint8_t ch = 0; ch < l->n_ch; ch++) {
         uint16_t us = 0;
         if (pulses_on(l)) {
-            if (l->raw_us[ch]) {
-                us = l->raw_us[ch];
-            } else {
-                /* the 32-bit division is slow on the AVR: map only when the angle or the config changed */
-                if (l->remap || l->cur[ch] != l->mapped_cdeg[ch] || !l->mapped_us[ch]) {
-                    uint8_t dummy = 0;
-                    l->mapped_cdeg[ch] = l->cur[ch];
-                    l->mapped_us[ch] = sl_cdeg_to_us(&l->cfg[ch], l->cur[ch], &dummy);
-                }
-                us = l->mapped_us[ch];
+            uint8_t bit = (uint8_t)(1u << ch);
+            if (!(l->memo_ok & bit) || l->memo_cdeg[ch] != l->cur[ch] || l->memo_raw[ch] != l->raw_us[ch]) {
+                l->memo_cdeg[ch] = l->cur[ch];
+                l->memo_raw[ch] = l->raw_us[ch];
+                l->memo_us[ch] = sl_link_output(l, ch);
+                l->memo_ok |= bit;
             }
+            us = l->memo_us[ch];
         }
         if (us != l->out_us[ch]) {
             l->out_us[ch] = us;
             l->out_changed = 1;
         }
     }
-    l->remap = 0;
+}
+
+/* A SET_PULSES override hands over to an angle without a jump: the angle of the pulse being output. */
+static void drop_override(sl_link_t *l, uint8_t ch)
+{
+    if (l->raw_us[ch]) {
+        l->cur[ch] = sl_us_to_cdeg(&l->cfg[ch], window_clamp(&l->cfg[ch], l->raw_us[ch], 0));
+        l->target[ch] = l->cur[ch];
+        l->raw_us[ch] = 0;
+    }
 }
 
 void sl_link_init(sl_link_t *l, uint8_t n_ch, uint8_t extra_caps, sl_tx_fn tx, sl_contacts_fn contacts, void *user,
@@ -192,15 +222,10 @@ static void do_set_pulses(sl_link_t *l, const sl_packet_t *rq)
     uint16_t mask = 0;
     for (uint8_t k = 0; k < count; k++) {
         uint8_t ch = (uint8_t)(first + k);
-        uint16_t us = sl_get_u16(p + 2 + 2 * k);
-        if (us < l->cfg[ch].min_us) {
-            us = l->cfg[ch].min_us;
+        uint8_t c = 0; /* inside [min_us, max_us] and the pulses of the soft limits */
+        l->raw_us[ch] = window_clamp(&l->cfg[ch], sl_get_u16(p + 2 + 2 * k), &c);
+        if (c)
             mask |= (uint16_t)(1u << ch);
-        } else if (us > l->cfg[ch].max_us) {
-            us = l->cfg[ch].max_us;
-            mask |= (uint16_t)(1u << ch);
-        }
-        l->raw_us[ch] = us;
     }
     update_outputs(l);
     uint8_t out[5];
@@ -238,7 +263,7 @@ static void do_config_ch(sl_link_t *l, const sl_packet_t *rq)
     l->cfg[ch] = c;
     l->target[ch] = sl_limit_cdeg(&c, l->target[ch], &dummy);
     l->cur[ch] = sl_limit_cdeg(&c, l->cur[ch], &dummy);
-    l->remap = 1;
+    l->memo_ok &= (uint8_t)~(1u << ch);
     update_outputs(l);
     uint8_t out[2];
     ack(l, rq, out, 2);
@@ -274,7 +299,7 @@ static void do_config_link(sl_link_t *l, const sl_packet_t *rq)
 static void do_osc_set(sl_link_t *l, const sl_packet_t *rq)
 {
     const uint8_t *p = rq->payload;
-    if (rq->plen != 9) {
+    if (rq->plen != 9 && rq->plen != 13) {
         nak(l, rq->seq, SL_E_LEN, 9);
         return;
     }
@@ -288,12 +313,24 @@ static void do_osc_set(sl_link_t *l, const sl_packet_t *rq)
     o.offset_cdeg = sl_get_i16(p + 3);
     o.period_ms = sl_get_u16(p + 5);
     o.phase_cdeg = sl_get_u16(p + 7);
+    o.gain_pos = rq->plen == 13 ? sl_get_i16(p + 9) : SL_GAIN_ONE;
+    o.gain_neg = rq->plen == 13 ? sl_get_i16(p + 11) : SL_GAIN_ONE;
     const sl_chan_cfg_t *c = &l->cfg[ch];
     if (o.amp_cdeg < 0 || o.amp_cdeg > SL_CDEG_MAX) {
         nak(l, rq->seq, SL_E_RANGE, 1);
         return;
     }
-    if ((int32_t)o.offset_cdeg - o.amp_cdeg < c->lo_cdeg || (int32_t)o.offset_cdeg + o.amp_cdeg > c->hi_cdeg) {
+    int32_t v_lo = (int32_t)o.offset_cdeg - o.amp_cdeg, v_hi = (int32_t)o.offset_cdeg + o.amp_cdeg;
+    if (v_lo < -SL_CDEG_MAX || v_hi > SL_CDEG_MAX) {
+        nak(l, rq->seq, SL_E_RANGE, 2);
+        return;
+    }
+    if ((o.gain_pos < 0 && o.gain_neg > 0) || (o.gain_pos > 0 && o.gain_neg < 0)) {
+        nak(l, rq->seq, SL_E_RANGE, 5); /* g must be monotonic: its extremes are then the swing's ends */
+        return;
+    }
+    int16_t g_lo = sl_osc_gain(&o, (int16_t)v_lo), g_hi = sl_osc_gain(&o, (int16_t)v_hi);
+    if ((g_lo < g_hi ? g_lo : g_hi) < c->lo_cdeg || (g_lo < g_hi ? g_hi : g_lo) > c->hi_cdeg) {
         nak(l, rq->seq, SL_E_RANGE, 2); /* the swing must stay inside the channel's limits */
         return;
     }
@@ -329,10 +366,11 @@ static void do_set_mode(sl_link_t *l, const sl_packet_t *rq, uint32_t now)
     l->mode = m;
     l->osc_t0 = now;
     for (uint8_t ch = 0; ch < l->n_ch; ch++)
-        l->raw_us[ch] = 0;
+        drop_override(l, ch);
     uint8_t out[6];
     sl_put_u32(out + 2, now); /* the time origin of the oscillators */
     ack(l, rq, out, 6);
+    update_outputs(l);
 }
 
 static void gait_apply(sl_link_t *l)
@@ -420,10 +458,12 @@ static void arm(sl_link_t *l)
 {
     uint8_t was_off = !pulses_on(l);
     for (uint8_t ch = 0; ch < l->n_ch; ch++) {
-        if (was_off) /* the position is unknown: start from the park angle */
+        if (was_off) { /* the position is unknown: start from the park angle */
             l->cur[ch] = l->cfg[ch].park_cdeg;
+            l->raw_us[ch] = 0;
+        }
+        drop_override(l, ch); /* pulses on (HOLD, PARK, re-ARM): continue from the pulse being output */
         l->target[ch] = l->cur[ch];
-        l->raw_us[ch] = 0;
     }
     l->state = SL_ST_ARMED;
     l->mode = SL_MODE_STREAM;
@@ -534,16 +574,16 @@ void sl_link_tick(sl_link_t *l, uint32_t now)
         l->trip_ms = now;
         if (l->wdt_trips < 255)
             l->wdt_trips++;
-        for (uint8_t ch = 0; ch < l->n_ch; ch++) {
-            l->target[ch] = l->cur[ch];
-            l->raw_us[ch] = 0;
-        }
+        for (uint8_t ch = 0; ch < l->n_ch; ch++)
+            l->target[ch] = l->cur[ch]; /* keep the last pulse, a SET_PULSES override included (section 6) */
         event(l, SL_EV_HOLD, now);
     }
     if (l->state == SL_ST_HOLD && (uint32_t)(now - l->trip_ms) >= l->park_after_ms) {
         l->state = SL_ST_PARK;
-        for (uint8_t ch = 0; ch < l->n_ch; ch++)
+        for (uint8_t ch = 0; ch < l->n_ch; ch++) {
+            drop_override(l, ch); /* ramp from the held pulse */
             l->target[ch] = l->cfg[ch].park_cdeg;
+        }
         event(l, SL_EV_PARK, now);
     }
     if (l->state == SL_ST_PARK &&
@@ -561,7 +601,8 @@ void sl_link_tick(sl_link_t *l, uint32_t now)
             for (uint8_t ch = 0; ch < l->n_ch; ch++)
                 if (l->osc_on & (1u << ch)) {
                     uint8_t dummy = 0; /* OSC_SET checked the swing against the limits */
-                    l->target[ch] = sl_limit_cdeg(&l->cfg[ch], sl_osc_value(&l->osc[ch], now - l->osc_t0), &dummy);
+                    l->target[ch] = sl_limit_cdeg(
+                        &l->cfg[ch], sl_osc_gain(&l->osc[ch], sl_osc_value(&l->osc[ch], now - l->osc_t0)), &dummy);
                 }
         } else if (l->state == SL_ST_ARMED && l->mode == SL_MODE_GAIT) {
             if ((l->gait_flags & SL_GAIT_PINS) && l->contacts) {
@@ -575,6 +616,10 @@ void sl_link_tick(sl_link_t *l, uint32_t now)
             }
         }
         for (uint8_t ch = 0; ch < l->n_ch; ch++) {
+            uint8_t dummy = 0; /* the limits of now, whatever they were when a generator or a target was set */
+            if (l->state == SL_ST_PARK) /* the park angle of now (a CONFIG_CH may move it while parking) */
+                l->target[ch] = l->cfg[ch].park_cdeg;
+            l->target[ch] = sl_limit_cdeg(&l->cfg[ch], l->target[ch], &dummy);
             uint16_t rate = l->cfg[ch].max_slew_dps;
             if (l->state == SL_ST_PARK && rate == 0)
                 rate = SL_PARK_DEFAULT_DPS;

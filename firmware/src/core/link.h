@@ -60,12 +60,14 @@ typedef struct {
     /* state */
     uint8_t state, mode;
     int16_t target[SL_MAX_CH], cur[SL_MAX_CH];
-    uint16_t raw_us[SL_MAX_CH];  /* SET_PULSES override, 0 = none */
-    uint16_t out_us[SL_MAX_CH];  /* what the driver outputs now, 0 = no pulses */
+    uint16_t raw_us[SL_MAX_CH];  /* SET_PULSES override as requested (inside [min_us, max_us]), 0 = none */
+    uint16_t out_us[SL_MAX_CH];  /* what the driver outputs now, 0 = no pulses: sl_link_output() of the state */
     uint8_t out_changed;
-    int16_t mapped_cdeg[SL_MAX_CH]; /* cache of the last angle -> pulse mapping */
-    uint16_t mapped_us[SL_MAX_CH];
-    uint8_t remap;
+    /* memo of sl_link_output's pulse for (cur, raw_us) under the channel's current config: the 32-bit division is
+     * slow on the AVR. A CONFIG_CH clears the channel's memo_ok bit; nothing else changes the config. */
+    int16_t memo_cdeg[SL_MAX_CH];
+    uint16_t memo_raw[SL_MAX_CH], memo_us[SL_MAX_CH];
+    uint8_t memo_ok;
     sl_osc_t osc[SL_MAX_CH];
     uint8_t osc_on;              /* bit per channel */
     uint32_t osc_t0;
@@ -88,5 +90,11 @@ void sl_link_init(sl_link_t *l, uint8_t n_ch, uint8_t extra_caps, sl_tx_fn tx, s
                   uint32_t now_ms);
 void sl_link_feed(sl_link_t *l, uint8_t byte, uint32_t now_ms);
 void sl_link_tick(sl_link_t *l, uint32_t now_ms);
+
+/* The pulse channel ch must output in the link's present state (0 = none), computed from scratch: pulses only
+ * while ARMED / HOLD / PARK; a SET_PULSES override clamped to the channel's pulse window; otherwise the current
+ * angle, clamped to the soft limits, mapped with trim and invert (PROTOCOL.md section 5). out_us always equals
+ * this after every request and tick (the fuzz harness checks it). */
+uint16_t sl_link_output(const sl_link_t *l, uint8_t ch);
 
 #endif

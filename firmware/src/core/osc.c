@@ -49,3 +49,11 @@ int16_t sl_osc_value(const sl_osc_t *o, uint32_t t_ms)
         v = -32768;
     return (int16_t)v;
 }
+
+int16_t sl_osc_gain(const sl_osc_t *o, int16_t v)
+{
+    int32_t g = v >= 0 ? o->gain_pos : o->gain_neg;
+    int32_t x = (int32_t)v * g;
+    x = x >= 0 ? (x + SL_GAIN_ONE / 2) / SL_GAIN_ONE : -((-x + SL_GAIN_ONE / 2) / SL_GAIN_ONE);
+    return (int16_t)x;
+}

@@ -72,6 +72,30 @@ uint8_t sl_pulse_clamps(const sl_chan_cfg_t *c, int16_t cdeg)
     return (uint8_t)(a > SL_CDEG_MAX || a < -SL_CDEG_MAX);
 }
 
+void sl_pulse_window(const sl_chan_cfg_t *c, uint16_t *lo_us, uint16_t *hi_us)
+{
+    uint8_t dummy = 0;
+    uint16_t a = sl_cdeg_to_us(c, c->lo_cdeg, &dummy), b = sl_cdeg_to_us(c, c->hi_cdeg, &dummy);
+    *lo_us = a < b ? a : b;
+    *hi_us = a < b ? b : a;
+}
+
+int16_t sl_us_to_cdeg(const sl_chan_cfg_t *c, uint16_t us)
+{
+    /* a = (2 us - (min + max)) * 9000 / span, rounded to nearest; then undo trim and invert */
+    int32_t span = (int32_t)c->max_us - (int32_t)c->min_us;
+    int32_t num = (2 * (int32_t)us - (int32_t)c->min_us - (int32_t)c->max_us) * 9000;
+    int32_t a = (num >= 0 ? num + span / 2 : num - span / 2) / span;
+    a -= c->trim_cdeg;
+    if (c->invert)
+        a = -a;
+    if (a < c->lo_cdeg)
+        a = c->lo_cdeg;
+    if (a > c->hi_cdeg)
+        a = c->hi_cdeg;
+    return (int16_t)a;
+}
+
 int16_t sl_slew(int16_t cur, int16_t target, uint16_t max_slew_dps, uint16_t dt_ms)
 {
     if (max_slew_dps == 0)

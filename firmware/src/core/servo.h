@@ -37,6 +37,14 @@ uint16_t sl_cdeg_to_us(const sl_chan_cfg_t *c, int16_t cdeg, uint8_t *clamped);
  * what sl_cdeg_to_us would clamp, without its division. */
 uint8_t sl_pulse_clamps(const sl_chan_cfg_t *c, int16_t cdeg);
 
+/* The pulse window of a channel: the widths of its soft limits lo and hi (in either order, an inverted servo
+ * swaps them), inside [min_us, max_us]. Every pulse the link outputs lies in it. */
+void sl_pulse_window(const sl_chan_cfg_t *c, uint16_t *lo_us, uint16_t *hi_us);
+
+/* Inverse of sl_cdeg_to_us: the joint angle (centidegrees, inside the soft limits) whose pulse is closest to us.
+ * Used when a SET_PULSES override hands over to an angle (PARK, ARM, SET_MODE) without a jump. */
+int16_t sl_us_to_cdeg(const sl_chan_cfg_t *c, uint16_t us);
+
 /* Move cur towards target by at most max_slew_dps * dt_ms (centidegrees); unlimited if 0. */
 int16_t sl_slew(int16_t cur, int16_t target, uint16_t max_slew_dps, uint16_t dt_ms);
 

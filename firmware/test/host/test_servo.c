@@ -130,7 +130,7 @@ static void test_osc(void)
             worst = e;
     }
     CHECK(worst < 2e-4, "sine table error %.2e", worst);
-    sl_osc_t o = {4500, -1000, 2000, 9000}; /* 45 deg amplitude, -10 deg offset, 2 s period, 90 deg phase */
+    sl_osc_t o = {4500, -1000, 2000, 9000, SL_GAIN_ONE, SL_GAIN_ONE}; /* 45 deg amplitude, -10 deg offset, 2 s period, 90 deg phase */
     double worst_cdeg = 0;
     for (uint32_t t = 0; t < 6000; t += 3) {
         double exact = -1000 + 4500 * sin(2 * M_PI * t / 2000.0 + M_PI / 2);
@@ -139,7 +139,7 @@ static void test_osc(void)
             worst_cdeg = e;
     }
     CHECK(worst_cdeg <= 3.0, "oscillator error %.2f cdeg", worst_cdeg);
-    sl_osc_t z = {0, 1234, 1000, 0};
+    sl_osc_t z = {0, 1234, 1000, 0, SL_GAIN_ONE, SL_GAIN_ONE};
     CHECK(sl_osc_value(&z, 777) == 1234, "zero amplitude = offset");
 }
 
