@@ -12,6 +12,7 @@ as acknowledged, so the whole path (encoding, framing, pacing) runs without hard
 """
 from __future__ import annotations
 
+import sys
 import threading
 import time
 
@@ -21,6 +22,23 @@ from . import protocol as P
 
 
 READ_TIMEOUT_S = 0.002  # the serial port's read timeout: the longest a poll blocks in one read
+
+
+def pyserial_help():
+    """How to install pyserial, which streaming needs (the Addon Manager cannot: it is not on its allow-list)."""
+    v = "%d.%d" % sys.version_info[:2]
+    return ("streaming to hardware needs pyserial, which is not installed for the Python FreeCAD runs on "
+            f"(Python {v}). Debian / Ubuntu: sudo apt install python3-serial; elsewhere: pip install pyserial "
+            "for that Python (FreeCAD's Addon Manager cannot install it: pyserial is not on its dependency "
+            "allow-list). Then restart FreeCAD.")
+
+
+def pyserial_available():
+    try:
+        import serial  # noqa: F401
+        return True
+    except ImportError:
+        return False
 
 
 class LinkError(MetamaterialError):
@@ -50,8 +68,8 @@ class Link:
     def open(cls, port, baud=115200, dry_run=False):
         try:
             import serial
-        except ImportError as exc:  # pragma: no cover - pyserial is a declared dependency
-            raise LinkError("pyserial is not installed (Debian: python3-serial)") from exc
+        except ImportError:
+            raise LinkError(pyserial_help()) from None
         url = "loop://" if dry_run and not port else port
         try:
             ser = serial.serial_for_url(url, baudrate=baud, timeout=READ_TIMEOUT_S, write_timeout=1.0)

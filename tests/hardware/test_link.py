@@ -248,3 +248,16 @@ def test_cli_exits_1_when_frames_are_lost_beyond_max_lost(device, tmp_path):
         assert d["lost"] == 3 and d["nak_unreadable"] == 1 and d["frames"] == d["acked"] + 3, d
         if rc:
             assert "3 frames lost (--max-lost" in r.stderr
+
+
+def test_missing_pyserial_says_how_to_install_it(monkeypatch):
+    """pyserial is not on the Addon Manager's allow-list: the error tells the user how to get it (issue 13)."""
+    import sys as _sys
+
+    from metamaterial_wb.hardware import link as L
+    monkeypatch.setitem(_sys.modules, "serial", None)      # import serial -> ImportError
+    assert L.pyserial_available() is False
+    with pytest.raises(L.LinkError) as exc:
+        L.Link.open("/dev/ttyUSB0")
+    msg = str(exc.value)
+    assert "python3-serial" in msg and "pip install pyserial" in msg and "allow-list" in msg

@@ -112,9 +112,16 @@ class AnimatePanel(BasePanel):
         hl.addWidget(self.port)
         hl.addWidget(self.connect_btn)
         self.layout.addLayout(hl)
+        from metamaterial_wb.hardware.link import pyserial_available, pyserial_help
         if not hardware_available():
             self.connect_btn.setEnabled(False)
             self.connect_btn.setToolTip("the hardware package (metamaterial_wb.hardware) is not available")
+        elif not pyserial_available():
+            self.connect_btn.setEnabled(False)
+            self.connect_btn.setToolTip(pyserial_help())
+            self.serial_note = QtGui.QLabel(pyserial_help())   # says how to install it; playing still works
+            self.serial_note.setWordWrap(True)
+            self.layout.addWidget(self.serial_note)
         else:
             self.connect_btn.setToolTip("Stream the values shown to the servo firmware at 50 Hz "
                                         "(port loop:// = dry run without hardware)")
