@@ -18,7 +18,7 @@ trap 'rm -rf "$logs"' EXIT
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then   # Qt wants one; a lane root's clean environment has none
   export XDG_RUNTIME_DIR="$logs/xdg-runtime"; mkdir -m 700 "$XDG_RUNTIME_DIR"
 fi
-args+=(-rs)                             # the reason of every skip in the log
+args+=(-rfEs)                           # failures, errors and the reason of every skip in the summary
 count() {  # count WORD FILE: the number before WORD on pytest's closing line
   grep -E '^=*.* in [0-9.]+s' "$2" | tail -n1 | grep -oE "[0-9]+ $1" | awk '{print $1}' | head -n1
 }

@@ -141,7 +141,7 @@ def test_max_fold_bound_by_fabrication():
     # independent check of the fit criterion at the limit tilt: anchor + shear == room before the socket
     tilt = math.radians(max_fabricable_tilt_deg(s, 0.8))
     p = fabrication_params(Scene.from_dict(d))
-    room = 0.5 * (20 - 5) - (p.counterbore_radius_mm + 0.4)
+    room = 0.5 * (20 - 5) - (p.counterbore_radius_mm + p.min_wall_mm)   # wall: two nozzle widths
     assert 0.8 / math.cos(tilt) + p.anchor_margin_mm + 7.0 * math.tan(tilt) == pytest.approx(room, abs=1e-9)
     for fold, ok in ((mx - 1e-6, True), (mx * 1.02, False)):
         s2 = Scene.from_dict(dict(d, axes=[V(1, fold)]))

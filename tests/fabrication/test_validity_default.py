@@ -133,8 +133,26 @@ def test_gripper_thinnest_wall_is_two_nozzle_widths(fc):
     assert 0.8 - 1e-6 <= worst < 1.5
 
 
+KINDS = {"metamaterial-scene": "scene", "metamaterial-sleeve": "sleeve spec",
+         "metamaterial-target": "inverse-design target", "metamaterial-inverse-report": "inverse-design report"}
+
+
+def _format(path):
+    with open(path) as f:
+        return json.load(f).get("format", "metamaterial-scene")
+
+
 def _scene_files():
-    return sorted(glob.glob(os.path.join(EXAMPLES, "*.json")))
+    return sorted(p for p in glob.glob(os.path.join(EXAMPLES, "*.json"))
+                  if _format(p) in ("metamaterial-scene", "metamaterial-sleeve"))
+
+
+def test_every_example_file_is_a_known_kind():
+    """examples/ holds scenes, sleeve specs and inverse-design targets / reports (the last two are data
+    that `inverse` reads or writes, not something to print)."""
+    odd = {os.path.basename(p): _format(p) for p in glob.glob(os.path.join(EXAMPLES, "*.json"))
+           if _format(p) not in KINDS}
+    assert not odd, odd
 
 
 @pytest.mark.parametrize("path", _scene_files(), ids=os.path.basename)
