@@ -19,6 +19,9 @@ esac
 [ "$(id -u)" = 0 ] || { echo "run-lane: lane $lane needs root (chroot, mount); run with sudo" >&2; exit 2; }
 roots="${METAMATERIAL_LANE_ROOTS:-/var/cache/metamaterial-wb/roots}"
 root="$roots/$suite"
+mkdir -p "$roots"
+exec 9>"$root.lock"          # one run per root at a time (a second waits): mounts and rebuilds never overlap
+flock 9
 if ! bash "$here/lane-root.sh" "$suite" "$root"; then
   echo "LANE-RESULT $lane root 0 0 0 1 1"
   echo "run-lane: lane $lane FAILED: the $suite root could not be made" >&2
@@ -33,9 +36,17 @@ cleanup() {
   done
   mounts=()
 }
+child=""
+stop_child() {   # end the run inside the root (its own process group) before the mounts go
+  if [ -n "$child" ] && kill -0 "$child" 2>/dev/null; then
+    kill -TERM -- "-$child" 2>/dev/null || true
+    for _ in $(seq 50); do kill -0 "$child" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL -- "-$child" 2>/dev/null || true
+  fi
+}
 trap cleanup EXIT
-trap 'cleanup; exit 130' INT
-trap 'cleanup; exit 143' TERM
+trap 'stop_child; cleanup; exit 130' INT
+trap 'stop_child; cleanup; exit 143' TERM
 bindmount() {  # bindmount SRC TARGET-INSIDE-ROOT
   mkdir -p "$root$2"
   mount --bind "$1" "$root$2"
@@ -47,9 +58,12 @@ bindmount /dev/pts /dev/pts
 [ -d /dev/shm ] && bindmount /dev/shm /dev/shm
 bindmount "$repo" "$repo"
 set +e
-chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb CI="${CI:-}" \
+setsid chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb CI="${CI:-}" \
   PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-  /bin/bash "$repo/tools/run-suite.sh" "$lane" "$@"
+  /bin/bash "$repo/tools/run-suite.sh" "$lane" "$@" < /dev/null &
+child=$!
+wait "$child"
 rc=$?
+child=""
 set -e
 exit $rc
