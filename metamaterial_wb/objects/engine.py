@@ -431,7 +431,7 @@ class _ProgressActuation:
 def run_dynamics(scene, seconds, fps=30.0, progress=None):
     """Simulate ``scene`` with core.dynamics (as ``simulate --out``) and return
     ``(trajectory dict, summary dict)``; the dict is what ``DIR/trajectory.json`` holds."""
-    from metamaterial_wb.commands.simulate import trajectory_dict
+    from metamaterial_wb.core.results import trajectory_dict
     from metamaterial_wb.core.dynamics.builders import build, dynamics_config
     from metamaterial_wb.core.dynamics.simulate import simulate
 

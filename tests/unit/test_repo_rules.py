@@ -121,7 +121,6 @@ KNOWN_VIOLATIONS = {
     ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.step"),
     ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.threemf"),
     ("metamaterial_wb.gui.exporting", "metamaterial_wb.commands.build"),
-    ("metamaterial_wb.objects.engine", "metamaterial_wb.commands.simulate"),
 }
 KNOWN_CYCLES = {
     ("metamaterial_wb.core.design", "metamaterial_wb.core.kinematics"),
