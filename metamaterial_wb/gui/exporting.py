@@ -40,7 +40,7 @@ def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=
     A module the fabrication package cannot build (a conflict, an unknown servo) is an error naming it:
     nothing is written; export without modules to get the sheet alone.
     """
-    from metamaterial_wb.commands.build import export_result
+    from metamaterial_wb.export.package import export_result
     from metamaterial_wb.geometry.build import build_scene
     from metamaterial_wb.geometry.fc import freecad
     from metamaterial_wb.geometry.params import fabrication_params

@@ -46,7 +46,7 @@ def test_clip_next_to_the_fish_stable_hub_is_refused_by_default(tmp_path, fc):
 
 def test_shared_export_function_checks(fc):
     """export_result (what the GUI's export calls) runs the checks itself."""
-    from metamaterial_wb.commands.build import export_result
+    from metamaterial_wb.export.package import export_result
     from metamaterial_wb.core.errors import MetamaterialError
     from metamaterial_wb.geometry.build import build_scene
     sc = make_scene({"grid": [2, 3]}, modules=[{"type": "stable_hub", "name": "hub", "joint": "H0,0"},

@@ -120,7 +120,6 @@ KNOWN_VIOLATIONS = {
     ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.mesh"),
     ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.step"),
     ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.threemf"),
-    ("metamaterial_wb.gui.exporting", "metamaterial_wb.commands.build"),
 }
 KNOWN_CYCLES = {
     ("metamaterial_wb.core.design", "metamaterial_wb.core.kinematics"),
