@@ -204,3 +204,17 @@ def hinge_mid(sc, joint):
         g, parent = parent.Placement.multiply(g), parent.getParentGeoFeatureGroup()
     pa, pb = (g.multVec(sc.NodeArray.PlacementList[k].Base) for k in (a, b))
     return FreeCAD.Vector((pa.x + pb.x) / 2, (pa.y + pb.y) / 2, (pa.z + pb.z) / 2)
+
+
+def _qt6():
+    from PySide import QtCore
+    return QtCore.qVersion().startswith("6")
+
+
+# FreeCAD 1.1 (Qt 6) under Xvfb with a fresh user folder shows the task panel in a tab that stays hidden, so
+# its widgets report themselves invisible and synthetic events on the 3D view do not reach the picker. The
+# tests that read visibility or hover the view are expected to fail there until that is solved (issue 13
+# note); they run and must pass on 0.20 and 1.0.
+qt6_hidden_task_view = pytest.mark.xfail(_qt6(), strict=False, reason=(
+    "FreeCAD 1.1 / Qt 6 under Xvfb: the task panel's tab stays hidden (widgets invisible, view events lost)"))
+

@@ -12,7 +12,7 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import click, doc, press_ok, process, run_panel, workbench  # noqa: E402,F401
+from guihelpers import qt6_hidden_task_view, click, doc, press_ok, process, run_panel, workbench  # noqa: E402,F401
 
 FRAME_COST_S = 0.08
 
@@ -42,6 +42,7 @@ def play_for(p, seconds):
     return time.perf_counter() - t0
 
 
+@qt6_hidden_task_view
 def test_clock_follows_wall_time_and_drops_frames(doc, slow_frames):
     open_fish(doc)
     p = run_panel("MM_Animate")
@@ -62,6 +63,7 @@ def test_clock_follows_wall_time_and_drops_frames(doc, slow_frames):
     assert p.t - t_before == pytest.approx(2.0 * wall, abs=0.4)
 
 
+@qt6_hidden_task_view
 def test_stream_sends_the_wall_clock_values(doc, slow_frames):
     from metamaterial_wb.gui.panels import hardware_available
     if not hardware_available():

@@ -82,7 +82,7 @@ def test_stl_binary_ascii_and_obj_read_the_same_triangles(tmp_path, scene):
             f.write(struct.pack("<12fH", 0, 0, 0, *t.ravel(), 0))
     verts = tri.reshape(-1, 3)
     with open(tmp_path / "c.obj", "w") as f:
-        f.writelines(f"v {v[0]!r} {v[1]!r} {v[2]!r}\n" for v in verts)
+        f.writelines(f"v {float(v[0])!r} {float(v[1])!r} {float(v[2])!r}\n" for v in verts)
         f.writelines(f"f {3 * k + 1} {3 * k + 2}/1 {3 * k + 3}//2\n" for k in range(len(tri)))
     a, b, c = (load_mesh(str(tmp_path / n)) for n in ("a.stl", "b.stl", "c.obj"))
     assert np.allclose(a, tri) and np.allclose(c, tri) and np.allclose(b, tri, atol=1e-4)

@@ -108,10 +108,10 @@ def task_buttons():
     """The task dialog's button box (OK / Cancel) of the shown panel, or None."""
     mw = FreeCADGui.getMainWindow()
     sb = QtGui.QDialogButtonBox.StandardButton
-    for box in mw.findChildren(QtGui.QDialogButtonBox):
-        if box.isVisible() and any(box.button(b) is not None for b in (sb.Ok, sb.Close)):
-            return box
-    return None
+    boxes = [box for box in mw.findChildren(QtGui.QDialogButtonBox)
+             if any(box.button(b) is not None for b in (sb.Ok, sb.Close))]
+    visible = [box for box in boxes if box.isVisible()]
+    return (visible or boxes or [None])[0]
 
 
 def red_label(text=""):
