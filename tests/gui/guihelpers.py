@@ -159,17 +159,35 @@ def view_widget():
     return gv.viewport()
 
 
-def screen_point(vec):
-    """Qt widget coordinates of a global 3D point in the active view."""
+def screen_point(vec, timeout=5.0):
+    """Qt widget coordinates of a global 3D point in the active view.
+
+    Waits until the view has settled: the panel's layout may make the 3D view narrower, Coin's viewport
+    follows a widget resize only at the next render (under Xvfb it lags), and FreeCAD 1.x animates
+    ViewFit. The point is read again after a redraw until two reads 50 ms apart agree and Coin's viewport
+    has the widget's size."""
+    import time
     from PySide import QtCore
-    process(100)                     # the panel's layout settles first (the 3D view may get narrower)
     view = FreeCADGui.ActiveDocument.ActiveView
     w = view_widget()
-    # Quarter maps widget pixels onto Coin's viewport region, which follows a resize of the widget only at
-    # the next render (under Xvfb it lags): coin = (qx * Wc / Wq, Hc - 1 - qy * Hc / Hq) (measured)
-    wc, hc = view.getSize()
-    x, y = view.getPointOnScreen(vec)
-    return QtCore.QPoint(int(round(x * w.width() / wc)), int(round((hc - 1 - y) * w.height() / hc)))
+    deadline = time.perf_counter() + timeout
+    last = None
+    while True:
+        view.redraw()
+        w.repaint()                  # a synchronous paint: Coin takes the widget's size at a render
+        process(50)
+        wc, hc = view.getSize()
+        x, y = view.getPointOnScreen(vec)
+        # Quarter maps widget pixels onto Coin's viewport: coin = (qx * Wc / Wq, Hc - 1 - qy * Hc / Hq)
+        now = (wc, hc, w.width(), w.height(), int(round(x * w.width() / wc)),
+               int(round((hc - 1 - y) * w.height() / hc)))
+        if now == last and (wc, hc) == (w.width(), w.height()):
+            break
+        if time.perf_counter() > deadline:
+            raise AssertionError(f"the 3D view did not settle in {timeout} s: Coin viewport {wc}x{hc}, "
+                                 f"widget {w.width()}x{w.height()}")
+        last = now
+    return QtCore.QPoint(now[4], now[5])
 
 
 def hover_view(point):
