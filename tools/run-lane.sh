@@ -59,7 +59,7 @@ bindmount /dev/pts /dev/pts
 bindmount "$repo" "$repo"
 set +e
 setsid chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb CI="${CI:-}" \
-  MM_GUI_PYTEST_ARGS="${MM_GUI_PYTEST_ARGS:-}" MM_GUI_ONLY="${MM_GUI_ONLY:-}" \
+  MM_GUI_PYTEST_ARGS="${MM_GUI_PYTEST_ARGS:-}" MM_GUI_ONLY="${MM_GUI_ONLY:-}" MM_APP_ONLY="${MM_APP_ONLY:-}" \
   PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
   /bin/bash "$repo/tools/run-suite.sh" "$lane" "$@" < /dev/null &
 child=$!

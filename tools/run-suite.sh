@@ -37,7 +37,7 @@ else
   rc_app=${PIPESTATUS[0]}
 fi
 rc_gui=0
-if [ -f tests/run_gui_pytest.py ]; then
+if [ -f tests/run_gui_pytest.py ] && [ -z "${MM_APP_ONLY:-}" ]; then   # MM_APP_ONLY=1: developers skip the GUI part
   cfgdir="$(mktemp -d)"; cp resources/test_user.cfg "$cfgdir/user.cfg"
   timeout 1200 xvfb-run -a -s "-screen 0 1600x1000x24" freecad -u "$cfgdir/user.cfg" \
     tests/run_gui_pytest.py -M "$PWD" 2>&1 | tee "$logs/gui.log"
