@@ -38,7 +38,8 @@ for lane in "${lanes[@]}"; do
   info="$(grep -m1 "^lane $lane: FreeCAD" "$logdir/$lane.log" | sed "s/^lane $lane: //" || true)"
   parts=""
   while read -r _ _ part p f s e prc; do
-    parts+=" $part $p passed $f failed $s skipped${e:+ $e errors};"
+    errs=""; [ "${e:-0}" = 0 ] || errs=" $e errors"          # shown only when pytest reported errors
+    parts+=" $part $p passed $f failed $s skipped$errs;"
     tp=$((tp + p)); tf=$((tf + f + e)); ts=$((ts + s))
   done < <(grep '^LANE-RESULT ' "$logdir/$lane.log" || true)
   [ -n "$parts" ] || { parts=" no test ran;"; tf=$((tf + 1)); }

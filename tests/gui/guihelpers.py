@@ -164,8 +164,8 @@ def screen_point(vec, timeout=5.0):
 
     Waits until the view has settled: the panel's layout may make the 3D view narrower, Coin's viewport
     follows a widget resize only at the next render (under Xvfb it lags), and FreeCAD 1.x animates
-    ViewFit. The point is read again after a redraw until two reads 50 ms apart agree and Coin's viewport
-    has the widget's size."""
+    ViewFit. The view is repainted (a synchronous render, which makes Coin take the widget's size) and
+    the point read again until two reads 50 ms apart agree."""
     import time
     from PySide import QtCore
     view = FreeCADGui.ActiveDocument.ActiveView
@@ -181,11 +181,11 @@ def screen_point(vec, timeout=5.0):
         # Quarter maps widget pixels onto Coin's viewport: coin = (qx * Wc / Wq, Hc - 1 - qy * Hc / Hq)
         now = (wc, hc, w.width(), w.height(), int(round(x * w.width() / wc)),
                int(round((hc - 1 - y) * w.height() / hc)))
-        if now == last and (wc, hc) == (w.width(), w.height()):
+        if now == last:                  # (Coin's viewport may differ from the widget: 0.20 scales it)
             break
         if time.perf_counter() > deadline:
-            raise AssertionError(f"the 3D view did not settle in {timeout} s: Coin viewport {wc}x{hc}, "
-                                 f"widget {w.width()}x{w.height()}")
+            raise AssertionError(f"the 3D view did not settle in {timeout} s: last reads {last} and {now} "
+                                 "(Coin viewport w, h, widget w, h, point x, y)")
         last = now
     return QtCore.QPoint(now[4], now[5])
 
