@@ -29,9 +29,12 @@ if [ -n "$have" ] && [ "${have%% *}" = "$suite" ]; then   # same suite: add what
   removed=($(comm -23 <(printf '%s\n' "${old[@]}" | sort) <(printf '%s\n' "${pkgs[@]}" | sort)))
   if [ ${#removed[@]} = 0 ] && [ ${#missing[@]} -gt 0 ] && [ -z "$(mounted_below "$dir")" ]; then
     echo "lane-root: adding ${missing[*]} to the $suite root" >&2
-    mount -t proc proc "$dir/proc"
-    mount --bind /dev "$dir/dev"
-    trap 'umount "$dir/dev" 2>/dev/null || umount -l "$dir/dev"; umount "$dir/proc" 2>/dev/null || umount -l "$dir/proc"' EXIT
+    . "$here/lane-mounts.sh"
+    trap lane_unmount_all EXIT
+    trap 'lane_unmount_all; exit 130' INT
+    trap 'lane_unmount_all; exit 143' TERM
+    lane_mount_proc "$dir"
+    lane_bind "$dir" /dev /dev
     cp /etc/resolv.conf "$dir/etc/resolv.conf" 2>/dev/null || true
     if chroot "$dir" apt-get "${aptopts[@]}" update -qq >&2 &&
        DEBIAN_FRONTEND=noninteractive chroot "$dir" apt-get "${aptopts[@]}" install -y -qq "${missing[@]}" >&2; then
@@ -40,8 +43,8 @@ if [ -n "$have" ] && [ "${have%% *}" = "$suite" ]; then   # same suite: add what
       exit 0
     fi
     echo "lane-root: adding packages failed; rebuilding the root" >&2
-    umount "$dir/dev" 2>/dev/null || umount -l "$dir/dev"; umount "$dir/proc" 2>/dev/null || umount -l "$dir/proc"
-    trap - EXIT
+    lane_unmount_all
+    trap - EXIT INT TERM
   fi
 fi
 

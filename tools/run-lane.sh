@@ -27,15 +27,7 @@ if ! bash "$here/lane-root.sh" "$suite" "$root"; then
   echo "run-lane: lane $lane FAILED: the $suite root could not be made" >&2
   exit 1
 fi
-mounts=()
-cleanup() {
-  local i
-  for ((i=${#mounts[@]}-1; i>=0; i--)); do
-    umount "${mounts[i]}" 2>/dev/null || umount -l "${mounts[i]}" 2>/dev/null || \
-      echo "run-lane: could not unmount ${mounts[i]}" >&2
-  done
-  mounts=()
-}
+. "$here/lane-mounts.sh"
 child=""
 stop_child() {   # end the run inside the root (its own process group) before the mounts go
   if [ -n "$child" ] && kill -0 "$child" 2>/dev/null; then
@@ -44,19 +36,14 @@ stop_child() {   # end the run inside the root (its own process group) before th
     kill -KILL -- "-$child" 2>/dev/null || true
   fi
 }
-trap cleanup EXIT
-trap 'stop_child; cleanup; exit 130' INT
-trap 'stop_child; cleanup; exit 143' TERM
-bindmount() {  # bindmount SRC TARGET-INSIDE-ROOT
-  mkdir -p "$root$2"
-  mount --bind "$1" "$root$2"
-  mounts+=("$root$2")
-}
-mkdir -p "$root/proc"; mount -t proc proc "$root/proc"; mounts+=("$root/proc")
-bindmount /dev /dev
-bindmount /dev/pts /dev/pts
-[ -d /dev/shm ] && bindmount /dev/shm /dev/shm
-bindmount "$repo" "$repo"
+trap lane_unmount_all EXIT
+trap 'stop_child; lane_unmount_all; exit 130' INT
+trap 'stop_child; lane_unmount_all; exit 143' TERM
+lane_mount_proc "$root"
+lane_bind "$root" /dev /dev
+lane_bind "$root" /dev/pts /dev/pts
+[ -d /dev/shm ] && lane_bind "$root" /dev/shm /dev/shm
+lane_bind "$root" "$repo" "$repo"
 set +e
 setsid chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb CI="${CI:-}" \
   MM_GUI_PYTEST_ARGS="${MM_GUI_PYTEST_ARGS:-}" MM_GUI_ONLY="${MM_GUI_ONLY:-}" MM_APP_ONLY="${MM_APP_ONLY:-}" \
