@@ -151,3 +151,28 @@ def test_headless_open_of_a_file_whose_proxies_were_dropped_says_so_and_saves_th
     assert "SAVE_OK" in out, out
     assert len(_saved_proxy_modules(f)) == len(OURS), out     # the save wrote the proxies back
     _same_as_reference(_open_with_package(f, tmp_path, bare), ref)
+
+
+def _rewrite(path, old, new):
+    tmp = path.with_suffix(".tmp")
+    with zipfile.ZipFile(path) as zi, zipfile.ZipFile(tmp, "w") as zo:
+        for item in zi.infolist():
+            data = zi.read(item.filename)
+            if item.filename == "Document.xml":
+                assert old.encode() in data
+                data = data.replace(old.encode(), new.encode())
+            zo.writestr(item, data)
+    os.replace(tmp, path)
+
+
+def test_headless_open_that_cannot_reattach_says_so_and_refuses_to_save_over_the_file(fish, tmp_path):
+    """A dropped proxy whose class this add-on does not have (a file of a newer version): the session says
+    which object, and save() is refused, so the original file keeps what this session could not read."""
+    f, ref, bare = fish
+    _python(f"doc = FreeCAD.openDocument({str(f)!r})\ndoc.save()\n", tmp_path, bare)    # proxies dropped
+    _rewrite(f, "metamaterial_wb.objects.structure:SceneProxy", "metamaterial_wb.objects.structure:GoneProxy")
+    before = f.read_bytes()
+    out = _freecadcmd(HEADLESS.format(path=str(f)), tmp_path, _home_with_addon(tmp_path))
+    assert "could not be re-attached (Scene)" in out and "not saving over" in out, out
+    assert "SAVE_FAILED" in out and _line(out, "FILE_CHANGED") is False, out
+    assert f.read_bytes() == before
