@@ -23,7 +23,17 @@ def range_message(value, low, high, unit="", low_open=False, high_open=False):
     lo = "(" if low_open else "["
     hi = ")" if high_open else "]"
     u = f" {unit}" if unit else ""
-    return f"{value!r}{u} is outside the allowed range {lo}{low}, {high}{hi}"
+    return f"{value!r}{u} is outside the allowed range {lo}{_bound(low)}, {_bound(high)}{hi}"
+
+
+def _bound(x):
+    """A computed bound as people write it (0.6 * 18 is 10.8, not 10.799999999999999)."""
+    if isinstance(x, float) and len(repr(x)) > 12:
+        return f"{x:.10g}"
+    return x
+
+
+_ULPS = 4e-16 * 4
 
 
 def check_number(field, value, low=None, high=None, unit="", low_open=False, high_open=False):
@@ -36,10 +46,12 @@ def check_number(field, value, low=None, high=None, unit="", low_open=False, hig
     if not math.isfinite(v):
         raise SceneError(field, f"{value!r} is not a finite number")
     bad = False
+    # a closed bound computed from other fields (0.6 * 18 = 10.799999999999999) admits the value people
+    # write for it (10.8): a margin of a few units in the last place, never more
     if low is not None:
-        bad |= v <= low if low_open else v < low
+        bad |= v <= low if low_open else v < low - _ULPS * abs(low)
     if high is not None:
-        bad |= v >= high if high_open else v > high
+        bad |= v >= high if high_open else v > high + _ULPS * abs(high)
     if bad:
         lo = "-inf" if low is None else low
         hi = "inf" if high is None else high

@@ -9,7 +9,8 @@
 * :func:`write_atomic` / :func:`write_json` write one file through a temporary file and a rename;
   :class:`OutputSet` moves a whole set of files into a folder, rolling back if any move fails.
 * Temporary names carry the writer's process id (``.tmp-<pid>-...``); :func:`sweep_stale` removes
-  those of processes that no longer run (a ``kill -9`` leaves them), and is called on every write.
+  those of processes that no longer run (a ``kill -9`` leaves them), and is called on every write
+  (and by the STEP writer on the system temporary folder, for its ``.mmwb-<pid>-*.step`` files).
 """
 import errno
 import json
@@ -26,7 +27,7 @@ MAX_INPUT_BYTES = 256 * 2 ** 20     # a scene of 4 M cells as a "cells" list is 
 MAX_DEPTH = 32                      # the deepest real scene field is ~6 levels
 MAX_INT = 2 ** 63 - 1
 TEMP_PREFIXES = (".tmp-", ".build-", ".sleeve-", ".tmp-simulate-")
-_STALE_RE = re.compile(r"^\.(?:tmp|build|sleeve|tmp-simulate|sleeve-export)-(\d+)-")
+_STALE_RE = re.compile(r"^\.(?:tmp|build|sleeve|tmp-simulate|sleeve-export|mmwb)-(\d+)-")
 _KERNEL_FS = ("/proc", "/sys", "/dev")
 
 

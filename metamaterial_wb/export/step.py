@@ -116,7 +116,7 @@ def colorize_step(text, colours):
 def write_step(path, bodies, assembly_name="structure", colours=True):
     """Write ``bodies`` = ``[(name, shape, colour_hex_or_None)]`` (shapes already at their place) as one
     STEP assembly named ``assembly_name`` with one named body per entry. Atomic."""
-    from metamaterial_wb.core.fileio import write_atomic
+    from metamaterial_wb.core.fileio import sweep_stale, temp_prefix, write_atomic
     from metamaterial_wb.geometry.fc import freecad
 
     App, Part = freecad()
@@ -142,7 +142,8 @@ def write_step(path, bodies, assembly_name="structure", colours=True):
             o.Shape = shape
             objs.append(o)
         asm.addObjects(objs)
-        fd, tmp = tempfile.mkstemp(suffix=".step", prefix=".mmwb-")
+        sweep_stale(tempfile.gettempdir())      # .mmwb-<pid>-*.step of exports killed with SIGKILL
+        fd, tmp = tempfile.mkstemp(suffix=".step", prefix=temp_prefix("mmwb"))
         os.close(fd)
         try:
             Import.export([asm], tmp)

@@ -225,40 +225,7 @@ def repair_report(doc):
     return _REPORTS.get(doc.Name)
 
 
-class _DocumentGuard:
-    """Document observer: repair when a document becomes active (FreeCAD 0.20's Python observers get
-    no restore signal; an opened document is activated right after its restore), and before every
-    save; write the manifest at every save."""
-
-    def slotActivateDocument(self, doc):
-        if getattr(doc, "Restoring", False) or doc.Name in _REPORTS:
-            return
-        try:
-            repair_document(doc)
-        except Exception as exc:  # noqa: BLE001 - an observer must never break FreeCAD
-            FreeCAD.Console.PrintError(f"Metamaterial: document check failed: {exc}\n")
-
-    def slotDeletedDocument(self, doc):
-        _REPORTS.pop(doc.Name, None)
-
-    def slotStartSaveDocument(self, doc, filename):
-        try:
-            if any(getattr(o, "Proxy", None) is None for o in _ours(doc)):
-                repair_document(doc)
-            write_manifest(doc)
-        except Exception as exc:  # noqa: BLE001
-            FreeCAD.Console.PrintError(f"Metamaterial: could not write the object manifest: {exc}\n")
-
-
 def install_document_guard():
-    """Register the observer once per FreeCAD session and repair the documents already open."""
-    if getattr(FreeCAD, "_metamaterial_doc_guard", None) is None:
-        guard = _DocumentGuard()
-        FreeCAD.addDocumentObserver(guard)
-        FreeCAD._metamaterial_doc_guard = guard
-        for doc in FreeCAD.listDocuments().values():
-            try:
-                repair_document(doc)
-            except Exception:  # noqa: BLE001
-                pass
-
+    """Register the document guard (:mod:`metamaterial_wb.objects.docguard`) once per session."""
+    from metamaterial_wb.objects import docguard
+    return docguard.install()

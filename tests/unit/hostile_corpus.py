@@ -70,6 +70,74 @@ SLEEVE_FIELDS = [("L_mm",), ("c_mm",), ("T_mm",), ("shear_modulus_MPa",), ("cell
                  ("cell_types", 0, "t_mm"), ("ring",), ("ring", 0), ("actuator",),
                  ("actuator", "core_diameter_mm")]
 
+# every bound of every numeric sleeve field, hit from outside (issue 19): (id, {path: value}, field the error
+# must name). The values sit just beyond the bound; integers get a fraction too. The base is BASE_SLEEVE
+# (L = 18, c = 4, t = 1.098, 4 cells around, mid radius 14 mm).
+SLEEVE_BOUNDS = [
+    ("L-low", {("L_mm",): 1.99}, "L_mm"), ("L-high", {("L_mm",): 200.1}, "L_mm"),
+    ("c-low", {("c_mm",): 0.39}, "c_mm"), ("c-high", {("c_mm",): 10.81}, "c_mm"),
+    ("delta-low", {("delta_mm",): 0.19}, "delta_mm"), ("delta-high", {("delta_mm",): 18.01}, "delta_mm"),
+    ("T-low", {("T_mm",): 0.39}, "T_mm"), ("T-high", {("T_mm",): 36.01}, "T_mm"),
+    ("T-tube", {("T_mm",): 28.1}, "T_mm"),
+    ("G-zero", {("shear_modulus_MPa",): 0}, "shear_modulus_MPa"),
+    ("G-high", {("shear_modulus_MPa",): 5000.1}, "shear_modulus_MPa"),
+    ("t-low", {("cell_types", 0, "t_mm"): 0.39}, "cell_types[0].t_mm"),
+    ("t-high", {("cell_types", 0, "t_mm"): 4.51}, "cell_types[0].t_mm"),
+    ("h-zero", {("cell_types", 1, "h_mm"): 0}, "cell_types[1].h_mm"),
+    ("h-high", {("cell_types", 1, "h_mm"): 10.81}, "cell_types[1].h_mm"),
+    ("rings-low", {("rings",): 0}, "rings"), ("rings-high", {("rings",): 13}, "rings"),
+    ("rings-frac", {("rings",): 1.5}, "rings"),
+    ("ring-short", {("ring",): [0]}, "ring"), ("ring-long", {("ring",): [0] * 33}, "ring"),
+    ("ring-bed", {("L_mm",): 30, ("ring",): [0, 1] * 16}, "ring"),
+    ("rings-height", {("L_mm",): 40, ("cell_types", 1, "h_mm"): 24, ("rings",): 12}, "rings"),
+    ("elements_cell-low", {("model",): {"elements_cell": 1}}, "model.elements_cell"),
+    ("elements_cell-high", {("model",): {"elements_cell": 81}}, "model.elements_cell"),
+    ("elements_cell-frac", {("model",): {"elements_cell": 16.5}}, "model.elements_cell"),
+    ("elements_ring-low", {("model",): {"elements_ring": 1}}, "model.elements_ring"),
+    ("elements_ring-high", {("model",): {"elements_ring": 81}}, "model.elements_ring"),
+    ("elements_ring-frac", {("model",): {"elements_ring": 2.5}}, "model.elements_ring"),
+    ("steps-low", {("model",): {"steps": 19}}, "model.steps"),
+    ("steps-high", {("model",): {"steps": 2001}}, "model.steps"),
+    ("steps-frac", {("model",): {"steps": 100.5}}, "model.steps"),
+    ("imperfection-low", {("model",): {"imperfection": -0.001}}, "model.imperfection"),
+    ("imperfection-high", {("model",): {"imperfection": 0.11}}, "model.imperfection"),
+    ("pillar_tip-low", {("model",): {"pillar_tip": 2.9}}, "model.pillar_tip"),
+    ("pillar_tip-high", {("model",): {"pillar_tip": 12.1}}, "model.pillar_tip"),
+    ("max_displacement-zero", {("model",): {"max_displacement_mm": 0}}, "model.max_displacement_mm"),
+    ("max_displacement-high", {("model",): {"max_displacement_mm": 180.1}}, "model.max_displacement_mm"),
+    ("core_diameter-zero", {("actuator", "core_diameter_mm"): 0}, "actuator.core_diameter_mm"),
+    ("core_diameter-high", {("actuator", "core_diameter_mm"): 240.1}, "actuator.core_diameter_mm"),
+    ("membrane-low", {("actuator", "membrane_kPa_per_mL"): -0.1}, "actuator.membrane_kPa_per_mL"),
+    ("membrane-high", {("actuator", "membrane_kPa_per_mL"): 10000.1}, "actuator.membrane_kPa_per_mL"),
+    ("t_over_L-zero", {("design_map",): {"t_over_L": [0, 0.07, 5]}}, "design_map.t_over_L[0]"),
+    ("t_over_L-high", {("design_map",): {"t_over_L": [0.05, 0.26, 5]}}, "design_map.t_over_L[1]"),
+    ("t_over_L-count0", {("design_map",): {"t_over_L": [0.05, 0.07, 0]}}, "design_map.t_over_L[2]"),
+    ("t_over_L-count41", {("design_map",): {"t_over_L": [0.05, 0.07, 41]}}, "design_map.t_over_L[2]"),
+    ("h_over_L-zero", {("design_map",): {"h_over_L": [0, 0.4, 5]}}, "design_map.h_over_L[0]"),
+    ("h_over_L-high", {("design_map",): {"h_over_L": [0.3, 0.61, 5]}}, "design_map.h_over_L[1]"),
+    ("map-elements-low", {("design_map",): {"elements": 1}}, "design_map.elements"),
+    ("map-elements-high", {("design_map",): {"elements": 81}}, "design_map.elements"),
+    ("map-elements-frac", {("design_map",): {"elements": 9.5}}, "design_map.elements"),
+    ("foot-low", {("walker",): {"foot_length_mm": -0.1}}, "walker.foot_length_mm"),
+    ("foot-high", {("walker",): {"foot_length_mm": 300.1}}, "walker.foot_length_mm"),
+    ("body-zero", {("walker",): {"body_length_mm": 0}}, "walker.body_length_mm"),
+    ("body-high", {("walker",): {"body_length_mm": 1000.1}}, "walker.body_length_mm"),
+    ("band-zero", {("walker",): {"contact_band_mm": 0}}, "walker.contact_band_mm"),
+    ("band-high", {("walker",): {"contact_band_mm": 100.1}}, "walker.contact_band_mm"),
+]
+
+
+def sleeve_with(changes):
+    """A copy of BASE_SLEEVE with ``{path: value}`` set."""
+    d = copy.deepcopy(BASE_SLEEVE)
+    for path, value in changes.items():
+        obj = d
+        for p in path[:-1]:
+            obj = obj[p]
+        obj[path[-1]] = copy.deepcopy(value)
+    return d
+
+
 SCENE_COMMANDS = ["solve", "design", "render", "simulate", "build", "stream", "calibrate"]
 # multi-megabyte resource bombs: every command reads scenes through the same Scene.load, so these
 # run through two commands only (one file output, one folder output) to keep the corpus fast
@@ -80,8 +148,9 @@ SLEEVE_COMMANDS = ["sleeve"]
 class Case:
     """One hostile input. ``make(folder)`` writes it and returns the input path (or None for a literal)."""
 
-    def __init__(self, cid, kind, make, commands=None, out=None, loads=False):
+    def __init__(self, cid, kind, make, commands=None, out=None, loads=False, names=None):
         self.id, self.kind, self.make, self.out, self.loads = cid, kind, make, out, loads
+        self.names = names          # the field the error line must name (with "allowed"), if set
         self.commands = commands or (SCENE_COMMANDS if kind == "scene" else SLEEVE_COMMANDS)
 
     def __repr__(self):
@@ -129,6 +198,9 @@ def cases():
                 text = _substitute(base, path, raw)
                 if text is not None:
                     out.append(_text_case(f"{kind}-{'.'.join(map(str, path))}-{vid}", kind, text))
+    # 1b. every bound of every numeric sleeve field, from outside: exit 2 naming the field and the range
+    for cid, changes, field in SLEEVE_BOUNDS:
+        out.append(_text_case(f"sleeve-bound-{cid}", "sleeve", json.dumps(sleeve_with(changes)), names=field))
     # 2. whole-text damage: truncated, non-UTF-8, BOM, NUL, empty, deep, huge
     for kind, base in (("scene", BASE_SCENE), ("sleeve", BASE_SLEEVE)):
         text = json.dumps(base)
@@ -359,6 +431,11 @@ def run_case(case, workdir, timeout_s=20.0, commands=None):
                     problems.append(f"{cmd}: exit 2 without one error line: {text[-300:]!r}")
                 elif "Traceback" in text or "out of memory" in text:
                     problems.append(f"{cmd}: {lines[0][:200]}")
+                elif case.names and not (f" {case.names}: " in lines[0] or lines[0].startswith(f"error: {case.names}: ")
+                                         ) or case.names and "allowed" not in lines[0]:
+                    problems.append(f"{cmd}: the error does not name {case.names} and its range: {lines[0][:200]}")
+        if case.names and rc != 2:
+            problems.append(f"{cmd}: out-of-range {case.names} not refused (exit {rc})")
         if _listing(cwd):
             problems.append(f"{cmd}: stray files in the current directory: {_listing(cwd)[:5]}")
         if _listing(indir) != before_in:

@@ -10,6 +10,18 @@ from metamaterial_wb.core.sleeve.model import pillar_tip_coefficient
 
 FORMAT = "metamaterial-sleeve"
 
+# Physical ranges (issue 19). Lower bounds: what an FDM printer resolves in TPU (one 0.4 mm extrusion for a
+# wall, a beam, a pillar; a 0.2 mm gap, below which the two sides fuse). Upper bounds: the build volume
+# of the bundled printer profile (export/profiles: a 330 x 240 mm bed, 300 mm high; the sleeve prints
+# upright, so its outer diameter must fit the bed's short side), the elastic model (a neo-Hookean
+# elastomer; stiffer than any printable polymer, G > 5 GPa, is not one) and the beam model's limits.
+MIN_FEATURE_MM = 0.4
+MIN_GAP_MM = 0.2
+BED_MM = 240.0
+MAX_HEIGHT_MM = 300.0
+MAX_G_MPA = 5000.0
+MAX_L_MM = 200.0        # a beam span beyond most of the bed's short side (and 2 cells around: 130 mm across)
+
 
 class SleeveSpec:
     def __init__(self, data, source="spec"):
@@ -22,14 +34,18 @@ class SleeveSpec:
         ver = data.get("version", 1)
         if ver != 1:
             raise SceneError("version", f"{ver!r}; supported: 1")
-        self.name = str(data.get("name", "sleeve"))
-        num = lambda k, d, lo, hi, unit="mm", lo_open=True: check_number(  # noqa: E731
+        name = data.get("name", "sleeve")
+        if not isinstance(name, str) or len(name) > 200:
+            raise SceneError("name", f"{str(name)[:40]!r}...; expected a string of at most 200 characters"
+                             if isinstance(name, str) else f"{name!r}; expected a string")
+        self.name = name
+        num = lambda k, d, lo, hi, unit="mm", lo_open=False: check_number(  # noqa: E731
             k, data.get(k, d), lo, hi, unit, low_open=lo_open)
-        self.L = num("L_mm", 18.0, 0, 1000)
-        self.c = num("c_mm", 4.0, 0, 1000)
-        self.delta = num("delta_mm", 0.5, 0, 1000)
-        self.T = num("T_mm", 1.8, 0, 1000)
-        self.G = num("shear_modulus_MPa", 28.0, 0, 1e5, "MPa")
+        self.L = num("L_mm", 18.0, 2, MAX_L_MM)
+        self.c = num("c_mm", 4.0, MIN_FEATURE_MM, 0.6 * self.L)
+        self.delta = num("delta_mm", 0.5, MIN_GAP_MM, self.L)
+        self.T = num("T_mm", 1.8, MIN_FEATURE_MM, 2 * self.L)
+        self.G = num("shear_modulus_MPa", 28.0, 0, MAX_G_MPA, "MPa", lo_open=True)
         self.layout = data.get("layout", "single")
         if self.layout not in ("single", "double"):
             raise SceneError("layout", f"{self.layout!r}; allowed: 'single' (one beam per cell, default), "
@@ -45,7 +61,7 @@ class SleeveSpec:
             for k in ("t_mm", "h_mm"):
                 if k not in ct:
                     raise SceneError(f"{f}.{k}", "missing")
-            t = check_number(f"{f}.t_mm", ct["t_mm"], 0, 0.25 * self.L, "mm", low_open=True)
+            t = check_number(f"{f}.t_mm", ct["t_mm"], MIN_FEATURE_MM, 0.25 * self.L, "mm")
             h = check_number(f"{f}.h_mm", ct["h_mm"], 0, 0.6 * self.L, "mm", low_open=True)
             self.cells.append(CellGeometry.checked(f, L=self.L, t=t, h=h, c=self.c, delta=self.delta, T=self.T,
                                                    layout=self.layout))
@@ -75,9 +91,9 @@ class SleeveSpec:
         m = data.get("model", {})
         if not isinstance(m, dict):
             raise SceneError("model", "expected an object")
-        self.n_el_cell = int(check_number("model.elements_cell", m.get("elements_cell", 16), 2, 80, ""))
-        self.n_el_ring = int(check_number("model.elements_ring", m.get("elements_ring", 24), 2, 80, ""))
-        self.steps = int(check_number("model.steps", m.get("steps", 160), 20, 2000, ""))
+        self.n_el_cell = _integer("model.elements_cell", m.get("elements_cell", 16), 2, 80)
+        self.n_el_ring = _integer("model.elements_ring", m.get("elements_ring", 24), 2, 80)
+        self.steps = _integer("model.steps", m.get("steps", 160), 20, 2000)
         self.plane = m.get("plane", "strain")
         if self.plane not in ("strain", "stress"):
             raise SceneError("model.plane", f"{self.plane!r}; allowed: 'strain', 'stress'")
@@ -94,7 +110,8 @@ class SleeveSpec:
         a = data.get("actuator", {})
         if not isinstance(a, dict):
             raise SceneError("actuator", "expected an object")
-        self.core_diameter = check_number("actuator.core_diameter_mm", a.get("core_diameter_mm", 24.6), 0, 1000, "mm", low_open=True)
+        self.core_diameter = check_number("actuator.core_diameter_mm", a.get("core_diameter_mm", 24.6), 0, BED_MM, "mm",
+                                          low_open=True)
         self.membrane = check_number("actuator.membrane_kPa_per_mL", a.get("membrane_kPa_per_mL", 0.0), 0, 1e4, "kPa/mL")
         dmap = data.get("design_map")
         self.design_map = None
@@ -107,7 +124,7 @@ class SleeveSpec:
                 "t_over_L": _range3("design_map.t_over_L", dmap.get("t_over_L", [0.045, 0.072, 5]), 0, 0.25),
                 "h_over_L": _range3("design_map.h_over_L", dmap.get("h_over_L", [0.30, 0.42, 5]), 0, 0.6),
                 "ring": bool(dmap.get("ring", False)),
-                "elements": int(check_number("design_map.elements", dmap.get("elements", 10), 2, 80, ""))}
+                "elements": _integer("design_map.elements", dmap.get("elements", 10), 2, 80)}
         w = data.get("walker")
         self.walker = None
         if w:
@@ -116,9 +133,26 @@ class SleeveSpec:
             if not isinstance(w, dict):
                 raise SceneError("walker", "expected true or an object")
             self.walker = {
-                "foot_length_mm": check_number("walker.foot_length_mm", w.get("foot_length_mm", 20.0), 0, 1000, "mm"),
-                "body_length_mm": check_number("walker.body_length_mm", w.get("body_length_mm", 120.0), 0, 5000, "mm", low_open=True),
-                "contact_band_mm": check_number("walker.contact_band_mm", w.get("contact_band_mm", 1.0), 0, 100, "mm", low_open=True)}
+                "foot_length_mm": check_number("walker.foot_length_mm", w.get("foot_length_mm", 20.0), 0, MAX_HEIGHT_MM, "mm"),
+                "body_length_mm": check_number("walker.body_length_mm", w.get("body_length_mm", 120.0), 0, 1000, "mm",
+                                               low_open=True),
+                "contact_band_mm": check_number("walker.contact_band_mm", w.get("contact_band_mm", 1.0), 0, 100, "mm",
+                                                low_open=True)}
+        self._check_printable()
+
+    def _check_printable(self):
+        """The whole sleeve: a tube (wall thinner than its diameter) that fits the printer."""
+        height = self.M * max(g.height for g in self.cells)
+        if self.T >= 2 * self.radius_mm:
+            raise SceneError("T_mm", f"{self.T!r} mm is at least the diameter {2 * self.radius_mm:.4g} mm of a "
+                                     f"{self.N}-cell ring; allowed: below it")
+        outer = 2 * self.radius_mm + self.T
+        if outer > BED_MM:
+            raise SceneError("ring", f"{self.N} cells of L + c = {self.L + self.c:g} mm make a sleeve of outer diameter "
+                                     f"{outer:.4g} mm; allowed: at most {BED_MM:g} mm (the printer bed's short side)")
+        if height > MAX_HEIGHT_MM:
+            raise SceneError("rings", f"{self.M} ring(s) of {height / self.M:.4g} mm make a sleeve {height:.4g} mm high; "
+                                      f"allowed: at most {MAX_HEIGHT_MM:g} mm (the printer's build height)")
 
     @classmethod
     def load(cls, path):
@@ -142,6 +176,14 @@ class SleeveSpec:
     def radius_mm(self):
         """Mid radius of the sleeve wall: the circumference holds N cell widths."""
         return self.N * (self.L + self.c) / (2 * math.pi)
+
+
+def _integer(field, v, lo, hi):
+    """An integer in [lo, hi] (16.0 is 16; 16.5 is refused, never truncated)."""
+    x = check_number(field, v, lo, hi, "")
+    if x != int(x):
+        raise SceneError(field, f"{v!r} is not an integer (allowed: integers in [{lo}, {hi}])")
+    return int(x)
 
 
 def _range3(field, v, lo, hi):
