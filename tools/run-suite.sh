@@ -33,7 +33,9 @@ print("lane %s: FreeCAD %s, Python %s, numpy %s, scipy %s" % (sys.argv[1], ".".j
 if [ -n "${MM_GUI_ONLY:-}" ]; then       # developers: the GUI part only (MM_GUI_PYTEST_ARGS selects tests)
   echo "MM_GUI_ONLY: app tests not run" > "$logs/app.log"; rc_app=0
 else
-  $py -m pytest "${args[@]}" tests "$@" 2>&1 | tee "$logs/app.log"
+  where=(tests)                         # test paths among the arguments replace the whole tests/ folder
+  for a in "$@"; do [[ "$a" != -* && -e "${a%%::*}" ]] && where=(); done
+  $py -m pytest "${args[@]}" "${where[@]}" "$@" 2>&1 | tee "$logs/app.log"
   rc_app=${PIPESTATUS[0]}
 fi
 rc_gui=0
