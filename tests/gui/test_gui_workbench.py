@@ -6,6 +6,7 @@ round trip is checked with the view providers. Under plain pytest (no GUI) the m
 """
 import json
 import os
+import time
 import zipfile
 
 import numpy as np
@@ -368,9 +369,11 @@ def test_animation_plays_frames_and_restores(doc):
     # real playback through the timer
     f1 = p.frames
     p.play()
-    loop = QtCore.QEventLoop()
-    QtCore.QTimer.singleShot(600, loop.quit)
-    (loop.exec if hasattr(loop, "exec") else loop.exec_)()   # PySide6 deprecates exec_
+    deadline = time.perf_counter() + 10.0            # a loaded machine draws fewer frames per second: wait for 4
+    while p.frames <= f1 + 3 and time.perf_counter() < deadline:
+        loop = QtCore.QEventLoop()
+        QtCore.QTimer.singleShot(100, loop.quit)
+        (loop.exec if hasattr(loop, "exec") else loop.exec_)()   # PySide6 deprecates exec_
     p.pause()
     assert p.frames > f1 + 3, "the timer did not advance the animation"
     # loop wraps the time
