@@ -180,7 +180,7 @@ class FoldedShapePanel(BasePanel):
         if self.problems:
             return
         try:
-            from metamaterial_wb.objects.engine import LiveSolver
+            from metamaterial_wb.core.live import LiveSolver
             sc = self.configured_scene()
             key = sc.to_json()
             if self._solver is None or self._solver[0] != key:
