@@ -1,20 +1,39 @@
-"""Test set-up: FreeCAD's library on sys.path (when installed), the checkout first.
+"""Test set-up: FreeCAD's library on sys.path (when installed), the checkout first, and the markers.
 
 Importing FreeCAD prepends every Mod folder to sys.path; a stale installed copy of this workbench
 could then shadow the checkout. We import FreeCAD first (if present), then put the checkout at the
 front and check that the package really comes from it.
+
+Markers (docs/testing.md), given to every test automatically:
+
+* ``gui``: tests under ``tests/gui`` (they run inside a real FreeCAD, ``tests/run_gui_pytest.py``);
+* ``freecad``: the test file (or a helper module of the tests it imports) imports FreeCAD, Part, Qt or a
+  ``metamaterial_wb`` module that does, at any depth and inside functions too, or runs FreeCAD in a
+  subprocess, or the test asks for the ``fc`` fixture;
+* ``pure``: everything else; ``pytest -m pure`` runs without FreeCAD. ``MM_NO_FREECAD=1`` hides FreeCAD
+  from the tests on a machine that has it (the check that the pure set really needs none); without
+  FreeCAD, files marked ``freecad`` / ``gui`` are not even collected.
 """
+import ast
+import functools
 import os
+import re
 import sys
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TESTS = os.path.join(REPO, "tests")
+PACKAGE = os.path.join(REPO, "metamaterial_wb")
 FREECAD_LIB = "/usr/lib/freecad-python3/lib"
-if os.path.isdir(FREECAD_LIB) and FREECAD_LIB not in sys.path:
+NO_FREECAD = bool(os.environ.get("MM_NO_FREECAD"))
+if not NO_FREECAD and os.path.isdir(FREECAD_LIB) and FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)
-try:  # noqa: SIM105
-    import FreeCAD  # noqa: F401
-except Exception:
-    pass
+FREECAD_AVAILABLE = False
+if not NO_FREECAD:
+    try:
+        import FreeCAD  # noqa: F401
+        FREECAD_AVAILABLE = True
+    except Exception:
+        pass
 if sys.path[0] != REPO:
     sys.path.insert(0, REPO)
 for mod in [m for m in sys.modules if m == "metamaterial_wb" or m.startswith("metamaterial_wb.")]:
@@ -23,3 +42,110 @@ for mod in [m for m in sys.modules if m == "metamaterial_wb" or m.startswith("me
 import metamaterial_wb  # noqa: E402
 
 assert os.path.abspath(metamaterial_wb.__file__).startswith(REPO), metamaterial_wb.__file__
+
+# ------------------------------------------------------------------------------------------------------
+# markers
+FREECAD_MODULES = {"FreeCAD", "FreeCADGui", "Part", "Mesh", "MeshPart", "Import", "ImportGui", "Fem", "Draft",
+                   "pivy", "PySide", "PySide2", "PySide6"}
+# FreeCAD run in a subprocess, or imported by code handed to one
+_FREECAD_TEXT = re.compile(r"importorskip\(\s*[\"'](FreeCAD|Part|FreeCADGui)[\"']|\bimport FreeCAD\b|freecadcmd"
+                           r"|freecad-python3")
+MARKERS = {"pure": "needs neither FreeCAD nor Qt (runs with `pytest -m pure` on a machine without FreeCAD)",
+           "freecad": "needs FreeCAD's App part (Part B-rep, document objects) or runs FreeCAD in a subprocess",
+           "gui": "runs inside the FreeCAD GUI (tests/gui, via tests/run_gui_pytest.py)"}
+
+
+def _imported_names(path):
+    """Every module name a file imports, at any depth (function-level imports count: they run)."""
+    try:
+        tree = ast.parse(open(path, encoding="utf-8").read(), path)
+    except (OSError, SyntaxError):
+        return set()
+    out = set()
+    mod = os.path.relpath(path, REPO)[:-3].replace(os.sep, ".")
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                parts = mod.split(".")[: -node.level]
+                base = ".".join(parts + ([node.module] if node.module else []))
+            else:
+                base = node.module or ""
+            out.add(base)
+            out.update(f"{base}.{a.name}" for a in node.names)
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def _test_helpers():
+    """{module name: file} of the helper modules beside the tests (fabhelpers, guihelpers, ...)."""
+    out = {}
+    for d, dirs, files in os.walk(TESTS):
+        dirs[:] = [x for x in dirs if x not in ("__pycache__", "data", "vectors")]
+        out.update({f[:-3]: os.path.join(d, f) for f in files if f.endswith(".py")})
+    return out
+
+
+def _source_of(name):
+    """The file of a metamaterial_wb module or of a test helper module (None for anything else)."""
+    if name.startswith("metamaterial_wb"):
+        p = os.path.join(REPO, *name.split("."))
+        for cand in (p + ".py", os.path.join(p, "__init__.py")):
+            if os.path.isfile(cand):
+                return cand
+        return None
+    return _test_helpers().get(name) if "." not in name else None
+
+
+@functools.lru_cache(maxsize=None)
+def _direct(path):
+    """(imports FreeCAD / Qt itself or runs it in a subprocess, the files it imports)."""
+    names = _imported_names(path)
+    hit = bool({n.split(".")[0] for n in names} & FREECAD_MODULES)
+    if not hit and path.startswith(TESTS):
+        hit = bool(_FREECAD_TEXT.search(open(path, encoding="utf-8").read()))
+    return hit, tuple(sorted({_source_of(n) for n in names} - {None, path}))
+
+
+@functools.lru_cache(maxsize=None)
+def _needs_freecad(path):
+    seen, todo = {path}, [path]
+    while todo:
+        hit, deps = _direct(todo.pop())
+        if hit:
+            return True
+        for d in deps:
+            if d not in seen:
+                seen.add(d)
+                todo.append(d)
+    return False
+
+
+def file_marker(path):
+    """``gui`` / ``freecad`` / ``pure`` for a test file (the test may still need ``freecad`` by a fixture)."""
+    path = os.path.abspath(str(path))
+    if path.startswith(os.path.join(TESTS, "gui") + os.sep):
+        return "gui"
+    return "freecad" if _needs_freecad(path) else "pure"
+
+
+def pytest_configure(config):
+    for name, text in MARKERS.items():
+        config.addinivalue_line("markers", f"{name}: {text}")
+
+
+def pytest_ignore_collect(collection_path, config):
+    p = str(collection_path)
+    if FREECAD_AVAILABLE or not p.endswith(".py") or os.path.basename(p) == "conftest.py":
+        return None
+    return True if file_marker(p) != "pure" else None
+
+
+def pytest_collection_modifyitems(config, items):
+    import pytest
+    for item in items:
+        m = file_marker(item.fspath)
+        if m == "pure" and "fc" in getattr(item, "fixturenames", ()):
+            m = "freecad"
+        item.add_marker(getattr(pytest.mark, m))

@@ -166,9 +166,6 @@ def test_hinge_length_rebuilds_shapes_but_not_the_markers(doc):
 
 
 def test_axes_are_configured_and_kept_fresh(doc):
-    from metamaterial_wb.objects import design_adapter
-    if not design_adapter.design_available():
-        pytest.skip("core.design is not in this checkout")
     from metamaterial_wb.core import design
     sc = structure.make_structure(doc, fish())
     structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 4, "fold_deg": 3.0}])

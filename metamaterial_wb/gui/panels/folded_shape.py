@@ -169,7 +169,7 @@ class FoldedShapePanel(BasePanel):
             a["fold_deg"] = f
         sc = Scene.from_dict(d)
         self.report = None
-        if design_adapter.design_available() and sc.axes:
+        if sc.axes:
             sc, self.report = design_adapter.configure(sc)
         return sc
 
