@@ -40,7 +40,7 @@ from metamaterial_wb.objects.common import attach_view_provider, install_documen
 from metamaterial_wb.objects.item import ItemProxy
 from metamaterial_wb.objects.module import MODULE_ALIASES, MODULE_TYPES, ModuleProxy
 from metamaterial_wb.objects.scene import SceneProxy, load_typed_properties
-from metamaterial_wb.objects.shapes import HingeShapeProxy, NodeShapeProxy
+from metamaterial_wb.objects.shapes import HingeShapeProxy, NodeShapeProxy, describe_simplified
 
 
 def make_item(doc, scene_obj, kind, name, joint, value=0.0, profile=None, extra=None):
@@ -140,6 +140,8 @@ def make_structure(doc, scene, recompute=True):
     part.addObjects([ns, hs, nodes, hinges])
     sc.NodeArray = nodes
     sc.HingeArray = hinges
+    for src in (ns, hs):
+        describe_simplified(src)
     if FreeCAD.GuiUp:
         for o, vis in ((ns, False), (hs, False)):
             o.ViewObject.Visibility = vis

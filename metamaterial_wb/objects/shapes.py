@@ -8,7 +8,25 @@ from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.objects.common import OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
 
 
+# the 3D view is simplified (issue 14): said where the user looks, in the tree's Description column (Label2) of
+# the shape sources and their link arrays, and in the property editor (the Simplified property's description)
+SIMPLIFIED_NOTE = ("Simplified view: stand-in boxes, not the printable B-rep (hinge pockets, per-joint hinge "
+                   "tilts and lengths, module sockets); Export builds the printable parts")
+SIMPLIFIED_DOC = ("True: the 3D view draws every {what} as the same stand-in box, not the printable B-rep (hinge "
+                  "pockets, per-joint hinge tilts and lengths, module sockets). Export (geometry.build) makes the "
+                  "printable parts.")
+
+
+def describe_simplified(shape_source):
+    """Write the note into the Description (Label2) of a shape source and of the link arrays showing it."""
+    for o in [shape_source] + [o for o in shape_source.InList if o.TypeId == "App::Link"]:
+        if not o.Label2:
+            o.Label2 = SIMPLIFIED_NOTE
+
+
 class _ShapeSource(ProxyBase):
+    WHAT = "part"
+
     def __init__(self, obj):
         attach_proxy(obj, self)
         self._ensure_properties(obj)
@@ -19,10 +37,13 @@ class _ShapeSource(ProxyBase):
                         attr=OUTPUT, readonly=True, hidden=True)
         ensure_property(obj, "App::PropertyInteger", "BuildCount", "Base", "Shape builds (this session)",
                         attr=OUTPUT | 2, readonly=True, hidden=True)
+        ensure_property(obj, "App::PropertyBool", "Simplified", "Display", SIMPLIFIED_DOC.format(what=self.WHAT),
+                        True, attr=OUTPUT, readonly=True)
 
     def onDocumentRestored(self, obj):
         self._ensure_properties(obj)
         tag_proxy(obj, self)   # files saved before the split name objects.structure (still importable)
+        describe_simplified(obj)
 
     def params(self, sc):
         raise NotImplementedError
@@ -45,8 +66,10 @@ class _ShapeSource(ProxyBase):
 
 
 class NodeShapeProxy(_ShapeSource):
-    """One rigid node: from ``metamaterial_wb.geometry`` when available, else a plate (side x side x t)."""
+    """One rigid node, drawn as a plate (side x side x t): a stand-in for the printable node of
+    ``geometry.build`` (see ``Simplified``)."""
     Type = "MetamaterialNodeShape"
+    WHAT = "node"
 
     def params(self, sc):
         return {"cell_size_mm": sc.CellSize.Value, "length_mm": sc.HingeLength.Value,
@@ -60,8 +83,9 @@ class NodeShapeProxy(_ShapeSource):
 
 
 class HingeShapeProxy(_ShapeSource):
-    """One flexible hinge along x: length x width x thickness, centred."""
+    """One flexible hinge along x: length x width x thickness, centred (a stand-in, see ``Simplified``)."""
     Type = "MetamaterialHingeShape"
+    WHAT = "hinge"
 
     def params(self, sc):
         return {"length_mm": sc.HingeLength.Value, "width_mm": sc.HingeWidth.Value,
