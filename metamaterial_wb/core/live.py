@@ -228,9 +228,6 @@ class LiveSolver:
         return Frame(D=D, positions=pos, rotations=R, quaternions=q, hinge_positions=hp, hinge_quaternions=hq,
                      timings={"total_s": t3 - t0, "hinges_s": t3 - t2})
 
-    def frame_at(self, t):
-        return self.frame(values=self.values_at(t))
-
     def hinge_frames(self, pos, R, q=None):
         """Hinge centres (m, 3) and orientations (m, 4) from the node poses."""
         a, b = self.ja, self.jb

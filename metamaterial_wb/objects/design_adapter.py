@@ -16,14 +16,6 @@ def candidate_lines(scene):
     return {"vertical": cols, "horizontal": rows}
 
 
-def axis_joints(scene, direction, line):
-    """Joints an axis crosses: vertical line k -> every H(i, k); horizontal line k -> every V(k, j)."""
-    topo = scene.topology
-    if direction == "vertical":
-        return [n for n in topo.joint_names if n.startswith("H") and int(n[1:].split(",")[1]) == line]
-    return [n for n in topo.joint_names if n.startswith("V") and int(n[1:].split(",")[0]) == line]
-
-
 def axis_violations(scene, axes):
     """Messages for every broken rule (empty list = fine).
 
