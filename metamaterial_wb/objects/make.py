@@ -36,7 +36,7 @@ import FreeCAD
 
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene import Scene
-from metamaterial_wb.objects.common import attach_view_provider, install_document_guard
+from metamaterial_wb.objects.common import attach_view_provider
 from metamaterial_wb.objects.item import ItemProxy
 from metamaterial_wb.objects.module import MODULE_ALIASES, MODULE_TYPES, ModuleProxy
 from metamaterial_wb.objects.scene import SceneProxy, load_typed_properties
@@ -166,7 +166,3 @@ def make_structure(doc, scene, recompute=True):
 
 def load_scene_file(doc, path):
     return make_structure(doc, Scene.load(path))
-
-
-# after every proxy class exists: watch documents, repair those already open (objects/common.py)
-install_document_guard()
