@@ -22,6 +22,16 @@ FREECAD_LIB = "/usr/lib/freecad-python3/lib"
 NO_FREECAD = bool(os.environ.get("MM_NO_FREECAD"))
 if not NO_FREECAD and os.path.isdir(FREECAD_LIB) and FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)
+if NO_FREECAD:   # hide FreeCAD for real: geometry/fc.py would otherwise add its path and import it
+    class _HideFreeCAD:
+        NAMES = {"FreeCAD", "FreeCADGui", "Part", "Mesh", "MeshPart", "Import", "ImportGui", "Fem", "pivy"}
+
+        def find_spec(self, name, path=None, target=None):
+            if name.split(".")[0] in self.NAMES:
+                raise ImportError(f"MM_NO_FREECAD=1: {name} is hidden from the tests")
+            return None
+
+    sys.meta_path.insert(0, _HideFreeCAD())
 FREECAD_AVAILABLE = False
 if not NO_FREECAD:
     try:
