@@ -15,7 +15,7 @@ def t(*parts):
 
 def test_files_are_classified_by_what_they_import(tmp_path):
     assert file_marker(t("gui", "test_gui_workbench.py")) == "gui"
-    assert file_marker(t("fc", "test_fc_objects.py")) == "freecad"            # importorskip("FreeCAD")
+    assert file_marker(t("fc", "test_fc_objects.py")) == "freecad"            # importorskip of FreeCAD
     assert file_marker(t("fc", "test_fc_legacy_document.py")) == "freecad"
     assert file_marker(t("unit", "test_scene.py")) == "pure"
     assert file_marker(t("hardware", "test_protocol.py")) == "pure"
@@ -23,7 +23,8 @@ def test_files_are_classified_by_what_they_import(tmp_path):
     for name, text, want in (
             ("geometry", "def test_x():\n    from metamaterial_wb.geometry import build  # noqa: F401\n", "freecad"),
             ("core", "def test_x():\n    from metamaterial_wb.core import scene  # noqa: F401\n", "pure"),
-            ("subprocess", "CODE = 'import FreeCAD'\n", "freecad")):
+            # FreeCAD run in a subprocess (the text split so that this file itself stays pure)
+            ("subprocess", "CODE = 'import " + "FreeCAD'\n", "freecad")):
         probe = tmp_path / f"test_probe_{name}.py"   # one file each: the classification is cached per file
         probe.write_text(text)
         assert file_marker(str(probe)) == want, name
@@ -47,7 +48,17 @@ def test_pure_collects_without_freecad_and_only_pure_tests():
     assert "tests/fc/test_fc_trajectory_mapping.py" in files     # core.live only: pure since issue 14
     assert any(i.startswith("tests/unit/test_scene.py::") for i in ids)
     assert "error" not in r.stdout.splitlines()[-1]
-    # the freecad tests exist and carry their marker (FreeCAD visible again)
-    r = run_collect("-m", "freecad", "tests/fc/test_fc_legacy_document.py", hide=False)
-    if "no tests collected" not in r.stdout and r.returncode == 0:
-        assert "test_fc_legacy_document.py::" in r.stdout
+
+
+def count(r, name):
+    assert r.returncode in (0, 5), r.stdout[-2000:] + r.stderr[-2000:]     # 5: nothing collected
+    return sum(1 for ln in r.stdout.splitlines() if ln.startswith(name + "::"))
+
+
+def test_freecad_tests_carry_their_marker():
+    f = "tests/fc/test_fc_legacy_document.py"
+    everything = count(run_collect(f, hide=False), f)      # 3 with FreeCAD, 0 without (not collected)
+    assert count(run_collect("-m", "freecad", f, hide=False), f) == everything
+    assert count(run_collect("-m", "pure", f, hide=False), f) == 0
+    g = "tests/unit/test_scene.py"
+    assert count(run_collect("-m", "pure", g, hide=False), g) == count(run_collect(g, hide=False), g) > 0
