@@ -250,6 +250,11 @@ def install_document_guard():
         FreeCAD.addDocumentObserver(guard)
         FreeCAD._metamaterial_doc_guard = guard
         for doc in FreeCAD.listDocuments().values():
+            # FreeCAD itself may import the package while it restores a document (its proxies name our
+            # modules): that document is half-read, its later objects have no properties yet; the
+            # observer repairs it when it is activated, after the restore
+            if getattr(doc, "Restoring", False):
+                continue
             try:
                 repair_document(doc)
             except Exception:  # noqa: BLE001

@@ -5,9 +5,12 @@ build; documents saved now store the new module paths.
 ``metamaterial_wb.objects.structure.SceneProxy`` ...); ``tests/fixtures/make_legacy_structure.py`` made it.
 """
 import importlib.util
+import json
 import os
 import re
 import shutil
+import subprocess
+import sys
 import zipfile
 
 import numpy as np
@@ -20,6 +23,7 @@ from metamaterial_wb.objects import make  # noqa: E402
 from metamaterial_wb.objects.common import PROXY_CLASS  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
 FIXTURES = os.path.join(os.path.dirname(HERE), "fixtures")
 LEGACY = os.path.join(FIXTURES, "legacy_structure.FCStd")
 NEW_MODULES = {"SceneProxy": "metamaterial_wb.objects.scene", "NodeShapeProxy": "metamaterial_wb.objects.shapes",
@@ -148,3 +152,33 @@ def test_new_document_stores_and_reopens_the_new_paths(tmp_path, docs):
     back.recompute()
     assert all(o.isValid() for o in back.Objects)
     assert_same(state(back), built)
+
+
+def _commands():
+    out = [pytest.param([sys.executable], id="python")]
+    if shutil.which("freecadcmd"):
+        out.append(pytest.param(["freecadcmd"], id="freecadcmd"))
+    return out
+
+
+@pytest.mark.parametrize("cmd", _commands())
+def test_legacy_document_opened_before_the_package_is_imported(cmd, tmp_path):
+    """A fresh FreeCAD session (plain Python and freecadcmd), the package on sys.path but not imported,
+    opens the old file first and imports the package after: every proxy ends up as the new class, nothing
+    is reported lost, and the recompute is valid."""
+    path = str(tmp_path / "legacy.FCStd")
+    shutil.copy(LEGACY, path)
+    out = tmp_path / "probe.json"
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["MM_PROBE"] = json.dumps([REPO, path, str(out)])
+    proc = subprocess.run(cmd + [os.path.join(HERE, "_legacy_probe.py")], capture_output=True, text=True,
+                          timeout=300, cwd=str(tmp_path), env=env)
+    assert out.exists(), f"exit {proc.returncode}\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
+    res = json.loads(out.read_text())
+    assert res["invalid"] == [], res
+    # FreeCAD may import the package itself during the restore: the guard must not take the half-read
+    # document for a damaged one (it did: 'the file is damaged: 6 object(s) lost' and the file locked)
+    assert not res["locked"] and res["lost"] == [] and res["file_name"] == path, res
+    assert len(res["proxies"]) == 7 and res["nodes"] > 0, res
+    for name, cls in res["proxies"].items():
+        assert cls is not None and cls.rsplit(".", 1)[0] == NEW_MODULES[cls.rsplit(".", 1)[1]], (name, cls)
