@@ -98,13 +98,6 @@ def attach_view_provider(obj, vp_class_name, module="metamaterial_wb.gui.viewpro
     return getattr(mod, vp_class_name)(obj.ViewObject)
 
 
-def json_prop(obj, name, default=None):
-    txt = getattr(obj, name, "") or ""
-    if not txt.strip():
-        return default
-    return json.loads(txt)
-
-
 # ----------------------------------------------------------------------------------------------
 # documents restored without the package (issue 19)
 # ----------------------------------------------------------------------------------------------

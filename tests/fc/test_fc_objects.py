@@ -166,9 +166,6 @@ def test_hinge_length_rebuilds_shapes_but_not_the_markers(doc):
 
 
 def test_axes_are_configured_and_kept_fresh(doc):
-    from metamaterial_wb.objects import design_adapter
-    if not design_adapter.design_available():
-        pytest.skip("core.design is not in this checkout")
     from metamaterial_wb.core import design
     sc = structure.make_structure(doc, fish())
     structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 4, "fold_deg": 3.0}])
@@ -268,8 +265,6 @@ def test_one_undo_step_removes_a_motor(doc):
 def test_module_solid_and_place_match_the_fabrication_build(doc, mtype, target):
     """In the flat state the document's module is the fabrication package's module at the same place
     (our sheet is centred on z = 0, the fabrication sheet spans z = 0..t)."""
-    if not structure.geometry_modules_available():
-        pytest.skip("geometry.modules is not in this checkout")
     from metamaterial_wb.geometry.build import build_scene
     sc = structure.make_structure(doc, fish())
     m = structure.make_module(doc, sc, mtype, target)
@@ -335,8 +330,6 @@ def test_every_example_becomes_a_valid_structure_that_round_trips(doc, name):
 
 
 def test_preference_clearance_reaches_the_module_solid(doc):
-    if not structure.geometry_modules_available():
-        pytest.skip("geometry.modules is not in this checkout")
     prm = FreeCAD.ParamGet(structure.PREFS_PATH)
     sc = structure.make_structure(doc, fish())
     m = structure.make_module(doc, sc, "connection_hub", "N1,2")

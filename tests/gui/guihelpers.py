@@ -214,7 +214,7 @@ def run_command(cmd):
 def hinge_mid(sc, joint):
     """Midpoint (document coordinates) of the hinge of ``joint``, through the structure's parents."""
     from metamaterial_wb.objects import structure
-    from metamaterial_wb.objects.engine import joint_node_indices
+    from metamaterial_wb.core.live import joint_node_indices
     scene = structure.compose_scene(sc)
     a, b = joint_node_indices(scene, joint)
     g, parent = sc.NodeArray.Placement, sc.NodeArray.getParentGeoFeatureGroup()

@@ -17,7 +17,7 @@ from metamaterial_wb.core import kinematics  # noqa: E402
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
-from metamaterial_wb.objects import design_adapter, structure  # noqa: E402
+from metamaterial_wb.objects import structure  # noqa: E402
 
 
 def panel(cmd):
@@ -74,8 +74,7 @@ def test_fish_from_an_empty_document(tmp_path):
         assert p.accept() is True, p.error.text()
         data = json.loads(sc.SceneJSON)
         assert [a["fold_deg"] for a in data["axes"]] == [2.0, 3.0, 4.0, 5.0]
-        if design_adapter.design_available():
-            assert data.get("joint_config"), "the joint configuration was not stored"
+        assert data.get("joint_config"), "the joint configuration was not stored"
         # (5) motors: head and tail with their sine profiles
         for name, joint, amp, freq, phase in (("head", "V0,1", 0.3, 0.5, 0.0), ("tail", "V1,5", 0.9, 1.0, 90.0)):
             p = panel("MM_PlaceMotor")

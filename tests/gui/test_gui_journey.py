@@ -16,7 +16,7 @@ import FreeCADGui  # noqa: E402
 
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from metamaterial_wb.objects.engine import joint_node_indices  # noqa: E402
+from metamaterial_wb.core.live import joint_node_indices  # noqa: E402
 from guihelpers import (qt6_hidden_task_view, hinge_mid, click, click_view, dialog_button, drag_slider, press_ok, process, run_panel,  # noqa: E402
                         screen_point, type_into, workbench)  # noqa: F401
 

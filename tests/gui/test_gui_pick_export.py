@@ -13,7 +13,7 @@ import FreeCADGui  # noqa: E402
 
 from metamaterial_wb.gui import commands, panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from metamaterial_wb.objects.engine import joint_node_indices  # noqa: E402
+from metamaterial_wb.core.live import joint_node_indices  # noqa: E402
 from guihelpers import (qt6_hidden_task_view, hinge_mid, click, click_view, doc, hover_view, press_ok, process, run_panel,  # noqa: E402,F401
                         screen_point, type_into, workbench)
 

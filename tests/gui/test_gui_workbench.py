@@ -184,10 +184,8 @@ def test_folded_shape_sliders_store_folds(doc):
     scene = structure.compose_scene(sc)
     _D, pos, _phi = core_positions(scene, {})
     np.testing.assert_allclose(xyz(sc.NodeArray), pos, atol=1e-6)
-    from metamaterial_wb.objects import design_adapter
-    if design_adapter.design_available():
-        assert scene.joint_config, "Confirm must run the joint configuration"
-        assert before.shape == pos.shape
+    assert scene.joint_config, "Confirm must run the joint configuration"
+    assert before.shape == pos.shape
 
 
 def test_flexibility_sets_sizes_and_shows_k(doc):

@@ -3,7 +3,7 @@ import numpy as np
 
 from metamaterial_wb import example_path
 from metamaterial_wb.core.scene import Scene
-from metamaterial_wb.objects.engine import LiveSolver
+from metamaterial_wb.core.live import LiveSolver
 
 
 def test_unchanged_frame_reuses_poses_and_changed_frame_recomputes():

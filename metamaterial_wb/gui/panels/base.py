@@ -3,7 +3,7 @@
 Rules kept by every panel:
 
 * nothing is recomputed while a slider moves or the animation plays: placements are moved from the
-  stored factorisation (:class:`~metamaterial_wb.objects.engine.LiveSolver`);
+  stored factorisation (:class:`~metamaterial_wb.core.live.LiveSolver`);
 * the placements the panel moved are restored when it closes (OK writes the chosen values into the
   properties and recomputes once, inside one transaction);
 * every error is shown in the panel in words, next to the field it is about (``set_problem``), never as

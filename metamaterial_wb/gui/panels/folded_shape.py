@@ -169,7 +169,7 @@ class FoldedShapePanel(BasePanel):
             a["fold_deg"] = f
         sc = Scene.from_dict(d)
         self.report = None
-        if design_adapter.design_available() and sc.axes:
+        if sc.axes:
             sc, self.report = design_adapter.configure(sc)
         return sc
 
@@ -180,7 +180,7 @@ class FoldedShapePanel(BasePanel):
         if self.problems:
             return
         try:
-            from metamaterial_wb.objects.engine import LiveSolver
+            from metamaterial_wb.core.live import LiveSolver
             sc = self.configured_scene()
             key = sc.to_json()
             if self._solver is None or self._solver[0] != key:

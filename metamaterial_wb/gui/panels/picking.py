@@ -66,7 +66,7 @@ class Picker:
         self.on_joint, self.on_node, self.panel = on_joint, on_node, panel
         self.scene = structure.compose_scene(scene_obj)
         topo = self.scene.topology
-        from metamaterial_wb.objects.engine import joint_node_indices
+        from metamaterial_wb.core.live import joint_node_indices
         self.joint_names = list(topo.joint_names)
         self.joint_nodes = np.array([joint_node_indices(self.scene, n) for n in self.joint_names], dtype=int) \
             if self.joint_names else np.zeros((0, 2), dtype=int)

@@ -45,7 +45,7 @@ class RotaryAxesPanel(BasePanel):
         self.saved = structure.display_state(scene_obj)
         self.overlay = None
         try:
-            from metamaterial_wb.objects.engine import LiveSolver
+            from metamaterial_wb.core.live import LiveSolver
             solver = LiveSolver(self.scene)
             structure.apply_frame(scene_obj, solver, solver.frame(global_deformation=0.0), purge=True)
             self.overlay = AxisOverlay(scene_obj.Document)

@@ -79,7 +79,7 @@ class SimulatePanel(BasePanel):
             if name == self.obj.Model:
                 self.solver = structure.solver_for(self.obj, self.scene)   # the stored factorisation
             else:
-                from metamaterial_wb.objects.engine import LiveSolver
+                from metamaterial_wb.core.live import LiveSolver
                 self.solver = LiveSolver(self.scene, model=name)
             self.error.setText("")
             self.warn.setText("\n".join(list(self.obj.SolveWarnings) + [w for w in self.solver.warnings

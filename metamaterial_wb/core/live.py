@@ -1,6 +1,7 @@
 """Live solving for the 3D view: factor once, then D -> node and hinge poses per slider move or frame.
 
-This module imports no Qt and no FreeCADGui; FreeCAD itself is only needed by :func:`to_placements`.
+Pure numpy (core layer): no FreeCAD, no Qt. The document glue (``FreeCAD.Placement`` lists) is
+``objects/display.py:to_placements``, with the rest of placing a frame in a document.
 The heavy work of a frame is numpy: one product with the solver's stored response matrix (or one
 back-substitution), one kinematics solve (factored once per topology) and the hinge frames.
 
@@ -227,9 +228,6 @@ class LiveSolver:
         return Frame(D=D, positions=pos, rotations=R, quaternions=q, hinge_positions=hp, hinge_quaternions=hq,
                      timings={"total_s": t3 - t0, "hinges_s": t3 - t2})
 
-    def frame_at(self, t):
-        return self.frame(values=self.values_at(t))
-
     def hinge_frames(self, pos, R, q=None):
         """Hinge centres (m, 3) and orientations (m, 4) from the node poses."""
         a, b = self.ja, self.jb
@@ -280,22 +278,6 @@ class LiveSolver:
 def joint_node_indices(scene, joint):
     kind, i, j = parse_joint(joint)
     return [scene.topology.node_index[n] for n in joint_nodes(kind, i, j)]
-
-
-def to_placements(positions, quaternions):
-    """numpy poses -> list of ``FreeCAD.Placement`` (the only FreeCAD-dependent helper here)."""
-    import FreeCAD
-
-    # one Matrix per pose: Placement(Matrix) is about 4x cheaper than Placement(Vector, Rotation(q))
-    # (Rotation's constructor dominates), and this runs for every element on every live frame
-    P = FreeCAD.Placement
-    M = FreeCAD.Matrix
-    n = len(positions)
-    m = np.zeros((n, 4, 4))
-    m[:, :3, :3] = quaternions_to_matrices(np.asarray(quaternions, dtype=float))
-    m[:, :3, 3] = positions
-    m[:, 3, 3] = 1.0
-    return [P(M(*row)) for row in m.reshape(n, 16).tolist()]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -406,7 +388,7 @@ class TrajectoryPlayer:
         return np.array(out)
 
     def frame(self, solver, t):
-        """A :class:`Frame` (nodes, hinges) for ``structure.apply_frame``."""
+        """A :class:`Frame` (nodes, hinges) for ``objects.display.apply_frame``."""
         pos, R = self.node_poses(t)
         q = matrices_to_quaternions(R)
         hp, hq = solver.hinge_frames(pos, R, q)

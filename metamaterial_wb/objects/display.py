@@ -1,0 +1,113 @@
+"""Placing the display from a solved frame: node / hinge link arrays, markers and modules. Nothing here
+recomputes the document; task panels call these while dragging (and restore the placements on close)."""
+import FreeCAD
+import numpy as np
+
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.live import quaternions_to_matrices
+
+
+def to_placements(positions, quaternions):
+    """numpy poses -> list of ``FreeCAD.Placement``."""
+    # one Matrix per pose: Placement(Matrix) is about 4x cheaper than Placement(Vector, Rotation(q))
+    # (Rotation's constructor dominates), and this runs for every element on every live frame
+    P = FreeCAD.Placement
+    M = FreeCAD.Matrix
+    n = len(positions)
+    m = np.zeros((n, 4, 4))
+    m[:, :3, :3] = quaternions_to_matrices(np.asarray(quaternions, dtype=float))
+    m[:, :3, 3] = positions
+    m[:, 3, 3] = 1.0
+    return [P(M(*row)) for row in m.reshape(n, 16).tolist()]
+
+
+def _offset_positions(pos, quat, offset):
+    R = quaternions_to_matrices(quat)
+    return pos + R @ offset
+
+
+def apply_frame(obj, solver, frame, purge=True):
+    """Write node / hinge / marker / module placements for a solved frame. Nothing is recomputed."""
+    nodes = obj.NodeArray
+    hinges = obj.HingeArray
+    if nodes is not None:
+        pl = to_placements(frame.positions, frame.quaternions)
+        if nodes.ElementCount != len(pl):
+            nodes.ElementCount = len(pl)
+        nodes.PlacementList = pl
+        if purge:
+            nodes.purgeTouched()
+    if hinges is not None:
+        pl = to_placements(frame.hinge_positions, frame.hinge_quaternions)
+        if hinges.ElementCount != len(pl):
+            hinges.ElementCount = len(pl)
+        hinges.PlacementList = pl
+        if purge:
+            hinges.purgeTouched()
+    place_markers(obj, solver, frame, purge)
+
+
+def marker_placements(obj, solver, frame):
+    """``{object name: Placement}`` of the markers and modules for a frame."""
+    out = {}
+    t = float(obj.HingeThickness.Value)
+    for it in list(obj.Items) + list(obj.Modules):
+        typ = getattr(getattr(it, "Proxy", None), "Type", "")
+        try:
+            if typ == "MetamaterialItem":
+                k = solver.joint_index(it.Joint)
+                p, q = frame.hinge_positions[k], frame.hinge_quaternions[k]
+            elif typ == "MetamaterialModule" and it.TargetKind == "joint":
+                # module frame: midpoint of the two node centres, u from the first to the second node
+                k = solver.joint_index(it.Target)
+                a, b = solver.ja[k], solver.jb[k]
+                p, q = 0.5 * (frame.positions[a] + frame.positions[b]), frame.hinge_quaternions[k]
+            elif typ == "MetamaterialModule":
+                k = solver.node_index(it.Target)
+                p, q = frame.positions[k], frame.quaternions[k]
+            else:
+                continue
+        except SceneError:
+            continue
+        # markers sit on the top face; module solids are built on a sheet spanning z = 0..t
+        lift = 0.5 * t + float(it.Radius.Value) if typ == "MetamaterialItem" else -0.5 * t
+        pos = _offset_positions(np.asarray([p]), np.asarray([q]), np.array([0.0, 0.0, lift]))[0]
+        out[it.Name] = to_placements(pos[None, :], np.asarray([q]))[0]
+    return out
+
+
+def place_markers(obj, solver, frame, purge=True):
+    pls = marker_placements(obj, solver, frame)
+    doc = obj.Document
+    for name, pl in pls.items():
+        o = doc.getObject(name)
+        if o is not None:
+            o.Placement = pl
+            if purge:
+                o.purgeTouched()
+
+
+def display_state(obj):
+    """Everything a panel changes, to restore it on close."""
+    st = {}
+    for arr in (obj.NodeArray, obj.HingeArray):
+        if arr is not None:
+            st[arr.Name] = ("list", list(arr.PlacementList))
+    for it in list(obj.Items) + list(obj.Modules):
+        st[it.Name] = ("pl", FreeCAD.Placement(it.Placement))
+    return st
+
+
+def restore_display(obj, state):
+    doc = obj.Document
+    for name, (kind, val) in state.items():
+        o = doc.getObject(name)
+        if o is None:
+            continue
+        if kind == "list":
+            if o.ElementCount != len(val):
+                o.ElementCount = len(val)
+            o.PlacementList = val
+        else:
+            o.Placement = val
+        o.purgeTouched()

@@ -1,0 +1,140 @@
+"""Snap-fit modules (``Part::FeaturePython``) on a node or across a joint; solids from ``geometry.modules``."""
+import json
+
+import FreeCAD
+
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.objects.common import OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
+
+# module types of the fabrication package (geometry/modules.py); joint modules sit across a joint
+MODULE_TYPES = ["servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip"]
+JOINT_MODULES = {"servo_housing", "stable_hub", "constraint_clip"}
+MODULE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
+                  "hub": "connection_hub", "pad": "friction_pad"}
+
+
+class ModuleProxy(ProxyBase):
+    """A snap-fit module on a node (connection hub, friction pad) or across a joint (servo housing,
+    stable hub, constraint clip). Its solid comes from ``metamaterial_wb.geometry.modules`` (the same
+    builder as the STEP / 3MF export); without a Scene a stand-in of the right size class is shown.
+
+    The Scene links its modules (it depends on them); a module does not depend on the Scene (hidden link),
+    so when the scene's sizes change the Scene refreshes stale module solids itself (see ``refresh``).
+    """
+    Type = "MetamaterialModule"
+
+    def __init__(self, obj):
+        attach_proxy(obj, self)
+        self._ensure_properties(obj)
+
+    def _ensure_properties(self, obj):
+        if ensure_property(obj, "App::PropertyEnumeration", "ModuleType", "Module", "Kind of module"):
+            obj.ModuleType = MODULE_TYPES
+        if ensure_property(obj, "App::PropertyEnumeration", "TargetKind", "Module", "node or joint"):
+            obj.TargetKind = ["node", "joint"]
+        ensure_property(obj, "App::PropertyString", "Target", "Module", "Node (N1,2) or joint (V0,1)")
+        ensure_property(obj, "App::PropertyString", "ModuleData", "Module", "Other fields (JSON)")
+        # hidden link: the Scene depends on its modules (it links them in Modules), not the reverse
+        ensure_property(obj, "App::PropertyLinkHidden", "Scene", "Module", "Scene the module belongs to")
+        ensure_property(obj, "App::PropertyString", "GeometrySource", "Module",
+                        "Which builder made the shape", attr=OUTPUT, readonly=True)
+        ensure_property(obj, "App::PropertyString", "BuiltFor", "Module", "Parameters of the current shape",
+                        attr=OUTPUT, readonly=True, hidden=True)
+
+    def onDocumentRestored(self, obj):
+        self._ensure_properties(obj)
+        tag_proxy(obj, self)   # files saved before the split name objects.structure (still importable)
+
+    def execute(self, obj):
+        count_execute(obj)
+        sc = obj.Scene
+        scene = None
+        if sc is not None:   # the Scene composes (objects/scene.py imports this module: ask, do not import)
+            proxy = getattr(sc, "Proxy", None)
+            if not hasattr(proxy, "scene"):
+                raise SceneError(f"module {obj.Label}", f"its Scene {sc.Label!r} has no scene proxy")
+            scene = proxy.scene(sc)
+        self.refresh(obj, scene, force=True)
+
+    def refresh(self, obj, scene, force=False):
+        """(Re)build the solid when its parameters changed; raises SceneError naming the module."""
+        key = module_build_key(obj, scene)
+        if not force and obj.BuiltFor == key and not obj.Shape.isNull():
+            return False
+        pl = FreeCAD.Placement(obj.Placement)
+        shape, source = build_module_shape(obj, scene)
+        obj.Shape = shape
+        obj.GeometrySource = source
+        obj.BuiltFor = key
+        obj.Placement = pl
+        return True
+
+
+def module_to_dict(obj):
+    d = json.loads(obj.ModuleData) if (obj.ModuleData or "").strip() else {}
+    d["type"] = obj.ModuleType
+    d.pop("node", None)
+    d.pop("joint", None)
+    d[obj.TargetKind] = obj.Target
+    return d
+
+
+PREFS_PATH = "User parameter:BaseApp/Preferences/Mod/Metamaterial"
+
+
+def fabrication_overrides():
+    """Clearance and module material from the workbench preferences (same group as gui/preferences.py)."""
+    prm = FreeCAD.ParamGet(PREFS_PATH)
+    return {"clearance_mm": prm.GetFloat("PrinterClearance", 0.2),
+            "module_material": prm.GetString("ModuleMaterial", "ABS") or "ABS"}
+
+
+def module_build_key(obj, scene):
+    d = module_to_dict(obj)
+    d["_fab"] = fabrication_overrides()
+    if scene is not None:
+        d["_scene"] = [scene.cell_size_mm, scene.hinge, [c.to_dict() for c in scene.constraints]]
+    return json.dumps(d, sort_keys=True)
+
+
+def build_module_shape(obj, scene):
+    """``(solid, source)``: the fabrication package's module in its own frame (sheet from z = 0 to its
+    thickness, joint modules with u from the first to the second node), or, without a scene, a stand-in."""
+    import Part
+    if scene is not None:
+        from metamaterial_wb.core.scene import Scene as _Scene
+        from metamaterial_wb.geometry.build import BuildResult
+        from metamaterial_wb.geometry.modules import build_module, parse_modules
+        from metamaterial_wb.geometry.params import fabrication_params
+        # the module only needs the sheet's sizes and sockets: drop axes / tilts (their fit is checked
+        # by the export of the sheet) and the other modules (sockets they use are checked there too)
+        d = scene.to_dict()
+        for k in ("axes", "joint_config", "joints"):
+            d.pop(k, None)
+        d["modules"] = [module_to_dict(obj)]
+        one = _Scene.from_dict(d)
+        try:
+            p = fabrication_params(one, **fabrication_overrides())
+            spec = parse_modules(one, p)[0]
+            res = BuildResult(one, p)
+            build_module(res, spec)
+        except SceneError as exc:
+            raise SceneError(f"module {obj.Label}", exc.message if hasattr(exc, "message") else str(exc)) from None
+        shapes = [res.shapes[part.key] for part in res.parts]
+        # Part.Compound, not Part.makeCompound: the latter kills FreeCAD 1.0/1.1 run from plain Python
+        return (shapes[0] if len(shapes) == 1 else Part.Compound(shapes)), "geometry.modules"
+    cell = scene.cell_size_mm if scene is not None else 20.0
+    t = scene.hinge["thickness_mm"] if scene is not None else 7.0
+    side = cell - (scene.hinge["length_mm"] if scene is not None else 2.0)
+    typ = obj.ModuleType
+    V = FreeCAD.Vector
+    if typ == "servo_housing":  # SG90-sized body above the joint
+        return Part.makeBox(23.0, 12.5, 22.0, V(-11.5, -6.25, t)), "stand-in"
+    if typ == "friction_pad":  # under the node
+        s = 0.7 * side
+        return Part.makeBox(s, s, 3.0, V(-s / 2, -s / 2, -3.0)), "stand-in"
+    if typ == "constraint_clip":
+        return Part.makeBox(cell, 0.5 * side, 3.0, V(-cell / 2, -0.25 * side, t)), "stand-in"
+    if typ == "stable_hub":
+        return Part.makeBox(0.6 * cell, 0.6 * cell, 6.0, V(-0.3 * cell, -0.3 * cell, t)), "stand-in"
+    return Part.makeCylinder(0.3 * side, 3.0, V(0, 0, t)), "stand-in"
