@@ -216,9 +216,3 @@ def repair_document(doc, announce=True):
 
 def repair_report(doc):
     return _REPORTS.get(doc.Name)
-
-
-def install_document_guard():
-    """Register the document guard (:mod:`metamaterial_wb.objects.docguard`) once per session."""
-    from metamaterial_wb.objects import docguard
-    return docguard.install()

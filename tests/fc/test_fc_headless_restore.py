@@ -170,7 +170,7 @@ def test_headless_open_that_cannot_reattach_says_so_and_refuses_to_save_over_the
     which object, and save() is refused, so the original file keeps what this session could not read."""
     f, ref, bare = fish
     _python(f"doc = FreeCAD.openDocument({str(f)!r})\ndoc.save()\n", tmp_path, bare)    # proxies dropped
-    _rewrite(f, "metamaterial_wb.objects.structure:SceneProxy", "metamaterial_wb.objects.structure:GoneProxy")
+    _rewrite(f, "metamaterial_wb.objects.scene:SceneProxy", "metamaterial_wb.objects.scene:GoneProxy")
     before = f.read_bytes()
     out = _freecadcmd(HEADLESS.format(path=str(f)), tmp_path, _home_with_addon(tmp_path))
     assert "could not be re-attached (Scene)" in out and "not saving over" in out, out
