@@ -409,7 +409,7 @@ def _fab_key(p):
 
 def build_module(res, spec):
     """Build (or reuse) the shapes of one module and add its parts to the BuildResult."""
-    from metamaterial_wb.geometry.build import PlacedPart
+    from metamaterial_wb.geometry.parts import PlacedPart
 
     App, _ = _fc()
     V = App.Vector
