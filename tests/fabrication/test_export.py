@@ -117,12 +117,20 @@ def assert_tpu_prints_hinges_only(gcode, meshes, thickness_mm, grow_mm=0.45):
 # ------------------------------------------------------------------------------------------------
 # STEP
 # ------------------------------------------------------------------------------------------------
+def _write_instanced(r, path, name):
+    from metamaterial_wb.export.step import result_instances, write_step_instanced
+    shapes, inst, cols = result_instances(r, r.parts)
+    write_step_instanced(str(path), shapes, inst, name, cols)
+    return shapes
+
+
 def test_step_reimport_keeps_names_and_volumes(fc, chain_result, tmp_path):
+    """The instanced STEP (what build writes) re-imports as one named body per part, each with its
+    volume and place (FreeCAD 0.20, 1.0 and 1.1: run on every lane)."""
     import Import
-    from metamaterial_wb.export.step import result_bodies, write_step
     r = chain_result
     path = tmp_path / "chain.step"
-    write_step(str(path), result_bodies(r, r.parts), "chain_sheet")
+    _write_instanced(r, path, "chain_sheet")
     doc = fc.newDocument("reimport")
     try:
         Import.insert(str(path), doc.Name, useLinkGroup=False)
@@ -132,17 +140,36 @@ def test_step_reimport_keeps_names_and_volumes(fc, chain_result, tmp_path):
             shape = feats[q.name].Shape
             assert shape.Volume == pytest.approx(r.placed_shape(q).Volume, rel=1e-6), q.name
             bb, ref = shape.BoundBox, r.placed_shape(q).BoundBox
-            assert (bb.XMin, bb.YMin, bb.ZMax) == pytest.approx((ref.XMin, ref.YMin, ref.ZMax), abs=1e-6)
+            assert (bb.XMin, bb.YMin, bb.ZMin, bb.XMax, bb.YMax, bb.ZMax) == pytest.approx(
+                (ref.XMin, ref.YMin, ref.ZMin, ref.XMax, ref.YMax, ref.ZMax), abs=1e-6), q.name
         assert any(o.TypeId == "App::Part" and o.Label == "chain_sheet" for o in doc.Objects)
     finally:
         fc.closeDocument(doc.Name)
 
 
-def test_step_has_one_colour_per_body(fc, chain_result, tmp_path):
+def test_step_writes_each_unique_shape_once(fc, chain_result, tmp_path):
+    """Instancing: one closed shell (faces, edges, points) per unique shape, one solid and one named
+    product per part; the per-body writer (the first STEP path) wrote a shell per part."""
     from metamaterial_wb.export.step import result_bodies, write_step
     r = chain_result
+    inst = tmp_path / "i.step"
+    shapes = _write_instanced(r, inst, "c")
+    text = inst.read_text()
+    assert len(shapes) < len(r.parts)
+    assert len(re.findall(r"= CLOSED_SHELL\(", text)) == len(shapes)
+    assert len(re.findall(r"= MANIFOLD_SOLID_BREP\(", text)) == len(r.parts)
+    names = set(re.findall(r"= PRODUCT\('([^']*)'", text))
+    assert names == {q.name for q in r.parts} | {"c"}
+    full = tmp_path / "f.step"
+    write_step(str(full), result_bodies(r, r.parts), "c")
+    assert len(re.findall(r"= CLOSED_SHELL\(", full.read_text())) == len(r.parts)
+    assert inst.stat().st_size < full.stat().st_size
+
+
+def test_step_has_one_colour_per_body(fc, chain_result, tmp_path):
+    r = chain_result
     path = tmp_path / "c.step"
-    write_step(str(path), result_bodies(r, r.parts), "c")
+    _write_instanced(r, path, "c")
     text = path.read_text()
     assert text.count("STYLED_ITEM('color'") == len(r.parts)
     rgb = re.findall(r"COLOUR_RGB\('',([\d.]+),([\d.]+),([\d.]+)\)", text)
@@ -358,10 +385,9 @@ def test_step_colours_read_back_by_freecad_gui(fc, chain_result, tmp_path):
     import shutil
     if shutil.which("xvfb-run") is None or shutil.which("freecad") is None:
         pytest.skip("needs xvfb-run and the FreeCAD GUI")
-    from metamaterial_wb.export.step import result_bodies, write_step
     r = chain_result
     step = tmp_path / "c.step"
-    write_step(str(step), result_bodies(r, r.parts), "c")
+    _write_instanced(r, step, "c")
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
     cfg = tmp_path / "user.cfg"
     shutil.copy(os.path.join(here, "freecad_user.cfg"), cfg)        # FreeCAD rewrites it on exit
