@@ -305,6 +305,46 @@ def test_components_layout_sliced_on_two_extruders(prusa_slicer, dual_ini, chain
     assert used[1] / sum(used) == pytest.approx(vol[True] / (vol[True] + vol[False]), abs=0.08)
 
 
+def _prusa_roundtrip_objects(exe, path, out):
+    """``[(volume matrix rounded, extruder or None)]`` of every object PrusaSlicer loads from ``path``
+    (its own --export-3mf, positions kept)."""
+    r = subprocess.run([exe, "--loglevel", "1", "--export-3mf", "--dont-arrange", "-o", str(out), str(path)],
+                       capture_output=True, encoding="utf-8", errors="replace", timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    cfg = zipfile.ZipFile(out).read("Metadata/Slic3r_PE_model.config").decode()
+    objs = []
+    for m in re.finditer(r'<object id="\d+".*?</object>', cfg, re.S):
+        mat = re.search(r'key="matrix" value="([^"]*)"', m.group(0)).group(1)
+        ext = re.search(r'type="volume" key="extruder" value="([^"]*)"', m.group(0))
+        objs.append((tuple(round(float(x), 3) for x in mat.split()[:12]), ext.group(1) if ext else None))
+    return sorted(objs, key=lambda o: o[0])
+
+
+def test_shared_component_meshes_and_what_prusaslicer_makes_of_them(prusa_slicer, chain_meshes, chain_result,
+                                                                     tmp_path):
+    """share_meshes writes copies of one unique shape as components of one mesh with a transform (valid
+    for lib3mf's strict reader). PrusaSlicer 2.5 places every copy right, but gives only the first
+    object made from a mesh its extruder: the copies of a TPU hinge would print in PLA. That is why
+    build does not share meshes in the components file (docs/fabrication.md, "3MF"); when this test
+    fails because PrusaSlicer keeps the extruders, sharing can be switched on there."""
+    from metamaterial_wb.export.threemf import write_3mf
+    full, shared = tmp_path / "full.3mf", tmp_path / "shared.3mf"
+    write_3mf(str(full), chain_meshes, layout="components")
+    write_3mf(str(shared), chain_meshes, layout="components", share_meshes=True)
+    model = ET.fromstring(zipfile.ZipFile(shared).read("3D/3dmodel.model"))
+    meshes = [o for o in model.findall("m:resources/m:object", NS) if o.find("m:mesh", NS) is not None]
+    comps = model.findall("m:resources/m:object/m:components/m:component", NS)
+    assert len(comps) == len(chain_meshes) and len(meshes) == len({q.key for q in chain_result.parts})
+    assert sum(c.get("transform") is not None for c in comps) == len(chain_meshes) - len(meshes)
+    lib3mf_read(shared)                                           # strict mode: raises on any error
+    a = _prusa_roundtrip_objects(prusa_slicer, shared, tmp_path / "rs.3mf")
+    b = _prusa_roundtrip_objects(prusa_slicer, full, tmp_path / "rf.3mf")
+    assert [o[0] for o in a] == [o[0] for o in b]                 # every copy at its place
+    assert all(o[1] for o in b)
+    lost = [o for o in a if o[1] is None]
+    assert len(lost) == len(chain_meshes) - len(meshes)           # exactly the copies lose their extruder
+
+
 # ------------------------------------------------------------------------------------------------
 # the seed's fish and gripper through the CLI
 # ------------------------------------------------------------------------------------------------
