@@ -157,7 +157,9 @@ def main(argv=None):
             f"Target (issue 16, {big['n']} x {big['n']} STEP >= 4x faster and >= 5x smaller than the per-body path): "
             f"{'met' if met else 'NOT met'} ({big['step_old'] / big['step']:.1f}x, "
             f"{big['step_old_mb'] / big['step_mb']:.1f}x). FreeCAD re-import still gives every named body "
-            "(tests/fabrication/test_export.py, on FreeCAD 0.20, 1.0 and 1.1).\n\n" + machine_line())
+            "(tests/fabrication/test_export.py, on FreeCAD 0.20, 1.0 and 1.1). Absolute times depend on the "
+            f"machine's load (1-minute load average {os.getloadavg()[0]:.1f} at the end of this run); the "
+            "ratios come from the same run.\n\n" + machine_line())
         update_section("build", body)
     return 0
 
