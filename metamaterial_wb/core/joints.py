@@ -27,6 +27,7 @@ golden sections along and across the blade): an 8 mm blade turned -81 .. +81 deg
 within 0.2 %. :func:`length_ratio` is that end-to-end distance over the arc's; the build reports its
 worst value per servo (docs/fabrication.md, "Servo pivot"; manifest).
 """
+import functools
 import math
 from dataclasses import dataclass
 
@@ -106,9 +107,13 @@ ALONG_SECOND_ORDER = 0.5 - 1.0 / math.sqrt(6.0)     # x / L from A's end where t
 def best_pivot(length_mm, lo_deg, hi_deg):
     """``(along, offset)`` (mm, from the blade centre: along u towards B, across along v) of the fixed
     shaft that keeps the blade's length error smallest over ``[lo_deg, hi_deg]`` (worst case over
-    the range). Near A's end: a minimax around ``x = L (1/2 - 1/sqrt 6)`` (exact to second order)."""
-    L = float(length_mm)
-    lo, hi = min(lo_deg, 0.0), max(hi_deg, 0.0)
+    the range). Near A's end: a minimax around ``x = L (1/2 - 1/sqrt 6)`` (exact to second order).
+    Cached (about 0.2 s per new range)."""
+    return _best_pivot(float(length_mm), float(min(lo_deg, 0.0)), float(max(hi_deg, 0.0)))
+
+
+@functools.lru_cache(maxsize=256)
+def _best_pivot(L, lo, hi):
     if hi - lo < 1e-9:
         return 0.0, 0.0
     d0 = (ALONG_SECOND_ORDER - 0.5) * L
