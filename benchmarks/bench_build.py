@@ -7,13 +7,18 @@ For each size N (N x N cells, (N+1)^2 nodes with four snap-fit sockets each, 2N(
 * ``build``: validation + geometry (each unique shape once, copies by transform, one boolean call per
   node variant);
 * ``3mf``: tessellation of the unique shapes + PrusaSlicer-layout 3MF;
-* ``step``: named STEP assembly with colours;
+* ``step``: named STEP assembly with colours, as ``build`` writes it: each unique shape's B-rep once,
+  every part a named product placed by transform (export/step.py ``write_step_instanced``);
+* ``step (per body)``: the previous path, one full B-rep per part (``write_step``), measured in the
+  same run as the baseline of the STEP targets (>= 4x faster, >= 5x smaller at 20 x 20);
 * ``naive``: the same solids built part by part the way a straightforward script would -- every
   node rebuilt from its box with one ``cut`` per feature, every hinge rebuilt, and the whole sheet
   accumulated with ``acc = acc.fuse(part)`` -- measured in the same run (skipped above
   ``--naive-sizes``; stopped at ``--naive-limit-s`` and then reported as a lower bound).
 
-Prints one table (markdown) with the ratios naive / build and naive / (build + 3MF + STEP).
+Prints two tables (markdown) -- the ratios naive / build and naive / (build + 3MF + STEP), and the
+STEP paths side by side -- and writes them into docs/benchmarks.md (section "build"; ``--no-doc``
+to skip).
 """
 import argparse
 import os
@@ -31,9 +36,9 @@ def scene(n):
     return Scene.grid(n, n)
 
 
-def run_ours(n, tmp):
+def run_ours(n, tmp, baseline=True):
     from metamaterial_wb.export.mesh import part_meshes
-    from metamaterial_wb.export.step import result_bodies, write_step
+    from metamaterial_wb.export.step import result_bodies, result_instances, write_step, write_step_instanced
     from metamaterial_wb.export.threemf import write_3mf
     from metamaterial_wb.geometry.build import build_scene
 
@@ -44,9 +49,20 @@ def run_ours(n, tmp):
     parts = sorted(res.parts, key=lambda q: q.role != "node")
     write_3mf(os.path.join(tmp, f"s{n}.3mf"), part_meshes(res, parts), layout="prusa")
     t2 = time.perf_counter()
-    write_step(os.path.join(tmp, f"s{n}.step"), result_bodies(res, parts), f"s{n}")
+    shapes, inst, cols = result_instances(res, parts)
+    step = os.path.join(tmp, f"s{n}.step")
+    write_step_instanced(step, shapes, inst, f"s{n}", cols)
     t3 = time.perf_counter()
-    return res, {"build": t1 - t0, "3mf": t2 - t1, "step": t3 - t2}
+    out = {"build": t1 - t0, "3mf": t2 - t1, "step": t3 - t2, "step_mb": os.path.getsize(step) / 1e6}
+    if baseline:
+        old = os.path.join(tmp, f"s{n}_per_body.step")
+        t4 = time.perf_counter()
+        write_step(old, result_bodies(res, parts), f"s{n}")
+        out["step_old"] = time.perf_counter() - t4
+        out["step_old_mb"] = os.path.getsize(old) / 1e6
+        os.unlink(old)
+    os.unlink(step)
+    return res, out
 
 
 def run_naive(res, limit_s):
@@ -89,6 +105,7 @@ def main(argv=None):
     ap.add_argument("--sizes", type=int, nargs="+", default=[3, 10, 20])
     ap.add_argument("--naive-sizes", type=int, nargs="+", default=[3, 10])
     ap.add_argument("--naive-limit-s", type=float, default=600.0)
+    ap.add_argument("--no-doc", action="store_true", help="do not update docs/benchmarks.md")
     args = ap.parse_args(argv)
     import FreeCAD  # noqa: F401
     rows = []
@@ -104,9 +121,9 @@ def main(argv=None):
                 row["naive_done"] = f"{done}/{total}"
             rows.append(row)
             print(f"bench_build: {n} x {n} done ({row['parts']} parts)", file=sys.stderr, flush=True)
-    print("| sheet | parts (unique shapes) | build s | 3MF s | STEP s | build+export s | naive fuse loop s | "
-          "naive / build | naive / (build+export) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    lines = ["| sheet | parts (unique shapes) | build s | 3MF s | STEP s | build+export s | naive fuse loop s | "
+             "naive / build | naive / (build+export) |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "naive" in r:
             lb = "" if r["naive_complete"] else ">= "
@@ -115,8 +132,35 @@ def main(argv=None):
             ratio2 = f"{lb}{r['naive'] / r['total']:.1f}x"
         else:
             naive, ratio1, ratio2 = "not run", "-", "-"
-        print(f"| {r['n']} x {r['n']} | {r['parts']} ({r['unique']}) | {r['build']:.2f} | {r['3mf']:.2f} | "
-              f"{r['step']:.2f} | {r['total']:.2f} | {naive} | {ratio1} | {ratio2} |")
+        lines.append(f"| {r['n']} x {r['n']} | {r['parts']} ({r['unique']}) | {r['build']:.2f} | {r['3mf']:.2f} | "
+                     f"{r['step']:.2f} | {r['total']:.2f} | {naive} | {ratio1} | {ratio2} |")
+    lines += ["", "| sheet | STEP instanced s | STEP per body s | faster | instanced MB | per body MB | smaller |",
+              "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['n']} x {r['n']} | {r['step']:.2f} | {r['step_old']:.2f} | {r['step_old'] / r['step']:.1f}x "
+                     f"| {r['step_mb']:.2f} | {r['step_old_mb']:.2f} | {r['step_old_mb'] / r['step_mb']:.1f}x |")
+    table = "\n".join(lines)
+    print(table)
+    if not args.no_doc:
+        from _report import machine_line, update_section
+        big = max(rows, key=lambda r: r["n"])
+        met = big["step_old"] / big["step"] >= 4 and big["step_old_mb"] / big["step_mb"] >= 5
+        body = (
+            "## Fabrication: build and export (issues 4, 16)\n\n"
+            "`/usr/bin/python3 benchmarks/bench_build.py` (square sheets, 20 mm cells, four snap-fit sockets per "
+            "node; build = validation + B-rep of every part, each unique shape once and copies by transform; "
+            "3MF = PrusaSlicer layout; STEP = the named, coloured assembly `build` writes: each unique shape's "
+            "B-rep once, every part a named product with its own solid on the shared shell, placed by transform; "
+            "STEP per body = the previous path, a full B-rep per part, run on the same build as the baseline; "
+            "naive = every node rebuilt with one `cut` per pocket/socket, every hinge rebuilt, and the sheet "
+            "accumulated with `acc = acc.fuse(part)`, measured in the same run).\n\n" + table + "\n\n"
+            f"Target (issue 16, {big['n']} x {big['n']} STEP >= 4x faster and >= 5x smaller than the per-body path): "
+            f"{'met' if met else 'NOT met'} ({big['step_old'] / big['step']:.1f}x, "
+            f"{big['step_old_mb'] / big['step_mb']:.1f}x). FreeCAD re-import still gives every named body "
+            "(tests/fabrication/test_export.py, on FreeCAD 0.20, 1.0 and 1.1). Absolute times depend on the "
+            f"machine's load (1-minute load average {os.getloadavg()[0]:.1f} at the end of this run); the "
+            "ratios come from the same run.\n\n" + machine_line())
+        update_section("build", body)
     return 0
 
 

@@ -10,15 +10,24 @@ Joint frame (shared with geometry/sheet.py): origin at the gap centre on the pla
 from node A (the joint's first node) to node B, ``v = z x u``; the plates lie on ``side * v > 0``
 (``side = -1`` when i + j is even, the checkerboard corner rule of the kinematics).
 
-Pivot. A blade bent with uniform curvature by ``theta`` has its ends on a circular arc of its own
-length; the fixed point of the rigid motion of B (the pole) starts at the blade centre and moves
-towards the inside of the bend by ``L (1/theta - cot(theta/2)/2)`` (``L theta / 12`` for small
-angles). A servo turns B about one fixed axis, so the pivot is the blade centre shifted laterally
-by the offset that keeps the blade's *effective length* (the length of the circular arc through its
-two ends that turns by theta: ``chord * (theta/2) / sin(theta/2)``) closest to ``L`` over the
-joint's design range (:func:`best_pivot_offset`). :func:`length_ratio` is that effective length over
-``L``; the build reports its worst value per servo (docs/fabrication.md, manifest).
+Pivot. A blade bent with uniform curvature by ``theta`` (an end moment) has its free end on the
+circular arc of its own length ``L``; the fixed point of that rigid motion of B (the pole) stays at
+the blade's mid-length and moves towards the inside of the bend by ``L (1/theta - cot(theta/2)/2)``.
+A servo turns B about one *fixed* axis, so no shaft follows the pole; what must hold is the blade's
+length: the end-to-end distance of its two ends after B turned by theta about the shaft must stay
+the end-to-end distance of a blade of arc length ``L`` bent by theta, ``L sin(theta/2)/(theta/2)``,
+else the servo stretches or crushes the TPU along its stiff axis. A shaft on the blade centre keeps
+that only to about +-28 deg (error ``1 - (t/2) cot(t/2)``). Turning about a point at ``x`` from A's
+end along the blade gives ``chord^2 = L^2 - 2 x (L - x)(1 - cos theta)``, which matches the arc to
+second order when ``x (L - x) = L^2 / 12``, i.e. ``x = L (1/2 - 1/sqrt 6) = 0.092 L`` from A's end
+(the housing's side; the mirror point near B's end is as good). The blade then bends unevenly (more
+near A's end) but keeps its length: the servo bends it instead of stretching it.
+:func:`best_pivot` starts there and minimises the worst error over the design range (minimax,
+golden sections along and across the blade): an 8 mm blade turned -81 .. +81 deg keeps its length
+within 0.2 %. :func:`length_ratio` is that end-to-end distance over the arc's; the build reports its
+worst value per servo (docs/fabrication.md, "Servo pivot"; manifest).
 """
+import functools
 import math
 from dataclasses import dataclass
 
@@ -39,41 +48,32 @@ def joint_frame(kind, i, j, cell_mm, plate_side_mm):
     return (x, -i * c - 0.5 * c, -90.0, side)
 
 
-def length_ratio(length_mm, offset_mm, theta_rad):
-    """Effective hinge length over its free length when node B turns by ``theta`` (rad, array) about
-    the point ``(0, offset)`` of the joint frame shifted to the blade centre line."""
+def length_ratio(length_mm, offset_mm, theta_rad, along_mm=0.0):
+    """End-to-end distance of the blade over that of its uniformly bent arc (``L sinc(theta/2)``) when
+    node B turns by ``theta`` (rad, array) about the point ``(along, offset)`` of the joint frame
+    shifted to the blade centre (``along`` on u from the blade's mid-length, ``offset`` on v)."""
     L = float(length_mm)
-    e = float(offset_mm)
+    d, e = float(along_mm), float(offset_mm)
     th = np.asarray(theta_rad, dtype=float)
     c, s = np.cos(th), np.sin(th)
-    # B's blade end (L/2, 0) relative to the pivot (0, e), turned, back; A's end stays at (-L/2, 0)
-    x = c * 0.5 * L + s * e
-    y = s * 0.5 * L - c * e + e
+    # B's blade end (L/2, 0) relative to the pivot (d, e), turned, back; A's end stays at (-L/2, 0)
+    bx, by = 0.5 * L - d, -e
+    x = d + c * bx - s * by
+    y = e + s * bx + c * by
     chord = np.hypot(x + 0.5 * L, y)
     return chord / (L * np.sinc(th / (2.0 * math.pi)))
 
 
-def max_length_error(length_mm, offset_mm, lo_deg, hi_deg, n=241):
+def max_length_error(length_mm, offset_mm, lo_deg, hi_deg, n=241, along_mm=0.0):
     th = np.radians(np.linspace(min(lo_deg, 0.0), max(hi_deg, 0.0), n))
-    return float(np.max(np.abs(length_ratio(length_mm, offset_mm, th) - 1.0)))
+    return float(np.max(np.abs(length_ratio(length_mm, offset_mm, th, along_mm) - 1.0)))
 
 
-def best_pivot_offset(length_mm, lo_deg, hi_deg):
-    """Lateral offset (mm, along v, from the blade centre line) of the fixed pivot that keeps the
-    effective hinge length closest to ``L`` over ``[lo_deg, hi_deg]`` (minimax, golden section on a
-    unimodal objective bracketed by the pole's travel)."""
-    L = float(length_mm)
-    lo, hi = math.radians(min(lo_deg, 0.0)), math.radians(max(hi_deg, 0.0))
-
-    def pole(t):
-        return 0.0 if abs(t) < 1e-9 else L * (1.0 / t - 0.5 / math.tan(0.5 * t))
-
-    a, b = min(pole(lo), pole(hi), 0.0) - 1e-9, max(pole(lo), pole(hi), 0.0) + 1e-9
-    f = lambda e: max_length_error(L, e, math.degrees(lo), math.degrees(hi))  # noqa: E731
+def _golden(f, a, b, n=50):
     g = 0.5 * (math.sqrt(5.0) - 1.0)
     x1, x2 = b - g * (b - a), a + g * (b - a)
     f1, f2 = f(x1), f(x2)
-    for _ in range(60):
+    for _ in range(n):
         if f1 <= f2:
             b, x2, f2 = x2, x1, f1
             x1 = b - g * (b - a)
@@ -83,6 +83,46 @@ def best_pivot_offset(length_mm, lo_deg, hi_deg):
             x2 = a + g * (b - a)
             f2 = f(x2)
     return 0.5 * (a + b)
+
+
+def _pole_bracket(L, lo, hi):
+    def pole(t):
+        return 0.0 if abs(t) < 1e-9 else L * (1.0 / t - 0.5 / math.tan(0.5 * t))
+    return min(pole(lo), pole(hi), 0.0) - 1e-9, max(pole(lo), pole(hi), 0.0) + 1e-9
+
+
+def best_pivot_offset(length_mm, lo_deg, hi_deg, along_mm=0.0):
+    """Lateral offset (mm, along v, from the blade centre line) of the fixed pivot at ``along_mm`` that
+    keeps the blade's length error smallest over ``[lo_deg, hi_deg]`` (minimax, golden section
+    bracketed by the pole's travel)."""
+    L = float(length_mm)
+    lo, hi = math.radians(min(lo_deg, 0.0)), math.radians(max(hi_deg, 0.0))
+    a, b = _pole_bracket(L, lo, hi)
+    return _golden(lambda e: max_length_error(L, e, math.degrees(lo), math.degrees(hi), along_mm=along_mm), a, b)
+
+
+ALONG_SECOND_ORDER = 0.5 - 1.0 / math.sqrt(6.0)     # x / L from A's end where the chord matches to theta^2
+
+
+def best_pivot(length_mm, lo_deg, hi_deg):
+    """``(along, offset)`` (mm, from the blade centre: along u towards B, across along v) of the fixed
+    shaft that keeps the blade's length error smallest over ``[lo_deg, hi_deg]`` (worst case over
+    the range). Near A's end: a minimax around ``x = L (1/2 - 1/sqrt 6)`` (exact to second order).
+    Cached (about 0.2 s per new range)."""
+    return _best_pivot(float(length_mm), float(min(lo_deg, 0.0)), float(max(hi_deg, 0.0)))
+
+
+@functools.lru_cache(maxsize=256)
+def _best_pivot(L, lo, hi):
+    if hi - lo < 1e-9:
+        return 0.0, 0.0
+    d0 = (ALONG_SECOND_ORDER - 0.5) * L
+
+    def worst(d):
+        return max_length_error(L, best_pivot_offset(L, lo, hi, d), lo, hi, along_mm=d)
+
+    d = _golden(worst, d0 - 0.08 * L, min(d0 + 0.08 * L, -0.3 * L), n=40)
+    return d, best_pivot_offset(L, lo, hi, d)
 
 
 def node_parity(ij):
@@ -132,19 +172,23 @@ class JointPivot:
     value_range: tuple       # the D range it comes from
     offset_mm: float         # lateral shift of the pivot from the blade centre line (along v)
     length_mm: float         # free hinge length
-    length_error: float      # worst |effective length / L - 1| over the range
+    length_error: float      # worst |end-to-end distance / (L sinc(theta/2)) - 1| over the range
+    along_mm: float = 0.0    # shift of the pivot along u (A -> B) from the blade's mid-length
 
     def as_dict(self):
         return {"joint": self.joint, "point_mm": [round(float(c), 6) for c in self.point_mm],
                 "axis": [float(c) for c in self.axis], "range_deg": [round(float(c), 6) for c in self.range_deg],
                 "value_range": [float(c) for c in self.value_range], "offset_mm": round(self.offset_mm, 6),
+                "along_mm": round(self.along_mm, 6),
                 "length_mm": self.length_mm, "length_error": round(self.length_error, 6)}
 
 
-def joint_pivot(scene, joint, cell_mm, plate_side_mm, hinge, sheet_thickness_mm, value_range=None, limits=None):
+def joint_pivot(scene, joint, cell_mm, plate_side_mm, hinge, sheet_thickness_mm, value_range=None, limits=None,
+                range_deg=None):
     """The pivot of ``joint`` (a :class:`JointPivot`). ``hinge``: the joint's sizes (``length_mm``,
     ``width_mm``, ``tilt_deg``). ``value_range``: the D range of the design (default: the scene's
-    actuators on this joint, else the full range [-1, 1])."""
+    actuators on this joint, else the full range [-1, 1]); ``range_deg`` (theta of B relative to A)
+    overrides the range taken from the values (a clip's fixed angle)."""
     from metamaterial_wb.core.kinematics import rotation_limits
     from metamaterial_wb.core.scene import joint_nodes, parse_joint
 
@@ -152,18 +196,20 @@ def joint_pivot(scene, joint, cell_mm, plate_side_mm, hinge, sheet_thickness_mm,
     a, _ = joint_nodes(kind, i, j)
     if value_range is None:
         value_range = actuator_value_range(scene, joint) or (-1.0, 1.0)
-    closing, opening = limits if limits is not None else rotation_limits(scene)
-    th = relative_rotation_deg(a, np.array(value_range), closing, opening)
-    lo, hi = float(min(th.min(), 0.0)), float(max(th.max(), 0.0))
+    if range_deg is None:
+        closing, opening = limits if limits is not None else rotation_limits(scene)
+        th = relative_rotation_deg(a, np.array(value_range), closing, opening)
+        range_deg = (float(th.min()), float(th.max()))
+    lo, hi = float(min(range_deg[0], 0.0)), float(max(range_deg[1], 0.0))
     L = float(hinge["length_mm"])
     tilt = math.radians(float(hinge.get("tilt_deg", 0.0)))
     wn = float(hinge["width_mm"]) / math.cos(tilt)
-    e = best_pivot_offset(L, lo, hi)
+    d, e = best_pivot(L, lo, hi)
     x, y, ang, side = joint_frame(kind, i, j, cell_mm, plate_side_mm)
     v = side * 0.5 * wn + e                       # along v from the edge line
     ca, sa = math.cos(math.radians(ang)), math.sin(math.radians(ang))
-    px, py = x - sa * v, y + ca * v                # v = z x u = (-sin, cos)
+    px, py = x + ca * d - sa * v, y + sa * d + ca * v    # u = (cos, sin), v = z x u = (-sin, cos)
     # a tilted hinge leans by its tilt about u (right-hand rule): the axis turns from z towards -v
     axis = (sa * math.sin(tilt), -ca * math.sin(tilt), math.cos(tilt))
     return JointPivot(joint, (px, py, 0.5 * float(sheet_thickness_mm)), axis, (lo, hi), tuple(value_range), e, L,
-                      max_length_error(L, e, lo, hi))
+                      max_length_error(L, e, lo, hi, along_mm=d), d)

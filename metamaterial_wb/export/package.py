@@ -52,7 +52,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     from metamaterial_wb.export.manifest import build_manifest, write_manifest
     from metamaterial_wb.export.mesh import part_meshes
     from metamaterial_wb.export.printpose import lay_out_best_poses
-    from metamaterial_wb.export.step import result_bodies, write_step
+    from metamaterial_wb.export.step import result_instances, write_step_instanced
     from metamaterial_wb.export.threemf import write_3mf
     from metamaterial_wb.geometry.params import MATERIALS
     from metamaterial_wb.geometry.progress import note
@@ -75,7 +75,8 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                 parts = sorted(parts, key=lambda q: (q.role != "node", 0))   # nodes first: hinges win overlaps
             n_before = len(written)
             if step:
-                write_step(os.path.join(tmp, base + ".step"), result_bodies(result, parts), base)
+                shapes, inst, cols = result_instances(result, parts)     # each unique shape once
+                write_step_instanced(os.path.join(tmp, base + ".step"), shapes, inst, base, cols)
                 written.append(base + ".step")
             if threemf:
                 meshes = part_meshes(result, parts, tolerance_mm)
@@ -96,7 +97,8 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
             note(f"{group}: {len(parts)} part(s) exported in {time.perf_counter() - t0:.2f} s", progress, stream)
         if step and len(groups) > 1:
             base = f"{stem}_assembly"
-            write_step(os.path.join(tmp, base + ".step"), result_bodies(result, result.parts), base)
+            shapes, inst, cols = result_instances(result, result.parts)
+            write_step_instanced(os.path.join(tmp, base + ".step"), shapes, inst, base, cols)
             written.append(base + ".step")
             files_by_group["assembly"] = [base + ".step"]
         write_manifest(os.path.join(tmp, "manifest.json"),

@@ -126,8 +126,44 @@ def _materials_table(parts, materials):
     return "".join(xml), index
 
 
+def _transform_attr(M):
+    """3MF core transform attribute (m00 m01 m02 m10 ... m32: row vectors, p' = p M) of a 4 x 4
+    column-vector matrix ``M`` (p' = M p)."""
+    R, t = M[:3, :3], M[:3, 3]
+    vals = [R[c, r] for r in range(3) for c in range(3)] + list(t)
+    return " ".join(f"{float(v):.9g}" for v in vals)
+
+
+def _shared_meshes(parts, tol_mm=1e-6):
+    """``{k: (first, M)}``: part ``k`` is a rigid copy of part ``first`` (the same triangles, its
+    vertices ``M`` applied to ``first``'s within ``tol_mm``; Kabsch fit, checked on every vertex)."""
+    out = {}
+    firsts = {}
+    for k, mp in enumerate(parts):
+        key = (hash(mp.triangles.tobytes()), len(mp.vertices), mp.material.upper(), mp.extruder)
+        if key not in firsts:
+            firsts[key] = []
+        hit = None
+        for f in firsts[key]:
+            A, B = parts[f].vertices, mp.vertices
+            ca, cb = A.mean(axis=0), B.mean(axis=0)
+            U, _, Wt = np.linalg.svd((A - ca).T @ (B - cb))
+            d = np.sign(np.linalg.det(Wt.T @ U.T))
+            R = Wt.T @ np.diag([1.0, 1.0, d]) @ U.T
+            if d > 0 and np.max(np.abs((A - ca) @ R.T + cb - B)) <= tol_mm:
+                M = np.eye(4)
+                M[:3, :3], M[:3, 3] = R, cb - R @ ca
+                hit = (f, M)
+                break
+        if hit is None:
+            firsts[key].append(k)
+        else:
+            out[k] = hit
+    return out
+
+
 def build_3mf_bytes(parts, layout="prusa", materials=None, object_name="structure", title=None,
-                    application="metamaterial_wb"):
+                    application="metamaterial_wb", share_meshes=False):
     """The 3MF package as bytes (see :func:`write_3mf`)."""
     if layout not in LAYOUTS:
         raise MetamaterialError(f"3MF layout {layout!r} is unknown; allowed: {', '.join(LAYOUTS)}")
@@ -169,7 +205,14 @@ def build_3mf_bytes(parts, layout="prusa", materials=None, object_name="structur
     else:
         body = []
         ids = []
+        shared = _shared_meshes(parts) if (share_meshes and layout == "components") else {}
+        xforms = {}
         for k, mp in enumerate(parts):
+            if k in shared:                      # a copy of an earlier mesh: a component with a transform
+                first, M = shared[k]
+                ids.append(ids[first])
+                xforms[k] = M
+                continue
             oid = 2 + k
             ids.append(oid)
             body.append(f'<object id="{oid}" type="model" name={quoteattr(mp.name)} pid="1" '
@@ -183,7 +226,9 @@ def build_3mf_bytes(parts, layout="prusa", materials=None, object_name="structur
         asm = 2 + len(parts)
         if layout == "components":
             body.append(f'<object id="{asm}" type="model" name={quoteattr(object_name)}>\n<components>\n')
-            body.extend(f' <component objectid="{oid}"/>\n' for oid in ids)
+            for k, oid in enumerate(ids):
+                tr = f' transform="{_transform_attr(xforms[k])}"' if k in xforms else ""
+                body.append(f' <component objectid="{oid}"{tr}/>\n')
             body.append('</components>\n</object>\n</resources>\n'
                         f'<build>\n <item objectid="{asm}"/>\n</build>\n</model>\n')
         else:
@@ -195,7 +240,9 @@ def build_3mf_bytes(parts, layout="prusa", materials=None, object_name="structur
             bambu += [f' <object id="{asm}">\n', f'  <metadata key="name" value={quoteattr(object_name)}/>\n',
                       f'  <metadata key="extruder" value="{parts[0].extruder}"/>\n']
         prusa = ['<?xml version="1.0" encoding="UTF-8"?>\n<config>\n']
-        for oid, mp in zip(ids, parts):
+        for k, (oid, mp) in enumerate(zip(ids, parts)):
+            if k in shared:
+                continue
             if layout == "components":
                 bambu.append(f'  <part id="{oid}" subtype="normal_part">\n'
                              f'   <metadata key="name" value={quoteattr(mp.name)}/>\n'
@@ -229,16 +276,20 @@ def build_3mf_bytes(parts, layout="prusa", materials=None, object_name="structur
 
 
 def write_3mf(path, parts, layout="prusa", materials=None, object_name=None, title=None,
-              application="metamaterial_wb"):
+              application="metamaterial_wb", share_meshes=False):
     """Write a 3MF file atomically. Returns the path.
 
-    ``materials``: optional ``{name: "#RRGGBB"}`` display colours (defaults: PLA grey, TPU blue, ABS
-    yellow, PETG green). ``object_name`` defaults to the file's stem.
+    ``share_meshes`` (``"components"`` layout): a part that is a rigid copy of an earlier one (equal
+    triangles, vertices within 1e-6 mm of a rotated and shifted copy) is written as a component of
+    the earlier mesh with a transform instead of a mesh of its own. Off by default: PrusaSlicer 2.5
+    places every copy right but gives only the first object made from a mesh its per-object
+    extruder (tests/fabrication/test_export.py), and Cura and Bambu Studio / OrcaSlicer name a
+    component after its mesh, so copies would lose their part names.
     """
     from metamaterial_wb.core.fileio import write_atomic
 
     name = object_name or os.path.splitext(os.path.basename(os.fspath(path)))[0]
     data = build_3mf_bytes(parts, layout=layout, materials=materials, object_name=name, title=title,
-                           application=application)
+                           application=application, share_meshes=share_meshes)
     write_atomic(path, data, mode="wb")
     return path

@@ -8,54 +8,10 @@ Shapes are cached by a key made of their parameters: a 20 x 20 sheet has 1281 pa
 few dozen unique shapes; copies are placed by transform.
 """
 import time
-from collections import OrderedDict
-from dataclasses import dataclass, field
 
 from metamaterial_wb.geometry.params import fabrication_params
+from metamaterial_wb.geometry.parts import BuildResult, PlacedPart  # noqa: F401  (re-exported)
 from metamaterial_wb.geometry.progress import Progress, note
-
-
-@dataclass
-class PlacedPart:
-    name: str             # unique, used as the STEP body name and the 3MF object/volume name
-    role: str             # "node", "hinge" or "module"
-    material: str         # "PLA", "TPU", "ABS", ...
-    extruder: int         # 1-based
-    key: tuple            # key into BuildResult.shapes
-    placement: object     # FreeCAD Placement
-    group: str            # output file: "sheet" or a module's name
-    info: dict = field(default_factory=dict)
-
-
-class BuildResult:
-    def __init__(self, scene, params):
-        self.scene = scene
-        self.params = params
-        self.shapes = {}
-        self.parts = []
-        self.modules = []          # ModuleSpec list (geometry/modules.py)
-        self.module_parts = {}     # module shape key -> names of its parts
-        self.timings = {}
-
-    def groups(self):
-        out = OrderedDict()
-        for part in self.parts:
-            out.setdefault(part.group, []).append(part)
-        return out
-
-    def placed_shape(self, part, copy=False):
-        shape = self.shapes[part.key]
-        placed = shape.transformed(part.placement.toMatrix())
-        return placed.copy() if copy else placed
-
-    def by_name(self, name):
-        for part in self.parts:
-            if part.name == name:
-                return part
-        raise KeyError(name)
-
-    def count(self, role=None, group=None):
-        return sum(1 for p in self.parts if (role is None or p.role == role) and (group is None or p.group == group))
 
 
 def node_part_name(i, j):

@@ -63,6 +63,7 @@ WALL_KEYS = {
 }
 TYPE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
                 "hub": "connection_hub", "pad": "friction_pad"}
+HUB_POST_HALF_MM = 3.0       # half the stable hub's post / foot length along the joint
 _NODE_RE = re.compile(r"^\s*[Nn]\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
 
 
@@ -236,10 +237,17 @@ def parse_modules(scene, p):
             spec.pivot = joint_pivot(scene, p, spec.joint, range_deg=(spec.values["angle_deg"],) * 2)
         elif typ == "stable_hub":
             v = spec.values
-            if v["platform_mm"] >= p.cell_size_mm - 2.0:
+            # the platform (and the M3 hole of what it carries) sits over the joint's pivot along the joint
+            spec.pivot = joint_pivot(scene, p, spec.joint)
+            pu = round(to_module_frame(spec, p, spec.pivot.point_mm)[0], 6)
+            v["pivot_u_mm"] = pu
+            room = 2.0 * (0.5 * p.cell_size_mm - HUB_POST_HALF_MM - 1.0 - abs(pu))
+            if v["platform_mm"] >= room:
                 raise SceneError(f"{f}.platform_mm ({name})", f"{v['platform_mm']} mm leaves no room for the beams "
-                                                              f"between the node centres ({p.cell_size_mm} mm apart); "
-                                                              f"allowed range (0, {p.cell_size_mm - 2.0:.3g}) mm")
+                                                              f"between the posts on the node centres "
+                                                              f"({p.cell_size_mm} mm apart, platform over the joint's "
+                                                              f"pivot {pu:+.3g} mm off the midpoint); allowed range "
+                                                              f"(0, {room:.3g}) mm")
         for ij, lab in spec.sockets:
             # a snap pin runs through the whole socket, so a top and a bottom module cannot share one either
             key = (ij, lab)
@@ -339,15 +347,17 @@ def build_stable_hub(spec, p):
     P = 0.5 * v["platform_mm"]
     parts = []
     pins = []
+    pu = v.get("pivot_u_mm", 0.0)          # the platform over the joint's pivot (core/joints.py)
+    hp = HUB_POST_HALF_MM
     for uc in (-0.5 * c, 0.5 * c):
-        parts.append(box(uc - 3.0, uc + 3.0, -fv, fv, T, T + foot_t))
+        parts.append(box(uc - hp, uc + hp, -fv, fv, T, T + foot_t))
         # posts as wide as the feet: printed upside down (platform on the bed) nothing overhangs
-        parts.append(box(uc - 3.0, uc + 3.0, -fv, fv, T + foot_t - 0.01, zp + bh))
-        u0, u1 = (uc, -P + 0.01) if uc < 0 else (P - 0.01, uc)
+        parts.append(box(uc - hp, uc + hp, -fv, fv, T + foot_t - 0.01, zp + bh))
+        u0, u1 = (uc, pu - P + 0.01) if uc < 0 else (pu + P - 0.01, uc)
         parts.append(box(u0, u1, -bw, bw, zp, zp + bh))
         pins += _pins_at(p, _lateral_points(p, uc), snap=spec.snap)
-    parts.append(box(-P, P, -P, P, zp, zp + bh))
-    hole = Part.makeCylinder(1.6, bh + 2.0, V(0, 0, zp - 1.0))     # M3 clearance for the attached shape
+    parts.append(box(pu - P, pu + P, -P, P, zp, zp + bh))
+    hole = Part.makeCylinder(1.6, bh + 2.0, V(pu, 0, zp - 1.0))     # M3 clearance for the attached shape
     return [("hub", _finish(parts + pins, [hole], spec.name))]
 
 
@@ -399,7 +409,7 @@ def _fab_key(p):
 
 def build_module(res, spec):
     """Build (or reuse) the shapes of one module and add its parts to the BuildResult."""
-    from metamaterial_wb.geometry.build import PlacedPart
+    from metamaterial_wb.geometry.parts import PlacedPart
 
     App, _ = _fc()
     V = App.Vector

@@ -374,18 +374,5 @@ def joint_pivot(scene, p, joint, value_range=None, range_deg=None):
 
     h = p.hinges[joint]
     hinge = {"length_mm": h.length_mm, "width_mm": h.width_mm, "tilt_deg": h.tilt_deg}
-    piv = joints.joint_pivot(scene, joint, p.cell_size_mm, p.plate_side_mm_global, hinge, p.sheet_thickness_mm,
-                             value_range=value_range)
-    if range_deg is not None:
-        lo, hi = min(range_deg[0], 0.0), max(range_deg[1], 0.0)
-        e_old = piv.offset_mm
-        e = joints.best_pivot_offset(h.length_mm, lo, hi)
-        # shift the point laterally by the new offset (v = z x u of the joint frame)
-        from metamaterial_wb.core.scene import parse_joint
-        _, _, ang, _ = joints.joint_frame(*parse_joint(joint), p.cell_size_mm, p.plate_side_mm_global)
-        sa, ca = math.sin(math.radians(ang)), math.cos(math.radians(ang))
-        x, y, z = piv.point_mm
-        piv.point_mm = (x - sa * (e - e_old), y + ca * (e - e_old), z)
-        piv.offset_mm, piv.range_deg = e, (lo, hi)
-        piv.length_error = joints.max_length_error(h.length_mm, e, lo, hi)
-    return piv
+    return joints.joint_pivot(scene, joint, p.cell_size_mm, p.plate_side_mm_global, hinge, p.sheet_thickness_mm,
+                              value_range=value_range, range_deg=range_deg)

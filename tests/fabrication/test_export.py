@@ -117,12 +117,20 @@ def assert_tpu_prints_hinges_only(gcode, meshes, thickness_mm, grow_mm=0.45):
 # ------------------------------------------------------------------------------------------------
 # STEP
 # ------------------------------------------------------------------------------------------------
+def _write_instanced(r, path, name):
+    from metamaterial_wb.export.step import result_instances, write_step_instanced
+    shapes, inst, cols = result_instances(r, r.parts)
+    write_step_instanced(str(path), shapes, inst, name, cols)
+    return shapes
+
+
 def test_step_reimport_keeps_names_and_volumes(fc, chain_result, tmp_path):
+    """The instanced STEP (what build writes) re-imports as one named body per part, each with its
+    volume and place (FreeCAD 0.20, 1.0 and 1.1: run on every lane)."""
     import Import
-    from metamaterial_wb.export.step import result_bodies, write_step
     r = chain_result
     path = tmp_path / "chain.step"
-    write_step(str(path), result_bodies(r, r.parts), "chain_sheet")
+    _write_instanced(r, path, "chain_sheet")
     doc = fc.newDocument("reimport")
     try:
         Import.insert(str(path), doc.Name, useLinkGroup=False)
@@ -132,17 +140,36 @@ def test_step_reimport_keeps_names_and_volumes(fc, chain_result, tmp_path):
             shape = feats[q.name].Shape
             assert shape.Volume == pytest.approx(r.placed_shape(q).Volume, rel=1e-6), q.name
             bb, ref = shape.BoundBox, r.placed_shape(q).BoundBox
-            assert (bb.XMin, bb.YMin, bb.ZMax) == pytest.approx((ref.XMin, ref.YMin, ref.ZMax), abs=1e-6)
+            assert (bb.XMin, bb.YMin, bb.ZMin, bb.XMax, bb.YMax, bb.ZMax) == pytest.approx(
+                (ref.XMin, ref.YMin, ref.ZMin, ref.XMax, ref.YMax, ref.ZMax), abs=1e-6), q.name
         assert any(o.TypeId == "App::Part" and o.Label == "chain_sheet" for o in doc.Objects)
     finally:
         fc.closeDocument(doc.Name)
 
 
-def test_step_has_one_colour_per_body(fc, chain_result, tmp_path):
+def test_step_writes_each_unique_shape_once(fc, chain_result, tmp_path):
+    """Instancing: one closed shell (faces, edges, points) per unique shape, one solid and one named
+    product per part; the per-body writer (the first STEP path) wrote a shell per part."""
     from metamaterial_wb.export.step import result_bodies, write_step
     r = chain_result
+    inst = tmp_path / "i.step"
+    shapes = _write_instanced(r, inst, "c")
+    text = inst.read_text()
+    assert len(shapes) < len(r.parts)
+    assert len(re.findall(r"= CLOSED_SHELL\(", text)) == len(shapes)
+    assert len(re.findall(r"= MANIFOLD_SOLID_BREP\(", text)) == len(r.parts)
+    names = set(re.findall(r"= PRODUCT\('([^']*)'", text))
+    assert names == {q.name for q in r.parts} | {"c"}
+    full = tmp_path / "f.step"
+    write_step(str(full), result_bodies(r, r.parts), "c")
+    assert len(re.findall(r"= CLOSED_SHELL\(", full.read_text())) == len(r.parts)
+    assert inst.stat().st_size < full.stat().st_size
+
+
+def test_step_has_one_colour_per_body(fc, chain_result, tmp_path):
+    r = chain_result
     path = tmp_path / "c.step"
-    write_step(str(path), result_bodies(r, r.parts), "c")
+    _write_instanced(r, path, "c")
     text = path.read_text()
     assert text.count("STYLED_ITEM('color'") == len(r.parts)
     rgb = re.findall(r"COLOUR_RGB\('',([\d.]+),([\d.]+),([\d.]+)\)", text)
@@ -278,6 +305,46 @@ def test_components_layout_sliced_on_two_extruders(prusa_slicer, dual_ini, chain
     assert used[1] / sum(used) == pytest.approx(vol[True] / (vol[True] + vol[False]), abs=0.08)
 
 
+def _prusa_roundtrip_objects(exe, path, out):
+    """``[(volume matrix rounded, extruder or None)]`` of every object PrusaSlicer loads from ``path``
+    (its own --export-3mf, positions kept)."""
+    r = subprocess.run([exe, "--loglevel", "1", "--export-3mf", "--dont-arrange", "-o", str(out), str(path)],
+                       capture_output=True, encoding="utf-8", errors="replace", timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    cfg = zipfile.ZipFile(out).read("Metadata/Slic3r_PE_model.config").decode()
+    objs = []
+    for m in re.finditer(r'<object id="\d+".*?</object>', cfg, re.S):
+        mat = re.search(r'key="matrix" value="([^"]*)"', m.group(0)).group(1)
+        ext = re.search(r'type="volume" key="extruder" value="([^"]*)"', m.group(0))
+        objs.append((tuple(round(float(x), 3) for x in mat.split()[:12]), ext.group(1) if ext else None))
+    return sorted(objs, key=lambda o: o[0])
+
+
+def test_shared_component_meshes_and_what_prusaslicer_makes_of_them(prusa_slicer, chain_meshes, chain_result,
+                                                                     tmp_path):
+    """share_meshes writes copies of one unique shape as components of one mesh with a transform (valid
+    for lib3mf's strict reader). PrusaSlicer 2.5 places every copy right, but gives only the first
+    object made from a mesh its extruder: the copies of a TPU hinge would print in PLA. That is why
+    build does not share meshes in the components file (docs/fabrication.md, "3MF"); when this test
+    fails because PrusaSlicer keeps the extruders, sharing can be switched on there."""
+    from metamaterial_wb.export.threemf import write_3mf
+    full, shared = tmp_path / "full.3mf", tmp_path / "shared.3mf"
+    write_3mf(str(full), chain_meshes, layout="components")
+    write_3mf(str(shared), chain_meshes, layout="components", share_meshes=True)
+    model = ET.fromstring(zipfile.ZipFile(shared).read("3D/3dmodel.model"))
+    meshes = [o for o in model.findall("m:resources/m:object", NS) if o.find("m:mesh", NS) is not None]
+    comps = model.findall("m:resources/m:object/m:components/m:component", NS)
+    assert len(comps) == len(chain_meshes) and len(meshes) == len({q.key for q in chain_result.parts})
+    assert sum(c.get("transform") is not None for c in comps) == len(chain_meshes) - len(meshes)
+    lib3mf_read(shared)                                           # strict mode: raises on any error
+    a = _prusa_roundtrip_objects(prusa_slicer, shared, tmp_path / "rs.3mf")
+    b = _prusa_roundtrip_objects(prusa_slicer, full, tmp_path / "rf.3mf")
+    assert [o[0] for o in a] == [o[0] for o in b]                 # every copy at its place
+    assert all(o[1] for o in b)
+    lost = [o for o in a if o[1] is None]
+    assert len(lost) == len(chain_meshes) - len(meshes)           # exactly the copies lose their extruder
+
+
 # ------------------------------------------------------------------------------------------------
 # the seed's fish and gripper through the CLI
 # ------------------------------------------------------------------------------------------------
@@ -358,10 +425,9 @@ def test_step_colours_read_back_by_freecad_gui(fc, chain_result, tmp_path):
     import shutil
     if shutil.which("xvfb-run") is None or shutil.which("freecad") is None:
         pytest.skip("needs xvfb-run and the FreeCAD GUI")
-    from metamaterial_wb.export.step import result_bodies, write_step
     r = chain_result
     step = tmp_path / "c.step"
-    write_step(str(step), result_bodies(r, r.parts), "c")
+    _write_instanced(r, step, "c")
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
     cfg = tmp_path / "user.cfg"
     shutil.copy(os.path.join(here, "freecad_user.cfg"), cfg)        # FreeCAD rewrites it on exit

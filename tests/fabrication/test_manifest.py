@@ -106,7 +106,7 @@ def test_print_pose_checked_on_the_exported_mesh(built):
             assert V[:, 2].min() == pytest.approx(0.0, abs=1e-6)
             mine = pose_report(V, T)
             assert mine["supports_free"] == rep["supports_free"]
-            assert mine["unsupported_area_mm2"] == pytest.approx(rep["unsupported_area_mm2"], abs=1e-3)
+            assert mine["unsupported_area_mm2"] == pytest.approx(rep["unsupported_area_mm2"], abs=2e-3)
     pad = [x for x in m["modules"] if x["name"] == "pad"][0]["print_pose"]["pad_pad"]
     assert pad["supports_free"] and pad["bed_area_mm2"] > 100.0 and pad["pose"] in ("+z down", "-z down")
     for name, part in (("stable", "stable_hub"), ("clip", "clip_clip")):      # flat top on the bed, pins up

@@ -61,12 +61,14 @@ def test_servo_shaft_on_the_joint_pivot(mod_result):
            and abs(f.Surface.Radius - hub_r) < 1e-9]
     assert cyl, "no horn hub pocket"
     for f in cyl:
-        assert (f.Surface.Center.x, f.Surface.Center.y) == pytest.approx((C_PIVOT, -C / 2), abs=2e-6)
+        # u runs from N0,1 down to N1,1 (-y): the shaft sits along the blade towards A by -along_mm
+        assert (f.Surface.Center.x, f.Surface.Center.y) == pytest.approx((C_PIVOT, -C / 2 - spec.pivot.along_mm),
+                                                                         abs=2e-6)
         assert abs(f.Surface.Axis.z) == pytest.approx(1.0)
     # the housing sits on the first node N0,1, the adapter on the second N1,1 (below it, y < -10)
     hb, ab = _part(r, "servo_housing").BoundBox, adapter.BoundBox
     assert hb.YMax > -C / 2 > hb.YMin                       # housing spans the joint (shaft inside it)
-    assert ab.YMax == pytest.approx(-C / 2 + 3.5 + 2.0)        # the arm ends 2 mm beyond the horn hub
+    assert ab.YMax == pytest.approx(-C / 2 - spec.pivot.along_mm + 3.5 + 2.0)   # the arm ends 2 mm beyond the horn hub
 
 
 def test_pins_reach_into_the_sockets(mod_result):

@@ -138,7 +138,7 @@ def test_all_solids_valid_and_overlap_only_at_anchors(chain_result, grid_result)
 def test_overlap_check_catches_a_missing_pocket(fc, chain_result):
     """Mutation: a node without the anchor pockets must be reported (the check can fail)."""
     from metamaterial_wb.geometry import validity
-    from metamaterial_wb.geometry.build import BuildResult
+    from metamaterial_wb.geometry.parts import BuildResult
     import Part
     r = chain_result
     bad = BuildResult(r.scene, r.params)

@@ -124,7 +124,6 @@ KNOWN_VIOLATIONS = {
 KNOWN_CYCLES = {
     ("metamaterial_wb.core.design", "metamaterial_wb.core.kinematics"),
     ("metamaterial_wb.core.design", "metamaterial_wb.geometry.params"),
-    ("metamaterial_wb.geometry.build", "metamaterial_wb.geometry.modules"),
     # these three close only through the two loops above (kinematics -> design for the tilts, design ->
     # geometry.params for the printable tilt): they go when those do
     ("metamaterial_wb.core.joints", "metamaterial_wb.core.kinematics"),
