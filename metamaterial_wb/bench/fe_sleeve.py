@@ -249,6 +249,6 @@ def write_section(doc_path, section):
 
 
 def ci_case(timeout_s=300.0):
-    """The smallest case (CI): the unit cell at r = 1 to past the peak."""
+    """The smallest case (CI): the unit cell at r = 1 to past the peak (d = 0.2 L in 16 increments)."""
     g = _geom()
-    return sleeve2d.solve_cell(g, 1, d_max=0.25 * g.L, increments=25, timeout_s=timeout_s)
+    return sleeve2d.solve_cell(g, 1, d_max=0.2 * g.L, increments=16, timeout_s=timeout_s)

@@ -57,14 +57,14 @@ def test_ring_deck_ties_the_top_to_a_tilting_plate():
 
 @needs_ccx
 def test_smallest_cell_case_against_the_beam_model():
-    """Coarsest mesh (one element through the beam), pulled to 0.25 L: a peak near the beam model's, lower than
+    """Coarsest mesh (one element through the beam), pulled to 0.2 L: a peak near the beam model's, lower than
     it (the solid's junctions and thick curved ends are softer than beam theory: docs/sleeves.md measures the
     converged gap), in the seed's range (figure S8's axis ~0.75e-3), and the force rises linearly at first."""
     c, info = fe_sleeve.ci_case()
-    assert info["increments"] >= 20 and info["wall_s"] < 120
+    assert info["increments"] >= 16
     dp, Fp, _dv, _Fv = sleeve2d.peak_valley(c["d"], c["F"])
     from metamaterial_wb.core.sleeve.model import cell_curve
-    up, _ = cell_curve(CellGeometry(), n_el=16, steps=50, d_max=0.25, unload=False)
+    up, _ = cell_curve(CellGeometry(), n_el=16, steps=40, d_max=0.2, unload=False)
     mp, mF, _, _ = sleeve2d.peak_valley(up.d, up.F)
     # measured: FE r = 1 0.687e-3 at d/L 0.126; beam model 0.874e-3 at 0.114
     assert 0.6e-3 < Fp < 0.8e-3
