@@ -196,11 +196,45 @@ def markdown(study, img=None):
             L.append(f"| beam model, {'curved' if curv else 'flat'}, extrapolated | | | {_x3(v[1])} +- {_x3(e[1])} | "
                      f"{v[0]:.3f} | |")
     L.append("")
+    L += comparison_lines(study)
     if img:
         L.append(f"![FE against the beam model]({img})")
         L.append("")
     L.append(MARK_END)
     return "\n".join(L) + "\n"
+
+
+def _rel(model, e_model, fe, e_fe):
+    """Relative error of the model against the FE, and its uncertainty from both references' errors."""
+    r = model / fe - 1.0
+    u = abs(model / fe) * np.hypot(e_model / abs(model), e_fe / abs(fe))
+    return r, u
+
+
+def comparison_lines(study):
+    """The beam model's error against the converged FE, each with the error of both extrapolations."""
+    c, r_ = study["cell"], study["ring"]
+    out = []
+    if "fe_extrapolated" in c and "model_extrapolated" in c:
+        fe, efe = c["fe_extrapolated"]["pv"], c["fe_extrapolated"]["err"]
+        mo, emo = c["model_extrapolated"]["pv"], c["model_extrapolated"]["err"]
+        rp, up = _rel(mo[1], emo[1], fe[1], efe[1])
+        rv, uv = _rel(mo[3], emo[3], fe[3], efe[3])
+        out.append(f"Beam model (extrapolated in its mesh) against CalculiX (extrapolated): unit-cell peak "
+                   f"**{100 * rp:+.0f} % +- {100 * up:.1f} %** (at d/L {mo[0]:.3f} against {fe[0]:.3f}), valley "
+                   f"**{100 * rv:+.0f} % +- {100 * uv:.1f} %** (at d/L {mo[2]:.3f} against {fe[2]:.3f}); the uncertainty "
+                   "combines both Richardson corrections.")
+    for curv in (False, True):
+        key = f"model_extrapolated_{'curved' if curv else 'flat'}"
+        if "fe_extrapolated" in r_ and key in r_:
+            fe, efe = r_["fe_extrapolated"]["pv"], r_["fe_extrapolated"]["err"]
+            mo, emo = r_[key]["pv"], r_[key]["err"]
+            rp, up = _rel(mo[1], emo[1], fe[1], efe[1])
+            out.append(f"Four-cell ring, first peak, {'curved (default) ' if curv else 'flat '}beam model against the "
+                       f"flat FE ring: **{100 * rp:+.0f} % +- {100 * up:.1f} %**.")
+    if out:
+        out.append("")
+    return out
 
 
 def plot(study, path):

@@ -73,3 +73,52 @@ def test_smallest_cell_case_against_the_beam_model():
     k0_fe = c["F"][1] / c["d"][1]
     k0_model = up.F[1] / up.d[1]
     assert 0.6 < k0_fe / k0_model < 1.1
+
+
+def _synthetic_study():
+    d = np.linspace(0, 0.7, 29)
+    rows = lambda scale, extra: [{"r": r, "elements": 66 * r * r, "dofs": 580 * r * r, "wall_s": 1.0 * r, "increments": 28,  # noqa: E731
+                                  "pv": list(sleeve2d.peak_valley(d, scale * (1 + extra / r ** 2) * np.sin(2 * np.pi * d / 0.8))),
+                                  "d": d.tolist(), "F": (scale * np.sin(2 * np.pi * d / 0.8)).tolist()} for r in (1, 2, 3)]
+    model = [{"n_el": n, "wall_s": 0.1, "pv": [0.2, 0.9e-3 * (1 + 1 / n ** 2), 0.6, -0.2e-3], "d": d.tolist(),
+              "F": (0.9e-3 * np.sin(2 * np.pi * d / 0.8)).tolist(), "jumps": []} for n in (8, 16, 32)]
+    ring = [dict(m, curvature=c, pv=m["pv"][:2] + [np.nan, np.nan]) for c in (False, True) for m in model]
+    return fe_sleeve.summarise({"geometry": CellGeometry().as_dict(), "bulk_ratio": sleeve2d.BULK_RATIO,
+                                "cell": {"fe": rows(0.6e-3, 0.1), "model": model},
+                                "ring": {"fe": rows(2.4e-3, 0.1), "model": ring}})
+
+
+def test_bench_writes_the_sleeve_section_from_a_stored_study(tmp_path):
+    """``bench fidelity --fe --fe-json ... --fe-parts sleeve`` renders the FE section of the sleeve document
+    between its markers (replacing the former one, leaving the rest) and its plot, without running ccx; the
+    first time it goes before "## Sequencing"."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    study = _synthetic_study()
+    assert study["cell"]["fe_extrapolated"]["pv"][1] == pytest.approx(0.6e-3, rel=1e-6)   # the 1 / r^2 term removed
+    js = tmp_path / "fe.json"
+    js.write_text(json.dumps({"sleeve": study}))
+    doc = tmp_path / "sleeves.md"
+    doc.write_text(f"# Sleeves\n\nintro\n\n{fe_sleeve.MARK_BEGIN}\nold section\n{fe_sleeve.MARK_END}\n\n## Sequencing\n\nrest\n")
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    args = [sys.executable, "-m", "metamaterial_wb", "bench", "fidelity", "--fe", "--fe-json", str(js), "--fe-parts",
+            "sleeve", "--sleeves-out", str(doc), "--sleeves-img", str(tmp_path / "img" / "s.png"), "--out",
+            str(tmp_path / "f.md"), "--img", str(tmp_path / "img" / "f.png"), "--scenes", "chain", "--amplitudes",
+            "0.05", "--repeats", "1", "--quiet"]
+    r = subprocess.run(args, cwd=repo, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    text = doc.read_text()
+    assert "old section" not in text                     # replaced, not appended
+    assert text.count(fe_sleeve.MARK_BEGIN) == 1 and text.count(fe_sleeve.MARK_END) == 1
+    assert text.index("intro") < text.index(fe_sleeve.MARK_BEGIN) < text.index("## Sequencing")
+    assert "| CalculiX, extrapolated |" in text and "](img/s.png)" in text
+    assert (tmp_path / "img" / "s.png").read_bytes()[:4] == b"\x89PNG"
+    fresh = "# Sleeves\n\nintro\n\n## Sequencing\n\nrest\n"
+    doc.write_text(fresh)
+    new = fe_sleeve.write_section(str(doc), fe_sleeve.markdown(study))
+    assert new.index("intro") < new.index(fe_sleeve.MARK_BEGIN) < new.index("## Sequencing") and new.endswith("rest\n")
+    r = subprocess.run(args[:8] + ["--fe-parts", "donut"] + args[10:], cwd=repo, capture_output=True, text=True)
+    assert r.returncode == 2 and "donut" in r.stderr
