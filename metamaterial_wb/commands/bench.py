@@ -137,7 +137,10 @@ def run(args):
     machine = (f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, "
                f"Python {platform.python_version()} ({platform.machine()}); shared machine, treat times as upper "
                f"bounds" + ("" if args.from_json else f" (load average {os.getloadavg()[0]:.1f} at the end of the run)")
-               + ".")
+               + "." + ("" if args.from_json or os.getloadavg()[0] <= (os.cpu_count() or 1) else
+                        " The machine was oversubscribed (more runnable jobs than cores): absolute times are inflated "
+                        f"up to about {os.getloadavg()[0] / (os.cpu_count() or 1):.0f}x against an idle machine; ratios "
+                        "within the run and every error are unaffected."))
     img_rel = os.path.relpath(os.path.abspath(args.img), os.path.dirname(os.path.abspath(args.out)))
     command = "python3 -m metamaterial_wb bench fidelity" + (f" --repeats {args.repeats}" if args.repeats != 3 else "")
     if args.fe:
