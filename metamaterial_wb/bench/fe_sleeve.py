@@ -163,7 +163,7 @@ def markdown(study, img=None):
                  f"{_x3(e[3])}** | {v[2]:.3f} | |")
     for m in c["model"]:
         dp, Fp, dv, Fv = m["pv"]
-        L.append(f"| beam model | {m['n_el']} elements per half | {3 * (2 * m['n_el'] + 8)} (approx.) | {_x3(Fp)} | "
+        L.append(f"| beam model | {m['n_el']} elements per half | | {_x3(Fp)} | "
                  f"{dp:.3f} | {_x3(Fv)} | {dv:.3f} | {m['wall_s']:.2f} |")
     if "model_extrapolated" in c:
         v, e = c["model_extrapolated"]["pv"], c["model_extrapolated"]["err"]
@@ -222,7 +222,7 @@ def comparison_lines(study):
         rv, uv = _rel(mo[3], emo[3], fe[3], efe[3])
         out.append(f"Beam model (extrapolated in its mesh) against CalculiX (extrapolated): unit-cell peak "
                    f"**{100 * rp:+.0f} % +- {100 * up:.1f} %** (at d/L {mo[0]:.3f} against {fe[0]:.3f}), valley "
-                   f"**{100 * rv:+.0f} % +- {100 * uv:.1f} %** (at d/L {mo[2]:.3f} against {fe[2]:.3f}); the uncertainty "
+                   f"depth **{100 * rv:+.0f} % +- {100 * uv:.1f} %** (at d/L {mo[2]:.3f} against {fe[2]:.3f}); the uncertainty "
                    "combines both Richardson corrections.")
     for curv in (False, True):
         key = f"model_extrapolated_{'curved' if curv else 'flat'}"
