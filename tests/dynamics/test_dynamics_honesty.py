@@ -71,27 +71,22 @@ def test_energy_created_by_the_integrator_is_a_warning():
     assert convergence_warnings(sim.energy_report(), 0.1 * G * 0.05) == []
 
 
-def test_explicit_energy_gain_on_contacts_is_flagged_in_a_real_run():
+def test_explicit_integrator_on_undamped_contacts_closes_the_ledger_at_its_guard():
     """Issue 18's "symplectic integrator gains 26 % energy with contacts, unflagged", in a run we can afford:
-    a block bouncing on undamped penalty contacts (nothing dissipates but slip). At the guard step the
-    explicit integrator loses energy (slip) and the ledger closes; pushed to 1.5 times the guard (0.75 of the
-    stability limit, contacts included) it ends with more energy than it started with, and the ledger says so
-    (docs/dynamics.md, "Honesty": the 26 % case itself was not reproduced, what was run is listed there)."""
-    def run(factor):
-        s = damped_block()
-        s.set_contacts([0, 0], [[-0.02, -0.01], [0.02, -0.01]], 0.5, 2e4, 0.0, 2e4, 0.0)   # undamped
-        sim = Simulator(s, np.array([[0.0, 0.015, 0.1]]), v0=np.array([[0.05, 0.0, 0.0]]))
-        sim.dt_guard *= factor
-        sim.run(1.0, method="symplectic")
-        assert not sim.stats["fallbacks"]
-        e = sim.energy_report()
-        return e, convergence_warnings(e, 0.1 * G * 0.05)
-    e, w = run(1.0)
-    assert e["final_J"] < e["initial_J"] and e["numerical_J"] > 0 and w == []
-    e, w = run(1.5)
-    # measured: +5 % of the initial energy, 4.1 mJ created (8 % of the turnover)
-    assert e["final_J"] > 1.02 * e["initial_J"]
-    assert len(w) == 1 and "created" in w[0]
+    a block bouncing on undamped penalty contacts (nothing dissipates but slip). At the guard step (contacts
+    included in the guard) the explicit integrator creates no energy: it ends below its initial energy, the
+    residual is a loss and nothing is flagged. (Beyond the guard the outcome of this bouncing is chaotic, see
+    docs/dynamics.md "Honesty": energy created in 10 of 24 runs at 1.5-1.9x the guard, flagged where it exceeds
+    5 % of the turnover; the 26 % case itself was not reproduced.)"""
+    s = damped_block()
+    s.set_contacts([0, 0], [[-0.02, -0.01], [0.02, -0.01]], 0.5, 2e4, 0.0, 2e4, 0.0)   # undamped
+    sim = Simulator(s, np.array([[0.0, 0.015, 0.1]]), v0=np.array([[0.05, 0.0, 0.0]]))
+    sim.run(1.0, method="symplectic")
+    assert not sim.stats["fallbacks"] and sim.stats["dt_s"] == pytest.approx(sim.dt_guard)
+    e = sim.energy_report()
+    assert e["final_J"] < e["initial_J"] and e["numerical_J"] > 0
+    assert e["friction_dissipated_J"] > 0 and e["contact_damping_dissipated_J"] == 0.0
+    assert convergence_warnings(e, 0.1 * G * 0.05) == []
 
 
 def test_reverse_worm_starts_from_a_static_equilibrium():
