@@ -72,7 +72,7 @@ def test_smallest_cell_case_against_the_beam_model():
     assert abs(dp - mp) < 0.03
     k0_fe = c["F"][1] / c["d"][1]
     k0_model = up.F[1] / up.d[1]
-    assert 0.6 < k0_fe / k0_model < 1.1
+    assert 0.5 < k0_fe / k0_model < 0.75            # measured 0.60 (docs/sleeves.md: about 0.6 converged)
 
 
 def _synthetic_study():
