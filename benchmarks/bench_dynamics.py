@@ -156,12 +156,14 @@ def run_incline(args):
 
     inclines = [float(x) for x in args.inclines.split(",")]
     cell = 38.0
-    out = {"variant": args.variant, "seconds": args.seconds, "start_rotations": args.starts, "gaits": {}}
+    out = {"variant": args.variant, "seconds": args.seconds, "start_rotations": args.starts, "start": args.start,
+           "gaits": {}}
     t_all = time.perf_counter()
     for name, path in INCLINE_CASES:
         base = load(path)
         if args.variant == "before":
             base["dynamics"]["belt"].update(BEFORE)
+        base["dynamics"]["initial_state"] = args.start
         name = f"{name} ({base['dynamics']['belt']['pressure_kpa'] / 6.895:.1f} psi)"
         rows = []
         for a in inclines:
@@ -172,21 +174,23 @@ def run_incline(args):
                 d = copy.deepcopy(base)
                 d["dynamics"]["incline_deg"] = a
                 d["dynamics"]["belt"]["start_rotation_deg"] = 45.0 * k / args.starts
-                s, *_ = simulate(Scene.from_dict(d), args.seconds)
-                runs.append((s["mean_speed_mm_s"], s["displacement_mm"], s["min_com_displacement_mm"]))
-            r = np.array(runs)
+                s, start = _simulate_from(d, args.seconds)
+                runs.append((s["mean_speed_mm_s"], s["displacement_mm"], s["min_com_displacement_mm"], start))
+            r = np.array([x[:3] for x in runs])
             row = {"incline_deg": a, "speed_mm_s": float(np.median(r[:, 0])), "speed_min_mm_s": float(r[:, 0].min()),
                    "speed_max_mm_s": float(r[:, 0].max()),
                    "rolled_back": int(np.sum(r[:, 1] < -cell)),        # ends more than one cell downhill
                    "held": int(np.sum(r[:, 2] > -cell)),               # never more than one cell downhill
-                   "runs": [dict(speed_mm_s=x[0], displacement_mm=x[1], min_mm=x[2]) for x in runs]}
+                   "unsettled": int(sum(x[3] != args.start for x in runs)),   # no equilibrium: released
+                   "runs": [dict(speed_mm_s=x[0], displacement_mm=x[1], min_mm=x[2], start=x[3]) for x in runs]}
             rows.append(row)
             print(f"{name:42s} {a:5.1f} deg: median {row['speed_mm_s']:+7.1f} mm/s [{row['speed_min_mm_s']:+.1f}, "
                   f"{row['speed_max_mm_s']:+.1f}], rolled back {row['rolled_back']}/{args.starts}, never lost a cell "
-                  f"{row['held']}/{args.starts}", flush=True)
+                  f"{row['held']}/{args.starts}" + (f", no equilibrium to settle in (released) {row['unsettled']}/"
+                                                     f"{args.starts}" if row["unsettled"] else ""), flush=True)
         out["gaits"][name] = rows
     print(f"wall {time.perf_counter() - t_all:.1f} s")
-    suffix = "" if args.variant == "after" else "-before"
+    suffix = ("" if args.variant == "after" else "-before") + _start_suffix(args)
     save(f"dyn-incline{suffix}.json", out)
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
     for name, rows in out["gaits"].items():
@@ -210,6 +214,28 @@ def run_incline(args):
         _incline_pressure_sweep(args, np, plt, cell)
 
 
+def _simulate_from(d, seconds):
+    """``simulate`` from the scene's initial state; where a settled start has no static equilibrium (a belt that
+    rolls down the incline however it is put down) the run is the released circle instead, and says so."""
+    from metamaterial_wb.core.dynamics.system import DynamicsError
+    try:
+        s, *_ = simulate(Scene.from_dict(d), seconds)
+        return s, d["dynamics"].get("initial_state") or "as_built"
+    except DynamicsError as exc:
+        if "no static equilibrium" not in str(exc):
+            raise
+        d = copy.deepcopy(d)
+        d["dynamics"]["initial_state"] = "as_built"
+        s, *_ = simulate(Scene.from_dict(d), seconds)
+        return s, "as_built"
+
+
+def _start_suffix(args):
+    """Results of the settled start (the default since issue 18) keep the plain names; released circles
+    get ``-released``."""
+    return "" if args.start == "settled" else "-released"
+
+
 def _incline_pressure_sweep(args, np, plt, cell):
     """Seed 2, figure 11: the closed loop's speed against the supply pressure on a 10 degree incline."""
     base = load("belt8.json")
@@ -220,8 +246,9 @@ def _incline_pressure_sweep(args, np, plt, cell):
             d = copy.deepcopy(base)
             d["dynamics"]["incline_deg"] = args.sweep_incline
             d["dynamics"]["belt"]["pressure_kpa"] = psi * 6.895
+            d["dynamics"]["initial_state"] = args.start
             d["dynamics"]["belt"]["start_rotation_deg"] = 45.0 * k / args.starts
-            s, *_ = simulate(Scene.from_dict(d), args.seconds)
+            s, _start = _simulate_from(d, args.seconds)
             runs.append((s["mean_speed_mm_s"], s["displacement_mm"]))
         r = np.array(runs)
         row = {"pressure_psi": psi, "speed_mm_s": float(np.median(r[:, 0])), "speed_min_mm_s": float(r[:, 0].min()),
@@ -230,7 +257,8 @@ def _incline_pressure_sweep(args, np, plt, cell):
         print(f"closed loop, {args.sweep_incline:g} deg, {psi:4.1f} psi: median {row['speed_mm_s']:+7.1f} mm/s "
               f"[{row['speed_min_mm_s']:+.1f}, {row['speed_max_mm_s']:+.1f}], rolled back {row['rolled_back']}/"
               f"{args.starts}", flush=True)
-    save("dyn-incline-pressure.json", {"incline_deg": args.sweep_incline, "seconds": args.seconds,
+    save(f"dyn-incline-pressure{_start_suffix(args)}.json", {"incline_deg": args.sweep_incline, "seconds": args.seconds,
+                                        "start": args.start,
                                         "start_rotations": args.starts, "rows": rows})
     fig, ax = plt.subplots(figsize=(5.5, 3.6), dpi=110)
     x = [r["pressure_psi"] for r in rows]
@@ -244,8 +272,9 @@ def _incline_pressure_sweep(args, np, plt, cell):
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(os.path.join(IMG, "dyn-belt-speed-vs-pressure.png"))
-    print("wrote docs/img/dyn-belt-speed-vs-pressure.png")
+    png = f"dyn-belt-speed-vs-pressure{_start_suffix(args)}.png"
+    fig.savefig(os.path.join(IMG, png))
+    print(f"wrote docs/img/{png}")
 
 
 def run_worm(args):
@@ -347,6 +376,9 @@ def main():
                     help="before: cells vented at the start, no silicone loss, every gait at 4.5 psi")
     pi.add_argument("--pressures", default="3,4.5,6,7,9", help="closed-loop pressure sweep, psi (seed 2, figure 11)")
     pi.add_argument("--sweep-incline", type=float, default=10.0)
+    pi.add_argument("--start", choices=("settled", "as_built"), default="settled",
+                    help="dynamics.initial_state of every run: settled (static equilibrium under gravity and the "
+                         "gait's first pressures, issue 18) or as_built (the circle released, the former tables)")
     pw = sub.add_parser("worm")
     pw.add_argument("--cycles", type=float, default=3.0)
     pf = sub.add_parser("fidelity")

@@ -59,6 +59,18 @@ def resolve_time(scene, repeats=20):
 LOAD = os.getloadavg()
 
 
+def _oversubscribed(load):
+    """A sentence when the machine ran more jobs than it has cores: absolute times are then inflated, the
+    targets' verdicts describe the loaded machine, and only ratios within the run compare."""
+    cores = os.cpu_count() or 1
+    if load <= cores:
+        return ""
+    return (f" **The machine was oversubscribed** ({load:.0f} runnable jobs on {cores} cores, other engineers' test "
+            f"runs): every absolute time here is inflated, by up to about {load / cores:.0f}x against an idle machine, "
+            "and the time targets' verdicts describe this loaded machine; the ratios against the quadratic baseline "
+            "measured in the same run, and every error, are unaffected.")
+
+
 def main():
     write = "--no-write" not in sys.argv
     rows = []
@@ -103,7 +115,8 @@ def main():
              "plot: [fidelity.md](fidelity.md).", "",
              f"Measured {time.strftime('%Y-%m-%d', time.gmtime())} on {os.cpu_count()} cores, Python "
              f"{platform.python_version()}; the machine is shared (load from other jobs), treat times as upper "
-             f"bounds (load average {LOAD[0]:.1f} at the start, {os.getloadavg()[0]:.1f} at the end of this run).", "",
+             f"bounds (load average {LOAD[0]:.1f} at the start, {os.getloadavg()[0]:.1f} at the end of this run)."
+             + _oversubscribed(max(LOAD[0], os.getloadavg()[0])), "",
              "| scene | amplitude | reference uncertainty (RMS dD) | quadratic (baseline) | linear | nonlinear | RMS dD quadratic | "
              "RMS dD linear (ratio) | RMS dD nonlinear (default: 1 element per hinge) | max pos. err / cell quadratic | "
              "max pos. err / cell linear (ratio) | about=flat: time, re-solve, RMS dD (ratio) |",

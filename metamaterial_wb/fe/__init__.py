@@ -8,5 +8,7 @@ Imports only ``core``. Decks are written in the Abaqus input format CalculiX rea
 * :mod:`.patch`: a small patch of rigid plates and solid hinges with actuated joints;
 * :mod:`.hinge`: one TPU hinge between two PLA plates: its 6 x 6 stiffness and its large-rotation
   moment-rotation curve, against the lattice's beam law.
+* :mod:`.sleeve2d`: the sleeve's unit cell and an N-cell ring in 2-D plane strain (CPE8R on our own mapped
+  mesh of the printed outline), force-displacement curves against ``core.sleeve``'s beam model.
 """
 from metamaterial_wb.fe.ccx import FEError, available  # noqa: F401
