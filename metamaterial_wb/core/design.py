@@ -169,7 +169,7 @@ def plan_axes(scene):
 # ----------------------------------------------------------------------------------------------
 def _fab_tilt(scene, widths, ignore_switch):
     """``(max printable tilt deg, width mm)`` of the narrowest-margin hinge among ``widths``."""
-    from metamaterial_wb.geometry.params import max_fabricable_tilt_deg  # pure module, no FreeCAD
+    from metamaterial_wb.core.fabrication import max_fabricable_tilt_deg
 
     ws = sorted(set(np.round(np.asarray(widths, dtype=float), 9).tolist()))
     if not ws:
@@ -179,7 +179,7 @@ def _fab_tilt(scene, widths, ignore_switch):
 
 def printable_fold_deg(scene, plan, phi_c=None):
     """``(fold deg, max tilt deg, width mm)``: the largest fold of an axis whose hinge tilts the
-    default fabrication (geometry/params.py) can print, whatever ``limit_design_tilt`` says."""
+    default fabrication (core/fabrication.py) can print, whatever ``limit_design_tilt`` says."""
     phi_c = planar_closing_rad(scene) if phi_c is None else phi_c
     _lh, wh, _th = kin.joint_hinge_arrays(scene)
     tilt, w = _fab_tilt(scene, wh[plan.joints], ignore_switch=True)
@@ -197,7 +197,7 @@ def axis_limits(scene, plan, phi_c=None):
 
     Limits, per crossed joint: hinge tilt |alpha| <= 80 deg (fold ``2 atan(tan 80 sin phi_c)``),
     when the scene's ``fabrication.limit_design_tilt`` is true, the tilt that the printed hinge can
-    have inside its node plate (``geometry.params.max_fabricable_tilt_deg``; otherwise it is only
+    have inside its node plate (``core.fabrication.max_fabricable_tilt_deg``; otherwise it is only
     reported, see :func:`printable_fold_deg`), hinge strain <= the scene's limit at D = +1, plate
     contact across the fold ``2 atan(lh / t)``.
     """
@@ -280,9 +280,9 @@ def configure(scene, strict=True):
                 f"`build` will reject it: use longer or narrower hinges, a thinner sheet, or set "
                 f"fabrication.limit_design_tilt to make this a hard limit")
     scene.joint_config = config
-    info = kin.rotation_limit_info(scene)
-    par = kin.joint_parity(scene)
     tilts = np.radians(effective_tilts_deg(scene))
+    info = kin.rotation_limit_info(scene, tilts)
+    par = kin.joint_parity(scene)
     topo = scene.topology
     for row in report["axes"]:
         names = [n for n, c in config.items() if c["axis"] == row["axis"]]
@@ -303,22 +303,69 @@ def _jid(topo, name):
 
 
 def effective_tilts_deg(scene):
-    """Signed tilt (deg) of every joint as the kinematics sees it: per-joint overrides win, then
-    ``scene.joint_config``; a scene with axes but no joint configuration is configured on the fly
-    (without changing the scene)."""
-    topo = scene.topology
-    t = np.zeros(topo.n_joints)
+    """Signed tilt (deg) of every joint as the kinematics sees it.
+
+    Per-joint overrides win, then ``scene.joint_config``; a scene with axes but no joint configuration
+    is configured on the fly (without changing the scene).
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_joints,)``, degrees, in topology joint order.
+    """
     config = scene.joint_config
     if not config and scene.axes:
         config = compute_joint_config(scene)[0]
-    from metamaterial_wb.core.scene import parse_joint
-    for name, cfg in config.items():
-        if "tilt_deg" in cfg:
-            t[topo.joint_id(*parse_joint(name))] = float(cfg["tilt_deg"])
-    for name, ov in scene.joint_overrides.items():
-        if "tilt_deg" in ov:
-            t[topo.joint_id(*parse_joint(name))] = float(ov["tilt_deg"])
-    return t
+    return kin.tilts_from_config_deg(scene, config)
+
+
+def joint_tilts_rad(scene):
+    """:func:`effective_tilts_deg` in radians: what to pass as ``tilts_rad`` to core/kinematics.py.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_joints,)``, radians.
+    """
+    return np.radians(effective_tilts_deg(scene))
+
+
+def kinematics_for(scene):
+    """A :class:`core.kinematics.Kinematics` of ``scene`` with its effective tilts (configured on the
+    fly when the scene has axes but no joint configuration).
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    core.kinematics.Kinematics
+    """
+    return kin.Kinematics(scene, joint_tilts_rad(scene))
+
+
+def rotation_limits(scene):
+    """``(closing_rad, opening_rad)`` of ``scene`` with its effective tilts (:func:`joint_tilts_rad`).
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    tuple of float
+        Node rotation magnitudes at D = +1 and D = -1 (radians).
+    """
+    return kin.rotation_limits(scene, joint_tilts_rad(scene))
 
 
 def ensure_configured(scene):

@@ -84,11 +84,63 @@ def _joint_index(scene, name):
     return scene.topology.joint_id(kind, i, j)
 
 
-def joint_tilts_rad(scene):
-    """Signed hinge tilt of every joint (radians): overrides, else joint_config, else computed from
-    the scene's axes when it has axes but no joint_config (without changing the scene)."""
-    from metamaterial_wb.core import design
-    return np.radians(design.effective_tilts_deg(scene))
+def tilts_from_config_deg(scene, config):
+    """Signed tilt (deg) of every joint from a joint configuration ``config`` (``{joint: {"tilt_deg":
+    ...}}``) with the scene's per-joint ``tilt_deg`` overrides winning.
+
+    Parameters
+    ----------
+    scene : Scene
+    config : dict
+        Joint name -> configuration entry (``scene.joint_config`` or a freshly computed one).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_joints,)``, degrees, in topology joint order.
+    """
+    from metamaterial_wb.core.scene import parse_joint
+    topo = scene.topology
+    t = np.zeros(topo.n_joints)
+    for name, cfg in config.items():
+        if "tilt_deg" in cfg:
+            t[topo.joint_id(*parse_joint(name))] = float(cfg["tilt_deg"])
+    for name, ov in scene.joint_overrides.items():
+        if "tilt_deg" in ov:
+            t[topo.joint_id(*parse_joint(name))] = float(ov["tilt_deg"])
+    return t
+
+
+def stored_tilts_rad(scene):
+    """Signed tilt (rad) of every joint as stored in the scene (overrides, else ``joint_config``).
+
+    The kinematics never configures a scene itself (that is the design stage, which sits above it):
+    a scene with rotary axes but no joint configuration raises; pass the tilts of
+    ``core.design.joint_tilts_rad(scene)`` instead.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_joints,)``, radians.
+
+    Raises
+    ------
+    SceneError
+        ``joint_config`` when the scene has axes but no joint configuration.
+    """
+    if scene.axes and not scene.joint_config:
+        raise SceneError("joint_config", f"scene {getattr(scene, 'name', '') or ''!r} has {len(scene.axes)} rotary "
+                                         f"axes but no joint configuration: run `design` on it, or pass the tilts "
+                                         f"(core.design.joint_tilts_rad(scene))")
+    return np.radians(tilts_from_config_deg(scene, scene.joint_config))
+
+
+def _tilts(scene, tilts_rad):
+    return stored_tilts_rad(scene) if tilts_rad is None else np.asarray(tilts_rad, dtype=float)
 
 
 def joint_parity(scene):
@@ -168,7 +220,7 @@ def rotation_limit_info(scene, tilts_rad=None):
     One limit for the whole sheet (the smallest), so that uniform D is the exact mechanism.
     """
     lh, wh, th = joint_hinge_arrays(scene)
-    tilt = joint_tilts_rad(scene) if tilts_rad is None else np.asarray(tilts_rad, dtype=float)
+    tilt = _tilts(scene, tilts_rad)
     eps = hinge_strain_limit(scene)
     s = plate_side_mm(scene)
     lh0 = scene.hinge["length_mm"]
@@ -361,7 +413,7 @@ class Kinematics:
         self.n = n = topo.n_nodes
         self.m = m = topo.n_joints
         self.a, self.b, self.ra, self.rb, self.d0 = _hinge_geometry(scene)
-        self.tilt = joint_tilts_rad(scene) if tilts_rad is None else np.asarray(tilts_rad, dtype=float)
+        self.tilt = _tilts(scene, tilts_rad)
         self.limits = rotation_limits(scene, self.tilt)
         self.parity = node_parity(scene)
         inc = sp.csr_matrix((np.concatenate([-np.ones(m), np.ones(m)]),

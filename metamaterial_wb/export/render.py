@@ -1,7 +1,7 @@
 """Quick pictures of built parts (FreeCAD tessellation + matplotlib, no GUI): docs and previews."""
 import numpy as np
 
-from metamaterial_wb.geometry.params import MATERIALS
+from metamaterial_wb.core.fabrication import MATERIALS
 
 
 def render_png(result, path, parts=None, elev=35.0, azim=-60.0, size_in=(8.0, 5.0), title=None,

@@ -163,7 +163,7 @@ def write_step(path, bodies, assembly_name="structure", colours=True):
 
 def result_bodies(result, parts):
     """``[(name, placed unique copy of the shape, colour)]`` for STEP from a BuildResult."""
-    from metamaterial_wb.geometry.params import MATERIALS
+    from metamaterial_wb.core.fabrication import MATERIALS
 
     out = []
     for part in parts:

@@ -635,7 +635,7 @@ def build_module_shape(obj, scene):
         from metamaterial_wb.core.scene import Scene as _Scene
         from metamaterial_wb.geometry.build import BuildResult
         from metamaterial_wb.geometry.modules import build_module, parse_modules
-        from metamaterial_wb.geometry.params import fabrication_params
+        from metamaterial_wb.core.fabrication import fabrication_params
         # the module only needs the sheet's sizes and sockets: drop axes / tilts (their fit is checked
         # by the export of the sheet) and the other modules (sockets they use are checked there too)
         d = scene.to_dict()

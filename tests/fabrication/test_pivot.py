@@ -78,7 +78,7 @@ def test_fish_head_servo_turns_node_b_about_the_hinge(fish):
     assert L == pytest.approx(8.0, abs=1e-6)
     lo, hi = spec.pivot.range_deg
     assert (lo, hi) == pytest.approx((-27.0, 2 * 0.3 * math.degrees(
-        __import__("metamaterial_wb.core.kinematics", fromlist=["x"]).rotation_limits(r.scene)[0])), abs=1e-6)
+        __import__("metamaterial_wb.core.design", fromlist=["x"]).rotation_limits(r.scene)[0])), abs=1e-6)
     degs = np.linspace(lo, hi, 41)
     err = _length_errors(end_a, end_b, centre, axis, degs, L)
     assert np.max(np.abs(err)) <= 0.02
@@ -116,9 +116,10 @@ def test_servo_range_beyond_a_fixed_pivot_is_reported(fish):
 
 def test_clip_turns_about_the_same_pivot(fc):
     from metamaterial_wb.geometry.modules import clip_pivot, parse_modules, to_module_frame
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"chain": 3}, modules=[{"type": "constraint_clip", "joint": "H0,1", "angle_deg": 10.0}])
-    p = fabrication_params(sc)
+    p = fabrication_params(sc, effective_tilts_deg(sc))
     spec = parse_modules(sc, p)[0]
     x, y, _ = spec.pivot.point_mm
     # H0,1 joins N0,1 (odd: bottom corners) and N0,2: gap centre x = 30, blade centre 0.4 mm above y = -9
@@ -130,8 +131,9 @@ def test_clip_turns_about_the_same_pivot(fc):
 def test_servo_on_a_tilted_joint_is_refused(fc):
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.geometry.modules import parse_modules
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"grid": [1, 2]}, cell_size_mm=30, joint_config={"V0,1": {"tilt_deg": 10.0}},
                     modules=[{"type": "servo_housing", "name": "s", "joint": "V0,1"}])
     with pytest.raises(SceneError, match="tilted hinge"):
-        parse_modules(sc, fabrication_params(sc))
+        parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))

@@ -370,7 +370,7 @@ def quadratic_state(scene, geo, chain=None, pose="rotations", D=None):
         R = kinematics.rotation_matrices(geo.phi_from_D(D))
         X = None
     else:
-        kin = kinematics.Kinematics(scene)
+        kin = kinematics.Kinematics(scene, geo.tilt)
         X, R = kin.poses_from_angles(kin.angles(D))
     if pose == "rotations":
         X = (chain or ChainPositions(geo))(R, geo.X0)
