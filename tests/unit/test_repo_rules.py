@@ -115,11 +115,7 @@ SIDEWAYS_FORBIDDEN = {("export", "hardware"), ("hardware", "export"), ("gui", "c
                       ("commands", "gui"), ("cli", "gui")}
 # Known violations still to be moved (issue 14). Each entry is (importing module, imported module); the
 # test fails on any violation not listed here AND on any entry that no longer occurs (so the list shrinks).
-KNOWN_VIOLATIONS = {
-    ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.mesh"),
-    ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.step"),
-    ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.threemf"),
-}
+KNOWN_VIOLATIONS = set()
 KNOWN_CYCLES = {
     ("metamaterial_wb.geometry.build", "metamaterial_wb.geometry.modules"),
 }
