@@ -20,17 +20,11 @@ from dataclasses import dataclass, field, asdict
 import numpy as np
 
 from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.materials import MATERIALS  # noqa: F401 - the one table (core/materials.py)
 from metamaterial_wb.core.scene import parse_joint
 
 MIN_WALL_MM = 0.8        # default thinnest wall between two features: two nozzle widths (fabrication.nozzle_mm)
 
-MATERIALS = {
-    # name: display colour (sRGB hex) used in STEP colours and 3MF basematerials
-    "PLA": "#D9D9D9",
-    "ABS": "#F2C94C",
-    "PETG": "#9AD0C2",
-    "TPU": "#1E64FF",
-}
 
 FAB_DEFAULTS = {
     "sheet_thickness_mm": None,      # None: the thickest hinge (hinge.thickness_mm)
@@ -57,19 +51,55 @@ FAB_DEFAULTS = {
 
 @dataclass(frozen=True)
 class HingeSpec:
-    """One hinge shape (all that makes two hinges geometrically different)."""
+    """One hinge shape (all that makes two hinges geometrically different).
+
+    Attributes
+    ----------
+    length_mm, width_mm, thickness_mm : float
+        The joint's hinge sizes (``Scene.hinge_sizes(joint)``).
+    tilt_deg : float
+        Signed tilt the design stage gives it.
+    """
     length_mm: float
     width_mm: float
     thickness_mm: float
     tilt_deg: float
 
     def key(self):
+        """Rounded tuple identifying the shape (equal keys: one B-rep, placed copies).
+
+        Returns
+        -------
+        tuple of float
+        """
         return (round(self.length_mm, 6), round(self.width_mm, 6), round(self.thickness_mm, 6),
                 round(self.tilt_deg, 6))
 
 
 @dataclass
 class FabParams:
+    """Validated fabrication parameters of one scene (:func:`fabrication_params`): every dimension in mm.
+
+    Attributes
+    ----------
+    cell_size_mm, sheet_thickness_mm, clearance_mm : float
+    anchor_neck_mm, anchor_depth_mm, anchor_margin_mm : float
+        The hinge anchor hooked into the node plates.
+    sockets : bool
+    socket_diameter_mm, socket_inset_mm, socket_lip_mm, socket_lip_height_mm : float
+    rigid_material, flexible_material, module_material : str
+        Keys of ``core.materials.MATERIALS``.
+    rigid_extruder, flexible_extruder : int
+    tolerance_mm : float
+        3MF chord tolerance.
+    hinges : dict
+        Joint name -> :class:`HingeSpec`.
+    nozzle_mm : float
+    sheet_from_hinge : bool
+        The sheet thickness was taken from the thickest hinge.
+    plate_side_mm_global : float
+        ``Scene.plate_side_mm``.
+    """
     cell_size_mm: float
     sheet_thickness_mm: float
     clearance_mm: float
@@ -158,7 +188,7 @@ def _params(scene, raw, hinges, thick):
         flexible_extruder=_extruder("flexible_extruder", raw["flexible_extruder"]),
         tolerance_mm=_num("tolerance_mm", raw["tolerance_mm"], 0.001, 1.0),
         hinges=hinges,
-        plate_side_mm_global=c - float(scene.hinge["length_mm"]),
+        plate_side_mm_global=scene.plate_side_mm,
         nozzle_mm=_num("nozzle_mm", raw["nozzle_mm"], 0.1, 1.2),
         sheet_from_hinge=from_hinge,
     )
@@ -216,6 +246,21 @@ def max_fabricable_tilt_deg(scene, width_mm, ignore_switch=False, **overrides):
     stage uses it so that the maximum fold it reports is one that can be printed. Returns a negative
     number when even an untilted hinge of this width does not fit, and 90 when the scene's
     ``fabrication.limit_design_tilt`` is false (the default) unless ``ignore_switch``.
+
+    Parameters
+    ----------
+    scene : Scene
+    width_mm : float
+        Hinge blade width.
+    ignore_switch : bool
+        Compute the limit even when ``fabrication.limit_design_tilt`` is false.
+    **overrides
+        Fabrication parameters as in :func:`fabrication_params`.
+
+    Returns
+    -------
+    float
+        Degrees (90: no limit; negative: no tilt fits).
     """
     raw = _raw_params(scene, overrides)
     if not ignore_switch and not _bool("limit_design_tilt", raw["limit_design_tilt"]):
@@ -223,8 +268,6 @@ def max_fabricable_tilt_deg(scene, width_mm, ignore_switch=False, **overrides):
     thick = max([float(scene.hinge["thickness_mm"])] +
                 [float(scene.joint_hinge(n)["thickness_mm"]) for n in scene.joint_overrides])
     p = _params(scene, raw, {}, thick)
-    T = p.sheet_thickness_mm
-    s = p.plate_side_mm_global
     return _max_tilt_deg(p, width_mm)
 
 
@@ -411,24 +454,68 @@ def _check_fit(p, scene=None):
 
 
 def pin_slot_width_mm(p):
-    """Width of the slot that splits a module's snap plug (so that its barb can pass the hole)."""
+    """Width of the slot that splits a module's snap plug (so that its barb can pass the hole).
+
+    Parameters
+    ----------
+    p : FabParams
+
+    Returns
+    -------
+    float
+    """
     return max(0.6, 0.3 * 2.0 * (p.socket_radius_mm - p.clearance_mm))
 
 
 def neck_width_mm(h):
-    """In-plane (horizontal) width of the hinge neck: a tilted blade keeps its true width."""
+    """In-plane (horizontal) width of the hinge neck: a tilted blade keeps its true width.
+
+    Parameters
+    ----------
+    h : HingeSpec
+
+    Returns
+    -------
+    float
+    """
     return h.width_mm / math.cos(math.radians(h.tilt_deg))
 
 
 def anchor_width_mm(p, h):
-    """In-plane width (along the plate edge) of the anchor head of hinge spec ``h``."""
+    """In-plane width (along the plate edge) of the anchor head of hinge spec ``h``.
+
+    Parameters
+    ----------
+    p : FabParams
+    h : HingeSpec
+
+    Returns
+    -------
+    float
+    """
     return neck_width_mm(h) + p.anchor_margin_mm
 
 
 def joint_pivot(scene, p, joint, value_range=None, range_deg=None):
     """The pivot of ``joint`` (core/joints.py :class:`JointPivot`) for this build's hinge sizes.
     ``range_deg`` (B relative to A) overrides the design range taken from ``value_range`` / the
-    scene's actuators."""
+    scene's actuators.
+
+    Parameters
+    ----------
+    scene : Scene
+    p : FabParams
+        Its hinge tilts set the rotation limits (:func:`rotation_limits`).
+    joint : str
+    value_range : tuple of float, optional
+        The D range of the design.
+    range_deg : tuple of float, optional
+        Relative rotation range (deg) that overrides it.
+
+    Returns
+    -------
+    core.joints.JointPivot
+    """
     from metamaterial_wb.core import joints
 
     h = p.hinges[joint]

@@ -4,6 +4,7 @@ import os
 
 import numpy as np
 
+from metamaterial_wb.core.materials import hex_to_rgb
 from metamaterial_wb.export.mesh import tessellate
 from metamaterial_wb.geometry.sleeve import build_all, check_parts
 
@@ -50,7 +51,7 @@ def render_png(parts, path, elev=22.0, azim=-60.0, size_in=(5.0, 5.0), title=Non
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
         shade = 0.3 + 0.7 * np.abs(n @ light)
-        base = np.array([int(colour[k:k + 2], 16) / 255 for k in (1, 3, 5)])
+        base = np.array(hex_to_rgb(colour))
         tris.append(tri)
         cols.append(np.clip(shade[:, None] * base[None, :], 0, 1))
         pts.append(V)

@@ -161,7 +161,7 @@ def parse_modules(scene, p):
         if side not in ("top", "bottom"):
             raise SceneError(f"{f}.side", f"{side!r}; allowed: \"top\" or \"bottom\"")
         mat = item.get("material", p.module_material)
-        from metamaterial_wb.core.fabrication import MATERIALS
+        from metamaterial_wb.core.materials import MATERIALS
         if not isinstance(mat, str) or mat.upper() not in MATERIALS:
             raise SceneError(f"{f}.material", f"{mat!r} is not a known material; allowed: {sorted(MATERIALS)}")
         ext = item.get("extruder", p.rigid_extruder)

@@ -16,11 +16,12 @@ import math
 import numpy as np
 
 from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.materials import MATERIALS
 from metamaterial_wb.core.sleeve.cell import triangulate_polygon
 from metamaterial_wb.geometry.fc import freecad, set_shape_colour
 
-TPU = "#1E64FF"
-PLA = "#D9D9D9"
+TPU = MATERIALS["TPU"]
+PLA = MATERIALS["PLA"]
 
 
 def _cutter(Part, App, poly, r1, r2, rm, s0, z0):

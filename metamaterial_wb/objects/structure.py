@@ -30,6 +30,7 @@ import FreeCAD
 
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene import DEFAULT_HINGE, Scene
+from metamaterial_wb.core.scene.names import plate_side_mm
 from metamaterial_wb.objects.common import (HIDDEN, OUTPUT, READONLY, ProxyBase, attach_proxy, attach_view_provider,
                                             count_execute, ensure_property)
 from metamaterial_wb.objects import engine as _engine
@@ -416,7 +417,7 @@ class NodeShapeProxy(_ShapeSource):
 
     def build(self, p):
         import Part
-        s = p["cell_size_mm"] - p["length_mm"]
+        s = plate_side_mm(p["cell_size_mm"], p["length_mm"])
         t = p["thickness_mm"]
         return Part.makeBox(s, s, t, FreeCAD.Vector(-s / 2, -s / 2, -t / 2))
 
@@ -600,7 +601,7 @@ def module_to_dict(obj):
     return d
 
 
-PREFS_PATH = "User parameter:BaseApp/Preferences/Mod/Metamaterial"
+from metamaterial_wb import PREFS_PATH  # noqa: E402 - one definition (also gui/preferences.py)
 
 
 def fabrication_overrides():
@@ -655,7 +656,7 @@ def build_module_shape(obj, scene):
         return (shapes[0] if len(shapes) == 1 else Part.Compound(shapes)), "geometry.modules"
     cell = scene.cell_size_mm if scene is not None else 20.0
     t = scene.hinge["thickness_mm"] if scene is not None else 7.0
-    side = cell - (scene.hinge["length_mm"] if scene is not None else 2.0)
+    side = scene.plate_side_mm if scene is not None else plate_side_mm(cell, DEFAULT_HINGE["length_mm"])
     typ = obj.ModuleType
     V = FreeCAD.Vector
     if typ == "servo_housing":  # SG90-sized body above the joint

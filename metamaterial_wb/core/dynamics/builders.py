@@ -452,7 +452,7 @@ def build_sheet(scene, cfg):
     C = cols.size
     col_index = {int(c): k for k, c in enumerate(cols)}
     P0 = scene.cell_size_mm * 1e-3
-    s = (scene.cell_size_mm - scene.hinge["length_mm"]) * 1e-3
+    s = scene.plate_side_mm * 1e-3
     t = scene.hinge["thickness_mm"] * 1e-3
     rho = cfg["density_kg_m3"]
     node_mass = rho * s * s * t

@@ -84,6 +84,12 @@ def _structure_key(scene, planar):
 
 
 def clear_cache():
+    """Forget the cached linear models (factorisations kept per scene structure).
+
+    Returns
+    -------
+    None
+    """
     _LINEAR_CACHE.clear()
 
 

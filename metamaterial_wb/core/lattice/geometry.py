@@ -88,7 +88,7 @@ class LatticeGeometry:
         self.scene = scene
         P = scene.cell_size_mm
         lh = scene.hinge["length_mm"]
-        s = P - lh
+        s = scene.plate_side_mm
         self.plate_side_mm = s
         self.cell_size_mm = P
         self.gap_mm = lh

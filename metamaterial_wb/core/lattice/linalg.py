@@ -60,13 +60,41 @@ class SchurKKT:
     updates need one per hinge in contact). Redundant constraints (``S`` singular): pseudo-inverse of ``S``
     (the plates' motion is unique, the multipliers are the least-norm ones). ``build`` returns None where it
     does not apply (no CHOLMOD, too many constraints, ``H`` not positive definite); the caller then factors
-    the KKT matrix by LU."""
+    the KKT matrix by LU.
+
+    Parameters
+    ----------
+    F : callable
+        CHOLMOD factor of ``H``.
+    A : scipy.sparse matrix
+        Constraint rows.
+    HA : numpy.ndarray
+        ``H^-1 A^T``.
+    S_factor : numpy.ndarray or None
+        Pseudo-inverse of the Schur complement.
+    na : int
+        Number of DOFs.
+    """
 
     def __init__(self, F, A, HA, S_factor, na):
         self._F, self.A, self.HA, self._S, self.na = F, A, HA, S_factor, na
 
     @classmethod
     def build(cls, H, A):
+        """Factor ``H`` and the Schur complement of ``A``, or None where this path does not apply.
+
+        Parameters
+        ----------
+        H : scipy.sparse matrix
+            Symmetric positive definite tangent.
+        A : scipy.sparse matrix
+            Constraint rows.
+
+        Returns
+        -------
+        SchurKKT or None
+            None where the Schur path does not apply.
+        """
         if _cholmod is None or A.shape[0] > SCHUR_MAX_CONSTRAINTS or H.shape[0] == 0:
             return None
         import warnings
@@ -92,6 +120,18 @@ class SchurKKT:
         return cls(F, A, HA, Sinv, H.shape[0])
 
     def solve(self, rhs):
+        """Solve the KKT system for ``rhs``.
+
+        Parameters
+        ----------
+        rhs : numpy.ndarray
+            ``[f; g]``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``[x; y]``.
+        """
         na = self.na
         f, g = rhs[:na], rhs[na:]
         u = self._F(np.ascontiguousarray(f))
@@ -104,7 +144,12 @@ class SchurKKT:
 @contextlib.contextmanager
 def reference_paths():
     """Within the block, the linear model runs its plain reference paths (sparse LU of the whole KKT
-    matrix, LU for the hinge-chain positions, no CHOLMOD): for tests that the fast paths agree with it."""
+    matrix, LU for the hinge-chain positions, no CHOLMOD): for tests that the fast paths agree with it.
+
+    Returns
+    -------
+    contextlib context manager
+    """
     global _cholmod, _FAST
     saved = _cholmod, _FAST
     _cholmod, _FAST = None, False
@@ -122,5 +167,14 @@ class _Cholesky:
 
 
 def kkt_regularisation(geo):
-    """Multiplier-block shift of the KKT matrix (1/rad units: 1e-10 of the softest hinge compliance)."""
+    """Multiplier-block shift of the KKT matrix (1/rad units: 1e-10 of the softest hinge compliance).
+
+    Parameters
+    ----------
+    geo : LatticeGeometry
+
+    Returns
+    -------
+    float
+    """
     return 1e-10 / float(geo.K[:, 5, 5].max())

@@ -34,6 +34,20 @@ class LinearLattice:
     (positive semi-definite; the state's non-equilibrium stress terms mislead the step,
     docs/fidelity-models.md); ``"full"`` is the exact tangent. :meth:`line_search` then picks the step
     length along ``q`` from the nonlinear energy.
+
+    Parameters
+    ----------
+    scene : Scene
+    geo : LatticeGeometry, optional
+    contact : bool
+        Plate contact by an active set.
+    contact_fraction, contact_stiffness : float
+        Onset (fraction of the contact rotation) and stiffness of the one-sided spring.
+    poses : {"chain", "linear"}
+    base : tuple, optional
+        ``(X, R)`` to linearise about (default the flat sheet).
+    tangent : {"full", "material"}
+    chain : ChainPositions, optional
     """
 
     def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4, poses="chain",
@@ -202,6 +216,18 @@ class LinearLattice:
         return x[:self.na], x[self.na:]
 
     def solve(self, psi=None):
+        """Solve the linearised system for constraint values ``psi`` (contact by the active set).
+
+        Parameters
+        ----------
+        psi : numpy.ndarray, optional
+            Constraint values (default the scene's).
+
+        Returns
+        -------
+        tuple
+            ``(X, R, q, mu)``: positions, rotations, DOF increments, multipliers.
+        """
         geo = self.geo
         psi = self.psi if psi is None else psi
         I3 = np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy()

@@ -17,6 +17,24 @@ class NonlinearLattice:
     """Nonlinear corotational lattice: ``solve()`` returns ``(X, R, converged)``; ``stats`` says how.
 
     Options are those of the "nonlinear" model (core/lattice/__init__.py, docs/fidelity-models.md).
+
+    Parameters
+    ----------
+    scene : Scene
+    geo : LatticeGeometry, optional
+    contact : bool
+    contact_fraction, contact_stiffness : float
+    tol : float
+        Newton tolerance.
+    max_iter, load_steps, dr_max_iter : int
+    min_step : float
+        Smallest load step.
+    fallback : bool
+        Dynamic relaxation when Newton fails.
+    predictor : bool
+        Start from the linear model with contact.
+    planar : bool, optional
+    method : {"newton", "dynamic_relaxation"}
     """
 
     def __init__(self, scene, geo=None, contact=True, contact_fraction=0.98, contact_stiffness=1e4,
@@ -235,6 +253,18 @@ class NonlinearLattice:
 
     # -- driver ---------------------------------------------------------------------------------------
     def solve(self, linear=None):
+        """Solve for the equilibrium under the scene's actuators and constraints.
+
+        Parameters
+        ----------
+        linear : LinearLattice, optional
+            A linear model to reuse for the force scale and predictor.
+
+        Returns
+        -------
+        tuple
+            ``(X, R, converged)``.
+        """
         geo = self.geo
         I3 = np.broadcast_to(np.eye(3), (geo.n, 3, 3)).copy()
         X, R = geo.X0.copy(), I3

@@ -10,7 +10,18 @@ from metamaterial_wb.core.lattice.mechanics import _arc_coefficients, _cross_e1,
 
 
 def kabsch(P, Q):
-    """Rotation Rm and translation tv minimising |Rm P_i + tv - Q_i| (rows are points)."""
+    """Rotation Rm and translation tv minimising |Rm P_i + tv - Q_i| (rows are points).
+
+    Parameters
+    ----------
+    P, Q : numpy.ndarray
+        Shape ``(n, 3)``.
+
+    Returns
+    -------
+    tuple
+        ``(Rm (3, 3), tv (3,))``.
+    """
     pc, qc = P.mean(axis=0), Q.mean(axis=0)
     Hm = (P - pc).T @ (Q - qc)
     U, _S, Vt = np.linalg.svd(Hm)
@@ -21,14 +32,41 @@ def kabsch(P, Q):
 
 
 def node_twist(R):
-    """In-plane rotation of every plate: the twist about its own normal (swing-twist split), radians."""
+    """In-plane rotation of every plate: the twist about its own normal (swing-twist split), radians.
+
+    Parameters
+    ----------
+    R : numpy.ndarray
+        Shape ``(n, 3, 3)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n,)``.
+    """
     w = 0.5 * np.sqrt(np.maximum(0.0, 1.0 + np.trace(R, axis1=1, axis2=2)))
     z = np.where(w > 1e-9, (R[:, 1, 0] - R[:, 0, 1]) / np.maximum(4.0 * w, 1e-300), 1.0)
     return 2.0 * np.arctan2(z, w)
 
 
 def finish(geo, X, R, align=True):
-    """Align to the flat sheet (rigid, Kabsch), return positions, rotations and D."""
+    """Align to the flat sheet (rigid, Kabsch), return positions, rotations and D.
+
+    Parameters
+    ----------
+    geo : LatticeGeometry
+    X : numpy.ndarray
+        Positions ``(n, 3)``.
+    R : numpy.ndarray
+        Rotations ``(n, 3, 3)``.
+    align : bool
+        Best-fit rigid alignment to the flat sheet first.
+
+    Returns
+    -------
+    tuple
+        ``(X, R, phi, D)``.
+    """
     if align and geo.n > 1:
         Rm, tv = kabsch(X, geo.X0)
         X = X @ Rm.T + tv
@@ -52,6 +90,10 @@ class ChainPositions:
     displacements does not (a plate corner turned by ``phi`` moves by ``2 sin(phi/2)`` times its radius, not
     ``phi``). The result keeps the mean of the positions it is given (the gauge; results are aligned
     afterwards anyway).
+
+    Parameters
+    ----------
+    geo : LatticeGeometry
     """
 
     def __init__(self, geo):
@@ -78,7 +120,20 @@ class ChainPositions:
 
     def chords(self, R, strain=None):
         """(m, 3) relations ``X_B - X_A`` for plate rotations ``R`` (``strain``: (m, 3) elastic offsets of the
-        hinge ends beyond uniform bending, in A's hinge frame)."""
+        hinge ends beyond uniform bending, in A's hinge frame).
+
+        Parameters
+        ----------
+        R : numpy.ndarray
+            Plate rotations ``(n, 3, 3)``.
+        strain : numpy.ndarray, optional
+            ``(m, 3)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(m, 3)``.
+        """
         geo = self.geo
         if geo.planar:
             return self._planar_chords(R, strain)

@@ -12,7 +12,17 @@ def quadratic_D(scene):
     """The quadratic model's D field (``core/solver.solve_scene(scene)[0]``, same energy, fixed nodes and
     islands), assembled lean for one solve: only the free-node block of the Hessian, one right-hand side,
     no response matrix. Anything the quadratic model would reject (values out of range, a node given two
-    values, bad stiffness) goes through ``solve_scene`` itself, which raises its error."""
+    values, bad stiffness) goes through ``solve_scene`` itself, which raises its error.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_nodes,)``.
+    """
     from scipy.sparse.csgraph import connected_components
     import scipy.sparse as sp
 
@@ -88,6 +98,20 @@ def quadratic_state(scene, geo, chain=None, pose="rotations", D=None):
     rotations (:class:`ChainPositions`, the linear model's pose rule), ``pose="full"`` takes the quadratic
     model's own positions (``core/kinematics``, straight hinge chords). ``D``: the quadratic model's field if
     already solved.
+
+    Parameters
+    ----------
+    scene : Scene
+    geo : LatticeGeometry
+    chain : ChainPositions, optional
+        Reused hinge-chain solver.
+    pose : {"rotations", "full"}
+    D : numpy.ndarray, optional
+
+    Returns
+    -------
+    tuple
+        ``(D, X, R)``.
     """
     from metamaterial_wb.core import kinematics
 
