@@ -10,6 +10,8 @@ PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 REPO_DIR = os.path.dirname(PACKAGE_DIR)
 RESOURCES_DIR = os.path.join(REPO_DIR, "resources")
 EXAMPLES_DIR = os.path.join(REPO_DIR, "examples")
+# the workbench's parameter group (preferences page, objects' fabrication defaults): the one definition
+PREFS_PATH = "User parameter:BaseApp/Preferences/Mod/Metamaterial"
 
 
 def icon_path(name):

@@ -53,7 +53,8 @@ def run(args):
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.geometry.build import build_scene
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
 
     from metamaterial_wb.core.fileio import check_output
     check_output(args.out, "dir", "--out")
@@ -66,7 +67,7 @@ def run(args):
         overrides["clearance_mm"] = args.clearance
     if args.tolerance is not None:
         overrides["tolerance_mm"] = args.tolerance
-    params = fabrication_params(scene, **overrides)       # all checks before any geometry
+    params = fabrication_params(scene, effective_tilts_deg(scene), **overrides)       # all checks before any geometry
     if args.modules:
         from metamaterial_wb.geometry.modules import parse_modules
         parse_modules(scene, params)

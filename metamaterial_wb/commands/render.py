@@ -35,7 +35,7 @@ def _size(text):
 def run(args):
     from metamaterial_wb.commands.solve import parse_sets
     from metamaterial_wb.core import kinematics
-    from metamaterial_wb.core.design import ensure_configured, global_D
+    from metamaterial_wb.core.design import ensure_configured, global_D, kinematics_for
     from metamaterial_wb.core.render import render_png, state_title, view_angles
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.core.solver import solve_scene
@@ -56,7 +56,7 @@ def run(args):
         warnings = []
     else:
         D, _m, warnings, _t = solve_scene(scene)
-    pos, R, _phi = kinematics.node_poses(scene, D)
+    pos, R, _phi = kinematics.node_poses(scene, D, kin=kinematics_for(scene))
     title = args.title if args.title is not None else state_title(
         scene, g, None if g is not None else {it.name: it.value for _, it in scene.fixed_items()})
     render_png(scene, pos, R, D, args.out, title=title, elev=elev, azim=azim, size_px=size)

@@ -62,7 +62,7 @@ def run(args):
             files += write_plots(spec, summary, curves, tmp)
         if args.step or args.threemf or args.render:
             log("geometry")
-            from metamaterial_wb.geometry.sleeve import export_sleeve
+            from metamaterial_wb.export.sleeve import export_sleeve
             files += export_sleeve(spec, tmp, step=args.step, threemf=args.threemf, render=args.render)
         summary["files"] = sorted(["summary.json"] + files)
         write_json(os.path.join(tmp, "summary.json"), summary)

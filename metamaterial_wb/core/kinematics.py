@@ -40,267 +40,17 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from metamaterial_wb.core.errors import SceneError
-
-OPENING_LIMIT_RAD = math.pi / 4       # widest pitch of the rotating-squares mechanism
-MAX_TILT_DEG = 80.0                   # the scene format's tilt range (fabrication limit)
-DEFAULT_HINGE_STRAIN_LIMIT = 0.5      # peak bending strain of a TPU hinge (scene.material.hinge_strain_limit)
-_TILT_EPS = 1e-12
-
-
-# ----------------------------------------------------------------------------------------------
-# per-joint data
-# ----------------------------------------------------------------------------------------------
-def plate_side_mm(scene):
-    return scene.cell_size_mm - scene.hinge["length_mm"]
-
-
-def hinge_strain_limit(scene):
-    v = scene.material.get("hinge_strain_limit", DEFAULT_HINGE_STRAIN_LIMIT) if scene.material else \
-        DEFAULT_HINGE_STRAIN_LIMIT
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 5):
-        raise SceneError("material.hinge_strain_limit", f"{v!r} is outside the allowed range (0, 5]")
-    return float(v)
-
-
-def joint_hinge_arrays(scene):
-    """Per joint ``(length_mm, width_mm, thickness_mm)`` arrays with per-joint overrides applied."""
-    m = scene.topology.n_joints
-    lh = np.full(m, float(scene.hinge["length_mm"]))
-    wh = np.full(m, float(scene.hinge["width_mm"]))
-    th = np.full(m, float(scene.hinge["thickness_mm"]))
-    for name, ov in scene.joint_overrides.items():
-        if not any(k in ov for k in ("length_mm", "width_mm", "thickness_mm")):
-            continue
-        k = _joint_index(scene, name)
-        lh[k] = ov.get("length_mm", lh[k])
-        wh[k] = ov.get("width_mm", wh[k])
-        th[k] = ov.get("thickness_mm", th[k])
-    return lh, wh, th
-
-
-def _joint_index(scene, name):
-    from metamaterial_wb.core.scene import parse_joint
-    kind, i, j = parse_joint(name)
-    return scene.topology.joint_id(kind, i, j)
-
-
-def joint_tilts_rad(scene):
-    """Signed hinge tilt of every joint (radians): overrides, else joint_config, else computed from
-    the scene's axes when it has axes but no joint_config (without changing the scene)."""
-    from metamaterial_wb.core import design
-    return np.radians(design.effective_tilts_deg(scene))
-
-
-def joint_parity(scene):
-    """+1 where the first node of the joint has even i+j, else -1."""
-    ij = scene.topology.joint_ij()
-    return np.where((ij[:, 0] + ij[:, 1]) % 2 == 0, 1.0, -1.0)
-
-
-def joint_fold_vectors(scene):
-    """Fold vector ``f = u x z`` of every joint (flat frame): -y for H joints, -x for V joints."""
-    topo = scene.topology
-    f = np.zeros((topo.n_joints, 3))
-    f[:topo.n_h, 1] = -1.0
-    f[topo.n_h:, 0] = -1.0
-    return f
-
-
-# ----------------------------------------------------------------------------------------------
-# the tilted hinge (closed forms)
-# ----------------------------------------------------------------------------------------------
-def fold_from_tilt(tilt_rad, phi_a_rad):
-    """Fold (rad) of a joint with tilt ``alpha`` when its first node turns in plane by ``phi_A``
-    and its second by ``-phi_A``: ``tan(gamma/2) = -tan(alpha) sin(phi_A)`` (exact)."""
-    return -2.0 * np.arctan(np.tan(tilt_rad) * np.sin(phi_a_rad))
-
-
-def tilt_for_fold(fold_rad, phi_a_rad):
-    """Inverse of :func:`fold_from_tilt`: the tilt that gives ``fold`` at ``phi_A`` (phi_A != 0)."""
-    return np.arctan(-np.tan(0.5 * np.asarray(fold_rad)) / np.sin(phi_a_rad))
-
-
-def hinge_rotation(fold_rad, phi_rad):
-    """Total rotation ``psi`` of a hinge: ``cos(psi/2) = cos(gamma/2) cos(phi)``."""
-    c = np.cos(0.5 * np.asarray(fold_rad)) * np.cos(phi_rad)
-    return 2.0 * np.arccos(np.clip(c, -1.0, 1.0))
-
-
-def hinge_strain(psi_rad, width_mm, length_mm):
-    """Peak bending strain of a flexure of in-plane width ``w`` bent by ``psi`` over length ``lh``
-    (uniform curvature): ``w psi / (2 lh)``. For a tilted hinge the flexure wall turns with its axis,
-    so the same width bends (docs/kinematics.md)."""
-    return np.asarray(width_mm) * np.asarray(psi_rad) / (2.0 * np.asarray(length_mm))
-
-
-def fold_contact_rad(length_mm, thickness_mm):
-    """Fold at which the plates (thickness t, hinge at mid-thickness, gap lh) meet across a bending
-    joint: ``2 atan(lh / t)``."""
-    return 2.0 * np.arctan(np.asarray(length_mm) / np.asarray(thickness_mm))
-
-
-def _phi_limit_strain(tilt, wh, lh, eps):
-    """Largest in-plane rotation whose hinge strain stays <= eps for hinges of tilt ``tilt``."""
-    psi_max = 2.0 * lh * eps / wh
-    c = np.cos(0.5 * np.minimum(psi_max, math.pi))
-    t2 = np.tan(tilt) ** 2
-    s2 = (1.0 - c * c) / (1.0 + c * c * t2)
-    out = np.arcsin(np.sqrt(np.clip(s2, 0.0, 1.0)))
-    return np.where(psi_max >= math.pi, math.pi / 2, out)
-
-
-def _phi_limit_fold_contact(tilt, lh, th):
-    """Largest in-plane rotation before the fold of a tilted joint reaches plate contact."""
-    t = np.abs(np.tan(tilt))
-    with np.errstate(divide="ignore"):
-        s = np.where(t > _TILT_EPS, (lh / th) / np.maximum(t, _TILT_EPS), np.inf)
-    return np.where(s >= 1.0, math.pi / 2, np.arcsin(np.minimum(s, 1.0)))
-
-
-# ----------------------------------------------------------------------------------------------
-# rotation limits
-# ----------------------------------------------------------------------------------------------
-def rotation_limit_info(scene, tilts_rad=None):
-    """The node rotation at D = +1 (closing) and D = -1 (opening), with what binds.
-
-    Closing: plate contact ``asin(lh / 2s)``, hinge strain (every joint, its own sizes and tilt),
-    fold contact of tilted joints. Opening: the mechanism's 45 degrees, hinge strain, fold contact.
-    One limit for the whole sheet (the smallest), so that uniform D is the exact mechanism.
-    """
-    lh, wh, th = joint_hinge_arrays(scene)
-    tilt = joint_tilts_rad(scene) if tilts_rad is None else np.asarray(tilts_rad, dtype=float)
-    eps = hinge_strain_limit(scene)
-    s = plate_side_mm(scene)
-    lh0 = scene.hinge["length_mm"]
-    contact = math.asin(min(1.0, lh0 / (2.0 * s)))
-    strain = _phi_limit_strain(tilt, wh, lh, eps) if len(lh) else np.array([math.pi / 2])
-    fold = _phi_limit_fold_contact(tilt, lh, th) if len(lh) else np.array([math.pi / 2])
-
-    def jname(k):
-        topo = scene.topology
-        i, j = topo.joint_ij()[k]
-        return f"{'H' if k < topo.n_h else 'V'}{int(i)},{int(j)}"
-
-    def pick(cands):
-        label, val = min(cands, key=lambda c: c[1])
-        return val, label
-
-    ks, kf = int(np.argmin(strain)), int(np.argmin(fold))
-    closing, closing_by = pick([
-        (f"plate contact asin(lh/2s) = asin({lh0:g}/(2*{s:g}))", contact),
-        (f"hinge strain {eps:g} at joint {jname(ks)}", float(strain[ks])),
-        (f"fold contact 2 atan(lh/t) of tilted joint {jname(kf)}", float(fold[kf]))])
-    opening, opening_by = pick([
-        ("mechanism (45 deg, widest pitch)", OPENING_LIMIT_RAD),
-        (f"hinge strain {eps:g} at joint {jname(ks)}", float(strain[ks])),
-        (f"fold contact 2 atan(lh/t) of tilted joint {jname(kf)}", float(fold[kf]))])
-    return {"closing_rad": float(closing), "opening_rad": float(opening),
-            "closing_deg": math.degrees(closing), "opening_deg": math.degrees(opening),
-            "closing_binding": closing_by, "opening_binding": opening_by,
-            "plate_contact_deg": math.degrees(contact), "hinge_strain_limit": eps}
-
-
-def rotation_limits(scene, tilts_rad=None):
-    """``(closing_rad, opening_rad)``: the node rotation at D = +1 and D = -1 (magnitudes)."""
-    info = rotation_limit_info(scene, tilts_rad)
-    return info["closing_rad"], info["opening_rad"]
-
-
-def node_parity(scene):
-    ij = scene.topology.node_ij()
-    return np.where((ij[:, 0] + ij[:, 1]) % 2 == 0, 1.0, -1.0)
-
-
-def node_angles(scene, D, limits=None):
-    """In-plane rotation (radians, counter-clockwise positive) of every node for a D field."""
-    D = np.asarray(D, dtype=float)
-    n = scene.topology.n_nodes
-    if D.shape != (n,):
-        raise SceneError("D", f"expected {n} values (one per node), got shape {D.shape}")
-    bad = ~np.isfinite(D) | (np.abs(D) > 1 + 1e-12)
-    if np.any(bad):
-        k = int(np.flatnonzero(bad)[0])
-        i, j = scene.topology.node_ij()[k]
-        raise SceneError("D", f"node N{i},{j} has D = {D[k]!r}, outside the allowed range [-1, 1]")
-    closing, opening = limits if limits is not None else rotation_limits(scene)
-    mag = np.where(D >= 0, closing, opening)
-    return node_parity(scene) * D * mag
-
-
-def uniform_pitch_mm(scene, D, limits=None):
-    """Closed-form node pitch for a uniform D (rotating squares with finite hinges)."""
-    lh = scene.hinge["length_mm"]
-    s = plate_side_mm(scene)
-    closing, opening = limits if limits is not None else rotation_limits(scene)
-    if D >= 0:
-        phi = D * closing
-        return lh + s * (math.cos(phi) - math.sin(phi))
-    phi = -D * opening
-    return lh + s * (math.cos(phi) + math.sin(phi))
-
-
-def uniform_fold_deg(tilt_deg, phi_a_deg):
-    """Fold of one joint for uniform deformation (degrees), see :func:`fold_from_tilt`."""
-    return float(np.degrees(fold_from_tilt(math.radians(tilt_deg), math.radians(phi_a_deg))))
-
-
-# ----------------------------------------------------------------------------------------------
-# rotations (vectorised)
-# ----------------------------------------------------------------------------------------------
-def rotation_matrices(phi):
-    """(n, 3, 3) rotations about z."""
-    phi = np.asarray(phi, dtype=float)
-    c, s = np.cos(phi), np.sin(phi)
-    R = np.zeros((phi.size, 3, 3))
-    R[:, 0, 0] = c
-    R[:, 0, 1] = -s
-    R[:, 1, 0] = s
-    R[:, 1, 1] = c
-    R[:, 2, 2] = 1.0
-    return R
-
-
-def axis_angle_matrices(axis, angle):
-    """Rodrigues: (m, 3, 3) rotations about unit ``axis`` (m, 3) or (3,) by ``angle`` (m,)."""
-    angle = np.asarray(angle, dtype=float).reshape(-1)
-    axis = np.broadcast_to(np.asarray(axis, dtype=float), (angle.size, 3))
-    x, y, z = axis[:, 0], axis[:, 1], axis[:, 2]
-    c, s = np.cos(angle), np.sin(angle)
-    C = 1.0 - c
-    R = np.empty((angle.size, 3, 3))
-    R[:, 0, 0] = c + x * x * C
-    R[:, 0, 1] = x * y * C - z * s
-    R[:, 0, 2] = x * z * C + y * s
-    R[:, 1, 0] = y * x * C + z * s
-    R[:, 1, 1] = c + y * y * C
-    R[:, 1, 2] = y * z * C - x * s
-    R[:, 2, 0] = z * x * C - y * s
-    R[:, 2, 1] = z * y * C + x * s
-    R[:, 2, 2] = c + z * z * C
-    return R
-
-
-def rotation_log(R):
-    """Rotation vectors (m, 3) of rotations (m, 3, 3) with angles below pi."""
-    tr = np.einsum("mii->m", R)
-    ang = np.arccos(np.clip(0.5 * (tr - 1.0), -1.0, 1.0))
-    v = 0.5 * np.column_stack([R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]])
-    s = np.sin(ang)
-    small = s < 1e-8
-    fac = np.where(small, 1.0 + ang * ang / 6.0, ang / np.where(small, 1.0, s))
-    return v * fac[:, None]
-
-
-def rotation_exp(w):
-    """Rotations (m, 3, 3) from rotation vectors (m, 3)."""
-    w = np.asarray(w, dtype=float).reshape(-1, 3)
-    ang = np.linalg.norm(w, axis=1)
-    axis = np.where(ang[:, None] > 1e-15, w / np.where(ang > 1e-15, ang, 1.0)[:, None], [0.0, 0.0, 1.0])
-    return axis_angle_matrices(axis, ang)
-
-
-def _matvec(R, v):
-    return np.einsum("mij,mj->mi", R, v)
+# the scalar half (per-joint data, closed forms, limits) and the rotations live in their own files;
+# every name stays importable from here
+from metamaterial_wb.core.limits import (DEFAULT_HINGE_STRAIN_LIMIT, MAX_TILT_DEG, OPENING_LIMIT_RAD,  # noqa: F401
+                                         _TILT_EPS, _joint_index, _phi_limit_fold_contact, _phi_limit_strain,
+                                         _tilts, fold_contact_rad, fold_from_tilt, hinge_rotation, hinge_strain,
+                                         hinge_strain_limit, joint_fold_vectors, joint_hinge_arrays, joint_parity,
+                                         node_angles, node_parity, plate_side_mm, rotation_limit_info,
+                                         rotation_limits, stored_tilts_rad, tilt_for_fold, tilts_from_config_deg,
+                                         uniform_fold_deg, uniform_pitch_mm)
+from metamaterial_wb.core.rotations import (_matvec, axis_angle_matrices, rotation_exp, rotation_log,  # noqa: F401
+                                            rotation_matrices)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -337,6 +87,17 @@ def _hinge_geometry(scene):
 
 
 def flat_positions_mm(scene):
+    """Node centres of the flat sheet: ``x = j * cell``, ``y = -i * cell``, ``z = 0``.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_nodes, 3)``.
+    """
     ij = scene.topology.node_ij().astype(float)
     p = scene.cell_size_mm
     return np.column_stack([ij[:, 1] * p, -ij[:, 0] * p, np.zeros(len(ij))])
@@ -351,6 +112,14 @@ class Kinematics:
     ``poses(D) -> (positions_mm (n,3), rotations (n,3,3), phi (n,))``. Build cost: one sparse LU of
     the node graph Laplacian; per frame: a few vectorised passes and one multi-right-hand-side
     back-substitution.
+
+    Parameters
+    ----------
+    scene : Scene
+    tilts_rad : array_like, optional
+        Signed hinge tilt (rad) of every joint. Pass ``core.design.joint_tilts_rad(scene)`` (or use
+        ``core.design.kinematics_for``) for a scene that may have axes but no joint configuration; the default,
+        the scene's stored tilts, raises a SceneError for such a scene.
     """
 
     def __init__(self, scene, tilts_rad=None):
@@ -361,7 +130,7 @@ class Kinematics:
         self.n = n = topo.n_nodes
         self.m = m = topo.n_joints
         self.a, self.b, self.ra, self.rb, self.d0 = _hinge_geometry(scene)
-        self.tilt = joint_tilts_rad(scene) if tilts_rad is None else np.asarray(tilts_rad, dtype=float)
+        self.tilt = _tilts(scene, tilts_rad)
         self.limits = rotation_limits(scene, self.tilt)
         self.parity = node_parity(scene)
         inc = sp.csr_matrix((np.concatenate([-np.ones(m), np.ones(m)]),
@@ -507,7 +276,20 @@ PlanarKinematics = Kinematics
 
 
 def node_poses(scene, D, kin=None):
-    """``(positions_mm (n,3), rotations (n,3,3), phi (n,))`` for a D field."""
+    """``(positions_mm (n,3), rotations (n,3,3), phi (n,))`` for a D field.
+
+    Parameters
+    ----------
+    scene : Scene
+    D : array_like
+        Shape ``(n_nodes,)``.
+    kin : Kinematics, optional
+        A factored solver to reuse (default: a new one with the scene's stored tilts).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+    """
     kin = kin or Kinematics(scene)
     return kin.poses(D)
 
@@ -518,7 +300,19 @@ def node_poses(scene, D, kin=None):
 def joint_angles(scene, rotations):
     """Per joint, from node rotations: signed fold (deg; angle between the plate normals, positive
     when the second node's side rises towards the first node's +z about the fold vector) and total
-    hinge rotation (deg)."""
+    hinge rotation (deg).
+
+    Parameters
+    ----------
+    scene : Scene
+    rotations : array_like
+        Shape ``(n_nodes, 3, 3)``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(fold_deg, psi_deg)``, each of shape ``(n_joints,)``.
+    """
     topo = scene.topology
     R = np.asarray(rotations, dtype=float)
     a, b = topo.joint_pairs[:, 0], topo.joint_pairs[:, 1]

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.core import kinematics
+from metamaterial_wb.core import design, kinematics
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.motion import scene_values_at
 from metamaterial_wb.core.scene import joint_nodes, parse_joint
@@ -158,7 +158,7 @@ class LiveSolver:
             cls = getattr(kinematics, cls_name, None)
             if cls is not None:
                 try:
-                    return cls(self.scene)
+                    return cls(self.scene, design.joint_tilts_rad(self.scene))
                 except TypeError:
                     continue
         return None

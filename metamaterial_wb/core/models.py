@@ -57,7 +57,8 @@ def _quadratic(scene, global_deformation=None, backend="auto", model=None, **unk
     D, _m, warnings, timings = solve_scene(scene, global_deformation=global_deformation, model=model,
                                            backend=backend)
     t = time.perf_counter()
-    pos, R, _phi = kinematics.node_poses(scene, D)
+    from metamaterial_wb.core.design import kinematics_for
+    pos, R, _phi = kinematics.node_poses(scene, D, kin=kinematics_for(scene))
     timings = dict(timings)
     timings["kinematics_s"] = time.perf_counter() - t
     return ModelResult(D, pos, R, warnings, timings)

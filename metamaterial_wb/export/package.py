@@ -54,7 +54,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     from metamaterial_wb.export.printpose import lay_out_best_poses
     from metamaterial_wb.export.step import result_instances, write_step_instanced
     from metamaterial_wb.export.threemf import write_3mf
-    from metamaterial_wb.geometry.params import MATERIALS
+    from metamaterial_wb.core.materials import MATERIALS
     from metamaterial_wb.geometry.progress import note
 
     stream = stream if stream is not None else sys.stderr

@@ -1,7 +1,7 @@
 """Quick pictures of built parts (FreeCAD tessellation + matplotlib, no GUI): docs and previews."""
 import numpy as np
 
-from metamaterial_wb.geometry.params import MATERIALS
+from metamaterial_wb.core.materials import MATERIALS, hex_to_rgb
 
 
 def render_png(result, path, parts=None, elev=35.0, azim=-60.0, size_in=(8.0, 5.0), title=None,
@@ -35,7 +35,7 @@ def render_meshes_png(meshes, path, elev=35.0, azim=-60.0, size_in=(8.0, 5.0), t
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
         shade = 0.35 + 0.65 * np.clip(n @ light, 0, 1)
-        base = np.array([int(table.get(material, "#888888")[k:k + 2], 16) / 255 for k in (1, 3, 5)])
+        base = np.array(hex_to_rgb(table.get(material, "#888888")))
         cols = np.clip(base[None, :] * shade[:, None], 0, 1)
         all_tri.append(tri)
         all_col.append(cols)

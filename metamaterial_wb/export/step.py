@@ -17,14 +17,14 @@ import re
 import tempfile
 
 from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.materials import hex_to_rgb
 
 _ENTITY = re.compile(r"#(\d+)\s*=\s*([A-Z0-9_]*)\s*\((.*)\)\s*$", re.S)
 _REF = re.compile(r"#(\d+)")
 
 
 def _hex_to_rgb(c):
-    c = c.lstrip("#")
-    return tuple(int(c[k:k + 2], 16) / 255.0 for k in (0, 2, 4))
+    return hex_to_rgb(c if str(c).startswith("#") else f"#{c}")
 
 
 def colorize_step(text, colours):
@@ -169,7 +169,7 @@ def write_step(path, bodies, assembly_name="structure", colours=True):
 
 def result_bodies(result, parts):
     """``[(name, placed unique copy of the shape, colour)]`` for STEP from a BuildResult."""
-    from metamaterial_wb.geometry.params import MATERIALS
+    from metamaterial_wb.core.materials import MATERIALS
 
     out = []
     for part in parts:

@@ -32,12 +32,13 @@ from xml.sax.saxutils import quoteattr, escape
 import numpy as np
 
 from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.materials import MATERIALS
 
 CORE_NS = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"
 CURA_NS = "http://software.ultimaker.com/xml/cura/3mf/2015/10"
 LAYOUTS = ("prusa", "components", "objects")
 
-DEFAULT_COLOURS = {"PLA": "#D9D9D9", "ABS": "#F2C94C", "PETG": "#9AD0C2", "TPU": "#1E64FF"}
+DEFAULT_COLOURS = MATERIALS          # core/materials.py: the one table
 
 CONTENT_TYPES = """<?xml version="1.0" encoding="UTF-8"?>
 <Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">

@@ -9,7 +9,8 @@ few dozen unique shapes; copies are placed by transform.
 """
 import time
 
-from metamaterial_wb.geometry.params import fabrication_params
+from metamaterial_wb.core.design import effective_tilts_deg
+from metamaterial_wb.core.fabrication import fabrication_params
 from metamaterial_wb.geometry.parts import BuildResult, PlacedPart  # noqa: F401  (re-exported)
 from metamaterial_wb.geometry.progress import Progress, note
 
@@ -31,7 +32,7 @@ def build_scene(scene, modules=True, progress=True, stream=None, params=None, **
     from metamaterial_wb.geometry import modules as mod
 
     t0 = time.perf_counter()
-    p = params if params is not None else fabrication_params(scene, **overrides)
+    p = params if params is not None else fabrication_params(scene, effective_tilts_deg(scene), **overrides)
     specs = mod.parse_modules(scene, p) if modules else []
     t_valid = time.perf_counter() - t0
     res = BuildResult(scene, p)

@@ -45,7 +45,8 @@ def set_shape_colour(vobj, rgb):
     ``ShapeColor`` is a deprecated alias), else ``ShapeColor`` (0.20). ``rgb``: three floats in 0..1 or a
     ``#rrggbb`` string. Display only: a view object that refuses the colour is left as it is."""
     if isinstance(rgb, str):
-        rgb = tuple(int(rgb[k:k + 2], 16) / 255 for k in (1, 3, 5))
+        from metamaterial_wb.core.materials import hex_to_rgb
+        rgb = hex_to_rgb(rgb)
     rgb = tuple(float(c) for c in rgb[:3])
     try:
         if hasattr(vobj, "ShapeAppearance"):

@@ -27,7 +27,7 @@ import re
 from dataclasses import dataclass, field
 
 from metamaterial_wb.core.errors import SceneError, check_number
-from metamaterial_wb.geometry.params import joint_pivot
+from metamaterial_wb.core.fabrication import joint_pivot
 from metamaterial_wb.geometry.snapfit import design_snap_fit
 from metamaterial_wb.geometry.solids import PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, box, make_pin  # noqa: F401
 from metamaterial_wb.geometry.servo import (  # noqa: F401  (re-exported: the servo housing lives in servo.py)
@@ -162,7 +162,7 @@ def parse_modules(scene, p):
         if side not in ("top", "bottom"):
             raise SceneError(f"{f}.side", f"{side!r}; allowed: \"top\" or \"bottom\"")
         mat = item.get("material", p.module_material)
-        from metamaterial_wb.geometry.params import MATERIALS
+        from metamaterial_wb.core.materials import MATERIALS
         if not isinstance(mat, str) or mat.upper() not in MATERIALS:
             raise SceneError(f"{f}.material", f"{mat!r} is not a known material; allowed: {sorted(MATERIALS)}")
         ext = item.get("extruder", p.rigid_extruder)
@@ -277,7 +277,7 @@ def to_module_frame(spec, p, xy):
 
 def _constraint_angle(scene, spec, f):
     """Relative in-plane rotation (deg) of node B to node A held by the scene's constraint on the joint."""
-    from metamaterial_wb.core.kinematics import rotation_limits
+    from metamaterial_wb.core.design import rotation_limits
 
     for c in scene.constraints:
         if c.joint == spec.joint:

@@ -20,7 +20,7 @@ import math
 
 from metamaterial_wb.core.joints import joint_frame as _joint_frame
 from metamaterial_wb.geometry.fc import freecad
-from metamaterial_wb.geometry.params import anchor_width_mm, neck_width_mm
+from metamaterial_wb.core.fabrication import anchor_width_mm, neck_width_mm
 
 
 def joint_frame(kind, i, j, p):

@@ -35,7 +35,7 @@ def check_sheet(result):
     hinge inside the node plates' envelope equals its two anchors (closed form)."""
     from metamaterial_wb.geometry import sheet
     from metamaterial_wb.geometry.fc import freecad
-    from metamaterial_wb.geometry.params import anchor_width_mm, neck_width_mm
+    from metamaterial_wb.core.fabrication import anchor_width_mm, neck_width_mm
 
     App, Part = freecad()
     p = result.params

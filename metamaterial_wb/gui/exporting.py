@@ -43,7 +43,8 @@ def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=
     from metamaterial_wb.export.package import export_result
     from metamaterial_wb.geometry.build import build_scene
     from metamaterial_wb.geometry.fc import freecad
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
 
     freecad()
     warnings = warnings if warnings is not None else []
@@ -51,7 +52,7 @@ def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=
     over = dict(overrides or {})
     if not sockets:
         over["sockets"] = False
-    params = fabrication_params(scene, **over)
+    params = fabrication_params(scene, effective_tilts_deg(scene), **over)
     with_modules = bool(modules and scene.modules)
     if with_modules:
         from metamaterial_wb.geometry.modules import parse_modules

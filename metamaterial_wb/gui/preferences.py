@@ -1,7 +1,8 @@
 """Preferences of the workbench (page: resources/ui/preferences.ui, group Mod/Metamaterial)."""
 import FreeCAD
 
-PATH = "User parameter:BaseApp/Preferences/Mod/Metamaterial"
+from metamaterial_wb import PREFS_PATH as PATH  # noqa: F401 - one definition (package root)
+
 DEFAULTS = {"PrinterClearance": 0.2, "RigidMaterial": "PLA", "FlexibleMaterial": "TPU",
             "ModuleMaterial": "ABS", "DefaultServo": "SG90", "SerialPort": "/dev/ttyACM0", "AnimationFps": 30}
 

@@ -52,7 +52,7 @@ class JointRotation:
 
 def joint_rotation(scene, joint, field_name="joint"):
     """The :class:`JointRotation` of ``joint`` (a name such as ``"V0,2"``) of ``scene``."""
-    from metamaterial_wb.core import kinematics
+    from metamaterial_wb.core import design, kinematics
     from metamaterial_wb.core.scene import joint_name, parse_joint
 
     name = joint_name(*parse_joint(joint, field_name))
@@ -60,8 +60,9 @@ def joint_rotation(scene, joint, field_name="joint"):
     if name not in topo.joint_index:
         raise SceneError(field_name, f"{joint!r} is not a joint of the {scene.topology.n_nodes}-node sheet")
     k = topo.joint_index[name]
-    closing, opening = kinematics.rotation_limits(scene)
-    tilt = float(kinematics.joint_tilts_rad(scene)[k])
+    tilts = design.joint_tilts_rad(scene)
+    closing, opening = kinematics.rotation_limits(scene, tilts)
+    tilt = float(tilts[k])
     a = int(topo.joint_pairs[k][0])
     parity = float(kinematics.node_parity(scene)[a])
     if not (math.isfinite(closing) and math.isfinite(opening)):

@@ -4,6 +4,8 @@ import json
 import FreeCAD
 
 from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.scene import DEFAULT_HINGE
+from metamaterial_wb.core.scene.names import plate_side_mm
 from metamaterial_wb.objects.common import OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
 
 # module types of the fabrication package (geometry/modules.py); joint modules sit across a joint
@@ -79,7 +81,7 @@ def module_to_dict(obj):
     return d
 
 
-PREFS_PATH = "User parameter:BaseApp/Preferences/Mod/Metamaterial"
+from metamaterial_wb import PREFS_PATH  # noqa: E402 - one definition (also gui/preferences.py)
 
 
 def fabrication_overrides():
@@ -105,7 +107,7 @@ def build_module_shape(obj, scene):
         from metamaterial_wb.core.scene import Scene as _Scene
         from metamaterial_wb.geometry.build import BuildResult
         from metamaterial_wb.geometry.modules import build_module, parse_modules
-        from metamaterial_wb.geometry.params import fabrication_params
+        from metamaterial_wb.core.fabrication import fabrication_params
         # the module only needs the sheet's sizes and sockets: drop axes / tilts (their fit is checked
         # by the export of the sheet) and the other modules (sockets they use are checked there too)
         d = scene.to_dict()
@@ -125,7 +127,7 @@ def build_module_shape(obj, scene):
         return (shapes[0] if len(shapes) == 1 else Part.Compound(shapes)), "geometry.modules"
     cell = scene.cell_size_mm if scene is not None else 20.0
     t = scene.hinge["thickness_mm"] if scene is not None else 7.0
-    side = cell - (scene.hinge["length_mm"] if scene is not None else 2.0)
+    side = scene.plate_side_mm if scene is not None else plate_side_mm(cell, DEFAULT_HINGE["length_mm"])
     typ = obj.ModuleType
     V = FreeCAD.Vector
     if typ == "servo_housing":  # SG90-sized body above the joint

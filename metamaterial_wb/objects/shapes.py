@@ -5,6 +5,7 @@ import json
 import FreeCAD
 
 from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.scene.names import plate_side_mm
 from metamaterial_wb.objects.common import OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
 
 
@@ -77,7 +78,7 @@ class NodeShapeProxy(_ShapeSource):
 
     def build(self, p):
         import Part
-        s = p["cell_size_mm"] - p["length_mm"]
+        s = plate_side_mm(p["cell_size_mm"], p["length_mm"])
         t = p["thickness_mm"]
         return Part.makeBox(s, s, t, FreeCAD.Vector(-s / 2, -s / 2, -t / 2))
 

@@ -131,7 +131,7 @@ def test_max_fold_bound_by_fabrication():
     """With fabrication.limit_design_tilt the design keeps every tilt printable: at the reported
     maximum the build's own fit check passes, just beyond it the build rejects the hinge. Without
     it (the default) the printable fold is reported and exceeding it is a warning."""
-    from metamaterial_wb.geometry.params import fabrication_params, max_fabricable_tilt_deg
+    from metamaterial_wb.core.fabrication import fabrication_params, max_fabricable_tilt_deg
     d = {"layout": {"chain": 4}, "hinge": {"length_mm": 5.0, "width_mm": 0.8, "thickness_mm": 7.0},
          "axes": [V(1, 1.0)], "fabrication": {"limit_design_tilt": True}}
     s = Scene.from_dict(d)
@@ -140,7 +140,8 @@ def test_max_fold_bound_by_fabrication():
     assert mx == pytest.approx(design.printable_fold_deg(s, design.plan_axes(s)[0])[0])
     # independent check of the fit criterion at the limit tilt: anchor + shear == room before the socket
     tilt = math.radians(max_fabricable_tilt_deg(s, 0.8))
-    p = fabrication_params(Scene.from_dict(d))
+    s1 = Scene.from_dict(d)
+    p = fabrication_params(s1, design.effective_tilts_deg(s1))
     room = 0.5 * (20 - 5) - (p.counterbore_radius_mm + p.min_wall_mm)   # wall: two nozzle widths
     assert 0.8 / math.cos(tilt) + p.anchor_margin_mm + 7.0 * math.tan(tilt) == pytest.approx(room, abs=1e-9)
     for fold, ok in ((mx - 1e-6, True), (mx * 1.02, False)):
@@ -202,8 +203,11 @@ def test_override_tilt_wins_and_is_reported():
 
 def test_unconfigured_scene_with_axes_is_configured_on_the_fly_without_changing_it():
     s = scene({"chain": 5}, [V(2, 45.0)])
-    R = K.node_poses(s, np.ones(s.topology.n_nodes))[1]
+    R = K.node_poses(s, np.ones(s.topology.n_nodes), kin=design.kinematics_for(s))[1]
     assert s.joint_config == {}
+    # the kinematics itself never configures (it sits below the design stage): a clear error instead
+    with pytest.raises(SceneError, match="joint configuration"):
+        K.Kinematics(s)
     a, b = 0, s.topology.n_nodes - 1
     assert math.degrees(math.acos(R[a][:, 2] @ R[b][:, 2])) == pytest.approx(45.0)
 

@@ -40,7 +40,7 @@ def test_uniform_pitch_closed_form_planar(g):
     # independent limits: plate contact asin(lh/2s) closing, 45 deg opening (strain 0.5*0.785/4 < 0.5)
     phi = g * math.asin(lh / (2 * side)) if g >= 0 else -g * math.pi / 4
     pitch = lh + side * (math.cos(phi) - math.sin(phi)) if g >= 0 else lh + side * (math.cos(phi) + math.sin(phi))
-    pos, R, ph = K.node_poses(s, np.full(s.topology.n_nodes, g))
+    pos, R, ph = K.node_poses(s, np.full(s.topology.n_nodes, g), kin=design.kinematics_for(s))
     topo = s.topology
     for (i, j) in topo.nodes:
         k = topo.node_id(i, j)
@@ -57,7 +57,7 @@ def test_pitch_inside_folded_regions_is_unchanged():
     """Folding is paper-like: within each region the in-plane mechanism keeps its closed-form pitch."""
     s = strip(8, axes=[(2, 50.0), (5, -35.0)])
     design.configure(s)
-    pos, R, phi = K.node_poses(s, np.ones(s.topology.n_nodes))
+    pos, R, phi = K.node_poses(s, np.ones(s.topology.n_nodes), kin=design.kinematics_for(s))
     side = s.cell_size_mm - 5.0
     pc = math.asin(5.0 / (2 * side))
     pitch = 5.0 + side * (math.cos(pc) - math.sin(pc))
@@ -78,7 +78,7 @@ def test_strip_one_axis_fold_at_g1_and_intermediate(theta):
     s = strip(6, axes=[(3, theta)])
     design.configure(s)
     a, b = end_nodes(s)
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     info = K.rotation_limit_info(s)
     side = s.cell_size_mm - 5.0
     phi_c = math.asin(5.0 / (2 * side))
@@ -104,7 +104,7 @@ def test_intermediate_fold_is_close_to_linear_but_not_exactly():
     for these hinges, and exactly theta at g = 1 (stated in docs/kinematics.md)."""
     s = strip(4, axes=[(1, 60.0)])
     a, b = end_nodes(s)
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     for g in (0.25, 0.5, 0.75):
         R = kin.poses(np.full(s.topology.n_nodes, g))[1]
         ang = normal_angle_deg(R, a, b)
@@ -117,7 +117,7 @@ def test_parallel_axes_add_with_their_signs():
         s = strip(8, axes=[(2, f1), (5, f2)])
         design.configure(s)
         a, b = end_nodes(s)
-        R = K.node_poses(s, np.ones(s.topology.n_nodes))[1]
+        R = K.node_poses(s, np.ones(s.topology.n_nodes), kin=design.kinematics_for(s))[1]
         assert normal_angle_deg(R, a, b) == pytest.approx(abs(f1 + f2), abs=1e-7)
         # and the middle region is folded by f1 alone
         m = s.topology.node_id(0, 4)
@@ -130,7 +130,7 @@ def test_parallel_axes_add_with_their_signs():
 def test_relative_rotation_is_about_the_tilted_hinge_axis():
     s = strip(5, axes=[(2, 50.0)])
     design.configure(s)
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     topo = s.topology
     for name in ("H0,2", "H1,2"):
         alpha = math.radians(s.joint_tilt_deg(name))
@@ -184,7 +184,7 @@ def l_scene():
 def test_hinge_closure_residual_vanishes_for_exact_mechanism(make):
     s = make()
     design.configure(s)
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     for g in (1.0, 0.3, -0.7, -1.0):
         pos, R, phi = kin.poses(np.full(s.topology.n_nodes, g))
         assert kin.closure_residual(phi, pos) < 1e-9
@@ -197,7 +197,7 @@ def test_nested_perpendicular_folds_compose_in_tree_order():
     """The arm's end is beyond both axes: its normal is Rot(-y, 40) Rot(-x, -55) z (scipy reference)."""
     s = l_scene()
     design.configure(s)
-    R = K.node_poses(s, np.ones(s.topology.n_nodes))[1]
+    R = K.node_poses(s, np.ones(s.topology.n_nodes), kin=design.kinematics_for(s))[1]
     root = s.topology.node_id(0, 0)
     tip = s.topology.node_id(3, 4)
     want = (Rotation.from_rotvec(math.radians(40) * np.array([0, -1, 0]))
@@ -216,7 +216,7 @@ def test_nonuniform_field_is_a_least_squares_solution():
                          "actuators": [{"name": "m", "joint": "V1,0", "value": 1.0}]})
     from metamaterial_wb.core.solver import solve_scene
     D, *_ = solve_scene(s)
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     pos, R, phi = kin.poses(D)
     assert np.abs(np.einsum("nji,njk->nik", R, R) - np.eye(3)).max() < 1e-12
     F = kin.fold_frames(phi)
@@ -239,7 +239,7 @@ def test_random_fields_give_orthonormal_rotations_and_finite_poses():
     s = Scene.from_dict({"layout": {"grid": [5, 7]}, "hinge": {"length_mm": 5.0},
                          "axes": [{"direction": "horizontal", "line": 1, "fold_deg": 30},
                                   {"direction": "horizontal", "line": 3, "fold_deg": -60}]})
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     rng = np.random.default_rng(0)
     for _ in range(5):
         D = rng.uniform(-1, 1, s.topology.n_nodes)
@@ -251,17 +251,17 @@ def test_random_fields_give_orthonormal_rotations_and_finite_poses():
 
 def test_factored_object_matches_fresh_solves():
     s = strip(6, axes=[(2, 40.0)])
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     for g in (0.2, 0.9, -0.6):
         D = np.linspace(-1, 1, s.topology.n_nodes) * g
         p1, R1, _ = kin.poses(D)
-        p2, R2, _ = K.node_poses(s, D)
+        p2, R2, _ = K.node_poses(s, D, kin=design.kinematics_for(s))
         assert np.allclose(p1, p2) and np.allclose(R1, R2)
 
 
 def test_flat_state_is_flat_and_on_the_grid():
     s = strip(5, axes=[(2, 60.0)])
-    pos, R, _ = K.node_poses(s, np.zeros(s.topology.n_nodes))
+    pos, R, _ = K.node_poses(s, np.zeros(s.topology.n_nodes), kin=design.kinematics_for(s))
     ij = s.topology.node_ij()
     assert np.allclose(pos[:, 0] - pos[0, 0], ij[:, 1] * 20.0)
     assert np.allclose(pos[:, 2], 0) and np.allclose(R, np.eye(3))
@@ -315,7 +315,7 @@ def test_closing_limit_is_where_plates_touch(lh):
     opening sense stays free of contact up to 45 deg."""
     from metamaterial_wb.core.render import plate_corners
     s = Scene.from_dict({"layout": {"grid": [3, 3]}, "hinge": {"length_mm": lh, "width_mm": 0.5}})
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     par = K.node_parity(s)
     phic = math.asin(lh / (2 * (20.0 - lh)))
     for f, expect in ((0.98, False), (1.02, True)):
@@ -332,7 +332,7 @@ def test_nonuniform_poses_converge_to_the_exact_mechanism():
     """Least-squares poses are continuous: D = g + eps * noise -> exact uniform poses as eps -> 0."""
     s = Scene.from_dict({"layout": {"grid": [3, 5]}, "hinge": {"length_mm": 5.0},
                          "axes": [{"direction": "vertical", "line": 2, "fold_deg": 45}]})
-    kin = K.Kinematics(s)
+    kin = design.kinematics_for(s)
     n = s.topology.n_nodes
     noise = np.random.default_rng(3).uniform(-1, 1, n)
     p0, R0, _ = kin.poses(np.full(n, 0.8))

@@ -134,10 +134,11 @@ def test_clip_angle_from_the_scene_constraint(fc):
     """Without angle_deg the clip takes the relative rotation of the constrained joint's nodes."""
     from metamaterial_wb.core.kinematics import rotation_limits
     from metamaterial_wb.geometry.modules import parse_modules
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"chain": 3}, constraints=[{"name": "c1", "joint": "H0,1", "value": 0.5}],
                     modules=[{"type": "constraint_clip", "joint": "H0,1"}])
-    spec = parse_modules(sc, fabrication_params(sc))[0]
+    spec = parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))[0]
     closing, _ = rotation_limits(sc)
     # N0,1 (odd) turns by -0.5 * closing, N0,2 (even) by +0.5 * closing: B relative to A = +closing
     assert spec.values["angle_deg"] == pytest.approx(math.degrees(closing), rel=1e-9)
@@ -146,10 +147,11 @@ def test_clip_angle_from_the_scene_constraint(fc):
 def test_gui_forms_are_accepted(fc):
     """The workbench's Add-module command writes {"type": "clip", "joint": ...} and stable hubs on a node."""
     from metamaterial_wb.geometry.modules import parse_modules
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"grid": [1, 2]}, modules=[{"type": "clip", "joint": "V0,1", "angle_deg": 5},
                                                {"type": "stable_hub", "node": "N1,0"}])
-    specs = parse_modules(sc, fabrication_params(sc))
+    specs = parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))
     assert [(m.type, m.joint) for m in specs] == [("constraint_clip", "V0,1"), ("stable_hub", "H1,0")]
 
 

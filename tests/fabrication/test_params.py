@@ -31,9 +31,10 @@ def _build(scene, **kw):
 
 
 def test_defaults_are_valid_and_follow_the_scene():
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"grid": [2, 2]}, cell_size_mm=24, hinge={"length_mm": 3, "width_mm": 1, "thickness_mm": 6})
-    p = fabrication_params(sc)
+    p = fabrication_params(sc, effective_tilts_deg(sc))
     assert p.plate_side_mm_global == pytest.approx(21.0)
     assert p.sheet_thickness_mm == pytest.approx(6.0)       # defaults to the thickest hinge
     assert p.clearance_mm == pytest.approx(0.2)
@@ -145,13 +146,13 @@ def test_cli_error_is_one_line_and_writes_nothing(tmp_path):
 def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
     """A scene with axes but no joint_config is configured on the fly (as the kinematics does), so the
     printed hinges are the ones the simulation bends; tilts steeper than the plate allows are errors."""
-    from metamaterial_wb.core.design import compute_joint_config
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import compute_joint_config, effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     base = dict(cell_size_mm=25, hinge={"length_mm": 5, "width_mm": 1.0, "thickness_mm": 7},
                 axes=[{"direction": "vertical", "line": 1, "fold_deg": 10}],
                 fabrication={"anchor_margin_mm": 0.8})      # the gripper's: 35 deg tilts keep 0.8 mm walls
     sc = make_scene({"chain": 3}, **base)
-    p = fabrication_params(sc)
+    p = fabrication_params(sc, effective_tilts_deg(sc))
     config = compute_joint_config(sc)[0]
     assert set(config) == {"H0,1", "H1,1"}
     for name, h in p.hinges.items():
@@ -159,6 +160,8 @@ def test_axes_without_joint_config_tilt_the_hinges_like_the_kinematics():
         assert h.tilt_deg == pytest.approx(want) and (want != 0.0) == (name in config)
     steep = make_scene({"chain": 3}, **dict(base, axes=[{"direction": "vertical", "line": 1, "fold_deg": 30}]))
     with pytest.raises(SceneError, match="tilt"):
+        fabrication_params(steep, effective_tilts_deg(steep))
+    with pytest.raises(SceneError, match="joint configuration"):   # stored tilts only: configure first
         fabrication_params(steep)
 
 

@@ -95,8 +95,9 @@ def test_presets_build_and_clear_their_rotation(fc, servo, cell):
 def test_mg996r_refused_in_small_cells(fc):
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.geometry.modules import parse_modules
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"chain": 3}, modules=[{"type": "servo_housing", "name": "s", "joint": "V0,1",
                                             "servo": "MG996R"}], **SCENE)
     with pytest.raises(SceneError, match="cells of at least"):
-        parse_modules(sc, fabrication_params(sc))
+        parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))

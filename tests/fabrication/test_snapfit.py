@@ -9,8 +9,10 @@ from fabhelpers import make_scene
 
 
 def _params(**kw):
-    from metamaterial_wb.geometry.params import fabrication_params
-    return fabrication_params(make_scene({"chain": 2}, **kw))
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
+    sc = make_scene({"chain": 2}, **kw)
+    return fabrication_params(sc, effective_tilts_deg(sc))
 
 
 @pytest.mark.parametrize("material", ["PLA", "ABS", "PETG"])

@@ -22,8 +22,9 @@ def _cli(*args, timeout=300):
 
 def _params_and_modules(scene, **kw):
     from metamaterial_wb.geometry.modules import parse_modules
-    from metamaterial_wb.geometry.params import fabrication_params
-    p = fabrication_params(scene, **kw)
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
+    p = fabrication_params(scene, effective_tilts_deg(scene), **kw)
     return p, parse_modules(scene, p)
 
 
@@ -93,7 +94,7 @@ def test_thin_hinge_sheet_blames_the_hinge_not_the_socket_lip():
 def test_unprintable_fold_error_gives_the_allowed_range():
     """The old grid_fold (5 mm hinges, 20 mm cells, 7 mm sheet): 74 deg tilts; the error gives the
     allowed tilt and the fold it makes, computed independently here from the closed forms."""
-    from metamaterial_wb.core.kinematics import rotation_limits
+    from metamaterial_wb.core.design import rotation_limits   # the tilts of the axes, configured on the fly
     sc = make_scene({"grid": [4, 6]}, cell_size_mm=20, hinge={"length_mm": 5, "width_mm": 0.8, "thickness_mm": 7},
                     axes=[{"name": "w", "direction": "vertical", "line": 1, "fold_deg": -60}])
     with pytest.raises(SceneError) as e:

@@ -12,7 +12,7 @@ import pytest
 FreeCAD = pytest.importorskip("FreeCAD")
 
 import metamaterial_wb  # noqa: E402
-from metamaterial_wb.core import kinematics  # noqa: E402
+from metamaterial_wb.core import design, kinematics  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
@@ -46,7 +46,7 @@ def placements_angle_z(arr):
 
 def core_reference(scene):
     D, _m, _w, _t = solve_scene(scene)
-    pos, R, phi = kinematics.node_poses(scene, D)
+    pos, R, phi = kinematics.node_poses(scene, D, kin=design.kinematics_for(scene))
     return D, pos, phi
 
 
@@ -123,7 +123,7 @@ def test_global_deformation_property_changes_only_the_scene(doc):
     assert execute_count(head) == n_item
     assert np.allclose(sc.Deformation, 0.5)
     scene = fish()
-    pos, _R, _phi = kinematics.node_poses(scene, np.full(scene.topology.n_nodes, 0.5))
+    pos, _R, _phi = kinematics.node_poses(scene, np.full(scene.topology.n_nodes, 0.5), kin=design.kinematics_for(scene))
     np.testing.assert_allclose(placements_xyz(sc.NodeArray), pos, atol=1e-6)
 
 

@@ -1,6 +1,6 @@
 """The linear lattice model's fast paths change its speed, not its answer.
 
-Reference: the same model with the fast paths switched off (``core/lattice/solve.reference_paths``): the
+Reference: the same model with the fast paths switched off (``core/lattice/linalg.reference_paths``): the
 KKT matrix assembled on its full pattern and factored by sparse LU (SuperLU with pivoting), the hinge-chain
 positions by LU, no CHOLMOD, no Schur complement, no planar shortcuts. Both are run on the five standard
 scenes of the fidelity benchmark at amplitudes 0.05 and 0.5, with the default linearisation and with
@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from metamaterial_wb.bench import fidelity
+from metamaterial_wb.core.lattice import linalg as lattice_linalg
 from metamaterial_wb.core.lattice import solve as lattice_solve
 import metamaterial_wb.core.lattice as lattice
 from metamaterial_wb.core.models import run_model
@@ -32,12 +33,12 @@ def _run(scene, about, reference):
 @pytest.mark.parametrize("about", ["quadratic", "flat"])
 def test_fast_paths_agree_with_reference(amp, about, cholmod, monkeypatch):
     """With CHOLMOD (Schur complement) and without it (LU of a KKT matrix assembled from the stiffness block)."""
-    if cholmod and lattice_solve._cholmod is None:
+    if cholmod and lattice_linalg._cholmod is None:
         pytest.skip("CHOLMOD (scikit-sparse) not installed")
     for key, _title, scene in SCENES[amp]:
         with monkeypatch.context() as mp:
             if not cholmod:
-                mp.setattr(lattice_solve, "_cholmod", None)
+                mp.setattr(lattice_linalg, "_cholmod", None)
             fast = _run(scene, about, reference=False)
         ref = _run(scene, about, reference=True)
         cell = scene.cell_size_mm
@@ -61,7 +62,7 @@ def test_reference_switch_is_restored_and_really_different():
         ref_lin = lattice_solve.LinearLattice(scene, geo)
     fast_lin = lattice_solve.LinearLattice(scene, geo)
     assert type(ref_lin.lu).__name__ == "SuperLU"
-    if lattice_solve._cholmod is not None:
+    if lattice_linalg._cholmod is not None:
         assert isinstance(fast_lin.lu, lattice_solve.SchurKKT)
     else:
         pytest.skip("CHOLMOD (scikit-sparse) not installed: the fast path is the LU path")

@@ -13,7 +13,7 @@ if not getattr(FreeCAD, "GuiUp", False):
 import FreeCADGui  # noqa: E402
 from PySide import QtGui  # noqa: E402
 
-from metamaterial_wb.core import kinematics  # noqa: E402
+from metamaterial_wb.core import design, kinematics  # noqa: E402
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
@@ -36,7 +36,7 @@ def core_pos(scene, values):
     for k, v in values.items():
         sc.set_value(k, v)
     D, _m, _w, _t = solve_scene(sc)
-    return kinematics.node_poses(sc, D)[0]
+    return kinematics.node_poses(sc, D, kin=design.kinematics_for(sc))[0]
 
 
 def test_fish_from_an_empty_document(tmp_path):

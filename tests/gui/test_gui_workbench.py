@@ -20,7 +20,7 @@ import FreeCADGui  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 import metamaterial_wb  # noqa: E402
-from metamaterial_wb.core import kinematics  # noqa: E402
+from metamaterial_wb.core import design, kinematics  # noqa: E402
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
@@ -49,7 +49,7 @@ def core_positions(scene, values=None, g=None):
     for k, v in (values or {}).items():
         sc.set_value(k, v)
     D, _m, _w, _t = solve_scene(sc, global_deformation=g)
-    pos, _R, phi = kinematics.node_poses(sc, D)
+    pos, _R, phi = kinematics.node_poses(sc, D, kin=design.kinematics_for(sc))
     return D, pos, phi
 
 

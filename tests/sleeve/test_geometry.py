@@ -14,8 +14,8 @@ pytest.importorskip("FreeCAD")
 
 from metamaterial_wb.core.sleeve.cell import polygon_area  # noqa: E402
 from metamaterial_wb.core.sleeve.spec import SleeveSpec  # noqa: E402
-from metamaterial_wb.geometry.sleeve import (build_all, build_sleeve, check_parts, export_sleeve,  # noqa: E402
-                                             sleeve_layout)
+from metamaterial_wb.export.sleeve import export_sleeve  # noqa: E402
+from metamaterial_wb.geometry.sleeve import build_all, build_sleeve, check_parts, sleeve_layout  # noqa: E402
 
 SPEC = {"format": "metamaterial-sleeve", "version": 1, "L_mm": 18, "c_mm": 4, "delta_mm": 0.5, "T_mm": 1.8,
         "shear_modulus_MPa": 28, "cell_types": [{"t_mm": 1.0, "h_mm": 6.7}, {"t_mm": 1.1, "h_mm": 7.5}],

@@ -115,21 +115,8 @@ SIDEWAYS_FORBIDDEN = {("export", "hardware"), ("hardware", "export"), ("gui", "c
                       ("commands", "gui"), ("cli", "gui")}
 # Known violations still to be moved (issue 14). Each entry is (importing module, imported module); the
 # test fails on any violation not listed here AND on any entry that no longer occurs (so the list shrinks).
-KNOWN_VIOLATIONS = {
-    ("metamaterial_wb.core.design", "metamaterial_wb.geometry.params"),
-    ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.mesh"),
-    ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.step"),
-    ("metamaterial_wb.geometry.sleeve", "metamaterial_wb.export.threemf"),
-}
-KNOWN_CYCLES = {
-    ("metamaterial_wb.core.design", "metamaterial_wb.core.kinematics"),
-    ("metamaterial_wb.core.design", "metamaterial_wb.geometry.params"),
-    # these three close only through the two loops above (kinematics -> design for the tilts, design ->
-    # geometry.params for the printable tilt): they go when those do
-    ("metamaterial_wb.core.joints", "metamaterial_wb.core.kinematics"),
-    ("metamaterial_wb.core.joints", "metamaterial_wb.geometry.params"),
-    ("metamaterial_wb.core.kinematics", "metamaterial_wb.geometry.params"),
-}
+KNOWN_VIOLATIONS = set()
+KNOWN_CYCLES = set()
 
 
 def _module_name(path):

@@ -443,7 +443,7 @@ def _parse_node(text, field):
 
 
 def build_sheet(scene, cfg):
-    from .. import kinematics
+    from .. import design, kinematics
     from ..solver import model_for_scene
 
     topo = scene.topology
@@ -452,7 +452,7 @@ def build_sheet(scene, cfg):
     C = cols.size
     col_index = {int(c): k for k, c in enumerate(cols)}
     P0 = scene.cell_size_mm * 1e-3
-    s = (scene.cell_size_mm - scene.hinge["length_mm"]) * 1e-3
+    s = scene.plate_side_mm * 1e-3
     t = scene.hinge["thickness_mm"] * 1e-3
     rho = cfg["density_kg_m3"]
     node_mass = rho * s * s * t
@@ -558,7 +558,7 @@ def build_sheet(scene, cfg):
     avg = np.zeros((ga.size, topo.n_nodes))
     for r, nodes in enumerate(gap_nodes):
         avg[r, nodes] = 1.0 / nodes.size
-    closing, opening = kinematics.rotation_limits(scene)
+    closing, opening = kinematics.rotation_limits(scene, design.joint_tilts_rad(scene))
     lh0 = scene.hinge["length_mm"] * 1e-3
     ctrl = SheetController(acts, avg @ D_const, avg @ basis, P0, s, lh0, closing, opening, tilt, system)
     info = {"bodies": C, "columns": [int(c) for c in cols], "total_mass_kg": float(mass.sum()),

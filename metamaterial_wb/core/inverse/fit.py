@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from metamaterial_wb.core import kinematics as _k
+from metamaterial_wb.core.design import joint_tilts_rad
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.inverse.residuals import FrameResidual
 from metamaterial_wb.core.inverse.surface import TargetError
@@ -62,7 +63,7 @@ class Problem:
         topo = scene.topology
         self.topo = topo
         self.k1, self.k2 = joint_stiffness(scene, calibration)
-        self.kin = _k.Kinematics(scene)
+        self.kin = _k.Kinematics(scene, joint_tilts_rad(scene))
         self.tangent = PoseTangent(self.kin)
         self.frames = [FrameResidual(scene, fr) for fr in target.frames]
         self.constraints = [(c.name, self._joint_nodes(c.joint), c.value) for c in scene.constraints]
@@ -192,7 +193,7 @@ class Problem:
 
     def __setstate__(self, d):
         self.__dict__.update(d)
-        self.kin = _k.Kinematics(self.scene)
+        self.kin = _k.Kinematics(self.scene, joint_tilts_rad(self.scene))
         self.tangent = PoseTangent(self.kin)
 
     def check_placement(self, joints):

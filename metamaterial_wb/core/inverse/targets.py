@@ -153,7 +153,8 @@ def _parse_nodes(scene, items, frame, where):
 def fold_ranges_deg(scene):
     """Reachable fold range (deg) of every joint over D in [-1, 1] (kinematic model): ``(lo, hi)``."""
     from metamaterial_wb.core import kinematics as kin
-    tilt = kin.joint_tilts_rad(scene)
+    from metamaterial_wb.core.design import joint_tilts_rad
+    tilt = joint_tilts_rad(scene)
     closing, opening = kin.rotation_limits(scene, tilt)
     par = kin.joint_parity(scene)
     vals = []

@@ -54,7 +54,8 @@ def _global(scene, g, t0):
 
     g = check_number("global_deformation", g, -1.0, 1.0)
     D = np.full(scene.topology.n_nodes, g)
-    pos, R, _phi = kinematics.node_poses(scene, D)
+    from metamaterial_wb.core.design import kinematics_for
+    pos, R, _phi = kinematics.node_poses(scene, D, kin=kinematics_for(scene))
     return ModelResult(D, pos, R, [], {"total_s": time.perf_counter() - t0}, True,
                        {"method": "global deformation: closed-form kinematics, no solve"})
 
@@ -83,6 +84,12 @@ def _structure_key(scene, planar):
 
 
 def clear_cache():
+    """Forget the cached linear models (factorisations kept per scene structure).
+
+    Returns
+    -------
+    None
+    """
     _LINEAR_CACHE.clear()
 
 

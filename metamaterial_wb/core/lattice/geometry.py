@@ -74,13 +74,10 @@ def beam_tip_stiffness(L, w, t, E, nu):
     return K
 
 
-def scene_rotation_limits(scene, contact_rad):
+def scene_rotation_limits(scene, tilts_rad):
     """D = +-1 rotations: core/kinematics.rotation_limits (the same D scale as the quadratic model)."""
-    try:
-        from metamaterial_wb.core import kinematics
-        return kinematics.rotation_limits(scene)
-    except ImportError:      # kinematics being extended in parallel: fall back to its documented rule
-        return contact_rad, math.pi / 4
+    from metamaterial_wb.core import kinematics
+    return kinematics.rotation_limits(scene, tilts_rad)
 
 
 class LatticeGeometry:
@@ -91,7 +88,7 @@ class LatticeGeometry:
         self.scene = scene
         P = scene.cell_size_mm
         lh = scene.hinge["length_mm"]
-        s = P - lh
+        s = scene.plate_side_mm
         self.plate_side_mm = s
         self.cell_size_mm = P
         self.gap_mm = lh
@@ -140,11 +137,8 @@ class LatticeGeometry:
                 L[k], w[k], t[k] = base["length_mm"], base["width_mm"], base["thickness_mm"]
         if scene.axes and not config:
             # axes but no joint configuration yet: the tilts the kinematics would use (design stage)
-            try:
-                from metamaterial_wb.core import design
-                tilt = np.radians(design.effective_tilts_deg(scene))
-            except ImportError:
-                pass
+            from metamaterial_wb.core import design
+            tilt = np.radians(design.effective_tilts_deg(scene))
         self.L, self.w, self.t = L, w, t
         self.tilt = tilt
         ca, sa = np.cos(tilt)[:, None], np.sin(tilt)[:, None]
@@ -158,7 +152,7 @@ class LatticeGeometry:
         self.arc_correction = True                      # exact pure bending at large hinge rotations
         # rotation limits (same rule as core/kinematics.rotation_limits, per scene)
         self.contact_rad = math.asin(min(1.0, lh / (2.0 * s)))   # plate contact (closing sense)
-        self.closing_rad, self.opening_rad = scene_rotation_limits(scene, self.contact_rad)
+        self.closing_rad, self.opening_rad = scene_rotation_limits(scene, self.tilt)
         self.dofs = np.concatenate([6 * self.a[:, None] + np.arange(6), 6 * self.b[:, None] + np.arange(6)], axis=1)
 
     # -- helpers ---------------------------------------------------------------------------------

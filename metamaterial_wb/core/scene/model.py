@@ -5,6 +5,7 @@ import json
 from metamaterial_wb.core.errors import SceneError, check_number
 from metamaterial_wb.core.scene.names import (DEFAULT_CELL_SIZE_MM, DEFAULT_HINGE, FORMAT, VERSION, _short,
                                                   joint_name, joint_nodes, node_name, parse_joint)
+from metamaterial_wb.core.scene.names import plate_side_mm as _plate_side_mm
 from metamaterial_wb.core.scene.topology import Topology
 
 
@@ -143,6 +144,28 @@ class Scene:
             raise SceneError(field_name, f"node {node_name(i, j)} does not exist in this layout "
                                          f"({self.topology.n_nodes} nodes)")
         return i, j
+
+    @property
+    def plate_side_mm(self):
+        """Side (mm) of every node plate: ``cell_size_mm - hinge.length_mm`` (the scene-wide gap; a shorter
+        per-joint hinge keeps the plates and gets rigid stubs, docs/fabrication.md)."""
+        return _plate_side_mm(self.cell_size_mm, self.hinge["length_mm"])
+
+    def hinge_sizes(self, joint):
+        """``{"length_mm", "width_mm", "thickness_mm"}`` (floats) of one joint, its overrides applied: what the
+        solvers, the B-rep and the 3D view all use for that joint's hinge.
+
+        Parameters
+        ----------
+        joint : str
+            A joint name such as ``"H0,1"``.
+
+        Returns
+        -------
+        dict
+        """
+        h = self.joint_hinge(joint)
+        return {k: float(h[k]) for k in DEFAULT_HINGE}
 
     def joint_hinge(self, name):
         """Hinge sizes (mm) of one joint, with its overrides applied."""

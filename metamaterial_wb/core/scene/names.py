@@ -8,6 +8,26 @@ VERSION = 1
 
 DEFAULT_CELL_SIZE_MM = 20.0
 DEFAULT_HINGE = {"length_mm": 2.0, "width_mm": 0.8, "thickness_mm": 7.0}
+MAX_TILT_DEG = 80.0          # the scene format's hinge tilt range [-80, 80] deg (fabrication limit)
+
+
+def plate_side_mm(cell_size_mm, hinge_length_mm):
+    """Side of a node plate (mm): the cell pitch less the hinge gap between two plates.
+
+    The one place this is computed (``Scene.plate_side_mm`` for a scene; the validators for a candidate).
+
+    Parameters
+    ----------
+    cell_size_mm : float
+        Cell pitch.
+    hinge_length_mm : float
+        Scene-wide hinge length (the gap between neighbouring plates).
+
+    Returns
+    -------
+    float
+    """
+    return float(cell_size_mm) - float(hinge_length_mm)
 
 _JOINT_RE = re.compile(r"^\s*([HVhv])\s*\(?\s*(-?\d{1,9})\s*,\s*(-?\d{1,9})\s*\)?\s*$")
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,63}$")

@@ -10,7 +10,8 @@ from metamaterial_wb.core.errors import SceneError, check_number
 from metamaterial_wb.core.scene.items import Actuator, Axis, Constraint
 from metamaterial_wb.core.scene.layout import cells_from_layout, validate_layout
 from metamaterial_wb.core.scene.names import (_NAME_RE, DEFAULT_CELL_SIZE_MM, DEFAULT_HINGE, FORMAT,
-                                                  JOINT_OVERRIDE_KEYS, KNOWN_KEYS, VERSION, _short)
+                                                  JOINT_OVERRIDE_KEYS, KNOWN_KEYS, MAX_TILT_DEG, VERSION, _short,
+                                                  plate_side_mm)
 from metamaterial_wb.core.scene.topology import Topology
 
 K2_RANGE = (1e-9, 1e9)  # relative stiffness: beyond this the solve loses every digit (issue 19)
@@ -93,7 +94,8 @@ def parse_joints(s, data):
             check_hinge_sizes(f"{f} ({name})", merged, s.cell_size_mm)
             ov.update({key: float(v) for key, v in sizes.items()})
         if "tilt_deg" in item:
-            ov["tilt_deg"] = check_number(f"{f}.tilt_deg ({name})", item["tilt_deg"], -80.0, 80.0, "deg")
+            ov["tilt_deg"] = check_number(f"{f}.tilt_deg ({name})", item["tilt_deg"], -MAX_TILT_DEG, MAX_TILT_DEG,
+                                          "deg")
         s.joint_overrides[name] = ov
 
 
@@ -196,7 +198,7 @@ def parse_joint_config(s, data):
             raise SceneError(f"joint_config.{jn}", f"expected an object like {{\"tilt_deg\": 20}}, got {_short(cfg)}")
         for key in ("tilt_deg", "fold_deg"):
             if key in cfg:
-                lim = 80.0 if key == "tilt_deg" else 180.0
+                lim = MAX_TILT_DEG if key == "tilt_deg" else 180.0
                 check_number(f"joint_config.{jn}.{key}", cfg[key], -lim, lim, "deg")
         s.joint_config[jn] = dict(cfg)
 
@@ -229,6 +231,6 @@ def check_hinge_sizes(field_name, h, cell_size_mm):
             raise SceneError(f"{field_name}.{k}", f"expected a number in mm, got {_short(v)}")
     check_number(f"{field_name}.length_mm", h["length_mm"], 0.0, 0.5 * cell_size_mm, "mm", low_open=True,
                  high_open=True)
-    check_number(f"{field_name}.width_mm", h["width_mm"], 0.0, 0.25 * (cell_size_mm - h["length_mm"]), "mm",
+    check_number(f"{field_name}.width_mm", h["width_mm"], 0.0, 0.25 * plate_side_mm(cell_size_mm, h["length_mm"]), "mm",
                  low_open=True)
     check_number(f"{field_name}.thickness_mm", h["thickness_mm"], 0.0, 100.0, "mm", low_open=True)

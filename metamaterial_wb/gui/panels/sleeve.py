@@ -239,7 +239,7 @@ class SleevePanel(BasePanel):
         import shutil
         import tempfile
 
-        from metamaterial_wb.geometry.sleeve import export_sleeve
+        from metamaterial_wb.export.sleeve import export_sleeve
         if not folder:
             self.show_error("export: choose a folder")
             return []
