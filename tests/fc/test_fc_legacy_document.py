@@ -83,16 +83,27 @@ def state(doc):
     return out
 
 
-def assert_same(got, want):
+def assert_same(got, want, changed_since_saved=()):
+    """``changed_since_saved``: (object, key) pairs whose geometry the code changed on purpose after the
+    fixture was saved (they must still be close: the old shape was restored, not lost)."""
     assert set(got) == set(want), (sorted(got), sorted(want))
     for name, rec in want.items():
         assert set(got[name]) == set(rec), name
         for k, v in rec.items():
             if k == "proxy":
                 assert got[name][k] == v, name
+            elif (name, k) in changed_since_saved and k == "vertices":
+                assert np.shape(got[name][k]) == np.shape(v), (name, k)   # same topology, moved
+            elif (name, k) in changed_since_saved:
+                np.testing.assert_allclose(got[name][k], v, rtol=0.01, atol=1.0, err_msg=f"{name}.{k}")
             else:
                 assert np.shape(got[name][k]) == np.shape(v), (name, k)
                 np.testing.assert_allclose(got[name][k], v, atol=1e-6, err_msg=f"{name}.{k}")
+
+
+# the servo housing moved its shaft onto the blade's best fixed pivot (issue 16) after the fixture was saved
+# (at most 1 % in volume, 1 mm in its bounding box, the same number of vertices)
+CHANGED_SINCE_SAVED = {("Module_servo_housing", k) for k in ("volume", "bbox", "vertices")}
 
 
 def test_fixture_really_is_a_legacy_file():
@@ -127,7 +138,7 @@ def test_legacy_document_opens_recomputes_and_matches_a_fresh_build(tmp_path, do
     built = state(fresh)
     assert all(v["proxy"].startswith("metamaterial_wb.objects.") for k, v in built.items() if "proxy" in v)
     assert_same(recomputed, built)
-    assert_same(as_saved, built)      # what the old code stored is what the new code builds
+    assert_same(as_saved, built, CHANGED_SINCE_SAVED)   # what the old code stored is what the new code builds
 
     # saving the legacy document rewrites it with the new paths
     again = str(tmp_path / "legacy_resaved.FCStd")
