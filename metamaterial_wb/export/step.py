@@ -377,7 +377,7 @@ def write_step_instanced(path, shapes, instances, assembly_name="structure", col
 
 def result_instances(result, parts):
     """``(shapes, instances, colours)`` for :func:`write_step_instanced` from a BuildResult."""
-    from metamaterial_wb.geometry.params import MATERIALS
+    from metamaterial_wb.core.materials import MATERIALS
 
     shapes = {q.key: result.shapes[q.key] for q in parts}
     colours = {q.key: MATERIALS.get(q.material) for q in parts}

@@ -29,9 +29,10 @@ def _setup(name):
 def _specs(d):
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.geometry.modules import parse_modules
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = Scene.from_dict(d)
-    return parse_modules(sc, fabrication_params(sc))
+    return parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))
 
 
 @pytest.mark.parametrize("setup", SETUPS)

@@ -156,9 +156,10 @@ def test_pivot_closed_forms(fc):
 
 def test_clip_turns_about_the_same_pivot(fc):
     from metamaterial_wb.geometry.modules import clip_pivot, parse_modules, to_module_frame
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"chain": 3}, modules=[{"type": "constraint_clip", "joint": "H0,1", "angle_deg": 10.0}])
-    p = fabrication_params(sc)
+    p = fabrication_params(sc, effective_tilts_deg(sc))
     spec = parse_modules(sc, p)[0]
     x, y, _ = spec.pivot.point_mm
     # H0,1 joins N0,1 (odd: bottom corners) and N0,2: gap centre x = 30, blade centre 0.4 mm above y = -9
@@ -171,22 +172,24 @@ def test_clip_turns_about_the_same_pivot(fc):
 def test_servo_on_a_tilted_joint_is_refused(fc):
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.geometry.modules import parse_modules
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     sc = make_scene({"grid": [1, 2]}, cell_size_mm=30, joint_config={"V0,1": {"tilt_deg": 10.0}},
                     modules=[{"type": "servo_housing", "name": "s", "joint": "V0,1"}])
     with pytest.raises(SceneError, match="tilted hinge"):
-        parse_modules(sc, fabrication_params(sc))
+        parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))
 
 
 def test_stable_hub_sits_on_the_same_pivot(fc):
     """The stable hub's platform (its M3 hole, measured on the built solid) stands over the joint's
     pivot along the joint: the same point the servo shaft and the clip use (core/joints.py)."""
     from metamaterial_wb.geometry.build import build_scene
-    from metamaterial_wb.geometry.params import fabrication_params, joint_pivot
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params, joint_pivot
     sc = make_scene({"chain": 3}, modules=[{"type": "stable_hub", "name": "hub", "joint": "H0,1"}])
     r = build_scene(sc, progress=False)
     spec = r.modules[0]
-    ref = joint_pivot(sc, fabrication_params(sc), "H0,1")
+    ref = joint_pivot(sc, fabrication_params(sc, effective_tilts_deg(sc)), "H0,1")
     assert spec.pivot.point_mm == pytest.approx(ref.point_mm, abs=1e-9)
     hub = r.placed_shape(r.by_name("hub_hub"))
     holes = [f.Surface for f in hub.Faces if f.Surface.__class__.__name__ == "Cylinder"
