@@ -104,14 +104,35 @@ def _slider(lo=-100, hi=100, value=0):
     return s
 
 
-def task_buttons():
-    """The task dialog's button box (OK / Cancel) of the shown panel, or None."""
+def task_buttons(panel=None):
+    """The OK / Cancel button box of the task dialog that shows ``panel`` (default: the active panel), or
+    None when no panel is shown.
+
+    The box is the one inside the task view (``Gui::TaskView::TaskView``) that holds the panel's form:
+    boxes elsewhere in the main window (another dock, a dialog of another tool) are never returned; of
+    several in that task view, the newest one not explicitly hidden wins (a closed dialog's box waits
+    for its deletion hidden). Visibility on screen is not asked: on FreeCAD 1.1 the task view may sit in
+    a collapsed overlay tab.
+
+    Every widget is found from the main window, whose Python wrapper lives as long as FreeCAD: wrappers
+    made for the form's ancestors (``parentWidget()``) or through their ``findChildren()`` are
+    invalidated with their descendants' wrappers when they are collected (PySide), which would kill the
+    panel's own widgets."""
+    panel = ACTIVE if panel is None else panel
+    form = getattr(panel, "form", None)
+    if form is None:
+        return None
     mw = FreeCADGui.getMainWindow()
+    views = [w for w in mw.findChildren(QtGui.QWidget)
+             if w.metaObject().className() == "Gui::TaskView::TaskView" and w.isAncestorOf(form)]
+    if not views:
+        return None
     sb = QtGui.QDialogButtonBox.StandardButton
     boxes = [box for box in mw.findChildren(QtGui.QDialogButtonBox)
-             if any(box.button(b) is not None for b in (sb.Ok, sb.Close))]
-    visible = [box for box in boxes if box.isVisible()]
-    return (visible or boxes or [None])[0]
+             if views[-1].isAncestorOf(box) and not form.isAncestorOf(box)
+             and any(box.button(b) is not None for b in (sb.Ok, sb.Close))]
+    live = [box for box in boxes if not box.isHidden()]
+    return (live or boxes or [None])[-1]
 
 
 def red_label(text=""):
