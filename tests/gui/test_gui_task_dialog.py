@@ -78,3 +78,11 @@ def test_after_a_closed_dialog_the_new_dialogs_box_is_returned(doc):
     assert old is box or not shiboken().isValid(old) or old.isHidden(), "a stale box is still shown"
     click(box.button(SB.Cancel))
     assert panels.active() is None and not FreeCADGui.Control.activeDialog()
+
+
+def test_button_row_puts_the_buttons_side_by_side():
+    from metamaterial_wb.gui.panels.base import button_row
+    row, buttons = button_row("Add key", "Remove last")
+    assert [b.text() for b in buttons] == ["Add key", "Remove last"]
+    assert isinstance(row, QtGui.QHBoxLayout) and row.count() == 2
+    assert [row.itemAt(k).widget() for k in range(2)] == buttons

@@ -9,6 +9,11 @@ from metamaterial_wb.core.sleeve.cell import CellGeometry
 from metamaterial_wb.core.sleeve.model import pillar_tip_coefficient
 
 FORMAT = "metamaterial-sleeve"
+# allowed ranges (low bound open): the one owner of these numbers, the GUI's spin boxes read them
+RANGES = {"L_mm": (0, 1000, "mm"), "c_mm": (0, 1000, "mm"), "delta_mm": (0, 1000, "mm"), "T_mm": (0, 1000, "mm"),
+          "shear_modulus_MPa": (0, 1e5, "MPa")}
+RINGS_RANGE = (1, 12)
+CELL_TYPE_RATIOS = {"t_mm": 0.25, "h_mm": 0.6}     # a cell type's t / h at most this times L
 
 
 class SleeveSpec:
@@ -25,11 +30,11 @@ class SleeveSpec:
         self.name = str(data.get("name", "sleeve"))
         num = lambda k, d, lo, hi, unit="mm", lo_open=True: check_number(  # noqa: E731
             k, data.get(k, d), lo, hi, unit, low_open=lo_open)
-        self.L = num("L_mm", 18.0, 0, 1000)
-        self.c = num("c_mm", 4.0, 0, 1000)
-        self.delta = num("delta_mm", 0.5, 0, 1000)
-        self.T = num("T_mm", 1.8, 0, 1000)
-        self.G = num("shear_modulus_MPa", 28.0, 0, 1e5, "MPa")
+        self.L = num("L_mm", 18.0, *RANGES["L_mm"])
+        self.c = num("c_mm", 4.0, *RANGES["c_mm"])
+        self.delta = num("delta_mm", 0.5, *RANGES["delta_mm"])
+        self.T = num("T_mm", 1.8, *RANGES["T_mm"])
+        self.G = num("shear_modulus_MPa", 28.0, *RANGES["shear_modulus_MPa"])
         self.layout = data.get("layout", "single")
         if self.layout not in ("single", "double"):
             raise SceneError("layout", f"{self.layout!r}; allowed: 'single' (one beam per cell, default), "
@@ -45,8 +50,8 @@ class SleeveSpec:
             for k in ("t_mm", "h_mm"):
                 if k not in ct:
                     raise SceneError(f"{f}.{k}", "missing")
-            t = check_number(f"{f}.t_mm", ct["t_mm"], 0, 0.25 * self.L, "mm", low_open=True)
-            h = check_number(f"{f}.h_mm", ct["h_mm"], 0, 0.6 * self.L, "mm", low_open=True)
+            t = check_number(f"{f}.t_mm", ct["t_mm"], 0, CELL_TYPE_RATIOS["t_mm"] * self.L, "mm", low_open=True)
+            h = check_number(f"{f}.h_mm", ct["h_mm"], 0, CELL_TYPE_RATIOS["h_mm"] * self.L, "mm", low_open=True)
             self.cells.append(CellGeometry.checked(f, L=self.L, t=t, h=h, c=self.c, delta=self.delta, T=self.T,
                                                    layout=self.layout))
         if "pattern" in data:
@@ -58,8 +63,9 @@ class SleeveSpec:
             if not isinstance(ring, list):
                 raise SceneError("ring", "expected a list of cell type indices around the circumference, e.g. [0, 0, 1, 1]")
             rings = data.get("rings", 1)
-            if isinstance(rings, bool) or not isinstance(rings, int) or not 1 <= rings <= 12:
-                raise SceneError("rings", f"{rings!r} is outside the allowed range [1, 12] (integer)")
+            if isinstance(rings, bool) or not isinstance(rings, int) or not RINGS_RANGE[0] <= rings <= RINGS_RANGE[1]:
+                raise SceneError("rings", f"{rings!r} is outside the allowed range [{RINGS_RANGE[0]}, {RINGS_RANGE[1]}] "
+                                          "(integer)")
             pat = [list(ring) for _ in range(rings)]
         n = len(pat[0])
         for r, row in enumerate(pat):

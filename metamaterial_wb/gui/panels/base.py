@@ -21,6 +21,7 @@ from PySide import QtCore, QtGui
 
 import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.gui.i18n import translate
 
 ACTIVE = None
 RED = "color: #c00000;"
@@ -133,6 +134,15 @@ def task_buttons(panel=None):
              and any(box.button(b) is not None for b in (sb.Ok, sb.Close))]
     live = [box for box in boxes if not box.isHidden()]
     return (live or boxes or [None])[-1]
+
+
+def button_row(*labels):
+    """``(layout, [buttons])``: push buttons with these labels side by side in one row."""
+    row = QtGui.QHBoxLayout()
+    buttons = [QtGui.QPushButton(label) for label in labels]
+    for b in buttons:
+        row.addWidget(b)
+    return row, buttons
 
 
 def red_label(text=""):
@@ -302,9 +312,9 @@ class BasePanel:
         """The picker's report: say in the panel what is under the cursor / what was picked."""
         what = "hinge" if kind == "joint" else "node"
         if hover:
-            self.pick_label.setText(f"under the cursor: {what} {name} (click to pick it)")
+            self.pick_label.setText(translate("Metamaterial", "under the cursor: {0} {1} (click to pick it)").format(what, name))
         else:
-            self.pick_label.setText(f"picked {what} {name}")
+            self.pick_label.setText(translate("Metamaterial", "picked {0} {1}").format(what, name))
 
 
 def pick_index(sub):
