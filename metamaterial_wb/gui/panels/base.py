@@ -77,8 +77,35 @@ def show(panel):
             ACTIVE.cleanup()
     ACTIVE = panel
     FreeCADGui.Control.showDialog(panel)
+    reveal(panel.form)
     panel.dialog_shown()
     return panel
+
+
+def reveal(form):
+    """Make the task view that holds ``form`` visible: FreeCAD 1.1 may keep its "Tasks" dock in a hidden
+    dock overlay (``OverlayRight``) or tab, so ``showDialog`` alone can leave the panel off screen. Every
+    explicitly hidden ancestor of the form is shown and its dock raised. The widgets are found from the
+    main window (see ``task_buttons`` for why not through ``parentWidget()``)."""
+    if form.isVisible():
+        return
+    mw = FreeCADGui.getMainWindow()
+    try:
+        chain = [w for w in mw.findChildren(QtGui.QWidget) if w.isAncestorOf(form)]
+        for w in sorted(chain, key=lambda w: sum(1 for v in chain if v.isAncestorOf(w))):   # outermost first
+            if w.isHidden():
+                w.show()
+            if isinstance(w, QtGui.QDockWidget):
+                w.raise_()
+            if isinstance(w, QtGui.QTabWidget):
+                for k in range(w.count()):
+                    if w.widget(k) is not None and (w.widget(k) is form or w.widget(k).isAncestorOf(form)):
+                        w.setCurrentIndex(k)
+        QtGui.QApplication.processEvents()
+    except Exception as exc:  # pragma: no cover - display only
+        FreeCAD.Console.PrintWarning(f"Metamaterial: could not show the task panel ({exc})\n")
+    if not form.isVisible():
+        FreeCAD.Console.PrintWarning("Metamaterial: the task panel is hidden (Tasks dock / overlay)\n")
 
 
 def _close():
