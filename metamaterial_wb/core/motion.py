@@ -18,6 +18,8 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError, check_number
 
 SHAPES = ("sine", "constant", "steps", "keyframes")
+# closed ranges of a sine profile's fields (the GUI's spin boxes read them); keyframe times are >= 0 s
+PROFILE_RANGES = {"amplitude": (0.0, 1.0), "frequency_hz": (0.0, 50.0), "phase_deg": (-3600.0, 3600.0)}
 
 
 def validate_profile(p, field_name="profile"):
@@ -34,9 +36,9 @@ def validate_profile(p, field_name="profile"):
         if k not in allowed:
             raise SceneError(f"{field_name}.{k}", f"unknown field for a {shape} profile; allowed: {sorted(allowed)}")
     if shape == "sine":
-        a = check_number(f"{field_name}.amplitude", p.get("amplitude", 1.0), 0.0, 1.0)
-        check_number(f"{field_name}.frequency_hz", p.get("frequency_hz", 1.0), 0.0, 50.0, "Hz")
-        check_number(f"{field_name}.phase_deg", p.get("phase_deg", 0.0), -3600.0, 3600.0, "deg")
+        a = check_number(f"{field_name}.amplitude", p.get("amplitude", 1.0), *PROFILE_RANGES["amplitude"])
+        check_number(f"{field_name}.frequency_hz", p.get("frequency_hz", 1.0), *PROFILE_RANGES["frequency_hz"], "Hz")
+        check_number(f"{field_name}.phase_deg", p.get("phase_deg", 0.0), *PROFILE_RANGES["phase_deg"], "deg")
         off = check_number(f"{field_name}.offset", p.get("offset", 0.0), -1.0, 1.0)
         if abs(off) + a > 1.0 + 1e-12:
             raise SceneError(f"{field_name}", f"offset {off} plus amplitude {a} reaches {abs(off) + a}; "

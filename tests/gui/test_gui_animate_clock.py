@@ -12,7 +12,7 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import qt6_hidden_task_view, click, doc, press_ok, process, run_panel, workbench  # noqa: E402,F401
+from guihelpers import click, doc, press_ok, process, run_panel, workbench  # noqa: E402,F401
 
 FRAME_COST_S = 0.08
 
@@ -42,7 +42,6 @@ def play_for(p, seconds):
     return time.perf_counter() - t0
 
 
-@qt6_hidden_task_view
 def test_clock_follows_wall_time_and_drops_frames(doc, slow_frames):
     open_fish(doc)
     p = run_panel("MM_Animate")
@@ -60,10 +59,11 @@ def test_clock_follows_wall_time_and_drops_frames(doc, slow_frames):
     p.speed.setValue(2.0)
     t_before = p.t
     wall = play_for(p, 1.0)
-    assert p.t - t_before == pytest.approx(2.0 * wall, abs=0.4)
+    # (the pause click waits for the frame being drawn: up to one slow frame + a software render of wall
+    # time is not animated; a clock adding 1/30 s x speed per tick would reach ~0.5 s here)
+    assert p.t - t_before == pytest.approx(2.0 * wall, abs=0.6)
 
 
-@qt6_hidden_task_view
 def test_stream_sends_the_wall_clock_values(doc, slow_frames):
     from metamaterial_wb.gui.panels import hardware_available
     if not hardware_available():

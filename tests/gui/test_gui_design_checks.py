@@ -17,7 +17,7 @@ from metamaterial_wb.core import design, kinematics  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import (qt6_hidden_task_view, click, dialog_button, doc, drag_slider, press_ok, process, run_panel,  # noqa: E402,F401
+from guihelpers import (click, dialog_button, doc, drag_slider, press_ok, process, run_panel,  # noqa: E402,F401
                         type_into, workbench)
 
 
@@ -46,7 +46,6 @@ def folds(sc):
     return [a["fold_deg"] for a in json.loads(sc.SceneJSON)["axes"]]
 
 
-@qt6_hidden_task_view
 def test_scene_file_with_a_fold_beyond_the_maximum_is_refused(doc, tmp_path):
     with open(metamaterial_wb.example_path("fish_axes"), encoding="utf-8") as f:
         d = json.load(f)
@@ -74,7 +73,6 @@ def test_scene_file_with_a_fold_beyond_the_maximum_is_refused(doc, tmp_path):
     assert sc.isValid() and folds(sc)[0] == 12.5
 
 
-@qt6_hidden_task_view
 def test_shorter_hinges_that_break_a_stored_fold_are_refused(doc):
     sc = sheet_with_axis(doc, hinge_mm=3.0)
     p = run_panel("MM_FoldedShape")
@@ -92,7 +90,6 @@ def test_shorter_hinges_that_break_a_stored_fold_are_refused(doc):
     assert press_ok()
 
 
-@qt6_hidden_task_view
 def test_folded_shape_is_live_exact_and_shows_both_limits(doc):
     sc = sheet_with_axis(doc)
     scene = structure.compose_scene(sc)

@@ -17,7 +17,7 @@ import FreeCADGui  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from metamaterial_wb.core.live import joint_node_indices  # noqa: E402
-from guihelpers import (qt6_hidden_task_view, hinge_mid, click, click_view, dialog_button, drag_slider, press_ok, process, run_panel,  # noqa: E402
+from guihelpers import (hinge_mid, click, click_view, dialog_button, drag_slider, press_ok, process, run_panel,  # noqa: E402
                         screen_point, type_into, workbench)  # noqa: F401
 
 IMG = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "docs", "img")
@@ -52,7 +52,6 @@ def xyz(arr):
     return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in arr.PlacementList])
 
 
-@qt6_hidden_task_view
 def test_empty_document_to_a_reopened_fish(tmp_path):
     FreeCADGui.activateWorkbench("MetamaterialWorkbench")
     doc = FreeCAD.newDocument("Journey")

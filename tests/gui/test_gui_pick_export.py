@@ -14,7 +14,7 @@ import FreeCADGui  # noqa: E402
 from metamaterial_wb.gui import commands, panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from metamaterial_wb.core.live import joint_node_indices  # noqa: E402
-from guihelpers import (qt6_hidden_task_view, hinge_mid, click, click_view, doc, hover_view, press_ok, process, run_panel,  # noqa: E402,F401
+from guihelpers import (hinge_mid, click, click_view, doc, hover_view, press_ok, process, run_panel,  # noqa: E402,F401
                         screen_point, type_into, workbench)
 
 
@@ -28,7 +28,6 @@ def new_default_sheet(doc):
     return sc
 
 
-@qt6_hidden_task_view
 def test_click_picks_a_default_2mm_hinge_with_preselection(doc):
     sc = new_default_sheet(doc)
     assert sc.HingeLength.Value == pytest.approx(2.0)
@@ -55,7 +54,6 @@ def test_click_picks_a_default_2mm_hinge_with_preselection(doc):
     assert [(a.direction, a.line) for a in structure.compose_scene(sc).axes] == [("horizontal", 1)]
 
 
-@qt6_hidden_task_view
 def test_export_keeps_an_active_document_and_reports_in_the_panel(doc, tmp_path):
     p = run_panel("MM_OpenExample")
     p.select("fish")

@@ -9,6 +9,7 @@ import math
 import os
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -23,7 +24,7 @@ from PySide import QtGui  # noqa: E402
 import metamaterial_wb  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import doc, run_panel, workbench  # noqa: E402,F401
+from guihelpers import click, doc, run_panel, type_into, workbench  # noqa: E402,F401
 
 PY = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(metamaterial_wb.__file__)))
@@ -190,7 +191,26 @@ def test_sleeve_command_builds_a_valid_sleeve_and_predicts_like_the_core(doc, tm
     import zipfile
 
     import Part
-    paths = p.export(str(tmp_path / "exp"))
+    # the export runs in a child process: the GUI's event loop keeps running (a QTimer ticks throughout)
+    from PySide import QtCore
+    ticks = []
+    timer = QtCore.QTimer()
+    timer.timeout.connect(lambda: ticks.append(time.perf_counter()))
+    timer.start(20)
+    t0 = time.perf_counter()
+    type_into(p.export_dir, str(tmp_path / "exp"))
+    click(p.export_btn)
+    assert p.export_job.running, p.error.text()
+    assert p.jobbox.progress.isVisible() and p.jobbox.cancel_btn.isVisible(), "progress + Cancel while it runs"
+    assert p.wait_export(600), "sleeve export did not finish"
+    timer.stop()
+    took = time.perf_counter() - t0
+    gaps = [b - a for a, b in zip([t0] + ticks, ticks + [time.perf_counter()])]
+    assert p.export_job.outcome == "done", p.error.text()
+    assert len(ticks) > 5 and max(gaps) < max(2.0, 0.25 * took) and took > 2 * max(gaps), \
+        f"the GUI froze: longest pause {max(gaps):.2f} s of a {took:.1f} s export"
+    assert "wrote 2 file(s)" in p.jobbox.summary.text(), p.jobbox.summary.text()
+    paths = p.exported
     assert sorted(os.path.basename(x) for x in paths) == ["sleeve.3mf", "sleeve.step"], p.error.text()
     shp = Part.read(str(tmp_path / "exp" / "sleeve.step"))
     assert shp.isValid() and len(shp.Solids) == 5
@@ -216,3 +236,16 @@ def test_sleeve_command_builds_a_valid_sleeve_and_predicts_like_the_core(doc, tm
     assert {o.Name for o in part.Group} >= {sleeve[0].Name}
     doc.undo()
     assert len(doc.Objects) == n0
+
+
+def test_sleeve_export_cancel_leaves_nothing(doc, tmp_path):
+    p = run_panel("MM_Sleeve")
+    type_into(p.export_dir, str(tmp_path / "exp"))
+    click(p.export_btn)
+    assert p.export_job.running and p.jobbox.cancel_btn.isVisible(), p.error.text()
+    assert not p.export_btn.isEnabled(), "a second export cannot start while one runs"
+    click(p.jobbox.cancel_btn)
+    assert p.export_job.outcome == "cancelled" and not p.export_job.running
+    assert "cancelled" in p.jobbox.summary.text() and p.export_btn.isEnabled()
+    assert not os.path.exists(tmp_path / "exp") or not os.listdir(tmp_path / "exp")
+    assert not [n for n in os.listdir(tmp_path) if n.startswith(".sleeve-export-")], "staging folder left"

@@ -14,6 +14,10 @@ from metamaterial_wb.core.scene.names import (_NAME_RE, DEFAULT_CELL_SIZE_MM, DE
                                                   plate_side_mm)
 from metamaterial_wb.core.scene.topology import Topology
 
+CELL_SIZE_RANGE = (1.0, 1000.0)      # mm, closed
+FOLD_RANGE = (-180.0, 180.0)         # deg, an axis's fold_deg
+VALUE_RANGE = (-1.0, 1.0)            # an actuator / constraint value
+THICKNESS_MAX_MM = 100.0             # hinge thickness (0, 100]; length (0, 0.5 cell), width (0, (cell - length) / 4]
 K2_RANGE = (1e-9, 1e9)  # relative stiffness: beyond this the solve loses every digit (issue 19)
 MAX_TEXT = 100_000      # characters of name / description
 
@@ -44,7 +48,7 @@ def parse_header(s, data):
     s.name = _text(data, "name")
     s.description = _text(data, "description")
     s.cell_size_mm = check_number("cell_size_mm", data.get("cell_size_mm", DEFAULT_CELL_SIZE_MM),
-                                  1.0, 1000.0, "mm")
+                                  *CELL_SIZE_RANGE, "mm")
 
 
 def parse_hinge(s, data):
@@ -116,7 +120,7 @@ def parse_axes(s, data):
         for key in ("from", "to"):
             if key in a and (not isinstance(a[key], int) or isinstance(a[key], bool)):
                 raise SceneError(f"{f}.{key}", f"expected an integer cell index, got {_short(a[key])}")
-        fold = check_number(f"{f}.fold_deg", a.get("fold_deg", 0.0), -180.0, 180.0, "deg")
+        fold = check_number(f"{f}.fold_deg", a.get("fold_deg", 0.0), *FOLD_RANGE, "deg")
         name = a.get("name", "")
         if not isinstance(name, str):
             raise SceneError(f"{f}.name", f"expected text, got {_short(name)}")
@@ -148,7 +152,7 @@ def parse_fixed(s, data):
             if name in used_names:
                 raise SceneError(f"{f}.name", f"{name!r} is already used by {used_names[name]}")
             used_names[name] = f
-            value = check_number(f"{f}.value ({name})", item.get("value", 0.0), -1.0, 1.0)
+            value = check_number(f"{f}.value ({name})", item.get("value", 0.0), *VALUE_RANGE)
             if listname == "actuators":
                 profile = item.get("profile")
                 if profile is not None:
@@ -233,4 +237,4 @@ def check_hinge_sizes(field_name, h, cell_size_mm):
                  high_open=True)
     check_number(f"{field_name}.width_mm", h["width_mm"], 0.0, 0.25 * plate_side_mm(cell_size_mm, h["length_mm"]), "mm",
                  low_open=True)
-    check_number(f"{field_name}.thickness_mm", h["thickness_mm"], 0.0, 100.0, "mm", low_open=True)
+    check_number(f"{field_name}.thickness_mm", h["thickness_mm"], 0.0, THICKNESS_MAX_MM, "mm", low_open=True)

@@ -21,6 +21,16 @@ BED_MM = 240.0
 MAX_HEIGHT_MM = 300.0
 MAX_G_MPA = 5000.0
 MAX_L_MM = 200.0        # a beam span beyond most of the bed's short side (and 2 cells around: 130 mm across)
+# The widest static range of each field, (low, high, unit, low_open): the one owner of these numbers (the
+# validator below and the GUI's spin boxes read them). c, delta and T are also bounded by L, and a cell
+# type's t and h by a fraction of L (CELL_TYPE_RANGES: low, fraction of L, low_open), checked in words.
+RANGES = {"L_mm": (2.0, MAX_L_MM, "mm", False),
+          "c_mm": (MIN_FEATURE_MM, 0.6 * MAX_L_MM, "mm", False),
+          "delta_mm": (MIN_GAP_MM, MAX_L_MM, "mm", False),
+          "T_mm": (MIN_FEATURE_MM, 2 * MAX_L_MM, "mm", False),
+          "shear_modulus_MPa": (0.0, MAX_G_MPA, "MPa", True)}
+CELL_TYPE_RANGES = {"t_mm": (MIN_FEATURE_MM, 0.25, False), "h_mm": (0.0, 0.6, True)}
+RINGS_RANGE = (1, 12)
 
 
 class SleeveSpec:
@@ -41,11 +51,13 @@ class SleeveSpec:
         self.name = name
         num = lambda k, d, lo, hi, unit="mm", lo_open=False: check_number(  # noqa: E731
             k, data.get(k, d), lo, hi, unit, low_open=lo_open)
-        self.L = num("L_mm", 18.0, 2, MAX_L_MM)
-        self.c = num("c_mm", 4.0, MIN_FEATURE_MM, 0.6 * self.L)
-        self.delta = num("delta_mm", 0.5, MIN_GAP_MM, self.L)
-        self.T = num("T_mm", 1.8, MIN_FEATURE_MM, 2 * self.L)
-        self.G = num("shear_modulus_MPa", 28.0, 0, MAX_G_MPA, "MPa", lo_open=True)
+        lo = {k: r[0] for k, r in RANGES.items()}
+        self.L = num("L_mm", 18.0, lo["L_mm"], RANGES["L_mm"][1])
+        self.c = num("c_mm", 4.0, lo["c_mm"], 0.6 * self.L)
+        self.delta = num("delta_mm", 0.5, lo["delta_mm"], self.L)
+        self.T = num("T_mm", 1.8, lo["T_mm"], 2 * self.L)
+        self.G = num("shear_modulus_MPa", 28.0, lo["shear_modulus_MPa"], RANGES["shear_modulus_MPa"][1], "MPa",
+                     lo_open=True)
         self.layout = data.get("layout", "single")
         if self.layout not in ("single", "double"):
             raise SceneError("layout", f"{self.layout!r}; allowed: 'single' (one beam per cell, default), "
@@ -61,8 +73,9 @@ class SleeveSpec:
             for k in ("t_mm", "h_mm"):
                 if k not in ct:
                     raise SceneError(f"{f}.{k}", "missing")
-            t = check_number(f"{f}.t_mm", ct["t_mm"], MIN_FEATURE_MM, 0.25 * self.L, "mm")
-            h = check_number(f"{f}.h_mm", ct["h_mm"], 0, 0.6 * self.L, "mm", low_open=True)
+            (tlo, tfr, topen), (hlo, hfr, hopen) = CELL_TYPE_RANGES["t_mm"], CELL_TYPE_RANGES["h_mm"]
+            t = check_number(f"{f}.t_mm", ct["t_mm"], tlo, tfr * self.L, "mm", low_open=topen)
+            h = check_number(f"{f}.h_mm", ct["h_mm"], hlo, hfr * self.L, "mm", low_open=hopen)
             self.cells.append(CellGeometry.checked(f, L=self.L, t=t, h=h, c=self.c, delta=self.delta, T=self.T,
                                                    layout=self.layout))
         if "pattern" in data:
@@ -74,8 +87,9 @@ class SleeveSpec:
             if not isinstance(ring, list):
                 raise SceneError("ring", "expected a list of cell type indices around the circumference, e.g. [0, 0, 1, 1]")
             rings = data.get("rings", 1)
-            if isinstance(rings, bool) or not isinstance(rings, int) or not 1 <= rings <= 12:
-                raise SceneError("rings", f"{rings!r} is outside the allowed range [1, 12] (integer)")
+            if isinstance(rings, bool) or not isinstance(rings, int) or not RINGS_RANGE[0] <= rings <= RINGS_RANGE[1]:
+                raise SceneError("rings", f"{rings!r} is outside the allowed range [{RINGS_RANGE[0]}, {RINGS_RANGE[1]}] "
+                                          "(integer)")
             pat = [list(ring) for _ in range(rings)]
         n = len(pat[0])
         for r, row in enumerate(pat):

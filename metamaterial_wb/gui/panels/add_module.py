@@ -8,6 +8,7 @@ from PySide import QtGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel
+from metamaterial_wb.gui.i18n import translate
 
 
 class AddModulePanel(BasePanel):
@@ -27,8 +28,8 @@ class AddModulePanel(BasePanel):
         for t in structure.MODULE_TYPES:
             self.type.addItem(self.LABELS[t], t)
         self.target = QtGui.QComboBox()
-        f.addRow("Module", self.type)
-        f.addRow("On (or click in the 3D view)", self.target)
+        f.addRow(translate("Metamaterial", "Module"), self.type)
+        f.addRow(translate("Metamaterial", "On (or click in the 3D view)"), self.target)
         f.addRow(self.problem_label("target"))
         self.layout.addLayout(f)
         self.finish_layout()

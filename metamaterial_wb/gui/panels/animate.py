@@ -22,6 +22,8 @@ from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
 from metamaterial_wb.gui.panels.profiles import SHAPES, KeyframeTable, keyframes_profile, wave_profile
 from metamaterial_wb.gui.panels.stream import StreamController, hardware_available, servo_scales
+from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.i18n import translate
 
 
 class AnimatePanel(BasePanel):
@@ -56,11 +58,10 @@ class AnimatePanel(BasePanel):
             self.table.setCellWidget(r, 1, combo)
             self.shapes[a.name] = combo
             sp = []
-            for c, (key, lo, hi, default) in enumerate((("amplitude", 0.0, 1.0, 0.5), ("frequency_hz", 0.0, 50.0, 0.5),
-                                                         ("phase_deg", -360.0, 360.0, 0.0)), start=2):
+            for c, (key, default) in enumerate((("amplitude", 0.5), ("frequency_hz", 0.5), ("phase_deg", 0.0)), start=2):
                 w = QtGui.QDoubleSpinBox()
-                w.setRange(lo, hi)
                 w.setDecimals(3 if key != "phase_deg" else 1)
+                ranges.bind(w, "profile." + key)
                 w.setSingleStep(0.05 if key != "phase_deg" else 15.0)
                 w.setValue(float(p.get(key, default)) if shape == "sine" else default)
                 w.valueChanged.connect(self._profiles_changed)
@@ -80,42 +81,44 @@ class AnimatePanel(BasePanel):
         self.layout.addWidget(self.keyframes)
         self.layout.addWidget(self.problem_label("profiles"))
         tl = QtGui.QHBoxLayout()
-        self.play_btn = QtGui.QPushButton("Play")
+        self.play_btn = QtGui.QPushButton(translate("Metamaterial", "Play"))
         self.play_btn.setCheckable(True)
-        self.loop = QtGui.QCheckBox("Loop")
+        self.loop = QtGui.QCheckBox(translate("Metamaterial", "Loop"))
         self.loop.setChecked(True)
         self.speed = QtGui.QDoubleSpinBox()
         self.speed.setRange(0.05, 10.0)
+        ranges.ui_only(self.speed, "playback speed (not stored)")
         self.speed.setValue(1.0)
         self.speed.setSuffix(" x")
         self.duration = QtGui.QDoubleSpinBox()
         self.duration.setRange(0.1, 600.0)
+        ranges.ui_only(self.duration, "timeline length shown (not stored)")
         self.duration.setValue(self.default_duration())
         self.duration.setSuffix(" s")
         tl.addWidget(self.play_btn)
         tl.addWidget(self.loop)
-        tl.addWidget(QtGui.QLabel("speed"))
+        tl.addWidget(QtGui.QLabel(translate("Metamaterial", "speed")))
         tl.addWidget(self.speed)
-        tl.addWidget(QtGui.QLabel("length"))
+        tl.addWidget(QtGui.QLabel(translate("Metamaterial", "length")))
         tl.addWidget(self.duration)
         self.layout.addLayout(tl)
         self.timeline = _slider(0, 1000, 0)
-        self.time_label = QtGui.QLabel("t = 0.00 s")
+        self.time_label = QtGui.QLabel(translate("Metamaterial", "t = 0.00 s"))
         self.layout.addWidget(self.timeline)
         self.layout.addWidget(self.time_label)
         hl = QtGui.QHBoxLayout()
-        self.connect_btn = QtGui.QPushButton("Connect")
+        self.connect_btn = QtGui.QPushButton(translate("Metamaterial", "Connect"))
         self.connect_btn.setCheckable(True)
         from metamaterial_wb.gui import preferences
         self.port = QtGui.QLineEdit(preferences.get("SerialPort"))
-        hl.addWidget(QtGui.QLabel("Port"))
+        hl.addWidget(QtGui.QLabel(translate("Metamaterial", "Port")))
         hl.addWidget(self.port)
         hl.addWidget(self.connect_btn)
         self.layout.addLayout(hl)
         from metamaterial_wb.hardware.link import pyserial_available, pyserial_help
         if not hardware_available():
             self.connect_btn.setEnabled(False)
-            self.connect_btn.setToolTip("the hardware package (metamaterial_wb.hardware) is not available")
+            self.connect_btn.setToolTip(translate("Metamaterial", "the hardware package (metamaterial_wb.hardware) is not available"))
         elif not pyserial_available():
             self.connect_btn.setEnabled(False)
             self.connect_btn.setToolTip(pyserial_help())
@@ -123,23 +126,24 @@ class AnimatePanel(BasePanel):
             self.serial_note.setWordWrap(True)
             self.layout.addWidget(self.serial_note)
         else:
-            self.connect_btn.setToolTip("Stream the values shown to the servo firmware at 50 Hz "
-                                        "(port loop:// = dry run without hardware)")
+            self.connect_btn.setToolTip(translate("Metamaterial", "Stream the values shown to the servo firmware at 50 Hz "
+                                        "(port loop:// = dry run without hardware)"))
         # simulated trajectory (core.dynamics): load DIR/trajectory.json or simulate in the background
-        tg = QtGui.QGroupBox("Simulated trajectory (dynamics: gravity, floor contact, friction)")
+        tg = QtGui.QGroupBox(translate("Metamaterial", "Simulated trajectory (dynamics: gravity, floor contact, friction)"))
         tv = QtGui.QVBoxLayout(tg)
         th = QtGui.QHBoxLayout()
-        self.traj_load_btn = QtGui.QPushButton("Load...")
-        self.traj_load_btn.setToolTip("Play DIR/trajectory.json written by "
-                                      "'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'")
+        self.traj_load_btn = QtGui.QPushButton(translate("Metamaterial", "Load..."))
+        self.traj_load_btn.setToolTip(translate("Metamaterial", "Play DIR/trajectory.json written by "
+                                      "'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'"))
         self.traj_seconds = QtGui.QDoubleSpinBox()
         self.traj_seconds.setRange(0.05, 600.0)
+        ranges.ui_only(self.traj_seconds, "simulated seconds of a background run (not stored in the scene)")
         self.traj_seconds.setValue(4.0)
         self.traj_seconds.setSuffix(" s")
-        self.traj_sim_btn = QtGui.QPushButton("Simulate")
-        self.traj_sim_btn.setToolTip("Run the dynamics model on this structure in the background, then play it")
-        self.traj_off_btn = QtGui.QPushButton("Motors")
-        self.traj_off_btn.setToolTip("Back to the motion profiles (quadratic model)")
+        self.traj_sim_btn = QtGui.QPushButton(translate("Metamaterial", "Simulate"))
+        self.traj_sim_btn.setToolTip(translate("Metamaterial", "Run the dynamics model on this structure in the background, then play it"))
+        self.traj_off_btn = QtGui.QPushButton(translate("Metamaterial", "Motors"))
+        self.traj_off_btn.setToolTip(translate("Metamaterial", "Back to the motion profiles (quadratic model)"))
         self.traj_off_btn.setEnabled(False)
         th.addWidget(self.traj_load_btn)
         th.addWidget(self.traj_seconds)
@@ -149,16 +153,16 @@ class AnimatePanel(BasePanel):
         self.sim_box = JobBox()
         self.traj_progress = self.sim_box.progress
         tv.addWidget(self.sim_box)
-        self.traj_label = QtGui.QLabel("playing: the motors' profiles")
+        self.traj_label = QtGui.QLabel(translate("Metamaterial", "playing: the motors' profiles"))
         self.traj_label.setWordWrap(True)
         tv.addWidget(self.traj_label)
         self.layout.addWidget(tg)
         self.values_label = QtGui.QLabel("")
-        self.values_label.setToolTip("motor values now: servo angle (value in -1..1)")
+        self.values_label.setToolTip(translate("Metamaterial", "motor values now: servo angle (value in -1..1)"))
         self.layout.addWidget(self.values_label)
         self.rate_label = QtGui.QLabel("")
-        self.rate_label.setToolTip("achieved frame rate while playing and the real-time factor (animation "
-                                   "seconds per wall second, over the speed): 1.00 = real time")
+        self.rate_label.setToolTip(translate("Metamaterial", "achieved frame rate while playing and the real-time factor (animation "
+                                   "seconds per wall second, over the speed): 1.00 = real time"))
         self.layout.addWidget(self.rate_label)
         self.stats = QtGui.QLabel("")
         self.layout.addWidget(self.stats)
@@ -256,7 +260,7 @@ class AnimatePanel(BasePanel):
                 shape = self.shapes[a.name].currentText()
                 amp = self.spins[a.name][0].value() if shape in ("sine", "square", "triangle") else \
                     max((abs(v) for _t, v in self.keys[a.name]), default=0.0)
-                self.amp_deg[a.name].setText(f"{amp * self.scales.get(a.name, 90.0):.1f} deg")
+                self.amp_deg[a.name].setText(translate("Metamaterial", "{0:.1f} deg").format(amp * self.scales.get(a.name, 90.0)))
         try:
             self.preview_scene = Scene.from_dict(d)
             self.set_problem("profiles", "")
@@ -304,9 +308,7 @@ class AnimatePanel(BasePanel):
         self.duration.setValue(max(0.1, round(player.duration, 3)))
         self.table.setEnabled(False)
         self.traj_off_btn.setEnabled(True)
-        self.traj_label.setText(f"playing: {label}, {player.times.size} frames, {player.duration:.2f} s, "
-                                f"incline {math.degrees(player.incline):g} deg (side view mapped onto the "
-                                "x-z plane: one rigid body per column)")
+        self.traj_label.setText(translate("Metamaterial", "playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)").format(label, player.times.size, player.duration, math.degrees(player.incline)))
         self.error.setText("")
         self.show_time(0.0)
         return True
@@ -322,7 +324,7 @@ class AnimatePanel(BasePanel):
         self.trajectory = self.trajectory_data = None
         self.table.setEnabled(True)
         self.traj_off_btn.setEnabled(False)
-        self.traj_label.setText("playing: the motors' profiles")
+        self.traj_label.setText(translate("Metamaterial", "playing: the motors' profiles"))
         self.duration.setValue(self.default_duration())
         self.solver._last = None
         self.show_time(0.0)
@@ -346,7 +348,7 @@ class AnimatePanel(BasePanel):
         scene = Scene.from_dict(d)
         fps = 1.0 / self.dt
         self.traj_sim_btn.setEnabled(False)
-        self.traj_label.setText(f"simulating {seconds:g} s ...")
+        self.traj_label.setText(translate("Metamaterial", "simulating {0:g} s ...").format(seconds))
         self.clear_error()
         return self.sim.start(lambda report: run_dynamics(scene, float(seconds), fps=fps,
                                                           progress=lambda f: report(f)),
@@ -357,17 +359,17 @@ class AnimatePanel(BasePanel):
         data, summary = result
         self.last_simulation = summary
         if self.load_trajectory(data):
-            self.traj_label.setText(self.traj_label.text() + f"; centre of mass moved "
-                                    f"{summary['displacement_mm']:+.2f} mm")
+            self.traj_label.setText(self.traj_label.text() + translate(
+                "Metamaterial", "; centre of mass moved {0:+.2f} mm").format(summary["displacement_mm"]))
 
     def _simulation_failed(self, message):
         self.traj_sim_btn.setEnabled(True)
         self.show_error(f"simulation failed: {message}")
-        self.traj_label.setText("playing: the motors' profiles")
+        self.traj_label.setText(translate("Metamaterial", "playing: the motors' profiles"))
 
     def _simulation_cancelled(self):
         self.traj_sim_btn.setEnabled(True)
-        self.traj_label.setText("simulation cancelled; playing: the motors' profiles")
+        self.traj_label.setText(translate("Metamaterial", "simulation cancelled; playing: the motors' profiles"))
 
     def wait_simulation(self, timeout_s=60.0):
         """Block (processing events) until the background simulation is done (tests, scripts)."""
@@ -393,7 +395,7 @@ class AnimatePanel(BasePanel):
         self.timeline.blockSignals(True)
         self.timeline.setValue(int(round(1000 * min(t, dur) / dur)))
         self.timeline.blockSignals(False)
-        self.time_label.setText(f"t = {t:.2f} s")
+        self.time_label.setText(translate("Metamaterial", "t = {0:.2f} s").format(t))
         self.shown_values = {a.name: float(vals[a.name]) for a in self.scene.actuators}
         self.values_label.setText("  ".join(f"{n} {v * self.scales.get(n, 90.0):+.1f} deg ({v:+.2f})"
                                             for n, v in self.shown_values.items()))
@@ -401,7 +403,7 @@ class AnimatePanel(BasePanel):
         if err:
             self.show_error(f"streaming stopped: {err}")
             self.connect_btn.setChecked(False)
-        self.stats.setText(f"frame {self.frames}: {1000 * (time.perf_counter() - t0):.1f} ms (no recompute)")
+        self.stats.setText(translate("Metamaterial", "frame {0}: {1:.1f} ms (no recompute)").format(self.frames, 1000 * (time.perf_counter() - t0)))
 
     def step(self, n=1):
         """Advance ``n`` frames of ``dt`` (scripted playback, independent of wall time)."""
@@ -458,8 +460,7 @@ class AnimatePanel(BasePanel):
             fps = (len(w) - 1) / span
             rtf = (w[-1][1] - w[0][1]) / span / max(self.speed.value(), 1e-9)
             self.achieved_fps, self.real_time_factor = fps, rtf
-            self.rate_label.setText(f"{fps:.1f} frames/s achieved (target {1.0 / self.dt:.0f}); "
-                                    f"real-time factor {rtf:.2f}")
+            self.rate_label.setText(translate("Metamaterial", "{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}").format(fps, 1.0 / self.dt, rtf))
 
     def play(self):
         self.play_btn.setChecked(True)
@@ -469,11 +470,11 @@ class AnimatePanel(BasePanel):
 
     def _play_toggled(self, on):
         if on:
-            self.play_btn.setText("Pause")
+            self.play_btn.setText(translate("Metamaterial", "Pause"))
             self._reanchor()
             self.timer.start()
         else:
-            self.play_btn.setText("Play")
+            self.play_btn.setText(translate("Metamaterial", "Play"))
             self.timer.stop()
 
     def _scrub(self, v):
@@ -507,7 +508,7 @@ class AnimatePanel(BasePanel):
         self.connect_btn.blockSignals(True)
         self.connect_btn.setChecked(True)
         self.connect_btn.blockSignals(False)
-        self.connect_btn.setText("Disconnect")
+        self.connect_btn.setText(translate("Metamaterial", "Disconnect"))
         return True
 
     def disconnect(self):
@@ -515,9 +516,9 @@ class AnimatePanel(BasePanel):
         self.connect_btn.blockSignals(True)
         self.connect_btn.setChecked(False)
         self.connect_btn.blockSignals(False)
-        self.connect_btn.setText("Connect")
+        self.connect_btn.setText(translate("Metamaterial", "Connect"))
         if stats is not None:
-            self.stats.setText(f"streamed {stats.frames} frames, {stats.acked} acknowledged")
+            self.stats.setText(translate("Metamaterial", "streamed {0} frames, {1} acknowledged").format(stats.frames, stats.acked))
         return stats
 
     def cleanup(self):

@@ -21,6 +21,7 @@ from PySide import QtCore, QtGui
 
 import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.gui.i18n import translate
 
 ACTIVE = None
 RED = "color: #c00000;"
@@ -76,8 +77,35 @@ def show(panel):
             ACTIVE.cleanup()
     ACTIVE = panel
     FreeCADGui.Control.showDialog(panel)
+    reveal(panel.form)
     panel.dialog_shown()
     return panel
+
+
+def reveal(form):
+    """Make the task view that holds ``form`` visible: FreeCAD 1.1 may keep its "Tasks" dock in a hidden
+    dock overlay (``OverlayRight``) or tab, so ``showDialog`` alone can leave the panel off screen. Every
+    explicitly hidden ancestor of the form is shown and its dock raised. The widgets are found from the
+    main window (see ``task_buttons`` for why not through ``parentWidget()``)."""
+    if form.isVisible():
+        return
+    mw = FreeCADGui.getMainWindow()
+    try:
+        chain = [w for w in mw.findChildren(QtGui.QWidget) if w.isAncestorOf(form)]
+        for w in sorted(chain, key=lambda w: sum(1 for v in chain if v.isAncestorOf(w))):   # outermost first
+            if w.isHidden():
+                w.show()
+            if isinstance(w, QtGui.QDockWidget):
+                w.raise_()
+            if isinstance(w, QtGui.QTabWidget):
+                for k in range(w.count()):
+                    if w.widget(k) is not None and (w.widget(k) is form or w.widget(k).isAncestorOf(form)):
+                        w.setCurrentIndex(k)
+        QtGui.QApplication.processEvents()
+    except Exception as exc:  # pragma: no cover - display only
+        FreeCAD.Console.PrintWarning(f"Metamaterial: could not show the task panel ({exc})\n")
+    if not form.isVisible():
+        FreeCAD.Console.PrintWarning("Metamaterial: the task panel is hidden (Tasks dock / overlay)\n")
 
 
 def _close():
@@ -104,14 +132,44 @@ def _slider(lo=-100, hi=100, value=0):
     return s
 
 
-def task_buttons():
-    """The task dialog's button box (OK / Cancel) of the shown panel, or None."""
+def task_buttons(panel=None):
+    """The OK / Cancel button box of the task dialog that shows ``panel`` (default: the active panel), or
+    None when no panel is shown.
+
+    The box is the one inside the task view (``Gui::TaskView::TaskView``) that holds the panel's form:
+    boxes elsewhere in the main window (another dock, a dialog of another tool) are never returned; of
+    several in that task view, the newest one not explicitly hidden wins (a closed dialog's box waits
+    for its deletion hidden). Visibility on screen is not asked: on FreeCAD 1.1 the task view may sit in
+    a collapsed overlay tab.
+
+    Every widget is found from the main window, whose Python wrapper lives as long as FreeCAD: wrappers
+    made for the form's ancestors (``parentWidget()``) or through their ``findChildren()`` are
+    invalidated with their descendants' wrappers when they are collected (PySide), which would kill the
+    panel's own widgets."""
+    panel = ACTIVE if panel is None else panel
+    form = getattr(panel, "form", None)
+    if form is None:
+        return None
     mw = FreeCADGui.getMainWindow()
+    views = [w for w in mw.findChildren(QtGui.QWidget)
+             if w.metaObject().className() == "Gui::TaskView::TaskView" and w.isAncestorOf(form)]
+    if not views:
+        return None
     sb = QtGui.QDialogButtonBox.StandardButton
     boxes = [box for box in mw.findChildren(QtGui.QDialogButtonBox)
-             if any(box.button(b) is not None for b in (sb.Ok, sb.Close))]
-    visible = [box for box in boxes if box.isVisible()]
-    return (visible or boxes or [None])[0]
+             if views[-1].isAncestorOf(box) and not form.isAncestorOf(box)
+             and any(box.button(b) is not None for b in (sb.Ok, sb.Close))]
+    live = [box for box in boxes if not box.isHidden()]
+    return (live or boxes or [None])[-1]
+
+
+def button_row(*labels):
+    """``(layout, [buttons])``: push buttons with these labels side by side in one row."""
+    row = QtGui.QHBoxLayout()
+    buttons = [QtGui.QPushButton(label) for label in labels]
+    for b in buttons:
+        row.addWidget(b)
+    return row, buttons
 
 
 def red_label(text=""):
@@ -281,9 +339,9 @@ class BasePanel:
         """The picker's report: say in the panel what is under the cursor / what was picked."""
         what = "hinge" if kind == "joint" else "node"
         if hover:
-            self.pick_label.setText(f"under the cursor: {what} {name} (click to pick it)")
+            self.pick_label.setText(translate("Metamaterial", "under the cursor: {0} {1} (click to pick it)").format(what, name))
         else:
-            self.pick_label.setText(f"picked {what} {name}")
+            self.pick_label.setText(translate("Metamaterial", "picked {0} {1}").format(what, name))
 
 
 def pick_index(sub):

@@ -16,6 +16,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.panels.base import GREEN, BasePanel, _close
 from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob
 from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.i18n import translate
 
 
 class ExportPanel(BasePanel):
@@ -30,15 +31,15 @@ class ExportPanel(BasePanel):
         base = os.path.splitext(self.doc.FileName)[0] if self.doc.FileName else \
             os.path.join(os.path.expanduser("~"), scene_obj.SceneName or "metamaterial")
         self.path = QtGui.QLineEdit(base + "_export")
-        self.step = QtGui.QCheckBox("STEP (named bodies, assembly)")
+        self.step = QtGui.QCheckBox(translate("Metamaterial", "STEP (named bodies, assembly)"))
         self.step.setChecked(True)
-        self.threemf = QtGui.QCheckBox("3MF (PLA nodes / TPU hinges)")
+        self.threemf = QtGui.QCheckBox(translate("Metamaterial", "3MF (PLA nodes / TPU hinges)"))
         self.threemf.setChecked(True)
-        self.modules = QtGui.QCheckBox("Modules as separate files")
+        self.modules = QtGui.QCheckBox(translate("Metamaterial", "Modules as separate files"))
         self.modules.setChecked(True)
-        self.sockets = QtGui.QCheckBox("Snap-fit sockets on the nodes")
+        self.sockets = QtGui.QCheckBox(translate("Metamaterial", "Snap-fit sockets on the nodes"))
         self.sockets.setChecked(True)
-        f.addRow("Folder", self.path)
+        f.addRow(translate("Metamaterial", "Folder"), self.path)
         f.addRow(self.problem_label("path"))
         f.addRow(self.sockets)
         f.addRow(self.step)
@@ -46,8 +47,8 @@ class ExportPanel(BasePanel):
         f.addRow(self.problem_label("format"))
         f.addRow(self.modules)
         self.layout.addLayout(f)
-        self.export_btn = QtGui.QPushButton("Export")
-        self.export_btn.setToolTip("Build the sheet (and modules) and write the files in the background")
+        self.export_btn = QtGui.QPushButton(translate("Metamaterial", "Export"))
+        self.export_btn.setToolTip(translate("Metamaterial", "Build the sheet (and modules) and write the files in the background"))
         self.layout.addWidget(self.export_btn)
         self.jobbox = JobBox()
         self.layout.addWidget(self.jobbox)
@@ -156,7 +157,7 @@ class ExportPanel(BasePanel):
         self._discard_staging()
         self._keep_active()
         self.jobbox.summary.setStyleSheet("")
-        self.jobbox.summary.setText("export cancelled: nothing written")
+        self.jobbox.summary.setText(translate("Metamaterial", "export cancelled: nothing written"))
         self._check()
 
     def _keep_active(self):

@@ -9,8 +9,10 @@ from PySide import QtGui
 from metamaterial_wb.core.errors import MetamaterialError, SceneError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.panels.base import BasePanel
+from metamaterial_wb.gui.panels.base import BasePanel, button_row
 from metamaterial_wb.gui.panels.checks import design_problem
+from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.i18n import translate
 
 
 class FlexibilityPanel(BasePanel):
@@ -22,34 +24,30 @@ class FlexibilityPanel(BasePanel):
         self.obj = scene_obj
         self.scene = structure.compose_scene(scene_obj)
         self.overrides = {k: dict(v) for k, v in self.scene.joint_overrides.items()}
-        g = QtGui.QGroupBox("All hinges")
+        g = QtGui.QGroupBox(translate("Metamaterial", "All hinges"))
         f = QtGui.QFormLayout(g)
-        self.length = self._spin(self.scene.hinge["length_mm"])
-        self.width = self._spin(self.scene.hinge["width_mm"])
-        self.thick = self._spin(self.scene.hinge["thickness_mm"])
-        f.addRow("Length", self.length)
-        f.addRow("Width", self.width)
-        f.addRow("Thickness", self.thick)
+        self.length = self._spin(self.scene.hinge["length_mm"], "hinge.length_mm")
+        self.width = self._spin(self.scene.hinge["width_mm"], "hinge.width_mm")
+        self.thick = self._spin(self.scene.hinge["thickness_mm"], "hinge.thickness_mm")
+        f.addRow(translate("Metamaterial", "Length"), self.length)
+        f.addRow(translate("Metamaterial", "Width"), self.width)
+        f.addRow(translate("Metamaterial", "Thickness"), self.thick)
         self.k_label = QtGui.QLabel("")
-        f.addRow("k1, k2", self.k_label)
+        f.addRow(translate("Metamaterial", "k1, k2"), self.k_label)
         f.addRow(self.problem_label("hinge"))
         self.layout.addWidget(g)
-        pj = QtGui.QGroupBox("One joint (click a hinge in the 3D view)")
+        pj = QtGui.QGroupBox(translate("Metamaterial", "One joint (click a hinge in the 3D view)"))
         pf = QtGui.QFormLayout(pj)
         self.joint = QtGui.QComboBox()
         self.joint.addItems(self.scene.topology.joint_names)
-        self.j_length = self._spin(self.scene.hinge["length_mm"])
-        self.j_width = self._spin(self.scene.hinge["width_mm"])
+        self.j_length = self._spin(self.scene.hinge["length_mm"], "hinge.length_mm")
+        self.j_width = self._spin(self.scene.hinge["width_mm"], "hinge.width_mm")
         self.jk_label = QtGui.QLabel("")
-        pf.addRow("Joint", self.joint)
-        pf.addRow("Length", self.j_length)
-        pf.addRow("Width", self.j_width)
-        pf.addRow("k1, k2", self.jk_label)
-        bl = QtGui.QHBoxLayout()
-        self.set_btn = QtGui.QPushButton("Set for this joint")
-        self.del_btn = QtGui.QPushButton("Use global size")
-        bl.addWidget(self.set_btn)
-        bl.addWidget(self.del_btn)
+        pf.addRow(translate("Metamaterial", "Joint"), self.joint)
+        pf.addRow(translate("Metamaterial", "Length"), self.j_length)
+        pf.addRow(translate("Metamaterial", "Width"), self.j_width)
+        pf.addRow(translate("Metamaterial", "k1, k2"), self.jk_label)
+        bl, (self.set_btn, self.del_btn) = button_row("Set for this joint", "Use global size")
         pf.addRow(bl)
         self.ov_list = QtGui.QListWidget()
         pf.addRow(self.ov_list)
@@ -69,10 +67,10 @@ class FlexibilityPanel(BasePanel):
         self.watch_selection(scene_obj, on_joint=lambda j: self.joint.setCurrentText(j))
 
     @staticmethod
-    def _spin(v, hi=1000.0):
+    def _spin(v, field):
         s = QtGui.QDoubleSpinBox()
         s.setDecimals(2)
-        s.setRange(0.01, hi)           # wide: the validator and the design say what fits, in words
+        ranges.bind(s, field)          # the validator's widest range; what fits this cell is said in words
         s.setKeyboardTracking(False)
         s.setSingleStep(0.1)
         s.setSuffix(" mm")
@@ -88,16 +86,16 @@ class FlexibilityPanel(BasePanel):
     def _update_k(self, *_):
         try:
             k1, k2 = self.k_values(self.length.value(), self.width.value(), self.thick.value())
-            self.k_label.setText(f"k1 = {k1:.3f}, k2 = {k2:.3f}")
+            self.k_label.setText(translate("Metamaterial", "k1 = {0:.3f}, k2 = {1:.3f}").format(k1, k2))
         except MetamaterialError:
-            self.k_label.setText("out of the calibrated range")
+            self.k_label.setText(translate("Metamaterial", "out of the calibrated range"))
         self._update_jk()
         self.validate()
 
     def _update_jk(self, *_):
         try:
             k1, k2 = self.k_values(self.j_length.value(), self.j_width.value(), self.thick.value())
-            self.jk_label.setText(f"k1 = {k1:.3f}, k2 = {k2:.3f}")
+            self.jk_label.setText(translate("Metamaterial", "k1 = {0:.3f}, k2 = {1:.3f}").format(k1, k2))
         except MetamaterialError as exc:
             self.jk_label.setText(str(exc))
 

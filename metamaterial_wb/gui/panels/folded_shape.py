@@ -13,8 +13,10 @@ from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
 from metamaterial_wb.gui.panels.checks import unconfigured
 from metamaterial_wb.objects import design_adapter, structure
+from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.i18n import translate
 
-FOLD_RANGE = (-180.0, 180.0)     # the scene validator's range of axes[k].fold_deg
+FOLD_RANGE = ranges.FIELDS["axes.fold_deg"][:2]     # the scene validator's range of axes[k].fold_deg
 STEP = 0.1                       # deg per slider step
 
 
@@ -47,19 +49,19 @@ class FoldedShapePanel(BasePanel):
         self.limits = axis_limits(unconfigured(self.scene)) if self.scene.axes else []
         self.spins, self.sliders, self.limit_labels = [], [], []
         if not self.scene.axes:
-            self.layout.addWidget(QtGui.QLabel("No rotary axes yet: use 'Rotary axes' first."))
-        self.printable = QtGui.QCheckBox("Limit to printable folds")
-        self.printable.setToolTip("Hold every fold within what the printed hinges fit in their node plates "
-                                  "(otherwise the kinematic maximum applies and Export may refuse the design)")
+            self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "No rotary axes yet: use 'Rotary axes' first.")))
+        self.printable = QtGui.QCheckBox(translate("Metamaterial", "Limit to printable folds"))
+        self.printable.setToolTip(translate("Metamaterial", "Hold every fold within what the printed hinges fit in their node plates "
+                                  "(otherwise the kinematic maximum applies and Export may refuse the design)"))
         grid = QtGui.QGridLayout()
         for k, a in enumerate(self.scene.axes):
             mx, why, pmx = self.limits[k]
             name = getattr(a, "name", "")
-            grid.addWidget(QtGui.QLabel(f"{name + ': ' if name else ''}{a.direction} {a.line}"), 3 * k, 0)
+            grid.addWidget(QtGui.QLabel(translate("Metamaterial", "{0}{1} {2}").format(name + ': ' if name else '', a.direction, a.line)), 3 * k, 0)
             spin = QtGui.QDoubleSpinBox()
             spin.setDecimals(1)
             spin.setSingleStep(STEP)
-            spin.setRange(*FOLD_RANGE)
+            ranges.bind(spin, "axes.fold_deg")
             spin.setSuffix(" deg")
             spin.setKeyboardTracking(False)
             spin.setValue(float(a.fold_deg))
@@ -83,14 +85,14 @@ class FoldedShapePanel(BasePanel):
         self.layout.addLayout(grid)
         self.layout.addWidget(self.printable)
         gl = QtGui.QHBoxLayout()
-        gl.addWidget(QtGui.QLabel("Global deformation"))
+        gl.addWidget(QtGui.QLabel(translate("Metamaterial", "Global deformation")))
         self.global_slider = _slider(-100, 100, 100)
-        self.global_label = QtGui.QLabel("1.00")
+        self.global_label = QtGui.QLabel(translate("Metamaterial", "1.00"))
         gl.addWidget(self.global_slider, 1)
         gl.addWidget(self.global_label)
         self.layout.addLayout(gl)
-        self.info = QtGui.QLabel("The view follows the folds live; Confirm (OK) stores them with the joint "
-                                 "configuration.")
+        self.info = QtGui.QLabel(translate("Metamaterial", "The view follows the folds live; Confirm (OK) stores them with the joint "
+                                 "configuration."))
         self.info.setWordWrap(True)
         self.layout.addWidget(self.info)
         self.finish_layout()
@@ -123,9 +125,14 @@ class FoldedShapePanel(BasePanel):
             s.setTickInterval(max(1, span // 5))
             s.setValue(int(round(self.spins[k].value() / STEP)))
             s.blockSignals(False)
-            kin = f"kinematic +-{mx:.1f} deg" if mx is not None else "kinematic: n/a"
-            pr = f"printable +-{pmx:.2f} deg" if pmx is not None else "printable: n/a"
-            self.limit_labels[k].setText(f"{kin}, {pr}" + (f" (slider +-{lim:.1f})" if lim is not None else ""))
+            kin = translate("Metamaterial", "kinematic +-{0:.1f} deg").format(mx) if mx is not None else \
+                translate("Metamaterial", "kinematic: n/a")
+            pr = translate("Metamaterial", "printable +-{0:.2f} deg").format(pmx) if pmx is not None else \
+                translate("Metamaterial", "printable: n/a")
+            text = translate("Metamaterial", "{0}, {1}").format(kin, pr)
+            if lim is not None:
+                text += translate("Metamaterial", " (slider +-{0:.1f})").format(lim)
+            self.limit_labels[k].setText(text)
         self._validate()
         self._preview_timer.start()
 
@@ -176,7 +183,7 @@ class FoldedShapePanel(BasePanel):
     def preview(self, *_):
         """Show the folds in the 3D view now (called after every edit; nothing is recomputed)."""
         g = self.global_slider.value() / 100.0
-        self.global_label.setText(f"{g:.2f}")
+        self.global_label.setText(translate("Metamaterial", "{0:.2f}").format(g))
         if self.problems:
             return
         try:

@@ -22,6 +22,7 @@ import time
 from PySide import QtCore, QtGui
 
 import metamaterial_wb
+from metamaterial_wb.gui.i18n import translate
 
 
 class Cancelled(Exception):
@@ -38,8 +39,8 @@ class JobBox(QtGui.QWidget):
         row = QtGui.QHBoxLayout()
         self.progress = QtGui.QProgressBar()
         self.progress.setRange(0, 1000)
-        self.cancel_btn = QtGui.QPushButton("Cancel")
-        self.cancel_btn.setToolTip("Stop this job; nothing it would have written is kept")
+        self.cancel_btn = QtGui.QPushButton(translate("Metamaterial", "Cancel"))
+        self.cancel_btn.setToolTip(translate("Metamaterial", "Stop this job; nothing it would have written is kept"))
         row.addWidget(self.progress, 1)
         row.addWidget(self.cancel_btn)
         lay.addLayout(row)

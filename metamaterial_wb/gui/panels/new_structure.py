@@ -10,6 +10,8 @@ from metamaterial_wb.core.scene import Scene, validate_layout
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import GREEN, BasePanel, _fit
 from metamaterial_wb.gui.panels.checks import design_problem
+from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.i18n import translate
 
 
 class NewStructurePanel(BasePanel):
@@ -29,32 +31,34 @@ class NewStructurePanel(BasePanel):
         self.name = QtGui.QLineEdit("structure")
         self.rows = QtGui.QSpinBox()
         self.rows.setRange(1, self.GRID_MAX)
+        ranges.ui_only(self.rows, "the grid editor (one button per cell); larger sheets come from a scene file")
         self.rows.setValue(2)
         self.cols = QtGui.QSpinBox()
         self.cols.setRange(1, self.GRID_MAX)
+        ranges.ui_only(self.cols, "the grid editor (one button per cell); larger sheets come from a scene file")
         self.cols.setValue(6)
         for w in (self.rows, self.cols):
             w.setKeyboardTracking(False)
         self.cell = QtGui.QDoubleSpinBox()
-        self.cell.setRange(0.01, 10000.0)     # the scene validator says what is allowed
+        ranges.bind(self.cell, "cell_size_mm")
         self.cell.setValue(20.0)
         self.cell.setSuffix(" mm")
         self.cell.setKeyboardTracking(False)
-        form.addRow("Name", self.name)
-        form.addRow("Rows", self.rows)
-        form.addRow("Columns", self.cols)
+        form.addRow(translate("Metamaterial", "Name"), self.name)
+        form.addRow(translate("Metamaterial", "Rows"), self.rows)
+        form.addRow(translate("Metamaterial", "Columns"), self.cols)
         form.addRow(self.problem_label("grid"))
-        form.addRow("Cell size", self.cell)
+        form.addRow(translate("Metamaterial", "Cell size"), self.cell)
         form.addRow(self.problem_label("cell"))
         self.layout.addLayout(form)
         presets = QtGui.QHBoxLayout()
-        self.grid_btn = QtGui.QPushButton("Grid")
-        self.chain_btn = QtGui.QPushButton("Chain")
-        self.clear_btn = QtGui.QPushButton("Clear")
+        self.grid_btn = QtGui.QPushButton(translate("Metamaterial", "Grid"))
+        self.chain_btn = QtGui.QPushButton(translate("Metamaterial", "Chain"))
+        self.clear_btn = QtGui.QPushButton(translate("Metamaterial", "Clear"))
         for b in (self.grid_btn, self.chain_btn, self.clear_btn):
             presets.addWidget(b)
         self.layout.addLayout(presets)
-        self.layout.addWidget(QtGui.QLabel("Click cells [row, col] to add or remove them:"))
+        self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "Click cells [row, col] to add or remove them:")))
         self.grid_widget = QtGui.QWidget()
         self.grid = QtGui.QGridLayout(self.grid_widget)
         self.grid.setSpacing(2)
@@ -66,8 +70,8 @@ class NewStructurePanel(BasePanel):
         self.layout.addWidget(self.status)
         fl = QtGui.QHBoxLayout()
         self.file = QtGui.QLineEdit()
-        self.file.setPlaceholderText("or a scene file (.json): type its path")
-        self.browse = QtGui.QPushButton("Load scene file...")
+        self.file.setPlaceholderText(translate("Metamaterial", "or a scene file (.json): type its path"))
+        self.browse = QtGui.QPushButton(translate("Metamaterial", "Load scene file..."))
         fl.addWidget(self.file)
         fl.addWidget(self.browse)
         self.layout.addLayout(fl)
@@ -108,7 +112,7 @@ class NewStructurePanel(BasePanel):
                     b = QtGui.QPushButton("")
                     b.setCheckable(True)
                     b.setFixedSize(22, 22)
-                    b.setToolTip(f"cell [{i}, {j}]")
+                    b.setToolTip(translate("Metamaterial", "cell [{0}, {1}]").format(i, j))
                     b.setAccessibleName(f"cell [{i}, {j}]")
                     b.setStyleSheet("QPushButton:checked { background-color: #3b7dd8; }")
                     b.setChecked((i, j) in keep)
@@ -177,7 +181,8 @@ class NewStructurePanel(BasePanel):
         else:
             self.status.setStyleSheet(GREEN)
             n = len(self.cells())
-            self.status.setText(f"{n} cells: a valid layout" + (" (the full grid)" if self.big() else ""))
+            self.status.setText((translate("Metamaterial", "{0} cells: a valid layout (the full grid)") if self.big() else
+                                 translate("Metamaterial", "{0} cells: a valid layout")).format(n))
 
     def _file_entered(self):
         typed = self.file.text().strip()
@@ -218,8 +223,7 @@ class NewStructurePanel(BasePanel):
             self.file.blockSignals(False)
         self.set_problem("file", "")
         self.status.setStyleSheet(GREEN)
-        self.status.setText(f"scene {os.path.basename(path)}: {len(scene.cells)} cells, "
-                            f"{len(scene.actuators)} motors")
+        self.status.setText(translate("Metamaterial", "scene {0}: {1} cells, {2} motors").format(os.path.basename(path), len(scene.cells), len(scene.actuators)))
         return scene
 
     def scene(self):

@@ -36,7 +36,7 @@ def ray_through(view, x, y):
     except Exception:  # pragma: no cover
         pass
     if kind == "Perspective":
-        cam = np.array(view.getCameraNode().position.getValue().getValue(), dtype=float)
+        cam = np.array(vec_values(view.getCameraNode().position.getValue(), 3), dtype=float)
         d = p - cam
         o = cam
     else:
@@ -44,6 +44,15 @@ def ray_through(view, x, y):
         d = np.array([v.x, v.y, v.z])
         o = p - 1e4 * d / max(np.linalg.norm(d), 1e-12)
     return o, d / max(np.linalg.norm(d), 1e-12)
+
+
+def vec_values(v, n):
+    """The ``n`` components of a Coin vector (SbVec2s / SbVec3f) as floats. Indexing works on every
+    pivy; ``getValue()`` returns an opaque pointer for SbVec2s on FreeCAD 1.1's pivy (Python 3.14)."""
+    try:
+        return tuple(float(v[i]) for i in range(n))
+    except Exception:  # pragma: no cover - an older pivy without __getitem__
+        return tuple(float(c) for c in v.getValue())
 
 
 def nearest_to_ray(points, origin, direction):
@@ -140,7 +149,7 @@ class Picker:
 
     def _moved(self, cb):
         try:
-            x, y = cb.getEvent().getPosition().getValue()
+            x, y = vec_values(cb.getEvent().getPosition(), 2)
             hit = self.at(x, y)
             key = None if hit is None else hit[:2]
             if key != (None if self.hover is None else self.hover[:2]):
@@ -157,7 +166,7 @@ class Picker:
             ev = cb.getEvent()
             if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
                 return
-            x, y = ev.getPosition().getValue()
+            x, y = vec_values(ev.getPosition(), 2)
             hit = self.at(x, y)
             if hit is None:
                 return

@@ -5,6 +5,8 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel
+from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.i18n import translate
 
 
 class PlaceItemPanel(BasePanel):
@@ -25,31 +27,31 @@ class PlaceItemPanel(BasePanel):
         self.joint = QtGui.QComboBox()
         self.joint.addItems(self.scene.topology.joint_names)
         self.value = QtGui.QDoubleSpinBox()
-        self.value.setRange(-1.0, 1.0)
         self.value.setDecimals(3)
+        ranges.bind(self.value, "value")
         self.value.setSingleStep(0.05)
         self.value_deg = QtGui.QLabel("")
         vrow = QtGui.QHBoxLayout()
         vrow.addWidget(self.value)
         vrow.addWidget(self.value_deg)
-        f.addRow("Name", self.name)
-        f.addRow("Joint (or click a hinge)", self.joint)
-        f.addRow("Value D (-1..1)", vrow)
+        f.addRow(translate("Metamaterial", "Name"), self.name)
+        f.addRow(translate("Metamaterial", "Joint (or click a hinge)"), self.joint)
+        f.addRow(translate("Metamaterial", "Value D (-1..1)"), vrow)
         if kind == "actuator":
             self.amp = QtGui.QDoubleSpinBox()
-            self.amp.setRange(0.0, 1.0)
+            ranges.bind(self.amp, "profile.amplitude")
             self.amp.setSingleStep(0.05)
             self.amp.setValue(0.5)
             self.freq = QtGui.QDoubleSpinBox()
-            self.freq.setRange(0.0, 50.0)
+            ranges.bind(self.freq, "profile.frequency_hz")
             self.freq.setValue(0.5)
             self.freq.setSuffix(" Hz")
             self.phase = QtGui.QDoubleSpinBox()
-            self.phase.setRange(-360.0, 360.0)
+            ranges.bind(self.phase, "profile.phase_deg")
             self.phase.setSuffix(" deg")
-            f.addRow("Sine amplitude", self.amp)
-            f.addRow("Frequency", self.freq)
-            f.addRow("Phase offset", self.phase)
+            f.addRow(translate("Metamaterial", "Sine amplitude"), self.amp)
+            f.addRow(translate("Metamaterial", "Frequency"), self.freq)
+            f.addRow(translate("Metamaterial", "Phase offset"), self.phase)
         f.addRow(self.problem_label("item"))
         self.layout.addLayout(f)
         self.finish_layout()

@@ -9,6 +9,10 @@ import math
 
 from PySide import QtGui
 
+from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.panels.base import button_row
+from metamaterial_wb.gui.i18n import translate
+
 SHAPES = ["sine", "square", "triangle", "keyframes"]
 
 
@@ -59,18 +63,14 @@ class KeyframeTable(QtGui.QWidget):
         self.on_change = on_change
         lay = QtGui.QVBoxLayout(self)
         lay.setContentsMargins(0, 0, 0, 0)
-        self.title = QtGui.QLabel("Keyframes")
+        self.title = QtGui.QLabel(translate("Metamaterial", "Keyframes"))
         lay.addWidget(self.title)
         self.table = QtGui.QTableWidget(0, 2)
         self.table.setHorizontalHeaderLabels(["time (s)", "value (-1..1)"])
         self.table.setMaximumHeight(150)
         self.table.horizontalHeader().setStretchLastSection(True)
         lay.addWidget(self.table)
-        row = QtGui.QHBoxLayout()
-        self.add_btn = QtGui.QPushButton("Add key")
-        self.del_btn = QtGui.QPushButton("Remove last")
-        row.addWidget(self.add_btn)
-        row.addWidget(self.del_btn)
+        row, (self.add_btn, self.del_btn) = button_row("Add key", "Remove last")
         lay.addLayout(row)
         self.add_btn.clicked.connect(lambda: self.add_key(self._next_time(), 0.0))
         self.del_btn.clicked.connect(self.remove_key)
@@ -83,10 +83,10 @@ class KeyframeTable(QtGui.QWidget):
     def add_key(self, t, v):
         r = self.table.rowCount()
         self.table.insertRow(r)
-        for c, (val, lo, hi, step) in enumerate(((t, 0.0, 600.0, 0.1), (v, -1.0, 1.0, 0.05))):
+        for c, (val, field, step) in enumerate(((t, "profile.times_s", 0.1), (v, "profile.values", 0.05))):
             w = QtGui.QDoubleSpinBox()
             w.setDecimals(3)
-            w.setRange(lo, hi)
+            ranges.bind(w, field)
             w.setSingleStep(step)
             w.setValue(float(val))
             w.valueChanged.connect(self._changed)
@@ -104,7 +104,7 @@ class KeyframeTable(QtGui.QWidget):
 
     def set_points(self, name, points):
         self._quiet = True
-        self.title.setText(f"Keyframes of {name}")
+        self.title.setText(translate("Metamaterial", "Keyframes of {0}").format(name))
         self.table.setRowCount(0)
         for t, v in points:
             self.add_key(t, v)

@@ -6,6 +6,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import design_adapter, structure
 from metamaterial_wb.gui.panels.base import BasePanel
 from metamaterial_wb.gui.panels.overlays import AxisOverlay, axis_segment
+from metamaterial_wb.gui.i18n import translate
 
 
 class RotaryAxesPanel(BasePanel):
@@ -19,11 +20,11 @@ class RotaryAxesPanel(BasePanel):
         self.old = {(a.direction, a.line): a.to_dict() for a in self.scene.axes}
         lines = design_adapter.candidate_lines(self.scene)
         self.buttons = {}
-        self.layout.addWidget(QtGui.QLabel("Click grid lines here, or click a hinge in the 3D view.\n"
+        self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "Click grid lines here, or click a hinge in the 3D view.\n"
                                            "Vertical axes run down a cell column and cross its H joints;\n"
-                                           "horizontal axes run along a cell row and cross its V joints."))
+                                           "horizontal axes run along a cell row and cross its V joints.")))
         for d in ("vertical", "horizontal"):
-            box = QtGui.QGroupBox(f"{d.capitalize()} axes ({'columns' if d == 'vertical' else 'rows'})")
+            box = QtGui.QGroupBox(translate("Metamaterial", "{0} axes ({1})").format(d.capitalize(), 'columns' if d == 'vertical' else 'rows'))
             lay = QtGui.QHBoxLayout(box)
             for line in lines[d]:
                 b = QtGui.QPushButton(str(line))

@@ -6,6 +6,7 @@ from PySide import QtGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
+from metamaterial_wb.gui.i18n import translate
 
 
 class SimulatePanel(BasePanel):
@@ -25,9 +26,9 @@ class SimulatePanel(BasePanel):
         self.model = QtGui.QComboBox()
         self.model.addItems(list(scene_obj.getEnumerationsOfProperty("Model")))
         self.model.setCurrentText(scene_obj.Model)
-        f.addRow("Model", self.model)
+        f.addRow(translate("Metamaterial", "Model"), self.model)
         self.layout.addLayout(f)
-        gbox = QtGui.QGroupBox("Global deformation (perfect propagation)")
+        gbox = QtGui.QGroupBox(translate("Metamaterial", "Global deformation (perfect propagation)"))
         gl = QtGui.QHBoxLayout(gbox)
         self.use_global = QtGui.QCheckBox("")
         self.use_global.setChecked(bool(scene_obj.UseGlobal))
@@ -37,13 +38,14 @@ class SimulatePanel(BasePanel):
         gl.addWidget(self.global_slider, 1)
         gl.addWidget(self.global_label)
         self.layout.addWidget(gbox)
-        ibox = QtGui.QGroupBox("Motors and constraints")
+        ibox = QtGui.QGroupBox(translate("Metamaterial", "Motors and constraints"))
         il = QtGui.QGridLayout(ibox)
         self.sliders = {}
         self.labels = {}
         self.kinds = {}
         for r, (kind, it) in enumerate(self.scene.fixed_items()):
-            il.addWidget(QtGui.QLabel(("motor " if kind == "actuator" else "clip ") + f"{it.name} ({it.joint})"), r, 0)
+            il.addWidget(QtGui.QLabel((translate("Metamaterial", "motor {0} ({1})") if kind == "actuator" else
+                                       translate("Metamaterial", "clip {0} ({1})")).format(it.name, it.joint)), r, 0)
             s = _slider(-1000, 1000, int(round(1000 * it.value)))
             self.initial[it.name] = (s.value(), float(it.value))
             lab = QtGui.QLabel("")
@@ -55,7 +57,7 @@ class SimulatePanel(BasePanel):
             self._label(it.name, float(it.value))
             s.valueChanged.connect(lambda v, n=it.name: self._item_moved(n))
         if not self.sliders:
-            il.addWidget(QtGui.QLabel("No motors yet: use 'Place motor'."), 0, 0)
+            il.addWidget(QtGui.QLabel(translate("Metamaterial", "No motors yet: use 'Place motor'.")), 0, 0)
         self.layout.addWidget(ibox)
         self.stats = QtGui.QLabel("")
         self.layout.addWidget(self.stats)
@@ -90,9 +92,9 @@ class SimulatePanel(BasePanel):
 
     def _label(self, name, v):
         if self.kinds.get(name) == "actuator":
-            self.labels[name].setText(f"{v * self.scales.get(name, 90.0):+.1f} deg ({v:+.3f})")
+            self.labels[name].setText(translate("Metamaterial", "{0:+.1f} deg ({1:+.3f})").format(v * self.scales.get(name, 90.0), v))
         else:
-            self.labels[name].setText(f"D {v:+.3f}")
+            self.labels[name].setText(translate("Metamaterial", "D {0:+.3f}").format(v))
 
     def _global_toggled(self, on, update=True):
         """Global deformation overrides the motors: their sliders are disabled while it is on."""
@@ -128,7 +130,7 @@ class SimulatePanel(BasePanel):
             return
         t0 = time.perf_counter()
         g = self.global_slider.value() / 100.0
-        self.global_label.setText(f"{g:+.2f}")
+        self.global_label.setText(translate("Metamaterial", "{0:+.2f}").format(g))
         try:
             frame = (self.solver.frame(global_deformation=g) if self.use_global.isChecked()
                      else self.solver.frame(values=self.values()))
@@ -144,9 +146,7 @@ class SimulatePanel(BasePanel):
         self.update_ms = {"solve": 1000 * (t1 - t0), "placements": 1000 * (t2 - t1), "total": 1000 * (t2 - t0)}
         self.update_times.append(self.update_ms["total"])
         self.clear_error()
-        self.stats.setText(f"max |D| = {abs(frame.D).max():.3f}; update {self.update_ms['total']:.1f} ms "
-                           f"(solve {self.update_ms['solve']:.1f}, placements {self.update_ms['placements']:.1f}; "
-                           "no recompute)")
+        self.stats.setText(translate("Metamaterial", "max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, placements {3:.1f}; no recompute)").format(abs(frame.D).max(), self.update_ms['total'], self.update_ms['solve'], self.update_ms['placements']))
 
     def apply(self):
         structure.restore_display(self.obj, self.saved)

@@ -7,8 +7,10 @@ from PySide import QtCore, QtGui
 
 import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
-from metamaterial_wb.gui.panels.base import BasePanel, transaction, _fit
-from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
+from metamaterial_wb.gui.panels.base import BasePanel, button_row, transaction, _fit
+from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob, ThreadJob
+from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.i18n import translate
 
 
 def sleeve_summary_text(summary):
@@ -43,21 +45,20 @@ class SleevePanel(BasePanel):
         self.raw = {}
         fl = QtGui.QHBoxLayout()
         self.path = QtGui.QLineEdit("")
-        self.open_btn = QtGui.QPushButton("Open...")
-        fl.addWidget(QtGui.QLabel("Spec"))
+        self.open_btn = QtGui.QPushButton(translate("Metamaterial", "Open..."))
+        fl.addWidget(QtGui.QLabel(translate("Metamaterial", "Spec")))
         fl.addWidget(self.path)
         fl.addWidget(self.open_btn)
         self.layout.addLayout(fl)
         f = QtGui.QFormLayout()
         self.name = QtGui.QLineEdit("sleeve")
-        f.addRow("Name", self.name)
+        f.addRow(translate("Metamaterial", "Name"), self.name)
         self.dims = {}
-        for key, label, lo, hi in (("L_mm", "L (beam span)", 1.0, 500.0), ("c_mm", "c (pillar width)", 0.1, 100.0),
-                                   ("delta_mm", "delta (gap)", 0.01, 50.0), ("T_mm", "T (wall thickness)", 0.1, 50.0),
-                                   ("shear_modulus_MPa", "G (shear modulus)", 0.01, 1e4)):
+        for key, label in (("L_mm", "L (beam span)"), ("c_mm", "c (pillar width)"), ("delta_mm", "delta (gap)"),
+                           ("T_mm", "T (wall thickness)"), ("shear_modulus_MPa", "G (shear modulus)")):
             w = QtGui.QDoubleSpinBox()
             w.setDecimals(3)
-            w.setRange(lo, hi)
+            ranges.bind(w, "sleeve." + key)        # the spec validator's range (L up to 1000 mm)
             w.setSingleStep(0.1)
             w.setSuffix(" MPa" if key.endswith("MPa") else " mm")
             f.addRow(label, w)
@@ -66,27 +67,24 @@ class SleevePanel(BasePanel):
         self.types = QtGui.QTableWidget(0, 2)
         self.types.setHorizontalHeaderLabels(["t (mm)", "h (mm)"])
         self.types.setMaximumHeight(130)
-        self.layout.addWidget(QtGui.QLabel("Cell types (row = type index)"))
+        self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "Cell types (row = type index)")))
         self.layout.addWidget(self.types)
-        bl = QtGui.QHBoxLayout()
-        add, rem = QtGui.QPushButton("Add type"), QtGui.QPushButton("Remove last")
+        bl, (add, rem) = button_row("Add type", "Remove last")
         add.clicked.connect(lambda: self.add_type(1.0, 7.0))
         rem.clicked.connect(self.remove_type)
-        bl.addWidget(add)
-        bl.addWidget(rem)
         self.layout.addLayout(bl)
         f2 = QtGui.QFormLayout()
         self.ring = QtGui.QLineEdit("0, 0, 1, 1")
-        self.ring.setToolTip("cell type index of each cell around the circumference")
+        self.ring.setToolTip(translate("Metamaterial", "cell type index of each cell around the circumference"))
         self.rings = QtGui.QSpinBox()
-        self.rings.setRange(1, 12)
-        f2.addRow("Ring pattern", self.ring)
-        f2.addRow("Rings", self.rings)
+        ranges.bind(self.rings, "sleeve.rings")
+        f2.addRow(translate("Metamaterial", "Ring pattern"), self.ring)
+        f2.addRow(translate("Metamaterial", "Rings"), self.rings)
         self.layout.addLayout(f2)
         pl = QtGui.QHBoxLayout()
-        self.predict_btn = QtGui.QPushButton("Predict")
-        self.predict_btn.setToolTip("Unit-cell and sleeve force-displacement curves, snapping sequence "
-                                    "(core.sleeve, about a second per curve)")
+        self.predict_btn = QtGui.QPushButton(translate("Metamaterial", "Predict"))
+        self.predict_btn.setToolTip(translate("Metamaterial", "Unit-cell and sleeve force-displacement curves, snapping sequence "
+                                    "(core.sleeve, about a second per curve)"))
         pl.addWidget(self.predict_btn)
         self.layout.addLayout(pl)
         self.jobbox = JobBox()
@@ -98,9 +96,9 @@ class SleevePanel(BasePanel):
         self.layout.addWidget(self.result)
         el = QtGui.QHBoxLayout()
         self.export_dir = QtGui.QLineEdit(os.path.join(os.path.expanduser("~"), "sleeve_export"))
-        self.export_btn = QtGui.QPushButton("Export STEP + 3MF")
-        self.export_btn.setToolTip("sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, "
-                                   "per-part extruders), as 'sleeve SPEC --step --3mf'")
+        self.export_btn = QtGui.QPushButton(translate("Metamaterial", "Export STEP + 3MF"))
+        self.export_btn.setToolTip(translate("Metamaterial", "sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, "
+                                   "per-part extruders), as 'sleeve SPEC --step --3mf'"))
         self.export_btn.clicked.connect(lambda: self.export(self.export_dir.text().strip()))
         el.addWidget(self.export_dir)
         el.addWidget(self.export_btn)
@@ -109,6 +107,8 @@ class SleevePanel(BasePanel):
         self.summary = None
         self.created = []
         self.prediction = ThreadJob(self.jobbox, self._predicted, self._prediction_failed, self._prediction_cancelled)
+        self.export_job = ProcessJob(self.jobbox, self._exported, self._export_failed, self._export_cancelled)
+        self.staging, self.export_target, self.exported = None, None, []
         self.open_btn.clicked.connect(self._browse)
         self.predict_btn.clicked.connect(self.predict)
         if os.path.exists(self.DEFAULT):
@@ -125,7 +125,7 @@ class SleevePanel(BasePanel):
         for c, v in enumerate((t, h)):
             w = QtGui.QDoubleSpinBox()
             w.setDecimals(3)
-            w.setRange(0.001, 300.0)
+            ranges.bind(w, ("sleeve.cell_types.t_mm", "sleeve.cell_types.h_mm")[c])   # t <= L/4, h <= 0.6 L: in words
             w.setSingleStep(0.05)
             w.setValue(float(v))
             self.types.setCellWidget(r, c, w)
@@ -164,7 +164,7 @@ class SleevePanel(BasePanel):
         self.result.setText("")
         self.error.setText("")
         if not uniform:
-            self.result.setText("this spec has a per-ring pattern; it is kept as in the file")
+            self.result.setText(translate("Metamaterial", "this spec has a per-ring pattern; it is kept as in the file"))
 
     def spec_dict(self):
         """The spec the widgets describe: the loaded file's other fields (model, actuator, ...) kept."""
@@ -193,7 +193,9 @@ class SleevePanel(BasePanel):
     # prediction (background thread, progress + Cancel) --------------------------------------
     @property
     def job(self):
-        return self.prediction if self.prediction.running else None
+        if self.prediction.running:
+            return self.prediction
+        return self.export_job if self.export_job.running else None
 
     def predict(self):
         from metamaterial_wb.core.sleeve.pipeline import analyse
@@ -206,7 +208,7 @@ class SleevePanel(BasePanel):
             return False
         self.clear_error()
         self.predict_btn.setEnabled(False)
-        self.result.setText("predicting ...")
+        self.result.setText(translate("Metamaterial", "predicting ..."))
         stages = []
 
         def work(report):
@@ -228,47 +230,90 @@ class SleevePanel(BasePanel):
 
     def _prediction_cancelled(self):
         self.predict_btn.setEnabled(True)
-        self.result.setText("prediction cancelled")
+        self.result.setText(translate("Metamaterial", "prediction cancelled"))
 
     def wait_prediction(self, timeout_s=120.0):
         return self.prediction.wait(timeout_s)
 
     def export(self, folder):
-        """Write sleeve.step and sleeve.3mf into ``folder`` (via a temporary folder: nothing half-written).
-        Returns the paths written, or [] with the error shown."""
-        import shutil
+        """Write sleeve.step and sleeve.3mf into ``folder`` in the background (a child process builds,
+        meshes and writes them into a staging folder beside ``folder``; the files are moved in when it
+        ends: nothing half-written, Cancel leaves nothing). Returns True when the export started, False
+        with the error shown; ``wait_export()`` waits, ``exported`` lists the paths written."""
         import tempfile
 
-        from metamaterial_wb.export.sleeve import export_sleeve
+        if self.export_job.running:
+            self.show_error(translate("Metamaterial", "export: an export is running (Cancel it first)"))
+            return False
         if not folder:
-            self.show_error("export: choose a folder")
-            return []
+            self.show_error(translate("Metamaterial", "export: choose a folder"))
+            return False
         folder = os.path.abspath(folder)
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.CursorShape.WaitCursor)
-        tmp = None
+        self.exported = []
         try:
-            spec = self.spec()
+            spec_dict = self.spec_dict()
+            self.spec()                                   # the validator's message, before anything runs
             os.makedirs(os.path.dirname(folder), exist_ok=True)
-            tmp = tempfile.mkdtemp(prefix=".sleeve-export-", dir=os.path.dirname(folder))
-            names = export_sleeve(spec, tmp, step=True, threemf=True)
-            os.makedirs(folder, exist_ok=True)
-            for n in names:
-                os.replace(os.path.join(tmp, n), os.path.join(folder, n))
+            self.staging = tempfile.mkdtemp(prefix=".sleeve-export-", dir=os.path.dirname(folder))
+            jpath = os.path.join(self.staging, "job.json")
+            out = os.path.join(self.staging, "out")
+            os.makedirs(out)
+            with open(jpath, "w", encoding="utf-8") as f:
+                json.dump({"spec": spec_dict, "out_dir": out}, f)
         except (MetamaterialError, OSError) as exc:
-            self.show_error(f"export: {exc}")
-            return []
-        finally:
-            QtGui.QApplication.restoreOverrideCursor()
-            if tmp:
-                shutil.rmtree(tmp, ignore_errors=True)
+            self._drop_staging()
+            self.show_error(translate("Metamaterial", "export: {0}").format(exc))
+            return False
+        self.export_target = folder
         self.error.setText("")
-        paths = [os.path.join(folder, n) for n in names]
-        FreeCAD.Console.PrintMessage("Metamaterial sleeve export: " + ", ".join(paths) + "\n")
-        self.result.setText((self.result.text() + "\n" if self.result.text() else "") + "wrote " + ", ".join(names))
-        return paths
+        self.export_btn.setEnabled(False)
+        self.export_job.start("metamaterial_wb.gui.sleeve_export_job", [jpath],
+                              text=translate("Metamaterial", "building the sleeve ..."))
+        return True
+
+    def _drop_staging(self):
+        import shutil
+        if self.staging:
+            shutil.rmtree(self.staging, ignore_errors=True)
+        self.staging = None
+
+    def _exported(self, result):
+        self.export_btn.setEnabled(True)
+        names = list(result.get("files", []))
+        try:
+            os.makedirs(self.export_target, exist_ok=True)
+            for n in names:
+                os.replace(os.path.join(self.staging, "out", n), os.path.join(self.export_target, n))
+        except OSError as exc:
+            self._export_failed(translate("Metamaterial", "cannot move the files into {0}: {1}").format(
+                self.export_target, exc))
+            return
+        self._drop_staging()
+        self.exported = [os.path.join(self.export_target, n) for n in names]
+        FreeCAD.Console.PrintMessage("Metamaterial sleeve export: " + ", ".join(self.exported) + "\n")
+        self.jobbox.summary.setText(translate("Metamaterial", "wrote {0} file(s) to {1}: {2} ({3:.1f} s)").format(
+            len(names), self.export_target, ", ".join(names), float(result.get("seconds", 0.0))))
+        self.result.setText((self.result.text() + "\n" if self.result.text() else "")
+                            + translate("Metamaterial", "wrote {0}").format(", ".join(names)))
+
+    def _export_failed(self, message):
+        self.export_btn.setEnabled(True)
+        self._drop_staging()
+        self.show_error(translate("Metamaterial", "export: {0}").format(message))
+
+    def _export_cancelled(self):
+        self.export_btn.setEnabled(True)
+        self._drop_staging()
+        self.jobbox.summary.setText(translate("Metamaterial", "export cancelled: nothing written"))
+
+    def wait_export(self, timeout_s=300.0):
+        return self.export_job.wait(timeout_s)
 
     def cleanup(self):
         self.prediction.stop()
+        if self.export_job.running:
+            self.export_job.stop()
+            self._drop_staging()
         super().cleanup()
 
     def apply(self):

@@ -1,0 +1,621 @@
+<?xml version="1.0" encoding="utf-8"?>
+<!DOCTYPE TS>
+<TS version="2.1">
+<context>
+    <name>Metamaterial</name>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
+        <source> (slider +-{0:.1f})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
+        <source>1.00</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="36"/>
+        <source>3MF (PLA nodes / TPU hinges)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="362"/>
+        <source>; centre of mass moved {0:+.2f} mm</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="27"/>
+        <source>All hinges</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
+        <source>Back to the motion profiles (quadratic model)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="51"/>
+        <source>Build the sheet (and modules) and write the files in the background</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="42"/>
+        <source>Cancel</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="51"/>
+        <source>Cell size</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="70"/>
+        <source>Cell types (row = type index)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="56"/>
+        <source>Chain</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="57"/>
+        <source>Clear</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="61"/>
+        <source>Click cells [row, col] to add or remove them:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="23"/>
+        <source>Click grid lines here, or click a hinge in the 3D view.
+Vertical axes run down a cell column and cross its H joints;
+horizontal axes run along a cell row and cross its V joints.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="49"/>
+        <source>Columns</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="519"/>
+        <source>Connect</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="97"/>
+        <source>D {0:+.3f}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="511"/>
+        <source>Disconnect</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="50"/>
+        <source>Export</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="99"/>
+        <source>Export STEP + 3MF</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="42"/>
+        <source>Folder</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="53"/>
+        <source>Frequency</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="88"/>
+        <source>Global deformation</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="31"/>
+        <source>Global deformation (perfect propagation)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="55"/>
+        <source>Grid</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="54"/>
+        <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="46"/>
+        <source>Joint</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
+        <source>Joint (or click a hinge)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="66"/>
+        <source>Keyframes</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="107"/>
+        <source>Keyframes of {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="32"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="47"/>
+        <source>Length</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="53"/>
+        <source>Limit to printable folds</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="74"/>
+        <source>Load scene file...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="135"/>
+        <source>Load...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="86"/>
+        <source>Loop</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="29"/>
+        <source>Model</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="31"/>
+        <source>Module</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="38"/>
+        <source>Modules as separate files</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="145"/>
+        <source>Motors</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="41"/>
+        <source>Motors and constraints</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="55"/>
+        <source>Name</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="60"/>
+        <source>No motors yet: use 'Place motor'.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="52"/>
+        <source>No rotary axes yet: use 'Rotary axes' first.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="32"/>
+        <source>On (or click in the 3D view)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="39"/>
+        <source>One joint (click a hinge in the 3D view)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="48"/>
+        <source>Open...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="473"/>
+        <source>Pause</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="54"/>
+        <source>Phase offset</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="84"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="477"/>
+        <source>Play</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="136"/>
+        <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="114"/>
+        <source>Port</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="85"/>
+        <source>Predict</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="81"/>
+        <source>Ring pattern</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="82"/>
+        <source>Rings</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="48"/>
+        <source>Rows</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
+        <source>Run the dynamics model on this structure in the background, then play it</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="34"/>
+        <source>STEP (named bodies, assembly)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="143"/>
+        <source>Simulate</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="132"/>
+        <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="52"/>
+        <source>Sine amplitude</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="40"/>
+        <source>Snap-fit sockets on the nodes</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="49"/>
+        <source>Spec</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="43"/>
+        <source>Stop this job; nothing it would have written is kept</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="129"/>
+        <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="94"/>
+        <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="34"/>
+        <source>Thickness</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
+        <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="39"/>
+        <source>Value D (-1..1)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="33"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="48"/>
+        <source>Width</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="164"/>
+        <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="271"/>
+        <source>building the sleeve ...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="288"/>
+        <source>cannot move the files into {0}: {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="115"/>
+        <source>cell [{0}, {1}]</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="78"/>
+        <source>cell type index of each cell around the circumference</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
+        <source>clip {0} ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="307"/>
+        <source>export cancelled: nothing written</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="246"/>
+        <source>export: an export is running (Cancel it first)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="249"/>
+        <source>export: choose a folder</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="302"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="265"/>
+        <source>export: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="406"/>
+        <source>frame {0}: {1:.1f} ms (no recompute)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="89"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="98"/>
+        <source>k1 = {0:.3f}, k2 = {1:.3f}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="36"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="49"/>
+        <source>k1, k2</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
+        <source>kinematic +-{0:.1f} deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
+        <source>kinematic: n/a</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="102"/>
+        <source>length</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="149"/>
+        <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, placements {3:.1f}; no recompute)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="161"/>
+        <source>motor values now: servo angle (value in -1..1)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
+        <source>motor {0} ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="73"/>
+        <source>or a scene file (.json): type its path</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="91"/>
+        <source>out of the calibrated range</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="317"/>
+        <source>picked {0} {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="156"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="327"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
+        <source>playing: the motors' profiles</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="311"/>
+        <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="211"/>
+        <source>predicting ...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="233"/>
+        <source>prediction cancelled</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
+        <source>printable +-{0:.2f} deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="131"/>
+        <source>printable: n/a</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="226"/>
+        <source>scene {0}: {1} cells, {2} motors</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="351"/>
+        <source>simulating {0:g} s ...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="372"/>
+        <source>simulation cancelled; playing: the motors' profiles</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="100"/>
+        <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders), as 'sleeve SPEC --step --3mf'</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="100"/>
+        <source>speed</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="521"/>
+        <source>streamed {0} frames, {1} acknowledged</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="106"/>
+        <source>t = 0.00 s</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="398"/>
+        <source>t = {0:.2f} s</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="121"/>
+        <source>the hardware package (metamaterial_wb.hardware) is not available</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="167"/>
+        <source>this spec has a per-ring pattern; it is kept as in the file</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="315"/>
+        <source>under the cursor: {0} {1} (click to pick it)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="297"/>
+        <source>wrote {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="294"/>
+        <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="95"/>
+        <source>{0:+.1f} deg ({1:+.3f})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="133"/>
+        <source>{0:+.2f}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="263"/>
+        <source>{0:.1f} deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="463"/>
+        <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="186"/>
+        <source>{0:.2f}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="27"/>
+        <source>{0} axes ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="185"/>
+        <source>{0} cells: a valid layout</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="184"/>
+        <source>{0} cells: a valid layout (the full grid)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="132"/>
+        <source>{0}, {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="60"/>
+        <source>{0}{1} {2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+</context>
+</TS>
