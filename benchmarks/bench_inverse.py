@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from benchmarks._report import best_of, machine_line, update_section  # noqa: E402
-from metamaterial_wb.commands.solve import result_dict  # noqa: E402
+from metamaterial_wb.cli.solve import result_dict  # noqa: E402
 from metamaterial_wb.core.inverse.fit import Problem, combined_errors  # noqa: E402
 from metamaterial_wb.core.inverse.search import exhaustive, search_placement  # noqa: E402
 from metamaterial_wb.core.inverse.targets import parse_target  # noqa: E402

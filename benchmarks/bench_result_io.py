@@ -18,7 +18,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from benchmarks._report import best_of, machine_line, update_section  # noqa: E402
-from metamaterial_wb.commands.solve import joint_results, result_dict  # noqa: E402
+from metamaterial_wb.cli.solve import joint_results, result_dict  # noqa: E402
 from metamaterial_wb.core import resultfile  # noqa: E402
 from metamaterial_wb.core.fileio import write_json  # noqa: E402
 from metamaterial_wb.core.models import run_model  # noqa: E402

@@ -21,7 +21,7 @@ import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, REPO)
-from metamaterial_wb.commands.solve import result_dict  # noqa: E402
+from metamaterial_wb.cli.solve import result_dict  # noqa: E402
 from metamaterial_wb.core import design  # noqa: E402
 from metamaterial_wb.core.models import run_model  # noqa: E402
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402

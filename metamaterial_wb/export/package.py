@@ -1,6 +1,6 @@
 """The export package of a built sheet: checks first, then STEP / 3MF / module files and the manifest, all
 written to a temporary folder and moved into place as one set (what ``build`` and the GUI's Export both
-call). Files and layouts: the ``build`` command's doc (commands/build.py) and docs/fabrication.md."""
+call). Files and layouts: the ``build`` command's doc (cli/build.py) and docs/fabrication.md."""
 import os
 import shutil
 import sys

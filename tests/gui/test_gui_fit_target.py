@@ -9,7 +9,7 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 import FreeCADGui  # noqa: E402
 
-from metamaterial_wb.commands.solve import result_dict  # noqa: E402
+from metamaterial_wb.cli.solve import result_dict  # noqa: E402
 from metamaterial_wb.core.models import run_model  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402

@@ -18,7 +18,7 @@ def scene_with(base, acts, constraints=()):
 
 
 def planted_result(scene, model="quadratic"):
-    from metamaterial_wb.commands.solve import result_dict
+    from metamaterial_wb.cli.solve import result_dict
     return result_dict(scene, run_model(model, scene), None, model)
 
 

@@ -33,7 +33,7 @@ def _size(text):
 
 
 def run(args):
-    from metamaterial_wb.commands.solve import parse_sets
+    from metamaterial_wb.cli.solve import parse_sets
     from metamaterial_wb.core import kinematics
     from metamaterial_wb.core.design import ensure_configured, global_D, kinematics_for
     from metamaterial_wb.core.render import render_png, state_title, view_angles

@@ -1,8 +1,8 @@
 """Command line: ``/usr/bin/python3 -m metamaterial_wb <command> ...``.
 
-Sub-commands live in ``metamaterial_wb/commands/``: every module there that defines ``NAME``,
-``HELP``, ``add_arguments(parser)`` and ``run(args) -> int`` is a sub-command, so a new command is a
-new file and nothing else changes.
+Sub-commands are the modules of this package (``metamaterial_wb/cli/``): every module here that defines
+``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int`` is a sub-command, so a new command
+is a new file and nothing else changes. (FreeCAD's GUI commands are ``metamaterial_wb/gui/commands.py``.)
 
 Errors: a :class:`~metamaterial_wb.core.errors.MetamaterialError` (bad input) prints one line on
 stderr and exits with status 2; so do a file the system refuses (OSError), running out of memory and
@@ -20,13 +20,11 @@ from metamaterial_wb.core.errors import MetamaterialError
 
 
 def _command_modules():
-    from metamaterial_wb import commands
-
     mods = []
-    for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
+    for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
         if info.name.startswith("_"):
             continue
-        mod = importlib.import_module(f"metamaterial_wb.commands.{info.name}")
+        mod = importlib.import_module(f"{__name__}.{info.name}")
         if all(hasattr(mod, a) for a in ("NAME", "HELP", "add_arguments", "run")):
             mods.append(mod)
     return mods
