@@ -69,6 +69,13 @@ class HingeRegions:
             self.start.append(min(max(L0, lo_r), hi_r))
         self.k2 = problem.k2
 
+    @property
+    def n_unknowns(self):
+        return len(self.regions)
+
+    def start_sizes(self):
+        return np.array(self.start, dtype=float)
+
     def k1_of(self, L):
         k1 = self.pb.k1.copy()
         slope = np.zeros(len(self.regions))
