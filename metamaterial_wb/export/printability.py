@@ -53,8 +53,10 @@ def geometry_checks_inprocess(scene, params):
     return check_build(result, DEFAULT_CHECKS)
 
 
-def check_printable(scene, geometry="subprocess", timeout_s=600):
-    """See the module doc. ``geometry``: ``"subprocess"`` (default), ``"inprocess"`` or ``"off"``."""
+def check_printable(scene, geometry="subprocess", timeout_s=600, python=None, pythonpath=()):
+    """See the module doc. ``geometry``: ``"subprocess"`` (default), ``"inprocess"`` or ``"off"``;
+    ``python``: the child's interpreter (default this one), ``pythonpath``: more folders for it (FreeCAD's
+    library when the caller runs inside FreeCAD)."""
     if geometry not in ("subprocess", "inprocess", "off"):
         raise ValueError(f"geometry={geometry!r}; allowed: subprocess, inprocess, off")
     problems, ran, params = parameter_checks(scene)
@@ -76,9 +78,9 @@ def check_printable(scene, geometry="subprocess", timeout_s=600):
         with open(path, "w", encoding="utf-8") as fh:
             fh.write(scene.to_json())
         root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-        env = dict(os.environ, PYTHONPATH=root + os.pathsep + os.environ.get("PYTHONPATH", ""))
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, *pythonpath, os.environ.get("PYTHONPATH", "")]))
         try:
-            p = subprocess.run([sys.executable, "-m", "metamaterial_wb.export.printability", path],
+            p = subprocess.run([python or sys.executable, "-m", "metamaterial_wb.export.printability", path],
                                capture_output=True, text=True, env=env, timeout=timeout_s)
         except subprocess.TimeoutExpired:
             return _result(None, [], ran, [f"geometry checks not finished within {timeout_s:g} s"])
