@@ -65,6 +65,9 @@ class Problem:
         self.kin = _k.Kinematics(scene)
         self.tangent = PoseTangent(self.kin)
         self.frames = [FrameResidual(scene, fr) for fr in target.frames]
+        flat = self.kin.poses(np.zeros(topo.n_nodes))[0]
+        for fr in self.frames:                       # global starts of surface alignments (flat sheet)
+            fr.prepare_global(flat)
         self.constraints = [(c.name, self._joint_nodes(c.joint), c.value) for c in scene.constraints]
         self.fixed_nodes = set()
         for _, nodes, _ in self.constraints:
