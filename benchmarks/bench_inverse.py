@@ -95,7 +95,9 @@ def placement(workers, quick):
 
 
 def quality(n, servos=2):
-    s, tgt = planted(n, [("H0,0", 0.7), (f"V{n // 2},1", -0.5), (f"H{n - 1},{n - 2}", 0.6)], noise=0.05, seed=1)
+    acts = [("H0,0", 0.7), (f"V{n // 2},1", -0.5), (f"H{n - 1},{n - 2}", 0.6)] if n > 3 else \
+        [("H0,0", 0.7), ("V1,2", -0.5), ("H3,1", 0.6)]
+    s, tgt = planted(n, acts, noise=0.05, seed=1)
     pb = Problem(s, parse_target(s, tgt))
     from metamaterial_wb.parallel import make_mapper
     mapper, nw = make_mapper(workers=2)

@@ -226,9 +226,17 @@ class Problem:
         ns = G.shape[1]
         v0 = np.zeros(ns) if v0 is None else np.clip(np.asarray(v0, dtype=float), -1, 1)
         pos0, _R, _ = self.kin.poses(np.clip(D0 + G @ v0, -1, 1))
-        R0, xi0 = fr.initial_alignment(pos0)
+        best = None
+        for R0, xi0 in fr.initial_alignments(pos0):       # the local and (surfaces) the global start
+            ff = self._fit_frame_from(fi, D0, G, v0, R0, xi0, max_nfev, tol)
+            if best is None or ff.cost < best.cost - 1e-15:
+                best = ff
+        return best
+
+    def _fit_frame_from(self, fi, D0, G, v0, R0, xi0, max_nfev, tol):
+        fr = self.frames[fi]
+        ns = G.shape[1]
         nx = fr.n_xi
-        cache = {}
 
         def both(x, jac=True):
             if not jac:

@@ -89,10 +89,16 @@ class FrameResidual:
         return s, R, t, cost
 
     def initial_alignment(self, pos, iterations=30):
-        """``(R0, xi0)`` from Kabsch on the target nodes, then ICP steps for a surface: from the
-        identity and from the global starts (:meth:`prepare_global`), the best kept."""
+        """``(R0, xi0)``: the best (smallest ICP cost) of :meth:`initial_alignments`."""
+        return self.initial_alignments(pos, iterations)[0]
+
+    def initial_alignments(self, pos, iterations=30):
+        """Starts ``[(R0, xi0), ...]`` of the alignment, best first: Kabsch on the target nodes, then ICP
+        steps for a surface, from there (the local start) and, for a surface-only frame, from the best
+        of the global starts (:meth:`prepare_global`) when that ends elsewhere. Both are returned because
+        the ICP cost at the start pose does not tell which basin the joint fit ends in."""
         if self.n_xi == 0:
-            return np.eye(3), np.zeros(0)
+            return [(np.eye(3), np.zeros(0))]
         fr = self.frame
         P, Q, W = [], [], []
         if fr.nodes is not None:
@@ -102,19 +108,26 @@ class FrameResidual:
         sim = self.align == "similarity"
         s, R, t = (kabsch(np.vstack(P), np.vstack(Q), np.concatenate(W), sim) if P else
                    (1.0, np.eye(3), np.zeros(3)))
+        found = [(s, R, t, 0.0)]
         if fr.surface is not None:
             ps = pos[fr.surface.idx]
             surf = fr.surface.surface
-            starts = [(s, R, t)] + list(getattr(self, "global_starts", []))
-            if len(starts) > 1:
-                runs = [self._icp(ps, P, Q, W, *st, sim, 10, surf) for st in starts]
-                s, R, t, _c = min(runs, key=lambda r: r[3])
-            s, R, t, _c = self._icp(ps, P, Q, W, s, R, t, sim, iterations, surf)
-        xi = np.zeros(self.n_xi)
-        xi[3:6] = t
-        if sim:
-            xi[6] = math.log(s)
-        return R, xi
+            found = [self._icp(ps, P, Q, W, s, R, t, sim, iterations, surf)]
+            glob = list(getattr(self, "global_starts", []))
+            if glob:
+                runs = [self._icp(ps, P, Q, W, *st, sim, 10, surf) for st in glob]
+                g = self._icp(ps, P, Q, W, *min(runs, key=lambda r: r[3])[:3], sim, iterations, surf)
+                if np.abs(g[1] - found[0][1]).max() > 1e-6 or np.abs(g[2] - found[0][2]).max() > 1e-6:
+                    found.append(g)
+                found.sort(key=lambda r: r[3])
+        out = []
+        for s, R, t, _c in found:
+            xi = np.zeros(self.n_xi)
+            xi[3:6] = t
+            if sim:
+                xi[6] = math.log(s)
+            out.append((R, xi))
+        return out
 
     def transform(self, xi, R0):
         """``(s, R, t)`` of the alignment parameters ``xi`` about ``R0``."""
