@@ -32,7 +32,7 @@ class FrameResidual:
         self.n_xi = {"none": 0, "rigid": 6, "similarity": 7}[self.align]
 
     # -- alignment -------------------------------------------------------------------------
-    def prepare_global(self, pos, keep=4, iterations=10):
+    def prepare_global(self, pos, keep=8, iterations=10):
         """Global starts of a surface-only frame's alignment (a target surface may be turned any way):
         the 24 proper rotations that map the sheet's principal axes onto the surface's (every signed
         permutation), plus the identity, each followed by ``iterations`` ICP steps on the poses ``pos``
@@ -115,10 +115,11 @@ class FrameResidual:
             found = [self._icp(ps, P, Q, W, s, R, t, sim, iterations, surf)]
             glob = list(getattr(self, "global_starts", []))
             if glob:
-                runs = [self._icp(ps, P, Q, W, *st, sim, 10, surf) for st in glob]
-                g = self._icp(ps, P, Q, W, *min(runs, key=lambda r: r[3])[:3], sim, iterations, surf)
-                if np.abs(g[1] - found[0][1]).max() > 1e-6 or np.abs(g[2] - found[0][2]).max() > 1e-6:
-                    found.append(g)
+                runs = sorted((self._icp(ps, P, Q, W, *st, sim, 10, surf) for st in glob), key=lambda r: r[3])
+                for st in runs[:2]:                  # the two best global starts (symmetric sheets tie)
+                    g = self._icp(ps, P, Q, W, *st[:3], sim, iterations, surf)
+                    if all(np.abs(g[1] - f[1]).max() > 1e-6 or np.abs(g[2] - f[2]).max() > 1e-6 for f in found):
+                        found.append(g)
                 found.sort(key=lambda r: r[3])
         out = []
         for s, R, t, _c in found:
