@@ -26,7 +26,8 @@ def add_arguments(p):
     p.add_argument("--forbid", action="append", default=[], metavar="JOINT",
                    help="a joint that may not get a servo (repeatable, or comma-separated)")
     p.add_argument("--hinges", action="store_true",
-                   help="also fit one hinge length per region (within the calibration table's range)")
+                   help="also fit the hinge sizes per region (length, and thickness / width when the calibration "
+                        "table has them; within its range)")
     p.add_argument("--hinge-regions", default="2x2", metavar="ROWSxCOLS",
                    help="regions of --hinges: blocks of the sheet (default 2x2)")
     p.add_argument("--model", default="quadratic", choices=("quadratic", "linear", "nonlinear"),
@@ -39,6 +40,10 @@ def add_arguments(p):
     g.add_argument("--workers", type=int, default=1, help="local worker processes (default 1)")
     g.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT", help="a Dask scheduler to run on")
     p.add_argument("--no-picture", action="store_true", help="skip result.png")
+    p.add_argument("--fab-checks", default="all", choices=("all", "parameters", "off"),
+                   help="fabrication checks of the answer, the ones build runs (report.json 'fabrication', "
+                        "'printable'): all (parameters, then the geometry checks in a subprocess when FreeCAD "
+                        "is there; default), parameters (printable tilt, walls, fits only), off")
 
 
 def _mesh_loader(path):
@@ -51,121 +56,61 @@ def _progress(msg):
 
 
 def run(args):
-    import numpy as np
-
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.fileio import write_atomic, write_json
-    from metamaterial_wb.core.inverse import evaluate as ev
-    from metamaterial_wb.core.inverse.fit import Problem
-    from metamaterial_wb.core.inverse.search import search_placement
+    from metamaterial_wb.core.inverse import pipeline
     from metamaterial_wb.core.inverse.targets import load_target
     from metamaterial_wb.core.scene import Scene
 
     t0 = time.perf_counter()
+    regions = None
     if args.hinges:
         from metamaterial_wb.core.inverse.hinges import parse_regions
         regions = parse_regions(args.hinge_regions)
     models = [m.strip() for m in args.evaluate.split(",") if m.strip()]
-    for m in models:
-        if m not in ev.MODELS:
-            raise SceneError("--evaluate", f"{m!r}; allowed: {', '.join(ev.MODELS)}")
-    if args.screen < 0:
-        raise SceneError("--screen", f"{args.screen} is outside the allowed range [0, 1000] (0: fit every candidate)")
-    if args.values_only and args.forbid:
-        raise SceneError("--forbid", "has no effect with --values-only (the placement is the scene's)")
     if args.workers < 1:
         raise SceneError("--workers", f"{args.workers} is outside the allowed range [1, 256]")
     scene = Scene.load(args.scene)
     target = load_target(scene, args.target, mesh_loader=_mesh_loader)
     _progress(f"target {args.target}: {len(target.frames)} keyframe(s)")
-    pb = Problem(scene, target, keep_actuators=args.values_only)
     forbidden = [f.strip() for item in args.forbid for f in item.split(",") if f.strip()]
-    info = {"fits": 0, "screened": 0, "linearised": 0}
-    lower = None
+    fab_check = None
+    if args.fab_checks != "off":
+        from metamaterial_wb.export.printability import check_printable
+
+        def fab_check(s):
+            return check_printable(s, geometry="subprocess" if args.fab_checks == "all" else "off")
     mapper, nworkers = None, 1
-    if args.values_only:
-        if args.servos is not None and args.servos != len(scene.actuators):
-            raise SceneError("--servos", f"{args.servos} with --values-only: the scene has {len(scene.actuators)} "
-                                         f"actuators (leave --servos out)")
-        if not scene.actuators:
-            raise SceneError("actuators", "--values-only needs a scene with actuators")
-        joints = tuple(a.joint for a in scene.actuators)
-        names = [a.name for a in scene.actuators]
-        fit = pb.fit(joints, starts=(0.5, -0.5))
-        info["fits"] = 1
-    else:
-        if args.servos is None:
-            raise SceneError("--servos", "give the servo budget N (or --values-only)")
+    if not args.values_only and args.servos is not None:
         from metamaterial_wb.parallel import make_mapper
         mapper, nworkers = make_mapper(args.workers, args.scheduler)
-        try:
-            res = search_placement(pb, args.servos, forbidden=forbidden, mapper=mapper, workers=nworkers,
-                                   progress=_progress, screen=args.screen)
-        finally:
-            if mapper is not None:
-                mapper.close()
-        joints, fit, names = res.joints, res.fit, None
-        info.update(fits=res.fits, screened=res.screened, linearised=res.info.get("linearised", 0))
-        lower = res.info.get("lower_bound")
-    values = fit.values
-    hinge_report, overrides = None, None
-    if args.hinges:
-        from metamaterial_wb.core.inverse.hinges import HingeRegions
-        hr = HingeRegions(pb, *regions)
-        _progress(f"fitting {len(hr.regions)} hinge length(s) with the values")
-        hfit, lengths = hr.fit(joints, v0=values)
-        if hfit.cost < fit.cost:
-            fit, values = hfit, hfit.values
-            overrides = hr.overrides(lengths)
-        else:
-            lengths = np.array(hr.start)
-        hinge_report = hr.report(lengths)
-        info["fits"] += 1
-    out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
-    if args.model != "quadratic":
-        values = ev.polish_values(pb, out_scene, values, args.model, progress=_progress)
-        out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
-    errors = ev.evaluate_all(pb, out_scene, values, models, progress=_progress)
+    try:
+        run_ = pipeline.solve(scene, target, servos=args.servos, values_only=args.values_only, forbidden=forbidden,
+                              hinge_regions=regions, model=args.model, evaluate=models, screen=args.screen,
+                              mapper=mapper, workers=nworkers, progress=_progress, fab_check=fab_check)
+    finally:
+        if mapper is not None:
+            mapper.close()
     picture = None
-    first = next((m for m in (args.model, "quadratic") if m in errors and "per_frame" in errors[m]), None)
+    first = next((m for m in (args.model, "quadratic") if m in run_.errors and "per_frame" in run_.errors[m]), None)
     if not args.no_picture and first:
         from metamaterial_wb.core.inverse.picture import answer_png
-        picture = answer_png(pb, out_scene, errors[first],
+        picture = answer_png(run_.problem, run_.scene, run_.errors[first],
                              title=f"{scene.name or 'scene'}: answer ({first} model) vs target")
-    report = {
-        "format": "metamaterial-inverse-report", "version": 1,
-        "scene": os.path.abspath(args.scene), "target": os.path.abspath(args.target),
-        "values_only": bool(args.values_only), "fit_model": args.model, "servos": len(joints),
-        "forbidden": forbidden,
-        "placement": [{"name": a.name, "joint": a.joint, "values": [float(v) for v in values[:, k]]}
-                      for k, a in enumerate(out_scene.actuators)],
-        "keyframes": [{"time_s": f.time_s} for f in target.frames],
-        "hinges": hinge_report,
-        "errors": {m: _json_errors(e) for m, e in errors.items()},
-        "fit_cost_mm2": float(fit.cost), "free_field_bound_mm2": lower,
-        "candidates_evaluated": info, "workers": nworkers, "scheduler": args.scheduler,
-        "run_time_s": time.perf_counter() - t0,
-    }
+    report = pipeline.report_dict(
+        run_, scene=os.path.abspath(args.scene), target=os.path.abspath(args.target),
+        values_only=bool(args.values_only), fit_model=args.model, forbidden=forbidden, workers=nworkers,
+        scheduler=args.scheduler)
+    report["run_time_s"] = time.perf_counter() - t0
     os.makedirs(args.out, exist_ok=True)
-    write_atomic(os.path.join(args.out, "scene.json"), out_scene.to_json())
+    write_atomic(os.path.join(args.out, "scene.json"), run_.scene.to_json())
     if picture is not None:
         write_atomic(os.path.join(args.out, "result.png"), picture, mode="wb")
     write_json(os.path.join(args.out, "report.json"), report)
-    for m, e in errors.items():
-        if e.get("rms_mm") is not None:
-            _progress(f"{m}: rms {e['rms_mm']:.4g} mm, max {e['max_mm']:.4g} mm")
-        if e.get("rms_deg") is not None:
-            _progress(f"{m}: folds rms {e['rms_deg']:.4g} deg, max {e['max_deg']:.4g} deg")
-        if "error" in e:
-            _progress(f"{m}: {e['error']}")
-    _progress(f"{', '.join(f'{a.name} on {a.joint}' for a in out_scene.actuators)}; "
+    for line in pipeline.summary_lines(run_):
+        _progress(line)
+    _progress(f"{', '.join(f'{a.name} on {a.joint}' for a in run_.scene.actuators)}; "
               f"{time.perf_counter() - t0:.2f} s; wrote {args.out}")
     return 0
 
 
-def _json_errors(e):
-    if "per_frame" not in e:
-        return dict(e)
-    out = {k: v for k, v in e.items() if k not in ("per_frame",)}
-    out["per_frame"] = [{k: v for k, v in f.items() if k != "positions_mm"} for f in e["per_frame"]]
-    return out

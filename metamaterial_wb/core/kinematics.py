@@ -83,6 +83,14 @@ def _hinge_geometry(scene):
     rb[V, 0] = sgn[V]
     rb[V, 1] = a_half
     d0[V, 1] = -lh
+    lj = joint_hinge_arrays(scene)[0]
+    if np.any(lj != lh):
+        # a joint whose flexible length L differs from the sheet's lh (which sets the plate gap) gets
+        # rigid stubs of (lh - L) / 2 on both plates: they turn with their plate, only L turns with the
+        # mean rotation (inverse design, issue 17: the poses see per-joint hinge lengths)
+        u = d0 / lh
+        stub = 0.5 * (lh - lj)[:, None] * u
+        ra, rb, d0 = ra + stub, rb - stub, lj[:, None] * u
     return topo.joint_pairs[:, 0], topo.joint_pairs[:, 1], ra, rb, d0
 
 

@@ -70,3 +70,60 @@ def test_fold_sensitivities_equal_finite_differences_and_measured_fold(path):
 def _RF(kin, D):
     phi = kin.angles(D)
     return kin.poses_from_angles(phi)[1], kin.fold_frames(phi)
+
+
+def _regional_lengths(path, lengths):
+    """``path``'s scene with the hinges of the left half (by column) at ``lengths[0]`` mm, the rest at
+    ``lengths[1]`` (both at most the sheet's hinge length: shorter hinges get rigid stubs)."""
+    s = _scene(path)
+    d = s.to_dict()
+    names = s.topology.joint_names
+    cols = s.topology.joint_ij()[:, 1]
+    d["joints"] = [dict(o) for o in d.get("joints", [])]
+    have = {o["joint"]: o for o in d["joints"]}
+    for k, n in enumerate(names):
+        o = have.setdefault(n, {"joint": n})
+        o["length_mm"] = lengths[0] if cols[k] < cols.max() / 2 else lengths[1]
+    d["joints"] = list(have.values())
+    out = Scene.from_dict(d)
+    design.ensure_configured(out)
+    return out
+
+
+@pytest.mark.parametrize("path", [None, "examples/grid_fold.json"])
+def test_per_joint_hinge_lengths_reach_the_quadratic_poses(path):
+    """Hinges that differ per region change the kinematic poses at the same D (they did not: the chord
+    was the sheet's hinge length everywhere), and the geometry is the fabricated one: each hinge's
+    flexible part keeps its own length L between two rigid stubs of (lh - L) / 2 that turn with their
+    plates; the tangents stay exact."""
+    base = _scene(path)
+    s = _regional_lengths(path, (0.6 * base.hinge["length_mm"], 0.8 * base.hinge["length_mm"]))
+    kb, ks = kinematics.Kinematics(base), kinematics.Kinematics(s)
+    rng = np.random.default_rng(5)
+    D = rng.uniform(0.1, 0.8, ks.n)
+    pb_, Rb, _ = kb.poses(D)
+    ps, Rs, _ = ks.poses(D)
+    assert np.abs(Rs - Rb).max() < 1e-12                       # rotations are D's alone
+    assert np.abs(ps - pb_).max() > 1e-4                       # positions see the lengths (0 before)
+    # the chords are the fabricated geometry: plate corner, stub (turns with its plate), flexible part
+    # (turns with the mean rotation), stub, plate corner
+    lh = s.hinge["length_mm"]
+    lj = kinematics.joint_hinge_arrays(s)[0]
+    assert len(set(np.round(lj, 9))) == 2
+    u = kb.d0 / lh
+    stub = 0.5 * (lh - lj)[:, None] * u
+    phi = kinematics.node_angles(s, D, ks.limits)
+    F, theta = ks._fold_state(phi)
+    R = ks.rotations(phi, F)
+    flex = kb._chords(phi, F, R, theta) - np.einsum("mij,mj->mi", R[kb.a], kb.ra) + \
+        np.einsum("mij,mj->mi", R[kb.b], kb.rb)                   # the base chord lh u, turned
+    want = (np.einsum("mij,mj->mi", R[kb.a], kb.ra + stub) + (lj / lh)[:, None] * flex +
+            np.einsum("mij,mj->mi", R[kb.b], stub - kb.rb))
+    assert np.abs(ks._chords(phi, F, R, theta) - want).max() < 1e-12
+    tg = PoseTangent(ks)
+    dD = rng.normal(size=(2, ks.n))
+    _p, _R, dpos, _dR, _F, _dF = tg.poses(D, dD)
+    h = 1e-6
+    for i in range(2):
+        fd = (ks.poses(D + h * dD[i])[0] - ks.poses(D - h * dD[i])[0]) / (2 * h)
+        assert np.abs(fd - dpos[i]).max() < 1e-6 * max(1.0, np.abs(fd).max())

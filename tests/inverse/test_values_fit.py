@@ -142,3 +142,22 @@ def test_box_gauss_newton_matches_scipy_least_squares_on_an_unreachable_target()
     sol = least_squares(fun, x0, jac=jac, bounds=(lo, -lo), method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15)
     assert abs(fit.cost - sol.cost) < 1e-9 * sol.cost
     assert np.allclose(fit.values[0], sol.x[:2], atol=1e-6)
+
+
+@pytest.mark.parametrize("axis,deg", [((0.0, 0.0, 1.0), 150.0), ((1.0, 1.0, 0.3), 150.0), ((1.0, 0.0, 0.0), 180.0)])
+def test_planted_surface_target_turned_far_is_aligned_globally(tmp_path, axis, deg):
+    """The target surface turned by 150 deg (or flipped over) and moved: the alignment is global (PCA
+    starts with sign flips, then ICP), so the planted values are recovered below 1e-6 mm."""
+    s = scene_with(GRID_FOLD, [("V1,0", 0.8), ("V2,6", 0.6)])
+    res = planted_result(s)
+    pos = np.array([n["position_mm"] for n in res["nodes"]])
+    ax = np.array(axis) / np.linalg.norm(axis)
+    Rm = axis_angle_matrices(ax, np.array([np.radians(deg)]))[0]
+    tri = grid_surface(s, pos) @ Rm.T + [40.0, -25.0, 12.0]
+    path = tmp_path / "target.stl"
+    write_stl(path, tri)
+    pb = Problem(s, load_target(s, str(path)))
+    fit = pb.fit(["V1,0", "V2,6"], starts=[0.5])
+    err = combined_errors([f.parts for f in fit.frames])
+    assert err["max_mm"] < 1e-6
+    assert np.allclose(fit.values[0], [0.8, 0.6], atol=1e-5)

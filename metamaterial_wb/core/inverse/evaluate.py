@@ -69,8 +69,17 @@ def frame_scene(scene, problem, fi, values_row):
 
 
 def align_only(fr_res, pos, R, fold_deg=None):
-    """Refit only the frame's alignment for given poses: ``(r, parts, transform)``."""
-    R0, xi0 = fr_res.initial_alignment(pos)
+    """Refit only the frame's alignment for given poses: ``(r, parts, transform)`` (the best of the
+    frame's alignment starts)."""
+    best = None
+    for R0, xi0 in fr_res.initial_alignments(pos):
+        out = _align_from(fr_res, pos, R, fold_deg, R0, xi0)
+        if best is None or float(out[0] @ out[0]) < float(best[0] @ best[0]) - 1e-15:
+            best = out
+    return best
+
+
+def _align_from(fr_res, pos, R, fold_deg, R0, xi0):
     if fr_res.n_xi == 0:
         r, _, _, parts = fr_res.evaluate(pos, R, xi0, R0, fold_deg=fold_deg, want_jac=False)
         return r, parts, fr_res.transform(xi0, R0)

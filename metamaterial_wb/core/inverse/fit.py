@@ -66,6 +66,9 @@ class Problem:
         self.kin = _k.Kinematics(scene, joint_tilts_rad(scene))
         self.tangent = PoseTangent(self.kin)
         self.frames = [FrameResidual(scene, fr) for fr in target.frames]
+        flat = self.kin.poses(np.zeros(topo.n_nodes))[0]
+        for fr in self.frames:                       # global starts of surface alignments (flat sheet)
+            fr.prepare_global(flat)
         self.constraints = [(c.name, self._joint_nodes(c.joint), c.value) for c in scene.constraints]
         self.fixed_nodes = set()
         for _, nodes, _ in self.constraints:
@@ -146,7 +149,8 @@ class Problem:
         zero = np.zeros(n)
         fr = self.frames[fi]
         pos0 = self.kin.poses(zero)[0]
-        R0, xi0 = fr.initial_alignment(pos0)
+        aligns = fr.initial_alignments(pos0)
+        R0, xi0 = aligns[0]
         nx = fr.n_xi
         pairs = self.topo.joint_pairs
         m = len(pairs)
@@ -159,22 +163,28 @@ class Problem:
         r0 = fr.evaluate(pos0, self.kin.poses(zero)[1], xi0, R0, want_jac=False)[0]
         lam = np.sqrt(reg * max(float(r0 @ r0), 1e-12) / max(1.0, float(np.abs(assemble_hessian(
             n, pairs, self.k1, self.k2)).sum())))
-        def both(x, jac=True):
-            if not jac:
-                r = self.frame_residual(fi, x[:n], x[n:], R0, zero, eye, want_jac=False)[0]
-                return np.concatenate([r, lam * (L @ x[:n])]), None
-            r, Jv, Jx, _ = self.frame_residual(fi, x[:n], x[n:], R0, zero, eye)
-            return (np.concatenate([r, lam * (L @ x[:n])]),
-                    np.vstack([np.hstack([Jv, Jx]), np.hstack([lam * L, np.zeros((3 * m, nx))])]))
+
+        def make(R0):
+            def both(x, jac=True):
+                if not jac:
+                    r = self.frame_residual(fi, x[:n], x[n:], R0, zero, eye, want_jac=False)[0]
+                    return np.concatenate([r, lam * (L @ x[:n])]), None
+                r, Jv, Jx, _ = self.frame_residual(fi, x[:n], x[n:], R0, zero, eye)
+                return (np.concatenate([r, lam * (L @ x[:n])]),
+                        np.vstack([np.hstack([Jv, Jx]), np.hstack([lam * L, np.zeros((3 * m, nx))])]))
+            return both
 
         lo = np.concatenate([-np.ones(n), -np.inf * np.ones(nx)])
         best = None
-        for start in ((0.0, 0.5, -0.5) if n <= 400 else (0.0,)):   # the kink at D = 0: try both sides
-            x, _ = box_gauss_newton(both, np.concatenate([np.full(n, start), xi0]), lo, -lo, max_nfev=max_nfev,
-                                    tol=1e-12)
-            c = float(np.sum(both(x, False)[0] ** 2))
-            if best is None or c < best[0]:
-                best = (c, x)
+        for R0, xi0 in aligns:                     # the local and (surfaces) the global alignment start
+            both = make(R0)
+            for start in ((0.0, 0.5, -0.5) if n <= 400 else (0.0,)):   # the kink at D = 0: try both sides
+                x, _ = box_gauss_newton(both, np.concatenate([np.full(n, start), xi0]), lo, -lo, max_nfev=max_nfev,
+                                        tol=1e-12)
+                c = float(np.sum(both(x, False)[0] ** 2))
+                if best is None or c < best[0]:
+                    best = (c, x, R0)
+        R0 = best[2]
         x = best[1]
         r, Jv, Jx, _ = self.frame_residual(fi, x[:n], x[n:], R0, zero, eye)
         if nx:
@@ -224,9 +234,17 @@ class Problem:
         ns = G.shape[1]
         v0 = np.zeros(ns) if v0 is None else np.clip(np.asarray(v0, dtype=float), -1, 1)
         pos0, _R, _ = self.kin.poses(np.clip(D0 + G @ v0, -1, 1))
-        R0, xi0 = fr.initial_alignment(pos0)
+        best = None
+        for R0, xi0 in fr.initial_alignments(pos0):       # the local and (surfaces) the global start
+            ff = self._fit_frame_from(fi, D0, G, v0, R0, xi0, max_nfev, tol)
+            if best is None or ff.cost < best.cost - 1e-15:
+                best = ff
+        return best
+
+    def _fit_frame_from(self, fi, D0, G, v0, R0, xi0, max_nfev, tol):
+        fr = self.frames[fi]
+        ns = G.shape[1]
         nx = fr.n_xi
-        cache = {}
 
         def both(x, jac=True):
             if not jac:

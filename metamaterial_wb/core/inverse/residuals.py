@@ -12,6 +12,7 @@ sheet, ``q = exp(sigma) exp([w]x) R0 p + t`` (``R0`` the initial Kabsch rotation
   ``atan2((n_a x n_b) . F_a f, n_a . n_b)`` (equal to ``kinematics.joint_angles`` when the two
   plates' fold frames turn about one fold vector, the case of every scene without crossing folds).
 """
+import itertools
 import math
 
 import numpy as np
@@ -31,10 +32,73 @@ class FrameResidual:
         self.n_xi = {"none": 0, "rigid": 6, "similarity": 7}[self.align]
 
     # -- alignment -------------------------------------------------------------------------
+    def prepare_global(self, pos, keep=8, iterations=10):
+        """Global starts of a surface-only frame's alignment (a target surface may be turned any way):
+        the 24 proper rotations that map the sheet's principal axes onto the surface's (every signed
+        permutation), plus the identity, each followed by ``iterations`` ICP steps on the poses ``pos``
+        (the flat sheet, at construction: the same for every worker); the ``keep`` best distinct ones are
+        kept as extra starts of :meth:`initial_alignment`."""
+        self.global_starts = []
+        fr = self.frame
+        if self.n_xi == 0 or fr.surface is None or fr.nodes is not None:
+            return self.global_starts       # node targets: Kabsch is already the global optimum
+        sim = self.align == "similarity"
+        ps = pos[fr.surface.idx]
+        surf = fr.surface.surface
+        tri = surf.tri
+        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        Y, w = surf.centroids, area / area.sum()
+        cy = w @ Y
+        cx = ps.mean(axis=0)
+        _, Ex = np.linalg.eigh(np.cov((ps - cx).T, bias=True) + 1e-12 * np.eye(3))
+        _, Ey = np.linalg.eigh(((Y - cy) * w[:, None]).T @ (Y - cy) + 1e-12 * np.eye(3))
+        starts = [(1.0, np.eye(3), cy - cx)]
+        for perm in itertools.permutations(range(3)):
+            for signs in itertools.product((1.0, -1.0), repeat=3):
+                S = np.zeros((3, 3))
+                S[list(range(3)), list(perm)] = signs
+                R = Ey @ S @ Ex.T
+                if np.linalg.det(R) > 0:
+                    starts.append((1.0, R, cy - R @ cx))
+        runs = [self._icp(ps, [], [], [], s0, R0, t0, sim, iterations, surf) for s0, R0, t0 in starts]
+        order = sorted(range(len(runs)), key=lambda k: (runs[k][3], k))
+        for k in order:
+            s0, R0, t0, c = runs[k]
+            if all(np.abs(R0 - R1).max() > 1e-3 or np.abs(t0 - t1).max() > 1e-3 for _s, R1, t1 in self.global_starts):
+                self.global_starts.append((s0, R0, t0))
+            if len(self.global_starts) >= keep:
+                break
+        return self.global_starts
+
+    @staticmethod
+    def _icp(ps, P, Q, W, s, R, t, sim, iterations, surface=None):
+        """ICP steps (closest points, then Kabsch on nodes + closest points): ``(s, R, t, mean sq. dist)``."""
+        surf = surface
+        cost = np.inf
+        for _ in range(max(1, iterations)):
+            q = s * ps @ R.T + t
+            cp, _N = surf.closest(q)
+            cost = float(np.mean(np.sum((q - cp) ** 2, axis=1)))
+            s2, R2, t2 = kabsch(np.vstack(P + [ps]), np.vstack(Q + [cp]), np.concatenate(W + [np.ones(len(ps))]), sim)
+            done = abs(s2 - s) + np.abs(R2 - R).max() + np.abs(t2 - t).max() < 1e-12
+            s, R, t = s2, R2, t2
+            if done:
+                break
+        q = s * ps @ R.T + t
+        cost = float(np.mean(np.sum((q - surf.closest(q)[0]) ** 2, axis=1)))
+        return s, R, t, cost
+
     def initial_alignment(self, pos, iterations=30):
-        """``(R0, xi0)`` from Kabsch on the target nodes, then ICP steps for a surface."""
+        """``(R0, xi0)``: the best (smallest ICP cost) of :meth:`initial_alignments`."""
+        return self.initial_alignments(pos, iterations)[0]
+
+    def initial_alignments(self, pos, iterations=30):
+        """Starts ``[(R0, xi0), ...]`` of the alignment, best first: Kabsch on the target nodes, then ICP
+        steps for a surface, from there (the local start) and, for a surface-only frame, from the best
+        of the global starts (:meth:`prepare_global`) when that ends elsewhere. Both are returned because
+        the ICP cost at the start pose does not tell which basin the joint fit ends in."""
         if self.n_xi == 0:
-            return np.eye(3), np.zeros(0)
+            return [(np.eye(3), np.zeros(0))]
         fr = self.frame
         P, Q, W = [], [], []
         if fr.nodes is not None:
@@ -44,22 +108,27 @@ class FrameResidual:
         sim = self.align == "similarity"
         s, R, t = (kabsch(np.vstack(P), np.vstack(Q), np.concatenate(W), sim) if P else
                    (1.0, np.eye(3), np.zeros(3)))
+        found = [(s, R, t, 0.0)]
         if fr.surface is not None:
             ps = pos[fr.surface.idx]
-            for _ in range(iterations):
-                q = s * ps @ R.T + t
-                cp, _N = fr.surface.surface.closest(q)
-                s2, R2, t2 = kabsch(np.vstack(P + [ps]), np.vstack(Q + [cp]),
-                                    np.concatenate(W + [np.ones(len(ps))]), sim)
-                done = abs(s2 - s) + np.abs(R2 - R).max() + np.abs(t2 - t).max() < 1e-12
-                s, R, t = s2, R2, t2
-                if done:
-                    break
-        xi = np.zeros(self.n_xi)
-        xi[3:6] = t
-        if sim:
-            xi[6] = math.log(s)
-        return R, xi
+            surf = fr.surface.surface
+            found = [self._icp(ps, P, Q, W, s, R, t, sim, iterations, surf)]
+            glob = list(getattr(self, "global_starts", []))
+            if glob:
+                runs = sorted((self._icp(ps, P, Q, W, *st, sim, 10, surf) for st in glob), key=lambda r: r[3])
+                for st in runs[:2]:                  # the two best global starts (symmetric sheets tie)
+                    g = self._icp(ps, P, Q, W, *st[:3], sim, iterations, surf)
+                    if all(np.abs(g[1] - f[1]).max() > 1e-6 or np.abs(g[2] - f[2]).max() > 1e-6 for f in found):
+                        found.append(g)
+                found.sort(key=lambda r: r[3])
+        out = []
+        for s, R, t, _c in found:
+            xi = np.zeros(self.n_xi)
+            xi[3:6] = t
+            if sim:
+                xi[6] = math.log(s)
+            out.append((R, xi))
+        return out
 
     def transform(self, xi, R0):
         """``(s, R, t)`` of the alignment parameters ``xi`` about ``R0``."""

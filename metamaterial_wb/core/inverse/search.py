@@ -405,6 +405,10 @@ class PlacementSearch:
         placed, values = tuple(placed[i] for i in order), values[:, order]
         fit = self.pb.fit(placed, v0=values, starts=(0.0, 0.5, -0.5))
         self.fits += 1
+        if self.lower_bound is not None and fit.cost < self.lower_bound * (1.0 - 1e-6) - 1e-20:
+            self.progress(f"the free field did not converge (cost {self.lower_bound:.6g} above the answer's "
+                          f"{fit.cost:.6g}): it is no bound")
+            self.lower_bound = None
         return SearchResult(tuple(placed), fit, self.fits, self.screened, time.perf_counter() - t0, self.history,
                             {"linearised": self.lin_evaluated, "lower_bound": self.lower_bound,
                              "linearised_s": self.lin_seconds})

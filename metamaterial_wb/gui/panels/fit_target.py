@@ -1,28 +1,46 @@
 """"Fit to target" task panel: inverse design in the GUI (core/inverse, docs/inverse.md).
 
 Pick a target (a target / result JSON or a mesh file, or a mesh or shape object of the document), the
-servo budget and forbidden joints (type them or click hinges), run the search in a background thread
-with progress and Cancel, see the answer over the target (one sphere per node, coloured by its
-distance: green 0 to red at the largest error; the target in orange), and OK applies it to the
-structure as one undoable transaction (the structure's motors replaced by the fitted servos).
+servo budget and forbidden joints (type them or click hinges), the local worker processes or a Dask
+scheduler, and run the same search as ``inverse`` (core/inverse/pipeline.py: placement search through a
+process pool or Dask, the values fit, then the answer re-evaluated under the quadratic, linear and
+nonlinear models and put through build's checks) in a background thread with progress and Cancel. The
+errors of all three models and whether the answer is printable are shown; the answer is drawn over the
+target (one sphere per node, coloured by its quadratic-model distance: green 0 to red at the largest
+error; the target in orange), and OK applies it to the structure as one undoable transaction (the
+structure's motors replaced by the fitted servos).
 """
 import os
-import threading
-import time
 
 import FreeCAD
 import FreeCADGui
 from PySide import QtCore, QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
-from metamaterial_wb.gui.panels import base
+from metamaterial_wb.gui.panels import base, jobs
 from metamaterial_wb.objects import structure
 
 PREVIEW_LABEL = "FitTargetPreview"
 
 
-class Cancelled(Exception):
-    pass
+Cancelled = jobs.Cancelled
+
+
+def cancellable(inner, report, counter):
+    """A mapper that hands ``inner`` (None: serial) a few batches at a time and calls ``report`` between
+    them (which raises :class:`Cancelled` once Cancel was pressed): a cancel stops the search within one
+    slice of batches. Results equal ``inner``'s (the batches themselves are not changed)."""
+    def mapper(fn, problem, batches):
+        step = max(1, 2 * getattr(inner, "workers", 1)) if inner is not None else 1
+        out = []
+        for i in range(0, len(batches), step):
+            report(None)
+            part = batches[i:i + step]
+            out += inner(fn, problem, part) if inner is not None else [fn(problem, b) for b in part]
+            counter[0] += len(part)
+        report(None)
+        return out
+    return mapper
 
 
 def object_triangles(obj):
@@ -76,30 +94,33 @@ class FitTargetPanel(base.BasePanel):
         f.addRow("Forbidden joints", self.forbid)
         self.values_only = QtGui.QCheckBox("Keep the motors, fit their values only")
         f.addRow("", self.values_only)
+        self.workers = QtGui.QSpinBox()
+        self.workers.setRange(1, 64)
+        self.workers.setValue(min(2, os.cpu_count() or 1))
+        self.workers.setToolTip("local worker processes for the candidate evaluations (inverse --workers)")
+        f.addRow("Workers", self.workers)
+        self.scheduler = QtGui.QLineEdit("")
+        self.scheduler.setPlaceholderText("optional: tcp://HOST:PORT of a Dask scheduler")
+        f.addRow("Dask scheduler", self.scheduler)
+        self.geometry_checks = QtGui.QCheckBox("Run build's geometry checks on the answer (a child process)")
+        self.geometry_checks.setChecked(True)
+        f.addRow("", self.geometry_checks)
         self.layout.addLayout(f)
-        buttons = QtGui.QHBoxLayout()
         self.run_btn = QtGui.QPushButton("Run")
         self.run_btn.clicked.connect(self.run)
-        self.cancel_btn = QtGui.QPushButton("Cancel run")
-        self.cancel_btn.setEnabled(False)
-        self.cancel_btn.clicked.connect(self.cancel)
-        buttons.addWidget(self.run_btn)
-        buttons.addWidget(self.cancel_btn)
-        self.layout.addLayout(buttons)
-        self.progress = QtGui.QProgressBar()
-        self.progress.setRange(0, 0)
-        self.progress.setVisible(False)
-        self.layout.addWidget(self.progress)
+        self.layout.addWidget(self.run_btn)
+        self.box = jobs.JobBox()
+        self.cancel_btn = self.box.cancel_btn
+        self.progress = self.box.progress
+        self.layout.addWidget(self.box)
         self.status = QtGui.QLabel("")
         self.status.setWordWrap(True)
+        self.status.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
         self.layout.addWidget(self.status)
         self.finish_layout()
-        self.job = None
+        self.job = jobs.ThreadJob(self.box, self._done, self._failed, self._cancelled)
         self.result = None
         self.preview = None
-        self.timer = QtCore.QTimer()
-        self.timer.setInterval(100)
-        self.timer.timeout.connect(self._poll)
         self.watch_selection(scene_obj, on_joint=self._add_forbidden)
 
     # -- inputs -------------------------------------------------------------------------------
@@ -128,112 +149,95 @@ class FitTargetPanel(base.BasePanel):
 
     # -- the background run -------------------------------------------------------------------
     def run(self):
-        from metamaterial_wb.core.inverse.fit import Problem
-        if self.job is not None:
+        if self.job.running:
             self.show_error("a fit is already running")
             return False
         self.show_error("")
         try:
             target = self._target()
-            pb = Problem(self.scene, target, keep_actuators=self.values_only.isChecked())
+            from metamaterial_wb.core.inverse.fit import Problem
+            Problem(self.scene, target, keep_actuators=self.values_only.isChecked())   # bad targets: now
         except MetamaterialError as exc:
             self.show_error(str(exc))
             return False
-        job = {"msg": "starting", "result": None, "error": None, "done": False, "cancel": False}
-        forbid = [j.strip() for j in self.forbid.text().split(",") if j.strip()]
-        n = int(self.servos.value())
-        values_only = self.values_only.isChecked()
-
-        def mapper(fn, problem, batches):
-            out = []
-            for b in batches:
-                if job["cancel"]:
-                    raise Cancelled()
-                out.append(fn(problem, b))
-            return out
-
-        def work():
-            try:
-                job["result"] = self._compute(pb, n, forbid, values_only, mapper,
-                                              lambda m: job.__setitem__("msg", m))
-            except Cancelled:
-                job["error"] = "cancelled"
-            except Exception as exc:  # noqa: BLE001 - reported in the panel
-                job["error"] = str(exc)
-            job["done"] = True
-
-        self.job = job
+        opts = {"servos": None if self.values_only.isChecked() else int(self.servos.value()),
+                "values_only": self.values_only.isChecked(),
+                "forbidden": [] if self.values_only.isChecked() else
+                [j.strip() for j in self.forbid.text().split(",") if j.strip()]}
+        workers, sched = int(self.workers.value()), self.scheduler.text().strip() or None
+        geometry = "subprocess" if self.geometry_checks.isChecked() else "off"
+        scene = self.scene
+        self.result = None
+        self.status.setText("")
+        self.remove_preview()
         self.run_btn.setEnabled(False)
-        self.cancel_btn.setEnabled(True)
-        self.progress.setVisible(True)
-        job["thread"] = threading.Thread(target=work, daemon=True)
-        job["thread"].start()
-        self.timer.start()
-        return True
+        return self.job.start(lambda report: self._compute(scene, target, opts, workers, sched, geometry, report),
+                              "starting the fit")
 
     @staticmethod
-    def _compute(pb, n, forbid, values_only, mapper, progress):
-        from metamaterial_wb.core.inverse import evaluate as ev
-        from metamaterial_wb.core.inverse.search import search_placement
-        t0 = time.perf_counter()
-        if values_only:
-            if not pb.scene.actuators:
-                raise MetamaterialError("the structure has no motors to fit")
-            joints = tuple(a.joint for a in pb.scene.actuators)
-            names = [a.name for a in pb.scene.actuators]
-            progress("fitting the values")
-            fit = pb.fit(joints, starts=(0.5, -0.5))
-        else:
-            res = search_placement(pb, n, forbidden=forbid, mapper=mapper, workers=8, progress=progress)
-            joints, fit, names = res.joints, res.fit, None
-        scene = ev.answer_scene(pb, joints, fit.values, names)
-        progress("evaluating")
-        errors = ev.evaluate_model(pb, scene, fit.values, "quadratic")
-        return {"scene": scene, "joints": joints, "values": fit.values, "errors": errors, "problem": pb,
-                "seconds": time.perf_counter() - t0}
+    def _compute(scene, target, opts, workers, sched, geometry, report):
+        """The work of the background thread: the CLI's pipeline with a cancellable mapper."""
+        from metamaterial_wb.core.inverse import pipeline
+        from metamaterial_wb.export.printability import check_printable
+        from metamaterial_wb.parallel import make_mapper
+        counter = [0]
+        stage = {"f": 0.0}
+
+        def progress(msg):
+            if msg.startswith("evaluating under the"):
+                stage["f"] = max(stage["f"], 0.7 + 0.08 * ["quadratic", "linear", "nonlinear"].index(msg.split()[3]))
+            elif msg.startswith("fabrication"):
+                stage["f"] = max(stage["f"], 0.95)
+            report(stage["f"], msg)
+
+        def ticking(_):
+            if stage["f"] < 0.7:
+                stage["f"] = max(stage["f"], 0.7 * (1.0 - 1.0 / (1.0 + counter[0] / 40.0)))
+            report(stage["f"])
+
+        inner, n = (None, 1) if opts["values_only"] else make_mapper(workers, sched)
+        py, paths = jobs.child_python(), []
+        try:
+            paths = [os.path.join(FreeCAD.getHomePath(), "lib")]
+        except Exception:  # pragma: no cover
+            pass
+        try:
+            # serial runs are still cut into 4 slices per round, so that Cancel acts within a round
+            return pipeline.solve(scene, target, mapper=cancellable(inner, ticking, counter),
+                                  workers=n if inner is not None else 4,
+                                  progress=progress,
+                                  fab_check=lambda s: check_printable(s, geometry=geometry, python=py,
+                                                                      pythonpath=paths), **opts)
+        finally:
+            if inner is not None:
+                inner.close()
 
     def cancel(self):
-        if self.job is not None:
-            self.job["cancel"] = True
+        self.job.cancel()
 
-    def _poll(self):
-        job = self.job
-        if job is None:
-            self.timer.stop()
-            return
-        self.status.setText(job["msg"])
-        if not job["done"]:
-            return
-        self.timer.stop()
-        self.job = None
+    def _failed(self, msg):
         self.run_btn.setEnabled(True)
-        self.cancel_btn.setEnabled(False)
-        self.progress.setVisible(False)
-        if job["error"]:
-            self.status.setText("")
-            self.show_error(f"fit {job['error']}")
-            return
-        self.result = job["result"]
-        e = self.result["errors"]
-        parts = [f"{a.name} on {a.joint}: {', '.join(f'{v:+.3f}' for v in self.result['values'][:, k])}"
-                 for k, a in enumerate(self.result["scene"].actuators)]
-        err = []
-        if e.get("rms_mm") is not None:
-            err.append(f"rms {e['rms_mm']:.3g} mm, max {e['max_mm']:.3g} mm")
-        if e.get("rms_deg") is not None:
-            err.append(f"folds rms {e['rms_deg']:.3g} deg")
-        self.status.setText("; ".join(parts) + "\n" + "; ".join(err) +
-                            f" (quadratic model, {self.result['seconds']:.1f} s). OK applies it.")
+        self.status.setText("")
+        self.show_error(f"fit: {msg}")
+
+    def _cancelled(self):
+        self.run_btn.setEnabled(True)
+        self.status.setText("")
+        self.show_error("fit cancelled: nothing changed")
+
+    def _done(self, run):
+        self.run_btn.setEnabled(True)
+        self.result = run
+        from metamaterial_wb.core.inverse.pipeline import summary_lines
+        parts = [f"{a.name} on {a.joint}: {', '.join(f'{v:+.3f}' for v in run.values[:, k])}"
+                 for k, a in enumerate(run.scene.actuators)]
+        self.status.setText("; ".join(parts) + "\n" + "\n".join(summary_lines(run)) +
+                            f"\n({run.seconds:.1f} s, {run.info.get('fits', 0)} fits). OK applies it.")
         self.show_preview()
 
     def wait(self, timeout_s=120.0):
         """Block (processing events) until the background fit is done (tests, scripts)."""
-        end = time.perf_counter() + timeout_s
-        while self.job is not None and time.perf_counter() < end:
-            QtGui.QApplication.processEvents()
-            time.sleep(0.02)
-        QtGui.QApplication.processEvents()
-        return self.job is None
+        return self.job.wait(timeout_s)
 
     # -- preview: the answer over the target, coloured by distance ----------------------------
     def show_preview(self):
@@ -241,21 +245,21 @@ class FitTargetPanel(base.BasePanel):
         import Part
         self.remove_preview()
         r = self.result
-        e = r["errors"]["per_frame"][0]
+        e = r.errors["quadratic"]["per_frame"][0]
         al = e["alignment"]
         pos = al["scale"] * e["positions_mm"] @ np.array(al["rotation"]).T + np.array(al["translation_mm"])
         dist = np.zeros(len(pos))
-        for row in r["errors"]["per_node"]:
+        for row in r.errors["quadratic"]["per_node"]:
             if row["frame"] == 0 and "error_mm" in row:
                 i, j = (int(x) for x in row["node"][1:].split(","))
-                dist[r["problem"].topo.node_id(i, j)] = row["error_mm"]
+                dist[r.problem.topo.node_id(i, j)] = row["error_mm"]
         rad = 0.12 * self.scene.cell_size_mm
         spheres = [Part.makeSphere(rad, FreeCAD.Vector(*p)) for p in pos]
         self.preview = self.doc.addObject("Part::Feature", PREVIEW_LABEL)
         self.preview.Shape = Part.Compound(spheres)
         vmax = max(float(dist.max()), 1e-9)
         self.preview_colours = [(min(1.0, 2 * d / vmax), min(1.0, 2 * (1 - d / vmax)), 0.0) for d in dist]
-        fr = r["problem"].target.frames[0]
+        fr = r.problem.target.frames[0]
         tgt = []
         if fr.nodes is not None:
             tgt = [Part.makeSphere(0.5 * rad, FreeCAD.Vector(*p)) for p in fr.nodes.pos]
@@ -289,12 +293,12 @@ class FitTargetPanel(base.BasePanel):
 
     # -- apply / close ------------------------------------------------------------------------
     def apply(self):
-        if self.job is not None:
+        if self.job.running:
             raise MetamaterialError("the fit is still running: wait or cancel it")
         if self.result is None:
             raise MetamaterialError("run the fit first")
         self.remove_preview()
-        scene = self.result["scene"]
+        scene = self.result.scene
         from metamaterial_wb.core.scene import Scene
         Scene.from_dict(scene.to_dict())
         with base.transaction(self.doc, self.TITLE):
@@ -308,10 +312,6 @@ class FitTargetPanel(base.BasePanel):
             self.doc.recompute()
 
     def cleanup(self):
-        self.cancel()
-        if self.job is not None and "thread" in self.job:
-            self.job["thread"].join(timeout=30)
-        self.job = None
-        self.timer.stop()
+        self.job.cancel()
         self.remove_preview()
         super().cleanup()

@@ -1,0 +1,154 @@
+"""One inverse-design run, as the CLI (``commands/inverse.py``) and the "Fit to target" panel both call it.
+
+:func:`solve` takes a scene, a parsed target and the options, runs the values fit or the placement
+search (candidates through the given *mapper*: serial, a process pool or a Dask cluster, see
+``metamaterial_wb.parallel``), optionally the hinge sizes per region, the lattice polish, the
+evaluation under every model and the fabrication checks (a callable given by the caller: core does not
+build geometry), and returns an :class:`InverseRun`. :func:`report_dict` is ``report.json`` of it.
+
+``progress(msg)`` is called at every stage; it may raise (the panel's Cancel does) to stop the run.
+"""
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.inverse import evaluate as ev
+
+
+@dataclass
+class InverseRun:
+    problem: object
+    scene: object                  # the answer (a normal scene)
+    joints: tuple
+    names: list
+    values: np.ndarray             # (keyframes, servos)
+    fit: object                    # FitResult (quadratic model)
+    errors: dict                   # model -> evaluate_model() output
+    hinges: list = None            # hinge report rows (None without hinge unknowns)
+    fabrication: dict = None       # fab_check() output (None when not run)
+    info: dict = field(default_factory=dict)
+    lower_bound: float = None
+    seconds: float = 0.0
+
+
+def _quiet(msg):
+    pass
+
+
+def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_regions=None, model="quadratic",
+          evaluate=ev.MODELS, screen=12, mapper=None, workers=1, progress=None, fab_check=None):
+    """The whole run (see the module doc). ``hinge_regions``: ``(rows, cols)`` or None."""
+    from metamaterial_wb.core.inverse.fit import Problem
+    from metamaterial_wb.core.inverse.search import search_placement
+
+    progress = progress or _quiet
+    t0 = time.perf_counter()
+    for m in evaluate:
+        if m not in ev.MODELS:
+            raise SceneError("--evaluate", f"{m!r}; allowed: {', '.join(ev.MODELS)}")
+    if model not in ev.MODELS:
+        raise SceneError("--model", f"{model!r}; allowed: {', '.join(ev.MODELS)}")
+    if screen < 0:
+        raise SceneError("--screen", f"{screen} is outside the allowed range [0, 1000] (0: fit every candidate)")
+    forbidden = list(forbidden or ())
+    if values_only and forbidden:
+        raise SceneError("--forbid", "has no effect with --values-only (the placement is the scene's)")
+    pb = Problem(scene, target, keep_actuators=values_only)
+    info = {"fits": 0, "screened": 0, "linearised": 0}
+    lower = None
+    if values_only:
+        if servos is not None and servos != len(scene.actuators):
+            raise SceneError("--servos", f"{servos} with --values-only: the scene has {len(scene.actuators)} "
+                                         f"actuators (leave --servos out)")
+        if not scene.actuators:
+            raise SceneError("actuators", "--values-only needs a scene with actuators")
+        joints = tuple(a.joint for a in scene.actuators)
+        names = [a.name for a in scene.actuators]
+        progress("fitting the values")
+        fit = pb.fit(joints, starts=(0.5, -0.5))
+        info["fits"] = 1
+    else:
+        if servos is None:
+            raise SceneError("--servos", "give the servo budget N (or --values-only)")
+        res = search_placement(pb, servos, forbidden=forbidden, mapper=mapper, workers=workers,
+                               progress=progress, screen=screen)
+        joints, fit, names = res.joints, res.fit, None
+        info.update(fits=res.fits, screened=res.screened, linearised=res.info.get("linearised", 0))
+        lower = res.info.get("lower_bound")
+    values = fit.values
+    hinge_report, overrides = None, None
+    if hinge_regions is not None:
+        from metamaterial_wb.core.inverse.hinges import HingeRegions
+        hr = HingeRegions(pb, *hinge_regions)
+        progress(f"fitting {hr.n_unknowns} hinge size(s) of {len(hr.regions)} region(s) with the values")
+        hfit, sizes = hr.fit(joints, v0=values)
+        if hfit.cost < fit.cost:
+            fit, values = hfit, hfit.values
+            overrides = hr.overrides(sizes)
+        else:
+            sizes = hr.start_sizes()
+        hinge_report = hr.report(sizes)
+        info["fits"] += 1
+    out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
+    if model != "quadratic":
+        values = ev.polish_values(pb, out_scene, values, model, progress=progress)
+        out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
+    errors = ev.evaluate_all(pb, out_scene, values, list(evaluate), progress=progress)
+    fab = None
+    if fab_check is not None:
+        progress("fabrication checks (the ones build runs)")
+        fab = fab_check(out_scene)
+    names = [a.name for a in out_scene.actuators]
+    return InverseRun(pb, out_scene, tuple(joints), names, np.atleast_2d(values), fit, errors, hinge_report, fab,
+                      info, lower, time.perf_counter() - t0)
+
+
+def json_errors(e):
+    if "per_frame" not in e:
+        return dict(e)
+    out = {k: v for k, v in e.items() if k not in ("per_frame",)}
+    out["per_frame"] = [{k: v for k, v in f.items() if k != "positions_mm"} for f in e["per_frame"]]
+    return out
+
+
+def report_dict(run, **extra):
+    """``report.json`` of a run (docs/inverse.md); ``extra`` fields (paths, workers, ...) are added."""
+    rep = {
+        "format": "metamaterial-inverse-report", "version": 1,
+        "servos": len(run.joints),
+        "placement": [{"name": a.name, "joint": a.joint, "values": [float(v) for v in run.values[:, k]]}
+                      for k, a in enumerate(run.scene.actuators)],
+        "keyframes": [{"time_s": f.time_s} for f in run.problem.target.frames],
+        "hinges": run.hinges,
+        "errors": {m: json_errors(e) for m, e in run.errors.items()},
+        "fit_cost_mm2": float(run.fit.cost), "free_field_bound_mm2": run.lower_bound,
+        "candidates_evaluated": run.info,
+        "fabrication": run.fabrication,
+        "printable": None if run.fabrication is None else run.fabrication.get("printable"),
+        "run_time_s": run.seconds,
+    }
+    rep.update(extra)
+    return rep
+
+
+def summary_lines(run):
+    """Human lines: the errors under every model, the placement, printability."""
+    lines = []
+    for m, e in run.errors.items():
+        if e.get("rms_mm") is not None:
+            lines.append(f"{m}: rms {e['rms_mm']:.4g} mm, max {e['max_mm']:.4g} mm")
+        if e.get("rms_deg") is not None:
+            lines.append(f"{m}: folds rms {e['rms_deg']:.4g} deg, max {e['max_deg']:.4g} deg")
+        if "error" in e:
+            lines.append(f"{m}: {e['error']}")
+    if run.fabrication is not None:
+        f = run.fabrication
+        if f.get("printable"):
+            lines.append(f"printable: yes ({', '.join(f.get('checks_run', []))})")
+        elif f.get("printable") is False:
+            lines.append("printable: NO: " + "; ".join(f.get("problems", [])[:3]))
+        else:
+            lines.append("printable: not fully checked: " + "; ".join(f.get("notes", [])[:2]))
+    return lines
