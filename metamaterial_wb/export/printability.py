@@ -2,7 +2,7 @@
 
 :func:`check_printable` runs, in build's order:
 
-1. the parameter checks (``geometry.params.fabrication_params``: printable hinge tilt inside its node plate,
+1. the parameter checks (``core.fabrication.fabrication_params``: printable hinge tilt inside its node plate,
    walls of at least two nozzle widths, hinge lengths / thickness / sockets that fit) and the modules'
    (``geometry.modules.parse_modules``); no FreeCAD needed;
 2. the geometry checks of every build (``geometry.validity.check_build`` with ``DEFAULT_CHECKS``: unique
@@ -29,9 +29,10 @@ def _result(printable, problems, ran, notes):
 def parameter_checks(scene):
     """``(problems, ran, params)`` of the checks before any geometry."""
     from metamaterial_wb.core.errors import MetamaterialError
-    from metamaterial_wb.geometry.params import fabrication_params
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
     try:
-        params = fabrication_params(scene)
+        params = fabrication_params(scene, effective_tilts_deg(scene))
     except MetamaterialError as exc:
         return [str(exc)], ["parameters"], None
     ran = ["parameters"]
