@@ -34,7 +34,7 @@ def render_meshes_png(meshes, path, elev=35.0, azim=-60.0, size_in=(8.0, 5.0), t
         tri = V[T]
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
-        shade = 0.35 + 0.65 * np.clip(n @ light, 0, 1)
+        shade = 0.35 + 0.65 * np.abs(n @ light)          # two-sided: tessellations may wind either way
         base = np.array(hex_to_rgb(table.get(material, "#888888")))
         cols = np.clip(base[None, :] * shade[:, None], 0, 1)
         all_tri.append(tri)

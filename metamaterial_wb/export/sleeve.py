@@ -2,9 +2,6 @@
 ``geometry/sleeve.py`` builds (the B-rep stays in geometry; writing files is this floor's job)."""
 import os
 
-import numpy as np
-
-from metamaterial_wb.core.materials import hex_to_rgb
 from metamaterial_wb.export.mesh import tessellate
 from metamaterial_wb.geometry.sleeve import build_all, check_parts
 
@@ -34,43 +31,14 @@ def export_sleeve(spec, folder, step=True, threemf=True, render=False):
 
 
 def render_png(parts, path, elev=22.0, azim=-60.0, size_in=(5.0, 5.0), title=None, dpi=110):
-    """A flat-shaded picture of the built parts (tessellation + matplotlib, no GUI)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    """A flat-shaded picture of the built parts (tessellation + matplotlib, no GUI): the one mesh renderer
+    :func:`metamaterial_wb.export.render.render_meshes_png`, each part in its own colour."""
+    from metamaterial_wb.export.render import render_meshes_png
 
-    light = np.array([0.4, -0.6, 0.7])
-    light /= np.linalg.norm(light)
-    fig = plt.figure(figsize=size_in)
-    ax = fig.add_subplot(111, projection="3d")
-    tris, cols, pts = [], [], []
-    for name, s, colour, _ in parts:
-        V, T = tessellate(s, 0.1, name)
-        tri = V[T]
-        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
-        shade = 0.3 + 0.7 * np.abs(n @ light)
-        base = np.array(hex_to_rgb(colour))
-        tris.append(tri)
-        cols.append(np.clip(shade[:, None] * base[None, :], 0, 1))
-        pts.append(V)
-    tri = np.concatenate(tris)
-    col = np.concatenate(cols)
-    # painter's order along the view direction
-    e, a = np.radians(elev), np.radians(azim)
-    view = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
-    order = np.argsort(tri.mean(axis=1) @ view)
-    ax.add_collection3d(Poly3DCollection(tri[order], facecolors=col[order], edgecolors="none"))
-    P = np.concatenate(pts)
-    lo, hi = P.min(axis=0), P.max(axis=0)
-    c, r = (lo + hi) / 2, (hi - lo).max() / 2
-    ax.set_xlim(c[0] - r, c[0] + r); ax.set_ylim(c[1] - r, c[1] + r); ax.set_zlim(c[2] - r, c[2] + r)
-    ax.view_init(elev, azim)
-    ax.set_axis_off()
-    if title:
-        ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
-    return path
+    meshes, colours = [], {}
+    for name, shape, colour, _ in parts:
+        V, T = tessellate(shape, 0.1, name)
+        meshes.append((name, V, T, name, 1))
+        colours[name] = colour
+    return render_meshes_png(meshes, path, elev=elev, azim=azim, size_in=size_in, title=title, dpi=dpi, zoom=1.0,
+                             colours=colours)

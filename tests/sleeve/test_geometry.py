@@ -123,3 +123,28 @@ def test_3mf_reads_in_prusaslicer_as_manifold(tmp_path):
     vols = [float(line.split("=")[1]) for line in out.splitlines() if line.strip().startswith("volume =")]
     brep = build_sleeve(spec).Volume
     assert vols[0] == pytest.approx(brep, rel=0.01)
+
+
+def test_picture_shows_the_parts_in_their_colours(parts, tmp_path):
+    """The sleeve's picture goes through the one mesh renderer (export/render.py): a PNG of the figure's
+    size in which both part colours appear (TPU blue, PLA grey) and the background stays white."""
+    import numpy as np
+    from matplotlib import image
+
+    from metamaterial_wb.core.materials import MATERIALS, hex_to_rgb
+    from metamaterial_wb.export.sleeve import render_png
+    path = render_png(parts, str(tmp_path / "sleeve.png"), size_in=(3.0, 3.0), dpi=60)
+    img = image.imread(path)[..., :3]
+    assert img.shape[:2] == (180, 180)
+    assert np.allclose(img[0, 0], 1.0), "the corner is background"
+    flat = img.reshape(-1, 3)
+    flat = flat[flat.min(axis=1) < 0.97]          # the drawing, without the white background
+
+    def share_like(colour):
+        rgb = np.array(hex_to_rgb(colour))
+        # any shade of the colour: a pixel proportional to it (flat shading scales the base colour)
+        scale = (flat @ rgb) / (rgb @ rgb)
+        return float(np.mean(np.linalg.norm(flat - scale[:, None] * rgb, axis=1) < 0.03))
+    assert len(flat) > 0.1 * 180 * 180
+    assert share_like(MATERIALS["TPU"]) > 0.1
+    assert share_like(MATERIALS["PLA"]) > 0.1
