@@ -43,7 +43,7 @@ def _progress(quiet):
 
 
 def run(args):
-    from metamaterial_wb.core.fileio import check_output, make_temp_dir, write_json
+    from metamaterial_wb.core.fileio import check_output, commit_set, make_temp_dir, write_json
     from metamaterial_wb.core.sleeve.pipeline import analyse
     from metamaterial_wb.core.sleeve.spec import SleeveSpec
     from metamaterial_wb.core.threads import blas_threads
@@ -67,8 +67,7 @@ def run(args):
         summary["files"] = sorted(["summary.json"] + files)
         write_json(os.path.join(tmp, "summary.json"), summary)
         os.makedirs(out, exist_ok=True)
-        for f in os.listdir(tmp):
-            os.replace(os.path.join(tmp, f), os.path.join(out, f))
+        commit_set(tmp, out, sorted(os.listdir(tmp)))          # all together or none
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     seq = summary["sequence"]

@@ -281,9 +281,9 @@ class SleevePanel(BasePanel):
         self.export_btn.setEnabled(True)
         names = list(result.get("files", []))
         try:
+            from metamaterial_wb.core.fileio import commit_set
             os.makedirs(self.export_target, exist_ok=True)
-            for n in names:
-                os.replace(os.path.join(self.staging, "out", n), os.path.join(self.export_target, n))
+            commit_set(os.path.join(self.staging, "out"), self.export_target, names)   # all together or none
         except OSError as exc:
             self._export_failed(translate("Metamaterial", "cannot move the files into {0}: {1}").format(
                 self.export_target, exc))
