@@ -9,6 +9,16 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="238"/>
+        <source>({0:.1f} s, {1} fits). OK applies it.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="75"/>
+        <source>...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
@@ -92,6 +102,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="107"/>
+        <source>Dask scheduler</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="511"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
@@ -109,6 +124,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="42"/>
         <source>Folder</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="96"/>
+        <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -144,6 +164,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
         <source>Joint (or click a hinge)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="97"/>
+        <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -286,6 +311,16 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="112"/>
+        <source>Run</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="108"/>
+        <source>Run build's geometry checks on the answer (a child process)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
@@ -293,6 +328,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="34"/>
         <source>STEP (named bodies, assembly)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="93"/>
+        <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -331,6 +371,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="79"/>
+        <source>Target file</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="94"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
@@ -354,6 +399,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="33"/>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="48"/>
         <source>Width</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="104"/>
+        <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -384,6 +434,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
         <source>clip {0} ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="95"/>
+        <source>e.g. H0,0, V1,2 (or click hinges)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -441,6 +496,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="103"/>
+        <source>local worker processes for the candidate evaluations (inverse --workers)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="149"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, placements {3:.1f}; no recompute)</source>
         <translation type="unfinished"></translation>
@@ -456,8 +516,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="106"/>
+        <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="73"/>
         <source>or a scene file (.json): type its path</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="87"/>
+        <source>or target object</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -466,7 +536,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="317"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="344"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -543,6 +613,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="74"/>
+        <source>target JSON, solve result, .stl / .obj / .step</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="121"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
@@ -553,7 +628,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="315"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="342"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>

@@ -71,7 +71,7 @@ def open_fish():
 
 
 PANELS = ["MM_NewStructure", "MM_FoldedShape", "MM_Flexibility", "MM_PlaceMotor", "MM_PlaceConstraint",
-          "MM_Animate", "MM_Sleeve"]
+          "MM_Animate", "MM_Sleeve", "MM_FitTarget"]
 
 
 def spin_boxes(p):

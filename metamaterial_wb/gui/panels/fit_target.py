@@ -13,11 +13,11 @@ structure's motors replaced by the fitted servos).
 import os
 
 import FreeCAD
-import FreeCADGui
 from PySide import QtCore, QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
-from metamaterial_wb.gui.panels import base, jobs
+from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.panels import base, jobs, ranges
 from metamaterial_wb.objects import structure
 
 PREVIEW_LABEL = "FitTargetPreview"
@@ -71,12 +71,12 @@ class FitTargetPanel(base.BasePanel):
         f = QtGui.QFormLayout()
         row = QtGui.QHBoxLayout()
         self.path = QtGui.QLineEdit("")
-        self.path.setPlaceholderText("target JSON, solve result, .stl / .obj / .step")
-        browse = QtGui.QPushButton("...")
+        self.path.setPlaceholderText(translate("Metamaterial", "target JSON, solve result, .stl / .obj / .step"))
+        browse = QtGui.QPushButton(translate("Metamaterial", "..."))
         browse.clicked.connect(self.browse)
         row.addWidget(self.path)
         row.addWidget(browse)
-        f.addRow("Target file", row)
+        f.addRow(translate("Metamaterial", "Target file"), row)
         self.target_obj = QtGui.QComboBox()
         self.target_obj.addItem("(use the file)")
         own = {o.Name for o in [scene_obj] + list(getattr(scene_obj, "OutList", []))}
@@ -84,29 +84,32 @@ class FitTargetPanel(base.BasePanel):
             if o.Name not in own and (hasattr(o, "Mesh") or (hasattr(o, "Shape") and o.TypeId.startswith("Part::")
                                                                and "Metamaterial" not in o.Label)):
                 self.target_obj.addItem(o.Label, o.Name)
-        f.addRow("or target object", self.target_obj)
+        f.addRow(translate("Metamaterial", "or target object"), self.target_obj)
         self.servos = QtGui.QSpinBox()
-        self.servos.setRange(1, 16)
+        # the search's own bound: one servo per joint at most (it says in words when fewer fit)
+        self.servos.setRange(1, max(1, len(self.scene.topology.joint_names)))
+        ranges.ui_only(self.servos, "bounded by the sheet's joint count, as the search checks it")
         self.servos.setValue(max(1, len(self.scene.actuators)) if self.scene.actuators else 2)
-        f.addRow("Servo budget", self.servos)
+        f.addRow(translate("Metamaterial", "Servo budget"), self.servos)
         self.forbid = QtGui.QLineEdit("")
-        self.forbid.setPlaceholderText("e.g. H0,0, V1,2 (or click hinges)")
-        f.addRow("Forbidden joints", self.forbid)
-        self.values_only = QtGui.QCheckBox("Keep the motors, fit their values only")
+        self.forbid.setPlaceholderText(translate("Metamaterial", "e.g. H0,0, V1,2 (or click hinges)"))
+        f.addRow(translate("Metamaterial", "Forbidden joints"), self.forbid)
+        self.values_only = QtGui.QCheckBox(translate("Metamaterial", "Keep the motors, fit their values only"))
         f.addRow("", self.values_only)
         self.workers = QtGui.QSpinBox()
         self.workers.setRange(1, 64)
+        ranges.ui_only(self.workers, "a run setting (local worker processes), not a scene quantity")
         self.workers.setValue(min(2, os.cpu_count() or 1))
-        self.workers.setToolTip("local worker processes for the candidate evaluations (inverse --workers)")
-        f.addRow("Workers", self.workers)
+        self.workers.setToolTip(translate("Metamaterial", "local worker processes for the candidate evaluations (inverse --workers)"))
+        f.addRow(translate("Metamaterial", "Workers"), self.workers)
         self.scheduler = QtGui.QLineEdit("")
-        self.scheduler.setPlaceholderText("optional: tcp://HOST:PORT of a Dask scheduler")
-        f.addRow("Dask scheduler", self.scheduler)
-        self.geometry_checks = QtGui.QCheckBox("Run build's geometry checks on the answer (a child process)")
+        self.scheduler.setPlaceholderText(translate("Metamaterial", "optional: tcp://HOST:PORT of a Dask scheduler"))
+        f.addRow(translate("Metamaterial", "Dask scheduler"), self.scheduler)
+        self.geometry_checks = QtGui.QCheckBox(translate("Metamaterial", "Run build's geometry checks on the answer (a child process)"))
         self.geometry_checks.setChecked(True)
         f.addRow("", self.geometry_checks)
         self.layout.addLayout(f)
-        self.run_btn = QtGui.QPushButton("Run")
+        self.run_btn = QtGui.QPushButton(translate("Metamaterial", "Run"))
         self.run_btn.clicked.connect(self.run)
         self.layout.addWidget(self.run_btn)
         self.box = jobs.JobBox()
@@ -231,8 +234,9 @@ class FitTargetPanel(base.BasePanel):
         from metamaterial_wb.core.inverse.pipeline import summary_lines
         parts = [f"{a.name} on {a.joint}: {', '.join(f'{v:+.3f}' for v in run.values[:, k])}"
                  for k, a in enumerate(run.scene.actuators)]
-        self.status.setText("; ".join(parts) + "\n" + "\n".join(summary_lines(run)) +
-                            f"\n({run.seconds:.1f} s, {run.info.get('fits', 0)} fits). OK applies it.")
+        self.status.setText("; ".join(parts) + "\n" + "\n".join(summary_lines(run)) + "\n" +
+                            translate("Metamaterial", "({0:.1f} s, {1} fits). OK applies it.").format(
+                                run.seconds, run.info.get("fits", 0)))
         self.show_preview()
 
     def wait(self, timeout_s=120.0):
