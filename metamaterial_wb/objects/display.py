@@ -47,6 +47,37 @@ def apply_frame(obj, solver, frame, purge=True):
     place_markers(obj, solver, frame, purge)
 
 
+def hinge_scales(scene, joint_names):
+    """Per-element ``(sx, sy, sz)`` of the hinge link array: each joint's :meth:`Scene.hinge_sizes` over the
+    scene-wide sizes the one ``HingeShape`` is built with (``HingeShapeProxy.build``: x = length + 2 width,
+    y = width, z = thickness, in the element's local frame)."""
+    g = scene.hinge
+    base = (g["length_mm"] + 2 * g["width_mm"], g["width_mm"], g["thickness_mm"])
+    out = []
+    for name in joint_names:
+        h = scene.hinge_sizes(name)
+        out.append((float((h["length_mm"] + 2 * h["width_mm"]) / base[0]), float(h["width_mm"] / base[1]),
+                    float(h["thickness_mm"] / base[2])))
+    return out
+
+
+def apply_hinge_scales(obj, scene, purge=True):
+    """Write the hinge array's ``ScaleList`` from the per-joint hinge sizes (on recompute, not per live frame:
+    sizes do not change while dragging). Written only when it differs, so an unchanged scene costs nothing."""
+    hinges = obj.HingeArray
+    if hinges is None or not hasattr(hinges, "ScaleList"):
+        return
+    scales = hinge_scales(scene, scene.topology.joint_names)
+    if hinges.ElementCount != len(scales):
+        hinges.ElementCount = len(scales)
+    cur = [tuple(v) for v in hinges.ScaleList]
+    if len(cur) == len(scales) and all(abs(a - b) < 1e-12 for u, v in zip(cur, scales) for a, b in zip(u, v)):
+        return
+    hinges.ScaleList = [FreeCAD.Vector(*v) for v in scales]
+    if purge:
+        hinges.purgeTouched()
+
+
 def marker_placements(obj, solver, frame):
     """``{object name: Placement}`` of the markers and modules for a frame."""
     out = {}

@@ -8,7 +8,7 @@ Document tree made by :func:`make_structure` (all inside one ``App::Part``)::
       NodeShape    Part::FeaturePython one rigid node (built once, cached by its parameters)
       HingeShape   Part::FeaturePython one flexible hinge
       Nodes        App::Link array of NodeShape, one element per node (PlacementList)
-      Hinges       App::Link array of HingeShape, one element per joint
+      Hinges       App::Link array of HingeShape, one element per joint (ScaleList: per-joint hinge sizes)
       Motor_<name> / Constraint_<name>  Part::FeaturePython markers (red sphere / blue disc)
       Module_<n>   Part::FeaturePython snap-fit add-ons
 

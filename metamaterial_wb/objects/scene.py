@@ -11,7 +11,7 @@ from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.live import LiveSolver
 from metamaterial_wb.core.scene import DEFAULT_HINGE, Scene
 from metamaterial_wb.objects.common import OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
-from metamaterial_wb.objects.display import apply_frame
+from metamaterial_wb.objects.display import apply_frame, apply_hinge_scales
 from metamaterial_wb.objects.item import item_to_dict
 from metamaterial_wb.objects.module import module_to_dict
 
@@ -130,6 +130,7 @@ class SceneProxy(ProxyBase):
                 module_warnings.append(str(exc))
         obj.SolveWarnings = list(design_warnings) + list(solver.warnings) + module_warnings
         apply_frame(obj, solver, frame, purge=True)
+        apply_hinge_scales(obj, scene, purge=True)
 
 
     def scene(self, obj):
