@@ -61,6 +61,18 @@ def check_tree(data, root=""):
 
     Iterative (no recursion), so a structure nested 10^5 deep is reported, not a RecursionError.
     The error names the field, e.g. ``dynamics.integrator.dt_s: NaN is not a finite number``.
+
+    Parameters
+    ----------
+    data : object
+        The parsed JSON tree.
+    root : str, optional
+        Field path prefix for error messages.
+
+    Raises
+    ------
+    SceneError
+        On the first offending value.
     """
     isfinite = math.isfinite
     # stack entries: (container, depth, where) with where = (parent where, key) or None
@@ -188,7 +200,23 @@ def _kind(mode):
 
 def read_text(path, what="input"):
     """The text of a regular UTF-8 file, or a SceneError naming ``what`` and the reason. ``path``: a str
-    or an ``os.PathLike`` (pathlib.Path)."""
+    or an ``os.PathLike`` (pathlib.Path).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    what : str, optional
+        What the file is, for error messages.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    SceneError
+        If the file is missing, not a regular file, too big or not UTF-8.
+    """
     if isinstance(path, os.PathLike):
         path = os.fspath(path)
     _stat_input(path, what)
@@ -208,7 +236,23 @@ def read_text(path, what="input"):
 
 
 def parse_json(text, what=""):
-    """``json.loads`` that never raises anything but a one-line SceneError (then :func:`check_tree`)."""
+    """``json.loads`` that never raises anything but a one-line SceneError (then :func:`check_tree`).
+
+    Parameters
+    ----------
+    text : str
+    what : str, optional
+        What the text is, for error messages.
+
+    Returns
+    -------
+    object
+        The parsed, checked tree.
+
+    Raises
+    ------
+    SceneError
+    """
     try:
         data = json.loads(text, parse_int=_parse_int)
     except RecursionError:
@@ -223,7 +267,23 @@ def parse_json(text, what=""):
 
 
 def read_json(path, what="input"):
-    """Read and check a JSON file (see module doc). Field names in errors get ``(in PATH)``."""
+    """Read and check a JSON file (see module doc). Field names in errors get ``(in PATH)``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    what : str, optional
+        What the file is, for error messages.
+
+    Returns
+    -------
+    object
+        The parsed, checked tree.
+
+    Raises
+    ------
+    SceneError
+    """
     if isinstance(path, os.PathLike):
         path = os.fspath(path)
     text = read_text(path, what)
@@ -242,6 +302,24 @@ def check_output(path, kind="file", option="--out"):
     Refused: an empty name, a NUL, a path under /proc, /sys or /dev, a name longer than 255 bytes or a
     path longer than 4095, an existing entry of another kind (a directory for a file, a FIFO, a
     device, a symlink loop), a parent that is a file, and a folder that cannot be written.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    kind : str, optional
+        ``"file"`` or ``"dir"``.
+    option : str, optional
+        The option name used in error messages.
+
+    Returns
+    -------
+    str
+        The absolute path.
+
+    Raises
+    ------
+    SceneError
+        If the path is refused.
     """
     if not isinstance(path, str) or path.strip() == "":
         raise SceneError(option, "empty path; give a file or folder name")
@@ -308,7 +386,12 @@ def _pid_alive(pid):
 
 
 def sweep_stale(folder):
-    """Remove temporary files / folders left in ``folder`` by writers that no longer run (kill -9)."""
+    """Remove temporary files / folders left in ``folder`` by writers that no longer run (kill -9).
+
+    Parameters
+    ----------
+    folder : str
+    """
     try:
         names = os.listdir(folder)
     except OSError:
@@ -328,11 +411,32 @@ def sweep_stale(folder):
 
 
 def temp_prefix(kind="tmp"):
+    """The name prefix ``.KIND-<pid>-`` of this process's temporary files.
+
+    Parameters
+    ----------
+    kind : str, optional
+
+    Returns
+    -------
+    str
+    """
     return f".{kind}-{os.getpid()}-"
 
 
 def make_temp_dir(parent, kind="tmp"):
-    """A fresh temporary folder in ``parent`` named ``.KIND-<pid>-...`` (stale ones are swept first)."""
+    """A fresh temporary folder in ``parent`` named ``.KIND-<pid>-...`` (stale ones are swept first).
+
+    Parameters
+    ----------
+    parent : str
+    kind : str, optional
+
+    Returns
+    -------
+    str
+        The new folder's path.
+    """
     sweep_stale(parent)
     return tempfile.mkdtemp(dir=parent, prefix=temp_prefix(kind))
 
@@ -345,7 +449,20 @@ def _mkdirs(folder):
 
 
 def write_atomic(path, data, mode="w"):
-    """Write ``data`` (str or bytes) to ``path`` through a temporary file and a rename."""
+    """Write ``data`` (str or bytes) to ``path`` through a temporary file and a rename.
+
+    Parameters
+    ----------
+    path : str
+    data : str or bytes
+    mode : str, optional
+        ``"w"`` (text, UTF-8) or ``"wb"``.
+
+    Raises
+    ------
+    OSError
+        If writing fails (the temporary file is removed; ``path`` is untouched).
+    """
     path = os.fspath(path)
     folder = os.path.dirname(os.path.abspath(path))
     _mkdirs(folder)
@@ -365,7 +482,20 @@ def write_atomic(path, data, mode="w"):
 
 
 def write_json(path, obj, indent=1):
-    """Serialise ``obj`` completely first, then write it atomically."""
+    """Serialise ``obj`` completely first, then write it atomically.
+
+    Parameters
+    ----------
+    path : str
+    obj : object
+        JSON-serialisable (NaN / infinity refused).
+    indent : int, optional
+
+    Raises
+    ------
+    ValueError, TypeError
+        If ``obj`` cannot be serialised (nothing is written).
+    """
     text = json.dumps(obj, indent=indent, allow_nan=False) + "\n"
     write_atomic(path, text)
 
@@ -406,7 +536,22 @@ class OutputSet:
 
 def commit_set(tmp, out_dir, names):
     """Move ``names`` from folder ``tmp`` into ``out_dir`` all together: if one move fails, the ones
-    already moved are taken back and the files they replaced restored, then the error is raised."""
+    already moved are taken back and the files they replaced restored, then the error is raised.
+
+    Parameters
+    ----------
+    tmp : str
+        The folder holding the new files.
+    out_dir : str
+        The destination folder.
+    names : sequence of str
+        File names inside ``tmp``.
+
+    Raises
+    ------
+    OSError
+        The first failed move (after rolling back).
+    """
     backup = os.path.join(tmp, ".old")
     os.makedirs(backup, exist_ok=True)
     moved, saved = [], []

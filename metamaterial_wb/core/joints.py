@@ -38,7 +38,24 @@ PIVOT_LENGTH_TOLERANCE = 0.02      # the servo's pivot keeps the hinge length wi
 
 def joint_frame(kind, i, j, cell_mm, plate_side_mm):
     """``(x, y, angle_deg, side)``: origin of the joint frame (gap centre on the edge line), the
-    direction of ``u`` (0 for H joints, -90 for V joints) and the plate side of ``v``."""
+    direction of ``u`` (0 for H joints, -90 for V joints) and the plate side of ``v``.
+
+    Parameters
+    ----------
+    kind : str
+        ``"H"`` or ``"V"``.
+    i, j : int
+        The joint's grid indices.
+    cell_mm : float
+        Cell size.
+    plate_side_mm : float
+        Node plate side (cell - hinge length).
+
+    Returns
+    -------
+    tuple
+        ``(x, y, angle_deg, side)``.
+    """
     c, s = float(cell_mm), float(plate_side_mm)
     side = -1 if (i + j) % 2 == 0 else 1
     if kind == "H":
@@ -51,7 +68,24 @@ def joint_frame(kind, i, j, cell_mm, plate_side_mm):
 def length_ratio(length_mm, offset_mm, theta_rad, along_mm=0.0):
     """End-to-end distance of the blade over that of its uniformly bent arc (``L sinc(theta/2)``) when
     node B turns by ``theta`` (rad, array) about the point ``(along, offset)`` of the joint frame
-    shifted to the blade centre (``along`` on u from the blade's mid-length, ``offset`` on v)."""
+    shifted to the blade centre (``along`` on u from the blade's mid-length, ``offset`` on v).
+
+    Parameters
+    ----------
+    length_mm : float
+        Free hinge length L.
+    offset_mm : float
+        Lateral pivot offset (along v).
+    theta_rad : array_like
+        Rotation of B relative to A.
+    along_mm : float, optional
+        Pivot shift along u.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ratio, shaped like ``theta_rad``.
+    """
     L = float(length_mm)
     d, e = float(along_mm), float(offset_mm)
     th = np.asarray(theta_rad, dtype=float)
@@ -65,6 +99,25 @@ def length_ratio(length_mm, offset_mm, theta_rad, along_mm=0.0):
 
 
 def max_length_error(length_mm, offset_mm, lo_deg, hi_deg, n=241, along_mm=0.0):
+    """Worst ``|length_ratio - 1|`` over ``[lo_deg, hi_deg]`` (sampled at ``n`` angles).
+
+    Parameters
+    ----------
+    length_mm : float
+        Free hinge length.
+    offset_mm : float
+        Lateral pivot offset.
+    lo_deg, hi_deg : float
+        The rotation range.
+    n : int, optional
+        Number of samples.
+    along_mm : float, optional
+        Pivot shift along u.
+
+    Returns
+    -------
+    float
+    """
     th = np.radians(np.linspace(min(lo_deg, 0.0), max(hi_deg, 0.0), n))
     return float(np.max(np.abs(length_ratio(length_mm, offset_mm, th, along_mm) - 1.0)))
 
@@ -94,7 +147,22 @@ def _pole_bracket(L, lo, hi):
 def best_pivot_offset(length_mm, lo_deg, hi_deg, along_mm=0.0):
     """Lateral offset (mm, along v, from the blade centre line) of the fixed pivot at ``along_mm`` that
     keeps the blade's length error smallest over ``[lo_deg, hi_deg]`` (minimax, golden section
-    bracketed by the pole's travel)."""
+    bracketed by the pole's travel).
+
+    Parameters
+    ----------
+    length_mm : float
+        Free hinge length.
+    lo_deg, hi_deg : float
+        The rotation range.
+    along_mm : float, optional
+        Pivot position along u.
+
+    Returns
+    -------
+    float
+        The offset (mm).
+    """
     L = float(length_mm)
     lo, hi = math.radians(min(lo_deg, 0.0)), math.radians(max(hi_deg, 0.0))
     a, b = _pole_bracket(L, lo, hi)
@@ -108,7 +176,20 @@ def best_pivot(length_mm, lo_deg, hi_deg):
     """``(along, offset)`` (mm, from the blade centre: along u towards B, across along v) of the fixed
     shaft that keeps the blade's length error smallest over ``[lo_deg, hi_deg]`` (worst case over
     the range). Near A's end: a minimax around ``x = L (1/2 - 1/sqrt 6)`` (exact to second order).
-    Cached (about 0.2 s per new range)."""
+    Cached (about 0.2 s per new range).
+
+    Parameters
+    ----------
+    length_mm : float
+        Free hinge length.
+    lo_deg, hi_deg : float
+        The rotation range.
+
+    Returns
+    -------
+    tuple of float
+        ``(along, offset)`` in mm.
+    """
     return _best_pivot(float(length_mm), float(min(lo_deg, 0.0)), float(max(hi_deg, 0.0)))
 
 
@@ -126,12 +207,38 @@ def _best_pivot(L, lo, hi):
 
 
 def node_parity(ij):
+    """Checkerboard parity of a node: +1 when i+j is even, else -1.
+
+    Parameters
+    ----------
+    ij : tuple of int
+        The node's grid indices.
+
+    Returns
+    -------
+    float
+    """
     return 1.0 if (ij[0] + ij[1]) % 2 == 0 else -1.0
 
 
 def relative_rotation_deg(a_ij, D, closing_rad, opening_rad):
     """Rotation of node B relative to node A (deg, about +z) when both nodes of the joint hold ``D``:
-    ``phi = (-1)^(i+j) D phi_max(sign D)``, ``theta = phi_B - phi_A = -2 (-1)^(i_A+j_A) D phi_max``."""
+    ``phi = (-1)^(i+j) D phi_max(sign D)``, ``theta = phi_B - phi_A = -2 (-1)^(i_A+j_A) D phi_max``.
+
+    Parameters
+    ----------
+    a_ij : tuple of int
+        Grid indices of node A.
+    D : float or numpy.ndarray
+        Deformation held by both nodes.
+    closing_rad, opening_rad : float
+        phi_max for D < 0 and D > 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        theta in degrees.
+    """
     D = np.asarray(D, dtype=float)
     mag = np.where(D >= 0, closing_rad, opening_rad)
     return np.degrees(-2.0 * node_parity(a_ij) * D * mag)
@@ -140,7 +247,18 @@ def relative_rotation_deg(a_ij, D, closing_rad, opening_rad):
 def actuator_value_range(scene, joint):
     """``(lo, hi)`` of D that the scene drives on ``joint``: the range of its actuators' motion
     profiles; the full range [-1, 1] for an actuator without a profile (it may be set to anything);
-    ``None`` when nothing drives it."""
+    ``None`` when nothing drives it.
+
+    Parameters
+    ----------
+    scene : Scene
+    joint : str
+        A joint name.
+
+    Returns
+    -------
+    tuple of float or None
+    """
     vals = []
     for act in scene.actuators:
         if act.joint != joint:
@@ -176,6 +294,12 @@ class JointPivot:
     along_mm: float = 0.0    # shift of the pivot along u (A -> B) from the blade's mid-length
 
     def as_dict(self):
+        """The pivot as a JSON-ready dict (coordinates rounded to 1e-6 mm).
+
+        Returns
+        -------
+        dict
+        """
         return {"joint": self.joint, "point_mm": [round(float(c), 6) for c in self.point_mm],
                 "axis": [float(c) for c in self.axis], "range_deg": [round(float(c), 6) for c in self.range_deg],
                 "value_range": [float(c) for c in self.value_range], "offset_mm": round(self.offset_mm, 6),
@@ -188,7 +312,32 @@ def joint_pivot(scene, joint, cell_mm, plate_side_mm, hinge, sheet_thickness_mm,
     """The pivot of ``joint`` (a :class:`JointPivot`). ``hinge``: the joint's sizes (``length_mm``,
     ``width_mm``, ``tilt_deg``). ``value_range``: the D range of the design (default: the scene's
     actuators on this joint, else the full range [-1, 1]); ``range_deg`` (theta of B relative to A)
-    overrides the range taken from the values (a clip's fixed angle)."""
+    overrides the range taken from the values (a clip's fixed angle).
+
+    Parameters
+    ----------
+    scene : Scene
+    joint : str
+        A joint name.
+    cell_mm : float
+        Cell size.
+    plate_side_mm : float
+        Node plate side.
+    hinge : dict
+        The joint's ``length_mm``, ``width_mm`` and optional ``tilt_deg``.
+    sheet_thickness_mm : float
+        Sheet thickness (the pivot sits at mid-thickness).
+    value_range : tuple of float, optional
+        D range of the design.
+    limits : tuple of float, optional
+        ``(closing, opening)`` rotation limits (rad); default from the scene.
+    range_deg : tuple of float, optional
+        Fixed theta range (overrides ``value_range``).
+
+    Returns
+    -------
+    JointPivot
+    """
     from metamaterial_wb.core.kinematics import rotation_limits
     from metamaterial_wb.core.scene import joint_nodes, parse_joint
 

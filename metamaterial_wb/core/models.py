@@ -26,15 +26,53 @@ _MODELS = {}
 
 
 def register_model(name, fn, description=""):
+    """Add a model to the registry (or replace the one of that name).
+
+    Parameters
+    ----------
+    name : str
+        The name ``run_model`` and ``--model`` take.
+    fn : callable
+        ``fn(scene, global_deformation=None, **options) -> ModelResult``.
+    description : str, optional
+        One line for listings.
+    """
     _MODELS[name] = (fn, description)
 
 
 def model_names():
+    """The registered model names (built-in ones loaded first).
+
+    Returns
+    -------
+    list of str
+    """
     _load_builtin()
     return list(_MODELS)
 
 
 def run_model(name, scene, global_deformation=None, **options):
+    """Run the model called ``name`` on a scene.
+
+    Parameters
+    ----------
+    name : str
+        A registered model (see :func:`model_names`).
+    scene : Scene
+    global_deformation : float, optional
+        The seed's global deformation (D = g), for models that honour it.
+    **options
+        Model-specific options; unknown ones are an error.
+
+    Returns
+    -------
+    ModelResult
+
+    Raises
+    ------
+    SceneError
+        If the model name or an option is unknown or invalid.
+    """
     _load_builtin()
     if name not in _MODELS:
         raise SceneError("--model", f"{name!r}; allowed: {', '.join(_MODELS)}")

@@ -23,6 +23,25 @@ PROFILE_RANGES = {"amplitude": (0.0, 1.0), "frequency_hz": (0.0, 50.0), "phase_d
 
 
 def validate_profile(p, field_name="profile"):
+    """Check a motion profile (``sine``, ``constant``, ``steps`` or ``keyframes``) and its fields.
+
+    Parameters
+    ----------
+    p : dict
+        The profile.
+    field_name : str, optional
+        The field path used in error messages.
+
+    Returns
+    -------
+    dict
+        ``p`` itself, when valid.
+
+    Raises
+    ------
+    SceneError
+        Naming the bad field, its value and the allowed range.
+    """
     if not isinstance(p, dict):
         raise SceneError(field_name, f"expected an object with \"shape\", got {p!r}")
     shape = p.get("shape", "sine")
@@ -65,7 +84,22 @@ def validate_profile(p, field_name="profile"):
 
 
 def profile_value(p, t, default=0.0):
-    """Value of a profile at time ``t`` (seconds; scalar or array). ``None`` -> ``default``."""
+    """Value of a profile at time ``t`` (seconds; scalar or array). ``None`` -> ``default``.
+
+    Parameters
+    ----------
+    p : dict or None
+        A validated profile.
+    t : float or array_like
+        Time (s).
+    default : float, optional
+        Returned when ``p`` is None.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Shaped like ``t``.
+    """
     t = np.asarray(t, dtype=float)
     if p is None:
         return np.full(t.shape, float(default)) if t.ndim else float(default)
@@ -91,5 +125,16 @@ def profile_value(p, t, default=0.0):
 
 
 def scene_values_at(scene, t):
-    """``{name: value}`` for every actuator at time ``t`` (actuators without a profile keep their value)."""
+    """``{name: value}`` for every actuator at time ``t`` (actuators without a profile keep their value).
+
+    Parameters
+    ----------
+    scene : Scene
+    t : float
+        Time (s).
+
+    Returns
+    -------
+    dict
+    """
     return {a.name: float(profile_value(a.profile, t, a.value)) for a in scene.actuators}

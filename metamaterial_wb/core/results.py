@@ -3,7 +3,20 @@
 
 
 def trajectory_dict(model, traj):
-    """The trajectory document of a simulated ``model`` (floor-frame poses in mm and degrees)."""
+    """The trajectory document of a simulated ``model`` (floor-frame poses in mm and degrees).
+
+    Parameters
+    ----------
+    model : DynamicsModel
+        The model that was simulated.
+    traj : Trajectory
+        Its result.
+
+    Returns
+    -------
+    dict
+        JSON-ready trajectory document.
+    """
     import numpy as np
 
     t, q = traj.arrays()

@@ -38,6 +38,12 @@ RESPONSE_MATRIX_MAX_ITEMS = 32
 
 
 def cholmod_available():
+    """Whether scikit-sparse's CHOLMOD can be imported (the ``cholmod`` backend).
+
+    Returns
+    -------
+    bool
+    """
     return _cholmod_cholesky is not None
 
 
@@ -46,7 +52,25 @@ K2_MIN, K2_MAX = 1e-100, 1e100   # the solve is scale-invariant in k2; beyond th
 
 
 def check_stiffness(k1, k2, joint_names=None):
-    """Reject k1 outside [0, 1] and k2 outside [K2_MIN, K2_MAX] (or non-finite), naming the first bad joint."""
+    """Reject k1 outside [0, 1] and k2 outside [K2_MIN, K2_MAX] (or non-finite), naming the first bad joint.
+
+    Parameters
+    ----------
+    k1, k2 : array_like
+        Per-joint stiffness parameters (seed eq. 2).
+    joint_names : sequence of str, optional
+        Names for the error message (else ``#index``).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(k1, k2)`` as float arrays.
+
+    Raises
+    ------
+    SceneError
+        On the first out-of-range or non-finite value.
+    """
     k1 = np.asarray(k1, dtype=float)
     k2 = np.asarray(k2, dtype=float)
     bad = np.flatnonzero(~np.isfinite(k1) | (k1 < 0) | (k1 > 1))
@@ -64,7 +88,22 @@ def check_stiffness(k1, k2, joint_names=None):
 
 
 def assemble_hessian(n_nodes, pairs, k1, k2):
-    """Sparse Hessian (CSR) of the quadratic energy. ``pairs``: (m, 2) node indices."""
+    """Sparse Hessian (CSR) of the quadratic energy.
+
+    Parameters
+    ----------
+    n_nodes : int
+        Number of nodes.
+    pairs : numpy.ndarray
+        (m, 2) node indices of the joints.
+    k1, k2 : numpy.ndarray
+        (m,) per-joint stiffness parameters.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        (n_nodes, n_nodes).
+    """
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
     a, b = pairs[:, 0], pairs[:, 1]
     diag = np.bincount(a, weights=2 * k2, minlength=n_nodes) + np.bincount(b, weights=2 * k2, minlength=n_nodes)
@@ -76,7 +115,21 @@ def assemble_hessian(n_nodes, pairs, k1, k2):
 
 
 def energy(D, pairs, k1, k2):
-    """Total energy (seed eq. 2) of a D field."""
+    """Total energy (seed eq. 2) of a D field.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        (n,) deformation per node.
+    pairs : numpy.ndarray
+        (m, 2) node indices of the joints.
+    k1, k2 : numpy.ndarray
+        (m,) per-joint stiffness parameters.
+
+    Returns
+    -------
+    float
+    """
     D = np.asarray(D, dtype=float)
     a, b = np.asarray(pairs).T
     return float(np.sum(k2 * (k1 * (D[a] - D[b]) ** 2 + (1 - k1) * (D[a] ** 2 + D[b] ** 2))))
@@ -229,7 +282,25 @@ class QuadraticModel:
 
     # -- solving ----------------------------------------------------------------------------
     def solve(self, values, use_response=True):
-        """D for every node given the items' values (dict by name, or array in group order)."""
+        """D for every node given the items' values.
+
+        Parameters
+        ----------
+        values : dict or array_like
+            By item name, or an array in group order.
+        use_response : bool, optional
+            Use the precomputed response matrix (fast path) instead of a fresh back-substitution.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_nodes,) D.
+
+        Raises
+        ------
+        SceneError
+            If a value is missing or out of range.
+        """
         arr = self._values_array(values)
         D = np.zeros(self.n_nodes)
         D[self.fixed] = arr[self.fixed_group]
@@ -242,7 +313,17 @@ class QuadraticModel:
         return D
 
     def residual(self, D):
-        """Relative residual of the free-node equations (a health check)."""
+        """Relative residual of the free-node equations (a health check).
+
+        Parameters
+        ----------
+        D : numpy.ndarray
+            (n_nodes,) a solution.
+
+        Returns
+        -------
+        float
+        """
         if not self.free.size:
             return 0.0
         x = D[self.free]
@@ -253,7 +334,16 @@ class QuadraticModel:
 
 
 def scene_groups(scene):
-    """``[(name, [node indices])]`` for the scene's actuators and constraints (file order)."""
+    """``[(name, [node indices])]`` for the scene's actuators and constraints (file order).
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    list of tuple
+    """
     topo = scene.topology
     groups = []
     for _, item in scene.fixed_items():
@@ -263,7 +353,20 @@ def scene_groups(scene):
 
 
 def model_for_scene(scene, calibration=None, backend="auto"):
-    """A factored :class:`QuadraticModel` of a scene."""
+    """A factored :class:`QuadraticModel` of a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+    calibration : Calibration, optional
+        k1 / k2 from hinge sizes (default: the package calibration).
+    backend : str, optional
+        ``"auto"``, ``"superlu"``, ``"cholmod"`` or ``"dense"``.
+
+    Returns
+    -------
+    QuadraticModel
+    """
     from metamaterial_wb.core.calibration import joint_stiffness
 
     topo = scene.topology
@@ -287,14 +390,39 @@ class _LazyNames:
 
 
 def scene_values(scene):
+    """``{name: value}`` of every actuator and constraint.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    dict
+    """
     return {item.name: item.value for _, item in scene.fixed_items()}
 
 
 def solve_scene(scene, global_deformation=None, model=None, backend="auto"):
-    """Solve a scene. Returns ``(D, model_or_None, warnings, timings)``.
+    """Solve a scene.
 
     With ``global_deformation`` g (the seed's "Global Deformation" slider) every D = g: perfect
     propagation, no solve.
+
+    Parameters
+    ----------
+    scene : Scene
+    global_deformation : float, optional
+        If given, D = g everywhere.
+    model : QuadraticModel, optional
+        A factored model of the same scene to reuse.
+    backend : str, optional
+        Linear-solver backend (see :func:`model_for_scene`).
+
+    Returns
+    -------
+    tuple
+        ``(D, model_or_None, warnings, timings)``.
     """
     if global_deformation is not None:
         from metamaterial_wb.core.errors import check_number

@@ -1,4 +1,4 @@
-"""The side-view -> 3D mapping of simulated trajectories (core.live.TrajectoryPlayer), App level.
+"""The side-view -> 3D mapping of simulated trajectories (core.playback.TrajectoryPlayer), App level.
 
 Synthetic trajectories with known motion: a flat first frame lands on the flat layout, a slide along
 the floor of an incline moves the nodes along the tilted floor, a body angle turns the plates about y,
@@ -11,7 +11,8 @@ import pytest
 
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene import Scene
-from metamaterial_wb.core.live import LiveSolver, TrajectoryPlayer
+from metamaterial_wb.core.live import LiveSolver
+from metamaterial_wb.core.playback import TrajectoryPlayer
 
 
 def chain_scene(n=3):

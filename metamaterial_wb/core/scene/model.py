@@ -33,10 +33,24 @@ class Scene:
     # -- construction ----------------------------------------------------------------------
     @classmethod
     def from_dict(cls, data, _fresh=False):
-        """Validate ``data`` section by section (core/scene/sections.py); raises SceneError.
+        """Validate ``data`` section by section (core/scene/sections.py) and build a Scene.
 
         ``data`` is checked by :func:`~metamaterial_wb.core.fileio.check_tree` and copied first (the
-        scene never shares lists with the caller); ``_fresh``: it comes straight from a checked file.
+        scene never shares lists or dicts with the caller).
+
+        Parameters
+        ----------
+        data : dict
+            A scene document (the JSON form described in docs/scene-format.md).
+
+        Returns
+        -------
+        Scene
+
+        Raises
+        ------
+        SceneError
+            On the first invalid field, naming it, the value and the allowed range.
         """
         from metamaterial_wb.core.fileio import check_tree
         from metamaterial_wb.core.scene.sections import PARSERS
@@ -54,13 +68,44 @@ class Scene:
 
     @classmethod
     def from_json(cls, text):
+        """Parse and validate a scene from JSON text.
+
+        Parameters
+        ----------
+        text : str
+            The scene document as JSON.
+
+        Returns
+        -------
+        Scene
+
+        Raises
+        ------
+        SceneError
+            If the text is not JSON or the document is not a valid scene.
+        """
         from metamaterial_wb.core.fileio import parse_json
 
         return cls.from_dict(parse_json(text), _fresh=True)
 
     @classmethod
     def load(cls, path):
-        """Read a scene file; every failure is one SceneError line ending in ``(in PATH)``."""
+        """Read a scene file; every failure is one SceneError line ending in ``(in PATH)``.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The scene file (``.json``).
+
+        Returns
+        -------
+        Scene
+
+        Raises
+        ------
+        SceneError
+            If the file cannot be read, is not JSON, or is not a valid scene.
+        """
         from metamaterial_wb.core.fileio import read_json
 
         data = read_json(path, "scene")
@@ -71,12 +116,36 @@ class Scene:
 
     @classmethod
     def grid(cls, rows, cols, **kw):
+        """A rectangular scene of ``rows`` x ``cols`` cells.
+
+        Parameters
+        ----------
+        rows, cols : int
+            The grid's size in cells.
+        **kw
+            Further top-level scene fields (``cell_size_mm``, ``hinge``, ``actuators``, ...).
+
+        Returns
+        -------
+        Scene
+
+        Raises
+        ------
+        SceneError
+            If a field is invalid.
+        """
         d = {"format": FORMAT, "version": VERSION, "layout": {"grid": [rows, cols]}}
         d.update(kw)
         return cls.from_dict(d)
 
     # -- output ----------------------------------------------------------------------------
     def to_dict(self):
+        """The scene as a JSON-ready document (what :meth:`from_dict` reads back).
+
+        Returns
+        -------
+        dict
+        """
         d = {"format": FORMAT, "version": VERSION}
         if self.name:
             d["name"] = self.name
@@ -103,9 +172,26 @@ class Scene:
         return d
 
     def to_json(self, indent=1):
+        """The scene as JSON text (see :meth:`to_dict`).
+
+        Parameters
+        ----------
+        indent : int, optional
+            JSON indentation.
+
+        Returns
+        -------
+        str
+        """
         return json.dumps(self.to_dict(), indent=indent, allow_nan=False) + "\n"
 
     def copy(self):
+        """An independent copy (through the document form, so it is validated again).
+
+        Returns
+        -------
+        Scene
+        """
         return Scene.from_dict(self.to_dict())
 
     # -- derived ---------------------------------------------------------------------------
@@ -168,7 +254,18 @@ class Scene:
         return {k: float(h[k]) for k in DEFAULT_HINGE}
 
     def joint_hinge(self, name):
-        """Hinge sizes (mm) of one joint, with its overrides applied."""
+        """Hinge sizes (mm) of one joint, with its overrides applied.
+
+        Parameters
+        ----------
+        name : str
+            A joint name such as ``"H0,1"``.
+
+        Returns
+        -------
+        dict
+            ``length_mm``, ``width_mm``, ``thickness_mm`` (as stored; :meth:`hinge_sizes` gives floats).
+        """
         h = dict(self.hinge)
         ov = self.joint_overrides.get(name, {})
         for k in DEFAULT_HINGE:
@@ -177,24 +274,66 @@ class Scene:
         return h
 
     def joint_tilt_deg(self, name):
-        """Hinge tilt of a joint (0 for contracting cells): per-joint override, else joint_config."""
+        """Hinge tilt of a joint (0 for contracting cells): per-joint override, else joint_config.
+
+        Parameters
+        ----------
+        name : str
+            A joint name.
+
+        Returns
+        -------
+        float
+            Degrees.
+        """
         ov = self.joint_overrides.get(name, {})
         if "tilt_deg" in ov:
             return ov["tilt_deg"]
         return float(self.joint_config.get(name, {}).get("tilt_deg", 0.0))
 
     def fixed_items(self):
-        """Actuators and constraints as ``(kind, item)`` in file order."""
+        """Actuators and constraints as ``(kind, item)`` in file order.
+
+        Returns
+        -------
+        list of tuple
+            ``("actuator" | "constraint", item)``.
+        """
         return [("actuator", a) for a in self.actuators] + [("constraint", c) for c in self.constraints]
 
     def find_item(self, name):
+        """The actuator or constraint called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            The item's name.
+
+        Returns
+        -------
+        tuple
+            ``(kind, item)``, or ``(None, None)`` when no item has that name.
+        """
         for kind, item in self.fixed_items():
             if item.name == name:
                 return kind, item
         return None, None
 
     def set_value(self, name, value):
-        """Change one actuator's or constraint's value by name (validated)."""
+        """Change one actuator's or constraint's value by name (validated).
+
+        Parameters
+        ----------
+        name : str
+            The item's name.
+        value : float
+            The new value, in [-1, 1].
+
+        Raises
+        ------
+        SceneError
+            If no item has that name, the value is out of range, or it conflicts with another fixed value.
+        """
         kind, item = self.find_item(name)
         if item is None:
             names = [it.name for _, it in self.fixed_items()]
@@ -207,6 +346,16 @@ class Scene:
         """Two fixed values on one node are an error that names both items and the node.
 
         Two items that share a node with the *same* value are allowed.
+
+        Returns
+        -------
+        dict
+            Node -> ``(kind, item)`` that fixes it.
+
+        Raises
+        ------
+        SceneError
+            On two different fixed values on one node.
         """
         owner = {}
         for kind, item in self.fixed_items():

@@ -39,7 +39,25 @@ JOINT_OVERRIDE_KEYS = {"joint", "k1", "k2", "length_mm", "width_mm", "thickness_
 
 
 def parse_joint(text, field_name="joint"):
-    """``"H1,2"`` -> ``("H", 1, 2)``. Accepts ``"H(1,2)"`` and spaces too."""
+    """``"H1,2"`` -> ``("H", 1, 2)``. Accepts ``"H(1,2)"`` and spaces too.
+
+    Parameters
+    ----------
+    text : str or tuple
+        A joint name, or a ``(kind, i, j)`` triple.
+    field_name : str, optional
+        The field named in errors.
+
+    Returns
+    -------
+    tuple
+        ``(kind, i, j)`` with kind ``"H"`` or ``"V"``.
+
+    Raises
+    ------
+    SceneError
+        If ``text`` is not a joint name.
+    """
     if isinstance(text, (tuple, list)) and len(text) == 3:
         kind, i, j = text
         text = f"{kind}{i},{j}"
@@ -59,13 +77,49 @@ def _short(value, n=80):
 
 
 def joint_name(kind, i, j):
+    """``("H", 1, 2)`` -> ``"H1,2"``.
+
+    Parameters
+    ----------
+    kind : str
+        ``"H"`` or ``"V"``.
+    i, j : int
+        Grid indices.
+
+    Returns
+    -------
+    str
+    """
     return f"{kind}{i},{j}"
 
 
 def node_name(i, j):
+    """``(1, 2)`` -> ``"N1,2"``.
+
+    Parameters
+    ----------
+    i, j : int
+        Grid indices.
+
+    Returns
+    -------
+    str
+    """
     return f"N{i},{j}"
 
 
 def joint_nodes(kind, i, j):
-    """The two node keys ``(i, j)`` that a joint joins."""
+    """The two node keys ``(i, j)`` that a joint joins.
+
+    Parameters
+    ----------
+    kind : str
+        ``"H"`` or ``"V"``.
+    i, j : int
+        The joint's grid indices.
+
+    Returns
+    -------
+    tuple of tuple
+    """
     return ((i, j), (i, j + 1)) if kind == "H" else ((i, j), (i + 1, j))

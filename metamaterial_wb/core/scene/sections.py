@@ -229,6 +229,22 @@ PARSERS = (parse_header, parse_hinge, parse_layout, parse_joints, parse_axes, pa
 
 
 def check_hinge_sizes(field_name, h, cell_size_mm):
+    """Check hinge sizes against the cell: 0 < length < cell / 2, 0 < width <= plate side / 4,
+    0 < thickness <= THICKNESS_MAX_MM.
+
+    Parameters
+    ----------
+    field_name : str
+        The field named in errors (``"hinge"`` or ``"joints[k] (H0,1)"``).
+    h : dict
+        ``length_mm``, ``width_mm``, ``thickness_mm``.
+    cell_size_mm : float
+
+    Raises
+    ------
+    SceneError
+        Naming the size, its value and the allowed range.
+    """
     for k in DEFAULT_HINGE:
         v = h.get(k)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):

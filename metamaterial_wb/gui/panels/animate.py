@@ -280,7 +280,7 @@ class AnimatePanel(BasePanel):
     def load_trajectory(self, source):
         """Play a trajectory: a path to ``trajectory.json`` (or the ``simulate --out`` folder holding it) or
         its parsed dict. Returns True on success (False with the reason shown in the panel)."""
-        from metamaterial_wb.core.live import TrajectoryPlayer
+        from metamaterial_wb.core.playback import TrajectoryPlayer
         try:
             if isinstance(source, dict):
                 data, label = source, "simulated here"
@@ -336,7 +336,7 @@ class AnimatePanel(BasePanel):
     def simulate_trajectory(self, seconds):
         """Run core.dynamics on this structure in a background thread (progress bar + Cancel); plays it
         when done."""
-        from metamaterial_wb.core.live import run_dynamics
+        from metamaterial_wb.core.playback import run_dynamics
         if self.sim.running:
             self.show_error("a simulation is already running")
             return False

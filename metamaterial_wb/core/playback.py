@@ -1,0 +1,215 @@
+"""Playing a simulated trajectory on the structure: ``TrajectoryPlayer`` maps a dynamics trajectory (side
+view, floor frame; ``simulate --out DIR`` -> ``DIR/trajectory.json``) onto node and hinge poses for the 3D
+view, and ``run_dynamics`` produces one. Pure numpy (core layer): no FreeCAD, no Qt. The live solver of the
+same scene (``core/live.py``) supplies the hinge frames."""
+import math
+
+import numpy as np
+
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.live import Frame, matrices_to_quaternions
+
+class TrajectoryPlayer:
+    """Map a dynamics trajectory (side view, floor frame) onto the structure's node poses.
+
+    The dynamics ``sheet`` model is planar, seen from the side: each column of nodes is one rigid
+    body with a pose ``(x, y, angle)`` in the floor frame (x along the floor towards increasing
+    column index, y up, angle counter-clockwise). The 3D view shows the sheet in its x-y plane with
+    z up, so the side plane is the view's x-z plane:
+
+    * a node of body ``b`` keeps its flat y (its row); its x and z are the body's x and y, rotated
+      by the incline about the y axis;
+    * its orientation is a rotation about the y axis by ``-(angle + incline)`` (counter-clockwise
+      in the side view seen from the front, i.e. looking along +y);
+    * constant offsets put the first recorded frame of a flat sheet exactly onto the flat layout:
+      ``ox`` = mean of (flat node x - body x at frame 0), ``oz`` = the bodies' mean rest height.
+
+    The in-plane rotation of the squares (what the quadratic model shows) is not part of the side
+    view model, so the plates stay square to the sheet; hinges follow their two nodes as usual.
+    Between recorded frames the poses are interpolated linearly.
+    """
+
+    def __init__(self, data, scene, flat_positions):
+        if not isinstance(data, dict) or data.get("format") != "metamaterial-trajectory":
+            raise SceneError("trajectory", f"format {data.get('format') if isinstance(data, dict) else data!r}; "
+                                           "expected 'metamaterial-trajectory' (simulate --out DIR writes "
+                                           "DIR/trajectory.json)")
+        if data.get("model") != "sheet" or not data.get("body_of_node"):
+            raise SceneError("trajectory.model", f"{data.get('model')!r}: only the 'sheet' model maps onto a "
+                                                 "structure's nodes (the belt has no sheet nodes; use "
+                                                 "simulate --frames for its pictures)")
+        self.times = np.asarray(data.get("times_s", []), dtype=float)
+        poses = np.asarray(data.get("poses", []), dtype=float)
+        if self.times.size < 1 or poses.ndim != 3 or poses.shape[0] != self.times.size or poses.shape[2] != 3:
+            raise SceneError("trajectory.poses", f"shape {poses.shape} does not match {self.times.size} times "
+                                                 "x bodies x (x, y, angle)")
+        if np.any(np.diff(self.times) <= 0):
+            raise SceneError("trajectory.times_s", "times must increase")
+        self.poses = poses
+        self.incline = math.radians(float(data.get("incline_deg", 0.0)))
+        topo = scene.topology
+        body_of_node = data["body_of_node"]
+        nb = poses.shape[1]
+        self.node_body = np.zeros(topo.n_nodes, dtype=int)
+        for k, (i, j) in enumerate(topo.nodes):
+            key = f"N{i},{j}"
+            if key not in body_of_node:
+                raise SceneError("trajectory.body_of_node",
+                                 f"node {key} of the structure is not in the trajectory (simulated from a "
+                                 "different layout?)")
+            b = int(body_of_node[key])
+            if not 0 <= b < nb:
+                raise SceneError("trajectory.body_of_node", f"{key} -> body {b}; the trajectory has {nb} bodies")
+            self.node_body[k] = b
+        if len(body_of_node) != topo.n_nodes:
+            raise SceneError("trajectory.body_of_node", f"{len(body_of_node)} nodes; the structure has "
+                                                        f"{topo.n_nodes} (simulated from a different layout?)")
+        flat = np.asarray(flat_positions, dtype=float)
+        self.flat = flat
+        x0, y0 = self._floor_to_view(poses[0, :, 0], poses[0, :, 1])
+        self.ox = float(np.mean(flat[:, 0] - x0[self.node_body]))
+        self.oz = float(np.mean(y0))
+        self.duration = float(self.times[-1])
+
+    def _floor_to_view(self, x, y):
+        c, s = math.cos(self.incline), math.sin(self.incline)
+        return c * x - s * y, s * x + c * y
+
+    def body_poses(self, t):
+        """(bodies, 3) pose at time ``t`` (clamped to the recorded range), linear interpolation.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        T = self.times
+        if t <= T[0]:
+            return self.poses[0].copy()
+        if t >= T[-1]:
+            return self.poses[-1].copy()
+        k = int(np.searchsorted(T, t, side="right")) - 1
+        w = (t - T[k]) / (T[k + 1] - T[k])
+        return (1 - w) * self.poses[k] + w * self.poses[k + 1]
+
+    def node_poses(self, t):
+        """Node positions (n, 3) mm and rotation matrices (n, 3, 3) at time ``t``.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(positions, rotations)``.
+        """
+        p = self.body_poses(t)
+        X, Z = self._floor_to_view(p[:, 0], p[:, 1])
+        b = self.node_body
+        pos = np.column_stack([X[b] + self.ox, self.flat[:, 1], Z[b] - self.oz + self.flat[:, 2]])
+        beta = -(np.radians(p[b, 2]) + self.incline)          # rotation about +y
+        c, s = np.cos(beta), np.sin(beta)
+        R = np.zeros((b.size, 3, 3))
+        R[:, 0, 0] = c
+        R[:, 0, 2] = s
+        R[:, 1, 1] = 1.0
+        R[:, 2, 0] = -s
+        R[:, 2, 2] = c
+        return pos, R
+
+    def floor_corners(self, margin_mm=20.0):
+        """(4, 3) corners of the floor (floor-frame y = 0) under the whole motion, in view coordinates.
+
+        Parameters
+        ----------
+        margin_mm : float, optional
+            Margin around the swept footprint.
+
+        Returns
+        -------
+        numpy.ndarray
+            (4, 3).
+        """
+        xs = self.poses[:, :, 0]
+        x_lo, x_hi = float(xs.min()) - margin_mm, float(xs.max()) + margin_mm
+        y_lo, y_hi = float(self.flat[:, 1].min()) - margin_mm, float(self.flat[:, 1].max()) + margin_mm
+        out = []
+        for xf, yv in ((x_lo, y_lo), (x_hi, y_lo), (x_hi, y_hi), (x_lo, y_hi)):
+            X, Z = self._floor_to_view(xf, 0.0)
+            out.append([X + self.ox, yv, Z - self.oz])
+        return np.array(out)
+
+    def frame(self, solver, t):
+        """A :class:`Frame` (nodes, hinges) for ``objects.display.apply_frame``.
+
+        Parameters
+        ----------
+        solver : LiveSolver
+            The live solver of the same scene (for the hinge frames).
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        Frame
+        """
+        pos, R = self.node_poses(t)
+        q = matrices_to_quaternions(R)
+        hp, hq = solver.hinge_frames(pos, R, q)
+        return Frame(D=None, positions=pos, rotations=R, quaternions=q, hinge_positions=hp, hinge_quaternions=hq,
+                     timings={})
+
+
+class _ProgressActuation:
+    """Wraps a dynamics model's actuation callback to report the simulated time (attributes forwarded)."""
+
+    def __init__(self, inner, seconds, progress):
+        self._inner, self._seconds, self._progress = inner, max(float(seconds), 1e-12), progress
+
+    def __call__(self, t, sim):
+        self._progress(min(1.0, t / self._seconds))
+        return self._inner(t, sim)
+
+    def __getattr__(self, name):
+        return getattr(self._inner, name)
+
+
+def run_dynamics(scene, seconds, fps=30.0, progress=None):
+    """Simulate ``scene`` with core.dynamics (as ``simulate --out``) and return
+    ``(trajectory dict, summary dict)``; the dict is what ``DIR/trajectory.json`` holds.
+
+    Parameters
+    ----------
+    scene : Scene
+    seconds : float
+        Simulated duration (s).
+    fps : float, optional
+        Frames per second recorded.
+    progress : callable, optional
+        Called with progress updates.
+
+    Returns
+    -------
+    tuple of dict
+        ``(trajectory, summary)``.
+    """
+    from metamaterial_wb.core.results import trajectory_dict
+    from metamaterial_wb.core.dynamics.builders import build, dynamics_config
+    from metamaterial_wb.core.dynamics.simulate import simulate
+
+    cfg = dynamics_config(scene)
+    model = build(scene, cfg)
+    if model.kind == "sheet":
+        model.scene_nodes = scene.topology.nodes
+    if progress is not None and model.actuate is not None:
+        model.actuate = _ProgressActuation(model.actuate, seconds, progress)
+    summary, traj, model, _sim = simulate(scene, seconds, record_dt=1.0 / fps, cfg=cfg, model=model)
+    if progress is not None:
+        progress(1.0)
+    return trajectory_dict(model, traj), summary
