@@ -53,7 +53,9 @@ def convergence_error(h, values, order=None):
     each (scalars or arrays). Returns ``(extrapolated, error, order)``: Richardson extrapolation to ``h -> 0``
     from the last three values with the observed order (``order`` given, or only two values: that order, 2 by
     default), and as the error the correction it makes to the finest value. Where the last two differences
-    change sign or the observed order falls below 0.5 the sequence is not in its asymptotic range; then the
+    change sign or the observed order is outside 0.5..4.5 (a drop far faster than any of our discretisations
+converges is a coincidence, e.g. of contact events, not convergence) the sequence is not in its asymptotic
+range; then the
     error is the larger of that correction and the last difference (no extrapolation is trusted) and the
     extrapolated value is the finest one."""
     v = [np.asarray(x, float) for x in values]
@@ -69,8 +71,8 @@ def convergence_error(h, values, order=None):
         d1 = v[-2] - v[-3]
         with np.errstate(divide="ignore", invalid="ignore"):
             p = np.log(np.abs(d1 / d2)) / np.log(h[-3] / h[-2])
-        asym = np.isfinite(p) & (p >= 0.5) & (d1 * d2 >= 0)
-        p = np.where(asym, np.minimum(p, 4.0), np.nan)
+        asym = np.isfinite(p) & (p >= 0.5) & (p <= 4.5) & (d1 * d2 >= 0)
+        p = np.where(asym, p, np.nan)
     else:
         p = np.full_like(d2, 2.0)
     with np.errstate(invalid="ignore"):
