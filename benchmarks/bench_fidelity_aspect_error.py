@@ -43,6 +43,10 @@ def add_mesh(rows, h, timeout_s=1800.0, progress=print):
         progress(f"L = {r['length_mm']:g} mm, h = {h:g} mm: {m['wall_s']:.1f} s")
         meshes.append(m)
         meshes.sort(key=lambda x: -x["h_mm"])
+    for r in rows:                      # the row's top-level figures are the finest mesh's (as run_aspect_study)
+        fine = r["meshes"][-1]
+        r.update({"h_mm": fine["h_mm"], "wall_s": fine["wall_s"], "fe_diag": fine["fe_diag"],
+                  "fe_bending": fine["fe_bending"]})
     return rows
 
 
