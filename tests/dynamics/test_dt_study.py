@@ -57,7 +57,7 @@ def test_dt_study_table_prints_every_step_with_its_error():
 
 def test_dynamics_fidelity_doc_holds_the_measured_dt_tables():
     text = open(os.path.join(REPO, "docs", "dynamics-fidelity.md")).read()
-    for key in ("flat", "incline10"):
+    for key in ("flat", "incline10", "worm_crawl"):
         block = text[text.index(f"<!-- dt-study:{key}:begin -->"):text.index(f"<!-- dt-study:{key}:end -->")]
         rows = [ln for ln in block.splitlines() if ln.startswith("| ") and ln[2].isdigit()]
         assert len(rows) == 5 and all("+-" in ln for ln in rows), key
