@@ -354,4 +354,5 @@ def ci_case(spec=None, timeout_s=120.0):
     return K, kinfo, c, binfo
 
 
-__all__ = ["run_hinge_study", "run_aspect_study", "aspect_uncertainty", "run_patch_study", "markdown", "ci_case", "condensed_bending"]
+__all__ = ["run_hinge_study", "run_aspect_study", "aspect_uncertainty", "run_patch_study", "markdown", "ci_case",
+           "condensed_bending"]

@@ -74,7 +74,8 @@ def test_aspect_script_splices_only_its_section():
     spec.loader.exec_module(mod)
     doc = "# T\n\n### A\n\nkeep\n\n### Beam law against FE by hinge aspect ratio\n\nold | table\n\n### B\n\nkeep too\n"
     out = mod.splice(doc, "### Beam law against FE by hinge aspect ratio\n\nnew\n")
-    assert "old" not in out and "new" in out and out.startswith("# T\n\n### A\n\nkeep") and out.endswith("### B\n\nkeep too\n")
+    assert "old" not in out and "new" in out
+    assert out.startswith("# T\n\n### A\n\nkeep") and out.endswith("### B\n\nkeep too\n")
 
 
 def test_fidelity_doc_aspect_table_has_errors():
