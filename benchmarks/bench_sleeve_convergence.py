@@ -24,7 +24,8 @@ sys.path.insert(0, ROOT)
 from metamaterial_wb.bench.measures import convergence_error  # noqa: E402
 from metamaterial_wb.core.sleeve.analysis import extrema  # noqa: E402
 from metamaterial_wb.core.sleeve.cell import CellGeometry  # noqa: E402
-from metamaterial_wb.core.sleeve.pipeline import design_axis, ring_trace, unit_cell_result  # noqa: E402
+from metamaterial_wb.core.sleeve.pipeline import (design_axis, ring_trace, simulated_sequence,  # noqa: E402
+                                                  unit_cell_result)
 from metamaterial_wb.core.sleeve.spec import SleeveSpec  # noqa: E402
 from metamaterial_wb.core.sleeve.walker import walker_cycle  # noqa: E402
 
@@ -79,16 +80,33 @@ def cell_rows(meshes, steps):
             figure_row("unit cell valley (x1e-3)", meshes, [1e3 * r["valley_force"] for r in res], 16)]
 
 
+def unwrap_deg(angles):
+    """Angles (degrees) moved by whole turns to within 180 degrees of the first (-180 and 180 are one lean)."""
+    a0 = float(angles[0])
+    return [a0 + ((float(a) - a0 + 180.0) % 360.0 - 180.0) for a in angles]
+
+
 def ring_rows(name, meshes, steps, progress=print):
+    """P1, P2, V1, V2 of a ring at each mesh; for the four-cell rings also the lean on loading and unloading
+    (the direction of the largest tilt, degrees; needs the unloading path)."""
     cells, pattern = RINGS[name]
-    vals = []
+    lean = len(pattern[0]) == 4
+    vals, leans = [], []
     for n in meshes:
-        _m, up, _down = ring_trace(cells, pattern, n_el=n, steps=steps, unload=False)
+        m, up, down = ring_trace(cells, pattern, n_el=n, steps=steps, unload=lean)
         p, v = extrema(up.F)
         vals.append([1e3 * up.F[p[0]], 1e3 * up.F[p[-1]], 1e3 * up.F[v[0]], 1e3 * up.F[v[-1]]])
-        progress(f"{name}, {n} elements: P1/P2/V1/V2 {np.round(vals[-1], 3)}")
+        if lean:
+            sim = simulated_sequence(m, up, down)
+            leans.append([sim["lean_loading_deg"], sim["lean_unloading_deg"]])
+        progress(f"{name}, {n} elements: P1/P2/V1/V2 {np.round(vals[-1], 3)}" +
+                 (f", lean {np.round(leans[-1], 2)}" if lean else ""))
     vals = np.array(vals)
-    return [figure_row(f"{name}: {k} (x1e-3)", meshes, vals[:, j], 24) for j, k in enumerate(("P1", "P2", "V1", "V2"))]
+    rows = [figure_row(f"{name}: {k} (x1e-3)", meshes, vals[:, j], 24) for j, k in enumerate(("P1", "P2", "V1", "V2"))]
+    if lean:
+        for j, k in enumerate(("lean on loading (deg)", "lean on unloading (deg)")):
+            rows.append(figure_row(f"{name}: {k}", meshes, unwrap_deg([x[j] for x in leans]), 24))
+    return rows
 
 
 def walker_rows(meshes, progress=print):

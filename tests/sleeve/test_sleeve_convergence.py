@@ -46,7 +46,14 @@ def test_splice_replaces_only_between_its_markers():
 
 def test_sleeves_doc_figures_carry_their_mesh_error():
     text = open(os.path.join(REPO, "docs", "sleeves.md")).read()
-    for key, n in (("cell", 2), ("rings", 16), ("walker", 4)):
+    for key, n in (("cell", 2), ("rings", 22), ("walker", 4)):
         block = text[text.index(f"<!-- sleeve-conv:{key}:begin -->"):text.index(f"<!-- sleeve-conv:{key}:end -->")]
         rows = [ln for ln in block.splitlines() if ln.startswith("| ") and not ln.startswith("| figure")]
         assert len(rows) == n and all("+-" in ln for ln in rows), key
+
+
+def test_lean_angles_are_compared_modulo_a_turn():
+    b = _bench()
+    assert b.unwrap_deg([-180.0, 180.0, -179.5]) == pytest.approx([-180.0, -180.0, -179.5])
+    r = b.figure_row("lean", (12, 24, 48), b.unwrap_deg([-180.0, 180.0, 180.0]), 24)
+    assert r["default_error"] == pytest.approx(0.0)
