@@ -4,6 +4,7 @@
     /usr/bin/python3 benchmarks/bench_dynamics.py incline [--seconds 10] [--variant before]   # belt speed vs incline
     /usr/bin/python3 benchmarks/bench_dynamics.py worm             # worm displacement per cycle vs phase offset
     /usr/bin/python3 benchmarks/bench_dynamics.py fidelity         # integrators on the 1000-cell belt
+    /usr/bin/python3 benchmarks/bench_dynamics.py dtstudy          # belt8's 10 s travel at dt = 4, 2, 1, 0.5, 0.25 ms
 
 Figures go to docs/img/dyn-*.png, raw numbers to benchmarks/results/dyn-*.json.
 Timings are wall clock on a shared 2-core machine; ``speed`` compares the compiled kernel
@@ -360,6 +361,80 @@ def run_fidelity(args):
     print("wrote docs/img/dyn-fidelity-belt1000.png")
 
 
+DT_STUDY_STEPS = (0.004, 0.002, 0.001, 0.0005, 0.00025)
+
+
+def dt_study_rows(travel_of_dt, dts=DT_STUDY_STEPS):
+    """The travel at every step of ``dts`` (coarse to fine, halving) and each one's error: for the finest,
+    :func:`metamaterial_wb.bench.measures.convergence_error` over the whole sequence (Richardson, observed
+    order; where the sequence oscillates, at least the last difference); for a coarser step, its distance
+    to the finest value plus the finest value's own error."""
+    from metamaterial_wb.bench.measures import convergence_error
+    vals = [float(travel_of_dt(dt)) for dt in dts]
+    ext, err, order = convergence_error(dts, vals)
+    rows = [{"dt_s": dt, "travel_mm": v, "error_mm": abs(v - vals[-1]) + err} for dt, v in zip(dts, vals)]
+    return {"rows": rows, "extrapolated_mm": ext, "error_mm": err, "order": order}
+
+
+def run_dtstudy(args):
+    """Long-horizon travel (centre-of-mass displacement) of a scene, by default the 8-cell closed-loop belt on the
+    flat floor, at dt, dt/2, dt/4, ... (BDF2, ``simulate`` from the scene's own start): the reference error of
+    the travel figures in dynamics.md / dynamics-fidelity.md."""
+    import math
+    d = load(args.scene)
+    if args.incline is not None:
+        d["dynamics"]["incline_deg"] = args.incline
+    walls = []
+
+    def travel(dt):
+        # the users' path (simulate: the scene's own start, settled where it says so), BDF2 at this step
+        t0 = time.perf_counter()
+        s, *_ = simulate(Scene.from_dict(d), args.seconds, method="implicit", dt=dt, record_dt=args.seconds / 50)
+        walls.append(time.perf_counter() - t0)
+        v = s["displacement_mm"]
+        print(f"dt = {dt * 1e3:g} ms: travel {v:.2f} mm in {args.seconds:g} s ({walls[-1]:.1f} s wall)", flush=True)
+        return v
+
+    dts = tuple(float(x) * 1e-3 for x in args.dts.split(","))
+    out = dt_study_rows(travel, dts)
+    for r, w in zip(out["rows"], walls):
+        r["wall_s"] = w
+    out.update({"scene": args.scene, "seconds": args.seconds, "method": "implicit (BDF2)",
+                "start": dynamics_config(Scene.from_dict(d))["initial_state"]})
+    out["incline_deg"] = d["dynamics"].get("incline_deg", 0)
+    tag = "" if args.incline is None else f"-incline{args.incline:g}"
+    save(f"dyn-dtstudy-{os.path.splitext(os.path.basename(args.scene))[0]}{tag}.json", out)
+    order = ("no observed order (not in the asymptotic range: the error is at least the last difference)"
+             if not math.isfinite(out["order"]) else None) or \
+        f"observed order {out['order']:.2g}"
+    md = dt_study_markdown(out, order)
+    print(md)
+    stem = os.path.splitext(os.path.basename(args.scene))[0]
+    key = (f"incline{args.incline:g}" if args.incline is not None else "flat" if stem == "belt8" else stem)
+    doc = os.path.join(ROOT, "docs", "dynamics-fidelity.md")
+    with open(doc) as f:
+        text = f.read()
+    b, e = f"<!-- dt-study:{key}:begin -->", f"<!-- dt-study:{key}:end -->"
+    if b in text and e in text:
+        text = text[:text.index(b) + len(b)] + "\n" + md + text[text.index(e):]
+        with open(doc + ".tmp", "w") as f:
+            f.write(text)
+        os.replace(doc + ".tmp", doc)
+        print(f"wrote the {key} table of docs/dynamics-fidelity.md")
+    return 0
+
+
+def dt_study_markdown(out, order):
+    """The dt study's table (docs/dynamics-fidelity.md, between its ``dt-study`` markers)."""
+    T, inc = out["seconds"], out.get("incline_deg", 0)
+    L = [f"`{out['scene']}`, {inc:g} degrees, {T:g} s, {out['method']}, start {out['start']}:\n",
+         f"| dt (ms) | travel in {T:g} s (mm) | its error (mm) | wall (s) |", "|---|---|---|---|"]
+    for r in out["rows"]:
+        L.append(f"| {r['dt_s'] * 1e3:g} | {r['travel_mm']:.2f} | +- {r['error_mm']:.2g} | {r.get('wall_s', 0):.1f} |")
+    L.append(f"\nFinest step: {out['rows'][-1]['travel_mm']:.2f} +- {out['error_mm']:.2g} mm ({order}).\n")
+    return "\n".join(L) + "\n"
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="what", required=True)
@@ -384,8 +459,14 @@ def main():
     pf = sub.add_parser("fidelity")
     pf.add_argument("--horizon", type=float, default=0.5)
     pf.add_argument("--ref-div", type=float, default=4.0)
+    pd = sub.add_parser("dtstudy", help="long-horizon travel at dt, dt/2, ... (the travel figures' reference error)")
+    pd.add_argument("--scene", default="belt8.json", help="an examples/ scene")
+    pd.add_argument("--seconds", type=float, default=10.0)
+    pd.add_argument("--incline", type=float, default=None, help="override dynamics.incline_deg (degrees)")
+    pd.add_argument("--dts", default="4,2,1,0.5,0.25", help="steps in ms, coarse to fine, each half the one before")
     args = p.parse_args()
-    return {"speed": run_speed, "incline": run_incline, "worm": run_worm, "fidelity": run_fidelity}[args.what](args)
+    return {"speed": run_speed, "incline": run_incline, "worm": run_worm, "fidelity": run_fidelity,
+            "dtstudy": run_dtstudy}[args.what](args)
 
 
 if __name__ == "__main__":
