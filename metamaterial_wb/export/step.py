@@ -118,20 +118,16 @@ def colorize_step(text, colours):
     return text[:end] + "\n".join(out) + "\n" + text[end:]
 
 
-def write_step(path, bodies, assembly_name="structure", colours=True):
-    """Write ``bodies`` = ``[(name, shape, colour_hex_or_None)]`` (shapes already at their place) as one
-    STEP assembly named ``assembly_name`` with one named body per entry. Atomic."""
-    from metamaterial_wb.core.fileio import sweep_stale, temp_prefix, write_atomic
+def _export_assembly(assembly_name, labelled_shapes):
+    """STEP text of one assembly ``assembly_name`` holding ``[(label, shape)]`` as FreeCAD's exporter writes
+    it: a hidden helper document (closed again, the user's active document restored), a temporary
+    ``.mmwb-<pid>-*.step`` file (stale ones of exports killed with SIGKILL are swept first)."""
+    from metamaterial_wb.core.fileio import sweep_stale, temp_prefix
     from metamaterial_wb.geometry.fc import freecad
 
     App, Part = freecad()
     import Import
 
-    names = [b[0] for b in bodies]
-    if len(set(names)) != len(names):
-        raise MetamaterialError("STEP: body names must be unique")
-    if not bodies:
-        raise MetamaterialError("STEP: nothing to write (no bodies)")
     active = App.ActiveDocument            # closing the helper document must not leave none active
     try:
         doc = App.newDocument("mmwb_step_export", hidden=True)
@@ -141,29 +137,42 @@ def write_step(path, bodies, assembly_name="structure", colours=True):
         asm = doc.addObject("App::Part", "Assembly")
         asm.Label = assembly_name
         objs = []
-        for k, (name, shape, _) in enumerate(bodies):
+        for k, (label, shape) in enumerate(labelled_shapes):
             o = doc.addObject("Part::Feature", f"b{k}")
-            o.Label = name
+            o.Label = label
             o.Shape = shape
             objs.append(o)
         asm.addObjects(objs)
-        sweep_stale(tempfile.gettempdir())      # .mmwb-<pid>-*.step of exports killed with SIGKILL
+        sweep_stale(tempfile.gettempdir())
         fd, tmp = tempfile.mkstemp(suffix=".step", prefix=temp_prefix("mmwb"))
         os.close(fd)
         try:
             Import.export([asm], tmp)
             with open(tmp, encoding="utf-8", errors="replace") as f:
-                text = f.read()
+                return f.read()
         finally:
             os.unlink(tmp)
-        if colours:
-            table = {name: col for (name, _, col) in bodies if col}
-            text = colorize_step(text, table)
-        write_atomic(path, text)
     finally:
         App.closeDocument(doc.Name)
         if active is not None and active.Name in App.listDocuments():
             App.setActiveDocument(active.Name)
+
+
+def write_step(path, bodies, assembly_name="structure", colours=True):
+    """Write ``bodies`` = ``[(name, shape, colour_hex_or_None)]`` (shapes already at their place) as one
+    STEP assembly named ``assembly_name`` with one named body per entry. Atomic."""
+    from metamaterial_wb.core.fileio import write_atomic
+
+    names = [b[0] for b in bodies]
+    if len(set(names)) != len(names):
+        raise MetamaterialError("STEP: body names must be unique")
+    if not bodies:
+        raise MetamaterialError("STEP: nothing to write (no bodies)")
+    text = _export_assembly(assembly_name, [(name, shape) for name, shape, _ in bodies])
+    if colours:
+        table = {name: col for (name, _, col) in bodies if col}
+        text = colorize_step(text, table)
+    write_atomic(path, text)
     return path
 
 
@@ -325,10 +334,6 @@ def write_step_instanced(path, shapes, instances, assembly_name="structure", col
     ``instances`` = ``[(name, key, FreeCAD placement)]`` (every part a named body of the assembly),
     ``colours`` = ``{key: "#RRGGBB"}``. Atomic. Re-import gives one named body per instance."""
     from metamaterial_wb.core.fileio import write_atomic
-    from metamaterial_wb.geometry.fc import freecad
-
-    App, Part = freecad()
-    import Import
 
     names = [i[0] for i in instances]
     if not instances:
@@ -340,38 +345,12 @@ def write_step_instanced(path, shapes, instances, assembly_name="structure", col
         raise MetamaterialError(f"STEP: body name {bad[0]!r} holds ';' or '\\'")
     used = list(dict.fromkeys(i[1] for i in instances))
     proto = {key: f"mmwb_shape_{k}" for k, key in enumerate(used)}
-    active = App.ActiveDocument
-    try:
-        doc = App.newDocument("mmwb_step_export", hidden=True)
-    except TypeError:
-        doc = App.newDocument("mmwb_step_export")
-    try:
-        asm = doc.addObject("App::Part", "Assembly")
-        asm.Label = assembly_name
-        objs = []
-        for k, key in enumerate(used):
-            o = doc.addObject("Part::Feature", f"s{k}")
-            o.Label = proto[key]
-            o.Shape = shapes[key]
-            objs.append(o)
-        asm.addObjects(objs)
-        fd, tmp = tempfile.mkstemp(suffix=".step", prefix=".mmwb-")
-        os.close(fd)
-        try:
-            Import.export([asm], tmp)
-            with open(tmp, encoding="utf-8", errors="replace") as f:
-                text = f.read()
-        finally:
-            os.unlink(tmp)
-        text = instanced_step_text(text, proto, instances)
-        if colours:
-            by_key = {k: c for k, c in colours.items() if c}
-            text = colorize_step(text, {name: by_key[key] for name, key, _ in instances if key in by_key})
-        write_atomic(path, text)
-    finally:
-        App.closeDocument(doc.Name)
-        if active is not None and active.Name in App.listDocuments():
-            App.setActiveDocument(active.Name)
+    text = _export_assembly(assembly_name, [(proto[key], shapes[key]) for key in used])
+    text = instanced_step_text(text, proto, instances)
+    if colours:
+        by_key = {k: c for k, c in colours.items() if c}
+        text = colorize_step(text, {name: by_key[key] for name, key, _ in instances if key in by_key})
+    write_atomic(path, text)
     return path
 
 

@@ -66,3 +66,31 @@ def test_step_kill9_temporary_swept_by_the_next_export(tmp_path):
     assert r.returncode == 0, r.stdout + r.stderr
     assert (out / "b.step").stat().st_size > 1000 and not (out / "a.step").exists()
     assert _temps(tmpdir) == [live]
+
+
+INSTANCED = HEAD + """from metamaterial_wb.export.step import write_step_instanced
+write_step_instanced(os.path.join(sys.argv[1], "c.step"), {"k": bodies[0][1]},
+                     [("cube_a", "k", App.Placement()), ("cube_b", "k", App.Placement(App.Vector(5, 0, 0), App.Rotation()))],
+                     colours={"k": "#ff0000"})
+"""
+
+
+def test_the_instanced_writer_that_build_uses_sweeps_and_cleans_too(tmp_path):
+    """``build`` writes its sheet with the instanced writer: it shares the temporary handling (pid-named,
+    stale ones swept, its own removed)."""
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    out = tmp_path / "out"
+    out.mkdir()
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    stale = f".mmwb-{dead.pid}-killed.step"                # a writer that no longer runs
+    (tmpdir / stale).write_text("partial")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["TMPDIR"] = str(tmpdir)
+    r = subprocess.run([sys.executable, "-c", INSTANCED, str(out)], env=env, capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 0, r.stdout + r.stderr
+    text = (out / "c.step").read_text(errors="replace")
+    assert "cube_a" in text and "cube_b" in text
+    assert _temps(tmpdir) == []
