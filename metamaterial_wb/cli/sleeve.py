@@ -118,7 +118,6 @@ def write_plots(spec, summary, curves, folder):
     ax.set_title(f"sleeve FD: sequence {seq['loading']}|{seq['unloading']} "
                  f"({'symmetric' if seq['symmetric'] else 'asymmetric'})", fontsize=10)
     ax.legend(fontsize=7)
-    import math
     from metamaterial_wb.core.sleeve.pipeline import design_axis
     axis = design_axis(model)
     if axis is None:                 # uniform ring: along the largest tilt
@@ -205,7 +204,6 @@ def plot_walker(cyc, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import numpy as np
     tip = cyc["tip"]
     n = len(tip) // 2
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(9, 4))
