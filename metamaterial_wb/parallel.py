@@ -14,7 +14,10 @@ above ``core`` (which stays numpy/scipy only and just calls the mapper it is giv
 """
 import concurrent.futures as cf
 import multiprocessing as mp
+import os
 import pickle
+import shutil
+import sys
 
 from metamaterial_wb.core.errors import MetamaterialError
 
@@ -30,6 +33,37 @@ def _run_in_worker(fn, batch):
     return fn(_PROBLEM, batch)
 
 
+def python_executable():
+    """The Python interpreter the pool's workers run on.
+
+    Inside FreeCAD ``sys.executable`` is FreeCAD itself (``freecad`` / ``freecadcmd``), which cannot run a
+    worker; the interpreter of the same version beside it (``python3.11`` ...) can. Raises
+    :class:`MetamaterialError` when none is found.
+    """
+    exe = sys.executable or ""
+    if os.path.basename(exe).lower().startswith("python"):
+        return exe
+    version = "python%d.%d" % sys.version_info[:2]
+    for cand in (os.path.join(sys.base_exec_prefix, "bin", version),
+                 os.path.join(os.path.dirname(exe), version), os.path.join(os.path.dirname(exe), "python"),
+                 os.path.join(os.path.dirname(exe), "python.exe"), shutil.which(version)):
+        if cand and os.path.isfile(cand) and os.access(cand, os.X_OK):
+            return cand
+    raise MetamaterialError(f"workers > 1: no {version} interpreter found beside {exe or 'this program'} to run "
+                            "the process pool's workers; use 1 worker (or a Dask scheduler)")
+
+
+def spawn_context():
+    """A ``spawn`` multiprocessing context on :func:`python_executable`.
+
+    Not ``fork``: the GUI runs the search from a background thread of a multi-threaded program, where a
+    forked child can deadlock on a lock held by another thread (Python 3.14 warns about exactly this).
+    """
+    ctx = mp.get_context("spawn")
+    ctx.set_executable(python_executable())
+    return ctx
+
+
 class PoolMapper:
     def __init__(self, workers):
         self.workers = int(workers)
@@ -40,7 +74,7 @@ class PoolMapper:
         if self._pool is None or problem is not self._problem:
             self.close()
             blob = pickle.dumps(problem)
-            self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=mp.get_context("fork"),
+            self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=spawn_context(),
                                                 initializer=_init_worker, initargs=(blob,))
             self._problem = problem
         return list(self._pool.map(_run_in_worker, [fn] * len(batches), batches))

@@ -89,3 +89,52 @@ def test_unreachable_scheduler_is_a_clear_error(tmp_path):
     pytest.importorskip("distributed")
     with pytest.raises(MetamaterialError, match="cannot connect"):
         make_mapper(scheduler="tcp://127.0.0.1:1")
+
+
+def test_pool_is_spawned_on_a_python_interpreter_from_a_threaded_program(problem_and_local, monkeypatch):
+    """The GUI runs the search on a background thread inside FreeCAD, whose ``sys.executable`` is FreeCAD:
+    the pool must not fork a threaded program (Python 3.12+ warns, it can deadlock) and must start its
+    workers on a real Python interpreter."""
+    import sys
+    import threading
+    import warnings
+    from metamaterial_wb import parallel
+    pb, local = problem_and_local
+    monkeypatch.setattr(sys, "executable", "/usr/bin/freecadcmd")      # as inside FreeCAD
+    assert parallel.python_executable().rsplit("/", 1)[-1].startswith("python")
+    out = {}
+
+    def run():
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", DeprecationWarning)
+            mapper, n = parallel.make_mapper(workers=2)
+            try:
+                out["res"] = search_placement(pb, 2, strategy="greedy", screen=6, mapper=mapper, workers=n)
+                out["method"] = mapper._pool._mp_context.get_start_method()
+            except BaseException as exc:          # noqa: BLE001 - reported below
+                out["exc"] = exc
+            finally:
+                mapper.close()
+
+    idle = threading.Event()
+    other = threading.Thread(target=idle.wait, daemon=True)             # the program is multi-threaded
+    other.start()
+    t = threading.Thread(target=run)
+    t.start()
+    t.join(300)
+    idle.set()
+    assert "exc" not in out, repr(out.get("exc"))
+    assert out["method"] == "spawn"
+    _same(out["res"], local)
+
+
+def test_pool_without_an_interpreter_says_to_use_one_worker(monkeypatch):
+    import shutil
+    import sys
+    from metamaterial_wb import parallel
+    from metamaterial_wb.core.errors import MetamaterialError
+    monkeypatch.setattr(sys, "executable", "/nonexistent/freecad")
+    monkeypatch.setattr(sys, "base_exec_prefix", "/nonexistent")
+    monkeypatch.setattr(shutil, "which", lambda name: None)
+    with pytest.raises(MetamaterialError, match="use 1 worker"):
+        parallel.python_executable()
