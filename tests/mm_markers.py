@@ -1,5 +1,6 @@
 """The markers ``pure`` / ``freecad`` / ``gui`` of a test file, from what it imports (tests/conftest.py applies
 them; docs/testing.md). Static: the files are parsed, not imported, so this works without FreeCAD."""
+import pathlib
 import ast
 import functools
 import os
@@ -22,7 +23,7 @@ MARKERS = {"pure": "needs neither FreeCAD nor Qt (runs with `pytest -m pure` on 
 def _imported_names(path):
     """Every module name a file imports, at any depth (function-level imports count: they run)."""
     try:
-        tree = ast.parse(open(path, encoding="utf-8").read(), path)
+        tree = ast.parse(pathlib.Path(path).read_text(encoding="utf-8"), path)
     except (OSError, SyntaxError):
         return set()
     out = set()
@@ -68,7 +69,7 @@ def _direct(path):
     names = _imported_names(path)
     hit = bool({n.split(".")[0] for n in names} & FREECAD_MODULES)
     if not hit and not path.startswith(os.path.join(REPO, "metamaterial_wb") + os.sep):   # tests, scripts
-        hit = bool(_FREECAD_TEXT.search(open(path, encoding="utf-8").read()))
+        hit = bool(_FREECAD_TEXT.search(pathlib.Path(path).read_text(encoding="utf-8")))
     return hit, tuple(sorted({_source_of(n) for n in names} - {None, path}))
 
 

@@ -2,6 +2,7 @@
 and method (no leading underscore, defined in the module) has a "Parameters" section when it takes arguments
 besides self / cls, and a "Returns" section when its own body has a ``return <expr>``. Properties are
 attributes in numpy style (no sections) and are not checked. An AST check: nothing is imported."""
+import pathlib
 import ast
 import os
 
@@ -62,7 +63,7 @@ def _sections(doc):
 
 
 def missing_sections(path, only=None):
-    tree = ast.parse(open(path, encoding="utf-8").read(), path)
+    tree = ast.parse(pathlib.Path(path).read_text(encoding="utf-8"), path)
     out = []
     for name, fn, method in _public(tree, only):
         secs = _sections(ast.get_docstring(fn) or "")
@@ -76,7 +77,7 @@ def missing_sections(path, only=None):
 @pytest.mark.parametrize("rel", MODULES + sorted(EXTRA))
 def test_public_core_api_has_numpy_sections(rel):
     path = os.path.join(CORE, rel)
-    found = [n for n, _f, _m in _public(ast.parse(open(path, encoding="utf-8").read()), EXTRA.get(rel))]
+    found = [n for n, _f, _m in _public(ast.parse(pathlib.Path(path).read_text(encoding="utf-8")), EXTRA.get(rel))]
     assert found, f"{rel}: no public function found (renamed?)"
     missing = missing_sections(path, EXTRA.get(rel))
     assert not missing, f"core/{rel}: numpy docstring sections missing: " + "; ".join(missing)

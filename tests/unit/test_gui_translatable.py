@@ -2,11 +2,11 @@
 row or window title goes through ``translate("Metamaterial", ...)`` (``FreeCAD.Qt.translate``), so the
 workbench can be translated; ``resources/translations/Metamaterial.ts`` lists those texts (lupdate's
 format) and is up to date with the code. Pure AST check: no FreeCAD needed."""
+import pathlib
 import ast
 import os
 import xml.etree.ElementTree as ET
 
-import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 GUI = os.path.join(ROOT, "metamaterial_wb", "gui")
@@ -37,7 +37,7 @@ def call_name(node):
 def untranslated():
     bad = []
     for path in gui_files():
-        tree = ast.parse(open(path, encoding="utf-8").read(), path)
+        tree = ast.parse(pathlib.Path(path).read_text(encoding="utf-8"), path)
         for node in ast.walk(tree):
             if not isinstance(node, ast.Call) or not node.args:
                 continue

@@ -1,6 +1,7 @@
 """One owner per quantity (issue 14): the plate side, the hinge sizes of a joint, the material colours
 and their hex -> RGB conversion, the preference path and the tilt range are each defined in one place;
 a second definition anywhere in the package fails here."""
+import pathlib
 import ast
 import os
 import re
@@ -19,7 +20,7 @@ def _files():
         for f in files:
             if f.endswith(".py"):
                 p = os.path.join(d, f)
-                text = open(p, encoding="utf-8").read()
+                text = pathlib.Path(p).read_text(encoding="utf-8")
                 yield os.path.relpath(p, REPO_DIR).replace(os.sep, "/"), text, ast.parse(text, p)
 
 

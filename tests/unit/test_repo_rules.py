@@ -1,4 +1,5 @@
 """Project rules that would otherwise only live in the docs."""
+import pathlib
 import ast
 import collections
 import os
@@ -15,7 +16,7 @@ def _py_files(root):
 
 
 def _imports(path):
-    tree = ast.parse(open(path, encoding="utf-8").read(), path)
+    tree = ast.parse(pathlib.Path(path).read_text(encoding="utf-8"), path)
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for a in node.names:
@@ -76,7 +77,7 @@ def _code_only(path):
     """The file's text with comments and string literals blanked (docs may name the removed names)."""
     import io
     import tokenize
-    lines = open(path, encoding="utf-8").read().splitlines(keepends=True)
+    lines = pathlib.Path(path).read_text(encoding="utf-8").splitlines(keepends=True)
     for tok in tokenize.generate_tokens(io.StringIO("".join(lines)).readline):
         if tok.type in (tokenize.COMMENT, tokenize.STRING):
             (r0, c0), (r1, c1) = tok.start, tok.end
@@ -129,7 +130,7 @@ def _package_imports():
     for p in _py_files(PACKAGE_DIR):
         m = _module_name(p)
         out = edges.setdefault(m, set())
-        for node in ast.walk(ast.parse(open(p, encoding="utf-8").read(), p)):
+        for node in ast.walk(ast.parse(pathlib.Path(p).read_text(encoding="utf-8"), p)):
             if isinstance(node, ast.ImportFrom):
                 if node.level:
                     parts = m.split(".")
