@@ -191,3 +191,22 @@ def test_modules_laid_out_for_printing(mod_result):
         assert V[:, 2].max() == pytest.approx(V0[:, 2].max() - V0[:, 2].min(), abs=1e-4)
         xs.append((V[:, 0].min(), V[:, 0].max()))
     assert xs[0][1] + 5.0 == pytest.approx(xs[1][0])
+
+
+def test_connection_hub_too_thin_for_two_halves_is_refused():
+    """Each half holds its pins 0.5 mm deep under two nozzle widths of plate: 2.6 mm at the 0.4 mm
+    nozzle; thinner is an error naming the field and the range, before any geometry."""
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fabrication import fabrication_params
+    from metamaterial_wb.geometry.modules import parse_modules
+    for t, ok in ((2.6, True), (2.5, False)):
+        sc = make_scene({"chain": 3}, modules=[{"type": "connection_hub", "name": "h", "node": "N0,1",
+                                                "thickness_mm": t}])
+        p = fabrication_params(sc, effective_tilts_deg(sc))
+        if ok:
+            assert parse_modules(sc, p)[0].values["thickness_mm"] == t
+        else:
+            with pytest.raises(SceneError) as e:
+                parse_modules(sc, p)
+            assert "thickness_mm" in e.value.field and "[2.6, 200]" in str(e.value)
