@@ -276,7 +276,6 @@ def _adapter_sockets(spec, p):
     sweeps about the shaft (geometry/servo.py). A lateral socket of node B inside that circle (small
     cells, e.g. the seed's 20 mm) is replaced by B's far socket (the side away from A) when that one
     lies outside: ``values["pin_b_swap_v"]`` is the v sign (module frame) of the lateral pin moved."""
-    from metamaterial_wb.geometry.servo import servo_layout
     from metamaterial_wb.geometry.sheet import socket_positions
 
     lay = servo_layout(spec, p)

@@ -199,7 +199,7 @@ def build_servo_housing(spec, p):
     bridge = box(max(fu0, lay["hu0"] + su), fu1, max(v0, sv - hv), min(v1, sv + hv), T, lay["zb"])
     pins = _pins_at(p, _lateral_points(p, u_a), snap=spec.snap)
     housing = _finish([at_shaft(outer)] + [at_shaft(q) for q in seats] + [feet, skirt, bridge] + pins,
-                      [at_shaft(inner), at_shaft(cable)] + [at_shaft(q) for q in troughs] + [at_shaft(q) for q in pilots], f"{spec.name} housing")
+                      [at_shaft(q) for q in [inner, cable] + troughs + pilots], f"{spec.name} housing")
     # horn adapter on node B: pad with pins, column beyond the horn, arm with the horn pocket over the shaft
     u_b = 0.5 * c
     far_b = 0.5 * gap + s - 0.3
