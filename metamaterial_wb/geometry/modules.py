@@ -216,6 +216,15 @@ def parse_modules(scene, p):
             su, sv = to_module_frame(spec, p, spec.pivot.point_mm)
             spec.values["shaft_u_mm"], spec.values["shaft_v_mm"] = round(su, 6), round(sv, 6)
             _check_servo_fit(spec, p, f)
+            _adapter_sockets(spec, p)
+        elif typ == "connection_hub":
+            half = 0.5 * spec.values["thickness_mm"]
+            if half < max(p.min_wall_mm, PIN_OVERLAP_MM + p.min_wall_mm) - 1e-9:
+                need = 2 * max(p.min_wall_mm, PIN_OVERLAP_MM + p.min_wall_mm)
+                raise SceneError(f"{f}.thickness_mm ({name})",
+                                 f"{spec.values['thickness_mm']} mm: the hub prints as two halves, each holding its "
+                                 f"pins {PIN_OVERLAP_MM} mm deep under {p.min_wall_mm:.3g} mm (two nozzle widths) of "
+                                 f"plate; allowed range [{need:.3g}, 200] mm")
         elif typ == "friction_pad":
             if "mu" in item:
                 spec.mu = check_number(f"{f}.mu ({name})", item["mu"], 0.0, 10.0)
@@ -262,6 +271,38 @@ def parse_modules(scene, p):
     return specs
 
 
+def _adapter_sockets(spec, p):
+    """The horn adapter prints upside down on a block that must stay outside the circle the housing
+    sweeps about the shaft (geometry/servo.py). A lateral socket of node B inside that circle (small
+    cells, e.g. the seed's 20 mm) is replaced by B's far socket (the side away from A) when that one
+    lies outside: ``values["pin_b_swap_v"]`` is the v sign (module frame) of the lateral pin moved."""
+    from metamaterial_wb.geometry.sheet import socket_positions
+
+    lay = servo_layout(spec, p)
+    su, sv = spec.values["shaft_u_mm"], spec.values["shaft_v_mm"]
+    c = p.cell_size_mm
+    bx, by = spec.b[1] * c, -spec.b[0] * c
+    uv = {lab: to_module_frame(spec, p, (bx + x, by + y)) for lab, x, y in socket_positions(p)}
+    inside = {lab: math.hypot(u - su, v - sv) < lay["col_u0"] for lab, (u, v) in uv.items()}
+    spec.values["pin_b_swap_v"] = 0.0
+    lat = [lab for ij, lab in spec.sockets if ij == spec.b]
+    bad = [lab for lab in lat if inside[lab]]
+    far = max(uv, key=lambda lab: uv[lab][0])
+    if len(bad) == 1 and not inside[far]:
+        spec.sockets = [(ij, far if (ij == spec.b and lab == bad[0]) else lab) for ij, lab in spec.sockets]
+        spec.values["pin_b_swap_v"] = 1.0 if uv[bad[0]][1] > 0 else -1.0
+
+
+def adapter_pin_points(spec, p):
+    """Module-frame centres of the horn adapter's pins (node B's lateral sockets, one of them swapped
+    for the far socket by :func:`_adapter_sockets`)."""
+    u_b = 0.5 * p.cell_size_mm
+    d = 0.5 * p.plate_side_mm_global - p.socket_inset_mm
+    sw = spec.values.get("pin_b_swap_v", 0.0)
+    pts = [(u, v) for u, v in _lateral_points(p, u_b) if not (sw and v * sw > 0)]
+    return pts + ([(u_b + d, 0.0)] if sw else [])
+
+
 def to_module_frame(spec, p, xy):
     """Sheet coordinates (x, y) -> the module frame (u, v) of :func:`module_placement` (pure math)."""
     c = p.cell_size_mm
@@ -293,18 +334,34 @@ def _constraint_angle(scene, spec, f):
 # ----------------------------------------------------------------------------------------------
 # geometry (FreeCAD)
 # ----------------------------------------------------------------------------------------------
+DOWEL_DIAMETER_MM = 1.8     # holes for two pieces of 1.75 mm filament that align the hub's halves
+
+
+def hub_dowel_points(p):
+    """Centres (node frame) of the two dowel holes through both halves of a connection hub."""
+    q = 0.3 * p.plate_side_mm_global
+    return [(q, q), (-q, -q)]
+
+
 def build_connection_hub(spec, p):
+    """Two one-way halves, split at mid-thickness: each is a plate with pins on its outer face and
+    prints flat face down, pins up. Glued back to back, aligned by two filament dowels."""
+    App, Part = _fc()
+    V = App.Vector
     T = p.sheet_thickness_mm
     t = spec.values["thickness_mm"]
     s = p.plate_side_mm_global
     h = 0.5 * s - 0.3
-    plate = box(-h, h, -h, h, T, T + t)
+    zm = T + 0.5 * t
     d = 0.5 * s - p.socket_inset_mm
     pts = [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)]
     down = _pins_at(p, pts, snap=spec.snap)
     # the second structure lies upside down on the hub: its top face at z = T + t, pins point up into it
     up = _pins_at(p, pts, up=True, z_shift=T + t, snap=spec.snap)
-    return [("hub", _finish([plate] + down + up, [], spec.name))]
+    dowels = [Part.makeCylinder(0.5 * DOWEL_DIAMETER_MM, t + 2.0, V(x, y, T - 1.0)) for x, y in hub_dowel_points(p)]
+    lower = _finish([box(-h, h, -h, h, T, zm)] + down, dowels, f"{spec.name} lower half")
+    upper = _finish([box(-h, h, -h, h, zm, T + t)] + up, dowels, f"{spec.name} upper half")
+    return [("hub_lower", lower), ("hub_upper", upper)]
 
 
 def build_friction_pad(spec, p):

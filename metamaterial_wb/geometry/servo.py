@@ -32,6 +32,13 @@ SERVO_PRESETS = {
 SERVO_KEYS = tuple(SERVO_PRESETS["SG90"])
 SERVO_OPTIONAL = ("screw_inset_mm", "screw_diameter_mm")   # a custom servo may leave these out
 CABLE_SLOT_MM = 5.0         # height of the cable's way out at the housing's far end (above the floor)
+# The housing prints upside down (tub top on the bed): the cavity's floor is then a ceiling. A flat
+# ceiling as wide as the cavity (12.9 mm for an SG90) is too long a bridge, so the cavity runs on
+# below the servo's bottom as a trough whose walls slope at GROOVE_SLOPE_DEG from the horizontal
+# (steeper than the 45 deg overhang rule) down to a flat GROOVE_BRIDGE_MM wide (a printable bridge with
+# a margin under 10 mm). The servo hangs on its tabs (screwed into the seats), not on the floor.
+GROOVE_BRIDGE_MM = 8.0
+GROOVE_SLOPE_DEG = 55.0
 
 
 def _servo_dims(item, f, nm):
@@ -90,11 +97,13 @@ def servo_layout(spec, p):
     tab_end = a + 0.5 * (v["tab_length_mm"] - L)
     standoff = v["pad_mm"] + clr
     wall = v["wall_mm"]
+    w = v["body_width_mm"] + 2 * clr
+    groove = max(0.0, 0.5 * (w - GROOVE_BRIDGE_MM)) * math.tan(math.radians(GROOVE_SLOPE_DEG))
     lay = {
         "a": a, "L": L, "clr": clr,
         "hu0": a - L - clr - wall, "hu1": a + clr + wall,
         "hv": 0.5 * v["body_width_mm"] + clr + wall,
-        "z_floor": T + standoff, "zb": T + standoff + v["floor_mm"],
+        "z_floor": T + standoff, "zb": T + standoff + v["floor_mm"] + groove, "groove_mm": groove,
         # the column turns against the housing about the shaft: it stands 1 mm outside the circle through
         # the housing's far corners (tab seats), and beyond the whole horn arm (which turns with it: the
         # horn pocket ends at the column)
@@ -121,6 +130,16 @@ def _check_servo_fit(spec, p, f):
                          f"from it; this servo needs cells of at least {c + (need - far_b + 0.3):.3g} mm "
                          f"(cell_size_mm is {c}) or a shorter horn (dims.horn_arm_length_mm at most "
                          f"{spec.values['horn_arm_length_mm'] - (need - far_b + 0.3):.3g} mm)")
+
+
+def adapter_block_fits(spec, p):
+    """Whether the horn adapter's pad can be the foot of a block outside the circle the housing sweeps
+    (radius ``col_u0`` about the shaft): every pin centre on node B lies outside it."""
+    from metamaterial_wb.geometry.modules import adapter_pin_points
+
+    lay = servo_layout(spec, p)
+    su, sv = spec.values.get("shaft_u_mm", 0.0), spec.values.get("shaft_v_mm", 0.0)
+    return all(math.hypot(u - su, v - sv) >= lay["col_u0"] for u, v in adapter_pin_points(spec, p))
 
 
 def build_servo_housing(spec, p):
@@ -152,6 +171,15 @@ def build_servo_housing(spec, p):
              box(lay["hu1"] - 0.01, a + ext, -hv, hv, lay["z_floor"], top)]
     inner = box(a - L - clr, a + clr, -(0.5 * v["body_width_mm"] + clr), 0.5 * v["body_width_mm"] + clr,
                 lay["zb"], top + 1.0)
+    troughs = []
+    if lay["groove_mm"] > 0:
+        w0 = 0.5 * v["body_width_mm"] + clr
+        w1 = 0.5 * min(GROOVE_BRIDGE_MM, 2 * w0)
+        zt, zbot = lay["zb"] + 0.01, lay["zb"] - lay["groove_mm"]
+        prof = Part.makePolygon([V(a - L - clr, -w0, zt), V(a - L - clr, w0, zt), V(a - L - clr, w0, lay["zb"]),
+                                 V(a - L - clr, w1, zbot), V(a - L - clr, -w1, zbot), V(a - L - clr, -w0, lay["zb"]),
+                                 V(a - L - clr, -w0, zt)])
+        troughs.append(Part.Face(prof).extrude(V(L + 2 * clr, 0, 0)))
     cable_h = min(CABLE_SLOT_MM, max(v["tab_z_mm"] - 2 * p.min_wall_mm - 4.0, 1.0))
     cable = box(a - L - ext - 1.0, a - L, -2.0, 2.0, lay["zb"], lay["zb"] + cable_h)
     pilot_r = 0.5 * (v["screw_diameter_mm"] - 0.3)
@@ -164,18 +192,19 @@ def build_servo_housing(spec, p):
     fu0 = max(-0.5 * gap - s + 0.3, min(lay["hu0"] + su, u_a - p.counterbore_radius_mm - 1.0))
     fu1 = -0.5 * gap - 0.3
     feet = box(fu0, fu1, -fv, fv, T, lay["z_floor"] + 0.01)
+    # the feet's footprint runs on up to the tub's top: printed upside down, the feet stand on it
+    skirt = box(fu0, fu1, -fv, fv, lay["z_floor"], top)
     # a floor patch joining the feet to the tub (both ranges in v: the tub sits over the hinge pivot)
     v0, v1 = min(-fv, sv - hv), max(fv, sv + hv)
     bridge = box(max(fu0, lay["hu0"] + su), fu1, max(v0, sv - hv), min(v1, sv + hv), T, lay["zb"])
     pins = _pins_at(p, _lateral_points(p, u_a), snap=spec.snap)
-    housing = _finish([at_shaft(outer)] + [at_shaft(q) for q in seats] + [feet, bridge] + pins,
-                      [at_shaft(inner), at_shaft(cable)] + [at_shaft(q) for q in pilots], f"{spec.name} housing")
+    housing = _finish([at_shaft(outer)] + [at_shaft(q) for q in seats] + [feet, skirt, bridge] + pins,
+                      [at_shaft(q) for q in [inner, cable] + troughs + pilots], f"{spec.name} housing")
     # horn adapter on node B: pad with pins, column beyond the horn, arm with the horn pocket over the shaft
     u_b = 0.5 * c
     far_b = 0.5 * gap + s - 0.3
     pu0 = min(lay["col_u0"] + su, u_b - p.counterbore_radius_mm - 1.0)
     pu0 = max(pu0, 0.5 * gap + 0.3)          # the housing sits above the pad (z >= z_floor): no overlap
-    pad = box(pu0, far_b, -fv, fv, T, T + v["pad_mm"])
     cw = max(4.0, 0.5 * v["horn_arm_width_mm"] + 2.0)
     col = box(lay["col_u0"], lay["col_u0"] + lay["col_t"], -cw, cw, T,
               lay["z_arm"] + lay["arm_t"])
@@ -186,11 +215,21 @@ def build_servo_housing(spec, p):
     horn = box(0.0, v["horn_arm_length_mm"] + clr, -(0.5 * v["horn_arm_width_mm"] + clr),
                0.5 * v["horn_arm_width_mm"] + clr, lay["z_arm"] - 1.0, lay["z_arm"] + depth)
     shaft_hole = Part.makeCylinder(1.2, lay["arm_t"] + 2.0, V(0, 0, lay["z_arm"] - 1.0))  # horn screw
-    # the column's foot joins the pad where the column stands beside it (the shaft is off the node centre line)
-    cu0, cu1 = lay["col_u0"] + su, lay["col_u0"] + lay["col_t"] + su
-    foot = box(min(cu0, pu0), max(cu1, pu0 + 0.5), min(-fv, sv - cw), max(fv, sv + cw), T, T + v["pad_mm"])
-    foot = foot.common(box(pu0, far_b, -0.5 * s + 0.3, 0.5 * s - 0.3, T, T + v["pad_mm"]))
-    pins_b = _pins_at(p, _lateral_points(p, u_b), snap=spec.snap)
-    adapter = _finish([pad, foot, at_shaft(col), at_shaft(arm)] + pins_b,
+    # The adapter prints upside down (arm top on the bed): the pad then hangs at the top of the print, so
+    # it is the foot of a block that stands on the bed under all of it (the arm's top plane), outside the
+    # circle the housing sweeps (radius col_u0 about the shaft) so that the servo still turns it freely.
+    # When node B's sockets lie inside that circle (small cells) the pins need the pad there: the pad
+    # stays whole and the pose check reports what then needs support.
+    ztop = lay["z_arm"] + lay["arm_t"]
+    bv0 = max(min(-fv, sv - cw), -0.5 * s + 0.3)
+    bv1 = min(max(fv, sv + cw), 0.5 * s - 0.3)
+    pads = [box(pu0, far_b, bv0, bv1, T, T + v["pad_mm"])]
+    if adapter_block_fits(spec, p):
+        pads = [pads[0].cut(Part.makeCylinder(lay["col_u0"], v["pad_mm"] + 2.0, V(su, sv, T - 1.0))),
+                box(pu0, far_b, bv0, bv1, T, ztop).cut(Part.makeCylinder(lay["col_u0"], ztop - T + 2.0,
+                                                                         V(su, sv, T - 1.0)))]
+    from metamaterial_wb.geometry.modules import adapter_pin_points
+    pins_b = _pins_at(p, adapter_pin_points(spec, p), snap=spec.snap)
+    adapter = _finish(pads + [at_shaft(col), at_shaft(arm)] + pins_b,
                       [at_shaft(hub), at_shaft(horn), at_shaft(shaft_hole)], f"{spec.name} horn adapter")
     return [("housing", housing), ("horn_adapter", adapter)]

@@ -59,7 +59,7 @@ def test_manifest_lists_every_part_file_and_check(built):
     names = [p["name"] for p in m["parts"]]
     # chain of 6 cells: 2 x 7 nodes; every node and hinge, then the module parts
     assert sum(1 for p in m["parts"] if p["role"] == "node") == 14
-    assert {"servo_housing", "servo_horn_adapter", "pad_pad", "hub_hub"} <= set(names)
+    assert {"servo_housing", "servo_horn_adapter", "pad_pad", "hub_hub_lower", "hub_hub_upper"} <= set(names)
     node = [p for p in m["parts"] if p["name"] == "node_1_3"][0]
     assert node["placement"]["base_mm"] == [60.0, -20.0, 0.0] and "w_sheet.3mf" in node["files"]
     assert m["checks"]["ran"] == ["solids", "modules"] and m["checks"]["parameters"] is True
@@ -95,8 +95,9 @@ def test_manifest_snap_fit_strain_within_limit(built):
 
 def test_print_pose_checked_on_the_exported_mesh(built):
     """The pose report in the manifest is what the exported 3MF mesh gives; the friction pad lies on
-    its flat face, pins up, and prints without supports; every part stands on z = 0. (The two-way
-    connection hub has pins on both faces: no pose avoids supports, and the report says so.)"""
+    its flat face, pins up, and prints without supports; every part stands on z = 0; every part of
+    every module (servo housing and horn adapter upside down, the two-way hub as two one-way halves)
+    prints without supports."""
     from metamaterial_wb.export.printpose import pose_report
     out, m = built
     for mod in m["modules"]:
@@ -112,8 +113,11 @@ def test_print_pose_checked_on_the_exported_mesh(built):
     for name, part in (("stable", "stable_hub"), ("clip", "clip_clip")):      # flat top on the bed, pins up
         rep = [x for x in m["modules"] if x["name"] == name][0]["print_pose"][part]
         assert rep["supports_free"] and rep["pose"] == "+z down" and rep["bed_area_mm2"] > 100.0, (name, rep)
-    hub = [x for x in m["modules"] if x["name"] == "hub"][0]["print_pose"]["hub_hub"]
-    assert not hub["supports_free"]
+    hub = [x for x in m["modules"] if x["name"] == "hub"][0]["print_pose"]
+    assert set(hub) == {"hub_hub_lower", "hub_hub_upper"}
+    for mod in m["modules"]:
+        for part, rep in mod["print_pose"].items():
+            assert rep["supports_free"], (part, rep)
 
 
 def test_pose_report_on_known_shapes(fc):

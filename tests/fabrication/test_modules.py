@@ -73,12 +73,32 @@ def test_servo_shaft_on_the_joint_pivot(mod_result):
 
 def test_pins_reach_into_the_sockets(mod_result):
     r = mod_result
-    for name in ("servo_housing", "servo_horn_adapter", "hub_hub", "stable_hub", "clip_clip"):
+    for name in ("servo_housing", "servo_horn_adapter", "hub_hub_lower", "stable_hub", "clip_clip"):
         assert _part(r, name).BoundBox.ZMin == pytest.approx(CLR), name      # pin tips just above the bed
     pad = _part(r, "pad_pad").BoundBox                          # bottom side: mirrored
     assert (pad.ZMin, pad.ZMax) == pytest.approx((-3.0, T - CLR))
-    hub = _part(r, "hub_hub").BoundBox                          # two-way: pins up into a second sheet
+    hub = _part(r, "hub_hub_upper").BoundBox                    # two-way: pins up into a second sheet
     assert hub.ZMax == pytest.approx(T + 3.0 + T - CLR)
+
+
+def test_connection_hub_prints_as_two_one_way_halves(mod_result):
+    """The two-way hub is two halves split at mid-thickness, each a plate with pins on one face only
+    (so each prints flat face down, pins up): they touch without overlap, and the dowel holes run
+    through both in line."""
+    from metamaterial_wb.geometry.modules import DOWEL_DIAMETER_MM
+    r = mod_result
+    lo, up = _part(r, "hub_hub_lower"), _part(r, "hub_hub_upper")
+    zm = T + 1.5
+    assert lo.BoundBox.ZMax == pytest.approx(zm) and up.BoundBox.ZMin == pytest.approx(zm)
+    assert lo.common(up).Volume < 1e-6
+    for half in (lo, up):
+        holes = [f for f in half.Faces if f.Surface.__class__.__name__ == "Cylinder"
+                 and abs(f.Surface.Radius - 0.5 * DOWEL_DIAMETER_MM) < 1e-9]
+        assert len(holes) == 2
+    assert {round(f.Surface.Center.x, 6) for f in lo.Faces if f.Surface.__class__.__name__ == "Cylinder"
+            and abs(f.Surface.Radius - 0.5 * DOWEL_DIAMETER_MM) < 1e-9} == \
+        {round(f.Surface.Center.x, 6) for f in up.Faces if f.Surface.__class__.__name__ == "Cylinder"
+         and abs(f.Surface.Radius - 0.5 * DOWEL_DIAMETER_MM) < 1e-9}
 
 
 def test_friction_pad_mu_reaches_the_scene_and_the_parts(mod_result):
@@ -107,14 +127,15 @@ def test_servo_presets_and_custom_dims(fc):
         m = dict({"type": "servo_housing", "name": "s", "joint": "H0,0"}, **kw)
         r = build_scene(make_scene({"grid": [1, 2]}, modules=[m]), progress=False)
         import Part
-        h = r.placed_shape(r.by_name("s_housing"))
-        slab = Part.makeBox(200, 200, 5, fc.Vector(-100, -100, T + 8))     # the tub, above the wider feet
+        h = r.shapes[r.by_name("s_housing").key]             # module frame: u along the joint, v across
+        # the tub over node B's side of the joint (u > 0), clear of the feet and their skirt (on node A)
+        slab = Part.makeBox(2.0, 200, 5, fc.Vector(0.0, -100, T + 8))
         bb = h.common(slab).BoundBox
         return bb.YMax - bb.YMin, r
 
     w_sg, _ = housing_width(servo="SG90")
     w_mg, _ = housing_width(servo="MG90S")
-    # the tub is the body + clearance + wall on each side where it is wider than the feet
+    # the tub is the body + clearance + wall on each side
     assert w_sg == pytest.approx(12.5 + 2 * (CLR + 1.6))
     assert w_mg - w_sg == pytest.approx(0.0, abs=1e-9)          # both presets: 12.5 mm bodies
     dims = {"body_length_mm": 23.0, "body_width_mm": 16.0, "body_height_mm": 20.0, "tab_length_mm": 30.0,
@@ -170,3 +191,22 @@ def test_modules_laid_out_for_printing(mod_result):
         assert V[:, 2].max() == pytest.approx(V0[:, 2].max() - V0[:, 2].min(), abs=1e-4)
         xs.append((V[:, 0].min(), V[:, 0].max()))
     assert xs[0][1] + 5.0 == pytest.approx(xs[1][0])
+
+
+def test_connection_hub_too_thin_for_two_halves_is_refused():
+    """Each half holds its pins 0.5 mm deep under two nozzle widths of plate: 2.6 mm at the 0.4 mm
+    nozzle; thinner is an error naming the field and the range, before any geometry."""
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fabrication import fabrication_params
+    from metamaterial_wb.geometry.modules import parse_modules
+    for t, ok in ((2.6, True), (2.5, False)):
+        sc = make_scene({"chain": 3}, modules=[{"type": "connection_hub", "name": "h", "node": "N0,1",
+                                                "thickness_mm": t}])
+        p = fabrication_params(sc, effective_tilts_deg(sc))
+        if ok:
+            assert parse_modules(sc, p)[0].values["thickness_mm"] == t
+        else:
+            with pytest.raises(SceneError) as e:
+                parse_modules(sc, p)
+            assert "thickness_mm" in e.value.field and "[2.6, 200]" in str(e.value)

@@ -60,7 +60,7 @@ def test_built_pin_has_the_designed_prongs(fc):
     r = build_scene(make_scene({"chain": 2}, modules=[{"type": "connection_hub", "name": "h", "node": "N0,0",
                                                        "material": "PLA"}]), progress=False)
     spec = r.modules[0]
-    hub = r.placed_shape(r.by_name("h_hub"))
+    hub = r.placed_shape(r.by_name("h_hub_lower"))     # the half with the pins down
     import Part
     # a thin probe slab at mid-prong height through the E pin (x = 9 - 3.5 = 5.5 in the node frame)
     T = r.params.sheet_thickness_mm

@@ -61,10 +61,10 @@ def main(out_dir):
     for spec in r.modules:
         parts = [q for q in r.parts if q.group == spec.name]
         meshes, reps = lay_out_best_poses(part_meshes(r, parts, 0.1))
-        flags = ", ".join(f"{n[len(spec.name) + 1:]}: {rep['pose']}, "
+        flags = "\n".join(f"{n[len(spec.name) + 1:]}: {rep['pose']}, "
                           f"{'no supports' if rep['supports_free'] else 'needs supports'}" for n, rep in reps.items())
         render_meshes_png(meshes, os.path.join(out_dir, f"fab-print-{spec.type}.png"), elev=28, azim=-55,
-                          size_in=(5.0, 3.6), title=f"{spec.type} as printed ({flags})", zoom=0.6)
+                          size_in=(5.0, 3.6), title=f"{spec.type} as printed\n{flags}", zoom=0.6)
     sheet = part_meshes(r, [q for q in r.parts if q.group == "sheet"], 0.1)
     mods = part_meshes(r, [q for q in r.parts if q.role == "module"], 0.1)
     servo = [m for m in r.modules if m.type == "servo_housing"][0]
