@@ -294,7 +294,6 @@ def instanced_step_text(proto_text, proto_names, instances):
         raise MetamaterialError("STEP instancing: expected one top product")
     top_pd = pd_of[pdf_of[tops[0]]]
     top_rep = refs(sdr_of[pds_of[top_pd]])[1]
-    top_ctx = refs(top_rep)[-1]
     prod_ctx = refs(tops[0])[-1]
     pd_ctx = refs(top_pd)[-1]
     out = []
