@@ -430,11 +430,12 @@ class Simulator:
         return (self.q.copy(), self.v.copy(), self.t, self.anchors.copy(), self.inside.copy(),
                 dict(self.ledger), self.sys.theta0.copy(), self.sys.ra.copy(), self.sys.rb.copy(),
                 self.actuate.state() if hasattr(self.actuate, "state") else None,
-                {k: self.stats[k] for k in self.ACCEPTED_STATS})
+                {k: self.stats.get(k, 0) for k in self.ACCEPTED_STATS})
 
     # extremes that describe the motion: they come from the accepted trajectory only (a discarded
-    # attempt's blow-up is reported in its fallback entry, not as the run's penetration)
-    ACCEPTED_STATS = ("max_penetration_mm", "max_speed_m_s")
+    # attempt's blow-up is reported in its fallback entry, not as the run's penetration; the Newton-unconverged
+    # count of the summary's warning, likewise, counts the accepted steps only)
+    ACCEPTED_STATS = ("max_penetration_mm", "max_speed_m_s", "newton_unconverged_steps")
 
     def _restore(self, cp):
         (self.q, self.v, self.t, self.anchors, self.inside, ledger, th0, ra, rb, ast, acc) = cp
