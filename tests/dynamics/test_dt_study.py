@@ -60,4 +60,4 @@ def test_dynamics_fidelity_doc_holds_the_measured_dt_tables():
     for key in ("flat", "incline10", "worm_crawl"):
         block = text[text.index(f"<!-- dt-study:{key}:begin -->"):text.index(f"<!-- dt-study:{key}:end -->")]
         rows = [ln for ln in block.splitlines() if ln.startswith("| ") and ln[2].isdigit()]
-        assert len(rows) == 5 and all("+-" in ln for ln in rows), key
+        assert len(rows) >= 5 and all("+-" in ln for ln in rows), key

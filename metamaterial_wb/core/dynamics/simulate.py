@@ -54,17 +54,29 @@ def dt_study(scene, cfg, method, dt, window, settle=True):
             "converged": bool(abs(d1 - d2) * 1e3 <= tol)}
 
 
-def convergence_warnings(energy, scale_J, study=None):
-    """Sentences for the summary's ``warnings``: energy created by the integrator, a dt study that
-    changed the answer."""
+def convergence_warnings(energy, scale_J, study=None, stats=None):
+    """Sentences for the summary's ``warnings``: an energy ledger that does not close (energy created or
+    lost by the integrator beyond ``ENERGY_GAIN_TOL`` of the energy turnover), implicit steps accepted
+    with Newton's method unconverged (``stats``: the integrator statistics), a dt study that changed the
+    answer."""
     out = []
     turnover = max(abs(energy["actuator_work_J"]), energy["damping_dissipated_J"] + energy["friction_dissipated_J"]
                    + energy.get("contact_damping_dissipated_J", 0.0), scale_J, 1e-12)
-    if energy["numerical_J"] < -ENERGY_GAIN_TOL * turnover:
-        out.append(f"the energy ledger does not close: the integrator created {-energy['numerical_J']:.3g} J of "
-                   f"energy ({-100 * energy['numerical_J'] / turnover:.0f} % of the energy turnover {turnover:.3g} J; "
+    num = energy["numerical_J"]
+    if num < -ENERGY_GAIN_TOL * turnover:
+        out.append(f"the energy ledger does not close: the integrator created {-num:.3g} J of "
+                   f"energy ({-100 * num / turnover:.0f} % of the energy turnover {turnover:.3g} J; "
                    f"or the contacts' stick / slip is not resolved at this step): check with a smaller dt or the "
                    f"implicit integrator")
+    elif num > ENERGY_GAIN_TOL * turnover:
+        out.append(f"the energy ledger does not close: the integrator dissipated {num:.3g} J that no damper or "
+                   f"friction took ({100 * num / turnover:.0f} % of the energy turnover {turnover:.3g} J): the step "
+                   f"damps motion the physics keeps; check with a smaller dt")
+    if stats is not None and stats.get("newton_unconverged_steps", 0):
+        n, steps = int(stats["newton_unconverged_steps"]), max(int(stats.get("steps", 0)), 1)
+        out.append(f"{n} of {steps} implicit steps ({100.0 * n / steps:.2g} %) were accepted with Newton's method "
+                   f"unconverged (the contacts' touching / sticking set kept changing between iterates): those "
+                   f"steps do not solve their equations; a run at a smaller step tells whether that matters")
     if study is not None and not study["converged"]:
         a, b = study["com_displacement_mm"]
         out.append(f"dt study: over the first {study['window_s']:g} s the centre of mass travels {a:+.2f} mm at "
@@ -119,7 +131,7 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
         study = dt_study(scene, cfg, sim.stats["method"].split("->")[-1],
                          sim.stats.get("dt_final_s", sim.stats["dt_s"]), min(seconds, DT_CHECK_WINDOW_S))
         summary["dt_study"] = study
-    summary["warnings"] = convergence_warnings(summary["energy"], sim.energy_scale, study)
+    summary["warnings"] = convergence_warnings(summary["energy"], sim.energy_scale, study, sim.stats)
     if model.kind == "belt":
         # "rolls back": the centre of mass ends more than one cell length downhill / backwards
         summary["rolled_back"] = bool(disp_mm < -cfg["belt"]["cell_length_mm"])
