@@ -1,0 +1,223 @@
+"""Calibrating the sleeve beam model on CalculiX (issue 18, item 2c): one root-flexibility length fitted on the
+FE unit cell's converged peak, then checked, unfitted, on the cell's valley and on the four-cell ring.
+
+The beam model clamps each free beam half at the faces of its pillars (rigid links to the pillar centre
+lines). The printed beam is built into pillars of its own soft material, whose material near the root deforms
+too: the beam behaves as if clamped a little inside the support (the classical root-rotation correction of a
+cantilever built into an elastic wall). ``root_extension`` (in units of the beam thickness ``t``) lets the
+flexible beam continue that far into each pillar (``core/sleeve/model.py``). Its value is the one at which the
+beam model's unit-cell peak, extrapolated in its own mesh, equals CalculiX's extrapolated peak; its
+uncertainty is the range over which the model stays within the FE's error bar (plus the model's own mesh
+error). Everything else the section reports is a check the fit never saw.
+
+Input: the FE study ``benchmarks/results/fe-study.json`` (``bench fidelity --fe --fe-parts sleeve``) and the
+long FE ring trace ``benchmarks/results/fe-ring-trace.json`` (``benchmarks/bench_sleeve_calibration.py
+--trace``), both written by CalculiX runs; the beam-model runs are redone here (about a minute).
+"""
+import numpy as np
+
+from metamaterial_wb.bench.measures import convergence_error
+from metamaterial_wb.fe.sleeve2d import peak_valley
+
+CELL_MESHES = (8, 16, 32)
+RING_MESHES = (6, 12, 24)
+MARK_BEGIN, MARK_END = "<!-- fe-calibration:begin -->", "<!-- fe-calibration:end -->"
+
+
+def _geom():
+    from metamaterial_wb.core.sleeve.cell import CellGeometry
+    return CellGeometry()
+
+
+def model_cell_pv(e, n_el, d_max=0.7, steps=140):
+    """``(d_peak, F_peak, d_valley, F_valley)`` of the beam model's unit cell at root extension ``e``."""
+    from metamaterial_wb.core.sleeve.model import cell_curve
+    up, _ = cell_curve(_geom(), n_el=n_el, steps=steps, d_max=d_max, unload=False, root_extension=e)
+    return peak_valley(up.d, up.F), up
+
+
+def model_ring(e, n_el, d_max=0.7, steps=140, curvature=False):
+    from metamaterial_wb.core.sleeve.model import SleeveModel
+    m = SleeveModel([_geom()], [[0, 0, 0, 0]], n_el, imperfection=1e-4, curvature=curvature, root_extension=e)
+    return m.trace(np.linspace(0, d_max, steps + 1))
+
+
+def extrapolated(meshes, values):
+    """``(value, error)`` per column: Richardson in ``h ~ 1/n`` (measures.convergence_error)."""
+    ext, err, _ = convergence_error([1.0 / n for n in meshes], np.asarray(values, float))
+    return np.atleast_1d(ext), np.atleast_1d(err)
+
+
+def cell_peak(e, meshes=CELL_MESHES, d_max=0.3, steps=60):
+    """The cell's peak at ``e``, extrapolated in the beam mesh: ``(value, mesh error)``."""
+    vals = [model_cell_pv(e, n, d_max, steps)[0][1] for n in meshes]
+    v, err = extrapolated(meshes, vals)
+    return float(v[0]), float(err[0])
+
+
+def fit_root_extension(target, target_err, lo=0.0, hi=1.5, tol=0.01, meshes=CELL_MESHES):
+    """``(e, e_low, e_high)``: the root extension whose extrapolated cell peak equals ``target``, and the ones
+    where it reaches ``target +- target_err`` (bisection: the peak falls monotonically with e)."""
+    def solve(y):
+        a, b = lo, hi
+        while b - a > tol:
+            m = 0.5 * (a + b)
+            a, b = (m, b) if cell_peak(m, meshes)[0] > y else (a, m)
+        return 0.5 * (a + b)
+    return solve(target), solve(target + target_err), solve(target - target_err)
+
+
+def ring_extrema(d, F):
+    """P1, V1, P2, V2 (and where) of a ring curve: the first four alternating local extrema."""
+    d, F = np.asarray(d, float), np.asarray(F, float)
+    out, want_max = [], True
+    for i in range(1, len(F) - 1):
+        if want_max and F[i] >= F[i - 1] and F[i] > F[i + 1] or not want_max and F[i] <= F[i - 1] and F[i] < F[i + 1]:
+            x, y = d[i - 1:i + 2], F[i - 1:i + 2]
+            A = np.polyfit(x, y, 2)
+            xv = -A[1] / (2 * A[0]) if A[0] else x[1]
+            out.append((float(xv), float(np.polyval(A, xv))) if x[0] <= xv <= x[2] else (float(d[i]), float(F[i])))
+            want_max = not want_max
+            if len(out) == 4:
+                break
+    return out
+
+
+def run(fe_study, trace=None, progress=print):
+    """The calibration and its checks as a plain dict (JSON-able)."""
+    cell_fe = fe_study["cell"]["fe_extrapolated"]
+    ring_fe = fe_study["ring"].get("fe_extrapolated")
+    Fp, eFp = cell_fe["pv"][1], cell_fe["err"][1]
+    e, e_lo, e_hi = fit_root_extension(Fp, eFp)
+    progress(f"root extension {e:.3f} t (FE peak band: {e_lo:.3f} .. {e_hi:.3f})")
+    out = {"root_extension": e, "root_extension_range": [e_lo, e_hi], "fe_cell": cell_fe, "fe_ring": ring_fe}
+    rows = {}
+    for name, ee in (("uncalibrated", 0.0), ("calibrated", e)):
+        pvs = [model_cell_pv(ee, n)[0] for n in CELL_MESHES]
+        v, err = extrapolated(CELL_MESHES, pvs)
+        rows[name] = {"cell_pv": v.tolist(), "cell_err": err.tolist()}
+        rp = [peak_valley(*(lambda p: (p.d, p.F))(model_ring(ee, n, d_max=0.18, steps=36)))[:2] for n in RING_MESHES]
+        v, err = extrapolated(RING_MESHES, rp)
+        rows[name].update({"ring_p1": v.tolist(), "ring_p1_err": err.tolist()})
+        progress(f"{name}: cell {np.round(rows[name]['cell_pv'], 5)}, ring P1 {np.round(rows[name]['ring_p1'], 5)}")
+    out["models"] = rows
+    if trace is not None:
+        n = max(RING_MESHES)
+        for name, ee in (("uncalibrated", 0.0), ("calibrated", e)):
+            p = model_ring(ee, n, d_max=max(trace["d"][-1], 0.2), steps=140)
+            rows[name]["ring_curve"] = {"n_el": n, "d": p.d.tolist(), "F": p.F.tolist(),
+                                        "tilt_deg": np.degrees(np.hypot(*np.asarray(p.tilt).T)).tolist(),
+                                        "extrema": ring_extrema(p.d, p.F)}
+        out["trace"] = {k: trace[k] for k in ("r", "d", "F", "tilt_rad")}
+        out["trace"]["info"] = {k: trace["info"].get(k) for k in ("wall_s", "increments", "d_reached", "stopped",
+                                                                  "dofs", "elements")}
+        out["trace"]["extrema"] = ring_extrema(trace["d"], trace["F"])
+    return out
+
+
+def _rel(m, em, f, ef):
+    r = m / f - 1.0
+    return r, abs(m / f) * np.hypot(em / abs(m), ef / abs(f))
+
+
+def markdown(cal, img=None):
+    e, (elo, ehi) = cal["root_extension"], cal["root_extension_range"]
+    fc, fr = cal["fe_cell"], cal["fe_ring"]
+    L = [MARK_BEGIN, "", "### Calibrating the beam model on CalculiX (issue 18)", "",
+         "Regenerated by `benchmarks/bench_sleeve_calibration.py` (`metamaterial_wb/bench/fe_sleeve_calibration.py`). "
+         "**Physical reason.** The beam model clamps each free beam half at its pillars' faces. The printed beam is "
+         "built into pillars of the same soft material, which deform near the root too: the beam turns at its root "
+         "as if clamped a little inside the support (the root-rotation correction of a cantilever built into an "
+         "elastic wall). `root_extension` (units of `t`; `SleeveModel(..., root_extension=...)`, "
+         "`core/sleeve/model.py`) continues the flexible beam that far into each pillar. **Fit**: one number, on "
+         "one figure - the unit cell's peak, the beam model extrapolated in its mesh (8, 16, 32 elements per half) "
+         f"against CalculiX extrapolated: **root_extension = {e:.2f} t** (the FE's error bar on the peak maps to "
+         f"{elo:.2f} .. {ehi:.2f} t). **Checks** (not fitted): the cell's valley and both positions, and the "
+         "four-cell ring (flat, as the 2-D FE ring).", "",
+         "| figure (forces x1e-3) | CalculiX, extrapolated | beam model as documented (root_extension 0) | "
+         f"calibrated ({e:.2f} t) | calibrated against CalculiX |", "|---|---|---|---|---|"]
+    mu, mc = cal["models"]["uncalibrated"], cal["models"]["calibrated"]
+    fig = [("cell peak (fitted)", 1, fc["pv"], fc["err"], "cell_pv", "cell_err", 1e3),
+           ("cell peak at d/L", 0, fc["pv"], fc["err"], "cell_pv", "cell_err", 1.0),
+           ("cell valley", 3, fc["pv"], fc["err"], "cell_pv", "cell_err", 1e3),
+           ("cell valley at d/L", 2, fc["pv"], fc["err"], "cell_pv", "cell_err", 1.0)]
+    if fr:
+        fig += [("four-cell ring P1 (flat)", 1, fr["pv"], fr["err"], "ring_p1", "ring_p1_err", 1e3),
+                ("four-cell ring P1 at d/L", 0, fr["pv"], fr["err"], "ring_p1", "ring_p1_err", 1.0)]
+    for name, j, fv, fe, kv, ke, s in fig:
+        cells = [f"{s * fv[j]:.3f} +- {s * fe[j]:.3f}"]
+        for m in (mu, mc):
+            cells.append(f"{s * m[kv][j]:.3f} +- {s * m[ke][j]:.3f}")
+        if s != 1.0:
+            r, u = _rel(mc[kv][j], mc[ke][j], fv[j], fe[j])
+            ok = "within" if abs(r) <= u else "outside"
+            cells.append(f"{100 * r:+.1f} % +- {100 * u:.1f} % ({ok} the error)")
+        else:
+            cells.append(f"{mc[kv][j] - fv[j]:+.3f} +- {np.hypot(mc[ke][j], fe[j]):.3f}")
+        L.append(f"| {name} | " + " | ".join(cells) + " |")
+    L.append("")
+    if "trace" in cal:
+        L += trace_lines(cal)
+    if img:
+        L += [f"![calibrated beam model against CalculiX]({img})", ""]
+    L.append(MARK_END)
+    return "\n".join(L) + "\n"
+
+
+def trace_lines(cal):
+    tr = cal["trace"]
+    info = tr["info"]
+    names = ("P1", "V1", "P2", "V2")
+    out = ["**The FE ring over the working range.** CalculiX's four-cell ring at mesh r = "
+           f"{tr['r']} ({info.get('elements')} elements, {info.get('dofs')} DOFs), displacement control in "
+           f"{info.get('increments')} converged increments to d/L {info.get('d_reached', float('nan')):.3f} "
+           f"({info.get('wall_s', float('nan')) / 60:.0f} min)" +
+           (f"; **it stopped there**: {info['stopped'].splitlines()[0]}" if info.get("stopped") else ", the whole range") +
+           ". Its extrema against the beam model's flat ring (24 elements per half), forces x1e-3 (d/L):", "",
+           "| extremum | CalculiX r = %d | beam model as documented | calibrated |" % tr["r"], "|---|---|---|---|"]
+    ex = [tr["extrema"], cal["models"]["uncalibrated"]["ring_curve"]["extrema"],
+          cal["models"]["calibrated"]["ring_curve"]["extrema"]]
+    for k, nm in enumerate(names):
+        cells = [f"{1e3 * x[k][1]:.3f} ({x[k][0]:.3f})" if len(x) > k else "not reached" for x in ex]
+        out.append(f"| {nm} | " + " | ".join(cells) + " |")
+    out.append("")
+    return out
+
+
+def plot(cal, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 1, figsize=(6.5, 4), dpi=110)
+    if "trace" in cal:
+        tr = cal["trace"]
+        ax.plot(tr["d"], 1e3 * np.asarray(tr["F"]), "k-", lw=1.6, label=f"CalculiX ring, r = {tr['r']}")
+        for name, st in (("uncalibrated", "C0--"), ("calibrated", "C3-")):
+            c = cal["models"][name]["ring_curve"]
+            ax.plot(c["d"], 1e3 * np.asarray(c["F"]), st, lw=1.1,
+                    label=f"beam model, flat, {'root_extension %.2f t' % cal['root_extension'] if name == 'calibrated' else 'as documented'}")
+    fr = cal["fe_ring"]
+    if fr:
+        ax.errorbar([fr["pv"][0]], [1e3 * fr["pv"][1]], yerr=[1e3 * fr["err"][1]], fmt="ks", ms=4, capsize=3,
+                    label="CalculiX P1, extrapolated (r = 1, 2, 3)")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("d / L")
+    ax.set_ylabel("F / (G L^2) x1e-3")
+    ax.set_title("four-cell ring: CalculiX against the beam model", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def write_section(doc_path, section):
+    """Replace the marked section (inserted after the FE check's section the first time)."""
+    with open(doc_path) as f:
+        text = f.read()
+    if MARK_BEGIN in text and MARK_END in text:
+        a, b = text.index(MARK_BEGIN), text.index(MARK_END) + len(MARK_END) + 1
+        return text[:a] + section + text[b:]
+    anchor = "## Sequencing"
+    i = text.index(anchor) if anchor in text else len(text)
+    return text[:i] + section + "\n" + text[i:]
