@@ -10,7 +10,9 @@ early (``solve_ring(partial=True)``: where and why it stopped is reported); it w
 ``benchmarks/results/fe-study.json``, it fits the beam model's root extension on the FE cell's peak and checks
 it on the valley and the ring (``metamaterial_wb/bench/fe_sleeve_calibration.py``), writing the section between
 the ``<!-- fe-calibration -->`` markers of docs/sleeves.md, ``docs/img/sleeve-fe-calibration.png`` and
-``benchmarks/results/fe-calibration.json``.
+``benchmarks/results/fe-calibration.json``; the calibration is stored in the FE study too (``sleeve_calibration``),
+and docs/fidelity.md's FE section is regenerated from that study (``fe_study.markdown``, as ``bench fidelity
+--fe --fe-json benchmarks/results/fe-study.json`` would write it), which now ends with the sleeve's trust statement.
 """
 import argparse
 import json
@@ -50,7 +52,9 @@ def main(argv=None):
         with open(tpath, "w") as f:
             json.dump(tr, f, indent=1)
     trace = json.load(open(tpath)) if os.path.exists(tpath) else None
-    study = json.load(open(os.path.join(RESULTS, "fe-study.json")))["sleeve"]
+    spath = os.path.join(RESULTS, "fe-study.json")
+    full = json.load(open(spath))
+    study = full["sleeve"]
     from metamaterial_wb.bench.fe_sleeve import summarise
     summarise(study)
     out = cal.run(study, trace)
@@ -65,6 +69,30 @@ def main(argv=None):
             f.write(text)
         os.replace(DOC + ".tmp", DOC)
         print("wrote docs/sleeves.md")
+        full["sleeve_calibration"] = {k: v for k, v in out.items() if k != "trace"}
+        if "trace" in out:
+            full["sleeve_calibration"]["trace"] = {"r": out["trace"]["r"], "info": out["trace"]["info"]}
+        with open(spath + ".tmp", "w") as f:
+            json.dump(full, f, indent=1)
+        os.replace(spath + ".tmp", spath)
+        write_fidelity_fe_section(full)
+        print("wrote docs/fidelity.md (FE section)")
+
+
+def write_fidelity_fe_section(full, doc=os.path.join(ROOT, "docs", "fidelity.md")):
+    """docs/fidelity.md with its FE section (from "## FE top rung" to the FE note or the next top-level heading)
+    regenerated from the FE study."""
+    from metamaterial_wb.bench import fe_study
+    with open(doc) as f:
+        text = f.read()
+    i = text.index("## FE top rung")
+    j = text.find("FE figures read from", i)
+    if j < 0:
+        j = text.find("\n## ", i + 3) + 1
+    text = text[:i] + fe_study.markdown(full) + "\n" + text[j:]
+    with open(doc + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(doc + ".tmp", doc)
 
 
 if __name__ == "__main__":

@@ -66,3 +66,20 @@ def test_calibrated_ring_first_peak_matches_calculix_unfitted(fe):
     assert abs(v - P1) <= eP1 + err
     v0, err0, _ = p1(0.0)
     assert abs(v0 - P1) > 3 * (eP1 + err0)
+
+
+def test_spec_root_extension_reaches_the_analysis():
+    from metamaterial_wb.core.sleeve.pipeline import unit_cell_result
+    from metamaterial_wb.core.sleeve.spec import SleeveSpec
+    base = {"format": "metamaterial-sleeve", "version": 1, "L_mm": 18, "c_mm": 4, "delta_mm": 0.5, "T_mm": 1.8,
+            "cell_types": [{"t_mm": 1.0, "h_mm": 7.5}], "ring": [0, 0, 0, 0]}
+    assert SleeveSpec(base).root_extension == 0.0
+    spec = SleeveSpec(dict(base, model={"root_extension": ROOT_EXTENSION_FE}))
+    assert spec.root_extension == ROOT_EXTENSION_FE
+    for bad in (-1, 3, "x", True):
+        with pytest.raises(SceneError, match="model.root_extension"):
+            SleeveSpec(dict(base, model={"root_extension": bad}))
+    g = spec.cells[0]
+    a = unit_cell_result(g, 8, 24, d_max=0.2)[0]["peak_force"]
+    b = unit_cell_result(g, 8, 24, d_max=0.2, root_extension=spec.root_extension)[0]["peak_force"]
+    assert 0.6 < b / a < 0.8                      # the root flexibility lowers the peak by about 29 %
