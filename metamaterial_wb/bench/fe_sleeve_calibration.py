@@ -200,6 +200,17 @@ def trace_lines(cal):
             cells.append(f"{1e3 * x[k][1]:.3f}{err} ({x[k][0]:.3f})")
         out.append(f"| {nm} | " + " | ".join(cells) + " |")
     out.append("")
+    def tilt_facts(d, deg):
+        d, deg = np.asarray(d, float)[:len(deg)], np.asarray(deg, float)
+        on = np.nonzero(deg > 1.0)[0]
+        k = int(np.argmax(deg))
+        return (f"{deg[k]:.1f} deg at d/L {d[k]:.3f}, above 1 deg from d/L {d[on[0]]:.3f}" if len(on)
+                else f"at most {deg[k]:.2f} deg")
+    ft = np.degrees(np.hypot(*np.asarray(tr["tilt_rad"]).T))
+    mu = cal["models"]["uncalibrated"]["ring_curve"]
+    mc = cal["models"]["calibrated"]["ring_curve"]
+    out += [f"Tilt of the top plate: CalculiX {tilt_facts(tr['d'], ft)}; beam model as documented "
+            f"{tilt_facts(mu['d'], mu['tilt_deg'])}; calibrated {tilt_facts(mc['d'], mc['tilt_deg'])}.", ""]
     if fp is not None and fv is not None:
         out += [f"The FE trace's error (mesh r = {r}) is estimated, not extrapolated (one mesh over the whole range): "
                 f"at the peaks its first peak's distance to the ring's three-mesh extrapolation ({100 * fp:.0f} %), "
@@ -211,14 +222,18 @@ def plot(cal, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 1, figsize=(6.5, 4), dpi=110)
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 3.8), dpi=110)
     if "trace" in cal:
         tr = cal["trace"]
         ax.plot(tr["d"], 1e3 * np.asarray(tr["F"]), "k-", lw=1.6, label=f"CalculiX ring, r = {tr['r']}")
+        tilt = np.degrees(np.hypot(*np.asarray(tr["tilt_rad"]).T))
+        ax2.plot(tr["d"][:len(tilt)], tilt, "k-", lw=1.6, label=f"CalculiX ring, r = {tr['r']}")
         for name, st in (("uncalibrated", "C0--"), ("calibrated", "C3-")):
             c = cal["models"][name]["ring_curve"]
-            ax.plot(c["d"], 1e3 * np.asarray(c["F"]), st, lw=1.1,
-                    label=f"beam model, flat, {'root_extension %.2f t' % cal['root_extension'] if name == 'calibrated' else 'as documented'}")
+            lab = (f"beam model, flat, root_extension {cal['root_extension']:.2f} t" if name == "calibrated"
+                   else "beam model, flat, as documented")
+            ax.plot(c["d"], 1e3 * np.asarray(c["F"]), st, lw=1.1, label=lab)
+            ax2.plot(c["d"], c["tilt_deg"], st, lw=1.1, label=lab)
     fr = cal["fe_ring"]
     if fr:
         ax.errorbar([fr["pv"][0]], [1e3 * fr["pv"][1]], yerr=[1e3 * fr["err"][1]], fmt="ks", ms=4, capsize=3,
@@ -226,9 +241,14 @@ def plot(cal, path):
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel("d / L")
     ax.set_ylabel("F / (G L^2) x1e-3")
-    ax.set_title("four-cell ring: CalculiX against the beam model", fontsize=9)
+    ax.set_title("four-cell ring: force", fontsize=9)
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
+    ax2.set_xlabel("d / L")
+    ax2.set_ylabel("tilt of the top plate (deg)")
+    ax2.set_title("four-cell ring: tilt", fontsize=9)
+    ax2.legend(fontsize=7)
+    ax2.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

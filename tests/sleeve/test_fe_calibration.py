@@ -83,3 +83,45 @@ def test_spec_root_extension_reaches_the_analysis():
     a = unit_cell_result(g, 8, 24, d_max=0.2)[0]["peak_force"]
     b = unit_cell_result(g, 8, 24, d_max=0.2, root_extension=spec.root_extension)[0]["peak_force"]
     assert 0.6 < b / a < 0.8                      # the root flexibility lowers the peak by about 29 %
+
+
+def _synthetic_calibration(stopped=None):
+    d = np.linspace(0, 0.7, 141)
+    F = 1e-3 * (np.sin(2 * np.pi * d / 0.5) + 0.2)          # peaks at 0.125, 0.625; valley at 0.375
+    model = {"cell_pv": [0.13, 6.1e-4, 0.62, -1.2e-4], "cell_err": [1e-3, 3e-6, 2e-3, 3e-6],
+             "ring_p1": [0.128, 2.43e-3], "ring_p1_err": [1e-3, 2e-5],
+             "ring_curve": {"n_el": 24, "d": d.tolist(), "F": F.tolist(), "tilt_deg": (30 * d).tolist(),
+                            "extrema": cal.ring_extrema(d, F)}}
+    info = {"wall_s": 600.0, "increments": 140, "d_reached": 0.7, "dofs": 2236, "elements": 264}
+    if stopped:
+        info["stopped"] = stopped
+    return {"root_extension": 0.63, "root_extension_range": [0.55, 0.71],
+            "fe_cell": {"pv": [0.129, 6.07e-4, 0.607, -1.11e-4], "err": [1e-3, 2.6e-5, 4e-3, 2e-6]},
+            "fe_ring": {"pv": [0.131, 2.429e-3], "err": [4e-3, 1.04e-4]},
+            "fe_cell_by_mesh": {"1": [0.127, 6.87e-4, 0.583, -1.31e-4]},
+            "fe_ring_by_mesh": {"1": [0.126, 2.748e-3]},
+            "models": {"uncalibrated": model, "calibrated": model},
+            "trace": {"r": 1, "d": d.tolist(), "F": (1.1 * F).tolist(),
+                      "tilt_rad": np.column_stack([np.radians(10 * d), 0 * d]).tolist(), "info": info,
+                      "extrema": cal.ring_extrema(d, 1.1 * F)}}
+
+
+def test_calibration_section_and_trace_table(tmp_path):
+    ex = cal.ring_extrema(*(lambda d: (d, np.sin(2 * np.pi * d / 0.5)))(np.linspace(0, 0.7, 141)))
+    assert [round(x, 3) for x, _ in ex[:3]] == [0.125, 0.375, 0.625]
+    md = cal.markdown(_synthetic_calibration("ccx failed on job 'sleeve_ring' (exit code 1):\nno convergence"))
+    assert md.startswith(cal.MARK_BEGIN) and md.rstrip().endswith(cal.MARK_END)
+    assert "root_extension = 0.63 t" in md and "| cell peak (fitted) | 0.607 +- 0.026 |" in md
+    assert "**it stopped there**: ccx failed on job 'sleeve_ring' (exit code 1):" in md
+    # the trace's error: at the peaks its first peak's distance to the ring's extrapolation plus that error
+    # ((0.319 + 0.104) / 2.429 = 17 %), at the valleys the r = 1 cell's ((0.020 + 0.002) / 0.111 = 20 %)
+    assert "extrapolation (17 %)" in md and "same mesh (20 %)" in md
+    assert "| P1 | 1.320 +- 0.230 (0.125) |" in md
+    assert "Tilt of the top plate: CalculiX 7.0 deg at d/L 0.700, above 1 deg from d/L 0.105" in md
+    doc = tmp_path / "sleeves.md"
+    doc.write_text("# Sleeves\n\nintro\n\n## Sequencing\n\nrest\n")
+    once = cal.write_section(str(doc), md)
+    doc.write_text(once)
+    assert cal.write_section(str(doc), md) == once and once.index("intro") < once.index(cal.MARK_BEGIN) < once.index("## Sequencing")
+    fid = cal.fidelity_markdown({"cell": {"fe": [], "model": []}, "ring": {"fe": [], "model": []}})
+    assert "fewer than two meshes" in fid
