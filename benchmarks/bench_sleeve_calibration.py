@@ -45,6 +45,8 @@ def main(argv=None):
     ap.add_argument("--trace-r", type=int, default=1)
     ap.add_argument("--trace-increments", type=int, default=140)
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--reuse-fit", action="store_true",
+                    help="take the root extension (and its range) from benchmarks/results/fe-calibration.json")
     a = ap.parse_args(argv)
     tpath = os.path.join(RESULTS, "fe-ring-trace.json")
     if a.trace:
@@ -57,7 +59,11 @@ def main(argv=None):
     study = full["sleeve"]
     from metamaterial_wb.bench.fe_sleeve import summarise
     summarise(study)
-    out = cal.run(study, trace)
+    fit = None
+    if a.reuse_fit:
+        old = json.load(open(os.path.join(RESULTS, "fe-calibration.json")))
+        fit = (old["root_extension"], *old["root_extension_range"])
+    out = cal.run(study, trace, fit=fit)
     section = cal.markdown(out, IMG)
     print(section)
     if not a.no_write:
@@ -69,9 +75,16 @@ def main(argv=None):
             f.write(text)
         os.replace(DOC + ".tmp", DOC)
         print("wrote docs/sleeves.md")
-        full["sleeve_calibration"] = {k: v for k, v in out.items() if k != "trace"}
+        import copy
+        keep = copy.deepcopy({k: v for k, v in out.items() if k != "trace"})
+        for m in keep["models"].values():            # the curves stay in fe-calibration.json; the extrema here
+            if "ring_curve" in m:
+                m["ring_curve"] = {"n_el": m["ring_curve"]["n_el"], "extrema": m["ring_curve"]["extrema"],
+                                   "d_end": m["ring_curve"]["d"][-1]}
+        full["sleeve_calibration"] = keep
         if "trace" in out:
-            full["sleeve_calibration"]["trace"] = {"r": out["trace"]["r"], "info": out["trace"]["info"]}
+            full["sleeve_calibration"]["trace"] = {"r": out["trace"]["r"], "info": out["trace"]["info"],
+                                                   "extrema": out["trace"]["extrema"]}
         with open(spath + ".tmp", "w") as f:
             json.dump(full, f, indent=1)
         os.replace(spath + ".tmp", spath)

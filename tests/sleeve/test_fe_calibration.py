@@ -89,7 +89,8 @@ def _synthetic_calibration(stopped=None):
     d = np.linspace(0, 0.7, 141)
     F = 1e-3 * (np.sin(2 * np.pi * d / 0.5) + 0.2)          # peaks at 0.125, 0.625; valley at 0.375
     model = {"cell_pv": [0.13, 6.1e-4, 0.62, -1.2e-4], "cell_err": [1e-3, 3e-6, 2e-3, 3e-6],
-             "ring_p1": [0.128, 2.43e-3], "ring_p1_err": [1e-3, 2e-5],
+             "ring_p1": [0.128, 2.43e-3], "ring_p1_err": [1e-3, 2e-5], "cell_wall_s": [1.0, 2.0, 4.0],
+             "cell_by_mesh": [[0.13, 6.4e-4, 0.62, -1.3e-4], [0.13, 6.2e-4, 0.62, -1.25e-4], [0.13, 6.15e-4, 0.62, -1.2e-4]],
              "ring_curve": {"n_el": 24, "d": d.tolist(), "F": F.tolist(), "tilt_deg": (30 * d).tolist(),
                             "extrema": cal.ring_extrema(d, F)}}
     info = {"wall_s": 600.0, "increments": 140, "d_reached": 0.7, "dofs": 2236, "elements": 264}
@@ -99,7 +100,7 @@ def _synthetic_calibration(stopped=None):
             "fe_cell": {"pv": [0.129, 6.07e-4, 0.607, -1.11e-4], "err": [1e-3, 2.6e-5, 4e-3, 2e-6]},
             "fe_ring": {"pv": [0.131, 2.429e-3], "err": [4e-3, 1.04e-4]},
             "fe_cell_by_mesh": {"1": [0.127, 6.87e-4, 0.583, -1.31e-4]},
-            "fe_ring_by_mesh": {"1": [0.126, 2.748e-3]},
+            "fe_ring_by_mesh": {"1": [0.126, 2.748e-3]}, "fe_cell_wall_s": {"1": 60.0},
             "models": {"uncalibrated": model, "calibrated": model},
             "trace": {"r": 1, "d": d.tolist(), "F": (1.1 * F).tolist(),
                       "tilt_rad": np.column_stack([np.radians(10 * d), 0 * d]).tolist(), "info": info,
@@ -123,5 +124,16 @@ def test_calibration_section_and_trace_table(tmp_path):
     once = cal.write_section(str(doc), md)
     doc.write_text(once)
     assert cal.write_section(str(doc), md) == once and once.index("intro") < once.index(cal.MARK_BEGIN) < once.index("## Sequencing")
+    cal.plot(_synthetic_calibration(), str(tmp_path / "cal.png"))
+    assert (tmp_path / "cal.png").read_bytes()[:4] == b"\x89PNG"
     fid = cal.fidelity_markdown({"cell": {"fe": [], "model": []}, "ring": {"fe": [], "model": []}})
     assert "fewer than two meshes" in fid
+
+
+def test_fidelity_trust_statement_from_the_stored_study(fe):
+    c = _synthetic_calibration()
+    c["trace"]["extrema"] = c["trace"]["extrema"][:2]            # the FE: one peak, one valley
+    md = cal.fidelity_markdown(fe, c)
+    assert "| unit cell, peak | 0.607 +- 0.026 | 0.858 +- 0.004 | +41 % +- 6 % |" in md
+    assert "Where the sleeve beam model can be trusted (measured)" in md
+    assert "shows 1 peak and 1 valley, the flat beam model 2 peaks and 1 valley" in md
