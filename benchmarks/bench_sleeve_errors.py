@@ -87,7 +87,7 @@ def block_pillar_tip(meshes=(6, 12, 24), at=12, say=print):
 
         def same(xs):
             xs = [str(x) for x in xs]
-            return xs[0] if len(set(xs)) == 1 else " / ".join(f"{x} ({n})" for x, n in zip(xs, meshes))
+            return xs[0] if len(set(xs)) == 1 else "; ".join(f"{x} ({n})" for x, n in zip(xs, meshes))
         out.append(f"| {name} | {same([f'{a[2]} / {a[3]}' for a in r4])} | {pm(meshes, [a[0] for a in r4], at)} | "
                    f"{pm(meshes, [a[1] for a in r4], at)} | {same(r3)} | {same(r2)} | "
                    f"{pm(meshes, [c[0][1] for c in c1], at)} | {pm(meshes, [c[1][1] for c in c1], at)} | {same(rule)} |")

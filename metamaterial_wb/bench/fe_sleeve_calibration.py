@@ -232,6 +232,13 @@ def trace_lines(cal):
     return out
 
 
+def _logbars(y, e):
+    """Error bars for a log axis: the upper one ``e``, the lower one cut where it would cross zero (drawn to the
+    axis' floor, 1e-3)."""
+    y = np.asarray(y, float)
+    return np.vstack([np.minimum(e, y - 1e-3 * 0.999), np.full_like(y, e)]).clip(min=0)
+
+
 def plot(cal, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -270,16 +277,17 @@ def plot(cal, path):
     if rs:
         x = [cal["fe_cell_wall_s"][r] for r in rs]
         y = [abs(cal["fe_cell_by_mesh"][r][1] / P - 1) for r in rs]
-        ax3.errorbar(x, y, yerr=[eP / abs(P)] * len(x), fmt="P-", color="C3", capsize=3, label="CalculiX r = 1, 2, 3")
+        ax3.errorbar(x, y, yerr=_logbars(y, eP / abs(P)), fmt="P-", color="C3", capsize=3, label="CalculiX r = 1, 2, 3")
     for name, st in (("uncalibrated", "o--"), ("calibrated", "s-")):
         m = cal["models"][name]
         if "cell_by_mesh" in m:
             y = [abs(p[1] / P - 1) for p in m["cell_by_mesh"]]
-            ax3.errorbar(m["cell_wall_s"], y, yerr=[eP / abs(P)] * len(y), fmt=st, capsize=3,
+            ax3.errorbar(m["cell_wall_s"], y, yerr=_logbars(y, eP / abs(P)), fmt=st, capsize=3,
                          label=f"beam model {'calibrated' if name == 'calibrated' else 'as documented'}, "
                                f"{', '.join(map(str, CELL_MESHES))} el.")
     ax3.set_xscale("log")
     ax3.set_yscale("log")
+    ax3.set_ylim(bottom=1e-3)
     ax3.set_xlabel("run time (s)")
     ax3.set_ylabel("|peak / CalculiX extrapolated - 1|")
     ax3.set_title("unit cell peak: error against run time", fontsize=9)
