@@ -63,7 +63,9 @@ def main(argv=None):
     if a.reuse_fit:
         old = json.load(open(os.path.join(RESULTS, "fe-calibration.json")))
         fit = (old["root_extension"], *old["root_extension_range"])
-    out = cal.run(study, trace, fit=fit)
+    bpath = os.path.join(RESULTS, "fe-ring-trace-bias.json")
+    btrace = json.load(open(bpath)) if os.path.exists(bpath) and trace is not None else None
+    out = cal.run(study, trace, fit=fit, bias_trace=btrace)
     section = cal.markdown(out, IMG)
     print(section)
     if not a.no_write:
@@ -76,7 +78,7 @@ def main(argv=None):
         os.replace(DOC + ".tmp", DOC)
         print("wrote docs/sleeves.md")
         import copy
-        keep = copy.deepcopy({k: v for k, v in out.items() if k != "trace"})
+        keep = copy.deepcopy({k: v for k, v in out.items() if k not in ("trace", "trace_bias")})
         for m in keep["models"].values():            # the curves stay in fe-calibration.json; the extrema here
             if "ring_curve" in m:
                 m["ring_curve"] = {"n_el": m["ring_curve"]["n_el"], "extrema": m["ring_curve"]["extrema"],

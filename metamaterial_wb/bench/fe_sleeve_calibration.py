@@ -88,7 +88,7 @@ def ring_extrema(d, F):
     return out
 
 
-def run(fe_study, trace=None, progress=print, fit=None):
+def run(fe_study, trace=None, progress=print, fit=None, bias_trace=None):
     """The calibration and its checks as a plain dict (JSON-able). ``fit``: ``(e, e_low, e_high)`` of an earlier
     :func:`fit_root_extension` on the same FE study (skips the bisection)."""
     cell_fe = fe_study["cell"]["fe_extrapolated"]
@@ -126,6 +126,11 @@ def run(fe_study, trace=None, progress=print, fit=None):
         out["trace"]["info"] = {k: trace["info"].get(k) for k in ("wall_s", "increments", "d_reached", "stopped",
                                                                   "dofs", "elements")}
         out["trace"]["extrema"] = ring_extrema(trace["d"], trace["F"])
+        if bias_trace is not None:
+            out["trace_bias"] = {k: bias_trace[k] for k in ("r", "bias", "d", "F", "tilt_rad")}
+            out["trace_bias"]["info"] = {k: bias_trace["info"].get(k) for k in ("wall_s", "increments", "d_reached",
+                                                                                "stopped")}
+            out["trace_bias"]["extrema"] = ring_extrema(bias_trace["d"], bias_trace["F"])
     return out
 
 
@@ -225,6 +230,16 @@ def trace_lines(cal):
     mc = cal["models"]["calibrated"]["ring_curve"]
     out += [f"Tilt of the top plate: CalculiX {tilt_facts(tr['d'], ft)}; beam model as documented "
             f"{tilt_facts(mu['d'], mu['tilt_deg'])}; calibrated {tilt_facts(mc['d'], mc['tilt_deg'])}.", ""]
+    if "trace_bias" in cal:
+        tb = cal["trace_bias"]
+        ib = tb["info"]
+        exb = tb["extrema"]
+        tiltb = np.degrees(np.hypot(*np.asarray(tb["tilt_rad"]).T))
+        listed = ", ".join(f"{nm} {1e3 * x[1]:.3f} ({x[0]:.3f})" for nm, x in zip(names, exb)) or "none"
+        out += [f"**Branch check**: the same FE ring with a {tb['bias'] / 1e-5:.0f} times larger tilt bias "
+                f"({tb['bias']:.0e} G L^2; {ib.get('increments')} increments to d/L {ib.get('d_reached', float('nan')):.3f}"
+                + (f", stopped: {ib['stopped'].splitlines()[0]}" if ib.get("stopped") else "") +
+                f"): extrema {listed}; tilt {tilt_facts(tb['d'], tiltb)}.", ""]
     if fp is not None and fv is not None:
         out += [f"The FE trace's error (mesh r = {r}) is estimated, not extrapolated (one mesh over the whole range): "
                 f"at the peaks its first peak's distance to the ring's three-mesh extrapolation ({100 * fp:.0f} %), "
@@ -249,6 +264,12 @@ def plot(cal, path):
         ax.plot(tr["d"], 1e3 * np.asarray(tr["F"]), "k-", lw=1.6, label=f"CalculiX ring, r = {tr['r']}")
         tilt = np.degrees(np.hypot(*np.asarray(tr["tilt_rad"]).T))
         ax2.plot(tr["d"][:len(tilt)], tilt, "k-", lw=1.6, label=f"CalculiX ring, r = {tr['r']}")
+        if "trace_bias" in cal:
+            tb = cal["trace_bias"]
+            lab = f"CalculiX ring, r = {tb['r']}, tilt bias {tb['bias']:.0e}"
+            ax.plot(tb["d"], 1e3 * np.asarray(tb["F"]), "-", color="0.55", lw=1.3, label=lab)
+            tt = np.degrees(np.hypot(*np.asarray(tb["tilt_rad"]).T))
+            ax2.plot(tb["d"][:len(tt)], tt, "-", color="0.55", lw=1.3, label=lab)
         for name, st in (("uncalibrated", "C0--"), ("calibrated", "C3-")):
             c = cal["models"][name]["ring_curve"]
             lab = (f"beam model, flat, root_extension {cal['root_extension']:.2f} t" if name == "calibrated"

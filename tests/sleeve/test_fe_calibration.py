@@ -124,7 +124,10 @@ def test_calibration_section_and_trace_table(tmp_path):
     once = cal.write_section(str(doc), md)
     doc.write_text(once)
     assert cal.write_section(str(doc), md) == once and once.index("intro") < once.index(cal.MARK_BEGIN) < once.index("## Sequencing")
-    cal.plot(_synthetic_calibration(), str(tmp_path / "cal.png"))
+    c = _synthetic_calibration()
+    c["trace_bias"] = dict(c["trace"], bias=1e-4, info={"increments": 50, "d_reached": 0.4, "stopped": "budget"})
+    assert "10 times larger tilt bias (1e-04 G L^2; 50 increments to d/L 0.400, stopped: budget)" in cal.markdown(c)
+    cal.plot(c, str(tmp_path / "cal.png"))
     assert (tmp_path / "cal.png").read_bytes()[:4] == b"\x89PNG"
     fid = cal.fidelity_markdown({"cell": {"fe": [], "model": []}, "ring": {"fe": [], "model": []}})
     assert "fewer than two meshes" in fid
