@@ -123,7 +123,8 @@ def markdown(study):
             row = f"| {DOF_NAMES[k]} ({units[k]}) | {_f(beam[k, k])} | " + " | ".join(_f(v) for v in vals)
             if ext:
                 row += f" | {_f(ext['diag'][k])} +- {_f(ext['diag_err'][k])} (order {ext['order'][k]:.1f})"
-            row += f" | {best / beam[k, k]:.2f} |"
+            row += (f" | {best / beam[k, k]:.2f} +- {ext['diag_err'][k] / beam[k, k]:.2g} |" if ext
+                    else f" | {best / beam[k, k]:.2f} |")
             L.append(row)
         bb = condensed_bending(beam)
         vals = [r["bending_condensed"] for r in st]
@@ -131,7 +132,9 @@ def markdown(study):
         row = f"| pure in-plane bending M3/T3, end free (N mm/rad) | {_f(bb)} | " + " | ".join(_f(v) for v in vals)
         if ext:
             row += f" | {_f(ext['bending_condensed'])} +- {_f(ext['bending_condensed_err'])} |"
-        L.append(row + f" {best / bb:.2f} |")
+            L.append(row + f" {best / bb:.2f} +- {ext['bending_condensed_err'] / bb:.2g} |")
+        else:
+            L.append(row + f" {best / bb:.2f} |")
         L.append("")
         L.append("Run time per mesh (six linear load cases in one ccx run): " + ", ".join(
             f"h = {r['h_mm']:g} mm: {r['dofs']} DOFs, {r['wall_s']:.1f} s" for r in st) + ".\n")
@@ -169,6 +172,9 @@ def markdown(study):
         L.append(aspect_markdown(study["aspect"]))
     if study.get("patch"):
         L.append(patch_markdown(study["patch"]))
+    if study.get("sleeve"):
+        from metamaterial_wb.bench.fe_sleeve_calibration import fidelity_markdown
+        L.append(fidelity_markdown(study["sleeve"], study.get("sleeve_calibration")))
     return "\n".join(L) + "\n"
 
 

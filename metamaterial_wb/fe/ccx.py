@@ -61,10 +61,12 @@ def parse_dat(text):
     return out
 
 
-def run(deck, name="job", timeout_s=600.0, keep_dir=None):
+def run(deck, name="job", timeout_s=600.0, keep_dir=None, partial=False):
     """Run ``deck`` (the text of an ``.inp`` file) through ccx. Returns ``(tables, info)``: the parsed
     ``.dat`` (:func:`parse_dat`) and ``{"wall_s", "dir"?}``. Raises :class:`FEError` if ccx is missing, fails,
-    does not converge or exceeds ``timeout_s`` (it is then killed)."""
+    does not converge or exceeds ``timeout_s`` (it is then killed). With ``partial=True`` a run that stops
+    early (no convergence, time limit) returns the increments it converged, with ``info["stopped"]`` saying
+    why (a path traced as far as the solver goes)."""
     ok, path = available()
     if not ok:
         raise FEError(path)
@@ -79,16 +81,28 @@ def run(deck, name="job", timeout_s=600.0, keep_dir=None):
             proc = subprocess.run([path, "-i", name], cwd=tmp, env=env, stdout=subprocess.PIPE,
                                   stderr=subprocess.STDOUT, timeout=timeout_s)
         except subprocess.TimeoutExpired:
-            raise FEError(f"ccx did not finish within {timeout_s:g} s (job {name!r}); it was stopped") from None
+            stopped = f"ccx did not finish within {timeout_s:g} s (job {name!r}); it was stopped"
+            if not partial:
+                raise FEError(stopped) from None
+            proc, log = None, ""
+        else:
+            log = proc.stdout.decode("utf-8", "replace")
+            stopped = None
         wall = time.perf_counter() - t0
-        log = proc.stdout.decode("utf-8", "replace")
         dat = os.path.join(tmp, name + ".dat")
-        if proc.returncode != 0 or "*ERROR" in log or not os.path.exists(dat):
+        if proc is not None and (proc.returncode != 0 or "*ERROR" in log or not os.path.exists(dat)):
             tail = "\n".join(l for l in log.splitlines() if l.strip())[-1500:]
-            raise FEError(f"ccx failed on job {name!r} (exit code {proc.returncode}):\n{tail}")
+            stopped = f"ccx failed on job {name!r} (exit code {proc.returncode}):\n{tail}"
+            if not partial or not os.path.exists(dat):
+                raise FEError(stopped)
+        if not os.path.exists(dat):
+            raise FEError(stopped or f"ccx wrote no .dat file for job {name!r}")
         with open(dat) as f:
             tables = parse_dat(f.read())
-        return tables, {"wall_s": wall, "log_tail": log[-400:]}
+        info = {"wall_s": wall, "log_tail": log[-400:]}
+        if stopped:
+            info["stopped"] = stopped
+        return tables, info
     finally:
         if keep_dir is None:
             shutil.rmtree(tmp, ignore_errors=True)

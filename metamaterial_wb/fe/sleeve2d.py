@@ -325,17 +325,23 @@ def solve_cell(g, r=1, d_max=None, increments=100, timeout_s=1800.0):
     return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], Fn])}, info
 
 
-def solve_ring(g, n_cells=4, r=1, d_max=None, increments=60, bias=1e-5, timeout_s=3600.0):
-    """Force-displacement curve of the unrolled ring and its tilt: ``{"d", "F", "tilt_rad" (k, 2)}``."""
+def solve_ring(g, n_cells=4, r=1, d_max=None, increments=60, bias=1e-5, timeout_s=3600.0, partial=False):
+    """Force-displacement curve of the unrolled ring and its tilt: ``{"d", "F", "tilt_rad" (k, 2)}``. With
+    ``partial=True`` a run that stops before ``d_max`` returns the converged increments (``info["stopped"]``
+    says why, ``info["d_reached"]`` how far, in ``d / L``)."""
     deck, meta = ring_deck(g, n_cells, r, d_max, increments, bias)
-    tables, info = ccx.run(deck, "sleeve_ring", timeout_s)
-    rows = tables[("forces", "BOTTOM")]
+    tables, info = ccx.run(deck, "sleeve_ring", timeout_s, partial=partial)
+    rows = tables.get(("forces", "BOTTOM"), [])
+    if not rows:
+        raise ccx.FEError(info.get("stopped", "ccx printed no increment") + " (no increment converged)")
     t = np.array([r_[0] for r_ in rows])
     F = -np.array([sum(v[1] for v in r_[1].values()) for r_ in rows])
     tilt = np.array([r_[1][TILT][:2] for r_ in tables[("displacements", "NTILT")]]) / meta["radius_mm"]
     d, Fn = _curve(t, meta["d_max_mm"], F, g.L)
     info.update({k: meta[k] for k in ("r", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm")})
     info["increments"] = len(t)
+    tilt = tilt[:len(t)]
+    info["d_reached"] = float(d[-1])
     return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], Fn]),
             "tilt_rad": np.vstack([[0.0, 0.0], tilt])}, info
 

@@ -12,8 +12,8 @@ from metamaterial_wb.core.sleeve.model import SleeveModel, default_stroke
 from metamaterial_wb.core.sleeve.walker import walker_cycle
 
 
-def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None):
-    m = SleeveModel([geom], None, n_el, plane)
+def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None, root_extension=0.0):
+    m = SleeveModel([geom], None, n_el, plane, root_extension=root_extension)
     d_max = default_stroke([geom]) if d_max is None else d_max
     d = np.linspace(0.0, d_max, steps + 1)
     up = m.trace(d)
@@ -34,7 +34,7 @@ def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None):
 
 
 def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, unload=True,
-               imperfection=1e-4, progress=None, curvature=True, pillar_tip="guided"):
+               imperfection=1e-4, progress=None, curvature=True, pillar_tip="guided", root_extension=0.0):
     """Load (and unload) a sleeve. ``imperfection``: a tiny bias moment on the top plate, relative
     to the beams' axial stiffness times the radius, in a direction on no mirror axis of the ring
     (``model.BIAS_ANGLE``), that fixes the tilt direction like the seed's mesh imperfections. It
@@ -42,7 +42,7 @@ def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, un
     which of two mirror-image pillars joins the first-snapping group would otherwise be decided
     by round-off, i.e. by the mesh."""
     m = SleeveModel(cells, pattern, n_el, plane, imperfection=imperfection,
-                    curvature=curvature, pillar_tip=pillar_tip)
+                    curvature=curvature, pillar_tip=pillar_tip, root_extension=root_extension)
     used = [cells[t] for row in pattern for t in row]
     d_max = default_stroke(used) * len(pattern) if d_max is None else d_max
     d = np.linspace(0.0, d_max, steps + 1)
@@ -102,7 +102,7 @@ def simulated_sequence(model, up, down):
 
 
 def design_map(L, c, delta, T, t_range, h_range, ring=False, n_el=8, steps=120, plane="strain",
-               n_cells=4, progress=None, layout="single", curvature=True, pillar_tip="guided"):
+               n_cells=4, progress=None, layout="single", curvature=True, pillar_tip="guided", root_extension=0.0):
     """Peak/valley over a grid of t/L and h/L (seed figure 2C; with ``ring`` also P1/V2, fig. 2F)."""
     ts = np.linspace(*t_range[:2], t_range[2])
     hs = np.linspace(*h_range[:2], h_range[2])
@@ -114,11 +114,11 @@ def design_map(L, c, delta, T, t_range, h_range, ring=False, n_el=8, steps=120, 
         rowp, rowv, rp1, rv2, rn = [], [], [], [], []
         for t in ts:
             g = CellGeometry(L=L, t=t * L, h=h * L, c=c, delta=delta, T=T, layout=layout)
-            res, _, _ = unit_cell_result(g, n_el, steps, plane)
+            res, _, _ = unit_cell_result(g, n_el, steps, plane, root_extension=root_extension)
             rowp.append(res["peak_force"]); rowv.append(res["valley_force"])
             if ring:
                 _, up, _ = ring_trace([g], [[0] * n_cells], n_el, steps, plane, unload=False,
-                                      curvature=curvature, pillar_tip=pillar_tip)
+                                      curvature=curvature, pillar_tip=pillar_tip, root_extension=root_extension)
                 P1, V2, n_p, _ = ring_thresholds(up)
                 rp1.append(P1); rv2.append(V2); rn.append(n_p)
             k += 1
@@ -141,7 +141,7 @@ def analyse(spec, progress=None, log=None):
     dmax = None if spec.d_max_mm is None else spec.d_max_mm / L
     for i, g in enumerate(spec.cells):
         say(f"unit cell {i}: t = {g.t:g} mm, h = {g.h:g} mm")
-        res, up, down = unit_cell_result(g, spec.n_el_cell, spec.steps, spec.plane, dmax)
+        res, up, down = unit_cell_result(g, spec.n_el_cell, spec.steps, spec.plane, dmax, spec.root_extension)
         res["type"] = i
         res["peak_force_N"] = res["peak_force"] * Fscale
         res["valley_force_N"] = res["valley_force"] * Fscale
@@ -155,7 +155,8 @@ def analyse(spec, progress=None, log=None):
         say(f"uniform ring of type {i} ({n} cells)")
         _, up, _ = ring_trace([spec.cells[i]], [[0] * n], spec.n_el_ring, spec.steps, spec.plane,
                               dmax, unload=False, imperfection=spec.imperfection,
-                              curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip)
+                              curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip,
+                              root_extension=spec.root_extension)
         P1, V2, n_p, n_v = ring_thresholds(up)
         pv = peaks_valleys(up.d, up.F)
         uniform.append({"type": i, "P1": P1, "V2": V2, "two_peaks": n_p >= 2 and n_v >= 2,
@@ -166,7 +167,8 @@ def analyse(spec, progress=None, log=None):
     say(f"sleeve: {spec.M} ring(s) x {n} cells, pattern {spec.pattern}")
     model, up, down = ring_trace(spec.cells, spec.pattern, spec.n_el_ring, spec.steps, spec.plane,
                                  dmax * spec.M if dmax else None, imperfection=spec.imperfection,
-                                 progress=progress, curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip)
+                                 progress=progress, curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip,
+                                 root_extension=spec.root_extension)
     curves["ring"] = (model, up, down)
     pv = peaks_valleys(up.d, up.F)
     pvd = peaks_valleys(down.d[::-1], down.F[::-1])
@@ -231,7 +233,7 @@ def analyse(spec, progress=None, log=None):
         summary["design_map"] = design_map(L, spec.c, spec.delta, spec.T, dm["t_over_L"], dm["h_over_L"],
                                            dm["ring"], dm["elements"], max(60, spec.steps // 2), spec.plane,
                                            n, layout=spec.layout, curvature=spec.ring_curvature,
-                                           pillar_tip=spec.pillar_tip)
+                                           pillar_tip=spec.pillar_tip, root_extension=spec.root_extension)
     summary["timings"] = {"total_s": time.perf_counter() - t0,
                           "unit_cell_s": [u["seconds"] for u in unit_cells],
                           "ring_s": up.seconds + down.seconds}

@@ -119,6 +119,8 @@ class SleeveSpec:
         if not isinstance(curv, bool):
             raise SceneError("model.ring_curvature", f"{curv!r}; expected true or false")
         self.ring_curvature = curv
+        # root flexibility (units of t): 0 as documented; model.ROOT_EXTENSION_FE (0.63) is the value fitted on CalculiX
+        self.root_extension = check_number("model.root_extension", m.get("root_extension", 0.0), 0.0, 2.0, " (units of t)")
         dm = m.get("max_displacement_mm")
         self.d_max_mm = None if dm is None else check_number("model.max_displacement_mm", dm, 0, 10 * self.L, "mm", low_open=True)
         a = data.get("actuator", {})
