@@ -51,6 +51,12 @@ def build_manifest(result, files_by_group, stem, checks_ran, poses=None):
              "files": files_by_group.get(spec.name, []), **spec.target_fields()}
         if spec.snap is not None:
             m["snap_fit"] = _jsonable(spec.snap.as_dict())
+        rivets = [q for q in result.parts if q.group == spec.name and q.info.get("rivet")]
+        if rivets:          # separate snap pins printed lying (geometry/rivet.py)
+            m["rivets"] = {"count": len(rivets), "parts": [q.name for q in rivets],
+                           "length_mm": [q.info["length_mm"] for q in rivets],
+                           "print_pose": [q.info["print_pose"] for q in rivets],
+                           "strain": spec.snap.strain, "limit": spec.snap.limit, "bending": spec.snap.bending}
         if spec.pivot is not None:
             m["joint_pivot"] = spec.pivot.as_dict()
         if spec.type == "servo_housing":

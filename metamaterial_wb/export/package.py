@@ -51,7 +51,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     ``out_dir`` (atomically as a set). Returns the file list."""
     from metamaterial_wb.export.manifest import build_manifest, write_manifest
     from metamaterial_wb.export.mesh import part_meshes
-    from metamaterial_wb.export.printpose import lay_out_best_poses
+    from metamaterial_wb.export.printpose import forced_poses, lay_out_best_poses
     from metamaterial_wb.export.step import result_instances, write_step_instanced
     from metamaterial_wb.export.threemf import write_3mf
     from metamaterial_wb.core.materials import MATERIALS
@@ -88,7 +88,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                         written.append(name)
                 else:
                     # print poses: each part in the axis-aligned pose that needs the least support, side by side
-                    meshes, reps = lay_out_best_poses(meshes)
+                    meshes, reps = lay_out_best_poses(meshes, forced=forced_poses(parts))
                     poses.update(reps)
                     write_3mf(os.path.join(tmp, base + ".3mf"), meshes, layout="objects", materials=colours,
                               object_name=base)

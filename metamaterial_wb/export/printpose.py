@@ -177,13 +177,27 @@ def best_pose(V, T, prefer=None):
     return best[1], best[2], best[3]
 
 
-def lay_out_best_poses(meshes, gap_mm=5.0):
-    """Separate prints: each part in its :func:`best_pose` (pins-up, ``+z down``, wins ties), on
-    ``z = 0``, side by side along x. Returns ``(meshes, {part name: report + pose})``."""
+def forced_poses(parts):
+    """``{part name: pose}`` of the parts whose info names the pose they must print in (a rivet pin lies
+    on its flat so that its prongs bend along the layers: geometry/rivet.py)."""
+    return {q.name: q.info["print_pose"] for q in parts if q.info.get("print_pose")}
+
+
+def lay_out_best_poses(meshes, gap_mm=5.0, forced=None):
+    """Separate prints: each part in its :func:`best_pose` (pins-up, ``+z down``, wins ties) or the pose
+    ``forced`` names for it (:func:`forced_poses`), on ``z = 0``, side by side along x. Returns
+    ``(meshes, {part name: report + pose})``."""
     out, reports = [], {}
     x = 0.0
+    forced = forced or {}
     for name, V, T, mat, ext in meshes:
-        pose, W, rep = best_pose(V, T, prefer="+z down")
+        if name in forced:
+            pose = forced[name]
+            W = np.asarray(V, dtype=float) @ POSES[pose].T
+            W = W - np.array([0.0, 0.0, W[:, 2].min()])
+            rep = pose_report(W, T)
+        else:
+            pose, W, rep = best_pose(V, T, prefer="+z down")
         W = W - np.array([W[:, 0].min() - x, W[:, 1].min(), W[:, 2].min()])
         x = W[:, 0].max() + gap_mm
         out.append((name, W, T, mat, ext))

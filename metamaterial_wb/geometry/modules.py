@@ -24,12 +24,13 @@ geometry.
 """
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from metamaterial_wb.core.errors import SceneError, check_number
 from metamaterial_wb.core.fabrication import joint_pivot
+from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
 from metamaterial_wb.geometry.snapfit import design_snap_fit
-from metamaterial_wb.geometry.solids import PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, box, make_pin  # noqa: F401
+from metamaterial_wb.geometry.solids import PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, box, make_pin, riveted  # noqa: F401
 from metamaterial_wb.geometry.servo import (  # noqa: F401  (re-exported: the servo housing lives in servo.py)
     CABLE_SLOT_MM, SERVO_KEYS, SERVO_OPTIONAL, SERVO_PRESETS, _check_servo_fit, _servo_dims, build_servo_housing,
     servo_layout)
@@ -37,6 +38,9 @@ from metamaterial_wb.geometry.servo import (  # noqa: F401  (re-exported: the se
 MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip")
 JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
 NODE_MODULES = ("connection_hub", "friction_pad")
+# modules held by separate rivet pins that print lying (geometry/rivet.py, bending along the layers);
+# the others still fuse upright pins (docs/fabrication.md, limits)
+RIVETED_TYPES = ("stable_hub", "friction_pad")
 
 COMMON_KEYS = {"type", "name", "side", "material", "extruder"}
 TYPE_KEYS = {
@@ -171,6 +175,8 @@ def parse_modules(scene, p):
         spec = ModuleSpec(k, typ, name, side, mat.upper(), ext)
         if p.sockets:
             spec.snap = design_snap_fit(p, spec.material, f)
+            if typ in RIVETED_TYPES:       # separate pins printed lying: they bend along the layers
+                spec.snap = replace(spec.snap, bending=RIVET_BENDING)
         values = dict(TYPE_DEFAULTS[typ])
         for key in TYPE_DEFAULTS[typ]:
             if key in item:
@@ -235,6 +241,13 @@ def parse_modules(scene, p):
                                  f"{v['pocket_depth_mm']} mm leaves less than {W:.3g} mm (two nozzle widths) above "
                                  f"the pins in a {v['thickness_mm']} mm pad; allowed range (0, "
                                  f"{v['thickness_mm'] - PIN_OVERLAP_MM - W:.3g}] mm")
+            head = HEAD_HEIGHT_MM + 0.2          # the rivet heads sit recessed at least this deep
+            if v["thickness_mm"] - max(v["pocket_depth_mm"], head) < W - 1e-9:
+                raise SceneError(f"{f}.thickness_mm ({name})",
+                                 f"{v['thickness_mm']} mm leaves less than {W:.3g} mm (two nozzle widths) under the "
+                                 f"rivet heads recessed {max(v['pocket_depth_mm'], head):.3g} mm (the pocket depth, "
+                                 f"at least {head:.3g} mm); allowed range "
+                                 f"[{W + max(v['pocket_depth_mm'], head):.3g}, 200] mm")
             if 2 * v["pocket_inset_mm"] >= p.plate_side_mm_global - 2.0:
                 raise SceneError(f"{f}.pocket_inset_mm ({name})", f"{v['pocket_inset_mm']} mm leaves no pocket")
         elif typ == "constraint_clip":
@@ -379,8 +392,14 @@ def build_friction_pad(spec, p):
     z0 = T + t - v["pocket_depth_mm"]
     pockets = [box(-ins + k * (w + rib), -ins + k * (w + rib) + w, -ins, ins, z0, T + t + 1.0) for k in range(n)]
     d = 0.5 * s - p.socket_inset_mm
-    pins = _pins_at(p, [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)], snap=spec.snap)
-    return [("pad", _finish([plate] + pins, pockets, spec.name))]
+    pts = [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)]
+    # the rivet heads sit recessed in the pocket side, at least a head below the pad's face
+    z_head = min(z0, T + t - HEAD_HEIGHT_MM - 0.2)      # parse_modules checked the floor under it
+    App, Part = _fc()
+    recess = [Part.makeCylinder(p.socket_radius_mm + HEAD_RIM_MM, T + t + 1.0 - z_head,
+                                App.Vector(u, w, z_head)) for u, w in pts]
+    pad, rivets = riveted(p, _finish([plate], pockets + recess, spec.name), pts, spec.snap, spec.name)
+    return [("pad", pad)] + _rivet_parts("pad", rivets)
 
 
 def pocket_strips(width_mm, rib_mm, max_bridge_mm=9.0):
@@ -388,6 +407,11 @@ def pocket_strips(width_mm, rib_mm, max_bridge_mm=9.0):
     than ``max_bridge_mm`` (a printable bridge, with a margin under the 10 mm rule)."""
     n = max(1, math.ceil((width_mm + rib_mm) / (max_bridge_mm + rib_mm)))
     return n, rib_mm
+
+
+def _rivet_parts(part, rivets):
+    """``[(name, shape)]`` of a part's rivet pins (geometry/solids.riveted), named ``<part>_rivet_<k>``."""
+    return [(f"{part}_rivet_{k + 1}", sh) for k, (sh, _foot, _uv) in enumerate(rivets)]
 
 
 def build_stable_hub(spec, p):
@@ -412,10 +436,11 @@ def build_stable_hub(spec, p):
         parts.append(box(uc - hp, uc + hp, -fv, fv, T + foot_t - 0.01, zp + bh))
         u0, u1 = (uc, pu - P + 0.01) if uc < 0 else (pu + P - 0.01, uc)
         parts.append(box(u0, u1, -bw, bw, zp, zp + bh))
-        pins += _pins_at(p, _lateral_points(p, uc), snap=spec.snap)
+        pins += _lateral_points(p, uc)
     parts.append(box(pu - P, pu + P, -P, P, zp, zp + bh))
     hole = Part.makeCylinder(1.6, bh + 2.0, V(pu, 0, zp - 1.0))     # M3 clearance for the attached shape
-    return [("hub", _finish(parts + pins, [hole], spec.name))]
+    hub, rivets = riveted(p, _finish(parts, [hole], spec.name), pins, spec.snap, spec.name)
+    return [("hub", hub)] + _rivet_parts("hub", rivets)
 
 
 def clip_pivot(spec, p, placement=None):
@@ -459,6 +484,18 @@ def module_placement(spec, p):
     return App.Placement(V(0.5 * (ax + bx), 0.5 * (ay + by), 0.0), App.Rotation(V(0, 0, 1), ang))
 
 
+def rivet_info(shape, placement, spec):
+    """Part info of a rivet pin: its print pose (the flat, module frame ``-y``, on the bed: the pose name
+    in sheet axes, export/printpose.POSES), length, strain and bending direction."""
+    App, _ = _fc()
+    d = placement.Rotation.multVec(App.Vector(0, -1, 0))
+    k = max(range(3), key=lambda i: abs(d[i]))
+    snap = spec.snap
+    return {"rivet": True, "print_pose": f"{'+' if d[k] > 0 else '-'}{'xyz'[k]} down",
+            "length_mm": round(shape.BoundBox.ZLength, 4), "strain": snap.strain, "limit": snap.limit,
+            "bending": snap.bending}
+
+
 def _fab_key(p):
     return (p.cell_size_mm, p.plate_side_mm_global, p.sheet_thickness_mm, p.clearance_mm, p.socket_diameter_mm,
             p.socket_inset_mm, p.socket_lip_mm, p.socket_lip_height_mm)
@@ -493,6 +530,8 @@ def build_module(res, spec):
             res.shapes[key0 + (n,)] = sh
     for n in res.module_parts[key0]:
         info = {"type": spec.type, "module": spec.name, "side": spec.side, **spec.target_fields()}
+        if "_rivet_" in n:
+            info.update(rivet_info(res.shapes[key0 + (n,)], pl, spec))
         if spec.mu is not None:
             info["mu"] = spec.mu
         if spec.type == "constraint_clip":

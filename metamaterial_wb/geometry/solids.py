@@ -69,3 +69,39 @@ def _finish(body_parts, cutters, what):
         from metamaterial_wb.core.errors import MetamaterialError
         raise MetamaterialError(f"{what}: the module came out as {len(shape.Solids)} solids")
     return shape.Solids[0]
+
+
+def riveted(p, shape, points, snap, what):
+    """Channels for separate rivet pins (geometry/rivet.py) through a module part at the module-frame
+    socket ``points``: a hole of ``socket radius`` (shank + clearance) from the sheet's top face up
+    through all the material above the socket, so that a rivet pushed in from above traps the part with
+    its head on the part's top face there. Returns ``(part with channels, [(rivet, foot_mm, (u, v))])``.
+    Refuses a channel that would run through air (material above the socket not one solid column)."""
+    import math
+
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.geometry.rivet import make_rivet
+
+    App, Part = _fc()
+    V = App.Vector
+    T = p.sheet_thickness_mm
+    rh = p.socket_radius_mm
+    top = shape.BoundBox.ZMax + 1.0
+    channels, rivets = [], []
+    for (u, v) in points:
+        com = shape.common(Part.makeCylinder(rh, top - T, V(u, v, T)))
+        if com.Volume < 1e-6:
+            raise MetamaterialError(f"{what}: no foot above the socket at ({u:.3g}, {v:.3g}) mm for a rivet pin")
+        z_top = com.BoundBox.ZMax
+        full = math.pi * rh * rh * (z_top - T)
+        if com.Volume < 0.97 * full:
+            raise MetamaterialError(f"{what}: the rivet channel above the socket at ({u:.3g}, {v:.3g}) mm would run "
+                                    f"through air up to z = {z_top:.3g} mm ({com.Volume:.4g} of {full:.4g} mm3 solid)")
+        channels.append(Part.makeCylinder(rh, z_top - T + 2.0, V(u, v, T - 1.0)))
+        m = App.Matrix()
+        m.move(V(u, v, 0.0))
+        rivets.append((make_rivet(p, z_top - T, snap).transformed(m), z_top - T, (u, v)))
+    out = shape.cut(channels).removeSplitter()
+    if len(out.Solids) != 1:
+        raise MetamaterialError(f"{what}: the rivet channels split it into {len(out.Solids)} solids")
+    return out.Solids[0], rivets

@@ -153,3 +153,24 @@ def test_pose_report_on_known_shapes(fc):
     for rim, ok in ((0.5, True), (2.0, False)):
         pin = Part.makeCylinder(1.5, 4).fuse(Part.makeCylinder(1.5 + rim, 1, V_(0, 0, 4)))
         assert rep(pin)["supports_free"] is ok, rim
+
+
+def test_manifest_rivets_print_lying(built):
+    """The riveted modules (friction pad, stable hub) list their rivet pins: one per socket, each its own
+    part in the module's 3MF, in the pose the manifest names, lying (height under half its length) and
+    supports-free, with the designed strain within the limit and bending along the layers."""
+    out, m = built
+    for name in ("pad", "stable"):
+        mod = [x for x in m["modules"] if x["name"] == name][0]
+        rv = mod["rivets"]
+        assert rv["count"] == len(mod["sockets"]) == len(rv["parts"]) == 4
+        assert rv["strain"] == pytest.approx(mod["snap_fit"]["strain"], rel=1e-6) and rv["strain"] <= rv["limit"]
+        assert "along the layers" in rv["bending"] == mod["snap_fit"]["bending"]
+        meshes = read_3mf_meshes(out / f"w_{name}.3mf")
+        for part, pose in zip(rv["parts"], rv["print_pose"]):
+            rep = mod["print_pose"][part]
+            assert rep["pose"] == pose and rep["supports_free"], (part, rep)
+            V, _ = meshes[part]
+            ext = np.ptp(V, axis=0)
+            assert ext[2] < 0.5 * max(ext[0], ext[1]), (part, ext)
+    assert "rivets" not in [x for x in m["modules"] if x["name"] == "servo"][0]

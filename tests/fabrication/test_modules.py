@@ -73,10 +73,16 @@ def test_servo_shaft_on_the_joint_pivot(mod_result):
 
 def test_pins_reach_into_the_sockets(mod_result):
     r = mod_result
-    for name in ("servo_housing", "servo_horn_adapter", "hub_hub_lower", "stable_hub", "clip_clip"):
+    for name in ("servo_housing", "servo_horn_adapter", "hub_hub_lower", "clip_clip"):
         assert _part(r, name).BoundBox.ZMin == pytest.approx(CLR), name      # pin tips just above the bed
+    # riveted modules: the part stays on its face, its separate rivet pins reach through the sheet
+    assert _part(r, "stable_hub").BoundBox.ZMin == pytest.approx(T)
+    rivets = [q for q in r.groups()["stable"] if q.info.get("rivet")]
+    assert len(rivets) == 4 and all(r.placed_shape(q).BoundBox.ZMin == pytest.approx(CLR) for q in rivets)
     pad = _part(r, "pad_pad").BoundBox                          # bottom side: mirrored
-    assert (pad.ZMin, pad.ZMax) == pytest.approx((-3.0, T - CLR))
+    assert (pad.ZMin, pad.ZMax) == pytest.approx((-3.0, 0.0))
+    rivets = [q for q in r.groups()["pad"] if q.info.get("rivet")]
+    assert len(rivets) == 4 and all(r.placed_shape(q).BoundBox.ZMax == pytest.approx(T - CLR) for q in rivets)
     hub = _part(r, "hub_hub_upper").BoundBox                    # two-way: pins up into a second sheet
     assert hub.ZMax == pytest.approx(T + 3.0 + T - CLR)
 
@@ -108,16 +114,30 @@ def test_friction_pad_mu_reaches_the_scene_and_the_parts(mod_result):
 
 
 def test_friction_pad_pocket_volume(mod_result):
-    """Pad = plate - pocket + 4 pins; the pocket volume follows the parameters."""
+    """Pad = plate - pocket - rivet channels and head recesses (the heads sit on the pocket floor);
+    the pocket volume follows the parameters."""
+    import FreeCAD as App
+    import Part
     from metamaterial_wb.geometry.build import build_scene
     r = mod_result
-    v1 = r.placed_shape(r.by_name("pad_pad")).Volume
-    sc = make_scene({"grid": [2, 3]}, modules=[dict(MODULES[1], pocket_depth_mm=1.0)])
+    sc = make_scene({"grid": [2, 3]}, modules=[dict(MODULES[1], pocket_depth_mm=1.7)])
     r2 = build_scene(sc, progress=False)
+    v1 = r.placed_shape(r.by_name("pad_pad")).Volume
     v2 = r2.placed_shape(r2.by_name("pad_pad")).Volume
     side = S - 0.6 - 2 * 1.5
-    # 14.4 mm pocket: two strips with one 0.8 mm rib between them (each spans < 10 mm: bridged)
-    assert v2 - v1 == pytest.approx((side - 0.8) * side * (1.5 - 1.0), rel=1e-9)
+    # 14.4 mm pocket: two strips with one 0.8 mm rib between them (each spans < 10 mm: bridged); the
+    # head recesses (socket radius + 1 mm, down to the pocket floor) also cut the rib by the extra depth;
+    # the rivet channels go through in both
+    p = r.params
+    d = 0.5 * S - p.socket_inset_mm
+    w = 0.5 * (side - 0.8)
+    strips = [Part.makeBox(w, side, 1.0, App.Vector(-0.5 * side + k * (w + 0.8), -0.5 * side, 0)) for k in (0, 1)]
+    discs = [Part.makeCylinder(p.socket_radius_mm + 1.0, 1.0, App.Vector(u, v, 0))
+             for u, v in [(d, 0), (0, d), (-d, 0), (0, -d)]]
+    channels = [Part.makeCylinder(p.socket_radius_mm, 1.0, App.Vector(u, v, 0))      # through in both
+                for u, v in [(d, 0), (0, d), (-d, 0), (0, -d)]]
+    area = strips[0].fuse(strips[1:] + discs).cut(channels).Volume
+    assert v1 - v2 == pytest.approx(area * (1.7 - 1.5), rel=1e-6)
 
 
 def test_servo_presets_and_custom_dims(fc):
@@ -210,3 +230,14 @@ def test_connection_hub_too_thin_for_two_halves_is_refused():
             with pytest.raises(SceneError) as e:
                 parse_modules(sc, p)
             assert "thickness_mm" in e.value.field and "[2.6, 200]" in str(e.value)
+
+
+def test_friction_pad_too_thin_for_recessed_rivet_heads_is_refused():
+    """The rivet heads sit recessed in the pad (at least 1.4 mm): a 2 mm pad leaves 0.6 mm under them."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
+    from metamaterial_wb.geometry.modules import parse_modules
+    sc = make_scene({"grid": [2, 3]}, modules=[dict(MODULES[1], thickness_mm=2.0, pocket_depth_mm=0.5)])
+    with pytest.raises(SceneError, match=r"thickness_mm \(pad\).*rivet heads recessed 1.4 mm.*allowed range \[2.2, 200\]"):
+        parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))

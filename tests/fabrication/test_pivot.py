@@ -192,9 +192,11 @@ def test_stable_hub_sits_on_the_same_pivot(fc):
     ref = joint_pivot(sc, fabrication_params(sc, effective_tilts_deg(sc)), "H0,1")
     assert spec.pivot.point_mm == pytest.approx(ref.point_mm, abs=1e-9)
     hub = r.placed_shape(r.by_name("hub_hub"))
-    holes = [f.Surface for f in hub.Faces if f.Surface.__class__.__name__ == "Cylinder"
-             and abs(f.Surface.Radius - 1.6) < 1e-9]
-    assert holes
     x, y, _ = ref.point_mm
+    # the M3 hole (r 1.6) through the platform only; the rivet channels (socket radius) run from the sheet up
+    T = r.params.sheet_thickness_mm
+    holes = [f.Surface for f in hub.Faces if f.Surface.__class__.__name__ == "Cylinder"
+             and abs(f.Surface.Radius - 1.6) < 1e-9 and f.BoundBox.ZMin > T + 2.5]
+    assert len({round(h.Center.x, 6) for h in holes}) == 1
     assert holes[0].Center.x == pytest.approx(x, abs=1e-6)      # H joint: u = +x, the pivot's along shift
     assert abs(ref.along_mm) > 0.5                            # 2 mm blade: 0.39 L towards A
