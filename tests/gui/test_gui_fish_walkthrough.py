@@ -28,7 +28,7 @@ def panel(cmd):
 
 
 def xyz(arr):
-    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in arr.PlacementList])
+    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in shown_placements(arr)])
 
 
 def core_pos(scene, values):

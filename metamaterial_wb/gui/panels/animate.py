@@ -34,7 +34,6 @@ class AnimatePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
-        self.saved = structure.display_state(scene_obj)
         self.scene = structure.compose_scene(scene_obj)
         self.solver = structure.solver_for(scene_obj, self.scene)
         self.scales = servo_scales(self.scene)
@@ -388,7 +387,7 @@ class AnimatePanel(BasePanel):
             self.show_error(str(exc))
             self.pause()
             return
-        structure.apply_frame(self.obj, self.solver, frame, purge=True)
+        self.preview_frame(self.obj, self.solver, frame)
         self.frames += 1
         self.last_values = vals
         dur = self.duration.value()
@@ -530,7 +529,6 @@ class AnimatePanel(BasePanel):
 
     def apply(self):
         self.timer.stop()
-        structure.restore_display(self.obj, self.saved)
         prof = self.profiles()
         doc = self.obj.Document
 
@@ -557,7 +555,6 @@ class AnimatePanel(BasePanel):
 
     def reject(self):
         self.timer.stop()
-        structure.restore_display(self.obj, self.saved)
         return super().reject()
 
 
