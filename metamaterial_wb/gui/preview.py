@@ -4,7 +4,7 @@ While a panel previews (Simulate, Animate, Rotary axes, Folded shape), the struc
 ``Hinges`` link arrays are hidden in the 3D view (their view provider's display-mode switch, a Coin field,
 not the ``Visibility`` property) and ONE Coin group draws every node plate and hinge box instead: per
 group an ``SoCoordinate3`` (8 corners per box) and an ``SoIndexedFaceSet`` built once; per frame the
-corners are the poses applied to the boxes' local corners in one einsum
+corners are the poses applied to the boxes' half sizes in one matrix product
 (``objects.display.box_corners``) and written with one ``point.setValues`` call. The motor markers and
 modules follow through their view provider's Coin transform (``setTransformation``), not their
 ``Placement``.
@@ -13,6 +13,8 @@ Nothing of this is a document property, so a preview never marks a document modi
 to undo; OK writes the chosen values and recomputes once (one transaction), Cancel only calls
 :meth:`Preview.remove`, which shows the link arrays again and puts the markers back on their placements.
 """
+import time
+
 import numpy as np
 
 import FreeCAD
@@ -95,6 +97,7 @@ class Preview:
         self.moved = []           # view objects whose Coin transform the preview moved
         self.last = None          # (positions, quaternions, hinge positions, hinge quaternions, corners)
         self.frames = 0
+        self.timings = {}
         self.set_scene(scene)
         self.active = False
 
@@ -116,26 +119,32 @@ class Preview:
             self.view.getSceneGraph().addChild(self.root)
         self.active = True
 
-    def _group(self, key, arr, n, rgb):
+    def _group(self, key, arr, n):
         g = self.groups.get(key)
         if g is None or g.n != n:
             if g is not None:
                 self.root.removeChild(g.root)
+            rgb = _colour(arr, (0.80, 0.84, 0.90) if key == "nodes" else (0.95, 0.55, 0.15))
             g = self.groups[key] = _Boxes(self.coin, arr, n, rgb)
             self.root.addChild(g.root)
         return g
 
     def show(self, solver, frame):
-        """Draw one solved frame: corners of every node and hinge box, markers / modules moved."""
+        """Draw one solved frame: corners of every node and hinge box, markers / modules moved.
+        ``timings`` (ms): corners (numpy), coin (the two ``setValues``), markers."""
+        t0 = time.perf_counter()
         if not self.active:
             self._activate()
-        nc = display.box_corners(frame.positions, frame.quaternions, self.node_half)
+        nc = display.box_corners(frame.positions, frame.quaternions, self.node_half,
+                                 getattr(frame, "rotations", None))
         hc = display.box_corners(frame.hinge_positions, frame.hinge_quaternions, self.hinge_half) \
             if len(self.hinge_half) == len(frame.hinge_positions) else np.zeros((0, 8, 3))
+        t1 = time.perf_counter()
         if self.obj.NodeArray is not None:
-            self._group("nodes", self.obj.NodeArray, len(nc), _colour(self.obj.NodeArray, (0.80, 0.84, 0.90))).write(nc)
+            self._group("nodes", self.obj.NodeArray, len(nc)).write(nc)
         if self.obj.HingeArray is not None and len(hc):
-            self._group("hinges", self.obj.HingeArray, len(hc), _colour(self.obj.HingeArray, (0.95, 0.55, 0.15))).write(hc)
+            self._group("hinges", self.obj.HingeArray, len(hc)).write(hc)
+        t2 = time.perf_counter()
         doc = self.obj.Document
         for name, pl in display.marker_placements(self.obj, solver, frame).items():
             o = doc.getObject(name)
@@ -146,6 +155,8 @@ class Preview:
                     self.moved.append(o)
         self.last = (frame.positions, frame.quaternions, frame.hinge_positions, frame.hinge_quaternions, nc, hc)
         self.frames += 1
+        t3 = time.perf_counter()
+        self.timings = {"corners": 1000 * (t1 - t0), "coin": 1000 * (t2 - t1), "markers": 1000 * (t3 - t2)}
 
     # what is shown (picking, tests) --------------------------------------------------------
     def placements(self, kind):

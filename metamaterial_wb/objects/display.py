@@ -163,10 +163,14 @@ def box_half_sizes(obj, scene):
     return node, base[None, :] * scales
 
 
-def box_corners(positions, quaternions, half):
-    """(n, 8, 3) corners of n boxes: centre ``positions`` (n, 3), orientation ``quaternions`` (n, 4), half
-    sizes ``half`` (3,) or (n, 3); corner order ``BOX_SIGNS``. One einsum for all boxes."""
-    R = quaternions_to_matrices(np.asarray(quaternions, dtype=float))
-    local = BOX_SIGNS[None, :, :] * np.asarray(half, dtype=float).reshape(-1, 1, 3)
-    return np.einsum("nij,nkj->nki", R, np.broadcast_to(local, (len(R), 8, 3))) + \
-        np.asarray(positions, dtype=float)[:, None, :]
+def box_corners(positions, quaternions, half, rotations=None):
+    """(n, 8, 3) corners of n boxes: centre ``positions`` (n, 3), orientation ``quaternions`` (n, 4) (or the
+    (n, 3, 3) ``rotations`` when known), half sizes ``half`` (3,) or (n, 3); corner order ``BOX_SIGNS``.
+    The half axes (rotation columns times half sizes) of all boxes times the eight sign patterns are one
+    matrix product."""
+    R = quaternions_to_matrices(np.asarray(quaternions, dtype=float)) if rotations is None else \
+        np.asarray(rotations, dtype=float).reshape(-1, 3, 3)
+    n = len(R)
+    axes = R * np.asarray(half, dtype=float).reshape(-1, 1, 3)          # column j: half axis j of each box
+    c = (axes.reshape(3 * n, 3) @ BOX_SIGNS.T).reshape(n, 3, 8).transpose(0, 2, 1)
+    return c + np.asarray(positions, dtype=float)[:, None, :]
