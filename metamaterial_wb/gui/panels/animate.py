@@ -4,7 +4,8 @@ The clock follows wall time: each timer tick shows the frame of *now* (start tim
 x speed), so a frame that costs more than its slot makes the next ones skip ahead (frames are dropped,
 time is not). The panel shows the achieved frame rate and the real-time factor (animation seconds per
 wall second over speed; 1.00 = real time). The stream controller sends the values for the wall-clock
-time, whatever the view manages to draw. Cancel puts the display back.
+time, whatever the view manages to draw. Frames are drawn by the Coin preview (``gui/preview.py``), which
+writes nothing into the document; Cancel removes it.
 """
 import json
 import math

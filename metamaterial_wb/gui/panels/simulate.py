@@ -145,7 +145,7 @@ class SimulatePanel(BasePanel):
         self.update_ms = {"solve": 1000 * (t1 - t0), "placements": 1000 * (t2 - t1), "total": 1000 * (t2 - t0)}
         self.update_times.append(self.update_ms["total"])
         self.clear_error()
-        self.stats.setText(translate("Metamaterial", "max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, placements {3:.1f}; no recompute)").format(abs(frame.D).max(), self.update_ms['total'], self.update_ms['solve'], self.update_ms['placements']))
+        self.stats.setText(translate("Metamaterial", "max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)").format(abs(frame.D).max(), self.update_ms['total'], self.update_ms['solve'], self.update_ms['placements']))
 
     def apply(self):
         vals = self.values()
