@@ -142,3 +142,35 @@ def restore_display(obj, state):
         else:
             o.Placement = val
         o.purgeTouched()
+
+
+# ---- the GUI's coin-level preview (gui/preview.py) -------------------------------------------
+# Corner bits of a box: index = ix + 2 iy + 4 iz, coordinate sign -1 / +1 per bit.
+BOX_SIGNS = np.array([[(-1.0, 1.0)[(k >> b) & 1] for b in range(3)] for k in range(8)])
+
+
+def box_half_sizes(obj, scene):
+    """``(node (3,), hinges (m, 3))`` half sizes (mm) of the boxes the link arrays show: the node plate of
+    ``NodeShapeProxy`` and the hinge of ``HingeShapeProxy`` times its ``ScaleList`` entry (``hinge_scales``),
+    from the same properties, so the preview draws what the document draws."""
+    from metamaterial_wb.core.scene.names import plate_side_mm
+    t = float(obj.HingeThickness.Value)
+    s = plate_side_mm(float(obj.CellSize.Value), float(obj.HingeLength.Value))
+    node = 0.5 * np.array([s, s, t])
+    base = 0.5 * np.array([float(obj.HingeLength.Value) + 2 * float(obj.HingeWidth.Value),
+                           float(obj.HingeWidth.Value), t])
+    scales = np.asarray(hinge_scales(scene, scene.topology.joint_names), dtype=float).reshape(-1, 3)
+    return node, base[None, :] * scales
+
+
+def box_corners(positions, quaternions, half, rotations=None):
+    """(n, 8, 3) corners of n boxes: centre ``positions`` (n, 3), orientation ``quaternions`` (n, 4) (or the
+    (n, 3, 3) ``rotations`` when known), half sizes ``half`` (3,) or (n, 3); corner order ``BOX_SIGNS``.
+    The half axes (rotation columns times half sizes) of all boxes times the eight sign patterns are one
+    matrix product."""
+    R = quaternions_to_matrices(np.asarray(quaternions, dtype=float)) if rotations is None else \
+        np.asarray(rotations, dtype=float).reshape(-1, 3, 3)
+    n = len(R)
+    axes = R * np.asarray(half, dtype=float).reshape(-1, 1, 3)          # column j: half axis j of each box
+    c = (axes.reshape(3 * n, 3) @ BOX_SIGNS.T).reshape(n, 3, 8).transpose(0, 2, 1)
+    return c + np.asarray(positions, dtype=float)[:, None, :]

@@ -4,7 +4,7 @@
 <context>
     <name>Metamaterial</name>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="133"/>
         <source> (slider +-{0:.1f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -19,7 +19,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="89"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -29,7 +29,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="362"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="364"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -92,12 +92,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="110"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="519"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="525"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="96"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -107,7 +107,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="511"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="517"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -137,12 +137,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="88"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="87"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="31"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="30"/>
         <source>Global deformation (perfect propagation)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -152,7 +152,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="53"/>
         <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -188,7 +188,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="52"/>
         <source>Limit to printable folds</source>
         <translation type="unfinished"></translation>
     </message>
@@ -208,7 +208,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="29"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="28"/>
         <source>Model</source>
         <translation type="unfinished"></translation>
     </message>
@@ -228,7 +228,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="41"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="40"/>
         <source>Motors and constraints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -240,12 +240,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="60"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="59"/>
         <source>No motors yet: use 'Place motor'.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="51"/>
         <source>No rotary axes yet: use 'Rotary axes' first.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -265,7 +265,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="473"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="479"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -276,7 +276,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="84"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="477"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="483"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
@@ -376,7 +376,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="94"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="93"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -432,7 +432,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
         <source>clip {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -464,7 +464,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="406"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="412"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -481,12 +481,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="127"/>
         <source>kinematic +-{0:.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -501,8 +501,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="149"/>
-        <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, placements {3:.1f}; no recompute)</source>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="148"/>
+        <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -511,7 +511,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="46"/>
         <source>motor {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -536,19 +536,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="344"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="368"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="156"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="327"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="329"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="370"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="311"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="313"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -563,12 +563,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
         <source>printable +-{0:.2f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="131"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -578,12 +578,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="351"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="353"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="372"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="374"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
@@ -598,7 +598,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="521"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="527"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -608,7 +608,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="398"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="400"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -628,7 +628,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="342"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="366"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -643,27 +643,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="94"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="133"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="132"/>
         <source>{0:+.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="263"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="265"/>
         <source>{0:.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="463"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="469"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="186"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="185"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -683,12 +683,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="131"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="60"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="59"/>
         <source>{0}{1} {2}</source>
         <translation type="unfinished"></translation>
     </message>

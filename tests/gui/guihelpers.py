@@ -214,6 +214,17 @@ def run_command(cmd):
     return run_panel(cmd)
 
 
+def shown_placements(arr):
+    """The placements the 3D view shows for a link array: the open panel's live preview (a Coin overlay
+    that writes no document property) when it draws this array, else the array's ``PlacementList``."""
+    prev = getattr(panels.active(), "live_preview", None)
+    if prev is not None and prev.active and arr in (prev.obj.NodeArray, prev.obj.HingeArray):
+        pl = prev.placements("nodes" if arr == prev.obj.NodeArray else "hinges")
+        if pl is not None:
+            return pl
+    return list(arr.PlacementList)
+
+
 def hinge_mid(sc, joint):
     """Midpoint (document coordinates) of the hinge of ``joint``, through the structure's parents."""
     from metamaterial_wb.objects import structure
@@ -223,5 +234,6 @@ def hinge_mid(sc, joint):
     g, parent = sc.NodeArray.Placement, sc.NodeArray.getParentGeoFeatureGroup()
     while parent is not None:
         g, parent = parent.Placement.multiply(g), parent.getParentGeoFeatureGroup()
-    pa, pb = (g.multVec(sc.NodeArray.PlacementList[k].Base) for k in (a, b))
+    shown = shown_placements(sc.NodeArray)
+    pa, pb = (g.multVec(shown[k].Base) for k in (a, b))
     return FreeCAD.Vector((pa.x + pb.x) / 2, (pa.y + pb.y) / 2, (pa.z + pb.z) / 2)

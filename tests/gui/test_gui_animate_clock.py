@@ -26,12 +26,14 @@ def open_fish(doc):
 
 @pytest.fixture
 def slow_frames(monkeypatch):
-    real = structure.apply_frame
+    """Every frame drawn costs FRAME_COST_S more (the panels draw through the Coin preview)."""
+    from metamaterial_wb.gui.preview import Preview
+    real = Preview.show
 
-    def slow(*a, **kw):
+    def slow(self, *a, **kw):
         time.sleep(FRAME_COST_S)
-        return real(*a, **kw)
-    monkeypatch.setattr(structure, "apply_frame", slow)
+        return real(self, *a, **kw)
+    monkeypatch.setattr(Preview, "show", slow)
 
 
 def play_for(p, seconds):

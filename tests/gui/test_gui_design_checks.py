@@ -17,12 +17,12 @@ from metamaterial_wb.core import design, kinematics  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import (click, dialog_button, doc, drag_slider, press_ok, process, run_panel,  # noqa: E402,F401
+from guihelpers import (click, dialog_button, doc, drag_slider, press_ok, process, run_panel, shown_placements,  # noqa: E402,F401,E501
                         type_into, workbench)
 
 
 def xyz(arr):
-    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in arr.PlacementList])
+    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in shown_placements(arr)])
 
 
 def sheet_with_axis(doc, hinge_mm=None):

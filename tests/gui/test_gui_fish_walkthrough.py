@@ -18,6 +18,7 @@ from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
+from guihelpers import shown_placements  # noqa: E402
 
 
 def panel(cmd):
@@ -28,7 +29,7 @@ def panel(cmd):
 
 
 def xyz(arr):
-    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in arr.PlacementList])
+    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in shown_placements(arr)])
 
 
 def core_pos(scene, values):

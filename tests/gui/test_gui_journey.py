@@ -18,7 +18,7 @@ from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from metamaterial_wb.core.live import joint_node_indices  # noqa: E402
 from guihelpers import (hinge_mid, click, click_view, dialog_button, drag_slider, press_ok, process, run_panel,  # noqa: E402
-                        screen_point, type_into, workbench)  # noqa: F401
+                        screen_point, shown_placements, type_into, workbench)  # noqa: F401
 
 IMG = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "docs", "img")
 SHOTS = os.environ.get("MM_GUI_SCREENSHOTS") == "1"
@@ -49,7 +49,7 @@ def hinge_point(sc, joint):
 
 
 def xyz(arr):
-    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in arr.PlacementList])
+    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in shown_placements(arr)])
 
 
 def test_empty_document_to_a_reopened_fish(tmp_path):

@@ -24,7 +24,7 @@ from PySide import QtGui  # noqa: E402
 import metamaterial_wb  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import click, doc, run_panel, type_into, workbench  # noqa: E402,F401
+from guihelpers import click, doc, run_panel, shown_placements, type_into, workbench  # noqa: E402,F401
 
 PY = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(metamaterial_wb.__file__)))
@@ -32,8 +32,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(metamaterial_wb.__file__)
 
 def node_state(arr):
     """(n, 3) positions and (n, 3) images of the x axis of every node placement."""
-    pos = np.array([[q.Base.x, q.Base.y, q.Base.z] for q in arr.PlacementList])
-    ex = np.array([list(q.Rotation.multVec(FreeCAD.Vector(1, 0, 0))) for q in arr.PlacementList])
+    shown = shown_placements(arr)
+    pos = np.array([[q.Base.x, q.Base.y, q.Base.z] for q in shown])
+    ex = np.array([list(q.Rotation.multVec(FreeCAD.Vector(1, 0, 0))) for q in shown])
     return pos, ex
 
 
@@ -99,7 +100,7 @@ def test_animate_plays_a_simulated_trajectory_and_restores(doc, tmp_path):
             moved = max(moved, abs(x - x0))
     assert moved > 1.0, "the worm should have moved: the comparison would be empty otherwise"
     # hinges follow their nodes (not left at the flat layout)
-    hp = [FreeCAD.Placement(q) for q in sc.HingeArray.PlacementList]
+    hp = [FreeCAD.Placement(q) for q in shown_placements(sc.HingeArray)]
     assert max((a.Base - b.Base).Length for a, b in zip(hp, hinges0)) > 1.0
     # no recompute: shapes untouched, arrays not touched
     assert doc.getObject("NodeShape").BuildCount == builds

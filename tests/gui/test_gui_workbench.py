@@ -26,7 +26,7 @@ from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.gui import commands, panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import doc, run_panel, workbench  # noqa: E402,F401
+from guihelpers import doc, run_panel, shown_placements, workbench  # noqa: E402,F401
 
 
 def process_events():
@@ -41,7 +41,7 @@ def open_fish(doc):
 
 
 def xyz(arr):
-    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in arr.PlacementList])
+    return np.array([[q.Base.x, q.Base.y, q.Base.z] for q in shown_placements(arr)])
 
 
 def core_positions(scene, values=None, g=None):

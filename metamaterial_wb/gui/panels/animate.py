@@ -4,7 +4,8 @@ The clock follows wall time: each timer tick shows the frame of *now* (start tim
 x speed), so a frame that costs more than its slot makes the next ones skip ahead (frames are dropped,
 time is not). The panel shows the achieved frame rate and the real-time factor (animation seconds per
 wall second over speed; 1.00 = real time). The stream controller sends the values for the wall-clock
-time, whatever the view manages to draw. Cancel puts the display back.
+time, whatever the view manages to draw. Frames are drawn by the Coin preview (``gui/preview.py``), which
+writes nothing into the document; Cancel removes it.
 """
 import json
 import math
@@ -34,7 +35,6 @@ class AnimatePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
-        self.saved = structure.display_state(scene_obj)
         self.scene = structure.compose_scene(scene_obj)
         self.solver = structure.solver_for(scene_obj, self.scene)
         self.scales = servo_scales(self.scene)
@@ -176,6 +176,8 @@ class AnimatePanel(BasePanel):
         self.traj_off_btn.clicked.connect(self.clear_trajectory)
         self.t = 0.0
         self.frames = 0
+        self.frame_ms = None
+        self.frame_times = []
         self.stream = StreamController(self.values_at, self.clock)
         self.shown_values = {}
         self.anchor = None            # (wall time, animation time) of the last start / scrub / speed change
@@ -388,7 +390,7 @@ class AnimatePanel(BasePanel):
             self.show_error(str(exc))
             self.pause()
             return
-        structure.apply_frame(self.obj, self.solver, frame, purge=True)
+        self.preview_frame(self.obj, self.solver, frame)
         self.frames += 1
         self.last_values = vals
         dur = self.duration.value()
@@ -403,7 +405,11 @@ class AnimatePanel(BasePanel):
         if err:
             self.show_error(f"streaming stopped: {err}")
             self.connect_btn.setChecked(False)
-        self.stats.setText(translate("Metamaterial", "frame {0}: {1:.1f} ms (no recompute)").format(self.frames, 1000 * (time.perf_counter() - t0)))
+        # the panel's own frame timer (values, solve, preview written, labels; the render follows)
+        self.frame_ms = 1000 * (time.perf_counter() - t0)
+        self.frame_times.append(self.frame_ms)
+        del self.frame_times[:-1000]
+        self.stats.setText(translate("Metamaterial", "frame {0}: {1:.1f} ms (no recompute)").format(self.frames, self.frame_ms))
 
     def step(self, n=1):
         """Advance ``n`` frames of ``dt`` (scripted playback, independent of wall time)."""
@@ -530,7 +536,6 @@ class AnimatePanel(BasePanel):
 
     def apply(self):
         self.timer.stop()
-        structure.restore_display(self.obj, self.saved)
         prof = self.profiles()
         doc = self.obj.Document
 
@@ -557,7 +562,6 @@ class AnimatePanel(BasePanel):
 
     def reject(self):
         self.timer.stop()
-        structure.restore_display(self.obj, self.saved)
         return super().reject()
 
 

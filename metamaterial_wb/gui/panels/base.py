@@ -2,10 +2,12 @@
 
 Rules kept by every panel:
 
-* nothing is recomputed while a slider moves or the animation plays: placements are moved from the
-  stored factorisation (:class:`~metamaterial_wb.core.live.LiveSolver`);
-* the placements the panel moved are restored when it closes (OK writes the chosen values into the
-  properties and recomputes once, inside one transaction);
+* nothing is recomputed while a slider moves or the animation plays: frames come from the stored
+  factorisation (:class:`~metamaterial_wb.core.live.LiveSolver`) and are drawn by the Coin preview
+  (``preview_frame``, :mod:`metamaterial_wb.gui.preview`), which writes no document property: a preview
+  never marks a document modified;
+* the preview goes when the panel closes (OK writes the chosen values into the properties and
+  recomputes once, inside one transaction; Cancel writes nothing);
 * every error is shown in the panel in words, next to the field it is about (``set_problem``), never as
   a modal dialog, never only in the Report view; a message disappears as soon as its cause is fixed;
 * OK is refused (and the OK button disabled) while the panel knows of a problem, and an OK whose
@@ -196,6 +198,8 @@ class BasePanel:
         self.problems = {}           # field key -> message (OK is refused while not empty)
         self.picker = None
         self._observer = None
+        self.live_preview = None     # gui.preview.Preview while the panel previews frames
+        self._preview_scene = None
 
     def finish_layout(self):
         self.layout.addWidget(self.error)
@@ -259,7 +263,27 @@ class BasePanel:
             doc.recompute()
             raise
 
+    # live preview ---------------------------------------------------------------------
+    def preview_frame(self, scene_obj, solver, frame):
+        """Draw a solved frame in the 3D view without writing the document (the Coin preview; its boxes
+        follow the per-joint hinge sizes of ``solver.scene``)."""
+        if self.live_preview is None:
+            from metamaterial_wb.gui.preview import Preview
+            self.live_preview = Preview(scene_obj, solver.scene)
+            self._preview_scene = solver.scene
+        elif self._preview_scene is not solver.scene:
+            self.live_preview.set_scene(solver.scene)
+            self._preview_scene = solver.scene
+        self.live_preview.show(solver, frame)
+
+    def remove_preview(self):
+        if self.live_preview is not None:
+            self.live_preview.remove()
+            self.live_preview = None
+            self._preview_scene = None
+
     def cleanup(self):
+        self.remove_preview()
         if self.picker is not None:
             self.picker.remove()
             self.picker = None

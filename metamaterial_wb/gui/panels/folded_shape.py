@@ -45,7 +45,6 @@ class FoldedShapePanel(BasePanel):
         super().__init__()
         self.obj = scene_obj
         self.scene = structure.compose_scene(scene_obj)
-        self.saved = structure.display_state(scene_obj)
         self.limits = axis_limits(unconfigured(self.scene)) if self.scene.axes else []
         self.spins, self.sliders, self.limit_labels = [], [], []
         if not self.scene.axes:
@@ -193,7 +192,7 @@ class FoldedShapePanel(BasePanel):
             if self._solver is None or self._solver[0] != key:
                 self._solver = (key, LiveSolver(sc))
             solver = self._solver[1]
-            structure.apply_frame(self.obj, solver, solver.frame(global_deformation=g), purge=True)
+            self.preview_frame(self.obj, solver, solver.frame(global_deformation=g))
             self.previews += 1
             self.clear_error()
             if self.report:
@@ -208,7 +207,6 @@ class FoldedShapePanel(BasePanel):
     def apply(self):
         self._preview_timer.stop()
         sc = self.configured_scene()
-        structure.restore_display(self.obj, self.saved)
         doc = self.obj.Document
 
         def change():
@@ -222,5 +220,4 @@ class FoldedShapePanel(BasePanel):
 
     def reject(self):
         self._preview_timer.stop()
-        structure.restore_display(self.obj, self.saved)
         return super().reject()

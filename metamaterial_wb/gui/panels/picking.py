@@ -110,11 +110,15 @@ class Picker:
 
     # geometry ---------------------------------------------------------------------------
     def node_centres(self):
+        """Node centres as shown: the panel's live preview when it draws the structure, else the link
+        array's placements."""
         arr = self.obj.NodeArray
         if arr is None:
             return np.zeros((0, 3))
         g = global_placement(arr)
-        pts = [g.multVec(p.Base) for p in arr.PlacementList]
+        prev = getattr(self.panel, "live_preview", None)
+        shown = prev.placements("nodes") if prev is not None and prev.active else None
+        pts = [g.multVec(p.Base) for p in (shown if shown is not None else arr.PlacementList)]
         return np.array([[v.x, v.y, v.z] for v in pts]).reshape(-1, 3)
 
     def candidates(self):

@@ -43,12 +43,11 @@ class RotaryAxesPanel(BasePanel):
         self.layout.addWidget(self.violations)
         self.finish_layout()
         # the flat sheet (every D = 0) with the grid lines drawn over it while the panel is open
-        self.saved = structure.display_state(scene_obj)
         self.overlay = None
         try:
             from metamaterial_wb.core.live import LiveSolver
             solver = LiveSolver(self.scene)
-            structure.apply_frame(scene_obj, solver, solver.frame(global_deformation=0.0), purge=True)
+            self.preview_frame(scene_obj, solver, solver.frame(global_deformation=0.0))
             self.overlay = AxisOverlay(scene_obj.Document)
         except Exception as exc:  # pragma: no cover - display only
             FreeCAD.Console.PrintWarning(f"Metamaterial: no axis overlay ({exc})\n")
@@ -94,9 +93,6 @@ class RotaryAxesPanel(BasePanel):
         if getattr(self, "overlay", None) is not None:
             self.overlay.remove()
             self.overlay = None
-        if getattr(self, "saved", None) is not None:
-            structure.restore_display(self.obj, self.saved)
-            self.saved = None
         super().cleanup()
 
     def apply(self):

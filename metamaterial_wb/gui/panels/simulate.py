@@ -17,7 +17,6 @@ class SimulatePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
-        self.saved = structure.display_state(scene_obj)
         self.scene = structure.compose_scene(scene_obj)
         from metamaterial_wb.gui.panels.stream import servo_scales
         self.scales = servo_scales(self.scene)
@@ -138,18 +137,17 @@ class SimulatePanel(BasePanel):
             self.show_error(str(exc))
             return
         t1 = time.perf_counter()
-        structure.apply_frame(self.obj, self.solver, frame, purge=True)
+        self.preview_frame(self.obj, self.solver, frame)
         self.frames += 1
         self.last_frame = frame
         t2 = time.perf_counter()
-        # the panel's own update timer (solve + poses + placements; the view renders afterwards)
+        # the panel's own update timer (solve + poses + the preview's corners written; the view renders afterwards)
         self.update_ms = {"solve": 1000 * (t1 - t0), "placements": 1000 * (t2 - t1), "total": 1000 * (t2 - t0)}
         self.update_times.append(self.update_ms["total"])
         self.clear_error()
-        self.stats.setText(translate("Metamaterial", "max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, placements {3:.1f}; no recompute)").format(abs(frame.D).max(), self.update_ms['total'], self.update_ms['solve'], self.update_ms['placements']))
+        self.stats.setText(translate("Metamaterial", "max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)").format(abs(frame.D).max(), self.update_ms['total'], self.update_ms['solve'], self.update_ms['placements']))
 
     def apply(self):
-        structure.restore_display(self.obj, self.saved)
         vals = self.values()
         doc = self.obj.Document
 
@@ -162,10 +160,6 @@ class SimulatePanel(BasePanel):
             if self.obj.Model != self.model.currentText():
                 self.obj.Model = self.model.currentText()
         self.commit(doc, "Simulate", change)
-
-    def reject(self):
-        structure.restore_display(self.obj, self.saved)
-        return super().reject()
 
 
 # ----------------------------------------------------------------------------------------------
