@@ -159,19 +159,19 @@ def view_widget():
     return gv.viewport()
 
 
-def screen_point(vec, timeout=5.0):
+def screen_point(vec, timeout=5.0, stable_s=0.3):
     """Qt widget coordinates of a global 3D point in the active view.
 
     Waits until the view has settled: the panel's layout may make the 3D view narrower, Coin's viewport
     follows a widget resize only at the next render (under Xvfb it lags), and FreeCAD 1.x animates
-    ViewFit. The point is read again after a redraw until two reads 50 ms apart agree and Coin's viewport
-    has the widget's size (in device pixels)."""
+    ViewFit. The point is read again after a redraw until the reads agree for ``stable_s`` and Coin's
+    viewport has the widget's size (in device pixels)."""
     import time
     from PySide import QtCore
     view = FreeCADGui.ActiveDocument.ActiveView
     w = view_widget()
     deadline = time.perf_counter() + timeout
-    last = None
+    last, since = None, None
     # Coin renders in device pixels: widget size x the device pixel ratio (Qt's high-DPI scaling; under
     # Xvfb at 100 dpi FreeCAD 0.20 gets 100 / 96)
     dpr = float(w.devicePixelRatioF()) if hasattr(w, "devicePixelRatioF") else 1.0
@@ -184,9 +184,13 @@ def screen_point(vec, timeout=5.0):
         # Quarter maps widget pixels onto Coin's viewport: coin = (qx * Wc / Wq, Hc - 1 - qy * Hc / Hq)
         now = (wc, hc, w.width(), w.height(), int(round(x * w.width() / wc)),
                int(round((hc - 1 - y) * w.height() / hc)))
-        if now == last and (abs(wc - w.width() * dpr) <= 1 and abs(hc - w.height() * dpr) <= 1):
+        settled = abs(wc - w.width() * dpr) <= 1 and abs(hc - w.height() * dpr) <= 1
+        t = time.perf_counter()
+        if now != last or not settled:
+            since = t
+        elif t - since >= stable_s:      # the same read for stable_s: a late layout change is seen
             break
-        if time.perf_counter() > deadline:
+        if t > deadline:
             raise AssertionError(f"the 3D view did not settle in {timeout} s: last reads {last} and {now} "
                                  "(Coin viewport w, h, widget w, h, point x, y)")
         last = now

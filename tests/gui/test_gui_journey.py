@@ -18,7 +18,7 @@ from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from metamaterial_wb.core.live import joint_node_indices  # noqa: E402
 from guihelpers import (hinge_mid, click, click_view, dialog_button, drag_slider, press_ok, process, run_panel,  # noqa: E402
-                        screen_point, shown_placements, type_into, workbench)  # noqa: F401
+                        screen_point, shown_placements, type_into, view_widget, workbench)  # noqa: F401
 
 IMG = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "docs", "img")
 SHOTS = os.environ.get("MM_GUI_SCREENSHOTS") == "1"
@@ -75,8 +75,11 @@ def test_empty_document_to_a_reopened_fish(tmp_path):
         # 2 Rotary axes: click the 2 mm hinges H0,2 .. H0,5 in the 3D view
         p = run_panel("MM_RotaryAxes")
         for col in (2, 3, 4, 5):
-            click_view(hinge_point(sc, f"H0,{col}"))
-            assert p.pick_label.text() == f"picked hinge H0,{col}"
+            pt = hinge_point(sc, f"H0,{col}")
+            click_view(pt)
+            assert p.pick_label.text() == f"picked hinge H0,{col}", (      # the reads, should it fail
+                p.pick_label.text(), (pt.x(), pt.y()), view_widget().size(), FreeCADGui.ActiveDocument.ActiveView.getSize(),
+                [(q.x(), q.y()) for q in (hinge_point(sc, f"H0,{c}") for c in (col, col + 1))])
         assert [k for k, b in sorted(p.buttons.items()) if b.isChecked()] == [("vertical", c) for c in (2, 3, 4, 5)]
         shot(2, "rotary-axes")
         assert press_ok(), p.error.text()
