@@ -131,11 +131,13 @@ def test_worm_horn_adapter_takes_the_far_socket(fc):
                                        "done for the friction pad, stable hub, constraint clip and connection hub "
                                        "(separate rivet pins printed lying, geometry/rivet.py, test_rivet_pins_print_"
                                        "lying_and_bend_along_the_layers) but not for the servo housing and its horn "
-                                       "adapter, which every set-up has: their pins still fuse upright. The housing's "
-                                       "channels cannot simply run up through the skirt: the servo cavity lies over "
-                                       "node A's lateral sockets (the channel opens into the cavity floor's trough) "
-                                       "and the cable slot over its far socket; the adapter's pins need channels "
-                                       "through the block (and one fish pin sits under the column)")
+                                       "adapter, which every set-up has: their pins still fuse upright. Tried: a head well "
+                                       "from the cavity down to 0.2 mm under the trough bottom (2.4 mm foot, rivets "
+                                       "in before the servo, collision checks clean) pierces the trough's 8 mm "
+                                       "bridge, so the housing printed upside down has 172 mm2 unsupported (worm, "
+                                       "fish); adapter rivets through the block (heads recessed in the arm-top "
+                                       "face) print supports-free on worm and fish, but on the gripper a socket "
+                                       "(12.5, 6.5) lies partly under the column, the channel through air")
 @pytest.mark.parametrize("setup", SETUPS)
 def test_snap_pins_bend_along_the_layers(setup):
     """Every module's snap-fit is printed in the orientation whose prongs bend along the layers."""
