@@ -56,6 +56,7 @@ def build_manifest(result, files_by_group, stem, checks_ran, poses=None):
             m["rivets"] = {"count": len(rivets), "parts": [q.name for q in rivets],
                            "length_mm": [q.info["length_mm"] for q in rivets],
                            "print_pose": [q.info["print_pose"] for q in rivets],
+                           "ends": rivets[0].info.get("ends", 1),      # 2: barbed at both ends (hub)
                            "strain": spec.snap.strain, "limit": spec.snap.limit, "bending": spec.snap.bending}
         if spec.pivot is not None:
             m["joint_pivot"] = spec.pivot.as_dict()

@@ -40,7 +40,7 @@ JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
 NODE_MODULES = ("connection_hub", "friction_pad")
 # modules held by separate rivet pins that print lying (geometry/rivet.py, bending along the layers);
 # the others still fuse upright pins (docs/fabrication.md, limits)
-RIVETED_TYPES = ("stable_hub", "friction_pad")
+RIVETED_TYPES = ("stable_hub", "friction_pad", "constraint_clip", "connection_hub")
 
 COMMON_KEYS = {"type", "name", "side", "material", "extruder"}
 TYPE_KEYS = {
@@ -225,12 +225,11 @@ def parse_modules(scene, p):
             _adapter_sockets(spec, p)
         elif typ == "connection_hub":
             half = 0.5 * spec.values["thickness_mm"]
-            if half < max(p.min_wall_mm, PIN_OVERLAP_MM + p.min_wall_mm) - 1e-9:
-                need = 2 * max(p.min_wall_mm, PIN_OVERLAP_MM + p.min_wall_mm)
+            if half < p.min_wall_mm - 1e-9:
                 raise SceneError(f"{f}.thickness_mm ({name})",
-                                 f"{spec.values['thickness_mm']} mm: the hub prints as two halves, each holding its "
-                                 f"pins {PIN_OVERLAP_MM} mm deep under {p.min_wall_mm:.3g} mm (two nozzle widths) of "
-                                 f"plate; allowed range [{need:.3g}, 200] mm")
+                                 f"{spec.values['thickness_mm']} mm: the hub prints as two halves, each at least "
+                                 f"{p.min_wall_mm:.3g} mm (two nozzle widths) thick; allowed range "
+                                 f"[{2 * p.min_wall_mm:.3g}, 200] mm")
         elif typ == "friction_pad":
             if "mu" in item:
                 spec.mu = check_number(f"{f}.mu ({name})", item["mu"], 0.0, 10.0)
@@ -357,8 +356,12 @@ def hub_dowel_points(p):
 
 
 def build_connection_hub(spec, p):
-    """Two one-way halves, split at mid-thickness: each is a plate with pins on its outer face and
-    prints flat face down, pins up. Glued back to back, aligned by two filament dowels."""
+    """Two plain halves split at mid-thickness (each prints flat), aligned by two filament dowels, with
+    a channel through both at each socket for a double rivet (geometry/rivet.make_double_rivet): its
+    lower end snaps into the sheet below, its upper end into the second sheet that lies upside down on
+    the hub's top face; the rivets print lying, their prongs bend along the layers."""
+    from metamaterial_wb.geometry.rivet import make_double_rivet
+
     App, Part = _fc()
     V = App.Vector
     T = p.sheet_thickness_mm
@@ -368,13 +371,17 @@ def build_connection_hub(spec, p):
     zm = T + 0.5 * t
     d = 0.5 * s - p.socket_inset_mm
     pts = [(d, 0.0), (0.0, d), (-d, 0.0), (0.0, -d)]
-    down = _pins_at(p, pts, snap=spec.snap)
-    # the second structure lies upside down on the hub: its top face at z = T + t, pins point up into it
-    up = _pins_at(p, pts, up=True, z_shift=T + t, snap=spec.snap)
-    dowels = [Part.makeCylinder(0.5 * DOWEL_DIAMETER_MM, t + 2.0, V(x, y, T - 1.0)) for x, y in hub_dowel_points(p)]
-    lower = _finish([box(-h, h, -h, h, T, zm)] + down, dowels, f"{spec.name} lower half")
-    upper = _finish([box(-h, h, -h, h, zm, T + t)] + up, dowels, f"{spec.name} upper half")
-    return [("hub_lower", lower), ("hub_upper", upper)]
+    cut = [Part.makeCylinder(0.5 * DOWEL_DIAMETER_MM, t + 2.0, V(x, y, T - 1.0)) for x, y in hub_dowel_points(p)]
+    cut += [Part.makeCylinder(p.socket_radius_mm, t + 2.0, V(u, w, T - 1.0)) for u, w in pts]
+    lower = _finish([box(-h, h, -h, h, T, zm)], cut, f"{spec.name} lower half")
+    upper = _finish([box(-h, h, -h, h, zm, T + t)], cut, f"{spec.name} upper half")
+    pin = make_double_rivet(p, t, spec.snap)
+    rivets = []
+    for u, w in pts:
+        m = App.Matrix()
+        m.move(V(u, w, 0.0))
+        rivets.append((pin.transformed(m, True), t, (u, w)))     # a copy: STEP keeps one body each
+    return [("hub_lower", lower), ("hub_upper", upper)] + _rivet_parts("hub", rivets)
 
 
 def build_friction_pad(spec, p):
@@ -459,16 +466,19 @@ def build_constraint_clip(spec, p, pivot):
     ang = spec.values["angle_deg"]
     half_a = box(-0.5 * gap - s + 0.3, 0.0, -h, h, T, T + t)
     half_b = box(0.0, 0.5 * gap + s - 0.3, -h, h, T, T + t)
-    pins_a = _pins_at(p, _lateral_points(p, -0.5 * c), snap=spec.snap)
-    pins_b = _pins_at(p, _lateral_points(p, 0.5 * c), snap=spec.snap)
+    pts_a = _lateral_points(p, -0.5 * c)
+    pts_b = _lateral_points(p, 0.5 * c)
     rot = App.Placement(V(pivot[0], pivot[1], 0), App.Rotation(V(0, 0, 1), ang)).multiply(
         App.Placement(V(-pivot[0], -pivot[1], 0), App.Rotation()))
     m = rot.toMatrix()
     half_b = half_b.transformed(m)
-    pins_b = [q.transformed(m) for q in pins_b]
+    pts_b = [(q.x, q.y) for q in (rot.multVec(V(u, w, 0.0)) for u, w in pts_b)]
     r = min(0.5 * s, 8.0)
     bridge = Part.makeCylinder(r, t, V(pivot[0], pivot[1], T))
-    return [("clip", _finish([half_a, half_b, bridge] + pins_a + pins_b, [], spec.name))]
+    # separate rivet pins (geometry/rivet.py) through the plate, heads on its top face: the clip prints
+    # flat on its underside, the rivets lying (their prongs bend along the layers)
+    clip, rivets = riveted(p, _finish([half_a, half_b, bridge], [], spec.name), pts_a + pts_b, spec.snap, spec.name)
+    return [("clip", clip)] + _rivet_parts("clip", rivets)
 
 
 def module_placement(spec, p):
@@ -486,14 +496,15 @@ def module_placement(spec, p):
 
 def rivet_info(shape, placement, spec):
     """Part info of a rivet pin: its print pose (the flat, module frame ``-y``, on the bed: the pose name
-    in sheet axes, export/printpose.POSES), length, strain and bending direction."""
+    in sheet axes, export/printpose.POSES), length, strain, bending direction and how many barbed ends
+    (2: the connection hub's double rivets)."""
     App, _ = _fc()
     d = placement.Rotation.multVec(App.Vector(0, -1, 0))
     k = max(range(3), key=lambda i: abs(d[i]))
     snap = spec.snap
     return {"rivet": True, "print_pose": f"{'+' if d[k] > 0 else '-'}{'xyz'[k]} down",
             "length_mm": round(shape.BoundBox.ZLength, 4), "strain": snap.strain, "limit": snap.limit,
-            "bending": snap.bending}
+            "bending": snap.bending, "ends": 2 if spec.type == "connection_hub" else 1}
 
 
 def _fab_key(p):

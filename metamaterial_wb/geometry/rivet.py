@@ -15,7 +15,9 @@ of the sheet), the sheet's top face at ``z = T``, the module foot from ``T`` to 
 head above it; the slot is the plane ``x = 0`` (the prongs bend along ``x``), the flat faces ``-y``.
 Print frame: :data:`PRINT_POSE` (export/printpose.POSES) turns ``-y`` onto the bed.
 
-Not yet used by the module builders (they still fuse upright pins; docs/fabrication.md, limits).
+Used by the friction pad, stable hub and constraint clip (:func:`make_rivet`, head on the module) and the
+connection hub (:func:`make_double_rivet`, barbed at both ends); the servo housing and its horn adapter
+still fuse upright pins (docs/fabrication.md, limits).
 """
 from dataclasses import replace
 
@@ -73,4 +75,39 @@ def make_rivet(p, foot_mm, snap=None):
     if len(pin.Solids) != 1:
         from metamaterial_wb.core.errors import MetamaterialError
         raise MetamaterialError(f"rivet pin came out as {len(pin.Solids)} solids")
+    return pin.Solids[0]
+
+
+def make_double_rivet(p, span_mm, snap=None):
+    """A headless rivet with a barbed, slotted end at each side: it joins two sheets through a module
+    ``span_mm`` thick between them (the connection hub). Assembly frame as :func:`make_rivet`: the lower
+    end in the sheet below (tip at ``z = clearance``), the upper end its mirror about the module's
+    mid-plane ``z = T + span_mm / 2``, in the sheet that lies upside down on the module's top face. It
+    prints lying on the same flat, both slots upright, so both pairs of prongs bend along the layers."""
+    if snap is None:
+        snap = rivet_snap_fit(p, p.module_material)
+    if not span_mm > 0:
+        raise SceneError("modules", f"a double rivet needs a module between the sheets; thickness {span_mm} mm, "
+                                    f"allowed range (0, ...) mm")
+    from metamaterial_wb.geometry.fc import freecad
+    App, Part = freecad()
+    V = App.Vector
+    d = rivet_dimensions(p, span_mm, snap)
+    r, rb, z_tip, z_sh = d["shank_radius_mm"], d["barb_radius_mm"], d["tip_z_mm"], d["barb_top_z_mm"]
+    zm = p.sheet_thickness_mm + 0.5 * span_mm
+    w = d["slot_mm"]
+    big = r + HEAD_RIM_MM + 1.0
+
+    def end():
+        e = Part.makeCylinder(r, zm - z_sh + 0.01, V(0, 0, z_sh)).fuse(Part.makeCone(r, rb, z_sh - z_tip, V(0, 0, z_tip)))
+        slot = Part.makeBox(w, 2 * big, snap.slot_top_mm - (z_tip - 1.0), V(-0.5 * w, -big, z_tip - 1.0))
+        return e.cut(slot)
+
+    lo = end()
+    pin = lo.fuse(lo.mirror(V(0, 0, zm), V(0, 0, 1)))
+    flat = Part.makeBox(2 * big, big, 2 * zm + 2.0, V(-big, -big - d["flat_mm"], -1.0))
+    pin = pin.cut(flat).removeSplitter()
+    if len(pin.Solids) != 1:
+        from metamaterial_wb.core.errors import MetamaterialError
+        raise MetamaterialError(f"double rivet pin came out as {len(pin.Solids)} solids")
     return pin.Solids[0]

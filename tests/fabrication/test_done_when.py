@@ -22,6 +22,10 @@ def _setup(name):
                                "profile": {"shape": "sine", "amplitude": 1.0}}],
                 "modules": [{"type": "servo_housing", "name": "servo_rear", "joint": "V0,0"},
                             {"type": "friction_pad", "name": "pad_front", "node": "N0,8"}]}
+    if name == "hub_clip":          # the two riveted module types no example set-up has
+        return {"format": "metamaterial-scene", "version": 1, "name": "hub_clip", "layout": {"grid": [2, 4]},
+                "modules": [{"type": "connection_hub", "name": "hub", "node": "N0,0"},
+                            {"type": "constraint_clip", "name": "clip", "joint": "H1,2", "angle_deg": 8.0}]}
     with open(os.path.join(EXAMPLES, f"{name}.json")) as f:
         return json.load(f)
 
@@ -124,15 +128,16 @@ def test_worm_horn_adapter_takes_the_far_socket(fc):
 
 
 @pytest.mark.xfail(strict=True, reason="issue 16 item 4 (snap pins printed so the prongs bend along the layers) is "
-                                       "done for the friction pad and the stable hub (separate rivet pins printed "
-                                       "lying, geometry/rivet.py, test_rivet_pins_print_lying_and_bend_along_the_"
-                                       "layers) but not for the servo housing and its horn adapter, which every "
-                                       "set-up has: their pins still fuse upright. The housing's channels cannot "
-                                       "simply run up through the skirt: the servo cavity lies over node A's "
-                                       "lateral sockets (the channel opens into the cavity floor's trough, no room "
-                                       "for a head under the servo) and the cable slot over its far socket; the "
-                                       "adapter's pins need channels through the block (and one fish pin sits under "
-                                       "the column)")
+                                       "done for the friction pad, stable hub, constraint clip and connection hub "
+                                       "(separate rivet pins printed lying, geometry/rivet.py, test_rivet_pins_print_"
+                                       "lying_and_bend_along_the_layers) but not for the servo housing and its horn "
+                                       "adapter, which every set-up has: their pins still fuse upright. Tried: a head well "
+                                       "from the cavity down to 0.2 mm under the trough bottom (2.4 mm foot, rivets "
+                                       "in before the servo, collision checks clean) pierces the trough's 8 mm "
+                                       "bridge, so the housing printed upside down has 172 mm2 unsupported (worm, "
+                                       "fish); adapter rivets through the block (heads recessed in the arm-top "
+                                       "face) print supports-free on worm and fish, but on the gripper a socket "
+                                       "(12.5, 6.5) lies partly under the column, the channel through air")
 @pytest.mark.parametrize("setup", SETUPS)
 def test_snap_pins_bend_along_the_layers(setup):
     """Every module's snap-fit is printed in the orientation whose prongs bend along the layers."""
@@ -140,7 +145,7 @@ def test_snap_pins_bend_along_the_layers(setup):
         assert "along the layers" in s.snap.bending, (s.name, s.snap.bending)
 
 
-@pytest.mark.parametrize("setup", SETUPS)
+@pytest.mark.parametrize("setup", SETUPS + ("hub_clip",))
 def test_rivet_pins_print_lying_and_bend_along_the_layers(fc, setup):
     """The modules held by rivet pins (friction pads, stable hubs): no fused pin is left on the module
     part (no material in its sockets), every socket it uses gets one rivet part, and in the pose its 3MF
@@ -166,6 +171,7 @@ def test_rivet_pins_print_lying_and_bend_along_the_layers(fc, setup):
         for q in body:              # the module part itself stays out of the sheet (no fused pins)
             bb = r.placed_shape(q).BoundBox
             assert bb.ZMin >= T - 1e-6 or bb.ZMax <= 1e-6, (q.name, bb)
+        ends_of = {q.name: q.info["ends"] for q in rivets}
         meshes, reps = lay_out_best_poses(part_meshes(r, rivets), forced=forced_poses(rivets))
         for name, W, Tr, _, _ in meshes:
             assert reps[name]["supports_free"], (name, reps[name])
@@ -177,8 +183,10 @@ def test_rivet_pins_print_lying_and_bend_along_the_layers(fc, setup):
             ends = [W[:, ax].min() + 0.5, W[:, ax].max() - 0.5]
             hits = []
             for e in ends:          # one end is the tip (slot: empty vertical line), the other the head
+                # (a double rivet, connection hub: both ends are slotted tips)
                 pts = np.tile(c, (40, 1))
                 pts[:, ax] = e
                 pts[:, 2] = np.linspace(0.05, ext[2] - 0.05, 40)
                 hits.append(bool(inside(W, Tr, pts).any()))
-            assert sorted(hits) == [False, True], (name, hits)
+            want = [False, False] if ends_of[name] == 2 else [False, True]
+            assert sorted(hits) == want, (name, hits)

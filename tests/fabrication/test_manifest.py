@@ -110,11 +110,12 @@ def test_print_pose_checked_on_the_exported_mesh(built):
             assert mine["unsupported_area_mm2"] == pytest.approx(rep["unsupported_area_mm2"], abs=2e-3)
     pad = [x for x in m["modules"] if x["name"] == "pad"][0]["print_pose"]["pad_pad"]
     assert pad["supports_free"] and pad["bed_area_mm2"] > 100.0 and pad["pose"] in ("+z down", "-z down")
-    for name, part in (("stable", "stable_hub"), ("clip", "clip_clip")):      # flat top on the bed, pins up
-        rep = [x for x in m["modules"] if x["name"] == name][0]["print_pose"][part]
-        assert rep["supports_free"] and rep["pose"] == "+z down" and rep["bed_area_mm2"] > 100.0, (name, rep)
+    rep = [x for x in m["modules"] if x["name"] == "stable"][0]["print_pose"]["stable_hub"]   # flat top on the bed
+    assert rep["supports_free"] and rep["pose"] == "+z down" and rep["bed_area_mm2"] > 100.0, rep
+    rep = [x for x in m["modules"] if x["name"] == "clip"][0]["print_pose"]["clip_clip"]      # a flat plate (rivets apart)
+    assert rep["supports_free"] and rep["pose"] in ("+z down", "-z down") and rep["bed_area_mm2"] > 100.0, rep
     hub = [x for x in m["modules"] if x["name"] == "hub"][0]["print_pose"]
-    assert set(hub) == {"hub_hub_lower", "hub_hub_upper"}
+    assert set(hub) == {"hub_hub_lower", "hub_hub_upper"} | {f"hub_hub_rivet_{k}" for k in range(1, 5)}
     for mod in m["modules"]:
         for part, rep in mod["print_pose"].items():
             assert rep["supports_free"], (part, rep)
@@ -156,14 +157,15 @@ def test_pose_report_on_known_shapes(fc):
 
 
 def test_manifest_rivets_print_lying(built):
-    """The riveted modules (friction pad, stable hub) list their rivet pins: one per socket, each its own
+    """The riveted modules (friction pad, stable hub, clip, connection hub) list their rivet pins: one per socket, each its own
     part in the module's 3MF, in the pose the manifest names, lying (height under half its length) and
     supports-free, with the designed strain within the limit and bending along the layers."""
     out, m = built
-    for name in ("pad", "stable"):
+    for name in ("pad", "stable", "clip", "hub"):
         mod = [x for x in m["modules"] if x["name"] == name][0]
         rv = mod["rivets"]
         assert rv["count"] == len(mod["sockets"]) == len(rv["parts"]) == 4
+        assert rv["ends"] == (2 if name == "hub" else 1)
         assert rv["strain"] == pytest.approx(mod["snap_fit"]["strain"], rel=1e-6) and rv["strain"] <= rv["limit"]
         assert "along the layers" in rv["bending"] == mod["snap_fit"]["bending"]
         meshes = read_3mf_meshes(out / f"w_{name}.3mf")

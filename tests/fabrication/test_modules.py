@@ -43,10 +43,10 @@ def test_modules_clear_of_the_sheet_at_rest(mod_result):
 def test_clip_holds_its_angle(mod_result):
     """At rest the clip's second half does not fit node N2,2: it fits N2,2 turned by angle_deg."""
     r = mod_result
-    clip = _part(r, "clip_clip")
+    clip = _part(r, "clip_clip").fuse([r.placed_shape(q) for q in r.groups()["clip"] if q.info.get("rivet")])
     node_b = _part(r, "node_2_2")
-    assert clip.common(node_b).Volume > 1.0               # would collide in the flat state ...
-    assert clip.common(_part(r, "node_2_1")).Volume < 1e-3     # ... but fits its first node
+    assert clip.common(node_b).Volume > 1.0               # its rivets would collide in the flat state ...
+    assert clip.common(_part(r, "node_2_1")).Volume < 1e-3     # ... but fit its first node
 
 
 def test_servo_shaft_on_the_joint_pivot(mod_result):
@@ -73,24 +73,27 @@ def test_servo_shaft_on_the_joint_pivot(mod_result):
 
 def test_pins_reach_into_the_sockets(mod_result):
     r = mod_result
-    for name in ("servo_housing", "servo_horn_adapter", "hub_hub_lower", "clip_clip"):
+    for name in ("servo_housing", "servo_horn_adapter"):
         assert _part(r, name).BoundBox.ZMin == pytest.approx(CLR), name      # pin tips just above the bed
     # riveted modules: the part stays on its face, its separate rivet pins reach through the sheet
-    assert _part(r, "stable_hub").BoundBox.ZMin == pytest.approx(T)
-    rivets = [q for q in r.groups()["stable"] if q.info.get("rivet")]
-    assert len(rivets) == 4 and all(r.placed_shape(q).BoundBox.ZMin == pytest.approx(CLR) for q in rivets)
+    for group, part in (("stable", "stable_hub"), ("clip", "clip_clip")):
+        assert _part(r, part).BoundBox.ZMin == pytest.approx(T), part
+        rivets = [q for q in r.groups()[group] if q.info.get("rivet")]
+        assert len(rivets) == 4 and all(r.placed_shape(q).BoundBox.ZMin == pytest.approx(CLR) for q in rivets)
     pad = _part(r, "pad_pad").BoundBox                          # bottom side: mirrored
     assert (pad.ZMin, pad.ZMax) == pytest.approx((-3.0, 0.0))
     rivets = [q for q in r.groups()["pad"] if q.info.get("rivet")]
     assert len(rivets) == 4 and all(r.placed_shape(q).BoundBox.ZMax == pytest.approx(T - CLR) for q in rivets)
-    hub = _part(r, "hub_hub_upper").BoundBox                    # two-way: pins up into a second sheet
-    assert hub.ZMax == pytest.approx(T + 3.0 + T - CLR)
+    lo, up = _part(r, "hub_hub_lower").BoundBox, _part(r, "hub_hub_upper").BoundBox
+    assert (lo.ZMin, up.ZMax) == pytest.approx((T, T + 3.0))       # the halves stay between the sheets ...
+    rivets = [r.placed_shape(q).BoundBox for q in r.groups()["hub"] if q.info.get("rivet")]
+    assert len(rivets) == 4                                        # ... double rivets reach into both sheets
+    assert all((b.ZMin, b.ZMax) == pytest.approx((CLR, T + 3.0 + T - CLR)) for b in rivets)
 
 
 def test_connection_hub_prints_as_two_one_way_halves(mod_result):
-    """The two-way hub is two halves split at mid-thickness, each a plate with pins on one face only
-    (so each prints flat face down, pins up): they touch without overlap, and the dowel holes run
-    through both in line."""
+    """The two-way hub is two plain halves split at mid-thickness (each prints flat; double rivets run
+    through both): they touch without overlap, and the dowel holes run through both in line."""
     from metamaterial_wb.geometry.modules import DOWEL_DIAMETER_MM
     r = mod_result
     lo, up = _part(r, "hub_hub_lower"), _part(r, "hub_hub_upper")
@@ -214,13 +217,13 @@ def test_modules_laid_out_for_printing(mod_result):
 
 
 def test_connection_hub_too_thin_for_two_halves_is_refused():
-    """Each half holds its pins 0.5 mm deep under two nozzle widths of plate: 2.6 mm at the 0.4 mm
-    nozzle; thinner is an error naming the field and the range, before any geometry."""
+    """Each half is at least two nozzle widths thick (the double rivets run through both): 1.6 mm at the
+    0.4 mm nozzle; thinner is an error naming the field and the range, before any geometry."""
     from metamaterial_wb.core.design import effective_tilts_deg
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.fabrication import fabrication_params
     from metamaterial_wb.geometry.modules import parse_modules
-    for t, ok in ((2.6, True), (2.5, False)):
+    for t, ok in ((1.6, True), (1.5, False)):
         sc = make_scene({"chain": 3}, modules=[{"type": "connection_hub", "name": "h", "node": "N0,1",
                                                 "thickness_mm": t}])
         p = fabrication_params(sc, effective_tilts_deg(sc))
@@ -229,7 +232,7 @@ def test_connection_hub_too_thin_for_two_halves_is_refused():
         else:
             with pytest.raises(SceneError) as e:
                 parse_modules(sc, p)
-            assert "thickness_mm" in e.value.field and "[2.6, 200]" in str(e.value)
+            assert "thickness_mm" in e.value.field and "[1.6, 200]" in str(e.value)
 
 
 def test_friction_pad_too_thin_for_recessed_rivet_heads_is_refused():

@@ -60,15 +60,15 @@ def test_built_pin_has_the_designed_prongs(fc):
     r = build_scene(make_scene({"chain": 2}, modules=[{"type": "connection_hub", "name": "h", "node": "N0,0",
                                                        "material": "PLA"}]), progress=False)
     spec = r.modules[0]
-    hub = r.placed_shape(r.by_name("h_hub_lower"))     # the half with the pins down
+    hub = r.placed_shape(r.by_name("h_hub_rivet_1"))   # the double rivet in the E socket (lower end)
     import Part
     # a thin probe slab at mid-prong height through the E pin (x = 9 - 3.5 = 5.5 in the node frame)
     T = r.params.sheet_thickness_mm
     z = 0.5 * (1.3 + T)
     def slot_at(z):
         cut = hub.common(Part.makeBox(6, 6, 0.01, fc.Vector(5.5 - 3, -3, z)))
-        xs = sorted(v.X for v in cut.Vertexes)
-        return max(b - a for a, b in zip(xs, xs[1:]))
+        xs = sorted({round(v.X, 9) for v in cut.Vertexes})
+        return min(b - a for a, b in zip(xs, xs[1:]) if a < 5.5 < b)     # the gap across the pin's axis
 
     assert slot_at(z) == pytest.approx(spec.snap.slot_mm, abs=1e-6)
     # the slot runs up to the module's underside (z = T), so the free prong length is T - barb top
