@@ -30,7 +30,7 @@ from metamaterial_wb.core.errors import SceneError, check_number
 from metamaterial_wb.core.fabrication import joint_pivot
 from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
 from metamaterial_wb.geometry.snapfit import design_snap_fit
-from metamaterial_wb.geometry.solids import PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, box, make_pin, riveted  # noqa: F401
+from metamaterial_wb.geometry.solids import PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, adapter_pin_points, box, make_pin, riveted  # noqa: F401
 from metamaterial_wb.geometry.servo import (  # noqa: F401  (re-exported: the servo housing lives in servo.py)
     CABLE_SLOT_MM, SERVO_KEYS, SERVO_OPTIONAL, SERVO_PRESETS, _check_servo_fit, _servo_dims, build_servo_housing,
     servo_layout)
@@ -303,16 +303,6 @@ def _adapter_sockets(spec, p):
     if len(bad) == 1 and not inside[far]:
         spec.sockets = [(ij, far if (ij == spec.b and lab == bad[0]) else lab) for ij, lab in spec.sockets]
         spec.values["pin_b_swap_v"] = 1.0 if uv[bad[0]][1] > 0 else -1.0
-
-
-def adapter_pin_points(spec, p):
-    """Module-frame centres of the horn adapter's pins (node B's lateral sockets, one of them swapped
-    for the far socket by :func:`_adapter_sockets`)."""
-    u_b = 0.5 * p.cell_size_mm
-    d = 0.5 * p.plate_side_mm_global - p.socket_inset_mm
-    sw = spec.values.get("pin_b_swap_v", 0.0)
-    pts = [(u, v) for u, v in _lateral_points(p, u_b) if not (sw and v * sw > 0)]
-    return pts + ([(u_b + d, 0.0)] if sw else [])
 
 
 def to_module_frame(spec, p, xy):

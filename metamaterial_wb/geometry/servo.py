@@ -135,7 +135,7 @@ def _check_servo_fit(spec, p, f):
 def adapter_block_fits(spec, p):
     """Whether the horn adapter's pad can be the foot of a block outside the circle the housing sweeps
     (radius ``col_u0`` about the shaft): every pin centre on node B lies outside it."""
-    from metamaterial_wb.geometry.modules import adapter_pin_points
+    from metamaterial_wb.geometry.solids import adapter_pin_points
 
     lay = servo_layout(spec, p)
     su, sv = spec.values.get("shaft_u_mm", 0.0), spec.values.get("shaft_v_mm", 0.0)
@@ -228,7 +228,7 @@ def build_servo_housing(spec, p):
         pads = [pads[0].cut(Part.makeCylinder(lay["col_u0"], v["pad_mm"] + 2.0, V(su, sv, T - 1.0))),
                 box(pu0, far_b, bv0, bv1, T, ztop).cut(Part.makeCylinder(lay["col_u0"], ztop - T + 2.0,
                                                                          V(su, sv, T - 1.0)))]
-    from metamaterial_wb.geometry.modules import adapter_pin_points
+    from metamaterial_wb.geometry.solids import adapter_pin_points
     pins_b = _pins_at(p, adapter_pin_points(spec, p), snap=spec.snap)
     adapter = _finish(pads + [at_shaft(col), at_shaft(arm)] + pins_b,
                       [at_shaft(hub), at_shaft(horn), at_shaft(shaft_hole)], f"{spec.name} horn adapter")

@@ -58,6 +58,16 @@ def _lateral_points(p, u_centre):
     return [(u_centre, d), (u_centre, -d)]
 
 
+
+def adapter_pin_points(spec, p):
+    """Module-frame centres of the horn adapter's pins (node B's lateral sockets, one of them swapped
+    for the far socket by :func:`_adapter_sockets`)."""
+    u_b = 0.5 * p.cell_size_mm
+    d = 0.5 * p.plate_side_mm_global - p.socket_inset_mm
+    sw = spec.values.get("pin_b_swap_v", 0.0)
+    pts = [(u, v) for u, v in _lateral_points(p, u_b) if not (sw and v * sw > 0)]
+    return pts + ([(u_b + d, 0.0)] if sw else [])
+
 def _finish(body_parts, cutters, what):
     """One fuse for all bodies, one cut for all cutters; returns a single valid solid."""
     base, rest = body_parts[0], body_parts[1:]
