@@ -110,7 +110,7 @@ def riveted(p, shape, points, snap, what):
         channels.append(Part.makeCylinder(rh, z_top - T + 2.0, V(u, v, T - 1.0)))
         m = App.Matrix()
         m.move(V(u, v, 0.0))
-        rivets.append((make_rivet(p, z_top - T, snap).transformed(m), z_top - T, (u, v)))
+        rivets.append((make_rivet(p, z_top - T, snap).transformed(m, True), z_top - T, (u, v)))   # a copy: the move in the geometry, not a location (FreeCAD 1.0 composed that location twice)
     out = shape.cut(channels).removeSplitter()
     if len(out.Solids) != 1:
         raise MetamaterialError(f"{what}: the rivet channels split it into {len(out.Solids)} solids")
