@@ -269,13 +269,14 @@ def plot(study, path):
     plt.close(fig)
 
 
-def write_section(doc_path, section):
-    """Replace the marked section of ``doc_path`` (appended before "## Four-legged walker" the first time)."""
+def write_section(doc_path, section, begin=MARK_BEGIN, end=MARK_END):
+    """The text of ``doc_path`` with the section between ``begin`` and ``end`` replaced (inserted before
+    "## Sequencing" the first time, or appended)."""
     with open(doc_path) as f:
         text = f.read()
-    if MARK_BEGIN in text and MARK_END in text:
-        a = text.index(MARK_BEGIN)
-        b = text.index(MARK_END) + len(MARK_END) + 1
+    if begin in text and end in text:
+        a = text.index(begin)
+        b = text.index(end) + len(end) + 1
         return text[:a] + section + text[b:]
     anchor = "## Sequencing"
     i = text.index(anchor) if anchor in text else len(text)

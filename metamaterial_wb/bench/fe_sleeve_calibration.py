@@ -320,15 +320,9 @@ def plot(cal, path):
 
 
 def write_section(doc_path, section):
-    """Replace the marked section (inserted after the FE check's section the first time)."""
-    with open(doc_path) as f:
-        text = f.read()
-    if MARK_BEGIN in text and MARK_END in text:
-        a, b = text.index(MARK_BEGIN), text.index(MARK_END) + len(MARK_END) + 1
-        return text[:a] + section + text[b:]
-    anchor = "## Sequencing"
-    i = text.index(anchor) if anchor in text else len(text)
-    return text[:i] + section + "\n" + text[i:]
+    """Replace the marked calibration section (inserted before "## Sequencing" the first time)."""
+    from metamaterial_wb.bench.fe_sleeve import write_section as write_marked
+    return write_marked(doc_path, section, MARK_BEGIN, MARK_END)
 
 
 def fidelity_markdown(sleeve, calibration=None):
