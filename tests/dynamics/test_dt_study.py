@@ -1,20 +1,16 @@
 """Issue 18: the reference error of the long-horizon travel figures (``bench_dynamics.py dtstudy``): the same
 run at dt, dt/2, dt/4, ... and Richardson; checked here on travel sequences whose limit is known."""
-import importlib.util
 import math
 import os
 
 import pytest
+from scriptload import load_script
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def _bench():
-    spec = importlib.util.spec_from_file_location("bench_dynamics_dt", os.path.join(REPO, "benchmarks",
-                                                                                     "bench_dynamics.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/bench_dynamics.py", "bench_dynamics_dt")
 
 
 def test_dt_study_of_a_second_order_sequence_finds_its_limit():

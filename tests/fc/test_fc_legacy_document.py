@@ -4,7 +4,6 @@ build; documents saved now store the new module paths.
 ``tests/fixtures/legacy_structure.FCStd`` was saved by the code before the split (its proxies are stored as
 ``metamaterial_wb.objects.structure.SceneProxy`` ...); ``tests/fixtures/make_legacy_structure.py`` made it.
 """
-import importlib.util
 import json
 import os
 import re
@@ -21,6 +20,7 @@ FreeCAD = pytest.importorskip("FreeCAD")
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.objects import make  # noqa: E402
 from metamaterial_wb.objects.common import PROXY_CLASS  # noqa: E402
+from scriptload import load_script  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -32,11 +32,7 @@ NEW_MODULES = {"SceneProxy": "metamaterial_wb.objects.scene", "NodeShapeProxy": 
 
 
 def legacy_scene():
-    spec = importlib.util.spec_from_file_location("make_legacy_structure", os.path.join(FIXTURES,
-                                                                                       "make_legacy_structure.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return Scene.from_dict(mod.SCENE)
+    return Scene.from_dict(load_script("tests/fixtures/make_legacy_structure.py", "make_legacy_structure").SCENE)
 
 
 @pytest.fixture

@@ -1,6 +1,5 @@
 """Issue 18: the machinery that gives reference figures their own error (Richardson on refinement sequences,
 the hinge aspect-ratio table's FE mesh error) on sequences whose limit is known."""
-import importlib.util
 import os
 
 import numpy as np
@@ -8,6 +7,7 @@ import pytest
 
 from metamaterial_wb.bench import fe_study
 from metamaterial_wb.bench.measures import convergence_error
+from scriptload import load_script
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -68,10 +68,7 @@ def test_aspect_table_rows_carry_their_fe_mesh_error():
 
 
 def test_aspect_script_splices_only_its_section():
-    spec = importlib.util.spec_from_file_location("bfae", os.path.join(REPO, "benchmarks",
-                                                                         "bench_fidelity_aspect_error.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script("benchmarks/bench_fidelity_aspect_error.py", "bfae")
     doc = "# T\n\n### A\n\nkeep\n\n### Beam law against FE by hinge aspect ratio\n\nold | table\n\n### B\n\nkeep too\n"
     out = mod.splice(doc, "### Beam law against FE by hinge aspect ratio\n\nnew\n")
     assert "old" not in out and "new" in out

@@ -1,21 +1,17 @@
 """Issue 18: the mesh error of the sleeve figures (``benchmarks/bench_sleeve_convergence.py``): Richardson over
 meshes of n, 2n, 4n elements per beam half on a sequence whose limit is known, the tables it writes into
 docs/sleeves.md."""
-import importlib.util
 import math
 import os
 
 import pytest
+from scriptload import load_script
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def _bench():
-    spec = importlib.util.spec_from_file_location("bench_sleeve_conv", os.path.join(REPO, "benchmarks",
-                                                                                     "bench_sleeve_convergence.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/bench_sleeve_convergence.py", "bench_sleeve_conv")
 
 
 def test_figure_row_extrapolates_a_second_order_mesh_sequence():
