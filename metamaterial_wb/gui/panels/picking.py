@@ -12,17 +12,8 @@ import numpy as np
 import FreeCAD
 import FreeCADGui
 
+from metamaterial_wb.gui.preview import global_placement
 from metamaterial_wb.objects import structure
-
-
-def global_placement(obj):
-    """The object's placement in the document's global frame (through its App::Part containers)."""
-    pl = FreeCAD.Placement(obj.Placement)
-    parent = obj.getParentGeoFeatureGroup() if hasattr(obj, "getParentGeoFeatureGroup") else None
-    while parent is not None:
-        pl = parent.Placement.multiply(pl)
-        parent = parent.getParentGeoFeatureGroup()
-    return pl
 
 
 def ray_through(view, x, y):
