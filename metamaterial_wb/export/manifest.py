@@ -57,7 +57,11 @@ def build_manifest(result, files_by_group, stem, checks_ran, poses=None):
                            "length_mm": [q.info["length_mm"] for q in rivets],
                            "print_pose": [q.info["print_pose"] for q in rivets],
                            "ends": rivets[0].info.get("ends", 1),      # 2: barbed at both ends (hub)
+                           # "sheet": blind rivets pushed in from the sheet's far face (servo housing)
+                           "inserted_from": rivets[0].info.get("inserted_from", "module"),
                            "strain": spec.snap.strain, "limit": spec.snap.limit, "bending": spec.snap.bending}
+        if spec.note:
+            m["note"] = spec.note
         if spec.pivot is not None:
             m["joint_pivot"] = spec.pivot.as_dict()
         if spec.type == "servo_housing":

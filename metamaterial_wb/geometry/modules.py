@@ -30,17 +30,24 @@ from metamaterial_wb.core.errors import SceneError, check_number
 from metamaterial_wb.core.fabrication import joint_pivot
 from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
 from metamaterial_wb.geometry.snapfit import design_snap_fit
-from metamaterial_wb.geometry.solids import PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, adapter_pin_points, box, make_pin, riveted  # noqa: F401
+from metamaterial_wb.geometry.solids import (  # noqa: F401
+    PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, adapter_pin_points, box, make_pin, rivet_parts, riveted)
 from metamaterial_wb.geometry.servo import (  # noqa: F401  (re-exported: the servo housing lives in servo.py)
-    CABLE_SLOT_MM, SERVO_KEYS, SERVO_OPTIONAL, SERVO_PRESETS, _check_servo_fit, _servo_dims, build_servo_housing,
-    servo_layout)
+    CABLE_SLOT_MM, SERVO_KEYS, SERVO_OPTIONAL, SERVO_PRESETS, _check_servo_fit, _servo_dims, blind_rivet_problem,
+    build_servo_housing, servo_layout)
 
 MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip")
 JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
 NODE_MODULES = ("connection_hub", "friction_pad")
-# modules held by separate rivet pins that print lying (geometry/rivet.py, bending along the layers);
-# the others still fuse upright pins (docs/fabrication.md, limits)
+# modules held by separate rivet pins that print lying (geometry/rivet.py, bending along the layers); the
+# servo housing too where blind rivets fit (servo.blind_rivet_problem; else it fuses upright pins):
+# :func:`is_riveted`
 RIVETED_TYPES = ("stable_hub", "friction_pad", "constraint_clip", "connection_hub")
+
+
+def is_riveted(spec):
+    """Whether a module is held by separate rivet pins (printed lying) rather than fused upright pins."""
+    return spec.type in RIVETED_TYPES or bool(spec.values.get("blind_rivets"))
 
 COMMON_KEYS = {"type", "name", "side", "material", "extruder"}
 TYPE_KEYS = {
@@ -88,6 +95,7 @@ class ModuleSpec:
     mu: float = None
     pivot: object = None               # joint modules that turn with / hold the joint: core.joints.JointPivot
     snap: object = None                # geometry.snapfit.SnapFit of its pins
+    note: str = None                   # what the build could not do as designed (the manifest says it)
 
     @property
     def field(self):
@@ -223,6 +231,12 @@ def parse_modules(scene, p):
             spec.values["shaft_u_mm"], spec.values["shaft_v_mm"] = round(su, 6), round(sv, 6)
             _check_servo_fit(spec, p, f)
             _adapter_sockets(spec, p)
+            why = blind_rivet_problem(spec, p)
+            spec.values["blind_rivets"] = 0.0 if why else 1.0
+            if why:
+                spec.note = f"pins fused upright (bending across the layers): {why}"
+            elif spec.snap is not None:
+                spec.snap = replace(spec.snap, bending=RIVET_BENDING)
         elif typ == "connection_hub":
             half = 0.5 * spec.values["thickness_mm"]
             if half < p.min_wall_mm - 1e-9:
@@ -285,9 +299,11 @@ def parse_modules(scene, p):
 
 def _adapter_sockets(spec, p):
     """The horn adapter prints upside down on a block that must stay outside the circle the housing
-    sweeps about the shaft (geometry/servo.py). A lateral socket of node B inside that circle (small
-    cells, e.g. the seed's 20 mm) is replaced by B's far socket (the side away from A) when that one
-    lies outside: ``values["pin_b_swap_v"]`` is the v sign (module frame) of the lateral pin moved."""
+    sweeps about the shaft (geometry/servo.py). A lateral socket of node B whose blind rivet socket
+    (its undercut and two nozzle widths around it) would reach into that circle (the seed's 20 mm cells,
+    the gripper's and the fish's pivot-side socket) is replaced by B's far socket (the side away from A)
+    when that one lies clear: ``values["pin_b_swap_v"]`` is the v sign (module frame) of the lateral
+    pin moved."""
     from metamaterial_wb.geometry.sheet import socket_positions
 
     lay = servo_layout(spec, p)
@@ -295,7 +311,9 @@ def _adapter_sockets(spec, p):
     c = p.cell_size_mm
     bx, by = spec.b[1] * c, -spec.b[0] * c
     uv = {lab: to_module_frame(spec, p, (bx + x, by + y)) for lab, x, y in socket_positions(p)}
-    inside = {lab: math.hypot(u - su, v - sv) < lay["col_u0"] for lab, (u, v) in uv.items()}
+    # the blind rivet's socket (undercut + two nozzle widths) must lie in the block, outside the circle
+    ring = p.counterbore_radius_mm + p.min_wall_mm
+    inside = {lab: math.hypot(u - su, v - sv) < lay["col_u0"] + ring - 1e-9 for lab, (u, v) in uv.items()}
     spec.values["pin_b_swap_v"] = 0.0
     lat = [lab for ij, lab in spec.sockets if ij == spec.b]
     bad = [lab for lab in lat if inside[lab]]
@@ -371,7 +389,7 @@ def build_connection_hub(spec, p):
         m = App.Matrix()
         m.move(V(u, w, 0.0))
         rivets.append((pin.transformed(m, True), t, (u, w)))     # a copy: STEP keeps one body each
-    return [("hub_lower", lower), ("hub_upper", upper)] + _rivet_parts("hub", rivets)
+    return [("hub_lower", lower), ("hub_upper", upper)] + rivet_parts("hub", rivets)
 
 
 def build_friction_pad(spec, p):
@@ -396,7 +414,7 @@ def build_friction_pad(spec, p):
     recess = [Part.makeCylinder(p.socket_radius_mm + HEAD_RIM_MM, T + t + 1.0 - z_head,
                                 App.Vector(u, w, z_head)) for u, w in pts]
     pad, rivets = riveted(p, _finish([plate], pockets + recess, spec.name), pts, spec.snap, spec.name)
-    return [("pad", pad)] + _rivet_parts("pad", rivets)
+    return [("pad", pad)] + rivet_parts("pad", rivets)
 
 
 def pocket_strips(width_mm, rib_mm, max_bridge_mm=9.0):
@@ -404,11 +422,6 @@ def pocket_strips(width_mm, rib_mm, max_bridge_mm=9.0):
     than ``max_bridge_mm`` (a printable bridge, with a margin under the 10 mm rule)."""
     n = max(1, math.ceil((width_mm + rib_mm) / (max_bridge_mm + rib_mm)))
     return n, rib_mm
-
-
-def _rivet_parts(part, rivets):
-    """``[(name, shape)]`` of a part's rivet pins (geometry/solids.riveted), named ``<part>_rivet_<k>``."""
-    return [(f"{part}_rivet_{k + 1}", sh) for k, (sh, _foot, _uv) in enumerate(rivets)]
 
 
 def build_stable_hub(spec, p):
@@ -437,7 +450,7 @@ def build_stable_hub(spec, p):
     parts.append(box(pu - P, pu + P, -P, P, zp, zp + bh))
     hole = Part.makeCylinder(1.6, bh + 2.0, V(pu, 0, zp - 1.0))     # M3 clearance for the attached shape
     hub, rivets = riveted(p, _finish(parts, [hole], spec.name), pins, spec.snap, spec.name)
-    return [("hub", hub)] + _rivet_parts("hub", rivets)
+    return [("hub", hub)] + rivet_parts("hub", rivets)
 
 
 def clip_pivot(spec, p, placement=None):
@@ -468,7 +481,7 @@ def build_constraint_clip(spec, p, pivot):
     # separate rivet pins (geometry/rivet.py) through the plate, heads on its top face: the clip prints
     # flat on its underside, the rivets lying (their prongs bend along the layers)
     clip, rivets = riveted(p, _finish([half_a, half_b, bridge], [], spec.name), pts_a + pts_b, spec.snap, spec.name)
-    return [("clip", clip)] + _rivet_parts("clip", rivets)
+    return [("clip", clip)] + rivet_parts("clip", rivets)
 
 
 def module_placement(spec, p):
@@ -494,7 +507,9 @@ def rivet_info(shape, placement, spec):
     snap = spec.snap
     return {"rivet": True, "print_pose": f"{'+' if d[k] > 0 else '-'}{'xyz'[k]} down",
             "length_mm": round(shape.BoundBox.ZLength, 4), "strain": snap.strain, "limit": snap.limit,
-            "bending": snap.bending, "ends": 2 if spec.type == "connection_hub" else 1}
+            "bending": snap.bending, "ends": 2 if spec.type == "connection_hub" else 1,
+            # blind rivets (servo housing, horn adapter) go in from the far face of the sheet
+            "inserted_from": "sheet" if spec.type == "servo_housing" else "module"}
 
 
 def _fab_key(p):

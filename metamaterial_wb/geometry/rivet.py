@@ -15,9 +15,10 @@ of the sheet), the sheet's top face at ``z = T``, the module foot from ``T`` to 
 head above it; the slot is the plane ``x = 0`` (the prongs bend along ``x``), the flat faces ``-y``.
 Print frame: :data:`PRINT_POSE` (export/printpose.POSES) turns ``-y`` onto the bed.
 
-Used by the friction pad, stable hub and constraint clip (:func:`make_rivet`, head on the module) and the
-connection hub (:func:`make_double_rivet`, barbed at both ends); the servo housing and its horn adapter
-still fuse upright pins (docs/fabrication.md, limits).
+Used by the friction pad, stable hub and constraint clip (:func:`make_rivet`, head on the module), the
+connection hub (:func:`make_double_rivet`, barbed at both ends) and the servo housing and its horn adapter
+(:func:`make_blind_rivet`: pushed in from the sheet's underside, head in the socket's bottom counterbore,
+the barb latching in a blind socket inside the module, so that nothing of it reaches the servo's cavity).
 """
 from dataclasses import replace
 
@@ -50,7 +51,9 @@ def rivet_dimensions(p, foot_mm, snap):
             "head_z_mm": T + foot_mm, "head_radius_mm": r + HEAD_RIM_MM, "head_height_mm": HEAD_HEIGHT_MM,
             "flat_mm": FLAT_FRACTION * r,
             "foot_hole_radius_mm": r + p.clearance_mm,
-            "length_mm": T + foot_mm + HEAD_HEIGHT_MM - p.clearance_mm}
+            "length_mm": T + foot_mm + HEAD_HEIGHT_MM - p.clearance_mm,
+            # the prongs (as blind_rivet_dimensions names them): barb latch face and the slot's end
+            "latch_z_mm": p.socket_lip_height_mm - p.clearance_mm, "slot_end_z_mm": snap.slot_top_mm}
 
 
 def make_rivet(p, foot_mm, snap=None):
@@ -110,4 +113,55 @@ def make_double_rivet(p, span_mm, snap=None):
     if len(pin.Solids) != 1:
         from metamaterial_wb.core.errors import MetamaterialError
         raise MetamaterialError(f"double rivet pin came out as {len(pin.Solids)} solids")
+    return pin.Solids[0]
+
+
+def blind_rivet_dimensions(p, ledge_mm, snap):
+    """Dict of a blind rivet's dimensions (mm, assembly frame: the sheet's bottom face at ``z = 0``) for a
+    blind socket whose ledge (the module material the barb latches over) is ``ledge_mm`` thick."""
+    if not ledge_mm > 0:
+        raise SceneError("modules", f"a blind rivet needs a ledge in the module to latch over; ledge {ledge_mm} mm, "
+                                    f"allowed range (0, ...) mm")
+    clr, lip, T = p.clearance_mm, p.socket_lip_height_mm, p.sheet_thickness_mm
+    z_latch = T + ledge_mm + clr                  # the barb's latch face, just above the module's ledge
+    z_tip = z_latch + lip - 2 * clr               # the barb as long as the standard pin's
+    return {"shank_radius_mm": p.socket_radius_mm - clr, "barb_radius_mm": p.counterbore_radius_mm - clr,
+            "head_radius_mm": p.counterbore_radius_mm - clr, "head_z_mm": clr, "head_height_mm": lip - clr,
+            "latch_z_mm": z_latch, "tip_z_mm": z_tip, "slot_mm": snap.slot_mm,
+            "slot_end_z_mm": z_latch - snap.length_mm, "ledge_mm": ledge_mm,
+            "undercut_mm": lip, "undercut_radius_mm": p.counterbore_radius_mm,
+            "flat_mm": FLAT_FRACTION * (p.socket_radius_mm - clr), "length_mm": z_tip - clr}
+
+
+def make_blind_rivet(p, ledge_mm, snap=None):
+    """A rivet pushed in from the sheet's underside (the servo housing and its horn adapter, whose
+    sockets lie under the servo): its head sits in the socket's bottom counterbore (flush with the
+    sheet's face, bearing on the socket's ledge), the shank runs up through the sheet, and the slotted,
+    barbed end snaps over a ledge ``ledge_mm`` thick inside a blind socket of the module
+    (:func:`metamaterial_wb.geometry.solids.blind_riveted`). The prongs are as long as the standard
+    pin's (``snap.length_mm`` from the latch face, ending inside the sheet's hole), so the strain is the
+    designed ``1.5 t y / L^2``; it prints lying on the same flat, slot upright."""
+    if snap is None:
+        snap = rivet_snap_fit(p, p.module_material)
+    from metamaterial_wb.geometry.fc import freecad
+    App, Part = freecad()
+    V = App.Vector
+    d = blind_rivet_dimensions(p, ledge_mm, snap)
+    r, rb = d["shank_radius_mm"], d["barb_radius_mm"]
+    z0, zh, zl, zt = d["head_z_mm"], d["head_z_mm"] + d["head_height_mm"], d["latch_z_mm"], d["tip_z_mm"]
+    if d["slot_end_z_mm"] < zh:
+        from metamaterial_wb.core.errors import MetamaterialError
+        raise MetamaterialError(f"blind rivet: prongs of {snap.length_mm:.3g} mm reach into its head")
+    head = Part.makeCylinder(d["head_radius_mm"], zh - z0, V(0, 0, z0))
+    shank = Part.makeCylinder(r, zl - zh + 0.01, V(0, 0, zh - 0.01))
+    barb = Part.makeCone(rb, r, zt - zl, V(0, 0, zl))
+    pin = head.fuse([shank, barb])
+    big = rb + 1.0
+    slot = Part.makeBox(d["slot_mm"], 2 * big, zt - d["slot_end_z_mm"] + 1.0,
+                        V(-0.5 * d["slot_mm"], -big, d["slot_end_z_mm"]))
+    flat = Part.makeBox(2 * big, big, zt + 2.0, V(-big, -big - d["flat_mm"], -1.0))
+    pin = pin.cut([slot, flat]).removeSplitter()
+    if len(pin.Solids) != 1:
+        from metamaterial_wb.core.errors import MetamaterialError
+        raise MetamaterialError(f"blind rivet pin came out as {len(pin.Solids)} solids")
     return pin.Solids[0]

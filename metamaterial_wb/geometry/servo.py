@@ -142,10 +142,39 @@ def adapter_block_fits(spec, p):
     return all(math.hypot(u - su, v - sv) >= lay["col_u0"] for u, v in adapter_pin_points(spec, p))
 
 
+def blind_rivet_problem(spec, p):
+    """Why the housing and its horn adapter cannot be held by blind rivets (geometry/rivet.make_blind_rivet:
+    pushed in from the sheet's underside, printed lying, prongs bending along the layers), or None. A
+    blind socket needs a ledge and an undercut of ``socket_lip_height_mm`` each and two nozzle widths
+    of roof above the sheet, and two nozzle widths of wall around the undercut: under the servo that is
+    the housing's feet and floor; on node B the adapter's block outside the circle the housing sweeps."""
+    from metamaterial_wb.geometry.solids import adapter_pin_points
+
+    v = spec.values
+    W, lip, cbr = p.min_wall_mm, p.socket_lip_height_mm, p.counterbore_radius_mm
+    need, have = 2 * lip + W, v["pad_mm"] + p.clearance_mm + v["floor_mm"]
+    if have < need - 1e-9:
+        return (f"the housing's feet and floor under the servo (pad_mm + clearance + floor_mm = {have:.3g} mm) are "
+                f"thinner than a blind rivet socket ({need:.3g} mm: ledge and undercut of socket_lip_height_mm "
+                f"each and two nozzle widths of roof)")
+    if p.socket_inset_mm - 0.3 < cbr + W - 1e-9:
+        return (f"sockets {p.socket_inset_mm} mm inside the plate edge leave less than two nozzle widths of wall "
+                f"around a blind rivet socket (socket_inset_mm at least {cbr + W + 0.3:.3g} mm)")
+    lay = servo_layout(spec, p)
+    su, sv = v.get("shaft_u_mm", 0.0), v.get("shaft_v_mm", 0.0)
+    for u, w in adapter_pin_points(spec, p):
+        out = math.hypot(u - su, w - sv) - lay["col_u0"]
+        if out < cbr + W - 1e-9:
+            return (f"node B's socket at ({u:.3g}, {w:.3g}) mm (module frame) lies {out:.3g} mm outside the circle "
+                    f"the housing sweeps about the shaft; the adapter's blind rivet socket needs {cbr + W:.3g} mm")
+    return None
+
+
 def build_servo_housing(spec, p):
     """Housing (tub with the servo cavity, on the housing node) and horn adapter (on the other node),
     the shaft on the joint's pivot: the servo turns node B about the hinge, as simulated."""
-    from metamaterial_wb.geometry.solids import _fc, _finish, _lateral_points, _pins_at, box
+    from metamaterial_wb.geometry.solids import (_fc, _finish, _lateral_points, _pins_at, adapter_pin_points,
+                                                 blind_riveted, box, rivet_parts)
 
     App, Part = _fc()
     V = App.Vector
@@ -187,7 +216,7 @@ def build_servo_housing(spec, p):
     pilots = [Part.makeCylinder(pilot_r, pilot_depth + 1.0, V(u, 0.0, top - pilot_depth))
               for u in (a - L - ext + v["screw_inset_mm"], a + ext - v["screw_inset_mm"])]
     d = 0.5 * s - p.socket_inset_mm
-    fv = max(d + p.counterbore_radius_mm + 1.0, 2.0)
+    fv = max(d + p.counterbore_radius_mm + max(1.0, p.min_wall_mm), 2.0)
     u_a = -0.5 * c
     fu0 = max(-0.5 * gap - s + 0.3, min(lay["hu0"] + su, u_a - p.counterbore_radius_mm - 1.0))
     fu1 = -0.5 * gap - 0.3
@@ -197,9 +226,15 @@ def build_servo_housing(spec, p):
     # a floor patch joining the feet to the tub (both ranges in v: the tub sits over the hinge pivot)
     v0, v1 = min(-fv, sv - hv), max(fv, sv + hv)
     bridge = box(max(fu0, lay["hu0"] + su), fu1, max(v0, sv - hv), min(v1, sv + hv), T, lay["zb"])
-    pins = _pins_at(p, _lateral_points(p, u_a), snap=spec.snap)
+    # held by blind rivets pushed in from the sheet's underside (the cavity lies over node A's sockets);
+    # fused upright pins only where they do not fit (blind_rivet_problem, said in the manifest)
+    blind = bool(v.get("blind_rivets"))
+    pins = [] if blind else _pins_at(p, _lateral_points(p, u_a), snap=spec.snap)
     housing = _finish([at_shaft(outer)] + [at_shaft(q) for q in seats] + [feet, skirt, bridge] + pins,
                       [at_shaft(q) for q in [inner, cable] + troughs + pilots], f"{spec.name} housing")
+    rivets_h = []
+    if blind:
+        housing, rivets_h = blind_riveted(p, housing, _lateral_points(p, u_a), spec.snap, f"{spec.name} housing")
     # horn adapter on node B: pad with pins, column beyond the horn, arm with the horn pocket over the shaft
     u_b = 0.5 * c
     far_b = 0.5 * gap + s - 0.3
@@ -228,8 +263,12 @@ def build_servo_housing(spec, p):
         pads = [pads[0].cut(Part.makeCylinder(lay["col_u0"], v["pad_mm"] + 2.0, V(su, sv, T - 1.0))),
                 box(pu0, far_b, bv0, bv1, T, ztop).cut(Part.makeCylinder(lay["col_u0"], ztop - T + 2.0,
                                                                          V(su, sv, T - 1.0)))]
-    from metamaterial_wb.geometry.solids import adapter_pin_points
-    pins_b = _pins_at(p, adapter_pin_points(spec, p), snap=spec.snap)
+    pins_b = [] if blind else _pins_at(p, adapter_pin_points(spec, p), snap=spec.snap)
     adapter = _finish(pads + [at_shaft(col), at_shaft(arm)] + pins_b,
                       [at_shaft(hub), at_shaft(horn), at_shaft(shaft_hole)], f"{spec.name} horn adapter")
-    return [("housing", housing), ("horn_adapter", adapter)]
+    rivets_a = []
+    if blind:
+        adapter, rivets_a = blind_riveted(p, adapter, adapter_pin_points(spec, p), spec.snap,
+                                          f"{spec.name} horn adapter")
+    return ([("housing", housing), ("horn_adapter", adapter)] + rivet_parts("housing", rivets_h) +
+            rivet_parts("horn_adapter", rivets_a))

@@ -115,3 +115,48 @@ def riveted(p, shape, points, snap, what):
     if len(out.Solids) != 1:
         raise MetamaterialError(f"{what}: the rivet channels split it into {len(out.Solids)} solids")
     return out.Solids[0], rivets
+
+
+def blind_riveted(p, shape, points, snap, what):
+    """Blind sockets for rivets pushed in from the sheet's underside (geometry/rivet.make_blind_rivet)
+    in a module part at the module-frame socket ``points``: a hole of socket radius through a ledge as
+    thick as the sheet's own (``socket_lip_height_mm``) above the sheet's top face, then an undercut
+    (counterbore radius, as deep) that the rivet's barb snaps into, closed above. Nothing opens on the
+    part's far side (the servo's cavity lies over the housing's sockets). Refuses a socket without two
+    nozzle widths of material around the undercut and above it. Returns ``(part with the sockets,
+    [(rivet, ledge_mm, (u, v))])``."""
+    import math
+
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.geometry.rivet import make_blind_rivet
+
+    App, Part = _fc()
+    V = App.Vector
+    T, lip, W = p.sheet_thickness_mm, p.socket_lip_height_mm, p.min_wall_mm
+    ledge = lip
+    need_h = ledge + lip + W
+    rr = p.counterbore_radius_mm + W
+    proto = make_blind_rivet(p, ledge, snap)
+    cutters, rivets = [], []
+    for (u, v) in points:
+        com = shape.common(Part.makeCylinder(rr, need_h, V(u, v, T))).Volume
+        full = math.pi * rr * rr * need_h
+        if com < 0.999 * full:
+            raise MetamaterialError(f"{what}: the blind rivet socket at ({u:.3g}, {v:.3g}) mm needs solid material "
+                                    f"{need_h:.3g} mm up from the sheet and {rr:.3g} mm around its axis (ledge, "
+                                    f"undercut and two nozzle widths of wall); {100 * com / full:.3g} % of it is there")
+        cutters += [Part.makeCylinder(p.socket_radius_mm, ledge + 1.5, V(u, v, T - 1.0)),
+                    Part.makeCylinder(p.counterbore_radius_mm, lip, V(u, v, T + ledge))]
+        m = App.Matrix()
+        m.move(V(u, v, 0.0))
+        rivets.append((proto.transformed(m, True), ledge, (u, v)))    # a copy (FreeCAD 1.0: see riveted)
+    out = shape.cut(cutters).removeSplitter()
+    if len(out.Solids) != 1:
+        raise MetamaterialError(f"{what}: the blind rivet sockets split it into {len(out.Solids)} solids")
+    return out.Solids[0], rivets
+
+
+def rivet_parts(part, rivets):
+    """``[(name, shape)]`` of a part's rivet pins (:func:`riveted`, :func:`blind_riveted`), named
+    ``<part>_rivet_<k>``."""
+    return [(f"{part}_rivet_{k + 1}", sh) for k, (sh, _foot, _uv) in enumerate(rivets)]

@@ -157,15 +157,18 @@ def test_pose_report_on_known_shapes(fc):
 
 
 def test_manifest_rivets_print_lying(built):
-    """The riveted modules (friction pad, stable hub, clip, connection hub) list their rivet pins: one per socket, each its own
+    """The riveted modules (servo housing + horn adapter, friction pad, stable hub, clip, connection hub) list
+    their rivet pins: one per socket, each its own
     part in the module's 3MF, in the pose the manifest names, lying (height under half its length) and
     supports-free, with the designed strain within the limit and bending along the layers."""
     out, m = built
-    for name in ("pad", "stable", "clip", "hub"):
+    for name in ("servo", "pad", "stable", "clip", "hub"):
         mod = [x for x in m["modules"] if x["name"] == name][0]
         rv = mod["rivets"]
         assert rv["count"] == len(mod["sockets"]) == len(rv["parts"]) == 4
         assert rv["ends"] == (2 if name == "hub" else 1)
+        assert rv["inserted_from"] == ("sheet" if name == "servo" else "module")     # servo: blind rivets
+        assert "note" not in mod
         assert rv["strain"] == pytest.approx(mod["snap_fit"]["strain"], rel=1e-6) and rv["strain"] <= rv["limit"]
         assert "along the layers" in rv["bending"] == mod["snap_fit"]["bending"]
         meshes = read_3mf_meshes(out / f"w_{name}.3mf")
@@ -175,4 +178,3 @@ def test_manifest_rivets_print_lying(built):
             V, _ = meshes[part]
             ext = np.ptp(V, axis=0)
             assert ext[2] < 0.5 * max(ext[0], ext[1]), (part, ext)
-    assert "rivets" not in [x for x in m["modules"] if x["name"] == "servo"][0]

@@ -31,7 +31,9 @@ def test_every_module_is_one_valid_solid_in_its_own_group(mod_result):
     assert validity.check_solids(r) == []
     groups = r.groups()
     assert list(groups) == ["sheet", "servo", "pad", "hub", "stable", "clip"]
-    assert [q.name for q in groups["servo"]] == ["servo_housing", "servo_horn_adapter"]
+    assert [q.name for q in groups["servo"]] == ["servo_housing", "servo_horn_adapter", "servo_housing_rivet_1",
+                                                 "servo_housing_rivet_2", "servo_horn_adapter_rivet_1",
+                                                 "servo_horn_adapter_rivet_2"]
     assert all(q.material == "ABS" and q.extruder == 1 for g in list(groups)[1:] for q in groups[g])
 
 
@@ -73,9 +75,12 @@ def test_servo_shaft_on_the_joint_pivot(mod_result):
 
 def test_pins_reach_into_the_sockets(mod_result):
     r = mod_result
+    # riveted modules: the part stays on its face, its separate rivet pins reach through the sheet (the
+    # servo's blind rivets from the underside: heads in the bottom counterbores, just above the bed)
     for name in ("servo_housing", "servo_horn_adapter"):
-        assert _part(r, name).BoundBox.ZMin == pytest.approx(CLR), name      # pin tips just above the bed
-    # riveted modules: the part stays on its face, its separate rivet pins reach through the sheet
+        assert _part(r, name).BoundBox.ZMin == pytest.approx(T), name
+        rivets = [q for q in r.groups()["servo"] if q.name.startswith(f"{name}_rivet_")]
+        assert len(rivets) == 2 and all(r.placed_shape(q).BoundBox.ZMin == pytest.approx(CLR) for q in rivets)
     for group, part in (("stable", "stable_hub"), ("clip", "clip_clip")):
         assert _part(r, part).BoundBox.ZMin == pytest.approx(T), part
         rivets = [q for q in r.groups()[group] if q.info.get("rivet")]

@@ -15,16 +15,20 @@ def _params(**kw):
     return fabrication_params(sc, effective_tilts_deg(sc))
 
 
-def _print_mesh(p, foot_mm, material):
+def _print_mesh(p, foot_mm, material, blind=False):
+    """The rivet (``blind``: the servo modules' blind rivet, ``foot_mm`` its ledge) tessellated, its
+    dimensions, and the mesh turned into its print pose."""
     from metamaterial_wb.export.mesh import tessellate
     from metamaterial_wb.export.printpose import POSES
-    from metamaterial_wb.geometry.rivet import PRINT_POSE, make_rivet, rivet_snap_fit
+    from metamaterial_wb.geometry.rivet import (PRINT_POSE, blind_rivet_dimensions, make_blind_rivet, make_rivet,
+                                                rivet_dimensions, rivet_snap_fit)
     snap = rivet_snap_fit(p, material)
-    V, T = tessellate(make_rivet(p, foot_mm, snap), name="rivet")
+    make, dims = (make_blind_rivet, blind_rivet_dimensions) if blind else (make_rivet, rivet_dimensions)
+    V, T = tessellate(make(p, foot_mm, snap), name="rivet")
     R = POSES[PRINT_POSE]
     off = np.array([0.0, 0.0, (V @ R.T)[:, 2].min()])
     W = V @ R.T - off
-    return snap, V, W, T, (lambda a: np.asarray(a, dtype=float) @ R.T - off)
+    return snap, dims(p, foot_mm, snap), V, W, T, (lambda a: np.asarray(a, dtype=float) @ R.T - off)
 
 
 def _intervals(W, T, points, coord):
@@ -43,14 +47,16 @@ def _intervals(W, T, points, coord):
     return runs
 
 
-@pytest.mark.parametrize("material,foot_mm", [("ABS", 1.5), ("PLA", 3.0), ("PETG", 2.0)])
-def test_rivet_lies_flat_bends_in_the_bed_plane_within_the_strain(fc, material, foot_mm):
+@pytest.mark.parametrize("material,foot_mm,blind", [("ABS", 1.5, False), ("PLA", 3.0, False), ("PETG", 2.0, False),
+                                                    ("ABS", 1.5, True), ("PLA", 1.5, True), ("PETG", 2.0, True)])
+def test_rivet_lies_flat_bends_in_the_bed_plane_within_the_strain(fc, material, foot_mm, blind):
+    """Both kinds: the push rivet (head on the module) and the blind rivet of the servo modules (pushed in
+    from the sheet's underside, its barb in a blind socket of the module; ``foot_mm`` its ledge)."""
     from metamaterial_wb.export.printpose import pose_report
-    from metamaterial_wb.geometry.rivet import BENDING, rivet_dimensions
+    from metamaterial_wb.geometry.rivet import BENDING
     from metamaterial_wb.geometry.snapfit import ALLOWABLE_STRAIN
     p = _params()
-    snap, V, W, T, to_print = _print_mesh(p, foot_mm, material)
-    d = rivet_dimensions(p, foot_mm, snap)
+    snap, d, V, W, T, to_print = _print_mesh(p, foot_mm, material, blind)
     rep = pose_report(W, T)
     assert rep["supports_free"], rep
     # it lies: the pin's axis (assembly z) is horizontal in the print frame, its length along print y
@@ -69,7 +75,7 @@ def test_rivet_lies_flat_bends_in_the_bed_plane_within_the_strain(fc, material, 
     # a section through the prongs: across the bed (print x) inside-slot-inside, straight up (print z)
     # through the slot's middle all empty -> the slot plane is upright and the prongs bend along x,
     # in the bed plane
-    y_sec = to_y(0.5 * (d["barb_top_z_mm"] + d["slot_top_z_mm"]))
+    y_sec = to_y(0.5 * (d["latch_z_mm"] + d["slot_end_z_mm"]))
     xs = np.linspace(-d["head_radius_mm"], d["head_radius_mm"], 801)
     runs = _intervals(W, T, np.c_[xs, np.full_like(xs, y_sec), np.full_like(xs, zc)], 0)
     assert len(runs) == 2, runs
@@ -123,3 +129,68 @@ def test_upright_fused_pin_bends_across_the_layers(fc):
     V, T = tessellate(make_pin(p, up=True), name="pin")
     ext = np.ptp(V, axis=0)
     assert ext[2] > max(ext[0], ext[1])          # the pin's length is vertical: layers cut the prongs
+
+
+def test_blind_rivets_hold_the_servo_modules_and_stay_out_of_the_cavity(fc):
+    """The seed's worm set-up: the housing and the horn adapter each take two blind rivets pushed in
+    from the sheet's underside. At rest each rivet is clear of its node and its module part (clearance
+    only); it is trapped along its axis: pushed on by 0.1 mm its head hits the socket's ledge in the
+    node, pulled back by the clearance + 0.1 mm its barb hits the module's ledge (so it clamps the part
+    to the sheet); its head lies inside the node's bottom counterbore (nothing below the sheet) and
+    its tip under the module's material (nothing reaches the servo's cavity)."""
+    from test_done_when import _setup
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.geometry.build import build_scene
+    r = build_scene(Scene.from_dict(_setup("worm")), progress=False)
+    p = r.params
+    App = fc
+    spec = [m for m in r.modules if m.type == "servo_housing"][0]
+    nodes = {q.info["node"]: r.placed_shape(q) for q in r.parts if q.role == "node"}
+    seen = 0
+    for part, node in (("housing", spec.a), ("horn_adapter", spec.b)):
+        body = r.placed_shape(r.by_name(f"{spec.name}_{part}"))
+        sheet = nodes[f"N{node[0]},{node[1]}"]
+        rivets = [q for q in r.groups()[spec.name] if q.name.startswith(f"{spec.name}_{part}_rivet_")]
+        assert len(rivets) == 2, [q.name for q in rivets]
+        for q in rivets:
+            assert q.info["inserted_from"] == "sheet" and "along the layers" in q.info["bending"]
+            rv = r.placed_shape(q)
+            bb = rv.BoundBox
+            assert bb.ZMin == pytest.approx(p.clearance_mm) and bb.ZMax < body.BoundBox.ZMax
+            assert rv.common(sheet).Volume < 1e-4 and rv.common(body).Volume < 1e-4, q.name
+            # a vertical line above the rivet's tip meets module material (the blind socket's roof)
+            c = App.Vector(bb.Center.x, bb.Center.y, 0)
+            top = App.Vector(c.x, c.y, bb.ZMax + 0.3)
+            assert body.isInside(top, 1e-6, True), q.name
+
+            def moved(dz):
+                m = App.Matrix()
+                m.move(App.Vector(0, 0, dz))
+                return rv.transformed(m)
+            assert moved(0.1).common(sheet).Volume > 1e-3, q.name                          # head on the ledge
+            assert moved(-(p.clearance_mm + 0.1)).common(body).Volume > 1e-3, q.name       # barb on the ledge
+            seen += 1
+    assert seen == 4
+
+
+def test_servo_modules_fall_back_to_fused_pins_and_say_why(fc):
+    """Where a blind socket does not fit (a 0.8 mm floor: feet and floor 3.0 mm under the servo, a blind
+    socket needs 3.8 mm) the housing and adapter fuse upright pins as before, and the spec (the manifest's
+    module "note") and the snap-fit's bending say so instead of claiming rivets."""
+    import copy
+    from test_done_when import _setup, _specs
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.export.manifest import build_manifest
+    from metamaterial_wb.geometry.build import build_scene
+    from metamaterial_wb.geometry.modules import is_riveted
+    d = copy.deepcopy(_setup("worm"))
+    d["modules"][0]["floor_mm"] = 0.8
+    spec = [s for s in _specs(d) if s.type == "servo_housing"][0]
+    assert not is_riveted(spec) and "across the layers" in spec.snap.bending
+    assert "floor_mm" in spec.note and "3 mm" in spec.note and "3.8 mm" in spec.note, spec.note
+    r = build_scene(Scene.from_dict(d), progress=False)
+    names = [q.name for q in r.groups()[spec.name]]
+    assert names == [f"{spec.name}_housing", f"{spec.name}_horn_adapter"]
+    assert r.placed_shape(r.by_name(f"{spec.name}_housing")).BoundBox.ZMin == pytest.approx(r.params.clearance_mm)
+    m = [x for x in build_manifest(r, {}, "w", ["solids"])["modules"] if x["name"] == spec.name][0]
+    assert m["note"] == spec.note and "rivets" not in m

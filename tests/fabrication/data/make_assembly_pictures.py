@@ -52,7 +52,7 @@ def servo_dummy(result, spec):
 def main(out_dir):
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.export.mesh import part_meshes
-    from metamaterial_wb.export.printpose import lay_out_best_poses
+    from metamaterial_wb.export.printpose import forced_poses, lay_out_best_poses
     from metamaterial_wb.export.render import render_meshes_png
     from metamaterial_wb.geometry.build import build_scene
     os.makedirs(out_dir, exist_ok=True)
@@ -60,7 +60,7 @@ def main(out_dir):
     colours = {"SERVO": "#3A6EA5", "HORN": "#F5F5F5"}
     for spec in r.modules:
         parts = [q for q in r.parts if q.group == spec.name]
-        meshes, reps = lay_out_best_poses(part_meshes(r, parts, 0.1))
+        meshes, reps = lay_out_best_poses(part_meshes(r, parts, 0.1), forced=forced_poses(parts))
         flags = "\n".join(f"{n[len(spec.name) + 1:]}: {rep['pose']}, "
                           f"{'no supports' if rep['supports_free'] else 'needs supports'}" for n, rep in reps.items())
         render_meshes_png(meshes, os.path.join(out_dir, f"fab-print-{spec.type}.png"), elev=28, azim=-55,
@@ -77,7 +77,55 @@ def main(out_dir):
     render_meshes_png(part_meshes(r, near, 0.1) + servo_dummy(r, servo), os.path.join(out_dir, "fab-assembled-servo.png"),
                       elev=30, azim=-40, size_in=(6.0, 4.5), title="servo inserted, shaft on the hinge V0,1", zoom=0.5,
                       colours=colours)
+    blind_rivet_section(r, servo, out_dir)
     return 0
+
+
+def blind_rivet_section(r, servo, out_dir):
+    """A section through the axis of the housing's blind rivet under the servo (the plane of the prongs'
+    bending): node A, the housing's foot, floor and trough, the rivet (head in the socket's bottom
+    counterbore, barb latched in the housing's blind socket) -- filled outlines of FreeCAD slices."""
+    import FreeCAD as App
+    import Part
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from metamaterial_wb.core.materials import MATERIALS, hex_to_rgb
+    from metamaterial_wb.geometry.modules import module_placement
+    rivets = [q for q in r.groups()[servo.name] if q.name.startswith(f"{servo.name}_housing_rivet_")]
+    sx, sy = servo.pivot.point_mm[:2]
+    q = min(rivets, key=lambda q: (r.placed_shape(q).BoundBox.Center.x - sx) ** 2
+            + (r.placed_shape(q).BoundBox.Center.y - sy) ** 2)      # the one under the servo's cavity
+    rv = r.placed_shape(q)
+    c = rv.BoundBox.Center
+    rot = module_placement(servo, r.params).Rotation
+    xdir, normal = rot.multVec(App.Vector(1, 0, 0)), rot.multVec(App.Vector(0, 1, 0))
+    node = [p for p in r.parts if p.info.get("node") == f"N{servo.a[0]},{servo.a[1]}"][0]
+    crop = Part.makeBox(24, 24, 20, App.Vector(c.x - 12, c.y - 12, -1.0))
+    pieces = [("node A (PLA)", r.placed_shape(node), MATERIALS["PLA"]),
+              ("housing (ABS)", r.placed_shape(r.by_name(f"{servo.name}_housing")), MATERIALS["ABS"]),
+              ("blind rivet (ABS)", rv, "#D9822B")]
+    fig, ax = plt.subplots(figsize=(6.0, 4.6))
+    for label, sh, col in pieces:
+        first = True
+        for w in sh.common(crop).slice(normal, normal.dot(c)):
+            pts = [((p - c).dot(xdir), p.z) for p in w.discretize(Deflection=0.005)]
+            ax.fill(*zip(*pts), color=hex_to_rgb(col), alpha=0.85, lw=0.8, ec="black",
+                    label=label if first else None)
+            first = False
+    T = r.params.sheet_thickness_mm
+    ax.axhline(0, color="0.5", lw=0.5, ls=":")
+    ax.axhline(T, color="0.5", lw=0.5, ls=":")
+    ax.set_xlim(-8, 8)
+    ax.set_aspect("equal")
+    ax.set_xlabel("across the rivet (mm): the prongs bend in this plane")
+    ax.set_ylabel("z (mm): sheet 0..%g, housing above" % T)
+    ax.set_title("blind rivet under the servo, section through its axis:\nhead in node A's bottom counterbore, "
+                 "barb latched in the housing's blind socket", fontsize=9)
+    ax.legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "fab-blind-rivet-section.png"), dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":
