@@ -90,6 +90,16 @@ def test_presets_build_and_clear_their_rotation(fc, servo, cell):
                                modules=[{"type": "servo_housing", "name": "s", "joint": "V0,1", "servo": servo}]),
                     progress=False)
     assert validity.check_solids(r) == [] and validity.check_modules(r) == []
+    # held by blind rivets (two per part), every part printable without supports in its chosen pose
+    from metamaterial_wb.export.mesh import part_meshes
+    from metamaterial_wb.export.printpose import forced_poses, lay_out_best_poses
+    from metamaterial_wb.geometry.modules import is_riveted
+    spec = r.modules[0]
+    assert is_riveted(spec) and spec.note is None, spec.note
+    parts = r.groups()["s"]
+    assert sum(1 for q in parts if q.info.get("rivet")) == 4
+    _, reps = lay_out_best_poses(part_meshes(r, parts), forced=forced_poses(parts))
+    assert all(rep["supports_free"] for rep in reps.values()), reps
 
 
 def test_mg996r_refused_in_small_cells(fc):
