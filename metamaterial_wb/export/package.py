@@ -36,9 +36,10 @@ def run_checks(result, checks=None, progress=True, stream=None):
 
 
 def onto_bed(meshes, margin_mm=BED_MARGIN_MM):
-    """Move sheet meshes (sheet coordinates: rows grow towards -y) so that their bounding box starts at
-    ``(margin, margin, 0)``: slicers that keep positions (PrusaSlicer ``--dont-arrange``, components
-    layouts) then find the sheet on the bed. Returns ``(meshes, offset)``."""
+    """Move meshes (the sheet in sheet coordinates, rows growing towards -y; a module's parts laid out in
+    their print poses) so that their bounding box starts at ``(margin, margin, 0)``: slicers that keep
+    positions (PrusaSlicer ``--dont-arrange``, components layouts) then find them on the bed. Returns
+    ``(meshes, offset)``."""
     import numpy as np
     lo = np.min([V.min(axis=0) for _, V, _, _, _ in meshes], axis=0)
     off = np.array([margin_mm - lo[0], margin_mm - lo[1], -lo[2]])
@@ -89,6 +90,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                 else:
                     # print poses: each part in the axis-aligned pose that needs the least support, side by side
                     meshes, reps = lay_out_best_poses(meshes, forced=forced_poses(parts))
+                    meshes, _ = onto_bed(meshes)        # the bed margin, as the sheet's: no arrange needed
                     poses.update(reps)
                     write_3mf(os.path.join(tmp, base + ".3mf"), meshes, layout="objects", materials=colours,
                               object_name=base)

@@ -86,3 +86,40 @@ def test_cura_parser_reads_the_built_components_file(one):
     got = {c.getName(): int(c.getSettings()["extruder_nr"].value) for c in nodes[0].getChildren()}
     want = {p["name"]: p["extruder"] - 1 for p in m["parts"]}
     assert got == want and set(got.values()) == {0, 1}
+
+
+def test_module_3mfs_slice_on_the_bed_every_part_printed(tmp_path, prusa_slicer, fc):
+    """The seed's worm set-up: the servo module's 3MF (housing, horn adapter and four blind rivets, each in
+    its print pose) and the friction pad's (pad and four rivets), sliced by PrusaSlicer with the bundled
+    profile and --dont-arrange: every extrusion lies on the bed, every part gets a first layer inside its
+    own footprint (nothing floats, the rivets lie on their flats), and the print is as tall as the
+    tallest part."""
+    from test_done_when import _setup
+    from test_manifest import read_3mf_meshes
+    src = tmp_path / "worm.json"
+    src.write_text(json.dumps(_setup("worm")))
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(src), "--out", str(out), "--3mf",
+                        "--modules", "--quiet"], cwd=REPO, capture_output=True, encoding="utf-8", errors="replace",
+                       timeout=600)
+    assert r.returncode == 0, r.stderr
+    bed = np.array([[float(c) for c in p.split("x")] for p in _ini("bed_shape").split(",")])
+    layer = float(_ini("first_layer_height"))
+    for module in ("servo_rear", "pad_front"):
+        g = tmp_path / f"{module}.gcode"
+        r = subprocess.run([prusa_slicer, "--loglevel", "1", "--export-gcode", "--load", PROFILE, "--dont-arrange",
+                            "-o", str(g), str(out / f"worm_{module}.3mf")], capture_output=True,
+                           encoding="utf-8", errors="replace", timeout=600)
+        assert r.returncode == 0, r.stderr[-2000:]
+        single = tmp_path / f"{module}_t0.gcode"          # one tool: PrusaSlicer writes no tool change
+        single.write_text("T0\n" + g.read_text())
+        pts = gcode_extrusions(single)[0]
+        assert (pts[:, :2] >= bed.min(axis=0)).all() and (pts[:, :2] <= bed.max(axis=0)).all(), module
+        first = pts[pts[:, 2] <= layer + 1e-6][:, :2]
+        meshes = read_3mf_meshes(out / f"worm_{module}.3mf")
+        assert any("rivet" in n for n in meshes)
+        for name, (V, _) in meshes.items():
+            lo, hi = V[:, :2].min(axis=0) - 0.5, V[:, :2].max(axis=0) + 0.5
+            assert ((first >= lo) & (first <= hi)).all(axis=1).sum() > 10, (module, name)
+        top = max(float(np.ptp(V[:, 2])) for V, _ in meshes.values())
+        assert pts[:, 2].max() == pytest.approx(top, abs=0.15), module
