@@ -3,8 +3,9 @@
 Every candidate placement is an independent evaluation, so the search is written as rounds of
 batches handed to a *mapper* ``mapper(fn, problem, batches) -> [fn(problem, batch), ...]``: serial by
 default (:func:`serial_map`), a process pool or a Dask cluster through ``metamaterial_wb.parallel``.
-The results do not depend on the mapper or the batching (each evaluation is deterministic, ties are
-broken by the candidate order), which the tests check on a Dask ``LocalCluster``.
+The results do not depend on the mapper or the batching (each evaluation is deterministic and runs with
+one BLAS thread wherever it runs, ties are broken by the candidate order), which the tests check on a
+Dask ``LocalCluster`` and a spawned process pool.
 
 Round structure:
 
@@ -26,6 +27,7 @@ Round structure:
 Compatibility: a servo fixes D of both nodes of its joint, so two servos (or a servo and an angular
 constraint) may not share a node; forbidden joints are never used.
 """
+import functools
 import itertools
 import time
 from dataclasses import dataclass, field
@@ -37,6 +39,16 @@ from metamaterial_wb.core.errors import SceneError
 
 def serial_map(fn, problem, batches):
     return [fn(problem, b) for b in batches]
+
+
+def one_blas_thread(fn, problem, batch):
+    """``fn(problem, batch)`` with one BLAS thread: a multi-threaded BLAS sums in another order than a
+    single-threaded one (Dask workers and spawned pool workers may run with one thread, the calling
+    process with several), and a last-bit difference can send an optimiser down another path. With one
+    thread everywhere every mapper gives bitwise the local answer."""
+    from metamaterial_wb.core.threads import blas_threads
+    with blas_threads(1):
+        return fn(problem, batch)
 
 
 def _chunks(items, n):
@@ -216,7 +228,9 @@ class PlacementSearch:
                                          f"without a shared node are allowed (forbidden joints and constraints "
                                          f"removed)")
         self.screen = int(screen)
-        self.map = mapper or serial_map
+        base_map = mapper or serial_map
+        # every evaluation with one BLAS thread, wherever it runs (:func:`one_blas_thread`)
+        self.map = lambda fn, pb, batches: base_map(functools.partial(one_blas_thread, fn), pb, batches)
         self.workers = max(1, int(workers))
         self.progress = progress or (lambda msg: None)
         self.rel_tol = rel_tol
