@@ -40,6 +40,7 @@ import numpy as np
 from metamaterial_wb.fe import ccx, sleeve2d
 
 REF, ROT = 9000001, 9000002
+DENSITY = 1e-12          # t/mm^3 with G = 1 MPa: the ring's lowest period ~0.4 ms, far below an increment
 WALLS = ("mid", "inner")
 
 # natural coordinates of CalculiX's C3D20 nodes (corners, face mid-edges, radial mid-edges)
@@ -164,12 +165,19 @@ def _checked(n_cells, r, n_layers):
 
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
-                radial="free"):
+                radial="free", method="static"):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
-    can then neither bulge nor thin, the curved counterpart of the flat ring's plane strain (a check)."""
+    can then neither bulge nor thin, the curved counterpart of the flat ring's plane strain (a check).
+    ``method="dynamic"``: implicit dynamics (``*DYNAMIC``, HHT ``ALPHA=-0.3``) with the load ramped over a step
+    of time 1 and a density so small (``DENSITY``) that the ring's lowest period is far below an increment: the
+    inertia only regularises the near-singular tilt mode and carries the ring over a snap, where static Newton
+    (displacement control, no arc length in ccx) stalls; between snaps it is the static path (the seed's FE
+    used the dynamic implicit method, loading slowly, for the same reason)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
+    if method not in ("static", "dynamic"):
+        raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
     if radial not in ("free", "fixed"):
         raise ValueError(f"radial: {radial!r}; allowed: 'free', 'fixed'")
     if not increments >= 1:
@@ -187,34 +195,40 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
            "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
+           ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" else ""),
            "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
            f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n"]
     if radial == "fixed":
         inner = np.setdiff1d(np.arange(mesh.n_nodes), np.concatenate([bottom, top]))
         out += ["*NSET, NSET=WALL\n", ccx.fmt_set(inner + 1), "*TRANSFORM, NSET=WALL, TYPE=C\n0,0,0,0,0,1\n"]
     inc = 1.0 / int(increments)
-    bc = f"*BOUNDARY\nBOTTOM,1,3,0\n{REF},1,2,0\n{REF},3,3,{d_max:.12g}\n"
+    amp = ", AMPLITUDE=RAMP" if method == "dynamic" else ""
+    if method == "dynamic":
+        out.append("*AMPLITUDE, NAME=RAMP\n0,0,1,1\n")
+    bc = f"*BOUNDARY{amp}\nBOTTOM,1,3,0\n{REF},1,2,0\n{REF},3,3,{d_max:.12g}\n"
     if radial == "fixed":
         bc += "WALL,1,1,0\n"
     m = bias * g.L ** 2 * mesh.radius
     phi_b = bias_angle * math.pi / n_cells
     if m:
-        bc += f"*CLOAD\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
-    out.append(f"*STEP, NLGEOM, INC=100000\n*STATIC\n{inc:.6g},1.0,{inc / 1024:.6g},{inc:.6g}\n{bc}"
+        bc += f"*CLOAD{amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
+    proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
+    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 4096:.6g},{inc:.6g}\n{bc}"
                "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
-            "n_cells": int(n_cells), "bias": bias, "radial": radial}
+            "n_cells": int(n_cells), "bias": bias, "radial": radial,
+            "method": method}
     return "".join(out), meta
 
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
-                 partial=True, radial="free"):
+                 partial=True, radial="free", method="static"):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
     ``info["d_reached"]`` how far, in ``d / L``)."""
-    deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial)
+    deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -225,7 +239,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     tilt = np.array([r_[1][ROT][:2] for r_ in rot])[:len(t)]
     d = t * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
-                                      "bias", "radial")})
+                                      "bias", "radial", "method")})
     info["increments"] = len(t)
     info["d_reached"] = float(d[-1])
     return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),
