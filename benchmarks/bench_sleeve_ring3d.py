@@ -59,10 +59,11 @@ def stiffness_check(kinds=("flat", "fixed", "free", "free_layers2")):
         if k == "flat":
             c, info = sleeve2d.solve_ring(g, 4, 1, d_max=0.01 * g.L, increments=2, timeout_s=600)
         else:
-            nl = 2 if k.endswith("layers2") else 1
-            r = 2 if k.endswith("r2") else 1
+            nl = 2 if "layers2" in k else 1
+            r = 2 if "r2" in k else 1
             c, info = sleeve3d.solve_ring3d(g, 4, r, nl, d_max=0.01 * g.L, increments=2, timeout_s=900,
-                                            radial="fixed" if k == "fixed" else "free")
+                                            radial="fixed" if k == "fixed" else "free",
+                                            element="C3D20" if "full" in k else "C3D20R")
         out[k] = {"k": float(np.interp(0.005, c["d"], c["F"]) / 0.005), "wall_s": info["wall_s"],
                   "dofs": info["dofs"], "d": c["d"].tolist(), "F": c["F"].tolist()}
         print(k, out[k]["k"], info["wall_s"], flush=True)
@@ -111,12 +112,14 @@ def compare(data):
 
 STIFF = {"flat": "flat 2-D ring (plane strain)", "fixed": "curved 3-D ring, wall held at its radius",
          "free": "curved 3-D ring", "free_layers2": "curved 3-D ring, two bricks through the wall",
-         "free_r2": "curved 3-D ring, mesh r = 2"}
+         "free_r2": "curved 3-D ring, mesh r = 2", "free_full": "curved 3-D ring, fully integrated C3D20",
+         "free_layers2_r2": "curved 3-D ring, r = 2 and two bricks through the wall"}
 METHOD = {"static": "`*STATIC`",
           "dynamic": "implicit dynamics (`*DYNAMIC`, HHT alpha -0.3) with the displacement ramped over the step and "
-                     "a density (1e-12 t/mm^3 at G = 1 MPa) that puts the ring's periods far below an increment, so "
-                     "that inertia only regularises the soft tilt mode and carries the ring over a snap (the seed's "
-                     "FE used the dynamic implicit method, loading slowly, too)"}
+                     "a small density (1e-10 t/mm^3 with G = 1 MPa and a step of time 1, a tenth of rubber's pulled at "
+                     "0.7 L per second; the ring's lowest period a few thousandths of the step) so that inertia regularises the soft tilt mode "
+                     "and carries the ring over a snap (the seed's FE used the dynamic implicit method, loading "
+                     "slowly, too)"}
 NAMES = {"trace": "CalculiX, curved 3-D (this section)", "flat_fe": "CalculiX, flat 2-D (above)",
          "curved": "beam model, curved (default)", "curved_calibrated": "beam model, curved, calibrated",
          "flat_calibrated": "beam model, flat, calibrated", "radial_fixed": "CalculiX, curved 3-D, wall held at its radius"}
@@ -134,6 +137,21 @@ def _kinds(ex):
     p = sum(1 for k in ex if k[0] == "peak")
     v = len(ex) - p
     return f"{p} peak{'s' if p != 1 else ''}, {v} valle{'ys' if v != 1 else 'y'}"
+
+
+def snap(x, drop=0.05, window=0.0005):
+    """The first place where the force falls by more than ``drop`` of its maximum so far within ``window`` of d/L
+    (a dynamic snap in a displacement-controlled run), or None: {"i", "d0", "F0", "Fmin", "dd", "tilt0", "tilt1"}."""
+    d, F = np.asarray(x["d"], float), np.asarray(x["F"], float)
+    deg = np.asarray(x["tilt_deg"], float)
+    for i in range(1, len(F)):
+        j = np.flatnonzero((d > d[i]) & (d <= d[i] + window))
+        if j.size and F[i] - F[j].min() > drop * F[:i + 1].max():
+            k = i
+            m = int(j[np.argmin(F[j])])
+            return {"i": k, "d0": float(d[k]), "F0": float(F[k]), "Fmin": float(F[m]), "dd": float(d[m] - d[k]),
+                    "tilt0": float(deg[min(k, len(deg) - 1)]), "tilt1": float(deg[-1])}
+    return None
 
 
 def markdown(c, img=None):
@@ -154,11 +172,18 @@ def markdown(c, img=None):
           "towards the beam model's imperfection direction. Displacement control, `NLGEOM`, %d fixed increments to "
           "d/L 0.7 (ccx cuts back by itself), %s; force = the clamped bottom's axial reaction." %
           (tr["r"], info["radius_mm"], _geom().T, tr["n_layers"], "s" if tr["n_layers"] > 1 else "",
-           info["elements"], info["dofs"], c.get("increments_asked", 140), METHOD[info.get("method", "static")]), ""]
+           info["elements"], info["dofs"], info.get("increments_asked", 140), METHOD[info.get("method", "static")]), ""]
     L.append(f"Run: {info['increments']} converged increments to d/L {info['d_reached']:.3f} in "
              f"{info['wall_s'] / 60:.1f} min (one core, niced, on a shared 2-core machine)" +
-             (f"; **the run stopped there**: {info['stopped'].splitlines()[0]}" if info.get("stopped") else
-              ", the whole range") + ".")
+             (f"; **the run stopped there**: {info.get('stopped_by') or info['stopped'].splitlines()[0]}"
+              if info.get("stopped") else ", the whole range") + ".")
+    sn = snap(tr)
+    if sn:
+        L += ["", f"**A snap at d/L {sn['d0']:.4f}**: there the quasi-static path ends (force {1e3 * sn['F0']:.3f}, tilt "
+              f"{sn['tilt0']:.2f} deg); within d/L {sn['dd']:.4f} the force falls to "
+              f"{1e3 * sn['Fmin']:.3f} (the ring moving dynamically, the force oscillating: bottom reaction including "
+              f"inertia), the tilt reaching {sn['tilt1']:.2f} deg at the end of the run. Its extrema below are counted on "
+              f"the quasi-static part before the snap only (d/L < {sn['d0']:.4f})."]
     L += ["", "Extrema of the four-cell ring, forces F / (G L^2) x1e-3 (at d/L); every local maximum and minimum "
           "that rises or falls by more than 2 % of the curve's range (`sleeve3d.all_extrema`):", "",
           "| model | extrema (2 %) | with a 0.5 % threshold | P1 | V1 | P2 | V2 | largest tilt |",
@@ -168,6 +193,10 @@ def markdown(c, img=None):
             continue
         x = c[k]
         ex = x["extrema"]
+        sn = snap(x) if k == "trace" else None
+        if sn:
+            x = dict(x, d=x["d"][:sn["i"] + 1], F=x["F"][:sn["i"] + 1], tilt_deg=x["tilt_deg"][:sn["i"] + 1])
+            ex = all_extrema(x["d"], x["F"])
         cells = [f"{1e3 * f:.3f} ({dd:.3f})" for _, dd, f in ex[:4]] + ["-"] * (4 - min(4, len(ex)))
         deg = np.asarray(x["tilt_deg"])
         fine = all_extrema(x["d"], x["F"], 0.005)
@@ -180,8 +209,9 @@ def markdown(c, img=None):
     L.append("")
     att = [(k, c[k]) for k in sorted(c) if k.startswith("attempt_")]
     if att:
-        L.append("**Static attempts** (`*STATIC`, the flat ring's procedure): " + "; ".join(
-            f"tilt bias {x['info']['bias']:.0e} G L^2: {x['info']['increments']} increments to d/L "
+        L.append("**Earlier attempts** (kept in `benchmarks/results/fe-ring3d.json`): " + "; ".join(
+            f"{x['info'].get('method', 'static')}" + (f", density {x['info']['density']:.0e}" if 'density' in x['info'] else "") +
+            f", tilt bias {x['info']['bias']:.0e} G L^2: {x['info']['increments']} increments to d/L "
             f"{x['info']['d_reached']:.3f} in {x['info']['wall_s'] / 60:.1f} min, highest force "
             f"{1e3 * max(x['F']):.3f} at d/L {x['d'][int(np.argmax(x['F']))]:.3f}, tilt {x['tilt_deg'][-1]:.2f} deg at "
             f"the end - {x['info'].get('note', '')}" for k, x in att) + ".")
@@ -193,16 +223,20 @@ def markdown(c, img=None):
                      f"{STIFF[k]} {1e3 * v['k']:.1f} ({v['k'] / sc['flat']['k']:.2f} of the flat ring's)"
                      for k, v in sc.items()) + ".")
         L.append("")
+    from metamaterial_wb.fe.sleeve2d import peak_valley
     for k in ("p1_r2", "p1_layers2"):
         if k in c:
             x = c[k]
-            p = [e for e in x["extrema"] if e[0] == "peak"]
-            p1 = [e for e in tr["extrema"] if e[0] == "peak"]
-            if p and p1:
+            p = peak_valley(x["d"], x["F"])[:2]
+            p1 = peak_valley(tr["d"], tr["F"])[:2]
+            if np.isfinite(p[1]) and np.isfinite(p1[1]):
                 L.append(f"**Second mesh on P1** ({'r = 2' if k == 'p1_r2' else 'two bricks through the wall'}, "
-                         f"{x['info']['elements']} elements, {x['info']['dofs']} DOFs, {x['info']['wall_s'] / 60:.1f} "
-                         f"min to d/L {x['info']['d_reached']:.3f}): P1 {1e3 * p[0][2]:.3f} at d/L {p[0][1]:.3f}, against "
-                         f"{1e3 * p1[0][2]:.3f} at {p1[0][1]:.3f} on the trace's mesh ({100 * (p1[0][2] / p[0][2] - 1):+.1f} %).")
+                         f"{x['info']['elements']} elements, {x['info']['dofs']} DOFs, `*STATIC` in "
+                         f"{x['info']['increments']} increments to d/L {x['info']['d_reached']:.3f}, "
+                         f"{x['info']['wall_s'] / 60:.1f} min; its tilt bias ramps over that shorter step, so it is five "
+                         f"times the trace's at a given d): P1 {1e3 * p[1]:.3f} at d/L {p[0]:.3f}, against "
+                         f"{1e3 * p1[1]:.3f} at {p1[0]:.3f} on the trace's mesh: one brick through the wall is "
+                         f"{100 * (p1[1] / p[1] - 1):+.1f} % off the two-brick value.")
                 L.append("")
     if img:
         L += [f"![curved FE ring against the flat FE ring and the beam model]({img})", ""]
@@ -211,6 +245,7 @@ def markdown(c, img=None):
 
 
 def plot(c, path):
+    from metamaterial_wb.fe.sleeve3d import all_extrema
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -226,7 +261,12 @@ def plot(c, path):
         lab = NAMES[k] + (f", root_extension {c['root_extension']:.2f} t" if "calibrated" in k else "")
         ax.plot(x["d"], 1e3 * np.asarray(x["F"]), st, lw=lw, label=lab, **kw)
         ax2.plot(np.asarray(x["d"])[:len(x["tilt_deg"])], x["tilt_deg"], st, lw=lw, label=lab, **kw)
-        for kind, dd, f in x["extrema"][:4]:
+        ex = x["extrema"]
+        sn = snap(x) if k == "trace" else None
+        if sn:
+            ex = all_extrema(x["d"][:sn["i"] + 1], x["F"][:sn["i"] + 1])
+            ax.plot([sn["d0"]], [1e3 * sn["F0"]], "kx", ms=7, label=f"snap at d/L {sn['d0']:.3f} (run stopped in it)")
+        for kind, dd, f in ex[:4]:
             ax.plot([dd], [1e3 * f], "^" if kind == "peak" else "v", ms=4, color=kw.get("color", st[:2] if st[0] == "C" else "k"))
     for k in ("p1_r2", "p1_layers2"):
         if k in c:
@@ -272,12 +312,13 @@ def main(argv=None):
     if a.trace:
         t0 = time.time()
         tr = run_fe(increments=a.increments, timeout_s=a.timeout, bias=a.bias, method=a.method)
+        tr["info"]["increments_asked"] = a.increments
         print(f"trace: {tr['info']['increments']} increments to d/L {tr['info']['d_reached']:.3f} in "
               f"{time.time() - t0:.0f} s; extrema {tr['extrema']}", flush=True)
         _store("trace", tr)
     if a.p1_mesh:
         r, nl = {"r2": (2, 1), "layers2": (1, 2)}[a.p1_mesh]
-        tr = run_fe(r, nl, d_max=0.16, increments=16, timeout_s=a.timeout)
+        tr = run_fe(r, nl, d_max=0.14, increments=14, timeout_s=a.timeout, method="static")
         print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("p1_" + a.p1_mesh, tr)
     if a.stiffness:

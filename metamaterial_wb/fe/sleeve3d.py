@@ -40,7 +40,7 @@ import numpy as np
 from metamaterial_wb.fe import ccx, sleeve2d
 
 REF, ROT = 9000001, 9000002
-DENSITY = 1e-12          # t/mm^3 with G = 1 MPa: the ring's lowest period ~0.4 ms, far below an increment
+DENSITY = 1e-10          # t/mm^3 with G = 1 MPa and a step of time 1 (a tenth of rubber's at 0.7 L per second)
 WALLS = ("mid", "inner")
 
 # natural coordinates of CalculiX's C3D20 nodes (corners, face mid-edges, radial mid-edges)
@@ -165,17 +165,20 @@ def _checked(n_cells, r, n_layers):
 
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
-                radial="free", method="static"):
+                radial="free", method="static", element="C3D20R"):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
     can then neither bulge nor thin, the curved counterpart of the flat ring's plane strain (a check).
     ``method="dynamic"``: implicit dynamics (``*DYNAMIC``, HHT ``ALPHA=-0.3``) with the load ramped over a step
-    of time 1 and a density so small (``DENSITY``) that the ring's lowest period is far below an increment: the
-    inertia only regularises the near-singular tilt mode and carries the ring over a snap, where static Newton
-    (displacement control, no arc length in ccx) stalls; between snaps it is the static path (the seed's FE
-    used the dynamic implicit method, loading slowly, for the same reason)."""
+    of time 1 and a small density (``DENSITY``, with G = 1 MPa: the ring's lowest period a few thousandths of the
+    step; rubber's would excite oscillations at the start and slow the run): the inertia regularises the near-singular tilt mode and carries the ring over a snap, where
+    static Newton (displacement control, no arc length in ccx) stalls; between snaps it is the static path (the seed's FE
+    used the dynamic implicit method, loading slowly, for the same reason). A snap is smeared over a few
+    periods of the ring (~0.01-0.03 d/L)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
+    if element not in ("C3D20R", "C3D20"):
+        raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
     if method not in ("static", "dynamic"):
         raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
     if radial not in ("free", "fixed"):
@@ -191,7 +194,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     top = np.flatnonzero(np.abs(X[:, 2] - g.height) < tol)
     out = ["*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid (C3D20R), rigid tilting top plate\n",
            "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{g.height:.9g}\n{ROT},0,0,{g.height:.9g}\n",
-           "*ELEMENT, TYPE=C3D20R, ELSET=SOLID\n", ccx.fmt_elements(mesh.elements, range(1, mesh.n_elements + 1)),
+           f"*ELEMENT, TYPE={element}, ELSET=SOLID\n", ccx.fmt_elements(mesh.elements, range(1, mesh.n_elements + 1)),
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
            "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
@@ -213,22 +216,23 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     if m:
         bc += f"*CLOAD{amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
     proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
-    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 4096:.6g},{inc:.6g}\n{bc}"
+    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n{bc}"
                "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "radial": radial,
-            "method": method}
+            "method": method, "element": element}
     return "".join(out), meta
 
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
-                 partial=True, radial="free", method="static"):
+                 partial=True, radial="free", method="static", element="C3D20R"):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
     ``info["d_reached"]`` how far, in ``d / L``)."""
-    deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method)
+    deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method,
+                             element=element)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -239,7 +243,8 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     tilt = np.array([r_[1][ROT][:2] for r_ in rot])[:len(t)]
     d = t * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
-                                      "bias", "radial", "method")})
+                                      "bias", "radial", "method",
+                                      "element")})
     info["increments"] = len(t)
     info["d_reached"] = float(d[-1])
     return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),

@@ -80,10 +80,16 @@ def test_deck_has_curved_bricks_a_rigid_tilting_plate_and_the_bias():
     assert meta["dofs"] == 3 * meta["mesh"].n_nodes
     fixed, _ = sleeve3d.ring_deck3d(g, 4, 1, 1, increments=4, radial="fixed")
     assert "*TRANSFORM, NSET=WALL, TYPE=C" in fixed and "WALL,1,1,0" in fixed
+    # the dynamic variant (passes the snap): HHT, a density, the displacement and the bias ramped
+    dyn, _ = sleeve3d.ring_deck3d(g, 4, 1, 1, increments=4, method="dynamic")
+    assert "*DYNAMIC, ALPHA=-0.3" in dyn and "*DENSITY" in dyn and "*STATIC" not in dyn
+    assert "*BOUNDARY, AMPLITUDE=RAMP" in dyn and "*CLOAD, AMPLITUDE=RAMP" in dyn
+    assert "*STATIC" in deck and "*DENSITY" not in deck
 
 
 @pytest.mark.parametrize("kw,msg", [({"n_cells": 2}, "n_cells"), ({"r": 0}, "r: 0"), ({"n_layers": 1.5}, "n_layers"),
-                                    ({"radial": "loose"}, "radial"), ({"d_max": -1.0}, "d_max")])
+                                    ({"radial": "loose"}, "radial"),
+                                    ({"method": "riks"}, "method"), ({"d_max": -1.0}, "d_max")])
 def test_bad_inputs_name_the_value_and_the_range(kw, msg):
     with pytest.raises(ValueError, match=msg):
         sleeve3d.ring_deck3d(CellGeometry(), **kw)
