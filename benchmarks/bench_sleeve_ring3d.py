@@ -38,12 +38,13 @@ def _geom():
     return CellGeometry()
 
 
-def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic"):
+def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic",
+           patient=False):
     from metamaterial_wb.fe import sleeve3d
     g = _geom()
     c, info = sleeve3d.solve_ring3d(g, 4, r, n_layers, d_max=d_max * g.L, increments=increments, bias=bias,
                                     timeout_s=timeout_s, partial=True, radial=radial,
-                                    method=method)
+                                    method=method, patient=patient)
     info.pop("log_tail", None)
     return {"r": r, "n_layers": n_layers, "radial": radial, "d": c["d"].tolist(), "F": c["F"].tolist(),
             "tilt_rad": c["tilt_rad"].tolist(), "info": info,
@@ -303,6 +304,8 @@ def main(argv=None):
     ap.add_argument("--timeout", type=float, default=5400.0)
     ap.add_argument("--bias", type=float, default=1e-5, help="tilt bias (G L^2) of the trace")
     ap.add_argument("--method", default="dynamic", choices=("static", "dynamic"))
+    ap.add_argument("--patient", action="store_true", help="longer Newton before cut-backs (*CONTROLS)")
+    ap.add_argument("--key", default="trace", help="where the trace is stored in fe-ring3d.json")
     ap.add_argument("--p1-mesh", default=None, help="a second mesh on the first peak: 'r2' or 'layers2'")
     ap.add_argument("--stiffness", default=None, help="comma list of initial-stiffness runs: flat,fixed,free,"
                     "free_layers2,free_r2 (stored under 'stiffness', merged)")
@@ -311,11 +314,12 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.trace:
         t0 = time.time()
-        tr = run_fe(increments=a.increments, timeout_s=a.timeout, bias=a.bias, method=a.method)
+        tr = run_fe(increments=a.increments, timeout_s=a.timeout, bias=a.bias, method=a.method,
+                    patient=a.patient)
         tr["info"]["increments_asked"] = a.increments
         print(f"trace: {tr['info']['increments']} increments to d/L {tr['info']['d_reached']:.3f} in "
               f"{time.time() - t0:.0f} s; extrema {tr['extrema']}", flush=True)
-        _store("trace", tr)
+        _store(a.key, tr)
     if a.p1_mesh:
         r, nl = {"r2": (2, 1), "layers2": (1, 2)}[a.p1_mesh]
         tr = run_fe(r, nl, d_max=0.14, increments=14, timeout_s=a.timeout, method="static")

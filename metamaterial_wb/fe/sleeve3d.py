@@ -31,7 +31,9 @@ flat ring's bias force on ``R psi``) turns the plate towards the beam model's im
 ``bias_angle * pi / N``. Same neo-Hooke solid as the flat ring (``sleeve2d.BULK_RATIO``), no plane-strain
 restraint: the wall is free through its thickness.
 
-The force is the clamped bottom's axial reaction (sum over its nodes), per converged increment.
+Displacement control, ``*STATIC`` (as the flat ring) or implicit dynamics (``method="dynamic"``, which carries
+the curved ring into the snap where static Newton stalls: docs/sleeves.md, "A curved 3-D FE ring"). The force is
+the clamped bottom's axial reaction (sum over its nodes), per converged increment.
 """
 import math
 
@@ -165,17 +167,19 @@ def _checked(n_cells, r, n_layers):
 
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
-                radial="free", method="static", element="C3D20R"):
+                radial="free", method="static", element="C3D20R", patient=False):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
     can then neither bulge nor thin, the curved counterpart of the flat ring's plane strain (a check).
     ``method="dynamic"``: implicit dynamics (``*DYNAMIC``, HHT ``ALPHA=-0.3``) with the load ramped over a step
-    of time 1 and a small density (``DENSITY``, with G = 1 MPa: the ring's lowest period a few thousandths of the
-    step; rubber's would excite oscillations at the start and slow the run): the inertia regularises the near-singular tilt mode and carries the ring over a snap, where
-    static Newton (displacement control, no arc length in ccx) stalls; between snaps it is the static path (the seed's FE
-    used the dynamic implicit method, loading slowly, for the same reason). A snap is smeared over a few
-    periods of the ring (~0.01-0.03 d/L)."""
+    of time 1 and a small density (``DENSITY``, with G = 1 MPa: the ring's lowest period a few thousandths of
+    the step; rubber's would excite oscillations at the start and slow the run). The inertia regularises the
+    near-singular tilt mode and carries the ring into a snap, where static Newton (displacement control, no arc
+    length in ccx) stalls; between snaps it is the static path (the seed's FE used the dynamic implicit method,
+    loading slowly, too). ``patient=True`` lets Newton run longer before ccx cuts an increment back
+    (``*CONTROLS``: divergence checked from iteration 8 instead of 4, at most 30 iterations).
+    ``element="C3D20"``: full integration (a check of the reduced one's hourglass freedom; locks somewhat)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
@@ -192,7 +196,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     tol = 1e-7 * g.L
     bottom = np.flatnonzero(np.abs(X[:, 2]) < tol)
     top = np.flatnonzero(np.abs(X[:, 2] - g.height) < tol)
-    out = ["*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid (C3D20R), rigid tilting top plate\n",
+    out = [f"*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid ({element}), rigid tilting top plate\n",
            "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{g.height:.9g}\n{ROT},0,0,{g.height:.9g}\n",
            f"*ELEMENT, TYPE={element}, ELSET=SOLID\n", ccx.fmt_elements(mesh.elements, range(1, mesh.n_elements + 1)),
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
@@ -216,23 +220,24 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     if m:
         bc += f"*CLOAD{amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
     proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
-    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n{bc}"
+    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
+               + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "") + f"{bc}"
                "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "radial": radial,
-            "method": method, "element": element}
+            "method": method, "element": element, "patient": patient}
     return "".join(out), meta
 
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
-                 partial=True, radial="free", method="static", element="C3D20R"):
+                 partial=True, radial="free", method="static", element="C3D20R", patient=False):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
     ``info["d_reached"]`` how far, in ``d / L``)."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method,
-                             element=element)
+                             element=element, patient=patient)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -244,7 +249,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     d = t * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
                                       "bias", "radial", "method",
-                                      "element")})
+                                      "element", "patient")})
     info["increments"] = len(t)
     info["d_reached"] = float(d[-1])
     return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),

@@ -89,7 +89,8 @@ def test_deck_has_curved_bricks_a_rigid_tilting_plate_and_the_bias():
 
 @pytest.mark.parametrize("kw,msg", [({"n_cells": 2}, "n_cells"), ({"r": 0}, "r: 0"), ({"n_layers": 1.5}, "n_layers"),
                                     ({"radial": "loose"}, "radial"),
-                                    ({"method": "riks"}, "method"), ({"d_max": -1.0}, "d_max")])
+                                    ({"method": "riks"}, "method"),
+                                    ({"element": "C3D8"}, "element"), ({"d_max": -1.0}, "d_max")])
 def test_bad_inputs_name_the_value_and_the_range(kw, msg):
     with pytest.raises(ValueError, match=msg):
         sleeve3d.ring_deck3d(CellGeometry(), **kw)
