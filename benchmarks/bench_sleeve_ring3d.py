@@ -2,12 +2,15 @@
 """The sleeve's four-cell ring as a curved 3-D CalculiX solid (issue 18, item 2c/4), against the flat FE ring and
 the beam model's curved ring.
 
-    OMP_NUM_THREADS=1 nice -n 15 /usr/bin/python3 benchmarks/bench_sleeve_ring3d.py [--trace] [--p1-mesh] [--no-write]
+    OMP_NUM_THREADS=1 nice -n 15 /usr/bin/python3 benchmarks/bench_sleeve_ring3d.py [--trace --increments 100]
+        [--p1-mesh r2 --p1-dmax 0.3] [--p1-mesh layers2 --p1-dmax 0.14] [--stiffness flat,fixed,free,...] [--no-write]
 
 ``--trace`` runs CalculiX's curved ring (``metamaterial_wb/fe/sleeve3d.py``, mesh r = 1, one brick through the
-wall) to d/L 0.7 in fixed displacement increments, keeping every converged increment if it stops early
-(``partial=True``), and stores it in ``benchmarks/results/fe-ring3d.json`` (tens of minutes; needs ``ccx``).
-``--p1-mesh`` adds the second mesh (r = 2) up to just past the first peak (the mesh-error estimate of P1).
+wall, implicit dynamics) to d/L 0.7 in fixed displacement increments, keeping every converged increment if it
+stops early (``partial=True``), and stores it in ``benchmarks/results/fe-ring3d.json`` (tens of minutes; needs
+``ccx``; the stored trace was stopped by hand inside the snap at d/L 0.151). ``--p1-mesh`` runs a finer mesh
+(r = 2, or two bricks through the wall) statically past the first peak (the mesh error of P1, and at r = 2 the
+path to d/L 0.3); ``--stiffness`` the initial-stiffness checks (flat ring, wall held at its radius, free).
 Without them the stored runs are read. The beam model's curved ring (default and calibrated: root_extension
 from ``benchmarks/results/fe-calibration.json``) and the flat FE ring (``fe-ring-trace.json``) are compared; the
 section between the ``<!-- fe-ring3d -->`` markers of docs/sleeves.md and ``docs/img/sleeve-fe-ring3d.png`` are
@@ -121,7 +124,7 @@ METHOD = {"static": "`*STATIC`",
                      "0.7 L per second; the ring's lowest period a few thousandths of the step) so that inertia regularises the soft tilt mode "
                      "and carries the ring over a snap (the seed's FE used the dynamic implicit method, loading "
                      "slowly, too)"}
-NAMES = {"trace": "CalculiX, curved 3-D (this section)", "flat_fe": "CalculiX, flat 2-D (above)",
+NAMES = {"trace": "CalculiX, curved 3-D, r = 1 (dynamic, this section)", "flat_fe": "CalculiX, flat 2-D (above)",
          "curved": "beam model, curved (default)", "curved_calibrated": "beam model, curved, calibrated",
          "flat_calibrated": "beam model, flat, calibrated", "radial_fixed": "CalculiX, curved 3-D, wall held at its radius"}
 
@@ -153,6 +156,22 @@ def snap(x, drop=0.05, window=0.0005):
             return {"i": k, "d0": float(d[k]), "F0": float(F[k]), "Fmin": float(F[m]), "dd": float(d[m] - d[k]),
                     "tilt0": float(deg[min(k, len(deg) - 1)]), "tilt1": float(deg[-1])}
     return None
+
+
+def beyond(x):
+    """What a mesh-check run did after its first peak (when it went on past it)."""
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    d, F = np.asarray(x["d"], float), np.asarray(x["F"], float)
+    deg = np.degrees(np.hypot(*np.asarray(x["tilt_rad"], float).T))
+    dp = peak_valley(d, F)[0]
+    if not np.isfinite(dp) or d[-1] < dp + 0.03:
+        return ""
+    sn = snap({"d": d, "F": F, "tilt_deg": deg})
+    after = d > dp
+    return (f" Past it, to d/L {d[-1]:.3f}, the force falls to {1e3 * F[-1]:.3f}" +
+            (f" with a snap at d/L {sn['d0']:.3f}" if sn else
+             f" without a snap (largest fall between two increments {1e3 * max(0.0, -np.diff(F[after]).min()):.3f})") +
+            f"; the tilt stays at most {deg.max():.2f} deg.")
 
 
 def markdown(c, img=None):
@@ -234,10 +253,10 @@ def markdown(c, img=None):
                 L.append(f"**Second mesh on P1** ({'r = 2' if k == 'p1_r2' else 'two bricks through the wall'}, "
                          f"{x['info']['elements']} elements, {x['info']['dofs']} DOFs, `*STATIC` in "
                          f"{x['info']['increments']} increments to d/L {x['info']['d_reached']:.3f}, "
-                         f"{x['info']['wall_s'] / 60:.1f} min; its tilt bias ramps over that shorter step, so it is five "
-                         f"times the trace's at a given d): P1 {1e3 * p[1]:.3f} at d/L {p[0]:.3f}, against "
-                         f"{1e3 * p1[1]:.3f} at {p1[0]:.3f} on the trace's mesh: one brick through the wall is "
-                         f"{100 * (p1[1] / p[1] - 1):+.1f} % off the two-brick value.")
+                         f"{x['info']['wall_s'] / 60:.1f} min; its tilt bias ramps over that shorter step, so it is "
+                         f"{info['d_max_mm'] / x['info']['d_max_mm']:.1f} times the trace's at a given d): P1 {1e3 * p[1]:.3f} at d/L {p[0]:.3f}, against "
+                         f"{1e3 * p1[1]:.3f} at {p1[0]:.3f} on the trace's mesh (r = 1, one brick through the wall), "
+                         f"{100 * (p1[1] / p[1] - 1):+.1f} % off the finer mesh's value." + beyond(x))
                 L.append("")
     if img:
         L += [f"![curved FE ring against the flat FE ring and the beam model]({img})", ""]
@@ -271,8 +290,10 @@ def plot(c, path):
             ax.plot([dd], [1e3 * f], "^" if kind == "peak" else "v", ms=4, color=kw.get("color", st[:2] if st[0] == "C" else "k"))
     for k in ("p1_r2", "p1_layers2"):
         if k in c:
-            ax.plot(c[k]["d"], 1e3 * np.asarray(c[k]["F"]), "-", color="0.3", lw=0.8,
-                    label="CalculiX, curved 3-D, " + ("r = 2" if k == "p1_r2" else "2 bricks through the wall"))
+            lab = "CalculiX, curved 3-D, " + ("r = 2 (static)" if k == "p1_r2" else "2 bricks through the wall (static)")
+            col = "C1" if k == "p1_r2" else "C4"
+            ax.plot(c[k]["d"], 1e3 * np.asarray(c[k]["F"]), "-", color=col, lw=1.2, label=lab)
+            ax2.plot(np.asarray(c[k]["d"])[:len(c[k]["tilt_deg"])], c[k]["tilt_deg"], "-", color=col, lw=1.2, label=lab)
     ax.axhline(0, color="k", lw=0.5)
     ax.set_ylabel("F / (G L^2) x1e-3")
     ax.set_title("four-cell ring: curved 3-D FE against the flat FE and the beam model", fontsize=9)
@@ -280,6 +301,7 @@ def plot(c, path):
     ax.grid(alpha=0.3)
     ax2.set_xlabel("d / L")
     ax2.set_ylabel("tilt of the top plate (deg)")
+    ax2.legend(fontsize=6)
     ax2.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path)
@@ -309,6 +331,7 @@ def main(argv=None):
     ap.add_argument("--p1-mesh", default=None, help="a second mesh on the first peak: 'r2' or 'layers2'")
     ap.add_argument("--stiffness", default=None, help="comma list of initial-stiffness runs: flat,fixed,free,"
                     "free_layers2,free_r2 (stored under 'stiffness', merged)")
+    ap.add_argument("--p1-dmax", type=float, default=0.17, help="d/L of the P1 mesh run (static, 0.01 per increment)")
     ap.add_argument("--radial-fixed", action="store_true", help="the check with the wall held at its radius")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
@@ -322,7 +345,8 @@ def main(argv=None):
         _store(a.key, tr)
     if a.p1_mesh:
         r, nl = {"r2": (2, 1), "layers2": (1, 2)}[a.p1_mesh]
-        tr = run_fe(r, nl, d_max=0.14, increments=14, timeout_s=a.timeout, method="static")
+        tr = run_fe(r, nl, d_max=a.p1_dmax, increments=int(round(100 * a.p1_dmax)), timeout_s=a.timeout,
+                    method="static")
         print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("p1_" + a.p1_mesh, tr)
     if a.stiffness:
