@@ -168,10 +168,14 @@ def beyond(x):
         return ""
     sn = snap({"d": d, "F": F, "tilt_deg": deg})
     after = d > dp
-    return (f" Past it, to d/L {d[-1]:.3f}, the force falls to {1e3 * F[-1]:.3f}" +
+    k = int(np.argmin(F[after])) + int(np.flatnonzero(after)[0])
+    stop = x["info"].get("stopped")
+    return (f" Past it, to d/L {d[-1]:.3f}, the force falls to {1e3 * F[-1]:.3f} (lowest {1e3 * F[k]:.3f} at d/L "
+            f"{d[k]:.3f})" +
             (f" with a snap at d/L {sn['d0']:.3f}" if sn else
              f" without a snap (largest fall between two increments {1e3 * max(0.0, -np.diff(F[after]).min()):.3f})") +
-            f"; the tilt stays at most {deg.max():.2f} deg.")
+            f"; the tilt stays at most {deg.max():.2f} deg." +
+            (f" ccx stopped at d/L {d[-1]:.3f}: {stop.strip().splitlines()[-2].strip()}" if stop else ""))
 
 
 def markdown(c, img=None):
@@ -253,8 +257,11 @@ def markdown(c, img=None):
                 L.append(f"**Second mesh on P1** ({'r = 2' if k == 'p1_r2' else 'two bricks through the wall'}, "
                          f"{x['info']['elements']} elements, {x['info']['dofs']} DOFs, `*STATIC` in "
                          f"{x['info']['increments']} increments to d/L {x['info']['d_reached']:.3f}, "
-                         f"{x['info']['wall_s'] / 60:.1f} min; its tilt bias ramps over that shorter step, so it is "
-                         f"{info['d_max_mm'] / x['info']['d_max_mm']:.1f} times the trace's at a given d): P1 {1e3 * p[1]:.3f} at d/L {p[0]:.3f}, against "
+                         f"{x['info']['wall_s'] / 60:.1f} min; " + (
+                             "the same ramped tilt bias as the trace)" if abs(info['d_max_mm'] / x['info']['d_max_mm'] - 1) < 0.01
+                             else f"its tilt bias ramps over a shorter step, so it is "
+                             f"{info['d_max_mm'] / x['info']['d_max_mm']:.1f} times the trace's at a given d)") +
+                         f": P1 {1e3 * p[1]:.3f} at d/L {p[0]:.3f}, against "
                          f"{1e3 * p1[1]:.3f} at {p1[0]:.3f} on the trace's mesh (r = 1, one brick through the wall), "
                          f"{100 * (p1[1] / p[1] - 1):+.1f} % off the finer mesh's value." + beyond(x))
                 L.append("")
