@@ -376,9 +376,10 @@ def fidelity_markdown(sleeve, calibration=None):
           + (" With the root-flexibility length fitted on the FE cell's peak, the four-cell ring's first peak, which "
              "the fit never saw, is the table's last row; the valley is its second." if cal else "") +
           " The beam model's own mesh error at its defaults is in sleeves.md's convergence tables (a few per cent at "
-          "most, far below these gaps). Not checked by any FE here: the ring's curvature (a flat 2-D ring has no "
-          "radial relief: a 3-D or shell model would be needed), so the default curved model's ring figures carry "
-          "the flat comparison only."]
+          "most, far below these gaps). The ring's curvature is checked by a curved 3-D FE ring, beyond its first "
+          "peak only to d/L 0.47 (sleeves.md, \"A curved 3-D FE ring\"): it makes the ring far softer than the beam model's curvature "
+          "term does (first peak about 0.4 of the flat FE ring's), so the beam model's absolute ring forces are not "
+          "trusted."]
     if calibration and "trace" in calibration:
         tr = calibration["trace"]
         info = tr["info"]

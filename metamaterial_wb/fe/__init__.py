@@ -10,5 +10,7 @@ Imports only ``core``. Decks are written in the Abaqus input format CalculiX rea
   moment-rotation curve, against the lattice's beam law.
 * :mod:`.sleeve2d`: the sleeve's unit cell and an N-cell ring in 2-D plane strain (CPE8R on our own mapped
   mesh of the printed outline), force-displacement curves against ``core.sleeve``'s beam model.
+* :mod:`.sleeve3d`: the N-cell ring as a curved 3-D solid (that mesh wrapped onto the cylinder, C3D20R bricks
+  through the wall, rigid tilting top plate): the curvature the flat ring cannot have.
 """
 from metamaterial_wb.fe.ccx import FEError, available  # noqa: F401

@@ -22,7 +22,7 @@ Loading, as in the seed's FE and our beam model (``core.sleeve.model``):
   ``v = d + R (psi_x sin phi - psi_y cos phi)`` at the angle ``phi = x / R`` (``R = N W / 2 pi``), with a
   common tangential shift (twist): the same linear ring kinematics as the beam model. A flat, unrolled 2-D
   ring has no curvature: compare it with the beam model's ``curvature=False`` ring (the default model adds
-  the curvature's radial relief, which only a 3-D or shell model could check). A tiny bias force on the tilt
+  the curvature's radial relief, which the curved 3-D ring of ``sleeve3d`` checks). A tiny bias force on the tilt
   (``bias``, towards the beam model's imperfection direction) picks the branch the model picks.
 
 Displacement control, ``*STATIC`` with ``NLGEOM`` and a fixed number of increments (automatic cut-back);

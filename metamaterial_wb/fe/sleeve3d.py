@@ -1,0 +1,281 @@
+"""The sleeve's N-cell ring in CalculiX as a curved 3-D solid: 20-node bricks (C3D20R) on the cylinder.
+
+The flat ring of :mod:`.sleeve2d` has no curvature: its cells lie side by side in a plane and are closed on
+themselves by ties, so the radial relief of the curved wall (the beams are arcs; their axial force pushes the
+pillars outward) is missing. Here the same structured mesh of the printed outline
+(``sleeve2d.cell_mesh(g, r, n_cells)``, x along the circumference, y axial) is wrapped onto a cylinder and
+extruded radially through the wall thickness ``T``:
+
+* a point at unrolled ``x`` sits at the angle ``phi = x / R`` with ``R = N W / (2 pi)`` on the wall's mid
+  surface (``wall="mid"``, the default): the beam model's ring (``core.sleeve.model``: "a point at unrolled x
+  sits at the angle phi = x / R on the mid radius R") and the flat ring use the same ``R``, and the mid
+  surface keeps the 2-D lengths. The wall spans radii ``R - T/2 .. R + T/2`` (``wall="inner"``: ``R .. R + T``,
+  used by the tests for the exact volume factor);
+* global axes: ``X = rho cos phi``, ``Y = rho sin phi``, ``Z = y`` (axial). ``n_layers`` bricks through the
+  wall; a quad's corners become the brick's corners on both faces of a layer (and its mid-thickness edge
+  nodes), its mid-side nodes the brick's mid-edge nodes. The map ``(x, y, s)`` (``s`` radial) is
+  right-handed, so the CPE8 order (counter-clockwise) gives CalculiX's C3D20 order with positive Jacobians:
+  corners 1-4 on the inner face, 5-8 on the outer face, 9-12 and 13-16 the face mid-edges, 17-20 the radial
+  mid-edges;
+* the ring is closed by merging: the last cell's right edge nodes are the first cell's left edge nodes.
+
+Loading, as the flat ring and the beam model: the bottom edge (``Z = 0``) clamped in all three directions; the
+top edge (``Z = H``) on a rigid plate (``*RIGID BODY`` with a reference node on the axis at the top and a
+rotation node) that rises by ``d`` (the reference node's axial displacement), tilts freely about ``X`` and ``Y``
+(``psi_x``, ``psi_y``: a point of the plate at ``phi`` rises by ``R (psi_x sin phi - psi_y cos phi)``, the beam
+model's convention) and twists freely about the axis (the flat ring's common tangential shift). Its in-plane
+translation is fixed: neither the beam model's plate (axial rise, two tilts, twist) nor the flat ring (whose
+top nodes share one tangential shift, which is the twist) has one, and the seed's kinematic coupling only says
+the top is "free to tilt". A tiny bias moment (``bias`` in ``G L^2`` times ``R``, the work-equivalent of the
+flat ring's bias force on ``R psi``) turns the plate towards the beam model's imperfection direction
+``bias_angle * pi / N``. Same neo-Hooke solid as the flat ring (``sleeve2d.BULK_RATIO``), no plane-strain
+restraint: the wall is free through its thickness.
+
+Displacement control, ``*STATIC`` (as the flat ring) or implicit dynamics (``method="dynamic"``, which carries
+the curved ring into the snap where static Newton stalls: docs/sleeves.md, "A curved 3-D FE ring"). The force is
+the clamped bottom's axial reaction (sum over its nodes), per converged increment.
+"""
+import math
+
+import numpy as np
+
+from metamaterial_wb.fe import ccx, sleeve2d
+
+REF, ROT = 9000001, 9000002
+DENSITY = 1e-10          # t/mm^3 with G = 1 MPa and a step of time 1 (a tenth of rubber's at 0.7 L per second)
+WALLS = ("mid", "inner")
+
+# natural coordinates of CalculiX's C3D20 nodes (corners, face mid-edges, radial mid-edges)
+_XI = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1),
+                (0, -1, -1), (1, 0, -1), (0, 1, -1), (-1, 0, -1), (0, -1, 1), (1, 0, 1), (0, 1, 1), (-1, 0, 1),
+                (-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], float)
+
+
+def _shape20(a, b, c):
+    """The 20 serendipity shape functions at natural coordinates ``(a, b, c)``."""
+    x, y, z = _XI.T
+    N = np.empty(20)
+    k = slice(0, 8)
+    N[k] = 0.125 * (1 + x[k] * a) * (1 + y[k] * b) * (1 + z[k] * c) * (x[k] * a + y[k] * b + z[k] * c - 2)
+    for i in range(8, 20):
+        f = [1 + x[i] * a, 1 + y[i] * b, 1 + z[i] * c]
+        j = [x[i], y[i], z[i]].index(0.0)
+        f[j] = 1 - (a, b, c)[j] ** 2
+        N[i] = 0.25 * f[0] * f[1] * f[2]
+    return N
+
+
+def _dshape20(a, b, c, h=1e-4):
+    """(3, 20) derivatives of the shape functions (central differences: exact to round-off for polynomials
+    of degree 3 up to h^2 times the third derivative's constant, ~1e-9 here)."""
+    p = np.array([a, b, c], float)
+    out = np.empty((3, 20))
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = h
+        out[k] = (_shape20(*(p + e)) - _shape20(*(p - e))) / (2 * h)
+    return out
+
+
+class RingMesh:
+    """``nodes`` (N, 3) mm, ``elements`` (E, 20) 0-based C3D20 connectivity; ``radius`` (mm, where ``phi =
+    x / radius``), ``wall`` and the 2-D mesh it was wrapped from (``quad``, seam already merged in
+    ``quad_elements``)."""
+
+    def __init__(self, nodes, elements, geom, cells, radius, wall, n_layers, quad, quad_elements):
+        self.nodes, self.elements, self.geom, self.cells = nodes, elements, geom, cells
+        self.radius, self.wall, self.n_layers, self.quad, self.quad_elements = radius, wall, n_layers, quad, quad_elements
+
+    @property
+    def n_nodes(self):
+        return self.nodes.shape[0]
+
+    @property
+    def n_elements(self):
+        return self.elements.shape[0]
+
+    def _jacobians(self, points):
+        X = self.nodes[self.elements]                          # (E, 20, 3)
+        for p in points:
+            yield p, np.linalg.det(np.einsum("kn,enc->ekc", _dshape20(*p), X))
+
+    def volume(self):
+        """Volume by the bricks' quadratic map (3 x 3 x 3 Gauss), mm^3."""
+        g = [-math.sqrt(0.6), 0.0, math.sqrt(0.6)]
+        w = dict(zip(g, (5 / 9, 8 / 9, 5 / 9)))
+        pts = [(a, b, c) for a in g for b in g for c in g]
+        return float(sum(w[a] * w[b] * w[c] * np.sum(J) for (a, b, c), J in self._jacobians(pts)))
+
+    def min_jacobian(self):
+        """Smallest Jacobian determinant over every element's 27 points (corners, mid-edges, centres of faces
+        and of the element): all positive means every brick is positively oriented and not folded."""
+        pts = [(a, b, c) for a in (-1.0, 0.0, 1.0) for b in (-1.0, 0.0, 1.0) for c in (-1.0, 0.0, 1.0)]
+        return min(float(np.min(J)) for _, J in self._jacobians(pts))
+
+    def exact_volume(self):
+        """The wrapped solid's volume from the 2-D outline's area ``A``: a wall between radii ``rho_0`` and
+        ``rho_1`` wrapped at ``phi = x / R`` has ``dV = (rho / R) dA drho``, so ``V = A T rho_mid / R``."""
+        T = self.geom.T
+        rho_mid = self.radius + (0.0 if self.wall == "mid" else 0.5 * T)
+        return self.quad.area() * T * rho_mid / self.radius
+
+
+def ring_mesh(g, n_cells=4, r=1, n_layers=1, wall="mid"):
+    """The N-cell ring as a closed cylinder of C3D20 bricks (see the module docstring)."""
+    n_cells, r, n_layers = _checked(n_cells, r, n_layers)
+    if wall not in WALLS:
+        raise ValueError(f"wall: {wall!r}; allowed: {', '.join(map(repr, WALLS))}")
+    quad = sleeve2d.cell_mesh(g, r, n_cells)
+    _bottom, _top, pairs = sleeve2d._edges(quad)
+    rep = np.arange(quad.n_nodes)
+    for i, j in pairs:                                         # the seam: right edge -> first cell's left edge
+        rep[i] = j
+    E2 = rep[quad.elements]
+    R = n_cells * g.width / (2 * math.pi)
+    n_lev = 2 * n_layers + 1
+    s = np.linspace(0.0, g.T, n_lev) - (0.5 * g.T if wall == "mid" else 0.0)
+    # candidate node (2-D node a, level k): every level for quad corners, the corner levels for mid-sides
+    ids = -np.ones((quad.n_nodes, n_lev), dtype=np.int64)
+    corner = np.zeros(quad.n_nodes, bool)
+    corner[np.unique(E2[:, :4])] = True
+    used2 = np.unique(E2)
+    want = np.zeros_like(ids, dtype=bool)
+    want[np.ix_(used2, np.arange(0, n_lev, 2))] = True
+    want[np.ix_(np.flatnonzero(corner), np.arange(n_lev))] = True
+    a_idx, k_idx = np.nonzero(want)
+    ids[a_idx, k_idx] = np.arange(a_idx.size)
+    phi = quad.nodes[a_idx, 0] / R
+    rho = R + s[k_idx]
+    nodes = np.column_stack([rho * np.cos(phi), rho * np.sin(phi), quad.nodes[a_idx, 1]])
+    els = []
+    for lay in range(n_layers):
+        k0, km, k1 = 2 * lay, 2 * lay + 1, 2 * lay + 2
+        els.append(np.hstack([ids[E2[:, :4], k0], ids[E2[:, :4], k1], ids[E2[:, 4:], k0], ids[E2[:, 4:], k1],
+                              ids[E2[:, :4], km]]))
+    elements = np.vstack(els)
+    assert elements.min() >= 0
+    return RingMesh(nodes, elements, g, n_cells, R, wall, n_layers, quad, E2)
+
+
+def _checked(n_cells, r, n_layers):
+    out = []
+    for name, v, lo, hi in (("n_cells", n_cells, 3, 64), ("r", r, 1, 8), ("n_layers", n_layers, 1, 8)):
+        if isinstance(v, bool) or int(v) != v or not lo <= v <= hi:
+            raise ValueError(f"{name}: {v!r}; allowed: an integer from {lo} to {hi}")
+        out.append(int(v))
+    return out
+
+
+def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
+                radial="free", method="static", element="C3D20R", patient=False):
+    """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
+    mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
+    ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
+    can then neither bulge nor thin, the curved counterpart of the flat ring's plane strain (a check).
+    ``method="dynamic"``: implicit dynamics (``*DYNAMIC``, HHT ``ALPHA=-0.3``) with the load ramped over a step
+    of time 1 and a small density (``DENSITY``, with G = 1 MPa: the ring's lowest period a few thousandths of
+    the step; rubber's would excite oscillations at the start and slow the run). The inertia regularises the
+    near-singular tilt mode and carries the ring into a snap, where static Newton (displacement control, no arc
+    length in ccx) stalls; between snaps it is the static path (the seed's FE used the dynamic implicit method,
+    loading slowly, too). ``patient=True`` lets Newton run longer before ccx cuts an increment back
+    (``*CONTROLS``: divergence checked from iteration 8 instead of 4, at most 30 iterations).
+    ``element="C3D20"``: full integration (a check of the reduced one's hourglass freedom; locks somewhat)."""
+    mesh = ring_mesh(g, n_cells, r, n_layers)
+    if element not in ("C3D20R", "C3D20"):
+        raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
+    if method not in ("static", "dynamic"):
+        raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
+    if radial not in ("free", "fixed"):
+        raise ValueError(f"radial: {radial!r}; allowed: 'free', 'fixed'")
+    if not increments >= 1:
+        raise ValueError(f"increments: {increments!r}; allowed: an integer >= 1")
+    d_max = 0.25 * g.L if d_max is None else float(d_max)
+    if not 0 < d_max <= 1.5 * g.L:
+        raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 1.5 L = {1.5 * g.L:g} mm")
+    X = mesh.nodes
+    tol = 1e-7 * g.L
+    bottom = np.flatnonzero(np.abs(X[:, 2]) < tol)
+    top = np.flatnonzero(np.abs(X[:, 2] - g.height) < tol)
+    out = [f"*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid ({element}), rigid tilting top plate\n",
+           "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{g.height:.9g}\n{ROT},0,0,{g.height:.9g}\n",
+           f"*ELEMENT, TYPE={element}, ELSET=SOLID\n", ccx.fmt_elements(mesh.elements, range(1, mesh.n_elements + 1)),
+           "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
+           f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
+           "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
+           ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" else ""),
+           "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
+           f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n"]
+    if radial == "fixed":
+        inner = np.setdiff1d(np.arange(mesh.n_nodes), np.concatenate([bottom, top]))
+        out += ["*NSET, NSET=WALL\n", ccx.fmt_set(inner + 1), "*TRANSFORM, NSET=WALL, TYPE=C\n0,0,0,0,0,1\n"]
+    inc = 1.0 / int(increments)
+    amp = ", AMPLITUDE=RAMP" if method == "dynamic" else ""
+    if method == "dynamic":
+        out.append("*AMPLITUDE, NAME=RAMP\n0,0,1,1\n")
+    bc = f"*BOUNDARY{amp}\nBOTTOM,1,3,0\n{REF},1,2,0\n{REF},3,3,{d_max:.12g}\n"
+    if radial == "fixed":
+        bc += "WALL,1,1,0\n"
+    m = bias * g.L ** 2 * mesh.radius
+    phi_b = bias_angle * math.pi / n_cells
+    if m:
+        bc += f"*CLOAD{amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
+    proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
+    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
+               + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "") + f"{bc}"
+               "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
+    meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
+            "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
+            "n_cells": int(n_cells), "bias": bias, "radial": radial,
+            "method": method, "element": element, "patient": patient}
+    return "".join(out), meta
+
+
+def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
+                 partial=True, radial="free", method="static", element="C3D20R", patient=False):
+    """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
+    (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
+    ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
+    ``info["d_reached"]`` how far, in ``d / L``)."""
+    deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method,
+                             element=element, patient=patient)
+    tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
+    rows = tables.get(("forces", "BOTTOM"), [])
+    if not rows:
+        raise ccx.FEError(info.get("stopped", "ccx printed no increment") + " (no increment converged)")
+    t = np.array([r_[0] for r_ in rows])
+    F = -np.array([sum(v[2] for v in r_[1].values()) for r_ in rows])
+    rot = tables.get(("displacements", "NROT"), [])
+    tilt = np.array([r_[1][ROT][:2] for r_ in rot])[:len(t)]
+    d = t * meta["d_max_mm"] / g.L
+    info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
+                                      "bias", "radial", "method",
+                                      "element", "patient")})
+    info["increments"] = len(t)
+    info["d_reached"] = float(d[-1])
+    return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),
+            "tilt_rad": np.vstack([[0.0, 0.0], tilt.reshape(-1, 2)])}, info
+
+
+def all_extrema(d, F, rel_prominence=0.02):
+    """Every alternating peak and valley of a force curve, as the sleeve analysis counts them
+    (``core.sleeve.analysis.extrema``: a wiggle smaller than ``rel_prominence`` of the curve's range is none),
+    each refined by a parabola through its three points: a list of ``("peak"|"valley", d, F)``."""
+    from metamaterial_wb.core.sleeve.analysis import extrema
+    d, F = np.asarray(d, float), np.asarray(F, float)
+    p, v = extrema(F, rel_prominence)
+    out = []
+    for i in sorted(p + v):
+        kind = "peak" if i in p else "valley"
+        x, y = float(d[i]), float(F[i])
+        if 0 < i < len(F) - 1:
+            A = np.polyfit(d[i - 1:i + 2], F[i - 1:i + 2], 2)
+            if A[0] != 0 and d[i - 1] <= -A[1] / (2 * A[0]) <= d[i + 1]:
+                x = float(-A[1] / (2 * A[0]))
+                y = float(np.polyval(A, x))
+        out.append((kind, x, y))
+    return out
+
+
+peak_valley = sleeve2d.peak_valley
+
+__all__ = ["ring_mesh", "ring_deck3d", "solve_ring3d", "all_extrema", "peak_valley", "RingMesh"]
