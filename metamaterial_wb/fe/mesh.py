@@ -41,12 +41,8 @@ def graded(a, b, h_fine, h_coarse=None, fine_at="both", growth=1.5):
     return x if fine_at == "low" else (a + b) - x[::-1]
 
 
-class HexMesh:
-    """``nodes`` (N, 3) mm, ``elements`` (E, 20) node indices (0-based), ``part`` (E,) index of the box of
-    every element."""
-
-    def __init__(self, nodes, elements, part, lines):
-        self.nodes, self.elements, self.part, self.lines = nodes, elements, part, lines
+class Mesh:
+    """What every structured mesh here has: ``nodes`` (N, dim) and ``elements`` (E, k), and their counts."""
 
     @property
     def n_nodes(self):
@@ -55,6 +51,15 @@ class HexMesh:
     @property
     def n_elements(self):
         return self.elements.shape[0]
+
+
+class HexMesh(Mesh):
+    """``nodes`` (N, 3) mm, ``elements`` (E, 20) node indices (0-based), ``part`` (E,) index of the box of
+    every element."""
+
+    def __init__(self, nodes, elements, part, lines):
+        self.nodes, self.elements, self.part, self.lines = nodes, elements, part, lines
+
 
     def nodes_where(self, axis, value, tol=1e-9):
         """Indices of the nodes on the plane ``x[axis] = value``."""

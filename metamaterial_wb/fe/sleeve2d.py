@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from metamaterial_wb.fe import ccx
+from metamaterial_wb.fe.mesh import Mesh
 
 BULK_RATIO = 500.0      # K / G of the nearly incompressible neo-Hooke solid (nu = 0.499)
 
@@ -99,20 +100,13 @@ def _blocks(g, r):
 _Q8 = [(0, 0), (2, 0), (2, 2), (0, 2), (1, 0), (2, 1), (1, 2), (0, 1)]
 
 
-class QuadMesh:
+class QuadMesh(Mesh):
     """``nodes`` (N, 2) mm, ``elements`` (E, 8) 0-based CPE8 connectivity (counter-clockwise), ``block`` (E,)
     block names, and the geometry it was made for."""
 
     def __init__(self, nodes, elements, block, geom, cells):
         self.nodes, self.elements, self.block, self.geom, self.cells = nodes, elements, block, geom, cells
 
-    @property
-    def n_nodes(self):
-        return self.nodes.shape[0]
-
-    @property
-    def n_elements(self):
-        return self.elements.shape[0]
 
     def area(self):
         """Area by the element's quadratic map (3 x 3 Gauss), mm^2."""

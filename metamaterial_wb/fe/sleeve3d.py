@@ -40,6 +40,7 @@ import math
 import numpy as np
 
 from metamaterial_wb.fe import ccx, sleeve2d
+from metamaterial_wb.fe.mesh import Mesh
 
 REF, ROT = 9000001, 9000002
 DENSITY = 1e-10          # t/mm^3 with G = 1 MPa and a step of time 1 (a tenth of rubber's at 0.7 L per second)
@@ -77,7 +78,7 @@ def _dshape20(a, b, c, h=1e-4):
     return out
 
 
-class RingMesh:
+class RingMesh(Mesh):
     """``nodes`` (N, 3) mm, ``elements`` (E, 20) 0-based C3D20 connectivity; ``radius`` (mm, where ``phi =
     x / radius``), ``wall`` and the 2-D mesh it was wrapped from (``quad``, seam already merged in
     ``quad_elements``)."""
@@ -86,13 +87,6 @@ class RingMesh:
         self.nodes, self.elements, self.geom, self.cells = nodes, elements, geom, cells
         self.radius, self.wall, self.n_layers, self.quad, self.quad_elements = radius, wall, n_layers, quad, quad_elements
 
-    @property
-    def n_nodes(self):
-        return self.nodes.shape[0]
-
-    @property
-    def n_elements(self):
-        return self.elements.shape[0]
 
     def _jacobians(self, points):
         X = self.nodes[self.elements]                          # (E, 20, 3)
