@@ -61,6 +61,27 @@ def parse_dat(text):
     return out
 
 
+_EIGEN = "E I G E N V A L U E   O U T P U T"
+
+
+def parse_eigenvalues(text):
+    """Every ``*FREQUENCY`` step's eigenvalues (omega^2, in the order printed; negative for an unstable
+    state) from a ``.dat`` file: a list with one list per frequency step."""
+    out = []
+    for block in text.split(_EIGEN)[1:]:
+        vals = []
+        for line in block.splitlines()[1:]:
+            parts = line.split()
+            if not parts:
+                continue
+            if parts[0].isdigit() and len(parts) >= 3:
+                vals.append(float(parts[1]))
+            elif vals or parts[0] == "P":
+                break
+        out.append(vals)
+    return out
+
+
 def run(deck, name="job", timeout_s=600.0, keep_dir=None, partial=False):
     """Run ``deck`` (the text of an ``.inp`` file) through ccx. Returns ``(tables, info)``: the parsed
     ``.dat`` (:func:`parse_dat`) and ``{"wall_s", "dir"?}``. Raises :class:`FEError` if ccx is missing, fails,
@@ -98,8 +119,12 @@ def run(deck, name="job", timeout_s=600.0, keep_dir=None, partial=False):
         if not os.path.exists(dat):
             raise FEError(stopped or f"ccx wrote no .dat file for job {name!r}")
         with open(dat) as f:
-            tables = parse_dat(f.read())
+            text = f.read()
+        tables = parse_dat(text)
         info = {"wall_s": wall, "log_tail": log[-400:]}
+        eig = parse_eigenvalues(text)
+        if eig:
+            info["eigenvalues"] = eig
         if stopped:
             info["stopped"] = stopped
         return tables, info

@@ -161,7 +161,7 @@ def _checked(n_cells, r, n_layers):
 
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
-                radial="free", method="static", element="C3D20R", patient=False):
+                radial="free", method="static", element="C3D20R", patient=False, stability=0):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
@@ -173,7 +173,11 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     length in ccx) stalls; between snaps it is the static path (the seed's FE used the dynamic implicit method,
     loading slowly, too). ``patient=True`` lets Newton run longer before ccx cuts an increment back
     (``*CONTROLS``: divergence checked from iteration 8 instead of 4, at most 30 iterations).
-    ``element="C3D20"``: full integration (a check of the reduced one's hourglass freedom; locks somewhat)."""
+    ``element="C3D20"``: full integration (a check of the reduced one's hourglass freedom; locks somewhat).
+    ``stability=n``: after the loading step, a ``*FREQUENCY`` perturbation step for the ``n`` eigenvalues of the
+    tangent stiffness (with the mass of ``DENSITY``) nearest zero at the state reached: all positive means the
+    state is stable under displacement control; a negative one means the path traced there is unstable (a branch
+    the static solver follows that the ring would leave)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
@@ -181,6 +185,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
     if radial not in ("free", "fixed"):
         raise ValueError(f"radial: {radial!r}; allowed: 'free', 'fixed'")
+    if isinstance(stability, bool) or int(stability) != stability or not 0 <= stability <= 20:
+        raise ValueError(f"stability: {stability!r}; allowed: an integer from 0 (none) to 20 eigenvalues")
     if not increments >= 1:
         raise ValueError(f"increments: {increments!r}; allowed: an integer >= 1")
     d_max = 0.25 * g.L if d_max is None else float(d_max)
@@ -196,7 +202,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
            "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
-           ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" else ""),
+           ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" or stability else ""),
            "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
            f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n"]
     if radial == "fixed":
@@ -217,21 +223,25 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
                + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "") + f"{bc}"
                "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
+    if stability:
+        out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "radial": radial,
-            "method": method, "element": element, "patient": patient}
+            "method": method, "element": element, "patient": patient, "stability": int(stability)}
     return "".join(out), meta
 
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
-                 partial=True, radial="free", method="static", element="C3D20R", patient=False):
+                 partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
-    ``info["d_reached"]`` how far, in ``d / L``)."""
+    ``info["d_reached"]`` how far, in ``d / L``). ``stability=n`` (a run that reached ``d_max``): ``info["stability"]``
+    holds the ``n`` eigenvalues at the end (``ring_deck3d``), each with its mode's plate rotation (about X, Y, Z:
+    the tilt pair and the twist are told apart by it), and ``stable`` (all positive)."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method,
-                             element=element, patient=patient)
+                             element=element, patient=patient, stability=stability)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -244,6 +254,12 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
                                       "bias", "radial", "method",
                                       "element", "patient")})
+    eig = info.pop("eigenvalues", [])
+    if stability and eig and "stopped" not in info:
+        modes = [np.asarray(r_[1][ROT][:3], float) for r_ in rot[len(t):]]
+        info["stability"] = {"d": float(t[-1] * meta["d_max_mm"] / g.L), "eigenvalues": eig[0],
+                             "plate_rotation": [(m / (np.linalg.norm(m) or 1.0)).tolist() for m in modes],
+                             "stable": bool(min(eig[0]) > 0)}
     info["increments"] = len(t)
     info["d_reached"] = float(d[-1])
     return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),

@@ -90,12 +90,34 @@ def test_deck_has_curved_bricks_a_rigid_tilting_plate_and_the_bias():
 @pytest.mark.parametrize("kw,msg", [({"n_cells": 2}, "n_cells"), ({"r": 0}, "r: 0"), ({"n_layers": 1.5}, "n_layers"),
                                     ({"radial": "loose"}, "radial"),
                                     ({"method": "riks"}, "method"),
-                                    ({"element": "C3D8"}, "element"), ({"d_max": -1.0}, "d_max")])
+                                    ({"element": "C3D8"}, "element"), ({"d_max": -1.0}, "d_max"),
+                                    ({"stability": -1}, "stability"), ({"stability": True}, "stability")])
 def test_bad_inputs_name_the_value_and_the_range(kw, msg):
     with pytest.raises(ValueError, match=msg):
         sleeve3d.ring_deck3d(CellGeometry(), **kw)
     with pytest.raises(ValueError, match="wall"):
         sleeve3d.ring_mesh(CellGeometry(), wall="outer")
+
+
+def test_eigenvalue_table_is_read_with_its_signs():
+    dat = """
+     E I G E N V A L U E   O U T P U T
+
+ MODE NO    EIGENVALUE                       FREQUENCY
+                                     REAL PART            IMAGINARY PART
+                           (RAD/TIME)      (CYCLES/TIME     (RAD/TIME)
+
+      1  -0.2500000E+02   0.0000000E+00   0.0000000E+00   0.5000000E+01
+      2   0.6345661E+05   0.2519059E+03   0.4009208E+02   0.0000000E+00
+
+     P A R T I C I P A T I O N   F A C T O R S
+
+MODE NO.   X-COMPONENT
+      1   0.1E+00
+"""
+    assert ccx.parse_eigenvalues(dat) == [[-25.0, 63456.61]]
+    assert ccx.parse_eigenvalues(dat + dat) == [[-25.0, 63456.61]] * 2
+    assert ccx.parse_eigenvalues("no eigenvalues") == []
 
 
 def test_all_extrema_counts_two_peaks():
@@ -117,10 +139,21 @@ def test_smallest_curved_ring_against_the_flat_ring():
     flat, _ = sleeve2d.solve_ring(g, 4, 1, d_max=0.01 * g.L, increments=2, timeout_s=120)
     held, ih = sleeve3d.solve_ring3d(g, 4, 1, 1, d_max=0.01 * g.L, increments=2, timeout_s=120, radial="fixed")
     # two bricks through the wall: ccx takes these two increments without cut-backs (one brick: ~5 times slower)
-    free, iff = sleeve3d.solve_ring3d(g, 4, 1, 2, d_max=0.01 * g.L, increments=2, timeout_s=120)
+    free, iff = sleeve3d.solve_ring3d(g, 4, 1, 2, d_max=0.01 * g.L, increments=2, timeout_s=120, stability=4)
     assert ih["d_reached"] == pytest.approx(0.01) and iff["d_reached"] == pytest.approx(0.01)
     k = lambda c: np.interp(0.005, c["d"], c["F"]) / 0.005          # noqa: E731  secant stiffness to d/L 0.005
     assert k(held) / k(flat) == pytest.approx(1.0, abs=0.03)
     assert 0.15 < k(free) / k(flat) < 0.45
     assert np.all(np.diff(free["F"]) > 0) and free["F"][-1] > 0
     assert np.degrees(np.hypot(*free["tilt_rad"][-1])) < 0.1        # no tilt yet: the bias alone
+    # the stability probe: the tangent stiffness at d/L 0.01 is positive definite; the four-fold ring has a
+    # degenerate pair of tilt modes (plate turning about two in-plane axes) and a twist mode (about the axis)
+    st = iff["stability"]
+    assert st["stable"] and st["d"] == pytest.approx(0.01) and len(st["eigenvalues"]) == 4
+    rot = np.abs(np.array(st["plate_rotation"]))
+    tilt = [i for i in range(4) if rot[i, 2] < 0.01]
+    twist = [i for i in range(4) if rot[i, 2] > 0.99]
+    assert len(twist) == 1 and len(tilt) >= 2
+    lam = np.array(st["eigenvalues"])[tilt[:2]]
+    assert lam[1] == pytest.approx(lam[0], rel=1e-3)
+    assert abs(np.dot(np.array(st["plate_rotation"])[tilt[0]], np.array(st["plate_rotation"])[tilt[1]])) < 0.01
