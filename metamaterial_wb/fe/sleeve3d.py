@@ -161,7 +161,8 @@ def _checked(n_cells, r, n_layers):
 
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
-                radial="free", method="static", element="C3D20R", patient=False, stability=0):
+                radial="free", method="static", element="C3D20R", patient=False, stability=0, shapes=False,
+                imperfection=None):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
@@ -177,7 +178,9 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     ``stability=n``: after the loading step, a ``*FREQUENCY`` perturbation step for the ``n`` eigenvalues of the
     tangent stiffness (with the mass of ``DENSITY``) nearest zero at the state reached: all positive means the
     state is stable under displacement control; a negative one means the path traced there is unstable (a branch
-    the static solver follows that the ring would leave)."""
+    the static solver follows that the ring would leave). ``shapes=True`` prints every node's mode displacement too.
+    ``imperfection``: an ``(n_nodes, 3)`` array in mm added to the mesh's nodes (a geometric imperfection, e.g. a
+    scaled unstable mode, to follow the branch the ring takes instead of the symmetric one)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
@@ -194,13 +197,23 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 1.5 L = {1.5 * g.L:g} mm")
     X = mesh.nodes
     tol = 1e-7 * g.L
+    if imperfection is not None:
+        imp = np.asarray(imperfection, float)
+        if imp.shape != X.shape or not np.all(np.isfinite(imp)) or np.abs(imp).max() > 0.1 * g.t:
+            raise ValueError(f"imperfection: shape {imp.shape}, largest {np.abs(imp).max() if imp.size else 0:g} mm; "
+                             f"allowed: finite offsets of shape {X.shape}, at most 0.1 t = {0.1 * g.t:g} mm")
     bottom = np.flatnonzero(np.abs(X[:, 2]) < tol)
     top = np.flatnonzero(np.abs(X[:, 2] - g.height) < tol)
+    if imperfection is not None:                   # the clamped and the plate's edges stay where they are
+        imp = imp.copy()
+        imp[np.concatenate([bottom, top])] = 0.0
+        X = X + imp
     out = [f"*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid ({element}), rigid tilting top plate\n",
            "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{g.height:.9g}\n{ROT},0,0,{g.height:.9g}\n",
            f"*ELEMENT, TYPE={element}, ELSET=SOLID\n", ccx.fmt_elements(mesh.elements, range(1, mesh.n_elements + 1)),
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
+           ("*NSET, NSET=SHAPE\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if shapes else ""),
            "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
            ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" or stability else ""),
            "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
@@ -224,7 +237,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
                + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "") + f"{bc}"
                "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
     if stability:
-        out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
+        out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n"
+                   + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "radial": radial,
@@ -233,15 +247,19 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
 
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
-                 partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0):
+                 partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0,
+                 shapes=False, imperfection=None):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
     ``info["d_reached"]`` how far, in ``d / L``). ``stability=n`` (a run that reached ``d_max``): ``info["stability"]``
     holds the ``n`` eigenvalues at the end (``ring_deck3d``), each with its mode's plate rotation (about X, Y, Z:
-    the tilt pair and the twist are told apart by it), and ``stable`` (all positive)."""
+    the tilt pair and the twist are told apart by it; its size, as ccx normalises the modes to unit mass: a mode
+    that leaves the plate still has none), and ``stable`` (all positive); with ``shapes=True`` the curve holds
+    ``"modes"``, ``(n, n_nodes, 3)``."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method,
-                             element=element, patient=patient, stability=stability)
+                             element=element, patient=patient, stability=stability, shapes=shapes,
+                             imperfection=imperfection)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -259,11 +277,17 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
         modes = [np.asarray(r_[1][ROT][:3], float) for r_ in rot[len(t):]]
         info["stability"] = {"d": float(t[-1] * meta["d_max_mm"] / g.L), "eigenvalues": eig[0],
                              "plate_rotation": [(m / (np.linalg.norm(m) or 1.0)).tolist() for m in modes],
+                             "plate_rotation_size": [float(np.linalg.norm(m)) for m in modes],
                              "stable": bool(min(eig[0]) > 0)}
     info["increments"] = len(t)
     info["d_reached"] = float(d[-1])
-    return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),
-            "tilt_rad": np.vstack([[0.0, 0.0], tilt.reshape(-1, 2)])}, info
+    out = {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),
+           "tilt_rad": np.vstack([[0.0, 0.0], tilt.reshape(-1, 2)])}
+    allu = tables.get(("displacements", "SHAPE"), [])
+    if shapes and allu:
+        n = meta["mesh"].n_nodes
+        out["modes"] = np.array([[r_[1].get(i + 1, np.zeros(3))[:3] for i in range(n)] for r_ in allu])
+    return out, info
 
 
 def all_extrema(d, F, rel_prominence=0.02):

@@ -99,6 +99,22 @@ def test_bad_inputs_name_the_value_and_the_range(kw, msg):
         sleeve3d.ring_mesh(CellGeometry(), wall="outer")
 
 
+def test_imperfection_moves_the_wall_not_its_clamped_or_plate_edges():
+    g = CellGeometry()
+    m = sleeve3d.ring_mesh(g, 4, 1, 1)
+    rng = np.random.default_rng(1)
+    imp = 0.05 * g.t * rng.uniform(-1, 1, m.nodes.shape)
+    deck, _ = sleeve3d.ring_deck3d(g, 4, 1, 1, imperfection=imp)
+    body = deck.split("*NODE\n", 1)[1].split("*ELEMENT", 1)[0].splitlines()
+    X = np.array([[float(v) for v in l.split(",")[1:]] for l in body[:m.n_nodes]])
+    edge = (np.abs(m.nodes[:, 2]) < 1e-9) | (np.abs(m.nodes[:, 2] - g.height) < 1e-9)
+    assert np.allclose(X[edge], m.nodes[edge], atol=1e-7)
+    assert np.allclose(X[~edge], m.nodes[~edge] + imp[~edge], atol=1e-7)
+    for bad, msg in ((imp[:-1], "shape"), (imp * 3, "at most 0.1 t"), (imp * np.nan, "finite")):
+        with pytest.raises(ValueError, match=msg):
+            sleeve3d.ring_deck3d(g, 4, 1, 1, imperfection=bad)
+
+
 def test_eigenvalue_table_is_read_with_its_signs():
     dat = """
      E I G E N V A L U E   O U T P U T
@@ -139,7 +155,8 @@ def test_smallest_curved_ring_against_the_flat_ring():
     flat, _ = sleeve2d.solve_ring(g, 4, 1, d_max=0.01 * g.L, increments=2, timeout_s=120)
     held, ih = sleeve3d.solve_ring3d(g, 4, 1, 1, d_max=0.01 * g.L, increments=2, timeout_s=120, radial="fixed")
     # two bricks through the wall: ccx takes these two increments without cut-backs (one brick: ~5 times slower)
-    free, iff = sleeve3d.solve_ring3d(g, 4, 1, 2, d_max=0.01 * g.L, increments=2, timeout_s=120, stability=4)
+    free, iff = sleeve3d.solve_ring3d(g, 4, 1, 2, d_max=0.01 * g.L, increments=2, timeout_s=120, stability=4,
+                                      shapes=True)
     assert ih["d_reached"] == pytest.approx(0.01) and iff["d_reached"] == pytest.approx(0.01)
     k = lambda c: np.interp(0.005, c["d"], c["F"]) / 0.005          # noqa: E731  secant stiffness to d/L 0.005
     assert k(held) / k(flat) == pytest.approx(1.0, abs=0.03)
@@ -157,3 +174,13 @@ def test_smallest_curved_ring_against_the_flat_ring():
     lam = np.array(st["eigenvalues"])[tilt[:2]]
     assert lam[1] == pytest.approx(lam[0], rel=1e-3)
     assert abs(np.dot(np.array(st["plate_rotation"])[tilt[0]], np.array(st["plate_rotation"])[tilt[1]])) < 0.01
+    # the twist mode's field: tangential (about the axis), nil at the clamped bottom, largest at the plate
+    X = sleeve3d.ring_mesh(g, 4, 1, 2).nodes
+    u = free["modes"][twist[0]]
+    e_phi = np.column_stack([-X[:, 1], X[:, 0], 0 * X[:, 0]]) / np.hypot(X[:, 0], X[:, 1])[:, None]
+    ut = np.sum(u * e_phi, axis=1)
+    top, bottom = X[:, 2] > g.height - 1e-6, X[:, 2] < 1e-6
+    assert np.abs(u[bottom]).max() == 0.0
+    w = ut[top] / np.hypot(X[top, 0], X[top, 1])                             # the plate turns them rigidly:
+    assert np.std(w) < 1e-3 * np.abs(w).mean()                                  # one angle, u_phi = w rho
+    assert np.linalg.norm(ut) > 0.95 * np.linalg.norm(u)
