@@ -22,7 +22,7 @@ import sys
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
-from metamaterial_wb.bench import fe_sleeve_calibration as cal  # noqa: E402
+from metamaterial_wb.bench import fe_sleeve_calibration as cal, fe_study  # noqa: E402
 
 RESULTS = os.path.join(ROOT, "benchmarks", "results")
 DOC = os.path.join(ROOT, "docs", "sleeves.md")
@@ -90,24 +90,8 @@ def main(argv=None):
         with open(spath + ".tmp", "w") as f:
             json.dump(full, f, indent=1)
         os.replace(spath + ".tmp", spath)
-        write_fidelity_fe_section(full)
+        fe_study.write_fidelity_section(full, os.path.join(ROOT, "docs", "fidelity.md"))
         print("wrote docs/fidelity.md (FE section)")
-
-
-def write_fidelity_fe_section(full, doc=os.path.join(ROOT, "docs", "fidelity.md")):
-    """docs/fidelity.md with its FE section (from "## FE top rung" to the FE note or the next top-level heading)
-    regenerated from the FE study."""
-    from metamaterial_wb.bench import fe_study
-    with open(doc) as f:
-        text = f.read()
-    i = text.index("## FE top rung")
-    j = text.find("FE figures read from", i)
-    if j < 0:
-        j = text.find("\n## ", i + 3) + 1
-    text = text[:i] + fe_study.markdown(full) + "\n" + text[j:]
-    with open(doc + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(doc + ".tmp", doc)
 
 
 if __name__ == "__main__":

@@ -325,9 +325,10 @@ def write_section(doc_path, section):
     return write_marked(doc_path, section, MARK_BEGIN, MARK_END)
 
 
-def fidelity_markdown(sleeve, calibration=None):
+def fidelity_markdown(sleeve, calibration=None, curved=None):
     """The sleeve part of docs/fidelity.md's FE section: where the sleeve beam model can be trusted, measured
-    against CalculiX (``sleeve``: the FE sleeve study, ``calibration``: :func:`run`'s result or None)."""
+    against CalculiX (``sleeve``: the FE sleeve study, ``calibration``: :func:`run`'s result or None, ``curved``:
+    the curved 3-D FE ring's summary from ``benchmarks/bench_sleeve_ring3d.py`` or None)."""
     from metamaterial_wb.bench.fe_sleeve import summarise
     sl = summarise(sleeve)
     c, r_ = sl["cell"], sl["ring"]
@@ -351,6 +352,10 @@ def fidelity_markdown(sleeve, calibration=None):
         cal = {"unit cell, peak": (mc["cell_pv"][1], mc["cell_err"][1]),
                "unit cell, valley": (mc["cell_pv"][3], mc["cell_err"][3]),
                "four-cell ring (flat), P1": (mc["ring_p1"][1], mc["ring_p1_err"][1])}
+    if curved and curved.get("p1_fe"):
+        fx, fe_err = curved["p1_fe"]
+        rows.append(("four-cell ring (curved 3-D), P1", curved["p1_model"], 0.0, fx, fe_err))
+        cal["four-cell ring (curved 3-D), P1"] = (curved["p1_model_calibrated"], 0.0)
     head = "| figure | CalculiX | beam model | beam model / CalculiX - 1 |"
     if cal:
         head += f" calibrated (root_extension {calibration['root_extension']:.2f} t) | calibrated / CalculiX - 1 |"
@@ -376,10 +381,8 @@ def fidelity_markdown(sleeve, calibration=None):
           + (" With the root-flexibility length fitted on the FE cell's peak, the four-cell ring's first peak, which "
              "the fit never saw, is the table's last row; the valley is its second." if cal else "") +
           " The beam model's own mesh error at its defaults is in sleeves.md's convergence tables (a few per cent at "
-          "most, far below these gaps). The ring's curvature is checked by a curved 3-D FE ring, beyond its first "
-          "peak only to d/L 0.47 (sleeves.md, \"A curved 3-D FE ring\"): it makes the ring far softer than the beam model's curvature "
-          "term does (first peak about 0.4 of the flat FE ring's), so the beam model's absolute ring forces are not "
-          "trusted."]
+          "most, far below these gaps)." + (curved["sentence"] if curved and curved.get("sentence") else
+          " The ring's curvature is checked by a curved 3-D FE ring (sleeves.md, \"A curved 3-D FE ring\").")]
     if calibration and "trace" in calibration:
         tr = calibration["trace"]
         info = tr["info"]

@@ -174,7 +174,7 @@ def markdown(study):
         L.append(patch_markdown(study["patch"]))
     if study.get("sleeve"):
         from metamaterial_wb.bench.fe_sleeve_calibration import fidelity_markdown
-        L.append(fidelity_markdown(study["sleeve"], study.get("sleeve_calibration")))
+        L.append(fidelity_markdown(study["sleeve"], study.get("sleeve_calibration"), study.get("sleeve_curved")))
     return "\n".join(L) + "\n"
 
 
@@ -362,3 +362,19 @@ def ci_case(spec=None, timeout_s=120.0):
 
 __all__ = ["run_hinge_study", "run_aspect_study", "aspect_uncertainty", "run_patch_study", "markdown", "ci_case",
            "condensed_bending"]
+
+
+def write_fidelity_section(full, doc):
+    """``doc`` (docs/fidelity.md) with its FE section (from "## FE top rung" to the FE note or the next top-level
+    heading) regenerated from the FE study ``full`` (:func:`markdown`)."""
+    import os
+    with open(doc) as f:
+        text = f.read()
+    i = text.index("## FE top rung")
+    j = text.find("FE figures read from", i)
+    if j < 0:
+        j = text.find("\n## ", i + 3) + 1
+    text = text[:i] + markdown(full) + "\n" + text[j:]
+    with open(doc + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(doc + ".tmp", doc)

@@ -1,0 +1,386 @@
+"""The curved 3-D FE sleeve ring's report (issue 18): tables, readings and the plot of docs/sleeves.md's section
+"A curved 3-D FE ring", and the summary docs/fidelity.md takes from it. The runs themselves (CalculiX) and the
+beam model's curves are made by ``benchmarks/bench_sleeve_ring3d.py``; everything here reads its stored results
+(``benchmarks/results/fe-ring3d.json``, compared in ``fe-ring3d-comparison.json``)."""
+import numpy as np
+
+MARK_BEGIN, MARK_END = "<!-- fe-ring3d:begin -->", "<!-- fe-ring3d:end -->"
+
+
+def _geom():
+    from metamaterial_wb.core.sleeve.cell import CellGeometry
+    return CellGeometry()
+
+
+MESHES = {"r1": (1, 1), "r2": (2, 1), "r3": (3, 1), "layers2": (1, 2), "r2layers2": (2, 2)}
+MESH_NAMES = {"r1": "r = 1", "r2": "r = 2", "r3": "r = 3", "layers2": "two bricks through the wall",
+              "r2layers2": "r = 2 and two bricks through the wall"}
+
+
+STIFF = {"flat": "flat 2-D ring (plane strain)", "fixed": "curved 3-D ring, wall held at its radius",
+         "free": "curved 3-D ring", "free_layers2": "curved 3-D ring, two bricks through the wall",
+         "free_r2": "curved 3-D ring, mesh r = 2", "free_full": "curved 3-D ring, fully integrated C3D20",
+         "free_layers2_r2": "curved 3-D ring, r = 2 and two bricks through the wall"}
+METHOD = {"static": "`*STATIC`",
+          "dynamic": "implicit dynamics (`*DYNAMIC`, HHT alpha -0.3) with the displacement ramped over the step and "
+                     "a small density (1e-10 t/mm^3 with G = 1 MPa and a step of time 1, a tenth of rubber's pulled at "
+                     "0.7 L per second; the ring's lowest period a few thousandths of the step) so that inertia regularises the soft tilt mode "
+                     "and carries the ring over a snap (the seed's FE used the dynamic implicit method, loading "
+                     "slowly, too)"}
+NAMES = {"trace": "CalculiX, curved 3-D, r = 1 (dynamic, this section)", "flat_fe": "CalculiX, flat 2-D (above)",
+         "curved": "beam model, curved (default)", "curved_calibrated": "beam model, curved, calibrated",
+         "flat_calibrated": "beam model, flat, calibrated", "radial_fixed": "CalculiX, curved 3-D, wall held at its radius"}
+
+
+def _tilt_facts(d, deg):
+    d, deg = np.asarray(d, float)[:len(deg)], np.asarray(deg, float)
+    on = np.nonzero(deg > 1.0)[0]
+    k = int(np.argmax(deg))
+    return (f"{deg[k]:.1f} deg at d/L {d[k]:.3f}, above 1 deg from d/L {d[on[0]]:.3f}" if len(on)
+            else f"at most {deg[k]:.2f} deg")
+
+
+def _kinds(ex):
+    p = sum(1 for k in ex if k[0] == "peak")
+    v = len(ex) - p
+    return f"{p} peak{'s' if p != 1 else ''}, {v} valle{'ys' if v != 1 else 'y'}"
+
+
+def snap(x, drop=0.05, window=0.0005):
+    """The first place where the force falls by more than ``drop`` of its maximum so far within ``window`` of d/L
+    (a dynamic snap in a displacement-controlled run), or None: {"i", "d0", "F0", "Fmin", "dd", "tilt0", "tilt1"}."""
+    d, F = np.asarray(x["d"], float), np.asarray(x["F"], float)
+    deg = np.asarray(x["tilt_deg"], float)
+    for i in range(1, len(F)):
+        j = np.flatnonzero((d > d[i]) & (d <= d[i] + window))
+        if j.size and F[i] - F[j].min() > drop * F[:i + 1].max():
+            k = i
+            m = int(j[np.argmin(F[j])])
+            return {"i": k, "d0": float(d[k]), "F0": float(F[k]), "Fmin": float(F[m]), "dd": float(d[m] - d[k]),
+                    "tilt0": float(deg[min(k, len(deg) - 1)]), "tilt1": float(deg[-1])}
+    return None
+
+
+def beyond(x):
+    """What a mesh-check run did after its first peak (when it went on past it)."""
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    d, F = np.asarray(x["d"], float), np.asarray(x["F"], float)
+    deg = np.degrees(np.hypot(*np.asarray(x["tilt_rad"], float).T))
+    dp = peak_valley(d, F)[0]
+    if not np.isfinite(dp) or d[-1] < dp + 0.03:
+        return ""
+    sn = snap({"d": d, "F": F, "tilt_deg": deg})
+    after = d > dp
+    k = int(np.argmin(F[after])) + int(np.flatnonzero(after)[0])
+    stop = x["info"].get("stopped")
+    return (f" Past it, to d/L {d[-1]:.3f}, the force falls to {1e3 * F[-1]:.3f} (lowest {1e3 * F[k]:.3f} at d/L "
+            f"{d[k]:.3f})" +
+            (f" with a snap at d/L {sn['d0']:.3f}" if sn else
+             f" without a snap (largest fall between two increments {1e3 * max(0.0, -np.diff(F[after]).min()):.3f})") +
+            f"; the tilt stays at most {deg.max():.2f} deg." +
+            (f" ccx stopped at d/L {d[-1]:.3f}: {stop.strip().splitlines()[-2].strip()}" if stop else ""))
+
+
+PATH_D = (0.05, 0.10, 0.14, 0.17, 0.22, 0.30, 0.40, 0.45)
+
+
+def _path(c, mesh):
+    """The static path stored for ``mesh`` (``p1_<mesh>``; r = 1: the trace up to its snap), or None."""
+    if mesh == "r1":
+        tr = c.get("trace")
+        if tr is None:
+            return None
+        sn = snap(tr)
+        k = sn["i"] + 1 if sn else len(tr["F"])
+        return {"d": tr["d"][:k], "F": tr["F"][:k]}
+    return c.get("p1_" + mesh)
+
+
+def path_convergence(c):
+    """Force along the path on r = 1, 2, 3 at fixed d/L, extrapolated in h ~ 1/r, and P1 on each mesh:
+    ``{"rows": [(d, [F per mesh or None], ext, err, n_meshes)], "p1": [...], "p1_ext": (d, F, err)}``."""
+    from metamaterial_wb.bench.fe_sleeve import richardson3
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    meshes = [m for m in ("r1", "r2", "r3") if _path(c, m) is not None]
+    paths = {m: _path(c, m) for m in meshes}
+    rows = []
+    probes = {round(v["d"], 3) for k, v in c.get("stability", {}).items() if k.startswith("r2@") and v.get("eigenvalues")}
+    for d in sorted(set(PATH_D) | probes):
+        vals = [float(np.interp(d, paths[m]["d"], paths[m]["F"])) if paths[m]["d"][-1] >= d - 1e-9 else None
+                for m in meshes]
+        have = [(MESHES[m][0], v) for m, v in zip(meshes, vals) if v is not None]
+        if len(have) >= 2:
+            ext, err, _ = richardson3([1.0 / r for r, _ in have], [v for _, v in have])
+            rows.append((d, vals, ext[0], err[0], len(have)))
+        else:
+            rows.append((d, vals, None, None, len(have)))
+    p1 = [peak_valley(paths[m]["d"], paths[m]["F"])[:2] for m in meshes]
+    ok = [(MESHES[m][0], q) for m, q in zip(meshes, p1) if np.isfinite(q[1])]
+    p1_ext = None
+    if len(ok) >= 2:
+        ext, err, _ = richardson3([1.0 / r for r, _ in ok], [[q[0], q[1]] for _, q in ok])
+        p1_ext = (ext[0], ext[1], err[1], err[0])
+    return {"meshes": meshes, "rows": rows, "p1": p1, "p1_ext": p1_ext}
+
+
+def classify_modes(pr):
+    """``(omega^2 rho, kind)`` of a stability probe's modes: ``"tilt"`` (the plate turns about an in-plane axis),
+    ``"twist"`` (about the ring's axis) or ``"still"`` (the plate hardly turns: under a tenth of the largest turn of
+    a mass-normalised mode; a mode of the wall alone)."""
+    lam = np.asarray(pr["eigenvalues"]) * pr["density"]
+    rot = np.asarray(pr["plate_rotation"])
+    size = np.asarray(pr.get("plate_rotation_size", np.ones(len(lam))))
+    kind = np.where(size < 0.1 * size.max(), "still", np.where(np.abs(rot[:, 2]) > 0.9, "twist", "tilt"))
+    return lam, kind
+
+
+def path_markdown(c):
+    """The paragraph and table on the static path's mesh convergence and stability (empty without r = 3)."""
+    if "p1_r3" not in c:
+        return []
+    pc = path_convergence(c)
+    st = c.get("stability", {})
+    head = ["mesh r = %d" % MESHES[m][0] for m in pc["meshes"]]
+    L = ["**The path on three meshes, and its stability.** The static path on the finer meshes (r = 2 and r = 3, "
+         "one brick through the wall; r = 1: the trace up to its snap), its force at fixed d/L extrapolated in the "
+         "element size (Richardson in h ~ 1/r from the last three meshes, from two with order 2 assumed; the error "
+         "is the distance of the finest mesh to the extrapolation), and the stability of the r = 2 path: the lowest "
+         "eigenvalues of its tangent stiffness at that state (`sleeve3d.solve_ring3d(..., stability=6)`, a "
+         "`*FREQUENCY` perturbation step; omega^2 times the density, so independent of the mass chosen; all "
+         "positive: stable under displacement control). Forces x1e-3:", "",
+         "| d/L | " + " | ".join(head) + " | extrapolated | r = 2: tilt pair | twist | wall mode (plate still) | "
+         "stable |", "|---|" + "---|" * len(head) + "---|---|---|---|---|"]
+    for d, vals, ext, err, n in pc["rows"]:
+        pr = st.get(f"r2@{d:.3f}")
+        eig = ""
+        if pr and pr.get("eigenvalues"):
+            lam, kind = classify_modes(pr)
+            pick = lambda k: "/".join(f"{v:.3g}" for v in lam[kind == k][:2]) or "-"       # noqa: E731
+            eig = (f" | {pick('tilt')} | {pick('twist')} | {pick('still')} | " +
+                   ("yes" if pr["stable"] else "**no**"))
+        else:
+            eig = " | | | | "
+        L.append(f"| {d:.2f} | " + " | ".join("-" if v is None else f"{1e3 * v:.3f}" for v in vals) + " | " +
+                 ("-" if ext is None else f"{1e3 * ext:.3f} +- {1e3 * err:.3f}" + (" (2 meshes)" if n == 2 else ""))
+                 + eig + " |")
+    L.append("")
+    p1 = "; ".join(f"r = {MESHES[m][0]}: {1e3 * q[1]:.3f} at d/L {q[0]:.3f}" for m, q in zip(pc["meshes"], pc["p1"]))
+    if pc["p1_ext"]:
+        dx, fx, ef, ed = pc["p1_ext"]
+        p1 += f"; extrapolated {1e3 * fx:.3f} +- {1e3 * ef:.3f} at d/L {dx:.3f} +- {ed:.3f}"
+    L += [f"P1 on each mesh (x1e-3): {p1}.", ""]
+    return L
+
+
+def branch_markdown(c):
+    """The branch-switching run (``--branch-at``): the mode it used and the imperfect ring's path."""
+    x = c.get("branch_r2")
+    if x is None:
+        return []
+    im, info = x["imperfection"], x["info"]
+    sym = c.get("p1_r2")
+    ex = x["extrema"]
+    cells = ", ".join(f"{v:.2f}" for v in im["cells"])
+    L = [f"**Branch switching (r = 2).** The static path's lowest mode at d/L {im['d_at']:.2f} (omega^2 rho = "
+         f"{im['eigenvalue_rho']:.3g}; the plate's turn in it {im['plate_rotation_size']:.3g} against ~100 in the "
+         f"tilt modes; its RMS displacement per cell, relative: {cells}), scaled to {im['amp_t']:g} t at its largest, "
+         f"is added to the mesh as a geometric imperfection, and the imperfect ring is loaded statically again "
+         f"({info['increments']} increments to d/L {info['d_reached']:.3f}, {info['wall_s'] / 60:.1f} min"
+         + (f"; ccx stopped there: {info['stopped'].strip().splitlines()[-2].strip()}" if info.get("stopped") else "")
+         + f"): {_kinds(ex)} - " + ", ".join(f"{k} {1e3 * f:.3f} at d/L {dd:.3f}" for k, dd, f in ex[:4])
+         + f"; tilt {_tilt_facts(x['d'], x['tilt_deg'])}."]
+    if sym:
+        d = np.asarray(x["d"])
+        k = d <= min(d[-1], sym["d"][-1])
+        gap = np.abs(np.asarray(x["F"])[k] - np.interp(d[k], sym["d"], sym["F"]))
+        j = int(np.argmax(gap))
+        L[-1] += (f" Against the symmetric path of the perfect ring: at most {1e3 * gap[j]:.3f} apart (at d/L "
+                  f"{d[k][j]:.3f}).")
+    return L + [""]
+
+
+def markdown(c, img=None):
+    from metamaterial_wb.fe.sleeve3d import all_extrema
+    L = [MARK_BEGIN, "", "### A curved 3-D FE ring (issue 18)", ""]
+    tr = c.get("trace")
+    if tr is None:
+        return "\n".join(L + ["(no curved FE run stored)", "", MARK_END]) + "\n"
+    info = tr["info"]
+    L += ["Regenerated by `benchmarks/bench_sleeve_ring3d.py` (model: `metamaterial_wb/fe/sleeve3d.py`, report: "
+          "`metamaterial_wb/bench/fe_ring3d.py`). The same "
+          "structured mesh of the printed outline as the flat ring (mesh r = %d), wrapped onto the cylinder at the "
+          "beam model's mid radius R = N W / 2 pi = %.2f mm (the wall's mid surface keeps the 2-D lengths) and "
+          "extruded radially through the wall T = %.1f mm, %d brick%s through it: %d C3D20R elements, %d DOFs; the "
+          "ring is closed by merging the seam's nodes. Same neo-Hooke solid (K = 500 G), but no plane-strain "
+          "restraint: the wall may bulge and thin. Bottom edge clamped (3 DOFs); the top edge on a rigid plate "
+          "(`*RIGID BODY`) that rises by d, tilts freely about both in-plane axes and twists freely, its in-plane "
+          "translation fixed (neither the beam model's plate nor the flat ring has one); a bias moment 1e-5 G L^2 R "
+          "towards the beam model's imperfection direction. Displacement control, `NLGEOM`, %d fixed increments to "
+          "d/L 0.7 (ccx cuts back by itself), %s; force = the clamped bottom's axial reaction." %
+          (tr["r"], info["radius_mm"], _geom().T, tr["n_layers"], "s" if tr["n_layers"] > 1 else "",
+           info["elements"], info["dofs"], info.get("increments_asked", 140), METHOD[info.get("method", "static")]), ""]
+    L.append(f"Run: {info['increments']} converged increments to d/L {info['d_reached']:.3f} in "
+             f"{info['wall_s'] / 60:.1f} min (one core, niced, on a shared 2-core machine)" +
+             (f"; **the run stopped there**: {info.get('stopped_by') or info['stopped'].splitlines()[0]}"
+              if info.get("stopped") else ", the whole range") + ".")
+    sn = snap(tr)
+    if sn:
+        L += ["", f"**A snap at d/L {sn['d0']:.4f}**: there the quasi-static path ends (force {1e3 * sn['F0']:.3f}, tilt "
+              f"{sn['tilt0']:.2f} deg); within d/L {sn['dd']:.4f} the force falls to "
+              f"{1e3 * sn['Fmin']:.3f} (the ring moving dynamically, the force oscillating: bottom reaction including "
+              f"inertia), the tilt reaching {sn['tilt1']:.2f} deg at the end of the run. Its extrema below are counted on "
+              f"the quasi-static part before the snap only (d/L < {sn['d0']:.4f})."]
+    L += ["", "Extrema of the four-cell ring, forces F / (G L^2) x1e-3 (at d/L); every local maximum and minimum "
+          "that rises or falls by more than 2 % of the curve's range (`sleeve3d.all_extrema`):", "",
+          "| model | extrema (2 %) | with a 0.5 % threshold | P1 | V1 | P2 | V2 | largest tilt |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    for k in ("trace", "radial_fixed", "flat_fe", "curved", "curved_calibrated", "flat_calibrated"):
+        if k not in c:
+            continue
+        x = c[k]
+        ex = x["extrema"]
+        sn = snap(x) if k == "trace" else None
+        if sn:
+            x = dict(x, d=x["d"][:sn["i"] + 1], F=x["F"][:sn["i"] + 1], tilt_deg=x["tilt_deg"][:sn["i"] + 1])
+            ex = all_extrema(x["d"], x["F"])
+        cells = [f"{1e3 * f:.3f} ({dd:.3f})" for _, dd, f in ex[:4]] + ["-"] * (4 - min(4, len(ex)))
+        deg = np.asarray(x["tilt_deg"])
+        fine = all_extrema(x["d"], x["F"], 0.005)
+        L.append(f"| {NAMES[k]} | {_kinds(ex)} | {_kinds(fine)} | " + " | ".join(cells) +
+                 f" | {deg.max():.1f} deg ({np.asarray(x['d'])[:len(deg)][int(np.argmax(deg))]:.3f}) |")
+    L.append("")
+    L.append("Tilt of the top plate: " + "; ".join(f"{NAMES[k]} {_tilt_facts(c[k]['d'], c[k]['tilt_deg'])}"
+                                                    for k in ("trace", "flat_fe", "curved", "curved_calibrated")
+                                                    if k in c) + ".")
+    L.append("")
+    att = [(k, c[k]) for k in sorted(c) if k.startswith("attempt_")]
+    if att:
+        L.append("**Earlier attempts** (kept in `benchmarks/results/fe-ring3d.json`): " + "; ".join(
+            f"{x['info'].get('method', 'static')}" + (f", density {x['info']['density']:.0e}" if 'density' in x['info'] else "") +
+            f", tilt bias {x['info']['bias']:.0e} G L^2: {x['info']['increments']} increments to d/L "
+            f"{x['info']['d_reached']:.3f} in {x['info']['wall_s'] / 60:.1f} min, highest force "
+            f"{1e3 * max(x['F']):.3f} at d/L {x['d'][int(np.argmax(x['F']))]:.3f}, tilt {x['tilt_deg'][-1]:.2f} deg at "
+            f"the end - {x['info'].get('note', '')}" for k, x in att) + ".")
+        L.append("")
+    if "stiffness" in c:
+        sc = c["stiffness"]
+        L.append("**Initial stiffness** (secant to d/L 0.005, F / (G L^2) per d/L x1e-3; two increments to d/L 0.01 "
+                 "each, the CI case `tests/fe/test_sleeve3d.py`): " + "; ".join(
+                     f"{STIFF[k]} {1e3 * v['k']:.1f} ({v['k'] / sc['flat']['k']:.2f} of the flat ring's)"
+                     for k, v in sc.items()) + ".")
+        L.append("")
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    for k in ("p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2"):
+        if k in c:
+            x = c[k]
+            p = peak_valley(x["d"], x["F"])[:2]
+            p1 = peak_valley(tr["d"], tr["F"])[:2]
+            if np.isfinite(p[1]) and np.isfinite(p1[1]):
+                L.append(f"**Another mesh on P1** ({MESH_NAMES[k[3:]]}, "
+                         f"{x['info']['elements']} elements, {x['info']['dofs']} DOFs, `*STATIC` in "
+                         f"{x['info']['increments']} increments to d/L {x['info']['d_reached']:.3f}, "
+                         f"{x['info']['wall_s'] / 60:.1f} min; " + (
+                             "the same ramped tilt bias as the trace)" if abs(info['d_max_mm'] / x['info']['d_max_mm'] - 1) < 0.01
+                             else f"its tilt bias ramps over a shorter step, so it is "
+                             f"{info['d_max_mm'] / x['info']['d_max_mm']:.1f} times the trace's at a given d)") +
+                         f": P1 {1e3 * p[1]:.3f} at d/L {p[0]:.3f}, against "
+                         f"{1e3 * p1[1]:.3f} at {p1[0]:.3f} on the trace's mesh (r = 1, one brick through the wall), "
+                         f"{100 * (p1[1] / p[1] - 1):+.1f} % off this mesh's value." + beyond(x) +
+                         (f" ccx stopped at d/L {x['info']['d_reached']:.3f}, the tilt growing at fixed d "
+                          f"({x['tilt_deg'][-1]:.2f} deg at the end)." if k == "p1_r3" and x["info"].get("stopped") else ""))
+                L.append("")
+    L += path_markdown(c)
+    L += branch_markdown(c)
+    if img:
+        L += [f"![curved FE ring against the flat FE ring and the beam model]({img})", ""]
+    L.append(MARK_END)
+    return "\n".join(L) + "\n"
+
+
+def plot(c, path):
+    from metamaterial_wb.fe.sleeve3d import all_extrema
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(7.5, 7.5), dpi=110, sharex=True, height_ratios=(2, 1))
+    style = {"trace": ("k-", 1.8), "radial_fixed": ("-", 1.0), "flat_fe": ("-", 1.4), "curved": ("C0--", 1.1),
+             "curved_calibrated": ("C3-", 1.1), "flat_calibrated": ("C3:", 1.0)}
+    colour = {"radial_fixed": "0.6", "flat_fe": "C2"}
+    for k, (st, lw) in style.items():
+        if k not in c:
+            continue
+        x = c[k]
+        kw = {"color": colour[k]} if k in colour else {}
+        lab = NAMES[k] + (f", root_extension {c['root_extension']:.2f} t" if "calibrated" in k else "")
+        ax.plot(x["d"], 1e3 * np.asarray(x["F"]), st, lw=lw, label=lab, **kw)
+        ax2.plot(np.asarray(x["d"])[:len(x["tilt_deg"])], x["tilt_deg"], st, lw=lw, label=lab, **kw)
+        ex = x["extrema"]
+        sn = snap(x) if k == "trace" else None
+        if sn:
+            ex = all_extrema(x["d"][:sn["i"] + 1], x["F"][:sn["i"] + 1])
+            ax.plot([sn["d0"]], [1e3 * sn["F0"]], "kx", ms=7, label=f"snap at d/L {sn['d0']:.3f} (run stopped in it)")
+        for kind, dd, f in ex[:4]:
+            ax.plot([dd], [1e3 * f], "^" if kind == "peak" else "v", ms=4, color=kw.get("color", st[:2] if st[0] == "C" else "k"))
+    for k, lab, col in (("p1_r2", "r = 2 (static)", "C1"), ("p1_r3", "r = 3 (static)", "C5"),
+                        ("p1_layers2", "2 bricks through the wall (static)", "C4"),
+                        ("p1_r2layers2", "r = 2, 2 bricks through the wall (static)", "C6"),
+                        ("branch_r2", "r = 2, with its unstable mode as an imperfection (static)", "C8")):
+        if k in c:
+            lab = "CalculiX, curved 3-D, " + lab
+            ax.plot(c[k]["d"], 1e3 * np.asarray(c[k]["F"]), "-", color=col, lw=1.2, label=lab)
+            ax2.plot(np.asarray(c[k]["d"])[:len(c[k]["tilt_deg"])], c[k]["tilt_deg"], "-", color=col, lw=1.2, label=lab)
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_ylabel("F / (G L^2) x1e-3")
+    ax.set_title("four-cell ring: curved 3-D FE against the flat FE and the beam model", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    ax2.set_xlabel("d / L")
+    ax2.set_ylabel("tilt of the top plate (deg)")
+    ax2.legend(fontsize=6)
+    ax2.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def unstable_range(c, mesh="r2"):
+    """``(last stable d before, first unstable d, last unstable d, first stable d after)`` of the static path on
+    ``mesh`` from the stored stability probes (None where no probe says)."""
+    pr = sorted((v["d"], v["stable"]) for k, v in c.get("stability", {}).items()
+                if k.startswith(mesh + "@") and v.get("eigenvalues"))
+    bad = [d for d, ok in pr if not ok]
+    if not bad:
+        return None
+    before = [d for d, ok in pr if ok and d < bad[0]]
+    after = [d for d, ok in pr if ok and d > bad[-1]]
+    return (before[-1] if before else None, bad[0], bad[-1], after[0] if after else None)
+
+
+def curved_summary(c):
+    """What docs/fidelity.md takes from this study: the curved ring's P1 (FE: Richardson over r = 1, 2, 3 plus the
+    through-wall mesh error, |P1(r = 2, two bricks) - P1(r = 2)|), the beam model's, and one sentence."""
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    pc = path_convergence(c)
+    if not pc["p1_ext"]:
+        return {}
+    dx, fx, ef, _ = pc["p1_ext"]
+    wall = 0.0
+    if "p1_r2layers2" in c and "p1_r2" in c:
+        wall = abs(peak_valley(c["p1_r2layers2"]["d"], c["p1_r2layers2"]["F"])[1] -
+                   peak_valley(c["p1_r2"]["d"], c["p1_r2"]["F"])[1])
+    err = ef + (wall if np.isfinite(wall) else 0.0)
+    m, mc = (peak_valley(c[k]["d"], c[k]["F"])[1] for k in ("curved", "curved_calibrated"))
+    ur = unstable_range(c)
+    s = (f" The ring's curvature is checked by a curved 3-D FE ring (sleeves.md, \"A curved 3-D FE ring\"; its first "
+         f"peak, the table's last row, is extrapolated over three in-plane meshes and carries the through-wall mesh "
+         f"error too): against it the beam model's ring forces are {m / fx:.1f} times too high as documented and "
+         f"{mc / fx:.1f} times calibrated - its curvature term cannot give the wall's freedom to bend out of the "
+         f"cylinder - so the beam model's absolute ring forces are not trusted.")
+    if ur:
+        s += (f" Past the first peak the FE ring's symmetric path is unstable (r = 2: a negative eigenvalue of the "
+              f"tangent stiffness from d/L {ur[0]:.2f}-{ur[1]:.2f}" +
+              (f" to {ur[2]:.2f}-{ur[3]:.2f}" if ur[3] else "") + "), so the FE does not yet settle whether the curved "
+              "ring snaps in one stage or two.")
+    return {"p1_fe": [float(fx), float(err)], "p1_fe_d": float(dx), "p1_inplane_err": float(ef),
+            "p1_wall_err": float(wall), "p1_model": float(m), "p1_model_calibrated": float(mc),
+            "unstable": ur, "sentence": s}

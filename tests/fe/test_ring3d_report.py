@@ -1,0 +1,51 @@
+"""Issue 18: the curved FE ring's report (``bench/fe_ring3d.py``) reads the stored runs right: the stability
+probes' modes are told apart by the plate's turn, the unstable stretch of the path is bracketed by the probes,
+and the path's force is extrapolated in the element size (a known h^2 error is removed exactly)."""
+import numpy as np
+import pytest
+
+from metamaterial_wb.bench import fe_ring3d as rep
+
+
+def _probe(d, eig, rot, size, density=1e-10):
+    return {"d": d, "eigenvalues": eig, "plate_rotation": rot, "plate_rotation_size": size, "density": density,
+            "stable": min(eig) > 0}
+
+
+def test_modes_are_tilt_twist_or_a_wall_mode_with_the_plate_still():
+    pr = _probe(0.3, [-2e6, 7e5, 7e5, 2e6], [[0.9, 0.4, 0], [0.3, 0.95, 0.01], [-0.95, 0.3, 0], [0, 0, 1]],
+                [2.7, 110.0, 109.0, 90.0])
+    lam, kind = rep.classify_modes(pr)
+    assert kind.tolist() == ["still", "tilt", "tilt", "twist"]
+    assert lam[0] == pytest.approx(-2e-4)                        # omega^2 rho: independent of the density chosen
+    pr9 = dict(pr, eigenvalues=[v / 10 for v in pr["eigenvalues"]], density=1e-9)
+    assert np.allclose(rep.classify_modes(pr9)[0], lam)
+
+
+def test_unstable_stretch_is_bracketed_by_the_probes():
+    ok = _probe(0, [1.0], [[1, 0, 0]], [1.0])
+    bad = dict(ok, eigenvalues=[-1.0], stable=False)
+    st = {f"r2@{d:.3f}": dict(ok if s else bad, d=d) for d, s in
+          ((0.14, True), (0.26, True), (0.30, False), (0.35, False), (0.45, True))}
+    st["r3@0.300"] = dict(bad, d=0.3)
+    st["r2@0.200"] = {"d": 0.2, "stable": None}                  # a probe whose solve stopped: no eigenvalues
+    assert rep.unstable_range({"stability": st}) == (0.26, 0.30, 0.35, 0.45)
+    assert rep.unstable_range({"stability": {"r2@0.140": dict(ok, d=0.14)}}) is None
+    st.pop("r2@0.450")
+    assert rep.unstable_range({"stability": st}) == (0.26, 0.30, 0.35, None)
+
+
+def test_path_force_is_extrapolated_in_the_element_size():
+    d = np.linspace(0, 0.7, 71)
+    exact = np.sin(3 * d) * 1e-3
+
+    def path(r):                                                  # a discretisation error c h^2, h = 1 / r
+        return {"d": d.tolist(), "F": (exact * (1 + 0.05 / r ** 2)).tolist()}
+    c = {"p1_r2": path(2), "p1_r3": path(3), "trace": dict(path(1), tilt_deg=[0.0] * len(d))}
+    pc = rep.path_convergence(c)
+    assert pc["meshes"] == ["r1", "r2", "r3"]
+    for dd, vals, ext, err, n in pc["rows"]:
+        assert n == 3
+        assert ext == pytest.approx(np.sin(3 * dd) * 1e-3, rel=1e-6)
+    assert pc["p1_ext"][1] == pytest.approx(1e-3, rel=1e-3)       # the peak of sin(3 d): 1e-3 at pi / 6
+    assert pc["p1_ext"][0] == pytest.approx(np.pi / 6, abs=0.01)
