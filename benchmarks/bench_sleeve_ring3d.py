@@ -222,12 +222,12 @@ def main(argv=None):
         print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("p1_" + a.p1_mesh, tr)
     if a.stability_at:
-        old = (json.load(open(STORE)) if os.path.exists(STORE) else {}).get("stability", {})
         for d in (float(v) for v in a.stability_at.split(",")):
             pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout)
             print(f"stability {a.stability_mesh} d/L {d}: {pr.get('eigenvalues')} ({pr['wall_s']:.0f} s)", flush=True)
-            old[f"{a.stability_mesh}@{d:.3f}"] = pr
-            _store("stability", old)
+            old = (json.load(open(STORE)) if os.path.exists(STORE) else {}).get("stability", {})   # read just now:
+            old[f"{a.stability_mesh}@{d:.3f}"] = pr                                                # other runs may
+            _store("stability", old)                                                                # have stored
     if a.branch_at:
         tr = branch(a.stability_mesh, a.branch_at, a.branch_amp, timeout_s=a.timeout)
         print(f"branch {a.stability_mesh} from d/L {a.branch_at}: {tr['imperfection']}; {tr['extrema']} "
