@@ -32,7 +32,8 @@ NAMES = {"trace": "CalculiX, curved 3-D, r = 1 (dynamic, this section)", "flat_f
          "flat_calibrated": "beam model, flat, calibrated", "radial_fixed": "CalculiX, curved 3-D, wall held at its radius"}
 
 
-def _tilt_facts(d, deg):
+def tilt_facts(d, deg):
+    """Largest tilt of the top plate and where it passes 1 degree (a sentence's piece)."""
     d, deg = np.asarray(d, float)[:len(deg)], np.asarray(deg, float)
     on = np.nonzero(deg > 1.0)[0]
     k = int(np.argmax(deg))
@@ -188,7 +189,7 @@ def branch_markdown(c):
          f"({info['increments']} increments to d/L {info['d_reached']:.3f}, {info['wall_s'] / 60:.1f} min"
          + (f"; ccx stopped there: {info['stopped'].strip().splitlines()[-2].strip()}" if info.get("stopped") else "")
          + f"): {_kinds(ex)} - " + ", ".join(f"{k} {1e3 * f:.3f} at d/L {dd:.3f}" for k, dd, f in ex[:4])
-         + f"; tilt {_tilt_facts(x['d'], x['tilt_deg'])}."]
+         + f"; tilt {tilt_facts(x['d'], x['tilt_deg'])}."]
     if sym:
         d = np.asarray(x["d"])
         k = d <= min(d[-1], sym["d"][-1])
@@ -249,7 +250,7 @@ def markdown(c, img=None):
         L.append(f"| {NAMES[k]} | {_kinds(ex)} | {_kinds(fine)} | " + " | ".join(cells) +
                  f" | {deg.max():.1f} deg ({np.asarray(x['d'])[:len(deg)][int(np.argmax(deg))]:.3f}) |")
     L.append("")
-    L.append("Tilt of the top plate: " + "; ".join(f"{NAMES[k]} {_tilt_facts(c[k]['d'], c[k]['tilt_deg'])}"
+    L.append("Tilt of the top plate: " + "; ".join(f"{NAMES[k]} {tilt_facts(c[k]['d'], c[k]['tilt_deg'])}"
                                                     for k in ("trace", "flat_fe", "curved", "curved_calibrated")
                                                     if k in c) + ".")
     L.append("")

@@ -219,12 +219,7 @@ def trace_lines(cal):
             cells.append(f"{1e3 * x[k][1]:.3f}{err} ({x[k][0]:.3f})")
         out.append(f"| {nm} | " + " | ".join(cells) + " |")
     out.append("")
-    def tilt_facts(d, deg):
-        d, deg = np.asarray(d, float)[:len(deg)], np.asarray(deg, float)
-        on = np.nonzero(deg > 1.0)[0]
-        k = int(np.argmax(deg))
-        return (f"{deg[k]:.1f} deg at d/L {d[k]:.3f}, above 1 deg from d/L {d[on[0]]:.3f}" if len(on)
-                else f"at most {deg[k]:.2f} deg")
+    from metamaterial_wb.bench.fe_ring3d import tilt_facts
     ft = np.degrees(np.hypot(*np.asarray(tr["tilt_rad"]).T))
     mu = cal["models"]["uncalibrated"]["ring_curve"]
     mc = cal["models"]["calibrated"]["ring_curve"]
