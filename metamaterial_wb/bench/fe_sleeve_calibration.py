@@ -357,11 +357,12 @@ def fidelity_markdown(sleeve, calibration=None, curved=None):
     L += [head, "|" + "---|" * (head.count("|") - 1)]
     for name, m, em, f, ef in rows:
         r, u = _rel(m, em, f, ef)
-        row = f"| {name} | {1e3 * f:.3f} +- {1e3 * ef:.3f} | {1e3 * m:.3f} +- {1e3 * em:.3f} | {100 * r:+.0f} % +- {100 * u:.0f} % |"
+        pm = lambda v, e: f"{1e3 * v:.3f}" + (f" +- {1e3 * e:.3f}" if e else " (default mesh)")   # noqa: E731
+        row = f"| {name} | {1e3 * f:.3f} +- {1e3 * ef:.3f} | {pm(m, em)} | {100 * r:+.0f} % +- {100 * u:.0f} % |"
         if cal:
             mcv, mce = cal[name]
             rc, uc = _rel(mcv, mce, f, ef)
-            row += (f" {1e3 * mcv:.3f} +- {1e3 * mce:.3f} | {100 * rc:+.1f} % +- {100 * uc:.1f} %"
+            row += (f" {pm(mcv, mce)} | {100 * rc:+.1f} % +- {100 * uc:.1f} %"
                     f"{' (fitted)' if name == 'unit cell, peak' else ''} |")
         L.append(row)
     ratio_fe = r_["fe_extrapolated"]["pv"][1] / fe[1] if "fe_extrapolated" in r_ else float("nan")
@@ -374,7 +375,7 @@ def fidelity_markdown(sleeve, calibration=None, curved=None):
           f"ring-to-cell force ratio (first peak / cell peak {ratio_mo:.2f} against the FE's {ratio_fe:.2f}), the "
           f"snapping positions within {abs(mo[0] - fe[0]):.3f} d/L (peak) and {abs(mo[2] - fe[2]):.3f} d/L (valley)."
           + (" With the root-flexibility length fitted on the FE cell's peak, the four-cell ring's first peak, which "
-             "the fit never saw, is the table's last row; the valley is its second." if cal else "") +
+             "the fit never saw, is the flat ring's row; the valley is the table's second." if cal else "") +
           " The beam model's own mesh error at its defaults is in sleeves.md's convergence tables (a few per cent at "
           "most, far below these gaps)." + (curved["sentence"] if curved and curved.get("sentence") else
           " The ring's curvature is checked by a curved 3-D FE ring (sleeves.md, \"A curved 3-D FE ring\").")]
