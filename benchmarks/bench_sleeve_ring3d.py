@@ -198,6 +198,8 @@ def main(argv=None):
     ap.add_argument("--stiffness", default=None, help="comma list of initial-stiffness runs: flat,fixed,free,"
                     "free_layers2,free_r2 (stored under 'stiffness', merged)")
     ap.add_argument("--p1-dmax", type=float, default=0.17, help="d/L of the P1 mesh run (static, 0.01 per increment)")
+    ap.add_argument("--p1-increments", type=int, default=None, help="increments of the P1 mesh run (default 100 "
+                    "per d/L; another count is stored apart, as p1_<mesh>_inc<N>)")
     ap.add_argument("--stability-at", default=None, help="comma list of d/L: the static path's stability there "
                     "(eigenvalues of the tangent stiffness; stored under 'stability', merged)")
     ap.add_argument("--stability-mesh", default="r2", choices=sorted(MESHES))
@@ -217,10 +219,10 @@ def main(argv=None):
         _store(a.key, tr)
     if a.p1_mesh:
         r, nl = MESHES[a.p1_mesh]
-        tr = run_fe(r, nl, d_max=a.p1_dmax, increments=int(round(100 * a.p1_dmax)), timeout_s=a.timeout,
-                    method="static")
+        inc = a.p1_increments or int(round(100 * a.p1_dmax))
+        tr = run_fe(r, nl, d_max=a.p1_dmax, increments=inc, timeout_s=a.timeout, method="static")
         print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)
-        _store("p1_" + a.p1_mesh, tr)
+        _store("p1_" + a.p1_mesh + (f"_inc{a.p1_increments}" if a.p1_increments else ""), tr)
     if a.stability_at:
         for d in (float(v) for v in a.stability_at.split(",")):
             pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout)
