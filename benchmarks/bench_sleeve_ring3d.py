@@ -44,12 +44,13 @@ def _geom():
 
 
 def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic",
-           patient=False, imperfection=None):
+           patient=False, imperfection=None, bias_angle=0.5):
     from metamaterial_wb.fe import sleeve3d
     g = _geom()
     c, info = sleeve3d.solve_ring3d(g, 4, r, n_layers, d_max=d_max * g.L, increments=increments, bias=bias,
                                     timeout_s=timeout_s, partial=True, radial=radial,
-                                    method=method, patient=patient, imperfection=imperfection)
+                                    method=method, patient=patient, imperfection=imperfection,
+                                    bias_angle=bias_angle)
     info.pop("log_tail", None)
     return {"r": r, "n_layers": n_layers, "radial": radial, "d": c["d"].tolist(), "F": c["F"].tolist(),
             "tilt_rad": c["tilt_rad"].tolist(), "info": info,

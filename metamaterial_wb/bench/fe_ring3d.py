@@ -346,6 +346,11 @@ def plot(c, path):
             lab = "CalculiX, curved 3-D, " + lab
             ax.plot(c[k]["d"], 1e3 * np.asarray(c[k]["F"]), "-", color=col, lw=1.2, label=lab)
             ax2.plot(np.asarray(c[k]["d"])[:len(c[k]["tilt_deg"])], c[k]["tilt_deg"], "-", color=col, lw=1.2, label=lab)
+    pc = path_convergence(c) if "p1_r3" in c else None
+    if pc and pc["p1_ext"]:
+        dx, fx, ef, ed = pc["p1_ext"]
+        ax.errorbar([dx], [1e3 * fx], xerr=[ed], yerr=[1e3 * ef], fmt="ks", ms=4, capsize=3,
+                    label="CalculiX curved P1, extrapolated (r = 1, 2, 3)")
     ax.axhline(0, color="k", lw=0.5)
     ax.set_ylabel("F / (G L^2) x1e-3")
     ax.set_title("four-cell ring: curved 3-D FE against the flat FE and the beam model", fontsize=9)

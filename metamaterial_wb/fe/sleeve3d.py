@@ -241,14 +241,14 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
                    + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
-            "n_cells": int(n_cells), "bias": bias, "radial": radial,
+            "n_cells": int(n_cells), "bias": bias, "bias_angle": bias_angle, "radial": radial,
             "method": method, "element": element, "patient": patient, "stability": int(stability)}
     return "".join(out), meta
 
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
                  partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0,
-                 shapes=False, imperfection=None):
+                 shapes=False, imperfection=None, bias_angle=0.5):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
@@ -257,7 +257,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     the tilt pair and the twist are told apart by it; its size, as ccx normalises the modes to unit mass: a mode
     that leaves the plate still has none), and ``stable`` (all positive); with ``shapes=True`` the curve holds
     ``"modes"``, ``(n, n_nodes, 3)``."""
-    deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, radial=radial, method=method,
+    deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, bias_angle, radial=radial, method=method,
                              element=element, patient=patient, stability=stability, shapes=shapes,
                              imperfection=imperfection)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
@@ -270,7 +270,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     tilt = np.array([r_[1][ROT][:2] for r_ in rot])[:len(t)]
     d = t * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
-                                      "bias", "radial", "method",
+                                      "bias", "bias_angle", "radial", "method",
                                       "element", "patient")})
     eig = info.pop("eigenvalues", [])
     if stability and eig and "stopped" not in info:
