@@ -23,6 +23,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 from metamaterial_wb.bench import fe_sleeve_calibration as cal, fe_study  # noqa: E402
+from metamaterial_wb.core.fileio import write_atomic  # noqa: E402
 
 RESULTS = os.path.join(ROOT, "benchmarks", "results")
 DOC = os.path.join(ROOT, "docs", "sleeves.md")
@@ -73,9 +74,7 @@ def main(argv=None):
             json.dump(out, f, indent=1)
         cal.plot(out, os.path.join(ROOT, "docs", IMG))
         text = cal.write_section(DOC, section)
-        with open(DOC + ".tmp", "w") as f:
-            f.write(text)
-        os.replace(DOC + ".tmp", DOC)
+        write_atomic(DOC, text)
         print("wrote docs/sleeves.md")
         import copy
         keep = copy.deepcopy({k: v for k, v in out.items() if k not in ("trace", "trace_bias")})
@@ -87,9 +86,7 @@ def main(argv=None):
         if "trace" in out:
             full["sleeve_calibration"]["trace"] = {"r": out["trace"]["r"], "info": out["trace"]["info"],
                                                    "extrema": out["trace"]["extrema"]}
-        with open(spath + ".tmp", "w") as f:
-            json.dump(full, f, indent=1)
-        os.replace(spath + ".tmp", spath)
+        write_atomic(spath, json.dumps(full, indent=1))              # the study holds NaN (write_json refuses it)
         fe_study.write_fidelity_section(full, os.path.join(ROOT, "docs", "fidelity.md"))
         print("wrote docs/fidelity.md (FE section)")
 

@@ -29,8 +29,9 @@ sys.path.insert(0, ROOT)
 
 import numpy as np  # noqa: E402
 
-from metamaterial_wb.bench.fe_ring3d import (MARK_BEGIN, MARK_END, MESHES, curved_summary, markdown,  # noqa: E402
-                                             plot)
+from metamaterial_wb.bench.fe_ring3d import (MARK_BEGIN, MARK_END, MESHES, cell_geometry, curved_summary,  # noqa: E402
+                                             markdown, plot)
+from metamaterial_wb.core.fileio import write_atomic  # noqa: E402
 
 RESULTS = os.path.join(ROOT, "benchmarks", "results")
 STORE = os.path.join(RESULTS, "fe-ring3d.json")
@@ -38,15 +39,10 @@ DOC = os.path.join(ROOT, "docs", "sleeves.md")
 IMG = "img/sleeve-fe-ring3d.png"
 
 
-def _geom():
-    from metamaterial_wb.core.sleeve.cell import CellGeometry
-    return CellGeometry()
-
-
 def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic",
            patient=False, imperfection=None, bias_angle=0.5):
     from metamaterial_wb.fe import sleeve3d
-    g = _geom()
+    g = cell_geometry()
     c, info = sleeve3d.solve_ring3d(g, 4, r, n_layers, d_max=d_max * g.L, increments=increments, bias=bias,
                                     timeout_s=timeout_s, partial=True, radial=radial,
                                     method=method, patient=patient, imperfection=imperfection,
@@ -57,14 +53,21 @@ def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial=
             "extrema": sleeve3d.all_extrema(c["d"], c["F"])}
 
 
-def stability_probe(mesh, d, n_eig=6, timeout_s=5400.0):
-    """The static path on ``mesh`` to ``d`` (d/L, 0.01 per increment) and the eigenvalues of the tangent stiffness
-    there (``sleeve3d.solve_ring3d(..., stability=n)``)."""
+def _probe_run(mesh, d, n_eig=6, timeout_s=5400.0, shapes=False):
+    """``sleeve3d.solve_ring3d``'s static path on ``mesh`` to ``d`` (d/L, 0.01 per increment) with ``n_eig``
+    eigenvalues of the tangent stiffness there: ``(curve, info)``."""
     from metamaterial_wb.fe import sleeve3d
-    g = _geom()
+    g = cell_geometry()
     r, nl = MESHES[mesh]
-    c, info = sleeve3d.solve_ring3d(g, 4, r, nl, d_max=d * g.L, increments=max(1, int(round(100 * d))),
-                                    timeout_s=timeout_s, partial=True, method="static", stability=n_eig)
+    return sleeve3d.solve_ring3d(g, 4, r, nl, d_max=d * g.L, increments=max(1, int(round(100 * d))),
+                                 timeout_s=timeout_s, partial=True, method="static", stability=n_eig, shapes=shapes)
+
+
+def stability_probe(mesh, d, n_eig=6, timeout_s=5400.0):
+    """The static path on ``mesh`` to ``d`` and the eigenvalues of the tangent stiffness there (``_probe_run``),
+    as stored."""
+    from metamaterial_wb.fe import sleeve3d
+    c, info = _probe_run(mesh, d, n_eig, timeout_s)
     st = info.get("stability")
     out = {"mesh": mesh, "d": d, "d_reached": info["d_reached"], "F": float(c["F"][-1]), "wall_s": info["wall_s"],
            "density": sleeve3d.DENSITY, "stopped": info.get("stopped")}
@@ -74,8 +77,8 @@ def stability_probe(mesh, d, n_eig=6, timeout_s=5400.0):
 
 
 def mode_pattern(mesh, u):
-    """A mode's share per cell (RMS displacement over each cell's nodes, relative to the largest) and its plate
-    rotation: tells a mode that buckles opposite cells alike (no tilt) from a tilting one."""
+    """A mode's share per cell (RMS displacement over each cell's nodes, relative to the largest): tells a mode
+    alike in every cell from one that moves some cells only."""
     X = mesh.nodes
     phi = np.mod(np.arctan2(X[:, 1], X[:, 0]) + np.pi / mesh.cells, 2 * np.pi)
     cell = np.minimum((phi / (2 * np.pi / mesh.cells)).astype(int), mesh.cells - 1)
@@ -87,10 +90,9 @@ def branch(mesh, d_at, amp=0.01, d_max=0.7, timeout_s=5400.0):
     """Branch switching: the static path's lowest mode at ``d_at`` (``stability_probe`` with shapes), scaled to
     ``amp`` t at its largest, as a geometric imperfection; the imperfect ring's static path to ``d_max``."""
     from metamaterial_wb.fe import sleeve3d
-    g = _geom()
+    g = cell_geometry()
     r, nl = MESHES[mesh]
-    c, info = sleeve3d.solve_ring3d(g, 4, r, nl, d_max=d_at * g.L, increments=max(1, int(round(100 * d_at))),
-                                    timeout_s=timeout_s, method="static", stability=6, shapes=True)
+    c, info = _probe_run(mesh, d_at, 6, timeout_s, shapes=True)
     st = info["stability"]
     k = int(np.argmin(st["eigenvalues"]))
     u = c["modes"][k]
@@ -107,7 +109,7 @@ def branch(mesh, d_at, amp=0.01, d_max=0.7, timeout_s=5400.0):
 def stiffness_check(kinds=("flat", "fixed", "free", "free_layers2")):
     """Secant stiffness to d/L 0.005 of the flat ring and of the curved one (two increments to d/L 0.01)."""
     from metamaterial_wb.fe import sleeve2d, sleeve3d
-    g = _geom()
+    g = cell_geometry()
     out = {}
     for k in kinds:
         if k == "flat":
@@ -124,12 +126,12 @@ def stiffness_check(kinds=("flat", "fixed", "free", "free_layers2")):
     return out
 
 
-def _store(key, value):
+def _store(key, value, merge=False):
+    """``value`` under ``key`` in the store, read just before it is written (runs in parallel store too); with
+    ``merge`` the entries of the dict ``value`` are added to those stored under ``key``."""
     data = json.load(open(STORE)) if os.path.exists(STORE) else {}
-    data[key] = value
-    with open(STORE + ".tmp", "w") as f:
-        json.dump(data, f, indent=1)
-    os.replace(STORE + ".tmp", STORE)
+    data[key] = dict(data.get(key, {}), **value) if merge else value
+    write_atomic(STORE, json.dumps(data, indent=1))
 
 
 def model_curve(e, curvature, n_el=24, d_max=0.7, steps=140):
@@ -169,19 +171,14 @@ def write(c):
     from metamaterial_wb.bench.fe_sleeve import write_section
     section = markdown(c, IMG)
     plot(c, os.path.join(ROOT, "docs", IMG))
-    text = write_section(DOC, section, MARK_BEGIN, MARK_END)
-    with open(DOC + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(DOC + ".tmp", DOC)
+    write_atomic(DOC, write_section(DOC, section, MARK_BEGIN, MARK_END))
     summ = curved_summary(c)
     spath = os.path.join(RESULTS, "fe-study.json")
     if summ and os.path.exists(spath):
         from metamaterial_wb.bench import fe_study
         full = json.load(open(spath))
         full["sleeve_curved"] = summ
-        with open(spath + ".tmp", "w") as f:
-            json.dump(full, f, indent=1)
-        os.replace(spath + ".tmp", spath)
+        write_atomic(spath, json.dumps(full, indent=1))              # the study holds NaN (write_json refuses it)
         fe_study.write_fidelity_section(full, os.path.join(ROOT, "docs", "fidelity.md"))
     return section
 
@@ -228,18 +225,14 @@ def main(argv=None):
         for d in (float(v) for v in a.stability_at.split(",")):
             pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout)
             print(f"stability {a.stability_mesh} d/L {d}: {pr.get('eigenvalues')} ({pr['wall_s']:.0f} s)", flush=True)
-            old = (json.load(open(STORE)) if os.path.exists(STORE) else {}).get("stability", {})   # read just now:
-            old[f"{a.stability_mesh}@{d:.3f}"] = pr                                                # other runs may
-            _store("stability", old)                                                                # have stored
+            _store("stability", {f"{a.stability_mesh}@{d:.3f}": pr}, merge=True)
     if a.branch_at:
         tr = branch(a.stability_mesh, a.branch_at, a.branch_amp, timeout_s=a.timeout)
         print(f"branch {a.stability_mesh} from d/L {a.branch_at}: {tr['imperfection']}; {tr['extrema']} "
               f"({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("branch_" + a.stability_mesh, tr)
     if a.stiffness:
-        old = (json.load(open(STORE)) if os.path.exists(STORE) else {}).get("stiffness", {})
-        old.update(stiffness_check(a.stiffness.split(",")))
-        _store("stiffness", old)
+        _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.radial_fixed:
         tr = run_fe(d_max=0.7, increments=a.increments, timeout_s=a.timeout, radial="fixed")
         print(f"radial fixed: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)

@@ -7,7 +7,8 @@ import numpy as np
 MARK_BEGIN, MARK_END = "<!-- fe-ring3d:begin -->", "<!-- fe-ring3d:end -->"
 
 
-def _geom():
+def cell_geometry():
+    """The seed's unit cell (the geometry every stored run used)."""
     from metamaterial_wb.core.sleeve.cell import CellGeometry
     return CellGeometry()
 
@@ -234,7 +235,7 @@ def markdown(c, img=None):
           "translation fixed (neither the beam model's plate nor the flat ring has one); a bias moment 1e-5 G L^2 R "
           "towards the beam model's imperfection direction. Displacement control, `NLGEOM`, %d fixed increments to "
           "d/L 0.7 (ccx cuts back by itself), %s; force = the clamped bottom's axial reaction." %
-          (tr["r"], info["radius_mm"], _geom().T, tr["n_layers"], "s" if tr["n_layers"] > 1 else "",
+          (tr["r"], info["radius_mm"], cell_geometry().T, tr["n_layers"], "s" if tr["n_layers"] > 1 else "",
            info["elements"], info["dofs"], info.get("increments_asked", 140), METHOD[info.get("method", "static")]), ""]
     L.append(f"Run: {info['increments']} converged increments to d/L {info['d_reached']:.3f} in "
              f"{info['wall_s'] / 60:.1f} min (one core, niced, on a shared 2-core machine)" +

@@ -355,9 +355,10 @@ def fidelity_markdown(sleeve, calibration=None, curved=None):
     if cal:
         head += f" calibrated (root_extension {calibration['root_extension']:.2f} t) | calibrated / CalculiX - 1 |"
     L += [head, "|" + "---|" * (head.count("|") - 1)]
+    def pm(v, e):                                  # a model figure with its mesh error, if it has one
+        return f"{1e3 * v:.3f}" + (f" +- {1e3 * e:.3f}" if e else " (default mesh)")
     for name, m, em, f, ef in rows:
         r, u = _rel(m, em, f, ef)
-        pm = lambda v, e: f"{1e3 * v:.3f}" + (f" +- {1e3 * e:.3f}" if e else " (default mesh)")   # noqa: E731
         row = f"| {name} | {1e3 * f:.3f} +- {1e3 * ef:.3f} | {pm(m, em)} | {100 * r:+.0f} % +- {100 * u:.0f} % |"
         if cal:
             mcv, mce = cal[name]

@@ -360,21 +360,19 @@ def ci_case(spec=None, timeout_s=120.0):
     return K, kinfo, c, binfo
 
 
-__all__ = ["run_hinge_study", "run_aspect_study", "aspect_uncertainty", "run_patch_study", "markdown", "ci_case",
-           "condensed_bending"]
-
-
 def write_fidelity_section(full, doc):
     """``doc`` (docs/fidelity.md) with its FE section (from "## FE top rung" to the FE note or the next top-level
     heading) regenerated from the FE study ``full`` (:func:`markdown`)."""
-    import os
+    from metamaterial_wb.core.fileio import write_atomic
     with open(doc) as f:
         text = f.read()
     i = text.index("## FE top rung")
     j = text.find("FE figures read from", i)
     if j < 0:
         j = text.find("\n## ", i + 3) + 1
-    text = text[:i] + markdown(full) + "\n" + text[j:]
-    with open(doc + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(doc + ".tmp", doc)
+    write_atomic(doc, text[:i] + markdown(full) + "\n" + text[j:])
+
+
+__all__ = ["run_hinge_study", "run_aspect_study", "aspect_uncertainty", "run_patch_study", "markdown", "ci_case",
+           "condensed_bending", "write_fidelity_section"]
+
