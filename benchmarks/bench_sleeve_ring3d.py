@@ -117,8 +117,9 @@ def stiffness_check(kinds=("flat", "fixed", "free", "free_layers2")):
         else:
             nl = 2 if "layers2" in k else 1
             r = 2 if "r2" in k else 1
+            radial = "fixed" if k == "fixed" else k[len("fixed_"):] if k.startswith("fixed_") else "free"
             c, info = sleeve3d.solve_ring3d(g, 4, r, nl, d_max=0.01 * g.L, increments=2, timeout_s=900,
-                                            radial="fixed" if k == "fixed" else "free",
+                                            radial=radial,
                                             element="C3D20" if "full" in k else "C3D20R")
         out[k] = {"k": float(np.interp(0.005, c["d"], c["F"]) / 0.005), "wall_s": info["wall_s"],
                   "dofs": info["dofs"], "d": c["d"].tolist(), "F": c["F"].tolist()}
@@ -145,6 +146,24 @@ def model_curve(e, curvature, n_el=24, d_max=0.7, steps=140):
             "wall_s": time.perf_counter() - t0}
 
 
+def model_relief(e, n_el=24):
+    """The beam model's (root extension ``e``) answer to the same initial-stiffness question: its secant stiffness
+    to d/L 0.005 and its first peak, flat and curved with the pillar tips guided (default) or free, plane strain
+    (as calibrated) and plane stress (the curved solid's narrow beams are free through the wall)."""
+    from metamaterial_wb.bench.fe_sleeve_calibration import _geom
+    from metamaterial_wb.core.sleeve.model import SleeveModel
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    out = {}
+    for key, kw in (("flat", {"curvature": False}), ("guided", {"pillar_tip": "guided"}),
+                    ("free", {"pillar_tip": "free"}), ("guided_stress", {"pillar_tip": "guided", "plane": "stress"}),
+                    ("free_stress", {"pillar_tip": "free", "plane": "stress"})):
+        m = SleeveModel([_geom()], [[0, 0, 0, 0]], n_el, imperfection=1e-4, root_extension=e, **kw)
+        p = m.trace(np.linspace(0, 0.3, 61))
+        at, P1 = peak_valley(p.d, p.F)[:2]
+        out[key] = {"k": float(np.interp(0.005, p.d, p.F) / 0.005), "P1": float(P1), "P1_at": float(at)}
+    return out
+
+
 def compare(data):
     """Everything the section shows, from the stored FE runs and fresh beam-model runs."""
     from metamaterial_wb.fe.sleeve3d import all_extrema
@@ -157,7 +176,7 @@ def compare(data):
                                             "info": {k: flat["info"].get(k) for k in ("wall_s", "increments",
                                                                                      "d_reached", "dofs")}}}
     out.update({"curved": model_curve(0.0, True), "curved_calibrated": model_curve(e, True),
-                "flat_calibrated": model_curve(e, False)})
+                "flat_calibrated": model_curve(e, False), "model_relief": model_relief(e)})
     for k in ("stiffness", "stability"):
         if k in data:
             out[k] = data[k]
@@ -194,7 +213,8 @@ def main(argv=None):
     ap.add_argument("--key", default="trace", help="where the trace is stored in fe-ring3d.json")
     ap.add_argument("--p1-mesh", default=None, help="a finer mesh, static past the first peak: 'r2', 'r3', 'layers2' or 'r2layers2'")
     ap.add_argument("--stiffness", default=None, help="comma list of initial-stiffness runs: flat,fixed,free,"
-                    "free_layers2,free_r2 (stored under 'stiffness', merged)")
+                    "free_layers2,free_r2, or fixed_<part> with a part of sleeve3d.PARTS held at its radius (stored under "
+                    "'stiffness', merged)")
     ap.add_argument("--p1-dmax", type=float, default=0.17, help="d/L of the P1 mesh run (static, 0.01 per increment)")
     ap.add_argument("--p1-increments", type=int, default=None, help="increments of the P1 mesh run (default 100 "
                     "per d/L; another count is stored apart, as p1_<mesh>_inc<N>)")

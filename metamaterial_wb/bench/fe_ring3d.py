@@ -21,7 +21,11 @@ MESH_NAMES = {"r1": "r = 1", "r2": "r = 2", "r3": "r = 3", "layers2": "two brick
 STIFF = {"flat": "flat 2-D ring (plane strain)", "fixed": "curved 3-D ring, wall held at its radius",
          "free": "curved 3-D ring", "free_layers2": "curved 3-D ring, two bricks through the wall",
          "free_r2": "curved 3-D ring, mesh r = 2", "free_full": "curved 3-D ring, fully integrated C3D20",
-         "free_layers2_r2": "curved 3-D ring, r = 2 and two bricks through the wall"}
+         "free_layers2_r2": "curved 3-D ring, r = 2 and two bricks through the wall",
+         "fixed_pillars": "curved 3-D ring, only the pillars held at their radius",
+         "fixed_central": "curved 3-D ring, only the central pillars held",
+         "fixed_edge": "curved 3-D ring, only the edge pillars held",
+         "fixed_beams": "curved 3-D ring, only the beams held", "fixed_bars": "curved 3-D ring, only the bars held"}
 METHOD = {"static": "`*STATIC`",
           "dynamic": "implicit dynamics (`*DYNAMIC`, HHT alpha -0.3) with the displacement ramped over the step and "
                      "a small density (1e-10 t/mm^3 with G = 1 MPa and a step of time 1, a tenth of rubber's pulled at "
@@ -286,6 +290,15 @@ def markdown(c, img=None):
                  "each, the CI case `tests/fe/test_sleeve3d.py`): " + "; ".join(
                      f"{STIFF[k]} {1e3 * v['k']:.1f} ({v['k'] / sc['flat']['k']:.2f} of the flat ring's)"
                      for k, v in sc.items()) + ".")
+        L.append("")
+    if "model_relief" in c:
+        mr = c["model_relief"]
+        names = {"flat": "flat", "guided": "curved, pillar tips guided (default)", "free": "curved, pillar tips free",
+                 "guided_stress": "curved, guided, plane stress (E = 3 G)", "free_stress": "curved, free, plane stress"}
+        L.append(f"The beam model's answer (calibrated, root_extension {c['root_extension']:.2f} t, 24 elements per "
+                 "half; the same secant, and its first peak P1 x1e-3 at d/L): " + "; ".join(
+                     f"{names[k]} {1e3 * v['k']:.1f} ({v['k'] / mr['flat']['k']:.2f} of its flat ring's), P1 "
+                     f"{1e3 * v['P1']:.3f} at {v['P1_at']:.3f}" for k, v in mr.items()) + ".")
         L.append("")
     from metamaterial_wb.fe.sleeve2d import peak_valley
     for k in ("p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2"):

@@ -45,6 +45,7 @@ from metamaterial_wb.fe.mesh import Mesh
 REF, ROT = 9000001, 9000002
 DENSITY = 1e-10          # t/mm^3 with G = 1 MPa and a step of time 1 (a tenth of rubber's at 0.7 L per second)
 WALLS = ("mid", "inner")
+PARTS = ("bars", "central", "edge", "pillars", "beams")     # radial="<part>": only that part held at its radius
 
 # natural coordinates of CalculiX's C3D20 nodes (corners, face mid-edges, radial mid-edges)
 _XI = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1),
@@ -87,6 +88,22 @@ class RingMesh(Mesh):
         self.nodes, self.elements, self.geom, self.cells = nodes, elements, geom, cells
         self.radius, self.wall, self.n_layers, self.quad, self.quad_elements = radius, wall, n_layers, quad, quad_elements
 
+
+    def parts(self):
+        """Boolean node masks of the outline's parts, from each node's place in its cell: ``bars`` (the bottom and
+        top bars, ``c/2`` high), ``central`` (the central pillar, within ``c/2`` of a cell's middle), ``edge`` (the
+        edge pillars, within ``c/2`` of a cell's side), ``pillars`` (both) and ``beams`` (the rest). Cell 0's
+        middle is at ``phi = 0``."""
+        g = self.geom
+        X = self.nodes
+        x = (np.arctan2(X[:, 1], X[:, 0]) * self.radius) % g.width
+        xc = np.minimum(x, g.width - x)                        # distance from the cell's middle along the arc
+        tol = 1e-6 * g.L
+        bars = (X[:, 2] < 0.5 * g.c + tol) | (X[:, 2] > g.height - 0.5 * g.c - tol)
+        central = (xc < 0.5 * g.c + tol) & ~bars
+        edge = (np.abs(xc - 0.5 * g.width) < 0.5 * g.c + tol) & ~bars
+        return {"bars": bars, "central": central, "edge": edge, "pillars": central | edge,
+                "beams": ~(bars | central | edge)}
 
     def _jacobians(self, points):
         X = self.nodes[self.elements]                          # (E, 20, 3)
@@ -167,6 +184,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
     can then neither bulge nor thin, the curved counterpart of the flat ring's plane strain (a check).
+    ``radial="<part>"`` (one of ``PARTS``: ``RingMesh.parts``) holds only that part's nodes (the clamped and the
+    plate's edges excluded) at its radius: which part's radial freedom softens the ring.
     ``method="dynamic"``: implicit dynamics (``*DYNAMIC``, HHT ``ALPHA=-0.3``) with the load ramped over a step
     of time 1 and a small density (``DENSITY``, with G = 1 MPa: the ring's lowest period a few thousandths of
     the step; rubber's would excite oscillations at the start and slow the run). The inertia regularises the
@@ -186,8 +205,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
     if method not in ("static", "dynamic"):
         raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
-    if radial not in ("free", "fixed"):
-        raise ValueError(f"radial: {radial!r}; allowed: 'free', 'fixed'")
+    if radial not in ("free", "fixed") + PARTS:
+        raise ValueError(f"radial: {radial!r}; allowed: 'free', 'fixed' or a part: {', '.join(map(repr, PARTS))}")
     if isinstance(stability, bool) or int(stability) != stability or not 0 <= stability <= 20:
         raise ValueError(f"stability: {stability!r}; allowed: an integer from 0 (none) to 20 eigenvalues")
     if not increments >= 1:
@@ -218,15 +237,17 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
            ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" or stability else ""),
            "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
            f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n"]
-    if radial == "fixed":
-        inner = np.setdiff1d(np.arange(mesh.n_nodes), np.concatenate([bottom, top]))
+    if radial != "free":
+        held = np.ones(mesh.n_nodes, bool) if radial == "fixed" else mesh.parts()[radial].copy()
+        held[np.concatenate([bottom, top])] = False
+        inner = np.flatnonzero(held)
         out += ["*NSET, NSET=WALL\n", ccx.fmt_set(inner + 1), "*TRANSFORM, NSET=WALL, TYPE=C\n0,0,0,0,0,1\n"]
     inc = 1.0 / int(increments)
     amp = ", AMPLITUDE=RAMP" if method == "dynamic" else ""
     if method == "dynamic":
         out.append("*AMPLITUDE, NAME=RAMP\n0,0,1,1\n")
     bc = f"*BOUNDARY{amp}\nBOTTOM,1,3,0\n{REF},1,2,0\n{REF},3,3,{d_max:.12g}\n"
-    if radial == "fixed":
+    if radial != "free":
         bc += "WALL,1,1,0\n"
     m = bias * g.L ** 2 * mesh.radius
     phi_b = bias_angle * math.pi / n_cells

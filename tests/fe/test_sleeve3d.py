@@ -99,6 +99,38 @@ def test_bad_inputs_name_the_value_and_the_range(kw, msg):
         sleeve3d.ring_mesh(CellGeometry(), wall="outer")
 
 
+def test_parts_split_the_ring_and_one_part_is_held_at_its_radius():
+    """``RingMesh.parts`` splits every node into bars, central pillars, edge pillars and beams by its place in its
+    cell; ``radial="<part>"`` holds exactly that part's nodes (the clamped and the plate's edges excluded)."""
+    g = CellGeometry()
+    m = sleeve3d.ring_mesh(g, 4, 1, 1)
+    p = m.parts()
+    owner = p["bars"].astype(int) + p["central"] + p["edge"] + p["beams"]
+    assert np.all(owner == 1)                                       # a partition
+    assert np.array_equal(p["pillars"], p["central"] | p["edge"])
+    X = m.nodes
+    z = X[:, 2]
+    phi = np.arctan2(X[:, 1], X[:, 0])
+    # the central pillar stands on the bottom bar up to the beam's middle; the edge pillars hang from the top bar
+    # (a node on a bar's face belongs to the bar)
+    a = g.centre_line(0.0) - g.c / 2
+    assert g.c / 2 < z[p["central"]].min() < g.c / 2 + a / 4 and z[p["central"]].max() <= g.centre_line(0.0) + g.t / 2 + 1e-9
+    assert g.height - g.c / 2 - a / 4 < z[p["edge"]].max() < g.height - g.c / 2
+    # four of each, centred on the cells' middles (phi = k pi / 2) and sides (phi = pi / 4 + k pi / 2)
+    for part, off in (("central", 0.0), ("edge", math.pi / 4)):
+        k = np.round((phi[p[part]] - off) / (math.pi / 2))
+        assert set(np.mod(k, 4).astype(int)) == {0, 1, 2, 3}
+        assert np.abs(phi[p[part]] - off - k * math.pi / 2).max() * m.radius <= g.c / 2 + 1e-6
+    deck, _ = sleeve3d.ring_deck3d(g, 4, 1, 1, increments=2, radial="central")
+    held = deck.split("*NSET, NSET=WALL\n")[1].split("*TRANSFORM")[0]
+    ids = np.array([int(v) for v in held.replace("\n", ",").split(",") if v.strip()]) - 1
+    edges = (np.abs(z) < 1e-9) | (np.abs(z - g.height) < 1e-9)
+    assert np.array_equal(np.sort(ids), np.flatnonzero(p["central"] & ~edges))
+    assert "WALL,1,1,0" in deck and "*TRANSFORM, NSET=WALL, TYPE=C" in deck
+    with pytest.raises(ValueError, match="'pillars'"):
+        sleeve3d.ring_deck3d(g, radial="pillar")
+
+
 def test_imperfection_moves_the_wall_not_its_clamped_or_plate_edges():
     g = CellGeometry()
     m = sleeve3d.ring_mesh(g, 4, 1, 1)
