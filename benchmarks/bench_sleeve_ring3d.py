@@ -127,6 +127,31 @@ def stiffness_check(kinds=("flat", "fixed", "free", "free_layers2")):
     return out
 
 
+def cells_check(ns=(4, 6, 8, 12), n_el=24):
+    """How the curvature's softening falls with the ring's size: the secant stiffness to d/L 0.005 of the flat
+    2-D ring and the curved 3-D one (r = 1, two bricks through the wall: the same two increments without cut-backs)
+    of ``n`` cells, and the beam model's (calibrated) flat and curved ring of ``n`` cells. Stored per ``n``."""
+    from metamaterial_wb.bench.fe_sleeve_calibration import _geom
+    from metamaterial_wb.core.sleeve.model import SleeveModel
+    from metamaterial_wb.fe import sleeve2d, sleeve3d
+    g = cell_geometry()
+    e = json.load(open(os.path.join(RESULTS, "fe-calibration.json")))["root_extension"]
+    k = lambda c: float(np.interp(0.005, c["d"], c["F"]) / 0.005)          # noqa: E731
+    out = {}
+    for n in ns:
+        flat, fi = sleeve2d.solve_ring(g, n, 1, d_max=0.01 * g.L, increments=2, timeout_s=900)
+        curved, ci = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=0.01 * g.L, increments=2, timeout_s=1800)
+        row = {"radius_mm": ci["radius_mm"], "fe_flat": k(flat), "fe_curved": k(curved),
+               "wall_s": fi["wall_s"] + ci["wall_s"]}
+        for key, curv in (("model_flat", False), ("model_curved", True)):
+            m = SleeveModel([_geom()], [[0] * n], n_el, imperfection=1e-4, root_extension=e, curvature=curv)
+            p = m.trace(np.linspace(0, 0.01, 3))
+            row[key] = k({"d": p.d, "F": p.F})
+        out[str(n)] = row
+        print(n, row, flush=True)
+    return out
+
+
 def _store(key, value, merge=False):
     """``value`` under ``key`` in the store, read just before it is written (runs in parallel store too); with
     ``merge`` the entries of the dict ``value`` are added to those stored under ``key``."""
@@ -177,7 +202,7 @@ def compare(data):
                                                                                      "d_reached", "dofs")}}}
     out.update({"curved": model_curve(0.0, True), "curved_calibrated": model_curve(e, True),
                 "flat_calibrated": model_curve(e, False), "model_relief": model_relief(e)})
-    for k in ("stiffness", "stability"):
+    for k in ("stiffness", "stability", "cells"):
         if k in data:
             out[k] = data[k]
     for k in ["trace", "p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2", "radial_fixed", "branch_r2"] + [k for k in data if k.startswith("attempt_")]:
@@ -225,6 +250,8 @@ def main(argv=None):
                     "(--stability-mesh) there, as an imperfection of --branch-amp t; the imperfect ring's path")
     ap.add_argument("--branch-amp", type=float, default=0.01)
     ap.add_argument("--radial-fixed", action="store_true", help="the check with the wall held at its radius")
+    ap.add_argument("--cells", default=None, help="comma list of ring sizes (cells around): the flat and the curved "
+                    "ring's initial stiffness, FE and beam model (stored under 'cells', merged)")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.trace:
@@ -251,6 +278,8 @@ def main(argv=None):
         print(f"branch {a.stability_mesh} from d/L {a.branch_at}: {tr['imperfection']}; {tr['extrema']} "
               f"({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("branch_" + a.stability_mesh, tr)
+    if a.cells:
+        _store("cells", cells_check([int(v) for v in a.cells.split(",")]), merge=True)
     if a.stiffness:
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.radial_fixed:

@@ -291,6 +291,20 @@ def markdown(c, img=None):
                      f"{STIFF[k]} {1e3 * v['k']:.1f} ({v['k'] / sc['flat']['k']:.2f} of the flat ring's)"
                      for k, v in sc.items()) + ".")
         L.append("")
+    if "cells" in c:
+        L.append("**Curvature by ring size** (`--cells`): the secant stiffness to d/L 0.005 (x1e-3) of rings of N cells "
+                 "of the same cell (the radius grows with N: R = N W / 2 pi), the flat 2-D FE ring against the curved "
+                 "3-D one (mesh r = 1, two bricks through the wall), and the beam model's (calibrated, 24 elements per "
+                 "half) flat ring against its curved one:")
+        L.append("")
+        L.append("| N | R (mm) | FE flat | FE curved | FE curved / flat | model flat | model curved | model curved / flat "
+                 "| model curved / FE curved |")
+        L.append("|---|---|---|---|---|---|---|---|---|")
+        for n, v in sorted(c["cells"].items(), key=lambda kv: int(kv[0])):
+            L.append(f"| {n} | {v['radius_mm']:.1f} | {1e3 * v['fe_flat']:.1f} | {1e3 * v['fe_curved']:.1f} | "
+                     f"{v['fe_curved'] / v['fe_flat']:.2f} | {1e3 * v['model_flat']:.1f} | {1e3 * v['model_curved']:.1f} | "
+                     f"{v['model_curved'] / v['model_flat']:.2f} | {v['model_curved'] / v['fe_curved']:.2f} |")
+        L.append("")
     if "model_relief" in c:
         mr = c["model_relief"]
         names = {"flat": "flat", "guided": "curved, pillar tips guided (default)", "free": "curved, pillar tips free",
