@@ -127,28 +127,40 @@ def stiffness_check(kinds=("flat", "fixed", "free", "free_layers2")):
     return out
 
 
-def cells_check(ns=(4, 6, 8, 12), n_el=24):
+def cells_check(ns=(4, 6, 8, 12)):
     """How the curvature's softening falls with the ring's size: the secant stiffness to d/L 0.005 of the flat
     2-D ring and the curved 3-D one (r = 1, two bricks through the wall: the same two increments without cut-backs)
-    of ``n`` cells, and the beam model's (calibrated) flat and curved ring of ``n`` cells. Stored per ``n``."""
-    from metamaterial_wb.bench.fe_sleeve_calibration import _geom
-    from metamaterial_wb.core.sleeve.model import SleeveModel
+    of ``n`` cells. Stored per ``n``; the beam model's rings are added by ``cells_model`` (no ccx)."""
     from metamaterial_wb.fe import sleeve2d, sleeve3d
     g = cell_geometry()
-    e = json.load(open(os.path.join(RESULTS, "fe-calibration.json")))["root_extension"]
-    k = lambda c: float(np.interp(0.005, c["d"], c["F"]) / 0.005)          # noqa: E731
     out = {}
     for n in ns:
         flat, fi = sleeve2d.solve_ring(g, n, 1, d_max=0.01 * g.L, increments=2, timeout_s=900)
         curved, ci = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=0.01 * g.L, increments=2, timeout_s=1800)
-        row = {"radius_mm": ci["radius_mm"], "fe_flat": k(flat), "fe_curved": k(curved),
-               "wall_s": fi["wall_s"] + ci["wall_s"]}
-        for key, curv in (("model_flat", False), ("model_curved", True)):
-            m = SleeveModel([_geom()], [[0] * n], n_el, imperfection=1e-4, root_extension=e, curvature=curv)
-            p = m.trace(np.linspace(0, 0.01, 3))
-            row[key] = k({"d": p.d, "F": p.F})
-        out[str(n)] = row
-        print(n, row, flush=True)
+        out[str(n)] = {"radius_mm": ci["radius_mm"], "fe_flat": _secant(flat["d"], flat["F"]),
+                       "fe_curved": _secant(curved["d"], curved["F"]), "wall_s": fi["wall_s"] + ci["wall_s"]}
+        print(n, out[str(n)], flush=True)
+    return out
+
+
+def _secant(d, F, at=0.005):
+    return float(np.interp(at, d, F) / at)
+
+
+def cells_model(cells, e, n_el=24):
+    """The beam model's flat and curved rings of every stored size, as documented (root extension 0) and
+    calibrated (``e``): the same secant as ``cells_check``."""
+    from metamaterial_wb.bench.fe_sleeve_calibration import _geom
+    from metamaterial_wb.core.sleeve.model import SleeveModel
+    out = {}
+    for n, row in cells.items():
+        row = dict(row)
+        for key, ext, curv in (("model_flat", e, False), ("model_curved", e, True),
+                               ("model_flat_documented", 0.0, False), ("model_curved_documented", 0.0, True)):
+            p = SleeveModel([_geom()], [[0] * int(n)], n_el, imperfection=1e-4, root_extension=ext,
+                            curvature=curv).trace(np.linspace(0, 0.01, 3))
+            row[key] = _secant(p.d, p.F)
+        out[n] = row
     return out
 
 
@@ -202,9 +214,12 @@ def compare(data):
                                                                                      "d_reached", "dofs")}}}
     out.update({"curved": model_curve(0.0, True), "curved_calibrated": model_curve(e, True),
                 "flat_calibrated": model_curve(e, False), "model_relief": model_relief(e)})
-    for k in ("stiffness", "stability", "cells"):
+    for k in ("stiffness", "stability"):
         if k in data:
             out[k] = data[k]
+    if "cells" in data:
+        out["cells"] = cells_model({n: {k: v for k, v in row.items() if not k.startswith("model_")}
+                                    for n, row in data["cells"].items()}, e)
     for k in ["trace", "p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2", "radial_fixed", "branch_r2"] + [k for k in data if k.startswith("attempt_")]:
         if k in data:
             out[k] = dict(data[k], tilt_deg=np.degrees(np.hypot(*np.asarray(data[k]["tilt_rad"]).T)).tolist())

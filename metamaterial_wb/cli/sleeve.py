@@ -74,6 +74,8 @@ def run(args):
     log(f"ring peaks {['%.3g' % p for p in summary['ring']['peaks']]}, valleys "
         f"{['%.3g' % v for v in summary['ring']['valleys']]} (F/GL^2); sequence {seq['loading']}|{seq['unloading']} "
         f"({'symmetric' if seq['symmetric'] else 'asymmetric'}); wrote {out}")
+    for note in summary["accuracy"]["notes"]:
+        log(f"accuracy: {note}")
     return 0
 
 

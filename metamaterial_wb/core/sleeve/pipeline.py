@@ -5,6 +5,7 @@ import time
 
 import numpy as np
 
+from metamaterial_wb.core.sleeve.accuracy import accuracy
 from metamaterial_wb.core.sleeve.analysis import (extrema, lean_direction, peaks_valleys, pressure_control,
                                                   pv_curve, snap_order, two_hysteron_sequence)
 from metamaterial_wb.core.sleeve.cell import CellGeometry
@@ -216,7 +217,7 @@ def analyse(spec, progress=None, log=None):
                "cell": {"width_mm": spec.cells[0].width, "height_mm": max(g.height for g in spec.cells),
                         "c_mm": spec.c, "delta_mm": spec.delta, "T_mm": spec.T},
                "unit_cells": unit_cells, "uniform_rings": uniform, "ring": ring, "sequence": seq,
-               "pv": pvres}
+               "pv": pvres, "accuracy": accuracy(spec.cells, n, spec.root_extension, spec.ring_curvature)}
     if spec.walker:
         wk = spec.walker
         H = spec.M * max(g.height for g in spec.cells)

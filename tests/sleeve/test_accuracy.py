@@ -1,0 +1,74 @@
+"""Issue 18: every sleeve summary carries the beam model's measured error against the CalculiX solid
+(``core/sleeve/accuracy.py``). The ratios it quotes are the stored results' (so they cannot drift from what
+docs/sleeves.md shows), and a sleeve the ratios were not measured for is told so instead of given a number."""
+import json
+import os
+
+import pytest
+
+from metamaterial_wb.core.sleeve import accuracy as acc
+from metamaterial_wb.core.sleeve.cell import CellGeometry
+from metamaterial_wb.core.sleeve.model import ROOT_EXTENSION_FE
+
+RESULTS = os.path.join(os.path.dirname(__file__), "..", "..", "benchmarks", "results")
+
+
+def _load(name):
+    with open(os.path.join(RESULTS, name)) as f:
+        return json.load(f)
+
+
+def _ratio(model, model_err, fe, fe_err):
+    r = model / fe
+    return r, r * ((model_err / model) ** 2 + (fe_err / fe) ** 2) ** 0.5
+
+
+def test_quoted_ratios_are_the_stored_results():
+    study = _load("fe-study.json")
+    cal = study["sleeve_calibration"]
+    fe_pv, fe_err = cal["fe_cell"]["pv"], cal["fe_cell"]["err"]
+    for flavour, key in (("documented", "uncalibrated"), ("calibrated", "calibrated")):
+        m = cal["models"][key]
+        for name, i in (("CELL_PEAK", 1), ("CELL_VALLEY", 3)):
+            r, e = _ratio(m["cell_pv"][i], m["cell_err"][i], fe_pv[i], fe_err[i])
+            assert getattr(acc, name)[flavour] == pytest.approx((r, e), abs=2e-3), (name, flavour)
+        r, e = _ratio(m["ring_p1"][1], m["ring_p1_err"][1], cal["fe_ring"]["pv"][1], cal["fe_ring"]["err"][1])
+        assert acc.FLAT_RING_P1[flavour][0] == pytest.approx(r, abs=2e-3)
+        assert acc.FLAT_RING_P1[flavour][1] == pytest.approx(e, abs=3e-3)
+    cur = study["sleeve_curved"]
+    p1, p1_err = cur["p1_fe"]
+    for flavour, key in (("documented", "p1_model"), ("calibrated", "p1_model_calibrated")):
+        assert acc.CURVED_RING_P1[flavour][0] == pytest.approx(cur[key] / p1, abs=2e-3)
+        assert acc.CURVED_RING_P1[flavour][1] == pytest.approx(cur[key] / p1 * p1_err / p1, abs=2e-3)
+    cells = _load("fe-ring3d-comparison.json")["cells"]
+    for flavour, key in (("documented", "model_curved_documented"), ("calibrated", "model_curved")):
+        quoted = acc.CURVED_RING_STIFFNESS[flavour]
+        assert sorted(quoted) == sorted(int(n) for n in cells)
+        for n, row in cells.items():
+            assert quoted[int(n)] == pytest.approx(row[key] / row["fe_curved"], abs=6e-3), (flavour, n)
+    assert acc.CALIBRATED_ROOT_EXTENSION == ROOT_EXTENSION_FE
+    assert acc.SEED_CELL == {k: getattr(CellGeometry(), k) for k in acc.SEED_CELL}
+
+
+def test_seed_cell_gets_the_measured_ratios_and_words():
+    g = CellGeometry()
+    a = acc.accuracy([g], 4, 0.0, True)
+    assert a["measured_cell"] and a["model"] == "documented"
+    assert a["ring_first_peak"] == acc.CURVED_RING_P1["documented"]
+    assert a["ring_initial_stiffness"] == 3.91
+    assert any("too high" in n for n in a["notes"]) and any("0.63" in n for n in a["notes"])
+    c = acc.accuracy([g], 8, ROOT_EXTENSION_FE, True)
+    assert c["model"] == "calibrated" and c["ring_initial_stiffness"] == 1.92 and "ring_first_peak" not in c
+    # a ring size between the measured ones gets the measured neighbours in words, no number of its own
+    b = acc.accuracy([g], 5, 0.0, True)
+    assert b["ring_initial_stiffness"] is None and "not measured at 5 cells" in b["notes"][0]
+    f = acc.accuracy([g], 4, 0.0, False)
+    assert f["ring_first_peak"] == acc.FLAT_RING_P1["documented"] and "flat" in f["notes"][0]
+
+
+@pytest.mark.parametrize("kw,why", [({"t": 1.2}, "not the seed's cell"), ({}, "root_extension 0.3")])
+def test_other_sleeves_are_told_the_ratios_are_not_measured(kw, why):
+    g = CellGeometry(**kw)
+    a = acc.accuracy([g], 4, 0.3 if not kw else 0.0, True)
+    assert "cell_peak" not in a and "ring_initial_stiffness" not in a
+    assert why in a["notes"][0] and "not measured" in a["notes"][0]
