@@ -187,6 +187,8 @@ def test_sleeve_command_builds_a_valid_sleeve_and_predicts_like_the_core(doc, tm
     text = p.result.text()
     word = "symmetric" if ref["sequence"]["symmetric"] else "asymmetric"
     assert f"-> {word}" in text and f"loading {ref['sequence']['loading']}" in text
+    # the model's measured error against the solid is shown with the prediction (core/sleeve/accuracy.py)
+    assert ref["accuracy"]["notes"] and all(f"accuracy: {n}" in text for n in ref["accuracy"]["notes"])
 
     # export: STEP that re-imports as the five printed parts, 3MF with TPU and PLA
     import zipfile

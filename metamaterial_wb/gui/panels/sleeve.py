@@ -29,6 +29,8 @@ def sleeve_summary_text(summary):
     pv = summary.get("pv", {})
     if pv.get("peaks_kPa"):
         lines.append(f"pressure peaks {fmt(pv['peaks_kPa'])} kPa")
+    for note in summary.get("accuracy", {}).get("notes", []):      # the model's measured error (core/sleeve/accuracy)
+        lines.append(f"accuracy: {note}")
     return lines
 
 
