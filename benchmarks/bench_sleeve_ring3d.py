@@ -143,6 +143,23 @@ def cells_check(ns=(4, 6, 8, 12)):
     return out
 
 
+def cells_p1(ns=(4, 8), d_max=0.17):
+    """The curved ring's first peak by ring size: static, mesh r = 1 with two bricks through the wall (0.01 d/L per
+    increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation)."""
+    from metamaterial_wb.fe import sleeve3d
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    g = cell_geometry()
+    out = {}
+    for n in ns:
+        c, info = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=d_max * g.L, increments=int(round(100 * d_max)),
+                                        timeout_s=5400, partial=True)
+        at, P1 = peak_valley(c["d"], c["F"])[:2]
+        out[str(n)] = {"fe_curved_p1": float(P1), "fe_curved_p1_d": float(at), "p1_wall_s": info["wall_s"],
+                       "p1_d_reached": info["d_reached"], "p1_stopped": info.get("stopped", "")}
+        print(n, out[str(n)], flush=True)
+    return out
+
+
 def _secant(d, F, at=0.005):
     return float(np.interp(at, d, F) / at)
 
@@ -160,14 +177,24 @@ def cells_model(cells, e, n_el=24):
             p = SleeveModel([_geom()], [[0] * int(n)], n_el, imperfection=1e-4, root_extension=ext,
                             curvature=curv).trace(np.linspace(0, 0.01, 3))
             row[key] = _secant(p.d, p.F)
+        if "fe_curved_p1" in row:                       # its first peak too, where the FE's was run
+            from metamaterial_wb.fe.sleeve2d import peak_valley
+            for key, ext in (("model_curved_p1", e), ("model_curved_documented_p1", 0.0)):
+                p = SleeveModel([_geom()], [[0] * int(n)], n_el, imperfection=1e-4, root_extension=ext,
+                                curvature=True).trace(np.linspace(0, 0.3, 61))
+                row[key + "_d"], row[key] = (float(v) for v in peak_valley(p.d, p.F)[:2])
         out[n] = row
     return out
+
+
+def _load():
+    return json.load(open(STORE)) if os.path.exists(STORE) else {}
 
 
 def _store(key, value, merge=False):
     """``value`` under ``key`` in the store, read just before it is written (runs in parallel store too); with
     ``merge`` the entries of the dict ``value`` are added to those stored under ``key``."""
-    data = json.load(open(STORE)) if os.path.exists(STORE) else {}
+    data = _load()
     data[key] = dict(data.get(key, {}), **value) if merge else value
     write_atomic(STORE, json.dumps(data, indent=1))
 
@@ -267,6 +294,8 @@ def main(argv=None):
     ap.add_argument("--radial-fixed", action="store_true", help="the check with the wall held at its radius")
     ap.add_argument("--cells", default=None, help="comma list of ring sizes (cells around): the flat and the curved "
                     "ring's initial stiffness, FE and beam model (stored under 'cells', merged)")
+    ap.add_argument("--cells-p1", default=None, help="comma list of ring sizes: the curved ring's first peak (ccx, "
+                    "static, r = 1 with two bricks through the wall; stored under 'cells', merged)")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.trace:
@@ -295,13 +324,16 @@ def main(argv=None):
         _store("branch_" + a.stability_mesh, tr)
     if a.cells:
         _store("cells", cells_check([int(v) for v in a.cells.split(",")]), merge=True)
+    if a.cells_p1:
+        _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
+                         for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")]).items()}, merge=True)
     if a.stiffness:
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.radial_fixed:
         tr = run_fe(d_max=0.7, increments=a.increments, timeout_s=a.timeout, radial="fixed")
         print(f"radial fixed: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("radial_fixed", tr)
-    data = json.load(open(STORE)) if os.path.exists(STORE) else {}
+    data = _load()
     c = compare(data)
     c["increments_asked"] = a.increments
     with open(os.path.join(RESULTS, "fe-ring3d-comparison.json"), "w") as f:

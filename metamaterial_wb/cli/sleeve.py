@@ -1,10 +1,12 @@
-"""``sleeve SPEC.json --out DIR [--step] [--3mf]``: metamaterial sleeve actuator analysis.
+"""``sleeve SPEC.json --out DIR [--step] [--3mf] [--fe-check stiffness|peak]``: metamaterial sleeve actuator
+analysis.
 
 Writes ``DIR/summary.json`` (unit cells, ring FD peaks/valleys, snapping sequence, PV, walker) and
 plots ``DIR/fd_cells.png``, ``DIR/fd_ring.png``, ``DIR/pv.png`` (+ ``design_map.png``,
 ``walker.png`` when the spec asks for them); ``--step`` / ``--3mf`` export the sleeve's geometry
-(FreeCAD needed). Everything is written to a temporary folder first and moved into ``DIR`` at the
-end, so a failure leaves nothing half-written.
+(FreeCAD needed); ``--fe-check`` compares the beam model with the curved CalculiX solid of every
+cell type's uniform ring (``fe/sleeve_check.py``; needs ccx). Everything is written to a temporary
+folder first and moved into ``DIR`` at the end, so a failure leaves nothing half-written.
 """
 import os
 import shutil
@@ -22,6 +24,9 @@ def add_arguments(p):
                    help="also export a 3MF with TPU sleeve and PLA rings/caps (needs FreeCAD)")
     p.add_argument("--render", action="store_true", help="also write sleeve.png, a picture of the geometry (needs FreeCAD)")
     p.add_argument("--no-plots", action="store_true", help="summary.json only")
+    p.add_argument("--fe-check", choices=("stiffness", "peak"), default=None,
+                   help="also run every cell type's uniform ring as a curved CalculiX solid (needs ccx) and compare the "
+                        "beam model with it: 'stiffness' (about a minute per type), 'peak' (its first peak too, minutes)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
@@ -50,9 +55,20 @@ def run(args):
 
     out = check_output(args.out, "dir", "--out")
     spec = SleeveSpec.load(args.spec)
+    fe_check = getattr(args, "fe_check", None)
+    if fe_check:                                           # refuse before minutes of work, not after
+        from metamaterial_wb.fe import ccx
+        ok, why = ccx.available()
+        if not ok:
+            raise ccx.FEError(f"--fe-check: {why}")
     prog, log = _progress(args.quiet)
     with blas_threads(1):   # many small dense systems: threads only cost time (not for other commands)
         summary, curves = analyse(spec, progress=None, log=log)
+        if fe_check:
+            from metamaterial_wb.fe.sleeve_check import check_sleeve, notes
+            check = check_sleeve(spec, peak=fe_check == "peak", log=log)
+            summary["accuracy"]["fe_check"] = check
+            summary["accuracy"]["notes"] += notes(check)
     parent = os.path.dirname(out)
     os.makedirs(parent, exist_ok=True)
     tmp = make_temp_dir(parent, "sleeve")

@@ -1,0 +1,83 @@
+"""Issue 18: ``sleeve SPEC --fe-check`` measures the beam model against the curved CalculiX solid for the user's own
+cells. On the seed's cell it must give the ratio the accuracy table quotes (a second path to the same number:
+the CLI, the spec's model settings and ``fe/sleeve_check.py`` against ``bench_sleeve_ring3d.py --cells``); without
+CalculiX it refuses before any work and writes nothing."""
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from metamaterial_wb.core.sleeve import accuracy as acc
+from metamaterial_wb.fe import ccx
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SEED = {"format": "metamaterial-sleeve", "version": 1, "L_mm": 18, "c_mm": 4, "delta_mm": 0.5, "T_mm": 1.8,
+        "shear_modulus_MPa": 1, "cell_types": [{"t_mm": 1.0, "h_mm": 7.5}], "ring": [0, 0, 0, 0],
+        "model": {"elements_cell": 6, "steps": 60}}
+
+
+def _run(tmp_path, spec, *extra, env=None):
+    p = tmp_path / "spec.json"
+    p.write_text(json.dumps(spec))
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "sleeve", str(p), "--out", str(out), "--quiet",
+                        "--no-plots", *extra], cwd=REPO, capture_output=True, text=True, timeout=900, env=env)
+    return r, out
+
+
+@pytest.mark.skipif(not ccx.available()[0], reason="CalculiX (ccx) not installed")
+def test_fe_check_of_the_seed_cell_gives_the_quoted_ratio(tmp_path):
+    r, out = _run(tmp_path, SEED, "--fe-check", "stiffness")
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    a = s["accuracy"]
+    (row,) = a["fe_check"]["types"]
+    assert row["type"] == 0 and row["fe_stiffness"] > 0
+    assert row["stiffness_ratio"] == pytest.approx(row["model_stiffness"] / row["fe_stiffness"])
+    # the same solid and the same model as the measured table: the same ratio (documented model, four cells)
+    assert row["stiffness_ratio"] == pytest.approx(acc.CURVED_RING_STIFFNESS["documented"][4], abs=0.01)
+    assert a["ring_initial_stiffness"] == acc.CURVED_RING_STIFFNESS["documented"][4]
+    assert any(n.startswith("fe check, type 0") and f"{row['stiffness_ratio']:.2f}" in n for n in a["notes"])
+
+
+def test_fe_check_without_calculix_refuses_before_any_work(tmp_path):
+    env = dict(os.environ, PATH=str(tmp_path))                    # no ccx on this PATH
+    r, out = _run(tmp_path, SEED, "--fe-check", "peak", env=env)
+    assert r.returncode == 2, r.stderr
+    assert "--fe-check" in r.stderr and "calculix-ccx" in r.stderr
+    assert not out.exists()
+
+
+def test_peak_check_reads_the_solid_s_first_peak_or_says_it_was_not_reached(monkeypatch):
+    """The ``peak`` path's logic on a stand-in solid (the real one takes minutes): a curve with a known peak gives
+    that peak and the ratio; a curve still rising when the run stopped gives no number and says why."""
+    import numpy as np
+
+    from metamaterial_wb.core.sleeve.spec import SleeveSpec
+    from metamaterial_wb.fe import sleeve3d, sleeve_check
+    spec = SleeveSpec(SEED)
+    calls = []
+
+    def fake(g, n, r, layers, d_max=None, increments=2, timeout_s=0, partial=True, **kw):
+        calls.append((n, r, layers, d_max / g.L, increments))
+        d = np.linspace(0, d_max / g.L, increments + 1)
+        F = 1e-3 * np.sin(np.pi * d / 0.24) if rising is False else 1e-2 * d
+        return {"d": d, "F": F, "tilt_rad": np.zeros((len(d), 2))}, {"wall_s": 1.0, "d_reached": float(d[-1])}
+
+    monkeypatch.setattr(sleeve3d, "solve_ring3d", fake)
+    monkeypatch.setattr(ccx, "available", lambda: (True, "ccx"))
+    rising = False
+    out = sleeve_check.check_sleeve(spec, peak=True)
+    (row,) = out["types"]
+    assert row["fe_p1"] == pytest.approx(1e-3, rel=1e-3) and row["fe_p1_d"] == pytest.approx(0.12, abs=2e-3)
+    assert row["p1_ratio"] == pytest.approx(row["model_p1"] / row["fe_p1"])
+    # the stiffness run (two increments to d/L 0.01), then the peak run to 1.4 x the model's peak, 0.01 per increment
+    assert calls[0] == (4, 1, 2, pytest.approx(0.01), 2)
+    assert calls[1][3] == pytest.approx(max(0.15, 1.4 * row["model_p1_d"])) and calls[1][4] == round(100 * calls[1][3])
+    assert "first peak model" in sleeve_check.notes(out)[0]
+    rising = True
+    row = sleeve_check.check_sleeve(spec, peak=True)["types"][0]
+    assert row["fe_p1"] is None and "no peak" in row["fe_stopped"]
+    assert "not reached" in sleeve_check.notes({"types": [row]})[0]
