@@ -147,15 +147,18 @@ def cells_p1(ns=(4, 8), d_max=0.17):
     """The curved ring's first peak by ring size: static, mesh r = 1 with two bricks through the wall (0.01 d/L per
     increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation)."""
     from metamaterial_wb.fe import sleeve3d
-    from metamaterial_wb.fe.sleeve2d import peak_valley
+    from metamaterial_wb.fe.sleeve_check import first_peak
     g = cell_geometry()
     out = {}
     for n in ns:
         c, info = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=d_max * g.L, increments=int(round(100 * d_max)),
                                         timeout_s=5400, partial=True)
-        at, P1 = peak_valley(c["d"], c["F"])[:2]
-        out[str(n)] = {"fe_curved_p1": float(P1), "fe_curved_p1_d": float(at), "p1_wall_s": info["wall_s"],
-                       "p1_d_reached": info["d_reached"], "p1_stopped": info.get("stopped", "")}
+        at, P1 = first_peak(c["d"], c["F"])
+        ok = bool(np.isfinite(P1))                     # None: no peak before the run ended (see p1_stopped)
+        out[str(n)] = {"fe_curved_p1": float(P1) if ok else None, "fe_curved_p1_d": float(at) if ok else None,
+                       "p1_wall_s": info["wall_s"],
+                       "p1_d_reached": info["d_reached"], "p1_stopped": info.get("stopped", "")[:200],
+                       "p1_curve": {"d": c["d"].tolist(), "F": c["F"].tolist()}}
         print(n, out[str(n)], flush=True)
     return out
 
@@ -177,7 +180,7 @@ def cells_model(cells, e, n_el=24):
             p = SleeveModel([_geom()], [[0] * int(n)], n_el, imperfection=1e-4, root_extension=ext,
                             curvature=curv).trace(np.linspace(0, 0.01, 3))
             row[key] = _secant(p.d, p.F)
-        if "fe_curved_p1" in row:                       # its first peak too, where the FE's was run
+        if row.get("fe_curved_p1") is not None:        # its first peak too, where the FE's was found
             from metamaterial_wb.fe.sleeve2d import peak_valley
             for key, ext in (("model_curved_p1", e), ("model_curved_documented_p1", 0.0)):
                 p = SleeveModel([_geom()], [[0] * int(n)], n_el, imperfection=1e-4, root_extension=ext,

@@ -306,7 +306,9 @@ def markdown(c, img=None):
                      f"{v['model_curved'] / v['model_flat']:.2f} | {v['model_curved'] / v['fe_curved']:.2f} | "
                      f"{v['model_curved_documented'] / v['fe_curved']:.2f} |")
         L.append("")
-        p1 = [(n, v) for n, v in sorted(c["cells"].items(), key=lambda kv: int(kv[0])) if "fe_curved_p1" in v]
+        p1 = [(n, v) for n, v in sorted(c["cells"].items(), key=lambda kv: int(kv[0])) if v.get("fe_curved_p1")]
+        nop = [(n, v) for n, v in sorted(c["cells"].items(), key=lambda kv: int(kv[0]))
+               if "fe_curved_p1" in v and v["fe_curved_p1"] is None]
         if p1:
             L.append("First peak P1 (x1e-3, at d/L) of the curved ring by ring size: CalculiX static, mesh r = 1 with "
                      "two bricks through the wall (`--cells-p1`), against the beam model's curved ring: " + "; ".join(
@@ -315,6 +317,10 @@ def markdown(c, img=None):
                          f"{v['model_curved_p1'] / v['fe_curved_p1']:.2f} times the FE's), as documented "
                          f"{1e3 * v['model_curved_documented_p1']:.3f} "
                          f"({v['model_curved_documented_p1'] / v['fe_curved_p1']:.2f} times)" for n, v in p1) + ".")
+            L.append("")
+        for n, v in nop:
+            L.append(f"{n} cells: no first peak - the static run stopped at d/L {v['p1_d_reached']:.3f} after "
+                     f"{v['p1_wall_s'] / 60:.1f} min: {v['p1_stopped']}.")
             L.append("")
     if "model_relief" in c:
         mr = c["model_relief"]

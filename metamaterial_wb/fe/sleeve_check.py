@@ -27,6 +27,17 @@ MESH_NOTE = ("solid at mesh r = 1, two bricks through the wall: its stiffness ~1
              "the mesh-extrapolated ones (the seed's four-cell ring), so the ratios are if anything low")
 
 
+def first_peak(d, F, drop=0.01):
+    """``(d_peak, F_peak)`` of a traced curve, or ``(nan, nan)`` unless the force falls after it by more than
+    ``drop`` of the peak: a run that stalls (ccx cutting its increments back near a bifurcation) wobbles by far
+    less than that, and its last converged point is no peak."""
+    d, F = np.asarray(d, float), np.asarray(F, float)
+    dp, Fp = peak_valley(d, F)[:2]
+    if not np.isfinite(Fp) or not np.any((d > dp) & (F < (1.0 - drop) * Fp)):
+        return float("nan"), float("nan")
+    return dp, Fp
+
+
 def _secant(d, F):
     return float(np.interp(SECANT_AT, d, F) / SECANT_AT)
 
@@ -69,7 +80,7 @@ def check_sleeve(spec, peak=False, timeout_s=3600.0, log=None):
             say(f"fe check: type {i}, first peak (static to d/L {d_max:.2f})")
             fe, info = sleeve3d.solve_ring3d(g, spec.N, 1, 2, d_max=d_max * g.L, increments=int(round(100 * d_max)),
                                              timeout_s=timeout_s, partial=True)
-            fd, fF = peak_valley(fe["d"], fe["F"])[:2]
+            fd, fF = first_peak(fe["d"], fe["F"])
             row.update({"model_p1": float(mF), "model_p1_d": float(md), "fe_seconds": row["fe_seconds"] + info["wall_s"],
                         "fe_d_reached": info["d_reached"]})
             if np.isfinite(fF):

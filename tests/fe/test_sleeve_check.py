@@ -81,3 +81,19 @@ def test_peak_check_reads_the_solid_s_first_peak_or_says_it_was_not_reached(monk
     row = sleeve_check.check_sleeve(spec, peak=True)["types"][0]
     assert row["fe_p1"] is None and "no peak" in row["fe_stopped"]
     assert "not reached" in sleeve_check.notes({"types": [row]})[0]
+
+
+def test_a_stalled_run_s_last_wobble_is_no_peak():
+    """A static run that stalls near a bifurcation ends with its force wobbling by 1e-4 of itself: no peak; one
+    that descends after its maximum by more than 1 % has its peak."""
+    import numpy as np
+
+    from metamaterial_wb.fe.sleeve_check import first_peak
+    d = np.linspace(0, 0.08, 17)
+    F = 0.04 * d
+    F[-2:] = F[-3] * np.array([1.0001, 0.99995])                   # ccx cutting back: force flat to 1e-4
+    assert all(np.isnan(first_peak(d, F)))
+    d = np.linspace(0, 0.2, 41)
+    F = np.sin(np.pi * d / 0.26)
+    dp, Fp = first_peak(d, F)
+    assert dp == pytest.approx(0.13, abs=1e-3) and Fp == pytest.approx(1.0, abs=1e-4)
