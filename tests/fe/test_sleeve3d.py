@@ -91,12 +91,50 @@ def test_deck_has_curved_bricks_a_rigid_tilting_plate_and_the_bias():
                                     ({"radial": "loose"}, "radial"),
                                     ({"method": "riks"}, "method"),
                                     ({"element": "C3D8"}, "element"), ({"d_max": -1.0}, "d_max"),
-                                    ({"stability": -1}, "stability"), ({"stability": True}, "stability")])
+                                    ({"stability": -1}, "stability"), ({"stability": True}, "stability"),
+                                    ({"full_near": -1.0}, "full_near")])
 def test_bad_inputs_name_the_value_and_the_range(kw, msg):
     with pytest.raises(ValueError, match=msg):
         sleeve3d.ring_deck3d(CellGeometry(), **kw)
     with pytest.raises(ValueError, match="wall"):
         sleeve3d.ring_mesh(CellGeometry(), wall="outer")
+
+
+def test_full_integration_near_the_beam_corners_and_every_node_printed():
+    g = CellGeometry()
+    plain, meta0 = sleeve3d.ring_deck3d(g, 4, 2, 1, increments=4)
+    assert "SOLIDF" not in plain and "ALLN" not in plain and meta0["full_elements"] == 0
+    deck, meta = sleeve3d.ring_deck3d(g, 4, 2, 1, increments=4, full_near=1.5, print_all=True)
+    m = meta["mesh"]
+    full = m.beam_end_elements(1.5)
+    assert meta["full_elements"] == full.size == 144                  # 18 per half cell: 9 at each corner
+    assert set(m.quad.block[full % len(m.quad.block)]) <= {"beam_pillar", "beam_free"}
+    head, rest = deck.split("*ELEMENT, TYPE=C3D20, ELSET=SOLIDF\n")
+    ids = [int(line.split(",")[0]) for line in rest.split("*")[0].splitlines()[::2]]
+    assert ids == (full + 1).tolist()
+    assert "*ELEMENT, TYPE=C3D20R, ELSET=SOLID\n" in head
+    assert "*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER" in deck
+    assert "*NSET, NSET=ALLN" in deck and "*NODE PRINT, NSET=ALLN\nU\n*END STEP" in deck
+    # each brick once: the reduced and the full ones partition the mesh
+    assert deck.count("\n", deck.index("TYPE=C3D20R"), deck.index("*NSET, NSET=BOTTOM")) == 2 * m.n_elements + 2
+
+
+def test_volume_ratios_see_the_material_and_a_fold_apart():
+    g = CellGeometry()
+    m = sleeve3d.ring_mesh(g, 4, 1, 1)
+    J, S = m.volume_ratios(np.zeros_like(m.nodes))
+    assert J.shape == (m.n_elements, 27) and S.shape == (m.n_elements, 8, 3)
+    assert np.allclose(J, 1.0) and np.allclose(S, 1.0)
+    F = np.diag([1.2, 1.0 / 1.2, 1.0])                                   # isochoric stretch: det F = 1
+    J, S = m.volume_ratios(m.nodes @ (F - np.eye(3)).T)
+    assert np.allclose(J, 1.0) and np.allclose(S.max(axis=2), 1.2) and np.allclose(S.min(axis=2), 1 / 1.2)
+    # one mid-edge node pulled into its brick: det F drops at the nodes, the Gauss points barely see it
+    u = np.zeros_like(m.nodes)
+    e = 0
+    X = m.nodes[m.elements[e]]
+    u[m.elements[e, 8]] = 0.6 * (X[:8].mean(axis=0) - X[8])
+    J, S = m.volume_ratios(u)
+    assert J[e].min() < 0.5 and np.all(np.prod(S[e], axis=1) > J[e].min())
 
 
 def test_imperfection_moves_the_wall_not_its_clamped_or_plate_edges():
