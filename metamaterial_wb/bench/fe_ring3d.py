@@ -170,7 +170,8 @@ def path_markdown(c):
     for k, pr in sorted(st.items(), key=lambda kv: (kv[0].split("@")[0], kv[1]["d"])):
         if k.startswith("r2@"):
             continue
-        name = MESH_NAMES[pr["mesh"]]
+        name = MESH_NAMES[pr["mesh"]] + (f" with the beam's corner bricks C3D20 ({pr['full_near']:g} mm)"
+                                          if pr.get("full_near") else "")
         if not pr.get("eigenvalues"):
             other.append(f"{name} at d/L {pr['d']:.3f}: did not converge (static Newton stopped at d/L "
                          f"{pr['d_reached']:.4f})")

@@ -65,3 +65,17 @@ def test_corner_paths_are_reported_past_the_reduced_mesh_stop():
     assert "144 bricks within 1.5 mm" in text and "to d/L 0.700" in text and "(the whole range)" in text
     assert "2 peaks, 1 valley" in text and "+1.0 %" in text and "its stop at d/L 0.460" in text
     assert rep.corner_markdown({"p1_r2": red}) == []
+
+
+def test_probe_on_the_corner_integrated_path_is_named_apart():
+    d = np.linspace(0, 0.7, 71)
+
+    def path(r):
+        return {"d": d.tolist(), "F": (np.sin(3 * d) * 1e-3 * (1 + 0.05 / r ** 2)).tolist()}
+    pr = dict(_probe(0.6, [3e6, 5e6, 5e6], [[0, 0, 1], [1, 0, 0], [0, 1, 0]], [90.0, 100.0, 100.0]), mesh="r2",
+              full_near=1.5)
+    c = {"p1_r2": path(2), "p1_r3": path(3), "trace": dict(path(1), tilt_deg=[0.0] * len(d)),
+         "stability": {"r2_full1.5@0.600": pr}}
+    text = "\n".join(rep.path_markdown(c))
+    assert "r = 2 with the beam's corner bricks C3D20 (1.5 mm) at d/L 0.600: tilt" in text and "- stable" in text
+    assert rep.unstable_range(c) is None                           # not read as a probe of the reduced r = 2 path
