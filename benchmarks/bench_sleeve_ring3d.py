@@ -40,37 +40,38 @@ IMG = "img/sleeve-fe-ring3d.png"
 
 
 def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic",
-           patient=False, imperfection=None, bias_angle=0.5):
+           patient=False, imperfection=None, bias_angle=0.5, full_near=0.0):
     from metamaterial_wb.fe import sleeve3d
     g = cell_geometry()
     c, info = sleeve3d.solve_ring3d(g, 4, r, n_layers, d_max=d_max * g.L, increments=increments, bias=bias,
                                     timeout_s=timeout_s, partial=True, radial=radial,
                                     method=method, patient=patient, imperfection=imperfection,
-                                    bias_angle=bias_angle)
+                                    bias_angle=bias_angle, full_near=full_near)
     info.pop("log_tail", None)
     return {"r": r, "n_layers": n_layers, "radial": radial, "d": c["d"].tolist(), "F": c["F"].tolist(),
             "tilt_rad": c["tilt_rad"].tolist(), "info": info,
             "extrema": sleeve3d.all_extrema(c["d"], c["F"])}
 
 
-def _probe_run(mesh, d, n_eig=6, timeout_s=5400.0, shapes=False):
+def _probe_run(mesh, d, n_eig=6, timeout_s=5400.0, shapes=False, full_near=0.0):
     """``sleeve3d.solve_ring3d``'s static path on ``mesh`` to ``d`` (d/L, 0.01 per increment) with ``n_eig``
-    eigenvalues of the tangent stiffness there: ``(curve, info)``."""
+    eigenvalues of the tangent stiffness there (``full_near``: the beam's corner bricks C3D20): ``(curve, info)``."""
     from metamaterial_wb.fe import sleeve3d
     g = cell_geometry()
     r, nl = MESHES[mesh]
     return sleeve3d.solve_ring3d(g, 4, r, nl, d_max=d * g.L, increments=max(1, int(round(100 * d))),
-                                 timeout_s=timeout_s, partial=True, method="static", stability=n_eig, shapes=shapes)
+                                 timeout_s=timeout_s, partial=True, method="static", stability=n_eig, shapes=shapes,
+                                 full_near=full_near)
 
 
-def stability_probe(mesh, d, n_eig=6, timeout_s=5400.0):
+def stability_probe(mesh, d, n_eig=6, timeout_s=5400.0, full_near=0.0):
     """The static path on ``mesh`` to ``d`` and the eigenvalues of the tangent stiffness there (``_probe_run``),
     as stored."""
     from metamaterial_wb.fe import sleeve3d
-    c, info = _probe_run(mesh, d, n_eig, timeout_s)
+    c, info = _probe_run(mesh, d, n_eig, timeout_s, full_near=full_near)
     st = info.get("stability")
     out = {"mesh": mesh, "d": d, "d_reached": info["d_reached"], "F": float(c["F"][-1]), "wall_s": info["wall_s"],
-           "density": sleeve3d.DENSITY, "stopped": info.get("stopped")}
+           "density": sleeve3d.DENSITY, "stopped": info.get("stopped"), "full_near": full_near}
     if st:
         out.update(eigenvalues=st["eigenvalues"], plate_rotation=st["plate_rotation"], stable=st["stable"])
     return out
@@ -250,7 +251,8 @@ def compare(data):
     if "cells" in data:
         out["cells"] = cells_model({n: {k: v for k, v in row.items() if not k.startswith("model_")}
                                     for n, row in data["cells"].items()}, e)
-    for k in ["trace", "p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2", "radial_fixed", "branch_r2"] + [k for k in data if k.startswith("attempt_")]:
+    for k in (["trace", "p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2", "radial_fixed", "branch_r2"]
+              + [k for k in data if k.startswith(("attempt_", "p1_r2_full"))]):
         if k in data:
             out[k] = dict(data[k], tilt_deg=np.degrees(np.hypot(*np.asarray(data[k]["tilt_rad"]).T)).tolist())
     return out
@@ -288,9 +290,13 @@ def main(argv=None):
     ap.add_argument("--p1-dmax", type=float, default=0.17, help="d/L of the P1 mesh run (static, 0.01 per increment)")
     ap.add_argument("--p1-increments", type=int, default=None, help="increments of the P1 mesh run (default 100 "
                     "per d/L; another count is stored apart, as p1_<mesh>_inc<N>)")
+    ap.add_argument("--p1-full-near", type=float, default=0.0, help="mm: the beam's bricks within it of its "
+                    "re-entrant corners fully integrated (C3D20) in the P1 mesh run (stored as p1_<mesh>..._full<mm>)")
     ap.add_argument("--stability-at", default=None, help="comma list of d/L: the static path's stability there "
                     "(eigenvalues of the tangent stiffness; stored under 'stability', merged)")
     ap.add_argument("--stability-mesh", default="r2", choices=sorted(MESHES))
+    ap.add_argument("--stability-full-near", type=float, default=0.0, help="mm: the probes' path with the beam's "
+                    "corner bricks fully integrated (stored as <mesh>_full<mm>@<d>)")
     ap.add_argument("--branch-at", type=float, default=None, help="d/L: the lowest mode of the static path "
                     "(--stability-mesh) there, as an imperfection of --branch-amp t; the imperfect ring's path")
     ap.add_argument("--branch-amp", type=float, default=0.01)
@@ -312,14 +318,18 @@ def main(argv=None):
     if a.p1_mesh:
         r, nl = MESHES[a.p1_mesh]
         inc = a.p1_increments or int(round(100 * a.p1_dmax))
-        tr = run_fe(r, nl, d_max=a.p1_dmax, increments=inc, timeout_s=a.timeout, method="static")
-        print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)
-        _store("p1_" + a.p1_mesh + (f"_inc{a.p1_increments}" if a.p1_increments else ""), tr)
+        tr = run_fe(r, nl, d_max=a.p1_dmax, increments=inc, timeout_s=a.timeout, method="static",
+                    full_near=a.p1_full_near)
+        print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} to d/L {tr['info']['d_reached']:.3f} "
+              f"({tr['info']['wall_s']:.0f} s)", flush=True)
+        _store("p1_" + a.p1_mesh + (f"_inc{a.p1_increments}" if a.p1_increments else "")
+               + (f"_full{a.p1_full_near:g}" if a.p1_full_near else ""), tr)
     if a.stability_at:
         for d in (float(v) for v in a.stability_at.split(",")):
-            pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout)
+            pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout, full_near=a.stability_full_near)
             print(f"stability {a.stability_mesh} d/L {d}: {pr.get('eigenvalues')} ({pr['wall_s']:.0f} s)", flush=True)
-            _store("stability", {f"{a.stability_mesh}@{d:.3f}": pr}, merge=True)
+            fn = f"_full{a.stability_full_near:g}" if a.stability_full_near else ""
+            _store("stability", {f"{a.stability_mesh}{fn}@{d:.3f}": pr}, merge=True)
     if a.branch_at:
         tr = branch(a.stability_mesh, a.branch_at, a.branch_amp, timeout_s=a.timeout)
         print(f"branch {a.stability_mesh} from d/L {a.branch_at}: {tr['imperfection']}; {tr['extrema']} "

@@ -123,6 +123,40 @@ class RingMesh(Mesh):
         pts = [(a, b, c) for a in (-1.0, 0.0, 1.0) for b in (-1.0, 0.0, 1.0) for c in (-1.0, 0.0, 1.0)]
         return min(float(np.min(J)) for _, J in self._jacobians(pts))
 
+    def volume_ratios(self, u):
+        """``(E, 27)`` local volume ratios ``det F`` of every brick deformed by the node displacements ``u``
+        (``(n_nodes, 3)`` mm) at its corners, mid-edges and face and element centres (the points of
+        :meth:`min_jacobian`), and ``(E, 8, 3)`` principal stretches at its 2 x 2 x 2 (reduced) integration points.
+        A nearly incompressible solid keeps ``det F`` near 1 at the integration points; a brick whose nodal
+        ``det F`` falls far below 1 while its integration points stay at 1 is deforming in a mode those points
+        do not see (reduced integration's spurious mode), not in the material."""
+        x = self.nodes + np.asarray(u, float)
+        X0, X1 = self.nodes[self.elements], x[self.elements]
+
+        def grads(p):
+            dN = _dshape20(*p)
+            return np.einsum("kn,enc->eck", dN, X1) @ np.linalg.inv(np.einsum("kn,enc->eck", dN, X0))
+        pts = [(a, b, c) for a in (-1.0, 0.0, 1.0) for b in (-1.0, 0.0, 1.0) for c in (-1.0, 0.0, 1.0)]
+        J = np.stack([np.linalg.det(grads(p)) for p in pts], axis=1)
+        q = 1 / math.sqrt(3)
+        gp = [(a, b, c) for a in (-q, q) for b in (-q, q) for c in (-q, q)]
+        S = np.stack([np.linalg.svd(grads(p), compute_uv=False) for p in gp], axis=1)
+        return J, S
+
+    def beam_end_elements(self, dist):
+        """0-based ids of the beam's bricks (blocks ``beam_pillar``, ``beam_free``) whose centre lies within
+        ``dist`` mm (along the unrolled circumference) of the central pillar's side or of the edge pillar: the two
+        re-entrant corners where the beam bends most."""
+        if dist <= 0:
+            return np.zeros(0, dtype=np.int64)
+        g = self.geom
+        blk = np.tile(self.quad.block, self.n_layers)
+        c = self.nodes[self.elements[:, :8]].mean(axis=1)
+        x = np.arctan2(c[:, 1], c[:, 0]) * self.radius
+        x = np.abs(x - np.round(x / g.width) * g.width)
+        near = (np.abs(x - g.c / 2) < dist) | (np.abs(g.L / 2 - x) < dist)
+        return np.flatnonzero(np.isin(blk, ("beam_pillar", "beam_free")) & near)
+
     def exact_volume(self):
         """The wrapped solid's volume from the 2-D outline's area ``A``: a wall between radii ``rho_0`` and
         ``rho_1`` wrapped at ``phi = x / R`` has ``dV = (rho / R) dA drho``, so ``V = A T rho_mid / R``."""
@@ -179,7 +213,7 @@ def _checked(n_cells, r, n_layers):
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
                 radial="free", method="static", element="C3D20R", patient=False, stability=0, shapes=False,
-                imperfection=None):
+                imperfection=None, full_near=0.0, print_all=False):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
@@ -199,7 +233,13 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     state is stable under displacement control; a negative one means the path traced there is unstable (a branch
     the static solver follows that the ring would leave). ``shapes=True`` prints every node's mode displacement too.
     ``imperfection``: an ``(n_nodes, 3)`` array in mm added to the mesh's nodes (a geometric imperfection, e.g. a
-    scaled unstable mode, to follow the branch the ring takes instead of the symmetric one)."""
+    scaled unstable mode, to follow the branch the ring takes instead of the symmetric one).
+    ``full_near`` (mm): the beam's bricks within that distance of its two re-entrant corners
+    (``RingMesh.beam_end_elements``) fully integrated (C3D20, element set ``SOLIDF``), the rest ``element``: on
+    r = 2 the reduced bricks at the beam's underside next to the central pillar fold in reduced integration's
+    spurious mode (nodal ``det F`` 0.73 while the integration points stay at 1.000) and stop static Newton at d/L
+    0.468 (docs/sleeves.md, "One or two stages"). ``print_all=True`` prints every node's displacement at every
+    increment (set ``ALLN``; ``solve_ring3d`` returns the last converged one)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
@@ -209,6 +249,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         raise ValueError(f"radial: {radial!r}; allowed: 'free', 'fixed' or a part: {', '.join(map(repr, PARTS))}")
     if isinstance(stability, bool) or int(stability) != stability or not 0 <= stability <= 20:
         raise ValueError(f"stability: {stability!r}; allowed: an integer from 0 (none) to 20 eigenvalues")
+    if not 0 <= full_near <= 0.5 * g.L:
+        raise ValueError(f"full_near: {full_near!r} mm; allowed: 0 (none) to L/2 = {0.5 * g.L:g} mm")
     if not increments >= 1:
         raise ValueError(f"increments: {increments!r}; allowed: an integer >= 1")
     d_max = 0.25 * g.L if d_max is None else float(d_max)
@@ -229,13 +271,15 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         X = X + imp
     out = [f"*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid ({element}), rigid tilting top plate\n",
            "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{g.height:.9g}\n{ROT},0,0,{g.height:.9g}\n",
-           f"*ELEMENT, TYPE={element}, ELSET=SOLID\n", ccx.fmt_elements(mesh.elements, range(1, mesh.n_elements + 1)),
+           _element_text(mesh, element, full_near),
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
            ("*NSET, NSET=SHAPE\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if shapes else ""),
+           ("*NSET, NSET=ALLN\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if print_all else ""),
            "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
            ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" or stability else ""),
            "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
+           ("*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER\n" if mesh.beam_end_elements(full_near).size else ""),
            f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n"]
     if radial != "free":
         held = np.ones(mesh.n_nodes, bool) if radial == "fixed" else mesh.parts()[radial].copy()
@@ -256,20 +300,34 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
     out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
                + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "") + f"{bc}"
-               "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
+               "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n"
+               + ("*NODE PRINT, NSET=ALLN\nU\n" if print_all else "") + "*END STEP\n")
     if stability:
         out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n"
                    + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "bias_angle": bias_angle, "radial": radial,
-            "method": method, "element": element, "patient": patient, "stability": int(stability)}
+            "method": method, "element": element, "patient": patient, "stability": int(stability),
+            "full_near": float(full_near), "full_elements": int(mesh.beam_end_elements(full_near).size)}
     return "".join(out), meta
+
+
+def _element_text(mesh, element, full_near):
+    """``*ELEMENT`` cards: every brick ``element`` in set ``SOLID``, or with ``full_near > 0`` the beam's bricks
+    near its re-entrant corners C3D20 in set ``SOLIDF``."""
+    ids = np.arange(1, mesh.n_elements + 1)
+    full = np.zeros(mesh.n_elements, bool)
+    full[mesh.beam_end_elements(full_near)] = True
+    out = f"*ELEMENT, TYPE={element}, ELSET=SOLID\n" + ccx.fmt_elements(mesh.elements[~full], ids[~full])
+    if full.any():
+        out += "*ELEMENT, TYPE=C3D20, ELSET=SOLIDF\n" + ccx.fmt_elements(mesh.elements[full], ids[full])
+    return out
 
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
                  partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0,
-                 shapes=False, imperfection=None, bias_angle=0.5):
+                 shapes=False, imperfection=None, bias_angle=0.5, full_near=0.0, print_all=False):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
@@ -277,10 +335,11 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     holds the ``n`` eigenvalues at the end (``ring_deck3d``), each with its mode's plate rotation (about X, Y, Z:
     the tilt pair and the twist are told apart by it; its size, as ccx normalises the modes to unit mass: a mode
     that leaves the plate still has none), and ``stable`` (all positive); with ``shapes=True`` the curve holds
-    ``"modes"``, ``(n, n_nodes, 3)``."""
+    ``"modes"``, ``(n, n_nodes, 3)``; with ``print_all=True`` ``"u"``, the last converged increment's node
+    displacements ``(n_nodes, 3)`` (``RingMesh.volume_ratios`` reads them). ``full_near``: ``ring_deck3d``."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, bias_angle, radial=radial, method=method,
                              element=element, patient=patient, stability=stability, shapes=shapes,
-                             imperfection=imperfection)
+                             imperfection=imperfection, full_near=full_near, print_all=print_all)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -292,7 +351,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     d = t * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
                                       "bias", "bias_angle", "radial", "method",
-                                      "element", "patient")})
+                                      "element", "patient", "full_near", "full_elements")})
     eig = info.pop("eigenvalues", [])
     if stability and eig and "stopped" not in info:
         modes = [np.asarray(r_[1][ROT][:3], float) for r_ in rot[len(t):]]
@@ -304,6 +363,9 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     info["d_reached"] = float(d[-1])
     out = {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),
            "tilt_rad": np.vstack([[0.0, 0.0], tilt.reshape(-1, 2)])}
+    last = tables.get(("displacements", "ALLN"), [])[:len(t)]
+    if print_all and last:
+        out["u"] = np.array([last[-1][1][i + 1][:3] for i in range(meta["mesh"].n_nodes)])
     allu = tables.get(("displacements", "SHAPE"), [])
     if shapes and allu:
         n = meta["mesh"].n_nodes

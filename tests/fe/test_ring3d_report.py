@@ -49,3 +49,33 @@ def test_path_force_is_extrapolated_in_the_element_size():
         assert ext == pytest.approx(np.sin(3 * dd) * 1e-3, rel=1e-6)
     assert pc["p1_ext"][1] == pytest.approx(1e-3, rel=1e-3)       # the peak of sin(3 d): 1e-3 at pi / 6
     assert pc["p1_ext"][0] == pytest.approx(np.pi / 6, abs=0.01)
+
+
+def test_corner_paths_are_reported_past_the_reduced_mesh_stop():
+    d = np.linspace(0, 0.7, 71)
+    F = 1e-3 * (np.sin(2 * np.pi * d / 0.45) * 0.5 + 0.6)              # two peaks, a valley between
+    info = {"increments": 70, "d_reached": 0.7, "wall_s": 600.0, "full_elements": 144, "full_near": 1.5}
+    full = {"d": d.tolist(), "F": F.tolist(), "tilt_deg": [0.1] * len(d), "info": info,
+            "extrema": [("peak", 0.1125, 1.1e-3), ("valley", 0.3375, 0.1e-3), ("peak", 0.5625, 1.1e-3)]}
+    k = d <= 0.468
+    red = {"d": d[k].tolist(), "F": (F[k] * 0.99).tolist()}
+    c = {"p1_r2": red, "p1_r2_full1.5": full, "p1_r2_inc280": red}
+    assert rep.full_keys(c) == ["p1_r2_full1.5"]
+    text = "\n".join(rep.corner_markdown(c))
+    assert "144 bricks within 1.5 mm" in text and "to d/L 0.700" in text and "(the whole range)" in text
+    assert "2 peaks, 1 valley" in text and "+1.0 %" in text and "its stop at d/L 0.460" in text
+    assert rep.corner_markdown({"p1_r2": red}) == []
+
+
+def test_probe_on_the_corner_integrated_path_is_named_apart():
+    d = np.linspace(0, 0.7, 71)
+
+    def path(r):
+        return {"d": d.tolist(), "F": (np.sin(3 * d) * 1e-3 * (1 + 0.05 / r ** 2)).tolist()}
+    pr = dict(_probe(0.6, [3e6, 5e6, 5e6], [[0, 0, 1], [1, 0, 0], [0, 1, 0]], [90.0, 100.0, 100.0]), mesh="r2",
+              full_near=1.5)
+    c = {"p1_r2": path(2), "p1_r3": path(3), "trace": dict(path(1), tilt_deg=[0.0] * len(d)),
+         "stability": {"r2_full1.5@0.600": pr}}
+    text = "\n".join(rep.path_markdown(c))
+    assert "r = 2 with the beam's corner bricks C3D20 (1.5 mm) at d/L 0.600: tilt" in text and "- stable" in text
+    assert rep.unstable_range(c) is None                           # not read as a probe of the reduced r = 2 path

@@ -91,7 +91,8 @@ def test_deck_has_curved_bricks_a_rigid_tilting_plate_and_the_bias():
                                     ({"radial": "loose"}, "radial"),
                                     ({"method": "riks"}, "method"),
                                     ({"element": "C3D8"}, "element"), ({"d_max": -1.0}, "d_max"),
-                                    ({"stability": -1}, "stability"), ({"stability": True}, "stability")])
+                                    ({"stability": -1}, "stability"), ({"stability": True}, "stability"),
+                                    ({"full_near": -1.0}, "full_near")])
 def test_bad_inputs_name_the_value_and_the_range(kw, msg):
     with pytest.raises(ValueError, match=msg):
         sleeve3d.ring_deck3d(CellGeometry(), **kw)
@@ -129,6 +130,42 @@ def test_parts_split_the_ring_and_one_part_is_held_at_its_radius():
     assert "WALL,1,1,0" in deck and "*TRANSFORM, NSET=WALL, TYPE=C" in deck
     with pytest.raises(ValueError, match="'pillars'"):
         sleeve3d.ring_deck3d(g, radial="pillar")
+
+def test_full_integration_near_the_beam_corners_and_every_node_printed():
+    g = CellGeometry()
+    plain, meta0 = sleeve3d.ring_deck3d(g, 4, 2, 1, increments=4)
+    assert "SOLIDF" not in plain and "ALLN" not in plain and meta0["full_elements"] == 0
+    deck, meta = sleeve3d.ring_deck3d(g, 4, 2, 1, increments=4, full_near=1.5, print_all=True)
+    m = meta["mesh"]
+    full = m.beam_end_elements(1.5)
+    assert meta["full_elements"] == full.size == 144                  # 18 per half cell: 9 at each corner
+    assert set(m.quad.block[full % len(m.quad.block)]) <= {"beam_pillar", "beam_free"}
+    head, rest = deck.split("*ELEMENT, TYPE=C3D20, ELSET=SOLIDF\n")
+    ids = [int(line.split(",")[0]) for line in rest.split("*")[0].splitlines()[::2]]
+    assert ids == (full + 1).tolist()
+    assert "*ELEMENT, TYPE=C3D20R, ELSET=SOLID\n" in head
+    assert "*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER" in deck
+    assert "*NSET, NSET=ALLN" in deck and "*NODE PRINT, NSET=ALLN\nU\n*END STEP" in deck
+    # each brick once: the reduced and the full ones partition the mesh
+    assert deck.count("\n", deck.index("TYPE=C3D20R"), deck.index("*NSET, NSET=BOTTOM")) == 2 * m.n_elements + 2
+
+
+def test_volume_ratios_see_the_material_and_a_fold_apart():
+    g = CellGeometry()
+    m = sleeve3d.ring_mesh(g, 4, 1, 1)
+    J, S = m.volume_ratios(np.zeros_like(m.nodes))
+    assert J.shape == (m.n_elements, 27) and S.shape == (m.n_elements, 8, 3)
+    assert np.allclose(J, 1.0) and np.allclose(S, 1.0)
+    F = np.diag([1.2, 1.0 / 1.2, 1.0])                                   # isochoric stretch: det F = 1
+    J, S = m.volume_ratios(m.nodes @ (F - np.eye(3)).T)
+    assert np.allclose(J, 1.0) and np.allclose(S.max(axis=2), 1.2) and np.allclose(S.min(axis=2), 1 / 1.2)
+    # one mid-edge node pulled into its brick: det F drops at the nodes, the Gauss points barely see it
+    u = np.zeros_like(m.nodes)
+    e = 0
+    X = m.nodes[m.elements[e]]
+    u[m.elements[e, 8]] = 0.6 * (X[:8].mean(axis=0) - X[8])
+    J, S = m.volume_ratios(u)
+    assert J[e].min() < 0.5 and np.all(np.prod(S[e], axis=1) > J[e].min())
 
 
 def test_imperfection_moves_the_wall_not_its_clamped_or_plate_edges():
@@ -216,3 +253,22 @@ def test_smallest_curved_ring_against_the_flat_ring():
     w = ut[top] / np.hypot(X[top, 0], X[top, 1])                             # the plate turns them rigidly:
     assert np.std(w) < 1e-3 * np.abs(w).mean()                                  # one angle, u_phi = w rho
     assert np.linalg.norm(ut) > 0.95 * np.linalg.norm(u)
+
+
+@needs_ccx
+def test_tiny_run_with_fully_integrated_beam_corners_returns_every_node():
+    """r = 1, two bricks through the wall, two increments to d/L 0.01: the C3D20 bricks at the beam's corners
+    (``full_near``) run in the same deck as the reduced rest, stiffen the ring by about a percent only (on r = 2
+    0.8 % up to d/L 0.25, docs/sleeves.md), and ``print_all`` returns the displacements the volume ratios read."""
+    g = CellGeometry()
+    kw = dict(d_max=0.01 * g.L, increments=2, timeout_s=120)
+    plain, _ = sleeve3d.solve_ring3d(g, 4, 1, 2, **kw)
+    full, info = sleeve3d.solve_ring3d(g, 4, 1, 2, full_near=1.0, print_all=True, **kw)
+    assert info["d_reached"] == pytest.approx(0.01) and info["full_elements"] > 0
+    k = lambda c: np.interp(0.005, c["d"], c["F"]) / 0.005          # noqa: E731
+    assert 1.0 <= k(full) / k(plain) < 1.03
+    m = sleeve3d.ring_mesh(g, 4, 1, 2)
+    assert full["u"].shape == (m.n_nodes, 3) and "u" not in plain
+    J, S = m.volume_ratios(full["u"])
+    assert np.allclose(np.prod(S, axis=2), 1.0, atol=2e-3)             # nearly incompressible at the Gauss points
+    assert J.min() > 0.9
