@@ -32,6 +32,7 @@ import numpy as np  # noqa: E402
 from metamaterial_wb.bench.fe_ring3d import (MARK_BEGIN, MARK_END, MESHES, cell_geometry, curved_summary,  # noqa: E402
                                              markdown, plot)
 from metamaterial_wb.core.fileio import write_atomic  # noqa: E402
+from metamaterial_wb.fe.sleeve_check import secant  # noqa: E402
 
 RESULTS = os.path.join(ROOT, "benchmarks", "results")
 STORE = os.path.join(RESULTS, "fe-ring3d.json")
@@ -122,7 +123,7 @@ def stiffness_check(kinds=("flat", "fixed", "free", "free_layers2")):
             c, info = sleeve3d.solve_ring3d(g, 4, r, nl, d_max=0.01 * g.L, increments=2, timeout_s=900,
                                             radial=radial,
                                             element="C3D20" if "full" in k else "C3D20R")
-        out[k] = {"k": float(np.interp(0.005, c["d"], c["F"]) / 0.005), "wall_s": info["wall_s"],
+        out[k] = {"k": secant(c["d"], c["F"]), "wall_s": info["wall_s"],
                   "dofs": info["dofs"], "d": c["d"].tolist(), "F": c["F"].tolist()}
         print(k, out[k]["k"], info["wall_s"], flush=True)
     return out
@@ -138,8 +139,8 @@ def cells_check(ns=(4, 6, 8, 12)):
     for n in ns:
         flat, fi = sleeve2d.solve_ring(g, n, 1, d_max=0.01 * g.L, increments=2, timeout_s=900)
         curved, ci = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=0.01 * g.L, increments=2, timeout_s=1800)
-        out[str(n)] = {"radius_mm": ci["radius_mm"], "fe_flat": _secant(flat["d"], flat["F"]),
-                       "fe_curved": _secant(curved["d"], curved["F"]), "wall_s": fi["wall_s"] + ci["wall_s"]}
+        out[str(n)] = {"radius_mm": ci["radius_mm"], "fe_flat": secant(flat["d"], flat["F"]),
+                       "fe_curved": secant(curved["d"], curved["F"]), "wall_s": fi["wall_s"] + ci["wall_s"]}
         print(n, out[str(n)], flush=True)
     return out
 
@@ -164,31 +165,31 @@ def cells_p1(ns=(4, 8), d_max=0.17):
     return out
 
 
-def _secant(d, F, at=0.005):
-    return float(np.interp(at, d, F) / at)
-
-
 def cells_model(cells, e, n_el=24):
     """The beam model's flat and curved rings of every stored size, as documented (root extension 0) and
     calibrated (``e``): the same secant as ``cells_check``."""
-    from metamaterial_wb.bench.fe_sleeve_calibration import _geom
-    from metamaterial_wb.core.sleeve.model import SleeveModel
+    from metamaterial_wb.fe.sleeve2d import peak_valley
     out = {}
     for n, row in cells.items():
         row = dict(row)
         for key, ext, curv in (("model_flat", e, False), ("model_curved", e, True),
                                ("model_flat_documented", 0.0, False), ("model_curved_documented", 0.0, True)):
-            p = SleeveModel([_geom()], [[0] * int(n)], n_el, imperfection=1e-4, root_extension=ext,
-                            curvature=curv).trace(np.linspace(0, 0.01, 3))
-            row[key] = _secant(p.d, p.F)
+            p = _model_ring(int(n), n_el, 0.01, 2, root_extension=ext, curvature=curv)
+            row[key] = secant(p.d, p.F)
         if row.get("fe_curved_p1") is not None:        # its first peak too, where the FE's was found
-            from metamaterial_wb.fe.sleeve2d import peak_valley
             for key, ext in (("model_curved_p1", e), ("model_curved_documented_p1", 0.0)):
-                p = SleeveModel([_geom()], [[0] * int(n)], n_el, imperfection=1e-4, root_extension=ext,
-                                curvature=True).trace(np.linspace(0, 0.3, 61))
+                p = _model_ring(int(n), n_el, 0.3, 60, root_extension=ext)
                 row[key + "_d"], row[key] = (float(v) for v in peak_valley(p.d, p.F)[:2])
         out[n] = row
     return out
+
+
+def _model_ring(n, n_el, d_max, steps, **kw):
+    """The beam model's uniform ring of ``n`` seed cells (imperfection 1e-4, as the calibration's), traced to
+    ``d_max`` in ``steps``; ``kw``: ``SleeveModel`` options."""
+    from metamaterial_wb.bench.fe_sleeve_calibration import _geom
+    from metamaterial_wb.core.sleeve.model import SleeveModel
+    return SleeveModel([_geom()], [[0] * n], n_el, imperfection=1e-4, **kw).trace(np.linspace(0, d_max, steps + 1))
 
 
 def _load():
@@ -218,17 +219,14 @@ def model_relief(e, n_el=24):
     """The beam model's (root extension ``e``) answer to the same initial-stiffness question: its secant stiffness
     to d/L 0.005 and its first peak, flat and curved with the pillar tips guided (default) or free, plane strain
     (as calibrated) and plane stress (the curved solid's narrow beams are free through the wall)."""
-    from metamaterial_wb.bench.fe_sleeve_calibration import _geom
-    from metamaterial_wb.core.sleeve.model import SleeveModel
     from metamaterial_wb.fe.sleeve2d import peak_valley
     out = {}
     for key, kw in (("flat", {"curvature": False}), ("guided", {"pillar_tip": "guided"}),
                     ("free", {"pillar_tip": "free"}), ("guided_stress", {"pillar_tip": "guided", "plane": "stress"}),
                     ("free_stress", {"pillar_tip": "free", "plane": "stress"})):
-        m = SleeveModel([_geom()], [[0, 0, 0, 0]], n_el, imperfection=1e-4, root_extension=e, **kw)
-        p = m.trace(np.linspace(0, 0.3, 61))
+        p = _model_ring(4, n_el, 0.3, 60, root_extension=e, **kw)
         at, P1 = peak_valley(p.d, p.F)[:2]
-        out[key] = {"k": float(np.interp(0.005, p.d, p.F) / 0.005), "P1": float(P1), "P1_at": float(at)}
+        out[key] = {"k": secant(p.d, p.F), "P1": float(P1), "P1_at": float(at)}
     return out
 
 

@@ -334,15 +334,15 @@ def markdown(c, img=None):
         L.append("| N | R (mm) | FE flat | FE curved | FE curved / flat | model flat | model curved | model curved / flat "
                  "| model curved / FE curved | as documented (root_extension 0): curved / FE curved |")
         L.append("|---|---|---|---|---|---|---|---|---|---|")
-        for n, v in sorted(c["cells"].items(), key=lambda kv: int(kv[0])):
+        rows = sorted(c["cells"].items(), key=lambda kv: int(kv[0]))
+        for n, v in rows:
             L.append(f"| {n} | {v['radius_mm']:.1f} | {1e3 * v['fe_flat']:.1f} | {1e3 * v['fe_curved']:.1f} | "
                      f"{v['fe_curved'] / v['fe_flat']:.2f} | {1e3 * v['model_flat']:.1f} | {1e3 * v['model_curved']:.1f} | "
                      f"{v['model_curved'] / v['model_flat']:.2f} | {v['model_curved'] / v['fe_curved']:.2f} | "
                      f"{v['model_curved_documented'] / v['fe_curved']:.2f} |")
         L.append("")
-        p1 = [(n, v) for n, v in sorted(c["cells"].items(), key=lambda kv: int(kv[0])) if v.get("fe_curved_p1")]
-        nop = [(n, v) for n, v in sorted(c["cells"].items(), key=lambda kv: int(kv[0]))
-               if "fe_curved_p1" in v and v["fe_curved_p1"] is None]
+        p1 = [(n, v) for n, v in rows if v.get("fe_curved_p1")]
+        nop = [(n, v) for n, v in rows if "fe_curved_p1" in v and v["fe_curved_p1"] is None]
         if p1:
             L.append("First peak P1 (x1e-3, at d/L) of the curved ring by ring size: CalculiX static, mesh r = 1 with "
                      "two bricks through the wall (`--cells-p1`), against the beam model's curved ring: " + "; ".join(

@@ -45,6 +45,8 @@ from metamaterial_wb.fe.mesh import Mesh
 REF, ROT = 9000001, 9000002
 DENSITY = 1e-10          # t/mm^3 with G = 1 MPa and a step of time 1 (a tenth of rubber's at 0.7 L per second)
 WALLS = ("mid", "inner")
+# natural coordinates of a brick's corners, mid-edges and face and element centres (3 x 3 x 3)
+_NODE_POINTS = [(a, b, c) for a in (-1.0, 0.0, 1.0) for b in (-1.0, 0.0, 1.0) for c in (-1.0, 0.0, 1.0)]
 PARTS = ("bars", "central", "edge", "pillars", "beams")     # radial="<part>": only that part held at its radius
 
 # natural coordinates of CalculiX's C3D20 nodes (corners, face mid-edges, radial mid-edges)
@@ -120,8 +122,7 @@ class RingMesh(Mesh):
     def min_jacobian(self):
         """Smallest Jacobian determinant over every element's 27 points (corners, mid-edges, centres of faces
         and of the element): all positive means every brick is positively oriented and not folded."""
-        pts = [(a, b, c) for a in (-1.0, 0.0, 1.0) for b in (-1.0, 0.0, 1.0) for c in (-1.0, 0.0, 1.0)]
-        return min(float(np.min(J)) for _, J in self._jacobians(pts))
+        return min(float(np.min(J)) for _, J in self._jacobians(_NODE_POINTS))
 
     def volume_ratios(self, u):
         """``(E, 27)`` local volume ratios ``det F`` of every brick deformed by the node displacements ``u``
@@ -136,8 +137,7 @@ class RingMesh(Mesh):
         def grads(p):
             dN = _dshape20(*p)
             return np.einsum("kn,enc->eck", dN, X1) @ np.linalg.inv(np.einsum("kn,enc->eck", dN, X0))
-        pts = [(a, b, c) for a in (-1.0, 0.0, 1.0) for b in (-1.0, 0.0, 1.0) for c in (-1.0, 0.0, 1.0)]
-        J = np.stack([np.linalg.det(grads(p)) for p in pts], axis=1)
+        J = np.stack([np.linalg.det(grads(p)) for p in _NODE_POINTS], axis=1)
         q = 1 / math.sqrt(3)
         gp = [(a, b, c) for a in (-q, q) for b in (-q, q) for c in (-q, q)]
         S = np.stack([np.linalg.svd(grads(p), compute_uv=False) for p in gp], axis=1)
@@ -257,6 +257,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     if not 0 < d_max <= 1.5 * g.L:
         raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 1.5 L = {1.5 * g.L:g} mm")
     X = mesh.nodes
+    full = mesh.beam_end_elements(full_near)
     tol = 1e-7 * g.L
     if imperfection is not None:
         imp = np.asarray(imperfection, float)
@@ -271,7 +272,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         X = X + imp
     out = [f"*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid ({element}), rigid tilting top plate\n",
            "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{g.height:.9g}\n{ROT},0,0,{g.height:.9g}\n",
-           _element_text(mesh, element, full_near),
+           _element_text(mesh, element, full),
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
            ("*NSET, NSET=SHAPE\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if shapes else ""),
@@ -279,7 +280,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
            "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
            ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" or stability else ""),
            "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
-           ("*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER\n" if mesh.beam_end_elements(full_near).size else ""),
+           ("*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER\n" if full.size else ""),
            f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n"]
     if radial != "free":
         held = np.ones(mesh.n_nodes, bool) if radial == "fixed" else mesh.parts()[radial].copy()
@@ -309,16 +310,16 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "bias_angle": bias_angle, "radial": radial,
             "method": method, "element": element, "patient": patient, "stability": int(stability),
-            "full_near": float(full_near), "full_elements": int(mesh.beam_end_elements(full_near).size)}
+            "full_near": float(full_near), "full_elements": int(full.size)}
     return "".join(out), meta
 
 
-def _element_text(mesh, element, full_near):
-    """``*ELEMENT`` cards: every brick ``element`` in set ``SOLID``, or with ``full_near > 0`` the beam's bricks
-    near its re-entrant corners C3D20 in set ``SOLIDF``."""
+def _element_text(mesh, element, full_ids):
+    """``*ELEMENT`` cards: every brick ``element`` in set ``SOLID``, but the bricks ``full_ids`` (0-based: the
+    beam's bricks near its re-entrant corners) C3D20 in set ``SOLIDF``."""
     ids = np.arange(1, mesh.n_elements + 1)
     full = np.zeros(mesh.n_elements, bool)
-    full[mesh.beam_end_elements(full_near)] = True
+    full[full_ids] = True
     out = f"*ELEMENT, TYPE={element}, ELSET=SOLID\n" + ccx.fmt_elements(mesh.elements[~full], ids[~full])
     if full.any():
         out += "*ELEMENT, TYPE=C3D20, ELSET=SOLIDF\n" + ccx.fmt_elements(mesh.elements[full], ids[full])

@@ -38,7 +38,9 @@ def first_peak(d, F, drop=0.01):
     return dp, Fp
 
 
-def _secant(d, F):
+def secant(d, F):
+    """The secant stiffness of a traced curve to d/L ``SECANT_AT`` (F / (G L^2) per d/L): the initial stiffness
+    every curved-ring comparison uses (this check, ``bench_sleeve_ring3d.py``)."""
     return float(np.interp(SECANT_AT, d, F) / SECANT_AT)
 
 
@@ -70,7 +72,7 @@ def check_sleeve(spec, peak=False, timeout_s=3600.0, log=None):
                                          timeout_s=timeout_s, partial=False)
         m = _model(spec, i)
         p = m.trace(np.linspace(0.0, 2 * SECANT_AT, 3))
-        row = {"type": i, "fe_stiffness": _secant(fe["d"], fe["F"]), "model_stiffness": _secant(p.d, p.F),
+        row = {"type": i, "fe_stiffness": secant(fe["d"], fe["F"]), "model_stiffness": secant(p.d, p.F),
                "fe_seconds": info["wall_s"]}
         row["stiffness_ratio"] = row["model_stiffness"] / row["fe_stiffness"]
         if peak:
