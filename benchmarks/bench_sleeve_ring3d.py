@@ -41,13 +41,13 @@ IMG = "img/sleeve-fe-ring3d.png"
 
 
 def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic",
-           patient=False, imperfection=None, bias_angle=0.5, full_near=0.0):
+           patient=False, imperfection=None, bias_angle=0.5, full_near=0.0, full_low=False):
     from metamaterial_wb.fe import sleeve3d
     g = cell_geometry()
     c, info = sleeve3d.solve_ring3d(g, 4, r, n_layers, d_max=d_max * g.L, increments=increments, bias=bias,
                                     timeout_s=timeout_s, partial=True, radial=radial,
                                     method=method, patient=patient, imperfection=imperfection,
-                                    bias_angle=bias_angle, full_near=full_near)
+                                    bias_angle=bias_angle, full_near=full_near, full_low=full_low)
     info.pop("log_tail", None)
     return {"r": r, "n_layers": n_layers, "radial": radial, "d": c["d"].tolist(), "F": c["F"].tolist(),
             "tilt_rad": c["tilt_rad"].tolist(), "info": info,
@@ -250,7 +250,7 @@ def compare(data):
         out["cells"] = cells_model({n: {k: v for k, v in row.items() if not k.startswith("model_")}
                                     for n, row in data["cells"].items()}, e)
     for k in (["trace", "p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2", "radial_fixed", "branch_r2"]
-              + [k for k in data if k.startswith(("attempt_", "p1_r2_full"))]):
+              + [k for k in data if k.startswith(("attempt_", "p1_r1_full", "p1_r2_full", "p1_r3_full"))]):
         if k in data:
             out[k] = dict(data[k], tilt_deg=np.degrees(np.hypot(*np.asarray(data[k]["tilt_rad"]).T)).tolist())
     return out
@@ -260,6 +260,8 @@ def write(c):
     from metamaterial_wb.bench.fe_sleeve import write_section
     section = markdown(c, IMG)
     plot(c, os.path.join(ROOT, "docs", IMG))
+    from metamaterial_wb.bench.fe_ring3d_corner import IMG as CORNER_IMG, plot_family
+    plot_family(c, os.path.join(ROOT, "docs", CORNER_IMG))
     write_atomic(DOC, write_section(DOC, section, MARK_BEGIN, MARK_END))
     summ = curved_summary(c)
     spath = os.path.join(RESULTS, "fe-study.json")
@@ -290,6 +292,8 @@ def main(argv=None):
                     "per d/L; another count is stored apart, as p1_<mesh>_inc<N>)")
     ap.add_argument("--p1-full-near", type=float, default=0.0, help="mm: the beam's bricks within it of its "
                     "re-entrant corners fully integrated (C3D20) in the P1 mesh run (stored as p1_<mesh>..._full<mm>)")
+    ap.add_argument("--p1-full-low", action="store_true", help="with --p1-full-near: the bricks of the beam's "
+                    "continuation into the edge pillar (edge_pillar_low) near its side too (stored as ..._full<mm>low)")
     ap.add_argument("--stability-at", default=None, help="comma list of d/L: the static path's stability there "
                     "(eigenvalues of the tangent stiffness; stored under 'stability', merged)")
     ap.add_argument("--stability-mesh", default="r2", choices=sorted(MESHES))
@@ -305,6 +309,9 @@ def main(argv=None):
                     "static, r = 1 with two bricks through the wall; stored under 'cells', merged)")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
+    if a.p1_full_low and not a.p1_full_near:
+        ap.error("--p1-full-low: the edge pillar's strip joins the corner bricks of --p1-full-near (mm, > 0), "
+                 "which is 0")
     if a.trace:
         t0 = time.time()
         tr = run_fe(increments=a.increments, timeout_s=a.timeout, bias=a.bias, method=a.method,
@@ -317,11 +324,11 @@ def main(argv=None):
         r, nl = MESHES[a.p1_mesh]
         inc = a.p1_increments or int(round(100 * a.p1_dmax))
         tr = run_fe(r, nl, d_max=a.p1_dmax, increments=inc, timeout_s=a.timeout, method="static",
-                    full_near=a.p1_full_near)
+                    full_near=a.p1_full_near, full_low=a.p1_full_low)
         print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} to d/L {tr['info']['d_reached']:.3f} "
               f"({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("p1_" + a.p1_mesh + (f"_inc{a.p1_increments}" if a.p1_increments else "")
-               + (f"_full{a.p1_full_near:g}" if a.p1_full_near else ""), tr)
+               + (f"_full{a.p1_full_near:g}" + ("low" if a.p1_full_low else "") if a.p1_full_near else ""), tr)
     if a.stability_at:
         for d in (float(v) for v in a.stability_at.split(",")):
             pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout, full_near=a.stability_full_near)

@@ -90,28 +90,31 @@ def beyond(x):
 PATH_D = (0.05, 0.10, 0.14, 0.17, 0.22, 0.30, 0.40, 0.45)
 
 
-def _path(c, mesh):
-    """The static path stored for ``mesh`` (``p1_<mesh>``; r = 1: the trace up to its snap), or None."""
-    if mesh == "r1":
+def _path(c, mesh, suffix=""):
+    """The static path stored for ``mesh`` (``p1_<mesh><suffix>``; r = 1 without a suffix: the trace up to its
+    snap), or None."""
+    if mesh == "r1" and not suffix:
         tr = c.get("trace")
         if tr is None:
             return None
         sn = snap(tr)
         k = sn["i"] + 1 if sn else len(tr["F"])
         return {"d": tr["d"][:k], "F": tr["F"][:k]}
-    return c.get("p1_" + mesh)
+    return c.get("p1_" + mesh + suffix)
 
 
-def path_convergence(c):
-    """Force along the path on r = 1, 2, 3 at fixed d/L, extrapolated in h ~ 1/r, and P1 on each mesh:
-    ``{"rows": [(d, [F per mesh or None], ext, err, n_meshes)], "p1": [...], "p1_ext": (d, F, err)}``."""
+def path_convergence(c, suffix="", points=PATH_D):
+    """Force along the path on r = 1, 2, 3 (``p1_<mesh><suffix>``) at fixed d/L (``points`` and the r = 2 probes),
+    extrapolated in h ~ 1/r, and P1 and the valley after it on each mesh: ``{"rows": [(d, [F per mesh or None],
+    ext, err, n_meshes)], "p1": [(d, F)], "p1_ext": (d, F, err F, err d), "valley", "valley_ext"}``."""
     from metamaterial_wb.bench.fe_sleeve import richardson3
     from metamaterial_wb.fe.sleeve2d import peak_valley
-    meshes = [m for m in ("r1", "r2", "r3") if _path(c, m) is not None]
-    paths = {m: _path(c, m) for m in meshes}
+    meshes = [m for m in ("r1", "r2", "r3") if _path(c, m, suffix) is not None]
+    paths = {m: _path(c, m, suffix) for m in meshes}
     rows = []
-    probes = {round(v["d"], 3) for k, v in c.get("stability", {}).items() if k.startswith("r2@") and v.get("eigenvalues")}
-    for d in sorted(set(PATH_D) | probes):
+    probes = set() if suffix else {round(v["d"], 3) for k, v in c.get("stability", {}).items()
+                                   if k.startswith("r2@") and v.get("eigenvalues")}
+    for d in sorted(set(points) | probes):
         vals = [float(np.interp(d, paths[m]["d"], paths[m]["F"])) if paths[m]["d"][-1] >= d - 1e-9 else None
                 for m in meshes]
         have = [(MESHES[m][0], v) for m, v in zip(meshes, vals) if v is not None]
@@ -120,13 +123,17 @@ def path_convergence(c):
             rows.append((d, vals, ext[0], err[0], len(have)))
         else:
             rows.append((d, vals, None, None, len(have)))
-    p1 = [peak_valley(paths[m]["d"], paths[m]["F"])[:2] for m in meshes]
-    ok = [(MESHES[m][0], q) for m, q in zip(meshes, p1) if np.isfinite(q[1])]
-    p1_ext = None
-    if len(ok) >= 2:
+    pv = [peak_valley(paths[m]["d"], paths[m]["F"]) for m in meshes]
+
+    def extrapolated(qs):
+        ok = [(MESHES[m][0], q) for m, q in zip(meshes, qs) if np.isfinite(q[1])]
+        if len(ok) < 2:
+            return None
         ext, err, _ = richardson3([1.0 / r for r, _ in ok], [[q[0], q[1]] for _, q in ok])
-        p1_ext = (ext[0], ext[1], err[1], err[0])
-    return {"meshes": meshes, "rows": rows, "p1": p1, "p1_ext": p1_ext}
+        return (ext[0], ext[1], err[1], err[0])
+    p1, valley = [q[:2] for q in pv], [q[2:] for q in pv]
+    return {"meshes": meshes, "rows": rows, "p1": p1, "p1_ext": extrapolated(p1), "valley": valley,
+            "valley_ext": extrapolated(valley)}
 
 
 def classify_modes(pr):
@@ -220,39 +227,6 @@ def branch_markdown(c):
         L[-1] += (f" Against the symmetric path of the perfect ring: at most {1e3 * gap[j]:.3f} apart (at d/L "
                   f"{d[k][j]:.3f}).")
     return L + [""]
-
-
-def full_keys(c):
-    """The stored r = 2 paths with the beam's corners fully integrated (``p1_r2_full<mm>``), sorted."""
-    return sorted(k for k in c if k.startswith("p1_r2_full"))
-
-
-def corner_markdown(c):
-    """The r = 2 paths with fully integrated bricks at the beam's re-entrant corners (``--p1-full-near``): how far
-    they get past the reduced mesh's stop and what the ring does there."""
-    L = []
-    sym = c.get("p1_r2")
-    for k in full_keys(c):
-        x, info = c[k], c[k]["info"]
-        d, F = np.asarray(x["d"]), np.asarray(x["F"])
-        ex = x["extrema"]
-        line = (f"**Past the reduced mesh's stop (r = 2, {info.get('full_elements', '?')} bricks within "
-                f"{info.get('full_near', 0):g} mm of the beam's re-entrant corners fully integrated, C3D20; the rest "
-                f"C3D20R).** `*STATIC`, {info['increments']} increments to d/L {info['d_reached']:.3f} in "
-                f"{info['wall_s'] / 60:.1f} min" +
-                (f" (ccx stopped there: {info['stopped'].strip().splitlines()[-2].strip()})" if info.get("stopped")
-                 else " (the whole range)") +
-                f": {_kinds(ex)} - " + ", ".join(f"{kd} {1e3 * f:.3f} at d/L {dd:.3f}" for kd, dd, f in ex[:4]) +
-                f"; the force at the end {1e3 * F[-1]:.3f}; tilt {tilt_facts(x['d'], x['tilt_deg'])}.")
-        if sym:
-            sd = np.asarray(sym["d"])
-            m = d <= sd[-1]
-            gap = (F[m] - np.interp(d[m], sd, sym["F"])) / max(np.asarray(sym["F"]).max(), 1e-30)
-            j = int(np.argmax(np.abs(gap)))
-            line += (f" Against the all-reduced r = 2 path (to its stop at d/L {sd[-1]:.3f}): at most "
-                     f"{100 * gap[j]:+.1f} % of its P1 apart (at d/L {d[m][j]:.3f}).")
-        L += [line, ""]
-    return L
 
 
 def markdown(c, img=None):
@@ -387,7 +361,9 @@ def markdown(c, img=None):
                 L.append("")
     L += path_markdown(c)
     L += branch_markdown(c)
-    L += corner_markdown(c)
+    from metamaterial_wb.bench import fe_ring3d_corner as corner
+    L += corner.corner_markdown(c)
+    L += corner.family_markdown(c)
     if img:
         L += [f"![curved FE ring against the flat FE ring and the beam model]({img})", ""]
     L.append(MARK_END)
@@ -422,8 +398,10 @@ def plot(c, path):
              ("p1_layers2", "2 bricks through the wall (static)", "C4"),
              ("p1_r2layers2", "r = 2, 2 bricks through the wall (static)", "C6"),
              ("branch_r2", "r = 2, with its unstable mode as an imperfection (static)", "C8"))
+    from metamaterial_wb.bench.fe_ring3d_corner import corner_keys
     full = tuple((k, f"r = 2, beam corners C3D20 within {c[k]['info'].get('full_near', 0):g} mm (static)", col)
-                 for k, col in zip(full_keys(c), ("C9", "navy", "teal")))
+                 for (k, _, _), col in zip([t for t in corner_keys(c) if t[1] == "r2" and not t[0].endswith("low")],
+                                           ("C9", "navy", "teal")))
     for k, lab, col in lines + full:
         if k in c:
             lab = "CalculiX, curved 3-D, " + lab
@@ -508,8 +486,17 @@ def curved_summary(c):
             s += (f" but for a wall mode at d/L {ur[1]:.2f}" + (f"-{ur[2]:.2f}" if ur[2] != ur[1] else "") +
                   (" that two bricks through the wall remove" if fix else ""))
         s += ": no tilting first stage"
-        fk = full_keys(c)
-        if fk:
+        from metamaterial_wb.bench import fe_ring3d_corner as corner
+        fam = corner.family_convergence(c) if "p1_r3" + corner.FAMILY in c else None
+        fk = [k for k, mesh, _ in corner.corner_keys(c) if mesh == "r2" and not k.endswith("low")]
+        if fam and fam["valley_ext"] and len(fam["meshes"]) == 3:
+            far = min(c["p1_" + mesh + corner.FAMILY]["info"]["d_reached"] for mesh in fam["meshes"])
+            kinds = {_kinds(c["p1_" + mesh + corner.FAMILY]["extrema"]) for mesh in fam["meshes"]}
+            dv, fv, ev, edv = fam["valley_ext"]
+            s += (f"; with the corner bricks fully integrated (reduced ones fold there and stop Newton) it runs on to "
+                  f"d/L {far:.2f} on all three in-plane meshes with " + " or ".join(sorted(kinds)) +
+                  f" (the valley {1e3 * fv:.3f} +- {1e3 * ev:.3f}e-3 at d/L {dv:.2f}, extrapolated)")
+        elif fk:
             x = c[fk[0]]
             ex = x["extrema"]
             val = [e for e in ex if e[0] == "valley"]

@@ -143,10 +143,12 @@ class RingMesh(Mesh):
         S = np.stack([np.linalg.svd(grads(p), compute_uv=False) for p in gp], axis=1)
         return J, S
 
-    def beam_end_elements(self, dist):
+    def beam_end_elements(self, dist, low=False):
         """0-based ids of the beam's bricks (blocks ``beam_pillar``, ``beam_free``) whose centre lies within
         ``dist`` mm (along the unrolled circumference) of the central pillar's side or of the edge pillar: the two
-        re-entrant corners where the beam bends most."""
+        re-entrant corners where the beam bends most. ``low=True`` adds the bricks of the beam's continuation into
+        the edge pillar (block ``edge_pillar_low``: the pillar's strip at the beam's height, free below) within
+        ``dist`` of the pillar's side."""
         if dist <= 0:
             return np.zeros(0, dtype=np.int64)
         g = self.geom
@@ -155,7 +157,10 @@ class RingMesh(Mesh):
         x = np.arctan2(c[:, 1], c[:, 0]) * self.radius
         x = np.abs(x - np.round(x / g.width) * g.width)
         near = (np.abs(x - g.c / 2) < dist) | (np.abs(g.L / 2 - x) < dist)
-        return np.flatnonzero(np.isin(blk, ("beam_pillar", "beam_free")) & near)
+        beam = np.isin(blk, ("beam_pillar", "beam_free")) & near
+        if low:
+            beam |= (blk == "edge_pillar_low") & (np.abs(x - g.L / 2) < dist)
+        return np.flatnonzero(beam)
 
     def exact_volume(self):
         """The wrapped solid's volume from the 2-D outline's area ``A``: a wall between radii ``rho_0`` and
@@ -213,7 +218,7 @@ def _checked(n_cells, r, n_layers):
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
                 radial="free", method="static", element="C3D20R", patient=False, stability=0, shapes=False,
-                imperfection=None, full_near=0.0, print_all=False):
+                imperfection=None, full_near=0.0, print_all=False, full_low=False):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
@@ -238,7 +243,9 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     (``RingMesh.beam_end_elements``) fully integrated (C3D20, element set ``SOLIDF``), the rest ``element``: on
     r = 2 the reduced bricks at the beam's underside next to the central pillar fold in reduced integration's
     spurious mode (nodal ``det F`` 0.73 while the integration points stay at 1.000) and stop static Newton at d/L
-    0.468 (docs/sleeves.md, "One or two stages"). ``print_all=True`` prints every node's displacement at every
+    0.468 (docs/sleeves.md, "One or two stages"). ``full_low=True``: with the bricks of the beam's continuation
+    into the edge pillar (``edge_pillar_low``) within ``full_near`` of the pillar's side too: on r = 3 those
+    reduced bricks fold the same way (nodal ``det F`` 0.77) and stop Newton at d/L 0.157. ``print_all=True`` prints every node's displacement at every
     increment (set ``ALLN``; ``solve_ring3d`` returns the last converged one)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
     if element not in ("C3D20R", "C3D20"):
@@ -257,7 +264,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     if not 0 < d_max <= 1.5 * g.L:
         raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 1.5 L = {1.5 * g.L:g} mm")
     X = mesh.nodes
-    full = mesh.beam_end_elements(full_near)
+    full = mesh.beam_end_elements(full_near, low=full_low)
     tol = 1e-7 * g.L
     if imperfection is not None:
         imp = np.asarray(imperfection, float)
@@ -310,7 +317,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "bias_angle": bias_angle, "radial": radial,
             "method": method, "element": element, "patient": patient, "stability": int(stability),
-            "full_near": float(full_near), "full_elements": int(full.size)}
+            "full_near": float(full_near), "full_low": bool(full_low), "full_elements": int(full.size)}
     return "".join(out), meta
 
 
@@ -328,7 +335,7 @@ def _element_text(mesh, element, full_ids):
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
                  partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0,
-                 shapes=False, imperfection=None, bias_angle=0.5, full_near=0.0, print_all=False):
+                 shapes=False, imperfection=None, bias_angle=0.5, full_near=0.0, print_all=False, full_low=False):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
@@ -337,10 +344,11 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     the tilt pair and the twist are told apart by it; its size, as ccx normalises the modes to unit mass: a mode
     that leaves the plate still has none), and ``stable`` (all positive); with ``shapes=True`` the curve holds
     ``"modes"``, ``(n, n_nodes, 3)``; with ``print_all=True`` ``"u"``, the last converged increment's node
-    displacements ``(n_nodes, 3)`` (``RingMesh.volume_ratios`` reads them). ``full_near``: ``ring_deck3d``."""
+    displacements ``(n_nodes, 3)`` (``RingMesh.volume_ratios`` reads them). ``full_near``, ``full_low``: ``ring_deck3d``."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, bias_angle, radial=radial, method=method,
                              element=element, patient=patient, stability=stability, shapes=shapes,
-                             imperfection=imperfection, full_near=full_near, print_all=print_all)
+                             imperfection=imperfection, full_near=full_near, print_all=print_all,
+                             full_low=full_low)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -352,7 +360,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     d = t * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
                                       "bias", "bias_angle", "radial", "method",
-                                      "element", "patient", "full_near", "full_elements")})
+                                      "element", "patient", "full_near", "full_low", "full_elements")})
     eig = info.pop("eigenvalues", [])
     if stability and eig and "stopped" not in info:
         modes = [np.asarray(r_[1][ROT][:3], float) for r_ in rot[len(t):]]

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from metamaterial_wb.bench import fe_ring3d as rep
+from metamaterial_wb.bench import fe_ring3d_corner as corner
 
 
 def _probe(d, eig, rot, size, density=1e-10):
@@ -59,12 +60,42 @@ def test_corner_paths_are_reported_past_the_reduced_mesh_stop():
             "extrema": [("peak", 0.1125, 1.1e-3), ("valley", 0.3375, 0.1e-3), ("peak", 0.5625, 1.1e-3)]}
     k = d <= 0.468
     red = {"d": d[k].tolist(), "F": (F[k] * 0.99).tolist()}
-    c = {"p1_r2": red, "p1_r2_full1.5": full, "p1_r2_inc280": red}
-    assert rep.full_keys(c) == ["p1_r2_full1.5"]
-    text = "\n".join(rep.corner_markdown(c))
-    assert "144 bricks within 1.5 mm" in text and "to d/L 0.700" in text and "(the whole range)" in text
+    c = {"p1_r2": red, "p1_r2_full1.5": full, "p1_r2_inc280": red,
+         "p1_r3_full1.5low": dict(full, info=dict(info, full_elements=433, full_low=True))}
+    assert corner.corner_keys(c) == [("p1_r2_full1.5", "r2", "_full1.5"), ("p1_r3_full1.5low", "r3", "_full1.5low")]
+    text = "\n".join(corner.corner_markdown(c))
+    assert "(r = 2, 144 bricks within 1.5 mm" in text and "to d/L 0.700" in text and "(the whole range)" in text
     assert "2 peaks, 1 valley" in text and "+1.0 %" in text and "its stop at d/L 0.460" in text
-    assert rep.corner_markdown({"p1_r2": red}) == []
+    assert "(r = 3, 433 bricks within 1.5 mm of the beam's re-entrant corners and of the edge pillar's side" in text
+    assert corner.corner_markdown({"p1_r2": red}) == []
+
+
+def test_corner_family_converges_past_the_peak_and_its_valley_is_extrapolated():
+    """The corner-integrated paths on r = 1, 2, 3 with a known h^2 error: the force at fixed d, P1 and the valley
+    come back exact; a mesh that stopped early drops out of the rows it did not reach."""
+    d = np.linspace(0, 0.7, 701)
+    exact = 1e-3 * (np.sin(2 * np.pi * d / 0.6) + 4 * d ** 2)        # one peak, one valley, then stiffening
+
+    def path(r, stop=0.7):
+        k = d <= stop + 1e-12
+        info = {"increments": 70, "d_reached": float(d[k][-1]), "wall_s": 60.0, "full_near": 1.5, "full_low": True,
+                "full_elements": 50 * r}
+        return {"d": d[k].tolist(), "F": (exact[k] * (1 + 0.04 / r ** 2)).tolist(), "info": info,
+                "extrema": [("peak", 0.14, 1e-3), ("valley", 0.45, 0.4e-3)], "tilt_deg": [0.0] * int(k.sum())}
+    c = {"p1_r1" + corner.FAMILY: path(1, 0.63), "p1_r2" + corner.FAMILY: path(2), "p1_r3" + corner.FAMILY: path(3)}
+    pc = corner.family_convergence(c)
+    assert pc["meshes"] == ["r1", "r2", "r3"]
+    rows = {round(r_[0], 2): r_ for r_ in pc["rows"]}
+    for dd in (0.10, 0.30, 0.60):
+        assert rows[dd][4] == 3 and rows[dd][2] == pytest.approx(np.interp(dd, d, exact), rel=1e-5)
+    assert rows[0.70][1][0] is None and rows[0.70][4] == 2           # r = 1 stopped at 0.63
+    i = np.flatnonzero((np.diff(np.sign(np.diff(exact)))) > 0)[0] + 1  # the exact valley
+    assert pc["valley_ext"][1] == pytest.approx(exact[i], rel=1e-3)
+    assert pc["valley_ext"][0] == pytest.approx(d[i], abs=2e-3)
+    text = "\n".join(corner.family_markdown(c))
+    assert "on three meshes" in text and "--p1-full-near 1.5 --p1-full-low" in text
+    assert "| 0.70 | - |" in text and "(2 meshes)" in text and "r = 1: 1 peak, 1 valley to d/L 0.630" in text
+    assert corner.family_markdown({"p1_r2" + corner.FAMILY: path(2)}) == []
 
 
 def test_probe_on_the_corner_integrated_path_is_named_apart():

@@ -150,6 +150,27 @@ def test_full_integration_near_the_beam_corners_and_every_node_printed():
     assert deck.count("\n", deck.index("TYPE=C3D20R"), deck.index("*NSET, NSET=BOTTOM")) == 2 * m.n_elements + 2
 
 
+def test_full_integration_extends_into_the_edge_pillars_low_strip():
+    """``full_low``: the beam's continuation into the edge pillar (where r = 3's reduced bricks fold) joins the
+    fully integrated set, only next to the pillar's side; the beam's corner bricks stay as they were."""
+    g = CellGeometry()
+    deck, meta = sleeve3d.ring_deck3d(g, 4, 2, 1, increments=4, full_near=1.5, full_low=True)
+    m = meta["mesh"]
+    beam, low = m.beam_end_elements(1.5), m.beam_end_elements(1.5, low=True)
+    added = np.setdiff1d(low, beam)
+    assert set(beam) <= set(low) and meta["full_elements"] == low.size == 192 and meta["full_low"]
+    blk = m.quad.block[added % len(m.quad.block)]
+    assert set(blk) == {"edge_pillar_low"} and added.size == 48      # 3 of its 4 columns (0.5 mm) x 2 bricks, x 8
+    c = m.nodes[m.elements[added, :8]].mean(axis=1)
+    x = np.abs(np.arctan2(c[:, 1], c[:, 0]) * m.radius)
+    x = np.abs(x - np.round(x / g.width) * g.width)
+    assert np.all((x > g.L / 2) & (x < g.L / 2 + 1.5))
+    ids = [int(line.split(",")[0]) for line in deck.split("ELSET=SOLIDF\n")[1].split("*")[0].splitlines()[::2]]
+    assert ids == (low + 1).tolist()
+    plain, meta0 = sleeve3d.ring_deck3d(g, 4, 2, 1, increments=4, full_near=1.5)
+    assert meta0["full_elements"] == 144 and not meta0["full_low"]
+
+
 def test_volume_ratios_see_the_material_and_a_fold_apart():
     g = CellGeometry()
     m = sleeve3d.ring_mesh(g, 4, 1, 1)
