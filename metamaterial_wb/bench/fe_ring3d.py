@@ -4,18 +4,11 @@ beam model's curves are made by ``benchmarks/bench_sleeve_ring3d.py``; everythin
 (``benchmarks/results/fe-ring3d.json``, compared in ``fe-ring3d-comparison.json``)."""
 import numpy as np
 
+from metamaterial_wb.bench import fe_ring3d_corner as corner
+from metamaterial_wb.bench.fe_ring3d_paths import (MESH_NAMES, MESHES, _kinds, cell_geometry, path_convergence,
+                                                   snap, tilt_facts)
+
 MARK_BEGIN, MARK_END = "<!-- fe-ring3d:begin -->", "<!-- fe-ring3d:end -->"
-
-
-def cell_geometry():
-    """The seed's unit cell (the geometry every stored run used)."""
-    from metamaterial_wb.core.sleeve.cell import CellGeometry
-    return CellGeometry()
-
-
-MESHES = {"r1": (1, 1), "r2": (2, 1), "r3": (3, 1), "layers2": (1, 2), "r2layers2": (2, 2)}
-MESH_NAMES = {"r1": "r = 1", "r2": "r = 2", "r3": "r = 3", "layers2": "two bricks through the wall",
-              "r2layers2": "r = 2 and two bricks through the wall"}
 
 
 STIFF = {"flat": "flat 2-D ring (plane strain)", "fixed": "curved 3-D ring, wall held at its radius",
@@ -37,36 +30,6 @@ NAMES = {"trace": "CalculiX, curved 3-D, r = 1 (dynamic, this section)", "flat_f
          "flat_calibrated": "beam model, flat, calibrated", "radial_fixed": "CalculiX, curved 3-D, wall held at its radius"}
 
 
-def tilt_facts(d, deg):
-    """Largest tilt of the top plate and where it passes 1 degree (a sentence's piece)."""
-    d, deg = np.asarray(d, float)[:len(deg)], np.asarray(deg, float)
-    on = np.nonzero(deg > 1.0)[0]
-    k = int(np.argmax(deg))
-    return (f"{deg[k]:.1f} deg at d/L {d[k]:.3f}, above 1 deg from d/L {d[on[0]]:.3f}" if len(on)
-            else f"at most {deg[k]:.2f} deg")
-
-
-def _kinds(ex):
-    p = sum(1 for k in ex if k[0] == "peak")
-    v = len(ex) - p
-    return f"{p} peak{'s' if p != 1 else ''}, {v} valle{'ys' if v != 1 else 'y'}"
-
-
-def snap(x, drop=0.05, window=0.0005):
-    """The first place where the force falls by more than ``drop`` of its maximum so far within ``window`` of d/L
-    (a dynamic snap in a displacement-controlled run), or None: {"i", "d0", "F0", "Fmin", "dd", "tilt0", "tilt1"}."""
-    d, F = np.asarray(x["d"], float), np.asarray(x["F"], float)
-    deg = np.asarray(x["tilt_deg"], float)
-    for i in range(1, len(F)):
-        j = np.flatnonzero((d > d[i]) & (d <= d[i] + window))
-        if j.size and F[i] - F[j].min() > drop * F[:i + 1].max():
-            k = i
-            m = int(j[np.argmin(F[j])])
-            return {"i": k, "d0": float(d[k]), "F0": float(F[k]), "Fmin": float(F[m]), "dd": float(d[m] - d[k]),
-                    "tilt0": float(deg[min(k, len(deg) - 1)]), "tilt1": float(deg[-1])}
-    return None
-
-
 def beyond(x):
     """What a mesh-check run did after its first peak (when it went on past it)."""
     from metamaterial_wb.fe.sleeve2d import peak_valley
@@ -85,55 +48,6 @@ def beyond(x):
              f" without a snap (largest fall between two increments {1e3 * max(0.0, -np.diff(F[after]).min()):.3f})") +
             f"; the tilt stays at most {deg.max():.2f} deg." +
             (f" ccx stopped at d/L {d[-1]:.3f}: {stop.strip().splitlines()[-2].strip()}" if stop else ""))
-
-
-PATH_D = (0.05, 0.10, 0.14, 0.17, 0.22, 0.30, 0.40, 0.45)
-
-
-def _path(c, mesh, suffix=""):
-    """The static path stored for ``mesh`` (``p1_<mesh><suffix>``; r = 1 without a suffix: the trace up to its
-    snap), or None."""
-    if mesh == "r1" and not suffix:
-        tr = c.get("trace")
-        if tr is None:
-            return None
-        sn = snap(tr)
-        k = sn["i"] + 1 if sn else len(tr["F"])
-        return {"d": tr["d"][:k], "F": tr["F"][:k]}
-    return c.get("p1_" + mesh + suffix)
-
-
-def path_convergence(c, suffix="", points=PATH_D):
-    """Force along the path on r = 1, 2, 3 (``p1_<mesh><suffix>``) at fixed d/L (``points`` and the r = 2 probes),
-    extrapolated in h ~ 1/r, and P1 and the valley after it on each mesh: ``{"rows": [(d, [F per mesh or None],
-    ext, err, n_meshes)], "p1": [(d, F)], "p1_ext": (d, F, err F, err d), "valley", "valley_ext"}``."""
-    from metamaterial_wb.bench.fe_sleeve import richardson3
-    from metamaterial_wb.fe.sleeve2d import peak_valley
-    meshes = [m for m in ("r1", "r2", "r3") if _path(c, m, suffix) is not None]
-    paths = {m: _path(c, m, suffix) for m in meshes}
-    rows = []
-    probes = set() if suffix else {round(v["d"], 3) for k, v in c.get("stability", {}).items()
-                                   if k.startswith("r2@") and v.get("eigenvalues")}
-    for d in sorted(set(points) | probes):
-        vals = [float(np.interp(d, paths[m]["d"], paths[m]["F"])) if paths[m]["d"][-1] >= d - 1e-9 else None
-                for m in meshes]
-        have = [(MESHES[m][0], v) for m, v in zip(meshes, vals) if v is not None]
-        if len(have) >= 2:
-            ext, err, _ = richardson3([1.0 / r for r, _ in have], [v for _, v in have])
-            rows.append((d, vals, ext[0], err[0], len(have)))
-        else:
-            rows.append((d, vals, None, None, len(have)))
-    pv = [peak_valley(paths[m]["d"], paths[m]["F"]) for m in meshes]
-
-    def extrapolated(qs):
-        ok = [(MESHES[m][0], q) for m, q in zip(meshes, qs) if np.isfinite(q[1])]
-        if len(ok) < 2:
-            return None
-        ext, err, _ = richardson3([1.0 / r for r, _ in ok], [[q[0], q[1]] for _, q in ok])
-        return (ext[0], ext[1], err[1], err[0])
-    p1, valley = [q[:2] for q in pv], [q[2:] for q in pv]
-    return {"meshes": meshes, "rows": rows, "p1": p1, "p1_ext": extrapolated(p1), "valley": valley,
-            "valley_ext": extrapolated(valley)}
 
 
 def classify_modes(pr):
@@ -361,7 +275,6 @@ def markdown(c, img=None):
                 L.append("")
     L += path_markdown(c)
     L += branch_markdown(c)
-    from metamaterial_wb.bench import fe_ring3d_corner as corner
     L += corner.corner_markdown(c)
     L += corner.family_markdown(c)
     if img:
@@ -398,9 +311,8 @@ def plot(c, path):
              ("p1_layers2", "2 bricks through the wall (static)", "C4"),
              ("p1_r2layers2", "r = 2, 2 bricks through the wall (static)", "C6"),
              ("branch_r2", "r = 2, with its unstable mode as an imperfection (static)", "C8"))
-    from metamaterial_wb.bench.fe_ring3d_corner import corner_keys
     full = tuple((k, f"r = 2, beam corners C3D20 within {c[k]['info'].get('full_near', 0):g} mm (static)", col)
-                 for (k, _, _), col in zip([t for t in corner_keys(c) if t[1] == "r2" and not t[0].endswith("low")],
+                 for (k, _, _), col in zip([t for t in corner.corner_keys(c) if t[1] == "r2" and not t[0].endswith("low")],
                                            ("C9", "navy", "teal")))
     for k, lab, col in lines + full:
         if k in c:
@@ -486,7 +398,6 @@ def curved_summary(c):
             s += (f" but for a wall mode at d/L {ur[1]:.2f}" + (f"-{ur[2]:.2f}" if ur[2] != ur[1] else "") +
                   (" that two bricks through the wall remove" if fix else ""))
         s += ": no tilting first stage"
-        from metamaterial_wb.bench import fe_ring3d_corner as corner
         fam = corner.family_convergence(c) if "p1_r3" + corner.FAMILY in c else None
         fk = [k for k, mesh, _ in corner.corner_keys(c) if mesh == "r2" and not k.endswith("low")]
         if fam and fam["valley_ext"] and len(fam["meshes"]) == 3:

@@ -6,7 +6,7 @@ import re
 
 import numpy as np
 
-from metamaterial_wb.bench import fe_ring3d as base
+from metamaterial_wb.bench import fe_ring3d_paths as base
 
 #: the corner-integrated family the convergence table uses: the beam's bricks within 1.5 mm of its two re-entrant
 #: corners and the edge pillar's strip at the beam's height within 1.5 mm of the pillar's side fully integrated
