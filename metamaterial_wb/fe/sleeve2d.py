@@ -121,6 +121,24 @@ class QuadMesh(Mesh):
                 tot += wa * wb * np.sum(J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0])
         return float(tot)
 
+    def corner_elements(self, dist, low=False):
+        """0-based ids of the beam's elements (blocks ``beam_pillar``, ``beam_free``) whose centre lies within
+        ``dist`` mm (along x, inclusive: an element centred exactly that far is in, in every cell alike) of the
+        central pillar's side or of the edge pillar: the two re-entrant corners where the beam bends most.
+        ``low=True`` adds the elements of the beam's continuation into the edge pillar (block ``edge_pillar_low``:
+        the pillar's strip at the beam's height, free below) within ``dist`` of the pillar's side."""
+        if dist <= 0:
+            return np.zeros(0, dtype=np.int64)
+        g = self.geom
+        x = self.nodes[self.elements[:, :4], 0].mean(axis=1)
+        x = np.abs(x - np.round(x / g.width) * g.width)       # distance from the cell's middle
+        lim = dist + 1e-6 * g.L
+        sel = (np.isin(self.block, ("beam_pillar", "beam_free"))
+               & ((np.abs(x - g.c / 2) < lim) | (np.abs(g.L / 2 - x) < lim)))
+        if low:
+            sel |= (self.block == "edge_pillar_low") & (np.abs(x - g.L / 2) < lim)
+        return np.flatnonzero(sel)
+
     def min_jacobian(self):
         X = self.nodes[self.elements]
         out = np.inf
@@ -190,16 +208,26 @@ def cell_mesh(g, r=1, cells=1):
     return QuadMesh(X[used], inv.reshape(E.shape), np.array(names), g, cells)
 
 
-def _material(out, T):
+def _material(out, T, full=False):
     K = BULK_RATIO
     out.append("*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / K))
     out.append(f"*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n{T:.9g}\n")
+    if full:
+        out.append(f"*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER\n{T:.9g}\n")
 
 
-def _mesh_text(mesh):
+def _mesh_text(mesh, full_ids=()):
+    """Nodes and ``*ELEMENT`` cards: CPE8R in set ``SOLID``, but the elements ``full_ids`` (0-based) CPE8 (full
+    integration) in set ``SOLIDF``."""
     X = np.column_stack([mesh.nodes, np.zeros(mesh.n_nodes)])
+    full = np.zeros(mesh.n_elements, bool)
+    full[np.asarray(full_ids, dtype=np.int64)] = True
+    card = lambda i, conn: f"{i + 1}," + ",".join(str(int(v) + 1) for v in conn) + "\n"      # noqa: E731
     lines = ["*NODE\n", ccx.fmt_nodes(X), "*ELEMENT, TYPE=CPE8R, ELSET=SOLID\n"]
-    lines += [f"{i + 1}," + ",".join(str(int(v) + 1) for v in conn) + "\n" for i, conn in enumerate(mesh.elements)]
+    lines += [card(i, conn) for i, conn in enumerate(mesh.elements) if not full[i]]
+    if full.any():
+        lines.append("*ELEMENT, TYPE=CPE8, ELSET=SOLIDF\n")
+        lines += [card(i, conn) for i, conn in enumerate(mesh.elements) if full[i]]
     return "".join(lines)
 
 
@@ -229,14 +257,22 @@ def _step(d_total, increments, prints):
             "*END STEP\n")
 
 
-def cell_deck(g, r=1, d_max=None, increments=100):
-    """``(deck, meta)``: the periodic unit cell pulled to ``d_max`` (mm; default 0.7 L, past the valley)."""
+def cell_deck(g, r=1, d_max=None, increments=100, full_near=0.0, full_low=False):
+    """``(deck, meta)``: the periodic unit cell pulled to ``d_max`` (mm; default 0.7 L, past the valley).
+    ``full_near`` (mm), ``full_low``: the elements of ``QuadMesh.corner_elements(full_near, full_low)`` fully
+    integrated (CPE8), the rest CPE8R (as ``sleeve3d.ring_deck3d``'s corner bricks)."""
     mesh = cell_mesh(g, r, 1)
+    if not 0 <= full_near <= 0.5 * g.L:
+        raise ValueError(f"full_near: {full_near!r} mm; allowed: 0 (none) to L/2 = {0.5 * g.L:g} mm")
+    if full_low and not full_near:
+        raise ValueError("full_low: the edge pillar's strip joins the corner elements of full_near, which is 0; "
+                         "allowed: full_near > 0 with it")
+    full = mesh.corner_elements(full_near, full_low)
     d_max = 0.7 * g.L if d_max is None else float(d_max)
     bottom, top, pairs = _edges(mesh)
-    out = ["*HEADING\nmetamaterial_wb: sleeve unit cell, plane strain, periodic edges\n", _mesh_text(mesh)]
+    out = ["*HEADING\nmetamaterial_wb: sleeve unit cell, plane strain, periodic edges\n", _mesh_text(mesh, full)]
     out += ["*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1)]
-    _material(out, g.T)
+    _material(out, g.T, full.size > 0)
     topset, bot = set(top.tolist()), set(bottom.tolist())
     master = int(top[np.argmin(np.abs(mesh.nodes[top, 0]))])
     eqs = []
@@ -254,7 +290,8 @@ def cell_deck(g, r=1, d_max=None, increments=100):
     prints = "*NODE PRINT, NSET=TOP\nU,RF\n"
     out.append(_step(d_max, increments, prints).replace("{bc}", bc))
     meta = {"mesh": mesh, "top": top, "d_max_mm": d_max, "r": int(r), "dofs": 2 * mesh.n_nodes,
-            "elements": mesh.n_elements, "increments": increments}
+            "elements": mesh.n_elements, "increments": increments, "full_near": float(full_near),
+            "full_low": bool(full_low), "full_elements": int(full.size)}
     return "".join(out), meta
 
 
@@ -304,17 +341,17 @@ def _curve(times, d_max, forces, L):
     return d, np.asarray(forces) / L ** 2
 
 
-def solve_cell(g, r=1, d_max=None, increments=100, timeout_s=1800.0):
+def solve_cell(g, r=1, d_max=None, increments=100, timeout_s=1800.0, full_near=0.0, full_low=False):
     """Force-displacement curve of the periodic unit cell: ``{"d": d / L, "F": F / (G L^2)}`` per converged
-    increment, and the run info."""
-    deck, meta = cell_deck(g, r, d_max, increments)
+    increment, and the run info (``full_near``, ``full_low``: ``cell_deck``)."""
+    deck, meta = cell_deck(g, r, d_max, increments, full_near, full_low)
     tables, info = ccx.run(deck, "sleeve_cell", timeout_s)
     top = meta["top"] + 1
     rows = tables[("forces", "TOP")]
     t = np.array([r_[0] for r_ in rows])
     F = np.array([sum(r_[1][int(n)][1] for n in top) for r_ in rows])
     d, Fn = _curve(t, meta["d_max_mm"], F, g.L)
-    info.update({k: meta[k] for k in ("r", "dofs", "elements", "d_max_mm")})
+    info.update({k: meta[k] for k in ("r", "dofs", "elements", "d_max_mm", "full_near", "full_low", "full_elements")})
     info["increments"] = len(t)
     return {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], Fn])}, info
 

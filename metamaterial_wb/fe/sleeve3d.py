@@ -144,23 +144,11 @@ class RingMesh(Mesh):
         return J, S
 
     def beam_end_elements(self, dist, low=False):
-        """0-based ids of the beam's bricks (blocks ``beam_pillar``, ``beam_free``) whose centre lies within
-        ``dist`` mm (along the unrolled circumference) of the central pillar's side or of the edge pillar: the two
-        re-entrant corners where the beam bends most. ``low=True`` adds the bricks of the beam's continuation into
-        the edge pillar (block ``edge_pillar_low``: the pillar's strip at the beam's height, free below) within
-        ``dist`` of the pillar's side."""
-        if dist <= 0:
-            return np.zeros(0, dtype=np.int64)
-        g = self.geom
-        blk = np.tile(self.quad.block, self.n_layers)
-        c = self.nodes[self.elements[:, :8]].mean(axis=1)
-        x = np.arctan2(c[:, 1], c[:, 0]) * self.radius
-        x = np.abs(x - np.round(x / g.width) * g.width)
-        near = (np.abs(x - g.c / 2) < dist) | (np.abs(g.L / 2 - x) < dist)
-        beam = np.isin(blk, ("beam_pillar", "beam_free")) & near
-        if low:
-            beam |= (blk == "edge_pillar_low") & (np.abs(x - g.L / 2) < dist)
-        return np.flatnonzero(beam)
+        """0-based ids of the bricks over ``quad.corner_elements(dist, low)`` (the beam's bricks within ``dist`` mm
+        of its two re-entrant corners, along the unrolled circumference; with ``low``, the edge pillar's strip at
+        the beam's height too) through every layer of the wall."""
+        q = self.quad.corner_elements(dist, low)
+        return np.concatenate([q + k * self.quad.n_elements for k in range(self.n_layers)])
 
     def exact_volume(self):
         """The wrapped solid's volume from the 2-D outline's area ``A``: a wall between radii ``rho_0`` and

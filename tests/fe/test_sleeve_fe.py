@@ -45,6 +45,27 @@ def test_peak_valley_and_richardson():
     assert ext[0] == pytest.approx(2.0, abs=1e-9) and p[0] == pytest.approx(2.0, abs=1e-6)
 
 
+def test_cell_deck_integrates_the_beam_corners_fully_on_request():
+    """``full_near``/``full_low``: the corner elements (the same set as the 3-D ring's per cell) are CPE8 in their
+    own section, every other element CPE8R, each once; without them the deck is as before; bad values are refused."""
+    g = CellGeometry()
+    plain, m0 = sleeve2d.cell_deck(g, 2)
+    assert "SOLIDF" not in plain and m0["full_elements"] == 0
+    deck, meta = sleeve2d.cell_deck(g, 2, full_near=1.5, full_low=True)
+    ids = meta["mesh"].corner_elements(1.5, True)
+    assert meta["full_elements"] == ids.size == 48      # per half cell 18 at the corners + 6 in the pillar's strip
+    red, full = deck.split("*ELEMENT, TYPE=CPE8, ELSET=SOLIDF\n")
+    got = [int(line.split(",")[0]) for line in full.split("*")[0].splitlines()]
+    assert got == (ids + 1).tolist()
+    n_red = len(red.split("*ELEMENT, TYPE=CPE8R, ELSET=SOLID\n")[1].split("*")[0].splitlines())
+    assert n_red + len(got) == meta["mesh"].n_elements
+    assert "*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER" in deck
+    assert plain.replace("*ELEMENT, TYPE=CPE8R", "") != deck
+    for kw, word in (({"full_near": -0.1}, "full_near"), ({"full_near": 0.0, "full_low": True}, "full_low")):
+        with pytest.raises(ValueError, match=word):
+            sleeve2d.cell_deck(g, 1, **kw)
+
+
 def test_ring_deck_ties_the_top_to_a_tilting_plate():
     g = CellGeometry()
     deck, meta = sleeve2d.ring_deck(g, 4, 1, increments=4)
