@@ -41,13 +41,14 @@ IMG = "img/sleeve-fe-ring3d.png"
 
 
 def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic",
-           patient=False, imperfection=None, bias_angle=0.5, full_near=0.0, full_low=False):
+           patient=False, imperfection=None, bias_angle=0.5, full_near=0.0, full_low=False, element="C3D20R"):
     from metamaterial_wb.fe import sleeve3d
     g = cell_geometry()
     c, info = sleeve3d.solve_ring3d(g, 4, r, n_layers, d_max=d_max * g.L, increments=increments, bias=bias,
                                     timeout_s=timeout_s, partial=True, radial=radial,
                                     method=method, patient=patient, imperfection=imperfection,
-                                    bias_angle=bias_angle, full_near=full_near, full_low=full_low)
+                                    bias_angle=bias_angle, full_near=full_near, full_low=full_low,
+                                    element=element)
     info.pop("log_tail", None)
     return {"r": r, "n_layers": n_layers, "radial": radial, "d": c["d"].tolist(), "F": c["F"].tolist(),
             "tilt_rad": c["tilt_rad"].tolist(), "info": info,
@@ -294,6 +295,8 @@ def main(argv=None):
                     "re-entrant corners fully integrated (C3D20) in the P1 mesh run (stored as p1_<mesh>..._full<mm>)")
     ap.add_argument("--p1-full-low", action="store_true", help="with --p1-full-near: the bricks of the beam's "
                     "continuation into the edge pillar (edge_pillar_low) near its side too (stored as ..._full<mm>low)")
+    ap.add_argument("--p1-element", default="C3D20R", choices=("C3D20R", "C3D20"), help="the P1 mesh run's "
+                    "bricks: C3D20 integrates every brick fully (no spurious modes anywhere; stored as ..._C3D20)")
     ap.add_argument("--stability-at", default=None, help="comma list of d/L: the static path's stability there "
                     "(eigenvalues of the tangent stiffness; stored under 'stability', merged)")
     ap.add_argument("--stability-mesh", default="r2", choices=sorted(MESHES))
@@ -309,6 +312,9 @@ def main(argv=None):
                     "static, r = 1 with two bricks through the wall; stored under 'cells', merged)")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
+    if a.p1_element == "C3D20" and a.p1_full_near:
+        ap.error("--p1-element C3D20 integrates every brick fully; --p1-full-near (mm) picks some of them, so it "
+                 f"must be 0 with it, not {a.p1_full_near:g}")
     if a.p1_full_low and not a.p1_full_near:
         ap.error("--p1-full-low: the edge pillar's strip joins the corner bricks of --p1-full-near (mm, > 0), "
                  "which is 0")
@@ -324,11 +330,12 @@ def main(argv=None):
         r, nl = MESHES[a.p1_mesh]
         inc = a.p1_increments or int(round(100 * a.p1_dmax))
         tr = run_fe(r, nl, d_max=a.p1_dmax, increments=inc, timeout_s=a.timeout, method="static",
-                    full_near=a.p1_full_near, full_low=a.p1_full_low)
+                    full_near=a.p1_full_near, full_low=a.p1_full_low, element=a.p1_element)
         print(f"P1 mesh {a.p1_mesh}: {tr['extrema']} to d/L {tr['info']['d_reached']:.3f} "
               f"({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("p1_" + a.p1_mesh + (f"_inc{a.p1_increments}" if a.p1_increments else "")
-               + (f"_full{a.p1_full_near:g}" + ("low" if a.p1_full_low else "") if a.p1_full_near else ""), tr)
+               + (f"_full{a.p1_full_near:g}" + ("low" if a.p1_full_low else "") if a.p1_full_near else "")
+               + ("_C3D20" if a.p1_element == "C3D20" else ""), tr)
     if a.stability_at:
         for d in (float(v) for v in a.stability_at.split(",")):
             pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout, full_near=a.stability_full_near)

@@ -8,14 +8,15 @@ import numpy as np
 
 from metamaterial_wb.bench import fe_ring3d_paths as base
 
-#: the corner-integrated family the convergence table uses: the beam's bricks within 1.5 mm of its two re-entrant
-#: corners and the edge pillar's strip at the beam's height within 1.5 mm of the pillar's side fully integrated
-FAMILY = "_full1.5low"
+#: the corner-integrated family the convergence table uses: the whole beam (every brick within 9 mm of its two
+#: re-entrant corners) and the edge pillar's strip at the beam's height fully integrated; the 1.5 mm family
+#: (``_full1.5low``) stops on r = 3 at d/L 0.257, this one at 0.364 (docs/sleeves.md)
+FAMILY = "_full9low"
 #: where the family's paths are compared (d/L)
 FAMILY_D = (0.05, 0.10, 0.14, 0.20, 0.30, 0.40, 0.45, 0.50, 0.60, 0.70)
 #: the family's plot, under docs/
 IMG = "img/sleeve-fe-ring3d-corner.png"
-_KEY = re.compile(r"^p1_(r[123])(_full[0-9.]+(?:low)?)$")
+_KEY = re.compile(r"^p1_(r[123])(_full[0-9.]+(?:low)?|_C3D20)$")
 
 
 def corner_keys(c):
@@ -26,6 +27,8 @@ def corner_keys(c):
 
 def zone(info):
     """Which bricks a corner run integrated fully, in words."""
+    if info.get("element") == "C3D20":
+        return f"all {info.get('elements', '?')} bricks"
     s = (f"{info.get('full_elements', '?')} bricks within {info.get('full_near', 0):g} mm of the beam's "
          "re-entrant corners")
     return s + (" and of the edge pillar's side in its strip at the beam's height" if info.get("full_low") else "")
@@ -39,13 +42,15 @@ def corner_markdown(c):
         x, info = c[k], c[k]["info"]
         d, F = np.asarray(x["d"]), np.asarray(x["F"])
         ex = x["extrema"]
-        line = (f"**Past the reduced mesh's stop ({base.MESH_NAMES[mesh]}, {zone(info)} fully integrated, C3D20; the "
-                f"rest C3D20R).** `*STATIC`, {info['increments']} increments to d/L {info['d_reached']:.3f} in "
+        rest = "" if info.get("element") == "C3D20" else "; the rest C3D20R"
+        line = (f"**Past the reduced mesh's stop ({base.MESH_NAMES[mesh]}, {zone(info)} fully integrated, C3D20"
+                f"{rest}).** `*STATIC`, {info['increments']} increments to d/L {info['d_reached']:.3f} in "
                 f"{info['wall_s'] / 60:.1f} min" +
                 (f" (ccx stopped there: {info['stopped'].strip().splitlines()[-2].strip()})" if info.get("stopped")
                  else " (the whole range)") +
-                f": {base._kinds(ex)} - " + ", ".join(f"{kd} {1e3 * f:.3f} at d/L {dd:.3f}" for kd, dd, f in ex[:4]) +
-                f"; the force at the end {1e3 * F[-1]:.3f}; tilt {base.tilt_facts(x['d'], x['tilt_deg'])}.")
+                f": {base._kinds(ex)}" + (" - " if ex else "") + ", ".join(f"{kd} {1e3 * f:.3f} at d/L {dd:.3f}" for kd, dd, f in ex[:4]) +
+                f"; the force at the end {1e3 * F[-1]:.3f}; tilt {base.tilt_facts(x['d'], x['tilt_deg'])}." +
+                (f" {info['note']}" if info.get("note") else ""))
         red = base._path(c, mesh)
         if red:
             sd = np.asarray(red["d"])
@@ -72,11 +77,14 @@ def family_markdown(c, family=FAMILY):
     pc = family_convergence(c, family)
     info = c["p1_r3" + family]["info"]
     head = [base.MESH_NAMES[m] for m in pc["meshes"]]
+    if info.get("element") == "C3D20":
+        which = "every brick, `--p1-element C3D20"
+    else:
+        which = (f"the beam's within {info['full_near']:g} mm of its corners"
+                 + (" and the edge pillar's strip next to the pillar's side" if info.get("full_low") else "") +
+                 f"; `--p1-full-near {info['full_near']:g}" + (" --p1-full-low" if info.get("full_low") else ""))
     L = [f"**The path with the corners fully integrated, on three meshes.** With the same bricks fully integrated "
-         f"on every in-plane mesh (the beam's within {info['full_near']:g} mm of its corners"
-         + (" and the edge pillar's strip next to the pillar's side" if info.get("full_low") else "") +
-         f"; `--p1-full-near {info['full_near']:g}" + (" --p1-full-low" if info.get("full_low") else "") +
-         "`), the static path's force at fixed d/L, extrapolated in the element size as above (x1e-3):", "",
+         f"on every in-plane mesh ({which}`), the static path's force at fixed d/L, extrapolated in the element size as above (x1e-3):", "",
          "| d/L | " + " | ".join(head) + " | extrapolated | finest mesh off by |",
          "|---|" + "---|" * len(head) + "---|---|"]
     for d, vals, ext, err, n in pc["rows"]:

@@ -110,3 +110,39 @@ def test_probe_on_the_corner_integrated_path_is_named_apart():
     text = "\n".join(rep.path_markdown(c))
     assert "r = 2 with the beam's corner bricks C3D20 (1.5 mm) at d/L 0.600: tilt" in text and "- stable" in text
     assert rep.unstable_range(c) is None                           # not read as a probe of the reduced r = 2 path
+
+
+def _bench_script():
+    import importlib.util
+    import os
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "benchmarks", "bench_sleeve_ring3d.py")
+    spec = importlib.util.spec_from_file_location("bench_sleeve_ring3d", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_all_bricks_full_is_a_family_of_its_own_and_refuses_a_corner_zone(capsys):
+    """``--p1-element C3D20`` runs are stored as ``p1_<mesh>_C3D20``, named as every brick fully integrated, and
+    reported on three meshes; a corner zone with it is refused before any solve (it would mean nothing)."""
+    d = np.linspace(0, 0.7, 71)
+
+    def path(r, stop=0.7, ex=(("peak", 0.14, 1.2e-3), ("valley", 0.44, 0.45e-3))):
+        k = d <= stop + 1e-12
+        info = {"increments": 70, "d_reached": float(d[k][-1]), "wall_s": 600.0, "full_near": 0.0,
+                "full_low": False, "full_elements": 0, "element": "C3D20", "elements": 264 * r * r}
+        return {"d": d[k].tolist(), "F": (1e-3 * np.sin(3 * d[k]) * (1 + 0.04 / r ** 2)).tolist(), "info": info,
+                "extrema": list(ex), "tilt_deg": [0.0] * int(k.sum())}
+    c = {"p1_r1_C3D20": path(1), "p1_r2_C3D20": path(2),
+         "p1_r3_C3D20": dict(path(3, 0.15, ()), info=dict(path(3, 0.15)["info"], note="(A note.)"))}
+    assert [k for k, _, _ in corner.corner_keys(c)] == ["p1_r1_C3D20", "p1_r2_C3D20", "p1_r3_C3D20"]
+    text = "\n".join(corner.corner_markdown(c))
+    assert "(r = 3, all 2376 bricks fully integrated, C3D20)." in text and "the rest C3D20R" not in text
+    assert "0 peaks, 0 valleys; the force" in text and "(A note.)" in text
+    fam = "\n".join(corner.family_markdown(c, "_C3D20"))
+    assert "every brick, `--p1-element C3D20`" in fam and "--p1-full-near" not in fam
+    bench = _bench_script()
+    with pytest.raises(SystemExit) as e:
+        bench.main(["--p1-mesh", "r2", "--p1-element", "C3D20", "--p1-full-near", "1.5", "--no-write"])
+    assert e.value.code == 2
+    assert "--p1-full-near (mm) picks some of them, so it must be 0 with it, not 1.5" in capsys.readouterr().err
