@@ -251,7 +251,7 @@ def compare(data):
         out["cells"] = cells_model({n: {k: v for k, v in row.items() if not k.startswith("model_")}
                                     for n, row in data["cells"].items()}, e)
     for k in (["trace", "p1_r2", "p1_r3", "p1_layers2", "p1_r2layers2", "radial_fixed", "branch_r2"]
-              + [k for k in data if k.startswith(("attempt_", "p1_r1_full", "p1_r2_full", "p1_r3_full"))]):
+              + [k for k in data if k.startswith(("attempt_", "p1_r1_full", "p1_r2_full", "p1_r3_full")) or k.endswith("_C3D20")]):
         if k in data:
             out[k] = dict(data[k], tilt_deg=np.degrees(np.hypot(*np.asarray(data[k]["tilt_rad"]).T)).tolist())
     return out

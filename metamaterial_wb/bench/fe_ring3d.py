@@ -406,7 +406,8 @@ def curved_summary(c):
                               for mesh, x in zip(fam["meshes"], runs))
             n_val = sum(np.isfinite(q[1]) for q in fam["valley"])
             dv, fv, ev, edv = fam["valley_ext"]
-            s += (f"; with the beam's bricks fully integrated (reduced ones fold there and stop Newton) it runs on "
+            which = ("every brick" if runs[-1]["info"].get("element") == "C3D20" else "the beam's bricks")
+            s += (f"; with {which} fully integrated (reduced ones fold and stop Newton) it runs on "
                   f"past P1 on all three in-plane meshes ({reach}): the valley {1e3 * fv:.3f} +- {1e3 * ev:.3f}e-3 "
                   f"at d/L {dv:.2f}, extrapolated from {n_val} meshes, then stiffening")
         elif fk:

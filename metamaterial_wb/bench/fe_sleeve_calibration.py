@@ -324,6 +324,7 @@ def fidelity_markdown(sleeve, calibration=None, curved=None):
     """The sleeve part of docs/fidelity.md's FE section: where the sleeve beam model can be trusted, measured
     against CalculiX (``sleeve``: the FE sleeve study, ``calibration``: :func:`run`'s result or None, ``curved``:
     the curved 3-D FE ring's summary from ``benchmarks/bench_sleeve_ring3d.py`` or None)."""
+    from metamaterial_wb.bench.fe_cell_elements import reference_sentence
     from metamaterial_wb.bench.fe_sleeve import summarise
     sl = summarise(sleeve)
     c, r_ = sl["cell"], sl["ring"]
@@ -378,7 +379,7 @@ def fidelity_markdown(sleeve, calibration=None, curved=None):
           + (" With the root-flexibility length fitted on the FE cell's peak, the four-cell ring's first peak, which "
              "the fit never saw, is the flat ring's row; the valley is the table's second." if cal else "") +
           " The beam model's own mesh error at its defaults is in sleeves.md's convergence tables (a few per cent at "
-          "most, far below these gaps)." + (curved["sentence"] if curved and curved.get("sentence") else
+          "most, far below these gaps)." + reference_sentence(c) + (curved["sentence"] if curved and curved.get("sentence") else
           " The ring's curvature is checked by a curved 3-D FE ring (sleeves.md, \"A curved 3-D FE ring\").")]
     if calibration and "trace" in calibration:
         tr = calibration["trace"]

@@ -22,7 +22,14 @@ def test_each_formulation_is_extrapolated_and_the_fourth_mesh_is_judged_against_
     text = "\n".join(ce.markdown_lines({"elements": el, "fe_extrapolated": ok}))
     assert "| CPE8R everywhere | 0.660 / -0.1210 |" in text
     assert "| 0.600 +- 0.004 / -0.1100 +- 0.0007 |" in text          # the error: the finest mesh to it
-    assert "the peak is inside its error bar" in text and "the valley outside by 1.0 of it" in text
+    assert "the peak lies inside its bar, the valley outside its bar by 1.0 bars" in text
+    assert "extrapolated, they agree within their error bars" in text
     spread = 100 * (1 + 1.0 / 16) / (1 + 0.1 / 16) - 100
-    assert f"within {spread:.1f} % on the peak" in text
+    assert f"still differ by {spread:.1f} % on the peak" in text
     assert ce.markdown_lines({"fe_extrapolated": ok}) == []
+    s = ce.reference_sentence({"elements": el, "fe_extrapolated": ok})
+    assert "lands outside its error bar on the valley" in s and "within their error bars." in s
+    wide = dict(ok, err=[0.0, 1.0, 0.0, 1.0])
+    assert "inside its error bars on both the peak and the valley" in ce.reference_sentence(
+        {"elements": el, "fe_extrapolated": wide})
+    assert ce.reference_sentence({"fe_extrapolated": ok}) == ""
