@@ -16,7 +16,7 @@ FAMILY = "_C3D20"
 FAMILY_D = (0.05, 0.10, 0.14, 0.20, 0.30, 0.40, 0.45, 0.50, 0.60, 0.70)
 #: the family's plot, under docs/
 IMG = "img/sleeve-fe-ring3d-corner.png"
-_KEY = re.compile(r"^p1_(r[123])(_full[0-9.]+(?:low)?|_C3D20)$")
+_KEY = re.compile(r"^p1_(r[1-4])(_full[0-9.]+(?:low)?|_C3D20)$")
 
 
 def corner_keys(c):
@@ -127,7 +127,7 @@ def plot_family(c, path, family=FAMILY):
     import matplotlib.pyplot as plt
     pc = family_convergence(c, family)
     fig, ax = plt.subplots(figsize=(7.0, 4.2), dpi=110)
-    for m, col in zip(pc["meshes"], ("C0", "C1", "C3")):
+    for m, col in zip(pc["meshes"], ("C0", "C1", "C3", "C2")):
         x = c["p1_" + m + family]
         ax.plot(x["d"], 1e3 * np.asarray(x["F"]), "-", color=col, lw=1.3,
                 label=f"CalculiX, curved 3-D, {base.MESH_NAMES[m]} ({_short(x['info'])})")

@@ -10,8 +10,8 @@ def cell_geometry():
     return CellGeometry()
 
 
-MESHES = {"r1": (1, 1), "r2": (2, 1), "r3": (3, 1), "layers2": (1, 2), "r2layers2": (2, 2)}
-MESH_NAMES = {"r1": "r = 1", "r2": "r = 2", "r3": "r = 3", "layers2": "two bricks through the wall",
+MESHES = {"r1": (1, 1), "r2": (2, 1), "r3": (3, 1), "r4": (4, 1), "layers2": (1, 2), "r2layers2": (2, 2)}
+MESH_NAMES = {"r1": "r = 1", "r2": "r = 2", "r3": "r = 3", "r4": "r = 4", "layers2": "two bricks through the wall",
               "r2layers2": "r = 2 and two bricks through the wall"}
 
 
@@ -67,7 +67,7 @@ def path_convergence(c, suffix="", points=PATH_D):
     ext, err, n_meshes)], "p1": [(d, F)], "p1_ext": (d, F, err F, err d), "valley", "valley_ext"}``."""
     from metamaterial_wb.bench.extrapolation import richardson3
     from metamaterial_wb.fe.sleeve2d import peak_valley
-    meshes = [m for m in ("r1", "r2", "r3") if _path(c, m, suffix) is not None]
+    meshes = [m for m in ("r1", "r2", "r3", "r4") if _path(c, m, suffix) is not None]
     paths = {m: _path(c, m, suffix) for m in meshes}
     rows = []
     probes = set() if suffix else {round(v["d"], 3) for k, v in c.get("stability", {}).items()
