@@ -146,22 +146,25 @@ def cells_check(ns=(4, 6, 8, 12)):
     return out
 
 
-def cells_p1(ns=(4, 8), d_max=0.17):
+def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R"):
     """The curved ring's first peak by ring size: static, mesh r = 1 with two bricks through the wall (0.01 d/L per
-    increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation)."""
+    increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation). With
+    ``element="C3D20"`` every brick is fully integrated and the fields are stored with the prefix ``c3d20_``."""
     from metamaterial_wb.fe import sleeve3d
     from metamaterial_wb.fe.sleeve_check import first_peak
     g = cell_geometry()
     out = {}
     for n in ns:
         c, info = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=d_max * g.L, increments=int(round(100 * d_max)),
-                                        timeout_s=5400, partial=True)
+                                        timeout_s=5400, partial=True, element=element)
         at, P1 = first_peak(c["d"], c["F"])
         ok = bool(np.isfinite(P1))                     # None: no peak before the run ended (see p1_stopped)
-        out[str(n)] = {"fe_curved_p1": float(P1) if ok else None, "fe_curved_p1_d": float(at) if ok else None,
-                       "p1_wall_s": info["wall_s"],
-                       "p1_d_reached": info["d_reached"], "p1_stopped": info.get("stopped", "")[:200],
-                       "p1_curve": {"d": c["d"].tolist(), "F": c["F"].tolist()}}
+        pre = "c3d20_" if element == "C3D20" else ""
+        row = {"fe_curved_p1": float(P1) if ok else None, "fe_curved_p1_d": float(at) if ok else None,
+               "p1_wall_s": info["wall_s"], "p1_d_reached": info["d_reached"],
+               "p1_stopped": info.get("stopped", "")[:200], "p1_curve": {"d": c["d"].tolist(), "F": c["F"].tolist()},
+               "p1_tilt_deg_max": float(np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).max())}
+        out[str(n)] = {pre + k: v for k, v in row.items()}
         print(n, out[str(n)], flush=True)
     return out
 
@@ -310,6 +313,8 @@ def main(argv=None):
                     "ring's initial stiffness, FE and beam model (stored under 'cells', merged)")
     ap.add_argument("--cells-p1", default=None, help="comma list of ring sizes: the curved ring's first peak (ccx, "
                     "static, r = 1 with two bricks through the wall; stored under 'cells', merged)")
+    ap.add_argument("--cells-p1-element", default="C3D20R", choices=("C3D20R", "C3D20"), help="the --cells-p1 "
+                    "runs' bricks (C3D20: every brick fully integrated, stored with the prefix c3d20_)")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.p1_element == "C3D20" and a.p1_full_near:
@@ -351,7 +356,8 @@ def main(argv=None):
         _store("cells", cells_check([int(v) for v in a.cells.split(",")]), merge=True)
     if a.cells_p1:
         _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
-                         for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")]).items()}, merge=True)
+                         for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")],
+                                              element=a.cells_p1_element).items()}, merge=True)
     if a.stiffness:
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.radial_fixed:

@@ -143,6 +143,58 @@ def branch_markdown(c):
     return L + [""]
 
 
+def cells_markdown(c):
+    """The ring-size part: stiffness by N and the first peaks (``--cells``, ``--cells-p1``); [] without it."""
+    if "cells" not in c:
+        return []
+    L = []
+    L.append("**Curvature by ring size** (`--cells`): the secant stiffness to d/L 0.005 (x1e-3) of rings of N cells "
+             "of the same cell (the radius grows with N: R = N W / 2 pi), the flat 2-D FE ring against the curved "
+             "3-D one (mesh r = 1, two bricks through the wall), and the beam model's (calibrated, 24 elements per "
+             "half) flat ring against its curved one:")
+    L.append("")
+    L.append("| N | R (mm) | FE flat | FE curved | FE curved / flat | model flat | model curved | model curved / flat "
+             "| model curved / FE curved | as documented (root_extension 0): curved / FE curved |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|")
+    rows = sorted(c["cells"].items(), key=lambda kv: int(kv[0]))
+    for n, v in rows:
+        L.append(f"| {n} | {v['radius_mm']:.1f} | {1e3 * v['fe_flat']:.1f} | {1e3 * v['fe_curved']:.1f} | "
+                 f"{v['fe_curved'] / v['fe_flat']:.2f} | {1e3 * v['model_flat']:.1f} | {1e3 * v['model_curved']:.1f} | "
+                 f"{v['model_curved'] / v['model_flat']:.2f} | {v['model_curved'] / v['fe_curved']:.2f} | "
+                 f"{v['model_curved_documented'] / v['fe_curved']:.2f} |")
+    L.append("")
+    p1 = [(n, v) for n, v in rows if v.get("fe_curved_p1")]
+    nop = [(n, v) for n, v in rows if "fe_curved_p1" in v and v["fe_curved_p1"] is None]
+    if p1:
+        L.append("First peak P1 (x1e-3, at d/L) of the curved ring by ring size: CalculiX static, mesh r = 1 with "
+                 "two bricks through the wall (`--cells-p1`), against the beam model's curved ring: " + "; ".join(
+                     f"{n} cells: FE {1e3 * v['fe_curved_p1']:.3f} ({v['fe_curved_p1_d']:.3f}), model calibrated "
+                     f"{1e3 * v['model_curved_p1']:.3f} ({v['model_curved_p1_d']:.3f}, "
+                     f"{v['model_curved_p1'] / v['fe_curved_p1']:.2f} times the FE's), as documented "
+                     f"{1e3 * v['model_curved_documented_p1']:.3f} "
+                     f"({v['model_curved_documented_p1'] / v['fe_curved_p1']:.2f} times)" for n, v in p1) + ".")
+        L.append("")
+    for n, v in nop:
+        L.append(f"{n} cells: no first peak - the static run stopped at d/L {v['p1_d_reached']:.3f} after "
+                 f"{v['p1_wall_s'] / 60:.1f} min: {v['p1_stopped']}.")
+        L.append("")
+    for n, v in rows:
+        if "c3d20_p1_d_reached" not in v:
+            continue
+        P1 = v["c3d20_fe_curved_p1"]
+        L.append(f"{n} cells with every brick fully integrated (`--cells-p1 {n} --cells-p1-element C3D20`, the "
+                 f"same mesh): " + (f"P1 {1e3 * P1:.3f} at d/L {v['c3d20_fe_curved_p1_d']:.3f}" if P1 else
+                                    "no first peak") +
+                 f", the run reaching d/L {v['c3d20_p1_d_reached']:.3f} in {v['c3d20_p1_wall_s'] / 60:.1f} min" +
+                 (f" (stopped: {v['c3d20_p1_stopped'].strip().splitlines()[-1].strip()})"
+                  if v["c3d20_p1_stopped"].strip() else "") +
+                 f", the plate tilting by at most {v['c3d20_p1_tilt_deg_max']:.2f} deg" +
+                 (f"; the calibrated beam model's P1 is {v['model_curved_p1'] / P1:.2f} times it"
+                  if P1 and v.get("model_curved_p1") else "") + ".")
+        L.append("")
+    return L
+
+
 def markdown(c, img=None):
     from metamaterial_wb.fe.sleeve3d import all_extrema
     L = [MARK_BEGIN, "", "### A curved 3-D FE ring (issue 18)", ""]
@@ -213,37 +265,7 @@ def markdown(c, img=None):
                      f"{STIFF[k]} {1e3 * v['k']:.1f} ({v['k'] / sc['flat']['k']:.2f} of the flat ring's)"
                      for k, v in sc.items()) + ".")
         L.append("")
-    if "cells" in c:
-        L.append("**Curvature by ring size** (`--cells`): the secant stiffness to d/L 0.005 (x1e-3) of rings of N cells "
-                 "of the same cell (the radius grows with N: R = N W / 2 pi), the flat 2-D FE ring against the curved "
-                 "3-D one (mesh r = 1, two bricks through the wall), and the beam model's (calibrated, 24 elements per "
-                 "half) flat ring against its curved one:")
-        L.append("")
-        L.append("| N | R (mm) | FE flat | FE curved | FE curved / flat | model flat | model curved | model curved / flat "
-                 "| model curved / FE curved | as documented (root_extension 0): curved / FE curved |")
-        L.append("|---|---|---|---|---|---|---|---|---|---|")
-        rows = sorted(c["cells"].items(), key=lambda kv: int(kv[0]))
-        for n, v in rows:
-            L.append(f"| {n} | {v['radius_mm']:.1f} | {1e3 * v['fe_flat']:.1f} | {1e3 * v['fe_curved']:.1f} | "
-                     f"{v['fe_curved'] / v['fe_flat']:.2f} | {1e3 * v['model_flat']:.1f} | {1e3 * v['model_curved']:.1f} | "
-                     f"{v['model_curved'] / v['model_flat']:.2f} | {v['model_curved'] / v['fe_curved']:.2f} | "
-                     f"{v['model_curved_documented'] / v['fe_curved']:.2f} |")
-        L.append("")
-        p1 = [(n, v) for n, v in rows if v.get("fe_curved_p1")]
-        nop = [(n, v) for n, v in rows if "fe_curved_p1" in v and v["fe_curved_p1"] is None]
-        if p1:
-            L.append("First peak P1 (x1e-3, at d/L) of the curved ring by ring size: CalculiX static, mesh r = 1 with "
-                     "two bricks through the wall (`--cells-p1`), against the beam model's curved ring: " + "; ".join(
-                         f"{n} cells: FE {1e3 * v['fe_curved_p1']:.3f} ({v['fe_curved_p1_d']:.3f}), model calibrated "
-                         f"{1e3 * v['model_curved_p1']:.3f} ({v['model_curved_p1_d']:.3f}, "
-                         f"{v['model_curved_p1'] / v['fe_curved_p1']:.2f} times the FE's), as documented "
-                         f"{1e3 * v['model_curved_documented_p1']:.3f} "
-                         f"({v['model_curved_documented_p1'] / v['fe_curved_p1']:.2f} times)" for n, v in p1) + ".")
-            L.append("")
-        for n, v in nop:
-            L.append(f"{n} cells: no first peak - the static run stopped at d/L {v['p1_d_reached']:.3f} after "
-                     f"{v['p1_wall_s'] / 60:.1f} min: {v['p1_stopped']}.")
-            L.append("")
+    L += cells_markdown(c)
     if "model_relief" in c:
         mr = c["model_relief"]
         names = {"flat": "flat", "guided": "curved, pillar tips guided (default)", "free": "curved, pillar tips free",

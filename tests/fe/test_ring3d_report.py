@@ -146,3 +146,16 @@ def test_all_bricks_full_is_a_family_of_its_own_and_refuses_a_corner_zone(capsys
         bench.main(["--p1-mesh", "r2", "--p1-element", "C3D20", "--p1-full-near", "1.5", "--no-write"])
     assert e.value.code == 2
     assert "--p1-full-near (mm) picks some of them, so it must be 0 with it, not 1.5" in capsys.readouterr().err
+
+
+def test_ring_size_run_with_every_brick_full_is_reported_beside_the_reduced_stall():
+    row = {"radius_mm": 28.0, "fe_flat": 0.1, "fe_curved": 0.05, "model_flat": 0.12, "model_curved": 0.11,
+           "model_curved_documented": 0.15, "fe_curved_p1": None, "fe_curved_p1_d": None, "p1_wall_s": 800.0,
+           "p1_d_reached": 0.08, "p1_stopped": "stalled", "model_curved_p1": 4.8e-3,
+           "c3d20_fe_curved_p1": 3.2e-3, "c3d20_fe_curved_p1_d": 0.125, "c3d20_p1_wall_s": 600.0,
+           "c3d20_p1_d_reached": 0.17, "c3d20_p1_stopped": "", "c3d20_p1_tilt_deg_max": 0.21}
+    text = "\n".join(rep.cells_markdown({"cells": {"8": row}}))
+    assert "8 cells: no first peak - the static run stopped at d/L 0.080" in text
+    assert ("8 cells with every brick fully integrated (`--cells-p1 8 --cells-p1-element C3D20`, the same mesh): "
+            "P1 3.200 at d/L 0.125, the run reaching d/L 0.170 in 10.0 min, the plate tilting by at most 0.21 deg; "
+            "the calibrated beam model's P1 is 1.50 times it.") in text
