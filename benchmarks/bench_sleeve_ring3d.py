@@ -38,6 +38,7 @@ RESULTS = os.path.join(ROOT, "benchmarks", "results")
 STORE = os.path.join(RESULTS, "fe-ring3d.json")
 DOC = os.path.join(ROOT, "docs", "sleeves.md")
 IMG = "img/sleeve-fe-ring3d.png"
+BIAS = 1e-5                                    # the tilt bias (G L^2) of the static runs (sleeve3d default)
 
 
 def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial="free", bias=1e-5, method="dynamic",
@@ -55,25 +56,33 @@ def run_fe(r=1, n_layers=1, d_max=0.7, increments=140, timeout_s=5400.0, radial=
             "extrema": sleeve3d.all_extrema(c["d"], c["F"])}
 
 
-def _probe_run(mesh, d, n_eig=6, timeout_s=5400.0, shapes=False, full_near=0.0):
+def _probe_run(mesh, d, n_eig=6, timeout_s=5400.0, shapes=False, full_near=0.0, n_cells=4, element="C3D20R"):
     """``sleeve3d.solve_ring3d``'s static path on ``mesh`` to ``d`` (d/L, 0.01 per increment) with ``n_eig``
-    eigenvalues of the tangent stiffness there (``full_near``: the beam's corner bricks C3D20): ``(curve, info)``."""
+    eigenvalues of the tangent stiffness there (``full_near``: the beam's corner bricks C3D20; ``n_cells``
+    around, every brick ``element``): ``(curve, info)``."""
     from metamaterial_wb.fe import sleeve3d
     g = cell_geometry()
     r, nl = MESHES[mesh]
-    return sleeve3d.solve_ring3d(g, 4, r, nl, d_max=d * g.L, increments=max(1, int(round(100 * d))),
+    return sleeve3d.solve_ring3d(g, n_cells, r, nl, d_max=d * g.L, increments=max(1, int(round(100 * d))),
                                  timeout_s=timeout_s, partial=True, method="static", stability=n_eig, shapes=shapes,
-                                 full_near=full_near)
+                                 full_near=full_near, element=element)
 
 
-def stability_probe(mesh, d, n_eig=6, timeout_s=5400.0, full_near=0.0):
+def probe_key(mesh, d, full_near=0.0, n_cells=4, element="C3D20R"):
+    """Where a stability probe is stored under ``"stability"``: ``<mesh>[_full<mm>][_cells<n>][_C3D20]@<d>``."""
+    return (mesh + (f"_full{full_near:g}" if full_near else "") + (f"_cells{n_cells}" if n_cells != 4 else "")
+            + ("_C3D20" if element == "C3D20" else "") + f"@{d:.3f}")
+
+
+def stability_probe(mesh, d, n_eig=6, timeout_s=5400.0, full_near=0.0, n_cells=4, element="C3D20R"):
     """The static path on ``mesh`` to ``d`` and the eigenvalues of the tangent stiffness there (``_probe_run``),
     as stored."""
     from metamaterial_wb.fe import sleeve3d
-    c, info = _probe_run(mesh, d, n_eig, timeout_s, full_near=full_near)
+    c, info = _probe_run(mesh, d, n_eig, timeout_s, full_near=full_near, n_cells=n_cells, element=element)
     st = info.get("stability")
     out = {"mesh": mesh, "d": d, "d_reached": info["d_reached"], "F": float(c["F"][-1]), "wall_s": info["wall_s"],
-           "density": sleeve3d.DENSITY, "stopped": info.get("stopped"), "full_near": full_near}
+           "density": sleeve3d.DENSITY, "stopped": info.get("stopped"), "full_near": full_near, "n_cells": n_cells,
+           "element": element}
     if st:
         out.update(eigenvalues=st["eigenvalues"], plate_rotation=st["plate_rotation"], stable=st["stable"])
     return out
@@ -146,24 +155,32 @@ def cells_check(ns=(4, 6, 8, 12)):
     return out
 
 
-def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R"):
+def cells_p1_prefix(element="C3D20R", bias=BIAS):
+    """The prefix of a ``cells_p1`` run's fields: ``c3d20_`` for every brick fully integrated, ``bias<b>_`` for a
+    tilt bias other than the default (a larger one follows a tilted branch past a bifurcation smoothly)."""
+    return ("c3d20_" if element == "C3D20" else "") + (f"bias{bias:g}_" if bias != BIAS else "")
+
+
+def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R", bias=BIAS):
     """The curved ring's first peak by ring size: static, mesh r = 1 with two bricks through the wall (0.01 d/L per
     increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation). With
-    ``element="C3D20"`` every brick is fully integrated and the fields are stored with the prefix ``c3d20_``."""
+    ``element="C3D20"`` every brick is fully integrated; the fields' prefix: ``cells_p1_prefix``."""
     from metamaterial_wb.fe import sleeve3d
     from metamaterial_wb.fe.sleeve_check import first_peak
     g = cell_geometry()
     out = {}
     for n in ns:
         c, info = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=d_max * g.L, increments=int(round(100 * d_max)),
-                                        timeout_s=5400, partial=True, element=element)
+                                        timeout_s=5400, partial=True, element=element, bias=bias)
         at, P1 = first_peak(c["d"], c["F"])
         ok = bool(np.isfinite(P1))                     # None: no peak before the run ended (see p1_stopped)
-        pre = "c3d20_" if element == "C3D20" else ""
+        pre = cells_p1_prefix(element, bias)
         row = {"fe_curved_p1": float(P1) if ok else None, "fe_curved_p1_d": float(at) if ok else None,
                "p1_wall_s": info["wall_s"], "p1_d_reached": info["d_reached"],
                "p1_stopped": info.get("stopped", "")[:200], "p1_curve": {"d": c["d"].tolist(), "F": c["F"].tolist()},
-               "p1_tilt_deg_max": float(np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).max())}
+               "p1_tilt_deg_max": float(np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).max()),
+               "p1_tilt_deg": np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).tolist(), "p1_bias": bias,
+               "p1_extrema": sleeve3d.all_extrema(c["d"], c["F"])}
         out[str(n)] = {pre + k: v for k, v in row.items()}
         print(n, out[str(n)], flush=True)
     return out
@@ -305,6 +322,8 @@ def main(argv=None):
     ap.add_argument("--stability-mesh", default="r2", choices=sorted(MESHES))
     ap.add_argument("--stability-full-near", type=float, default=0.0, help="mm: the probes' path with the beam's "
                     "corner bricks fully integrated (stored as <mesh>_full<mm>@<d>)")
+    ap.add_argument("--stability-cells", type=int, default=4, help="the probes' ring size (cells around)")
+    ap.add_argument("--stability-element", default="C3D20R", choices=("C3D20R", "C3D20"), help="the probes' bricks")
     ap.add_argument("--branch-at", type=float, default=None, help="d/L: the lowest mode of the static path "
                     "(--stability-mesh) there, as an imperfection of --branch-amp t; the imperfect ring's path")
     ap.add_argument("--branch-amp", type=float, default=0.01)
@@ -313,6 +332,9 @@ def main(argv=None):
                     "ring's initial stiffness, FE and beam model (stored under 'cells', merged)")
     ap.add_argument("--cells-p1", default=None, help="comma list of ring sizes: the curved ring's first peak (ccx, "
                     "static, r = 1 with two bricks through the wall; stored under 'cells', merged)")
+    ap.add_argument("--cells-p1-bias", type=float, default=BIAS, help="the --cells-p1 runs' tilt bias (G L^2); "
+                    "another than the default is stored with the prefix bias<b>_")
+    ap.add_argument("--cells-p1-dmax", type=float, default=0.17, help="d/L of the --cells-p1 runs")
     ap.add_argument("--cells-p1-element", default="C3D20R", choices=("C3D20R", "C3D20"), help="the --cells-p1 "
                     "runs' bricks (C3D20: every brick fully integrated, stored with the prefix c3d20_)")
     ap.add_argument("--no-write", action="store_true")
@@ -343,10 +365,10 @@ def main(argv=None):
                + ("_C3D20" if a.p1_element == "C3D20" else ""), tr)
     if a.stability_at:
         for d in (float(v) for v in a.stability_at.split(",")):
-            pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout, full_near=a.stability_full_near)
+            kw = dict(full_near=a.stability_full_near, n_cells=a.stability_cells, element=a.stability_element)
+            pr = stability_probe(a.stability_mesh, d, timeout_s=a.timeout, **kw)
             print(f"stability {a.stability_mesh} d/L {d}: {pr.get('eigenvalues')} ({pr['wall_s']:.0f} s)", flush=True)
-            fn = f"_full{a.stability_full_near:g}" if a.stability_full_near else ""
-            _store("stability", {f"{a.stability_mesh}{fn}@{d:.3f}": pr}, merge=True)
+            _store("stability", {probe_key(a.stability_mesh, d, **kw): pr}, merge=True)
     if a.branch_at:
         tr = branch(a.stability_mesh, a.branch_at, a.branch_amp, timeout_s=a.timeout)
         print(f"branch {a.stability_mesh} from d/L {a.branch_at}: {tr['imperfection']}; {tr['extrema']} "
@@ -357,7 +379,8 @@ def main(argv=None):
     if a.cells_p1:
         _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
                          for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")],
-                                              element=a.cells_p1_element).items()}, merge=True)
+                                              d_max=a.cells_p1_dmax, element=a.cells_p1_element,
+                                              bias=a.cells_p1_bias).items()}, merge=True)
     if a.stiffness:
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.radial_fixed:

@@ -5,8 +5,8 @@ beam model's curves are made by ``benchmarks/bench_sleeve_ring3d.py``; everythin
 import numpy as np
 
 from metamaterial_wb.bench import fe_ring3d_corner as corner
-from metamaterial_wb.bench.fe_ring3d_paths import (MESH_NAMES, MESHES, _kinds, cell_geometry, path_convergence,
-                                                   snap, tilt_facts)
+from metamaterial_wb.bench.fe_ring3d_paths import (MESH_NAMES, MESHES, NUMBER, _kinds, cell_geometry,
+                                                   path_convergence, snap, stop_reason, tilt_facts)
 
 MARK_BEGIN, MARK_END = "<!-- fe-ring3d:begin -->", "<!-- fe-ring3d:end -->"
 
@@ -93,10 +93,11 @@ def path_markdown(c):
     L.append("")
     other = []
     for k, pr in sorted(st.items(), key=lambda kv: (kv[0].split("@")[0], kv[1]["d"])):
-        if k.startswith("r2@"):
+        if k.startswith("r2@") or pr.get("n_cells", 4) != 4:        # other ring sizes: cells_markdown
             continue
         name = MESH_NAMES[pr["mesh"]] + (f" with the beam's corner bricks C3D20 ({pr['full_near']:g} mm)"
-                                          if pr.get("full_near") else "")
+                                          if pr.get("full_near") else "") + (
+            ", every brick C3D20" if pr.get("element") == "C3D20" else "")
         if not pr.get("eigenvalues"):
             other.append(f"{name} at d/L {pr['d']:.3f}: did not converge (static Newton stopped at d/L "
                          f"{pr['d_reached']:.4f})")
@@ -179,20 +180,75 @@ def cells_markdown(c):
                  f"{v['p1_wall_s'] / 60:.1f} min: {v['p1_stopped']}.")
         L.append("")
     for n, v in rows:
-        if "c3d20_p1_d_reached" not in v:
-            continue
-        P1 = v["c3d20_fe_curved_p1"]
-        L.append(f"{n} cells with every brick fully integrated (`--cells-p1 {n} --cells-p1-element C3D20`, the "
-                 f"same mesh): " + (f"P1 {1e3 * P1:.3f} at d/L {v['c3d20_fe_curved_p1_d']:.3f}" if P1 else
-                                    "no first peak") +
-                 f", the run reaching d/L {v['c3d20_p1_d_reached']:.3f} in {v['c3d20_p1_wall_s'] / 60:.1f} min" +
-                 (f" (stopped: {v['c3d20_p1_stopped'].strip().splitlines()[-1].strip()})"
-                  if v["c3d20_p1_stopped"].strip() else "") +
-                 f", the plate tilting by at most {v['c3d20_p1_tilt_deg_max']:.2f} deg" +
-                 (f"; the calibrated beam model's P1 is {v['model_curved_p1'] / P1:.2f} times it"
-                  if P1 and v.get("model_curved_p1") else "") + ".")
-        L.append("")
+        for pre in sorted(k[:-len("p1_d_reached")] for k in v if k.endswith("p1_d_reached") and k != "p1_d_reached"):
+            L += [cells_variant_line(n, v, pre), ""]
+        st = cells_stability(c, int(n))
+        L += [st, ""] if st else []
     return L
+
+
+def cells_variant_line(n, v, pre):
+    """One ``--cells-p1`` run other than the default (fields ``<pre>p1_...``: every brick fully integrated,
+    ``c3d20_``, and/or another tilt bias, ``bias<b>_``) in a sentence."""
+    g = lambda k: v.get(pre + k)                                  # noqa: E731
+    bias = g("p1_bias")
+    opts = (" --cells-p1-element C3D20" if "c3d20_" in pre else "") + (f" --cells-p1-bias {bias:g}" if
+                                                                        "bias" in pre else "")
+    what = ("every brick fully integrated" if "c3d20_" in pre else "reduced bricks") + (
+        f" and a tilt bias {bias:g} G L^2 ({bias / 1e-5:.0f} times the default)" if "bias" in pre else "")
+    P1 = g("fe_curved_p1")
+    why = stop_reason(g("p1_stopped"), g("p1_curve"))
+    ex = g("p1_extrema")
+    s = (f"{n} cells with {what} (`--cells-p1 {n}{opts}`, the same mesh): " +
+         (f"P1 {1e3 * P1:.3f} at d/L {g('fe_curved_p1_d'):.3f}" if P1 else "no first peak") +
+         f", the run reaching d/L {g('p1_d_reached'):.3f} in {g('p1_wall_s') / 60:.1f} min" +
+         (f" ({why})" if why else ""))
+    if ex:
+        s += f"; {_kinds(ex)}" + "".join(f", {k} {1e3 * f:.3f} at d/L {d:.3f}" for k, d, f in ex[:4])
+    if g("p1_tilt_deg") and g("p1_curve"):
+        s += f"; the plate's tilt {tilt_facts(g('p1_curve')['d'], g('p1_tilt_deg'))}"
+    else:
+        s += f", the plate tilting by at most {g('p1_tilt_deg_max'):.2f} deg"
+    return s + (f"; the calibrated beam model's P1 is {v['model_curved_p1'] / P1:.2f} times it"
+                if P1 and v.get("model_curved_p1") else "") + "."
+
+
+def cells_stability(c, n):
+    """The stability probes of the ``n``-cell ring (``--stability-cells n``): the tilt pair and the twist along its
+    path (omega^2 rho), and where the tilt pair's eigenvalue, extrapolated linearly from the last two probes, would
+    reach zero (a bifurcation into tilt); "" without probes."""
+    prs = sorted((pr for pr in c.get("stability", {}).values() if pr.get("n_cells", 4) == n), key=lambda p: p["d"])
+    if not prs:
+        return ""
+    parts, tilt = [], []
+    for pr in prs:
+        if not pr.get("eigenvalues"):
+            parts.append(f"d/L {pr['d']:.3f} did not converge (static Newton stopped at d/L {pr['d_reached']:.4f})")
+            continue
+        lam, kind = classify_modes(pr)
+        parts.append(f"d/L {pr['d']:.3f}: " + ", ".join(
+            f"{kd} {'/'.join(f'{v:.3g}' for v in lam[kind == kd][:2])}" for kd in ("tilt", "twist", "still")
+            if np.any(kind == kd)) + ("" if pr["stable"] else " - **unstable**"))
+        if np.any(kind == "tilt"):
+            tilt.append((pr["d"], float(lam[kind == "tilt"].min())))
+    el = prs[0].get("element", "C3D20R")
+    s = (f"Stability of the {n}-cell path ({MESH_NAMES[prs[0]['mesh']]}, " +
+         ("every brick fully integrated" if el == "C3D20" else "reduced bricks") +
+         f"; `--stability-cells {n}`, omega^2 rho; tilt pair, twist, wall modes): " + "; ".join(parts) + ".")
+    if len(tilt) >= 2 and tilt[-1][1] > 0 and tilt[-2][1] > tilt[-1][1]:
+        (d1, l1), (d2, l2) = tilt[-2:]
+        d0 = d2 + l2 * (d2 - d1) / (l1 - l2)
+        s += (f" The tilt pair's eigenvalue falls from {tilt[0][1]:.3g} to {l2:.3g} ({100 * l2 / tilt[0][1]:.0f} %); "
+              f"on the last two probes' line it would reach zero at d/L {d0:.3f}.")
+        row = c.get("cells", {}).get(str(n), {})
+        stop = row.get(("c3d20_" if el == "C3D20" else "") + "p1_d_reached")
+        if stop is not None and not row.get(("c3d20_" if el == "C3D20" else "") + "fe_curved_p1"):
+            s += (f" The static run with the same bricks stopped at d/L {stop:.3f}" +
+                  (": the tilt bifurcation is where the path ends." if abs(d0 - stop) <= 0.003 else
+                   (f", where the last probe (d/L {d2:.3f}) finds all {len(prs[-1]['eigenvalues'])} lowest modes "
+                    f"stable and the tilt pair at {l2:.3g}: the stop is not a bifurcation these probes see."
+                    if d2 >= stop - 0.001 else f", before it: what stops it is not known from these probes.")))
+    return s
 
 
 def markdown(c, img=None):
@@ -422,7 +478,7 @@ def curved_summary(c):
         s += ": no tilting first stage"
         fam = corner.family_convergence(c) if "p1_r3" + corner.FAMILY in c else None
         fk = [k for k, mesh, _ in corner.corner_keys(c) if mesh == "r2" and not k.endswith("low")]
-        if fam and fam["valley_ext"] and len(fam["meshes"]) == 3:
+        if fam and fam["valley_ext"] and len(fam["meshes"]) >= 3:
             runs = [c["p1_" + mesh + corner.FAMILY] for mesh in fam["meshes"]]
             reach = "; ".join(f"{MESH_NAMES[mesh]} to d/L {x['info']['d_reached']:.2f} ({_kinds(x['extrema'])})"
                               for mesh, x in zip(fam["meshes"], runs))
@@ -430,8 +486,9 @@ def curved_summary(c):
             dv, fv, ev, edv = fam["valley_ext"]
             which = ("every brick" if runs[-1]["info"].get("element") == "C3D20" else "the beam's bricks")
             s += (f"; with {which} fully integrated (reduced ones fold and stop Newton) it runs on "
-                  f"past P1 on all three in-plane meshes ({reach}): the valley {1e3 * fv:.3f} +- {1e3 * ev:.3f}e-3 "
-                  f"at d/L {dv:.2f}, extrapolated from {n_val} meshes, then stiffening")
+                  f"past P1 on all {NUMBER[len(runs)]} in-plane meshes ({reach}): the valley {1e3 * fv:.3f} +- "
+                  f"{1e3 * ev:.3f}e-3 at d/L {dv:.2f}, extrapolated from the last {NUMBER[min(n_val, 3)]} meshes, "
+                  f"then stiffening")
         elif fk:
             x = c[fk[0]]
             ex = x["extrema"]

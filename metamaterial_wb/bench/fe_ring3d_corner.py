@@ -90,7 +90,8 @@ def family_markdown(c, family=FAMILY):
         which = (f"the beam's within {info['full_near']:g} mm of its corners"
                  + (" and the edge pillar's strip next to the pillar's side" if info.get("full_low") else "") +
                  f"; `--p1-full-near {info['full_near']:g}" + (" --p1-full-low" if info.get("full_low") else ""))
-    L = [f"**The path past P1 with fully integrated bricks, on three meshes.** With the same bricks fully integrated "
+    nm = base.NUMBER[len(pc["meshes"])]
+    L = [f"**The path past P1 with fully integrated bricks, on {nm} meshes.** With the same bricks fully integrated "
          f"on every in-plane mesh ({which}`), the static path's force at fixed d/L, extrapolated in the element size as above (x1e-3):", "",
          "| d/L | " + " | ".join(head) + " | extrapolated | finest mesh off by |",
          "|---|" + "---|" * len(head) + "---|---|"]
@@ -107,7 +108,7 @@ def family_markdown(c, family=FAMILY):
                    for m, q in zip(pc["meshes"], pc["valley"]))
     L.append(f"Extrema on each mesh: {ex}. P1: {p1}" + _ext(pc["p1_ext"]) + f". The valley after it: {va}" +
              _ext(pc["valley_ext"]) + ".")
-    return L + ["", f"![the corner-integrated curved FE ring on three meshes]({IMG})", ""]
+    return L + ["", f"![the fully integrated curved FE ring on {nm} meshes]({IMG})", ""]
 
 
 def _ext(e):
@@ -118,7 +119,7 @@ def _ext(e):
 
 
 def plot_family(c, path, family=FAMILY):
-    """The corner-integrated paths on r = 1, 2, 3 and their extrapolation with its error band (False when r = 3 of
+    """The corner-integrated paths on r = 1, 2, 3 (4) and their extrapolation with its error band (False when r = 3 of
     the family is not stored)."""
     if "p1_r3" + family not in c:
         return False
@@ -141,7 +142,7 @@ def plot_family(c, path, family=FAMILY):
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel("d / L")
     ax.set_ylabel("F / (G L^2) x1e-3")
-    ax.set_title("four-cell curved FE ring: one stage on three meshes", fontsize=9)
+    ax.set_title(f"four-cell curved FE ring: one stage on {base.NUMBER[len(pc['meshes'])]} meshes", fontsize=9)
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     fig.tight_layout()

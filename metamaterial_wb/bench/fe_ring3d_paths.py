@@ -1,6 +1,8 @@
 """The curved FE ring's stored static paths (issue 18): the meshes, the path stored for each, where a dynamic run
 snapped, and the path's convergence over the in-plane meshes (Richardson in the element size). Shared by the
 section's report (``fe_ring3d``) and its corner-integrated part (``fe_ring3d_corner``)."""
+import re
+
 import numpy as np
 
 
@@ -13,6 +15,33 @@ def cell_geometry():
 MESHES = {"r1": (1, 1), "r2": (2, 1), "r3": (3, 1), "r4": (4, 1), "layers2": (1, 2), "r2layers2": (2, 2)}
 MESH_NAMES = {"r1": "r = 1", "r2": "r = 2", "r3": "r = 3", "r4": "r = 4", "layers2": "two bricks through the wall",
               "r2layers2": "r = 2 and two bricks through the wall"}
+
+NUMBER = {1: "one", 2: "two", 3: "three", 4: "four", 5: "five", 6: "six"}
+
+
+def stop_reason(stopped, curve=None):
+    """Why a stored ccx run stopped, in a few words: its ``*ERROR`` line, else for a solver exit (``ccx.run``'s
+    message ends with the cut-off tail of ccx's output) the exit code and, from the stored ``curve``, how small
+    the last increments had become and how flat the force was there (a limit or a bifurcation ahead)."""
+    text = (stopped or "").strip()
+    if not text:
+        return ""
+    err = re.search(r"\*ERROR[^\n]*", text)
+    if err:
+        return err.group(0).strip()
+    code = re.search(r"exit code (-?\d+)", text)
+    if not code:
+        return text.splitlines()[0].strip()
+    s = f"ccx gave up, exit code {code.group(1)}"
+    if curve and len(curve["d"]) > 6:
+        d, F = np.asarray(curve["d"], float), np.asarray(curve["F"], float)
+        step = np.diff(d)[-5:].mean()
+        k0 = F[1] / d[1]
+        j = int(np.searchsorted(d, d[-1] - 0.005))
+        k1 = (F[-1] - F[j]) / max(d[-1] - d[j], 1e-30)
+        s += (f", its increments cut to {step:.1e} d/L, the force flat at {1e3 * F[-1]:.3f}e-3 (its slope over the "
+              f"last 0.005 d/L {100 * k1 / k0:.0f} % of the initial one)")
+    return s
 
 
 def tilt_facts(d, deg):

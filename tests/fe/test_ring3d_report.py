@@ -159,3 +159,104 @@ def test_ring_size_run_with_every_brick_full_is_reported_beside_the_reduced_stal
     assert ("8 cells with every brick fully integrated (`--cells-p1 8 --cells-p1-element C3D20`, the same mesh): "
             "P1 3.200 at d/L 0.125, the run reaching d/L 0.170 in 10.0 min, the plate tilting by at most 0.21 deg; "
             "the calibrated beam model's P1 is 1.50 times it.") in text
+
+
+def test_a_ccx_exit_is_told_by_its_error_line_or_by_the_stall_it_ended():
+    """A stored stop reason in a few words: ccx's ``*ERROR`` line; for a bare exit code (``ccx.run`` keeps only the
+    cut-off tail of ccx's output) the code, the increments' size and how flat the force had become (measured on the
+    stored curve, not made up); a hand-written reason as it is."""
+    from metamaterial_wb.bench.fe_ring3d_paths import stop_reason
+    assert stop_reason("ccx failed (exit code 201):\n *ERROR: increment size smaller than minimum\n best") == \
+        "*ERROR: increment size smaller than minimum"
+    d = np.linspace(0, 0.07, 71)
+    F = 1e-3 * (64 * d - 400 * d ** 2)                     # flattening: secant slope 64 - 400 (d1 + d2)
+    why = stop_reason("ccx failed on job 'x' (exit code 201):\n largest co", {"d": d.tolist(), "F": F.tolist()})
+    assert why.startswith("ccx gave up, exit code 201, its increments cut to 1.0e-03 d/L, the force flat at 2.520e-3")
+    assert why.endswith("(its slope over the last 0.005 d/L 16 % of the initial one)")    # 10 / 63.6
+    assert stop_reason("stalled there and stopped by hand") == "stalled there and stopped by hand"
+    assert stop_reason("") == ""
+
+
+def test_four_meshes_are_reported_as_four_and_extrapolated_from_the_last_three():
+    """The fully integrated family with a fourth mesh: the table gets its column, the prose says four, and the
+    extrapolation uses r = 2, 3, 4 (a known error in h removed exactly; r = 1 is off that trend and must not count)."""
+    d = np.linspace(0, 0.7, 71)
+    exact = 1e-3 * np.sin(3 * d)
+
+    def path(r, off=0.0):
+        info = {"increments": 70, "d_reached": 0.7, "wall_s": 600.0, "full_near": 0.0, "full_low": False,
+                "full_elements": 0, "element": "C3D20", "elements": 264 * r * r}
+        return {"d": d.tolist(), "F": (exact * (1 + 0.1 / r + off)).tolist(), "info": info,
+                "extrema": [("peak", 0.52, 1e-3)], "tilt_deg": [0.0] * len(d)}
+    c = {"p1_r1_C3D20": path(1, 0.3), "p1_r2_C3D20": path(2), "p1_r3_C3D20": path(3), "p1_r4_C3D20": path(4)}
+    pc = corner.family_convergence(c, "_C3D20")
+    assert pc["meshes"] == ["r1", "r2", "r3", "r4"]
+    row = {round(r_[0], 2): r_ for r_ in pc["rows"]}[0.30]
+    assert row[4] == 4 and row[2] == pytest.approx(np.interp(0.3, d, exact), rel=1e-6)
+    text = "\n".join(corner.family_markdown(c, "_C3D20"))
+    assert "on four meshes.**" in text and "| d/L | r = 1 | r = 2 | r = 3 | r = 4 | extrapolated |" in text
+    assert "curved FE ring on four meshes](" in text and "three" not in text
+
+
+def test_probes_of_other_rings_are_stored_apart_from_the_four_cell_path():
+    """``--stability-cells``/``--stability-element`` probes get their own key, so the four-cell r = 2 table and its
+    unstable stretch never read an eight-cell probe; the four-cell keys are unchanged."""
+    bench = _bench_script()
+    assert bench.probe_key("r2", 0.1) == "r2@0.100"
+    assert bench.probe_key("r2", 0.6, full_near=1.5) == "r2_full1.5@0.600"
+    k = bench.probe_key("layers2", 0.05, n_cells=8, element="C3D20")
+    assert k == "layers2_cells8_C3D20@0.050"
+    c = {"stability": {k: _probe(0.05, [-1e-6, 5e-6], [[1, 0, 0], [0, 0, 1]], [90.0, 80.0])}}
+    assert rep.unstable_range(c, "layers2") is None and rep.unstable_range(c) is None
+
+
+def test_an_eight_cell_rings_probes_are_its_own_and_say_where_its_tilt_stiffness_runs_out():
+    """The eight-cell probes are reported with the ring-size runs, not among the four-cell path's "other meshes";
+    the tilt pair's eigenvalue on a line through the last two probes gives the bifurcation (here exactly 0.08)."""
+    rot = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    st = {f"layers2_cells8_C3D20@{d:.3f}": dict(_probe(d, [lam, lam, 2.4e6], rot, [100.0, 100.0, 90.0]),
+                                                 mesh="layers2", n_cells=8, element="C3D20", d_reached=d)
+          for d, lam in ((0.05, 3.0e6), (0.06, 2.0e6), (0.07, 1.0e6))}
+    row = {"radius_mm": 28.0, "fe_flat": 0.1, "fe_curved": 0.05, "model_flat": 0.12, "model_curved": 0.11,
+           "model_curved_documented": 0.15, "fe_curved_p1": None, "fe_curved_p1_d": None, "p1_wall_s": 800.0,
+           "p1_d_reached": 0.08, "p1_stopped": "stalled"}
+    text = "\n".join(rep.cells_markdown({"cells": {"8": row}, "stability": st}))
+    assert "Stability of the 8-cell path (two bricks through the wall, every brick fully integrated;" in text
+    assert "d/L 0.050: tilt 0.0003/0.0003, twist 0.00024; d/L 0.060: tilt 0.0002/0.0002" in text
+    assert "falls from 0.0003 to 0.0001 (33 %); on the last two probes' line it would reach zero at d/L 0.080." in text
+    assert "The static run with the same bricks" not in text             # no C3D20 run of this ring stored
+    row.update(c3d20_p1_d_reached=0.0795, c3d20_fe_curved_p1=None, c3d20_p1_wall_s=900.0, c3d20_p1_stopped="",
+               c3d20_p1_tilt_deg_max=0.3)
+    text = "\n".join(rep.cells_markdown({"cells": {"8": row}, "stability": st}))
+    assert "stopped at d/L 0.080: the tilt bifurcation is where the path ends." in text
+    row.update(c3d20_p1_d_reached=0.07)
+    text = "\n".join(rep.cells_markdown({"cells": {"8": row}, "stability": st}))
+    assert ("stopped at d/L 0.070, where the last probe (d/L 0.070) finds all 3 lowest modes stable and the tilt pair "
+            "at 0.0001: the stop is not a bifurcation these probes see.") in text
+    d = np.linspace(0, 0.3, 31)
+    c = {"p1_r2": {"d": d.tolist(), "F": (1e-3 * d).tolist()}, "p1_r3": {"d": d.tolist(), "F": (1e-3 * d).tolist()},
+         "trace": {"d": d.tolist(), "F": (1e-3 * d).tolist(), "tilt_deg": [0.0] * len(d)}, "stability": st}
+    assert "Probes on other meshes" not in "\n".join(rep.path_markdown(c))
+
+
+def test_a_ring_size_run_with_a_larger_tilt_bias_is_its_own_line_with_its_extrema_and_tilt():
+    """``--cells-p1-bias`` runs are stored with their own prefix (the default run's fields untouched) and reported
+    with the bias, the extrema and where the plate passes 1 degree."""
+    bench = _bench_script()
+    assert bench.cells_p1_prefix() == "" and bench.cells_p1_prefix("C3D20") == "c3d20_"
+    pre = bench.cells_p1_prefix("C3D20", 1e-3)
+    assert pre == "c3d20_bias0.001_"
+    d = np.linspace(0, 0.2, 21)
+    row = {"radius_mm": 28.0, "fe_flat": 0.1, "fe_curved": 0.05, "model_flat": 0.12, "model_curved": 0.11,
+           "model_curved_documented": 0.15, "model_curved_p1": 4.8e-3}
+    row.update({pre + k: v for k, v in {
+        "fe_curved_p1": 3.0e-3, "fe_curved_p1_d": 0.09, "p1_wall_s": 1200.0, "p1_d_reached": 0.2, "p1_stopped": "",
+        "p1_curve": {"d": d.tolist(), "F": (1e-3 * np.sin(np.pi * d / 0.18)).tolist()}, "p1_bias": 1e-3,
+        "p1_tilt_deg": (30 * d).tolist(), "p1_tilt_deg_max": 6.0,
+        "p1_extrema": [["peak", 0.09, 3.0e-3], ["valley", 0.18, 0.5e-3]]}.items()})
+    text = "\n".join(rep.cells_markdown({"cells": {"8": row}}))
+    assert ("8 cells with every brick fully integrated and a tilt bias 0.001 G L^2 (100 times the default) "
+            "(`--cells-p1 8 --cells-p1-element C3D20 --cells-p1-bias 0.001`, the same mesh): P1 3.000 at d/L 0.090, "
+            "the run reaching d/L 0.200 in 20.0 min; 1 peak, 1 valley, peak 3.000 at d/L 0.090, valley 0.500 at d/L "
+            "0.180; the plate's tilt 6.0 deg at d/L 0.200, above 1 deg from d/L 0.040; the calibrated beam model's "
+            "P1 is 1.60 times it.") in text
