@@ -247,7 +247,7 @@ def cells_stability(c, n):
                   (": the tilt bifurcation is where the path ends." if abs(d0 - stop) <= 0.003 else
                    (f", where the last probe (d/L {d2:.3f}) finds all {len(prs[-1]['eigenvalues'])} lowest modes "
                     f"stable and the tilt pair at {l2:.3g}: the stop is not a bifurcation these probes see."
-                    if d2 >= stop - 0.001 else f", before it: what stops it is not known from these probes.")))
+                    if d2 >= stop - 0.001 else ", before it: what stops it is not known from these probes.")))
     return s
 
 
@@ -440,7 +440,18 @@ def cells_sentence(c):
             f"initial stiffness is {max(cal):.1f} to {min(cal):.1f} times the curved solid's calibrated ("
             f"{max(doc):.1f} to {min(doc):.1f} as documented; the solid's coarse mesh makes these if anything low); "
             "every sleeve summary quotes these measured ratios (`accuracy`), and `sleeve --fe-check` measures them "
-            "for other cells.")
+            "for other cells." + frame_sentence(dict((str(n), v) for n, v in rows)))
+
+
+def frame_sentence(cells):
+    """The linear 3-D frame against the solid on the same ring sizes (``bench/fe_frame3d.py``), one sentence."""
+    from metamaterial_wb.bench import fe_frame3d
+    sm = fe_frame3d.summary(fe_frame3d.study(cells))
+    return (f" The mechanism is found: the model's own beams wrapped on the cylinder as a linear 3-D frame "
+            f"(`core/sleeve/frame3d.py`, sleeves.md \"A linear 3-D frame\"), bending and twisting out of it, give the "
+            f"solid's curvature knock-down of the initial stiffness to {sm['frame'][0]:+.0f} to {sm['frame'][1]:+.0f} % "
+            f"(the model's springs: {sm['model'][0]:+.0f} to {sm['model'][1]:+.0f} %); every summary's curvature note "
+            "quotes the model-to-frame ratio for any cell; the frame's nonlinear form (peaks) is not built.")
 
 
 def curved_summary(c):

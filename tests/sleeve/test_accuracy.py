@@ -72,3 +72,24 @@ def test_other_sleeves_are_told_the_ratios_are_not_measured(kw, why):
     a = acc.accuracy([g], 4, 0.3 if not kw else 0.0, True)
     assert "cell_peak" not in a and "ring_initial_stiffness" not in a
     assert why in a["notes"][0] and "not measured" in a["notes"][0]
+
+
+def test_the_frames_quoted_match_with_the_solid_is_the_stored_one_and_the_stored_frames_are_current():
+    """``FRAME_KNOCKDOWN_OFF`` (quoted in every frame note) is the stored study's range, and the stored study is what
+    the frame gives today (it is deterministic and fast: recomputed here)."""
+    from metamaterial_wb.bench import fe_frame3d
+    stored = _load("frame3d.json")
+    lo, hi = fe_frame3d.summary(stored)["frame"]
+    assert acc.FRAME_KNOCKDOWN_OFF == (round(lo), round(hi))
+    fresh = fe_frame3d.study(_load("fe-ring3d-comparison.json")["cells"], stored["root_extensions"], stored["n_el"])
+    for n, row in stored["cells"].items():
+        for k, v in row.items():
+            if k.startswith("frame_") and k != "frame_s":
+                assert fresh["cells"][n][k] == pytest.approx(v, rel=1e-9), (n, k)
+
+
+def test_frame_note_names_the_type_the_ratio_and_the_measured_match():
+    note = acc.frame_note(1, 6, {"ratio": 2.345, "seconds": 0.05})
+    assert note.startswith("curvature, uniform ring of type 1 (6 cells): the beam model's initial stiffness is 2.35 "
+                           "times that of a linear 3-D frame")
+    assert f"{acc.FRAME_KNOCKDOWN_OFF[0]:+.0f} to {acc.FRAME_KNOCKDOWN_OFF[1]:+.0f} % off the curved solid's" in note

@@ -36,6 +36,17 @@ def test_summary_contract(tmp_path):
     assert s["walker"]["area_mm2"] >= 0
     for f in ("fd_cells.png", "fd_ring.png", "pv.png", "walker.png"):
         assert (out / f).stat().st_size > 1000
+    # curvature: every uniform ring (any cell, measured or not) is checked against its linear 3-D frame, and the
+    # user is told by how much the beam model's ring is stiffer than it (core/sleeve/frame3d.py)
+    from metamaterial_wb.core.sleeve.cell import CellGeometry
+    from metamaterial_wb.core.sleeve.frame3d import curvature_check
+    assert not s["accuracy"]["measured_cell"]
+    for u, ct in zip(s["uniform_rings"], SPEC["cell_types"]):
+        g = CellGeometry(L=18, c=4, delta=0.5, T=1.8, t=ct["t_mm"], h=ct["h_mm"])
+        ref = curvature_check(g, 4, "strain", 0.0, "guided", 6)
+        assert u["frame3d"]["ratio"] == ref["ratio"] and u["frame3d"]["ratio"] > 1.5
+        assert any(n.startswith(f"curvature, uniform ring of type {u['type']} (4 cells): the beam model's initial "
+                                f"stiffness is {ref['ratio']:.2f} times") for n in s["accuracy"]["notes"])
     # PV peaks are the ring's FD peaks divided by the cap area (independent unit conversion)
     A = 3.141592653589793 * (24.6 / 2) ** 2
     assert abs(s["pv"]["peaks_kPa"][0] - s["ring"]["peaks"][0] * 28 * 18 ** 2 / A * 1000) < 1e-6 * s["pv"]["peaks_kPa"][0]

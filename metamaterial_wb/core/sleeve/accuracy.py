@@ -79,3 +79,19 @@ def accuracy(cells, n_cells, root_extension=0.0, curvature=True):
                      "it to 1.00")
     out["notes"] = notes
     return out
+
+
+# the linear 3-D frame's curved / flat initial stiffness against the curved solid's, plane stress and calibrated,
+# over 4-12 cells of the seed's cell, per cent (benchmarks/results/frame3d.json; tests/sleeve/test_accuracy.py)
+FRAME_KNOCKDOWN_OFF = (0.0, 8.0)
+
+
+def frame_note(cell_type, n_cells, check):
+    """The accuracy note for one uniform ring's ``frame3d.curvature_check``: for any cell, how much stiffer the
+    beam model's curved ring is than a linear 3-D frame of the same beams (the part of its error that its
+    curvature springs make)."""
+    lo, hi = FRAME_KNOCKDOWN_OFF
+    return (f"curvature, uniform ring of type {cell_type} ({n_cells} cells): the beam model's initial stiffness is "
+            f"{check['ratio']:.2f} times that of a linear 3-D frame of the same beams (frame3d), which bends the wall out of the cylinder as the solid does: the part of "
+            f"the model's error its curvature springs make (the frame's curved / flat stiffness was {lo:+.0f} to "
+            f"{hi:+.0f} % off the curved solid's for the seed's cell at 4-12 cells; docs/sleeves.md)")

@@ -5,7 +5,8 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.core.sleeve.accuracy import accuracy
+from metamaterial_wb.core.sleeve.accuracy import accuracy, frame_note
+from metamaterial_wb.core.sleeve.frame3d import curvature_check
 from metamaterial_wb.core.sleeve.analysis import (extrema, lean_direction, peaks_valleys, pressure_control,
                                                   pv_curve, snap_order, two_hysteron_sequence)
 from metamaterial_wb.core.sleeve.cell import CellGeometry
@@ -163,6 +164,9 @@ def analyse(spec, progress=None, log=None):
         uniform.append({"type": i, "P1": P1, "V2": V2, "two_peaks": n_p >= 2 and n_v >= 2,
                         "peaks": [f for _, f in pv["peaks"]], "valleys": [f for _, f in pv["valleys"]],
                         "seconds": up.seconds})
+        if spec.ring_curvature and spec.layout == "single":
+            uniform[-1]["frame3d"] = curvature_check(spec.cells[i], n, spec.plane, spec.root_extension,
+                                                     spec.pillar_tip, spec.n_el_ring)
         thresholds.append((P1, V2))
         curves["uniform"].append((i, up))
     say(f"sleeve: {spec.M} ring(s) x {n} cells, pattern {spec.pattern}")
@@ -218,6 +222,7 @@ def analyse(spec, progress=None, log=None):
                         "c_mm": spec.c, "delta_mm": spec.delta, "T_mm": spec.T},
                "unit_cells": unit_cells, "uniform_rings": uniform, "ring": ring, "sequence": seq,
                "pv": pvres, "accuracy": accuracy(spec.cells, n, spec.root_extension, spec.ring_curvature)}
+    summary["accuracy"]["notes"] += [frame_note(u["type"], n, u["frame3d"]) for u in uniform if "frame3d" in u]
     if spec.walker:
         wk = spec.walker
         H = spec.M * max(g.height for g in spec.cells)

@@ -1,0 +1,40 @@
+#!/usr/bin/env python3
+"""The curved sleeve ring as a linear 3-D frame against the curved CalculiX solid (issue 18).
+
+    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--no-write]
+
+Builds the frame (``metamaterial_wb/core/sleeve/frame3d.py``) of every ring size the solid was run for
+(``benchmarks/results/fe-ring3d.json``, ``cells``; ``bench_sleeve_ring3d.py --cells``), flat and curved, in two
+moduli and two root extensions (a few seconds in all, no ccx), stores them in
+``benchmarks/results/frame3d.json`` and rewrites its section of docs/sleeves.md.
+"""
+import argparse
+import json
+import os
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, ROOT)
+from metamaterial_wb.bench import fe_frame3d  # noqa: E402
+from metamaterial_wb.core.fileio import write_atomic  # noqa: E402
+
+RESULTS = os.path.join(ROOT, "benchmarks", "results")
+DOC = os.path.join(ROOT, "docs", "sleeves.md")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--no-write", action="store_true")
+    a = ap.parse_args(argv)
+    comp = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))
+    s = fe_frame3d.study(comp["cells"])
+    section = fe_frame3d.markdown(s)
+    print(section)
+    if not a.no_write:
+        write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))
+        write_atomic(DOC, fe_frame3d.write(DOC, section))
+        print("wrote benchmarks/results/frame3d.json and docs/sleeves.md")
+
+
+if __name__ == "__main__":
+    main()

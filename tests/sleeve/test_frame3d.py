@@ -1,0 +1,73 @@
+"""Issue 18: the linear 3-D frame of the curved sleeve ring (``core/sleeve/frame3d.py``). Its element against
+beam theory's closed forms, its flat ring against the 2-D beam model it is built from, the flat limit of a
+large ring, and its curvature knock-down against the curved CalculiX solid's stored runs."""
+import json
+import os
+
+import numpy as np
+import pytest
+
+from metamaterial_wb.core.sleeve.cell import CellGeometry
+from metamaterial_wb.core.sleeve.frame3d import RingFrame, element_stiffness, torsion_constant
+from metamaterial_wb.core.sleeve.model import SleeveModel
+
+RESULTS = os.path.join(os.path.dirname(__file__), "..", "..", "benchmarks", "results")
+
+
+def test_element_is_a_cantilever_of_beam_theory_in_every_direction():
+    """One element clamped at node 1: tip load along 1, 2, 3 and a twisting moment give P l / EA, P l^3 / (3 EI3),
+    P l^3 / (3 EI2) and T l / GJ, and the tip rotations P l^2 / (2 EI) with the right signs."""
+    l, EA, EI2, EI3, GJ = 2.0, 5.0, 0.7, 0.3, 0.11
+    K = element_stiffness(l, EA, EI2, EI3, GJ)
+    assert np.allclose(K, K.T)
+    u = np.linalg.solve(K[6:, 6:], np.eye(6))                    # tip displacements for unit tip loads
+    assert u[0, 0] == pytest.approx(l / EA)
+    assert u[1, 1] == pytest.approx(l ** 3 / (3 * EI3)) and u[5, 1] == pytest.approx(l ** 2 / (2 * EI3))
+    assert u[2, 2] == pytest.approx(l ** 3 / (3 * EI2)) and u[4, 2] == pytest.approx(-l ** 2 / (2 * EI2))
+    assert u[3, 3] == pytest.approx(l / GJ)
+    rigid = np.zeros(12)
+    rigid[[2, 8]] = 1.0                                          # a rigid translation and a rigid rotation
+    assert np.allclose(K @ rigid, 0)
+    rot = np.zeros(12)
+    rot[[5, 11]], rot[7] = 1.0, l                                # about 3: node 2 moves by l along 2
+    assert np.allclose(K @ rot, 0)
+
+
+def test_torsion_constant_of_a_square_and_of_a_thin_strip():
+    assert torsion_constant(1.0, 1.0) == pytest.approx(0.1406, rel=2e-3)       # Roark: 0.1406 a^4
+    assert torsion_constant(1.0, 100.0) == pytest.approx(100 / 3 * (1 - 0.63 / 100), rel=1e-3)
+
+
+def test_flat_frame_is_the_beam_models_linear_flat_ring():
+    """Lying in a plane, the out-of-plane motion decouples and the frame is the 2-D model's ring: the same
+    stiffness as the model's force over a tiny rise, for both root extensions."""
+    g = CellGeometry()
+    for n, e in ((4, 0.0), (6, 0.63)):
+        p = SleeveModel([g], [[0] * n], 24, curvature=False, root_extension=e).trace(np.array([0.0, 1e-6]))
+        assert RingFrame(g, n, curved=False, root_extension=e).axial_stiffness() == pytest.approx(
+            p.F[1] / p.d[1], rel=1e-6)
+
+
+def test_a_large_ring_is_flat_and_a_small_one_is_knocked_down():
+    """Curvature vanishes as the ring grows: curved / flat -> 1 (256 cells within 0.1 %), and it falls
+    monotonically as the ring shrinks."""
+    g = CellGeometry()
+    ratios = [RingFrame(g, n).axial_stiffness() / RingFrame(g, n, curved=False).axial_stiffness()
+              for n in (4, 8, 16, 64, 256)]
+    assert np.all(np.diff(ratios) > 0)
+    assert ratios[-1] == pytest.approx(1.0, abs=1e-3) and ratios[0] < 0.35
+
+
+def test_curvature_knock_down_matches_the_curved_solid_where_the_spring_model_does_not():
+    """Against the stored CalculiX runs (flat plane-strain and curved 3-D rings of 4-12 cells): the frame in plane
+    stress with the calibrated root extension is within 10 % of the solid's curved / flat ratio at every size;
+    the beam model's curvature springs are more than 40 % off at every size."""
+    cells = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))["cells"]
+    g = CellGeometry()
+    assert sorted(map(int, cells)) == [4, 6, 8, 12]
+    for n, row in cells.items():
+        fe = row["fe_curved"] / row["fe_flat"]
+        frame = (RingFrame(g, int(n), plane="stress", root_extension=0.63).axial_stiffness() /
+                 RingFrame(g, int(n), curved=False, root_extension=0.63).axial_stiffness())
+        assert abs(frame / fe - 1) < 0.10, (n, frame, fe)
+        assert row["model_curved"] / row["model_flat"] / fe - 1 > 0.40
