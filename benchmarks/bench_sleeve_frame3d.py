@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The curved sleeve ring as a linear 3-D frame against the curved CalculiX solid (issue 18).
 
-    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--no-write]
+    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--no-write]
 
 Builds the frame (``metamaterial_wb/core/sleeve/frame3d.py``) of every ring size the solid was run for
 (``benchmarks/results/fe-ring3d.json``, ``cells``; ``bench_sleeve_ring3d.py --cells``), flat and curved, in two
@@ -25,9 +25,19 @@ DOC = os.path.join(ROOT, "docs", "sleeves.md")
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--nonlinear", action="store_true", help="trace the four-cell curved frame nonlinearly to d/L "
+                    "0.7 on 12 and 24 elements per beam half (a few minutes); else the stored traces are reused")
     a = ap.parse_args(argv)
     comp = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))
     s = fe_frame3d.study(comp["cells"])
+    from metamaterial_wb.bench.fe_ring3d_corner import family_convergence
+    fam = family_convergence(comp, "_C3D20")
+    s["fe_family"] = {"p1_ext": fam["p1_ext"], "valley_ext": fam["valley_ext"]}
+    old = os.path.join(RESULTS, "frame3d.json")
+    if a.nonlinear:
+        s["nonlinear"] = fe_frame3d.nonlinear_study()
+    elif os.path.exists(old):
+        s["nonlinear"] = json.load(open(old)).get("nonlinear")
     section = fe_frame3d.markdown(s)
     print(section)
     if not a.no_write:

@@ -451,7 +451,9 @@ def frame_sentence(cells):
             f"(`core/sleeve/frame3d.py`, sleeves.md \"A linear 3-D frame\"), bending and twisting out of it, give the "
             f"solid's curvature knock-down of the initial stiffness to {sm['frame'][0]:+.0f} to {sm['frame'][1]:+.0f} % "
             f"(the model's springs: {sm['model'][0]:+.0f} to {sm['model'][1]:+.0f} %); every summary's curvature note "
-            "quotes the model-to-frame ratio for any cell; the frame's nonlinear form (peaks) is not built.")
+            "quotes the model-to-frame ratio for any cell; the same frame made nonlinear (`frame3d_nl.py`) has the "
+            "solid's one-stage path, its first peak measured against the solid's in sleeves.md; the `sleeve` command "
+            "still runs the planar model.")
 
 
 def curved_summary(c):

@@ -71,3 +71,14 @@ def test_curvature_knock_down_matches_the_curved_solid_where_the_spring_model_do
                  RingFrame(g, int(n), curved=False, root_extension=0.63).axial_stiffness())
         assert abs(frame / fe - 1) < 0.10, (n, frame, fe)
         assert row["model_curved"] / row["model_flat"] / fe - 1 > 0.40
+
+
+def test_nonlinear_paragraph_reports_each_mesh_against_the_solid():
+    from metamaterial_wb.bench.fe_frame3d import nonlinear_markdown
+    d = np.linspace(0, 0.7, 141)
+    F = 1e-3 * np.where(d < 0.5, 1.2 * np.sin(np.pi * d / 0.28), 5 * (d - 0.5))   # one peak 1.2e-3 at d/L 0.14
+    nl = {"12": {"d": d.tolist(), "F": F.tolist(), "seconds": 60.0, "iterations": 400}}
+    fe = {"p1_ext": (0.143, 1.0e-3, 0.03e-3, 0.002), "valley_ext": (0.46, 0.38e-3, 0.03e-3, 0.005)}
+    text = nonlinear_markdown(nl, fe)
+    assert "12 elements per beam half: 1 peak, 1 valley" in text and "P1 1.200 at d/L 0.140" in text
+    assert "P1 1.000 +- 0.030, valley 0.380 +- 0.030 at d/L 0.460" in text and "P1 is +20 % off the solid's" in text

@@ -52,7 +52,9 @@ def root(tmp_path):
 def run(root, tail, sig=None):
     src = root.parent / "src"
     script = SCRIPT.format(helper=HELPER, root=root, src=src, tail=tail)
-    p = subprocess.Popen(["bash", "-c", script])
+    # a shell that starts us in the background leaves SIGINT ignored, and bash cannot trap a signal ignored at
+    # its start: give the script the default disposition, as an interactive run-lane.sh has
+    p = subprocess.Popen(["bash", "-c", script], preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     if sig is not None:
         deadline = time.time() + 20
         while not (root / "ready").exists():

@@ -86,10 +86,14 @@ class RingFrame:
         EI_r[link] = LINK_FACTOR * np.max(EI_r[~link])
         n = len(X)
         rows, cols, vals = [], [], []
+        self.conn = conn
+        self.shift3 = (np.zeros((len(conn), 3)) if curved else
+                       np.column_stack([shift[:, 0], np.zeros(len(conn)), shift[:, 1]]))
+        self.EA, self.EI2, self.EI3, self.GJ = EA, EI_r, EI, GJ
+        self.frames0 = np.zeros((len(conn), 3, 3))       # rows: the element's axes 1, 2, 3 unloaded
+        self.l0 = np.zeros(len(conn))
         for e, (i, j) in enumerate(conn):
-            pi_, pj = self.P[i], self.P[j]
-            if not curved:
-                pj = pj + np.array([shift[e, 0], 0.0, shift[e, 1]])
+            pi_, pj = self.P[i], self.P[j] + self.shift3[e]
             d = pj - pi_
             l = float(np.linalg.norm(d))
             e1 = d / l
@@ -99,6 +103,7 @@ class RingFrame:
             e3 /= np.linalg.norm(e3)
             e2 = np.cross(e3, e1)
             R = np.vstack([e1, e2, e3])
+            self.frames0[e], self.l0[e] = R, l
             Tm = np.kron(np.eye(4), R)
             k = Tm.T @ element_stiffness(l, EA[e], EI_r[e], EI[e], GJ[e]) @ Tm
             dofs = np.concatenate([6 * i + np.arange(6), 6 * j + np.arange(6)])

@@ -1,0 +1,69 @@
+"""Issue 18: the nonlinear (corotational) 3-D frame of the sleeve ring (``core/sleeve/frame3d_nl.py``). Its flat
+ring against the independent 2-D beam model far into large rotations, its small-rise limit against the linear
+frame, a 3-D pure-bending arc against its closed form, and the rotation helpers."""
+import numpy as np
+import pytest
+
+from metamaterial_wb.core.sleeve.cell import CellGeometry
+from metamaterial_wb.core.sleeve.frame3d import RingFrame
+from metamaterial_wb.core.sleeve.frame3d_nl import NonlinearFrame, expm_so3, logm_so3, trace_ring
+from metamaterial_wb.core.sleeve.model import SleeveModel
+
+
+def test_rotation_vectors_round_trip_small_and_large():
+    rng = np.random.default_rng(3)
+    u = rng.normal(size=(50, 3))
+    v = u / np.linalg.norm(u, axis=1)[:, None] * np.array([[1e-9], [1e-5], [0.3], [2.0], [3.0]]).repeat(10, 0)
+    R = expm_so3(v)
+    assert np.allclose(R @ np.transpose(R, (0, 2, 1)), np.eye(3), atol=1e-13)
+    assert np.allclose(logm_so3(R), v, rtol=1e-9, atol=1e-17)
+
+
+def test_flat_ring_retraces_the_2d_beam_model_through_its_peak():
+    """Lying in a plane the 3-D frame is the 2-D model's corotational ring (a separate code: 2-D angles against
+    3-D rotation matrices and finite-difference derivatives): the same force to 1e-7 up to d/L 0.15, past the
+    peak, with the beams turning by tens of degrees."""
+    g = CellGeometry()
+    d = np.linspace(0, 0.15, 16)
+    r = trace_ring(RingFrame(g, 4, curved=False, n_el=6, root_extension=0.63), d)
+    p = SleeveModel([g], [[0] * 4], 6, curvature=False, root_extension=0.63).trace(d)
+    assert np.max(np.abs(r["F"] - p.F)) < 1e-7 * np.max(np.abs(p.F))
+    assert np.argmax(p.F) < len(d) - 1                                 # the peak is inside the range
+    turn = np.degrees(np.linalg.norm(logm_so3(r["frame"].R), axis=1)).max()
+    assert turn > 20
+
+
+def test_small_rise_is_the_linear_frame():
+    g = CellGeometry()
+    for curved in (True, False):
+        rf = RingFrame(g, 4, curved=curved, n_el=6, plane="stress")
+        r = trace_ring(rf, [0.0, 1e-5])
+        assert r["F"][1] / 1e-5 == pytest.approx(rf.axial_stiffness(), rel=2e-5)
+
+
+def test_pure_bending_in_3d_is_a_circular_arc():
+    """A straight cantilever along a skew direction, its tip turned by 1.5 rad about a skew axis normal to it and
+    otherwise free: uniform bending, so the nodes lie on a circle, each element an unstretched chord turning by
+    phi / n (the radius tends to l / phi with the mesh), with no twist."""
+    n, length, phi = 12, 1.0, 1.5
+    e1 = np.array([1.0, 2.0, 2.0]) / 3.0
+    a = np.cross(e1, [0.0, 0.0, 1.0]); a /= np.linalg.norm(a)            # the bending axis, normal to the beam
+    e2 = np.cross(a, e1)                                                  # where the tip bends to
+    P = np.outer(np.linspace(0, length, n + 1), e1)
+    conn = np.column_stack([np.arange(n), np.arange(1, n + 1)])
+    frame0 = np.stack([e1, e2, a])
+    fr = NonlinearFrame(P, conn, np.zeros((n, 3)), np.repeat(frame0[None], n, 0), np.full(n, length / n),
+                        np.full(n, 100.0), np.full(n, 1.0), np.full(n, 1.0), np.full(n, 0.7))
+    free = np.ones(6 * (n + 1), bool)
+    free[:6] = False
+    free[6 * n + 3:] = False
+    for t in np.linspace(0.1, 1.0, 10):                                   # turned in steps, as a load
+        fr.R[n] = expm_so3(t * phi * a)
+        fr.equilibrium(free, tol=1e-9)
+    s = np.linspace(0, length, n + 1)
+    ang = np.arange(n + 1) * phi / n
+    rho = length / n / (2 * np.sin(phi / n / 2))      # unstretched chords of l / n on the circle (-> l / phi)
+    expect = np.outer(rho * np.sin(ang), e1) + np.outer(rho * (1 - np.cos(ang)), e2)
+    assert np.allclose(fr.x, expect, atol=1e-6)
+    twist = [logm_so3(expm_so3(-phi * si / length * a) @ fr.R[k]) for k, si in enumerate(s)]
+    assert np.allclose(twist, 0, atol=1e-6)
