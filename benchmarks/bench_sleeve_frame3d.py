@@ -43,6 +43,11 @@ def main(argv=None):
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))
         write_atomic(DOC, fe_frame3d.write(DOC, section))
+        if s.get("nonlinear") and "p1_r4_C3D20" in comp:
+            fine = comp["p1_r4_C3D20"]
+            fe_frame3d.plot_nonlinear(s["nonlinear"], {"d": fine["d"], "F": fine["F"],
+                                                       "label": "CalculiX curved solid, r = 4, all C3D20"},
+                                      comp["curved_calibrated"], os.path.join(ROOT, "docs", fe_frame3d.IMG))
         print("wrote benchmarks/results/frame3d.json and docs/sleeves.md")
 
 

@@ -11,6 +11,7 @@ import time
 import numpy as np
 
 MARK_BEGIN, MARK_END = "<!-- frame3d:begin -->", "<!-- frame3d:end -->"
+IMG = "img/sleeve-frame3d.png"
 # (key, RingFrame options, label)
 VARIANTS = (("strain", {"plane": "strain"}, "E = 4 G in the plane (the beam model's), 3 G through the wall"),
             ("stress", {"plane": "stress"}, "E = 3 G throughout (a 3-D beam's own modulus)"))
@@ -143,7 +144,8 @@ def markdown(s):
           "Linear here; the nonlinear frame follows. The "
           "beam model's ring forces are still quoted with their measured error (`accuracy`).", ""]
     if s.get("nonlinear") and s.get("fe_family"):
-        L += [nonlinear_markdown(s["nonlinear"], s["fe_family"]), ""]
+        L += [nonlinear_markdown(s["nonlinear"], s["fe_family"]), "",
+              f"![the nonlinear frame against the curved solid and the planar beam model]({IMG})", ""]
     L += [MARK_END, ""]
     return "\n".join(L)
 
@@ -158,3 +160,27 @@ def write(doc_path, section):
     anchor = "<!-- fe-ring3d:end -->\n"
     i = text.index(anchor) + len(anchor) if anchor in text else len(text)
     return text[:i] + "\n" + section + text[i:]
+
+
+def plot_nonlinear(nl, solid, model, path):
+    """The nonlinear frame's paths, the curved solid's finest path (``solid``: ``{"d", "F", "label"}``) and the
+    planar beam model's calibrated curved ring (``model``: ``{"d", "F"}``)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7.0, 4.2), dpi=110)
+    ax.plot(solid["d"], 1e3 * np.asarray(solid["F"]), "k-", lw=1.6, label=solid["label"])
+    for (n_el, r), col in zip(sorted(nl.items(), key=lambda kv: int(kv[0])), ("C1", "C0")):
+        ax.plot(r["d"], 1e3 * np.asarray(r["F"]), "--", color=col, lw=1.3,
+                label=f"nonlinear 3-D frame, {n_el} elements per beam half")
+    ax.plot(model["d"], 1e3 * np.asarray(model["F"]), ":", color="C3", lw=1.3,
+            label="planar beam model, curved, calibrated")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("d / L")
+    ax.set_ylabel("F / (G L^2) x1e-3")
+    ax.set_title("four-cell curved ring: the 3-D frame against the solid", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
