@@ -33,6 +33,7 @@ def main(argv=None):
     from metamaterial_wb.bench.fe_ring3d_corner import family_convergence
     fam = family_convergence(comp, "_C3D20")
     s["fe_family"] = {"p1_ext": fam["p1_ext"], "valley_ext": fam["valley_ext"]}
+    s["planar_calibrated"] = {k: comp["curved_calibrated"][k] for k in ("d", "F", "n_el", "root_extension")}
     old = os.path.join(RESULTS, "frame3d.json")
     if a.nonlinear:
         s["nonlinear"] = fe_frame3d.nonlinear_study()

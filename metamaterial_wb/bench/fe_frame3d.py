@@ -42,25 +42,57 @@ def study(fe_cells, root_extensions=(0.0, 0.63), n_el=24):
     return {"root_extensions": list(root_extensions), "n_el": n_el, "cells": out}
 
 
-def nonlinear_study(n_els=(12, 24), d_max=0.7, step=0.005, e=0.63):
+def nonlinear_study(n_els=(12, 24), d_max=0.7, step=0.005, e=0.63, repeat=3):
     """The four-cell ring's curved frame traced nonlinearly (``frame3d_nl.trace_ring``; plane stress, root
-    extension ``e``) to ``d_max`` on each beam mesh: ``{str(n_el): {"d", "F", "seconds", "iterations"}}``."""
+    extension ``e``) to ``d_max`` on each beam mesh: ``{str(n_el): {"d", "F", "seconds", "iterations",
+    "derivatives_seconds", "reference_derivatives_seconds", "planar_seconds"}}``. Baselines from the same run:
+    one evaluation of the gradient and Hessian at the last state (best of ``repeat``) against the plain
+    per-element route (``reference_gradient_hessian``), and the whole path against the planar beam model's
+    (curvature springs, same mesh and steps)."""
     from metamaterial_wb.core.sleeve.cell import CellGeometry
     from metamaterial_wb.core.sleeve.frame3d import RingFrame
-    from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
+    from metamaterial_wb.core.sleeve.frame3d_nl import reference_gradient_hessian, trace_ring
+    from metamaterial_wb.core.sleeve.model import SleeveModel
     d = np.linspace(0.0, d_max, int(round(d_max / step)) + 1)
     out = {}
+
+    def best(f):
+        ts = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            f()
+            ts.append(time.perf_counter() - t0)
+        return min(ts)
+
     for n_el in n_els:
         t0 = time.perf_counter()
         r = trace_ring(RingFrame(CellGeometry(), 4, plane="stress", root_extension=e, n_el=n_el), d)
-        out[str(n_el)] = {"d": d.tolist(), "F": r["F"].tolist(), "seconds": time.perf_counter() - t0,
-                          "iterations": int(sum(r["iterations"])), "root_extension": e}
+        seconds = time.perf_counter() - t0
+        fr = r["frame"]
+        t0 = time.perf_counter()
+        SleeveModel([CellGeometry()], [[0] * 4], n_el, "stress", curvature=True, root_extension=e).trace(d)
+        out[str(n_el)] = {"d": d.tolist(), "F": r["F"].tolist(), "seconds": seconds,
+                          "iterations": int(sum(r["iterations"])), "root_extension": e,
+                          "derivatives_seconds": best(fr.gradient_hessian),
+                          "reference_derivatives_seconds": best(lambda: reference_gradient_hessian(fr)),
+                          "planar_seconds": time.perf_counter() - t0}
     return out
 
 
-def nonlinear_markdown(nl, fe):
+def p1_off(nl, fe, planar):
+    """The nonlinear frame's first peak (finest beam mesh of ``nl``) and the planar beam model's (``planar``:
+    ``{"d", "F"}``) against the curved solid's extrapolated one (``fe["p1_ext"]``), per cent: ``(frame, planar)``."""
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    last = nl[max(nl, key=int)]
+    fpe = fe["p1_ext"][1]
+    return (100 * (peak_valley(last["d"], last["F"])[1] / fpe - 1),
+            100 * (peak_valley(planar["d"], planar["F"])[1] / fpe - 1))
+
+
+def nonlinear_markdown(nl, fe, planar):
     """The nonlinear frame's paragraph: P1 and the valley on each beam mesh against the curved solid's
-    (``fe``: ``fe_ring3d_corner.family_convergence`` of the all-C3D20 paths)."""
+    (``fe``: ``fe_ring3d_corner.family_convergence`` of the all-C3D20 paths) and the planar beam model's
+    calibrated ring's (``planar``)."""
     from metamaterial_wb.fe.sleeve2d import peak_valley
     from metamaterial_wb.bench.fe_ring3d_paths import _kinds
     from metamaterial_wb.fe.sleeve3d import all_extrema
@@ -71,20 +103,31 @@ def nonlinear_markdown(nl, fe):
         kinds = _kinds(ex)
         parts.append(f"{n_el} elements per beam half: {kinds}, P1 {1e3 * fp:.3f} at d/L {dp:.3f}, valley "
                      f"{1e3 * fv:.3f} at d/L {dv:.3f}, force at d/L 0.7 {1e3 * r['F'][-1]:.3f} "
-                     f"({r['seconds']:.0f} s, {r['iterations']} Newton iterations)")
+                     f"({r['seconds']:.0f} s, {r['iterations']} Newton iterations{timing_note(r)})")
     _, fpe, efp, _ = fe["p1_ext"]
     dve, fve, efv, _ = fe["valley_ext"]
-    last = nl[max(nl, key=int)]
-    fp = peak_valley(last["d"], last["F"])[1]
+    off, off_planar = p1_off(nl, fe, planar)
     return ("**The frame made nonlinear** (`core/sleeve/frame3d_nl.py`: corotational 3-D beams, the same sections; "
             "the top raised without tilt, as the solid's four-cell ring hardly tilts; plane stress, calibrated; "
             "flat it retraces the 2-D beam model's nonlinear ring to 1e-7, tested): " + "; ".join(parts) + ". The curved "
             f"solid (every brick C3D20, four meshes, extrapolated): P1 {1e3 * fpe:.3f} +- {1e3 * efp:.3f}, valley "
             f"{1e3 * fve:.3f} +- {1e3 * efv:.3f} at d/L {dve:.3f}. So the frame has the solid's shape - one peak at "
             f"the solid's place, a stable descent, a positive valley, the last stiffening; no second peak - and its "
-            f"P1 is {100 * (fp / fpe - 1):+.0f} % off the solid's, where the planar beam model's calibrated ring is "
-            "+109 % off and pulls back (a negative valley); the frame's valley is deeper and later than the solid's. It is a research tool "
-            "here (minutes, not the `sleeve` command's seconds): the default sleeve model is unchanged.")
+            f"P1 is {off:+.0f} % off the solid's, where the planar beam model's calibrated ring is "
+            f"{off_planar:+.0f} % off and pulls back (a negative valley); the frame's valley is deeper and later than the solid's. The "
+            "default `sleeve` model is unchanged; the frame's first peak is an option of the `sleeve` command "
+            "(`frame_nonlinear`, docs/scene-format.md).")
+
+
+def timing_note(r):
+    """``; the derivatives x times faster than the plain route, the path y times the planar model's`` when the
+    run stored its baselines (``nonlinear_study``), else nothing."""
+    if "reference_derivatives_seconds" not in r:
+        return ""
+    return (f"; one gradient and Hessian in {1e3 * r['derivatives_seconds']:.0f} ms, "
+            f"{r['reference_derivatives_seconds'] / r['derivatives_seconds']:.1f} times faster than differencing each "
+            f"element's whole energy, the path {r['seconds'] / r['planar_seconds']:.1f} times the planar model's "
+            f"{r['planar_seconds']:.1f} s")
 
 
 def summary(s, e=0.63):
@@ -143,8 +186,8 @@ def markdown(s):
           "own offset (the calibration fitted the cell's peak, not its stiffness) and the linear-to-secant gap. "
           "Linear here; the nonlinear frame follows. The "
           "beam model's ring forces are still quoted with their measured error (`accuracy`).", ""]
-    if s.get("nonlinear") and s.get("fe_family"):
-        L += [nonlinear_markdown(s["nonlinear"], s["fe_family"]), "",
+    if s.get("nonlinear") and s.get("fe_family") and s.get("planar_calibrated"):
+        L += [nonlinear_markdown(s["nonlinear"], s["fe_family"], s["planar_calibrated"]), "",
               f"![the nonlinear frame against the curved solid and the planar beam model]({IMG})", ""]
     L += [MARK_END, ""]
     return "\n".join(L)

@@ -252,3 +252,35 @@ def test_sleeve_export_cancel_leaves_nothing(doc, tmp_path):
     assert "cancelled" in p.jobbox.summary.text() and p.export_btn.isEnabled()
     assert not os.path.exists(tmp_path / "exp") or not os.listdir(tmp_path / "exp")
     assert not [n for n in os.listdir(tmp_path) if n.startswith(".sleeve-export-")], "staging folder left"
+
+
+def test_sleeve_panel_checks_the_first_peak_on_the_3d_frame_when_asked(doc, tmp_path):
+    """The panel's 3-D frame box, ticked by a click, adds the nonlinear frame's first peak of each uniform ring
+    to the prediction (the same figures as ``analyse`` on the spec the panel describes, shown as accuracy lines);
+    a spec whose ring is modelled flat greys the box out and never asks for it."""
+    from metamaterial_wb.core.sleeve.pipeline import analyse
+    from metamaterial_wb.core.sleeve.spec import SleeveSpec
+
+    p = run_panel("MM_Sleeve")
+    spec = json.load(open(os.path.join(ROOT, "examples", "sleeve.json")))
+    spec["model"] = {"elements_cell": 6, "elements_ring": 6, "steps": 60, "frame_elements": 4}
+    path = tmp_path / "coarse.json"
+    path.write_text(json.dumps(spec))
+    assert p.load_spec(str(path)) is True
+    assert p.frame_nl.isEnabled() and not p.frame_nl.isChecked() and "frame_nonlinear" not in p.spec_dict()["model"]
+    click(p.frame_nl)
+    assert p.frame_nl.isChecked() and p.spec_dict()["model"]["frame_nonlinear"] is True
+    assert p.predict() is True
+    assert p.wait_prediction(120.0)
+    assert p.summary is not None, p.error.text()
+    ref, _ = analyse(SleeveSpec(p.spec_dict()))
+    for a, b in zip(p.summary["uniform_rings"], ref["uniform_rings"]):
+        assert a["frame3d_nl"]["P1"] == pytest.approx(b["frame3d_nl"]["P1"], rel=1e-9)
+        assert a["frame3d_nl"]["elements"] == 4 and a["frame3d_nl"]["ratio"] > 1.2
+    notes = [n for n in ref["accuracy"]["notes"] if n.startswith("nonlinear frame")]
+    assert len(notes) == 2 and all(f"accuracy: {n.split(';')[0]}" in p.result.text() for n in notes)
+    flat = dict(spec, model=dict(spec["model"], ring_curvature=False))
+    path.write_text(json.dumps(flat))
+    assert p.load_spec(str(path)) is True
+    assert not p.frame_nl.isEnabled() and "frame_nonlinear" not in p.spec_dict()["model"]
+    p.reject()

@@ -88,6 +88,26 @@ def test_the_frames_quoted_match_with_the_solid_is_the_stored_one_and_the_stored
                 assert fresh["cells"][n][k] == pytest.approx(v, rel=1e-6), (n, k)   # 2e-9 apart on numpy 2 (stiff links)
 
 
+def test_the_nonlinear_frames_quoted_first_peak_errors_are_the_stored_ones():
+    """``FRAME_NL_P1_OFF`` and ``PLANAR_P1_OFF`` (quoted in every nonlinear-frame note) are the stored study's first
+    peaks against the curved solid's extrapolated one."""
+    from metamaterial_wb.bench import fe_frame3d
+    s = _load("frame3d.json")
+    frame, planar = fe_frame3d.p1_off(s["nonlinear"], s["fe_family"], s["planar_calibrated"])
+    assert (acc.FRAME_NL_P1_OFF, acc.PLANAR_P1_OFF) == (round(frame), round(planar))
+
+
+def test_frame_nl_note_gives_newtons_millimetres_and_the_ratio():
+    base = {"elements": 12, "seconds": 3.2}
+    note = acc.frame_nl_note(0, 4, dict(base, P1=1.3e-3, P1_displacement=0.137, ratio=1.8, beam_model_plane="strain"),
+                             28 * 18 ** 2, 18)
+    assert note.startswith("nonlinear frame, uniform ring of type 0 (4 cells, 12 elements per beam half): first peak "
+                           f"{1.3e-3 * 28 * 18 ** 2:.3g} N at {0.137 * 18:.3g} mm")
+    assert "the beam model's first peak (plane strain) is 1.80 times it" in note and f"{acc.FRAME_NL_P1_OFF:+d} % off" in note
+    assert "no first peak within the traced stroke" in acc.frame_nl_note(0, 4, dict(base, P1=None), 1, 1)
+    assert "no first peak (no equilibrium" in acc.frame_nl_note(0, 4, dict(base, error="no equilibrium in 40"), 1, 1)
+
+
 def test_frame_note_names_the_type_the_ratio_and_the_measured_match():
     note = acc.frame_note(1, 6, {"ratio": 2.345, "seconds": 0.05})
     assert note.startswith("curvature, uniform ring of type 1 (6 cells): the beam model's initial stiffness is 2.35 "

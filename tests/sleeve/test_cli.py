@@ -4,6 +4,9 @@ import os
 import subprocess
 import sys
 
+import numpy as np
+import pytest
+
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPEC = {"format": "metamaterial-sleeve", "version": 1, "L_mm": 18, "c_mm": 4, "delta_mm": 0.5, "T_mm": 1.8,
         "shear_modulus_MPa": 28, "cell_types": [{"t_mm": 1.0, "h_mm": 6.7}, {"t_mm": 1.1, "h_mm": 7.5}],
@@ -67,3 +70,34 @@ def test_bad_spec_fails_cleanly(tmp_path):
     bad = dict(SPEC, model={"pillar_tip": 2})
     r, out = _run(tmp_path, bad)
     assert r.returncode == 2 and "model.pillar_tip" in r.stderr and "[3, 12]" in r.stderr and not out.exists()
+
+
+def test_nonlinear_frame_first_peak_on_request(tmp_path):
+    """``model.frame_nonlinear``: each uniform ring also gets the nonlinear 3-D frame's first peak (the same as
+    tracing the frame directly), in N and mm in an accuracy note, with the beam model's P1 over it; off by default,
+    and refused, naming the field, where there is no curved single-layout ring."""
+    from metamaterial_wb.core.sleeve.cell import CellGeometry
+    from metamaterial_wb.core.sleeve.frame3d import RingFrame
+    from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
+    from metamaterial_wb.core.sleeve.model import default_stroke
+    spec = dict(SPEC, ring=[0, 0, 0, 0], cell_types=SPEC["cell_types"][:1], walker=False,
+                model=dict(SPEC["model"], frame_nonlinear=True, frame_elements=6))
+    r, out = _run(tmp_path, spec)
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    u = s["uniform_rings"][0]["frame3d_nl"]
+    g = CellGeometry(L=18, c=4, delta=0.5, T=1.8, t=1.0, h=6.7)
+    d = np.linspace(0, default_stroke([g]), 90 + 1)                     # the uniform ring's own grid
+    d = d[d < 0.3]
+    full = trace_ring(RingFrame(g, 4, plane="stress", n_el=6), d)["F"]      # traced on, not stopped at the peak
+    k = int(np.argmax(full))
+    assert 0 < k < len(d) - 3 and u["elements"] == 6 and u["steps"] == k + 3
+    assert u["P1"] == pytest.approx(full[k], rel=1e-9) and u["P1_displacement"] == pytest.approx(d[k])
+    assert u["ratio"] == pytest.approx(s["uniform_rings"][0]["P1"] / u["P1"], rel=1e-12) and u["ratio"] > 1.2
+    unit = s["normalisation"]["force_unit_N"]
+    assert any(n.startswith("nonlinear frame, uniform ring of type 0 (4 cells, 6 elements per beam half): first "
+                            f"peak {u['P1'] * unit:.3g} N") for n in s["accuracy"]["notes"])
+    r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_nonlinear=True, ring_curvature=False)))
+    assert r.returncode == 2 and "model.frame_nonlinear" in r.stderr and "ring_curvature" in r.stderr
+    r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_elements=100)))
+    assert r.returncode == 2 and "model.frame_elements" in r.stderr and "100" in r.stderr

@@ -79,6 +79,12 @@ def test_nonlinear_paragraph_reports_each_mesh_against_the_solid():
     F = 1e-3 * np.where(d < 0.5, 1.2 * np.sin(np.pi * d / 0.28), 5 * (d - 0.5))   # one peak 1.2e-3 at d/L 0.14
     nl = {"12": {"d": d.tolist(), "F": F.tolist(), "seconds": 60.0, "iterations": 400}}
     fe = {"p1_ext": (0.143, 1.0e-3, 0.03e-3, 0.002), "valley_ext": (0.46, 0.38e-3, 0.03e-3, 0.005)}
-    text = nonlinear_markdown(nl, fe)
+    planar = {"d": d.tolist(), "F": (2.1 * F).tolist()}
+    text = nonlinear_markdown(nl, fe, planar)
     assert "12 elements per beam half: 1 peak, 1 valley" in text and "P1 1.200 at d/L 0.140" in text
     assert "P1 1.000 +- 0.030, valley 0.380 +- 0.030 at d/L 0.460" in text and "P1 is +20 % off the solid's" in text
+    assert "calibrated ring is +152 % off" in text
+    assert "times faster" not in text                                  # no baselines stored: no speed claim
+    nl["12"].update(derivatives_seconds=0.01, reference_derivatives_seconds=0.13, planar_seconds=2.0)
+    assert ("(60 s, 400 Newton iterations; one gradient and Hessian in 10 ms, 13.0 times faster than differencing "
+            "each element's whole energy, the path 30.0 times the planar model's 2.0 s)") in nonlinear_markdown(nl, fe, planar)

@@ -95,3 +95,30 @@ def frame_note(cell_type, n_cells, check):
             f"{check['ratio']:.2f} times that of a linear 3-D frame of the same beams (frame3d), which bends the wall out of the cylinder as the solid does: the part of "
             f"the model's error its curvature springs make (the frame's curved / flat stiffness was {lo:+.0f} to "
             f"{hi:+.0f} % off the curved solid's for the seed's cell at 4-12 cells; docs/sleeves.md)")
+
+
+# the nonlinear frame's first peak against the curved solid's (every brick C3D20, extrapolated) on the seed's
+# four-cell ring, plane stress, root extension 0.63, 24 elements per beam half, per cent; the planar beam model's
+# calibrated ring against the same (benchmarks/results/frame3d.json; tests/sleeve/test_accuracy.py)
+FRAME_NL_P1_OFF = 17
+PLANAR_P1_OFF = 106
+
+
+def frame_nl_note(cell_type, n_cells, check, force_unit_N, L_mm):
+    """The accuracy note for one uniform ring's ``frame3d_nl.first_peak`` (``model.frame_nonlinear``): the
+    frame's first peak in N and mm, how many times it the beam model's is, and how far each was from the curved
+    solid where that was measured."""
+    head = f"nonlinear frame, uniform ring of type {cell_type} ({n_cells} cells, {check['elements']} elements per beam half)"
+    if "error" in check:
+        return f"{head}: no first peak ({check['error']})"
+    if check["P1"] is None:
+        return f"{head}: no first peak within the traced stroke (the force still rises)"
+    text = (f"{head}: first peak {check['P1'] * force_unit_N:.3g} N at {check['P1_displacement'] * L_mm:.3g} mm "
+            f"(frame3d_nl: the same beams as corotational 3-D beams on the cylinder, plane stress, root extension "
+            f"{check.get('root_extension', 0.0):g} t, top raised without tilt; {check['seconds']:.1f} s)")
+    if check.get("ratio") is not None:
+        plane = check.get("beam_model_plane")
+        text += ("; the beam model's first peak" + (f" (plane {plane})" if plane else "") +
+                 f" is {check['ratio']:.2f} times it")
+    return text + (f" (on the seed's four-cell ring, against the curved CalculiX solid, the frame's first peak was "
+                   f"{FRAME_NL_P1_OFF:+d} % off and the calibrated beam model's {PLANAR_P1_OFF:+d} %; docs/sleeves.md)")

@@ -10,11 +10,13 @@ that frame (the logarithm of ``R_e R_i R_e0^T``) gives the local end rotations, 
 
 (the 2-D model's form, ``beam.py``, in both bending planes). Large rotations and displacements are exact; the
 strains small per element. Nodes carry positions and rotation matrices, updated by increments (``x + dx``,
-``exp(dtheta) R``); the gradient and the Hessian of the energy in those increments are taken per element by
-central differences (48 and 312 vectorised energy evaluations), assembled sparse, and the equilibrium at each
-prescribed rise is an energy minimum found by Newton with a line search (a shift where the Hessian is not
-positive definite). Displacement control, the top plate raised without tilt or twist (the curved solid's
-four-cell ring tilts by less than 0.2 degrees). Units as the model's.
+``exp(dtheta) R``). The gradient and the Hessian of the energy in those increments: the stretching term exactly
+(``NonlinearFrame._axial``), bending and twisting by finite differences on each element's nine relative
+increments (``_stencil``: 181 perturbed states, every element's evaluated in one vectorised pass), assembled
+sparse. The equilibrium at each prescribed rise is an energy minimum found by Newton with a line search (a
+shift where the Hessian is not positive definite) from a secant prediction. Displacement control, the top
+plate raised without tilt or twist (the curved solid's four-cell ring tilts by less than 0.2 degrees). Units as
+the model's.
 """
 import numpy as np
 import scipy.sparse as sp
@@ -47,6 +49,77 @@ def logm_so3(R):
     return f[..., None] * w
 
 
+
+def _cross(a, b):
+    """``np.cross`` on the last axis, without its axis shuffling (the stencil's batches are large)."""
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], -1)
+
+
+_IU = np.triu_indices(12)
+_IU9 = np.triu_indices(9)
+# An element's energy depends on its nodes' positions only through their difference r = x_j - x_i: the stencil
+# works on the 9 relative increments (r, dtheta_i, dtheta_j); T maps them to the 12 (dx_i, dtheta_i, dx_j,
+# dtheta_j), so a rigid translation lies exactly in every element's differenced Hessian.
+_T = np.zeros((9, 12))
+_T[0:3, 0:3], _T[0:3, 6:9], _T[3:6, 3:6], _T[6:9, 9:12] = -np.eye(3), np.eye(3), np.eye(3), np.eye(3)
+
+
+def _stencil(hessian=True):
+    """The finite-difference stencil on an element's 9 relative increments, in steps of ``H_FD``: the
+    perturbations (S, 12; node i's position never moved) and the weights (9, S) and (45, S) that turn their
+    energies into the gradient (central, fourth order: (-E(2h) + 8 E(h) - 8 E(-h) + E(-2h)) / 12 h, i.e.
+    Richardson on the h and 2h differences; the equilibrium and the force rest on it) and the upper triangle of
+    the Hessian (``_IU9``; (E(2h) - 2 E(0) + E(-2h)) / 4 h^2 on the diagonal, the four corners (E(++) - E(+-) -
+    E(-+) + E(--)) / 4 h^2 off it). 181 states. (Cheaper rules, such as the seven-point (E(a + b) + E(-a - b) -
+    E(+-a) - E(+-b) + 2 E(0)) / 2 h^2, break the exact symmetries between the entries; on short stiff elements
+    their truncation errors, (h / l)^2 of the stiffest entries, exceed the ring's softest stiffness, the
+    Hessian turns indefinite and Newton stalls.)"""
+    rows, index = [np.zeros(9)], {}
+
+    def at(v):
+        key = tuple(v)
+        if key not in index:
+            index[key] = len(rows)
+            rows.append(np.array(v, float))
+        return index[key]
+
+    index[tuple(np.zeros(9))] = 0
+    grad = []
+    for a in range(9):
+        e = np.eye(9)[a]
+        grad.append([(at(2 * e), -1 / 12), (at(e), 8 / 12), (at(-e), -8 / 12), (at(-2 * e), 1 / 12)])
+    hess = []
+    if hessian:
+        for a, b in zip(*_IU9):
+            ea, eb = np.eye(9)[a], np.eye(9)[b]
+            if a == b:
+                hess.append([(at(2 * ea), 0.25), (0, -0.5), (at(-2 * ea), 0.25)])
+            else:
+                hess.append([(at(sa * ea + sb * eb), 0.25 * sa * sb) for sa in (1, -1) for sb in (1, -1)])
+    steps = np.array(rows) @ _T.clip(0)          # r applied to node j
+    wg, wh = np.zeros((9, len(steps))), np.zeros((len(hess), len(steps)))
+    for w, table in ((wg, grad), (wh, hess)):
+        for r, terms in enumerate(table):
+            for k, c in terms:
+                w[r, k] += c
+    return steps, wg, wh
+
+
+def _moves(steps):
+    """The stencil's node moves and turns, ``(dxi, dxj, turn_i, turn_j)``: the moves (S, 1, 3) to broadcast
+    over the elements, each turn the distinct rotation matrices of its rows and each row's index into them."""
+    h = steps[:, None, :] * H_FD
+    turns = []
+    for cols in (slice(3, 6), slice(9, 12)):
+        distinct, index = np.unique(steps[:, cols], axis=0, return_inverse=True)
+        turns.append((expm_so3(distinct * H_FD), index.ravel()))
+    return h[..., 0:3], h[..., 6:9], turns[0], turns[1]
+
+
+_STENCIL, _STENCIL_G = ((*st, _moves(st[0])) for st in (_stencil(), _stencil(hessian=False)))
+BATCH = 60000        # stencil rows evaluated per pass (memory about 100 * BATCH doubles)
+
 class NonlinearFrame:
     """Corotational 3-D frame: nodes ``P`` (n, 3), elements ``conn`` (m, 2) with the shift of node 2's image
     ``shift3``, unloaded axes ``frames0`` (m, 3, 3; rows), lengths ``l0`` and sections ``EA``, ``EI2``, ``EI3``
@@ -73,65 +146,101 @@ class NonlinearFrame:
         return cls(ring.P, ring.conn, ring.shift3, ring.frames0, ring.l0, ring.EA, ring.EI2, ring.EI3, ring.GJ)
 
     # ------------------------------------------------------------------------------------------
-    def element_energy(self, du=None):
-        """Energy of every element (m,) at the current state, each perturbed by ``du`` (m, 12): its nodes'
-        position and rotation increments ``(dx_i, dtheta_i, dx_j, dtheta_j)``."""
-        i, j = self.conn[:, 0], self.conn[:, 1]
-        xi, xj, Ri, Rj = self.x[i], self.x[j] + self.shift3, self.R[i], self.R[j]
-        if du is not None:
-            xi, xj = xi + du[:, 0:3], xj + du[:, 6:9]
-            Ri, Rj = expm_so3(du[:, 3:6]) @ Ri, expm_so3(du[:, 9:12]) @ Rj
+    def element_energy(self, du=None, elements=slice(None)):
+        """Energy of the ``elements`` (all by default) at the current state, each perturbed by ``du`` (..., m, 12):
+        its nodes' position and rotation increments ``(dx_i, dtheta_i, dx_j, dtheta_j)``, any leading axes a
+        batch of perturbations."""
+        if du is None:
+            return self._energy(elements, 0.0, 0.0, np.eye(3), np.eye(3))
+        return self._energy(elements, du[..., 0:3], du[..., 6:9], expm_so3(du[..., 3:6]), expm_so3(du[..., 9:12]))
+
+    def _energy(self, elements, dxi, dxj, turn_i, turn_j, axial=True):
+        """The element energies with the nodes moved by ``dxi``, ``dxj`` and turned by ``turn_i``, ``turn_j``
+        (each broadcast against the ``elements``): rotation matrices (..., 3, 3), or a pair (U, 3, 3) of
+        distinct ones and the index (S,) into them, which turns every element only U times and gathers (the
+        stencil's batched 3 x 3 products cost about 100 ns each); without the stretching term if not
+        ``axial``."""
+        c = self.conn[elements]
+        i, j = c[:, 0], c[:, 1]
+        xi, xj = self.x[i] + dxi, self.x[j] + self.shift3[elements] + dxj
+        R0t = np.transpose(self.frames0[elements], (0, 2, 1))
+        e20 = self.frames0[elements, 1]
         d = xj - xi
-        l = np.linalg.norm(d, axis=1)
-        e1 = d / l[:, None]
-        e20 = self.frames0[:, 1]
-        q = 0.5 * (np.einsum("mab,mb->ma", Ri, e20) + np.einsum("mab,mb->ma", Rj, e20))
-        e3 = np.cross(e1, q)
-        e3 /= np.linalg.norm(e3, axis=1)[:, None]
-        e2 = np.cross(e3, e1)
-        Re = np.stack([e1, e2, e3], axis=1)
-        R0t = np.transpose(self.frames0, (0, 2, 1))
-        ti = logm_so3(Re @ Ri @ R0t)
-        tj = logm_so3(Re @ Rj @ R0t)
-        l0 = self.l0
-        return (self.EA / (2 * l0) * (l - l0) ** 2 + self.GJ / (2 * l0) * (tj[:, 0] - ti[:, 0]) ** 2
-                + 2 * self.EI2 / l0 * (ti[:, 1] ** 2 + ti[:, 1] * tj[:, 1] + tj[:, 1] ** 2)
-                + 2 * self.EI3 / l0 * (ti[:, 2] ** 2 + ti[:, 2] * tj[:, 2] + tj[:, 2] ** 2))
+        l = np.linalg.norm(d, axis=-1)
+        e1 = d / l[..., None]
+        qs, Ms = [], []
+        for n, turn in ((i, turn_i), (j, turn_j)):
+            Rn = self.R[n]
+            Rne = np.concatenate([Rn @ R0t, np.einsum("mab,mb->ma", Rn, e20)[..., None]], axis=-1)   # (m, 3, 4)
+            if isinstance(turn, tuple):
+                Rne = (turn[0][:, None] @ Rne)[turn[1]]
+            else:
+                Rne = turn @ Rne
+            Ms.append(Rne[..., :3])
+            qs.append(Rne[..., 3])
+        q = 0.5 * (qs[0] + qs[1])
+        e3 = _cross(e1, q)
+        e3 /= np.linalg.norm(e3, axis=-1)[..., None]
+        e2 = _cross(e3, e1)
+        Re = np.stack([e1, e2, e3], axis=-2)
+        ti = logm_so3(Re @ Ms[0])
+        tj = logm_so3(Re @ Ms[1])
+        l0, EA, GJ = self.l0[elements], self.EA[elements], self.GJ[elements]
+        EI2, EI3 = self.EI2[elements], self.EI3[elements]
+        return ((EA / (2 * l0) * (l - l0) ** 2 if axial else 0.0) + GJ / (2 * l0) * (tj[..., 0] - ti[..., 0]) ** 2
+                + 2 * EI2 / l0 * (ti[..., 1] ** 2 + ti[..., 1] * tj[..., 1] + tj[..., 1] ** 2)
+                + 2 * EI3 / l0 * (ti[..., 2] ** 2 + ti[..., 2] * tj[..., 2] + tj[..., 2] ** 2))
 
     def energy(self):
         return float(self.element_energy().sum())
 
     def gradient_hessian(self, hessian=True):
-        """The energy's gradient (6 n) and Hessian (sparse, 6 n x 6 n) in the nodes' increments, by central
-        differences per element."""
-        h, m = H_FD, self._m
-        g = np.zeros((m, 12))
-        du = np.zeros((m, 12))
-        for a in range(12):
-            c = []
-            for hh in (h, 2 * h):
-                du[:, a] = hh
-                ep = self.element_energy(du)
-                du[:, a] = -hh
-                c.append((ep - self.element_energy(du)) / (2 * hh))
-            g[:, a] = (4 * c[0] - c[1]) / 3                  # Richardson: the h^2 error removed
-            du[:, a] = 0.0
-        G = np.bincount(self._dofs.ravel(), g.ravel(), 6 * self.n)
+        """The energy's gradient (6 n) and Hessian (sparse, 6 n x 6 n) in the nodes' increments. Stretching, by
+        far the stiffest term and a function of the positions alone, exactly (``_axial``); bending and twisting
+        by finite differences per element: every element's whole stencil (``_STENCIL``) in one vectorised pass,
+        the elements in chunks that keep the batch near ``BATCH`` rows. (Differencing the stretching too leaves
+        truncation errors of (h / l)^2 EA / l on the short elements, larger than the ring's softest stiffness:
+        the Hessian turns indefinite and Newton stalls.)"""
+        steps, wg, wh, moves = _STENCIL if hessian else _STENCIL_G
+        m = self._m
+        g, Ha = self._axial(hessian)
+        g9 = np.empty((m, 9))
+        H9 = np.empty((m, 9, 9)) if hessian else None
+        chunk = max(1, BATCH // len(steps))
+        for a in range(0, m, chunk):
+            el = slice(a, min(m, a + chunk))
+            E = self._energy(el, *moves, axial=False)
+            g9[el] = (wg @ E).T / H_FD
+            if hessian:
+                H9[el, _IU9[0], _IU9[1]] = (wh @ E).T / H_FD ** 2
+        G = np.bincount(self._dofs.ravel(), (g + g9 @ _T).ravel(), 6 * self.n)
         if not hessian:
             return G, None
-        H = np.zeros((m, 12, 12))
-        for a in range(12):
-            for b in range(a, 12):
-                e = 0.0
-                for sa, sb, w in ((1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)):
-                    du[:, a] += sa * h
-                    du[:, b] += sb * h
-                    e = e + w * self.element_energy(du)
-                    du[:, a] = 0.0
-                    du[:, b] = 0.0
-                H[:, a, b] = H[:, b, a] = e / (4 * h * h)
-        K = sp.csr_matrix((H.ravel(), (self._rows, self._cols)), shape=(6 * self.n, 6 * self.n))
+        H9[:, _IU9[1], _IU9[0]] = H9[:, _IU9[0], _IU9[1]]
+        Ha[:, _IU[1], _IU[0]] = Ha[:, _IU[0], _IU[1]]
+        K = sp.csr_matrix(((Ha + _T.T @ H9 @ _T).ravel(), (self._rows, self._cols)), shape=(6 * self.n, 6 * self.n))
         return G, K
+
+    def _axial(self, hessian=True):
+        """The stretching energy's exact gradient (m, 12) and Hessian (m, 12, 12; upper triangle and diagonal
+        blocks): with k = EA / l0, f = k (l - l0) and e the chord's direction, the force f e on node j and its
+        tangent k e e^T + f / l (I - e e^T) in the relative position."""
+        i, j = self.conn[:, 0], self.conn[:, 1]
+        d = self.x[j] + self.shift3 - self.x[i]
+        l = np.linalg.norm(d, axis=1)
+        e = d / l[:, None]
+        k = self.EA / self.l0
+        f = k * (l - self.l0)
+        g = np.zeros((self._m, 12))
+        g[:, 0:3], g[:, 6:9] = -f[:, None] * e, f[:, None] * e
+        if not hessian:
+            return g, None
+        ee = e[:, :, None] * e[:, None, :]
+        Kx = k[:, None, None] * ee + (f / l)[:, None, None] * (np.eye(3) - ee)
+        H = np.zeros((self._m, 12, 12))
+        H[:, 0:3, 0:3] = H[:, 6:9, 6:9] = Kx
+        H[:, 0:3, 6:9] = -Kx
+        return g, H
 
     def apply(self, dq):
         """Add the increments ``dq`` (6 n): positions, and rotations composed on the left."""
@@ -141,7 +250,8 @@ class NonlinearFrame:
 
     def equilibrium(self, free, tol=1e-10, maxit=40):
         """Minimise the energy over the ``free`` DOFs (boolean, 6 n) from the current state (Newton, a line
-        search on the energy, a diagonal shift where the step is not a descent): the iterations taken."""
+        search on the energy, a diagonal shift where the step is not a descent; the full step once the decrease
+        it predicts is below the energy's round-off): the iterations taken."""
         for it in range(1, maxit + 1):
             G, K = self.gradient_hessian()
             gf = G[free]
@@ -164,20 +274,78 @@ class NonlinearFrame:
             x0, R0 = self.x.copy(), self.R.copy()
             dq = np.zeros(6 * self.n)
             t = 1.0
+            exact = abs(step @ gf) < 1e-12 * abs(e0)      # the decrease is below the energy's round-off: Newton
             for _ in range(30):
                 dq[free] = t * step
                 self.apply(dq)
-                if self.energy() <= e0 + 1e-4 * t * (step @ gf) or t < 1e-6:
+                if exact or self.energy() <= e0 + 1e-4 * t * (step @ gf) or t < 1e-6:
                     break
                 self.x, self.R = x0.copy(), R0.copy()
                 t *= 0.5
         raise RuntimeError(f"no equilibrium in {maxit} iterations (|gradient| {np.max(np.abs(gf)):.2e})")
 
 
-def trace_ring(ring, d, tol=1e-10, progress=None):
+def first_peak(geom, n_cells, root_extension, n_el, d, beam_model_P1=None, beam_model_plane=None):
+    """The uniform curved ring's first peak from the nonlinear frame, for the ``sleeve`` command
+    (``model.frame_nonlinear``): the ring of ``n_cells`` cells ``geom`` (``frame3d.RingFrame``, plane stress,
+    ``root_extension``, ``n_el`` elements per beam half) traced along ``d`` (d / L) until its force has fallen
+    past a maximum. ``{"P1", "P1_displacement", "beam_model_P1", "beam_model_plane", "ratio", "root_extension",
+    "elements", "steps", "seconds"}``
+    (P1 None when the force still rises at the end of ``d``; ratio the beam model's P1 over the frame's), or
+    ``{"error", "elements", "seconds"}`` when Newton finds no equilibrium."""
+    import time
+    from metamaterial_wb.core.sleeve.frame3d import RingFrame
+    t0 = time.perf_counter()
+    ring = RingFrame(geom, n_cells, plane="stress", root_extension=root_extension, n_el=n_el)
+    try:
+        r = trace_ring(ring, d, stop_after_peak=True)
+    except RuntimeError as e:
+        return {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}
+    F = r["F"]
+    k = int(np.argmax(F))
+    peaked = 0 < k < len(F) - 1
+    P1 = float(F[k]) if peaked else None
+    return {"P1": P1, "P1_displacement": float(r["d"][k]) if peaked else None,
+            "beam_model_P1": beam_model_P1, "beam_model_plane": beam_model_plane, "root_extension": root_extension,
+            "ratio": beam_model_P1 / P1 if (P1 and beam_model_P1 is not None) else None,
+            "elements": n_el, "steps": len(F), "seconds": time.perf_counter() - t0}
+
+
+def reference_gradient_hessian(frame, h=H_FD):
+    """The slow, plain route to ``frame.gradient_hessian()`` (the one this module used first): the whole element
+    energy, stretching included, differenced one increment and one pair at a time over all 12 (fourth-order
+    gradient, four-corner Hessian with 2 h on its diagonal), 360 vectorised energy evaluations. A check on the
+    batched stencil and the exact stretching, and the speed baseline (benchmarks/bench_sleeve_frame3d.py)."""
+    m = frame._m
+    du = np.zeros((m, 12))
+    g, H = np.zeros((m, 12)), np.zeros((m, 12, 12))
+    for a in range(12):
+        c = []
+        for hh in (h, 2 * h):
+            du[:, a] = hh
+            ep = frame.element_energy(du)
+            du[:, a] = -hh
+            c.append((ep - frame.element_energy(du)) / (2 * hh))
+        g[:, a] = (4 * c[0] - c[1]) / 3
+        du[:, a] = 0.0
+        for b in range(a, 12):
+            e = 0.0
+            for sa, sb in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+                du[:, a] += sa * h
+                du[:, b] += sb * h
+                e = e + sa * sb * frame.element_energy(du)
+                du[:, a] = du[:, b] = 0.0
+            H[:, a, b] = H[:, b, a] = e / (4 * h * h)
+    n6 = 6 * frame.n
+    G = np.bincount(frame._dofs.ravel(), g.ravel(), n6)
+    return G, sp.csr_matrix((H.ravel(), (frame._rows, frame._cols)), shape=(n6, n6))
+
+
+def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=False):
     """The ``frame3d.RingFrame`` ``ring``'s force along the rises ``d`` (d / L, increasing from 0): the bottom
     bar clamped, the top one raised without tilt or twist; ``{"d", "F", "iterations", "frame"}`` with F / (G L^2)
-    (the top nodes' reaction along the axis)."""
+    (the top nodes' reaction along the axis), each state predicted from the last two (secant, if ``predict``).
+    With ``stop_after_peak`` the trace ends two falling steps after its first maximum (``d`` cut there)."""
     fr = NonlinearFrame.of_ring(ring)
     free = np.ones(6 * fr.n, bool)
     top = []
@@ -187,11 +355,24 @@ def trace_ring(ring, d, tol=1e-10, progress=None):
             top.append(i)
     top = np.array(top)
     F, its = [], []
-    for k, dk in enumerate(np.asarray(d, float)):
+    d = np.asarray(d, float)
+    last = None
+    for k, dk in enumerate(d):
+        if predict and last is not None and k >= 2 and d[k - 1] > d[k - 2]:       # secant predictor from the last two states
+            s = (dk - d[k - 1]) / (d[k - 1] - d[k - 2])
+            x1, R1 = fr.x.copy(), fr.R.copy()
+            fr.x = x1 + s * (x1 - last[0])
+            fr.R = expm_so3(s * logm_so3(R1 @ np.transpose(last[1], (0, 2, 1)))) @ R1
+            last = (x1, R1)
+        else:
+            last = (fr.x.copy(), fr.R.copy())
         fr.x[top, 2] = fr.P[top, 2] + dk
         its.append(fr.equilibrium(free, tol))
         G, _ = fr.gradient_hessian(hessian=False)
         F.append(float(G[6 * top + 2].sum()))
         if progress:
             progress(k, dk, F[-1])
-    return {"d": np.asarray(d, float), "F": np.array(F), "iterations": its, "frame": fr}
+        if stop_after_peak and k >= 3 and F[-1] < F[-2] < F[-3]:
+            d = d[:k + 1]
+            break
+    return {"d": d, "F": np.array(F), "iterations": its, "frame": fr}

@@ -5,8 +5,9 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.core.sleeve.accuracy import accuracy, frame_note
+from metamaterial_wb.core.sleeve.accuracy import accuracy, frame_nl_note, frame_note
 from metamaterial_wb.core.sleeve.frame3d import curvature_check
+from metamaterial_wb.core.sleeve.frame3d_nl import first_peak
 from metamaterial_wb.core.sleeve.analysis import (extrema, lean_direction, peaks_valleys, pressure_control,
                                                   pv_curve, snap_order, two_hysteron_sequence)
 from metamaterial_wb.core.sleeve.cell import CellGeometry
@@ -167,6 +168,10 @@ def analyse(spec, progress=None, log=None):
         if spec.ring_curvature and spec.layout == "single":
             uniform[-1]["frame3d"] = curvature_check(spec.cells[i], n, spec.plane, spec.root_extension,
                                                      spec.pillar_tip, spec.n_el_ring)
+        if spec.frame_nonlinear:
+            say(f"uniform ring of type {i}: first peak of the nonlinear 3-D frame")
+            uniform[-1]["frame3d_nl"] = first_peak(spec.cells[i], n, spec.root_extension, spec.frame_elements,
+                                                   up.d, P1, spec.plane)
         thresholds.append((P1, V2))
         curves["uniform"].append((i, up))
     say(f"sleeve: {spec.M} ring(s) x {n} cells, pattern {spec.pattern}")
@@ -223,6 +228,8 @@ def analyse(spec, progress=None, log=None):
                "unit_cells": unit_cells, "uniform_rings": uniform, "ring": ring, "sequence": seq,
                "pv": pvres, "accuracy": accuracy(spec.cells, n, spec.root_extension, spec.ring_curvature)}
     summary["accuracy"]["notes"] += [frame_note(u["type"], n, u["frame3d"]) for u in uniform if "frame3d" in u]
+    summary["accuracy"]["notes"] += [frame_nl_note(u["type"], n, u["frame3d_nl"], Fscale, L)
+                                     for u in uniform if "frame3d_nl" in u]
     if spec.walker:
         wk = spec.walker
         H = spec.M * max(g.height for g in spec.cells)

@@ -119,6 +119,14 @@ class SleeveSpec:
         if not isinstance(curv, bool):
             raise SceneError("model.ring_curvature", f"{curv!r}; expected true or false")
         self.ring_curvature = curv
+        fnl = m.get("frame_nonlinear", False)
+        if not isinstance(fnl, bool):
+            raise SceneError("model.frame_nonlinear", f"{fnl!r}; expected true or false")
+        if fnl and not (curv and self.layout == "single"):
+            raise SceneError("model.frame_nonlinear", "true needs the curved ring of the single layout "
+                                                      "(model.ring_curvature true, layout 'single')")
+        self.frame_nonlinear = fnl
+        self.frame_elements = _integer("model.frame_elements", m.get("frame_elements", 12), 2, 48)
         # root flexibility (units of t): 0 as documented; model.ROOT_EXTENSION_FE (0.63) is the value fitted on CalculiX
         self.root_extension = check_number("model.root_extension", m.get("root_extension", 0.0), 0.0, 2.0, " (units of t)")
         dm = m.get("max_displacement_mm")

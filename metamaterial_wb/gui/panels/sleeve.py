@@ -82,6 +82,12 @@ class SleevePanel(BasePanel):
         ranges.bind(self.rings, "sleeve.rings")
         f2.addRow(translate("Metamaterial", "Ring pattern"), self.ring)
         f2.addRow(translate("Metamaterial", "Rings"), self.rings)
+        self.frame_nl = QtGui.QCheckBox(translate("Metamaterial", "Check each uniform ring's first peak on a 3-D frame"))
+        self.frame_nl.setToolTip(translate("Metamaterial", "model.frame_nonlinear: the same beams as a nonlinear 3-D "
+                                           "frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out "
+                                           "of it as the printed sleeve does; a few seconds per cell type. Needs the "
+                                           "curved single-layout ring"))
+        f2.addRow("", self.frame_nl)
         self.layout.addLayout(f2)
         pl = QtGui.QHBoxLayout()
         self.predict_btn = QtGui.QPushButton(translate("Metamaterial", "Predict"))
@@ -162,6 +168,8 @@ class SleevePanel(BasePanel):
         self.rings.setValue(spec.M)
         self.ring.setEnabled(uniform)
         self.rings.setEnabled(uniform)
+        self.frame_nl.setChecked(spec.frame_nonlinear)
+        self.frame_nl.setEnabled(spec.ring_curvature and spec.layout == "single")
         self.summary = None
         self.result.setText("")
         self.error.setText("")
@@ -186,6 +194,13 @@ class SleevePanel(BasePanel):
                                         "separated by commas, e.g. 0, 0, 1, 1") from None
             d["rings"] = int(self.rings.value())
             d.pop("pattern", None)
+        model = dict(d.get("model", {}))
+        if self.frame_nl.isEnabled() and self.frame_nl.isChecked():
+            model["frame_nonlinear"] = True
+        else:
+            model.pop("frame_nonlinear", None)
+        if model or "model" in d:
+            d["model"] = model
         return d
 
     def spec(self):
