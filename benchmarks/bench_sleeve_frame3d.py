@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """The curved sleeve ring as a linear 3-D frame against the curved CalculiX solid (issue 18).
 
-    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--no-write]
+    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--plate] [--no-write]
 
 Builds the frame (``metamaterial_wb/core/sleeve/frame3d.py``) of every ring size the solid was run for
 (``benchmarks/results/fe-ring3d.json``, ``cells``; ``bench_sleeve_ring3d.py --cells``), flat and curved, in two
 moduli and two root extensions (a few seconds in all, no ccx), stores them in
-``benchmarks/results/frame3d.json`` and rewrites its section of docs/sleeves.md.
+``benchmarks/results/frame3d.json`` and rewrites its section of docs/sleeves.md. ``--nonlinear`` traces the
+four-cell ring nonlinearly (about 40 s), ``--plate`` the four- and eight-cell rings with the solid's free plate
+(``bench/fe_frame3d_plate.py``, about 2 min); otherwise their stored runs are reused.
 """
 import argparse
 import json
@@ -27,6 +29,8 @@ def main(argv=None):
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--nonlinear", action="store_true", help="trace the four-cell curved frame nonlinearly to d/L "
                     "0.7 on 12 and 24 elements per beam half (a few minutes); else the stored traces are reused")
+    ap.add_argument("--plate", action="store_true", help="trace the four- and eight-cell rings with the solid's "
+                    "free, biased top plate and follow their tilt pair (about 2 min); else the stored runs are reused")
     a = ap.parse_args(argv)
     comp = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))
     s = fe_frame3d.study(comp["cells"])
@@ -39,13 +43,20 @@ def main(argv=None):
         s["nonlinear"] = fe_frame3d.nonlinear_study()
     elif os.path.exists(old):
         s["nonlinear"] = json.load(open(old)).get("nonlinear")
-    section = fe_frame3d.markdown(s)
+    from metamaterial_wb.bench import fe_frame3d_plate
+    if a.plate:
+        s["plate"] = fe_frame3d_plate.plate_study()
+    elif os.path.exists(old):
+        s["plate"] = json.load(open(old)).get("plate")
+    section = fe_frame3d.markdown(s, [fe_frame3d_plate.markdown(s["plate"], comp)] if s.get("plate") else [])
     print(section)
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))
         write_atomic(DOC, fe_frame3d.write(DOC, section))
         if s.get("nonlinear") and "p1_r4_C3D20" in comp:
             fine = comp["p1_r4_C3D20"]
+            if s.get("plate"):
+                fe_frame3d_plate.plot(s["plate"], comp, os.path.join(ROOT, "docs", fe_frame3d_plate.IMG))
             fe_frame3d.plot_nonlinear(s["nonlinear"], {"d": fine["d"], "F": fine["F"],
                                                        "label": "CalculiX curved solid, r = 4, all C3D20"},
                                       comp["curved_calibrated"], os.path.join(ROOT, "docs", fe_frame3d.IMG))

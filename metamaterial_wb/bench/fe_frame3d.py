@@ -145,8 +145,9 @@ def summary(s, e=0.63):
     return {"frame": (min(fr), max(fr)), "all": (min(al), max(al)), "model": (min(mo), max(mo)) if mo else None}
 
 
-def markdown(s):
-    """The docs/sleeves.md section (between ``MARK_BEGIN`` and ``MARK_END``)."""
+def markdown(s, extra=()):
+    """The docs/sleeves.md section (between ``MARK_BEGIN`` and ``MARK_END``), ending with the ``extra``
+    paragraphs (the frame with the solid's plate, ``fe_frame3d_plate.markdown``)."""
     cells = s["cells"]
     e0, e1 = s["root_extensions"][0], s["root_extensions"][-1]
     L = [MARK_BEGIN, "", "### A linear 3-D frame of the curved ring (issue 18)", "",
@@ -189,7 +190,7 @@ def markdown(s):
     if s.get("nonlinear") and s.get("fe_family") and s.get("planar_calibrated"):
         L += [nonlinear_markdown(s["nonlinear"], s["fe_family"], s["planar_calibrated"]), "",
               f"![the nonlinear frame against the curved solid and the planar beam model]({IMG})", ""]
-    L += [MARK_END, ""]
+    L += list(extra) + [MARK_END, ""]
     return "\n".join(L)
 
 

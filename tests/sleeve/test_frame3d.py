@@ -88,3 +88,29 @@ def test_nonlinear_paragraph_reports_each_mesh_against_the_solid():
     nl["12"].update(derivatives_seconds=0.01, reference_derivatives_seconds=0.13, planar_seconds=2.0)
     assert ("(60 s, 400 Newton iterations; one gradient and Hessian in 10 ms, 13.0 times faster than differencing "
             "each element's whole energy, the path 30.0 times the planar model's 2.0 s)") in nonlinear_markdown(nl, fe, planar)
+
+
+def test_plate_study_is_current_and_its_paragraph_quotes_it():
+    """The stored runs with the solid's free plate (``bench_sleeve_frame3d.py --plate``): the eight-cell ring's
+    untilted run recomputed gives the same force and tilt pair, whose zero (the tilt bifurcation) the paragraph
+    quotes, beside the solid's stall and its probes' extrapolated zero."""
+    import json
+    import os
+    from metamaterial_wb.bench import fe_frame3d_plate as fp
+    res = os.path.join(os.path.dirname(__file__), "..", "..", "benchmarks", "results")
+    stored = json.load(open(os.path.join(res, "frame3d.json")))["plate"]
+    comp = json.load(open(os.path.join(res, "fe-ring3d-comparison.json")))
+    fresh = fp.plate_study(runs={"8": fp.RUNS["8"]})["8"]
+    assert np.allclose(fresh["F"], stored["8"]["F"], rtol=1e-6, atol=1e-12)
+    assert np.allclose(fresh["tilt_pair"], stored["8"]["tilt_pair"], rtol=1e-5, atol=1e-12)
+    z = fp.zero_crossings(stored["8"]["d"], stored["8"]["tilt_pair"])
+    assert len(z) == 1 and z[0][1] == "down" and 0.09 < z[0][0] < 0.12
+    text = fp.markdown(stored, comp)
+    assert f"reaches zero at d/L {z[0][0]:.3f}" in text and "reaching zero at d/L 0.091" in text
+    assert "stall at d/L 0.077" in text
+
+
+def test_zero_crossings_by_linear_interpolation():
+    from metamaterial_wb.bench.fe_frame3d_plate import zero_crossings
+    assert zero_crossings([0, 1, 2, 3], [2.0, 1.0, -1.0, 1.0]) == [(1.5, "down"), (2.5, "up")]
+    assert zero_crossings([0, 1], [1.0, 2.0]) == []

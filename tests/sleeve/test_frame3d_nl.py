@@ -158,3 +158,68 @@ def test_batched_derivatives_match_the_plain_per_element_route():
     Gr, Kr = reference_gradient_hessian(fr)
     assert np.abs(G - Gr).max() < 1e-9 * np.abs(G).max()
     assert abs(K - Kr).max() < 1e-8 * abs(K).max()
+
+
+def _plate_ring(n_cells=4, n_el=6):
+    from metamaterial_wb.core.sleeve.frame3d_nl import RigidPlate
+    ring = RingFrame(CellGeometry(), n_cells, plane="stress", root_extension=0.63, n_el=n_el)
+    fr = NonlinearFrame.of_ring(ring)
+    free = np.ones(6 * fr.n, bool)
+    for i, _ in ring.ties:
+        free[6 * i:6 * i + 6] = False
+    top = [i for i, p in ring.ties if p == 1]
+    return ring, fr, free, top, RigidPlate
+
+
+def test_free_plate_without_bias_keeps_the_untilted_path():
+    """By the ring's symmetry an unbiased free plate never tilts: the force is the fixed plate's."""
+    g = CellGeometry()
+    d = np.linspace(0, 0.15, 16)
+    fixed = trace_ring(RingFrame(g, 4, plane="stress", n_el=6), d)
+    free = trace_ring(RingFrame(g, 4, plane="stress", n_el=6), d, plate="free", bias=0.0)
+    assert np.max(np.abs(free["F"] - fixed["F"])) < 1e-8 * np.max(fixed["F"])
+    assert np.abs(free["tilt"]).max() < 1e-9 and np.abs(fixed["tilt"]).max() == 0
+
+
+def test_plate_gradient_is_the_total_energys_derivative_when_tilted():
+    """The reduced gradient's plate part (the carried nodes' forces through their lever arms, minus the bias
+    moment's work gradient) against central differences of energy minus work, at a plate turned by 0.3 rad."""
+    ring, fr, free, top, RigidPlate = _plate_ring()
+    plate = RigidPlate(fr, top, (2e-4, -3e-4, 1e-4))
+    plate.place(fr, 0.05)
+    plate.turn(fr, np.array([0.2, -0.2, 0.1]))
+    g, _ = fr.reduced(free, plate)
+    x0, R0, P0 = fr.x.copy(), fr.R.copy(), plate.R.copy()
+    for a in range(3):
+        v = np.zeros(3)
+        v[a] = 1e-6
+        e = []
+        for sgn in (1, -1):
+            plate.turn(fr, sgn * v)
+            e.append(fr.energy() - plate.work())
+            fr.x, fr.R, plate.R = x0.copy(), R0.copy(), P0.copy()
+        assert g[-3 + a] == pytest.approx((e[0] - e[1]) / 2e-6, rel=1e-5, abs=1e-10)
+
+
+def test_small_moment_tilts_the_plate_as_the_linear_frame_says():
+    """At no rise a small moment on the free plate turns it by ``K_p^-1 M``, with ``K_p`` the plate's 3 x 3
+    stiffness condensed from the linear frame's own assembly (``RingFrame.K``, element matrices in closed form)."""
+    ring, fr, free, top, RigidPlate = _plate_ring()
+    K = ring.K.toarray()
+    c0 = np.array([0.0, 0.0, ring.P[top, 2].mean()])
+    U = np.zeros((6 * ring.n_nodes, 3))                   # the DOFs a unit plate rotation moves
+    for a in range(3):
+        ea = np.eye(3)[a]
+        for i in top:
+            U[6 * i:6 * i + 3, a] = np.cross(ea, ring.P[i] - c0)
+            U[6 * i + 3 + a, a] = 1.0
+    f = free
+    X = np.linalg.solve(K[np.ix_(f, f)], -K[np.ix_(f, ~f)] @ U[~f])
+    Ufull = U.copy()
+    Ufull[f] = X
+    Kp = Ufull.T @ K @ Ufull
+    M = np.array([3e-8, -2e-8, 1e-8])
+    plate = RigidPlate(fr, top, M)
+    plate.place(fr, 0.0)
+    fr.equilibrium(free, tol=1e-12, plate=plate)
+    assert plate.tilt() == pytest.approx(np.linalg.solve(Kp, M), rel=1e-6)

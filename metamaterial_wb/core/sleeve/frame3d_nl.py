@@ -248,16 +248,40 @@ class NonlinearFrame:
         self.x = self.x + dq[:, :3]
         self.R = expm_so3(dq[:, 3:]) @ self.R
 
-    def equilibrium(self, free, tol=1e-10, maxit=40):
-        """Minimise the energy over the ``free`` DOFs (boolean, 6 n) from the current state (Newton, a line
-        search on the energy, a diagonal shift where the step is not a descent; the full step once the decrease
-        it predicts is below the energy's round-off): the iterations taken."""
+    def reduced(self, free, plate=None):
+        """The total energy's gradient and Hessian (sparse CSC) in the ``free`` DOFs and, with a ``RigidPlate``,
+        its three rotations (last)."""
+        G, K = self.gradient_hessian()
+        if plate is None:
+            return G[free], K[free][:, free].tocsc()
+        nf = int(free.sum())
+        T = plate.reduction(self, free)
+        g = T.T @ G
+        g[nf:] -= plate.work_gradient()
+        Kr = (T.T @ K @ T).tolil()
+        Kr[nf:, nf:] = Kr[nf:, nf:].toarray() + plate.lever_hessian(self, G)
+        return g, Kr.tocsc()
+
+    def lowest_modes(self, free, plate=None, k=4):
+        """The ``k`` lowest eigenvalues of the reduced Hessian (``reduced``) and the plate's share of each mode
+        (its three rotations' part of the unit eigenvector; 0 without a plate): a tilt mode that reaches zero is
+        where the untilted path stops being a minimum."""
+        _, K = self.reduced(free, plate)
+        w, v = spla.eigsh(K, k=k, sigma=-1e-9 * float(abs(K).max()), which="LM")
+        order = np.argsort(w)
+        share = (np.linalg.norm(v[-3:], axis=0) if plate is not None else np.zeros(k))[order]
+        return w[order], share
+
+    def equilibrium(self, free, tol=1e-10, maxit=40, plate=None):
+        """Minimise the energy over the ``free`` DOFs (boolean, 6 n) and, with a ``RigidPlate``, its three
+        rotations, from the current state (Newton, a line search on the energy, a diagonal shift where the step
+        is not a descent; the full step once the decrease it predicts is below the energy's round-off): the
+        iterations taken."""
+        nf = int(free.sum())
         for it in range(1, maxit + 1):
-            G, K = self.gradient_hessian()
-            gf = G[free]
+            gf, Kff = self.reduced(free, plate)
             if np.max(np.abs(gf)) < tol:
                 return it - 1
-            Kff = K[free][:, free].tocsc()
             shift = 0.0
             scale = float(np.abs(Kff.diagonal()).max())
             for _ in range(60):
@@ -270,19 +294,105 @@ class NonlinearFrame:
                 shift = max(4 * shift, 1e-8 * scale)
             else:
                 raise RuntimeError("no descent direction")
-            e0 = self.energy()
+
+            def total():
+                return self.energy() - (plate.work() if plate is not None else 0.0)
+
+            e0 = total()
             x0, R0 = self.x.copy(), self.R.copy()
+            saved = plate.R.copy() if plate is not None else None
             dq = np.zeros(6 * self.n)
             t = 1.0
             exact = abs(step @ gf) < 1e-12 * abs(e0)      # the decrease is below the energy's round-off: Newton
             for _ in range(30):
-                dq[free] = t * step
+                dq[free] = t * step[:nf]
                 self.apply(dq)
-                if exact or self.energy() <= e0 + 1e-4 * t * (step @ gf) or t < 1e-6:
+                if plate is not None:
+                    plate.turn(self, t * step[nf:])
+                if exact or total() <= e0 + 1e-4 * t * (step @ gf) or t < 1e-6:
                     break
                 self.x, self.R = x0.copy(), R0.copy()
+                if plate is not None:
+                    plate.R = saved.copy()
                 t *= 0.5
         raise RuntimeError(f"no equilibrium in {maxit} iterations (|gradient| {np.max(np.abs(gf)):.2e})")
+
+
+class RigidPlate:
+    """The ring's top plate as the curved solid's (``fe/sleeve3d.py``): a rigid body carrying the ``nodes``
+    (positions and rotations), its centre on the axis rising as prescribed, its in-plane translation held, free
+    to tilt about X and Y and to twist, loaded by a constant ``moment`` (3,). Its rotation ``R`` moves every node
+    as ``x = c + R (X - c0)``, ``R_node = R``."""
+
+    def __init__(self, frame, nodes, moment=(0.0, 0.0, 0.0)):
+        self.nodes = np.asarray(nodes, int)
+        self.c0 = np.array([0.0, 0.0, frame.P[self.nodes, 2].mean()])
+        self.arm0 = frame.P[self.nodes] - self.c0
+        self.R = np.eye(3)
+        self.rise = 0.0
+        self.moment = np.asarray(moment, float)
+
+    def place(self, frame, rise=None):
+        """Put the carried nodes where the plate is (at ``rise``, if given)."""
+        if rise is not None:
+            self.rise = float(rise)
+        frame.x[self.nodes] = self.c0 + [0.0, 0.0, self.rise] + self.arm0 @ self.R.T
+        frame.R[self.nodes] = self.R
+
+    def turn(self, frame, dtheta):
+        """Turn the plate by the rotation vector ``dtheta`` (composed on the left), carrying its nodes."""
+        self.R = expm_so3(dtheta) @ self.R
+        self.place(frame)
+
+    def work(self):
+        """The moment's work, ``M . log(R)``."""
+        return float(self.moment @ logm_so3(self.R))
+
+    def work_gradient(self):
+        """The work's gradient in a left increment of the rotation: ``J^-T M``, with ``J^-1`` the inverse left
+        Jacobian of the rotation vector ``theta = log(R)``, ``I - K / 2 + (1 / a^2 - (1 + cos a) / (2 a sin a)) K^2``
+        (``K`` its skew matrix, ``a`` its angle): consistent with ``work``, so the line search and Newton agree
+        when the plate has turned by degrees."""
+        th = logm_so3(self.R)
+        a = float(np.linalg.norm(th))
+        K = np.array([[0.0, -th[2], th[1]], [th[2], 0.0, -th[0]], [-th[1], th[0], 0.0]])
+        c = 1.0 / 12.0 + a * a / 720.0 if a < 1e-3 else 1.0 / a ** 2 - (1 + np.cos(a)) / (2 * a * np.sin(a))
+        Jinv = np.eye(3) - 0.5 * K + c * (K @ K)
+        return Jinv.T @ self.moment
+
+    def tilt(self):
+        """The plate's rotation vector (its X and Y components are the tilt, Z the twist)."""
+        return logm_so3(self.R)
+
+    def reduction(self, frame, free):
+        """``T`` (6 n x (free + 3)): the increments of every DOF from the free ones and the plate's three
+        rotations (a node on the plate moves by ``dtheta x arm`` and turns by ``dtheta``)."""
+        n6, nf = 6 * frame.n, int(free.sum())
+        rows, cols = list(np.flatnonzero(free)), list(range(nf))
+        vals = [1.0] * nf
+        arm = frame.x[self.nodes] - (self.c0 + [0.0, 0.0, self.rise])
+        for k, node in enumerate(self.nodes):
+            a = arm[k]
+            sk = np.array([[0.0, a[2], -a[1]], [-a[2], 0.0, a[0]], [a[1], -a[0], 0.0]])   # -skew(a)
+            for r in range(3):
+                for c in range(3):
+                    if sk[r, c]:
+                        rows.append(6 * node + r); cols.append(nf + c); vals.append(sk[r, c])
+                rows.append(6 * node + 3 + r); cols.append(nf + r); vals.append(1.0)
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n6, nf + 3))
+
+    def lever_hessian(self, frame, G):
+        """The plate rotations' second-order term: the carried nodes' forces times the curvature of their paths,
+        sum over nodes of ``f . (e_a x (e_b x arm) + e_b x (e_a x arm)) / 2``."""
+        arm = frame.x[self.nodes] - (self.c0 + [0.0, 0.0, self.rise])
+        f = G.reshape(-1, 6)[self.nodes, :3]
+        H = np.zeros((3, 3))
+        E = np.eye(3)
+        for a in range(3):
+            for b in range(3):
+                v = 0.5 * (np.cross(E[a], np.cross(E[b], arm)) + np.cross(E[b], np.cross(E[a], arm)))
+                H[a, b] = float(np.sum(f * v))
+        return H
 
 
 def first_peak(geom, n_cells, root_extension, n_el, d, beam_model_P1=None, beam_model_plane=None):
@@ -341,11 +451,21 @@ def reference_gradient_hessian(frame, h=H_FD):
     return G, sp.csr_matrix((H.ravel(), (frame._rows, frame._cols)), shape=(n6, n6))
 
 
-def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=False):
+def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=False, plate="fixed", bias=1e-5,
+               bias_angle=0.5, modes=0, bias_ramp=None):
     """The ``frame3d.RingFrame`` ``ring``'s force along the rises ``d`` (d / L, increasing from 0): the bottom
-    bar clamped, the top one raised without tilt or twist; ``{"d", "F", "iterations", "frame"}`` with F / (G L^2)
-    (the top nodes' reaction along the axis), each state predicted from the last two (secant, if ``predict``).
-    With ``stop_after_peak`` the trace ends two falling steps after its first maximum (``d`` cut there)."""
+    bar clamped, the top one raised; ``{"d", "F", "iterations", "tilt", "frame"}`` with F / (G L^2) (the top
+    nodes' reaction along the axis) and the top plate's rotation vectors (k, 3). ``plate``: ``"fixed"``, raised
+    without tilt or twist, or ``"free"``, the curved solid's rigid plate (``RigidPlate``: tilting and twisting
+    freely under a bias moment ``bias R`` towards ``bias_angle * pi / N``, ``fe/sleeve3d.py``'s; with
+    ``bias_ramp`` the moment grows with the rise, reaching its full size at ``d = bias_ramp``, as a ccx
+    ``*STATIC`` step ramps it to the step's end). Each state is
+    predicted from the last two (secant, if ``predict``). With ``stop_after_peak`` the trace ends two falling
+    steps after its first maximum (``d`` cut there). With ``modes`` > 0 also ``"modes"`` and ``"plate_share"``
+    (k, modes): the lowest eigenvalues of each state's reduced Hessian and the plate's share of their modes
+    (``NonlinearFrame.lowest_modes``)."""
+    if plate not in ("fixed", "free"):
+        raise ValueError(f"plate: {plate!r}; allowed: 'fixed', 'free'")
     fr = NonlinearFrame.of_ring(ring)
     free = np.ones(6 * fr.n, bool)
     top = []
@@ -354,25 +474,47 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         if p == 1:
             top.append(i)
     top = np.array(top)
-    F, its = [], []
+    rp = None
+    if plate == "free":
+        phi = bias_angle * np.pi / ring.n_cells
+        m = bias * ring.radius
+        rp = RigidPlate(fr, top, (m * np.sin(phi), -m * np.cos(phi), 0.0))
+        full = rp.moment.copy()
+    F, its, tilt, lows, shares = [], [], [], [], []
     d = np.asarray(d, float)
     last = None
     for k, dk in enumerate(d):
         if predict and last is not None and k >= 2 and d[k - 1] > d[k - 2]:       # secant predictor from the last two states
             s = (dk - d[k - 1]) / (d[k - 1] - d[k - 2])
             x1, R1 = fr.x.copy(), fr.R.copy()
+            P1 = rp.R.copy() if rp is not None else None
             fr.x = x1 + s * (x1 - last[0])
             fr.R = expm_so3(s * logm_so3(R1 @ np.transpose(last[1], (0, 2, 1)))) @ R1
-            last = (x1, R1)
+            if rp is not None:
+                rp.R = expm_so3(s * logm_so3(P1 @ last[2].T)) @ P1
+            last = (x1, R1, P1)
         else:
-            last = (fr.x.copy(), fr.R.copy())
-        fr.x[top, 2] = fr.P[top, 2] + dk
-        its.append(fr.equilibrium(free, tol))
+            last = (fr.x.copy(), fr.R.copy(), rp.R.copy() if rp is not None else None)
+        if rp is None:
+            fr.x[top, 2] = fr.P[top, 2] + dk
+        else:
+            rp.place(fr, dk)
+            if bias_ramp:
+                rp.moment = full * min(1.0, dk / bias_ramp)
+        its.append(fr.equilibrium(free, tol, plate=rp))
         G, _ = fr.gradient_hessian(hessian=False)
         F.append(float(G[6 * top + 2].sum()))
+        tilt.append(rp.tilt() if rp is not None else np.zeros(3))
+        if modes:
+            w, sh = fr.lowest_modes(free, rp, modes)
+            lows.append(w)
+            shares.append(sh)
         if progress:
             progress(k, dk, F[-1])
         if stop_after_peak and k >= 3 and F[-1] < F[-2] < F[-3]:
             d = d[:k + 1]
             break
-    return {"d": d, "F": np.array(F), "iterations": its, "frame": fr}
+    out = {"d": d, "F": np.array(F), "iterations": its, "tilt": np.array(tilt), "frame": fr}
+    if modes:
+        out.update(modes=np.array(lows), plate_share=np.array(shares))
+    return out
