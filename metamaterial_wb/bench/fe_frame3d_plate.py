@@ -16,7 +16,7 @@ import numpy as np
 IMG = "img/sleeve-frame3d-plate.png"
 # key: (cells, d_max, bias, modes followed, the rise over which the bias is ramped: the solid run's step end)
 RUNS = {"4": (4, 0.40, 0.0, 4, None), "8": (8, 0.14, 0.0, 4, None), "4_bias1e-05": (4, 0.40, 1e-5, 0, 0.7),
-        "8_bias1e-05": (8, 0.30, 1e-5, 0, 0.17), "8_bias0.001": (8, 0.30, 1e-3, 0, 0.25)}
+        "8_bias1e-05": (8, 0.40, 1e-5, 0, 0.17), "8_bias0.001": (8, 0.40, 1e-3, 0, 0.25)}
 
 
 def plate_study(n_el=12, e=0.63, step=0.005, runs=RUNS):
@@ -35,7 +35,8 @@ def plate_study(n_el=12, e=0.63, step=0.005, runs=RUNS):
         th = r["tilt"]
         row = {"cells": n, "bias": bias, "bias_ramp": ramp, "d": d.tolist(), "F": r["F"].tolist(),
                "tilt_deg": np.degrees(np.hypot(th[:, 0], th[:, 1])).tolist(),
-               "twist_deg": np.degrees(th[:, 2]).tolist(), "seconds": time.perf_counter() - t0, "elements": n_el}
+               "twist_deg": np.degrees(th[:, 2]).tolist(), "seconds": time.perf_counter() - t0, "elements": n_el,
+               "snapped": r["snapped"].astype(int).tolist()}
         if modes:
             pair = np.argsort(-r["plate_share"], axis=1)[:, :2]
             row["tilt_pair"] = np.take_along_axis(r["modes"], pair, axis=1).min(axis=1).tolist()
@@ -51,6 +52,29 @@ def zero_crossings(d, lam):
             x = d[k - 1] + lam[k - 1] * (d[k] - d[k - 1]) / (lam[k - 1] - lam[k])
             out.append((float(x), "down" if lam[k] <= 0 else "up"))
     return out
+
+
+def contiguous(mask):
+    """Whether the snapped hysterons (``mask`` around the ring) form one group of neighbours."""
+    m = np.asarray(mask, bool)
+    if m.all() or not m.any():
+        return True
+    return int(np.sum(m & ~np.roll(m, 1))) == 1
+
+
+def snapping(run):
+    """The leaning branch's snapping: ``{"valley": (d, snapped count), "half": d where half the hysterons have
+    snapped or None, "contiguous": whether they are neighbours there, "units": their number}``."""
+    from metamaterial_wb.fe.sleeve2d import peak_valley
+    S = np.asarray(run["snapped"], bool)
+    d = np.asarray(run["d"])
+    _, _, dv, _ = peak_valley(d, run["F"])
+    kv = int(np.argmin(np.abs(d - dv)))
+    count = S.sum(axis=1)
+    half = np.nonzero(count >= S.shape[1] / 2)[0]
+    k = int(half[0]) if len(half) else len(d) - 1
+    return {"valley": (float(dv), int(count[kv])), "half": float(d[k]) if len(half) else None,
+            "contiguous": contiguous(S[k]), "units": int(S.shape[1])}
 
 
 def at(d, y, x):
@@ -94,6 +118,8 @@ def facts(pl, c):
                 f[f"frame{n}_bias{bias}"] = {"P1": (dp, fp), "tilt_max": (float(b["d"][int(np.argmax(b["tilt_deg"]))]),
                                                                        float(max(b["tilt_deg"]))),
                                              "tilt_025": at(b["d"], b["tilt_deg"], 0.25)}
+                if "snapped" in b:
+                    f[f"frame{n}_bias{bias}"]["snapping"] = snapping(b)
     row = c.get("cells", {}).get("8", {})
     if "c3d20_p1_curve" in row:
         f["solid8_stop"] = (row["c3d20_p1_d_reached"], row["c3d20_p1_curve"]["F"][-1])
@@ -138,6 +164,13 @@ def markdown(pl, c):
          (f" (the solid: {1e3 * sb['P1'][1]:.2f}e-3 at {sb['P1'][0]:.3f}, {sb['tilt_025']:.1f} deg at 0.25): on the "
           f"leaning branch the frame's peak is {100 * (b3['P1'][1] / sb['P1'][1] - 1):+.0f} % off the solid's and its "
           f"lean {b3['tilt_025'] - sb['tilt_025']:+.1f} deg. " if sb else ". "))
+    sn = b5.get("snapping")
+    if sn:
+        t += (f"On the leaning branch the hysterons (the edge pillars with their two beam halves, snapped by the beam "
+              f"model's rule) go one after another: {sn['valley'][1]} of {sn['units']} at the first valley (d/L "
+              f"{sn['valley'][0]:.3f}), " + (f"half the ring by d/L {sn['half']:.3f}, " if sn["half"] else "") +
+              ("neighbours of each other: the seed's first stage (half the cells, on one side), here complete only "
+               "after the first valley. " if sn["contiguous"] else "not all neighbours. "))
     dm, rel = f["frame4_min"]
     lo4 = min(s4, key=lambda p: p[1])
     b4 = f["frame4_bias1e-05"]

@@ -108,6 +108,9 @@ def test_plate_study_is_current_and_its_paragraph_quotes_it():
     text = fp.markdown(stored, comp)
     assert f"reaches zero at d/L {z[0][0]:.3f}" in text and "reaching zero at d/L 0.091" in text
     assert "stall at d/L 0.077" in text
+    sn = fp.snapping(stored["8_bias1e-05"])
+    assert sn["units"] == 8 and 0 < sn["valley"][1] < 8
+    assert f"{sn['valley'][1]} of 8 at the first valley (d/L {sn['valley'][0]:.3f})" in text
 
 
 def test_zero_crossings_by_linear_interpolation():

@@ -223,3 +223,24 @@ def test_small_moment_tilts_the_plate_as_the_linear_frame_says():
     plate.place(fr, 0.0)
     fr.equilibrium(free, tol=1e-12, plate=plate)
     assert plate.tilt() == pytest.approx(np.linalg.solve(Kp, M), rel=1e-6)
+
+
+def test_snapped_flags_follow_the_beam_model_through_the_snap():
+    """One flat cell of the frame is the 2-D model's periodic unit cell (a separate code): the same force to 1e-7
+    and the same snapped flag at every state of a path through the snap and beyond (the model's rule on the
+    model's states against the frame's on its node positions)."""
+    g = CellGeometry()
+    d = np.linspace(0, 0.6, 61)
+    r = trace_ring(RingFrame(g, 1, curved=False, n_el=6, root_extension=0.63), d)
+    m = SleeveModel([g], None, 6, curvature=False, root_extension=0.63)
+    p = m.trace(d)
+    assert np.max(np.abs(r["F"] - p.F)) < 1e-7 * np.max(np.abs(p.F))
+    model_snapped = np.mean(np.asarray(p.states) - g.h / g.L, axis=1) > 0
+    assert r["snapped"].shape == (61, 1)
+    assert np.array_equal(r["snapped"][:, 0], model_snapped) and 0 < model_snapped.sum() < 61
+
+
+def test_contiguous_groups_around_the_ring():
+    from metamaterial_wb.bench.fe_frame3d_plate import contiguous
+    assert contiguous([1, 1, 1, 0, 0, 0, 0, 0]) and contiguous([1, 0, 0, 0, 0, 0, 1, 1])
+    assert not contiguous([1, 0, 1, 0, 0, 0, 0, 0]) and contiguous([0] * 8) and contiguous([1] * 8)

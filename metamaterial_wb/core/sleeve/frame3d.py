@@ -112,6 +112,11 @@ class RingFrame:
                                shape=(6 * n, 6 * n))
         self.ties = [(i, p) for i, p, _ in mb.ties]
         self.n_nodes = n
+        # the model's snapping parts: each beam half's outer and inner end, its edge pillar (``units``) and its
+        # snap height h / L (snapped when the outer end has risen over the inner one by more, as in the model)
+        self.states = [(a, b) for a, b, _ in mb.states]
+        self.units = list(mb.units)
+        self.snap_height = geom.h / geom.L
 
     def axial_stiffness(self, return_displacements=False):
         """The ring's axial stiffness: the top plate's force per rise, F / (G L^2) per d / L (tied nodes: all six

@@ -463,7 +463,9 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
     predicted from the last two (secant, if ``predict``). With ``stop_after_peak`` the trace ends two falling
     steps after its first maximum (``d`` cut there). With ``modes`` > 0 also ``"modes"`` and ``"plate_share"``
     (k, modes): the lowest eigenvalues of each state's reduced Hessian and the plate's share of their modes
-    (``NonlinearFrame.lowest_modes``)."""
+    (``NonlinearFrame.lowest_modes``). ``"snapped"`` (k, units): which of the ring's hysterons (the edge
+    pillars, each with its two beam halves) have snapped at each state, by the beam model's rule: the mean of
+    their halves' outer ends' rises over their inner ends' beyond h / L (``RingFrame.states``)."""
     if plate not in ("fixed", "free"):
         raise ValueError(f"plate: {plate!r}; allowed: 'fixed', 'free'")
     fr = NonlinearFrame.of_ring(ring)
@@ -480,7 +482,10 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         m = bias * ring.radius
         rp = RigidPlate(fr, top, (m * np.sin(phi), -m * np.cos(phi), 0.0))
         full = rp.moment.copy()
-    F, its, tilt, lows, shares = [], [], [], [], []
+    F, its, tilt, lows, shares, snapped = [], [], [], [], [], []
+    a_, b_ = np.array(ring.states).T
+    unit_ids = sorted(set(ring.units), key=ring.units.index)
+    unit_of = np.array([unit_ids.index(u) for u in ring.units])
     d = np.asarray(d, float)
     last = None
     for k, dk in enumerate(d):
@@ -505,6 +510,8 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         G, _ = fr.gradient_hessian(hessian=False)
         F.append(float(G[6 * top + 2].sum()))
         tilt.append(rp.tilt() if rp is not None else np.zeros(3))
+        rise = (fr.x - fr.P)[a_, 2] - (fr.x - fr.P)[b_, 2] - ring.snap_height
+        snapped.append(np.bincount(unit_of, rise) / np.bincount(unit_of) > 0)
         if modes:
             w, sh = fr.lowest_modes(free, rp, modes)
             lows.append(w)
@@ -514,7 +521,8 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         if stop_after_peak and k >= 3 and F[-1] < F[-2] < F[-3]:
             d = d[:k + 1]
             break
-    out = {"d": d, "F": np.array(F), "iterations": its, "tilt": np.array(tilt), "frame": fr}
+    out = {"d": d, "F": np.array(F), "iterations": its, "tilt": np.array(tilt), "snapped": np.array(snapped),
+           "frame": fr}
     if modes:
         out.update(modes=np.array(lows), plate_share=np.array(shares))
     return out
