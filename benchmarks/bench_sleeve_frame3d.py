@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """The curved sleeve ring as a linear 3-D frame against the curved CalculiX solid (issue 18).
 
-    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--plate] [--no-write]
+    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--plate] [--sequence] [--no-write]
 
 Builds the frame (``metamaterial_wb/core/sleeve/frame3d.py``) of every ring size the solid was run for
 (``benchmarks/results/fe-ring3d.json``, ``cells``; ``bench_sleeve_ring3d.py --cells``), flat and curved, in two
 moduli and two root extensions (a few seconds in all, no ccx), stores them in
 ``benchmarks/results/frame3d.json`` and rewrites its section of docs/sleeves.md. ``--nonlinear`` traces the
 four-cell ring nonlinearly (about 40 s), ``--plate`` the four- and eight-cell rings with the solid's free plate
-(``bench/fe_frame3d_plate.py``, about 2 min); otherwise their stored runs are reused.
+(``bench/fe_frame3d_plate.py``, about 1 min), ``--sequence`` the seed's two mixed rings' cycles on it (about
+4 min); otherwise their stored runs are reused.
 """
 import argparse
 import json
@@ -31,6 +32,8 @@ def main(argv=None):
                     "0.7 on 12 and 24 elements per beam half (a few minutes); else the stored traces are reused")
     ap.add_argument("--plate", action="store_true", help="trace the four- and eight-cell rings with the solid's "
                     "free, biased top plate and follow their tilt pair (about 2 min); else the stored runs are reused")
+    ap.add_argument("--sequence", action="store_true", help="the seed's combinations 1 and 2 loaded and unloaded on "
+                    "the frame with the free plate (about 4 min); else the stored runs are reused")
     a = ap.parse_args(argv)
     comp = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))
     s = fe_frame3d.study(comp["cells"])
@@ -48,7 +51,12 @@ def main(argv=None):
         s["plate"] = fe_frame3d_plate.plate_study()
     elif os.path.exists(old):
         s["plate"] = json.load(open(old)).get("plate")
-    section = fe_frame3d.markdown(s, [fe_frame3d_plate.markdown(s["plate"], comp)] if s.get("plate") else [])
+    if a.sequence:
+        s["sequence"] = fe_frame3d_plate.sequence_study()
+    elif os.path.exists(old):
+        s["sequence"] = json.load(open(old)).get("sequence")
+    section = fe_frame3d.markdown(s, ([fe_frame3d_plate.markdown(s["plate"], comp)] if s.get("plate") else []) +
+                                  ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []))
     print(section)
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))

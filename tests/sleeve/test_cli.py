@@ -97,6 +97,9 @@ def test_nonlinear_frame_first_peak_on_request(tmp_path):
     unit = s["normalisation"]["force_unit_N"]
     assert any(n.startswith("nonlinear frame, uniform ring of type 0 (4 cells, 6 elements per beam half): first "
                             f"peak {u['P1'] * unit:.3g} N") for n in s["accuracy"]["notes"])
+    fs = s["sequence"]["frame3d_nl"]                                      # the ring's cycle on the frame too
+    assert fs["loading"] == [0] and fs["unloading"] == [0] and fs["elements"] == 6
+    assert any(n.startswith("sequence on the nonlinear frame (6 elements per beam half") for n in s["accuracy"]["notes"])
     r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_nonlinear=True, ring_curvature=False)))
     assert r.returncode == 2 and "model.frame_nonlinear" in r.stderr and "ring_curvature" in r.stderr
     r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_elements=100)))

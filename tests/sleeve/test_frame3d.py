@@ -117,3 +117,21 @@ def test_zero_crossings_by_linear_interpolation():
     from metamaterial_wb.bench.fe_frame3d_plate import zero_crossings
     assert zero_crossings([0, 1, 2, 3], [2.0, 1.0, -1.0, 1.0]) == [(1.5, "down"), (2.5, "up")]
     assert zero_crossings([0, 1], [1.0, 2.0]) == []
+
+
+def test_sequence_table_quotes_the_stored_cycles():
+    """The sequencing table (``bench_sleeve_frame3d.py --sequence``): every stored frame cycle and the beam
+    model's sequence appear as stored, with the seed's sequence beside them."""
+    import json
+    import os
+    from metamaterial_wb.bench import fe_frame3d_plate as fp
+    res = os.path.join(os.path.dirname(__file__), "..", "..", "benchmarks", "results")
+    st = json.load(open(os.path.join(res, "frame3d.json")))["sequence"]
+    text = fp.sequence_markdown(st)
+    assert "| [0, 1] \\| [0, 1] (asymmetric), leaning the other way |" in text            # the seed's combination 2
+    for key, r in st.items():
+        m = r["model"]
+        assert f"{m['loading']} \\| {m['unloading']}" in text
+        for n_el, f in r["frame"].items():
+            assert f"{n_el}: {f['loading']} \\| {f['unloading']}" in text
+    assert st["1"]["frame"]["12"]["loading"] == [0, 1] and st["1"]["frame"]["12"]["symmetric"]   # the seed's

@@ -53,17 +53,24 @@ def element_stiffness(l, EA, EI2, EI3, GJ):
 
 
 class RingFrame:
-    """The beam model's uniform ring of ``n_cells`` cells of ``geom`` as a 3-D frame (module docstring).
+    """The beam model's uniform ring of ``n_cells`` cells of ``geom`` as a 3-D frame (module docstring); with
+    ``row`` (cell type indices around the ring) and ``geom`` a list of cell types, a mixed ring.
     ``plane``: the model's in-plane modulus (``"strain"``, E = 4 G, as its flat ring; ``"stress"``, 3 G);
     ``E_r``: the modulus for bending through the wall (``E_RADIAL``, 3 G, as the model's curvature springs);
     ``G``: the shear modulus of the torsion (1: units of G); ``n_el``, ``root_extension``: the model's."""
 
     def __init__(self, geom, n_cells=4, curved=True, plane="strain", E_r=E_RADIAL, G=1.0, n_el=24,
-                 root_extension=0.0):
+                 root_extension=0.0, row=None):
         E = modulus(plane)
         mb = _MeshBuilder()
+        cells = list(geom) if isinstance(geom, (list, tuple)) else [geom]
+        row = [0] * n_cells if row is None else [int(t) for t in row]
+        n_cells = len(row)
+        geom = cells[row[0]]
+        if len({round(cells[t].width, 12) for t in row}) > 1:
+            raise ValueError(f"row {row}: the cell types' widths differ; a ring needs one width")
         W = geom.width / geom.L
-        add_row_single(mb, [0] * n_cells, [geom], n_el, E, 0, 1, lambda k: k * W, 0, n_cells * W,
+        add_row_single(mb, row, cells, n_el, E, 0, 1, lambda k: k * W, 0, n_cells * W,
                        None, "guided", root_extension)
         X = np.vstack(mb.X)
         self.radius = n_cells * W / (2 * np.pi)
@@ -79,7 +86,8 @@ class RingFrame:
         EA, EI = np.array(mb.EA), np.array(mb.EI)
         b = np.sqrt(12.0 * EI / EA)                       # the section's in-plane width (a link's: its length)
         T = EA / (E * b)                                  # its depth through the wall (geom.T for the real ones)
-        link = EA > 0.5 * LINK_FACTOR * E * (geom.t / geom.L) * (geom.T / geom.L)
+        t_min = min(cells[t].t for t in row)
+        link = EA > 0.5 * LINK_FACTOR * E * (t_min / geom.L) * (geom.T / geom.L)
         EI_r = E_r * b * T ** 3 / 12.0
         GJ = G * torsion_constant(b, T)
         GJ[link] = LINK_FACTOR * np.max(GJ[~link])
@@ -116,7 +124,9 @@ class RingFrame:
         # snap height h / L (snapped when the outer end has risen over the inner one by more, as in the model)
         self.states = [(a, b) for a, b, _ in mb.states]
         self.units = list(mb.units)
-        self.snap_height = geom.h / geom.L
+        self.row, self.cells = row, cells
+        self.state_types = [row[c] for _, _, c in mb.states]
+        self.snap_height = np.array([cells[t].h / cells[t].L for t in self.state_types])
 
     def axial_stiffness(self, return_displacements=False):
         """The ring's axial stiffness: the top plate's force per rise, F / (G L^2) per d / L (tied nodes: all six

@@ -452,7 +452,7 @@ def reference_gradient_hessian(frame, h=H_FD):
 
 
 def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=False, plate="fixed", bias=1e-5,
-               bias_angle=0.5, modes=0, bias_ramp=None):
+               bias_angle=0.5, modes=0, bias_ramp=None, start=None):
     """The ``frame3d.RingFrame`` ``ring``'s force along the rises ``d`` (d / L, increasing from 0): the bottom
     bar clamped, the top one raised; ``{"d", "F", "iterations", "tilt", "frame"}`` with F / (G L^2) (the top
     nodes' reaction along the axis) and the top plate's rotation vectors (k, 3). ``plate``: ``"fixed"``, raised
@@ -465,10 +465,12 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
     (k, modes): the lowest eigenvalues of each state's reduced Hessian and the plate's share of their modes
     (``NonlinearFrame.lowest_modes``). ``"snapped"`` (k, units): which of the ring's hysterons (the edge
     pillars, each with its two beam halves) have snapped at each state, by the beam model's rule: the mean of
-    their halves' outer ends' rises over their inner ends' beyond h / L (``RingFrame.states``)."""
+    their halves' outer ends' rises over their inner ends' beyond h / L (``RingFrame.states``), and ``"rises"``
+    (k, states): those rises, per beam half. ``start``: a result of this function to go on from (its frame and
+    plate; e.g. unloading along ``d`` falling from its last rise)."""
     if plate not in ("fixed", "free"):
         raise ValueError(f"plate: {plate!r}; allowed: 'fixed', 'free'")
-    fr = NonlinearFrame.of_ring(ring)
+    fr = NonlinearFrame.of_ring(ring) if start is None else start["frame"]
     free = np.ones(6 * fr.n, bool)
     top = []
     for i, p in ring.ties:
@@ -476,20 +478,20 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         if p == 1:
             top.append(i)
     top = np.array(top)
-    rp = None
-    if plate == "free":
+    rp = None if start is None else start.get("plate")
+    if plate == "free" and rp is None:
         phi = bias_angle * np.pi / ring.n_cells
         m = bias * ring.radius
         rp = RigidPlate(fr, top, (m * np.sin(phi), -m * np.cos(phi), 0.0))
-        full = rp.moment.copy()
-    F, its, tilt, lows, shares, snapped = [], [], [], [], [], []
+    full = rp.moment.copy() if rp is not None else None
+    F, its, tilt, lows, shares, snapped, rises = [], [], [], [], [], [], []
     a_, b_ = np.array(ring.states).T
     unit_ids = sorted(set(ring.units), key=ring.units.index)
     unit_of = np.array([unit_ids.index(u) for u in ring.units])
     d = np.asarray(d, float)
     last = None
     for k, dk in enumerate(d):
-        if predict and last is not None and k >= 2 and d[k - 1] > d[k - 2]:       # secant predictor from the last two states
+        if predict and last is not None and k >= 2 and d[k - 1] != d[k - 2]:      # secant predictor from the last two states
             s = (dk - d[k - 1]) / (d[k - 1] - d[k - 2])
             x1, R1 = fr.x.copy(), fr.R.copy()
             P1 = rp.R.copy() if rp is not None else None
@@ -510,8 +512,9 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         G, _ = fr.gradient_hessian(hessian=False)
         F.append(float(G[6 * top + 2].sum()))
         tilt.append(rp.tilt() if rp is not None else np.zeros(3))
-        rise = (fr.x - fr.P)[a_, 2] - (fr.x - fr.P)[b_, 2] - ring.snap_height
-        snapped.append(np.bincount(unit_of, rise) / np.bincount(unit_of) > 0)
+        rise = (fr.x - fr.P)[a_, 2] - (fr.x - fr.P)[b_, 2]
+        rises.append(rise)
+        snapped.append(np.bincount(unit_of, rise - ring.snap_height) / np.bincount(unit_of) > 0)
         if modes:
             w, sh = fr.lowest_modes(free, rp, modes)
             lows.append(w)
@@ -522,7 +525,7 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
             d = d[:k + 1]
             break
     out = {"d": d, "F": np.array(F), "iterations": its, "tilt": np.array(tilt), "snapped": np.array(snapped),
-           "frame": fr}
+           "rises": np.array(rises), "frame": fr, "plate": rp}
     if modes:
         out.update(modes=np.array(lows), plate_share=np.array(shares))
     return out

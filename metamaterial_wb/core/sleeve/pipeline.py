@@ -5,9 +5,10 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.core.sleeve.accuracy import accuracy, frame_nl_note, frame_note
+from metamaterial_wb.core.sleeve.accuracy import accuracy, frame_nl_note, frame_note, frame_sequence_note
 from metamaterial_wb.core.sleeve.frame3d import curvature_check
 from metamaterial_wb.core.sleeve.frame3d_nl import first_peak
+from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
 from metamaterial_wb.core.sleeve.analysis import (extrema, lean_direction, peaks_valleys, pressure_control,
                                                   pv_curve, snap_order, two_hysteron_sequence)
 from metamaterial_wb.core.sleeve.cell import CellGeometry
@@ -206,6 +207,13 @@ def analyse(spec, progress=None, log=None):
            "two_hysteron": rule,
            "agrees_with_two_hysteron": bool(sim["loading"] == rule["loading"]
                                             and sim["unloading"] == rule["unloading"])}
+    if spec.frame_nonlinear and spec.M == 1:
+        say("sleeve: loading and unloading cycle on the nonlinear 3-D frame")
+        seq["frame3d_nl"] = frame_sequence(spec.cells, spec.pattern[0], float(up.d[-1]), spec.steps,
+                                           spec.frame_elements, spec.root_extension,
+                                           lambda path, k, dk: k % 20 or say(f"frame cycle: {path}, d/L {dk:.2f}"))
+        seq["frame3d_nl"]["agrees_with_model"] = (seq["frame3d_nl"].get("loading") == seq["loading"] and
+                                                  seq["frame3d_nl"].get("unloading") == seq["unloading"])
     # PV curve
     A = math.pi * (spec.core_diameter / 2) ** 2
     Vl, pl = pv_curve(up.d * L, up.F * Fscale, A, spec.membrane)
@@ -230,6 +238,8 @@ def analyse(spec, progress=None, log=None):
     summary["accuracy"]["notes"] += [frame_note(u["type"], n, u["frame3d"]) for u in uniform if "frame3d" in u]
     summary["accuracy"]["notes"] += [frame_nl_note(u["type"], n, u["frame3d_nl"], Fscale, L)
                                      for u in uniform if "frame3d_nl" in u]
+    if spec.frame_nonlinear:
+        summary["accuracy"]["notes"].append(frame_sequence_note(seq, spec.M))
     if spec.walker:
         wk = spec.walker
         H = spec.M * max(g.height for g in spec.cells)

@@ -85,8 +85,9 @@ class SleevePanel(BasePanel):
         self.frame_nl = QtGui.QCheckBox(translate("Metamaterial", "Check each uniform ring's first peak on a 3-D frame"))
         self.frame_nl.setToolTip(translate("Metamaterial", "model.frame_nonlinear: the same beams as a nonlinear 3-D "
                                            "frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out "
-                                           "of it as the printed sleeve does; a few seconds per cell type. Needs the "
-                                           "curved single-layout ring"))
+                                           "of it as the printed sleeve does: each uniform ring's first peak (a few "
+                                           "seconds per cell type) and the ring's snapping sequence and lean (about "
+                                           "half a minute). Needs the curved single-layout ring"))
         f2.addRow("", self.frame_nl)
         self.layout.addLayout(f2)
         pl = QtGui.QHBoxLayout()

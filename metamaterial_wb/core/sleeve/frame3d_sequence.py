@@ -1,0 +1,79 @@
+"""A sleeve ring's loading and unloading cycle on the nonlinear 3-D frame (issue 18): which cell types snap in
+which order, and where the plate leans.
+
+The beam model (``model.py``, ``pipeline.simulated_sequence``) reads the snapping sequence of a mixed ring off
+its planar path; its curved ring is 2-4 times too stiff and its lean turned with the mesh (docs/sleeves.md).
+Here the same ring - the beam model's mesh as corotational 3-D beams on the cylinder (``frame3d_nl``), with the
+curved solid's free, biased top plate - is raised to ``d_max`` and lowered back, and the same rule
+(``analysis.snap_order``: a hysteron, an edge pillar with its two beam halves, has snapped when their outer ends
+have risen over their inner ends by more than h) gives the order of the cell types on both paths, as
+``pipeline.simulated_sequence`` does for the beam model, and the plate's lean on each.
+"""
+import math
+from types import SimpleNamespace
+
+import numpy as np
+
+from metamaterial_wb.core.sleeve.analysis import lean_direction, snap_order
+from metamaterial_wb.core.sleeve.frame3d import RingFrame
+from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
+
+
+def frame_cycle(cells, row, d_max, steps=120, n_el=12, root_extension=0.63, bias=1e-5, bias_angle=0.5,
+                progress=None):
+    """Load the ring ``row`` of ``cells`` (plane stress, the free plate with the bias moment ramped over the
+    loading) from 0 to ``d_max`` (d / L) in ``steps`` and unload it back: ``(ring, up, down)``, two
+    ``trace_ring`` results. ``progress(path, k, d)`` after every state (``path`` "loading" or "unloading")."""
+    ring = RingFrame(cells, len(row), plane="stress", root_extension=root_extension, n_el=n_el, row=row)
+    d = np.linspace(0.0, d_max, steps + 1)
+
+    def tell(path):
+        return (lambda k, dk, F: progress(path, k, dk)) if progress else None
+    up = trace_ring(ring, d, plate="free", bias=bias, bias_angle=bias_angle, bias_ramp=d_max, progress=tell("loading"))
+    down = trace_ring(ring, d[::-1], plate="free", start=up, progress=tell("unloading"))
+    return ring, up, down
+
+
+def sequence(ring, up, down):
+    """The snapping order of the cell types on loading and unloading (``analysis.snap_order`` on the frame's
+    rises), whether unloading reverses loading (symmetric), the events, and the plate's largest lean on each
+    path with its direction (deg, ``analysis.lean_direction``) and whether the lean reverses between them."""
+    geoms = [ring.cells[t] for t in ring.state_types]
+    out = {}
+    leans = []
+    for name, r in (("loading", up), ("unloading", down)):
+        order, events = snap_order(SimpleNamespace(d=r["d"], states=r["rises"]), ring.state_types, geoms,
+                                   ring.units)
+        tilt = r["tilt"][:, :2]
+        k = int(np.argmax(np.hypot(tilt[:, 0], tilt[:, 1])))
+        lean = lean_direction(plate_tilt(tilt[k]))
+        leans.append(lean)
+        out[name] = order
+        out[f"events_{name}"] = [{"d": float(e[1]), "units": e[2], "snapped": e[3]} for e in events]
+        out[f"max_tilt_{name}_deg"] = float(math.degrees(np.hypot(*tilt[k])))
+        out[f"lean_{name}_deg"] = float(math.degrees(math.atan2(lean[1], lean[0]))) if np.any(lean) else None
+    out["symmetric"] = bool(out["loading"][::-1] == out["unloading"])
+    out["lean_reverses"] = bool(np.dot(leans[0], leans[1]) < 0)
+    return out
+
+
+def frame_sequence(cells, row, d_max, steps, n_el, root_extension, progress=None):
+    """``sequence`` of ``frame_cycle`` with the run time, for the ``sleeve`` command (``model.frame_nonlinear``);
+    ``{"error", "seconds"}`` when Newton finds no equilibrium."""
+    import time
+    t0 = time.perf_counter()
+    try:
+        ring, up, down = frame_cycle(cells, row, d_max, steps, n_el, root_extension, progress=progress)
+    except RuntimeError as e:
+        return {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}
+    out = sequence(ring, up, down)
+    out.update(elements=n_el, seconds=time.perf_counter() - t0)
+    return out
+
+
+def plate_tilt(rotation):
+    """The plate's rotation vector's in-plane part ``(psi_x, psi_y)`` as the beam model's tilt pair, whose
+    convention (``fe/sleeve3d.py``) has a point of the plate at the angle ``phi`` rise by ``R (psi_x sin phi -
+    psi_y cos phi)``: a rotation about X by ``a`` raises the point at ``phi`` by ``R a sin phi``, about Y by ``b``
+    lowers it by ``R b cos phi`` - the same pair."""
+    return np.asarray(rotation[:2], float)
