@@ -44,8 +44,10 @@ def main(argv=None):
     old = os.path.join(RESULTS, "frame3d.json")
     if a.nonlinear:
         s["nonlinear"] = fe_frame3d.nonlinear_study()
+        s["p1_sensitivity"] = fe_frame3d.p1_sensitivity()
     elif os.path.exists(old):
         s["nonlinear"] = json.load(open(old)).get("nonlinear")
+        s["p1_sensitivity"] = json.load(open(old)).get("p1_sensitivity")
     from metamaterial_wb.bench import fe_frame3d_plate
     if a.plate:
         s["plate"] = fe_frame3d_plate.plate_study()

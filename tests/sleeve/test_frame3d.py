@@ -135,3 +135,11 @@ def test_sequence_table_quotes_the_stored_cycles():
         for n_el, f in r["frame"].items():
             assert f"{n_el}: {f['loading']} \\| {f['unloading']}" in text
     assert st["1"]["frame"]["12"]["loading"] == [0, 1] and st["1"]["frame"]["12"]["symmetric"]   # the seed's
+
+
+def test_sensitivity_sentence_quotes_each_change_and_its_rate():
+    from metamaterial_wb.bench.fe_frame3d import sensitivity_sentence
+    text = sensitivity_sentence({"base": 1.3e-3, "EI2_pillars": -0.066, "GJ_all": -0.0226})
+    assert "EI2 of the pillars x0.8: -6.6 % (0.33 per unit)" in text
+    assert "GJ of every element x0.5: -2.3 % (0.05 per unit)" in text
+    assert "EA of" not in text
