@@ -452,8 +452,9 @@ def frame_sentence(cells):
             f"solid's curvature knock-down of the initial stiffness to {sm['frame'][0]:+.0f} to {sm['frame'][1]:+.0f} % "
             f"(the model's springs: {sm['model'][0]:+.0f} to {sm['model'][1]:+.0f} %); every summary's curvature note "
             "quotes the model-to-frame ratio for any cell; the same frame made nonlinear (`frame3d_nl.py`) has the "
-            "solid's one-stage path, its first peak measured against the solid's in sleeves.md; the `sleeve` command "
-            "still runs the planar model.")
+            "solid's one-stage path, its first peak measured against the solid's in sleeves.md, and with the solid's "
+            "free plate the eight-cell solid's lean; the `sleeve` command runs the planar model and, with "
+            "`model.frame_nonlinear`, adds the frame's first peaks and its snapping sequence.")
 
 
 def curved_summary(c):
