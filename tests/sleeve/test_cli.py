@@ -80,7 +80,7 @@ def test_nonlinear_frame_first_peak_on_request(tmp_path):
     from metamaterial_wb.core.sleeve.frame3d import RingFrame
     from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
     from metamaterial_wb.core.sleeve.model import default_stroke
-    spec = dict(SPEC, ring=[0, 0, 0, 0], cell_types=SPEC["cell_types"][:1], walker=False,
+    spec = dict(SPEC, ring=[0, 0, 0, 0], cell_types=SPEC["cell_types"][:1],
                 model=dict(SPEC["model"], frame_nonlinear=True, frame_elements=6))
     r, out = _run(tmp_path, spec)
     assert r.returncode == 0, r.stderr
@@ -100,6 +100,10 @@ def test_nonlinear_frame_first_peak_on_request(tmp_path):
     fs = s["sequence"]["frame3d_nl"]                                      # the ring's cycle on the frame too
     assert fs["loading"] == [0] and fs["unloading"] == [0] and fs["elements"] == 6
     assert any(n.startswith("sequence on the nonlinear frame (6 elements per beam half") for n in s["accuracy"]["notes"])
+    wf = s["walker"]["frame3d_nl"]                                        # and the leg on the frame's cycle
+    assert wf["lift_mm"] == pytest.approx(s["walker"]["lift_mm"], rel=1e-6) and wf["area_mm2"] >= 0
+    assert any(n.startswith(f"walker on the nonlinear frame: tip loop {wf['area_mm2']:.3g} mm^2")
+               for n in s["accuracy"]["notes"])
     r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_nonlinear=True, ring_curvature=False)))
     assert r.returncode == 2 and "model.frame_nonlinear" in r.stderr and "ring_curvature" in r.stderr
     r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_elements=100)))

@@ -57,18 +57,20 @@ def sequence(ring, up, down):
     return out
 
 
-def frame_sequence(cells, row, d_max, steps, n_el, root_extension, progress=None):
+def frame_sequence(cells, row, d_max, steps, n_el, root_extension, progress=None, paths=False):
     """``sequence`` of ``frame_cycle`` with the run time, for the ``sleeve`` command (``model.frame_nonlinear``);
-    ``{"error", "seconds"}`` when Newton finds no equilibrium."""
+    ``{"error", "seconds"}`` when Newton finds no equilibrium. With ``paths``: ``(that, up, down)``, the two
+    paths (None after an error) for what else reads the cycle (the walker)."""
     import time
     t0 = time.perf_counter()
     try:
         ring, up, down = frame_cycle(cells, row, d_max, steps, n_el, root_extension, progress=progress)
     except RuntimeError as e:
-        return {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}
+        out = {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}
+        return (out, None, None) if paths else out
     out = sequence(ring, up, down)
     out.update(elements=n_el, seconds=time.perf_counter() - t0)
-    return out
+    return (out, up, down) if paths else out
 
 
 def plate_tilt(rotation):

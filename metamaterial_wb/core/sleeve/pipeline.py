@@ -207,11 +207,13 @@ def analyse(spec, progress=None, log=None):
            "two_hysteron": rule,
            "agrees_with_two_hysteron": bool(sim["loading"] == rule["loading"]
                                             and sim["unloading"] == rule["unloading"])}
+    frame_paths = None
     if spec.frame_nonlinear and spec.M == 1:
         say("sleeve: loading and unloading cycle on the nonlinear 3-D frame")
-        seq["frame3d_nl"] = frame_sequence(spec.cells, spec.pattern[0], float(up.d[-1]), spec.steps,
-                                           spec.frame_elements, spec.root_extension,
-                                           lambda path, k, dk: k % 20 or say(f"frame cycle: {path}, d/L {dk:.2f}"))
+        seq["frame3d_nl"], fu, fd = frame_sequence(
+            spec.cells, spec.pattern[0], float(up.d[-1]), spec.steps, spec.frame_elements, spec.root_extension,
+            lambda path, k, dk: k % 20 or say(f"frame cycle: {path}, d/L {dk:.2f}"), paths=True)
+        frame_paths = (fu, fd) if fu is not None else None
         seq["frame3d_nl"]["agrees_with_model"] = (seq["frame3d_nl"].get("loading") == seq["loading"] and
                                                   seq["frame3d_nl"].get("unloading") == seq["unloading"])
     # PV curve
@@ -250,6 +252,16 @@ def analyse(spec, progress=None, log=None):
                                                    "step_per_cycle_mm", "direction")}
         summary["walker"].update({"legs": 4, "pairs_in_antiphase": [[1, 3], [2, 4]],
                                   "sleeve_height_mm": H, "foot_length_mm": wk["foot_length_mm"]})
+        if frame_paths:                        # the same leg on the frame's cycle (model.frame_nonlinear)
+            fu, fd = frame_paths
+            fc = walker_cycle(fu["d"] * L, fu["tilt"][:, :2], fd["d"] * L, fd["tilt"][:, :2], H,
+                              wk["foot_length_mm"], wk["contact_band_mm"], design_axis(model))
+            summary["walker"]["frame3d_nl"] = {k: fc[k] for k in ("area_mm2", "lateral_stroke_mm", "lift_mm",
+                                                                  "step_per_cycle_mm")}
+            summary["accuracy"]["notes"].append(
+                f"walker on the nonlinear frame: tip loop {fc['area_mm2']:.3g} mm^2, lateral stroke "
+                f"{fc['lateral_stroke_mm']:.3g} mm, step {fc['step_per_cycle_mm']:.3g} mm per cycle (the beam model's: "
+                f"{cyc['area_mm2']:.3g} mm^2, {cyc['lateral_stroke_mm']:.3g} mm, {cyc['step_per_cycle_mm']:.3g} mm)")
     if spec.design_map:
         dm = spec.design_map
         say("design map")
