@@ -29,12 +29,10 @@ Mechanics (see ``docs/sleeves.md``):
   displacement-controlled test follows: through negative stiffness continuously, and with a jump
   (recorded as an event) where the stable branch ends (snap-back).
 """
-import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 
 from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number
 from metamaterial_wb.core.sleeve.beam import BeamMesh

@@ -6,7 +6,6 @@ model. The sleeve bends with constant curvature: a tilt ``psi`` over the sleeve 
 moves the cap centre sideways by ``H (1 - cos psi) / psi`` and along the axis to
 ``H sin(psi) / psi``; a rigid foot of length ``foot`` continues along the cap's normal.
 """
-import math
 
 import numpy as np
 
