@@ -75,8 +75,9 @@ def new_shots(FreeCAD, FreeCADGui, panels, structure):
     panels.active().accept()
     FreeCADGui.runCommand("MM_Sleeve")
     p = panels.active()
+    p.frame_nl.setChecked(True)            # the prediction with the 3-D frame's first peaks and sequence
     p.predict()
-    p.wait_prediction(180.0)
+    p.wait_prediction(300.0)
     view(True)
     shot("sleeve")
     p.reject()

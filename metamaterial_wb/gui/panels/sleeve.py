@@ -82,7 +82,7 @@ class SleevePanel(BasePanel):
         ranges.bind(self.rings, "sleeve.rings")
         f2.addRow(translate("Metamaterial", "Ring pattern"), self.ring)
         f2.addRow(translate("Metamaterial", "Rings"), self.rings)
-        self.frame_nl = QtGui.QCheckBox(translate("Metamaterial", "Check each uniform ring's first peak on a 3-D frame"))
+        self.frame_nl = QtGui.QCheckBox(translate("Metamaterial", "Check on a 3-D frame: first peaks and sequence"))
         self.frame_nl.setToolTip(translate("Metamaterial", "model.frame_nonlinear: the same beams as a nonlinear 3-D "
                                            "frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out "
                                            "of it as the printed sleeve does: each uniform ring's first peak (a few "
