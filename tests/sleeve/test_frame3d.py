@@ -102,7 +102,8 @@ def test_plate_study_is_current_and_its_paragraph_quotes_it():
     comp = json.load(open(os.path.join(res, "fe-ring3d-comparison.json")))
     fresh = fp.plate_study(runs={"8": fp.RUNS["8"]})["8"]
     assert np.allclose(fresh["F"], stored["8"]["F"], rtol=1e-6, atol=1e-12)
-    assert np.allclose(fresh["tilt_pair"], stored["8"]["tilt_pair"], rtol=1e-5, atol=1e-12)
+    # soft eigenvalues (5e-6) of a differenced Hessian whose entries reach 1e4: 2e-11 apart between numpy 1.24 and 2.4
+    assert np.allclose(fresh["tilt_pair"], stored["8"]["tilt_pair"], rtol=1e-4, atol=1e-9)
     z = fp.zero_crossings(stored["8"]["d"], stored["8"]["tilt_pair"])
     assert len(z) == 1 and z[0][1] == "down" and 0.09 < z[0][0] < 0.12
     text = fp.markdown(stored, comp)
