@@ -59,13 +59,18 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="70"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="72"/>
         <source>Cell types (row = type index)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="56"/>
         <source>Chain</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="85"/>
+        <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -117,7 +122,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="99"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="108"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
@@ -235,7 +240,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="47"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="37"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="55"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="57"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
@@ -260,7 +265,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="50"/>
         <source>Open...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -291,17 +296,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="85"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="94"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="81"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="83"/>
         <source>Ring pattern</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="82"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="84"/>
         <source>Rings</source>
         <translation type="unfinished"></translation>
     </message>
@@ -356,7 +361,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="49"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="51"/>
         <source>Spec</source>
         <translation type="unfinished"></translation>
     </message>
@@ -386,7 +391,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="95"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -412,12 +417,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="271"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="289"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="288"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="306"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -427,7 +432,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="78"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="80"/>
         <source>cell type index of each cell around the circumference</source>
         <translation type="unfinished"></translation>
     </message>
@@ -443,23 +448,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="307"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="325"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="246"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="264"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="249"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="267"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="302"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="265"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="320"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="283"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -503,6 +508,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="148"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
+        <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (a few seconds per cell type) and the ring's snapping sequence and lean (about half a minute). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -553,12 +563,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="211"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="229"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="233"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="251"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
@@ -588,7 +598,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="100"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="109"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
@@ -623,7 +633,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="167"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="178"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -633,12 +643,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="297"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="315"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="294"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="312"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
