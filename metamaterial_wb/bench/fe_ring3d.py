@@ -458,10 +458,14 @@ def frame_sentence(cells):
 
 
 def curved_summary(c):
-    """What docs/fidelity.md takes from this study: the curved ring's P1 (FE: Richardson over r = 1, 2, 3 plus the
+    """What docs/fidelity.md takes from this study: the curved ring's P1 (FE: Richardson over the last three
+    in-plane meshes of the all-C3D20 family when stored, else over r = 1, 2, 3 of the reduced bricks; plus the
     through-wall mesh error, |P1(r = 2, two bricks) - P1(r = 2)|), the beam model's, and one sentence."""
     from metamaterial_wb.fe.sleeve2d import peak_valley
-    pc = path_convergence(c)
+    pc = corner.family_convergence(c) if "p1_r3" + corner.FAMILY in c else None
+    which = f"the last three of the all-C3D20 family's {NUMBER[len(pc['meshes'])]} in-plane meshes" if pc else ""
+    if not (pc and pc["p1_ext"]):
+        pc, which = path_convergence(c), "three in-plane meshes"
     if not pc["p1_ext"]:
         return {}
     dx, fx, ef, _ = pc["p1_ext"]
@@ -475,7 +479,7 @@ def curved_summary(c):
     st = c.get("stability", {})
     probed = [v["d"] for k, v in st.items() if k.startswith("r2@") and v.get("eigenvalues")]
     s = (f" The ring's curvature is checked by a curved 3-D FE ring (sleeves.md, \"A curved 3-D FE ring\"; its first "
-         f"peak, the table's last row, is extrapolated over three in-plane meshes and carries the through-wall mesh "
+         f"peak, the table's last row, is extrapolated over {which} and carries the through-wall mesh "
          f"error too): against it the beam model's ring forces are {m / fx:.1f} times too high as documented and "
          f"{mc / fx:.1f} times calibrated - its curvature term cannot give the wall's freedom to bend out of the "
          f"cylinder - so the beam model's absolute ring forces are not trusted.")
