@@ -244,7 +244,10 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
     "model": {...}}}``."""
     import json
     import os
+    from metamaterial_wb.core.sleeve.analysis import peaks_valleys
     from metamaterial_wb.core.sleeve.cell import CellGeometry
+    from metamaterial_wb.core.sleeve.frame3d import RingFrame
+    from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
     from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
     from metamaterial_wb.core.sleeve.model import default_stroke
     from metamaterial_wb.core.sleeve.pipeline import analyse
@@ -258,13 +261,10 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
                  for h, t in comb["cells"]]
         frames = {}
         for n_el in meshes.get(key, ()):
-            fs = frame_sequence(cells, [0, 0, 1, 1], default_stroke(cells), steps, n_el, root_extension)
+            fs, _, _ = frame_sequence(cells, [0, 0, 1, 1], default_stroke(cells), steps, n_el, root_extension)
             frames[str(n_el)] = {k: v for k, v in fs.items() if not k.startswith("events")}
         uniform = []
         for g in cells:                                # the two-hysteron thresholds on the frame: uniform rings
-            from metamaterial_wb.core.sleeve.analysis import peaks_valleys
-            from metamaterial_wb.core.sleeve.frame3d import RingFrame
-            from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
             dm = default_stroke([g])
             r = trace_ring(RingFrame(g, 4, plane="stress", root_extension=root_extension, n_el=12),
                            np.linspace(0, dm, steps + 1), plate="free", bias_ramp=dm)

@@ -143,3 +143,12 @@ def frame_sequence_note(seq, rings):
             f"{lean}; the beam model's: loading {seq['loading']}, unloading {seq['unloading']} ({word(seq)}) - "
             + ("the same" if fs["agrees_with_model"] else "they differ, and the frame's curved ring is the closer "
                "to the curved solid (docs/sleeves.md)"))
+
+
+def frame_walker_note(frame_cycle, model_cycle):
+    """The accuracy note on the walker: the leg's tip loop on the nonlinear frame's cycle beside the beam
+    model's (both ``walker.walker_cycle``)."""
+    f, m = frame_cycle, model_cycle
+    return (f"walker on the nonlinear frame: tip loop {f['area_mm2']:.3g} mm^2, lateral stroke "
+            f"{f['lateral_stroke_mm']:.3g} mm, step {f['step_per_cycle_mm']:.3g} mm per cycle (the beam model's: "
+            f"{m['area_mm2']:.3g} mm^2, {m['lateral_stroke_mm']:.3g} mm, {m['step_per_cycle_mm']:.3g} mm)")

@@ -124,7 +124,7 @@ class RingFrame:
         # snap height h / L (snapped when the outer end has risen over the inner one by more, as in the model)
         self.states = [(a, b) for a, b, _ in mb.states]
         self.units = list(mb.units)
-        self.row, self.cells = row, cells
+        self.cells = cells
         self.state_types = [row[c] for _, _, c in mb.states]
         self.snap_height = np.array([cells[t].h / cells[t].L for t in self.state_types])
 

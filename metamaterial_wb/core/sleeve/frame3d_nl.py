@@ -18,20 +18,31 @@ shift where the Hessian is not positive definite) from a secant prediction. Disp
 plate raised without tilt or twist (the curved solid's four-cell ring tilts by less than 0.2 degrees). Units as
 the model's.
 """
+import time
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from metamaterial_wb.core.sleeve.frame3d import RingFrame
+
 H_FD = 1e-6          # finite-difference step (positions in L, rotations in rad)
+
+
+def skew(v):
+    """The cross-product matrices ``[v]x`` (..., 3, 3) of vectors ``v`` (..., 3): ``skew(v) @ w = v x w``."""
+    v = np.asarray(v, float)
+    K = np.zeros(v.shape[:-1] + (3, 3))
+    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
+    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
+    return K
 
 
 def expm_so3(v):
     """Rotation matrices ``exp(skew(v))`` of rotation vectors ``v`` (..., 3) (Rodrigues)."""
     v = np.asarray(v, float)
     a = np.linalg.norm(v, axis=-1)[..., None, None]
-    K = np.zeros(v.shape[:-1] + (3, 3))
-    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
-    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
+    K = skew(v)
     small = a < 1e-4
     s = np.where(small, 1 - a ** 2 / 6, np.sin(a) / np.where(small, 1, a))
     c = np.where(small, 0.5 - a ** 2 / 24, (1 - np.cos(a)) / np.where(small, 1, a) ** 2)
@@ -49,14 +60,12 @@ def logm_so3(R):
     return f[..., None] * w
 
 
-
 def _cross(a, b):
     """``np.cross`` on the last axis, without its axis shuffling (the stencil's batches are large)."""
     return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
                      a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], -1)
 
 
-_IU = np.triu_indices(12)
 _IU9 = np.triu_indices(9)
 # An element's energy depends on its nodes' positions only through their difference r = x_j - x_i: the stencil
 # works on the 9 relative increments (r, dtheta_i, dtheta_j); T maps them to the 12 (dx_i, dtheta_i, dx_j,
@@ -119,6 +128,7 @@ def _moves(steps):
 
 _STENCIL, _STENCIL_G = ((*st, _moves(st[0])) for st in (_stencil(), _stencil(hessian=False)))
 BATCH = 60000        # stencil rows evaluated per pass (memory about 100 * BATCH doubles)
+
 
 class NonlinearFrame:
     """Corotational 3-D frame: nodes ``P`` (n, 3), elements ``conn`` (m, 2) with the shift of node 2's image
@@ -217,13 +227,11 @@ class NonlinearFrame:
         if not hessian:
             return G, None
         H9[:, _IU9[1], _IU9[0]] = H9[:, _IU9[0], _IU9[1]]
-        Ha[:, _IU[1], _IU[0]] = Ha[:, _IU[0], _IU[1]]
         K = sp.csr_matrix(((Ha + _T.T @ H9 @ _T).ravel(), (self._rows, self._cols)), shape=(6 * self.n, 6 * self.n))
         return G, K
 
     def _axial(self, hessian=True):
-        """The stretching energy's exact gradient (m, 12) and Hessian (m, 12, 12; upper triangle and diagonal
-        blocks): with k = EA / l0, f = k (l - l0) and e the chord's direction, the force f e on node j and its
+        """The stretching energy's exact gradient (m, 12) and Hessian (m, 12, 12): with k = EA / l0, f = k (l - l0) and e the chord's direction, the force f e on node j and its
         tangent k e e^T + f / l (I - e e^T) in the relative position."""
         i, j = self.conn[:, 0], self.conn[:, 1]
         d = self.x[j] + self.shift3 - self.x[i]
@@ -239,7 +247,7 @@ class NonlinearFrame:
         Kx = k[:, None, None] * ee + (f / l)[:, None, None] * (np.eye(3) - ee)
         H = np.zeros((self._m, 12, 12))
         H[:, 0:3, 0:3] = H[:, 6:9, 6:9] = Kx
-        H[:, 0:3, 6:9] = -Kx
+        H[:, 0:3, 6:9] = H[:, 6:9, 0:3] = -Kx
         return g, H
 
     def apply(self, dq):
@@ -258,9 +266,9 @@ class NonlinearFrame:
         T = plate.reduction(self, free)
         g = T.T @ G
         g[nf:] -= plate.work_gradient()
-        Kr = (T.T @ K @ T).tolil()
-        Kr[nf:, nf:] = Kr[nf:, nf:].toarray() + plate.lever_hessian(self, G)
-        return g, Kr.tocsc()
+        a, b = np.divmod(np.arange(9), 3)
+        lever = sp.csc_matrix((plate.lever_hessian(self, G).ravel(), (nf + a, nf + b)), shape=(nf + 3, nf + 3))
+        return g, (T.T @ K @ T).tocsc() + lever
 
     def lowest_modes(self, free, plate=None, k=4):
         """The ``k`` lowest eigenvalues of the reduced Hessian (``reduced``) and the plate's share of each mode
@@ -355,7 +363,7 @@ class RigidPlate:
         when the plate has turned by degrees."""
         th = logm_so3(self.R)
         a = float(np.linalg.norm(th))
-        K = np.array([[0.0, -th[2], th[1]], [th[2], 0.0, -th[0]], [-th[1], th[0], 0.0]])
+        K = skew(th)
         c = 1.0 / 12.0 + a * a / 720.0 if a < 1e-3 else 1.0 / a ** 2 - (1 + np.cos(a)) / (2 * a * np.sin(a))
         Jinv = np.eye(3) - 0.5 * K + c * (K @ K)
         return Jinv.T @ self.moment
@@ -368,18 +376,14 @@ class RigidPlate:
         """``T`` (6 n x (free + 3)): the increments of every DOF from the free ones and the plate's three
         rotations (a node on the plate moves by ``dtheta x arm`` and turns by ``dtheta``)."""
         n6, nf = 6 * frame.n, int(free.sum())
-        rows, cols = list(np.flatnonzero(free)), list(range(nf))
-        vals = [1.0] * nf
         arm = frame.x[self.nodes] - (self.c0 + [0.0, 0.0, self.rise])
-        for k, node in enumerate(self.nodes):
-            a = arm[k]
-            sk = np.array([[0.0, a[2], -a[1]], [-a[2], 0.0, a[0]], [a[1], -a[0], 0.0]])   # -skew(a)
-            for r in range(3):
-                for c in range(3):
-                    if sk[r, c]:
-                        rows.append(6 * node + r); cols.append(nf + c); vals.append(sk[r, c])
-                rows.append(6 * node + 3 + r); cols.append(nf + r); vals.append(1.0)
-        return sp.csr_matrix((vals, (rows, cols)), shape=(n6, nf + 3))
+        k = np.arange(3)
+        dof = 6 * self.nodes[:, None] + k                                     # each carried node's positions
+        rows = [np.flatnonzero(free), np.repeat(dof, 3, axis=1).ravel(), (dof + 3).ravel()]
+        cols = [np.arange(nf), np.tile(nf + k, 3 * len(arm)), np.tile(nf + k, len(arm))]
+        vals = [np.ones(nf), -skew(arm).ravel(), np.ones(3 * len(arm))]    # dx = -[arm]x dtheta, and dtheta
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(n6, nf + 3))
 
     def lever_hessian(self, frame, G):
         """The plate rotations' second-order term: the carried nodes' forces times the curvature of their paths,
@@ -403,8 +407,6 @@ def first_peak(geom, n_cells, root_extension, n_el, d, beam_model_P1=None, beam_
     "elements", "steps", "seconds"}``
     (P1 None when the force still rises at the end of ``d``; ratio the beam model's P1 over the frame's), or
     ``{"error", "elements", "seconds"}`` when Newton finds no equilibrium."""
-    import time
-    from metamaterial_wb.core.sleeve.frame3d import RingFrame
     t0 = time.perf_counter()
     ring = RingFrame(geom, n_cells, plane="stress", root_extension=root_extension, n_el=n_el)
     try:

@@ -10,6 +10,7 @@ have risen over their inner ends by more than h) gives the order of the cell typ
 ``pipeline.simulated_sequence`` does for the beam model, and the plate's lean on each.
 """
 import math
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -57,20 +58,18 @@ def sequence(ring, up, down):
     return out
 
 
-def frame_sequence(cells, row, d_max, steps, n_el, root_extension, progress=None, paths=False):
-    """``sequence`` of ``frame_cycle`` with the run time, for the ``sleeve`` command (``model.frame_nonlinear``);
-    ``{"error", "seconds"}`` when Newton finds no equilibrium. With ``paths``: ``(that, up, down)``, the two
-    paths (None after an error) for what else reads the cycle (the walker)."""
-    import time
+def frame_sequence(cells, row, d_max, steps, n_el, root_extension, progress=None):
+    """``sequence`` of ``frame_cycle`` with the run time, for the ``sleeve`` command (``model.frame_nonlinear``),
+    or ``{"error", "elements", "seconds"}`` when Newton finds no equilibrium; with the two paths, for what else
+    reads the cycle (the walker): ``(that, up, down)``, the paths None after an error."""
     t0 = time.perf_counter()
     try:
         ring, up, down = frame_cycle(cells, row, d_max, steps, n_el, root_extension, progress=progress)
     except RuntimeError as e:
-        out = {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}
-        return (out, None, None) if paths else out
+        return {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}, None, None
     out = sequence(ring, up, down)
     out.update(elements=n_el, seconds=time.perf_counter() - t0)
-    return (out, up, down) if paths else out
+    return out, up, down
 
 
 def plate_tilt(rotation):

@@ -5,7 +5,8 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.core.sleeve.accuracy import accuracy, frame_nl_note, frame_note, frame_sequence_note
+from metamaterial_wb.core.sleeve.accuracy import (accuracy, frame_nl_note, frame_note, frame_sequence_note,
+                                                  frame_walker_note)
 from metamaterial_wb.core.sleeve.frame3d import curvature_check
 from metamaterial_wb.core.sleeve.frame3d_nl import first_peak
 from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
@@ -212,7 +213,7 @@ def analyse(spec, progress=None, log=None):
         say("sleeve: loading and unloading cycle on the nonlinear 3-D frame")
         seq["frame3d_nl"], fu, fd = frame_sequence(
             spec.cells, spec.pattern[0], float(up.d[-1]), spec.steps, spec.frame_elements, spec.root_extension,
-            lambda path, k, dk: k % 20 or say(f"frame cycle: {path}, d/L {dk:.2f}"), paths=True)
+            lambda path, k, dk: k % 20 or say(f"frame cycle: {path}, d/L {dk:.2f}"))
         frame_paths = (fu, fd) if fu is not None else None
         seq["frame3d_nl"]["agrees_with_model"] = (seq["frame3d_nl"].get("loading") == seq["loading"] and
                                                   seq["frame3d_nl"].get("unloading") == seq["unloading"])
@@ -258,10 +259,7 @@ def analyse(spec, progress=None, log=None):
                               wk["foot_length_mm"], wk["contact_band_mm"], design_axis(model))
             summary["walker"]["frame3d_nl"] = {k: fc[k] for k in ("area_mm2", "lateral_stroke_mm", "lift_mm",
                                                                   "step_per_cycle_mm")}
-            summary["accuracy"]["notes"].append(
-                f"walker on the nonlinear frame: tip loop {fc['area_mm2']:.3g} mm^2, lateral stroke "
-                f"{fc['lateral_stroke_mm']:.3g} mm, step {fc['step_per_cycle_mm']:.3g} mm per cycle (the beam model's: "
-                f"{cyc['area_mm2']:.3g} mm^2, {cyc['lateral_stroke_mm']:.3g} mm, {cyc['step_per_cycle_mm']:.3g} mm)")
+            summary["accuracy"]["notes"].append(frame_walker_note(fc, cyc))
     if spec.design_map:
         dm = spec.design_map
         say("design map")
