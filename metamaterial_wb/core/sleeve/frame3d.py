@@ -54,24 +54,45 @@ def element_stiffness(l, EA, EI2, EI3, GJ):
 
 class RingFrame:
     """The beam model's uniform ring of ``n_cells`` cells of ``geom`` as a 3-D frame (module docstring); with
-    ``row`` (cell type indices around the ring) and ``geom`` a list of cell types, a mixed ring.
+    ``row`` (cell type indices around the ring) and ``geom`` a list of cell types, a mixed ring; with ``pattern``
+    (a list of such rows, ring 0 at the bottom) a sleeve of rings stacked on the axis, each ring's upper bar the
+    next one's lower bar (ties to plate ``r`` of ring ``r``'s lower bar and ring ``r - 1``'s upper bar, at the
+    mean height of the upper one; ``rings``).
     ``plane``: the model's in-plane modulus (``"strain"``, E = 4 G, as its flat ring; ``"stress"``, 3 G);
     ``E_r``: the modulus for bending through the wall (``E_RADIAL``, 3 G, as the model's curvature springs);
     ``G``: the shear modulus of the torsion (1: units of G); ``n_el``, ``root_extension``: the model's."""
 
     def __init__(self, geom, n_cells=4, curved=True, plane="strain", E_r=E_RADIAL, G=1.0, n_el=24,
-                 root_extension=0.0, row=None):
+                 root_extension=0.0, row=None, pattern=None):
         E = modulus(plane)
         mb = _MeshBuilder()
         cells = list(geom) if isinstance(geom, (list, tuple)) else [geom]
-        row = [0] * n_cells if row is None else [int(t) for t in row]
-        n_cells = len(row)
-        geom = cells[row[0]]
-        if len({round(cells[t].width, 12) for t in row}) > 1:
-            raise ValueError(f"row {row}: the cell types' widths differ; a ring needs one width")
+        if pattern is None:
+            pattern = [[0] * n_cells if row is None else [int(t) for t in row]]
+        pattern = [[int(t) for t in r] for r in pattern]
+        n_cells = len(pattern[0])
+        if any(len(r) != n_cells for r in pattern):
+            raise ValueError(f"pattern {pattern}: every ring needs the same number of cells")
+        flat = [t for r in pattern for t in r]
+        geom = cells[flat[0]]
+        if len({round(cells[t].width, 12) for t in flat}) > 1:
+            raise ValueError(f"pattern {pattern}: the cell types' widths differ; a ring needs one width")
         W = geom.width / geom.L
-        add_row_single(mb, row, cells, n_el, E, 0, 1, lambda k: k * W, 0, n_cells * W,
-                       None, "guided", root_extension)
+        top = 0.0                                         # the last ring's upper bar: its ties' mean height
+        for r, row in enumerate(pattern):
+            first = len(mb.X)
+            add_row_single(mb, row, cells, n_el, E, r, r + 1, lambda k: k * W, r * n_cells, n_cells * W,
+                           None, "guided", root_extension)
+
+            def tie_height(p):
+                return float(np.mean([mb.X[i][1] for i, q, _ in mb.ties if i >= first and q == p]))
+            if r:
+                dz = top - tie_height(r)
+                for i in range(first, len(mb.X)):
+                    mb.X[i] = mb.X[i] + (0.0, dz)
+            top = tie_height(r + 1)
+        self.rings = len(pattern)
+        self.pattern = pattern
         X = np.vstack(mb.X)
         self.radius = n_cells * W / (2 * np.pi)
         self.curved = curved
@@ -86,7 +107,7 @@ class RingFrame:
         EA, EI = np.array(mb.EA), np.array(mb.EI)
         b = np.sqrt(12.0 * EI / EA)                       # the section's in-plane width (a link's: its length)
         T = EA / (E * b)                                  # its depth through the wall (geom.T for the real ones)
-        t_min = min(cells[t].t for t in row)
+        t_min = min(cells[t].t for t in flat)
         link = EA > 0.5 * LINK_FACTOR * E * (t_min / geom.L) * (geom.T / geom.L)
         EI_r = E_r * b * T ** 3 / 12.0
         GJ = G * torsion_constant(b, T)
@@ -125,12 +146,14 @@ class RingFrame:
         self.states = [(a, b) for a, b, _ in mb.states]
         self.units = list(mb.units)
         self.cells = cells
-        self.state_types = [row[c] for _, _, c in mb.states]
+        self.state_types = [flat[c] for _, _, c in mb.states]
         self.snap_height = np.array([cells[t].h / cells[t].L for t in self.state_types])
 
     def axial_stiffness(self, return_displacements=False):
         """The ring's axial stiffness: the top plate's force per rise, F / (G L^2) per d / L (tied nodes: all six
-        DOFs held, the top ones raised by one along the axis)."""
+        DOFs held, the top ones raised by one along the axis); one ring only."""
+        if self.rings > 1:
+            raise ValueError(f"axial_stiffness: {self.rings} stacked rings; the linear frame's is for one ring")
         n6 = 6 * self.n_nodes
         fixed = np.zeros(n6, bool)
         u = np.zeros(n6)

@@ -25,39 +25,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from metamaterial_wb.core.sleeve.frame3d import RingFrame
+from metamaterial_wb.core.sleeve.frame3d_plate import RigidPlate, reduce
+from metamaterial_wb.core.sleeve.rotations import expm_so3, logm_so3
 
 H_FD = 1e-6          # finite-difference step (positions in L, rotations in rad)
-
-
-def skew(v):
-    """The cross-product matrices ``[v]x`` (..., 3, 3) of vectors ``v`` (..., 3): ``skew(v) @ w = v x w``."""
-    v = np.asarray(v, float)
-    K = np.zeros(v.shape[:-1] + (3, 3))
-    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
-    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
-    return K
-
-
-def expm_so3(v):
-    """Rotation matrices ``exp(skew(v))`` of rotation vectors ``v`` (..., 3) (Rodrigues)."""
-    v = np.asarray(v, float)
-    a = np.linalg.norm(v, axis=-1)[..., None, None]
-    K = skew(v)
-    small = a < 1e-4
-    s = np.where(small, 1 - a ** 2 / 6, np.sin(a) / np.where(small, 1, a))
-    c = np.where(small, 0.5 - a ** 2 / 24, (1 - np.cos(a)) / np.where(small, 1, a) ** 2)
-    return np.eye(3) + s * K + c * (K @ K)
-
-
-def logm_so3(R):
-    """Rotation vectors (..., 3) of rotation matrices ``R`` (..., 3, 3), angles below pi."""
-    c = (np.trace(R, axis1=-2, axis2=-1) - 1) / 2
-    w = 0.5 * np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1)
-    s = np.linalg.norm(w, axis=-1)
-    a = np.arctan2(s, c)                              # precise near 0, where arccos(c) is not
-    small = a < 1e-4
-    f = np.where(small, 1 + a ** 2 / 6, a / np.where(small, 1, s))
-    return f[..., None] * w
 
 
 def _cross(a, b):
@@ -257,35 +228,35 @@ class NonlinearFrame:
         self.R = expm_so3(dq[:, 3:]) @ self.R
 
     def reduced(self, free, plate=None):
-        """The total energy's gradient and Hessian (sparse CSC) in the ``free`` DOFs and, with a ``RigidPlate``,
-        its three rotations (last)."""
+        """The total energy's gradient and Hessian (sparse CSC) in the ``free`` DOFs and, with a ``RigidPlate``
+        or a list of them, their free DOFs (last; ``frame3d_plate.reduce``)."""
         G, K = self.gradient_hessian()
-        if plate is None:
+        plates = _plates(plate)
+        if not plates:
             return G[free], K[free][:, free].tocsc()
-        nf = int(free.sum())
-        T = plate.reduction(self, free)
-        g = T.T @ G
-        g[nf:] -= plate.work_gradient()
-        a, b = np.divmod(np.arange(9), 3)
-        lever = sp.csc_matrix((plate.lever_hessian(self, G).ravel(), (nf + a, nf + b)), shape=(nf + 3, nf + 3))
-        return g, (T.T @ K @ T).tocsc() + lever
+        return reduce(self, free, plates, G, K)
 
     def lowest_modes(self, free, plate=None, k=4):
-        """The ``k`` lowest eigenvalues of the reduced Hessian (``reduced``) and the plate's share of each mode
-        (its three rotations' part of the unit eigenvector; 0 without a plate): a tilt mode that reaches zero is
-        where the untilted path stops being a minimum."""
+        """The ``k`` lowest eigenvalues of the reduced Hessian (``reduced``) and the plates' rotations' share of
+        each mode (their part of the unit eigenvector; 0 without a plate): a tilt mode that reaches zero is where
+        the untilted path stops being a minimum."""
         _, K = self.reduced(free, plate)
         w, v = spla.eigsh(K, k=k, sigma=-1e-9 * float(abs(K).max()), which="LM")
         order = np.argsort(w)
-        share = (np.linalg.norm(v[-3:], axis=0) if plate is not None else np.zeros(k))[order]
+        rot, first = [], int(free.sum())
+        for p in _plates(plate):
+            first += p.ndof
+            rot += [first - 3, first - 2, first - 1]
+        share = (np.linalg.norm(v[rot], axis=0) if rot else np.zeros(k))[order]
         return w[order], share
 
     def equilibrium(self, free, tol=1e-10, maxit=40, plate=None):
-        """Minimise the energy over the ``free`` DOFs (boolean, 6 n) and, with a ``RigidPlate``, its three
-        rotations, from the current state (Newton, a line search on the energy, a diagonal shift where the step
-        is not a descent; the full step once the decrease it predicts is below the energy's round-off): the
-        iterations taken."""
+        """Minimise the energy over the ``free`` DOFs (boolean, 6 n) and, with a ``RigidPlate`` or a list of
+        them, their free DOFs, from the current state (Newton, a line search on the energy, a diagonal shift where
+        the step is not a descent; the full step once the decrease it predicts is below the energy's round-off):
+        the iterations taken."""
         nf = int(free.sum())
+        plates = _plates(plate)
         for it in range(1, maxit + 1):
             gf, Kff = self.reduced(free, plate)
             if np.max(np.abs(gf)) < tol:
@@ -304,99 +275,68 @@ class NonlinearFrame:
                 raise RuntimeError("no descent direction")
 
             def total():
-                return self.energy() - (plate.work() if plate is not None else 0.0)
+                return self.energy() - sum(p.work() for p in plates)
+
+            def move(v):
+                dq[free] = v[:nf]
+                self.apply(dq)
+                f0 = nf
+                for p in plates:
+                    p.move(self, v[f0:f0 + p.ndof])
+                    f0 += p.ndof
+
+            def back():
+                self.x, self.R = x0.copy(), R0.copy()
+                for p, st in zip(plates, saved):
+                    p.restore(st)
 
             e0 = total()
             x0, R0 = self.x.copy(), self.R.copy()
-            saved = plate.R.copy() if plate is not None else None
+            saved = [p.state() for p in plates]
             dq = np.zeros(6 * self.n)
+            if shift > 0 and self._negative_curvature(Kff, gf, shift, move, back, total, e0):
+                continue
             t = 1.0
             exact = abs(step @ gf) < 1e-12 * abs(e0)      # the decrease is below the energy's round-off: Newton
             for _ in range(30):
-                dq[free] = t * step[:nf]
-                self.apply(dq)
-                if plate is not None:
-                    plate.turn(self, t * step[nf:])
+                move(t * step)
                 if exact or total() <= e0 + 1e-4 * t * (step @ gf) or t < 1e-6:
                     break
-                self.x, self.R = x0.copy(), R0.copy()
-                if plate is not None:
-                    plate.R = saved.copy()
+                back()
                 t *= 0.5
         raise RuntimeError(f"no equilibrium in {maxit} iterations (|gradient| {np.max(np.abs(gf)):.2e})")
 
 
-class RigidPlate:
-    """The ring's top plate as the curved solid's (``fe/sleeve3d.py``): a rigid body carrying the ``nodes``
-    (positions and rotations), its centre on the axis rising as prescribed, its in-plane translation held, free
-    to tilt about X and Y and to twist, loaded by a constant ``moment`` (3,). Its rotation ``R`` moves every node
-    as ``x = c + R (X - c0)``, ``R_node = R``."""
+    @staticmethod
+    def _negative_curvature(K, g, shift, move, back, total, e0):
+        """Where the reduced Hessian ``K`` is not positive definite (it took ``shift`` to make it so), the saddle's
+        way down: its lowest eigenvector (shift-invert just below ``-shift``, where no eigenvalue is), turned
+        against the gradient ``g``, followed by an expanding search (1e-3 to 0.5, the first length that does not
+        lower the energy ends it) - as the beam model's ``minimise``; the shifted Newton step alone crawls off a
+        saddle (two equal rings in series at their shared peak). True when it moved (the state left there)."""
+        try:
+            w, v = spla.eigsh(K, k=1, sigma=-1.5 * shift, which="LM")
+        except (RuntimeError, spla.ArpackNoConvergence):
+            return False
+        if w[0] >= 0:
+            return False
+        v = v[:, 0] * (-1.0 if v[:, 0] @ g > 0 else 1.0)
+        best, best_e, a = 0.0, e0, 1e-3
+        while a <= 0.5:
+            move(a * v)
+            e = total()
+            back()
+            if e >= best_e:
+                break
+            best, best_e, a = a, e, 2 * a
+        if best:
+            move(best * v)
+        return best > 0
 
-    def __init__(self, frame, nodes, moment=(0.0, 0.0, 0.0)):
-        self.nodes = np.asarray(nodes, int)
-        self.c0 = np.array([0.0, 0.0, frame.P[self.nodes, 2].mean()])
-        self.arm0 = frame.P[self.nodes] - self.c0
-        self.R = np.eye(3)
-        self.rise = 0.0
-        self.moment = np.asarray(moment, float)
 
-    def place(self, frame, rise=None):
-        """Put the carried nodes where the plate is (at ``rise``, if given)."""
-        if rise is not None:
-            self.rise = float(rise)
-        frame.x[self.nodes] = self.c0 + [0.0, 0.0, self.rise] + self.arm0 @ self.R.T
-        frame.R[self.nodes] = self.R
-
-    def turn(self, frame, dtheta):
-        """Turn the plate by the rotation vector ``dtheta`` (composed on the left), carrying its nodes."""
-        self.R = expm_so3(dtheta) @ self.R
-        self.place(frame)
-
-    def work(self):
-        """The moment's work, ``M . log(R)``."""
-        return float(self.moment @ logm_so3(self.R))
-
-    def work_gradient(self):
-        """The work's gradient in a left increment of the rotation: ``J^-T M``, with ``J^-1`` the inverse left
-        Jacobian of the rotation vector ``theta = log(R)``, ``I - K / 2 + (1 / a^2 - (1 + cos a) / (2 a sin a)) K^2``
-        (``K`` its skew matrix, ``a`` its angle): consistent with ``work``, so the line search and Newton agree
-        when the plate has turned by degrees."""
-        th = logm_so3(self.R)
-        a = float(np.linalg.norm(th))
-        K = skew(th)
-        c = 1.0 / 12.0 + a * a / 720.0 if a < 1e-3 else 1.0 / a ** 2 - (1 + np.cos(a)) / (2 * a * np.sin(a))
-        Jinv = np.eye(3) - 0.5 * K + c * (K @ K)
-        return Jinv.T @ self.moment
-
-    def tilt(self):
-        """The plate's rotation vector (its X and Y components are the tilt, Z the twist)."""
-        return logm_so3(self.R)
-
-    def reduction(self, frame, free):
-        """``T`` (6 n x (free + 3)): the increments of every DOF from the free ones and the plate's three
-        rotations (a node on the plate moves by ``dtheta x arm`` and turns by ``dtheta``)."""
-        n6, nf = 6 * frame.n, int(free.sum())
-        arm = frame.x[self.nodes] - (self.c0 + [0.0, 0.0, self.rise])
-        k = np.arange(3)
-        dof = 6 * self.nodes[:, None] + k                                     # each carried node's positions
-        rows = [np.flatnonzero(free), np.repeat(dof, 3, axis=1).ravel(), (dof + 3).ravel()]
-        cols = [np.arange(nf), np.tile(nf + k, 3 * len(arm)), np.tile(nf + k, len(arm))]
-        vals = [np.ones(nf), -skew(arm).ravel(), np.ones(3 * len(arm))]    # dx = -[arm]x dtheta, and dtheta
-        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                             shape=(n6, nf + 3))
-
-    def lever_hessian(self, frame, G):
-        """The plate rotations' second-order term: the carried nodes' forces times the curvature of their paths,
-        sum over nodes of ``f . (e_a x (e_b x arm) + e_b x (e_a x arm)) / 2``."""
-        arm = frame.x[self.nodes] - (self.c0 + [0.0, 0.0, self.rise])
-        f = G.reshape(-1, 6)[self.nodes, :3]
-        H = np.zeros((3, 3))
-        E = np.eye(3)
-        for a in range(3):
-            for b in range(3):
-                v = 0.5 * (np.cross(E[a], np.cross(E[b], arm)) + np.cross(E[b], np.cross(E[a], arm)))
-                H[a, b] = float(np.sum(f * v))
-        return H
+def _plates(plate):
+    """``None``, one ``RigidPlate`` or a list of them, as a list."""
+    return [] if plate is None else list(plate) if isinstance(plate, (list, tuple)) else [plate]
 
 
 def first_peak(geom, n_cells, root_extension, n_el, d, beam_model_P1=None, beam_model_plane=None):
@@ -468,57 +408,88 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
     (``NonlinearFrame.lowest_modes``). ``"snapped"`` (k, units): which of the ring's hysterons (the edge
     pillars, each with its two beam halves) have snapped at each state, by the beam model's rule: the mean of
     their halves' outer ends' rises over their inner ends' beyond h / L (``RingFrame.states``), and ``"rises"``
-    (k, states): those rises, per beam half. ``start``: a result of this function to go on from (its frame and
-    plate; e.g. unloading along ``d`` falling from its last rise)."""
+    (k, states): those rises, per beam half. A sleeve of stacked rings (``RingFrame`` of a ``pattern``): the
+    plates between them rise, tilt and twist freely (``RigidPlate(translate=(2,))``, as the beam model's
+    interfaces), ``"ring_rises"`` (k, rings) each ring's own rise (its upper plate's centre's over its lower one's) and
+    ``"plates"`` every plate that moves freely (those between the rings, then the top one if free; ``"plate"``
+    the top one or None). ``start``: a result of this function to go on from (its frame and plates; e.g.
+    unloading along ``d`` falling from its last rise)."""
     if plate not in ("fixed", "free"):
         raise ValueError(f"plate: {plate!r}; allowed: 'fixed', 'free'")
     fr = NonlinearFrame.of_ring(ring) if start is None else start["frame"]
+    M = getattr(ring, "rings", 1)
     free = np.ones(6 * fr.n, bool)
-    top = []
+    on = [[] for _ in range(M + 1)]                      # the nodes tied to each plate, 0 the clamped bottom
     for i, p in ring.ties:
         free[6 * i:6 * i + 6] = False
-        if p == 1:
-            top.append(i)
-    top = np.array(top)
-    rp = None if start is None else start.get("plate")
-    if plate == "free" and rp is None:
-        phi = bias_angle * np.pi / ring.n_cells
-        m = bias * ring.radius
-        rp = RigidPlate(fr, top, (m * np.sin(phi), -m * np.cos(phi), 0.0))
+        on[p].append(i)
+    top = np.array(on[M])
+    if start is None:                                     # the plates between stacked rings: free bodies
+        plates = [RigidPlate(fr, on[p], translate=(2,)) for p in range(1, M)]
+        rp = None
+        if plate == "free":
+            phi = bias_angle * np.pi / ring.n_cells
+            m = bias * ring.radius
+            rp = RigidPlate(fr, top, (m * np.sin(phi), -m * np.cos(phi), 0.0))
+            plates.append(rp)
+    else:
+        plates, rp = start["plates"], start["plate"]
     full = rp.moment.copy() if rp is not None else None
-    F, its, tilt, lows, shares, snapped, rises = [], [], [], [], [], [], []
+    F, its, tilt, lows, shares, snapped, rises, ring_rise = [], [], [], [], [], [], [], []
     a_, b_ = np.array(ring.states).T
     unit_ids = sorted(set(ring.units), key=ring.units.index)
     unit_of = np.array([unit_ids.index(u) for u in ring.units])
     d = np.asarray(d, float)
-    last = None
-    for k, dk in enumerate(d):
-        if predict and last is not None and k >= 2 and d[k - 1] != d[k - 2]:      # secant predictor from the last two states
-            s = (dk - d[k - 1]) / (d[k - 1] - d[k - 2])
-            x1, R1 = fr.x.copy(), fr.R.copy()
-            P1 = rp.R.copy() if rp is not None else None
-            fr.x = x1 + s * (x1 - last[0])
-            fr.R = expm_so3(s * logm_so3(R1 @ np.transpose(last[1], (0, 2, 1)))) @ R1
-            if rp is not None:
-                rp.R = expm_so3(s * logm_so3(P1 @ last[2].T)) @ P1
-            last = (x1, R1, P1)
-        else:
-            last = (fr.x.copy(), fr.R.copy(), rp.R.copy() if rp is not None else None)
+    def state():
+        return fr.x.copy(), fr.R.copy(), [p.state() for p in plates]
+
+    def restore(st):
+        fr.x, fr.R = st[0].copy(), st[1].copy()
+        for p, ps in zip(plates, st[2]):
+            p.restore(ps)
+            p.place(fr)
+
+    def raise_to(dk):
         if rp is None:
             fr.x[top, 2] = fr.P[top, 2] + dk
         else:
             rp.place(fr, dk)
             if bias_ramp:
                 rp.moment = full * min(1.0, dk / bias_ramp)
-        its.append(fr.equilibrium(free, tol, plate=rp))
+
+    last = None
+    for k, dk in enumerate(d):
+        now = state()
+        if predict and last is not None and k >= 2 and d[k - 1] != d[k - 2]:      # secant predictor from the last two states
+            s = (dk - d[k - 1]) / (d[k - 1] - d[k - 2])
+            fr.x = now[0] + s * (now[0] - last[0])
+            fr.R = expm_so3(s * logm_so3(now[1] @ np.transpose(last[1], (0, 2, 1)))) @ now[1]
+            for p, (R1, c1), (R0, c0) in zip(plates, now[2], last[2]):
+                p.restore((expm_so3(s * logm_so3(R1 @ R0.T)) @ R1, c1 + s * (c1 - c0)))
+                p.place(fr)
+        last = now
+        raise_to(dk)
+        try:
+            its.append(fr.equilibrium(free, tol, plate=plates))
+        except RuntimeError:
+            # a jump (the secant extrapolates the last one, or the state leaves its branch here): from the last
+            # state without the prediction, in quarter steps, with more iterations each
+            restore(now)
+            n = 0
+            for dj in np.linspace(d[k - 1] if k else 0.0, dk, 5)[1:]:
+                raise_to(dj)
+                n += fr.equilibrium(free, tol, maxit=200, plate=plates)
+            its.append(n)
         G, _ = fr.gradient_hessian(hessian=False)
         F.append(float(G[6 * top + 2].sum()))
         tilt.append(rp.tilt() if rp is not None else np.zeros(3))
+        levels = np.array([0.0] + [p.shift[2] for p in plates if p.translate] + [dk])
+        ring_rise.append(np.diff(levels))
         rise = (fr.x - fr.P)[a_, 2] - (fr.x - fr.P)[b_, 2]
         rises.append(rise)
         snapped.append(np.bincount(unit_of, rise - ring.snap_height) / np.bincount(unit_of) > 0)
         if modes:
-            w, sh = fr.lowest_modes(free, rp, modes)
+            w, sh = fr.lowest_modes(free, plates, modes)
             lows.append(w)
             shares.append(sh)
         if progress:
@@ -527,7 +498,8 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
             d = d[:k + 1]
             break
     out = {"d": d, "F": np.array(F), "iterations": its, "tilt": np.array(tilt), "snapped": np.array(snapped),
-           "rises": np.array(rises), "frame": fr, "plate": rp}
+           "rises": np.array(rises), "ring_rises": np.array(ring_rise), "frame": fr, "plate": rp,
+           "plates": plates}
     if modes:
         out.update(modes=np.array(lows), plate_share=np.array(shares))
     return out
