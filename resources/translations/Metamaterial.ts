@@ -122,7 +122,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="109"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
@@ -296,7 +296,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="94"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="95"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
@@ -391,7 +391,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -417,12 +417,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="289"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="290"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="307"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -448,23 +448,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="325"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="326"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="264"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="265"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="267"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="268"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="320"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="283"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="321"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="284"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -512,7 +512,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
-        <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (a few seconds per cell type) and the ring's snapping sequence and lean (about half a minute). Needs the curved single-layout ring</source>
+        <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (a few seconds per cell type) and the sleeve's snapping sequence and lean (about half a minute per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -563,12 +563,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="229"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="230"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="251"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="252"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
@@ -598,7 +598,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="110"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
@@ -633,7 +633,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="178"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="179"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -643,12 +643,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="315"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="316"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="312"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="313"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>

@@ -112,11 +112,10 @@ def test_frame_sequence_note_sets_the_frames_sequence_beside_the_models():
     fs = {"loading": [0, 1], "unloading": [1, 0], "symmetric": True, "lean_reverses": False, "elements": 12,
           "seconds": 27.0, "max_tilt_loading_deg": 3.1, "max_tilt_unloading_deg": 4.4, "agrees_with_model": False}
     seq = {"loading": [1, 0], "unloading": [1, 0], "symmetric": False, "frame3d_nl": fs}
-    note = acc.frame_sequence_note(seq, 1)
+    note = acc.frame_sequence_note(seq)
     assert "loading [0, 1], unloading [1, 0] (symmetric)" in note and "the same way" in note
     assert "the beam model's: loading [1, 0], unloading [1, 0] (asymmetric) - they differ" in note
-    assert "not computed (2 stacked rings" in acc.frame_sequence_note({"loading": [0]}, 2)
-    assert acc.frame_sequence_note({"frame3d_nl": {"error": "no equilibrium"}}, 1).endswith("none (no equilibrium)")
+    assert acc.frame_sequence_note({"frame3d_nl": {"error": "no equilibrium"}}).endswith("none (no equilibrium)")
 
 
 def test_frame_note_names_the_type_the_ratio_and_the_measured_match():

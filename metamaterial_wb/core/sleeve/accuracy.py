@@ -124,12 +124,10 @@ def frame_nl_note(cell_type, n_cells, check, force_unit_N, L_mm):
                    f"{FRAME_NL_P1_OFF:+d} % off and the calibrated beam model's {PLANAR_P1_OFF:+d} %; docs/sleeves.md)")
 
 
-def frame_sequence_note(seq, rings):
+def frame_sequence_note(seq):
     """The accuracy note on the snapping sequence: the nonlinear frame's (``seq["frame3d_nl"]``,
     ``frame3d_sequence.frame_sequence``) beside the beam model's, or why there is none."""
-    fs = seq.get("frame3d_nl")
-    if fs is None:
-        return (f"sequence on the nonlinear frame: not computed ({rings} stacked rings; the frame models one ring)")
+    fs = seq["frame3d_nl"]
     if "error" in fs:
         return f"sequence on the nonlinear frame: none ({fs['error']})"
 
@@ -138,8 +136,10 @@ def frame_sequence_note(seq, rings):
     lean = (f"the plate leaning up to {fs['max_tilt_loading_deg']:.1f} deg on loading and "
             f"{fs['max_tilt_unloading_deg']:.1f} deg on unloading, " +
             ("the other way" if fs["lean_reverses"] else "the same way"))
-    return (f"sequence on the nonlinear frame ({fs['elements']} elements per beam half, the curved solid's free "
-            f"plate; {fs['seconds']:.0f} s): loading {fs['loading']}, unloading {fs['unloading']} ({word(fs)}), "
+    rings = fs.get("rings", 1)
+    stack = f"{rings} stacked rings, the plates between them free to rise and tilt, " if rings > 1 else ""
+    return (f"sequence on the nonlinear frame ({fs['elements']} elements per beam half, {stack}the curved solid's "
+            f"free top plate; {fs['seconds']:.0f} s): loading {fs['loading']}, unloading {fs['unloading']} ({word(fs)}), "
             f"{lean}; the beam model's: loading {seq['loading']}, unloading {seq['unloading']} ({word(seq)}) - "
             + ("the same" if fs["agrees_with_model"] else "they differ, and the frame's curved ring is the closer "
                "to the curved solid (docs/sleeves.md)"))

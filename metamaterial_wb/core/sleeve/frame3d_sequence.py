@@ -20,12 +20,14 @@ from metamaterial_wb.core.sleeve.frame3d import RingFrame
 from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
 
 
-def frame_cycle(cells, row, d_max, steps=120, n_el=12, root_extension=0.63, bias=1e-5, bias_angle=0.5,
+def frame_cycle(cells, pattern, d_max, steps=120, n_el=12, root_extension=0.63, bias=1e-5, bias_angle=0.5,
                 progress=None):
-    """Load the ring ``row`` of ``cells`` (plane stress, the free plate with the bias moment ramped over the
+    """Load the ring ``pattern`` of ``cells`` (one row of cell types, or a list of rows: rings stacked, the plates
+    between them free) on the frame (plane stress, the free top plate with the bias moment ramped over the
     loading) from 0 to ``d_max`` (d / L) in ``steps`` and unload it back: ``(ring, up, down)``, two
     ``trace_ring`` results. ``progress(path, k, d)`` after every state (``path`` "loading" or "unloading")."""
-    ring = RingFrame(cells, len(row), plane="stress", root_extension=root_extension, n_el=n_el, row=row)
+    rows = [list(pattern)] if np.ndim(pattern) == 1 else [list(r) for r in pattern]
+    ring = RingFrame(cells, plane="stress", root_extension=root_extension, n_el=n_el, pattern=rows)
     d = np.linspace(0.0, d_max, steps + 1)
 
     def tell(path):
@@ -54,17 +56,18 @@ def sequence(ring, up, down):
         out[f"max_tilt_{name}_deg"] = float(math.degrees(np.hypot(*tilt[k])))
         out[f"lean_{name}_deg"] = float(math.degrees(math.atan2(lean[1], lean[0]))) if np.any(lean) else None
     out["symmetric"] = bool(out["loading"][::-1] == out["unloading"])
+    out["rings"] = ring.rings
     out["lean_reverses"] = bool(np.dot(leans[0], leans[1]) < 0)
     return out
 
 
-def frame_sequence(cells, row, d_max, steps, n_el, root_extension, progress=None):
+def frame_sequence(cells, pattern, d_max, steps, n_el, root_extension, progress=None):
     """``sequence`` of ``frame_cycle`` with the run time, for the ``sleeve`` command (``model.frame_nonlinear``),
     or ``{"error", "elements", "seconds"}`` when Newton finds no equilibrium; with the two paths, for what else
     reads the cycle (the walker): ``(that, up, down)``, the paths None after an error."""
     t0 = time.perf_counter()
     try:
-        ring, up, down = frame_cycle(cells, row, d_max, steps, n_el, root_extension, progress=progress)
+        ring, up, down = frame_cycle(cells, pattern, d_max, steps, n_el, root_extension, progress=progress)
     except RuntimeError as e:
         return {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}, None, None
     out = sequence(ring, up, down)

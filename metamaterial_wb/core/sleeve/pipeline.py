@@ -209,10 +209,10 @@ def analyse(spec, progress=None, log=None):
            "agrees_with_two_hysteron": bool(sim["loading"] == rule["loading"]
                                             and sim["unloading"] == rule["unloading"])}
     frame_paths = None
-    if spec.frame_nonlinear and spec.M == 1:
+    if spec.frame_nonlinear:
         say("sleeve: loading and unloading cycle on the nonlinear 3-D frame")
         seq["frame3d_nl"], fu, fd = frame_sequence(
-            spec.cells, spec.pattern[0], float(up.d[-1]), spec.steps, spec.frame_elements, spec.root_extension,
+            spec.cells, spec.pattern, float(up.d[-1]), spec.steps, spec.frame_elements, spec.root_extension,
             lambda path, k, dk: k % 20 or say(f"frame cycle: {path}, d/L {dk:.2f}"))
         frame_paths = (fu, fd) if fu is not None else None
         seq["frame3d_nl"]["agrees_with_model"] = (seq["frame3d_nl"].get("loading") == seq["loading"] and
@@ -242,7 +242,7 @@ def analyse(spec, progress=None, log=None):
     summary["accuracy"]["notes"] += [frame_nl_note(u["type"], n, u["frame3d_nl"], Fscale, L)
                                      for u in uniform if "frame3d_nl" in u]
     if spec.frame_nonlinear:
-        summary["accuracy"]["notes"].append(frame_sequence_note(seq, spec.M))
+        summary["accuracy"]["notes"].append(frame_sequence_note(seq))
     if spec.walker:
         wk = spec.walker
         H = spec.M * max(g.height for g in spec.cells)
