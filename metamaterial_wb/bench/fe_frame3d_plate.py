@@ -31,7 +31,7 @@ def plate_study(n_el=12, e=0.63, step=0.005, runs=RUNS):
         d = np.linspace(0.0, d_max, int(round(d_max / step)) + 1)
         t0 = time.perf_counter()
         r = trace_ring(RingFrame(CellGeometry(), n, plane="stress", root_extension=e, n_el=n_el), d, plate="free",
-                       bias=bias, modes=modes, bias_ramp=ramp)
+                       bias=bias, modes=modes, bias_ramp=ramp, stable=bias > 0)   # unbiased: the untilted path
         th = r["tilt"]
         row = {"cells": n, "bias": bias, "bias_ramp": ramp, "d": d.tolist(), "F": r["F"].tolist(),
                "tilt_deg": np.degrees(np.hypot(th[:, 0], th[:, 1])).tolist(),

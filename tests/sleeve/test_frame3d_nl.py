@@ -22,10 +22,12 @@ def test_rotation_vectors_round_trip_small_and_large():
 def test_flat_ring_retraces_the_2d_beam_model_through_its_peak():
     """Lying in a plane the 3-D frame is the 2-D model's corotational ring (a separate code: 2-D angles against
     3-D rotation matrices and finite-difference derivatives): the same force to 1e-7 up to d/L 0.15, past the
-    peak, with the beams turning by tens of degrees."""
+    peak, with the beams turning by tens of degrees. The in-plane path (``stable=False``): past d/L 0.08 the flat
+    ring in 3-D would rather buckle out of its plane (lateral-torsional, a negative eigenvalue), which the 2-D model
+    cannot."""
     g = CellGeometry()
     d = np.linspace(0, 0.15, 16)
-    r = trace_ring(RingFrame(g, 4, curved=False, n_el=6, root_extension=0.63), d)
+    r = trace_ring(RingFrame(g, 4, curved=False, n_el=6, root_extension=0.63), d, stable=False)
     p = SleeveModel([g], [[0] * 4], 6, curvature=False, root_extension=0.63).trace(d)
     assert np.max(np.abs(r["F"] - p.F)) < 1e-7 * np.max(np.abs(p.F))
     assert np.argmax(p.F) < len(d) - 1                                 # the peak is inside the range
@@ -231,7 +233,7 @@ def test_snapped_flags_follow_the_beam_model_through_the_snap():
     model's states against the frame's on its node positions)."""
     g = CellGeometry()
     d = np.linspace(0, 0.6, 61)
-    r = trace_ring(RingFrame(g, 1, curved=False, n_el=6, root_extension=0.63), d)
+    r = trace_ring(RingFrame(g, 1, curved=False, n_el=6, root_extension=0.63), d, stable=False)   # in its plane
     m = SleeveModel([g], None, 6, curvature=False, root_extension=0.63)
     p = m.trace(d)
     assert np.max(np.abs(r["F"] - p.F)) < 1e-7 * np.max(np.abs(p.F))
@@ -244,3 +246,14 @@ def test_contiguous_groups_around_the_ring():
     from metamaterial_wb.bench.fe_frame3d_plate import contiguous
     assert contiguous([1, 1, 1, 0, 0, 0, 0, 0]) and contiguous([1, 0, 0, 0, 0, 0, 1, 1])
     assert not contiguous([1, 0, 1, 0, 0, 0, 0, 0]) and contiguous([0] * 8) and contiguous([1] * 8)
+
+
+def test_flat_ring_leaves_its_plane_where_the_in_plane_path_is_a_saddle():
+    """The flat ring's in-plane path past d/L 0.08 is a saddle in 3-D (a negative eigenvalue, lateral-torsional);
+    with ``stable`` (the default) Newton leaves it down that mode, out of the plane and to a lower energy."""
+    g = CellGeometry()
+    d = np.linspace(0, 0.15, 16)
+    flat = trace_ring(RingFrame(g, 4, curved=False, n_el=6, root_extension=0.63), d, stable=False)
+    out = trace_ring(RingFrame(g, 4, curved=False, n_el=6, root_extension=0.63), d)
+    assert np.abs(flat["frame"].x[:, 1]).max() < 1e-9 < 1e-3 < np.abs(out["frame"].x[:, 1]).max()
+    assert out["frame"].energy() < flat["frame"].energy()

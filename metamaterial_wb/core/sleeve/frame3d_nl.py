@@ -14,9 +14,11 @@ strains small per element. Nodes carry positions and rotation matrices, updated 
 (``NonlinearFrame._axial``), bending and twisting by finite differences on each element's nine relative
 increments (``_stencil``: 181 perturbed states, every element's evaluated in one vectorised pass), assembled
 sparse. The equilibrium at each prescribed rise is an energy minimum found by Newton with a line search (a
-shift where the Hessian is not positive definite) from a secant prediction. Displacement control, the top
-plate raised without tilt or twist (the curved solid's four-cell ring tilts by less than 0.2 degrees). Units as
-the model's.
+shift where the Hessian is not positive definite, its lowest mode followed down where it is indefinite) from a
+secant prediction; a converged state that is a saddle (by the signs of its pivots) is left down its lowest mode,
+so every state is a minimum (``stable``). Displacement control, the top plate raised without tilt or twist (the
+curved solid's four-cell ring tilts by less than 0.2 degrees) or free to tilt and twist (``frame3d_plate``);
+rings stacked (``RingFrame(pattern=...)``) with the plates between them free. Units as the model's.
 """
 import time
 
@@ -27,6 +29,7 @@ import scipy.sparse.linalg as spla
 from metamaterial_wb.core.sleeve.frame3d import RingFrame
 from metamaterial_wb.core.sleeve.frame3d_plate import RigidPlate, reduce
 from metamaterial_wb.core.sleeve.rotations import expm_so3, logm_so3
+from metamaterial_wb.core.sleeve.tangent import min_eig_sparse, symmetric_lu
 
 H_FD = 1e-6          # finite-difference step (positions in L, rotations in rad)
 
@@ -250,20 +253,27 @@ class NonlinearFrame:
         share = (np.linalg.norm(v[rot], axis=0) if rot else np.zeros(k))[order]
         return w[order], share
 
-    def equilibrium(self, free, tol=1e-10, maxit=40, plate=None):
+    def equilibrium(self, free, tol=1e-10, maxit=40, plate=None, stable=True):
         """Minimise the energy over the ``free`` DOFs (boolean, 6 n) and, with a ``RigidPlate`` or a list of
         them, their free DOFs, from the current state (Newton, a line search on the energy, a diagonal shift where
         the step is not a descent; the full step once the decrease it predicts is below the energy's round-off):
-        the iterations taken."""
+        the iterations taken. With ``stable`` a state where the gradient vanishes but the reduced Hessian has a
+        negative eigenvalue (below -1e-10 of its largest diagonal entry; by its pivots' signs, Sylvester) is a
+        saddle, left down its lowest eigenvector (``_negative_curvature``, at most ten times) - the symmetric
+        state a symmetric structure keeps by itself, e.g. two equal rings in series past their shared peak."""
         nf = int(free.sum())
         plates = _plates(plate)
+        escapes = 0
         for it in range(1, maxit + 1):
             gf, Kff = self.reduced(free, plate)
+            saddle = False
             if np.max(np.abs(gf)) < tol:
-                return it - 1
+                if not stable or escapes >= 10 or symmetric_lu(Kff)[1] == 0:
+                    return it - 1
+                saddle = True
             shift = 0.0
             scale = float(np.abs(Kff.diagonal()).max())
-            for _ in range(60):
+            for _ in range(0 if saddle else 60):
                 try:
                     step = spla.spsolve(Kff + shift * sp.identity(Kff.shape[0], format="csc"), -gf)
                 except RuntimeError:
@@ -272,7 +282,8 @@ class NonlinearFrame:
                     break
                 shift = max(4 * shift, 1e-8 * scale)
             else:
-                raise RuntimeError("no descent direction")
+                if not saddle:
+                    raise RuntimeError("no descent direction")
 
             def total():
                 return self.energy() - sum(p.work() for p in plates)
@@ -294,8 +305,16 @@ class NonlinearFrame:
             x0, R0 = self.x.copy(), self.R.copy()
             saved = [p.state() for p in plates]
             dq = np.zeros(6 * self.n)
-            if shift > 0 and self._negative_curvature(Kff, gf, shift, move, back, total, e0):
-                continue
+            if saddle or shift > 0:
+                # a converged state counts as a saddle below -1e-10 of the scale (the differenced Hessian's
+                # soft modes stay above that); before that, any way down helps
+                moved = self._negative_curvature(Kff, gf, 1e-10 * scale if saddle else 0.0, move, back, total, e0)
+                if saddle:
+                    if not moved:
+                        return it - 1
+                    escapes += 1
+                if moved:
+                    continue
             t = 1.0
             exact = abs(step @ gf) < 1e-12 * abs(e0)      # the decrease is below the energy's round-off: Newton
             for _ in range(30):
@@ -306,21 +325,27 @@ class NonlinearFrame:
                 t *= 0.5
         raise RuntimeError(f"no equilibrium in {maxit} iterations (|gradient| {np.max(np.abs(gf)):.2e})")
 
-
     @staticmethod
-    def _negative_curvature(K, g, shift, move, back, total, e0):
-        """Where the reduced Hessian ``K`` is not positive definite (it took ``shift`` to make it so), the saddle's
-        way down: its lowest eigenvector (shift-invert just below ``-shift``, where no eigenvalue is), turned
-        against the gradient ``g``, followed by an expanding search (1e-3 to 0.5, the first length that does not
-        lower the energy ends it) - as the beam model's ``minimise``; the shifted Newton step alone crawls off a
-        saddle (two equal rings in series at their shared peak). True when it moved (the state left there)."""
-        try:
-            w, v = spla.eigsh(K, k=1, sigma=-1.5 * shift, which="LM")
-        except (RuntimeError, spla.ArpackNoConvergence):
+    def _negative_curvature(K, g, floor, move, back, total, e0):
+        """Where the reduced Hessian ``K`` has an eigenvalue below ``-floor``, the way down from the saddle: its
+        lowest eigenvector (``tangent.min_eig_sparse``), turned against the gradient ``g`` (where ``g`` does not
+        tell, towards the lower energy 1e-3 either way), followed by an expanding search (1e-3 to 0.5; the first
+        length that does not lower the energy ends it) - as the beam model's ``minimise``; the shifted Newton step
+        alone crawls off a saddle, and at a symmetric one it stays. True when it moved (the state left there)."""
+        w, v = min_eig_sparse(K, k=1)
+        if w[0] >= -floor:
             return False
-        if w[0] >= 0:
-            return False
-        v = v[:, 0] * (-1.0 if v[:, 0] @ g > 0 else 1.0)
+        v = v[:, 0]
+        gv = float(v @ g)
+        if abs(gv) <= 1e-6 * float(np.linalg.norm(g)) or not np.any(g):
+            side = []
+            for sgn in (1.0, -1.0):
+                move(sgn * 1e-3 * v)
+                side.append(total())
+                back()
+            v = -v if side[1] < side[0] else v
+        elif gv > 0:
+            v = -v
         best, best_e, a = 0.0, e0, 1e-3
         while a <= 0.5:
             move(a * v)
@@ -394,7 +419,7 @@ def reference_gradient_hessian(frame, h=H_FD):
 
 
 def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=False, plate="fixed", bias=1e-5,
-               bias_angle=0.5, modes=0, bias_ramp=None, start=None):
+               bias_angle=0.5, modes=0, bias_ramp=None, start=None, stable=True):
     """The ``frame3d.RingFrame`` ``ring``'s force along the rises ``d`` (d / L, increasing from 0): the bottom
     bar clamped, the top one raised; ``{"d", "F", "iterations", "tilt", "frame"}`` with F / (G L^2) (the top
     nodes' reaction along the axis) and the top plate's rotation vectors (k, 3). ``plate``: ``"fixed"``, raised
@@ -413,7 +438,9 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
     interfaces), ``"ring_rises"`` (k, rings) each ring's own rise (its upper plate's centre's over its lower one's) and
     ``"plates"`` every plate that moves freely (those between the rings, then the top one if free; ``"plate"``
     the top one or None). ``start``: a result of this function to go on from (its frame and plates; e.g.
-    unloading along ``d`` falling from its last rise)."""
+    unloading along ``d`` falling from its last rise). ``stable``: every state a minimum (``equilibrium``: a
+    saddle is left down its lowest mode); False keeps a symmetric path through its bifurcations, as the unbiased
+    solid's (``bench/fe_frame3d_plate.py``'s untilted runs, which read the tilt pair's zero off it)."""
     if plate not in ("fixed", "free"):
         raise ValueError(f"plate: {plate!r}; allowed: 'fixed', 'free'")
     fr = NonlinearFrame.of_ring(ring) if start is None else start["frame"]
@@ -470,7 +497,7 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         last = now
         raise_to(dk)
         try:
-            its.append(fr.equilibrium(free, tol, plate=plates))
+            its.append(fr.equilibrium(free, tol, plate=plates, stable=stable))
         except RuntimeError:
             # a jump (the secant extrapolates the last one, or the state leaves its branch here): from the last
             # state without the prediction, in quarter steps, with more iterations each
@@ -478,7 +505,7 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
             n = 0
             for dj in np.linspace(d[k - 1] if k else 0.0, dk, 5)[1:]:
                 raise_to(dj)
-                n += fr.equilibrium(free, tol, maxit=200, plate=plates)
+                n += fr.equilibrium(free, tol, maxit=200, plate=plates, stable=stable)
             its.append(n)
         G, _ = fr.gradient_hessian(hessian=False)
         F.append(float(G[6 * top + 2].sum()))

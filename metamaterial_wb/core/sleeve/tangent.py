@@ -5,8 +5,62 @@ A mixin of :class:`metamaterial_wb.core.sleeve.model.SleeveModel` (it uses ``sel
 ``self.tilt_reference`` and ``self._energy``)."""
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 DEGENERATE = 0.05       # two lowest eigenvalues within 5 %: one (symmetry-degenerate) mode pair
+
+
+def symmetric_lu(K):
+    """The symmetric-mode LU of the sparse symmetric ``K`` (CSC; diagonal pivots, ``P K P^T = L D L^T``) and
+    the number of its negative eigenvalues by Sylvester's law of inertia (the signs of the pivots): ``(lu,
+    negatives)``; ``(None, 1)`` when ``K`` is exactly singular, ``(lu, None)`` when SuperLU had to pivot off the
+    diagonal (the inertia is then unknown from U)."""
+    try:
+        lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    except RuntimeError:
+        return None, 1
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return lu, None
+    return lu, int(np.sum(lu.U.diagonal() < 0))
+
+
+def min_eig_sparse(K, k=1):
+    """Smallest eigenpair of a sparse symmetric indefinite ``K``: bracket the eigenvalue by
+    inertia (signs of the symmetric-mode LU pivots of K - s I, Sylvester), then shift-invert."""
+    n = K.shape[0]
+    I = sp.identity(n, format="csc")
+    absK = abs(K)
+    gersh = float(np.min(2 * K.diagonal() - np.asarray(absK.sum(axis=1)).ravel()))
+    lo = min(gersh, -1e-300) * 1.01          # below every eigenvalue
+
+    def below(sv):
+        """True when some eigenvalue lies below sv (None if the inertia is unknown)."""
+        neg = symmetric_lu((K - sv * I).tocsc())[1]
+        return None if neg is None else neg > 0
+
+    hi = -abs(lo) * 1e-15
+    ok = True
+    for _ in range(60):                      # geometric bisection on the magnitude
+        if abs(lo) / abs(hi) < 4:
+            break
+        mid = -np.sqrt(abs(lo) * abs(hi))
+        b = below(mid)
+        if b is None:
+            ok = False
+            break
+        if b:
+            hi = mid
+        else:
+            lo = mid
+    try:
+        if not ok:
+            raise RuntimeError
+        lam, vec = spla.eigsh(K, k=k, sigma=lo, which="LM", tol=1e-8,
+                              v0=np.ones(K.shape[0]))      # deterministic start
+        return lam, vec
+    except Exception:
+        return sla.eigh(K.toarray(), subset_by_index=[0, k - 1], check_finite=False)
 
 
 class TangentSolver:
@@ -20,7 +74,7 @@ class TangentSolver:
         symmetric state), the one of lower energy a small step away; when both are equal, the
         one along the tilt reference (the imperfection's direction)."""
         if self.sparse:
-            lam, vec = self._min_eig_sparse(K, k=2)
+            lam, vec = min_eig_sparse(K, k=2)
         else:
             lam, vec = sla.eigh(K, subset_by_index=[0, min(1, len(K) - 1)], check_finite=False)
         order = np.argsort(lam)
@@ -62,62 +116,14 @@ class TangentSolver:
             except np.linalg.LinAlgError:
                 return None, False
             return (lambda b: sla.cho_solve(C, b, check_finite=False)), True
-        import scipy.sparse.linalg as spla
-        try:
-            lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                           options={"SymmetricMode": True})
-        except RuntimeError:                  # exactly singular
+        lu, neg = symmetric_lu(K)
+        if lu is None:                        # exactly singular
             return None, False
-        if not np.array_equal(lu.perm_r, lu.perm_c):
+        if neg is None:
             # off-diagonal pivoting happened: inertia unknown from U; decide densely
             return self._factor_dense(K.toarray())
         # symmetric permutation P K P^T = L D L^T (Sylvester): positive definite <=> all pivots > 0
         return lu.solve, bool(np.all(lu.U.diagonal() > 0))
-
-    def _min_eig_sparse(self, K, k=1):
-        """Smallest eigenpair of a sparse symmetric indefinite ``K``: bracket the eigenvalue by
-        inertia (signs of the symmetric-mode LU pivots of K - s I, Sylvester), then shift-invert."""
-        import scipy.sparse as sp
-        import scipy.sparse.linalg as spla
-        n = K.shape[0]
-        I = sp.identity(n, format="csc")
-        absK = abs(K)
-        gersh = float(np.min(2 * K.diagonal() - np.asarray(absK.sum(axis=1)).ravel()))
-        lo = min(gersh, -1e-300) * 1.01          # below every eigenvalue
-
-        def below(sv):
-            """True when some eigenvalue lies below sv (None if the inertia is unknown)."""
-            try:
-                lu = spla.splu((K - sv * I).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                               options={"SymmetricMode": True})
-            except RuntimeError:
-                return True
-            if not np.array_equal(lu.perm_r, lu.perm_c):
-                return None
-            return bool(np.any(lu.U.diagonal() < 0))
-
-        hi = -abs(lo) * 1e-15
-        ok = True
-        for _ in range(60):                      # geometric bisection on the magnitude
-            if abs(lo) / abs(hi) < 4:
-                break
-            mid = -np.sqrt(abs(lo) * abs(hi))
-            b = below(mid)
-            if b is None:
-                ok = False
-                break
-            if b:
-                hi = mid
-            else:
-                lo = mid
-        try:
-            if not ok:
-                raise RuntimeError
-            lam, vec = spla.eigsh(K, k=k, sigma=lo, which="LM", tol=1e-8,
-                                  v0=np.ones(K.shape[0]))      # deterministic start
-            return lam, vec
-        except Exception:
-            return sla.eigh(K.toarray(), subset_by_index=[0, k - 1], check_finite=False)
 
     def _factor_dense(self, K):
         try:
