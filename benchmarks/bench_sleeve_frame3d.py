@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The curved sleeve ring as a linear 3-D frame against the curved CalculiX solid (issue 18).
 
-    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--plate] [--sequence] [--no-write]
+    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--plate] [--sequence] [--stacked] [--no-write]
 
 Builds the frame (``metamaterial_wb/core/sleeve/frame3d.py``) of every ring size the solid was run for
 (``benchmarks/results/fe-ring3d.json``, ``cells``; ``bench_sleeve_ring3d.py --cells``), flat and curved, in two
@@ -9,7 +9,8 @@ moduli and two root extensions (a few seconds in all, no ccx), stores them in
 ``benchmarks/results/frame3d.json`` and rewrites its section of docs/sleeves.md. ``--nonlinear`` traces the
 four-cell ring nonlinearly (about 40 s), ``--plate`` the four- and eight-cell rings with the solid's free plate
 (``bench/fe_frame3d_plate.py``, about 1 min), ``--sequence`` the seed's two mixed rings' cycles on it (about
-4 min); otherwise their stored runs are reused.
+4 min), ``--stacked`` the seed's combinations as two stacked rings (``bench/fe_frame3d_stack.py``, about 12 min);
+otherwise their stored runs are reused.
 """
 import argparse
 import json
@@ -34,6 +35,8 @@ def main(argv=None):
                     "free, biased top plate and follow their tilt pair (about 2 min); else the stored runs are reused")
     ap.add_argument("--sequence", action="store_true", help="the seed's combinations 1 and 2 loaded and unloaded on "
                     "the frame with the free plate (about 4 min); else the stored runs are reused")
+    ap.add_argument("--stacked", action="store_true", help="the seed's combinations as two stacked rings on the "
+                    "frame, on 6 and 12 elements, and on the beam model (about 12 min); else the stored runs are reused")
     a = ap.parse_args(argv)
     comp = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))
     s = fe_frame3d.study(comp["cells"])
@@ -57,8 +60,15 @@ def main(argv=None):
         s["sequence"] = fe_frame3d_plate.sequence_study()
     elif os.path.exists(old):
         s["sequence"] = json.load(open(old)).get("sequence")
+    from metamaterial_wb.bench import fe_frame3d_stack
+    if a.stacked:
+        s["stacked"] = fe_frame3d_stack.stacked_study()
+    elif os.path.exists(old):
+        s["stacked"] = json.load(open(old)).get("stacked")
     section = fe_frame3d.markdown(s, ([fe_frame3d_plate.markdown(s["plate"], comp)] if s.get("plate") else []) +
-                                  ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []))
+                                  ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []) +
+                                  ([fe_frame3d_stack.stacked_markdown(s["stacked"], s.get("sequence") or {})]
+                                   if s.get("stacked") else []))
     print(section)
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))
@@ -67,6 +77,8 @@ def main(argv=None):
             fine = comp["p1_r4_C3D20"]
             if s.get("plate"):
                 fe_frame3d_plate.plot(s["plate"], comp, os.path.join(ROOT, "docs", fe_frame3d_plate.IMG))
+            if s.get("stacked"):
+                fe_frame3d_stack.plot(s["stacked"], os.path.join(ROOT, "docs", fe_frame3d_stack.IMG))
             fe_frame3d.plot_nonlinear(s["nonlinear"], {"d": fine["d"], "F": fine["F"],
                                                        "label": "CalculiX curved solid, r = 4, all C3D20"},
                                       comp["curved_calibrated"], os.path.join(ROOT, "docs", fe_frame3d.IMG))

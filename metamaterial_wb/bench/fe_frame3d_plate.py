@@ -320,9 +320,10 @@ def sequence_markdown(st, root_extension=0.63):
             text += (", " + ("which the mixed ring on the frame follows" if (f12["loading"] == rule_load and
                                                                              f12["unloading"] == rule_unload)
                              else f"which the mixed ring on the frame does not follow ({seq(f12)}): the frame does not "
-                                  "reproduce the seed's asymmetric sequence (a likely reason, not tested: the cells "
-                                  "share one plate and do not snap as independent hysterons when their thresholds lie "
-                                  "this close; the beam model's own ring does not follow the rule either)"))
+                                  "reproduce the seed's asymmetric sequence. The same two types as two stacked rings "
+                                  "do follow it (below): the cells of a mixed ring share one plate and do not snap as "
+                                  "independent hysterons when their thresholds lie this close (the beam model's own "
+                                  "mixed ring does not follow the rule either)"))
         text += "."
     L += ["", text, ""]
     return "\n".join(L)
