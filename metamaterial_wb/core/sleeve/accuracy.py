@@ -137,7 +137,7 @@ def frame_sequence_note(seq):
             f"{fs['max_tilt_unloading_deg']:.1f} deg on unloading, " +
             ("the other way" if fs["lean_reverses"] else "the same way"))
     rings = fs.get("rings", 1)
-    stack = f"{rings} stacked rings, the plates between them free to rise and tilt, " if rings > 1 else ""
+    stack = f"{rings} stacked rings, the plates between them free to rise, tilt and twist, " if rings > 1 else ""
     return (f"sequence on the nonlinear frame ({fs['elements']} elements per beam half, {stack}the curved solid's "
             f"free top plate; {fs['seconds']:.0f} s): loading {fs['loading']}, unloading {fs['unloading']} ({word(fs)}), "
             f"{lean}; the beam model's: loading {seq['loading']}, unloading {seq['unloading']} ({word(seq)}) - "
