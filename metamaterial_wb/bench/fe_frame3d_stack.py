@@ -39,14 +39,14 @@ def stacked_study(meshes=(6, 12), root_extension=0.63, steps=240):
     for key, comb in SEED_COMBINATIONS.items():
         cells = [CellGeometry(L=L, c=base["c_mm"], delta=base["delta_mm"], T=base["T_mm"], t=t * L, h=h * L)
                  for h, t in comb["cells"]]
-        frames, paths = {}, None
+        frames = {}
         for n_el in meshes:
             fs, up, down = frame_sequence(cells, pattern, 2 * default_stroke(cells), steps, n_el, root_extension)
             pv = peaks_valleys(up["d"], up["F"])
             frames[str(n_el)] = dict({k: v for k, v in fs.items() if not k.startswith("events")},
                                      peaks=[p for _, p in pv["peaks"]], valleys=[v for _, v in pv["valleys"]])
-            paths = {name: {"d": r["d"].tolist(), "F": r["F"].tolist(), "ring_rises": r["ring_rises"].tolist()}
-                     for name, r in (("loading", up), ("unloading", down))}
+        paths = {name: {"d": r["d"].tolist(), "F": r["F"].tolist(), "ring_rises": r["ring_rises"].tolist()}
+                 for name, r in (("loading", up), ("unloading", down))}          # the finest mesh's, for the plot
         spec = {k: v for k, v in base.items() if k != "ring"}
         spec.update(cell_types=[{"t_mm": t * L, "h_mm": h * L} for h, t in comb["cells"]], pattern=pattern,
                     walker=False)

@@ -92,7 +92,6 @@ class RingFrame:
                     mb.X[i] = mb.X[i] + (0.0, dz)
             top = tie_height(r + 1)
         self.rings = len(pattern)
-        self.pattern = pattern
         X = np.vstack(mb.X)
         self.radius = n_cells * W / (2 * np.pi)
         self.curved = curved

@@ -205,7 +205,8 @@ class NonlinearFrame:
         return G, K
 
     def _axial(self, hessian=True):
-        """The stretching energy's exact gradient (m, 12) and Hessian (m, 12, 12): with k = EA / l0, f = k (l - l0) and e the chord's direction, the force f e on node j and its
+        """The stretching energy's exact gradient (m, 12) and Hessian (m, 12, 12): with k = EA / l0,
+        f = k (l - l0) and e the chord's direction, the force f e on node j and its
         tangent k e e^T + f / l (I - e e^T) in the relative position."""
         i, j = self.conn[:, 0], self.conn[:, 1]
         d = self.x[j] + self.shift3 - self.x[i]
@@ -444,7 +445,7 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
     if plate not in ("fixed", "free"):
         raise ValueError(f"plate: {plate!r}; allowed: 'fixed', 'free'")
     fr = NonlinearFrame.of_ring(ring) if start is None else start["frame"]
-    M = getattr(ring, "rings", 1)
+    M = ring.rings
     free = np.ones(6 * fr.n, bool)
     on = [[] for _ in range(M + 1)]                      # the nodes tied to each plate, 0 the clamped bottom
     for i, p in ring.ties:
