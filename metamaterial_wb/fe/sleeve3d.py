@@ -150,6 +150,34 @@ class RingMesh(Mesh):
         q = self.quad.corner_elements(dist, low)
         return np.concatenate([q + k * self.quad.n_elements for k in range(self.n_layers)])
 
+    def beam_ends(self):
+        """The free beams' ends, as the beam model and the frame read a hysteron (``analysis.snap_order``): per
+        beam half (cell ``k``'s right half, then its left half, cell by cell) the node ids of its outer end (on
+        the edge pillar's face, centre line ``x = +-L/2``) and of its inner end (on the central pillar's face,
+        ``x = +-c/2``), through the wall (every level that has a node there), and ``units`` (per half): the edge
+        pillar it hangs on, pillar ``k`` between cells ``k`` and ``k + 1``. ``{"outer": (halves, m), "inner":
+        (halves, m), "units": (halves,)}`` 0-based."""
+        g = self.geom
+        span = self.cells * g.width
+        x = (np.arctan2(self.nodes[:, 1], self.nodes[:, 0]) * self.radius) % span
+        key = np.column_stack([x, self.nodes[:, 2]])
+        from scipy.spatial import cKDTree
+        tree = cKDTree(key)
+        ends = {p: sleeve2d._beam_point(g, p, 0.0) for p in (0.5 * g.c, 0.5 * g.L)}
+        out = {"outer": [], "inner": [], "units": []}
+        for k in range(self.cells):
+            for side in (1, -1):
+                for name, p in (("outer", 0.5 * g.L), ("inner", 0.5 * g.c)):
+                    at = ((k * g.width + side * ends[p][0]) % span, ends[p][1])
+                    ids = sorted(tree.query_ball_point(at, 1e-6 * g.L))
+                    if not ids:
+                        raise AssertionError(f"no node at the beam end {at} of cell {k}")
+                    out[name].append(ids)
+                out["units"].append(k if side > 0 else (k - 1) % self.cells)
+        m = min(len(i) for i in out["outer"] + out["inner"])
+        return {"outer": np.array([i[:m] for i in out["outer"]]), "inner": np.array([i[:m] for i in out["inner"]]),
+                "units": np.array(out["units"])}
+
     def exact_volume(self):
         """The wrapped solid's volume from the 2-D outline's area ``A``: a wall between radii ``rho_0`` and
         ``rho_1`` wrapped at ``phi = x / R`` has ``dV = (rho / R) dA drho``, so ``V = A T rho_mid / R``."""
@@ -206,7 +234,7 @@ def _checked(n_cells, r, n_layers):
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
                 radial="free", method="static", element="C3D20R", patient=False, stability=0, shapes=False,
-                imperfection=None, full_near=0.0, print_all=False, full_low=False):
+                imperfection=None, full_near=0.0, print_all=False, full_low=False, watch=None):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
@@ -234,7 +262,9 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     0.468 (docs/sleeves.md, "One or two stages"). ``full_low=True``: with the bricks of the beam's continuation
     into the edge pillar (``edge_pillar_low``) within ``full_near`` of the pillar's side too: on r = 3 those
     reduced bricks fold the same way (nodal ``det F`` 0.77) and stop Newton at d/L 0.157. ``print_all=True`` prints every node's displacement at every
-    increment (set ``ALLN``; ``solve_ring3d`` returns the last converged one)."""
+    increment (set ``ALLN``; ``solve_ring3d`` returns the last converged one). ``watch``: 0-based node ids whose
+    displacements are printed at every increment (set ``WATCH``; ``solve_ring3d`` returns them all: the beams'
+    ends, ``RingMesh.beam_ends``, for ``hysterons``)."""
     mesh = ring_mesh(g, n_cells, r, n_layers)
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
@@ -251,6 +281,11 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     d_max = 0.25 * g.L if d_max is None else float(d_max)
     if not 0 < d_max <= 1.5 * g.L:
         raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 1.5 L = {1.5 * g.L:g} mm")
+    if watch is not None:
+        watch = np.unique(np.asarray(watch, dtype=np.int64).ravel())
+        if not watch.size or watch[0] < 0 or watch[-1] >= mesh.n_nodes:
+            raise ValueError(f"watch: {watch.size} node ids from {watch.min() if watch.size else '-'} to "
+                             f"{watch.max() if watch.size else '-'}; allowed: 1 or more of 0 to {mesh.n_nodes - 1}")
     X = mesh.nodes
     full = mesh.beam_end_elements(full_near, low=full_low)
     tol = 1e-7 * g.L
@@ -272,6 +307,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
            ("*NSET, NSET=SHAPE\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if shapes else ""),
            ("*NSET, NSET=ALLN\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if print_all else ""),
+           ("*NSET, NSET=WATCH\n" + ccx.fmt_set(watch + 1) if watch is not None else ""),
            "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
            ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" or stability else ""),
            "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
@@ -297,7 +333,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
                + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "") + f"{bc}"
                "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n"
-               + ("*NODE PRINT, NSET=ALLN\nU\n" if print_all else "") + "*END STEP\n")
+               + ("*NODE PRINT, NSET=ALLN\nU\n" if print_all else "")
+               + ("*NODE PRINT, NSET=WATCH\nU\n" if watch is not None else "") + "*END STEP\n")
     if stability:
         out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n"
                    + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
@@ -323,7 +360,8 @@ def _element_text(mesh, element, full_ids):
 
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
                  partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0,
-                 shapes=False, imperfection=None, bias_angle=0.5, full_near=0.0, print_all=False, full_low=False):
+                 shapes=False, imperfection=None, bias_angle=0.5, full_near=0.0, print_all=False, full_low=False,
+                 watch=None):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
@@ -332,11 +370,13 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     the tilt pair and the twist are told apart by it; its size, as ccx normalises the modes to unit mass: a mode
     that leaves the plate still has none), and ``stable`` (all positive); with ``shapes=True`` the curve holds
     ``"modes"``, ``(n, n_nodes, 3)``; with ``print_all=True`` ``"u"``, the last converged increment's node
-    displacements ``(n_nodes, 3)`` (``RingMesh.volume_ratios`` reads them). ``full_near``, ``full_low``: ``ring_deck3d``."""
+    displacements ``(n_nodes, 3)`` (``RingMesh.volume_ratios`` reads them); with ``watch`` (node ids) ``"u_watch"``,
+    ``(k, len(watch), 3)``, those nodes' displacements at every point of the curve (zero at the start), in the
+    order given. ``full_near``, ``full_low``: ``ring_deck3d``."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, bias_angle, radial=radial, method=method,
                              element=element, patient=patient, stability=stability, shapes=shapes,
                              imperfection=imperfection, full_near=full_near, print_all=print_all,
-                             full_low=full_low)
+                             full_low=full_low, watch=watch)
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -363,11 +403,33 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     last = tables.get(("displacements", "ALLN"), [])[:len(t)]
     if print_all and last:
         out["u"] = np.array([last[-1][1][i + 1][:3] for i in range(meta["mesh"].n_nodes)])
+    if watch is not None:
+        ids = np.asarray(watch, dtype=np.int64).ravel() + 1
+        rows_w = tables.get(("displacements", "WATCH"), [])[:len(t)]
+        out["u_watch"] = np.array([np.zeros((ids.size, 3))] + [[r_[1][i][:3] for i in ids] for r_ in rows_w])
     allu = tables.get(("displacements", "SHAPE"), [])
     if shapes and allu:
         n = meta["mesh"].n_nodes
         out["modes"] = np.array([[r_[1].get(i + 1, np.zeros(3))[:3] for i in range(n)] for r_ in allu])
     return out, info
+
+
+def hysterons(mesh, ends, u_watch, watch):
+    """The hysterons' states along a run, by the beam model's rule (``analysis.snap_order``; the frame's
+    ``trace_ring``): each beam half's rise, its outer end's axial displacement over its inner end's (each the
+    mean through the wall) in units of L, ``(k, halves)``, and per edge pillar (``ends["units"]``) whether it has
+    snapped: the mean of its two halves' rises beyond ``h / L``, ``(k, n_cells)``. ``ends``:
+    ``RingMesh.beam_ends``; ``u_watch`` (k, m, 3): the displacements of the nodes ``watch`` (``solve_ring3d``)."""
+    pos = {int(n): i for i, n in enumerate(np.asarray(watch).ravel())}
+    uz = np.asarray(u_watch, float)[:, :, 2]
+
+    def mean_z(ids):
+        return np.stack([uz[:, [pos[int(n)] for n in row]].mean(axis=1) for row in ids], axis=1)
+    rise = (mean_z(ends["outer"]) - mean_z(ends["inner"])) / mesh.geom.L
+    units = ends["units"]
+    over = rise - mesh.geom.h / mesh.geom.L
+    snapped = np.stack([over[:, units == u].mean(axis=1) > 0 for u in range(mesh.cells)], axis=1)
+    return rise, snapped
 
 
 def all_extrema(d, F, rel_prominence=0.02):
@@ -392,4 +454,4 @@ def all_extrema(d, F, rel_prominence=0.02):
 
 peak_valley = sleeve2d.peak_valley
 
-__all__ = ["ring_mesh", "ring_deck3d", "solve_ring3d", "all_extrema", "peak_valley", "RingMesh"]
+__all__ = ["ring_mesh", "ring_deck3d", "solve_ring3d", "hysterons", "all_extrema", "peak_valley", "RingMesh"]

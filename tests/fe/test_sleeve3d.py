@@ -92,7 +92,9 @@ def test_deck_has_curved_bricks_a_rigid_tilting_plate_and_the_bias():
                                     ({"method": "riks"}, "method"),
                                     ({"element": "C3D8"}, "element"), ({"d_max": -1.0}, "d_max"),
                                     ({"stability": -1}, "stability"), ({"stability": True}, "stability"),
-                                    ({"full_near": -1.0}, "full_near")])
+                                    ({"full_near": -1.0}, "full_near"),
+                                    ({"watch": [-1, 3]}, r"watch: 2 node ids from -1 to 3; allowed: 1 or more of 0 to"),
+                                    ({"watch": [10 ** 6]}, "watch: 1 node ids"), ({"watch": []}, "watch: 0 node ids")])
 def test_bad_inputs_name_the_value_and_the_range(kw, msg):
     with pytest.raises(ValueError, match=msg):
         sleeve3d.ring_deck3d(CellGeometry(), **kw)
@@ -300,16 +302,86 @@ def test_smallest_curved_ring_against_the_flat_ring():
 def test_tiny_run_with_fully_integrated_beam_corners_returns_every_node():
     """r = 1, two bricks through the wall, two increments to d/L 0.01: the C3D20 bricks at the beam's corners
     (``full_near``) run in the same deck as the reduced rest, stiffen the ring by about a percent only (on r = 2
-    0.8 % up to d/L 0.25, docs/sleeves.md), and ``print_all`` returns the displacements the volume ratios read."""
+    0.8 % up to d/L 0.25, docs/sleeves.md), ``print_all`` returns the displacements the volume ratios read and
+    ``watch`` the beam ends' at every increment, which the hysteron count reads."""
     g = CellGeometry()
     kw = dict(d_max=0.01 * g.L, increments=2, timeout_s=120)
     plain, _ = sleeve3d.solve_ring3d(g, 4, 1, 2, **kw)
-    full, info = sleeve3d.solve_ring3d(g, 4, 1, 2, full_near=1.0, print_all=True, **kw)
+    m = sleeve3d.ring_mesh(g, 4, 1, 2)
+    watch = np.concatenate([m.beam_ends()["inner"].ravel(), m.beam_ends()["outer"].ravel()])
+    full, info = sleeve3d.solve_ring3d(g, 4, 1, 2, full_near=1.0, print_all=True, watch=watch, **kw)
     assert info["d_reached"] == pytest.approx(0.01) and info["full_elements"] > 0
     k = lambda c: np.interp(0.005, c["d"], c["F"]) / 0.005          # noqa: E731
     assert 1.0 <= k(full) / k(plain) < 1.03
-    m = sleeve3d.ring_mesh(g, 4, 1, 2)
     assert full["u"].shape == (m.n_nodes, 3) and "u" not in plain
     J, S = m.volume_ratios(full["u"])
     assert np.allclose(np.prod(S, axis=2), 1.0, atol=2e-3)             # nearly incompressible at the Gauss points
     assert J.min() > 0.9
+    # the watched beam ends come back at every increment, in the order asked, as the full print has them
+    ends = m.beam_ends()
+    watch = np.concatenate([ends["inner"].ravel(), ends["outer"].ravel()])
+    assert full["u_watch"].shape == (3, watch.size, 3) and not full["u_watch"][0].any()
+    assert np.allclose(full["u_watch"][-1], full["u"][watch], atol=1e-12)
+    rise, snapped = sleeve3d.hysterons(m, ends, full["u_watch"], watch)
+    # each edge pillar rises with the plate (here untilted) while the central pillars stay near the clamp: every
+    # half's outer end has risen by most of d over its inner end, none snapped (h / L = 0.42 is far off)
+    assert rise.shape == (3, 8) and np.all(rise[0] == 0)
+    assert np.all((0.75 * 0.01 < rise[-1]) & (rise[-1] < 0.01)) and not snapped.any()
+
+
+@pytest.mark.parametrize("n_cells,r,n_layers", [(4, 1, 1), (8, 1, 2), (4, 2, 1)])
+def test_beam_ends_are_the_free_beams_ends_through_the_wall(n_cells, r, n_layers):
+    """Every half cell's free beam ends at the edge pillar's face (centre line at x = +-L/2) and the central
+    pillar's face (x = +-c/2), one node per level of the wall that has one there; each edge pillar carries two
+    halves, one of each neighbouring cell."""
+    g = CellGeometry()
+    m = sleeve3d.ring_mesh(g, n_cells, r, n_layers)
+    e = m.beam_ends()
+    halves = 2 * n_cells
+    # the centre line is a mid-side node of the quads for odd r (on the wall's faces and between its layers), a
+    # corner for even r (on every level of the wall: faces and mid-layers)
+    levels = n_layers + 1 if r % 2 else 2 * n_layers + 1
+    assert e["outer"].shape == e["inner"].shape == (halves, levels)
+    assert sorted(np.bincount(e["units"]).tolist()) == [2] * n_cells
+    x = np.arctan2(m.nodes[:, 1], m.nodes[:, 0]) * m.radius
+    rho = np.hypot(m.nodes[:, 0], m.nodes[:, 1])
+    for h in range(halves):
+        k, side = h // 2, (1, -1)[h % 2]
+        for name, p in (("outer", g.L / 2), ("inner", g.c / 2)):
+            ids = e[name][h]
+            want = sleeve2d._beam_point(g, p, 0.0)
+            dx = (x[ids] - (k * g.width + side * want[0]) + 0.5 * n_cells * g.width) % (n_cells * g.width)
+            assert np.allclose(dx, 0.5 * n_cells * g.width, atol=1e-9)
+            assert np.allclose(m.nodes[ids, 2], want[1], atol=1e-9)
+            assert np.allclose(np.sort(rho[ids]), np.linspace(m.radius - g.T / 2, m.radius + g.T / 2, levels))
+        # the half hangs on the edge pillar on its side: cell k's right one is pillar k, its left one k - 1
+        assert e["units"][h] == (k if side > 0 else (k - 1) % n_cells)
+
+
+def test_hysterons_snap_by_the_mean_of_a_pillars_two_halves():
+    """The beam model's rule on the solid's beam ends: a pillar has snapped when its two halves' outer ends have
+    risen over their inner ends by more than h on average; one half far over h and its partner under does not
+    snap it unless the mean is over h. Rises are means through the wall, in units of L."""
+    g = CellGeometry()
+    m = sleeve3d.ring_mesh(g, 4, 1, 1)
+    e = m.beam_ends()
+    watch = np.concatenate([e["outer"].ravel(), e["inner"].ravel()])
+    pos = {int(n): i for i, n in enumerate(watch)}
+    u = np.zeros((3, watch.size, 3))
+    halves_of = {p: np.flatnonzero(e["units"] == p) for p in range(4)}
+    h = g.h
+    for half in halves_of[2]:                       # pillar 2: both halves 1.2 h over their inner ends (point 1)
+        for n in e["outer"][half]:
+            u[1, pos[int(n)], 2] = 1.2 * h
+    a, b = halves_of[0]                             # pillar 0: 1.9 h and 0.3 h at point 1 (mean 1.1 h), 1.9 h
+    for half, z1, z2 in ((a, 1.9 * h, 1.9 * h), (b, 0.3 * h, 0.0)):   # and 0 at point 2 (mean 0.95 h)
+        for n in e["outer"][half]:
+            u[1, pos[int(n)], 2], u[2, pos[int(n)], 2] = z1, z2
+    for n in e["inner"][halves_of[3][0]]:           # an inner end lifted through the wall unevenly: the mean counts
+        u[1, pos[int(n)], 2] = 0.1 * h
+    u[1, pos[int(e["inner"][halves_of[3][0]][0])], 2] = 0.4 * h
+    rise, snapped = sleeve3d.hysterons(m, e, u, watch)
+    assert rise.shape == (3, 8)
+    assert rise[1, halves_of[2]] == pytest.approx([1.2 * h / g.L] * 2)
+    assert rise[1, halves_of[3][0]] == pytest.approx(-0.25 * h / g.L)      # (0.4 + 0.1) / 2 through the wall
+    assert snapped.tolist() == [[False] * 4, [True, False, True, False], [False] * 4]
