@@ -44,6 +44,10 @@ def main(argv=None):
     fam = family_convergence(comp, "_C3D20")
     s["fe_family"] = {"p1_ext": fam["p1_ext"], "valley_ext": fam["valley_ext"]}
     s["planar_calibrated"] = {k: comp["curved_calibrated"][k] for k in ("d", "F", "n_el", "root_extension")}
+    s["fe_secants"] = fe_frame3d.fe_secants(comp)
+    raw = json.load(open(os.path.join(RESULTS, "fe-ring3d.json")))
+    s["held"] = {part: run["p1"] for part, run in raw.get("p1_held", {}).items()}
+    s["held"]["free"] = raw.get("cells", {}).get("4", {}).get("fe_curved_p1")
     old = os.path.join(RESULTS, "frame3d.json")
     if a.nonlinear:
         s["nonlinear"] = fe_frame3d.nonlinear_study()
@@ -65,7 +69,9 @@ def main(argv=None):
         s["stacked"] = fe_frame3d_stack.stacked_study()
     elif os.path.exists(old):
         s["stacked"] = json.load(open(old)).get("stacked")
-    section = fe_frame3d.markdown(s, ([fe_frame3d_plate.markdown(s["plate"], comp)] if s.get("plate") else []) +
+    off = (fe_frame3d.p1_off(s["nonlinear"], s["fe_family"], s["planar_calibrated"])[0]
+           if s.get("nonlinear") else None)
+    section = fe_frame3d.markdown(s, ([fe_frame3d_plate.markdown(s["plate"], comp, off)] if s.get("plate") else []) +
                                   ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []) +
                                   ([fe_frame3d_stack.stacked_markdown(s["stacked"], s.get("sequence") or {})]
                                    if s.get("stacked") else []))

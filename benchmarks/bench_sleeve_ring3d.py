@@ -161,17 +161,23 @@ def cells_p1_prefix(element="C3D20R", bias=BIAS):
     return ("c3d20_" if element == "C3D20" else "") + (f"bias{bias:g}_" if bias != BIAS else "")
 
 
-def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R", bias=BIAS):
+def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R", bias=BIAS, timeout_s=5400.0):
     """The curved ring's first peak by ring size: static, mesh r = 1 with two bricks through the wall (0.01 d/L per
     increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation). With
-    ``element="C3D20"`` every brick is fully integrated; the fields' prefix: ``cells_p1_prefix``."""
+    ``element="C3D20"`` every brick is fully integrated; the fields' prefix: ``cells_p1_prefix``. The beams' ends
+    are printed at every increment: ``p1_rises`` (per point, per beam half: ``sleeve3d.hysterons``) with the halves'
+    edge pillars ``p1_units`` and their snap height ``p1_snap_height`` (h / L) give the snapped hysterons."""
     from metamaterial_wb.fe import sleeve3d
     from metamaterial_wb.fe.sleeve_check import first_peak
     g = cell_geometry()
     out = {}
     for n in ns:
+        mesh = sleeve3d.ring_mesh(g, n, 1, 2)
+        ends = mesh.beam_ends()
+        watch = np.concatenate([ends["outer"].ravel(), ends["inner"].ravel()])
         c, info = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=d_max * g.L, increments=int(round(100 * d_max)),
-                                        timeout_s=5400, partial=True, element=element, bias=bias)
+                                        timeout_s=timeout_s, partial=True, element=element, bias=bias, watch=watch)
+        rises, _snapped = sleeve3d.hysterons(mesh, ends, c["u_watch"], watch)
         at, P1 = first_peak(c["d"], c["F"])
         ok = bool(np.isfinite(P1))                     # None: no peak before the run ended (see p1_stopped)
         pre = cells_p1_prefix(element, bias)
@@ -180,9 +186,29 @@ def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R", bias=BIAS):
                "p1_stopped": info.get("stopped", "")[:200], "p1_curve": {"d": c["d"].tolist(), "F": c["F"].tolist()},
                "p1_tilt_deg_max": float(np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).max()),
                "p1_tilt_deg": np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).tolist(), "p1_bias": bias,
-               "p1_extrema": sleeve3d.all_extrema(c["d"], c["F"])}
+               "p1_extrema": sleeve3d.all_extrema(c["d"], c["F"]),
+               "p1_rises": np.round(rises, 6).tolist(), "p1_units": ends["units"].tolist(), "p1_snap_height": g.h / g.L}
         out[str(n)] = {pre + k: v for k, v in row.items()}
         print(n, out[str(n)], flush=True)
+    return out
+
+
+def held_p1(parts=("bars", "fixed", "pillars"), timeout_s=3600.0):
+    """The four-cell curved ring's first peak with one part of the wall held at its radius (``radial=<part>``;
+    ``"fixed"``: all of it), on the ``cells_p1`` mesh and steps (r = 1, two bricks through the wall, 0.01 d/L per
+    increment, C3D20R): which freedom the frame's pillars clamped at their bars' faces were missing
+    (docs/sleeves.md). Beside ``cells["4"]["fe_curved_p1"]``, the same ring free."""
+    from metamaterial_wb.fe import sleeve3d
+    from metamaterial_wb.fe.sleeve_check import first_peak
+    g = cell_geometry()
+    out = {}
+    for part in parts:
+        c, info = sleeve3d.solve_ring3d(g, 4, 1, 2, d_max=0.17 * g.L, increments=17, timeout_s=timeout_s,
+                                        partial=True, radial=part)
+        at, P1 = first_peak(c["d"], c["F"])
+        out[part] = {"p1": float(P1), "p1_d": float(at), "wall_s": info["wall_s"], "d_reached": info["d_reached"],
+                     "stopped": info.get("stopped", "")[:300], "d": c["d"].tolist(), "F": c["F"].tolist()}
+        print(part, out[part]["p1"], out[part]["p1_d"], f"{info['wall_s']:.0f} s", flush=True)
     return out
 
 
@@ -337,6 +363,8 @@ def main(argv=None):
     ap.add_argument("--cells-p1-dmax", type=float, default=0.17, help="d/L of the --cells-p1 runs")
     ap.add_argument("--cells-p1-element", default="C3D20R", choices=("C3D20R", "C3D20"), help="the --cells-p1 "
                     "runs' bricks (C3D20: every brick fully integrated, stored with the prefix c3d20_)")
+    ap.add_argument("--held-p1", default=None, help="comma list of parts (sleeve3d.PARTS or 'fixed'): the four-cell "
+                    "ring's first peak with that part held at its radius (ccx, 2-5 min each)")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.p1_element == "C3D20" and a.p1_full_near:
@@ -380,9 +408,11 @@ def main(argv=None):
         _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
                          for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")],
                                               d_max=a.cells_p1_dmax, element=a.cells_p1_element,
-                                              bias=a.cells_p1_bias).items()}, merge=True)
+                                              bias=a.cells_p1_bias, timeout_s=a.timeout).items()}, merge=True)
     if a.stiffness:
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
+    if a.held_p1:
+        _store("p1_held", held_p1(a.held_p1.split(","), timeout_s=a.timeout), merge=True)
     if a.radial_fixed:
         tr = run_fe(d_max=0.7, increments=a.increments, timeout_s=a.timeout, radial="fixed")
         print(f"radial fixed: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)

@@ -37,6 +37,9 @@ def study(fe_cells, root_extensions=(0.0, 0.63), n_el=24):
                 t0 = time.perf_counter()
                 r[f"frame_{key}_{e:g}"] = RingFrame(g, int(n), root_extension=e, n_el=n_el, **kw).axial_stiffness()
                 times.append(time.perf_counter() - t0)
+        # the frame before: every pillar clamped at its bar's face (``bar_root=0``)
+        r[f"frame_stress_{e:g}_bar0"] = RingFrame(g, int(n), root_extension=e, n_el=n_el, plane="stress",
+                                                  bar_root=0.0).axial_stiffness()
         r["frame_s"] = float(np.median(times))
         out[str(n)] = r
     return {"root_extensions": list(root_extensions), "n_el": n_el, "cells": out}
@@ -102,7 +105,9 @@ def p1_sensitivity(n_el=12, e=0.63, d_max=0.25, step=0.005):
 
     def p1(ring):
         return float(trace_ring(ring, d, stop_after_peak=True)["F"].max())
-    out = {"base": p1(base)}
+    out = {"base": p1(base), "bar_root": base.bar_root}
+    # the frame before: every pillar clamped at its bar's face
+    out["bar_root_0"] = p1(RingFrame(g, 4, plane="stress", root_extension=e, n_el=n_el, bar_root=0.0)) / out["base"] - 1
     for key, which, prop, f in SENSITIVITIES:
         r = copy.deepcopy(base)
         v = getattr(r, prop).copy()
@@ -117,11 +122,11 @@ def sensitivity_sentence(sens):
     names = {"all": "every element", "beams": "the beams", "pillars": "the pillars"}
     parts = [f"{prop} of {names[which]} x{f:g}: {100 * sens[key]:+.1f} % ({sens[key] / (f - 1):.2f} per unit)"
              for key, which, prop, f in SENSITIVITIES if key in sens]
-    return (" What could carry the frame's excess: its first peak moves by " + "; ".join(parts) + " (EI2: bending "
+    return (" How the first peak depends on each section property: it moves by " + "; ".join(parts) + " (EI2: bending "
             "through the wall, GJ: twisting, EA: stretching, EI3: bending in the wall; `fe_frame3d.p1_sensitivity`, "
             "12 elements per beam half). Bending in the wall weighs most but is the flat cell's, which the calibration "
             "matched to the solid; of what curvature adds, the through-wall bending of the short, wide pillars "
-            "(modelled as thin beams) weighs most, twisting and stretching little.")
+            "(their roots in the bars included) weighs most, twisting and stretching little.")
 
 
 def p1_off(nl, fe, planar):
@@ -152,6 +157,14 @@ def nonlinear_markdown(nl, fe, planar, sens=None):
     _, fpe, efp, _ = fe["p1_ext"]
     dve, fve, efv, _ = fe["valley_ext"]
     off, off_planar = p1_off(nl, fe, planar)
+    last = nl[max(nl, key=int)]
+    _, _, dvf, fvf = peak_valley(last["d"], last["F"])
+    if abs(fvf - fve) <= efv:
+        valley = (f"its valley within the solid's error bar ({1e3 * fvf:.3f}e-3 at d/L {dvf:.3f}, "
+                  f"{100 * (fvf / fve - 1):+.0f} %)")
+    else:
+        valley = (f"its valley {'deeper' if fvf < fve else 'shallower'} and {'later' if dvf > dve else 'earlier'} "
+                  f"than the solid's ({1e3 * fvf:.3f}e-3 at d/L {dvf:.3f})")
     return ("**The frame made nonlinear** (`core/sleeve/frame3d_nl.py`: corotational 3-D beams, the same sections; "
             "the top raised without tilt, as the solid's four-cell ring hardly tilts; plane stress, calibrated; "
             "flat it retraces the 2-D beam model's nonlinear ring to 1e-7, tested): " + "; ".join(parts) + ". The curved "
@@ -159,9 +172,37 @@ def nonlinear_markdown(nl, fe, planar, sens=None):
             f"{1e3 * fve:.3f} +- {1e3 * efv:.3f} at d/L {dve:.3f}. So the frame has the solid's shape - one peak at "
             f"the solid's place, a stable descent, a positive valley, the last stiffening; no second peak - and its "
             f"P1 is {off:+.0f} % off the solid's, where the planar beam model's calibrated ring is "
-            f"{off_planar:+.0f} % off and pulls back (a negative valley); the frame's valley is deeper and later than the solid's. The "
+            f"{off_planar:+.0f} % off and pulls back (a negative valley); {valley}. The "
             "default `sleeve` model is unchanged; the frame's first peak is an option of the `sleeve` command "
             "(`frame_nonlinear`, docs/scene-format.md)." + (sensitivity_sentence(sens) if sens else ""))
+
+
+def bar_root_markdown(sens, held, fe):
+    """The paragraph on the pillars' roots in the bars: the solid's first peak with one part held at its radius
+    (``held``: P1 per part and ``"free"``, ``bench_sleeve_ring3d.py --held-p1``) and the frame's with its pillars
+    clamped at the bars' faces or bending on through them (``sens``: ``p1_sensitivity``), against the solid's
+    extrapolated P1 (``fe["p1_ext"]``)."""
+    if not sens or "bar_root_0" not in sens or not held.get("free") or "bars" not in held:
+        return ""
+    _, fpe, efp, _ = fe["p1_ext"]
+    p1, p0 = sens["base"], sens["base"] * (1 + sens["bar_root_0"])
+    names = {"bars": "the bars", "pillars": "the pillars", "fixed": "the whole wall"}
+    others = "; ".join(f"{names.get(k, k)} held {1e3 * v:.3f}e-3 ({100 * (v / held['free'] - 1):+.0f} %)"
+                       for k, v in held.items() if k not in ("free", "bars"))
+    return ("**Where the frame's excess was.** The frame used to clamp each pillar at its bar's face, as the planar "
+            "model does (its bars are rigid). In the printed sleeve and the solid the pillar's own material runs on "
+            "through its bar, c / 2 high, to the clamped face or the plate's, and bends through the wall there too. "
+            "The solid says this is the freedom that mattered: with its bars held at their radius (`bench_sleeve_ring3d.py "
+            f"--held-p1`; four cells, mesh r = 1, two bricks through the wall) its first peak rises from "
+            f"{1e3 * held['free']:.3f}e-3 to {1e3 * held['bars']:.3f}e-3 ({100 * (held['bars'] / held['free'] - 1):+.1f} %)"
+            + (f" ({others}, towards the flat ring's)" if others else "") +
+            f". The frame with its pillars clamped at the bars' faces peaks at {1e3 * p0:.3f}e-3, "
+            f"{100 * (p0 / fpe - 1):+.0f} % over the solid's extrapolated {1e3 * fpe:.3f} +- {1e3 * efp:.3f}e-3 and "
+            f"{100 * (p0 / held['bars'] - 1):+.0f} % off the solid with its bars held; with each pillar bending on "
+            f"through its bar (`RingFrame(bar_root=1)`, the default now: the bar's height is the geometry's, nothing "
+            f"fitted) at {1e3 * p1:.3f}e-3, {100 * (p1 / fpe - 1):+.1f} % off the solid's "
+            f"({100 * efp / fpe:.1f} % its error bar; 12 elements per beam half, `p1_sensitivity`). Every frame "
+            "figure in this section is of the frame with the roots.")
 
 
 def timing_note(r):
@@ -178,16 +219,44 @@ def timing_note(r):
 def summary(s, e=0.63):
     """How far the curved-to-flat ratios are from the solid's over the ring sizes, in per cent, as ``(lo, hi)``:
     ``"frame"`` plane stress with root extension ``e``, ``"all"`` every variant and root extension of the frame,
-    ``"model"`` the beam model's curvature springs (calibrated; None when not stored)."""
-    fr, al, mo = [], [], []
+    ``"model"`` the beam model's curvature springs (calibrated; None when not stored); and how far the frame's
+    curved stiffness itself is from the solid's: ``"absolute"`` (plane stress, ``e``), ``"absolute_bar0"`` (the
+    same with the pillars clamped at the bars' faces; None when not stored)."""
+    fr, al, mo, ab, a0 = [], [], [], [], []
     for r in s["cells"].values():
         fe = r["fe_curved"] / r["fe_flat"]
         fr.append(100 * (r[f"frame_stress_{e:g}"] / r[f"frame_flat_{e:g}"] / fe - 1))
+        ab.append(100 * (r[f"frame_stress_{e:g}"] / r["fe_curved"] - 1))
+        if f"frame_stress_{e:g}_bar0" in r:
+            a0.append(100 * (r[f"frame_stress_{e:g}_bar0"] / r["fe_curved"] - 1))
         al += [100 * (r[f"frame_{k}_{x:g}"] / r[f"frame_flat_{x:g}"] / fe - 1) for x in s["root_extensions"]
                for k, _, _ in VARIANTS]
         if "model_curved" in r:
             mo.append(100 * (r["model_curved"] / r["model_flat"] / fe - 1))
-    return {"frame": (min(fr), max(fr)), "all": (min(al), max(al)), "model": (min(mo), max(mo)) if mo else None}
+    return {"frame": (min(fr), max(fr)), "all": (min(al), max(al)), "model": (min(mo), max(mo)) if mo else None,
+            "absolute": (min(ab), max(ab)), "absolute_bar0": (min(a0), max(a0)) if a0 else None}
+
+
+def fe_secants(comp):
+    """The four-cell solid's secant stiffness to d/L 0.01 on each in-plane mesh of the all-C3D20 family (one brick
+    through the wall), ``[(mesh, k)]``, from the stored paths of ``fe-ring3d-comparison.json``."""
+    out = []
+    for r in (1, 2, 3, 4):
+        run = comp.get(f"p1_r{r}_C3D20")
+        if run:
+            out.append((f"r = {r}", float(np.interp(0.01, run["d"], run["F"]) / 0.01)))
+    return out
+
+
+def coarse_note(secants, cells):
+    """How stiff the table's coarse solid is against the finest stored mesh (four cells), one clause."""
+    if not secants or "4" not in cells:
+        return ""
+    coarse = cells["4"]["fe_curved"]
+    return (f"the solid's coarse mesh is itself {100 * (coarse / secants[-1][1] - 1):.0f} % stiffer than its finest "
+            f"here (on four cells its secant to d/L 0.01 falls from {1e3 * secants[0][1]:.1f} to "
+            f"{1e3 * secants[-1][1]:.1f} over the all-C3D20 family's {len(secants)} in-plane meshes, against "
+            f"{1e3 * coarse:.1f} on this mesh), ")
 
 
 def markdown(s, extra=()):
@@ -201,15 +270,19 @@ def markdown(s, extra=()):
          f"({s['n_el']} elements per beam half, pillars of {3} elements, rigid links and bars), wrapped onto the "
          "cylinder R = N W / 2 pi and solved as a linear 3-D frame: every element a straight beam between its "
          "wrapped nodes that bends in the wall (the model's EI), bends through the wall (b T^3 / 12, b the "
-         "element's width in the plane) and twists (G J of the b x T rectangle); bottom bar clamped, top bar "
-         "raised without tilt. Flat, the same frame is the beam model's linear flat ring (to 1e-10). Initial "
+         "element's width in the plane) and twists (G J of the b x T rectangle); each pillar goes on bending "
+         "through the wall inside its bar, down to the clamped face or up to the plate's (rigid in the plane, as "
+         "the bars: `bar_root`, \"Where the frame's excess was\" below); bottom bar clamped, top bar raised without "
+         "tilt. Flat, the same frame is the beam model's linear flat ring (to 1e-10 with the pillars clamped at the "
+         "bars' faces, as the model's; 1e-3 with the roots). Initial "
          "axial stiffness, F / (G L^2) per d/L x1e-3, and the curvature's knock-down curved / flat:", "",
          "| N | solid: flat | solid: curved | solid: curved / flat | frame: curved / flat, " +
          " | frame: curved / flat, ".join(f"{k} ({'documented' if e == e0 else 'calibrated'})"
                                           for e in (e0, e1) for k, _, _ in VARIANTS) +
          " | beam model (springs, calibrated): curved / flat | frame (stress, calibrated) / solid, curved | "
+         "the same, pillars clamped at the bars' faces / solid, curved | "
          "beam model (calibrated) / solid, curved | frame / solid run time |",
-         "|---|---|---|---|" + "---|" * (2 * len(VARIANTS)) + "---|---|---|---|"]
+         "|---|---|---|---|" + "---|" * (2 * len(VARIANTS)) + "---|---|---|---|---|"]
     for n, r in cells.items():
         fe = r["fe_curved"] / r["fe_flat"]
         ratios = " | ".join(f"{r[f'frame_{k}_{e:g}'] / r[f'frame_flat_{e:g}']:.2f}" for e in (e0, e1)
@@ -217,6 +290,7 @@ def markdown(s, extra=()):
         mo = r["model_curved"] / r["model_flat"] if "model_curved" in r else np.nan
         L.append(f"| {n} | {1e3 * r['fe_flat']:.1f} | {1e3 * r['fe_curved']:.1f} | {fe:.2f} | {ratios} | {mo:.2f} | "
                  f"{r[f'frame_stress_{e1:g}'] / r['fe_curved']:.2f} | "
+                 f"{r.get(f'frame_stress_{e1:g}_bar0', np.nan) / r['fe_curved']:.2f} | "
                  f"{r['model_curved'] / r['fe_curved'] if 'model_curved' in r else np.nan:.2f} | "
                  f"{r['frame_s']:.2f} s / {r.get('wall_s', np.nan):.0f} s |")
     sm = summary(s, e1)
@@ -228,13 +302,18 @@ def markdown(s, extra=()):
           " (the flat denominators are plane strain on both sides, so plane stress carries the solid's loss of "
           "the plane-strain restraint too; the solid is the coarse mesh r = 1 on both sides). So the missing mechanism is the one the frame adds - the wall's bending through its thickness and "
           "twisting, the pillars swinging out of the cylinder - and a thin-beam model holds it; the solid is not "
-          "needed to see it. The frame's absolute curved stiffness (last columns) carries the flat calibration's "
-          "own offset (the calibration fitted the cell's peak, not its stiffness) and the linear-to-secant gap. "
-          "Linear here; the nonlinear frame follows. The "
+          "needed to see it. The frame's curved stiffness itself is "
+          f"{sm['absolute'][0]:+.0f} to {sm['absolute'][1]:+.0f} % off the solid's" +
+          (f" (with the pillars clamped at the bars' faces {sm['absolute_bar0'][0]:+.0f} to "
+           f"{sm['absolute_bar0'][1]:+.0f} %)" if sm["absolute_bar0"] else "") +
+          "; " + coarse_note(s.get("fe_secants"), cells) + "and the frame carries the flat calibration's own offset (the calibration fitted the cell's peak, not its "
+          "stiffness) and the linear-to-secant gap. Linear here; the nonlinear frame follows. The "
           "beam model's ring forces are still quoted with their measured error (`accuracy`).", ""]
     if s.get("nonlinear") and s.get("fe_family") and s.get("planar_calibrated"):
         L += [nonlinear_markdown(s["nonlinear"], s["fe_family"], s["planar_calibrated"], s.get("p1_sensitivity")), "",
               f"![the nonlinear frame against the curved solid and the planar beam model]({IMG})", ""]
+        br = bar_root_markdown(s.get("p1_sensitivity"), s.get("held", {}), s["fe_family"])
+        L += [br, ""] if br else []
     L += list(extra) + [MARK_END, ""]
     return "\n".join(L)
 

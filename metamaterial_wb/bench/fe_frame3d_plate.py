@@ -63,18 +63,52 @@ def contiguous(mask):
 
 
 def snapping(run):
-    """The leaning branch's snapping: ``{"valley": (d, snapped count), "half": d where half the hysterons have
-    snapped or None, "contiguous": whether they are neighbours there, "units": their number}``."""
+    """The leaning branch's snapping: ``{"valley": (d, snapped count) or None (no valley before the run's end),
+    "half": d where half the hysterons have snapped or None, "contiguous": whether they are neighbours there (at
+    the end without half), "units": their number, "end": (d, snapped count) at the run's end}``."""
     from metamaterial_wb.fe.sleeve2d import peak_valley
     S = np.asarray(run["snapped"], bool)
     d = np.asarray(run["d"])
     _, _, dv, _ = peak_valley(d, run["F"])
-    kv = int(np.argmin(np.abs(d - dv)))
     count = S.sum(axis=1)
+    valley = (float(dv), int(count[int(np.argmin(np.abs(d - dv)))])) if np.isfinite(dv) else None
     half = np.nonzero(count >= S.shape[1] / 2)[0]
     k = int(half[0]) if len(half) else len(d) - 1
-    return {"valley": (float(dv), int(count[kv])), "half": float(d[k]) if len(half) else None,
-            "contiguous": contiguous(S[k]), "units": int(S.shape[1])}
+    return {"valley": valley, "half": float(d[k]) if len(half) else None,
+            "contiguous": contiguous(S[k]), "units": int(S.shape[1]), "end": (float(d[-1]), int(count[-1]))}
+
+
+def stage_timing(sn):
+    """When half the ring has snapped against the first valley, as the end of a sentence."""
+    if not (sn["valley"] and sn["half"] is not None):
+        return ". "
+    if sn["half"] > sn["valley"][0]:
+        return ", here complete only after the first valley. "
+    return (", reached before the first valley; a pillar snaps back on the way (the count is not monotonic "
+            "along the path). " if sn["valley"][1] < sn["units"] / 2 else ", reached by the first valley. ")
+
+
+def snapping_words(sn):
+    """``snapping``'s result in words: how many at the first valley, where half the ring has snapped, neighbours."""
+    out = (f"{sn['valley'][1]} of {sn['units']} at the first valley (d/L {sn['valley'][0]:.3f})" if sn["valley"] else
+           f"{sn['end'][1]} of {sn['units']} at d/L {sn['end'][0]:.3f}, the run's end, before any valley")
+    if sn["half"] is not None:
+        out += f", half the ring by d/L {sn['half']:.3f}"
+    return out + (", neighbours of each other" if sn["contiguous"] else ", not all neighbours")
+
+
+def solid_snapped(row, pre="c3d20_bias0.001_"):
+    """The solid run's hysterons by the beam model's rule, from its beam ends' rises (``cells_p1``'s
+    ``p1_rises``, ``p1_units``, ``p1_snap_height``): ``{"d", "F", "snapped" (k, units)}`` as ``snapping`` reads
+    it, or None when the run kept no rises."""
+    if pre + "p1_rises" not in row:
+        return None
+    rise = np.asarray(row[pre + "p1_rises"], float)
+    units = np.asarray(row[pre + "p1_units"])
+    over = rise - row[pre + "p1_snap_height"]
+    snapped = np.stack([over[:, units == u].mean(axis=1) > 0 for u in range(int(units.max()) + 1)], axis=1)
+    cv = row[pre + "p1_curve"]
+    return {"d": cv["d"], "F": cv["F"], "snapped": snapped.astype(int).tolist()}
 
 
 def at(d, y, x):
@@ -126,12 +160,24 @@ def facts(pl, c):
     if "c3d20_bias0.001_fe_curved_p1" in row:
         cv = row["c3d20_bias0.001_p1_curve"]
         f["solid8_bias0.001"] = {"P1": (row["c3d20_bias0.001_fe_curved_p1_d"], row["c3d20_bias0.001_fe_curved_p1"]),
-                                 "tilt_025": at(cv["d"], row["c3d20_bias0.001_p1_tilt_deg"], 0.25)}
+                                 "tilt_025": at(cv["d"], row["c3d20_bias0.001_p1_tilt_deg"], 0.25),
+                                 "d_reached": row["c3d20_bias0.001_p1_d_reached"],
+                                 "seconds": row["c3d20_bias0.001_p1_wall_s"]}
+        ss = solid_snapped(row)
+        if ss:
+            f["solid8_bias0.001"]["snapping"] = snapping(ss)
+    four = c.get("cells", {}).get("4", {})
+    if four.get("c3d20_fe_curved_p1") and "p1_r3_C3D20" in c:
+        from metamaterial_wb.bench.fe_ring3d_corner import family_convergence
+        ext = family_convergence(c, "_C3D20")["p1_ext"]
+        if ext:                                   # the eight-cell runs' mesh on four cells against the extrapolation
+            f["mesh_factor_c3d20_r1"] = four["c3d20_fe_curved_p1"] / ext[1]
     return f
 
 
-def markdown(pl, c):
-    """The paragraph for docs/sleeves.md's frame section."""
+def markdown(pl, c, p1_off=None):
+    """The paragraph for docs/sleeves.md's frame section; ``p1_off``: the four-cell frame's untilted first peak
+    against the solid's extrapolated one, per cent (``fe_frame3d.p1_off``)."""
     f = facts(pl, c)
     z8 = [x for x, k in f["frame8_zero"] if k == "down"]
     z4 = f["frame4_zero"]
@@ -153,7 +199,8 @@ def markdown(pl, c):
             "stays positive. ") +
          f"At the solid's probes it is at {100 * r8[0.07]:.0f} % (d/L 0.07) and {100 * r8[0.077]:.0f} % (0.077) of "
          f"its value at 0.05; the solid's at {100 * l1 / s8[0][1]:.0f} % and {100 * l2 / s8[0][1]:.0f} %, falling "
-         f"faster, its last two probes' line reaching zero at d/L {ext:.3f} (the solid's are mass-weighted "
+         f"{'faster' if l2 / s8[0][1] < r8[0.077] else 'slower'}, its last two probes' line reaching zero at d/L "
+         f"{ext:.3f} (the solid's are mass-weighted "
          "frequencies, the frame's stiffness eigenvalues: only where they reach zero compares). So the static solid's stall at d/L "
          f"{f['solid8_stop'][0]:.3f} ({1e3 * f['solid8_stop'][1]:.2f}e-3, the force flattening) lies just before the "
          "tilt bifurcation that both models put near: the eight-cell ring leaves the untilted path there (the solid's "
@@ -163,14 +210,23 @@ def markdown(pl, c):
          f"{b3['P1'][0]:.3f}, {b3['tilt_025']:.1f} deg at 0.25" +
          (f" (the solid: {1e3 * sb['P1'][1]:.2f}e-3 at {sb['P1'][0]:.3f}, {sb['tilt_025']:.1f} deg at 0.25): on the "
           f"leaning branch the frame's peak is {100 * (b3['P1'][1] / sb['P1'][1] - 1):+.0f} % off the solid's and its "
-          f"lean {b3['tilt_025'] - sb['tilt_025']:+.1f} deg. " if sb else ". "))
+          f"lean {b3['tilt_025'] - sb['tilt_025']:+.1f} deg" if sb else "") +
+         (f"; that solid is mesh r = 1 with every brick C3D20, whose four-cell first peak is "
+          f"{100 * (f['mesh_factor_c3d20_r1'] - 1):+.0f} % over the four-cell ring's extrapolated one: scaled by it, "
+          f"the eight-cell leaning peak would be {1e3 * sb['P1'][1] / f['mesh_factor_c3d20_r1']:.2f}e-3 and the frame's "
+          f"{100 * (b3['P1'][1] * f['mesh_factor_c3d20_r1'] / sb['P1'][1] - 1):+.0f} % off it (an estimate: the "
+          "eight-cell ring's own mesh error is not measured). " if sb and f.get("mesh_factor_c3d20_r1") else ". "))
     sn = b5.get("snapping")
     if sn:
-        t += (f"On the leaning branch the hysterons (the edge pillars with their two beam halves, snapped by the beam "
-              f"model's rule) go one after another: {sn['valley'][1]} of {sn['units']} at the first valley (d/L "
-              f"{sn['valley'][0]:.3f}), " + (f"half the ring by d/L {sn['half']:.3f}, " if sn["half"] else "") +
-              ("neighbours of each other: the seed's first stage (half the cells, on one side), here complete only "
-               "after the first valley. " if sn["contiguous"] else "not all neighbours. "))
+        t += ("On the leaning branch the hysterons (the edge pillars with their two beam halves, snapped by the beam "
+              "model's rule) go one after another: " + snapping_words(sn) +
+              (": the seed's first stage (half the cells, on one side)" + stage_timing(sn) if sn["contiguous"]
+               else ". "))
+    s3, ss = b3.get("snapping"), (sb or {}).get("snapping")
+    if s3 and ss:
+        t += ("Under the hundred-fold bias the frame's go " + snapping_words(s3) + "; the solid's, read off its beams' "
+              "ends by the same rule (`sleeve3d.hysterons`; the run's beam ends printed at every increment, "
+              f"{sb['seconds'] / 60:.0f} min to d/L {sb['d_reached']:.2f}), " + snapping_words(ss) + ". ")
     dm, rel = f["frame4_min"]
     lo4 = min(s4, key=lambda p: p[1])
     b4 = f["frame4_bias1e-05"]
@@ -180,9 +236,12 @@ def markdown(pl, c):
           + f"where the solid's is lowest too (d/L {lo4[0]:.2f}, {100 * lo4[1] / s4[0][1]:.0f} % of its value at "
           f"{s4[0][0]:.2f}, positive); with the default bias the frame leans up to {b4['tilt_max'][1]:.1f} deg at d/L "
           f"{b4['tilt_max'][0]:.2f} and comes back, where the solid's four-cell ring tilts by under 0.2 deg. So the frame "
-          "gets whether and roughly where and how far each ring leans - four cells hardly (its tilt a little too "
-          "soft there), eight cells past a tilt bifurcation near d/L 0.1 (the solid's a little earlier) - and its "
-          "axial first peak is stiffer (+17 % on four cells); the eight-cell ring is imperfection-sensitive in both.")
+          "gets whether and roughly where and how far each ring leans - four cells hardly" +
+          (" (its tilt a little too soft there)" if b4["tilt_max"][1] > 1.0 else "") +
+          ", eight cells past a tilt bifurcation near d/L 0.1" +
+          (" (the solid's a little earlier)" if z8 and z8[0] > ext else " (the frame's a little earlier)" if z8 else "")
+          + (f" - and its axial first peak is {p1_off:+.0f} % off the solid's on four cells" if p1_off is not None
+             else "") + "; the eight-cell ring is imperfection-sensitive in both.")
     return t + f"\n\n![the frame with the solid's plate: force, lean and the tilt pair against the solid]({IMG})\n"
 
 
@@ -303,10 +362,14 @@ def sequence_markdown(st, root_extension=0.63):
                     f"{seq(r['model'])} | {lean(r['model'])} | " if i == 0 else "| | | | | ")
             L.append(head + f"{n_el}: {seq(f)} | {lean(f)} | {f['seconds']:.0f} s |")
     two = st.get("2", {}).get("frame", {})
-    same = len({(tuple(f["loading"]), tuple(f["unloading"]), f["lean_reverses"]) for f in two.values()}) == 1
+    same_seq = len({(tuple(f["loading"]), tuple(f["unloading"])) for f in two.values()}) == 1
+    same_lean = len({f["lean_reverses"] for f in two.values()}) == 1
+    tilt = max((max(f["max_tilt_loading_deg"], f["max_tilt_unloading_deg"]) for f in two.values()), default=0.0)
     u = st.get("2", {}).get("uniform")
-    text = ("On the frame the sequence and the lean are the same on every beam mesh" if same else
-            "On the frame the sequence changes with the beam mesh") + " (the beam model's lean turned with its mesh)."
+    text = ("On the frame the sequence and the lean are the same on every beam mesh" if same_seq and same_lean else
+            f"On the frame the sequence is the same on every beam mesh, the lean's turn (at most {tilt:.1f} deg) not"
+            if same_seq else "On the frame the sequence changes with the beam mesh") + \
+        " (the beam model's lean turned with its mesh)."
     if u and all(x["P1"] and x["valley"] for x in u):
         rule_load = [0, 1] if u[0]["P1"] < u[1]["P1"] else [1, 0]
         rule_unload = [0, 1] if u[0]["valley"] > u[1]["valley"] else [1, 0]

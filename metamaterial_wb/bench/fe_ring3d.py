@@ -448,12 +448,13 @@ def frame_sentence(cells):
     from metamaterial_wb.bench import fe_frame3d
     sm = fe_frame3d.summary(fe_frame3d.study(cells))
     return (f" The mechanism is found: the model's own beams wrapped on the cylinder as a linear 3-D frame "
-            f"(`core/sleeve/frame3d.py`, sleeves.md \"A linear 3-D frame\"), bending and twisting out of it, give the "
-            f"solid's curvature knock-down of the initial stiffness to {sm['frame'][0]:+.0f} to {sm['frame'][1]:+.0f} % "
-            f"(the model's springs: {sm['model'][0]:+.0f} to {sm['model'][1]:+.0f} %); every summary's curvature note "
+            f"(`core/sleeve/frame3d.py`, sleeves.md \"A linear 3-D frame\"), bending and twisting out of it, the "
+            f"pillars bending on through their bars, give the solid's curved initial stiffness to "
+            f"{sm['absolute'][0]:+.0f} to {sm['absolute'][1]:+.0f} % on this mesh (the model's springs: its "
+            f"knock-down {sm['model'][0]:+.0f} to {sm['model'][1]:+.0f} % off); every summary's curvature note "
             "quotes the model-to-frame ratio for any cell; the same frame made nonlinear (`frame3d_nl.py`) has the "
-            "solid's one-stage path, its first peak measured against the solid's in sleeves.md, and with the solid's "
-            "free plate the eight-cell solid's lean; the `sleeve` command runs the planar model and, with "
+            "solid's one-stage path, its first peak and valley measured against the solid's in sleeves.md, and with "
+            "the solid's free plate the eight-cell solid's lean; the `sleeve` command runs the planar model and, with "
             "`model.frame_nonlinear`, adds the frame's first peaks and its snapping sequence.")
 
 

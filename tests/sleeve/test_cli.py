@@ -126,7 +126,8 @@ def test_nonlinear_frame_first_peak_on_request(tmp_path):
     assert fs["loading"] == [0] and fs["unloading"] == [0] and fs["elements"] == 6
     assert any(n.startswith("sequence on the nonlinear frame (6 elements per beam half") for n in s["accuracy"]["notes"])
     wf = s["walker"]["frame3d_nl"]                                        # and the leg on the frame's cycle
-    assert wf["lift_mm"] == pytest.approx(s["walker"]["lift_mm"], rel=1e-6) and wf["area_mm2"] >= 0
+    # the same stroke on both cycles (1e-6 apart: the frame's Newton tolerance)
+    assert wf["lift_mm"] == pytest.approx(s["walker"]["lift_mm"], rel=1e-5) and wf["area_mm2"] >= 0
     assert any(n.startswith(f"walker on the nonlinear frame: tip loop {wf['area_mm2']:.3g} mm^2")
                for n in s["accuracy"]["notes"])
     r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_nonlinear=True, ring_curvature=False)))

@@ -40,36 +40,72 @@ def test_torsion_constant_of_a_square_and_of_a_thin_strip():
 
 def test_flat_frame_is_the_beam_models_linear_flat_ring():
     """Lying in a plane, the out-of-plane motion decouples and the frame is the 2-D model's ring: the same
-    stiffness as the model's force over a tiny rise, for both root extensions."""
+    stiffness as the model's force over a tiny rise, for both root extensions, with the pillars clamped at their
+    bars' faces as the model's are. The pillars' roots in the bars (``bar_root``, the default) bend through the
+    wall only: flat they change nothing but by their in-plane stiffness, the links' (1e3 times the pillar's)."""
     g = CellGeometry()
     for n, e in ((4, 0.0), (6, 0.63)):
         p = SleeveModel([g], [[0] * n], 24, curvature=False, root_extension=e).trace(np.array([0.0, 1e-6]))
-        assert RingFrame(g, n, curved=False, root_extension=e).axial_stiffness() == pytest.approx(
+        assert RingFrame(g, n, curved=False, root_extension=e, bar_root=0.0).axial_stiffness() == pytest.approx(
             p.F[1] / p.d[1], rel=1e-6)
+        assert RingFrame(g, n, curved=False, root_extension=e).axial_stiffness() == pytest.approx(
+            p.F[1] / p.d[1], rel=1e-3)
+
+
+def test_pillars_run_through_their_bars_to_the_clamped_and_the_plates_faces():
+    """``bar_root=1``: every pillar ends on a bar's outer face (the bottom ring's at z = 0, the top one's at the
+    sleeve's height; stacked rings meet there), through an element of the pillar's section through the wall that
+    is rigid in the wall's plane and along; ``bar_root=0`` ties them at the bars' inner faces. Each step in
+    between softens the curved ring, not the flat one; out of range it is refused."""
+    g = CellGeometry()
+    for rows in ([[0] * 4], [[0] * 4, [0] * 4]):
+        rf, r0 = RingFrame(g, pattern=rows), RingFrame(g, pattern=rows, bar_root=0.0)
+        assert rf.bar_root == 1.0 and r0.bar_root == 0.0
+        z = {p: sorted({round(float(rf.P[i, 2]) * g.L, 9) for i, q in rf.ties if q == p}) for p in range(len(rows) + 1)}
+        assert z == {p: [pytest.approx(p * g.height)] for p in range(len(rows) + 1)}
+        z0 = sorted({round(float(r0.P[i, 2]) * g.L, 9) for i, q in r0.ties if q == 0})
+        assert z0 == [pytest.approx(0.5 * g.c)]                          # the central pillars' feet on the bar
+        roots = [e for e, (i, j) in enumerate(rf.conn) if i in {t for t, _ in rf.ties} or j in {t for t, _ in rf.ties}]
+        assert len(roots) == 2 * 4 * len(rows)                        # one per pillar end in a bar
+        pillar = np.argmax(rf.EI2 * (rf.GJ < 0.99 * rf.GJ.max()))    # the widest element bending through the wall
+        for e in roots:
+            assert rf.EI2[e] == pytest.approx(rf.EI2[pillar]) and rf.GJ[e] == pytest.approx(rf.GJ[pillar])
+            assert rf.l0[e] * g.L == pytest.approx(0.5 * g.c)
+            assert rf.EI3[e] == pytest.approx(1e3 * r0.EI3[pillar]) and rf.EA[e] == pytest.approx(1e3 * r0.EA[pillar])
+    k = [RingFrame(g, 4, plane="stress", root_extension=0.63, bar_root=b).axial_stiffness() for b in (0, 0.5, 1)]
+    assert k[0] > k[1] > k[2] > 0.6 * k[0]
+    flat = [RingFrame(g, 4, curved=False, bar_root=b).axial_stiffness() for b in (0, 1)]
+    assert flat[1] == pytest.approx(flat[0], rel=1e-3)
+    for bad in (-0.1, 1.5):
+        with pytest.raises(ValueError, match=f"bar_root: {bad}; allowed: 0"):
+            RingFrame(g, 4, bar_root=bad)
 
 
 def test_a_large_ring_is_flat_and_a_small_one_is_knocked_down():
-    """Curvature vanishes as the ring grows: curved / flat -> 1 (256 cells within 0.1 %), and it falls
+    """Curvature vanishes as the ring grows: curved / flat -> 1 (256 cells within 0.2 %), and it falls
     monotonically as the ring shrinks."""
     g = CellGeometry()
     ratios = [RingFrame(g, n).axial_stiffness() / RingFrame(g, n, curved=False).axial_stiffness()
               for n in (4, 8, 16, 64, 256)]
     assert np.all(np.diff(ratios) > 0)
-    assert ratios[-1] == pytest.approx(1.0, abs=1e-3) and ratios[0] < 0.35
+    assert ratios[-1] == pytest.approx(1.0, abs=2e-3) and ratios[0] < 0.35
 
 
-def test_curvature_knock_down_matches_the_curved_solid_where_the_spring_model_does_not():
-    """Against the stored CalculiX runs (flat plane-strain and curved 3-D rings of 4-12 cells): the frame in plane
-    stress with the calibrated root extension is within 10 % of the solid's curved / flat ratio at every size;
-    the beam model's curvature springs are more than 40 % off at every size."""
+def test_curved_stiffness_matches_the_curved_solid_where_the_spring_model_does_not():
+    """Against the stored CalculiX runs (curved 3-D rings of 4-12 cells, mesh r = 1, whose initial stiffness is
+    7 % above the four-cell ring's finest meshes): the frame in plane stress with the calibrated root extension and
+    the pillars bending on through their bars is within 15 % of the solid's curved stiffness at every size; with
+    the pillars clamped at the bars' faces it is more than 14 % above at every size (as the solid is when its bars
+    are held at their radius); the beam model's curvature springs are more than 40 % off in the knock-down."""
     cells = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))["cells"]
     g = CellGeometry()
     assert sorted(map(int, cells)) == [4, 6, 8, 12]
     for n, row in cells.items():
         fe = row["fe_curved"] / row["fe_flat"]
-        frame = (RingFrame(g, int(n), plane="stress", root_extension=0.63).axial_stiffness() /
-                 RingFrame(g, int(n), curved=False, root_extension=0.63).axial_stiffness())
-        assert abs(frame / fe - 1) < 0.10, (n, frame, fe)
+        frame = RingFrame(g, int(n), plane="stress", root_extension=0.63).axial_stiffness()
+        clamped = RingFrame(g, int(n), plane="stress", root_extension=0.63, bar_root=0.0).axial_stiffness()
+        assert abs(frame / row["fe_curved"] - 1) < 0.15, (n, frame, row["fe_curved"])
+        assert clamped / row["fe_curved"] - 1 > 0.14, (n, clamped, row["fe_curved"])
         assert row["model_curved"] / row["model_flat"] / fe - 1 > 0.40
 
 
@@ -105,7 +141,7 @@ def test_plate_study_is_current_and_its_paragraph_quotes_it():
     # soft eigenvalues (5e-6) of a differenced Hessian whose entries reach 1e4: 2e-11 apart between numpy 1.24 and 2.4
     assert np.allclose(fresh["tilt_pair"], stored["8"]["tilt_pair"], rtol=1e-4, atol=1e-9)
     z = fp.zero_crossings(stored["8"]["d"], stored["8"]["tilt_pair"])
-    assert len(z) == 1 and z[0][1] == "down" and 0.09 < z[0][0] < 0.12
+    assert len(z) == 1 and z[0][1] == "down" and 0.07 < z[0][0] < 0.12       # near the solid's 0.091
     text = fp.markdown(stored, comp)
     assert f"reaches zero at d/L {z[0][0]:.3f}" in text and "reaching zero at d/L 0.091" in text
     assert "stall at d/L 0.077" in text
@@ -144,3 +180,51 @@ def test_sensitivity_sentence_quotes_each_change_and_its_rate():
     assert "EI2 of the pillars x0.8: -6.6 % (0.33 per unit)" in text
     assert "GJ of every element x0.5: -2.3 % (0.05 per unit)" in text
     assert "EA of" not in text
+
+
+def test_solid_hysterons_are_read_off_the_stored_rises_by_the_models_rule():
+    """``solid_snapped`` turns a solid run's beam-end rises into snapped pillars (the mean of a pillar's two halves
+    beyond h), and ``snapping`` counts them at the first valley, where half the ring has snapped and whether the
+    snapped ones are neighbours; a run that ends before its valley says so instead of counting at its start."""
+    from metamaterial_wb.bench import fe_frame3d_plate as fp
+    h = 0.4
+    d = np.linspace(0, 0.4, 9)
+    F = np.array([0, 3, 4, 3, 2, 1, 1.5, 2.5, 3.0])                  # a peak at 0.1, the valley at d = 0.25
+    rises = np.zeros((9, 6))                                          # three pillars: halves (0, 1), (2, 3), (4, 5)
+    rises[4:, 0:2] = 1.5 * h                                          # pillar 0 from d = 0.2
+    rises[5:, 2] = 1.9 * h                                            # pillar 1's halves: mean 1.05 h from 0.25
+    rises[5:, 3] = 0.2 * h
+    rises[7:, 4:6] = 0.9 * h                                          # pillar 2 never (0.9 h)
+    pre = "x_"
+    row = {pre + "p1_rises": rises.tolist(), pre + "p1_units": [0, 0, 1, 1, 2, 2], pre + "p1_snap_height": h,
+           pre + "p1_curve": {"d": d.tolist(), "F": F.tolist()}}
+    run = fp.solid_snapped(row, pre)
+    assert np.asarray(run["snapped"]).sum(axis=1).tolist() == [0, 0, 0, 0, 1, 2, 2, 2, 2]
+    sn = fp.snapping(run)
+    assert sn["valley"][1] == 2 and abs(sn["valley"][0] - 0.25) < 0.05
+    assert sn["half"] == pytest.approx(0.25) and sn["contiguous"] and sn["units"] == 3
+    assert fp.snapping_words(sn).startswith("2 of 3 at the first valley (d/L 0.2")
+    early = fp.snapping(dict(run, d=d[:4].tolist(), F=F[:4].tolist(), snapped=run["snapped"][:4]))
+    assert early["valley"] is None and early["end"] == (pytest.approx(0.15), 0)
+    assert "0 of 3 at d/L 0.150, the run's end, before any valley" in fp.snapping_words(early)
+    assert fp.solid_snapped({}, pre) is None
+
+
+def test_the_frames_pillars_in_their_bars_are_what_the_solid_says_was_missing():
+    """The stored four-cell runs: the solid's first peak rises by more than 10 % when its bars are held at their
+    radius (the frame's old clamp at the bars' faces); the frame with its pillars bending on through the bars
+    (the default) peaks within 5 % of the solid's extrapolated P1, clamped at the faces more than 10 % above; the
+    paragraph quotes these."""
+    from metamaterial_wb.bench import fe_frame3d
+    s = json.load(open(os.path.join(RESULTS, "frame3d.json")))
+    raw = json.load(open(os.path.join(RESULTS, "fe-ring3d.json")))
+    held = {k: v["p1"] for k, v in raw["p1_held"].items()}
+    held["free"] = raw["cells"]["4"]["fe_curved_p1"]
+    assert held["bars"] / held["free"] > 1.10 and held["fixed"] > held["pillars"] > held["bars"]
+    sens = s["p1_sensitivity"]
+    p1_ext = s["fe_family"]["p1_ext"][1]
+    assert abs(sens["base"] / p1_ext - 1) < 0.05 and sens["bar_root"] == 1.0
+    assert sens["base"] * (1 + sens["bar_root_0"]) / p1_ext - 1 > 0.10
+    text = fe_frame3d.bar_root_markdown(sens, held, s["fe_family"])
+    assert f"from {1e3 * held['free']:.3f}e-3 to {1e3 * held['bars']:.3f}e-3" in text
+    assert f"at {1e3 * sens['base']:.3f}e-3, {100 * (sens['base'] / p1_ext - 1):+.1f} % off the solid's" in text

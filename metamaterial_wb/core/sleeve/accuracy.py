@@ -81,26 +81,27 @@ def accuracy(cells, n_cells, root_extension=0.0, curvature=True):
     return out
 
 
-# the linear 3-D frame's curved / flat initial stiffness against the curved solid's, plane stress and calibrated,
-# over 4-12 cells of the seed's cell, per cent (benchmarks/results/frame3d.json; tests/sleeve/test_accuracy.py)
-FRAME_KNOCKDOWN_OFF = (0.0, 8.0)
+# the linear 3-D frame's curved initial stiffness against the curved solid's (mesh r = 1), plane stress, calibrated,
+# the pillars bending on through their bars, over 4-12 cells of the seed's cell, per cent
+# (benchmarks/results/frame3d.json, fe_frame3d.summary()["absolute"]; tests/sleeve/test_accuracy.py)
+FRAME_STIFFNESS_OFF = (-15.0, 2.0)
 
 
 def frame_note(cell_type, n_cells, check):
     """The accuracy note for one uniform ring's ``frame3d.curvature_check``: for any cell, how much stiffer the
     beam model's curved ring is than a linear 3-D frame of the same beams (the part of its error that its
     curvature springs make)."""
-    lo, hi = FRAME_KNOCKDOWN_OFF
+    lo, hi = FRAME_STIFFNESS_OFF
     return (f"curvature, uniform ring of type {cell_type} ({n_cells} cells): the beam model's initial stiffness is "
             f"{check['ratio']:.2f} times that of a linear 3-D frame of the same beams (frame3d), which bends the wall out of the cylinder as the solid does: the part of "
-            f"the model's error its curvature springs make (the frame's curved / flat stiffness was {lo:+.0f} to "
+            f"the model's error its curvature springs make (the frame's curved stiffness was {lo:+.0f} to "
             f"{hi:+.0f} % off the curved solid's for the seed's cell at 4-12 cells; docs/sleeves.md)")
 
 
 # the nonlinear frame's first peak against the curved solid's (every brick C3D20, extrapolated) on the seed's
 # four-cell ring, plane stress, root extension 0.63, 24 elements per beam half, per cent; the planar beam model's
 # calibrated ring against the same (benchmarks/results/frame3d.json; tests/sleeve/test_accuracy.py)
-FRAME_NL_P1_OFF = 17
+FRAME_NL_P1_OFF = -3
 PLANAR_P1_OFF = 106
 
 
@@ -114,8 +115,9 @@ def frame_nl_note(cell_type, n_cells, check, force_unit_N, L_mm):
     if check["P1"] is None:
         return f"{head}: no first peak within the traced stroke (the force still rises)"
     text = (f"{head}: first peak {check['P1'] * force_unit_N:.3g} N at {check['P1_displacement'] * L_mm:.3g} mm "
-            f"(frame3d_nl: the same beams as corotational 3-D beams on the cylinder, plane stress, root extension "
-            f"{check.get('root_extension', 0.0):g} t, top raised without tilt; {check['seconds']:.1f} s)")
+            f"(frame3d_nl: the same beams as corotational 3-D beams on the cylinder, the pillars bending on through "
+            f"their bars, plane stress, root extension {check.get('root_extension', 0.0):g} t, top raised without "
+            f"tilt; {check['seconds']:.1f} s)")
     if check.get("ratio") is not None:
         plane = check.get("beam_model_plane")
         text += ("; the beam model's first peak" + (f" (plane {plane})" if plane else "") +
