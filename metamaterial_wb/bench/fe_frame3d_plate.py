@@ -16,7 +16,7 @@ import numpy as np
 IMG = "img/sleeve-frame3d-plate.png"
 # key: (cells, d_max, bias, modes followed, the rise over which the bias is ramped: the solid run's step end)
 RUNS = {"4": (4, 0.40, 0.0, 4, None), "8": (8, 0.14, 0.0, 4, None), "4_bias1e-05": (4, 0.40, 1e-5, 0, 0.7),
-        "8_bias1e-05": (8, 0.40, 1e-5, 0, 0.17), "8_bias0.001": (8, 0.40, 1e-3, 0, 0.25)}
+        "8_bias1e-05": (8, 0.40, 1e-5, 0, 0.17), "8_bias0.001": (8, 0.40, 1e-3, 0, 0.30)}
 
 
 def plate_study(n_el=12, e=0.63, step=0.005, runs=RUNS):

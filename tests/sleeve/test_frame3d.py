@@ -228,3 +228,25 @@ def test_the_frames_pillars_in_their_bars_are_what_the_solid_says_was_missing():
     text = fe_frame3d.bar_root_markdown(sens, held, s["fe_family"])
     assert f"from {1e3 * held['free']:.3f}e-3 to {1e3 * held['bars']:.3f}e-3" in text
     assert f"at {1e3 * sens['base']:.3f}e-3, {100 * (sens['base'] / p1_ext - 1):+.1f} % off the solid's" in text
+
+
+def test_eight_cell_solid_and_frame_snap_the_same_pillars_on_the_leaning_branch():
+    """The stored eight-cell solid run under the hundred-fold bias (its beam ends printed at every increment) and
+    the frame's run with the same bias, ramped over the same rise (the solid run's step end): both snap three
+    edge pillars, neighbours, by their first valley, each within 0.01 d/L of the other's; the paragraph quotes
+    both counts."""
+    from metamaterial_wb.bench import fe_frame3d_plate as fp
+    row = json.load(open(os.path.join(RESULTS, "fe-ring3d.json")))["cells"]["8"]
+    stored = json.load(open(os.path.join(RESULTS, "frame3d.json")))["plate"]
+    assert fp.RUNS["8_bias0.001"][4] == pytest.approx(row["c3d20_bias0.001_p1_d_reached"])
+    runs = {"solid": fp.solid_snapped(row), "frame": stored["8_bias0.001"]}
+    first = {}
+    for key, run in runs.items():
+        sn = fp.snapping(run)
+        assert sn["valley"][1] == 3 and sn["contiguous"] and sn["units"] == 8, key
+        S, d = np.asarray(run["snapped"], bool), np.asarray(run["d"])
+        first[key] = [float(d[np.argmax(S.sum(axis=1) >= k)]) for k in (1, 2, 3)]
+    assert np.allclose(first["solid"], first["frame"], atol=0.01), first
+    text = fp.markdown(stored, json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json"))))
+    assert "the solid's, read off its beams' ends by the same rule" in text
+    assert text.count("3 of 8 at the first valley") >= 2
