@@ -87,7 +87,7 @@ class RingFrame:
         if not 0.0 <= bar_root <= 1.0:
             raise ValueError(f"bar_root: {bar_root!r}; allowed: 0 (pillars clamped at the bar's face) to 1 (through "
                              "the bar's whole height c / 2)")
-        roots = []                                        # (element, cell type) of the pillars' roots in the bars
+        roots = []                                        # the elements of the pillars' roots in the bars
         top = 0.0                                         # the last ring's upper bar: its ties' mean height
         for r, row in enumerate(pattern):
             first, first_tie = len(mb.X), len(mb.ties)
