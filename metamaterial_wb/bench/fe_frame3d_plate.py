@@ -101,12 +101,10 @@ def solid_snapped(row, pre="c3d20_bias0.001_"):
     """The solid run's hysterons by the beam model's rule, from its beam ends' rises (``cells_p1``'s
     ``p1_rises``, ``p1_units``, ``p1_snap_height``): ``{"d", "F", "snapped" (k, units)}`` as ``snapping`` reads
     it, or None when the run kept no rises."""
+    from metamaterial_wb.core.sleeve.analysis import units_snapped
     if pre + "p1_rises" not in row:
         return None
-    rise = np.asarray(row[pre + "p1_rises"], float)
-    units = np.asarray(row[pre + "p1_units"])
-    over = rise - row[pre + "p1_snap_height"]
-    snapped = np.stack([over[:, units == u].mean(axis=1) > 0 for u in range(int(units.max()) + 1)], axis=1)
+    snapped = units_snapped(row[pre + "p1_rises"], row[pre + "p1_snap_height"], row[pre + "p1_units"])
     cv = row[pre + "p1_curve"]
     return {"d": cv["d"], "F": cv["F"], "snapped": snapped.astype(int).tolist()}
 

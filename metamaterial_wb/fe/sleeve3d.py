@@ -425,11 +425,9 @@ def hysterons(mesh, ends, u_watch, watch):
 
     def mean_z(ids):
         return np.stack([uz[:, [pos[int(n)] for n in row]].mean(axis=1) for row in ids], axis=1)
+    from metamaterial_wb.core.sleeve.analysis import units_snapped
     rise = (mean_z(ends["outer"]) - mean_z(ends["inner"])) / mesh.geom.L
-    units = ends["units"]
-    over = rise - mesh.geom.h / mesh.geom.L
-    snapped = np.stack([over[:, units == u].mean(axis=1) > 0 for u in range(mesh.cells)], axis=1)
-    return rise, snapped
+    return rise, units_snapped(rise, mesh.geom.h / mesh.geom.L, ends["units"])
 
 
 def all_extrema(d, F, rel_prominence=0.02):

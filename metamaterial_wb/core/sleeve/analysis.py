@@ -49,6 +49,15 @@ def snapped(states, geoms_of_cells):
     return np.asarray(states) > h[None, :]
 
 
+def units_snapped(rises, snap_height, units):
+    """The beam model's snap rule on hysterons of several parts: ``rises`` (k, parts) each part's outer end's rise
+    over its inner end's (/ L), ``snap_height`` its h / L (a number or per part), ``units`` (parts,) the hysteron
+    of each part (0 .. n - 1). A hysteron has snapped when its parts' mean rise beyond h is positive: (k, n) bool."""
+    over = np.atleast_2d(np.asarray(rises, float)) - np.asarray(snap_height, float)
+    units = np.asarray(units)
+    return np.stack([over[:, units == u].mean(axis=1) > 0 for u in range(int(units.max()) + 1)], axis=1)
+
+
 def snap_order(path, cell_types, geoms_of_cells, units=None):
     """Order in which cell *types* change state along a path, from the snapped flags.
 

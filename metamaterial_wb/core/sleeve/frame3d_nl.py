@@ -26,6 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from metamaterial_wb.core.sleeve.analysis import units_snapped
 from metamaterial_wb.core.sleeve.frame3d import RingFrame
 from metamaterial_wb.core.sleeve.frame3d_plate import RigidPlate, reduce
 from metamaterial_wb.core.sleeve.rotations import expm_so3, logm_so3
@@ -515,7 +516,7 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
         ring_rise.append(np.diff(levels))
         rise = (fr.x - fr.P)[a_, 2] - (fr.x - fr.P)[b_, 2]
         rises.append(rise)
-        snapped.append(np.bincount(unit_of, rise - ring.snap_height) / np.bincount(unit_of) > 0)
+        snapped.append(units_snapped(rise, ring.snap_height, unit_of)[0])
         if modes:
             w, sh = fr.lowest_modes(free, plates, modes)
             lows.append(w)
