@@ -365,6 +365,9 @@ def main(argv=None):
                     "runs' bricks (C3D20: every brick fully integrated, stored with the prefix c3d20_)")
     ap.add_argument("--held-p1", default=None, help="comma list of parts (sleeve3d.PARTS or 'fixed'): the four-cell "
                     "ring's first peak with that part held at its radius (ccx, 2-5 min each)")
+    ap.add_argument("--combinations", default=None, help="comma list of <combination>:<mesh> (mesh r1 or r2): "
+                    "each cell type of the seed's combination as a uniform four-cell ring (ccx, every brick C3D20, "
+                    "static to d/L 0.7), two runs at a time; stored under 'combinations' as each ends")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.p1_element == "C3D20" and a.p1_full_near:
@@ -413,6 +416,17 @@ def main(argv=None):
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.held_p1:
         _store("p1_held", held_p1(a.held_p1.split(","), timeout_s=a.timeout), merge=True)
+    if a.combinations:
+        from metamaterial_wb.bench.fe_ring3d_combinations import solid_thresholds
+
+        def done(key, mesh, k, row):
+            data = _load().get("combinations", {})
+            rows = data.setdefault(key, {}).setdefault(mesh, [None, None])
+            rows[k] = row
+            print(f"combination {key} {mesh} type {k}: P1 {row['P1']} at {row['P1_d']}, valley {row['valley']} at "
+                  f"{row['valley_d']} ({row['wall_s']:.0f} s, to d/L {row['d_reached']:.3f})", flush=True)
+            _store("combinations", data)
+        solid_thresholds([tuple(v.split(":")) for v in a.combinations.split(",")], timeout_s=a.timeout, done=done)
     if a.radial_fixed:
         tr = run_fe(d_max=0.7, increments=a.increments, timeout_s=a.timeout, radial="fixed")
         print(f"radial fixed: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)

@@ -294,6 +294,19 @@ SEED_COMBINATIONS = {
     "2": {"cells": ((0.394, 0.061), (0.416, 0.061)), "seed": ([0, 1], [0, 1]), "lean": "the other way"}}
 
 
+def combination_cells(key):
+    """The cell types of seed combination ``key`` (``SEED_COMBINATIONS``) on examples/sleeve.json's cell (L, c,
+    delta, T): a list of ``CellGeometry``."""
+    import json
+    import os
+    from metamaterial_wb.core.sleeve.cell import CellGeometry
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    base = json.load(open(os.path.join(root, "examples", "sleeve.json")))
+    L = base["L_mm"]
+    return [CellGeometry(L=L, c=base["c_mm"], delta=base["delta_mm"], T=base["T_mm"], t=t * L, h=h * L)
+            for h, t in SEED_COMBINATIONS[key]["cells"]]
+
+
 def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, steps=160):
     """The seed's combinations on the frame (``frame3d_sequence``, ring [0, 0, 1, 1], the free plate) on each
     beam mesh of ``meshes``, and on the beam model as the ``sleeve`` command runs it (``pipeline.analyse`` on
@@ -302,7 +315,6 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
     import json
     import os
     from metamaterial_wb.core.sleeve.analysis import peaks_valleys
-    from metamaterial_wb.core.sleeve.cell import CellGeometry
     from metamaterial_wb.core.sleeve.frame3d import RingFrame
     from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
     from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
@@ -314,8 +326,7 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
     out = {}
     for key, comb in SEED_COMBINATIONS.items():
         L = base["L_mm"]
-        cells = [CellGeometry(L=L, c=base["c_mm"], delta=base["delta_mm"], T=base["T_mm"], t=t * L, h=h * L)
-                 for h, t in comb["cells"]]
+        cells = combination_cells(key)
         frames = {}
         for n_el in meshes.get(key, ()):
             fs, _, _ = frame_sequence(cells, [0, 0, 1, 1], default_stroke(cells), steps, n_el, root_extension)

@@ -14,7 +14,7 @@ import os
 
 import numpy as np
 
-from metamaterial_wb.bench.fe_frame3d_plate import SEED_COMBINATIONS
+from metamaterial_wb.bench.fe_frame3d_plate import SEED_COMBINATIONS, combination_cells
 
 IMG = os.path.join("img", "sleeve-frame3d-stack.png")
 
@@ -26,7 +26,6 @@ def stacked_study(meshes=(6, 12), root_extension=0.63, steps=240):
     sequence with "peaks", "valleys", "seconds"}, "model": {...}, "paths": the finest mesh's loading and unloading
     (d, F, each ring's rise)}}``."""
     from metamaterial_wb.core.sleeve.analysis import peaks_valleys
-    from metamaterial_wb.core.sleeve.cell import CellGeometry
     from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
     from metamaterial_wb.core.sleeve.model import default_stroke
     from metamaterial_wb.core.sleeve.pipeline import analyse
@@ -37,8 +36,7 @@ def stacked_study(meshes=(6, 12), root_extension=0.63, steps=240):
     pattern = [[0] * 4, [1] * 4]
     out = {}
     for key, comb in SEED_COMBINATIONS.items():
-        cells = [CellGeometry(L=L, c=base["c_mm"], delta=base["delta_mm"], T=base["T_mm"], t=t * L, h=h * L)
-                 for h, t in comb["cells"]]
+        cells = combination_cells(key)
         frames = {}
         for n_el in meshes:
             fs, up, down = frame_sequence(cells, pattern, 2 * default_stroke(cells), steps, n_el, root_extension)

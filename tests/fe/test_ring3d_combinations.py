@@ -1,0 +1,76 @@
+"""Issue 18: the seed's combinations' thresholds on the curved solid (``bench/fe_ring3d_combinations.py``): each
+type a uniform four-cell ring in CalculiX, its first peak and valley, the two-hysteron rule on them. The ccx runs
+themselves are stored (``benchmarks/results/fe-ring3d.json``, ``combinations``); here the extraction on made-up
+curves, the checks before any run, and the stored runs against what the docs say of them."""
+import json
+import os
+
+import numpy as np
+import pytest
+
+from metamaterial_wb.bench import fe_ring3d_combinations as fc
+from metamaterial_wb.bench.fe_frame3d_plate import SEED_COMBINATIONS, combination_cells
+
+ROOT = os.path.join(os.path.dirname(__file__), "..", "..")
+
+
+def test_combination_cells_are_the_examples_cell_types():
+    """Combination 2 is examples/sleeve.json's sleeve: the same cell types to 1e-3 mm, on its L, c, delta, T."""
+    spec = json.load(open(os.path.join(ROOT, "examples", "sleeve.json")))
+    cells = combination_cells("2")
+    for g, t in zip(cells, spec["cell_types"]):
+        assert g.t == pytest.approx(t["t_mm"], abs=1e-3) and g.h == pytest.approx(t["h_mm"], abs=1e-3)
+        assert (g.L, g.c, g.delta, g.T) == (spec["L_mm"], spec["c_mm"], spec["delta_mm"], spec["T_mm"])
+    assert [(round(g.h / g.L, 3), round(g.t / g.L, 3)) for g in combination_cells("1")] == list(
+        SEED_COMBINATIONS["1"]["cells"])
+
+
+def _curve(d):
+    """A made-up ring curve with F' = 0.2 (d - 0.14) (d - 0.45): a peak at d/L 0.14, a valley at 0.45."""
+    return 0.2 * (d ** 3 / 3 - 0.295 * d ** 2 + 0.063 * d) + 0.5e-3
+
+
+def test_solid_ring_reads_the_first_peak_and_the_valley_after_it(monkeypatch):
+    """``solid_ring`` asks for the stored family's run (four cells, one brick through the wall, every brick C3D20,
+    0.01 d/L per increment, partial runs kept) and reads its first peak and the first valley after it off the
+    curve; a run that stops before the valley gives ``None`` there, and no rule."""
+    from metamaterial_wb.fe import sleeve3d
+    asked = {}
+
+    def fake(g, n_cells, r, n_layers, d_max, increments, timeout_s, partial, element):
+        asked.update(n_cells=n_cells, r=r, n_layers=n_layers, d_max=d_max / g.L, increments=increments,
+                     partial=partial, element=element)
+        d = np.linspace(0.0, min(d_max / g.L, asked.get("stop", 9.0)), 71)
+        return ({"d": d, "F": _curve(d), "tilt_rad": np.zeros((71, 2))},
+                {"wall_s": 1.0, "d_reached": float(d[-1])})
+    monkeypatch.setattr(sleeve3d, "solve_ring3d", fake)
+    g = combination_cells("2")[0]
+    row = fc.solid_ring(g, 2)
+    assert asked == {"n_cells": 4, "r": 2, "n_layers": 1, "d_max": pytest.approx(0.7), "increments": 70,
+                     "partial": True, "element": "C3D20"}
+    assert row["P1"] == pytest.approx(_curve(0.14), rel=1e-5) and row["P1_d"] == pytest.approx(0.14, abs=1e-3)
+    assert row["valley"] == pytest.approx(_curve(0.45), rel=1e-5) and row["valley_d"] == pytest.approx(0.45, abs=1e-3)
+    asked["stop"] = 0.3                         # the run ends inside the descent: no valley
+    short = fc.solid_ring(g, 1)
+    assert short["P1"] == pytest.approx(row["P1"], rel=1e-4) and short["valley"] is None
+    assert fc.solid_rule([row, short]) is None
+    assert fc.solid_rule([row, dict(row, P1=1.1 * row["P1"], valley=0.9 * row["valley"])]) == {
+        "loading": [0, 1], "unloading": [0, 1], "symmetric": False}
+    assert fc.differences([row, dict(row, P1=1.1 * row["P1"], valley=0.9 * row["valley"])]) == pytest.approx(
+        (10.0, -10.0))
+
+
+def test_solid_thresholds_checks_every_run_before_starting_any(monkeypatch):
+    """An unknown combination or mesh is refused with the allowed ones named, before any ccx run; the runs that
+    are asked for fill each combination's and mesh's two slots and are handed to ``done`` as each ends."""
+    calls = []
+    monkeypatch.setattr(fc, "solid_ring", lambda g, r, timeout_s: calls.append((round(g.h, 3), r)) or {"h": g.h, "r": r})
+    for bad in ((("3", "r1"),), (("2", "r5"),), (("2", "r1"), ("1", "r3"))):
+        with pytest.raises(ValueError, match=r"allowed: a combination of \['1', '2'\] on a mesh of \['r1', 'r2'\]"):
+            fc.solid_thresholds(bad)
+    assert calls == []
+    got = []
+    out = fc.solid_thresholds((("2", "r1"), ("1", "r2")), done=lambda *a: got.append(a[:3]))
+    assert sorted(got) == [("1", "r2", 0), ("1", "r2", 1), ("2", "r1", 0), ("2", "r1", 1)]
+    assert [row["h"] for row in out["2"]["r1"]] == [g.h for g in combination_cells("2")]
+    assert [row["r"] for row in out["1"]["r2"]] == [2, 2]
