@@ -10,7 +10,8 @@ moduli and two root extensions (a few seconds in all, no ccx), stores them in
 four-cell ring nonlinearly (about 40 s), ``--plate`` the four- and eight-cell rings with the solid's free plate
 (``bench/fe_frame3d_plate.py``, about 1 min), ``--sequence`` the seed's two mixed rings' cycles on it (about
 4 min), ``--stacked`` the seed's combinations as two stacked rings (``bench/fe_frame3d_stack.py``, about 12 min);
-otherwise their stored runs are reused.
+otherwise their stored runs are reused. The solid's thresholds of the seed's combinations
+(``bench_sleeve_ring3d.py --combinations``, stored in fe-ring3d.json) are tabulated beside the frame's.
 """
 import argparse
 import json
@@ -64,7 +65,7 @@ def main(argv=None):
         s["sequence"] = fe_frame3d_plate.sequence_study()
     elif os.path.exists(old):
         s["sequence"] = json.load(open(old)).get("sequence")
-    from metamaterial_wb.bench import fe_frame3d_stack
+    from metamaterial_wb.bench import fe_frame3d_stack, fe_ring3d_combinations
     if a.stacked:
         s["stacked"] = fe_frame3d_stack.stacked_study()
     elif os.path.exists(old):
@@ -74,7 +75,9 @@ def main(argv=None):
     section = fe_frame3d.markdown(s, ([fe_frame3d_plate.markdown(s["plate"], comp, off)] if s.get("plate") else []) +
                                   ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []) +
                                   ([fe_frame3d_stack.stacked_markdown(s["stacked"], s.get("sequence") or {})]
-                                   if s.get("stacked") else []))
+                                   if s.get("stacked") else []) +
+                                  ([fe_ring3d_combinations.solid_markdown(raw["combinations"], s.get("sequence") or {})]
+                                   if raw.get("combinations") else []))
     print(section)
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))

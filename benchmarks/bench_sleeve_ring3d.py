@@ -365,7 +365,7 @@ def main(argv=None):
                     "runs' bricks (C3D20: every brick fully integrated, stored with the prefix c3d20_)")
     ap.add_argument("--held-p1", default=None, help="comma list of parts (sleeve3d.PARTS or 'fixed'): the four-cell "
                     "ring's first peak with that part held at its radius (ccx, 2-5 min each)")
-    ap.add_argument("--combinations", default=None, help="comma list of <combination>:<mesh> (mesh r1 or r2): "
+    ap.add_argument("--combinations", default=None, help="comma list of <combination>:<mesh> (mesh r1, r2 or r3): "
                     "each cell type of the seed's combination as a uniform four-cell ring (ccx, every brick C3D20, "
                     "static to d/L 0.7), two runs at a time; stored under 'combinations' as each ends")
     ap.add_argument("--no-write", action="store_true")

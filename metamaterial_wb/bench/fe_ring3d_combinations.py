@@ -18,7 +18,7 @@ import numpy as np
 from metamaterial_wb.bench.fe_frame3d_plate import SEED_COMBINATIONS, combination_cells
 from metamaterial_wb.bench.fe_frame3d_stack import rule
 
-MESH_R = {"r1": 1, "r2": 2}
+MESH_R = {"r1": 1, "r2": 2, "r3": 3}
 D_MAX = 0.7                 # d/L: past the first valley of every seed type (the seed's cell: 0.45)
 
 
@@ -71,3 +71,106 @@ def solid_rule(rows):
 def differences(rows):
     """Type 1's thresholds against type 0's, in per cent: ``(P1, valley)``."""
     return tuple(100.0 * (rows[1][k] / rows[0][k] - 1.0) for k in ("P1", "valley"))
+
+
+def extrapolated(meshes):
+    """Richardson over the solid's meshes r = 1, 2, 3 (``extrapolation.richardson3``, element size 1 / r, observed
+    order) of one combination's runs ``{mesh: [row, row]}``: each type's ``P1`` and ``valley`` and type 1's
+    differences from type 0 (per cent), each ``(value, error)``; ``None`` until all three meshes are stored with
+    both thresholds."""
+    from metamaterial_wb.bench.extrapolation import richardson3
+    names = ("r1", "r2", "r3")
+    if not all(solid_rule(meshes.get(m)) for m in names):
+        return None
+    h = [1.0 / MESH_R[m] for m in names]
+    out = {}
+    for k in range(2):
+        ext, err, _ = richardson3(h, [[meshes[m][k]["P1"], meshes[m][k]["valley"]] for m in names])
+        out[k] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
+    ext, err, _ = richardson3(h, [list(differences(meshes[m])) for m in names])
+    out["differences"] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
+    return out
+
+
+def _seq(s):
+    return f"{s['loading']} \\| {s['unloading']} ({'symmetric' if s['symmetric'] else 'asymmetric'})"
+
+
+def _row(r):
+    """One type's cell: P1 (d/L), valley (d/L), x1e-3; ``+-`` errors for extrapolated ``(value, error)`` pairs."""
+    if r is None or r.get("P1") is None or r.get("valley") is None:
+        return "-"
+    out = []
+    for k in ("P1", "valley"):
+        v = r[k]
+        out.append(f"{1e3 * v[0]:.3f} +- {1e3 * v[1]:.3f}" if isinstance(v, tuple) else f"{1e3 * v:.3f}"
+                   + (f" ({r[k + '_d']:.3f})" if r.get(k + "_d") is not None else ""))
+    return ", ".join(out)
+
+
+def solid_markdown(solid, mixed):
+    """The solid's thresholds of the seed's combinations (``solid``: ``{combination: {mesh: [row, row]}}``, as
+    stored under ``combinations``) and their extrapolation, beside the frame's uniform rings
+    (``mixed[key]["uniform"]``, ``fe_frame3d_plate.sequence_study``) and the seed's order, and what they say."""
+    L = ["**The seed's combinations' thresholds on the curved solid** (`bench/fe_ring3d_combinations.py`, "
+         "`bench_sleeve_ring3d.py --combinations`: each type a uniform four-cell ring in CalculiX, one brick "
+         "through the wall, every brick C3D20, static to d/L 0.7 in steps of 0.01, the tilting top plate under "
+         "the default bias; first peak P1 and first valley, F / (G L^2) x1e-3 at d/L; extrapolated in the element "
+         "size 1 / r over r = 1, 2, 3 with its observed order). The stacked frame above puts a stack's thresholds "
+         "on its uniform rings', so the rule on a model's uniform rings is that model's order for the stack; a "
+         "stacked solid is not run (its snaps under displacement control are dynamic):", "",
+         "| combination | model, mesh | type 0: P1, valley | type 1: P1, valley | type 1 against type 0: P1, "
+         "valley | rule (stacked order) | seed | time |", "|---|---|---|---|---|---|---|---|"]
+    verdict, frame_notes = [], []
+    for key in sorted(solid):
+        sd = SEED_COMBINATIONS[key]
+        seed = {"loading": sd["seed"][0], "unloading": sd["seed"][1], "symmetric": sd["seed"][0][::-1] == sd["seed"][1]}
+        rows = [("solid, r = " + mesh[1:], solid[key][mesh]) for mesh in sorted(solid[key])]
+        ex = extrapolated(solid[key])
+        if ex:
+            rows.append(("solid, extrapolated", [ex[0], ex[1]]))
+        u = mixed.get(key, {}).get("uniform")
+        if u:
+            rows.append(("frame, 12 elements (plane stress, calibrated, free plate)",
+                         [{"P1": x["P1"], "valley": x["valley"]} for x in u]))
+        orders = {}
+        for i, (name, rr) in enumerate(rows):
+            if name == "solid, extrapolated":
+                dp, dv = ex["differences"]["P1"], ex["differences"]["valley"]
+                ru = rule([{"P1": r["P1"][0], "valley": r["valley"][0]} for r in rr])
+                diff = f"{dp[0]:+.2f} +- {dp[1]:.2f} %, {dv[0]:+.2f} +- {dv[1]:.2f} %"
+                rule_text = _seq(ru) + (" (both differences beyond their errors)" if abs(dp[0]) > dp[1] and
+                                        abs(dv[0]) > dv[1] else " (a difference within its error)")
+            else:
+                ok = solid_rule(rr) is not None
+                ru = solid_rule(rr)
+                diff = "{:+.1f} %, {:+.1f} %".format(*differences(rr)) if ok else "-"
+                rule_text = _seq(ru) if ru else "-"
+            orders[name] = ru
+            secs = " + ".join(f"{r['wall_s'] / 60:.0f}" for r in rr if r and "wall_s" in r)
+            L.append(f"| {key if i == 0 else ''} | {name} | {_row(rr[0])} | {_row(rr[1])} | {diff} | {rule_text} | "
+                     + (_seq(seed) if i == 0 else "") + f" | {secs + ' min' if secs else ''} |")
+        solids = {n: o for n, o in orders.items() if n.startswith("solid, r") and o}
+        if solids:
+            same = all(o["loading"] == seed["loading"] and o["unloading"] == seed["unloading"] for o in solids.values())
+            alike = len({(tuple(o["loading"]), tuple(o["unloading"])) for o in solids.values()}) == 1
+            verdict.append(f"combination {key}: the solid's order is "
+                           + (_seq(next(iter(solids.values()))) + (" on every mesh" if len(solids) > 1 else "")
+                              if alike else "not the same on every mesh")
+                           + (", the seed's" if same else ", not the seed's"))
+        if ex and u:
+            offs = []
+            for k in range(2):
+                for q in ("P1", "valley"):
+                    v, e = ex[k][q]
+                    offs.append(f"type {k}'s {q} {100 * (u[k][q] / v - 1):+.1f} % "
+                                + ("(inside" if abs(u[k][q] - v) <= e else "(outside") + f" its +- {100 * e / v:.0f} %)")
+            fd, sd_ = differences(u), ex["differences"]
+            frame_notes.append(f"Combination {key}'s frame against the extrapolated solid: " + ", ".join(offs)
+                               + f"; the frame's types differ by {fd[0]:+.1f} % (P1) and {fd[1]:+.1f} % (valley), "
+                               f"the solid's by {sd_['P1'][0]:+.2f} +- {sd_['P1'][1]:.2f} % and "
+                               f"{sd_['valley'][0]:+.2f} +- {sd_['valley'][1]:.2f} %.")
+    L += ["", "; ".join(verdict) + "." if verdict else "", ""]
+    if frame_notes:
+        L += [" ".join(frame_notes), ""]
+    return "\n".join(L)
