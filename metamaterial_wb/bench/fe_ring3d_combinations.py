@@ -8,8 +8,9 @@ peaks on the uniform rings' first peaks and its valleys on the first ring's and 
 so the rule on a model's uniform rings is that model's order for the stack. A stacked solid itself is not run
 (its snaps under displacement control are dynamic); the solid's uniform rings are its thresholds. On the solid's
 coarse meshes each P1 is some per cent high (the seed's type: +16 % on r = 1, +7 % on r = 2 against the
-four-mesh extrapolation), alike for types this close, so the order rests on their differences, given on two
-meshes.
+four-mesh extrapolation), alike for types this close, so the order rests on their differences: given on each
+mesh and extrapolated over r = 1, 2, 3 (``extrapolated``) for combination 2, whose types lie within a few per
+cent; combination 1's, 20 % and more apart, on r = 1.
 """
 import concurrent.futures
 
@@ -38,7 +39,8 @@ def solid_ring(g, r, d_max=D_MAX, timeout_s=5400.0):
             "wall_s": info["wall_s"], "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300]}
 
 
-def solid_thresholds(runs=(("2", "r1"), ("2", "r2"), ("1", "r1")), workers=2, timeout_s=5400.0, done=None):
+def solid_thresholds(runs=(("2", "r1"), ("2", "r2"), ("2", "r3"), ("1", "r1")), workers=2, timeout_s=5400.0,
+                     done=None):
     """Every cell type of each (combination, mesh) of ``runs`` as a uniform solid ring (``solid_ring``), ``workers``
     ccx runs at a time (each on one core): ``{combination: {mesh: [type 0's row, type 1's row]}}``. ``done(key,
     mesh, k, row)`` is called as each run ends (to store it at once)."""
