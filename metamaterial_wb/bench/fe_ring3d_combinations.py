@@ -166,7 +166,8 @@ def solid_markdown(solid, mixed):
                 for q in ("P1", "valley"):
                     v, e = ex[k][q]
                     offs.append(f"type {k}'s {q} {100 * (u[k][q] / v - 1):+.1f} % "
-                                + ("(inside" if abs(u[k][q] - v) <= e else "(outside") + f" its +- {100 * e / v:.0f} %)")
+                                + ("(inside" if abs(u[k][q] - v) <= e else "(outside")
+                                + f" its +- {100 * e / v:.0f} %)")
             fd, sd_ = differences(u), ex["differences"]
             frame_notes.append(f"Combination {key}'s frame against the extrapolated solid: " + ", ".join(offs)
                                + f"; the frame's types differ by {fd[0]:+.1f} % (P1) and {fd[1]:+.1f} % (valley), "

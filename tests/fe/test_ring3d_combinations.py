@@ -64,9 +64,11 @@ def test_solid_thresholds_checks_every_run_before_starting_any(monkeypatch):
     """An unknown combination or mesh is refused with the allowed ones named, before any ccx run; the runs that
     are asked for fill each combination's and mesh's two slots and are handed to ``done`` as each ends."""
     calls = []
-    monkeypatch.setattr(fc, "solid_ring", lambda g, r, timeout_s: calls.append((round(g.h, 3), r)) or {"h": g.h, "r": r})
+    monkeypatch.setattr(fc, "solid_ring",
+                        lambda g, r, timeout_s: calls.append((round(g.h, 3), r)) or {"h": g.h, "r": r})
+    allowed = r"allowed: a combination of \['1', '2'\] on a mesh of \['r1', 'r2', 'r3'\]"
     for bad in ((("3", "r1"),), (("2", "r5"),), (("2", "r1"), ("1", "r4"))):
-        with pytest.raises(ValueError, match=r"allowed: a combination of \['1', '2'\] on a mesh of \['r1', 'r2', 'r3'\]"):
+        with pytest.raises(ValueError, match=allowed):
             fc.solid_thresholds(bad)
     assert calls == []
     got = []
