@@ -154,3 +154,48 @@ def frame_walker_note(frame_cycle, model_cycle):
     return (f"walker on the nonlinear frame: tip loop {f['area_mm2']:.3g} mm^2, lateral stroke "
             f"{f['lateral_stroke_mm']:.3g} mm, step {f['step_per_cycle_mm']:.3g} mm per cycle (the beam model's: "
             f"{m['area_mm2']:.3g} mm^2, {m['lateral_stroke_mm']:.3g} mm, {m['step_per_cycle_mm']:.3g} mm)")
+
+
+# the seed's combinations' cell types (t, h in mm, on the seed's L, c, delta, T) run as uniform four-cell curved
+# solids (every brick C3D20): the two-hysteron order on their first peaks and valleys (loading by rising P1,
+# unloading by falling valley) and type 1's differences from type 0, per cent; combination 2 extrapolated over
+# three meshes (+- its error), combination 1 on the coarsest (benchmarks/results/fe-ring3d.json, "combinations";
+# tests/sleeve/test_accuracy.py)
+SOLID_ORDERS = {
+    ((1.098, 7.092), (1.098, 7.488)): {"loading": [0, 1], "unloading": [0, 1], "P1": (1.76, 0.34),
+                                       "valley": (-3.85, 0.10), "mesh": "extrapolated over three meshes"},
+    ((0.99, 6.696), (1.17, 6.696)): {"loading": [0, 1], "unloading": [1, 0], "P1": (21.0, None),
+                                     "valley": (94.7, None), "mesh": "its coarsest mesh"},
+}
+
+
+def _pct(v):
+    return f"{v[0]:+.2f} +- {v[1]:.2f} %" if v[1] is not None else f"{v[0]:+.1f} %"
+
+
+def solid_order_note(cells, n_cells, seq, rel=1e-3):
+    """For a sleeve of two cell types that the curved solid was run for (``SOLID_ORDERS``, in either order), the
+    two-hysteron order on the solid's uniform rings beside the beam model's ``seq`` (its ``loading`` and
+    ``unloading``); ``None`` for any other sleeve."""
+    if len(cells) != 2 or not all(math.isclose(getattr(g, k), SEED_CELL[k], rel_tol=rel)
+                                  for g in cells for k in ("L", "c", "delta", "T")):
+        return None
+    for types, rec in SOLID_ORDERS.items():
+        for perm in ((0, 1), (1, 0)):
+            if all(math.isclose(cells[perm[i]].t, types[i][0], rel_tol=rel) and
+                   math.isclose(cells[perm[i]].h, types[i][1], rel_tol=rel) for i in range(2)):
+                load = [perm[i] for i in rec["loading"]]
+                unload = [perm[i] for i in rec["unloading"]]
+                word = "symmetric" if unload == load[::-1] else "asymmetric"
+                a, b = perm
+                same = load == list(seq["loading"]) and unload == list(seq["unloading"])
+                return (f"snapping order on the curved solid: these cell types' uniform four-cell rings (CalculiX, "
+                        f"every brick C3D20, {rec['mesh']}) give type {b}'s first peak {_pct(rec['P1'])} and its "
+                        f"valley {_pct(rec['valley'])} against type {a}'s, so two such rings stacked snap loading "
+                        f"{load}, unloading {unload} ({word}) by the two-hysteron rule"
+                        + ("" if n_cells == 4 else f" (measured with four cells around, this sleeve has {n_cells})")
+                        + f"; the beam model's: loading {list(seq['loading'])}, unloading {list(seq['unloading'])} - "
+                        + ("the same" if same else "they differ")
+                        + " (a mixed ring's cells share one plate and need not follow the rule: on the 3-D frame "
+                          "the seed's mixed combination 2 is symmetric; docs/sleeves.md)")
+    return None

@@ -6,7 +6,7 @@ import time
 import numpy as np
 
 from metamaterial_wb.core.sleeve.accuracy import (accuracy, frame_nl_note, frame_note, frame_sequence_note,
-                                                  frame_walker_note)
+                                                  frame_walker_note, solid_order_note)
 from metamaterial_wb.core.sleeve.frame3d import curvature_check
 from metamaterial_wb.core.sleeve.frame3d_nl import first_peak
 from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
@@ -241,6 +241,9 @@ def analyse(spec, progress=None, log=None):
     summary["accuracy"]["notes"] += [frame_note(u["type"], n, u["frame3d"]) for u in uniform if "frame3d" in u]
     summary["accuracy"]["notes"] += [frame_nl_note(u["type"], n, u["frame3d_nl"], Fscale, L)
                                      for u in uniform if "frame3d_nl" in u]
+    order = solid_order_note(spec.cells, n, seq)
+    if order:
+        summary["accuracy"]["notes"].append(order)
     if spec.frame_nonlinear:
         summary["accuracy"]["notes"].append(frame_sequence_note(seq))
     if spec.walker:
