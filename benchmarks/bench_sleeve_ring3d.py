@@ -155,37 +155,50 @@ def cells_check(ns=(4, 6, 8, 12)):
     return out
 
 
-def cells_p1_prefix(element="C3D20R", bias=BIAS):
+CELLS_P1_MESH = "layers2"                       # the cells_p1 runs' default mesh (fe_ring3d_paths.MESHES)
+
+
+def cells_p1_prefix(element="C3D20R", bias=BIAS, mesh=CELLS_P1_MESH):
     """The prefix of a ``cells_p1`` run's fields: ``c3d20_`` for every brick fully integrated, ``bias<b>_`` for a
-    tilt bias other than the default (a larger one follows a tilted branch past a bifurcation smoothly)."""
-    return ("c3d20_" if element == "C3D20" else "") + (f"bias{bias:g}_" if bias != BIAS else "")
+    tilt bias other than the default (a larger one follows a tilted branch past a bifurcation smoothly),
+    ``<mesh>_`` for a mesh other than the default (r = 1, two bricks through the wall)."""
+    return (("c3d20_" if element == "C3D20" else "") + (f"bias{bias:g}_" if bias != BIAS else "")
+            + (f"{mesh}_" if mesh != CELLS_P1_MESH else ""))
 
 
-def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R", bias=BIAS, timeout_s=5400.0):
+def cells_p1(ns=(4, 8), d_max=0.17, element="C3D20R", bias=BIAS, timeout_s=5400.0, mesh=CELLS_P1_MESH,
+             bias_ramp=None):
     """The curved ring's first peak by ring size: static, mesh r = 1 with two bricks through the wall (0.01 d/L per
-    increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation). With
-    ``element="C3D20"`` every brick is fully integrated; the fields' prefix: ``cells_p1_prefix``. The beams' ends
-    are printed at every increment: ``p1_rises`` (per point, per beam half: ``sleeve3d.hysterons``) with the halves'
-    edge pillars ``p1_units`` and their snap height ``p1_snap_height`` (h / L) give the snapped hysterons."""
+    increment, where the four-cell ring's P1 is within a few per cent of its three-mesh extrapolation; ``mesh``:
+    another of ``MESHES``). With ``element="C3D20"`` every brick is fully integrated; the fields' prefix:
+    ``cells_p1_prefix``. The bias moment grows with the rise, to ``bias`` at ``d_max``, or at ``bias_ramp`` (d/L)
+    if given: a run stopped short of a longer one then sees the same bias at every rise (``bias * d_max /
+    bias_ramp`` applied at ``d_max``). The beams' ends are printed at every increment: ``p1_rises`` (per point,
+    per beam half: ``sleeve3d.hysterons``) with the halves' edge pillars ``p1_units`` and their snap height
+    ``p1_snap_height`` (h / L) give the snapped hysterons."""
     from metamaterial_wb.fe import sleeve3d
     from metamaterial_wb.fe.sleeve_check import first_peak
     g = cell_geometry()
+    r, n_layers = MESHES[mesh]
+    applied = bias if bias_ramp is None else bias * d_max / bias_ramp
     out = {}
     for n in ns:
-        mesh = sleeve3d.ring_mesh(g, n, 1, 2)
-        ends = mesh.beam_ends()
+        ring = sleeve3d.ring_mesh(g, n, r, n_layers)
+        ends = ring.beam_ends()
         watch = np.concatenate([ends["outer"].ravel(), ends["inner"].ravel()])
-        c, info = sleeve3d.solve_ring3d(g, n, 1, 2, d_max=d_max * g.L, increments=int(round(100 * d_max)),
-                                        timeout_s=timeout_s, partial=True, element=element, bias=bias, watch=watch)
-        rises, _snapped = sleeve3d.hysterons(mesh, ends, c["u_watch"], watch)
+        c, info = sleeve3d.solve_ring3d(g, n, r, n_layers, d_max=d_max * g.L, increments=int(round(100 * d_max)),
+                                        timeout_s=timeout_s, partial=True, element=element, bias=applied,
+                                        watch=watch)
+        rises, _snapped = sleeve3d.hysterons(ring, ends, c["u_watch"], watch)
         at, P1 = first_peak(c["d"], c["F"])
         ok = bool(np.isfinite(P1))                     # None: no peak before the run ended (see p1_stopped)
-        pre = cells_p1_prefix(element, bias)
+        pre = cells_p1_prefix(element, bias, mesh)
         row = {"fe_curved_p1": float(P1) if ok else None, "fe_curved_p1_d": float(at) if ok else None,
                "p1_wall_s": info["wall_s"], "p1_d_reached": info["d_reached"],
                "p1_stopped": info.get("stopped", "")[:200], "p1_curve": {"d": c["d"].tolist(), "F": c["F"].tolist()},
                "p1_tilt_deg_max": float(np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).max()),
                "p1_tilt_deg": np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T)).tolist(), "p1_bias": bias,
+               "p1_bias_ramp": bias_ramp if bias_ramp is not None else d_max, "p1_mesh": mesh,
                "p1_extrema": sleeve3d.all_extrema(c["d"], c["F"]),
                "p1_rises": np.round(rises, 6).tolist(), "p1_units": ends["units"].tolist(), "p1_snap_height": g.h / g.L}
         out[str(n)] = {pre + k: v for k, v in row.items()}
@@ -290,7 +303,7 @@ def compare(data):
                                                                                      "d_reached", "dofs")}}}
     out.update({"curved": model_curve(0.0, True), "curved_calibrated": model_curve(e, True),
                 "flat_calibrated": model_curve(e, False), "model_relief": model_relief(e)})
-    for k in ("stiffness", "stability"):
+    for k in ("stiffness", "stability", "combinations"):
         if k in data:
             out[k] = data[k]
     if "cells" in data:
@@ -361,6 +374,10 @@ def main(argv=None):
     ap.add_argument("--cells-p1-bias", type=float, default=BIAS, help="the --cells-p1 runs' tilt bias (G L^2); "
                     "another than the default is stored with the prefix bias<b>_")
     ap.add_argument("--cells-p1-dmax", type=float, default=0.17, help="d/L of the --cells-p1 runs")
+    ap.add_argument("--cells-p1-mesh", default=CELLS_P1_MESH, choices=sorted(MESHES), help="the --cells-p1 runs' "
+                    "mesh (another than the default is stored with the prefix <mesh>_)")
+    ap.add_argument("--cells-p1-bias-ramp", type=float, default=None, help="d/L at which the --cells-p1 bias "
+                    "reaches --cells-p1-bias (default: at --cells-p1-dmax); a shorter run then sees a longer one's bias")
     ap.add_argument("--cells-p1-element", default="C3D20R", choices=("C3D20R", "C3D20"), help="the --cells-p1 "
                     "runs' bricks (C3D20: every brick fully integrated, stored with the prefix c3d20_)")
     ap.add_argument("--held-p1", default=None, help="comma list of parts (sleeve3d.PARTS or 'fixed'): the four-cell "
@@ -411,7 +428,8 @@ def main(argv=None):
         _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
                          for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")],
                                               d_max=a.cells_p1_dmax, element=a.cells_p1_element,
-                                              bias=a.cells_p1_bias, timeout_s=a.timeout).items()}, merge=True)
+                                              bias=a.cells_p1_bias, timeout_s=a.timeout, mesh=a.cells_p1_mesh,
+                                              bias_ramp=a.cells_p1_bias_ramp).items()}, merge=True)
     if a.stiffness:
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.held_p1:

@@ -192,14 +192,22 @@ def cells_variant_line(n, v, pre):
     ``c3d20_``, and/or another tilt bias, ``bias<b>_``) in a sentence."""
     g = lambda k: v.get(pre + k)                                  # noqa: E731
     bias = g("p1_bias")
-    opts = (" --cells-p1-element C3D20" if "c3d20_" in pre else "") + (f" --cells-p1-bias {bias:g}" if
-                                                                        "bias" in pre else "")
+    mesh = g("p1_mesh") or "layers2"
+    ramp = g("p1_bias_ramp")
+    shorter = ramp is not None and ramp > g("p1_d_reached") + 1e-6
+    opts = ((" --cells-p1-element C3D20" if "c3d20_" in pre else "") +
+            (f" --cells-p1-bias {bias:g}" if "bias" in pre else "") +
+            (f" --cells-p1-mesh {mesh}" if mesh != "layers2" else "") +
+            (f" --cells-p1-bias-ramp {ramp:g}" if shorter else ""))
     what = ("every brick fully integrated" if "c3d20_" in pre else "reduced bricks") + (
-        f" and a tilt bias {bias:g} G L^2 ({bias / 1e-5:.0f} times the default)" if "bias" in pre else "")
+        f" and a tilt bias {bias:g} G L^2 ({bias / 1e-5:.0f} times the default)" if "bias" in pre else "") + (
+        f", reaching it at d/L {ramp:g} as the longer run's" if shorter else "")
+    where = "the same mesh" if mesh == "layers2" else f"mesh {MESH_NAMES[mesh]}, one brick through the wall" \
+        if MESHES[mesh][1] == 1 else f"mesh {MESH_NAMES[mesh]}"
     P1 = g("fe_curved_p1")
     why = stop_reason(g("p1_stopped"), g("p1_curve"))
     ex = g("p1_extrema")
-    s = (f"{n} cells with {what} (`--cells-p1 {n}{opts}`, the same mesh): " +
+    s = (f"{n} cells with {what} (`--cells-p1 {n}{opts}`, {where}): " +
          (f"P1 {1e3 * P1:.3f} at d/L {g('fe_curved_p1_d'):.3f}" if P1 else "no first peak") +
          f", the run reaching d/L {g('p1_d_reached'):.3f} in {g('p1_wall_s') / 60:.1f} min" +
          (f" ({why})" if why else ""))
@@ -440,7 +448,24 @@ def cells_sentence(c):
             f"initial stiffness is {max(cal):.1f} to {min(cal):.1f} times the curved solid's calibrated ("
             f"{max(doc):.1f} to {min(doc):.1f} as documented; the solid's coarse mesh makes these if anything low); "
             "every sleeve summary quotes these measured ratios (`accuracy`), and `sleeve --fe-check` measures them "
-            "for other cells." + frame_sentence(dict((str(n), v) for n, v in rows)))
+            "for other cells." + frame_sentence(dict((str(n), v) for n, v in rows)) + combinations_sentence(c))
+
+
+def combinations_sentence(c):
+    """The seed's combination 2's cell types on the solid (``fe_ring3d_combinations``), one sentence ("" until
+    its three meshes are stored)."""
+    from metamaterial_wb.bench import fe_ring3d_combinations as fc
+    ex = fc.extrapolated(c.get("combinations", {}).get("2", {}))
+    if not ex:
+        return ""
+    dp, dv = ex["differences"]["P1"], ex["differences"]["valley"]
+    order = fc.rule([{"P1": ex[k]["P1"][0], "valley": ex[k]["valley"][0]} for k in range(2)])
+    return (f" The seed's combination 2's two cell types, each a uniform four-cell solid ring on three meshes, differ "
+            f"by {dp[0]:+.2f} +- {dp[1]:.2f} % on the first peak and {dv[0]:+.2f} +- {dv[1]:.2f} % on the valley: "
+            f"by the two-hysteron rule two such rings stacked snap loading {order['loading']}, unloading "
+            f"{order['unloading']} ({'symmetric' if order['symmetric'] else 'asymmetric'}), the seed's order; the "
+            "frame's thresholds against them are in sleeves.md, and a `sleeve` summary of these types quotes the "
+            "solid's order beside the planar model's.")
 
 
 def frame_sentence(cells):

@@ -250,3 +250,35 @@ def test_eight_cell_solid_and_frame_snap_the_same_pillars_on_the_leaning_branch(
     text = fp.markdown(stored, json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json"))))
     assert "the solid's, read off its beams' ends by the same rule" in text
     assert text.count("3 of 8 at the first valley") >= 2
+
+
+def test_eight_cell_mesh_error_extrapolates_with_the_four_cell_familys_order():
+    """``eight_cell_meshes``: eight-cell first peaks that fall from r = 1 to r = 2 as the four-cell ring's do
+    (the same ratio) fall by the same per cent and extrapolate, with the four-cell family's observed order, to the
+    four-cell extrapolation from the same two meshes scaled alike (1e-12); that order reproduces the four-cell
+    family's four-mesh extrapolation within 1 %. Without both runs there is nothing to report."""
+    import copy
+    import json
+    import os
+    from metamaterial_wb.bench import fe_frame3d_plate as fp
+    from metamaterial_wb.bench.fe_ring3d_corner import family_convergence
+    res = os.path.join(os.path.dirname(__file__), "..", "..", "benchmarks", "results")
+    comp = copy.deepcopy(json.load(open(os.path.join(res, "fe-ring3d-comparison.json"))))
+    pc = family_convergence(comp, "_C3D20")
+    p4 = [F for _, F in pc["p1"][:2]]
+    row = comp["cells"]["8"]
+    for key in [k for k in row if k.startswith(("c3d20_bias0.001_r1_", "c3d20_bias0.001_r2_"))]:
+        del row[key]
+    assert fp.eight_cell_meshes(comp) is None
+    k = 2.4
+    for m, F in zip(("r1", "r2"), p4):
+        row.update({f"c3d20_bias0.001_{m}_fe_curved_p1": k * F, f"c3d20_bias0.001_{m}_fe_curved_p1_d": 0.06,
+                    f"c3d20_bias0.001_{m}_p1_wall_s": 600.0})
+    m8 = fp.eight_cell_meshes(comp)
+    assert m8["fall"] == pytest.approx(m8["four_fall"], abs=1e-12)
+    p = m8["order"]
+    four_two = p4[1] + (p4[1] - p4[0]) * 0.5 ** p / (1 - 0.5 ** p)
+    assert m8["ext"][0] == pytest.approx(k * four_two, rel=1e-12)
+    assert four_two == pytest.approx(pc["p1_ext"][1], rel=0.01)
+    words = fp.eight_cell_words(m8, 0.97 * m8["ext"][0])
+    assert f"falls by {100 * m8['four_fall']:+.1f} %" in words and "the frame's leaning peak is -3 % off it" in words
