@@ -13,6 +13,8 @@ import time
 
 import numpy as np
 
+from metamaterial_wb.bench.fe_ring3d_combinations import SEED_COMBINATIONS, combination_cells
+
 IMG = "img/sleeve-frame3d-plate.png"
 # key: (cells, d_max, bias, modes followed, the rise over which the bias is ramped: the solid run's step end)
 RUNS = {"4": (4, 0.40, 0.0, 4, None), "8": (8, 0.14, 0.0, 4, None), "4_bias1e-05": (4, 0.40, 1e-5, 0, 0.7),
@@ -331,24 +333,6 @@ def plot(pl, c, path):
 
 
 # the seed's two combinations (h/L, t/L of its two cell types; the seed's sequence, types in its order)
-SEED_COMBINATIONS = {
-    "1": {"cells": ((0.372, 0.055), (0.372, 0.065)), "seed": ([0, 1], [1, 0]), "lean": "the same way"},
-    "2": {"cells": ((0.394, 0.061), (0.416, 0.061)), "seed": ([0, 1], [0, 1]), "lean": "the other way"}}
-
-
-def combination_cells(key):
-    """The cell types of seed combination ``key`` (``SEED_COMBINATIONS``) on examples/sleeve.json's cell (L, c,
-    delta, T): a list of ``CellGeometry``."""
-    import json
-    import os
-    from metamaterial_wb.core.sleeve.cell import CellGeometry
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    base = json.load(open(os.path.join(root, "examples", "sleeve.json")))
-    L = base["L_mm"]
-    return [CellGeometry(L=L, c=base["c_mm"], delta=base["delta_mm"], T=base["T_mm"], t=t * L, h=h * L)
-            for h, t in SEED_COMBINATIONS[key]["cells"]]
-
-
 def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, steps=160):
     """The seed's combinations on the frame (``frame3d_sequence``, ring [0, 0, 1, 1], the free plate) on each
     beam mesh of ``meshes``, and on the beam model as the ``sleeve`` command runs it (``pipeline.analyse`` on

@@ -14,7 +14,7 @@ import os
 
 import numpy as np
 
-from metamaterial_wb.bench.fe_frame3d_plate import SEED_COMBINATIONS, combination_cells
+from metamaterial_wb.bench.fe_ring3d_combinations import SEED_COMBINATIONS, combination_cells, rule
 
 IMG = os.path.join("img", "sleeve-frame3d-stack.png")
 
@@ -80,14 +80,6 @@ def stability_cost(root_extension=0.63, n_el=12, steps=160):
         F[stable] = np.concatenate([up["F"], down["F"]])
     return {"seconds_stable": best[True], "seconds_plain": best[False], "elements": n_el, "states": 2 * len(d),
             "max_dF": float(np.abs(F[True] - F[False]).max())}
-
-
-def rule(uniform):
-    """The two-hysteron order on the frame's uniform-ring thresholds (``[{"P1", "valley"}, ...]``): loading by
-    rising P1, unloading by falling valley."""
-    load = sorted(range(len(uniform)), key=lambda k: uniform[k]["P1"])
-    unload = sorted(range(len(uniform)), key=lambda k: -uniform[k]["valley"])
-    return {"loading": load, "unloading": unload, "symmetric": unload == load[::-1]}
 
 
 def stacked_markdown(st, mixed):

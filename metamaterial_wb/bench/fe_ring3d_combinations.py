@@ -1,7 +1,8 @@
 """The seed's combinations' thresholds on the curved solid (issue 18): each cell type of a combination as a
 uniform four-cell ring in CalculiX (``fe/sleeve3d.py``, every brick C3D20, static to d/L 0.7 in steps of 0.01,
 the tilting top plate under the default bias), its first peak and first valley, and the two-hysteron rule on
-them (``fe_frame3d_stack.rule``) beside the frame's.
+them (``rule``) beside the frame's. The seed's combinations (``SEED_COMBINATIONS``, ``combination_cells``)
+and the rule live here, below the frame's studies (``fe_frame3d_plate``, ``fe_frame3d_stack``) that use them too.
 
 Rings stacked in series share only their force: the frame's stacked rings (``fe_frame3d_stack``) put the stack's
 peaks on the uniform rings' first peaks and its valleys on the first ring's and the higher of the two, to 0.0 %,
@@ -16,8 +17,31 @@ import concurrent.futures
 
 import numpy as np
 
-from metamaterial_wb.bench.fe_frame3d_plate import SEED_COMBINATIONS, combination_cells
-from metamaterial_wb.bench.fe_frame3d_stack import rule
+SEED_COMBINATIONS = {
+    "1": {"cells": ((0.372, 0.055), (0.372, 0.065)), "seed": ([0, 1], [1, 0]), "lean": "the same way"},
+    "2": {"cells": ((0.394, 0.061), (0.416, 0.061)), "seed": ([0, 1], [0, 1]), "lean": "the other way"}}
+
+
+def combination_cells(key):
+    """The cell types of seed combination ``key`` (``SEED_COMBINATIONS``) on examples/sleeve.json's cell (L, c,
+    delta, T): a list of ``CellGeometry``."""
+    import json
+    import os
+    from metamaterial_wb.core.sleeve.cell import CellGeometry
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    base = json.load(open(os.path.join(root, "examples", "sleeve.json")))
+    L = base["L_mm"]
+    return [CellGeometry(L=L, c=base["c_mm"], delta=base["delta_mm"], T=base["T_mm"], t=t * L, h=h * L)
+            for h, t in SEED_COMBINATIONS[key]["cells"]]
+
+
+def rule(uniform):
+    """The two-hysteron order on a model's uniform-ring thresholds (``[{"P1", "valley"}, ...]``): loading by
+    rising P1, unloading by falling valley."""
+    load = sorted(range(len(uniform)), key=lambda k: uniform[k]["P1"])
+    unload = sorted(range(len(uniform)), key=lambda k: -uniform[k]["valley"])
+    return {"loading": load, "unloading": unload, "symmetric": unload == load[::-1]}
+
 
 MESH_R = {"r1": 1, "r2": 2, "r3": 3}
 D_MAX = 0.7                 # d/L: past the first valley of every seed type (the seed's cell: 0.45)
