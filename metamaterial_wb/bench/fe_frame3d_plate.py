@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.bench.fe_ring3d_combinations import SEED_COMBINATIONS, combination_cells
+from metamaterial_wb.bench.fe_ring3d_combinations import SEED_COMBINATIONS, combination_cells, order_text, seed_order
 
 IMG = "img/sleeve-frame3d-plate.png"
 # key: (cells, d_max, bias, modes followed, the rise over which the bias is ramped: the solid run's step end)
@@ -332,7 +332,6 @@ def plot(pl, c, path):
     plt.close(fig)
 
 
-# the seed's two combinations (h/L, t/L of its two cell types; the seed's sequence, types in its order)
 def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, steps=160):
     """The seed's combinations on the frame (``frame3d_sequence``, ring [0, 0, 1, 1], the free plate) on each
     beam mesh of ``meshes``, and on the beam model as the ``sleeve`` command runs it (``pipeline.analyse`` on
@@ -375,8 +374,7 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
 
 def sequence_markdown(st, root_extension=0.63):
     """The table of the seed's combinations: the seed's sequence, the beam model's and the frame's per mesh."""
-    def seq(s):
-        return f"{s['loading']} \\| {s['unloading']} ({'symmetric' if s['symmetric'] else 'asymmetric'})"
+    seq = order_text
 
     def lean(s):
         return (f"{s['max_tilt_loading_deg']:.1f} / {s['max_tilt_unloading_deg']:.1f} deg, "
@@ -391,7 +389,7 @@ def sequence_markdown(st, root_extension=0.63):
          "sequence | frame: lean | frame: time |", "|---|---|---|---|---|---|---|"]
     for key, r in st.items():
         sd = SEED_COMBINATIONS[key]
-        seed = {"loading": sd["seed"][0], "unloading": sd["seed"][1], "symmetric": sd["seed"][0][::-1] == sd["seed"][1]}
+        seed = seed_order(key)
         for i, (n_el, f) in enumerate(r["frame"].items()):
             head = (f"| {key} (h/L, t/L: {sd['cells'][0]}, {sd['cells'][1]}) | {seq(seed)}, leaning {sd['lean']} | "
                     f"{seq(r['model'])} | {lean(r['model'])} | " if i == 0 else "| | | | | ")

@@ -14,7 +14,7 @@ import os
 
 import numpy as np
 
-from metamaterial_wb.bench.fe_ring3d_combinations import SEED_COMBINATIONS, combination_cells, rule
+from metamaterial_wb.bench.fe_ring3d_combinations import SEED_COMBINATIONS, combination_cells, order_text, rule, seed_order
 
 IMG = os.path.join("img", "sleeve-frame3d-stack.png")
 
@@ -86,8 +86,7 @@ def stacked_markdown(st, mixed):
     """The table: per combination the seed's (mixed ring) sequence, the rule's on the frame's uniform rings
     (``mixed[key]["uniform"]``, ``fe_frame3d_plate.sequence_study``), the frame's mixed ring (12 elements), the
     stack on the frame per mesh and on the beam model; and the stack's thresholds against the uniform rings'."""
-    def seq(s):
-        return f"{s['loading']} \\| {s['unloading']} ({'symmetric' if s['symmetric'] else 'asymmetric'})"
+    seq = order_text
     L = ["**The seed's combinations as two stacked rings on the frame** (`bench/fe_frame3d_stack.py`, "
          "`bench_sleeve_frame3d.py --stacked`: each type a uniform ring of four cells, the thinner or lower one "
          "below, the plate between them free to rise, tilt and twist; loaded to twice the beam model's stroke and "
@@ -100,8 +99,7 @@ def stacked_markdown(st, mixed):
     for key, r in st.items():
         if key not in SEED_COMBINATIONS:
             continue
-        sd = SEED_COMBINATIONS[key]
-        seed = {"loading": sd["seed"][0], "unloading": sd["seed"][1], "symmetric": sd["seed"][0][::-1] == sd["seed"][1]}
+        seed = seed_order(key)
         u = mixed.get(key, {}).get("uniform")
         ru = rule(u) if u and all(x["P1"] and x["valley"] for x in u) else None
         m12 = mixed.get(key, {}).get("frame", {}).get("12")

@@ -459,7 +459,7 @@ def combinations_sentence(c):
     if not ex:
         return ""
     dp, dv = ex["differences"]["P1"], ex["differences"]["valley"]
-    order = fc.rule([{"P1": ex[k]["P1"][0], "valley": ex[k]["valley"][0]} for k in range(2)])
+    order = fc.extrapolated_rule(ex)
     return (f" The seed's combination 2's two cell types, each a uniform four-cell solid ring on three meshes, differ "
             f"by {dp[0]:+.2f} +- {dp[1]:.2f} % on the first peak and {dv[0]:+.2f} +- {dv[1]:.2f} % on the valley: "
             f"by the two-hysteron rule two such rings stacked snap loading {order['loading']}, unloading "

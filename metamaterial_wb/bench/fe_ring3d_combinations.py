@@ -17,6 +17,7 @@ import concurrent.futures
 
 import numpy as np
 
+# the seed's two combinations (h/L, t/L of its two cell types; the seed's sequence, types in its order)
 SEED_COMBINATIONS = {
     "1": {"cells": ((0.372, 0.055), (0.372, 0.065)), "seed": ([0, 1], [1, 0]), "lean": "the same way"},
     "2": {"cells": ((0.394, 0.061), (0.416, 0.061)), "seed": ([0, 1], [0, 1]), "lean": "the other way"}}
@@ -41,6 +42,18 @@ def rule(uniform):
     load = sorted(range(len(uniform)), key=lambda k: uniform[k]["P1"])
     unload = sorted(range(len(uniform)), key=lambda k: -uniform[k]["valley"])
     return {"loading": load, "unloading": unload, "symmetric": unload == load[::-1]}
+
+
+def seed_order(key):
+    """The seed's sequence of combination ``key`` as ``rule`` gives orders: ``{"loading", "unloading",
+    "symmetric"}``."""
+    load, unload = SEED_COMBINATIONS[key]["seed"]
+    return {"loading": load, "unloading": unload, "symmetric": load[::-1] == unload}
+
+
+def order_text(s):
+    """A sequence in the docs' words: ``[0, 1] \\| [1, 0] (symmetric)``."""
+    return f"{s['loading']} \\| {s['unloading']} ({'symmetric' if s['symmetric'] else 'asymmetric'})"
 
 
 MESH_R = {"r1": 1, "r2": 2, "r3": 3}
@@ -118,8 +131,9 @@ def extrapolated(meshes):
     return out
 
 
-def _seq(s):
-    return f"{s['loading']} \\| {s['unloading']} ({'symmetric' if s['symmetric'] else 'asymmetric'})"
+def extrapolated_rule(ex):
+    """The two-hysteron order on the extrapolated thresholds (``extrapolated``)."""
+    return rule([{"P1": ex[k]["P1"][0], "valley": ex[k]["valley"][0]} for k in range(2)])
 
 
 def _row(r):
@@ -149,8 +163,7 @@ def solid_markdown(solid, mixed):
          "valley | rule (stacked order) | seed | time |", "|---|---|---|---|---|---|---|---|"]
     verdict, frame_notes = [], []
     for key in sorted(solid):
-        sd = SEED_COMBINATIONS[key]
-        seed = {"loading": sd["seed"][0], "unloading": sd["seed"][1], "symmetric": sd["seed"][0][::-1] == sd["seed"][1]}
+        seed = seed_order(key)
         rows = [("solid, r = " + mesh[1:], solid[key][mesh]) for mesh in sorted(solid[key])]
         ex = extrapolated(solid[key])
         if ex:
@@ -163,25 +176,24 @@ def solid_markdown(solid, mixed):
         for i, (name, rr) in enumerate(rows):
             if name == "solid, extrapolated":
                 dp, dv = ex["differences"]["P1"], ex["differences"]["valley"]
-                ru = rule([{"P1": r["P1"][0], "valley": r["valley"][0]} for r in rr])
+                ru = extrapolated_rule(ex)
                 diff = f"{dp[0]:+.2f} +- {dp[1]:.2f} %, {dv[0]:+.2f} +- {dv[1]:.2f} %"
-                rule_text = _seq(ru) + (" (both differences beyond their errors)" if abs(dp[0]) > dp[1] and
+                rule_text = order_text(ru) + (" (both differences beyond their errors)" if abs(dp[0]) > dp[1] and
                                         abs(dv[0]) > dv[1] else " (a difference within its error)")
             else:
-                ok = solid_rule(rr) is not None
                 ru = solid_rule(rr)
-                diff = "{:+.1f} %, {:+.1f} %".format(*differences(rr)) if ok else "-"
-                rule_text = _seq(ru) if ru else "-"
+                diff = "{:+.1f} %, {:+.1f} %".format(*differences(rr)) if ru else "-"
+                rule_text = order_text(ru) if ru else "-"
             orders[name] = ru
             secs = " + ".join(f"{r['wall_s'] / 60:.0f}" for r in rr if r and "wall_s" in r)
             L.append(f"| {key if i == 0 else ''} | {name} | {_row(rr[0])} | {_row(rr[1])} | {diff} | {rule_text} | "
-                     + (_seq(seed) if i == 0 else "") + f" | {secs + ' min' if secs else ''} |")
+                     + (order_text(seed) if i == 0 else "") + f" | {secs + ' min' if secs else ''} |")
         solids = {n: o for n, o in orders.items() if n.startswith("solid, r") and o}
         if solids:
             same = all(o["loading"] == seed["loading"] and o["unloading"] == seed["unloading"] for o in solids.values())
             alike = len({(tuple(o["loading"]), tuple(o["unloading"])) for o in solids.values()}) == 1
             verdict.append(f"combination {key}: the solid's order is "
-                           + (_seq(next(iter(solids.values()))) + (" on every mesh" if len(solids) > 1 else "")
+                           + (order_text(next(iter(solids.values()))) + (" on every mesh" if len(solids) > 1 else "")
                               if alike else "not the same on every mesh")
                            + (", the seed's" if same else ", not the seed's"))
         if ex and u:
