@@ -155,6 +155,28 @@ def cells_check(ns=(4, 6, 8, 12)):
     return out
 
 
+def cells_meshes(ns=(4, 6, 8, 12), meshes=("r1", "r2", "r3")):
+    """The ``cells_check`` stiffness on finer meshes: the secant to d/L 0.005 of the curved ring (every brick
+    C3D20, one brick through the wall, in-plane refinement r; the four-cell path family's meshes) and of the flat
+    2-D ring on the same r, per ring size and mesh: ``c3d20_<mesh>_fe_curved``, ``<mesh>_fe_flat`` and their
+    seconds (``..._wall_s``), extrapolated by ``fe_frame3d.solid_extrapolated``."""
+    from metamaterial_wb.fe import sleeve2d, sleeve3d
+    g = cell_geometry()
+    out = {}
+    for n in ns:
+        row = out.setdefault(str(n), {})
+        for m in meshes:
+            r, layers = MESHES[m]
+            flat, fi = sleeve2d.solve_ring(g, n, r, d_max=0.01 * g.L, increments=2, timeout_s=1800)
+            curved, ci = sleeve3d.solve_ring3d(g, n, r, layers, d_max=0.01 * g.L, increments=2, timeout_s=3600,
+                                               element="C3D20")
+            row.update({f"{m}_fe_flat": secant(flat["d"], flat["F"]), f"{m}_fe_flat_wall_s": fi["wall_s"],
+                        f"c3d20_{m}_fe_curved": secant(curved["d"], curved["F"]),
+                        f"c3d20_{m}_fe_curved_wall_s": ci["wall_s"]})
+            print(n, m, {k: v for k, v in row.items() if k.startswith((m, f"c3d20_{m}"))}, flush=True)
+    return out
+
+
 CELLS_P1_MESH = "layers2"                       # the cells_p1 runs' default mesh (fe_ring3d_paths.MESHES)
 
 
@@ -369,6 +391,9 @@ def main(argv=None):
     ap.add_argument("--radial-fixed", action="store_true", help="the check with the wall held at its radius")
     ap.add_argument("--cells", default=None, help="comma list of ring sizes (cells around): the flat and the curved "
                     "ring's initial stiffness, FE and beam model (stored under 'cells', merged)")
+    ap.add_argument("--cells-meshes", default=None, help="comma list of meshes (r1,r2,r3): the --cells stiffness "
+                    "of 4, 6, 8, 12 cells on each, every brick C3D20, one brick through the wall, "
+                    "and the flat ring on the same r (stored under 'cells', merged; extrapolated in the frame's table)")
     ap.add_argument("--cells-p1", default=None, help="comma list of ring sizes: the curved ring's first peak (ccx, "
                     "static, r = 1 with two bricks through the wall; stored under 'cells', merged)")
     ap.add_argument("--cells-p1-bias", type=float, default=BIAS, help="the --cells-p1 runs' tilt bias (G L^2); "
@@ -424,6 +449,9 @@ def main(argv=None):
         _store("branch_" + a.stability_mesh, tr)
     if a.cells:
         _store("cells", cells_check([int(v) for v in a.cells.split(",")]), merge=True)
+    for m in a.cells_meshes.split(",") if a.cells_meshes else ():     # stored mesh by mesh
+        _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
+                         for n, v in cells_meshes(meshes=(m,)).items()}, merge=True)
     if a.cells_p1:
         _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
                          for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")],

@@ -42,7 +42,7 @@ def run(refinements=REFINEMENTS, increments=40, timeout_s=1800.0, progress=None)
 def extrapolated(rows):
     """Richardson (``fe_sleeve.richardson3``, h ~ 1/r) of the peak and valley forces from the last three meshes:
     ``(peak, err, valley, err)``."""
-    from metamaterial_wb.bench.extrapolation import richardson3
+    from metamaterial_wb.core.extrapolation import richardson3
     v, e, _ = richardson3([1.0 / x["r"] for x in rows], [[x["pv"][1], x["pv"][3]] for x in rows])
     return v[0], e[0], v[1], e[1]
 

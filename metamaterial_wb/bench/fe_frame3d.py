@@ -17,6 +17,31 @@ VARIANTS = (("strain", {"plane": "strain"}, "E = 4 G in the plane (the beam mode
             ("stress", {"plane": "stress"}, "E = 3 G throughout (a 3-D beam's own modulus)"))
 
 
+SOLID_MESHES = ("r1", "r2", "r3")       # bench_sleeve_ring3d.py --cells-meshes: in-plane refinement r = 1, 2, 3
+
+
+def solid_extrapolated(row):
+    """The solid's initial stiffness extrapolated over the in-plane meshes ``SOLID_MESHES`` (element size 1 / r;
+    ``richardson3``, observed order): ``{"curved": (value, error, order), "flat": (...), "curved_meshes": [...],
+    "flat_meshes": [...], "seconds": [...]}`` from a ``cells`` row (``bench_sleeve_ring3d.py --cells-meshes``:
+    curved every brick C3D20, one brick through the wall; flat the plane-strain 2-D ring), or None until every
+    mesh is stored."""
+    from metamaterial_wb.core.extrapolation import richardson3
+    keys = {"curved": [f"c3d20_{m}_fe_curved" for m in SOLID_MESHES],
+            "flat": [f"{m}_fe_flat" for m in SOLID_MESHES]}
+    if not all(k in row for ks in keys.values() for k in ks):
+        return None
+    h = [1.0 / int(m[1:]) for m in SOLID_MESHES]
+    out = {}
+    for side, ks in keys.items():
+        v = [row[k] for k in ks]
+        ext, err, order = richardson3(h, v)
+        out[side] = (ext[0], err[0], order[0])
+        out[f"{side}_meshes"] = v
+    out["seconds"] = [row[f"c3d20_{m}_fe_curved_wall_s"] for m in SOLID_MESHES]
+    return out
+
+
 def study(fe_cells, root_extensions=(0.0, 0.63), n_el=24):
     """Per ring size stored in ``fe_cells`` (``fe-ring3d.json``'s ``cells``: ``fe_flat``, ``fe_curved`` and the
     beam model's ``model_flat``/``model_curved``, calibrated): the frame's flat and curved axial stiffness for
@@ -28,6 +53,7 @@ def study(fe_cells, root_extensions=(0.0, 0.63), n_el=24):
     for n, row in sorted(fe_cells.items(), key=lambda kv: int(kv[0])):
         r = {k: row[k] for k in ("fe_flat", "fe_curved", "model_flat", "model_curved", "model_flat_documented",
                                   "model_curved_documented", "wall_s") if k in row}
+        r["solid_ext"] = solid_extrapolated(row)
         times = []
         for e in root_extensions:
             t0 = time.perf_counter()
@@ -222,11 +248,17 @@ def summary(s, e=0.63):
     ``"model"`` the beam model's curvature springs (calibrated; None when not stored); and how far the frame's
     curved stiffness itself is from the solid's: ``"absolute"`` (plane stress, ``e``), ``"absolute_bar0"`` (the
     same with the pillars clamped at the bars' faces; None when not stored)."""
-    fr, al, mo, ab, a0 = [], [], [], [], []
+    fr, al, mo, ab, a0, ax, ae, ak, co = [], [], [], [], [], [], [], [], []
     for r in s["cells"].values():
         fe = r["fe_curved"] / r["fe_flat"]
         fr.append(100 * (r[f"frame_stress_{e:g}"] / r[f"frame_flat_{e:g}"] / fe - 1))
         ab.append(100 * (r[f"frame_stress_{e:g}"] / r["fe_curved"] - 1))
+        x = r.get("solid_ext")
+        if x:
+            ax.append(100 * (r[f"frame_stress_{e:g}"] / x["curved"][0] - 1))
+            ae.append(100 * x["curved"][1] / x["curved"][0])
+            ak.append(100 * (r[f"frame_stress_{e:g}"] / r[f"frame_flat_{e:g}"] / (x["curved"][0] / x["flat"][0]) - 1))
+            co.append(100 * (r["fe_curved"] / x["curved"][0] - 1))
         if f"frame_stress_{e:g}_bar0" in r:
             a0.append(100 * (r[f"frame_stress_{e:g}_bar0"] / r["fe_curved"] - 1))
         al += [100 * (r[f"frame_{k}_{x:g}"] / r[f"frame_flat_{x:g}"] / fe - 1) for x in s["root_extensions"]
@@ -234,7 +266,9 @@ def summary(s, e=0.63):
         if "model_curved" in r:
             mo.append(100 * (r["model_curved"] / r["model_flat"] / fe - 1))
     return {"frame": (min(fr), max(fr)), "all": (min(al), max(al)), "model": (min(mo), max(mo)) if mo else None,
-            "absolute": (min(ab), max(ab)), "absolute_bar0": (min(a0), max(a0)) if a0 else None}
+            "absolute": (min(ab), max(ab)), "absolute_bar0": (min(a0), max(a0)) if a0 else None,
+            "extrapolated": ({"absolute": (min(ax), max(ax)), "error": (min(ae), max(ae)), "ratio": (min(ak), max(ak)),
+                              "coarse": (min(co), max(co)), "sizes": len(ax)} if ax else None)}
 
 
 def fe_secants(comp):
@@ -259,11 +293,24 @@ def coarse_note(secants, cells):
             f"{1e3 * coarse:.1f} on this mesh), ")
 
 
+def extrapolated_note(x, cells):
+    """The frame against the solid extrapolated over its meshes (``summary``'s ``"extrapolated"``), one clause."""
+    secs = [t for r in cells.values() for t in r["solid_ext"]["seconds"]]
+    return (f"against the solid extrapolated over three in-plane meshes (r = 1, 2, 3, every brick C3D20, one brick "
+            f"through the wall, flat on the same r; `bench_sleeve_ring3d.py --cells-meshes`, {min(secs):.0f}-"
+            f"{max(secs):.0f} s per curved run) the frame's curved stiffness is {x['absolute'][0]:+.0f} to "
+            f"{x['absolute'][1]:+.0f} % off at the {x['sizes']} ring sizes (the extrapolation's own error "
+            f"{x['error'][0]:.1f}-{x['error'][1]:.1f} %) and its knock-down {x['ratio'][0]:+.0f} to "
+            f"{x['ratio'][1]:+.0f} % off the extrapolated curved / flat; the table's coarse solid is "
+            f"{x['coarse'][0]:+.0f} to {x['coarse'][1]:+.0f} % off the extrapolated one, ")
+
+
 def markdown(s, extra=()):
     """The docs/sleeves.md section (between ``MARK_BEGIN`` and ``MARK_END``), ending with the ``extra``
     paragraphs (the frame with the solid's plate, ``fe_frame3d_plate.markdown``)."""
     cells = s["cells"]
     e0, e1 = s["root_extensions"][0], s["root_extensions"][-1]
+    ext = all(r.get("solid_ext") for r in cells.values())
     L = [MARK_BEGIN, "", "### A linear 3-D frame of the curved ring (issue 18)", "",
          "Regenerated by `benchmarks/bench_sleeve_frame3d.py` (model: `metamaterial_wb/core/sleeve/frame3d.py`, "
          "report: `metamaterial_wb/bench/fe_frame3d.py`). The beam model's own mesh of a uniform ring "
@@ -281,8 +328,10 @@ def markdown(s, extra=()):
                                           for e in (e0, e1) for k, _, _ in VARIANTS) +
          " | beam model (springs, calibrated): curved / flat | frame (stress, calibrated) / solid, curved | "
          "the same, pillars clamped at the bars' faces / solid, curved | "
-         "beam model (calibrated) / solid, curved | frame / solid run time |",
-         "|---|---|---|---|" + "---|" * (2 * len(VARIANTS)) + "---|---|---|---|---|"]
+         "beam model (calibrated) / solid, curved | frame / solid run time |" +
+         (" solid: curved, extrapolated (r = 1, 2, 3, all C3D20) | frame (stress, calibrated) / extrapolated solid |"
+          if ext else ""),
+         "|---|---|---|---|" + "---|" * (2 * len(VARIANTS)) + "---|---|---|---|---|" + ("---|---|" if ext else "")]
     for n, r in cells.items():
         fe = r["fe_curved"] / r["fe_flat"]
         ratios = " | ".join(f"{r[f'frame_{k}_{e:g}'] / r[f'frame_flat_{e:g}']:.2f}" for e in (e0, e1)
@@ -292,7 +341,9 @@ def markdown(s, extra=()):
                  f"{r[f'frame_stress_{e1:g}'] / r['fe_curved']:.2f} | "
                  f"{r.get(f'frame_stress_{e1:g}_bar0', np.nan) / r['fe_curved']:.2f} | "
                  f"{r['model_curved'] / r['fe_curved'] if 'model_curved' in r else np.nan:.2f} | "
-                 f"{r['frame_s']:.2f} s / {r.get('wall_s', np.nan):.0f} s |")
+                 f"{r['frame_s']:.2f} s / {r.get('wall_s', np.nan):.0f} s |" +
+                 (f" {1e3 * r['solid_ext']['curved'][0]:.1f} +- {1e3 * r['solid_ext']['curved'][1]:.1f} | "
+                  f"{r[f'frame_stress_{e1:g}'] / r['solid_ext']['curved'][0]:.2f} |" if ext else ""))
     sm = summary(s, e1)
     L += ["", "Variants: " + "; ".join(f"{k}: {label}" for k, _, label in VARIANTS) + ".", "",
           f"**Reading.** The frame gives the solid's curvature knock-down where the beam model's springs do not: "
@@ -306,7 +357,8 @@ def markdown(s, extra=()):
           f"{sm['absolute'][0]:+.0f} to {sm['absolute'][1]:+.0f} % off the solid's" +
           (f" (with the pillars clamped at the bars' faces {sm['absolute_bar0'][0]:+.0f} to "
            f"{sm['absolute_bar0'][1]:+.0f} %)" if sm["absolute_bar0"] else "") +
-          "; " + coarse_note(s.get("fe_secants"), cells) + "and the frame carries the flat calibration's own offset (the calibration fitted the cell's peak, not its "
+          "; " + (extrapolated_note(sm["extrapolated"], cells) if ext and sm["extrapolated"] else
+                  coarse_note(s.get("fe_secants"), cells)) + "and the frame carries the flat calibration's own offset (the calibration fitted the cell's peak, not its "
           "stiffness) and the linear-to-secant gap. Linear here; the nonlinear frame follows. The "
           "beam model's ring forces are still quoted with their measured error (`accuracy`).", ""]
     if s.get("nonlinear") and s.get("fe_family") and s.get("planar_calibrated"):

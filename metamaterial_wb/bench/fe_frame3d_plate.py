@@ -184,7 +184,7 @@ def eight_cell_meshes(c, pre="c3d20_bias0.001_"):
     the four-cell ring's on the same meshes (the all-C3D20 family), and the eight-cell peak extrapolated with the
     four-cell family's observed order (``richardson3`` over its r = 1, 2, 3): ``None`` until both runs are stored
     with a peak."""
-    from metamaterial_wb.bench.extrapolation import richardson3
+    from metamaterial_wb.core.extrapolation import richardson3
     from metamaterial_wb.bench.fe_ring3d_corner import family_convergence
     row = c.get("cells", {}).get("8", {})
     p8 = [row.get(f"{pre}{m}_fe_curved_p1") for m in ("r1", "r2")]
@@ -195,10 +195,17 @@ def eight_cell_meshes(c, pre="c3d20_bias0.001_"):
     _, _, order = richardson3([1.0, 0.5, 1.0 / 3.0], p4)
     p = order[0]
     ext = p8[1] + (p8[1] - p8[0]) * 0.5 ** p / (1.0 - 0.5 ** p)
-    return {"r1": p8[0], "r2": p8[1], "d": [row.get(f"{pre}{m}_fe_curved_p1_d") for m in ("r1", "r2")],
-            "seconds": [row.get(f"{pre}{m}_p1_wall_s") for m in ("r1", "r2")],
-            "fall": p8[1] / p8[0] - 1.0, "four_fall": p4[1] / p4[0] - 1.0, "order": p, "ext": (ext, abs(ext - p8[1])),
-            "layers2": row.get(f"{pre}fe_curved_p1")}
+    out = {"r1": p8[0], "r2": p8[1], "d": [row.get(f"{pre}{m}_fe_curved_p1_d") for m in ("r1", "r2")],
+           "seconds": [row.get(f"{pre}{m}_p1_wall_s") for m in ("r1", "r2")],
+           "fall": p8[1] / p8[0] - 1.0, "four_fall": p4[1] / p4[0] - 1.0, "order": p, "ext": (ext, abs(ext - p8[1])),
+           "layers2": row.get(f"{pre}fe_curved_p1")}
+    r3 = row.get(f"{pre}r3_fe_curved_p1")
+    if r3:                    # a third mesh: the eight-cell ring's own observed order (--cells-p1-mesh r3)
+        e3, err3, p3 = richardson3([1.0, 0.5, 1.0 / 3.0], p8 + [r3])
+        out.update({"r3": r3, "r3_d": row.get(f"{pre}r3_fe_curved_p1_d"), "r3_seconds": row.get(f"{pre}r3_p1_wall_s"),
+                    "fall3": r3 / p8[1] - 1.0, "four_fall3": p4[2] / p4[1] - 1.0, "own_order": p3[0],
+                    "own_ext": (e3[0], err3[0])})
+    return out
 
 
 def eight_cell_words(m, frame_p1):
@@ -212,7 +219,13 @@ def eight_cell_words(m, frame_p1):
             f"the four-cell ring's falls by {100 * m['four_fall']:+.1f} % on the same meshes (two bricks through the "
             f"wall on r = 1: {1e3 * m['layers2']:.3f}e-3); with the four-cell family's observed order "
             f"({m['order']:.2f}) it extrapolates to {1e3 * e:.2f} +- {1e3 * err:.2f}e-3, and the frame's leaning "
-            f"peak is {100 * (frame_p1 / e - 1):+.0f} % off it ({100 * err / e:.0f} % its error). ")
+            f"peak is {100 * (frame_p1 / e - 1):+.0f} % off it ({100 * err / e:.0f} % its error). " +
+            (f"A third mesh, r = 3 (`--cells-p1-mesh r3`, {m['r3_seconds'] / 60:.0f} min), gives {1e3 * m['r3']:.3f}e-3 "
+             f"({100 * m['fall3']:+.1f} % from r = 2, where the four-cell ring's falls by {100 * m['four_fall3']:+.1f} "
+             f"%): the eight-cell ring's own observed order is {m['own_order']:.2f}, its peak extrapolates to "
+             f"{1e3 * m['own_ext'][0]:.2f} +- {1e3 * m['own_ext'][1]:.2f}e-3, and the frame's leaning peak is "
+             f"{100 * (frame_p1 / m['own_ext'][0] - 1):+.0f} % off it ({100 * m['own_ext'][1] / m['own_ext'][0]:.0f} "
+             "% its error). " if "r3" in m else ""))
 
 
 def markdown(pl, c, p1_off=None):

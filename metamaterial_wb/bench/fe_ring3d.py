@@ -164,6 +164,8 @@ def cells_markdown(c):
                  f"{v['model_curved'] / v['model_flat']:.2f} | {v['model_curved'] / v['fe_curved']:.2f} | "
                  f"{v['model_curved_documented'] / v['fe_curved']:.2f} |")
     L.append("")
+    ext = cells_meshes_markdown(rows)
+    L += [ext, ""] if ext else []
     p1 = [(n, v) for n, v in rows if v.get("fe_curved_p1")]
     nop = [(n, v) for n, v in rows if "fe_curved_p1" in v and v["fe_curved_p1"] is None]
     if p1:
@@ -185,6 +187,43 @@ def cells_markdown(c):
         st = cells_stability(c, int(n))
         L += [st, ""] if st else []
     return L
+
+
+def _span(v):
+    """``-3 to +5`` of per-cent values, or one figure when they round alike."""
+    lo, hi = f"{min(v):+.0f}", f"{max(v):+.0f}"
+    return lo if lo == hi else f"{lo} to {hi}"
+
+
+def cells_meshes_markdown(rows):
+    """The ring-size stiffness on three meshes and extrapolated (``--cells-meshes``,
+    ``fe_frame3d.solid_extrapolated``), with the beam model against the extrapolated solid; "" until stored."""
+    from metamaterial_wb.bench.fe_frame3d import solid_extrapolated
+    ext = [(n, v, solid_extrapolated(v)) for n, v in rows]
+    if not ext or not all(x for _, _, x in ext):
+        return ""
+
+    def fig(x, side):
+        val, err, order = x[side]
+        return (", ".join(f"{1e3 * m:.1f}" for m in x[f"{side}_meshes"]) +
+                f" -> {1e3 * val:.1f} +- {1e3 * err:.1f} (order {order:.2f})")
+    coarse = [100 * (v["fe_curved"] / x["curved"][0] - 1) for _, v, x in ext]
+    flat = [100 * (v["fe_flat"] / x["flat"][0] - 1) for _, v, x in ext]
+    knock = max(abs(x["curved"][0] / x["flat"][0] - v["fe_curved"] / v["fe_flat"]) for _, v, x in ext)
+    secs = [t for _, _, x in ext for t in x["seconds"]]
+    return ("The same stiffness on three meshes and extrapolated (`--cells-meshes r1,r2,r3`: in-plane r = 1, 2, 3, "
+            "every brick C3D20, one brick through the wall, the flat ring on the same r; Richardson with the observed "
+            f"order, the error the distance to the finest mesh; {min(secs):.0f}-{max(secs):.0f} s per curved run): " +
+            "; ".join(f"{n} cells: curved {fig(x, 'curved')}, flat {fig(x, 'flat')}, curved / flat "
+                      f"{x['curved'][0] / x['flat'][0]:.2f}; the model calibrated "
+                      f"{v['model_curved'] / x['curved'][0]:.2f} +- "
+                      f"{v['model_curved'] / x['curved'][0] * x['curved'][1] / x['curved'][0]:.2f} times the "
+                      f"extrapolated curved solid, as documented {v['model_curved_documented'] / x['curved'][0]:.2f}"
+                      for n, v, x in ext) +
+            f". The table's coarse curved mesh is {_span(coarse)} % off the extrapolated "
+            f"solid, its flat one {_span(flat)} % (it converges more slowly), so the "
+            f"knock-down curved / flat moves by at most {knock:.2f}; the ratios against the extrapolated solid, with their error, are the ones the `sleeve` "
+            "command quotes (`core/sleeve/accuracy.py`).")
 
 
 def cells_variant_line(n, v, pre):
@@ -442,11 +481,18 @@ def cells_sentence(c):
     rows = sorted(((int(n), v) for n, v in c.get("cells", {}).items() if "model_curved" in v), key=lambda nv: nv[0])
     if len(rows) < 2:
         return ""
-    ratio = lambda key: [v[key] / v["fe_curved"] for _, v in rows]      # noqa: E731
+    from metamaterial_wb.bench.fe_frame3d import solid_extrapolated
+    ext = [solid_extrapolated(v) for _, v in rows]
+    ext = ext if all(ext) else None
+    fe = [x["curved"][0] for x in ext] if ext else [v["fe_curved"] for _, v in rows]
+    ratio = lambda key: [v[key] / f for (_, v), f in zip(rows, fe)]      # noqa: E731
     cal, doc = ratio("model_curved"), ratio("model_curved_documented")
+    err = max(x["curved"][1] / x["curved"][0] for x in ext) if ext else None
     return (f" Wider rings soften less, but slowly: over {rows[0][0]} to {rows[-1][0]} cells around, the beam model's "
             f"initial stiffness is {max(cal):.1f} to {min(cal):.1f} times the curved solid's calibrated ("
-            f"{max(doc):.1f} to {min(doc):.1f} as documented; the solid's coarse mesh makes these if anything low); "
+            f"{max(doc):.1f} to {min(doc):.1f} as documented; " +
+            (f"the solid extrapolated over three meshes, within {100 * err:.0f} %); " if ext else
+             "the solid's coarse mesh makes these if anything low); ") +
             "every sleeve summary quotes these measured ratios (`accuracy`), and `sleeve --fe-check` measures them "
             "for other cells." + frame_sentence(dict((str(n), v) for n, v in rows)) + combinations_sentence(c))
 
@@ -472,10 +518,12 @@ def frame_sentence(cells):
     """The linear 3-D frame against the solid on the same ring sizes (``bench/fe_frame3d.py``), one sentence."""
     from metamaterial_wb.bench import fe_frame3d
     sm = fe_frame3d.summary(fe_frame3d.study(cells))
-    return (f" The mechanism is found: the model's own beams wrapped on the cylinder as a linear 3-D frame "
-            f"(`core/sleeve/frame3d.py`, sleeves.md \"A linear 3-D frame\"), bending and twisting out of it, the "
-            f"pillars bending on through their bars, give the solid's curved initial stiffness to "
-            f"{sm['absolute'][0]:+.0f} to {sm['absolute'][1]:+.0f} % on this mesh (the model's springs: its "
+    return (" The mechanism is found: the model's own beams wrapped on the cylinder as a linear 3-D frame "
+            "(`core/sleeve/frame3d.py`, sleeves.md \"A linear 3-D frame\"), bending and twisting out of it, the "
+            "pillars bending on through their bars, give the solid's curved initial stiffness to " +
+            (f"{sm['extrapolated']['absolute'][0]:+.0f} to {sm['extrapolated']['absolute'][1]:+.0f} % of its "
+             f"extrapolation (itself +- {sm['extrapolated']['error'][1]:.0f} %; " if sm["extrapolated"] else
+             f"{sm['absolute'][0]:+.0f} to {sm['absolute'][1]:+.0f} % on this mesh (") + "the model's springs: its "
             f"knock-down {sm['model'][0]:+.0f} to {sm['model'][1]:+.0f} % off); every summary's curvature note "
             "quotes the model-to-frame ratio for any cell; the same frame made nonlinear (`frame3d_nl.py`) has the "
             "solid's one-stage path, its first peak and valley measured against the solid's in sleeves.md, and with "

@@ -117,7 +117,7 @@ def extrapolated(meshes):
     order) of one combination's runs ``{mesh: [row, row]}``: each type's ``P1`` and ``valley`` and type 1's
     differences from type 0 (per cent), each ``(value, error)``; ``None`` until all three meshes are stored with
     both thresholds."""
-    from metamaterial_wb.bench.extrapolation import richardson3
+    from metamaterial_wb.core.extrapolation import richardson3
     names = ("r1", "r2", "r3")
     if not all(solid_rule(meshes.get(m)) for m in names):
         return None

@@ -94,7 +94,7 @@ def path_convergence(c, suffix="", points=PATH_D):
     """Force along the path on r = 1, 2, 3 (``p1_<mesh><suffix>``) at fixed d/L (``points`` and the r = 2 probes),
     extrapolated in h ~ 1/r, and P1 and the valley after it on each mesh: ``{"rows": [(d, [F per mesh or None],
     ext, err, n_meshes)], "p1": [(d, F)], "p1_ext": (d, F, err F, err d), "valley", "valley_ext"}``."""
-    from metamaterial_wb.bench.extrapolation import richardson3
+    from metamaterial_wb.core.extrapolation import richardson3
     from metamaterial_wb.fe.sleeve2d import peak_valley
     meshes = [m for m in ("r1", "r2", "r3", "r4") if _path(c, m, suffix) is not None]
     paths = {m: _path(c, m, suffix) for m in meshes}

@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.bench.extrapolation import richardson3
+from metamaterial_wb.core.extrapolation import richardson3
 from metamaterial_wb.fe import sleeve2d
 
 CELL_REFINEMENTS = (1, 2, 3)          # elements through the beam's thickness (nested counts, h ~ 1 / r)

@@ -1,4 +1,4 @@
-"""``sleeve SPEC.json --out DIR [--step] [--3mf] [--fe-check stiffness|peak]``: metamaterial sleeve actuator
+"""``sleeve SPEC.json --out DIR [--step] [--3mf] [--fe-check stiffness|converged|peak]``: metamaterial sleeve actuator
 analysis.
 
 Writes ``DIR/summary.json`` (unit cells, ring FD peaks/valleys, snapping sequence, PV, walker) and
@@ -24,9 +24,11 @@ def add_arguments(p):
                    help="also export a 3MF with TPU sleeve and PLA rings/caps (needs FreeCAD)")
     p.add_argument("--render", action="store_true", help="also write sleeve.png, a picture of the geometry (needs FreeCAD)")
     p.add_argument("--no-plots", action="store_true", help="summary.json only")
-    p.add_argument("--fe-check", choices=("stiffness", "peak"), default=None,
+    p.add_argument("--fe-check", choices=("stiffness", "converged", "peak"), default=None,
                    help="also run every cell type's uniform ring as a curved CalculiX solid (needs ccx) and compare the "
-                        "beam model with it: 'stiffness' (about a minute per type), 'peak' (its first peak too, minutes)")
+                        "beam model with it: 'stiffness' (about a minute per type), 'converged' (the stiffness on three "
+                        "finer meshes too, extrapolated, with its error: a few minutes per type), 'peak' (its first "
+                        "peak too, minutes)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
@@ -66,7 +68,7 @@ def run(args):
         summary, curves = analyse(spec, progress=None, log=log)
         if fe_check:
             from metamaterial_wb.fe.sleeve_check import check_sleeve, notes
-            check = check_sleeve(spec, peak=fe_check == "peak", log=log)
+            check = check_sleeve(spec, peak=fe_check == "peak", converged=fe_check == "converged", log=log)
             summary["accuracy"]["fe_check"] = check
             summary["accuracy"]["notes"] += notes(check)
     parent = os.path.dirname(out)

@@ -40,12 +40,16 @@ def test_quoted_ratios_are_the_stored_results():
     for flavour, key in (("documented", "p1_model"), ("calibrated", "p1_model_calibrated")):
         assert acc.CURVED_RING_P1[flavour][0] == pytest.approx(cur[key] / p1, abs=2e-3)
         assert acc.CURVED_RING_P1[flavour][1] == pytest.approx(cur[key] / p1 * p1_err / p1, abs=2e-3)
+    # the ring's initial stiffness: against the solid extrapolated over its meshes r = 1, 2, 3, with that error
+    from metamaterial_wb.bench.fe_frame3d import solid_extrapolated
     cells = _load("fe-ring3d-comparison.json")["cells"]
     for flavour, key in (("documented", "model_curved_documented"), ("calibrated", "model_curved")):
         quoted = acc.CURVED_RING_STIFFNESS[flavour]
         assert sorted(quoted) == sorted(int(n) for n in cells)
         for n, row in cells.items():
-            assert quoted[int(n)] == pytest.approx(row[key] / row["fe_curved"], abs=6e-3), (flavour, n)
+            fe, err, _ = solid_extrapolated(row)["curved"]
+            assert quoted[int(n)][0] == pytest.approx(row[key] / fe, abs=6e-3), (flavour, n)
+            assert quoted[int(n)][1] == pytest.approx(row[key] / fe * err / fe, abs=6e-3), (flavour, n)
     assert acc.CALIBRATED_ROOT_EXTENSION == ROOT_EXTENSION_FE
     assert acc.SEED_CELL == {k: getattr(CellGeometry(), k) for k in acc.SEED_CELL}
 
@@ -55,10 +59,11 @@ def test_seed_cell_gets_the_measured_ratios_and_words():
     a = acc.accuracy([g], 4, 0.0, True)
     assert a["measured_cell"] and a["model"] == "documented"
     assert a["ring_first_peak"] == acc.CURVED_RING_P1["documented"]
-    assert a["ring_initial_stiffness"] == 3.91
+    assert a["ring_initial_stiffness"] == (4.31, 0.24)
+    assert any("4.31 +- 0.24 times the curved solid's (extrapolated in its mesh)" in n for n in a["notes"])
     assert any("too high" in n for n in a["notes"]) and any("0.63" in n for n in a["notes"])
     c = acc.accuracy([g], 8, ROOT_EXTENSION_FE, True)
-    assert c["model"] == "calibrated" and c["ring_initial_stiffness"] == 1.92 and "ring_first_peak" not in c
+    assert c["model"] == "calibrated" and c["ring_initial_stiffness"] == (2.08, 0.10) and "ring_first_peak" not in c
     # a ring size between the measured ones gets the measured neighbours in words, no number of its own
     b = acc.accuracy([g], 5, 0.0, True)
     assert b["ring_initial_stiffness"] is None and "not measured at 5 cells" in b["notes"][0]
@@ -79,8 +84,9 @@ def test_the_frames_quoted_match_with_the_solid_is_the_stored_one_and_the_stored
     the frame gives today (it is deterministic and fast: recomputed here)."""
     from metamaterial_wb.bench import fe_frame3d
     stored = _load("frame3d.json")
-    lo, hi = fe_frame3d.summary(stored)["absolute"]
-    assert acc.FRAME_STIFFNESS_OFF == (round(lo), round(hi))
+    x = fe_frame3d.summary(stored)["extrapolated"]
+    assert acc.FRAME_STIFFNESS_OFF == tuple(round(v) for v in x["absolute"])
+    assert acc.FRAME_STIFFNESS_REF_ERROR == round(x["error"][1])
     fresh = fe_frame3d.study(_load("fe-ring3d-comparison.json")["cells"], stored["root_extensions"], stored["n_el"])
     for n, row in stored["cells"].items():
         for k, v in row.items():
