@@ -77,6 +77,12 @@ def test_other_sleeves_are_told_the_ratios_are_not_measured(kw, why):
     a = acc.accuracy([g], 4, 0.3 if not kw else 0.0, True)
     assert "cell_peak" not in a and "ring_initial_stiffness" not in a
     assert why in a["notes"][0] and "not measured" in a["notes"][0]
+    # the range it quotes for the seed's cell spans every measured ratio (the largest: the documented model's
+    # four-cell ring stiffness against the extrapolated solid)
+    quoted = [v[0] for t in (acc.CELL_PEAK, acc.CELL_VALLEY, acc.FLAT_RING_P1, acc.CURVED_RING_P1) for v in t.values()]
+    quoted += [v[0] for t in acc.CURVED_RING_STIFFNESS.values() for v in t.values()]
+    assert f"forces were {min(quoted):.1f}-{max(quoted):.1f} times the solid's" in a["notes"][0]
+    assert max(quoted) == acc.CURVED_RING_STIFFNESS["documented"][4][0]
 
 
 def test_the_frames_quoted_match_with_the_solid_is_the_stored_one_and_the_stored_frames_are_current():

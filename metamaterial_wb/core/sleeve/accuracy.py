@@ -27,6 +27,13 @@ CURVED_RING_STIFFNESS = {"documented": {4: (4.31, 0.24), 6: (3.38, 0.17), 8: (2.
 CALIBRATED_ROOT_EXTENSION = 0.63
 
 
+def _quoted_range():
+    """The smallest and largest model / solid ratio measured for the seed's cell (both model flavours)."""
+    v = [x[0] for t in (CELL_PEAK, CELL_VALLEY, FLAT_RING_P1, CURVED_RING_P1) for x in t.values()]
+    v += [x[0] for t in CURVED_RING_STIFFNESS.values() for x in t.values()]
+    return min(v), max(v)
+
+
 def _is_seed_cell(g, rel=1e-6):
     return all(math.isclose(getattr(g, k), v, rel_tol=rel) for k, v in SEED_CELL.items())
 
@@ -52,8 +59,9 @@ def accuracy(cells, n_cells, root_extension=0.0, curvature=True):
     notes = []
     if not seed or flavour is None:
         why = "not the seed's cell" if not seed else f"root_extension {root_extension:g} t"
+        lo, hi = _quoted_range()
         notes.append(f"model / solid ratios not measured for this sleeve ({why}); for the seed's cell the beam "
-                     "model's forces were 1.0-3.9 times the solid's (docs/sleeves.md)")
+                     f"model's forces were {lo:.1f}-{hi:.1f} times the solid's (docs/sleeves.md)")
         out["notes"] = notes
         return out
     out["cell_peak"] = CELL_PEAK[flavour]
