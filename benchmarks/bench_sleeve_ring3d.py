@@ -278,6 +278,13 @@ def _load():
     return json.load(open(STORE)) if os.path.exists(STORE) else {}
 
 
+def _store_rows(key, rows):
+    """Each row of ``rows`` (a dict of dicts) merged field by field into the row stored under ``key``: a rerun of
+    one study keeps that row's other studies' fields."""
+    data = _load().get(key, {})
+    _store(key, {n: dict(data.get(n, {}), **v) for n, v in rows.items()}, merge=True)
+
+
 def _store(key, value, merge=False):
     """``value`` under ``key`` in the store, read just before it is written (runs in parallel store too); with
     ``merge`` the entries of the dict ``value`` are added to those stored under ``key``."""
@@ -448,16 +455,13 @@ def main(argv=None):
               f"({tr['info']['wall_s']:.0f} s)", flush=True)
         _store("branch_" + a.stability_mesh, tr)
     if a.cells:
-        _store("cells", cells_check([int(v) for v in a.cells.split(",")]), merge=True)
+        _store_rows("cells", cells_check([int(v) for v in a.cells.split(",")]))
     for m in a.cells_meshes.split(",") if a.cells_meshes else ():     # stored mesh by mesh
-        _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
-                         for n, v in cells_meshes(meshes=(m,)).items()}, merge=True)
+        _store_rows("cells", cells_meshes(meshes=(m,)))
     if a.cells_p1:
-        _store("cells", {n: dict(_load().get("cells", {}).get(n, {}), **v)
-                         for n, v in cells_p1([int(v) for v in a.cells_p1.split(",")],
-                                              d_max=a.cells_p1_dmax, element=a.cells_p1_element,
-                                              bias=a.cells_p1_bias, timeout_s=a.timeout, mesh=a.cells_p1_mesh,
-                                              bias_ramp=a.cells_p1_bias_ramp).items()}, merge=True)
+        _store_rows("cells", cells_p1([int(v) for v in a.cells_p1.split(",")], d_max=a.cells_p1_dmax,
+                                      element=a.cells_p1_element, bias=a.cells_p1_bias, timeout_s=a.timeout,
+                                      mesh=a.cells_p1_mesh, bias_ramp=a.cells_p1_bias_ramp))
     if a.stiffness:
         _store("stiffness", stiffness_check(a.stiffness.split(",")), merge=True)
     if a.held_p1:

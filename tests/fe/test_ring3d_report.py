@@ -1,6 +1,8 @@
 """Issue 18: the curved FE ring's report (``bench/fe_ring3d.py``) reads the stored runs right: the stability
 probes' modes are told apart by the plate's turn, the unstable stretch of the path is bracketed by the probes,
 and the path's force is extrapolated in the element size (a known h^2 error is removed exactly)."""
+import json
+
 import numpy as np
 import pytest
 
@@ -260,3 +262,17 @@ def test_a_ring_size_run_with_a_larger_tilt_bias_is_its_own_line_with_its_extrem
             "the run reaching d/L 0.200 in 20.0 min; 1 peak, 1 valley, peak 3.000 at d/L 0.090, valley 0.500 at d/L "
             "0.180; the plate's tilt 6.0 deg at d/L 0.200, above 1 deg from d/L 0.040; the calibrated beam model's "
             "P1 is 1.60 times it.") in text
+
+
+def test_a_ring_size_rerun_keeps_that_sizes_other_stored_runs(tmp_path, monkeypatch):
+    """Re-running ``--cells 4`` (the coarse stiffness) replaces only its own fields of the four-cell row: the
+    first-peak runs and the mesh study stored beside them stay (they took an hour of ccx); the other sizes stay."""
+    mod = _bench_script()
+    store = tmp_path / "fe-ring3d.json"
+    monkeypatch.setattr(mod, "STORE", str(store))
+    store.write_text(json.dumps({"cells": {"4": {"fe_flat": 1.0, "fe_curved_p1": 2.0, "c3d20_r2_fe_curved": 3.0},
+                                           "8": {"fe_flat": 4.0}}}))
+    mod._store_rows("cells", {"4": {"fe_flat": 5.0, "fe_curved": 6.0}})
+    cells = json.loads(store.read_text())["cells"]
+    assert cells["4"] == {"fe_flat": 5.0, "fe_curved_p1": 2.0, "c3d20_r2_fe_curved": 3.0, "fe_curved": 6.0}
+    assert cells["8"] == {"fe_flat": 4.0}
