@@ -82,6 +82,7 @@ def main(argv=None):
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))
         write_atomic(DOC, fe_frame3d.write(DOC, section))
+        fe_frame3d.plot_stiffness(s, os.path.join(ROOT, "docs", fe_frame3d.IMG_STIFFNESS))
         if s.get("nonlinear") and "p1_r4_C3D20" in comp:
             fine = comp["p1_r4_C3D20"]
             if s.get("plate"):

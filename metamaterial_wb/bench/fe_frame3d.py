@@ -12,6 +12,7 @@ import numpy as np
 
 MARK_BEGIN, MARK_END = "<!-- frame3d:begin -->", "<!-- frame3d:end -->"
 IMG = "img/sleeve-frame3d.png"
+IMG_STIFFNESS = "img/sleeve-frame3d-stiffness.png"
 # (key, RingFrame options, label)
 VARIANTS = (("strain", {"plane": "strain"}, "E = 4 G in the plane (the beam model's), 3 G through the wall"),
             ("stress", {"plane": "stress"}, "E = 3 G throughout (a 3-D beam's own modulus)"))
@@ -361,6 +362,9 @@ def markdown(s, extra=()):
                   coarse_note(s.get("fe_secants"), cells)) + "and the frame carries the flat calibration's own offset (the calibration fitted the cell's peak, not its "
           "stiffness) and the linear-to-secant gap. Linear here; the nonlinear frame follows. The "
           "beam model's ring forces are still quoted with their measured error (`accuracy`).", ""]
+    if ext:
+        L += [f"![initial stiffness by ring size: the solid on three meshes and extrapolated, the frame and the planar "
+              f"model]({IMG_STIFFNESS})", ""]
     if s.get("nonlinear") and s.get("fe_family") and s.get("planar_calibrated"):
         L += [nonlinear_markdown(s["nonlinear"], s["fe_family"], s["planar_calibrated"], s.get("p1_sensitivity")), "",
               f"![the nonlinear frame against the curved solid and the planar beam model]({IMG})", ""]
@@ -404,3 +408,47 @@ def plot_nonlinear(nl, solid, model, path):
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+
+
+def plot_stiffness(s, path, e=0.63):
+    """The rings' initial stiffness by ring size (left) and against the extrapolated solid (right): the solid on each
+    of its meshes and extrapolated (with its error bar), the table's coarse solid, the linear frame (plane stress,
+    calibrated) and the planar beam model (calibrated), F / (G L^2) per d/L."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = sorted(((int(n), r) for n, r in s["cells"].items() if r.get("solid_ext") and "model_curved" in r),
+                  key=lambda nr: nr[0])
+    if not rows:
+        return False
+    N = np.array([n for n, _ in rows])
+    ext = np.array([r["solid_ext"]["curved"][:2] for _, r in rows])
+    series = [(f"curved solid, mesh r = {k + 1} (all C3D20)", mk, "0.55", "none",
+               [r["solid_ext"]["curved_meshes"][k] for _, r in rows]) for k, mk in enumerate(("v", "<", ">"))]
+    series += [("curved solid, the table's coarse mesh", "x", "0.3", "none", [r["fe_curved"] for _, r in rows]),
+               ("linear 3-D frame (plane stress, calibrated)", "s", "C0", "-", [r[f"frame_stress_{e:g}"] for _, r in rows]),
+               ("planar beam model, curved, calibrated", "^", "C3", ":", [r["model_curved"] for _, r in rows])]
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10.5, 4.2), dpi=100)
+    for label, mk, col, ls, v in series:
+        v = np.asarray(v)
+        ax.plot(N, 1e3 * v, marker=mk, color=col, ls=ls, ms=5, label=label)
+        bx.plot(N, v / ext[:, 0], marker=mk, color=col, ls=ls, ms=5)
+    ax.errorbar(N, 1e3 * ext[:, 0], yerr=1e3 * ext[:, 1], fmt="ko", capsize=3, ms=5,
+                label="curved solid, extrapolated (+- its error)")
+    bx.errorbar(N, np.ones(len(N)), yerr=ext[:, 1] / ext[:, 0], fmt="ko", capsize=3, ms=5)
+    ax.set_ylabel("initial stiffness, F / (G L^2) per d/L x1e-3")
+    bx.set_ylabel("against the extrapolated solid")
+    bx.set_yscale("log")
+    bx.set_yticks([0.8, 1.0, 1.25, 1.5, 2, 2.5, 3, 3.5])
+    bx.get_yaxis().set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    for a_ in (ax, bx):
+        a_.set_xlabel("cells around the ring, N")
+        a_.set_xticks(N)
+        a_.grid(alpha=0.3)
+    ax.set_title("curved ring's initial stiffness by ring size", fontsize=9)
+    bx.set_title("each over the solid extrapolated in its mesh", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return True

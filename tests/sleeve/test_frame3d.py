@@ -334,6 +334,8 @@ def test_the_frames_curved_stiffness_against_the_solid_extrapolated_in_its_mesh(
     sm = fe_frame3d.summary(s)["extrapolated"]
     assert f"the frame's curved stiffness is {sm['absolute'][0]:+.0f} to {sm['absolute'][1]:+.0f} % off" in text
     assert "| 4 | 58.4 | 15.7 |" in text and "| 14.3 +- 0.8 | 0.94 |" in text
+    assert f"]({fe_frame3d.IMG_STIFFNESS})" in text                       # the plot, committed beside the doc
+    assert os.path.exists(os.path.join(RESULTS, "..", "..", "docs", fe_frame3d.IMG_STIFFNESS))
     rows = sorted(comp["cells"].items(), key=lambda kv: int(kv[0]))
     assert "4 cells: curved 16.9, 15.5, 15.1 -> 14.3 +- 0.8" in fe_ring3d.cells_meshes_markdown(rows)
 
