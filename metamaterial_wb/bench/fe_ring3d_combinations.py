@@ -11,7 +11,7 @@ so the rule on a model's uniform rings is that model's order for the stack. A st
 coarse meshes each P1 is some per cent high (the seed's type: +16 % on r = 1, +7 % on r = 2 against the
 four-mesh extrapolation), alike for types this close, so the order rests on their differences: given on each
 mesh and extrapolated over r = 1, 2, 3 (``extrapolated``) for combination 2, whose types lie within a few per
-cent; combination 1's, 20 % and more apart, on r = 1 and 2 (the differences moved by under 1 %).
+cent; combination 1's, 20 % and more apart, over the same three meshes (its differences moved by about 1 %).
 """
 import concurrent.futures
 

@@ -139,8 +139,8 @@ def test_frame_note_names_the_type_the_ratio_and_the_measured_match():
 
 def test_the_solids_snapping_orders_quoted_are_the_stored_runs():
     """``SOLID_ORDERS`` is the stored solid runs' (``fe-ring3d.json``, ``combinations``): the seed's combinations'
-    cell types to 1e-3 mm, combination 2's differences extrapolated over three meshes (+- their errors, to 0.01 %),
-    combination 1's on r = 1 (0.1 %), and the two-hysteron orders on them."""
+    cell types to 1e-3 mm, both combinations' differences extrapolated over three meshes (+- their errors, to
+    0.01 %), and the two-hysteron orders on them."""
     from metamaterial_wb.bench import fe_ring3d_combinations as fc
     from metamaterial_wb.bench.fe_frame3d_plate import combination_cells
     solid = _load("fe-ring3d.json")["combinations"]
@@ -150,13 +150,9 @@ def test_the_solids_snapping_orders_quoted_are_the_stored_runs():
         types = next(t for t, r in acc.SOLID_ORDERS.items() if r is rec)
         assert [v for g in combination_cells(key) for v in (g.t, g.h)] == pytest.approx(
             [v for th in types for v in th], abs=1e-3)
-        if key == "2":
-            ex = fc.extrapolated(solid["2"])["differences"]
-            assert rec["P1"] == pytest.approx(ex["P1"], abs=0.01) and rec["valley"] == pytest.approx(ex["valley"],
-                                                                                                   abs=0.01)
-        else:
-            dp, dv = fc.differences(solid["1"]["r1"])
-            assert rec["P1"][0] == pytest.approx(dp, abs=0.1) and rec["valley"][0] == pytest.approx(dv, abs=0.1)
+        ex = fc.extrapolated(solid[key])["differences"]
+        assert rec["P1"] == pytest.approx(ex["P1"], abs=0.01) and rec["valley"] == pytest.approx(ex["valley"], abs=0.01)
+        assert rec["mesh"] == "extrapolated over three meshes"
         for mesh, rows in solid[key].items():
             order = fc.solid_rule(rows)
             assert (order["loading"], order["unloading"]) == (rec["loading"], rec["unloading"]), (key, mesh)
@@ -177,7 +173,7 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     assert "loading [1, 0], unloading [1, 0] (asymmetric)" in rev and "the same" in rev
     assert "(measured with four cells around, this sleeve has 8)" in rev
     one = acc.solid_order_note(combination_cells("1"), 4, {"loading": [0, 1], "unloading": [1, 0]})
-    assert "+21.0 %" in one and "loading [0, 1], unloading [1, 0] (symmetric)" in one and "the same" in one
+    assert "first peak +22.32 +- 0.27 %" in one and "loading [0, 1], unloading [1, 0] (symmetric)" in one and "the same" in one
     assert acc.solid_order_note([two[0]], 4, {"loading": [0], "unloading": [0]}) is None
     assert acc.solid_order_note([CellGeometry(), two[1]], 4, {"loading": [0, 1], "unloading": [0, 1]}) is None
     other_L = [CellGeometry(L=20.0, t=g.t, h=g.h) for g in two]
