@@ -160,7 +160,8 @@ def cells_meshes(ns=(4, 6, 8, 12), meshes=("r1", "r2", "r3")):
     C3D20, one brick through the wall, in-plane refinement r; the four-cell path family's meshes) and of the flat
     2-D ring on the same r, per ring size and mesh: ``c3d20_<mesh>_fe_curved``, ``<mesh>_fe_flat`` and their
     seconds (``..._wall_s``), extrapolated by ``fe_frame3d.solid_extrapolated``."""
-    from metamaterial_wb.fe import sleeve2d, sleeve3d
+    from metamaterial_wb.fe import sleeve2d
+    from metamaterial_wb.fe.sleeve_check import ring_stiffness
     g = cell_geometry()
     out = {}
     for n in ns:
@@ -168,11 +169,9 @@ def cells_meshes(ns=(4, 6, 8, 12), meshes=("r1", "r2", "r3")):
         for m in meshes:
             r, layers = MESHES[m]
             flat, fi = sleeve2d.solve_ring(g, n, r, d_max=0.01 * g.L, increments=2, timeout_s=1800)
-            curved, ci = sleeve3d.solve_ring3d(g, n, r, layers, d_max=0.01 * g.L, increments=2, timeout_s=3600,
-                                               element="C3D20")
+            k, wall_s = ring_stiffness(g, n, r, layers, "C3D20")
             row.update({f"{m}_fe_flat": secant(flat["d"], flat["F"]), f"{m}_fe_flat_wall_s": fi["wall_s"],
-                        f"c3d20_{m}_fe_curved": secant(curved["d"], curved["F"]),
-                        f"c3d20_{m}_fe_curved_wall_s": ci["wall_s"]})
+                        f"c3d20_{m}_fe_curved": k, f"c3d20_{m}_fe_curved_wall_s": wall_s})
             print(n, m, {k: v for k, v in row.items() if k.startswith((m, f"c3d20_{m}"))}, flush=True)
     return out
 

@@ -57,6 +57,14 @@ def secant(d, F):
 CONVERGED_MESHES = ((1, 1), (2, 1), (3, 1))
 
 
+def ring_stiffness(g, n, r, layers, element="C3D20R", timeout_s=3600.0):
+    """The curved uniform ring's initial stiffness (``secant``) on mesh (``r``, ``layers``): two increments to
+    d/L ``2 SECANT_AT``, the whole run required. ``(k, wall_s)``."""
+    fe, info = sleeve3d.solve_ring3d(g, n, r, layers, d_max=2 * SECANT_AT * g.L, increments=2, timeout_s=timeout_s,
+                                     partial=False, element=element)
+    return secant(fe["d"], fe["F"]), info["wall_s"]
+
+
 def converged_stiffness(g, n, timeout_s=3600.0, log=None):
     """The curved uniform ring's initial stiffness on ``CONVERGED_MESHES`` (every brick C3D20) and extrapolated:
     ``{"meshes": [k...], "seconds": [...], "extrapolated", "error", "order"}``."""
@@ -65,10 +73,9 @@ def converged_stiffness(g, n, timeout_s=3600.0, log=None):
     for r, layers in CONVERGED_MESHES:
         if log:
             log(f"fe check: mesh r = {r}, every brick C3D20")
-        fe, info = sleeve3d.solve_ring3d(g, n, r, layers, d_max=2 * SECANT_AT * g.L, increments=2,
-                                         timeout_s=timeout_s, partial=False, element="C3D20")
-        ks.append(secant(fe["d"], fe["F"]))
-        secs.append(info["wall_s"])
+        k, wall_s = ring_stiffness(g, n, r, layers, "C3D20", timeout_s)
+        ks.append(k)
+        secs.append(wall_s)
     ext, err, order = richardson3([1.0 / r for r, _ in CONVERGED_MESHES], ks)
     return {"meshes": ks, "seconds": secs, "extrapolated": ext[0], "error": err[0], "order": order[0]}
 
@@ -98,12 +105,10 @@ def check_sleeve(spec, peak=False, timeout_s=3600.0, log=None, converged=False):
     for i in used:
         g = spec.cells[i]
         say(f"fe check: uniform ring of type {i} ({spec.N} cells), initial stiffness")
-        fe, info = sleeve3d.solve_ring3d(g, spec.N, 1, 2, d_max=2 * SECANT_AT * g.L, increments=2,
-                                         timeout_s=timeout_s, partial=False)
+        k, wall_s = ring_stiffness(g, spec.N, 1, 2, timeout_s=timeout_s)
         m = _model(spec, i)
         p = m.trace(np.linspace(0.0, 2 * SECANT_AT, 3))
-        row = {"type": i, "fe_stiffness": secant(fe["d"], fe["F"]), "model_stiffness": secant(p.d, p.F),
-               "fe_seconds": info["wall_s"]}
+        row = {"type": i, "fe_stiffness": k, "model_stiffness": secant(p.d, p.F), "fe_seconds": wall_s}
         row["stiffness_ratio"] = row["model_stiffness"] / row["fe_stiffness"]
         if converged:
             c = converged_stiffness(g, spec.N, timeout_s, say)
