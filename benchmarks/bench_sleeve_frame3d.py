@@ -77,7 +77,10 @@ def main(argv=None):
                                   ([fe_frame3d_stack.stacked_markdown(s["stacked"], s.get("sequence") or {})]
                                    if s.get("stacked") else []) +
                                   ([fe_ring3d_combinations.solid_markdown(raw["combinations"], s.get("sequence") or {})]
-                                   if raw.get("combinations") else []))
+                                   if raw.get("combinations") else []) +
+                                  ([fe_ring3d_combinations.cycles_markdown(raw["mixed_cycles"],
+                                                                           raw.get("combinations", {}))]
+                                   if raw.get("mixed_cycles") else []))
     print(section)
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))

@@ -331,7 +331,7 @@ def compare(data):
                                                                                      "d_reached", "dofs")}}}
     out.update({"curved": model_curve(0.0, True), "curved_calibrated": model_curve(e, True),
                 "flat_calibrated": model_curve(e, False), "model_relief": model_relief(e)})
-    for k in ("stiffness", "stability", "combinations"):
+    for k in ("stiffness", "stability", "combinations", "mixed_cycles"):
         if k in data:
             out[k] = data[k]
     if "cells" in data:
@@ -416,6 +416,10 @@ def main(argv=None):
     ap.add_argument("--combinations", default=None, help="comma list of <combination>:<mesh> (mesh r1, r2 or r3): "
                     "each cell type of the seed's combination as a uniform four-cell ring (ccx, every brick C3D20, "
                     "static to d/L 0.7), two runs at a time; stored under 'combinations' as each ends")
+    ap.add_argument("--mixed-cycles", default=None, help="comma list of <combination>:<mesh> (mesh r1, r2 or r3): "
+                    "the seed's mixed ring [0, 0, 1, 1] on the solid (ccx, every brick C3D20) raised to d/L 0.7 and "
+                    "lowered back, and the shorter type's uniform ring at its flat top; stored under "
+                    "'mixed_cycles' as each ends")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.p1_element == "C3D20" and a.p1_full_near:
@@ -476,6 +480,16 @@ def main(argv=None):
                   f"{row['valley_d']} ({row['wall_s']:.0f} s, to d/L {row['d_reached']:.3f})", flush=True)
             _store("combinations", data)
         solid_thresholds([tuple(v.split(":")) for v in a.combinations.split(",")], timeout_s=a.timeout, done=done)
+    if a.mixed_cycles:
+        from metamaterial_wb.bench.fe_ring3d_combinations import mixed_study
+
+        def done_cycle(key, mesh, what, row):
+            data = _load().get("mixed_cycles", {})
+            data.setdefault(key, {}).setdefault(mesh, {})[what] = row
+            print(f"mixed combination {key} {mesh} {what}: {row['wall_s']:.0f} s, d/L {row['d_reached']:.3f} "
+                  f"{row['stopped']}", flush=True)
+            _store("mixed_cycles", data)
+        mixed_study([tuple(v.split(":")) for v in a.mixed_cycles.split(",")], timeout_s=a.timeout, done=done_cycle)
     if a.radial_fixed:
         tr = run_fe(d_max=0.7, increments=a.increments, timeout_s=a.timeout, radial="fixed")
         print(f"radial fixed: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)

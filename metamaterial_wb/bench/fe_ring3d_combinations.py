@@ -60,20 +60,96 @@ MESH_R = {"r1": 1, "r2": 2, "r3": 3}
 D_MAX = 0.7                 # d/L: past the first valley of every seed type (the seed's cell: 0.45)
 
 
-def solid_ring(g, r, d_max=D_MAX, timeout_s=5400.0):
+def solid_ring(g, r, d_max=D_MAX, timeout_s=5400.0, top=None):
     """One uniform four-cell ring of cell ``g`` on mesh ``r`` (one brick through the wall, every brick C3D20,
     static, 0.01 d/L per increment): ``{"P1", "P1_d", "valley", "valley_d", "d", "F", "tilt_deg_max", "wall_s",
-    "d_reached", "stopped"}`` (``None`` for an extremum the run did not reach)."""
+    "d_reached", "stopped"}`` (``None`` for an extremum the run did not reach). ``top`` (mm): the ring's top
+    raised there (``sleeve3d.ring_mesh``: the shorter type as it stands in a mixed ring, ``"top_mm"``)."""
     from metamaterial_wb.fe import sleeve3d
     c, info = sleeve3d.solve_ring3d(g, 4, r, 1, d_max=d_max * g.L, increments=int(round(100 * d_max)),
-                                    timeout_s=timeout_s, partial=True, element="C3D20")
+                                    timeout_s=timeout_s, partial=True, element="C3D20", top=top)
     ext = sleeve3d.all_extrema(c["d"], c["F"])
     peak = next(((x, y) for k, x, y in ext if k == "peak"), (None, None))
     valley = next(((x, y) for k, x, y in ext if k == "valley" and peak[0] is not None and x > peak[0]), (None, None))
     tilt = np.degrees(np.hypot(*np.asarray(c["tilt_rad"]).T))
     return {"P1_d": peak[0], "P1": peak[1], "valley_d": valley[0], "valley": valley[1], "extrema": ext,
             "d": np.round(c["d"], 6).tolist(), "F": c["F"].tolist(), "tilt_deg_max": float(tilt.max()),
-            "wall_s": info["wall_s"], "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300]}
+            "wall_s": info["wall_s"], "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300],
+            "top_mm": g.height if top is None else float(top)}
+
+
+MIXED_ROW = (0, 0, 1, 1)     # the seed's mixed ring (the frame's and the beam model's)
+
+
+def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0):
+    """The seed's combination ``key`` as one mixed four-cell ring ``row`` on the curved solid (``fe/sleeve3d.py``:
+    one brick through the wall, every brick C3D20, a flat top at the taller type's height; static, 0.01 d/L per
+    increment) raised to ``d_max`` and lowered back, the beams' ends watched: ``{"d", "F", "tilt_rad",
+    "unloading", "rises" (k, halves), "cells", "units", "wall_s", "d_reached", "stopped", ...}`` (``cycle_sequence``
+    reads the order off it)."""
+    from metamaterial_wb.fe import sleeve3d
+    types = combination_cells(key)
+    cells = [types[t] for t in row]
+    mesh = sleeve3d.ring_mesh(cells, len(row), r, 1)
+    ends = mesh.beam_ends()
+    watch = np.unique(np.concatenate([ends["outer"].ravel(), ends["inner"].ravel()]))
+    n = int(round(100 * d_max))
+    c, info = sleeve3d.solve_ring3d(cells, len(row), r, 1, d_max=d_max * cells[0].L, increments=n,
+                                    timeout_s=timeout_s, partial=True, element="C3D20", watch=watch, unload=True)
+    rise, _ = sleeve3d.hysterons(mesh, ends, c["u_watch"], watch)
+    return {"combination": key, "row": list(row), "r": int(r), "d_max": float(d_max),
+            "d": np.round(c["d"], 6).tolist(), "F": c["F"].tolist(), "tilt_rad": c["tilt_rad"].tolist(),
+            "unloading": c["unloading"].astype(int).tolist(), "rises": np.round(rise, 7).tolist(),
+            "cells": ends["cells"].tolist(), "units": ends["units"].tolist(), "wall_s": info["wall_s"],
+            "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300]}
+
+
+def cycle_sequence(run):
+    """The snapping order of a ``solid_cycle`` run's cell types on loading and unloading, by the frame's own reading
+    (``frame3d_sequence.sequence``: ``analysis.snap_order`` on the beams' rises, the plate's largest lean on each
+    path), or ``None`` when the run did not come back down (``run["stopped"]``)."""
+    from types import SimpleNamespace
+    from metamaterial_wb.core.sleeve.frame3d_sequence import sequence
+    down = np.asarray(run["unloading"], bool)
+    if not down.any() or run["stopped"]:
+        return None
+    types = combination_cells(run["combination"])
+    ring = SimpleNamespace(cells=types, state_types=[run["row"][k] for k in run["cells"]], units=run["units"],
+                           rings=1)
+    d, rises = np.asarray(run["d"]), np.asarray(run["rises"])
+    tilt = np.column_stack([np.asarray(run["tilt_rad"]), np.zeros(len(d))])
+    first = int(np.argmax(down)) - 1                      # the last loading point starts the unloading path
+    up = {"d": d[:first + 1], "rises": rises[:first + 1], "tilt": tilt[:first + 1]}
+    back = {"d": d[first:], "rises": rises[first:], "tilt": tilt[first:]}
+    return sequence(ring, up, back)
+
+
+def mixed_study(runs=(("2", "r1"),), workers=2, timeout_s=7200.0, done=None):
+    """For each (combination, mesh) of ``runs``: the mixed ring's cycle (``solid_cycle``) and the shorter type's
+    uniform ring at the mixed ring's flat top (``solid_ring(top=...)``: with the taller type's stored uniform ring,
+    the two-hysteron rule for the cells as they stand in the mixed ring), ``workers`` ccx runs at a time.
+    ``done(key, mesh, what, result)`` as each ends (``what``: "cycle" or "raised")."""
+    for key, mesh in runs:
+        if key not in SEED_COMBINATIONS or mesh not in MESH_R:
+            raise ValueError(f"run ({key!r}, {mesh!r}); allowed: a combination of {sorted(SEED_COMBINATIONS)} "
+                             f"on a mesh of {sorted(MESH_R)}")
+    out = {}
+    with concurrent.futures.ThreadPoolExecutor(workers) as pool:
+        futures = {}
+        for key, mesh in runs:
+            types = combination_cells(key)
+            short = min(types, key=lambda g: g.height)
+            top = max(g.height for g in types)
+            futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s)] = (key, mesh, "cycle")
+            if top > short.height:
+                futures[pool.submit(solid_ring, short, MESH_R[mesh], timeout_s=timeout_s, top=top)] = \
+                    (key, mesh, "raised")
+        for f in concurrent.futures.as_completed(futures):
+            key, mesh, what = futures[f]
+            out.setdefault(key, {}).setdefault(mesh, {})[what] = f.result()
+            if done:
+                done(key, mesh, what, out[key][mesh][what])
+    return out
 
 
 def solid_thresholds(runs=(("2", "r1"), ("2", "r2"), ("2", "r3"), ("1", "r1")), workers=2, timeout_s=5400.0,
@@ -146,6 +222,50 @@ def _row(r):
         out.append(f"{1e3 * v[0]:.3f} +- {1e3 * v[1]:.3f}" if isinstance(v, tuple) else f"{1e3 * v:.3f}"
                    + (f" ({r[k + '_d']:.3f})" if r.get(k + "_d") is not None else ""))
     return ", ".join(out)
+
+
+def cycles_markdown(cycles, solid):
+    """The seed's mixed rings on the solid (``cycles``: ``{combination: {mesh: {"cycle", "raised"}}}``, as stored
+    under ``mixed_cycles``): each ring's own sequence and lean (``cycle_sequence``) beside the rule on its types'
+    uniform rings as they stand in it (the shorter type's at the flat top, ``raised``; the taller one's from
+    ``solid``, the stored ``combinations``) and the seed's; "" without a cycle."""
+    L = ["**The seed's mixed rings on the curved solid** (`bench_sleeve_ring3d.py --mixed-cycles`: the ring "
+         "[0, 0, 1, 1] of the combination's two types as one CalculiX solid, one brick through the wall, every brick "
+         "C3D20, static, raised to d/L 0.7 and lowered back in steps of 0.01 under the default bias; the cells "
+         "meet at a flat top at the taller type's height, so the shorter type's edge pillars are longer by the "
+         "difference; the order by the frame's reading of the beams' ends, `analysis.snap_order`; lean: the "
+         "plate's largest tilt on each path). The rule beside it is the two-hysteron rule on the types' uniform "
+         "rings as they stand in the mixed ring (the shorter type's uniform ring at that top):", "",
+         "| combination | mesh | mixed ring: loading \\| unloading | lean loading / unloading (deg) | rule on the "
+         "uniform rings at the flat top | seed | time |", "|---|---|---|---|---|---|---|"]
+    rows = 0
+    for key in sorted(cycles):
+        for mesh in sorted(cycles[key]):
+            run = cycles[key][mesh]
+            cyc = run.get("cycle")
+            seq = cycle_sequence(cyc) if cyc else None
+            if cyc and seq is None:
+                text, lean = f"stopped at d/L {cyc['d_reached']:.3f}", "-"
+            elif seq:
+                text = order_text(seq)
+                lean = (f"{seq['lean_loading_deg']:.0f} / {seq['lean_unloading_deg']:.0f}"
+                        + (" (reverses)" if seq["lean_reverses"] else "")
+                        if seq["lean_loading_deg"] is not None and seq["lean_unloading_deg"] is not None else "-")
+            else:
+                continue
+            rule_text = "-"
+            raised, uni = run.get("raised"), (solid.get(key, {}).get(mesh) or [None, None])
+            if raised and all(uni):
+                types = combination_cells(key)
+                short = min(range(2), key=lambda k: types[k].height)
+                rows_ = [raised if k == short else uni[k] for k in range(2)]
+                if solid_rule(rows_):
+                    rule_text = order_text(rule(rows_)) + " ({:+.1f} %, {:+.1f} %)".format(*differences(rows_))
+            secs = " + ".join(f"{r['wall_s'] / 60:.0f}" for r in (cyc, raised) if r)
+            L.append(f"| {key} | r = {mesh[1:]} | {text} | {lean} | {rule_text} | {order_text(seed_order(key))} | "
+                     f"{secs} min |")
+            rows += 1
+    return "\n".join(L + [""]) if rows else ""
 
 
 def solid_markdown(solid, mixed):

@@ -67,12 +67,41 @@ def _line(a, b):
     return lambda s: a + np.asarray(s, float)[..., None] * (b - a)
 
 
-def _blocks(g, r):
-    """The nine blocks of the right half cell (x >= 0): ``(name, mapping f(u, v), nu, nv)``."""
+def _quad(p00, p10, p11, p01):
+    """The bilinear block with corners ``p00`` (u = v = 0), ``p10``, ``p11``, ``p01`` (counter-clockwise)."""
+    return _tfi(_line(p00, p10), _line(p01, p11), _line(p00, p01), _line(p10, p11))
+
+
+MATCH = ("L", "c", "delta", "T", "layout")     # what a mixed solid ring's cell types share
+
+
+def ring_cells(g, cells):
+    """The cell geometry of each of the ring's ``cells`` cells: ``g`` one ``CellGeometry`` (a uniform ring) or a
+    list of ``cells`` of them in ring order (a mixed ring: the types may differ in ``h`` and ``t``; ``MATCH``
+    they share, or the cells' sides and bars would not meet)."""
+    geoms = list(g) if isinstance(g, (list, tuple)) else [g] * int(cells)
+    if len(geoms) != cells:
+        raise ValueError(f"cell geometries: {len(geoms)} for a ring of {cells} cells; allowed: one, or one per cell")
+    for name in MATCH:
+        vals = sorted({getattr(x, name) for x in geoms}, key=str)
+        if len(vals) > 1:
+            raise ValueError(f"cell geometries: {name} takes the values {', '.join(map(str, vals))} around the ring; "
+                             f"allowed: one {name} (a solid ring's cell types may differ in h and t only)")
+    return geoms
+
+
+def _blocks(g, r, height=None, side_t=None):
+    """The nine blocks of the right half cell (x >= 0): ``(name, mapping f(u, v), nu, nv)``. A mixed ring's cell
+    (``ring_cells``): ``height`` the ring's top (its tallest cell's; the cell's own by default), ``side_t`` the beam
+    thickness whose end heights the edge half-pillar carries on the cell's side ``x = W/2``, where it meets the
+    neighbour's (the thickest in the ring; the cell's own ``t`` by default): its two pillar blocks are then
+    quadrilaterals from the cell's own beam end on the pillar's face to those heights, so every cell's side
+    carries the same nodes."""
     L, t, c, d = g.L, g.t, g.c, g.delta
-    H, W = g.height, g.width
-    yb, yt = c / 2, g.height - c / 2
+    H, W = (g.height if height is None else height), g.width
+    yb, yt = c / 2, H - c / 2
     ye0, ye1 = yb + d, yb + d + t                       # beam end on the edge pillar (flat there)
+    ys1 = yb + d + (t if side_t is None else side_t)    # the same on the cell's side
     n_t = r
     n_a = 2 * r                                         # beam over the central pillar, pillar width
     n_b = 7 * r                                         # free beam half
@@ -91,8 +120,8 @@ def _blocks(g, r):
         np.broadcast_arrays(x0 + np.asarray(u, float) * (x1 - x0), y0 + np.asarray(v, float) * (y1 - y0)), axis=-1))
     return [("beam_pillar", A, n_a, n_t), ("beam_free", B, n_b, n_t), ("central_pillar", C, n_a, n_cv),
             ("bar_under_pillar", rect(0, c / 2, 0, yb), n_a, n_bar), ("bar_bottom", rect(c / 2, W / 2, 0, yb), n_e, n_bar),
-            ("edge_pillar_low", rect(L / 2, W / 2, ye0, ye1), n_p, n_t),
-            ("edge_pillar", rect(L / 2, W / 2, ye1, yt), n_p, n_g),
+            ("edge_pillar_low", _quad((L / 2, ye0), (W / 2, ye0), (W / 2, ys1), (L / 2, ye1)), n_p, n_t),
+            ("edge_pillar", _quad((L / 2, ye1), (W / 2, ys1), (W / 2, yt), (L / 2, yt)), n_p, n_g),
             ("bar_top_pillar", rect(L / 2, W / 2, yt, H), n_p, n_bar), ("bar_top", rect(0, L / 2, yt, H), n_h, n_bar)]
 
 
@@ -102,10 +131,13 @@ _Q8 = [(0, 0), (2, 0), (2, 2), (0, 2), (1, 0), (2, 1), (1, 2), (0, 1)]
 
 class QuadMesh(Mesh):
     """``nodes`` (N, 2) mm, ``elements`` (E, 8) 0-based CPE8 connectivity (counter-clockwise), ``block`` (E,)
-    block names, and the geometry it was made for."""
+    block names, and the geometry it was made for (``geom``; a mixed ring's first cell's, ``geoms`` every cell's,
+    ``height`` its top)."""
 
-    def __init__(self, nodes, elements, block, geom, cells):
+    def __init__(self, nodes, elements, block, geom, cells, geoms=None, height=None):
         self.nodes, self.elements, self.block, self.geom, self.cells = nodes, elements, block, geom, cells
+        self.geoms = list(geoms) if geoms is not None else [geom] * cells
+        self.height = geom.height if height is None else float(height)
 
 
     def area(self):
@@ -166,24 +198,39 @@ def _dshape(a, b):
     return np.vstack([dx, de])
 
 
-def cell_mesh(g, r=1, cells=1):
+def cell_mesh(g, r=1, cells=1, top=None):
     """Structured CPE8 mesh of ``cells`` unit cells side by side (cell k centred at ``x = k W``), refinement
-    ``r`` (``r`` elements through the beam's thickness)."""
+    ``r`` (``r`` elements through the beam's thickness). ``g``: one ``CellGeometry``, or one per cell (a mixed
+    ring, ``ring_cells``: the top at the tallest cell's height, every cell's sides at the thickest beam's end
+    heights, so neighbours share their nodes). ``top`` (mm): the top's height, if higher than the tallest cell's
+    (the edge pillars lengthened by the difference: a uniform ring of a mixed ring's shorter type as it stands
+    there)."""
     from scipy.spatial import cKDTree
 
+    geoms = ring_cells(g, cells)
+    g = geoms[0]
     if g.layout != "single":
         raise ValueError("the FE sleeve cell is the single layout (one beam per cell)")
+    height, side_t = max(x.height for x in geoms), max(x.t for x in geoms)
+    if top is not None:
+        if not height - 1e-9 * g.L <= top <= height + g.L:
+            raise ValueError(f"top: {top!r} mm; allowed: from the tallest cell's height {height:g} mm to L higher, "
+                             f"{height + g.L:g} mm")
+        height = max(height, float(top))
     pts, quads, names = [], [], []
     base = 0
-    for name, f, nu, nv in _blocks(g, int(r)):
+    blocks = {}                       # per distinct cell type (the same numbering as a uniform ring's)
+    for gk in geoms:
+        blocks.setdefault(id(gk), _blocks(gk, int(r), height, side_t))
+    for b, (name, _f, nu, nv) in enumerate(blocks[id(g)]):
         U, V = np.meshgrid(np.linspace(0, 1, 2 * nu + 1), np.linspace(0, 1, 2 * nv + 1), indexing="ij")
-        P = f(U, V).reshape(-1, 2)
-        idx = np.arange(P.shape[0]).reshape(2 * nu + 1, 2 * nv + 1)
+        idx = np.arange(U.size).reshape(2 * nu + 1, 2 * nv + 1)
         el = np.array([[idx[2 * i + di, 2 * j + dj] for di, dj in _Q8] for i in range(nu) for j in range(nv)])
+        P = {key: bl[b][1](U, V).reshape(-1, 2) for key, bl in blocks.items()}
         for mirror in (False, True):
-            Q = P * ([-1.0, 1.0] if mirror else [1.0, 1.0])
             e = el[:, [0, 3, 2, 1, 7, 6, 5, 4]] if mirror else el       # keep counter-clockwise
-            for k in range(cells):
+            for k, gk in enumerate(geoms):
+                Q = P[id(gk)] * ([-1.0, 1.0] if mirror else [1.0, 1.0])
                 pts.append(Q + [k * g.width, 0.0])
                 quads.append(e + base)
                 names += [name] * len(e)
@@ -205,7 +252,7 @@ def cell_mesh(g, r=1, cells=1):
             j = rep[j]
         rep[i] = j
     used, inv = np.unique(rep[E], return_inverse=True)
-    return QuadMesh(X[used], inv.reshape(E.shape), np.array(names), g, cells)
+    return QuadMesh(X[used], inv.reshape(E.shape), np.array(names), g, cells, geoms, height)
 
 
 def _material(out, T, full=False):
@@ -237,7 +284,7 @@ def _edges(mesh):
     tol = 1e-7 * g.L
     x_lo, x_hi = -g.width / 2, (mesh.cells - 0.5) * g.width
     bottom = np.flatnonzero(np.abs(X[:, 1]) < tol)
-    top = np.flatnonzero(np.abs(X[:, 1] - g.height) < tol)
+    top = np.flatnonzero(np.abs(X[:, 1] - mesh.height) < tol)
     left = np.flatnonzero(np.abs(X[:, 0] - x_lo) < tol)
     right = np.flatnonzero(np.abs(X[:, 0] - x_hi) < tol)
     # pair every right-edge node with the left-edge node at the same height

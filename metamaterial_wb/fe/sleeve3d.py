@@ -89,6 +89,7 @@ class RingMesh(Mesh):
     def __init__(self, nodes, elements, geom, cells, radius, wall, n_layers, quad, quad_elements):
         self.nodes, self.elements, self.geom, self.cells = nodes, elements, geom, cells
         self.radius, self.wall, self.n_layers, self.quad, self.quad_elements = radius, wall, n_layers, quad, quad_elements
+        self.geoms, self.height = quad.geoms, quad.height          # every cell's geometry (a mixed ring), the top
 
 
     def parts(self):
@@ -101,7 +102,7 @@ class RingMesh(Mesh):
         x = (np.arctan2(X[:, 1], X[:, 0]) * self.radius) % g.width
         xc = np.minimum(x, g.width - x)                        # distance from the cell's middle along the arc
         tol = 1e-6 * g.L
-        bars = (X[:, 2] < 0.5 * g.c + tol) | (X[:, 2] > g.height - 0.5 * g.c - tol)
+        bars = (X[:, 2] < 0.5 * g.c + tol) | (X[:, 2] > self.height - 0.5 * g.c - tol)
         central = (xc < 0.5 * g.c + tol) & ~bars
         edge = (np.abs(xc - 0.5 * g.width) < 0.5 * g.c + tol) & ~bars
         return {"bars": bars, "central": central, "edge": edge, "pillars": central | edge,
@@ -155,17 +156,18 @@ class RingMesh(Mesh):
         beam half (cell ``k``'s right half, then its left half, cell by cell) the node ids of its outer end (on
         the edge pillar's face, centre line ``x = +-L/2``) and of its inner end (on the central pillar's face,
         ``x = +-c/2``), through the wall (every level that has a node there), and ``units`` (per half): the edge
-        pillar it hangs on, pillar ``k`` between cells ``k`` and ``k + 1``. ``{"outer": (halves, m), "inner":
-        (halves, m), "units": (halves,)}`` 0-based."""
+        pillar it hangs on, pillar ``k`` between cells ``k`` and ``k + 1``, and ``cells`` (per half): its cell
+        (whose own ``h`` a mixed ring's half snaps past). ``{"outer": (halves, m), "inner": (halves, m), "units":
+        (halves,), "cells": (halves,)}`` 0-based."""
         g = self.geom
         span = self.cells * g.width
         x = (np.arctan2(self.nodes[:, 1], self.nodes[:, 0]) * self.radius) % span
         key = np.column_stack([x, self.nodes[:, 2]])
         from scipy.spatial import cKDTree
         tree = cKDTree(key)
-        ends = {p: sleeve2d._beam_point(g, p, 0.0) for p in (0.5 * g.c, 0.5 * g.L)}
-        out = {"outer": [], "inner": [], "units": []}
-        for k in range(self.cells):
+        out = {"outer": [], "inner": [], "units": [], "cells": []}
+        for k, gk in enumerate(self.geoms):
+            ends = {p: sleeve2d._beam_point(gk, p, 0.0) for p in (0.5 * g.c, 0.5 * g.L)}
             for side in (1, -1):
                 for name, p in (("outer", 0.5 * g.L), ("inner", 0.5 * g.c)):
                     at = ((k * g.width + side * ends[p][0]) % span, ends[p][1])
@@ -174,9 +176,10 @@ class RingMesh(Mesh):
                         raise AssertionError(f"no node at the beam end {at} of cell {k}")
                     out[name].append(ids)
                 out["units"].append(k if side > 0 else (k - 1) % self.cells)
+                out["cells"].append(k)
         m = min(len(i) for i in out["outer"] + out["inner"])
         return {"outer": np.array([i[:m] for i in out["outer"]]), "inner": np.array([i[:m] for i in out["inner"]]),
-                "units": np.array(out["units"])}
+                "units": np.array(out["units"]), "cells": np.array(out["cells"])}
 
     def exact_volume(self):
         """The wrapped solid's volume from the 2-D outline's area ``A``: a wall between radii ``rho_0`` and
@@ -186,12 +189,15 @@ class RingMesh(Mesh):
         return self.quad.area() * T * rho_mid / self.radius
 
 
-def ring_mesh(g, n_cells=4, r=1, n_layers=1, wall="mid"):
-    """The N-cell ring as a closed cylinder of C3D20 bricks (see the module docstring)."""
+def ring_mesh(g, n_cells=4, r=1, n_layers=1, wall="mid", top=None):
+    """The N-cell ring as a closed cylinder of C3D20 bricks (see the module docstring); ``g`` one ``CellGeometry``
+    or one per cell in ring order (a mixed ring: ``sleeve2d.cell_mesh``, a flat top at the tallest cell's height, or
+    at ``top`` mm)."""
     n_cells, r, n_layers = _checked(n_cells, r, n_layers)
     if wall not in WALLS:
         raise ValueError(f"wall: {wall!r}; allowed: {', '.join(map(repr, WALLS))}")
-    quad = sleeve2d.cell_mesh(g, r, n_cells)
+    quad = sleeve2d.cell_mesh(g, r, n_cells, top)
+    g = quad.geom
     _bottom, _top, pairs = sleeve2d._edges(quad)
     rep = np.arange(quad.n_nodes)
     for i, j in pairs:                                         # the seam: right edge -> first cell's left edge
@@ -220,7 +226,7 @@ def ring_mesh(g, n_cells=4, r=1, n_layers=1, wall="mid"):
                               ids[E2[:, :4], km]]))
     elements = np.vstack(els)
     assert elements.min() >= 0
-    return RingMesh(nodes, elements, g, n_cells, R, wall, n_layers, quad, E2)
+    return RingMesh(nodes, elements, quad.geom, n_cells, R, wall, n_layers, quad, E2)
 
 
 def _checked(n_cells, r, n_layers):
@@ -234,7 +240,8 @@ def _checked(n_cells, r, n_layers):
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
                 radial="free", method="static", element="C3D20R", patient=False, stability=0, shapes=False,
-                imperfection=None, full_near=0.0, print_all=False, full_low=False, watch=None):
+                imperfection=None, full_near=0.0, print_all=False, full_low=False, watch=None, unload=False,
+                top=None):
     """``(deck, meta)``: the curved ring under a rising, tilting rigid top plate (module docstring); ``d_max`` in
     mm (default 0.25 L), ``bias`` in ``G L^2`` (a moment ``bias L^2 R`` towards ``bias_angle * pi / N``).
     ``radial="fixed"`` holds every node between the bars at its radius (a cylindrical ``*TRANSFORM``): the wall
@@ -264,8 +271,15 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     reduced bricks fold the same way (nodal ``det F`` 0.77) and stop Newton at d/L 0.157. ``print_all=True`` prints every node's displacement at every
     increment (set ``ALLN``; ``solve_ring3d`` returns the last converged one). ``watch``: 0-based node ids whose
     displacements are printed at every increment (set ``WATCH``; ``solve_ring3d`` returns them all: the beams'
-    ends, ``RingMesh.beam_ends``, for ``hysterons``)."""
-    mesh = ring_mesh(g, n_cells, r, n_layers)
+    ends, ``RingMesh.beam_ends``, for ``hysterons``). ``g``: one ``CellGeometry``, or one per cell (a mixed ring,
+    ``ring_mesh``). ``unload=True`` (static only): a second step lowers the plate back to its start in as many
+    increments (the bias moment stays), as the frame's cycle (``core/sleeve/frame3d_sequence.py``). ``top``:
+    ``ring_mesh``'s."""
+    mesh = ring_mesh(g, n_cells, r, n_layers, top=top)
+    g = mesh.geom
+    if unload and method != "static":
+        raise ValueError(f"unload with method {method!r}; allowed: method 'static' (a ramped dynamic step would "
+                         "not come back down)")
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
     if method not in ("static", "dynamic"):
@@ -291,17 +305,18 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     tol = 1e-7 * g.L
     if imperfection is not None:
         imp = np.asarray(imperfection, float)
-        if imp.shape != X.shape or not np.all(np.isfinite(imp)) or np.abs(imp).max() > 0.1 * g.t:
+        if imp.shape != X.shape or not np.all(np.isfinite(imp)) or np.abs(imp).max() > 0.1 * min(x.t for x in mesh.geoms):
             raise ValueError(f"imperfection: shape {imp.shape}, largest {np.abs(imp).max() if imp.size else 0:g} mm; "
-                             f"allowed: finite offsets of shape {X.shape}, at most 0.1 t = {0.1 * g.t:g} mm")
+                             f"allowed: finite offsets of shape {X.shape}, at most 0.1 t = "
+                             f"{0.1 * min(x.t for x in mesh.geoms):g} mm")
     bottom = np.flatnonzero(np.abs(X[:, 2]) < tol)
-    top = np.flatnonzero(np.abs(X[:, 2] - g.height) < tol)
+    top = np.flatnonzero(np.abs(X[:, 2] - mesh.height) < tol)
     if imperfection is not None:                   # the clamped and the plate's edges stay where they are
         imp = imp.copy()
         imp[np.concatenate([bottom, top])] = 0.0
         X = X + imp
     out = [f"*HEADING\nmetamaterial_wb: sleeve ring, curved 3-D solid ({element}), rigid tilting top plate\n",
-           "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{g.height:.9g}\n{ROT},0,0,{g.height:.9g}\n",
+           "*NODE\n", ccx.fmt_nodes(X), f"{REF},0,0,{mesh.height:.9g}\n{ROT},0,0,{mesh.height:.9g}\n",
            _element_text(mesh, element, full),
            "*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1),
            f"*NSET, NSET=NREF\n{REF}\n*NSET, NSET=NROT\n{ROT}\n",
@@ -330,11 +345,13 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     if m:
         bc += f"*CLOAD{amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
     proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
-    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
-               + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "") + f"{bc}"
-               "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n"
-               + ("*NODE PRINT, NSET=ALLN\nU\n" if print_all else "")
-               + ("*NODE PRINT, NSET=WATCH\nU\n" if watch is not None else "") + "*END STEP\n")
+    prints = ("*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n"
+              + ("*NODE PRINT, NSET=ALLN\nU\n" if print_all else "")
+              + ("*NODE PRINT, NSET=WATCH\nU\n" if watch is not None else ""))
+    for step_bc in ([bc, f"*BOUNDARY\n{REF},3,3,0\n"] if unload else [bc]):
+        out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
+                   + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "")
+                   + step_bc + prints + "*END STEP\n")
     if stability:
         out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n"
                    + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
@@ -342,7 +359,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "bias_angle": bias_angle, "radial": radial,
             "method": method, "element": element, "patient": patient, "stability": int(stability),
-            "full_near": float(full_near), "full_low": bool(full_low), "full_elements": int(full.size)}
+            "full_near": float(full_near), "full_low": bool(full_low), "full_elements": int(full.size),
+            "unload": bool(unload), "top_mm": mesh.height}
     return "".join(out), meta
 
 
@@ -361,7 +379,7 @@ def _element_text(mesh, element, full_ids):
 def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, timeout_s=3600.0,
                  partial=True, radial="free", method="static", element="C3D20R", patient=False, stability=0,
                  shapes=False, imperfection=None, bias_angle=0.5, full_near=0.0, print_all=False, full_low=False,
-                 watch=None):
+                 watch=None, unload=False, top=None):
     """Force-displacement curve of the curved ring and its tilt: ``{"d": d / L, "F": F / (G L^2), "tilt_rad"
     (k, 2): (psi_x, psi_y)}`` per converged increment (with the unloaded start), and the run info. With
     ``partial=True`` a run that stops before ``d_max`` returns what converged (``info["stopped"]`` says why,
@@ -372,11 +390,14 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     ``"modes"``, ``(n, n_nodes, 3)``; with ``print_all=True`` ``"u"``, the last converged increment's node
     displacements ``(n_nodes, 3)`` (``RingMesh.volume_ratios`` reads them); with ``watch`` (node ids) ``"u_watch"``,
     ``(k, len(watch), 3)``, those nodes' displacements at every point of the curve (zero at the start), in the
-    order given. ``full_near``, ``full_low``: ``ring_deck3d``."""
+    order given. ``full_near``, ``full_low``, ``top``, ``g`` (a mixed ring: one geometry per cell): ``ring_deck3d``. With
+    ``unload=True`` the curve goes on back down to the start (``ring_deck3d``): ``"unloading"`` (k,) marks its
+    points (d falls along them), ``info["d_reached"]`` is then the last point's rise."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, bias_angle, radial=radial, method=method,
                              element=element, patient=patient, stability=stability, shapes=shapes,
                              imperfection=imperfection, full_near=full_near, print_all=print_all,
-                             full_low=full_low, watch=watch)
+                             full_low=full_low, watch=watch, unload=unload, top=top)
+    g = meta["mesh"].geom
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
@@ -385,14 +406,15 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     F = -np.array([sum(v[2] for v in r_[1].values()) for r_ in rows])
     rot = tables.get(("displacements", "NROT"), [])
     tilt = np.array([r_[1][ROT][:2] for r_ in rot])[:len(t)]
-    d = t * meta["d_max_mm"] / g.L
+    down = t > 1.0 + 1e-9                                  # ccx's total time: the unloading step's from 1 to 2
+    d = np.where(down, 2.0 - t, t) * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
                                       "bias", "bias_angle", "radial", "method",
                                       "element", "patient", "full_near", "full_low", "full_elements")})
     eig = info.pop("eigenvalues", [])
     if stability and eig and "stopped" not in info:
         modes = [np.asarray(r_[1][ROT][:3], float) for r_ in rot[len(t):]]
-        info["stability"] = {"d": float(t[-1] * meta["d_max_mm"] / g.L), "eigenvalues": eig[0],
+        info["stability"] = {"d": float(d[-1]), "eigenvalues": eig[0],
                              "plate_rotation": [(m / (np.linalg.norm(m) or 1.0)).tolist() for m in modes],
                              "plate_rotation_size": [float(np.linalg.norm(m)) for m in modes],
                              "stable": bool(min(eig[0]) > 0)}
@@ -400,6 +422,8 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     info["d_reached"] = float(d[-1])
     out = {"d": np.concatenate([[0.0], d]), "F": np.concatenate([[0.0], F / g.L ** 2]),
            "tilt_rad": np.vstack([[0.0, 0.0], tilt.reshape(-1, 2)])}
+    if unload:
+        out["unloading"] = np.concatenate([[False], down])
     last = tables.get(("displacements", "ALLN"), [])[:len(t)]
     if print_all and last:
         out["u"] = np.array([last[-1][1][i + 1][:3] for i in range(meta["mesh"].n_nodes)])
@@ -418,7 +442,7 @@ def hysterons(mesh, ends, u_watch, watch):
     """The hysterons' states along a run, by the beam model's rule (``analysis.snap_order``; the frame's
     ``trace_ring``): each beam half's rise, its outer end's axial displacement over its inner end's (each the
     mean through the wall) in units of L, ``(k, halves)``, and per edge pillar (``ends["units"]``) whether it has
-    snapped: the mean of its two halves' rises beyond ``h / L``, ``(k, n_cells)``. ``ends``:
+    snapped: the mean of its two halves' rises beyond their cells' ``h / L``, ``(k, n_cells)``. ``ends``:
     ``RingMesh.beam_ends``; ``u_watch`` (k, m, 3): the displacements of the nodes ``watch`` (``solve_ring3d``)."""
     pos = {int(n): i for i, n in enumerate(np.asarray(watch).ravel())}
     uz = np.asarray(u_watch, float)[:, :, 2]
@@ -427,7 +451,8 @@ def hysterons(mesh, ends, u_watch, watch):
         return np.stack([uz[:, [pos[int(n)] for n in row]].mean(axis=1) for row in ids], axis=1)
     from metamaterial_wb.core.sleeve.analysis import units_snapped
     rise = (mean_z(ends["outer"]) - mean_z(ends["inner"])) / mesh.geom.L
-    return rise, units_snapped(rise, mesh.geom.h / mesh.geom.L, ends["units"])
+    h = np.array([mesh.geoms[k].h for k in ends["cells"]]) / mesh.geom.L     # each half's own cell's h / L
+    return rise, units_snapped(rise, h, ends["units"])
 
 
 def all_extrema(d, F, rel_prominence=0.02):

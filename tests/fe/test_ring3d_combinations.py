@@ -37,9 +37,9 @@ def test_solid_ring_reads_the_first_peak_and_the_valley_after_it(monkeypatch):
     from metamaterial_wb.fe import sleeve3d
     asked = {}
 
-    def fake(g, n_cells, r, n_layers, d_max, increments, timeout_s, partial, element):
+    def fake(g, n_cells, r, n_layers, d_max, increments, timeout_s, partial, element, top=None):
         asked.update(n_cells=n_cells, r=r, n_layers=n_layers, d_max=d_max / g.L, increments=increments,
-                     partial=partial, element=element)
+                     partial=partial, element=element, top=top)
         d = np.linspace(0.0, min(d_max / g.L, asked.get("stop", 9.0)), 71)
         return ({"d": d, "F": _curve(d), "tilt_rad": np.zeros((71, 2))},
                 {"wall_s": 1.0, "d_reached": float(d[-1])})
@@ -47,7 +47,8 @@ def test_solid_ring_reads_the_first_peak_and_the_valley_after_it(monkeypatch):
     g = combination_cells("2")[0]
     row = fc.solid_ring(g, 2)
     assert asked == {"n_cells": 4, "r": 2, "n_layers": 1, "d_max": pytest.approx(0.7), "increments": 70,
-                     "partial": True, "element": "C3D20"}
+                     "partial": True, "element": "C3D20", "top": None}
+    assert row["top_mm"] == g.height
     assert row["P1"] == pytest.approx(_curve(0.14), rel=1e-5) and row["P1_d"] == pytest.approx(0.14, abs=1e-3)
     assert row["valley"] == pytest.approx(_curve(0.45), rel=1e-5) and row["valley_d"] == pytest.approx(0.45, abs=1e-3)
     asked["stop"] = 0.3                         # the run ends inside the descent: no valley
@@ -121,3 +122,54 @@ def test_stored_solid_thresholds_give_the_seeds_orders_as_the_docs_say():
     text = fc.solid_markdown(raw, mixed)
     assert "combination 2: the solid's order is [0, 1] \\| [0, 1] (asymmetric) on every mesh, the seed's" in text
     assert text in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
+
+
+def _cycle(order_up, order_down, lean_up=(1e-3, 0.0), lean_down=(-1e-3, 0.0), stopped=""):
+    """A made-up mixed-ring cycle (ring [0, 0, 1, 1], d/L 0 -> 0.7 -> 0 in 0.1 steps): every beam half's rise
+    jumps past its cell's h as its pillar snaps - pillar 0 (between two type-0 cells) and pillar 2 (two type-1
+    cells) at the steps given by ``order_up`` / ``order_down`` (type -> step index on that path), the mixed
+    pillars 1 and 3 with the later type; the plate tilts by ``lean_up`` / ``lean_down`` (rad) at each path's
+    middle."""
+    cells = combination_cells("2")
+    h = [g.h / g.L for g in cells]
+    row, units, halves = [0, 0, 1, 1], [0, 3, 1, 0, 2, 1, 3, 2], [0, 0, 1, 1, 2, 2, 3, 3]
+    d = np.round(np.concatenate([np.arange(0, 0.71, 0.1), np.arange(0.6, -0.01, -0.1)]), 6)
+    k_up = len(d) // 2 + 1
+    snapped = np.zeros((len(d), 4), bool)          # per pillar: the type that decides it
+    kind = {0: 0, 2: 1, 1: None, 3: None}
+    for p in range(4):
+        t_up = order_up[kind[p]] if kind[p] is not None else max(order_up.values())
+        t_dn = order_down[kind[p]] if kind[p] is not None else min(order_down.values())
+        snapped[t_up:k_up, p] = True
+        snapped[k_up:k_up + t_dn, p] = True
+    rises = np.array([[h[row[c]] + (0.05 if snapped[i, u] else -0.05) for u, c in zip(units, halves)]
+                      for i in range(len(d))])
+    tilt = np.zeros((len(d), 2))
+    tilt[k_up // 2] = lean_up
+    tilt[k_up + 3] = lean_down
+    return {"combination": "2", "row": row, "r": 1, "d_max": 0.7, "d": d.tolist(), "F": np.zeros(len(d)).tolist(),
+            "tilt_rad": tilt.tolist(), "unloading": [0] * k_up + [1] * (len(d) - k_up), "rises": rises.tolist(),
+            "cells": halves, "units": units, "wall_s": 600.0, "d_reached": 0.0, "stopped": stopped}
+
+
+def test_cycle_sequence_reads_each_path_as_the_frame_does():
+    """Type 0's pillar snaps first on loading (step 2) and back first on unloading: the seed's asymmetric [0, 1] |
+    [0, 1], the lean reversing; the reverse unloading order is symmetric; a run that stopped gives no order."""
+    seq = fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 2, 1: 4}))
+    assert (seq["loading"], seq["unloading"], seq["symmetric"]) == ([0, 1], [0, 1], False)
+    assert seq["lean_reverses"] and seq["lean_loading_deg"] == pytest.approx(-90.0)
+    sym = fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 4, 1: 2}, lean_down=(1e-3, 0.0)))
+    assert (sym["loading"], sym["unloading"], sym["symmetric"], sym["lean_reverses"]) == ([0, 1], [1, 0], True, False)
+    assert fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 2, 1: 4}, stopped="no convergence")) is None
+
+
+def test_cycles_markdown_puts_the_mixed_ring_beside_the_rule_at_its_flat_top():
+    a, b = combination_cells("2")
+    uni = [{"P1": 1.40e-3, "valley": 0.77e-3, "wall_s": 400.0}, {"P1": 1.43e-3, "valley": 0.74e-3, "wall_s": 400.0}]
+    raised = {"P1": 1.45e-3, "valley": 0.73e-3, "wall_s": 420.0, "d_reached": 0.7}
+    text = fc.cycles_markdown({"2": {"r1": {"cycle": _cycle({0: 2, 1: 4}, {0: 2, 1: 4}), "raised": raised}}},
+                              {"2": {"r1": uni}})
+    assert "| 2 | r = 1 | [0, 1] \\| [0, 1] (asymmetric) | -90 / 90 (reverses) |" in text
+    # at the flat top the shorter type (0) peaks above the taller one: the rule turns to [1, 0] | [1, 0]
+    assert "| [1, 0] \\| [1, 0] (asymmetric) (-1.4 %, +1.4 %) |" in text and "| 10 + 7 min |" in text
+    assert fc.cycles_markdown({}, {}) == ""
