@@ -10,6 +10,8 @@ import time
 
 import numpy as np
 
+from metamaterial_wb.fe.sleeve_check import CONVERGED_MESHES
+
 MARK_BEGIN, MARK_END = "<!-- frame3d:begin -->", "<!-- frame3d:end -->"
 IMG = "img/sleeve-frame3d.png"
 IMG_STIFFNESS = "img/sleeve-frame3d-stiffness.png"
@@ -18,7 +20,8 @@ VARIANTS = (("strain", {"plane": "strain"}, "E = 4 G in the plane (the beam mode
             ("stress", {"plane": "stress"}, "E = 3 G throughout (a 3-D beam's own modulus)"))
 
 
-SOLID_MESHES = ("r1", "r2", "r3")       # bench_sleeve_ring3d.py --cells-meshes: in-plane refinement r = 1, 2, 3
+# bench_sleeve_ring3d.py --cells-meshes: the converged check's in-plane refinements r = 1, 2, 3, by name
+SOLID_MESHES = tuple(f"r{r}" for r, _ in CONVERGED_MESHES)
 
 
 def solid_extrapolated(row):
@@ -32,7 +35,7 @@ def solid_extrapolated(row):
             "flat": [f"{m}_fe_flat" for m in SOLID_MESHES]}
     if not all(k in row for ks in keys.values() for k in ks):
         return None
-    h = [1.0 / int(m[1:]) for m in SOLID_MESHES]
+    h = [1.0 / r for r, _ in CONVERGED_MESHES]
     out = {}
     for side, ks in keys.items():
         v = [row[k] for k in ks]

@@ -192,7 +192,8 @@ def eight_cell_meshes(c, pre="c3d20_bias0.001_"):
         return None
     pc = family_convergence(c, "_C3D20")
     p4 = [F for m, (_, F) in zip(pc["meshes"], pc["p1"]) if m in ("r1", "r2", "r3")]
-    _, _, order = richardson3([1.0, 0.5, 1.0 / 3.0], p4)
+    h = [1.0, 0.5, 1.0 / 3.0]                 # element sizes of r = 1, 2, 3
+    _, _, order = richardson3(h, p4)
     p = order[0]
     ext = p8[1] + (p8[1] - p8[0]) * 0.5 ** p / (1.0 - 0.5 ** p)
     out = {"r1": p8[0], "r2": p8[1], "d": [row.get(f"{pre}{m}_fe_curved_p1_d") for m in ("r1", "r2")],
@@ -201,7 +202,7 @@ def eight_cell_meshes(c, pre="c3d20_bias0.001_"):
            "layers2": row.get(f"{pre}fe_curved_p1")}
     r3 = row.get(f"{pre}r3_fe_curved_p1")
     if r3:                    # a third mesh: the eight-cell ring's own observed order (--cells-p1-mesh r3)
-        e3, err3, p3 = richardson3([1.0, 0.5, 1.0 / 3.0], p8 + [r3])
+        e3, err3, p3 = richardson3(h, p8 + [r3])
         out.update({"r3": r3, "r3_d": row.get(f"{pre}r3_fe_curved_p1_d"), "r3_seconds": row.get(f"{pre}r3_p1_wall_s"),
                     "fall3": r3 / p8[1] - 1.0, "four_fall3": p4[2] / p4[1] - 1.0, "own_order": p3[0],
                     "own_ext": (e3[0], err3[0])})
