@@ -359,3 +359,20 @@ def test_eight_cell_solid_on_three_meshes_converges_as_the_four_cell_family():
     assert abs(frame_p1 - e) < err
     text = fp.markdown(stored, comp)
     assert f"gives {1e3 * m8['r3']:.3f}e-3" in text and f"extrapolates to {1e3 * e:.2f} +- {1e3 * err:.2f}e-3" in text
+
+
+def test_a_flat_top_hangs_every_pillar_from_the_tallest_cell():
+    """The seed's mixed ring [0, 0, 1, 1] (combination 2: the types differ in h): by default each edge pillar hangs
+    from the taller of its two cells' top bars, so the top plate's ties step; with ``flat_top`` (the curved solid's
+    mixed ring) they all sit at the taller type's top. A uniform ring is the same either way."""
+    from metamaterial_wb.bench.fe_ring3d_combinations import combination_cells
+    a, b = combination_cells("2")
+
+    def plate_heights(ring):
+        return sorted({round(float(ring.P[i, 2]), 9) for i, p in ring.ties if p == 1})
+    step, flat = (RingFrame([a, b], row=[0, 0, 1, 1], flat_top=f) for f in (False, True))
+    assert len(plate_heights(step)) == 2 and len(plate_heights(flat)) == 1
+    assert plate_heights(flat)[0] == pytest.approx(plate_heights(step)[1])
+    assert plate_heights(step)[1] - plate_heights(step)[0] == pytest.approx((b.height - a.height) / a.L)   # in L
+    u, uf = RingFrame(a), RingFrame(a, flat_top=True)
+    assert np.array_equal(u.P, uf.P) and np.array_equal(u.conn, uf.conn)

@@ -66,10 +66,11 @@ class RingFrame:
     in the model. 1 (default): the pillar's own material runs on through the bar to the clamped face or the
     plate's, as in the printed sleeve and the curved solid, whose first peak rises by 15 % when its bars are held
     at their radius (docs/sleeves.md, "Where the frame's excess was"); 0: clamped at the bar's face (the frame
-    before; flat, the beam model's ring exactly)."""
+    before; flat, the beam model's ring exactly). ``flat_top``: every edge pillar of a mixed ring hangs from its
+    tallest cell's top (``model.add_row_single``; the curved solid's mixed ring) instead of the taller neighbour's."""
 
     def __init__(self, geom, n_cells=4, curved=True, plane="strain", E_r=E_RADIAL, G=1.0, n_el=24,
-                 root_extension=0.0, row=None, pattern=None, bar_root=1.0):
+                 root_extension=0.0, row=None, pattern=None, bar_root=1.0, flat_top=False):
         E = modulus(plane)
         mb = _MeshBuilder()
         cells = list(geom) if isinstance(geom, (list, tuple)) else [geom]
@@ -92,7 +93,7 @@ class RingFrame:
         for r, row in enumerate(pattern):
             first, first_tie = len(mb.X), len(mb.ties)
             add_row_single(mb, row, cells, n_el, E, r, r + 1, lambda k: k * W, r * n_cells, n_cells * W,
-                           None, "guided", root_extension)
+                           None, "guided", root_extension, flat_top)
             if bar_root:
                 # the pillars bend through the wall on into their bar (its material under or over them), down
                 # or up to the plate's face; rigid in the wall's plane and along, as the bars are

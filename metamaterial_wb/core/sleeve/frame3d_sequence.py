@@ -21,13 +21,15 @@ from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
 
 
 def frame_cycle(cells, pattern, d_max, steps=120, n_el=12, root_extension=0.63, bias=1e-5, bias_angle=0.5,
-                progress=None):
+                progress=None, flat_top=False):
     """Load the ring ``pattern`` of ``cells`` (one row of cell types, or a list of rows: rings stacked, the plates
     between them free) on the frame (plane stress, the free top plate with the bias moment ramped over the
     loading) from 0 to ``d_max`` (d / L) in ``steps`` and unload it back: ``(ring, up, down)``, two
-    ``trace_ring`` results. ``progress(path, k, d)`` after every state (``path`` "loading" or "unloading")."""
+    ``trace_ring`` results. ``progress(path, k, d)`` after every state (``path`` "loading" or "unloading").
+    ``flat_top``: ``RingFrame``'s."""
     rows = [list(pattern)] if np.ndim(pattern) == 1 else [list(r) for r in pattern]
-    ring = RingFrame(cells, plane="stress", root_extension=root_extension, n_el=n_el, pattern=rows)
+    ring = RingFrame(cells, plane="stress", root_extension=root_extension, n_el=n_el, pattern=rows,
+                     flat_top=flat_top)
     d = np.linspace(0.0, d_max, steps + 1)
 
     def tell(path):

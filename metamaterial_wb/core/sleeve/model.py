@@ -173,14 +173,17 @@ def add_row_double(mb, row, cells, n_el, E, plate_lo, plate_hi, x_of, cell_no):
 
 
 def add_row_single(mb, row, cells, n_el, E, plate_lo, plate_hi, x_of, cell_no, periodic_width,
-                   radius=None, pillar_tip="guided", root_extension=0.0):
+                   radius=None, pillar_tip="guided", root_extension=0.0, flat_top=False):
     """Single layout (default): one cosine beam per cell, highest at its centre. The central pillar
     stands on the lower bar and carries the beam's centre; the edge pillars hang from the upper bar
     and carry the beam ends; each edge pillar is shared by two neighbouring cells. Pillars are beam
     chains of width c (same material: they bend and stretch), clamped into their bar; the bars are
     rigid with their ring interface. ``periodic_width``: x distance after which the row closes on
-    itself (N W for a ring, W for a periodic unit cell)."""
+    itself (N W for a ring, W for a periodic unit cell). An edge pillar hangs from the taller of its two cells'
+    top bars; ``flat_top``: from the row's tallest (every pillar as long: the curved solid's mixed ring,
+    ``fe/sleeve2d.cell_mesh``)."""
     n = len(row)
+    tallest = max(cells[t].height for t in row)
     pillar_bottom = []
     # edge pillars at x_of(k) + W/2, between cell k and k + 1
     for k in range(n):
@@ -188,7 +191,7 @@ def add_row_single(mb, row, cells, n_el, E, plate_lo, plate_hi, x_of, cell_no, p
         c = max(g.c, gn.c) / g.L
         EA_p, EI_p = E * (g.T / g.L) * c, E * (g.T / g.L) * c ** 3 / 12.0
         xe = x_of(k) + 0.5 * g.width / g.L
-        ytop = (max(g.height, gn.height) - 0.5 * g.c) / g.L
+        ytop = ((tallest if flat_top else max(g.height, gn.height)) - 0.5 * g.c) / g.L
         ybot = min(g.y_lower, gn.y_lower) / g.L
         ys = np.linspace(ytop, ybot, PILLAR_ELEMENTS + 1)
         idx = mb.chain([xe] * len(ys), ys, EA_p, EI_p)
