@@ -272,8 +272,10 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     increment (set ``ALLN``; ``solve_ring3d`` returns the last converged one). ``watch``: 0-based node ids whose
     displacements are printed at every increment (set ``WATCH``; ``solve_ring3d`` returns them all: the beams'
     ends, ``RingMesh.beam_ends``, for ``hysterons``). ``g``: one ``CellGeometry``, or one per cell (a mixed ring,
-    ``ring_mesh``). ``unload=True`` (static only): a second step lowers the plate back to its start in as many
-    increments (the bias moment stays), as the frame's cycle (``core/sleeve/frame3d_sequence.py``). ``top``:
+    ``ring_mesh``). ``unload=True`` (static only): the step runs on for a second unit of time along an amplitude
+    that lowers the plate back to its start (0 -> 1 -> 0; the bias moment, ramped up over the first, held), as
+    the frame's cycle (``core/sleeve/frame3d_sequence.py``): a second ``*STEP`` from the deformed ring does not
+    converge (its first increment diverged at every size down to 5e-5 of the step, measured at d/L 0.2). ``top``:
     ``ring_mesh``'s."""
     mesh = ring_mesh(g, n_cells, r, n_layers, top=top)
     g = mesh.geom
@@ -334,24 +336,25 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         inner = np.flatnonzero(held)
         out += ["*NSET, NSET=WALL\n", ccx.fmt_set(inner + 1), "*TRANSFORM, NSET=WALL, TYPE=C\n0,0,0,0,0,1\n"]
     inc = 1.0 / int(increments)
-    amp = ", AMPLITUDE=RAMP" if method == "dynamic" else ""
+    amp = ", AMPLITUDE=RAMP" if method == "dynamic" else ", AMPLITUDE=UPDOWN" if unload else ""
     if method == "dynamic":
         out.append("*AMPLITUDE, NAME=RAMP\n0,0,1,1\n")
+    if unload:           # up over the step's first unit of time, back down over its second; the bias held
+        out.append("*AMPLITUDE, NAME=UPDOWN\n0,0,1,1,2,0\n*AMPLITUDE, NAME=HOLD\n0,0,1,1,2,1\n")
     bc = f"*BOUNDARY{amp}\nBOTTOM,1,3,0\n{REF},1,2,0\n{REF},3,3,{d_max:.12g}\n"
     if radial != "free":
         bc += "WALL,1,1,0\n"
     m = bias * g.L ** 2 * mesh.radius
     phi_b = bias_angle * math.pi / n_cells
     if m:
-        bc += f"*CLOAD{amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
+        bc += f"*CLOAD{', AMPLITUDE=HOLD' if unload else amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
     proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
     prints = ("*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n"
               + ("*NODE PRINT, NSET=ALLN\nU\n" if print_all else "")
               + ("*NODE PRINT, NSET=WATCH\nU\n" if watch is not None else ""))
-    for step_bc in ([bc, f"*BOUNDARY\n{REF},3,3,0\n"] if unload else [bc]):
-        out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},1.0,{inc / 1e4:.6g},{inc:.6g}\n"
-                   + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "")
-                   + step_bc + prints + "*END STEP\n")
+    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},{2.0 if unload else 1.0},{inc / 1e4:.6g},{inc:.6g}\n"
+               + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "")
+               + bc + prints + "*END STEP\n")
     if stability:
         out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n"
                    + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
@@ -392,7 +395,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     ``(k, len(watch), 3)``, those nodes' displacements at every point of the curve (zero at the start), in the
     order given. ``full_near``, ``full_low``, ``top``, ``g`` (a mixed ring: one geometry per cell): ``ring_deck3d``. With
     ``unload=True`` the curve goes on back down to the start (``ring_deck3d``): ``"unloading"`` (k,) marks its
-    points (d falls along them), ``info["d_reached"]`` is then the last point's rise."""
+    points (d falls along them; ccx's time past 1), ``info["d_reached"]`` is then the last point's rise."""
     deck, meta = ring_deck3d(g, n_cells, r, n_layers, d_max, increments, bias, bias_angle, radial=radial, method=method,
                              element=element, patient=patient, stability=stability, shapes=shapes,
                              imperfection=imperfection, full_near=full_near, print_all=print_all,
@@ -406,7 +409,7 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
     F = -np.array([sum(v[2] for v in r_[1].values()) for r_ in rows])
     rot = tables.get(("displacements", "NROT"), [])
     tilt = np.array([r_[1][ROT][:2] for r_ in rot])[:len(t)]
-    down = t > 1.0 + 1e-9                                  # ccx's total time: the unloading step's from 1 to 2
+    down = t > 1.0 + 1e-9                                  # ccx's time: unloading from 1 to 2
     d = np.where(down, 2.0 - t, t) * meta["d_max_mm"] / g.L
     info.update({k: meta[k] for k in ("r", "n_layers", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm",
                                       "bias", "bias_angle", "radial", "method",
