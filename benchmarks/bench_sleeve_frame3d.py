@@ -79,7 +79,8 @@ def main(argv=None):
                                   ([fe_ring3d_combinations.solid_markdown(raw["combinations"], s.get("sequence") or {})]
                                    if raw.get("combinations") else []) +
                                   ([fe_ring3d_combinations.cycles_markdown(raw["mixed_cycles"],
-                                                                           raw.get("combinations", {}))]
+                                                                           raw.get("combinations", {}),
+                                                                           s.get("sequence") or {})]
                                    if raw.get("mixed_cycles") else []))
     print(section)
     if not a.no_write:

@@ -350,7 +350,8 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
     """The seed's combinations on the frame (``frame3d_sequence``, ring [0, 0, 1, 1], the free plate) on each
     beam mesh of ``meshes``, and on the beam model as the ``sleeve`` command runs it (``pipeline.analyse`` on
     examples/sleeve.json with the combination's cells): ``{combination: {"frame": {n_el: sequence},
-    "model": {...}}}``."""
+    "model": {...}, "flat_top": sequence}}``, the last on 12 elements with every pillar hanging from the taller
+    type's top (``RingFrame(flat_top=True)``, as the curved solid's mixed ring stands)."""
     import json
     import os
     from metamaterial_wb.core.sleeve.analysis import peaks_valleys
@@ -370,6 +371,8 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
         for n_el in meshes.get(key, ()):
             fs, _, _ = frame_sequence(cells, [0, 0, 1, 1], default_stroke(cells), steps, n_el, root_extension)
             frames[str(n_el)] = {k: v for k, v in fs.items() if not k.startswith("events")}
+        flat, _, _ = frame_sequence(cells, [0, 0, 1, 1], default_stroke(cells), steps, 12, root_extension,
+                                    flat_top=True)
         uniform = []
         for g in cells:                                # the two-hysteron thresholds on the frame: uniform rings
             dm = default_stroke([g])
@@ -381,7 +384,7 @@ def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, s
         spec = dict(base, cell_types=[{"t_mm": t * L, "h_mm": h * L} for h, t in comb["cells"]], walker=False)
         summ, _ = analyse(SleeveSpec(spec, "sequence study"))
         q = summ["sequence"]
-        out[key] = {"frame": frames, "uniform": uniform, "model": {k: q[k] for k in ("loading", "unloading", "symmetric", "lean_reverses",
+        out[key] = {"frame": frames, "uniform": uniform, "flat_top": flat, "model": {k: q[k] for k in ("loading", "unloading", "symmetric", "lean_reverses",
                                                                   "max_tilt_loading_deg", "max_tilt_unloading_deg")}}
     return out
 

@@ -224,11 +224,13 @@ def _row(r):
     return ", ".join(out)
 
 
-def cycles_markdown(cycles, solid):
+def cycles_markdown(cycles, solid, frame=None):
     """The seed's mixed rings on the solid (``cycles``: ``{combination: {mesh: {"cycle", "raised"}}}``, as stored
     under ``mixed_cycles``): each ring's own sequence and lean (``cycle_sequence``) beside the rule on its types'
     uniform rings as they stand in it (the shorter type's at the flat top, ``raised``; the taller one's from
-    ``solid``, the stored ``combinations``) and the seed's; "" without a cycle."""
+    ``solid``, the stored ``combinations``), the frame's mixed ring at the same flat top (``frame[key]["flat_top"]``,
+    ``fe_frame3d_plate.sequence_study``) and the seed's; "" without a cycle."""
+    frame = frame or {}
     L = ["**The seed's mixed rings on the curved solid** (`bench_sleeve_ring3d.py --mixed-cycles`: the ring "
          "[0, 0, 1, 1] of the combination's two types as one CalculiX solid, one brick through the wall, every brick "
          "C3D20, static, raised to d/L 0.7 and lowered back in steps of 0.01 under the default bias; the cells "
@@ -237,7 +239,8 @@ def cycles_markdown(cycles, solid):
          "plate's largest tilt on each path). The rule beside it is the two-hysteron rule on the types' uniform "
          "rings as they stand in the mixed ring (the shorter type's uniform ring at that top):", "",
          "| combination | mesh | mixed ring: loading \\| unloading | lean loading / unloading (deg) | rule on the "
-         "uniform rings at the flat top | seed | time |", "|---|---|---|---|---|---|---|"]
+         "uniform rings at the flat top | frame's mixed ring at the flat top (12 elements) | seed | time |",
+         "|---|---|---|---|---|---|---|---|"]
     rows = 0
     for key in sorted(cycles):
         for mesh in sorted(cycles[key]):
@@ -262,8 +265,11 @@ def cycles_markdown(cycles, solid):
                 if solid_rule(rows_):
                     rule_text = order_text(rule(rows_)) + " ({:+.1f} %, {:+.1f} %)".format(*differences(rows_))
             secs = " + ".join(f"{r['wall_s'] / 60:.0f}" for r in (cyc, raised) if r)
-            L.append(f"| {key} | r = {mesh[1:]} | {text} | {lean} | {rule_text} | {order_text(seed_order(key))} | "
-                     f"{secs} min |")
+            fl = frame.get(key, {}).get("flat_top")
+            fl_text = (order_text(fl) + (", lean reverses" if fl["lean_reverses"] else ", lean the same way")
+                       if fl and "loading" in fl else "-")
+            L.append(f"| {key} | r = {mesh[1:]} | {text} | {lean} | {rule_text} | {fl_text} | "
+                     f"{order_text(seed_order(key))} | {secs} min |")
             rows += 1
     return "\n".join(L + [""]) if rows else ""
 

@@ -171,5 +171,9 @@ def test_cycles_markdown_puts_the_mixed_ring_beside_the_rule_at_its_flat_top():
                               {"2": {"r1": uni}})
     assert "| 2 | r = 1 | [0, 1] \\| [0, 1] (asymmetric) | -90 / 90 (reverses) |" in text
     # at the flat top the shorter type (0) peaks above the taller one: the rule turns to [1, 0] | [1, 0]
-    assert "| [1, 0] \\| [1, 0] (asymmetric) (-1.4 %, +1.4 %) |" in text and "| 10 + 7 min |" in text
+    assert "| [1, 0] \\| [1, 0] (asymmetric) (-1.4 %, +1.4 %) | - |" in text and "| 10 + 7 min |" in text
+    flat = {"2": {"flat_top": {"loading": [0, 1], "unloading": [1, 0], "symmetric": True, "lean_reverses": False}}}
+    text = fc.cycles_markdown({"2": {"r1": {"cycle": _cycle({0: 2, 1: 4}, {0: 2, 1: 4}), "raised": raised}}},
+                              {"2": {"r1": uni}}, flat)
+    assert "+1.4 %) | [0, 1] \\| [1, 0] (symmetric), lean the same way | [0, 1] \\| [0, 1] (asymmetric) |" in text
     assert fc.cycles_markdown({}, {}) == ""

@@ -63,13 +63,14 @@ def sequence(ring, up, down):
     return out
 
 
-def frame_sequence(cells, pattern, d_max, steps, n_el, root_extension, progress=None):
+def frame_sequence(cells, pattern, d_max, steps, n_el, root_extension, progress=None, flat_top=False):
     """``sequence`` of ``frame_cycle`` with the run time, for the ``sleeve`` command (``model.frame_nonlinear``),
     or ``{"error", "elements", "seconds"}`` when Newton finds no equilibrium; with the two paths, for what else
-    reads the cycle (the walker): ``(that, up, down)``, the paths None after an error."""
+    reads the cycle (the walker): ``(that, up, down)``, the paths None after an error. ``flat_top``: ``RingFrame``'s."""
     t0 = time.perf_counter()
     try:
-        ring, up, down = frame_cycle(cells, pattern, d_max, steps, n_el, root_extension, progress=progress)
+        ring, up, down = frame_cycle(cells, pattern, d_max, steps, n_el, root_extension, progress=progress,
+                                     flat_top=flat_top)
     except RuntimeError as e:
         return {"error": str(e), "elements": n_el, "seconds": time.perf_counter() - t0}, None, None
     out = sequence(ring, up, down)
