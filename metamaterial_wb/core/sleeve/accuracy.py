@@ -173,13 +173,17 @@ def frame_walker_note(frame_cycle, model_cycle):
 # the seed's combinations' cell types (t, h in mm, on the seed's L, c, delta, T) run as uniform four-cell curved
 # solids (every brick C3D20): the two-hysteron order on their first peaks and valleys (loading by rising P1,
 # unloading by falling valley) and type 1's differences from type 0, per cent; both extrapolated over
-# three meshes (+- their errors) (benchmarks/results/fe-ring3d.json, "combinations";
-# tests/sleeve/test_accuracy.py)
+# three meshes (+- their errors) (benchmarks/results/fe-ring3d.json, "combinations"), and the mixed ring [0, 0, 1, 1]
+# of the two types itself as one curved solid, loaded and unloaded (r = 1: "mixed_cycles"; tests/sleeve/test_accuracy.py)
 SOLID_ORDERS = {
     ((1.098, 7.092), (1.098, 7.488)): {"loading": [0, 1], "unloading": [0, 1], "P1": (1.76, 0.34),
-                                       "valley": (-3.85, 0.10), "mesh": "extrapolated over three meshes"},
+                                       "valley": (-3.85, 0.10), "mesh": "extrapolated over three meshes",
+                                       "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
+                                                 "mesh": "r = 1"}},
     ((0.99, 6.696), (1.17, 6.696)): {"loading": [0, 1], "unloading": [1, 0], "P1": (22.32, 0.27),
-                                     "valley": (98.17, 2.08), "mesh": "extrapolated over three meshes"},
+                                     "valley": (98.17, 2.08), "mesh": "extrapolated over three meshes",
+                                     "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
+                                               "mesh": "r = 1"}},
 }
 
 
@@ -201,6 +205,9 @@ def solid_order_note(cells, n_cells, seq, rel=1e-3):
                 load = [perm[i] for i in rec["loading"]]
                 unload = [perm[i] for i in rec["unloading"]]
                 word = "symmetric" if unload == load[::-1] else "asymmetric"
+                mx = rec["mixed"]
+                m_load, m_unload = [perm[i] for i in mx["loading"]], [perm[i] for i in mx["unloading"]]
+                m_word = "symmetric" if m_unload == m_load[::-1] else "asymmetric"
                 a, b = perm
                 same = load == list(seq["loading"]) and unload == list(seq["unloading"])
                 return (f"snapping order on the curved solid: these cell types' uniform four-cell rings (CalculiX, "
@@ -208,8 +215,11 @@ def solid_order_note(cells, n_cells, seq, rel=1e-3):
                         f"valley {_pct(rec['valley'])} against type {a}'s, so two such rings stacked snap loading "
                         f"{load}, unloading {unload} ({word}) by the two-hysteron rule"
                         + ("" if n_cells == 4 else f" (measured with four cells around, this sleeve has {n_cells})")
+                        + f"; the mixed ring {[perm[i] for i in (0, 0, 1, 1)]} itself as one curved solid ({mx['mesh']}) "
+                        f"snaps loading {m_load}, unloading {m_unload} ({m_word}), leaning "
+                        + ("the other way on unloading" if mx["lean_reverses"] else "the same way on both")
                         + f"; the beam model's: loading {list(seq['loading'])}, unloading {list(seq['unloading'])} - "
                         + ("the same" if same else "they differ")
-                        + " (a mixed ring's cells share one plate and need not follow the rule: on the 3-D frame "
-                          "the seed's mixed combination 2 is symmetric; docs/sleeves.md)")
+                        + " (a mixed ring's cells share one plate and need not follow the rule: on the curved solid "
+                          "and on the 3-D frame the seed's mixed combination 2 is symmetric; docs/sleeves.md)")
     return None
