@@ -96,6 +96,9 @@ def main(argv=None):
             fe_frame3d.plot_nonlinear(s["nonlinear"], {"d": fine["d"], "F": fine["F"],
                                                        "label": "CalculiX curved solid, r = 4, all C3D20"},
                                       comp["curved_calibrated"], os.path.join(ROOT, "docs", fe_frame3d.IMG))
+        if raw.get("mixed_cycles"):
+            fe_ring3d_combinations.plot_cycles(raw["mixed_cycles"],
+                                               os.path.join(ROOT, "docs", fe_ring3d_combinations.IMG_CYCLES))
         print("wrote benchmarks/results/frame3d.json and docs/sleeves.md")
 
 

@@ -224,6 +224,22 @@ def _row(r):
     return ", ".join(out)
 
 
+def hysteresis(run):
+    """A ``solid_cycle`` run's largest gap between its loading and unloading forces at the same rise (the unloading
+    path interpolated at the loading rises it spans), over its first peak on loading: 0 for a reversible path."""
+    d, F = np.asarray(run["d"]), np.asarray(run["F"])
+    down = np.asarray(run["unloading"], bool)
+    first = int(np.argmax(down)) - 1
+    du, Fu = d[first:][::-1], F[first:][::-1]            # rising d for the interpolation
+    up = slice(0, first + 1)
+    inside = (d[up] >= du[0]) & (d[up] <= du[-1])
+    gap = np.abs(F[up][inside] - np.interp(d[up][inside], du, Fu)).max()
+    from metamaterial_wb.fe.sleeve3d import all_extrema
+    ext = all_extrema(d[up], F[up])
+    p1 = next((y for k, _, y in ext if k == "peak"), F[up].max())
+    return float(gap / p1)
+
+
 def cycles_markdown(cycles, solid, frame=None):
     """The seed's mixed rings on the solid (``cycles``: ``{combination: {mesh: {"cycle", "raised"}}}``, as stored
     under ``mixed_cycles``): each ring's own sequence and lean (``cycle_sequence``) beside the rule on its types'
@@ -238,10 +254,11 @@ def cycles_markdown(cycles, solid, frame=None):
          "difference; the order by the frame's reading of the beams' ends, `analysis.snap_order`; lean: the "
          "plate's largest tilt on each path). The rule beside it is the two-hysteron rule on the types' uniform "
          "rings as they stand in the mixed ring (the shorter type's uniform ring at that top):", "",
-         "| combination | mesh | mixed ring: loading \\| unloading | lean loading / unloading (deg) | rule on the "
+         "| combination | mesh | mixed ring: loading \\| unloading | lean loading / unloading (deg) | hysteresis "
+         "(largest gap / P1) | rule on the "
          "uniform rings at the flat top | frame's mixed ring at the flat top (12 elements) | seed | time |",
-         "|---|---|---|---|---|---|---|---|"]
-    rows = 0
+         "|---|---|---|---|---|---|---|---|---|"]
+    rows, gaps = 0, []
     for key in sorted(cycles):
         for mesh in sorted(cycles[key]):
             run = cycles[key][mesh]
@@ -268,9 +285,19 @@ def cycles_markdown(cycles, solid, frame=None):
             fl = frame.get(key, {}).get("flat_top")
             fl_text = (order_text(fl) + (", lean reverses" if fl["lean_reverses"] else ", lean the same way")
                        if fl and "loading" in fl else "-")
-            L.append(f"| {key} | r = {mesh[1:]} | {text} | {lean} | {rule_text} | {fl_text} | "
+            gap = hysteresis(cyc) if seq else None
+            gaps += [gap] if gap is not None else []
+            L.append(f"| {key} | r = {mesh[1:]} | {text} | {lean} | "
+                     + (f"{100 * gap:.2f} %" if gap is not None else "-") + f" | {rule_text} | {fl_text} | "
                      f"{order_text(seed_order(key))} | {secs} min |")
             rows += 1
+    if gaps and max(gaps) < 0.01:
+        L += ["", f"Every mixed solid's loading and unloading paths coincide (the largest gap {100 * max(gaps):.2f} % of "
+              "its first peak; the plot below): under displacement control the ring does not snap, its pillars pass "
+              "their h back where they passed it, in the reverse order, so its sequence can only be symmetric. The "
+              "seed's asymmetric sequence needs a path with hysteresis, which these solids do not have (the seed's "
+              "FE was dynamic implicit; its two-hysteron reading treats each type as a separate bistable element)."]
+    L += ["", f"![the seed's mixed rings on the solid: force and each pillar's rise beyond h]({IMG_CYCLES})"]
     return "\n".join(L + [""]) if rows else ""
 
 
@@ -339,3 +366,47 @@ def solid_markdown(solid, mixed):
     if frame_notes:
         L += [" ".join(frame_notes), ""]
     return "\n".join(L)
+
+
+IMG_CYCLES = "img/sleeve-mixed-solid.png"
+
+
+def plot_cycles(cycles, path, mesh="r1"):
+    """The seed's mixed rings on the solid (``cycles``, as stored under ``mixed_cycles``), one row per combination:
+    the force on loading and unloading, and each edge pillar's rise beyond its cells' mean h (the snap rule: above 0
+    it has snapped), against the plate's rise."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    keys = [k for k in sorted(cycles) if cycles[k].get(mesh, {}).get("cycle")]
+    fig, ax = plt.subplots(len(keys), 2, figsize=(10.5, 3.6 * len(keys)), dpi=100, squeeze=False)
+    for row, key in enumerate(keys):
+        run = cycles[key][mesh]["cycle"]
+        types = combination_cells(key)
+        d, F = np.asarray(run["d"]), 1e3 * np.asarray(run["F"])
+        down = np.asarray(run["unloading"], bool)
+        first = int(np.argmax(down)) - 1 if down.any() else len(d) - 1
+        h = np.array([types[run["row"][k]].h / types[0].L for k in run["cells"]])
+        over, units = np.asarray(run["rises"]) - h, np.asarray(run["units"])
+        for name, sl, style in (("loading", slice(0, first + 1), "-"), ("unloading", slice(first, None), "--")):
+            ax[row, 0].plot(d[sl], F[sl], style, color="k", lw=1.3, label=name)
+            for p in range(int(units.max()) + 1):
+                kinds = sorted({run["row"][run["cells"][j]] for j in np.flatnonzero(units == p)})
+                col = ("C0", "C3", "C2")[kinds[0] if len(kinds) == 1 else 2]
+                ax[row, 1].plot(d[sl], over[sl][:, units == p].mean(axis=1), style, color=col, lw=1.1,
+                                label=(f"pillar {p} (type {kinds[0]})" if len(kinds) == 1 else f"pillar {p} (mixed)")
+                                if name == "loading" else None)
+        seq = cycle_sequence(run)
+        ax[row, 0].set_title(f"combination {key}, ring {run['row']} on the solid (r = {run['r']}): "
+                             + (order_text(seq).replace("\\|", "|") if seq else "no cycle"), fontsize=9)
+        ax[row, 0].set_ylabel("F / (G L^2) x1e-3")
+        ax[row, 1].axhline(0.0, color="0.5", lw=0.8)
+        ax[row, 1].set_ylabel("pillar's rise beyond h, / L")
+        ax[row, 1].set_title("each edge pillar's two beam halves (snapped above 0)", fontsize=9)
+        for a in ax[row]:
+            a.set_xlabel("plate's rise d / L")
+            a.grid(alpha=0.3)
+            a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)

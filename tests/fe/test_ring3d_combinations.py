@@ -147,7 +147,7 @@ def _cycle(order_up, order_down, lean_up=(1e-3, 0.0), lean_down=(-1e-3, 0.0), st
     tilt = np.zeros((len(d), 2))
     tilt[k_up // 2] = lean_up
     tilt[k_up + 3] = lean_down
-    return {"combination": "2", "row": row, "r": 1, "d_max": 0.7, "d": d.tolist(), "F": np.zeros(len(d)).tolist(),
+    return {"combination": "2", "row": row, "r": 1, "d_max": 0.7, "d": d.tolist(), "F": _curve(d).tolist(),
             "tilt_rad": tilt.tolist(), "unloading": [0] * k_up + [1] * (len(d) - k_up), "rises": rises.tolist(),
             "cells": halves, "units": units, "wall_s": 600.0, "d_reached": 0.0, "stopped": stopped}
 
@@ -169,7 +169,8 @@ def test_cycles_markdown_puts_the_mixed_ring_beside_the_rule_at_its_flat_top():
     raised = {"P1": 1.45e-3, "valley": 0.73e-3, "wall_s": 420.0, "d_reached": 0.7}
     text = fc.cycles_markdown({"2": {"r1": {"cycle": _cycle({0: 2, 1: 4}, {0: 2, 1: 4}), "raised": raised}}},
                               {"2": {"r1": uni}})
-    assert "| 2 | r = 1 | [0, 1] \\| [0, 1] (asymmetric) | -90 / 90 (reverses) |" in text
+    assert "| 2 | r = 1 | [0, 1] \\| [0, 1] (asymmetric) | -90 / 90 (reverses) | 0.00 % |" in text
+    assert "paths coincide (the largest gap 0.00 % of its first peak" in text
     # at the flat top the shorter type (0) peaks above the taller one: the rule turns to [1, 0] | [1, 0]
     assert "| [1, 0] \\| [1, 0] (asymmetric) (-1.4 %, +1.4 %) | - |" in text and "| 10 + 7 min |" in text
     flat = {"2": {"flat_top": {"loading": [0, 1], "unloading": [1, 0], "symmetric": True, "lean_reverses": False}}}
@@ -208,3 +209,22 @@ def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
     text = fc.cycles_markdown(cycles, raw["combinations"], frame)
     assert "| 2 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text and "| 1 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text
     assert text in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
+
+
+def test_cycles_plot_draws_each_stored_mixed_ring(tmp_path):
+    out = tmp_path / "cycles.png"
+    fc.plot_cycles({"2": {"r1": {"cycle": _cycle({0: 2, 1: 4}, {0: 2, 1: 4})}}}, str(out))
+    assert out.stat().st_size > 10000
+    assert os.path.exists(os.path.join(ROOT, "docs", fc.IMG_CYCLES))
+    assert fc.IMG_CYCLES in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
+
+
+def test_hysteresis_is_the_largest_gap_between_the_paths_over_the_first_peak():
+    run = _cycle({0: 2, 1: 4}, {0: 2, 1: 4})
+    assert fc.hysteresis(run) == pytest.approx(0.0, abs=1e-15)
+    d, F, down = np.asarray(run["d"]), np.asarray(run["F"]), np.asarray(run["unloading"], bool)
+    F[down & (np.abs(d - 0.3) < 1e-9)] -= 1e-4                 # the unloading path 1e-4 lower at d/L 0.3
+    # over the loading path's first peak (the made-up curve's at d/L 0.14; refined from points 0.1 apart)
+    assert fc.hysteresis(dict(run, F=F.tolist())) == pytest.approx(1e-4 / _curve(0.14), rel=0.05)
+    text = fc.cycles_markdown({"2": {"r1": {"cycle": dict(run, F=(F - 0.5e-3 * down).tolist())}}}, {})
+    assert "paths coincide" not in text                        # a 35 % gap: no such sentence
