@@ -181,7 +181,8 @@ def test_cycles_markdown_puts_the_mixed_ring_beside_the_rule_at_its_flat_top():
 
 
 def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
-    """The stored mixed cycles (``bench_sleeve_ring3d.py --mixed-cycles``, r = 1): both rings went up to d/L 0.7 and
+    """The stored mixed cycles (``bench_sleeve_ring3d.py --mixed-cycles``, r = 1; combination 2 on r = 2 too): every
+    ring went up to d/L 0.7 and
     all the way back, every pillar snapped on loading and back on unloading, and both snap loading [0, 1],
     unloading [1, 0] (symmetric), leaning the same way on both paths - while the two-hysteron rule on the same
     types' uniform rings as they stand in it (the shorter one at the flat top) gives combination 2 the seed's
@@ -189,23 +190,26 @@ def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
     raw = json.load(open(os.path.join(ROOT, "benchmarks", "results", "fe-ring3d.json")))
     frame = json.load(open(os.path.join(ROOT, "benchmarks", "results", "frame3d.json")))["sequence"]
     cycles = raw["mixed_cycles"]
-    for key in ("1", "2"):
-        run = cycles[key]["r1"]["cycle"]
+    assert set(cycles["1"]) == {"r1"} and set(cycles["2"]) == {"r1", "r2"}
+    for key, mesh in (("1", "r1"), ("2", "r1"), ("2", "r2")):
+        run = cycles[key][mesh]["cycle"]
         assert not run["stopped"] and run["d_reached"] == pytest.approx(0.0, abs=1e-9)
         assert max(run["d"]) == pytest.approx(0.7, abs=1e-3)          # ccx need not land an increment on the turn
         seq = fc.cycle_sequence(run)
         assert (seq["loading"], seq["unloading"], seq["symmetric"], seq["lean_reverses"]) == ([0, 1], [1, 0], True,
-                                                                                              False), key
+                                                                                              False), (key, mesh)
+        assert fc.hysteresis(run) < 0.005, (key, mesh)                     # the paths coincide
         ups = [u for e in seq["events_loading"] for u in e["units"]]
         downs = [u for e in seq["events_unloading"] for u in e["units"]]
         assert sorted(ups) == sorted(downs) == [0, 1, 2, 3], key             # every pillar, once each way
-        raised = cycles[key]["r1"]["raised"]
+        raised = cycles[key][mesh]["raised"]
         assert raised["d_reached"] >= 0.7 - 1e-6 and raised["top_mm"] == pytest.approx(
             max(g.height for g in combination_cells(key)))
         assert frame[key]["flat_top"]["symmetric"]                           # the frame at the same flat top
     a, b = combination_cells("2")
-    rows = [cycles["2"]["r1"]["raised"], raw["combinations"]["2"]["r1"][1]]
-    assert fc.rule(rows) == {"loading": [0, 1], "unloading": [0, 1], "symmetric": False}
+    for mesh in ("r1", "r2"):
+        rows = [cycles["2"][mesh]["raised"], raw["combinations"]["2"][mesh][1]]
+        assert fc.rule(rows) == {"loading": [0, 1], "unloading": [0, 1], "symmetric": False}, mesh
     text = fc.cycles_markdown(cycles, raw["combinations"], frame)
     assert "| 2 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text and "| 1 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text
     assert text in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
