@@ -307,6 +307,7 @@ def plot(pl, c, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from metamaterial_wb.bench.plotting import finish
     row = c.get("cells", {}).get("8", {})
     fig, ax = plt.subplots(1, 3, figsize=(12.5, 3.9), dpi=100)
     for key, col, lab in (("8", "C0", "frame, untilted path"), ("8_bias1e-05", "C1", "frame, bias 1e-5"),
@@ -337,13 +338,7 @@ def plot(pl, c, path):
                        label=f"solid probes, {n} cells")
     ax[2].axhline(0, color="k", lw=0.5)
     ax[2].set_title("tilt pair / its value at the solid's first probe", fontsize=9)
-    for a in ax:
-        a.set_xlabel("d / L")
-        a.grid(alpha=0.3)
-        a.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    finish(fig, ax, "d / L", path)
 
 
 def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, steps=160):

@@ -149,6 +149,7 @@ def plot(st, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from metamaterial_wb.bench.plotting import finish
     r = st["2"]["paths"]
     fig, ax = plt.subplots(1, 2, figsize=(10.5, 3.9), dpi=100)
     for name, style in (("loading", "-"), ("unloading", "--")):
@@ -169,10 +170,4 @@ def plot(st, path):
     ax[0].set_title("combination 2 as two stacked rings: force", fontsize=9)
     ax[1].set_ylabel("ring's own rise / L")
     ax[1].set_title("each ring's own rise (type 0, the lower h, below)", fontsize=9)
-    for a in ax:
-        a.set_xlabel("stack's rise d / L")
-        a.grid(alpha=0.3)
-        a.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    finish(fig, ax, "stack's rise d / L", path)

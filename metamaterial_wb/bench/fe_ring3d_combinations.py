@@ -378,6 +378,7 @@ def plot_cycles(cycles, path, mesh="r1"):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from metamaterial_wb.bench.plotting import finish
     keys = [k for k in sorted(cycles) if cycles[k].get(mesh, {}).get("cycle")]
     fig, ax = plt.subplots(len(keys), 2, figsize=(10.5, 3.6 * len(keys)), dpi=100, squeeze=False)
     for row, key in enumerate(keys):
@@ -403,10 +404,4 @@ def plot_cycles(cycles, path, mesh="r1"):
         ax[row, 1].axhline(0.0, color="0.5", lw=0.8)
         ax[row, 1].set_ylabel("pillar's rise beyond h, / L")
         ax[row, 1].set_title("each edge pillar's two beam halves (snapped above 0)", fontsize=9)
-        for a in ax[row]:
-            a.set_xlabel("plate's rise d / L")
-            a.grid(alpha=0.3)
-            a.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    finish(fig, ax.ravel(), "plate's rise d / L", path)
