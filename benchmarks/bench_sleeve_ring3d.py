@@ -331,7 +331,7 @@ def compare(data):
                                                                                      "d_reached", "dofs")}}}
     out.update({"curved": model_curve(0.0, True), "curved_calibrated": model_curve(e, True),
                 "flat_calibrated": model_curve(e, False), "model_relief": model_relief(e)})
-    for k in ("stiffness", "stability", "combinations", "mixed_cycles"):
+    for k in ("stiffness", "stability", "combinations"):
         if k in data:
             out[k] = data[k]
     if "cells" in data:

@@ -104,6 +104,11 @@ def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0):
             "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300]}
 
 
+def turn(run):
+    """The index of a ``solid_cycle`` run's last loading point, where its unloading path starts."""
+    return int(np.argmax(np.asarray(run["unloading"], bool))) - 1
+
+
 def cycle_sequence(run):
     """The snapping order of a ``solid_cycle`` run's cell types on loading and unloading, by the frame's own reading
     (``frame3d_sequence.sequence``: ``analysis.snap_order`` on the beams' rises, the plate's largest lean on each
@@ -118,7 +123,7 @@ def cycle_sequence(run):
                            rings=1)
     d, rises = np.asarray(run["d"]), np.asarray(run["rises"])
     tilt = np.column_stack([np.asarray(run["tilt_rad"]), np.zeros(len(d))])
-    first = int(np.argmax(down)) - 1                      # the last loading point starts the unloading path
+    first = turn(run)
     up = {"d": d[:first + 1], "rises": rises[:first + 1], "tilt": tilt[:first + 1]}
     back = {"d": d[first:], "rises": rises[first:], "tilt": tilt[first:]}
     return sequence(ring, up, back)
@@ -228,8 +233,7 @@ def hysteresis(run):
     """A ``solid_cycle`` run's largest gap between its loading and unloading forces at the same rise (the unloading
     path interpolated at the loading rises it spans), over its first peak on loading: 0 for a reversible path."""
     d, F = np.asarray(run["d"]), np.asarray(run["F"])
-    down = np.asarray(run["unloading"], bool)
-    first = int(np.argmax(down)) - 1
+    first = turn(run)
     du, Fu = d[first:][::-1], F[first:][::-1]            # rising d for the interpolation
     up = slice(0, first + 1)
     inside = (d[up] >= du[0]) & (d[up] <= du[-1])
@@ -406,7 +410,7 @@ def plot_cycles(cycles, path, mesh="r1"):
         types = combination_cells(key)
         d, F = np.asarray(run["d"]), 1e3 * np.asarray(run["F"])
         down = np.asarray(run["unloading"], bool)
-        first = int(np.argmax(down)) - 1 if down.any() else len(d) - 1
+        first = turn(run) if down.any() else len(d) - 1
         h = np.array([types[run["row"][k]].h / types[0].L for k in run["cells"]])
         over, units = np.asarray(run["rises"]) - h, np.asarray(run["units"])
         for name, sl, style in (("loading", slice(0, first + 1), "-"), ("unloading", slice(first, None), "--")):

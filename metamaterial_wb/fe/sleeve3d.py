@@ -307,10 +307,10 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     tol = 1e-7 * g.L
     if imperfection is not None:
         imp = np.asarray(imperfection, float)
-        if imp.shape != X.shape or not np.all(np.isfinite(imp)) or np.abs(imp).max() > 0.1 * min(x.t for x in mesh.geoms):
+        t_min = min(x.t for x in mesh.geoms)
+        if imp.shape != X.shape or not np.all(np.isfinite(imp)) or np.abs(imp).max() > 0.1 * t_min:
             raise ValueError(f"imperfection: shape {imp.shape}, largest {np.abs(imp).max() if imp.size else 0:g} mm; "
-                             f"allowed: finite offsets of shape {X.shape}, at most 0.1 t = "
-                             f"{0.1 * min(x.t for x in mesh.geoms):g} mm")
+                             f"allowed: finite offsets of shape {X.shape}, at most 0.1 t = {0.1 * t_min:g} mm")
     bottom = np.flatnonzero(np.abs(X[:, 2]) < tol)
     top = np.flatnonzero(np.abs(X[:, 2] - mesh.height) < tol)
     if imperfection is not None:                   # the clamped and the plate's edges stay where they are
