@@ -81,12 +81,12 @@ def solid_ring(g, r, d_max=D_MAX, timeout_s=5400.0, top=None):
 MIXED_ROW = (0, 0, 1, 1)     # the seed's mixed ring (the frame's and the beam model's)
 
 
-def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0):
+def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0, method="static"):
     """The seed's combination ``key`` as one mixed four-cell ring ``row`` on the curved solid (``fe/sleeve3d.py``:
-    one brick through the wall, every brick C3D20, a flat top at the taller type's height; static, 0.01 d/L per
-    increment) raised to ``d_max`` and lowered back, the beams' ends watched: ``{"d", "F", "tilt_rad",
-    "unloading", "rises" (k, halves), "cells", "units", "wall_s", "d_reached", "stopped", ...}`` (``cycle_sequence``
-    reads the order off it)."""
+    one brick through the wall, every brick C3D20, a flat top at the taller type's height; ``method`` static or
+    implicit dynamics as the seed's FE, 0.01 d/L per increment at most) raised to ``d_max`` and lowered back, the
+    beams' ends watched: ``{"d", "F", "tilt_rad", "unloading", "rises" (k, halves), "cells", "units", "wall_s",
+    "d_reached", "stopped", "method", ...}`` (``cycle_sequence`` reads the order off it)."""
     from metamaterial_wb.fe import sleeve3d
     types = combination_cells(key)
     cells = [types[t] for t in row]
@@ -95,13 +95,14 @@ def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0):
     watch = np.unique(np.concatenate([ends["outer"].ravel(), ends["inner"].ravel()]))
     n = int(round(100 * d_max))
     c, info = sleeve3d.solve_ring3d(cells, len(row), r, 1, d_max=d_max * cells[0].L, increments=n,
-                                    timeout_s=timeout_s, partial=True, element="C3D20", watch=watch, unload=True)
+                                    timeout_s=timeout_s, partial=True, element="C3D20", watch=watch, unload=True,
+                                    method=method)
     rise, _ = sleeve3d.hysterons(mesh, ends, c["u_watch"], watch)
     return {"combination": key, "row": list(row), "r": int(r), "d_max": float(d_max),
             "d": np.round(c["d"], 6).tolist(), "F": c["F"].tolist(), "tilt_rad": c["tilt_rad"].tolist(),
             "unloading": c["unloading"].astype(int).tolist(), "rises": np.round(rise, 7).tolist(),
             "cells": ends["cells"].tolist(), "units": ends["units"].tolist(), "wall_s": info["wall_s"],
-            "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300]}
+            "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300], "method": method}
 
 
 def turn(run):
@@ -129,24 +130,30 @@ def cycle_sequence(run):
     return sequence(ring, up, back)
 
 
+CYCLE_KEYS = {"static": "cycle", "dynamic": "cycle_dynamic"}     # where mixed_study stores each method's cycle
+
+
 def mixed_study(runs=(("2", "r1"),), workers=2, timeout_s=7200.0, done=None):
-    """For each (combination, mesh) of ``runs``: the mixed ring's cycle (``solid_cycle``) and the shorter type's
-    uniform ring at the mixed ring's flat top (``solid_ring(top=...)``: with the taller type's stored uniform ring,
-    the two-hysteron rule for the cells as they stand in the mixed ring), ``workers`` ccx runs at a time.
-    ``done(key, mesh, what, result)`` as each ends (``what``: "cycle" or "raised")."""
-    for key, mesh in runs:
-        if key not in SEED_COMBINATIONS or mesh not in MESH_R:
-            raise ValueError(f"run ({key!r}, {mesh!r}); allowed: a combination of {sorted(SEED_COMBINATIONS)} "
-                             f"on a mesh of {sorted(MESH_R)}")
+    """For each (combination, mesh) or (combination, mesh, method) of ``runs`` (method ``"static"`` by default, or
+    ``"dynamic"``): the mixed ring's cycle (``solid_cycle``) and, for a static one, the shorter type's uniform ring
+    at the mixed ring's flat top (``solid_ring(top=...)``: with the taller type's stored uniform ring, the
+    two-hysteron rule for the cells as they stand in the mixed ring), ``workers`` ccx runs at a time.
+    ``done(key, mesh, what, result)`` as each ends (``what``: "raised" or the method's ``CYCLE_KEYS``)."""
+    runs = [tuple(run) + ("static",) * (3 - len(run)) for run in runs]
+    for run in runs:
+        if len(run) != 3 or run[0] not in SEED_COMBINATIONS or run[1] not in MESH_R or run[2] not in CYCLE_KEYS:
+            raise ValueError(f"run {run!r}; allowed: a combination of {sorted(SEED_COMBINATIONS)} on a mesh of "
+                             f"{sorted(MESH_R)}, by a method of {sorted(CYCLE_KEYS)} (default static)")
     out = {}
     with concurrent.futures.ThreadPoolExecutor(workers) as pool:
         futures = {}
-        for key, mesh in runs:
+        for key, mesh, method in runs:
             types = combination_cells(key)
             short = min(types, key=lambda g: g.height)
             top = max(g.height for g in types)
-            futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s)] = (key, mesh, "cycle")
-            if top > short.height:
+            futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s, method=method)] = \
+                (key, mesh, CYCLE_KEYS[method])
+            if top > short.height and method == "static":
                 futures[pool.submit(solid_ring, short, MESH_R[mesh], timeout_s=timeout_s, top=top)] = \
                     (key, mesh, "raised")
         for f in concurrent.futures.as_completed(futures):

@@ -272,16 +272,14 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     increment (set ``ALLN``; ``solve_ring3d`` returns the last converged one). ``watch``: 0-based node ids whose
     displacements are printed at every increment (set ``WATCH``; ``solve_ring3d`` returns them all: the beams'
     ends, ``RingMesh.beam_ends``, for ``hysterons``). ``g``: one ``CellGeometry``, or one per cell (a mixed ring,
-    ``ring_mesh``). ``unload=True`` (static only): the step runs on for a second unit of time along an amplitude
+    ``ring_mesh``). ``unload=True``: the step runs on for a second unit of time along an amplitude
     that lowers the plate back to its start (0 -> 1 -> 0; the bias moment, ramped up over the first, held), as
     the frame's cycle (``core/sleeve/frame3d_sequence.py``): a second ``*STEP`` from the deformed ring does not
-    converge (its first increment diverged at every size down to 5e-5 of the step, measured at d/L 0.2). ``top``:
+    converge (its first increment diverged at every size down to 5e-5 of the step, measured at d/L 0.2); with
+    ``method="dynamic"`` the same amplitude replaces the loading ramp. ``top``:
     ``ring_mesh``'s."""
     mesh = ring_mesh(g, n_cells, r, n_layers, top=top)
     g = mesh.geom
-    if unload and method != "static":
-        raise ValueError(f"unload with method {method!r}; allowed: method 'static' (a ramped dynamic step would "
-                         "not come back down)")
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
     if method not in ("static", "dynamic"):
@@ -336,8 +334,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         inner = np.flatnonzero(held)
         out += ["*NSET, NSET=WALL\n", ccx.fmt_set(inner + 1), "*TRANSFORM, NSET=WALL, TYPE=C\n0,0,0,0,0,1\n"]
     inc = 1.0 / int(increments)
-    amp = ", AMPLITUDE=RAMP" if method == "dynamic" else ", AMPLITUDE=UPDOWN" if unload else ""
-    if method == "dynamic":
+    amp = ", AMPLITUDE=UPDOWN" if unload else ", AMPLITUDE=RAMP" if method == "dynamic" else ""
+    if method == "dynamic" and not unload:
         out.append("*AMPLITUDE, NAME=RAMP\n0,0,1,1\n")
     if unload:           # up over the step's first unit of time, back down over its second; the bias held
         out.append("*AMPLITUDE, NAME=UPDOWN\n0,0,1,1,2,0\n*AMPLITUDE, NAME=HOLD\n0,0,1,1,2,1\n")

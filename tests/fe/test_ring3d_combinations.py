@@ -79,6 +79,27 @@ def test_solid_thresholds_checks_every_run_before_starting_any(monkeypatch):
     assert [row["r"] for row in out["1"]["r2"]] == [2, 2]
 
 
+def test_mixed_study_runs_each_method_and_stores_it_apart(monkeypatch):
+    """A run names its method (static by default, or the seed's dynamic implicit); a bad one is refused with the
+    allowed ones named before any ccx run; a dynamic cycle is stored apart from the static one and needs no raised
+    ring (the thresholds are static)."""
+    calls = []
+    monkeypatch.setattr(fc, "solid_cycle", lambda key, r, timeout_s, method: calls.append(("cycle", key, r, method))
+                        or {"method": method})
+    monkeypatch.setattr(fc, "solid_ring", lambda g, r, timeout_s, top: calls.append(("raised", r)) or {"top": top})
+    allowed = r"allowed: a combination of \['1', '2'\] on a mesh of \['r1', 'r2', 'r3'\], by a method of"
+    for bad in ((("2", "r1", "explicit"),), (("2",),), (("2", "r1", "static", "x"),), (("2", "r1"), ("4", "r1"))):
+        with pytest.raises(ValueError, match=allowed):
+            fc.mixed_study(bad)
+    assert calls == []
+    got = []
+    out = fc.mixed_study((("2", "r1", "dynamic"), ("1", "r2")), done=lambda *a: got.append(a[:3]))
+    assert sorted(got) == [("1", "r2", "cycle"), ("1", "r2", "raised"), ("2", "r1", "cycle_dynamic")]
+    assert out["2"]["r1"] == {"cycle_dynamic": {"method": "dynamic"}}
+    assert out["1"]["r2"]["cycle"] == {"method": "static"} and "raised" in out["1"]["r2"]
+    assert sorted(calls) == [("cycle", "1", 2, "static"), ("cycle", "2", 1, "dynamic"), ("raised", 2)]
+
+
 def test_extrapolated_recovers_a_known_limit_and_waits_for_three_meshes():
     """Thresholds that converge as v0 (1 + c h^2) (h = 1 / r) extrapolate to v0 (1e-9), and the types'
     differences (mesh-independent here: both types converge alike) to theirs; with r = 3 missing there is nothing

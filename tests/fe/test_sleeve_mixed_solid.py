@@ -110,8 +110,21 @@ def test_unloading_runs_on_along_an_amplitude_back_to_the_start():
     plain, _ = sleeve3d.ring_deck3d(cells, 4, 1, 1, d_max=0.1 * cells[0].L, increments=5, element="C3D20")
     assert "AMPLITUDE" not in plain and "*STATIC\n0.2,1.0," in plain
     assert f"{sleeve3d.REF},0,0,{max(g.height for g in cells):.9g}" in deck          # the plate on the flat top
-    with pytest.raises(ValueError, match="unload with method 'dynamic'; allowed: method 'static'"):
-        sleeve3d.ring_deck3d(cells, 4, 1, 1, unload=True, method="dynamic")
+
+
+def test_dynamic_unloading_runs_the_same_amplitude_with_inertia():
+    """The seed's FE was dynamic implicit: the same one step of time 2, under ``*DYNAMIC`` with the small density,
+    the plate's rise along 0 -> 1 -> 0 (not the loading ramp, which would hold it at the top) and the bias held."""
+    cells = _mixed("2")
+    deck, meta = sleeve3d.ring_deck3d(cells, 4, 1, 1, d_max=0.1 * cells[0].L, increments=5, unload=True,
+                                      element="C3D20", method="dynamic")
+    assert deck.count("*STEP") == 1 and meta["unload"] and meta["method"] == "dynamic"
+    assert "*DYNAMIC, ALPHA=-0.3\n0.2,2.0," in deck and "*DENSITY\n" in deck
+    assert f"*BOUNDARY, AMPLITUDE=UPDOWN\nBOTTOM,1,3,0\n{sleeve3d.REF},1,2,0\n{sleeve3d.REF},3,3,1.8\n" in deck
+    assert "*CLOAD, AMPLITUDE=HOLD\n" in deck and "RAMP" not in deck
+    up, _ = sleeve3d.ring_deck3d(cells, 4, 1, 1, d_max=0.1 * cells[0].L, increments=5, element="C3D20",
+                                 method="dynamic")
+    assert "*BOUNDARY, AMPLITUDE=RAMP\n" in up and "*DYNAMIC, ALPHA=-0.3\n0.2,1.0," in up
 
 
 def test_a_uniform_ring_stands_at_a_mixed_rings_top():
