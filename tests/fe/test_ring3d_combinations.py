@@ -201,6 +201,27 @@ def test_cycles_markdown_puts_the_mixed_ring_beside_the_rule_at_its_flat_top():
     assert fc.cycles_markdown({}, {}) == ""
 
 
+def test_cycles_markdown_sets_a_dynamic_cycle_in_a_row_of_its_own():
+    """A cycle by implicit dynamics is a row of its own after the static one on its mesh, timed alone (the raised
+    ring is the static row's), and a sentence says whether inertia gave its path hysteresis."""
+    uni = [{"P1": 1.40e-3, "valley": 0.77e-3, "wall_s": 400.0}, {"P1": 1.43e-3, "valley": 0.74e-3, "wall_s": 400.0}]
+    raised = {"P1": 1.45e-3, "valley": 0.73e-3, "wall_s": 420.0, "d_reached": 0.7}
+    dyn = dict(_cycle({0: 2, 1: 4}, {0: 2, 1: 4}), wall_s=1800.0, method="dynamic")
+    stat = _cycle({0: 2, 1: 4}, {0: 4, 1: 2}, lean_down=(1e-3, 0.0))
+    text = fc.cycles_markdown({"2": {"r1": {"cycle": stat, "raised": raised, "cycle_dynamic": dyn}}}, {"2": {"r1": uni}})
+    lines = text.splitlines()
+    k = next(i for i, x in enumerate(lines) if x.startswith("| 2 | r = 1 | [0, 1] \\| [1, 0] (symmetric)"))
+    assert lines[k].endswith("| 10 + 7 min |")
+    assert lines[k + 1].startswith("| 2 | r = 1, dynamic | [0, 1] \\| [0, 1] (asymmetric) | -90 / 90 (reverses) |")
+    assert lines[k + 1].endswith("| 30 min |")
+    assert ("By implicit dynamics (the seed's procedure) combination 2's mixed solid on r = 1 snaps [0, 1] \\| [0, 1] "
+            "(asymmetric), its paths coinciding (the largest gap 0.00 % of its first peak): inertia does not give "
+            "the ring hysteresis either.") in text
+    F, down = np.asarray(dyn["F"]), np.asarray(dyn["unloading"], bool)
+    text = fc.cycles_markdown({"2": {"r1": {"cycle_dynamic": dict(dyn, F=(F - 0.5e-3 * down).tolist())}}}, {})
+    assert "| 2 | r = 1 |" not in text and "its paths apart" in text and "inertia gives the ring hysteresis." in text
+
+
 def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
     """The stored mixed cycles (``bench_sleeve_ring3d.py --mixed-cycles``, r = 1; combination 2 on r = 2 too): every
     ring went up to d/L 0.7 and
