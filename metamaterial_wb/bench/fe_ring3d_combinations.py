@@ -105,6 +105,18 @@ def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0, method="
             "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300], "method": method}
 
 
+def shorter(key):
+    """The index of combination ``key``'s shorter cell type (the one a mixed ring's flat top raises)."""
+    types = combination_cells(key)
+    return min(range(2), key=lambda k: types[k].height)
+
+
+def standing(key, raised, uniform):
+    """Combination ``key``'s two types' uniform rings as they stand in its mixed ring: the shorter type's raised to
+    the flat top (``raised``, ``solid_ring(top=...)``), the taller type's own (``uniform``, its two types' rows)."""
+    return [raised if k == shorter(key) else uniform[k] for k in range(2)]
+
+
 def turn(run):
     """The index of a ``solid_cycle`` run's last loading point, where its unloading path starts."""
     return int(np.argmax(np.asarray(run["unloading"], bool))) - 1
@@ -149,7 +161,7 @@ def mixed_study(runs=(("2", "r1"),), workers=2, timeout_s=7200.0, done=None):
         futures = {}
         for key, mesh, method in runs:
             types = combination_cells(key)
-            short = min(types, key=lambda g: g.height)
+            short = types[shorter(key)]
             top = max(g.height for g in types)
             futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s, method=method)] = \
                 (key, mesh, CYCLE_KEYS[method])
@@ -302,9 +314,7 @@ def cycles_markdown(cycles, solid, frame=None):
             rule_text, mean_text = "-", "-"
             raised, uni = run.get("raised"), (solid.get(key, {}).get(mesh) or [None, None])
             if raised and all(uni):
-                types = combination_cells(key)
-                short = min(range(2), key=lambda k: types[k].height)
-                rows_ = [raised if k == short else uni[k] for k in range(2)]
+                rows_ = standing(key, raised, uni)
                 if solid_rule(rows_):
                     rule_text = order_text(rule(rows_)) + " ({:+.1f} %, {:+.1f} %)".format(*differences(rows_))
                     if seq:

@@ -79,6 +79,13 @@ def test_solid_thresholds_checks_every_run_before_starting_any(monkeypatch):
     assert [row["r"] for row in out["1"]["r2"]] == [2, 2]
 
 
+def test_the_shorter_type_stands_raised_beside_the_taller_ones_own():
+    for key in ("1", "2"):                   # combination 1's thinner beam, combination 2's lower h
+        a, b = combination_cells(key)
+        assert a.height < b.height and fc.shorter(key) == 0
+    assert fc.standing("2", "raised", ["own 0", "own 1"]) == ["raised", "own 1"]
+
+
 def test_mixed_study_runs_each_method_and_stores_it_apart(monkeypatch):
     """A run names its method (static by default, or the seed's dynamic implicit); a bad one is refused with the
     allowed ones named before any ccx run; a dynamic cycle is stored apart from the static one and needs no raised
@@ -294,10 +301,8 @@ def test_stored_mixed_solids_are_their_types_averaged():
     they stand in them (combination 2: 0.4 %), as the docs say: springs in parallel, not the seed's lower peak."""
     raw = json.load(open(os.path.join(ROOT, "benchmarks", "results", "fe-ring3d.json")))
     for key, meshes in raw["mixed_cycles"].items():
-        types = combination_cells(key)
-        short = min(range(2), key=lambda k: types[k].height)
         for mesh, run in meshes.items():
-            rows = [run["raised"] if k == short else raw["combinations"][key][mesh][k] for k in range(2)]
+            rows = fc.standing(key, run["raised"], raw["combinations"][key][mesh])
             dp, dv = fc.against_mean(run["cycle"], rows)
             assert abs(dp) < (0.005 if key == "2" else 0.025) and abs(dv) < 0.005, (key, mesh, dp, dv)
     assert "of the mean of its two types' uniform rings as they stand in it" in open(
