@@ -416,10 +416,11 @@ def main(argv=None):
     ap.add_argument("--combinations", default=None, help="comma list of <combination>:<mesh> (mesh r1, r2 or r3): "
                     "each cell type of the seed's combination as a uniform four-cell ring (ccx, every brick C3D20, "
                     "static to d/L 0.7), two runs at a time; stored under 'combinations' as each ends")
-    ap.add_argument("--mixed-cycles", default=None, help="comma list of <combination>:<mesh>[:dynamic] (mesh r1, "
-                    "r2 or r3): the seed's mixed ring [0, 0, 1, 1] on the solid (ccx, every brick C3D20) raised to "
-                    "d/L 0.7 and lowered back, static (and the shorter type's uniform ring at its flat top) or by "
-                    "implicit dynamics; stored under 'mixed_cycles' as each ends")
+    ap.add_argument("--mixed-cycles", default=None, help="comma list of <combination>:<mesh>[:dynamic|:unbiased] "
+                    "(mesh r1, r2 or r3): the seed's mixed ring [0, 0, 1, 1] on the solid (ccx, every brick C3D20) "
+                    "raised to d/L 0.7 and lowered back, static (and the shorter type's uniform ring at its flat top), "
+                    "by implicit dynamics, or static without the plate's bias moment; stored under 'mixed_cycles' as "
+                    "each ends")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.p1_element == "C3D20" and a.p1_full_near:

@@ -57,6 +57,7 @@ def order_text(s):
 
 
 MESH_R = {"r1": 1, "r2": 2, "r3": 3}
+BIAS = 1e-5                 # the plate's tilt bias moment, G L^2 (sleeve3d.ring_deck3d's default)
 D_MAX = 0.7                 # d/L: past the first valley of every seed type (the seed's cell: 0.45)
 
 
@@ -81,12 +82,13 @@ def solid_ring(g, r, d_max=D_MAX, timeout_s=5400.0, top=None):
 MIXED_ROW = (0, 0, 1, 1)     # the seed's mixed ring (the frame's and the beam model's)
 
 
-def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0, method="static"):
+def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0, method="static", bias=BIAS):
     """The seed's combination ``key`` as one mixed four-cell ring ``row`` on the curved solid (``fe/sleeve3d.py``:
     one brick through the wall, every brick C3D20, a flat top at the taller type's height; ``method`` static or
-    implicit dynamics as the seed's FE, 0.01 d/L per increment at most) raised to ``d_max`` and lowered back, the
-    beams' ends watched: ``{"d", "F", "tilt_rad", "unloading", "rises" (k, halves), "cells", "units", "wall_s",
-    "d_reached", "stopped", "method", ...}`` (``cycle_sequence`` reads the order off it)."""
+    implicit dynamics as the seed's FE, 0.01 d/L per increment at most; the plate's tilt bias moment ``bias``,
+    ``sleeve3d.ring_deck3d``'s) raised to ``d_max`` and lowered back, the beams' ends watched: ``{"d", "F",
+    "tilt_rad", "unloading", "rises" (k, halves), "cells", "units", "wall_s", "d_reached", "stopped", "method",
+    "bias", ...}`` (``cycle_sequence`` reads the order off it)."""
     from metamaterial_wb.fe import sleeve3d
     types = combination_cells(key)
     cells = [types[t] for t in row]
@@ -96,13 +98,14 @@ def solid_cycle(key, r=1, d_max=D_MAX, row=MIXED_ROW, timeout_s=7200.0, method="
     n = int(round(100 * d_max))
     c, info = sleeve3d.solve_ring3d(cells, len(row), r, 1, d_max=d_max * cells[0].L, increments=n,
                                     timeout_s=timeout_s, partial=True, element="C3D20", watch=watch, unload=True,
-                                    method=method)
+                                    method=method, bias=bias)
     rise, _ = sleeve3d.hysterons(mesh, ends, c["u_watch"], watch)
     return {"combination": key, "row": list(row), "r": int(r), "d_max": float(d_max),
             "d": np.round(c["d"], 6).tolist(), "F": c["F"].tolist(), "tilt_rad": c["tilt_rad"].tolist(),
             "unloading": c["unloading"].astype(int).tolist(), "rises": np.round(rise, 7).tolist(),
             "cells": ends["cells"].tolist(), "units": ends["units"].tolist(), "wall_s": info["wall_s"],
-            "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300], "method": method}
+            "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300], "method": method,
+            "bias": float(bias)}
 
 
 def shorter(key):
@@ -142,20 +145,23 @@ def cycle_sequence(run):
     return sequence(ring, up, back)
 
 
-CYCLE_KEYS = {"static": "cycle", "dynamic": "cycle_dynamic"}     # where mixed_study stores each method's cycle
+# mixed_study's variants of the cycle: where each is stored and how it is run (solid_cycle's keywords); "unbiased":
+# static without the plate's bias moment (the mixed ring's own asymmetry the only one)
+CYCLE_KEYS = {"static": "cycle", "dynamic": "cycle_dynamic", "unbiased": "cycle_unbiased"}
+VARIANTS = {"static": {}, "dynamic": {"method": "dynamic"}, "unbiased": {"bias": 0.0}}
 
 
 def mixed_study(runs=(("2", "r1"),), workers=2, timeout_s=7200.0, done=None):
-    """For each (combination, mesh) or (combination, mesh, method) of ``runs`` (method ``"static"`` by default, or
-    ``"dynamic"``): the mixed ring's cycle (``solid_cycle``) and, for a static one, the shorter type's uniform ring
+    """For each (combination, mesh) or (combination, mesh, variant) of ``runs`` (``VARIANTS``, ``"static"`` by
+    default): the mixed ring's cycle (``solid_cycle``) and, for the static one, the shorter type's uniform ring
     at the mixed ring's flat top (``solid_ring(top=...)``: with the taller type's stored uniform ring, the
     two-hysteron rule for the cells as they stand in the mixed ring), ``workers`` ccx runs at a time.
-    ``done(key, mesh, what, result)`` as each ends (``what``: "raised" or the method's ``CYCLE_KEYS``)."""
+    ``done(key, mesh, what, result)`` as each ends (``what``: "raised" or the variant's ``CYCLE_KEYS``)."""
     runs = [tuple(run) + ("static",) * (3 - len(run)) for run in runs]
     for run in runs:
         if len(run) != 3 or run[0] not in SEED_COMBINATIONS or run[1] not in MESH_R or run[2] not in CYCLE_KEYS:
             raise ValueError(f"run {run!r}; allowed: a combination of {sorted(SEED_COMBINATIONS)} on a mesh of "
-                             f"{sorted(MESH_R)}, by a method of {sorted(CYCLE_KEYS)} (default static)")
+                             f"{sorted(MESH_R)}, as a variant of {sorted(CYCLE_KEYS)} (default static)")
     out = {}
     with concurrent.futures.ThreadPoolExecutor(workers) as pool:
         futures = {}
@@ -163,7 +169,7 @@ def mixed_study(runs=(("2", "r1"),), workers=2, timeout_s=7200.0, done=None):
             types = combination_cells(key)
             short = types[shorter(key)]
             top = max(g.height for g in types)
-            futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s, method=method)] = \
+            futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s, **VARIANTS[method])] = \
                 (key, mesh, CYCLE_KEYS[method])
             if top > short.height and method == "static":
                 futures[pool.submit(solid_ring, short, MESH_R[mesh], timeout_s=timeout_s, top=top)] = \
@@ -285,7 +291,8 @@ def cycles_markdown(cycles, solid, frame=None):
     L = ["**The seed's mixed rings on the curved solid** (`bench_sleeve_ring3d.py --mixed-cycles`: the ring "
          "[0, 0, 1, 1] of the combination's two types as one CalculiX solid, one brick through the wall, every brick "
          "C3D20, static (\", dynamic\": by implicit dynamics, HHT alpha -0.3 with the small density, the seed's "
-         "procedure), raised to d/L 0.7 and lowered back in steps of 0.01 at most under the default bias; the cells "
+         "procedure), raised to d/L 0.7 and lowered back in steps of 0.01 at most under the default bias (\", "
+         "unbiased\": static without it); the cells "
          "meet at a flat top at the taller type's height, so the shorter type's edge pillars are longer by the "
          "difference; the order by the frame's reading of the beams' ends, `analysis.snap_order`; lean: the "
          "plate's largest tilt on each path). The rule beside it is the two-hysteron rule on the types' uniform "
@@ -294,7 +301,7 @@ def cycles_markdown(cycles, solid, frame=None):
          "(largest gap / P1) | P1, valley against its types' mean | rule on the "
          "uniform rings at the flat top | frame's mixed ring at the flat top (12 elements) | seed | time |",
          "|---|---|---|---|---|---|---|---|---|---|"]
-    rows, gaps, means = 0, {m: [] for m in CYCLE_KEYS}, []
+    rows, gaps, means, unbiased = 0, {m: [] for m in CYCLE_KEYS}, [], []
     for key in sorted(cycles):
         for mesh, method in ((m, x) for m in sorted(cycles[key]) for x in CYCLE_KEYS):
             run = cycles[key][mesh]
@@ -326,11 +333,13 @@ def cycles_markdown(cycles, solid, frame=None):
                        if fl and "loading" in fl else "-")
             gap = hysteresis(cyc) if seq else None
             gaps[method] += [(key, mesh, gap, seq)] if gap is not None else []
+            if method == "unbiased" and seq and run.get("cycle") and cycle_sequence(run["cycle"]):
+                unbiased.append((key, mesh, seq, cycle_sequence(run["cycle"])))
             L.append(f"| {key} | r = {mesh[1:]}{'' if method == 'static' else ', ' + method} | {text} | {lean} | "
                      + (f"{100 * gap:.2f} %" if gap is not None else "-") + f" | {mean_text} | {rule_text} | {fl_text} | "
                      f"{order_text(seed_order(key))} | {secs} min |")
             rows += 1
-    static = [g for _, _, g, _ in gaps["static"]]
+    static = [g for m in ("static", "unbiased") for _, _, g, _ in gaps[m]]
     if static and max(static) < 0.01:
         L += ["", f"Every mixed solid's loading and unloading paths coincide (the largest gap {100 * max(static):.2f} % of "
               "its first peak; the plot below): under displacement control the ring does not snap, its pillars pass "
@@ -342,6 +351,14 @@ def cycles_markdown(cycles, solid, frame=None):
               + f"snaps {order_text(seq)}, its paths {'coinciding' if gap < 0.01 else 'apart'} (the largest gap "
               f"{100 * gap:.2f} % of its first peak): " + ("inertia does not give the ring hysteresis either."
                                                          if gap < 0.01 else "inertia gives the ring hysteresis.")]
+    for key, mesh, seq, biased in unbiased:
+        same = (seq["loading"], seq["unloading"]) == (biased["loading"], biased["unloading"])
+        turned = _angle(seq["lean_loading_deg"], biased["lean_loading_deg"])
+        L += ["", f"Without the bias moment (the mixed ring's own asymmetry the only one) combination {key}'s mixed "
+              f"solid on r = {mesh[1:]} snaps {order_text(seq)}, "
+              + ("as" if same else "unlike its order") + " with it, leaning "
+              + (f"{turned:.0f} deg from where it leant with it" if turned is not None else "-")
+              + (": the bias does not decide the lean." if same and turned is not None and turned < 20 else ".")]
     if means:
         worst = max(abs(v) for m in means for v in m)
         L += ["", f"Each mixed solid's first peak and valley lie within {100 * worst:.1f} % of the mean of its two types' "
@@ -349,6 +366,13 @@ def cycles_markdown(cycles, solid, frame=None):
               "mixed ring took the first type's peak and the other type's valley (its two-hysteron reading)."]
     L += ["", f"![the seed's mixed rings on the solid: force and each pillar's rise beyond h]({IMG_CYCLES})"]
     return "\n".join(L + [""]) if rows else ""
+
+
+def _angle(a, b):
+    """The angle between two leans (deg, 0 to 180), ``None`` where either is missing."""
+    if a is None or b is None:
+        return None
+    return abs((a - b + 180.0) % 360.0 - 180.0)
 
 
 def solid_markdown(solid, mixed):

@@ -91,10 +91,10 @@ def test_mixed_study_runs_each_method_and_stores_it_apart(monkeypatch):
     allowed ones named before any ccx run; a dynamic cycle is stored apart from the static one and needs no raised
     ring (the thresholds are static)."""
     calls = []
-    monkeypatch.setattr(fc, "solid_cycle", lambda key, r, timeout_s, method: calls.append(("cycle", key, r, method))
-                        or {"method": method})
+    monkeypatch.setattr(fc, "solid_cycle", lambda key, r, timeout_s, method="static", bias=fc.BIAS:
+                        calls.append(("cycle", key, r, method, bias)) or {"method": method})
     monkeypatch.setattr(fc, "solid_ring", lambda g, r, timeout_s, top: calls.append(("raised", r)) or {"top": top})
-    allowed = r"allowed: a combination of \['1', '2'\] on a mesh of \['r1', 'r2', 'r3'\], by a method of"
+    allowed = r"allowed: a combination of \['1', '2'\] on a mesh of \['r1', 'r2', 'r3'\], as a variant of"
     for bad in ((("2", "r1", "explicit"),), (("2",),), (("2", "r1", "static", "x"),), (("2", "r1"), ("4", "r1"))):
         with pytest.raises(ValueError, match=allowed):
             fc.mixed_study(bad)
@@ -104,7 +104,14 @@ def test_mixed_study_runs_each_method_and_stores_it_apart(monkeypatch):
     assert sorted(got) == [("1", "r2", "cycle"), ("1", "r2", "raised"), ("2", "r1", "cycle_dynamic")]
     assert out["2"]["r1"] == {"cycle_dynamic": {"method": "dynamic"}}
     assert out["1"]["r2"]["cycle"] == {"method": "static"} and "raised" in out["1"]["r2"]
-    assert sorted(calls) == [("cycle", "1", 2, "static"), ("cycle", "2", 1, "dynamic"), ("raised", 2)]
+    assert sorted(calls) == [("cycle", "1", 2, "static", fc.BIAS), ("cycle", "2", 1, "dynamic", fc.BIAS),
+                             ("raised", 2)]
+    calls.clear()
+    out = fc.mixed_study((("1", "r1", "unbiased"),))
+    assert calls == [("cycle", "1", 1, "static", 0.0)] and list(out["1"]["r1"]) == ["cycle_unbiased"]
+    import inspect
+    from metamaterial_wb.fe import sleeve3d
+    assert fc.BIAS == inspect.signature(sleeve3d.ring_deck3d).parameters["bias"].default
 
 
 def test_extrapolated_recovers_a_known_limit_and_waits_for_three_meshes():
@@ -227,6 +234,21 @@ def test_cycles_markdown_sets_a_dynamic_cycle_in_a_row_of_its_own():
     F, down = np.asarray(dyn["F"]), np.asarray(dyn["unloading"], bool)
     text = fc.cycles_markdown({"2": {"r1": {"cycle_dynamic": dict(dyn, F=(F - 0.5e-3 * down).tolist())}}}, {})
     assert "| 2 | r = 1 |" not in text and "its paths apart" in text and "inertia gives the ring hysteresis." in text
+
+
+def test_cycles_markdown_compares_an_unbiased_cycle_with_the_biased_one():
+    """Without the bias moment: a row of its own and a sentence on whether the order and the lean stayed."""
+    biased = _cycle({0: 2, 1: 4}, {0: 4, 1: 2}, lean_down=(1e-3, 0.0))
+    same = dict(biased, bias=0.0)
+    text = fc.cycles_markdown({"2": {"r1": {"cycle": biased, "cycle_unbiased": same}}}, {})
+    assert "| 2 | r = 1, unbiased | [0, 1] \\| [1, 0] (symmetric) | -90 / -90 |" in text
+    assert ("Without the bias moment (the mixed ring's own asymmetry the only one) combination 2's mixed solid on "
+            "r = 1 snaps [0, 1] \\| [1, 0] (symmetric), as with it, leaning 0 deg from where it leant with it: the bias "
+            "does not decide the lean.") in text
+    other = _cycle({0: 2, 1: 4}, {0: 2, 1: 4}, lean_up=(-1e-3, 0.0), lean_down=(1e-3, 0.0))
+    text = fc.cycles_markdown({"2": {"r1": {"cycle": biased, "cycle_unbiased": other}}}, {})
+    assert "(asymmetric), unlike its order with it, leaning 180 deg from where it leant with it." in text
+    assert fc._angle(170.0, -170.0) == pytest.approx(20.0) and fc._angle(None, 3.0) is None
 
 
 def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
