@@ -252,27 +252,37 @@ def summary(s, e=0.63):
     ``"model"`` the beam model's curvature springs (calibrated; None when not stored); and how far the frame's
     curved stiffness itself is from the solid's: ``"absolute"`` (plane stress, ``e``), ``"absolute_bar0"`` (the
     same with the pillars clamped at the bars' faces; None when not stored)."""
-    fr, al, mo, ab, a0, ax, ae, ak, co = [], [], [], [], [], [], [], [], []
+    v = {k: [] for k in ("frame", "all", "model", "absolute", "absolute_bar0", "ext", "ext_error", "ext_ratio",
+                         "ext_coarse")}
+    E = f"{e:g}"
     for r in s["cells"].values():
         fe = r["fe_curved"] / r["fe_flat"]
-        fr.append(100 * (r[f"frame_stress_{e:g}"] / r[f"frame_flat_{e:g}"] / fe - 1))
-        ab.append(100 * (r[f"frame_stress_{e:g}"] / r["fe_curved"] - 1))
+        stress, flat = r[f"frame_stress_{E}"], r[f"frame_flat_{E}"]
+        v["frame"].append(100 * (stress / flat / fe - 1))
+        v["absolute"].append(100 * (stress / r["fe_curved"] - 1))
         x = r.get("solid_ext")
         if x:
-            ax.append(100 * (r[f"frame_stress_{e:g}"] / x["curved"][0] - 1))
-            ae.append(100 * x["curved"][1] / x["curved"][0])
-            ak.append(100 * (r[f"frame_stress_{e:g}"] / r[f"frame_flat_{e:g}"] / (x["curved"][0] / x["flat"][0]) - 1))
-            co.append(100 * (r["fe_curved"] / x["curved"][0] - 1))
-        if f"frame_stress_{e:g}_bar0" in r:
-            a0.append(100 * (r[f"frame_stress_{e:g}_bar0"] / r["fe_curved"] - 1))
-        al += [100 * (r[f"frame_{k}_{x:g}"] / r[f"frame_flat_{x:g}"] / fe - 1) for x in s["root_extensions"]
-               for k, _, _ in VARIANTS]
+            curved = x["curved"][0]
+            v["ext"].append(100 * (stress / curved - 1))
+            v["ext_error"].append(100 * x["curved"][1] / curved)
+            v["ext_ratio"].append(100 * (stress / flat / (curved / x["flat"][0]) - 1))
+            v["ext_coarse"].append(100 * (r["fe_curved"] / curved - 1))
+        if f"frame_stress_{E}_bar0" in r:
+            v["absolute_bar0"].append(100 * (r[f"frame_stress_{E}_bar0"] / r["fe_curved"] - 1))
+        v["all"] += [100 * (r[f"frame_{k}_{x:g}"] / r[f"frame_flat_{x:g}"] / fe - 1) for x in s["root_extensions"]
+                     for k, _, _ in VARIANTS]
         if "model_curved" in r:
-            mo.append(100 * (r["model_curved"] / r["model_flat"] / fe - 1))
-    return {"frame": (min(fr), max(fr)), "all": (min(al), max(al)), "model": (min(mo), max(mo)) if mo else None,
-            "absolute": (min(ab), max(ab)), "absolute_bar0": (min(a0), max(a0)) if a0 else None,
-            "extrapolated": ({"absolute": (min(ax), max(ax)), "error": (min(ae), max(ae)), "ratio": (min(ak), max(ak)),
-                              "coarse": (min(co), max(co)), "sizes": len(ax)} if ax else None)}
+            v["model"].append(100 * (r["model_curved"] / r["model_flat"] / fe - 1))
+    out = {k: _span(v[k]) for k in ("frame", "all", "model", "absolute", "absolute_bar0")}
+    out["extrapolated"] = ({"absolute": _span(v["ext"]), "error": _span(v["ext_error"]),
+                            "ratio": _span(v["ext_ratio"]), "coarse": _span(v["ext_coarse"]), "sizes": len(v["ext"])}
+                           if v["ext"] else None)
+    return out
+
+
+def _span(values):
+    """``(min, max)`` of a list, ``None`` for an empty one."""
+    return (min(values), max(values)) if values else None
 
 
 def fe_secants(comp):
