@@ -49,7 +49,11 @@ def first_peak(d, F, drop=0.01):
 
 def secant(d, F):
     """The secant stiffness of a traced curve to d/L ``SECANT_AT`` (F / (G L^2) per d/L): the initial stiffness
-    every curved-ring comparison uses (this check, ``bench_sleeve_ring3d.py``)."""
+    every curved-ring comparison uses (this check, ``bench_sleeve_ring3d.py``). A curve that stops short of that
+    rise (a partial run) is refused, not read at its last point."""
+    reach = float(np.max(d))
+    if reach < SECANT_AT * (1 - 1e-9):
+        raise ValueError(f"secant: the curve reaches d/L {reach:g}; the secant needs it to reach {SECANT_AT:g}")
     return float(np.interp(SECANT_AT, d, F) / SECANT_AT)
 
 

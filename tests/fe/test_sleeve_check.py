@@ -147,3 +147,12 @@ def test_converged_check_runs_three_meshes_and_extrapolates(monkeypatch):
     assert row["stiffness_ratio_extrapolated"] == pytest.approx(row["model_stiffness"] / k, rel=1e-9)
     assert row["fe_stiffness_error"] == pytest.approx(a * 3 ** -1.3, rel=1e-6) and row["fe_seconds"] == 4.0
     assert "extrapolated over meshes r = 1, 2, 3" in sleeve_check.notes({"types": [row]})[0]
+
+
+def test_secant_refuses_a_curve_that_stops_short_of_its_rise():
+    """A traced curve that stops before d/L ``SECANT_AT`` (a partial ccx run) has no secant there: ``np.interp``
+    would hold its last force and report a stiffness the ring does not have. The error names the rise reached."""
+    at = sleeve_check.SECANT_AT
+    assert sleeve_check.secant([0.0, at, 2 * at], [0.0, 3.0 * at, 5.0 * at]) == pytest.approx(3.0)
+    with pytest.raises(ValueError, match=r"the curve reaches d/L 0.0025; the secant needs it to reach 0.005"):
+        sleeve_check.secant([0.0, 0.5 * at], [0.0, 1.0])
