@@ -447,8 +447,9 @@ IMG_CYCLES = "img/sleeve-mixed-solid.png"
 
 def plot_cycles(cycles, path, mesh="r1"):
     """The seed's mixed rings on the solid (``cycles``, as stored under ``mixed_cycles``), one row per combination:
-    the force on loading and unloading, and each edge pillar's rise beyond its cells' mean h (the snap rule: above 0
-    it has snapped), against the plate's rise."""
+    the force on loading and unloading (static, and the other variants stored on the mesh over it), and each edge
+    pillar's rise beyond its cells' mean h (the snap rule: above 0 it has snapped; static), against the plate's
+    rise."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -471,6 +472,12 @@ def plot_cycles(cycles, path, mesh="r1"):
                 ax[row, 1].plot(d[sl], over[sl][:, units == p].mean(axis=1), style, color=col, lw=1.1,
                                 label=(f"pillar {p} (type {kinds[0]})" if len(kinds) == 1 else f"pillar {p} (mixed)")
                                 if name == "loading" else None)
+        for variant, col in (("dynamic", "C1"), ("unbiased", "C4")):     # the other variants' forces over it
+            other = cycles[key][mesh].get(CYCLE_KEYS[variant])
+            if other and np.asarray(other["unloading"], bool).any():
+                k, dv, Fv = turn(other), np.asarray(other["d"]), 1e3 * np.asarray(other["F"])
+                ax[row, 0].plot(dv[:k + 1], Fv[:k + 1], "-", color=col, lw=0.9, label=f"{variant}: loading")
+                ax[row, 0].plot(dv[k:], Fv[k:], "--", color=col, lw=0.9, label=f"{variant}: unloading")
         seq = cycle_sequence(run)
         ax[row, 0].set_title(f"combination {key}, ring {run['row']} on the solid (r = {run['r']}): "
                              + (order_text(seq).replace("\\|", "|") if seq else "no cycle"), fontsize=9)

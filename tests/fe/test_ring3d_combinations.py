@@ -290,6 +290,11 @@ def test_cycles_plot_draws_each_stored_mixed_ring(tmp_path):
     out = tmp_path / "cycles.png"
     fc.plot_cycles({"2": {"r1": {"cycle": _cycle({0: 2, 1: 4}, {0: 2, 1: 4})}}}, str(out))
     assert out.stat().st_size > 10000
+    both = tmp_path / "both.png"
+    run = _cycle({0: 2, 1: 4}, {0: 2, 1: 4})
+    fc.plot_cycles({"2": {"r1": {"cycle": run, "cycle_dynamic": dict(run, F=(1.1 * np.asarray(run["F"])).tolist())}}},
+                   str(both))
+    assert both.stat().st_size > out.stat().st_size             # the dynamic cycle's two curves drawn over it
     assert os.path.exists(os.path.join(ROOT, "docs", fc.IMG_CYCLES))
     assert fc.IMG_CYCLES in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
 
