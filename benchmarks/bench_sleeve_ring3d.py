@@ -160,7 +160,6 @@ def cells_meshes(ns=(4, 6, 8, 12), meshes=("r1", "r2", "r3")):
     C3D20, one brick through the wall, in-plane refinement r; the four-cell path family's meshes) and of the flat
     2-D ring on the same r, per ring size and mesh: ``c3d20_<mesh>_fe_curved``, ``<mesh>_fe_flat`` and their
     seconds (``..._wall_s``), extrapolated by ``fe_frame3d.solid_extrapolated``."""
-    from metamaterial_wb.fe import sleeve2d
     from metamaterial_wb.fe.sleeve_check import ring_stiffness
     g = cell_geometry()
     out = {}
@@ -168,11 +167,30 @@ def cells_meshes(ns=(4, 6, 8, 12), meshes=("r1", "r2", "r3")):
         row = out.setdefault(str(n), {})
         for m in meshes:
             r, layers = MESHES[m]
-            flat, fi = sleeve2d.solve_ring(g, n, r, d_max=0.01 * g.L, increments=2, timeout_s=1800)
+            row.update(_flat_row(g, n, m))
             k, wall_s = ring_stiffness(g, n, r, layers, "C3D20")
-            row.update({f"{m}_fe_flat": secant(flat["d"], flat["F"]), f"{m}_fe_flat_wall_s": fi["wall_s"],
-                        f"c3d20_{m}_fe_curved": k, f"c3d20_{m}_fe_curved_wall_s": wall_s})
+            row.update({f"c3d20_{m}_fe_curved": k, f"c3d20_{m}_fe_curved_wall_s": wall_s})
             print(n, m, {k: v for k, v in row.items() if k.startswith((m, f"c3d20_{m}"))}, flush=True)
+    return out
+
+
+def _flat_row(g, n, mesh):
+    """The flat 2-D ring's secant stiffness on in-plane mesh ``mesh`` ("r<k>"): ``{"<mesh>_fe_flat",
+    "<mesh>_fe_flat_wall_s"}`` (two increments to d/L 0.01, the whole run required)."""
+    from metamaterial_wb.fe import sleeve2d
+    flat, fi = sleeve2d.solve_ring(g, n, int(mesh[1:]), d_max=0.01 * g.L, increments=2, timeout_s=1800)
+    return {f"{mesh}_fe_flat": secant(flat["d"], flat["F"]), f"{mesh}_fe_flat_wall_s": fi["wall_s"]}
+
+
+def cells_flat(ns=(4, 6, 8, 12), meshes=("r4", "r8")):
+    """The flat 2-D ring's stiffness alone on finer in-plane meshes (``fe_frame3d.FLAT_MESHES``: its r = 1 mesh is
+    not yet in the asymptotic range, so the flat extrapolation uses r = 2, 4, 8), per ring size and mesh."""
+    g = cell_geometry()
+    out = {}
+    for n in ns:
+        for m in meshes:
+            out.setdefault(str(n), {}).update(_flat_row(g, n, m))
+            print(n, m, out[str(n)], flush=True)
     return out
 
 
@@ -400,6 +418,9 @@ def main(argv=None):
     ap.add_argument("--cells-meshes", default=None, help="comma list of meshes (r1,r2,r3): the --cells stiffness "
                     "of 4, 6, 8, 12 cells on each, every brick C3D20, one brick through the wall, "
                     "and the flat ring on the same r (stored under 'cells', merged; extrapolated in the frame's table)")
+    ap.add_argument("--cells-flat", default=None, help="comma list of in-plane meshes r<k> (e.g. r4,r8): the flat "
+                    "2-D ring alone on each, for the 4, 6, 8, 12 cells (ccx, 10 s to 3 min each; stored under 'cells', "
+                    "merged; the flat extrapolation uses fe_frame3d.FLAT_MESHES)")
     ap.add_argument("--cells-p1", default=None, help="comma list of ring sizes: the curved ring's first peak (ccx, "
                     "static, r = 1 with two bricks through the wall; stored under 'cells', merged)")
     ap.add_argument("--cells-p1-bias", type=float, default=BIAS, help="the --cells-p1 runs' tilt bias (G L^2); "
@@ -462,6 +483,8 @@ def main(argv=None):
         _store_rows("cells", cells_check([int(v) for v in a.cells.split(",")]))
     for m in a.cells_meshes.split(",") if a.cells_meshes else ():     # stored mesh by mesh
         _store_rows("cells", cells_meshes(meshes=(m,)))
+    for m in a.cells_flat.split(",") if a.cells_flat else ():
+        _store_rows("cells", cells_flat(meshes=(m,)))
     if a.cells_p1:
         _store_rows("cells", cells_p1([int(v) for v in a.cells_p1.split(",")], d_max=a.cells_p1_dmax,
                                       element=a.cells_p1_element, bias=a.cells_p1_bias, timeout_s=a.timeout,
