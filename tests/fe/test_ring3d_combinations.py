@@ -243,11 +243,15 @@ def test_cycles_markdown_compares_an_unbiased_cycle_with_the_biased_one():
     text = fc.cycles_markdown({"2": {"r1": {"cycle": biased, "cycle_unbiased": same}}}, {})
     assert "| 2 | r = 1, unbiased | [0, 1] \\| [1, 0] (symmetric) | -90 / -90 |" in text
     assert ("Without the bias moment (the mixed ring's own asymmetry the only one) combination 2's mixed solid on "
-            "r = 1 snaps [0, 1] \\| [1, 0] (symmetric), as with it, leaning 0 deg from where it leant with it: the bias "
-            "does not decide the lean.") in text
+            "r = 1 snaps [0, 1] \\| [1, 0] (symmetric), as with it, leaning 0 deg from where it leant with it (-90 / -90 "
+            "deg): the bias does not decide the lean.") in text
+    flipped = _cycle({0: 2, 1: 4}, {0: 4, 1: 2}, lean_up=(-1e-3, 0.0), lean_down=(-1e-3, 0.0))
+    text = fc.cycles_markdown({"2": {"r1": {"cycle": biased, "cycle_unbiased": flipped}}}, {})
+    assert ("as with it, leaning 180 deg from where it leant with it (90 / 90 deg): the tiny bias picks which way the "
+            "mixed ring leans, not its order; either way the lean stays the same on both paths.") in text
     other = _cycle({0: 2, 1: 4}, {0: 2, 1: 4}, lean_up=(-1e-3, 0.0), lean_down=(1e-3, 0.0))
     text = fc.cycles_markdown({"2": {"r1": {"cycle": biased, "cycle_unbiased": other}}}, {})
-    assert "(asymmetric), unlike its order with it, leaning 180 deg from where it leant with it." in text
+    assert "(asymmetric), unlike its order with it, leaning 180 deg from where it leant with it (90 / -90 deg)." in text
     assert fc._angle(170.0, -170.0) == pytest.approx(20.0) and fc._angle(None, 3.0) is None
 
 
@@ -281,6 +285,14 @@ def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
     for mesh in ("r1", "r2"):
         rows = [cycles["2"][mesh]["raised"], raw["combinations"]["2"][mesh][1]]
         assert fc.rule(rows) == {"loading": [0, 1], "unloading": [0, 1], "symmetric": False}, mesh
+    # without the bias moment: the same order, leaning along the ring's mirror plane (45 deg) on both paths, the other
+    # way from the biased ring: the tiny bias picks the side, not the order
+    free = cycles["2"]["r1"]["cycle_unbiased"]
+    assert free["bias"] == 0.0 and not free["stopped"] and free["d_reached"] == pytest.approx(0.0, abs=1e-9)
+    seq, biased = fc.cycle_sequence(free), fc.cycle_sequence(cycles["2"]["r1"]["cycle"])
+    assert (seq["loading"], seq["unloading"], seq["lean_reverses"]) == ([0, 1], [1, 0], False)
+    assert seq["lean_loading_deg"] == pytest.approx(45.0, abs=1.0) == seq["lean_unloading_deg"]
+    assert fc._angle(seq["lean_loading_deg"], biased["lean_loading_deg"]) > 150 and fc.hysteresis(free) < 0.005
     text = fc.cycles_markdown(cycles, raw["combinations"], frame)
     assert "| 2 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text and "| 1 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text
     assert text in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
