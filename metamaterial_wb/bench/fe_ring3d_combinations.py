@@ -344,8 +344,9 @@ def cycles_markdown(cycles, solid, frame=None):
         L += ["", f"Every mixed solid's loading and unloading paths coincide (the largest gap {100 * max(static):.2f} % of "
               "its first peak; the plot below): under displacement control the ring does not snap, its pillars pass "
               "their h back where they passed it, in the reverse order, so its sequence can only be symmetric. The "
-              "seed's asymmetric sequence needs a path with hysteresis, which these solids do not have (the seed's "
-              "FE was dynamic implicit; its two-hysteron reading treats each type as a separate bistable element)."]
+              "seed's asymmetric sequence needs a path with hysteresis, which these solids do not have ("
+              + ("" if gaps["dynamic"] else "the seed's FE was dynamic implicit; ")
+              + "its two-hysteron reading treats each type as a separate bistable element)."]
     for key, mesh, gap, seq in gaps["dynamic"]:
         L += ["", f"By implicit dynamics (the seed's procedure) combination {key}'s mixed solid on r = {mesh[1:]} "
               + f"snaps {order_text(seq)}, its paths {'coinciding' if gap < 0.01 else 'apart'} (the largest gap "

@@ -293,7 +293,14 @@ def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
     assert (seq["loading"], seq["unloading"], seq["lean_reverses"]) == ([0, 1], [1, 0], False)
     assert seq["lean_loading_deg"] == pytest.approx(45.0, abs=1.0) == seq["lean_unloading_deg"]
     assert fc._angle(seq["lean_loading_deg"], biased["lean_loading_deg"]) > 150 and fc.hysteresis(free) < 0.005
+    # by implicit dynamics (the seed's procedure): the same order and lean as the static ring, and no hysteresis
+    dyn = cycles["2"]["r1"]["cycle_dynamic"]
+    assert dyn["method"] == "dynamic" and not dyn["stopped"] and dyn["d_reached"] == pytest.approx(0.0, abs=1e-9)
+    seq = fc.cycle_sequence(dyn)
+    assert (seq["loading"], seq["unloading"], seq["lean_reverses"]) == ([0, 1], [1, 0], False)
+    assert fc._angle(seq["lean_loading_deg"], biased["lean_loading_deg"]) < 5 and fc.hysteresis(dyn) < 0.005
     text = fc.cycles_markdown(cycles, raw["combinations"], frame)
+    assert "| 2 | r = 1, dynamic | [0, 1] \\| [1, 0] (symmetric) |" in text
     assert "| 2 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text and "| 1 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text
     assert text in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
 

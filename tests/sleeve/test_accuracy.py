@@ -157,12 +157,19 @@ def test_the_solids_snapping_orders_quoted_are_the_stored_runs():
             order = fc.solid_rule(rows)
             assert (order["loading"], order["unloading"]) == (rec["loading"], rec["unloading"]), (key, mesh)
         # the mixed ring [0, 0, 1, 1] itself as one solid (``mixed_cycles``): its own order and lean on every mesh
+        # (static; and each other variant stored: by implicit dynamics, without the bias moment)
         runs = _load("fe-ring3d.json")["mixed_cycles"][key]
         for mesh, run in runs.items():
-            seq = fc.cycle_sequence(run["cycle"])
-            assert {k: rec["mixed"][k] for k in ("loading", "unloading", "lean_reverses")} == {
-                "loading": seq["loading"], "unloading": seq["unloading"], "lean_reverses": seq["lean_reverses"]}, mesh
-        assert rec["mixed"]["mesh"] == "r = " + " and ".join(m[1:] for m in sorted(runs))
+            for variant in fc.CYCLE_KEYS.values():
+                if variant not in run:
+                    continue
+                seq = fc.cycle_sequence(run[variant])
+                assert {k: rec["mixed"][k] for k in ("loading", "unloading", "lean_reverses")} == {
+                    "loading": seq["loading"], "unloading": seq["unloading"],
+                    "lean_reverses": seq["lean_reverses"]}, (mesh, variant)
+        dyn = [m[1:] for m in sorted(runs) if "cycle_dynamic" in runs[m]]
+        assert rec["mixed"]["mesh"] == ("r = " + " and ".join(m[1:] for m in sorted(runs) if "cycle" in runs[m])
+                                        + (f"; r = {' and '.join(dyn)} by implicit dynamics too" if dyn else ""))
 
 
 def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
@@ -174,14 +181,15 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     note = acc.solid_order_note(two, 4, {"loading": [1, 0], "unloading": [1, 0]})
     assert "type 1's first peak +1.76 +- 0.34 % and its valley -3.85 +- 0.10 % against type 0's" in note
     assert "loading [0, 1], unloading [0, 1] (asymmetric)" in note and "they differ" in note
-    assert ("the mixed ring [0, 0, 1, 1] itself as one curved solid (r = 1 and 2) snaps loading [0, 1], unloading [1, 0] "
+    assert ("the mixed ring [0, 0, 1, 1] itself as one curved solid (r = 1 and 2; r = 1 by implicit dynamics too) "
+            "snaps loading [0, 1], unloading [1, 0] "
             "(symmetric), leaning the same way on both") in note
     assert "on the curved solid and on the 3-D frame the seed's mixed combination 2 is symmetric" in note
     assert "four cells around" not in note
     rev = acc.solid_order_note(two[::-1], 8, {"loading": [1, 0], "unloading": [1, 0]})
     assert "type 0's first peak +1.76 +- 0.34 %" in rev and "against type 1's" in rev
     assert "loading [1, 0], unloading [1, 0] (asymmetric)" in rev and "the same" in rev
-    assert "the mixed ring [1, 1, 0, 0] itself as one curved solid (r = 1 and 2) snaps loading [1, 0], unloading [0, 1]" in rev
+    assert "the mixed ring [1, 1, 0, 0] itself as one curved solid (r = 1 and 2; r = 1 by implicit dynamics too) snaps loading [1, 0], unloading [0, 1]" in rev
     assert "(measured with four cells around, this sleeve has 8)" in rev
     one = acc.solid_order_note(combination_cells("1"), 4, {"loading": [0, 1], "unloading": [1, 0]})
     assert "first peak +22.32 +- 0.27 %" in one and "loading [0, 1], unloading [1, 0] (symmetric)" in one and "the same" in one

@@ -174,12 +174,13 @@ def frame_walker_note(frame_cycle, model_cycle):
 # solids (every brick C3D20): the two-hysteron order on their first peaks and valleys (loading by rising P1,
 # unloading by falling valley) and type 1's differences from type 0, per cent; both extrapolated over
 # three meshes (+- their errors) (benchmarks/results/fe-ring3d.json, "combinations"), and the mixed ring [0, 0, 1, 1]
-# of the two types itself as one curved solid, loaded and unloaded ("mixed_cycles"; tests/sleeve/test_accuracy.py)
+# of the two types itself as one curved solid, loaded and unloaded, static and by implicit dynamics ("mixed_cycles";
+# tests/sleeve/test_accuracy.py)
 SOLID_ORDERS = {
     ((1.098, 7.092), (1.098, 7.488)): {"loading": [0, 1], "unloading": [0, 1], "P1": (1.76, 0.34),
                                        "valley": (-3.85, 0.10), "mesh": "extrapolated over three meshes",
                                        "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
-                                                 "mesh": "r = 1 and 2"}},
+                                                 "mesh": "r = 1 and 2; r = 1 by implicit dynamics too"}},
     ((0.99, 6.696), (1.17, 6.696)): {"loading": [0, 1], "unloading": [1, 0], "P1": (22.32, 0.27),
                                      "valley": (98.17, 2.08), "mesh": "extrapolated over three meshes",
                                      "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
