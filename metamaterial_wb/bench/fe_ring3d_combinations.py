@@ -362,8 +362,8 @@ def cycles_markdown(cycles, solid, frame=None):
               + (f" ({seq['lean_loading_deg']:.0f} / {seq['lean_unloading_deg']:.0f} deg)"
                  if seq["lean_loading_deg"] is not None and seq["lean_unloading_deg"] is not None else "")
               + (": the bias does not decide the lean." if same and turned is not None and turned < 20 else
-                 ": the tiny bias picks which way the mixed ring leans, not its order; either way the lean stays the "
-                 "same on both paths." if same and turned is not None and turned > 150 and not seq["lean_reverses"]
+                 f": the small bias ({BIAS:g} G L^2 R) picks which way the mixed ring leans, not its order; either "
+                 "way the lean stays the same on both paths." if same and turned is not None and turned > 150 and not seq["lean_reverses"]
                  and not biased["lean_reverses"] else ".")]
     if means:
         worst = max(abs(v) for m in means for v in m)

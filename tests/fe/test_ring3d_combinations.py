@@ -247,8 +247,9 @@ def test_cycles_markdown_compares_an_unbiased_cycle_with_the_biased_one():
             "deg): the bias does not decide the lean.") in text
     flipped = _cycle({0: 2, 1: 4}, {0: 4, 1: 2}, lean_up=(-1e-3, 0.0), lean_down=(-1e-3, 0.0))
     text = fc.cycles_markdown({"2": {"r1": {"cycle": biased, "cycle_unbiased": flipped}}}, {})
-    assert ("as with it, leaning 180 deg from where it leant with it (90 / 90 deg): the tiny bias picks which way the "
-            "mixed ring leans, not its order; either way the lean stays the same on both paths.") in text
+    assert ("as with it, leaning 180 deg from where it leant with it (90 / 90 deg): the small bias (1e-05 G L^2 R) "
+            "picks which way the mixed ring leans, not its order; either way the lean stays the same on both "
+            "paths.") in text
     other = _cycle({0: 2, 1: 4}, {0: 2, 1: 4}, lean_up=(-1e-3, 0.0), lean_down=(1e-3, 0.0))
     text = fc.cycles_markdown({"2": {"r1": {"cycle": biased, "cycle_unbiased": other}}}, {})
     assert "(asymmetric), unlike its order with it, leaning 180 deg from where it leant with it (90 / -90 deg)." in text
