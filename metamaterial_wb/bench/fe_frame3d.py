@@ -26,6 +26,9 @@ SOLID_MESHES = tuple(f"r{r}" for r, _ in CONVERGED_MESHES)
 # nested with ratio 2. Its r = 1 mesh is not yet in the asymptotic range: over r = 1, 2, 3 its observed order was
 # 0.56 and its extrapolation 3.5 % under the one over r = 2, 4, 8 (order 1.24, about the re-entrant corners')
 FLAT_MESHES = ("r2", "r4", "r8")
+# bench_sleeve_ring3d.py --cells-meshes r4: a fourth curved mesh, the reference's check (the curved extrapolation
+# over r = 2, 3, 4 against the one over SOLID_MESHES)
+CHECK_MESHES = ("r2", "r3", "r4")
 
 
 def solid_extrapolated(row):
@@ -34,19 +37,22 @@ def solid_extrapolated(row):
     [...], "flat_meshes": [...], "seconds": [...]}`` from a ``cells`` row (``bench_sleeve_ring3d.py --cells-meshes``
     and ``--cells-flat``): curved every brick C3D20, one brick through the wall, over ``SOLID_MESHES``; flat the
     plane-strain 2-D ring over ``FLAT_MESHES`` (``"flat_coarse"``: over ``SOLID_MESHES``, pre-asymptotic); None
-    until every mesh is stored."""
+    until every mesh is stored. ``"curved_check"``: the curved over ``CHECK_MESHES`` where stored (else None)."""
     from metamaterial_wb.core.extrapolation import richardson3
-    keys = {"curved": [f"c3d20_{m}_fe_curved" for m in SOLID_MESHES],
-            "flat": [f"{m}_fe_flat" for m in FLAT_MESHES], "flat_coarse": [f"{m}_fe_flat" for m in SOLID_MESHES]}
-    meshes = {"curved": SOLID_MESHES, "flat": FLAT_MESHES, "flat_coarse": SOLID_MESHES}
-    if not all(k in row for ks in keys.values() for k in ks):
+    meshes = {"curved": SOLID_MESHES, "flat": FLAT_MESHES, "flat_coarse": SOLID_MESHES, "curved_check": CHECK_MESHES}
+    keys = {side: [(f"c3d20_{m}_fe_curved" if side.startswith("curved") else f"{m}_fe_flat") for m in ms]
+            for side, ms in meshes.items()}
+    if not all(k in row for side, ks in keys.items() for k in ks if side != "curved_check"):
         return None
+    if not all(k in row for k in keys["curved_check"]):
+        del keys["curved_check"]
     out = {}
     for side, ks in keys.items():
         v = [row[k] for k in ks]
         ext, err, order = richardson3([1.0 / int(m[1:]) for m in meshes[side]], v)
         out[side] = (ext[0], err[0], order[0])
         out[f"{side}_meshes"] = v
+    out.setdefault("curved_check", None)
     out["seconds"] = [row[f"c3d20_{m}_fe_curved_wall_s"] for m in SOLID_MESHES]
     return out
 

@@ -228,7 +228,24 @@ def cells_meshes_markdown(rows):
             f". The table's coarse curved mesh is {_span(coarse)} % off the extrapolated "
             f"solid, its flat one {_span(flat)} %, so the "
             f"knock-down curved / flat moves by at most {knock:.2f}; the ratios against the extrapolated solid, with their error, are the ones the `sleeve` "
-            "command quotes (`core/sleeve/accuracy.py`).")
+            "command quotes (`core/sleeve/accuracy.py`)." + check_note(ext))
+
+
+def check_note(ext):
+    """The curved reference's check on a fourth mesh (``solid_extrapolated``'s ``"curved_check"``, over r = 2, 3, 4)
+    as a sentence, "" until every size has it."""
+    checks = [(n, x["curved"], x["curved_check"]) for n, _, x in ext]
+    if not all(c for _, _, c in checks):
+        return ""
+    off = [100 * (c[0] / ref[0] - 1) for _, ref, c in checks]
+    inside = all(abs(c[0] - ref[0]) <= ref[1] for _, ref, c in checks)
+    return (" A fourth curved mesh checks the reference (`--cells-meshes r4`, "
+            + ", ".join(f"{n} cells: r = 4 {1e3 * x['curved_check_meshes'][-1]:.2f}" for n, _, x in ext)
+            + "): over r = 2, 3, 4 the curved stiffness extrapolates to "
+            + ", ".join(f"{1e3 * c[0]:.2f} +- {1e3 * c[1]:.2f} (order {c[2]:.2f})" for _, _, c in checks)
+            + f", {_span(off, '+.1f')} % off the extrapolation over r = 1, 2, 3, "
+            + ("inside its error at every size (the error bars hold)." if inside else
+               "outside its error at some size."))
 
 
 def cells_variant_line(n, v, pre):

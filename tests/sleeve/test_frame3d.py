@@ -318,6 +318,11 @@ def test_solid_stiffness_extrapolated_over_its_meshes_recovers_a_known_limit():
     assert x["curved"][1] == pytest.approx(0.002 / 3 ** 1.5, rel=1e-6)      # the error: the finest mesh's distance
     for gone in ("r8_fe_flat", "r1_fe_flat"):
         assert solid_extrapolated({k: v for k, v in row.items() if k != gone}) is None
+    assert x["curved_check"] is None                                       # no fourth curved mesh stored
+    row["c3d20_r4_fe_curved"] = 0.015 + 0.002 * 0.25 ** 1.5
+    check = solid_extrapolated(row)["curved_check"]                        # over r = 2, 3, 4
+    assert check[0] == pytest.approx(0.015, rel=1e-9) and check[2] == pytest.approx(1.5, rel=1e-6)
+    assert check[1] == pytest.approx(0.002 / 4 ** 1.5, rel=1e-6)
 
 
 def test_the_frames_curved_stiffness_against_the_solid_extrapolated_in_its_mesh():
@@ -335,6 +340,10 @@ def test_the_frames_curved_stiffness_against_the_solid_extrapolated_in_its_mesh(
         # r = 1, 2, 3 it looked like order 0.56 and extrapolated 3-4 % too low: r = 1 is pre-asymptotic
         assert 1.0 < x["flat"][2] < 1.5 and x["flat"][1] < 0.01 * x["flat"][0], n
         assert x["flat_coarse"][2] < 0.7 and -0.05 < x["flat_coarse"][0] / x["flat"][0] - 1 < -0.02, n
+        # a fourth curved mesh (r = 4): over r = 2, 3, 4 the curved reference lands inside its error over r = 1, 2, 3
+        check = x["curved_check"]
+        assert abs(check[0] - x["curved"][0]) <= x["curved"][1] and check[1] < x["curved"][1], n
+        assert row["c3d20_r4_fe_curved"] < row["c3d20_r3_fe_curved"], n
         assert 0.05 < row["fe_curved"] / x["curved"][0] - 1 < 0.12, n
         frame = RingFrame(g, int(n), plane="stress", root_extension=0.63).axial_stiffness()
         assert abs(frame / x["curved"][0] - 1) < 0.12, (n, frame, x["curved"])
