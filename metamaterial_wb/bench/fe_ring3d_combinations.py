@@ -157,21 +157,24 @@ def mixed_study(runs=(("2", "r1"),), workers=2, timeout_s=7200.0, done=None):
     at the mixed ring's flat top (``solid_ring(top=...)``: with the taller type's stored uniform ring, the
     two-hysteron rule for the cells as they stand in the mixed ring), ``workers`` ccx runs at a time.
     ``done(key, mesh, what, result)`` as each ends (``what``: "raised" or the variant's ``CYCLE_KEYS``)."""
-    runs = [tuple(run) + ("static",) * (3 - len(run)) for run in runs]
+    full = []
     for run in runs:
-        if len(run) != 3 or run[0] not in SEED_COMBINATIONS or run[1] not in MESH_R or run[2] not in CYCLE_KEYS:
+        run = tuple(run)
+        key, mesh, variant = run + ("static",) if len(run) == 2 else run if len(run) == 3 else (None,) * 3
+        if key not in SEED_COMBINATIONS or mesh not in MESH_R or variant not in CYCLE_KEYS:
             raise ValueError(f"run {run!r}; allowed: a combination of {sorted(SEED_COMBINATIONS)} on a mesh of "
                              f"{sorted(MESH_R)}, as a variant of {sorted(CYCLE_KEYS)} (default static)")
+        full.append((key, mesh, variant))
     out = {}
     with concurrent.futures.ThreadPoolExecutor(workers) as pool:
         futures = {}
-        for key, mesh, method in runs:
+        for key, mesh, variant in full:
             types = combination_cells(key)
             short = types[shorter(key)]
             top = max(g.height for g in types)
-            futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s, **VARIANTS[method])] = \
-                (key, mesh, CYCLE_KEYS[method])
-            if top > short.height and method == "static":
+            futures[pool.submit(solid_cycle, key, MESH_R[mesh], timeout_s=timeout_s, **VARIANTS[variant])] = \
+                (key, mesh, CYCLE_KEYS[variant])
+            if top > short.height and variant == "static":
                 futures[pool.submit(solid_ring, short, MESH_R[mesh], timeout_s=timeout_s, top=top)] = \
                     (key, mesh, "raised")
         for f in concurrent.futures.as_completed(futures):
@@ -303,10 +306,10 @@ def cycles_markdown(cycles, solid, frame=None):
          "|---|---|---|---|---|---|---|---|---|---|"]
     rows, gaps, means, unbiased = 0, {m: [] for m in CYCLE_KEYS}, [], []
     for key in sorted(cycles):
-        for mesh, method in ((m, x) for m in sorted(cycles[key]) for x in CYCLE_KEYS):
+        for mesh, variant in ((m, x) for m in sorted(cycles[key]) for x in CYCLE_KEYS):
             run = cycles[key][mesh]
-            cyc = run.get(CYCLE_KEYS[method])
-            if method != "static" and not cyc:
+            cyc = run.get(CYCLE_KEYS[variant])
+            if variant != "static" and not cyc:
                 continue
             seq = cycle_sequence(cyc) if cyc else None
             if cyc and seq is None:
@@ -327,15 +330,15 @@ def cycles_markdown(cycles, solid, frame=None):
                     if seq:
                         means.append(against_mean(cyc, rows_))
                         mean_text = "{:+.1f} %, {:+.1f} %".format(*(100 * v for v in means[-1]))
-            secs = " + ".join(f"{r['wall_s'] / 60:.0f}" for r in (cyc, raised if method == "static" else None) if r)
+            secs = " + ".join(f"{r['wall_s'] / 60:.0f}" for r in (cyc, raised if variant == "static" else None) if r)
             fl = frame.get(key, {}).get("flat_top")
             fl_text = (order_text(fl) + (", lean reverses" if fl["lean_reverses"] else ", lean the same way")
                        if fl and "loading" in fl else "-")
             gap = hysteresis(cyc) if seq else None
-            gaps[method] += [(key, mesh, gap, seq)] if gap is not None else []
-            if method == "unbiased" and seq and run.get("cycle") and cycle_sequence(run["cycle"]):
+            gaps[variant] += [(key, mesh, gap, seq)] if gap is not None else []
+            if variant == "unbiased" and seq and run.get("cycle") and cycle_sequence(run["cycle"]):
                 unbiased.append((key, mesh, seq, cycle_sequence(run["cycle"])))
-            L.append(f"| {key} | r = {mesh[1:]}{'' if method == 'static' else ', ' + method} | {text} | {lean} | "
+            L.append(f"| {key} | r = {mesh[1:]}{'' if variant == 'static' else ', ' + variant} | {text} | {lean} | "
                      + (f"{100 * gap:.2f} %" if gap is not None else "-") + f" | {mean_text} | {rule_text} | {fl_text} | "
                      f"{order_text(seed_order(key))} | {secs} min |")
             rows += 1

@@ -98,6 +98,8 @@ def test_mixed_study_runs_each_method_and_stores_it_apart(monkeypatch):
     for bad in ((("2", "r1", "explicit"),), (("2",),), (("2", "r1", "static", "x"),), (("2", "r1"), ("4", "r1"))):
         with pytest.raises(ValueError, match=allowed):
             fc.mixed_study(bad)
+    with pytest.raises(ValueError, match=r"run \('2',\); allowed"):                   # the run as given
+        fc.mixed_study((("2",),))
     assert calls == []
     got = []
     out = fc.mixed_study((("2", "r1", "dynamic"), ("1", "r2")), done=lambda *a: got.append(a[:3]))
