@@ -162,3 +162,16 @@ def test_tiny_mixed_cycle_comes_back_and_lies_between_its_uniform_rings():
                                      top=b.height)
         uniform.append(u["F"][-1] / u["d"][-1])
     assert min(uniform) < stiff < max(uniform)
+
+
+def test_a_bad_bias_is_refused_with_its_allowed_range():
+    """The plate's bias moment is an imperfection: a non-finite, negative or ring-sized one (above 1e-3 G L^2 R, the
+    ring's first peak force times its radius) is refused before any deck is written, as a non-finite direction."""
+    cells = _mixed("2")
+    for bad in (float("nan"), -1e-5, 2e-3, float("inf")):
+        with pytest.raises(ValueError, match=r"bias: .*; allowed: 0 to 0.001 \(G L\^2"):
+            sleeve3d.ring_deck3d(cells, 4, 1, 1, bias=bad)
+    with pytest.raises(ValueError, match=r"bias_angle: inf; allowed: a finite number"):
+        sleeve3d.ring_deck3d(cells, 4, 1, 1, bias_angle=float("inf"))
+    deck, meta = sleeve3d.ring_deck3d(cells, 4, 1, 1, bias=0.0)
+    assert "*CLOAD" not in deck and meta["bias"] == 0.0
