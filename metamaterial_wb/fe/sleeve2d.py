@@ -345,9 +345,24 @@ def cell_deck(g, r=1, d_max=None, increments=100, full_near=0.0, full_low=False)
 DRV, TILT = 9000001, 9000002
 
 
+BIAS_MAX = 1e-3      # G L^2: the largest tilt bias a ring deck takes, about the ring's first peak force
+
+
+def check_bias(bias, bias_angle, what="a force bias L^2"):
+    """Refuse a tilt bias that is not an imperfection: ``bias`` (G L^2; ``what`` it is in the deck) outside 0 to
+    ``BIAS_MAX`` or not a number, or a non-finite ``bias_angle`` (in pi / n_cells)."""
+    if not 0.0 <= bias <= BIAS_MAX:          # False for NaN too
+        raise ValueError(f"bias: {bias!r}; allowed: 0 to {BIAS_MAX:g} (G L^2; {what}, an imperfection: {BIAS_MAX:g} "
+                         "is about the ring's first peak; reverse it by bias_angle)")
+    if not math.isfinite(bias_angle):
+        raise ValueError(f"bias_angle: {bias_angle!r}; allowed: a finite number (in pi / n_cells)")
+
+
 def ring_deck(g, n_cells=4, r=1, d_max=None, increments=60, bias=1e-5, bias_angle=0.5):
     """``(deck, meta)``: ``n_cells`` cells unrolled into a closed ring under a tilting top plate (see the
-    module docstring); ``bias``: the tilt bias force in ``G L^2`` (towards ``bias_angle * pi / N``)."""
+    module docstring); ``bias``: the tilt bias force in ``G L^2`` (towards ``bias_angle * pi / N``;
+    ``check_bias``)."""
+    check_bias(bias, bias_angle)
     mesh = cell_mesh(g, r, n_cells)
     R = n_cells * g.width / (2 * math.pi)
     d_max = 0.25 * g.L if d_max is None else float(d_max)

@@ -238,9 +238,6 @@ def _checked(n_cells, r, n_layers):
     return out
 
 
-BIAS_MAX = 1e-3      # G L^2: the largest bias moment (over L^2 R) ring_deck3d takes, about the ring's first peak
-
-
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
                 radial="free", method="static", element="C3D20R", patient=False, stability=0, shapes=False,
                 imperfection=None, full_near=0.0, print_all=False, full_low=False, watch=None, unload=False,
@@ -295,11 +292,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         raise ValueError(f"full_near: {full_near!r} mm; allowed: 0 (none) to L/2 = {0.5 * g.L:g} mm")
     if not increments >= 1:
         raise ValueError(f"increments: {increments!r}; allowed: an integer >= 1")
-    if not 0.0 <= bias <= BIAS_MAX:          # False for NaN too
-        raise ValueError(f"bias: {bias!r}; allowed: 0 to {BIAS_MAX:g} (G L^2; a moment bias L^2 R, an imperfection: "
-                         f"{BIAS_MAX:g} is the ring's first peak force times its radius; reverse it by bias_angle)")
-    if not math.isfinite(bias_angle):
-        raise ValueError(f"bias_angle: {bias_angle!r}; allowed: a finite number (in pi / n_cells)")
+    sleeve2d.check_bias(bias, bias_angle, "a moment bias L^2 R")
     d_max = 0.25 * g.L if d_max is None else float(d_max)
     if not 0 < d_max <= 1.5 * g.L:
         raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 1.5 L = {1.5 * g.L:g} mm")

@@ -175,3 +175,5 @@ def test_a_bad_bias_is_refused_with_its_allowed_range():
         sleeve3d.ring_deck3d(cells, 4, 1, 1, bias_angle=float("inf"))
     deck, meta = sleeve3d.ring_deck3d(cells, 4, 1, 1, bias=0.0)
     assert "*CLOAD" not in deck and meta["bias"] == 0.0
+    with pytest.raises(ValueError, match=r"bias: nan; allowed: 0 to 0.001 \(G L\^2; a force bias"):   # the flat ring
+        sleeve2d.ring_deck(cells[0], 4, 1, bias=float("nan"))
