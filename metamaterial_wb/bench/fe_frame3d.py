@@ -39,20 +39,24 @@ def solid_extrapolated(row):
     plane-strain 2-D ring over ``FLAT_MESHES`` (``"flat_coarse"``: over ``SOLID_MESHES``, pre-asymptotic); None
     until every mesh is stored. ``"curved_check"``: the curved over ``CHECK_MESHES`` where stored (else None)."""
     from metamaterial_wb.core.extrapolation import richardson3
-    meshes = {"curved": SOLID_MESHES, "flat": FLAT_MESHES, "flat_coarse": SOLID_MESHES, "curved_check": CHECK_MESHES}
-    keys = {side: [(f"c3d20_{m}_fe_curved" if side.startswith("curved") else f"{m}_fe_flat") for m in ms]
-            for side, ms in meshes.items()}
-    if not all(k in row for side, ks in keys.items() for k in ks if side != "curved_check"):
+
+    def over(meshes, key):
+        """``((value, error, order), values)`` over ``meshes`` of the row's ``key`` fields, None if one is missing."""
+        names = [key.format(m) for m in meshes]
+        if not all(k in row for k in names):
+            return None
+        v = [row[k] for k in names]
+        ext, err, order = richardson3([1.0 / int(m[1:]) for m in meshes], v)
+        return (ext[0], err[0], order[0]), v
+    curved, flat = "c3d20_{}_fe_curved", "{}_fe_flat"
+    sides = {"curved": over(SOLID_MESHES, curved), "flat": over(FLAT_MESHES, flat),
+             "flat_coarse": over(SOLID_MESHES, flat), "curved_check": over(CHECK_MESHES, curved)}
+    if not all(sides[s] for s in ("curved", "flat", "flat_coarse")):
         return None
-    if not all(k in row for k in keys["curved_check"]):
-        del keys["curved_check"]
-    out = {}
-    for side, ks in keys.items():
-        v = [row[k] for k in ks]
-        ext, err, order = richardson3([1.0 / int(m[1:]) for m in meshes[side]], v)
-        out[side] = (ext[0], err[0], order[0])
-        out[f"{side}_meshes"] = v
-    out.setdefault("curved_check", None)
+    out = {"curved_check": None}
+    for side, got in sides.items():
+        if got:
+            out[side], out[f"{side}_meshes"] = got
     out["seconds"] = [row[f"c3d20_{m}_fe_curved_wall_s"] for m in SOLID_MESHES]
     return out
 

@@ -336,8 +336,9 @@ def cycles_markdown(cycles, solid, frame=None):
                        if fl and "loading" in fl else "-")
             gap = hysteresis(cyc) if seq else None
             gaps[variant] += [(key, mesh, gap, seq)] if gap is not None else []
-            if variant == "unbiased" and seq and run.get("cycle") and cycle_sequence(run["cycle"]):
-                unbiased.append((key, mesh, seq, cycle_sequence(run["cycle"])))
+            biased = cycle_sequence(run["cycle"]) if variant == "unbiased" and seq and run.get("cycle") else None
+            if biased:
+                unbiased.append((key, mesh, seq, biased))
             L.append(f"| {key} | r = {mesh[1:]}{'' if variant == 'static' else ', ' + variant} | {text} | {lean} | "
                      + (f"{100 * gap:.2f} %" if gap is not None else "-") + f" | {mean_text} | {rule_text} | {fl_text} | "
                      f"{order_text(seed_order(key))} | {secs} min |")
@@ -364,10 +365,7 @@ def cycles_markdown(cycles, solid, frame=None):
               + (f"{turned:.0f} deg from where it leant with it" if turned is not None else "-")
               + (f" ({seq['lean_loading_deg']:.0f} / {seq['lean_unloading_deg']:.0f} deg)"
                  if seq["lean_loading_deg"] is not None and seq["lean_unloading_deg"] is not None else "")
-              + (": the bias does not decide the lean." if same and turned is not None and turned < 20 else
-                 f": the small bias ({BIAS:g} G L^2 R) picks which way the mixed ring leans, not its order; either "
-                 "way the lean stays the same on both paths." if same and turned is not None and turned > 150 and not seq["lean_reverses"]
-                 and not biased["lean_reverses"] else ".")]
+              + _bias_verdict(same, turned, seq, biased)]
     if means:
         worst = max(abs(v) for m in means for v in m)
         L += ["", f"Each mixed solid's first peak and valley lie within {100 * worst:.1f} % of the mean of its two types' "
@@ -375,6 +373,19 @@ def cycles_markdown(cycles, solid, frame=None):
               "mixed ring took the first type's peak and the other type's valley (its two-hysteron reading)."]
     L += ["", f"![the seed's mixed rings on the solid: force and each pillar's rise beyond h]({IMG_CYCLES})"]
     return "\n".join(L + [""]) if rows else ""
+
+
+def _bias_verdict(same, turned, seq, biased):
+    """How the unbiased mixed ring's order and lean (``seq``) stand against the biased one's (``biased``; ``same``
+    order, the leans ``turned`` degrees apart): the sentence's ending."""
+    if not same or turned is None:
+        return "."
+    if turned < 20:
+        return ": the bias does not decide the lean."
+    if turned > 150 and not seq["lean_reverses"] and not biased["lean_reverses"]:
+        return (f": the small bias ({BIAS:g} G L^2 R) picks which way the mixed ring leans, not its order; either way "
+                "the lean stays the same on both paths.")
+    return "."
 
 
 def _angle(a, b):
