@@ -324,9 +324,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
            ("*NSET, NSET=SHAPE\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if shapes else ""),
            ("*NSET, NSET=ALLN\n" + ccx.fmt_set(np.arange(1, mesh.n_nodes + 1)) if print_all else ""),
            ("*NSET, NSET=WATCH\n" + ccx.fmt_set(watch + 1) if watch is not None else ""),
-           "*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO),
-           ("*DENSITY\n%.3g\n" % DENSITY if method == "dynamic" or stability else ""),
-           "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n",
+           material_text(method == "dynamic" or stability),
            ("*SOLID SECTION, ELSET=SOLIDF, MATERIAL=RUBBER\n" if full.size else ""),
            f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n"]
     if radial != "free":
@@ -334,26 +332,16 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         held[np.concatenate([bottom, top])] = False
         inner = np.flatnonzero(held)
         out += ["*NSET, NSET=WALL\n", ccx.fmt_set(inner + 1), "*TRANSFORM, NSET=WALL, TYPE=C\n0,0,0,0,0,1\n"]
-    inc = 1.0 / int(increments)
-    amp = ", AMPLITUDE=UPDOWN" if unload else ", AMPLITUDE=RAMP" if method == "dynamic" else ""
-    if method == "dynamic" and not unload:
-        out.append("*AMPLITUDE, NAME=RAMP\n0,0,1,1\n")
-    if unload:           # up over the step's first unit of time, back down over its second; the bias held
-        out.append("*AMPLITUDE, NAME=UPDOWN\n0,0,1,1,2,0\n*AMPLITUDE, NAME=HOLD\n0,0,1,1,2,1\n")
+    amp, amp_text = amplitudes(method, unload)
+    out.append(amp_text)
     bc = f"*BOUNDARY{amp}\nBOTTOM,1,3,0\n{REF},1,2,0\n{REF},3,3,{d_max:.12g}\n"
     if radial != "free":
         bc += "WALL,1,1,0\n"
-    m = bias * g.L ** 2 * mesh.radius
-    phi_b = bias_angle * math.pi / n_cells
-    if m:
-        bc += f"*CLOAD{', AMPLITUDE=HOLD' if unload else amp}\n{ROT},1,{m * math.sin(phi_b):.12g}\n{ROT},2,{-m * math.cos(phi_b):.12g}\n"
-    proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
+    bc += bias_text(bias * g.L ** 2 * mesh.radius, bias_angle * math.pi / n_cells, amp, unload)
     prints = ("*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NROT\nU\n"
               + ("*NODE PRINT, NSET=ALLN\nU\n" if print_all else "")
               + ("*NODE PRINT, NSET=WATCH\nU\n" if watch is not None else ""))
-    out.append(f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},{2.0 if unload else 1.0},{inc / 1e4:.6g},{inc:.6g}\n"
-               + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "")
-               + bc + prints + "*END STEP\n")
+    out.append(step_text(method, unload, increments, patient, bc + prints))
     if stability:
         out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n"
                    + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
@@ -364,6 +352,45 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
             "full_near": float(full_near), "full_low": bool(full_low), "full_elements": int(full.size),
             "unload": bool(unload), "top_mm": mesh.height}
     return "".join(out), meta
+
+
+def material_text(dense):
+    """The neo-Hooke rubber (``sleeve2d.BULK_RATIO``) of element set ``SOLID``, with the small density ``DENSITY``
+    when ``dense`` (implicit dynamics, or a ``*FREQUENCY`` step)."""
+    return ("*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n0.5,%.9g\n" % (2.0 / sleeve2d.BULK_RATIO)
+            + ("*DENSITY\n%.3g\n" % DENSITY if dense else "") + "*SOLID SECTION, ELSET=SOLID, MATERIAL=RUBBER\n")
+
+
+def amplitudes(method, unload):
+    """``(suffix, cards)``: the amplitude the plate's rise follows (``", AMPLITUDE=..."`` or none) and the
+    ``*AMPLITUDE`` cards it needs. ``unload``: up over the step's first unit of time, back down over its second
+    (``UPDOWN``), the bias held (``HOLD``); else static ramps by default and dynamics along ``RAMP``."""
+    if unload:
+        return ", AMPLITUDE=UPDOWN", "*AMPLITUDE, NAME=UPDOWN\n0,0,1,1,2,0\n*AMPLITUDE, NAME=HOLD\n0,0,1,1,2,1\n"
+    if method == "dynamic":
+        return ", AMPLITUDE=RAMP", "*AMPLITUDE, NAME=RAMP\n0,0,1,1\n"
+    return "", ""
+
+
+def bias_text(moment, phi, amp, unload, node=ROT):
+    """The tilt bias: a moment ``moment`` (N mm) on the plate's rotation node ``node`` about the axis at the angle
+    ``phi`` + 90 deg (it raises the plate's side at ``phi``), along the rise's amplitude ``amp`` (``amplitudes``) or
+    held after the loading (``unload``); none for a zero moment."""
+    if not moment:
+        return ""
+    return (f"*CLOAD{', AMPLITUDE=HOLD' if unload else amp}\n{node},1,{moment * math.sin(phi):.12g}\n"
+            f"{node},2,{-moment * math.cos(phi):.12g}\n")
+
+
+def step_text(method, unload, increments, patient, body):
+    """One nonlinear ``*STEP`` (static or implicit dynamics, HHT ``ALPHA=-0.3``) of time 1, or 2 with ``unload``,
+    in ``increments`` per unit of time at most (down to 1e-4 of one), ``patient`` Newton (``ring_deck3d``), with
+    ``body`` (boundary conditions, loads, prints)."""
+    inc = 1.0 / int(increments)
+    proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
+    return (f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},{2.0 if unload else 1.0},{inc / 1e4:.6g},{inc:.6g}\n"
+            + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "")
+            + body + "*END STEP\n")
 
 
 def _element_text(mesh, element, full_ids):
