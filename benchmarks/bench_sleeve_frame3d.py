@@ -65,7 +65,7 @@ def main(argv=None):
         s["sequence"] = fe_frame3d_plate.sequence_study()
     elif os.path.exists(old):
         s["sequence"] = json.load(open(old)).get("sequence")
-    from metamaterial_wb.bench import fe_frame3d_stack, fe_ring3d_combinations
+    from metamaterial_wb.bench import fe_frame3d_stack, fe_ring3d_combinations, fe_ring3d_stack
     if a.stacked:
         s["stacked"] = fe_frame3d_stack.stacked_study()
     elif os.path.exists(old):
@@ -76,12 +76,17 @@ def main(argv=None):
                                   ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []) +
                                   ([fe_frame3d_stack.stacked_markdown(s["stacked"], s.get("sequence") or {})]
                                    if s.get("stacked") else []) +
-                                  ([fe_ring3d_combinations.solid_markdown(raw["combinations"], s.get("sequence") or {})]
+                                  ([fe_ring3d_combinations.solid_markdown(raw["combinations"], s.get("sequence") or {},
+                                                                          stacked=bool(raw.get("stacked_solid")))]
                                    if raw.get("combinations") else []) +
                                   ([fe_ring3d_combinations.cycles_markdown(raw["mixed_cycles"],
                                                                            raw.get("combinations", {}),
                                                                            s.get("sequence") or {})]
-                                   if raw.get("mixed_cycles") else []))
+                                   if raw.get("mixed_cycles") else []) +
+                                  ([fe_ring3d_stack.stacked_solid_markdown(raw["stacked_solid"],
+                                                                           raw.get("combinations", {}),
+                                                                           s.get("stacked") or {})]
+                                   if raw.get("stacked_solid") else []))
     print(section)
     if not a.no_write:
         write_atomic(os.path.join(RESULTS, "frame3d.json"), json.dumps(s, indent=1))
@@ -99,6 +104,8 @@ def main(argv=None):
         if raw.get("mixed_cycles"):
             fe_ring3d_combinations.plot_cycles(raw["mixed_cycles"],
                                                os.path.join(ROOT, "docs", fe_ring3d_combinations.IMG_CYCLES))
+        if raw.get("stacked_solid", {}).get("2", {}).get("r1", {}).get("unloading"):
+            fe_ring3d_stack.plot(raw["stacked_solid"], os.path.join(ROOT, "docs", fe_ring3d_stack.IMG))
         print("wrote benchmarks/results/frame3d.json and docs/sleeves.md")
 
 

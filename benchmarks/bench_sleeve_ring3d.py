@@ -442,6 +442,10 @@ def main(argv=None):
                     "raised to d/L 0.7 and lowered back, static (and the shorter type's uniform ring at its flat top), "
                     "by implicit dynamics, or static without the plate's bias moment; stored under 'mixed_cycles' as "
                     "each ends")
+    ap.add_argument("--stacked-solid", default=None, help="comma list of <combination>:<mesh> (mesh r1, r2 or r3): "
+                    "the seed's two types as two stacked uniform rings on the solid (ccx, every brick C3D20, a free "
+                    "plate between them), raised to d/L 1.4 and lowered back by implicit dynamics; stored under "
+                    "'stacked_solid' as each ends")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.p1_element == "C3D20" and a.p1_full_near:
@@ -514,6 +518,17 @@ def main(argv=None):
                   f"{row['stopped']}", flush=True)
             _store("mixed_cycles", data)
         mixed_study([tuple(v.split(":")) for v in a.mixed_cycles.split(",")], timeout_s=a.timeout, done=done_cycle)
+    if a.stacked_solid:
+        from metamaterial_wb.bench.fe_ring3d_stack import stacked_solid_study
+
+        def done_stack(key, mesh, run):
+            data = _load().get("stacked_solid", {})
+            data.setdefault(key, {})[mesh] = run
+            print(f"stacked combination {key} {mesh}: {run['wall_s']:.0f} s, d/L {run['d_reached']:.3f} "
+                  f"{run['stopped']}", flush=True)
+            _store("stacked_solid", data)
+        stacked_solid_study([tuple(v.split(":")) for v in a.stacked_solid.split(",")], timeout_s=a.timeout,
+                            done=done_stack)
     if a.radial_fixed:
         tr = run_fe(d_max=0.7, increments=a.increments, timeout_s=a.timeout, radial="fixed")
         print(f"radial fixed: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)

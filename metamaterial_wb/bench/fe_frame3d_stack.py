@@ -146,11 +146,16 @@ def stacked_markdown(st, mixed):
 def plot(st, path):
     """Combination 2 stacked on the frame: force and each ring's rise against the stack's rise, on loading and
     unloading."""
+    plot_paths(st["2"]["paths"], path, "combination 2 as two stacked rings")
+
+
+def plot_paths(r, path, title):
+    """A stack's cycle ``r`` (``{"loading", "unloading"}``, each ``{"d", "F", "ring_rises"}``): force and each
+    ring's rise against the stack's rise, the plots titled ``title``."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from metamaterial_wb.bench.plotting import finish
-    r = st["2"]["paths"]
     fig, ax = plt.subplots(1, 2, figsize=(10.5, 3.9), dpi=100)
     for name, style in (("loading", "-"), ("unloading", "--")):
         p = r[name]
@@ -167,7 +172,7 @@ def plot(st, path):
             ax[0].set_xlim(0, 1.05 * r["loading"]["d"][int(np.argmax(F > top / 1e3))])
             ax[1].set_xlim(ax[0].get_xlim())
     ax[0].set_ylabel("F / (G L^2) x1e-3")
-    ax[0].set_title("combination 2 as two stacked rings: force", fontsize=9)
+    ax[0].set_title(f"{title}: force", fontsize=9)
     ax[1].set_ylabel("ring's own rise / L")
     ax[1].set_title("each ring's own rise (type 0, the lower h, below)", fontsize=9)
     finish(fig, ax, "stack's rise d / L", path)

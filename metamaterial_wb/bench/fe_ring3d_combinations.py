@@ -6,8 +6,8 @@ and the rule live here, below the frame's studies (``fe_frame3d_plate``, ``fe_fr
 
 Rings stacked in series share only their force: the frame's stacked rings (``fe_frame3d_stack``) put the stack's
 peaks on the uniform rings' first peaks and its valleys on the first ring's and the higher of the two, to 0.0 %,
-so the rule on a model's uniform rings is that model's order for the stack. A stacked solid itself is not run
-(its snaps under displacement control are dynamic); the solid's uniform rings are its thresholds. On the solid's
+so the rule on a model's uniform rings is that model's order for the stack. The stacked solid itself runs by
+implicit dynamics (its snaps under displacement control are dynamic): ``fe_ring3d_stack``. On the solid's
 coarse meshes each P1 is some per cent high (the seed's type: +16 % on r = 1, +7 % on r = 2 against the
 four-mesh extrapolation), alike for types this close, so the order rests on their differences: given on each
 mesh and extrapolated over r = 1, 2, 3 (``extrapolated``) for combination 2, whose types lie within a few per
@@ -129,14 +129,20 @@ def cycle_sequence(run):
     """The snapping order of a ``solid_cycle`` run's cell types on loading and unloading, by the frame's own reading
     (``frame3d_sequence.sequence``: ``analysis.snap_order`` on the beams' rises, the plate's largest lean on each
     path), or ``None`` when the run did not come back down (``run["stopped"]``)."""
+    return path_sequence(run, [run["row"][k] for k in run["cells"]], rings=1)
+
+
+def path_sequence(run, state_types, rings):
+    """``frame3d_sequence.sequence`` on a stored solid cycle ``run`` (``"d"``, ``"rises"`` per beam half, their
+    ``"units"``, ``"tilt_rad"``, ``"unloading"``) whose halves are of the cell types ``state_types``, or ``None``
+    when the run did not come back down."""
     from types import SimpleNamespace
     from metamaterial_wb.core.sleeve.frame3d_sequence import sequence
     down = np.asarray(run["unloading"], bool)
     if not down.any() or run["stopped"]:
         return None
-    types = combination_cells(run["combination"])
-    ring = SimpleNamespace(cells=types, state_types=[run["row"][k] for k in run["cells"]], units=run["units"],
-                           rings=1)
+    ring = SimpleNamespace(cells=combination_cells(run["combination"]), state_types=list(state_types),
+                           units=run["units"], rings=rings)
     d, rises = np.asarray(run["d"]), np.asarray(run["rises"])
     tilt = np.column_stack([np.asarray(run["tilt_rad"]), np.zeros(len(d))])
     first = turn(run)
@@ -395,17 +401,19 @@ def _angle(a, b):
     return abs((a - b + 180.0) % 360.0 - 180.0)
 
 
-def solid_markdown(solid, mixed):
+def solid_markdown(solid, mixed, stacked=False):
     """The solid's thresholds of the seed's combinations (``solid``: ``{combination: {mesh: [row, row]}}``, as
     stored under ``combinations``) and their extrapolation, beside the frame's uniform rings
-    (``mixed[key]["uniform"]``, ``fe_frame3d_plate.sequence_study``) and the seed's order, and what they say."""
+    (``mixed[key]["uniform"]``, ``fe_frame3d_plate.sequence_study``) and the seed's order, and what they say;
+    ``stacked``: a stacked solid is stored (``fe_ring3d_stack``), the text points to it."""
     L = ["**The seed's combinations' thresholds on the curved solid** (`bench/fe_ring3d_combinations.py`, "
          "`bench_sleeve_ring3d.py --combinations`: each type a uniform four-cell ring in CalculiX, one brick "
          "through the wall, every brick C3D20, static to d/L 0.7 in steps of 0.01, the tilting top plate under "
          "the default bias; first peak P1 and first valley, F / (G L^2) x1e-3 at d/L; extrapolated in the element "
          "size 1 / r over r = 1, 2, 3 with its observed order). The stacked frame above puts a stack's thresholds "
-         "on its uniform rings', so the rule on a model's uniform rings is that model's order for the stack; a "
-         "stacked solid is not run (its snaps under displacement control are dynamic):", "",
+         "on its uniform rings', so the rule on a model's uniform rings is that model's order for the stack; "
+         + ("the stacked solid below checks that on the solid itself:" if stacked else
+            "a stacked solid is not run (its snaps under displacement control are dynamic):"), "",
          "| combination | model, mesh | type 0: P1, valley | type 1: P1, valley | type 1 against type 0: P1, "
          "valley | rule (stacked order) | seed | time |", "|---|---|---|---|---|---|---|---|"]
     verdict, frame_notes = [], []

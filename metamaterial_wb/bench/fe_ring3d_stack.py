@@ -1,0 +1,158 @@
+"""The seed's combinations as two stacked rings on the curved solid (issue 18): each cell type a uniform four-cell
+ring, the lower type below, a free plate between them (``fe/sleeve3d_stack.py``), raised to twice a single
+ring's d/L 0.7 and lowered back by implicit dynamics.
+
+The two-hysteron rule on the solid's uniform rings (``fe_ring3d_combinations.solid_rule``) is the solid's order
+for such a stack only if the rings act in series as the frame's stacked rings do (``fe_frame3d_stack``): here
+that is run, not inferred. The order is read as the frame's and the mixed solid's are
+(``frame3d_sequence.sequence`` on the beams' rises), each ring a hysteron of its own type.
+"""
+import concurrent.futures
+
+import numpy as np
+
+from metamaterial_wb.bench.fe_ring3d_combinations import (D_MAX, MESH_R, SEED_COMBINATIONS, combination_cells,
+                                                         path_sequence)
+
+STACK_D_MAX = 2 * D_MAX       # d/L of the top: both rings past their first valley (the frame's stack: twice)
+
+
+def solid_stack(key, r=1, d_max=STACK_D_MAX, increments=70, method="dynamic", timeout_s=10800.0):
+    """Combination ``key``'s two types stacked (type 0 below) on mesh ``r`` (one brick through the wall, C3D20),
+    ``increments`` per unit of time at most (``d_max / increments`` d/L each): ``{"combination", "r", "d", "F",
+    "ring_rises", "tilt_rad", "middle_tilt_rad", "unloading", "rises", "units", "types", "wall_s", "d_reached",
+    "stopped", "method", "d_max"}`` (``stack_sequence`` reads the order off it)."""
+    from metamaterial_wb.fe import sleeve3d_stack
+    if key not in SEED_COMBINATIONS:
+        raise ValueError(f"combination: {key!r}; allowed: {sorted(SEED_COMBINATIONS)}")
+    cells = combination_cells(key)
+    c, info = sleeve3d_stack.solve_stack3d(cells, 4, r, d_max=d_max * cells[0].L, increments=increments,
+                                           method=method, timeout_s=timeout_s, partial=True)
+    out = {"combination": key, "r": int(r), "d_max": float(d_max), "method": method, "increments": int(increments),
+           "wall_s": info["wall_s"], "d_reached": info["d_reached"], "stopped": info.get("stopped", "")[:300],
+           "units": c["units"].tolist(), "types": c["types"].tolist(),
+           "unloading": c["unloading"].astype(int).tolist(), "d": np.round(c["d"], 6).tolist(),
+           "F": c["F"].tolist()}
+    for name in ("ring_rises", "tilt_rad", "middle_tilt_rad", "rises"):
+        out[name] = np.round(c[name], 7).tolist()
+    return out
+
+
+def stack_sequence(run):
+    """The snapping order of a ``solid_stack`` run's two rings (each of one cell type) on loading and unloading, by
+    the frame's own reading (``frame3d_sequence.sequence``), or ``None`` when the run did not come back down."""
+    return path_sequence(run, run["types"], rings=2)
+
+
+def stacked_solid_study(runs=(("2", "r1"),), workers=2, timeout_s=10800.0, done=None):
+    """``solid_stack`` for each (combination, mesh) of ``runs``, ``workers`` ccx runs at a time (one core each):
+    ``{combination: {mesh: run}}``; ``done(key, mesh, run)`` as each ends (to store it at once)."""
+    for run in runs:
+        if len(run) != 2 or run[0] not in SEED_COMBINATIONS or run[1] not in MESH_R:
+            raise ValueError(f"run {tuple(run)!r}; allowed: a combination of {sorted(SEED_COMBINATIONS)} on a mesh "
+                             f"of {sorted(MESH_R)}")
+    out = {}
+    with concurrent.futures.ThreadPoolExecutor(workers) as pool:
+        futures = {pool.submit(solid_stack, key, MESH_R[mesh], timeout_s=timeout_s): (key, mesh)
+                   for key, mesh in runs}
+        for f in concurrent.futures.as_completed(futures):
+            key, mesh = futures[f]
+            out.setdefault(key, {})[mesh] = f.result()
+            if done:
+                done(key, mesh, out[key][mesh])
+    return out
+
+
+def paths(run):
+    """A ``solid_stack`` run split at its turn as the frame's stack stores its paths (``fe_frame3d_stack``):
+    ``{"loading", "unloading"}``, each ``{"d", "F", "ring_rises"}`` (the unloading path from the turn down)."""
+    first = int(np.argmax(np.asarray(run["unloading"], bool))) - 1
+    cut = {"loading": slice(0, first + 1), "unloading": slice(first, None)}
+    return {name: {k: run[k][s] for k in ("d", "F", "ring_rises")} for name, s in cut.items()}
+
+
+def series_check(run, uniform):
+    """How far a ``solid_stack`` run's loading extrema lie from two rings in series made of its types' uniform
+    rings ``uniform`` (``[{"P1", "valley"}, ...]``, the same mesh): its two peaks against the two first peaks, its
+    two valleys against the first-snapping ring's and the higher of the two (a snapped ring carries no less than
+    its valley): ``(largest peak gap, largest valley gap)`` as fractions, or ``None`` if the run does not show two
+    of each on loading."""
+    from metamaterial_wb.bench.fe_ring3d_combinations import rule
+    from metamaterial_wb.fe.sleeve3d import all_extrema
+    p = paths(run)["loading"]
+    ext = all_extrema(p["d"], p["F"])
+    peaks = [y for k, _, y in ext if k == "peak"]
+    valleys = [y for k, _, y in ext if k == "valley"]
+    if len(peaks) < 2 or len(valleys) < 2:
+        return None
+    first = rule(uniform)["loading"][0]
+    expect = [uniform[first]["valley"], max(u["valley"] for u in uniform)]
+    dp = max(abs(a / b - 1) for a, b in zip(sorted(peaks[:2]), sorted(u["P1"] for u in uniform)))
+    dv = max(abs(a / b - 1) for a, b in zip(valleys[:2], expect))
+    return float(dp), float(dv)
+
+
+IMG = "img/sleeve-stacked-solid.png"
+
+
+def stacked_solid_markdown(stacked, solid, frame_stack=None):
+    """The seed's combinations as two stacked rings on the solid (``stacked``: ``{combination: {mesh: run}}``, as
+    stored under ``stacked_solid``): each stack's order and lean (``stack_sequence``) beside the rule on the
+    solid's uniform rings of the same mesh (``solid``, as stored under ``combinations``), the frame's stack
+    (``frame_stack``, ``fe_frame3d_stack.stacked_study``) and the seed's, and how far the stack's extrema lie from
+    its rings' own (``series_check``); "" without a run."""
+    from metamaterial_wb.bench.fe_ring3d_combinations import order_text, seed_order, solid_rule
+    frame_stack = frame_stack or {}
+    L = ["**The seed's combinations as two stacked rings on the curved solid** (`bench/fe_ring3d_stack.py`, "
+         "`bench_sleeve_ring3d.py --stacked-solid`: each type a uniform four-cell ring, one brick through the wall, "
+         "every brick C3D20, type 0 below, the plate between them free to rise, tilt and twist, the top plate "
+         "under the default bias; raised to d/L 1.4 and lowered back by implicit dynamics, the seed's procedure, "
+         "d/L 0.02 per increment at most). The stack's snaps are dynamic under displacement control, so it could "
+         "not be run statically; this is the frame's stacked study above as a solid:", "",
+         "| combination | mesh | solid, stacked: sequence | lean (loading / unloading) | rule on the solid's "
+         "uniform rings | frame, stacked (12) | seed | in series: peaks, valleys off | time |",
+         "|---|---|---|---|---|---|---|---|---|"]
+    verdict = []
+    for key in sorted(stacked):
+        seed = seed_order(key)
+        for mesh in sorted(stacked[key]):
+            run = stacked[key][mesh]
+            s = stack_sequence(run)
+            rows = solid.get(key, {}).get(mesh)
+            ru = solid_rule(rows)
+            fr = frame_stack.get(key, {}).get("frame", {}).get("12")
+            off = series_check(run, rows) if ru and s else None
+            if s is None:
+                L.append(f"| {key} | r = {mesh[1:]} | stopped at d/L {run['d_reached']:.3f}: {run['stopped'][:80]} "
+                         f"| | {order_text(ru) if ru else '-'} | {order_text(fr) if fr else '-'} | "
+                         f"{order_text(seed)} | | {run['wall_s'] / 60:.0f} min |")
+                continue
+            lean = (f"{s['max_tilt_loading_deg']:.1f} / {s['max_tilt_unloading_deg']:.1f} deg, "
+                    + ("reverses" if s["lean_reverses"] else "the same way"))
+            L.append(f"| {key} | r = {mesh[1:]} | {order_text(s)} | {lean} | {order_text(ru) if ru else '-'} | "
+                     f"{order_text(fr) if fr else '-'} | {order_text(seed)} | "
+                     + (f"{100 * off[0]:.1f} %, {100 * off[1]:.1f} %" if off else "-")
+                     + f" | {run['wall_s'] / 60:.0f} min |")
+            same = s["loading"] == seed["loading"] and s["unloading"] == seed["unloading"]
+            agree = ru is not None and s["loading"] == ru["loading"] and s["unloading"] == ru["unloading"]
+            verdict.append(f"combination {key} (r = {mesh[1:]}): the stacked solid snaps {order_text(s)}, "
+                           + ("the seed's order" if same else "not the seed's order")
+                           + (", as the rule on its uniform rings says" if agree else
+                              ", not what the rule on its uniform rings says" if ru else ""))
+    if len(L) == 5:
+        return ""
+    L += ["", "; ".join(verdict) + "." if verdict else "",
+          "", "The peaks and valleys columns: the stack's two peaks on loading against its rings' first peaks, its "
+          "two valleys against the first-snapping ring's valley and the higher of the two (a snapped ring carries "
+          "no less than its valley), each ring run alone on the same mesh; the largest gap of each.", ""]
+    two = stacked.get("2", {})
+    if two:
+        L += [f"![combination 2 as two stacked rings on the solid]({IMG})", ""]
+    return "\n".join(L)
+
+
+def plot(stacked, path, mesh="r1"):
+    """Combination 2's stacked solid on ``mesh``: force and each ring's rise (``fe_frame3d_stack.plot_paths``)."""
+    from metamaterial_wb.bench.fe_frame3d_stack import plot_paths
+    plot_paths(paths(stacked["2"][mesh]), path,
+               f"combination 2 as two stacked rings, curved solid (r = {mesh[1:]})")
