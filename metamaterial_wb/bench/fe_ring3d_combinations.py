@@ -125,6 +125,13 @@ def turn(run):
     return int(np.argmax(np.asarray(run["unloading"], bool))) - 1
 
 
+def legs(run):
+    """A stored cycle's two paths as slices of its points: ``{"loading": ..., "unloading": ...}``, both holding the
+    turn (``turn``); a run that did not come back down is all loading."""
+    first = turn(run) if np.asarray(run["unloading"], bool).any() else len(run["d"]) - 1
+    return {"loading": slice(0, first + 1), "unloading": slice(first, None)}
+
+
 def cycle_sequence(run):
     """The snapping order of a ``solid_cycle`` run's cell types on loading and unloading, by the frame's own reading
     (``frame3d_sequence.sequence``: ``analysis.snap_order`` on the beams' rises, the plate's largest lean on each
@@ -145,9 +152,7 @@ def path_sequence(run, state_types, rings):
                            units=run["units"], rings=rings)
     d, rises = np.asarray(run["d"]), np.asarray(run["rises"])
     tilt = np.column_stack([np.asarray(run["tilt_rad"]), np.zeros(len(d))])
-    first = turn(run)
-    up = {"d": d[:first + 1], "rises": rises[:first + 1], "tilt": tilt[:first + 1]}
-    back = {"d": d[first:], "rises": rises[first:], "tilt": tilt[first:]}
+    up, back = ({"d": d[sl], "rises": rises[sl], "tilt": tilt[sl]} for sl in legs(run).values())
     return sequence(ring, up, back)
 
 
@@ -488,11 +493,9 @@ def plot_cycles(cycles, path, mesh="r1"):
         run = cycles[key][mesh]["cycle"]
         types = combination_cells(key)
         d, F = np.asarray(run["d"]), 1e3 * np.asarray(run["F"])
-        down = np.asarray(run["unloading"], bool)
-        first = turn(run) if down.any() else len(d) - 1
         h = np.array([types[run["row"][k]].h / types[0].L for k in run["cells"]])
         over, units = np.asarray(run["rises"]) - h, np.asarray(run["units"])
-        for name, sl, style in (("loading", slice(0, first + 1), "-"), ("unloading", slice(first, None), "--")):
+        for (name, sl), style in zip(legs(run).items(), ("-", "--")):
             ax[row, 0].plot(d[sl], F[sl], style, color="k", lw=1.3, label=name)
             for p in range(int(units.max()) + 1):
                 kinds = sorted({run["row"][run["cells"][j]] for j in np.flatnonzero(units == p)})
@@ -503,9 +506,9 @@ def plot_cycles(cycles, path, mesh="r1"):
         for variant, col in (("dynamic", "C1"), ("unbiased", "C4")):     # the other variants' forces over it
             other = cycles[key][mesh].get(CYCLE_KEYS[variant])
             if other and np.asarray(other["unloading"], bool).any():
-                k, dv, Fv = turn(other), np.asarray(other["d"]), 1e3 * np.asarray(other["F"])
-                ax[row, 0].plot(dv[:k + 1], Fv[:k + 1], "-", color=col, lw=0.9, label=f"{variant}: loading")
-                ax[row, 0].plot(dv[k:], Fv[k:], "--", color=col, lw=0.9, label=f"{variant}: unloading")
+                dv, Fv = np.asarray(other["d"]), 1e3 * np.asarray(other["F"])
+                for (name, sl), style in zip(legs(other).items(), ("-", "--")):
+                    ax[row, 0].plot(dv[sl], Fv[sl], style, color=col, lw=0.9, label=f"{variant}: {name}")
         seq = cycle_sequence(run)
         ax[row, 0].set_title(f"combination {key}, ring {run['row']} on the solid (r = {run['r']}): "
                              + (order_text(seq).replace("\\|", "|") if seq else "no cycle"), fontsize=9)

@@ -11,7 +11,7 @@ import concurrent.futures
 
 import numpy as np
 
-from metamaterial_wb.bench.fe_ring3d_combinations import (D_MAX, MESH_R, SEED_COMBINATIONS, combination_cells,
+from metamaterial_wb.bench.fe_ring3d_combinations import (D_MAX, MESH_R, SEED_COMBINATIONS, combination_cells, legs,
                                                          path_sequence)
 
 STACK_D_MAX = 2 * D_MAX       # d/L of the top: both rings past their first valley (the frame's stack: twice)
@@ -66,9 +66,7 @@ def stacked_solid_study(runs=(("2", "r1"),), workers=2, timeout_s=10800.0, done=
 def paths(run):
     """A ``solid_stack`` run split at its turn as the frame's stack stores its paths (``fe_frame3d_stack``):
     ``{"loading", "unloading"}``, each ``{"d", "F", "ring_rises"}`` (the unloading path from the turn down)."""
-    first = int(np.argmax(np.asarray(run["unloading"], bool))) - 1
-    cut = {"loading": slice(0, first + 1), "unloading": slice(first, None)}
-    return {name: {k: run[k][s] for k in ("d", "F", "ring_rises")} for name, s in cut.items()}
+    return {name: {k: run[k][s] for k in ("d", "F", "ring_rises")} for name, s in legs(run).items()}
 
 
 def series_check(run, uniform):
