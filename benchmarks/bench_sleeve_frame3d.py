@@ -85,7 +85,8 @@ def main(argv=None):
                                    if raw.get("mixed_cycles") else []) +
                                   ([fe_ring3d_stack.stacked_solid_markdown(raw["stacked_solid"],
                                                                            raw.get("combinations", {}),
-                                                                           s.get("stacked") or {})]
+                                                                           s.get("stacked") or {},
+                                                                           raw.get("stacked_solid_attempts"))]
                                    if raw.get("stacked_solid") else []))
     print(section)
     if not a.no_write:

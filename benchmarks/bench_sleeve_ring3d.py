@@ -446,6 +446,9 @@ def main(argv=None):
                     "the seed's two types as two stacked uniform rings on the solid (ccx, every brick C3D20, a free "
                     "plate between them), raised to d/L 1.4 and lowered back by implicit dynamics; stored under "
                     "'stacked_solid' as each ends")
+    ap.add_argument("--stacked-damping", type=float, default=0.0, help="1/s: the --stacked-solid runs' rubber damping "
+                    "(mass-proportional Rayleigh ALPHA; 200 damps the swing that follows combination 2's second "
+                    "snap)")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args(argv)
     if a.p1_element == "C3D20" and a.p1_full_near:
@@ -528,7 +531,7 @@ def main(argv=None):
                   f"{run['stopped']}", flush=True)
             _store("stacked_solid", data)
         stacked_solid_study([tuple(v.split(":")) for v in a.stacked_solid.split(",")], timeout_s=a.timeout,
-                            done=done_stack)
+                            done=done_stack, damping=a.stacked_damping)
     if a.radial_fixed:
         tr = run_fe(d_max=0.7, increments=a.increments, timeout_s=a.timeout, radial="fixed")
         print(f"radial fixed: {tr['extrema']} ({tr['info']['wall_s']:.0f} s)", flush=True)

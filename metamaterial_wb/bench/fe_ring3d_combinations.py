@@ -142,18 +142,22 @@ def cycle_sequence(run):
 def path_sequence(run, state_types, rings):
     """``frame3d_sequence.sequence`` on a stored solid cycle ``run`` (``"d"``, ``"rises"`` per beam half, their
     ``"units"``, ``"tilt_rad"``, ``"unloading"``) whose halves are of the cell types ``state_types``, or ``None``
-    when the run did not come back down."""
+    when the run did not come back down: it did not unload, or it stopped (``run["stopped"]``) before every type
+    that snapped on loading had snapped back."""
     from types import SimpleNamespace
     from metamaterial_wb.core.sleeve.frame3d_sequence import sequence
     down = np.asarray(run["unloading"], bool)
-    if not down.any() or run["stopped"]:
+    if not down.any():
         return None
     ring = SimpleNamespace(cells=combination_cells(run["combination"]), state_types=list(state_types),
                            units=run["units"], rings=rings)
     d, rises = np.asarray(run["d"]), np.asarray(run["rises"])
     tilt = np.column_stack([np.asarray(run["tilt_rad"]), np.zeros(len(d))])
     up, back = ({"d": d[sl], "rises": rises[sl], "tilt": tilt[sl]} for sl in legs(run).values())
-    return sequence(ring, up, back)
+    out = sequence(ring, up, back)
+    if run["stopped"] and sorted(out["unloading"]) != sorted(out["loading"]):
+        return None
+    return out
 
 
 # mixed_study's variants of the cycle: where each is stored and how it is run (solid_cycle's keywords); "unbiased":

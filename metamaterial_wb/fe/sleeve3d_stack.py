@@ -31,6 +31,7 @@ from metamaterial_wb.fe import ccx, sleeve3d
 from metamaterial_wb.fe.sleeve3d import REF, ROT
 
 MREF, MROT = 9000003, 9000004
+DAMPING_MAX = 1000.0     # 1/s: a damping ratio of 1 at 500 rad/s; its drag on the rising ring stays under 1 % of P1
 
 
 class StackMesh:
@@ -81,17 +82,25 @@ def stack_mesh(cells, n_cells=4, r=1, n_layers=1):
 
 
 def stack_deck3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5, method="dynamic",
-                 unload=True, element="C3D20", watch=None):
+                 unload=True, element="C3D20", watch=None, damping=0.0):
     """``(deck, meta)``: the stack (module docstring) under its top plate, raised to ``d_max`` mm (default 0.5 L:
     twice a single ring's default) and, with ``unload``, lowered back along one step of time 2 (the single
     ring's amplitudes, ``sleeve3d.amplitudes``); ``increments`` per unit of time at most; ``watch``: 0-based node
-    ids printed at every increment (the beams' ends)."""
+    ids printed at every increment (the beams' ends). ``damping`` (1/s, implicit dynamics only): the rubber's
+    mass-proportional Rayleigh damping (``sleeve3d.material_text``). Without it, when the second ring's snap
+    drops the force to the first ring's valley, the first ring and the middle plate swing across that ring's
+    snap-back threshold for a long time at tiny increments (the integrator's dissipation acts on high frequencies
+    only; measured on combination 2); a real rubber's own damping ends that swing."""
     mesh = stack_mesh(cells, n_cells, r)
     L = cells[0].L
     if element not in ("C3D20R", "C3D20"):
         raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
     if method not in ("static", "dynamic"):
         raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
+    if not 0.0 <= damping <= DAMPING_MAX:
+        raise ValueError(f"damping: {damping!r} 1/s; allowed: 0 to {DAMPING_MAX:g} 1/s")
+    if damping and method != "dynamic":
+        raise ValueError(f"damping: {damping!r} 1/s damps implicit dynamics; method {method!r} has no time")
     if isinstance(increments, bool) or int(increments) != increments or not increments >= 1:
         raise ValueError(f"increments: {increments!r}; allowed: an integer >= 1")
     sleeve3d.sleeve2d.check_bias(bias, bias_angle, "a moment bias L^2 R")
@@ -120,7 +129,7 @@ def stack_deck3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bi
            "*NSET, NSET=MID\n", ccx.fmt_set(middle + 1),
            f"*NSET, NSET=NROT\n{ROT}\n*NSET, NSET=NMID\n{MREF}\n*NSET, NSET=NMROT\n{MROT}\n",
            ("*NSET, NSET=WATCH\n" + ccx.fmt_set(watch + 1) if watch is not None else ""),
-           sleeve3d.material_text(method == "dynamic"),
+           sleeve3d.material_text(method == "dynamic", damping),
            f"*RIGID BODY, NSET=TOP, REF NODE={REF}, ROT NODE={ROT}\n",
            f"*RIGID BODY, NSET=MID, REF NODE={MREF}, ROT NODE={MROT}\n", amp_text]
     bc = (f"*BOUNDARY\n{MREF},1,2,0\n*BOUNDARY{amp}\nBOTTOM,1,3,0\n{REF},1,2,0\n{REF},3,3,{d_max:.12g}\n"
@@ -131,29 +140,47 @@ def stack_deck3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bi
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_cells": int(n_cells),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments), "bias": bias,
             "bias_angle": bias_angle, "method": method, "element": element, "unload": bool(unload),
-            "heights_mm": list(mesh.heights)}
+            "heights_mm": list(mesh.heights), "damping": float(damping)}
     return "".join(out), meta
 
 
 def solve_stack3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5, method="dynamic",
-                  unload=True, element="C3D20", timeout_s=7200.0, partial=True, hysterons=True):
+                  unload=True, element="C3D20", timeout_s=7200.0, partial=True, hysterons=True, damping=0.0):
     """The stack's cycle (``stack_deck3d``): ``{"d": top rise / L, "F": F / (G L^2), "ring_rises" (k, 2): each
     ring's rise / L, "tilt_rad" (k, 2): the top plate's (psi_x, psi_y), "middle_tilt_rad" (k, 2), "unloading" (k,)
     (with ``unload``)}`` per converged increment with the unloaded start, and with ``hysterons`` ``"rises"`` (k,
     halves: the first ring's beam halves, then the second's, ``sleeve3d.hysterons``), ``"units"`` (each half's
     edge pillar, the second ring's numbered after the first's) and ``"types"`` (each half's ring: 0 lower, 1
-    upper); and the run info (``info["stopped"]``, ``info["d_reached"]``: a partial run, as ``solve_ring3d``)."""
-    mesh = stack_mesh(cells, n_cells, r)
-    ends = mesh.beam_ends() if hysterons else None
-    watch = (np.unique(np.concatenate([np.concatenate([e["outer"].ravel(), e["inner"].ravel()]) for e in ends]))
-             if hysterons else None)
-    deck, meta = stack_deck3d(cells, n_cells, r, d_max, increments, bias, bias_angle, method, unload, element, watch)
-    L = cells[0].L
+    upper); and the run info (``info["stopped"]``, ``info["d_reached"]``: a partial run, as ``solve_ring3d``).
+    ``damping``: ``stack_deck3d``'s."""
+    watch = stack_watch(stack_mesh(cells, n_cells, r)) if hysterons else None
+    deck, meta = stack_deck3d(cells, n_cells, r, d_max, increments, bias, bias_angle, method, unload, element, watch,
+                              damping)
     tables, info = ccx.run(deck, "sleeve_stack3d", timeout_s, partial=partial)
+    out = read_stack(tables, meta, watch, info)
+    info.update({key: meta[key] for key in ("r", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm", "bias",
+                                            "bias_angle", "method", "element", "heights_mm", "damping")})
+    info["increments"] = len(out["d"]) - 1
+    info["d_reached"] = float(out["d"][-1])
+    return out, info
+
+
+def stack_watch(mesh):
+    """The node ids ``solve_stack3d`` watches: every beam end of both rings (``StackMesh.beam_ends``)."""
+    return np.unique(np.concatenate([np.concatenate([e["outer"].ravel(), e["inner"].ravel()])
+                                     for e in mesh.beam_ends()]))
+
+
+def read_stack(tables, meta, watch=None, info=None):
+    """``solve_stack3d``'s curve from ccx's printed tables (``ccx.parse_dat``, also of a run still going or stopped)
+    of the deck ``stack_deck3d`` wrote with ``meta``; the hysterons with ``watch`` (``stack_watch``)."""
+    mesh, L, n_cells = meta["mesh"], meta["mesh"].rings[0].geom.L, meta["n_cells"]
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
-        raise ccx.FEError(info.get("stopped", "ccx printed no increment") + " (no increment converged)")
-    k = len(rows)
+        raise ccx.FEError((info or {}).get("stopped", "ccx printed no increment") + " (no increment converged)")
+    sets = ["NROT", "NMID", "NMROT"] + (["WATCH"] if watch is not None else [])
+    k = min([len(rows)] + [len(tables.get(("displacements", n), [])) for n in sets])   # a live file's last one
+    rows = rows[:k]
     t = np.array([r_[0] for r_ in rows])
     F = -np.array([sum(v[2] for v in r_[1].values()) for r_ in rows])
 
@@ -167,9 +194,10 @@ def solve_stack3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, b
            "ring_rises": np.vstack([[0.0, 0.0], np.column_stack([first, d - first]) / L]),
            "tilt_rad": np.vstack([[0.0, 0.0], top_rot[:, :2]]),
            "middle_tilt_rad": np.vstack([[0.0, 0.0], mid_rot[:, :2]])}
-    if unload:
+    if meta["unload"]:
         out["unloading"] = np.concatenate([[False], down])
-    if hysterons:
+    if watch is not None:
+        ends = mesh.beam_ends()
         rows_w = tables.get(("displacements", "WATCH"), [])[:k]
         u_watch = np.array([np.zeros((watch.size, 3))] + [[r_[1][i + 1][:3] for i in watch] for r_ in rows_w])
         rises, units, types = [], [], []
@@ -179,11 +207,8 @@ def solve_stack3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, b
             units.append(e["units"] + j * n_cells)
             types.append(np.full(len(e["units"]), j))
         out.update(rises=np.hstack(rises), units=np.concatenate(units), types=np.concatenate(types))
-    info.update({key: meta[key] for key in ("r", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm", "bias",
-                                            "bias_angle", "method", "element", "heights_mm")})
-    info["increments"] = k
-    info["d_reached"] = float(out["d"][-1])
-    return out, info
+    return out
 
 
-__all__ = ["StackMesh", "stack_mesh", "stack_deck3d", "solve_stack3d", "MREF", "MROT"]
+__all__ = ["StackMesh", "stack_mesh", "stack_deck3d", "solve_stack3d", "stack_watch", "read_stack", "MREF",
+           "MROT"]

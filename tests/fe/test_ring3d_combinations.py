@@ -137,7 +137,8 @@ def test_stored_solid_thresholds_give_the_seeds_orders_as_the_docs_say():
     solid mesh, so the two-hysteron rule gives the seed's asymmetric order there, as on the frame (whose
     differences have the same signs); combination 1's thinner type is well under the thicker one in both, the
     seed's symmetric order. The docs' table is the report's of these runs."""
-    raw = json.load(open(os.path.join(ROOT, "benchmarks", "results", "fe-ring3d.json")))["combinations"]
+    stored = json.load(open(os.path.join(ROOT, "benchmarks", "results", "fe-ring3d.json")))
+    raw = stored["combinations"]
     mixed = json.load(open(os.path.join(ROOT, "benchmarks", "results", "frame3d.json")))["sequence"]
     assert {"r1", "r2", "r3"} <= set(raw["2"]) and "r1" in raw["1"]
     for key, meshes in raw.items():
@@ -156,7 +157,7 @@ def test_stored_solid_thresholds_give_the_seeds_orders_as_the_docs_say():
     ex = fc.extrapolated(raw["2"])
     assert ex["differences"]["P1"][0] > ex["differences"]["P1"][1] and -ex["differences"]["valley"][0] > \
         ex["differences"]["valley"][1]
-    text = fc.solid_markdown(raw, mixed)
+    text = fc.solid_markdown(raw, mixed, stacked=bool(stored.get("stacked_solid")))
     assert "combination 2: the solid's order is [0, 1] \\| [0, 1] (asymmetric) on every mesh, the seed's" in text
     assert text in open(os.path.join(ROOT, "docs", "sleeves.md")).read()
 
@@ -191,13 +192,17 @@ def _cycle(order_up, order_down, lean_up=(1e-3, 0.0), lean_down=(-1e-3, 0.0), st
 
 def test_cycle_sequence_reads_each_path_as_the_frame_does():
     """Type 0's pillar snaps first on loading (step 2) and back first on unloading: the seed's asymmetric [0, 1] |
-    [0, 1], the lean reversing; the reverse unloading order is symmetric; a run that stopped gives no order."""
+    [0, 1], the lean reversing; the reverse unloading order is symmetric; a run that stopped before every type had
+    snapped back gives no order."""
     seq = fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 2, 1: 4}))
     assert (seq["loading"], seq["unloading"], seq["symmetric"]) == ([0, 1], [0, 1], False)
     assert seq["lean_reverses"] and seq["lean_loading_deg"] == pytest.approx(-90.0)
     sym = fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 4, 1: 2}, lean_down=(1e-3, 0.0)))
     assert (sym["loading"], sym["unloading"], sym["symmetric"], sym["lean_reverses"]) == ([0, 1], [1, 0], True, False)
-    assert fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 2, 1: 4}, stopped="no convergence")) is None
+    # a run stopped on its way down: its order once every type that snapped is back, else none
+    assert fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 2, 1: 99}, stopped="no convergence")) is None
+    assert fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 2, 1: 99}))["unloading"] == [0]
+    assert fc.cycle_sequence(_cycle({0: 2, 1: 4}, {0: 2, 1: 4}, stopped="stopped by hand"))["unloading"] == [0, 1]
 
 
 def test_cycles_markdown_puts_the_mixed_ring_beside_the_rule_at_its_flat_top():

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from metamaterial_wb.bench.fe_ring3d_combinations import combination_cells
+from metamaterial_wb.bench import fe_ring3d_stack as fs
 from metamaterial_wb.bench.fe_ring3d_stack import stack_sequence
 from metamaterial_wb.fe import ccx, sleeve3d, sleeve3d_stack
 
@@ -74,6 +75,17 @@ def test_deck_holds_two_plates_the_middle_one_free_to_rise_tilt_and_twist():
     up, _ = sleeve3d_stack.stack_deck3d([a, b], 4, 1, d_max=0.2 * a.L, increments=10, method="static",
                                         unload=False, bias=0.0)
     assert "AMPLITUDE" not in up and "*CLOAD" not in up and "*DENSITY" not in up and "*STATIC\n0.1,1.0," in up
+    # the rubber's own damping (mass-proportional): one card in the material, the rest of the deck the same
+    damped, m2 = sleeve3d_stack.stack_deck3d([a, b], 4, 1, d_max=0.2 * a.L, increments=10, watch=[0, 1],
+                                             damping=200.0)
+    assert "*DENSITY\n1e-10\n*DAMPING, ALPHA=200, BETA=0.\n*SOLID SECTION" in damped and m2["damping"] == 200.0
+    assert damped.replace("*DAMPING, ALPHA=200, BETA=0.\n", "") == deck and "*DAMPING" not in deck
+    for bad, msg in ((-1.0, r"damping: -1.0 1/s; allowed: 0 to 1000 1/s"), (float("nan"), r"damping: nan 1/s"),
+                     (2e3, r"damping: 2000.0 1/s; allowed: 0 to 1000 1/s")):
+        with pytest.raises(ValueError, match=msg):
+            sleeve3d_stack.stack_deck3d([a, b], damping=bad)
+    with pytest.raises(ValueError, match=r"damping: 200.0 1/s damps implicit dynamics; method 'static' has no time"):
+        sleeve3d_stack.stack_deck3d([a, b], method="static", damping=200.0)
 
 
 def _run(order_up, order_down, d=(0.0, 0.3, 0.6, 0.9, 1.2, 0.9, 0.6, 0.3, 0.0)):
@@ -98,7 +110,30 @@ def test_the_order_is_read_ring_by_ring_as_the_frame_reads_it():
     s = stack_sequence(_run((2, 3), (7, 6)))
     assert s["unloading"] == [1, 0] and s["symmetric"]
     assert s["lean_reverses"]
-    assert stack_sequence(dict(_run((2, 3), (7, 6)), stopped="ccx stopped")) is None
+    # a run stopped on its way down gives its order once every ring that snapped has snapped back, else none
+    assert stack_sequence(dict(_run((2, 3), (7, 6)), stopped="stopped by hand"))["unloading"] == [1, 0]
+    assert stack_sequence(_run((2, 3), (6, 99)))["unloading"] == [0]
+    assert stack_sequence(dict(_run((2, 3), (6, 99)), stopped="stopped by hand")) is None
+
+
+def test_ring_events_name_each_rings_snaps_and_fold_a_chatter():
+    run = _run((2, 3), (6, 7))
+    assert fs.ring_events(run) == [(2, 0.6, 0, "snaps"), (3, 0.9, 1, "snaps"), (6, 0.6, 0, "snaps back"),
+                                   (7, 0.3, 1, "snaps back")]
+    assert fs.events_text(fs.ring_events(run)) == ("ring 0 snaps at d/L 0.600, ring 1 snaps at 0.900, "
+                                                   "ring 0 snaps back at 0.600, ring 1 snaps back at 0.300")
+    # ring 0 crossing its h back and forth after ring 1's snap (as combination 2's stack does): one entry
+    d = [0.1 * i for i in range(12)]
+    rises = np.zeros((12, 2))
+    h = [g.h / g.L for g in combination_cells("2")]
+    rises[2:, 1] = h[1] + 0.1
+    for i, up in zip(range(1, 12), [1, 1, 0, 1, 0, 1, 0, 1, 1, 1, 1]):
+        rises[i, 0] = h[0] + (0.1 if up else -0.1)
+    chatter = {"combination": "2", "d": d, "rises": rises.tolist(), "units": [0, 1], "types": [0, 1],
+               "unloading": [0] * 12}
+    assert fs.ring_states(chatter)[:4].tolist() == [[0, 0], [1, 0], [1, 1], [0, 1]]
+    text = fs.events_text(fs.ring_events(chatter))
+    assert text == "ring 0 snaps at d/L 0.100, ring 1 snaps at 0.200, ring 0 back and forth 6 times from 0.300 to 0.800"
 
 
 @needs_ccx
@@ -108,8 +143,25 @@ def test_tiny_stack_acts_as_two_rings_in_series():
     and add their rises, as springs in series (to 1 %: the stacked ring's ends are held by a plate that tilts
     with the other ring)."""
     a, b = combination_cells("2")
-    c, info = sleeve3d_stack.solve_stack3d([a, b], 4, 1, d_max=0.02 * a.L, increments=2, method="static",
-                                           unload=False, partial=False)
+    seen = {}
+    run = ccx.run
+
+    def keep(deck, *args, **kw):
+        seen["tables"], info = run(deck, *args, **kw)
+        return seen["tables"], info
+    import unittest.mock
+    with unittest.mock.patch.object(ccx, "run", keep):
+        c, info = sleeve3d_stack.solve_stack3d([a, b], 4, 1, d_max=0.02 * a.L, increments=2, method="static",
+                                               unload=False, partial=False)
+    # a .dat read while ccx still writes it (its last increment's watched nodes not yet printed): the points
+    # every table holds, the same numbers
+    tables = dict(seen["tables"])
+    tables[("displacements", "WATCH")] = tables[("displacements", "WATCH")][:-1]
+    _, meta = sleeve3d_stack.stack_deck3d([a, b], 4, 1, d_max=0.02 * a.L, increments=2, method="static",
+                                          unload=False)
+    live = sleeve3d_stack.read_stack(tables, meta, sleeve3d_stack.stack_watch(meta["mesh"]))
+    assert len(live["d"]) == len(c["d"]) - 1 and np.allclose(live["rises"], c["rises"][:-1])
+    assert np.allclose(live["F"], c["F"][:-1])
     assert info["d_reached"] == pytest.approx(0.02) and c["ring_rises"].shape == (3, 2)
     assert c["ring_rises"][-1].sum() == pytest.approx(0.02, rel=1e-9)
     assert np.all(c["ring_rises"][-1] > 0.004)                        # both rings take part of the rise
@@ -121,3 +173,41 @@ def test_tiny_stack_acts_as_two_rings_in_series():
         assert own == pytest.approx(F, rel=0.01)
     assert c["rises"].shape == (3, 16) and set(c["types"].tolist()) == {0, 1}
     assert np.all(c["rises"][-1] > 0) and np.all(c["rises"][-1] < 0.01)     # no half has snapped this low
+
+
+def test_stored_stacked_solids_act_in_series_in_the_rules_order():
+    """The stored runs (``bench_sleeve_ring3d.py --stacked-solid``, r = 1, implicit dynamics). Each stack's peaks
+    on loading are its two rings' own first peaks (each ring run alone on the same mesh) and its valleys the
+    first-snapping ring's and the higher of the two, to 0.5 %: two hysterons in series, as the frame's stack. Both
+    combinations snap loading in the two-hysteron order on those thresholds; combination 1 comes back down in the
+    rule's (and the seed's) symmetric order; combination 2's run, where stored as stopped, says why. The docs'
+    table is the report's of these runs."""
+    import json
+    import os
+    from metamaterial_wb.bench.fe_ring3d_combinations import seed_order, solid_rule
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    raw = json.load(open(os.path.join(root, "benchmarks", "results", "fe-ring3d.json")))
+    stacked, solid, attempts = raw["stacked_solid"], raw["combinations"], raw.get("stacked_solid_attempts", {})
+    assert set(stacked) == {"1", "2"}
+    for key, runs in stacked.items():
+        for mesh, run in [(m, r) for m in runs for r in [runs[m]] + attempts.get(key, {}).get(m, [])]:
+            rule = solid_rule(solid[key][mesh])
+            dp, dv = fs.series_check(run, solid[key][mesh])
+            assert dp < 0.005 and dv < 0.005, (key, mesh, dp, dv)
+            events = fs.ring_events(run)
+            assert [(j, what) for _, _, j, what in events[:2]] == [(rule["loading"][0], "snaps"),
+                                                                   (rule["loading"][1], "snaps")]
+            seq = fs.stack_sequence(run)
+            assert not run["stopped"] or run["note"]                        # a run stopped by hand says why
+            if seq is None:
+                assert run["stopped"] and not any(run["unloading"])
+            else:
+                assert [seq["loading"], seq["unloading"]] == [rule["loading"], rule["unloading"]], key
+                assert run["stopped"] or run["d_reached"] == pytest.approx(0.0, abs=1e-9)
+    seq = fs.stack_sequence(stacked["1"]["r1"])
+    assert (seq["loading"], seq["unloading"], seq["symmetric"]) == tuple(seed_order("1").values())
+    frame = json.load(open(os.path.join(root, "benchmarks", "results", "frame3d.json")))["stacked"]
+    text = fs.stacked_solid_markdown(stacked, solid, frame, attempts)
+    assert "| 1 | r = 1, undamped | [0, 1] \\| [1, 0] (symmetric) | ring 0 snaps at d/L 0.380" in text
+    assert text in open(os.path.join(root, "docs", "sleeves.md")).read()
+    assert os.path.exists(os.path.join(root, "docs", fs.IMG))

@@ -170,6 +170,14 @@ def test_the_solids_snapping_orders_quoted_are_the_stored_runs():
         dyn = [m[1:] for m in sorted(runs) if "cycle_dynamic" in runs[m]]
         assert rec["mixed"]["mesh"] == ("r = " + " and ".join(m[1:] for m in sorted(runs) if "cycle" in runs[m])
                                         + (f"; r = {' and '.join(dyn)} by implicit dynamics too" if dyn else ""))
+        # the two types as two stacked rings in one solid (``stacked_solid``): the order its run gives
+        from metamaterial_wb.bench import fe_ring3d_stack as fs
+        stacks = _load("fe-ring3d.json")["stacked_solid"][key]
+        assert rec["stacked"]["mesh"] == "r = " + " and ".join(m[1:] for m in sorted(stacks))
+        for mesh, run in stacks.items():
+            seq = fs.stack_sequence(run)
+            assert [seq["loading"], seq["unloading"]] == [rec["stacked"]["loading"], rec["stacked"]["unloading"]]
+            assert rec["stacked"].get("damped", False) == bool(run.get("damping")), (key, mesh)
 
 
 def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
@@ -185,6 +193,8 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
             "snaps loading [0, 1], unloading [1, 0] "
             "(symmetric), leaning the same way on both") in note
     assert "on the curved solid and on the 3-D frame the seed's mixed combination 2 is symmetric" in note
+    assert ("two such rings stacked as one curved solid (r = 1, implicit dynamics with the rubber's damping) snap "
+            "loading [0, 1], unloading [0, 1] (asymmetric), the rule's") in note
     assert "four cells around" not in note
     rev = acc.solid_order_note(two[::-1], 8, {"loading": [1, 0], "unloading": [1, 0]})
     assert "type 0's first peak +1.76 +- 0.34 %" in rev and "against type 1's" in rev
@@ -193,6 +203,10 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     assert "(measured with four cells around, this sleeve has 8)" in rev
     one = acc.solid_order_note(combination_cells("1"), 4, {"loading": [0, 1], "unloading": [1, 0]})
     assert "first peak +22.32 +- 0.27 %" in one and "loading [0, 1], unloading [1, 0] (symmetric)" in one and "the same" in one
+    assert ("two such rings stacked as one curved solid (r = 1, implicit dynamics) snap loading [0, 1], unloading "
+            "[1, 0] (symmetric), the rule's") in one
+    flip = acc.solid_order_note(combination_cells("1")[::-1], 4, {"loading": [1, 0], "unloading": [0, 1]})
+    assert "stacked as one curved solid (r = 1, implicit dynamics) snap loading [1, 0], unloading [0, 1]" in flip
     assert acc.solid_order_note([two[0]], 4, {"loading": [0], "unloading": [0]}) is None
     assert acc.solid_order_note([CellGeometry(), two[1]], 4, {"loading": [0, 1], "unloading": [0, 1]}) is None
     other_L = [CellGeometry(L=20.0, t=g.t, h=g.h) for g in two]

@@ -174,22 +174,39 @@ def frame_walker_note(frame_cycle, model_cycle):
 # solids (every brick C3D20): the two-hysteron order on their first peaks and valleys (loading by rising P1,
 # unloading by falling valley) and type 1's differences from type 0, per cent; both extrapolated over
 # three meshes (+- their errors) (benchmarks/results/fe-ring3d.json, "combinations"), and the mixed ring [0, 0, 1, 1]
-# of the two types itself as one curved solid, loaded and unloaded, static and by implicit dynamics ("mixed_cycles";
-# tests/sleeve/test_accuracy.py)
+# of the two types itself as one curved solid, loaded and unloaded, static and by implicit dynamics ("mixed_cycles"),
+# and the two types as two stacked rings in one curved solid by implicit dynamics ("stacked_solid": "damped" with
+# the rubber's mass-proportional damping; tests/sleeve/test_accuracy.py)
 SOLID_ORDERS = {
     ((1.098, 7.092), (1.098, 7.488)): {"loading": [0, 1], "unloading": [0, 1], "P1": (1.76, 0.34),
                                        "valley": (-3.85, 0.10), "mesh": "extrapolated over three meshes",
                                        "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
-                                                 "mesh": "r = 1 and 2; r = 1 by implicit dynamics too"}},
+                                                 "mesh": "r = 1 and 2; r = 1 by implicit dynamics too"},
+                                       "stacked": {"loading": [0, 1], "unloading": [0, 1], "mesh": "r = 1",
+                                                   "damped": True}},
     ((0.99, 6.696), (1.17, 6.696)): {"loading": [0, 1], "unloading": [1, 0], "P1": (22.32, 0.27),
                                      "valley": (98.17, 2.08), "mesh": "extrapolated over three meshes",
                                      "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
-                                               "mesh": "r = 1 and 2"}},
+                                               "mesh": "r = 1 and 2"},
+                                     "stacked": {"loading": [0, 1], "unloading": [1, 0], "mesh": "r = 1"}},
 }
 
 
 def _pct(v):
     return f"{v[0]:+.2f} +- {v[1]:.2f} %" if v[1] is not None else f"{v[0]:+.1f} %"
+
+
+def _stacked_text(st, perm):
+    """``solid_order_note``'s words on the two types stacked as one solid (``SOLID_ORDERS``' ``"stacked"``), the type
+    indices mapped by ``perm``; "" if not run."""
+    if not st:
+        return ""
+    load = [perm[i] for i in st["loading"]]
+    how = f"{st['mesh']}, implicit dynamics" + (" with the rubber's damping" if st.get("damped") else "")
+    unload = [perm[i] for i in st["unloading"]]
+    word = "symmetric" if unload == load[::-1] else "asymmetric"
+    return (f"; two such rings stacked as one curved solid ({how}) snap loading {load}, unloading {unload} ({word}), "
+            "the rule's")
 
 
 def solid_order_note(cells, n_cells, seq, rel=1e-3):
@@ -216,6 +233,7 @@ def solid_order_note(cells, n_cells, seq, rel=1e-3):
                         f"valley {_pct(rec['valley'])} against type {a}'s, so two such rings stacked snap loading "
                         f"{load}, unloading {unload} ({word}) by the two-hysteron rule"
                         + ("" if n_cells == 4 else f" (measured with four cells around, this sleeve has {n_cells})")
+                        + _stacked_text(rec.get("stacked"), perm)
                         + f"; the mixed ring {[perm[i] for i in (0, 0, 1, 1)]} itself as one curved solid ({mx['mesh']}) "
                         f"snaps loading {m_load}, unloading {m_unload} ({m_word}), leaning "
                         + ("the other way on unloading" if mx["lean_reverses"] else "the same way on both")
