@@ -29,24 +29,24 @@ def solid_stack(key, r=1, d_max=STACK_D_MAX, increments=70, method="dynamic", ti
     cells = combination_cells(key)
     c, info = sleeve3d_stack.solve_stack3d(cells, 4, r, d_max=d_max * cells[0].L, increments=increments,
                                            method=method, timeout_s=timeout_s, partial=True, damping=damping)
-    return dict(_stored(key, r, d_max, method, increments, c, info["wall_s"], info.get("stopped", "")),
-                damping=float(damping))
+    return _stored(key, r, d_max, method, increments, damping, c, info["wall_s"], info.get("stopped", ""))
 
 
-def solid_stack_from_dat(key, dat_text, wall_s, stopped, r=1, d_max=STACK_D_MAX, increments=70, method="dynamic"):
+def solid_stack_from_dat(key, dat_text, wall_s, stopped, r=1, d_max=STACK_D_MAX, increments=70, method="dynamic",
+                         damping=0.0):
     """``solid_stack``'s record of a run read off its ``.dat`` file (``dat_text``, ccx still going or stopped by
     hand: ``stopped`` says why, ``wall_s`` how long it ran), for the same deck ``solid_stack`` writes."""
     from metamaterial_wb.fe import ccx, sleeve3d_stack
     cells = combination_cells(key)
-    mesh = sleeve3d_stack.stack_mesh(cells, 4, r)
-    watch = sleeve3d_stack.stack_watch(mesh)
-    _, meta = sleeve3d_stack.stack_deck3d(cells, 4, r, d_max * cells[0].L, increments, method=method, watch=watch)
-    c = sleeve3d_stack.read_stack(ccx.parse_dat(dat_text), meta, watch)
-    return _stored(key, r, d_max, method, increments, c, wall_s, stopped)
+    _, meta = sleeve3d_stack.stack_deck3d(cells, 4, r, d_max * cells[0].L, increments, method=method, watch="ends",
+                                          damping=damping)
+    c = sleeve3d_stack.read_stack(ccx.parse_dat(dat_text), meta)
+    return _stored(key, r, d_max, method, increments, damping, c, wall_s, stopped)
 
 
-def _stored(key, r, d_max, method, increments, c, wall_s, stopped):
+def _stored(key, r, d_max, method, increments, damping, c, wall_s, stopped):
     out = {"combination": key, "r": int(r), "d_max": float(d_max), "method": method, "increments": int(increments),
+           "damping": float(damping),
            "wall_s": float(wall_s), "d_reached": float(c["d"][-1]), "stopped": stopped[:300],
            "units": c["units"].tolist(), "types": c["types"].tolist(),
            "unloading": c["unloading"].astype(int).tolist(), "d": np.round(c["d"], 6).tolist(),

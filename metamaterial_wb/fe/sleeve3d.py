@@ -280,10 +280,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     ``ring_mesh``'s."""
     mesh = ring_mesh(g, n_cells, r, n_layers, top=top)
     g = mesh.geom
-    if element not in ("C3D20R", "C3D20"):
-        raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
-    if method not in ("static", "dynamic"):
-        raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
+    check_procedure(element, method)
     if radial not in ("free", "fixed") + PARTS:
         raise ValueError(f"radial: {radial!r}; allowed: 'free', 'fixed' or a part: {', '.join(map(repr, PARTS))}")
     if isinstance(stability, bool) or int(stability) != stability or not 0 <= stability <= 20:
@@ -297,10 +294,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     if not 0 < d_max <= 1.5 * g.L:
         raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 1.5 L = {1.5 * g.L:g} mm")
     if watch is not None:
-        watch = np.unique(np.asarray(watch, dtype=np.int64).ravel())
-        if not watch.size or watch[0] < 0 or watch[-1] >= mesh.n_nodes:
-            raise ValueError(f"watch: {watch.size} node ids from {watch.min() if watch.size else '-'} to "
-                             f"{watch.max() if watch.size else '-'}; allowed: 1 or more of 0 to {mesh.n_nodes - 1}")
+        watch = checked_watch(watch, mesh.n_nodes)
     X = mesh.nodes
     full = mesh.beam_end_elements(full_near, low=full_low)
     tol = 1e-7 * g.L
@@ -354,6 +348,24 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     return "".join(out), meta
 
 
+def check_procedure(element, method):
+    """Refuse a brick type or a procedure the solid decks do not write."""
+    if element not in ("C3D20R", "C3D20"):
+        raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
+    if method not in ("static", "dynamic"):
+        raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
+
+
+def checked_watch(watch, n_nodes):
+    """The node ids ``watch`` (0-based) sorted and unique, or an error naming them unless 1 or more of 0 to
+    ``n_nodes - 1``."""
+    watch = np.unique(np.asarray(watch, dtype=np.int64).ravel())
+    if not watch.size or watch[0] < 0 or watch[-1] >= n_nodes:
+        raise ValueError(f"watch: {watch.size} node ids from {watch.min() if watch.size else '-'} to "
+                         f"{watch.max() if watch.size else '-'}; allowed: 1 or more of 0 to {n_nodes - 1}")
+    return watch
+
+
 def material_text(dense, damping=0.0):
     """The neo-Hooke rubber (``sleeve2d.BULK_RATIO``) of element set ``SOLID``, with the small density ``DENSITY``
     when ``dense`` (implicit dynamics, or a ``*FREQUENCY`` step) and mass-proportional Rayleigh damping ``damping``
@@ -378,14 +390,14 @@ def amplitudes(method, unload):
     return "", ""
 
 
-def bias_text(moment, phi, amp, unload, node=ROT):
-    """The tilt bias: a moment ``moment`` (N mm) on the plate's rotation node ``node`` about the axis at the angle
+def bias_text(moment, phi, amp, unload):
+    """The tilt bias: a moment ``moment`` (N mm) on the top plate's rotation node ``ROT`` about the axis at the angle
     ``phi`` + 90 deg (it raises the plate's side at ``phi``), along the rise's amplitude ``amp`` (``amplitudes``) or
     held after the loading (``unload``); none for a zero moment."""
     if not moment:
         return ""
-    return (f"*CLOAD{', AMPLITUDE=HOLD' if unload else amp}\n{node},1,{moment * math.sin(phi):.12g}\n"
-            f"{node},2,{-moment * math.cos(phi):.12g}\n")
+    return (f"*CLOAD{', AMPLITUDE=HOLD' if unload else amp}\n{ROT},1,{moment * math.sin(phi):.12g}\n"
+            f"{ROT},2,{-moment * math.cos(phi):.12g}\n")
 
 
 def step_text(method, unload, increments, patient, body):

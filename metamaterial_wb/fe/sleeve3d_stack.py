@@ -86,17 +86,15 @@ def stack_deck3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bi
     """``(deck, meta)``: the stack (module docstring) under its top plate, raised to ``d_max`` mm (default 0.5 L:
     twice a single ring's default) and, with ``unload``, lowered back along one step of time 2 (the single
     ring's amplitudes, ``sleeve3d.amplitudes``); ``increments`` per unit of time at most; ``watch``: 0-based node
-    ids printed at every increment (the beams' ends). ``damping`` (1/s, implicit dynamics only): the rubber's
+    ids printed at every increment, or ``"ends"``: every beam end of both rings (``StackMesh.beam_ends``, kept in
+    ``meta["ends"]`` for ``read_stack``'s hysterons; ``meta["watch"]`` the ids printed). ``damping`` (1/s, implicit dynamics only): the rubber's
     mass-proportional Rayleigh damping (``sleeve3d.material_text``). Without it, when the second ring's snap
     drops the force to the first ring's valley, the first ring and the middle plate swing across that ring's
     snap-back threshold for a long time at tiny increments (the integrator's dissipation acts on high frequencies
     only; measured on combination 2); a real rubber's own damping ends that swing."""
     mesh = stack_mesh(cells, n_cells, r)
     L = cells[0].L
-    if element not in ("C3D20R", "C3D20"):
-        raise ValueError(f"element: {element!r}; allowed: 'C3D20R' (reduced integration), 'C3D20' (full)")
-    if method not in ("static", "dynamic"):
-        raise ValueError(f"method: {method!r}; allowed: 'static', 'dynamic'")
+    sleeve3d.check_procedure(element, method)
     if not 0.0 <= damping <= DAMPING_MAX:
         raise ValueError(f"damping: {damping!r} 1/s; allowed: 0 to {DAMPING_MAX:g} 1/s")
     if damping and method != "dynamic":
@@ -107,10 +105,11 @@ def stack_deck3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bi
     d_max = 0.5 * L if d_max is None else float(d_max)
     if not 0 < d_max <= 3.0 * L:
         raise ValueError(f"d_max: {d_max!r} mm; allowed: 0 < d_max <= 3 L = {3.0 * L:g} mm (1.5 L per ring)")
-    if watch is not None:
-        watch = np.unique(np.asarray(watch, dtype=np.int64).ravel())
-        if not watch.size or watch[0] < 0 or watch[-1] >= mesh.n_nodes:
-            raise ValueError(f"watch: {watch.size} node ids; allowed: 1 or more of 0 to {mesh.n_nodes - 1}")
+    ends = mesh.beam_ends() if isinstance(watch, str) and watch == "ends" else None
+    if ends is not None:
+        watch = np.unique(np.concatenate([np.concatenate([e["outer"].ravel(), e["inner"].ravel()]) for e in ends]))
+    elif watch is not None:
+        watch = sleeve3d.checked_watch(watch, mesh.n_nodes)
     X = mesh.nodes
     tol = 1e-7 * L
     H0 = mesh.heights[0]
@@ -140,7 +139,7 @@ def stack_deck3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bi
     meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_cells": int(n_cells),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments), "bias": bias,
             "bias_angle": bias_angle, "method": method, "element": element, "unload": bool(unload),
-            "heights_mm": list(mesh.heights), "damping": float(damping)}
+            "heights_mm": list(mesh.heights), "damping": float(damping), "watch": watch, "ends": ends}
     return "".join(out), meta
 
 
@@ -153,11 +152,10 @@ def solve_stack3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, b
     edge pillar, the second ring's numbered after the first's) and ``"types"`` (each half's ring: 0 lower, 1
     upper); and the run info (``info["stopped"]``, ``info["d_reached"]``: a partial run, as ``solve_ring3d``).
     ``damping``: ``stack_deck3d``'s."""
-    watch = stack_watch(stack_mesh(cells, n_cells, r)) if hysterons else None
-    deck, meta = stack_deck3d(cells, n_cells, r, d_max, increments, bias, bias_angle, method, unload, element, watch,
-                              damping)
+    deck, meta = stack_deck3d(cells, n_cells, r, d_max, increments, bias, bias_angle, method, unload, element,
+                              "ends" if hysterons else None, damping)
     tables, info = ccx.run(deck, "sleeve_stack3d", timeout_s, partial=partial)
-    out = read_stack(tables, meta, watch, info)
+    out = read_stack(tables, meta, info)
     info.update({key: meta[key] for key in ("r", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm", "bias",
                                             "bias_angle", "method", "element", "heights_mm", "damping")})
     info["increments"] = len(out["d"]) - 1
@@ -165,20 +163,15 @@ def solve_stack3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, b
     return out, info
 
 
-def stack_watch(mesh):
-    """The node ids ``solve_stack3d`` watches: every beam end of both rings (``StackMesh.beam_ends``)."""
-    return np.unique(np.concatenate([np.concatenate([e["outer"].ravel(), e["inner"].ravel()])
-                                     for e in mesh.beam_ends()]))
-
-
-def read_stack(tables, meta, watch=None, info=None):
+def read_stack(tables, meta, info=None):
     """``solve_stack3d``'s curve from ccx's printed tables (``ccx.parse_dat``, also of a run still going or stopped)
-    of the deck ``stack_deck3d`` wrote with ``meta``; the hysterons with ``watch`` (``stack_watch``)."""
+    of the deck ``stack_deck3d`` wrote with ``meta``; the hysterons when it watched the beams' ends."""
     mesh, L, n_cells = meta["mesh"], meta["mesh"].rings[0].geom.L, meta["n_cells"]
+    watch, ends = meta["watch"], meta["ends"]
     rows = tables.get(("forces", "BOTTOM"), [])
     if not rows:
         raise ccx.FEError((info or {}).get("stopped", "ccx printed no increment") + " (no increment converged)")
-    sets = ["NROT", "NMID", "NMROT"] + (["WATCH"] if watch is not None else [])
+    sets = ["NROT", "NMID", "NMROT"] + (["WATCH"] if ends is not None else [])
     k = min([len(rows)] + [len(tables.get(("displacements", n), [])) for n in sets])   # a live file's last one
     rows = rows[:k]
     t = np.array([r_[0] for r_ in rows])
@@ -196,8 +189,7 @@ def read_stack(tables, meta, watch=None, info=None):
            "middle_tilt_rad": np.vstack([[0.0, 0.0], mid_rot[:, :2]])}
     if meta["unload"]:
         out["unloading"] = np.concatenate([[False], down])
-    if watch is not None:
-        ends = mesh.beam_ends()
+    if ends is not None:
         rows_w = tables.get(("displacements", "WATCH"), [])[:k]
         u_watch = np.array([np.zeros((watch.size, 3))] + [[r_[1][i + 1][:3] for i in watch] for r_ in rows_w])
         rises, units, types = [], [], []
@@ -210,5 +202,4 @@ def read_stack(tables, meta, watch=None, info=None):
     return out
 
 
-__all__ = ["StackMesh", "stack_mesh", "stack_deck3d", "solve_stack3d", "stack_watch", "read_stack", "MREF",
-           "MROT"]
+__all__ = ["StackMesh", "stack_mesh", "stack_deck3d", "solve_stack3d", "read_stack", "MREF", "MROT"]

@@ -46,7 +46,7 @@ def test_types_of_different_widths_cannot_stack_and_the_refusals_name_the_value(
                     ({"bias": float("nan")}, r"bias: nan; allowed: 0 to 0.001"),
                     ({"method": "explicit"}, r"method: 'explicit'; allowed: 'static', 'dynamic'"),
                     ({"increments": 0}, r"increments: 0; allowed: an integer >= 1"),
-                    ({"watch": [10 ** 6]}, r"watch: 1 node ids; allowed: 1 or more of 0 to")):
+                    ({"watch": [10 ** 6]}, r"watch: 1 node ids from 1000000 to 1000000; allowed: 1 or more of 0 to")):
         with pytest.raises(ValueError, match=msg):
             sleeve3d_stack.stack_deck3d([a, b], **kw)
 
@@ -158,8 +158,8 @@ def test_tiny_stack_acts_as_two_rings_in_series():
     tables = dict(seen["tables"])
     tables[("displacements", "WATCH")] = tables[("displacements", "WATCH")][:-1]
     _, meta = sleeve3d_stack.stack_deck3d([a, b], 4, 1, d_max=0.02 * a.L, increments=2, method="static",
-                                          unload=False)
-    live = sleeve3d_stack.read_stack(tables, meta, sleeve3d_stack.stack_watch(meta["mesh"]))
+                                          unload=False, watch="ends")
+    live = sleeve3d_stack.read_stack(tables, meta)
     assert len(live["d"]) == len(c["d"]) - 1 and np.allclose(live["rises"], c["rises"][:-1])
     assert np.allclose(live["F"], c["F"][:-1])
     assert info["d_reached"] == pytest.approx(0.02) and c["ring_rises"].shape == (3, 2)
