@@ -7,9 +7,10 @@ Builds the frame (``metamaterial_wb/core/sleeve/frame3d.py``) of every ring size
 (``benchmarks/results/fe-ring3d.json``, ``cells``; ``bench_sleeve_ring3d.py --cells``), flat and curved, in two
 moduli and two root extensions (a few seconds in all, no ccx), stores them in
 ``benchmarks/results/frame3d.json`` and rewrites its section of docs/sleeves.md. ``--nonlinear`` traces the
-four-cell ring nonlinearly (about 40 s), ``--plate`` the four- and eight-cell rings with the solid's free plate
-(``bench/fe_frame3d_plate.py``, about 1 min), ``--sequence`` the seed's two mixed rings' cycles on it (about
-4 min), ``--stacked`` the seed's combinations as two stacked rings (``bench/fe_frame3d_stack.py``, about 12 min);
+four-cell ring nonlinearly (about 15 s), ``--plate`` the four- and eight-cell rings with the solid's free plate
+and the eight-cell leaning runs on two more beam meshes (``bench/fe_frame3d_plate.py``, about 2 min),
+``--sequence`` the seed's two mixed rings' cycles on it (about 2 min), ``--stacked`` the seed's combinations as two
+stacked rings (``bench/fe_frame3d_stack.py``, about 3 min);
 otherwise their stored runs are reused. The solid's thresholds of the seed's combinations
 (``bench_sleeve_ring3d.py --combinations``, stored in fe-ring3d.json) are tabulated beside the frame's.
 """
@@ -31,13 +32,14 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--nonlinear", action="store_true", help="trace the four-cell curved frame nonlinearly to d/L "
-                    "0.7 on 12 and 24 elements per beam half (a few minutes); else the stored traces are reused")
+                    "0.7 on 12 and 24 elements per beam half (about 15 s); else the stored traces are reused")
     ap.add_argument("--plate", action="store_true", help="trace the four- and eight-cell rings with the solid's "
-                    "free, biased top plate and follow their tilt pair (about 2 min); else the stored runs are reused")
+                    "free, biased top plate and follow their tilt pair, the eight-cell leaning runs on 6 and 24 "
+                    "elements too (about 2 min); else the stored runs are reused")
     ap.add_argument("--sequence", action="store_true", help="the seed's combinations 1 and 2 loaded and unloaded on "
-                    "the frame with the free plate (about 4 min); else the stored runs are reused")
+                    "the frame with the free plate (about 2 min); else the stored runs are reused")
     ap.add_argument("--stacked", action="store_true", help="the seed's combinations as two stacked rings on the "
-                    "frame, on 6 and 12 elements, and on the beam model (about 12 min); else the stored runs are reused")
+                    "frame, on 6, 12 and 24 elements, and on the beam model (about 3 min); else the stored runs are reused")
     a = ap.parse_args(argv)
     comp = json.load(open(os.path.join(RESULTS, "fe-ring3d-comparison.json")))
     s = fe_frame3d.study(comp["cells"])
@@ -59,8 +61,10 @@ def main(argv=None):
     from metamaterial_wb.bench import fe_frame3d_plate
     if a.plate:
         s["plate"] = fe_frame3d_plate.plate_study()
+        s["plate_meshes"] = fe_frame3d_plate.count_meshes()
     elif os.path.exists(old):
         s["plate"] = json.load(open(old)).get("plate")
+        s["plate_meshes"] = json.load(open(old)).get("plate_meshes")
     if a.sequence:
         s["sequence"] = fe_frame3d_plate.sequence_study()
     elif os.path.exists(old):
@@ -72,7 +76,8 @@ def main(argv=None):
         s["stacked"] = json.load(open(old)).get("stacked")
     off = (fe_frame3d.p1_off(s["nonlinear"], s["fe_family"], s["planar_calibrated"])[0]
            if s.get("nonlinear") else None)
-    section = fe_frame3d.markdown(s, ([fe_frame3d_plate.markdown(s["plate"], comp, off)] if s.get("plate") else []) +
+    plate = [fe_frame3d_plate.markdown(s["plate"], comp, off, s.get("plate_meshes"))] if s.get("plate") else []
+    section = fe_frame3d.markdown(s, plate +
                                   ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []) +
                                   ([fe_frame3d_stack.stacked_markdown(s["stacked"], s.get("sequence") or {})]
                                    if s.get("stacked") else []) +

@@ -46,6 +46,48 @@ def plate_study(n_el=12, e=0.63, step=0.005, runs=RUNS):
     return out
 
 
+MESH_RUNS = ("8_bias1e-05", "8_bias0.001")   # the eight-cell leaning runs whose snapping count is meshed
+
+
+def count_meshes(meshes=(6, 24), e=0.63, step=0.005):
+    """The eight-cell leaning runs (``MESH_RUNS``) on beam meshes other than the plate study's: ``{str(n_el): {key:
+    {"snapping", "seconds"}}}`` (``snapping``), the count at the first valley on every mesh."""
+    out = {}
+    for n_el in meshes:
+        runs = plate_study(n_el, e, step, {k: RUNS[k] for k in MESH_RUNS})
+        out[str(n_el)] = {k: {"snapping": snapping(r), "seconds": r["seconds"]} for k, r in runs.items()}
+    return out
+
+
+def count_words(pl, meshes):
+    """The sentence on the eight-cell leaning runs' snapping count on every beam mesh (``count_meshes`` and the
+    plate study's own), or nothing when a run has no valley."""
+    runs = dict(meshes)
+    runs[str(pl["8"]["elements"])] = {k: {"snapping": snapping(pl[k]), "seconds": pl[k]["seconds"]} for k in MESH_RUNS}
+    order = sorted(runs, key=int)
+    sn = {k: [runs[n][k]["snapping"] for n in order] for k in MESH_RUNS}
+    if not all(x["valley"] for k in MESH_RUNS for x in sn[k]):
+        return ""
+    counts = {x["valley"][1] for k in MESH_RUNS for x in sn[k]}
+
+    def listed(values, fmt):
+        return ", ".join(format(v, fmt) for v in values)
+
+    parts = []
+    for k, what in zip(MESH_RUNS, ("the default bias", "the hundred-fold bias")):
+        x = sn[k]
+        half = [v["half"] for v in x]
+        parts.append(f"with {what} {listed([v['valley'][1] for v in x], 'd')} of {x[0]['units']} at the first valley "
+                     f"(d/L {listed([v['valley'][0] for v in x], '.3f')})"
+                     + (f", half the ring by d/L {listed(half, '.3f')}" if all(h is not None for h in half) else ""))
+    near = all(v["contiguous"] for k in MESH_RUNS for v in sn[k])
+    secs = sum(runs[n][k]["seconds"] for n in order for k in MESH_RUNS)
+    return (f"On {listed([int(n) for n in order], 'd')} elements per beam half the count is "
+            + ("the same" if len(counts) == 1 else "not the same") + ": " + "; ".join(parts)
+            + ("; neighbours on every mesh" if near else "; not neighbours on every mesh")
+            + f" (`fe_frame3d_plate.count_meshes`, {secs:.0f} s for the {len(order) * len(MESH_RUNS)} runs). ")
+
+
 def zero_crossings(d, lam):
     """Where ``lam(d)`` changes sign, by linear interpolation: a list of ``(d, "down" | "up")``."""
     out = []
@@ -229,9 +271,10 @@ def eight_cell_words(m, frame_p1):
              "% its error). " if "r3" in m else ""))
 
 
-def markdown(pl, c, p1_off=None):
+def markdown(pl, c, p1_off=None, meshes=None):
     """The paragraph for docs/sleeves.md's frame section; ``p1_off``: the four-cell frame's untilted first peak
-    against the solid's extrapolated one, per cent (``fe_frame3d.p1_off``)."""
+    against the solid's extrapolated one, per cent (``fe_frame3d.p1_off``); ``meshes``: the eight-cell leaning runs
+    on other beam meshes (``count_meshes``)."""
     f = facts(pl, c)
     z8 = [x for x, k in f["frame8_zero"] if k == "down"]
     z4 = f["frame4_zero"]
@@ -283,6 +326,8 @@ def markdown(pl, c, p1_off=None):
         t += ("Under the hundred-fold bias the frame's go " + snapping_words(s3) + "; the solid's, read off its beams' "
               "ends by the same rule (`sleeve3d.hysterons`; the run's beam ends printed at every increment, "
               f"{sb['seconds'] / 60:.0f} min to d/L {sb['d_reached']:.2f}), " + snapping_words(ss) + ". ")
+    if meshes:
+        t += count_words(pl, meshes)
     dm, rel = f["frame4_min"]
     lo4 = min(s4, key=lambda p: p[1])
     b4 = f["frame4_bias1e-05"]
@@ -341,7 +386,7 @@ def plot(pl, c, path):
     finish(fig, ax, "d / L", path)
 
 
-def sequence_study(meshes={"1": (12,), "2": (6, 12, 24)}, root_extension=0.63, steps=160):
+def sequence_study(meshes={"1": (6, 12, 24), "2": (6, 12, 24)}, root_extension=0.63, steps=160):
     """The seed's combinations on the frame (``frame3d_sequence``, ring [0, 0, 1, 1], the free plate) on each
     beam mesh of ``meshes``, and on the beam model as the ``sleeve`` command runs it (``pipeline.analyse`` on
     examples/sleeve.json with the combination's cells): ``{combination: {"frame": {n_el: sequence},

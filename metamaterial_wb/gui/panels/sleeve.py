@@ -85,9 +85,9 @@ class SleevePanel(BasePanel):
         self.frame_nl = QtGui.QCheckBox(translate("Metamaterial", "Check on a 3-D frame: first peaks and sequence"))
         self.frame_nl.setToolTip(translate("Metamaterial", "model.frame_nonlinear: the same beams as a nonlinear 3-D "
                                            "frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out "
-                                           "of it as the printed sleeve does: each uniform ring's first peak (a few "
-                                           "seconds per cell type) and the sleeve's snapping sequence and lean (about "
-                                           "half a minute per ring; stacked rings with the plates between them "
+                                           "of it as the printed sleeve does: each uniform ring's first peak (under a "
+                                           "second per cell type) and the sleeve's snapping sequence and lean (about "
+                                           "10 s per ring; stacked rings with the plates between them "
                                            "free). Needs the curved single-layout ring"))
         f2.addRow("", self.frame_nl)
         self.layout.addLayout(f2)
