@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The curved sleeve ring as a linear 3-D frame against the curved CalculiX solid (issue 18).
 
-    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--plate] [--sequence] [--stacked] [--no-write]
+    /usr/bin/python3 benchmarks/bench_sleeve_frame3d.py [--nonlinear] [--plate] [--sequence] [--walker] [--stacked]
+        [--no-write]
 
 Builds the frame (``metamaterial_wb/core/sleeve/frame3d.py``) of every ring size the solid was run for
 (``benchmarks/results/fe-ring3d.json``, ``cells``; ``bench_sleeve_ring3d.py --cells``), flat and curved, in two
@@ -9,7 +10,8 @@ moduli and two root extensions (a few seconds in all, no ccx), stores them in
 ``benchmarks/results/frame3d.json`` and rewrites its section of docs/sleeves.md. ``--nonlinear`` traces the
 four-cell ring nonlinearly (about 15 s), ``--plate`` the four- and eight-cell rings with the solid's free plate
 and the eight-cell leaning runs on two more beam meshes (``bench/fe_frame3d_plate.py``, about 2 min),
-``--sequence`` the seed's two mixed rings' cycles on it (about 2 min), ``--stacked`` the seed's combinations as two
+``--sequence`` the seed's two mixed rings' cycles on it (about 2 min), ``--walker`` the walker on the frame's
+cycle on three beam meshes (about 1 min), ``--stacked`` the seed's combinations as two
 stacked rings (``bench/fe_frame3d_stack.py``, about 3 min);
 otherwise their stored runs are reused. The solid's thresholds of the seed's combinations
 (``bench_sleeve_ring3d.py --combinations``, stored in fe-ring3d.json) are tabulated beside the frame's.
@@ -38,6 +40,8 @@ def main(argv=None):
                     "elements too (about 2 min); else the stored runs are reused")
     ap.add_argument("--sequence", action="store_true", help="the seed's combinations 1 and 2 loaded and unloaded on "
                     "the frame with the free plate (about 2 min); else the stored runs are reused")
+    ap.add_argument("--walker", action="store_true", help="the walker of examples/walker.json on the frame's cycle, "
+                    "on 6, 12 and 24 elements (about 1 min); else the stored runs are reused")
     ap.add_argument("--stacked", action="store_true", help="the seed's combinations as two stacked rings on the "
                     "frame, on 6, 12 and 24 elements, and on the beam model (about 3 min); else the stored runs are reused")
     a = ap.parse_args(argv)
@@ -69,6 +73,10 @@ def main(argv=None):
         s["sequence"] = fe_frame3d_plate.sequence_study()
     elif os.path.exists(old):
         s["sequence"] = json.load(open(old)).get("sequence")
+    if a.walker:
+        s["walker"] = fe_frame3d_plate.walker_study()
+    elif os.path.exists(old):
+        s["walker"] = json.load(open(old)).get("walker")
     from metamaterial_wb.bench import fe_frame3d_stack, fe_ring3d_combinations, fe_ring3d_stack
     if a.stacked:
         s["stacked"] = fe_frame3d_stack.stacked_study()
@@ -79,6 +87,7 @@ def main(argv=None):
     plate = [fe_frame3d_plate.markdown(s["plate"], comp, off, s.get("plate_meshes"))] if s.get("plate") else []
     section = fe_frame3d.markdown(s, plate +
                                   ([fe_frame3d_plate.sequence_markdown(s["sequence"])] if s.get("sequence") else []) +
+                                  ([fe_frame3d_plate.walker_markdown(s["walker"])] if s.get("walker") else []) +
                                   ([fe_frame3d_stack.stacked_markdown(s["stacked"], s.get("sequence") or {})]
                                    if s.get("stacked") else []) +
                                   ([fe_ring3d_combinations.solid_markdown(raw["combinations"], s.get("sequence") or {},

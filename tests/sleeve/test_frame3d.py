@@ -274,6 +274,23 @@ def test_eight_cell_snapping_count_is_the_same_on_every_beam_mesh():
     assert "the count is not the same" in fp.count_words(pl, other) and "3, 3, 4 of 8" in fp.count_words(pl, other)
 
 
+def test_walker_on_the_frame_is_mesh_converged_and_documented():
+    """The walker of examples/walker.json on the frame's cycle: stored on 6, 12 and 24 elements per beam half, its
+    loop, stroke, lift and step change by under 1 % from 12 to 24; the paragraph says so and is in the docs; the
+    stored 12-element figures are what the ``sleeve`` command's summary gives now (``walker.frame3d_nl``)."""
+    from metamaterial_wb.bench import fe_frame3d_plate as fp
+    w = json.load(open(os.path.join(RESULTS, "frame3d.json")))["walker"]
+    assert sorted(k for k in w if k != "model") == ["12", "24", "6"]
+    assert all(abs(w["24"][k] / w["12"][k] - 1) < 0.01 for k in fp.WALKER_KEYS)
+    text = fp.walker_markdown(w)
+    assert "From 12 to 24 elements per beam half the frame's figures change by at most 0.4 %" in text
+    assert text in open(os.path.join(RESULTS, "..", "..", "docs", "sleeves.md")).read()
+    now = fp.walker_study(meshes=(12,))
+    for k in fp.WALKER_KEYS:
+        assert now["12"][k] == pytest.approx(w["12"][k], rel=1e-6), k
+        assert now["model"][k] == pytest.approx(w["model"][k], rel=1e-6), k
+
+
 def test_eight_cell_mesh_error_extrapolates_with_the_four_cell_familys_order():
     """``eight_cell_meshes``: eight-cell first peaks that fall from r = 1 to r = 2 as the four-cell ring's do
     (the same ratio) fall by the same per cent and extrapolate, with the four-cell family's observed order, to the
