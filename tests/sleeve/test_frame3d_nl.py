@@ -87,6 +87,18 @@ def _curved_ring_state(n_el=24, rise=0.005, seed=1):
     return ring, fr
 
 
+def _energy_at(fr):
+    """The frame's total energy with the increments ``dq`` applied, the state restored after each call."""
+    x0, R0 = fr.x.copy(), fr.R.copy()
+
+    def energy_at(dq):
+        fr.apply(dq)
+        e = fr.energy()
+        fr.x, fr.R = x0.copy(), R0.copy()
+        return e
+    return energy_at
+
+
 def test_exact_gradient_and_hessian_hold_at_large_relative_rotations():
     """Two skew elements whose nodes are turned by 0.6-2.5 rad about random axes and moved off their chords (the
     relative rotations far from small, where the left Jacobian's terms and the element axes' own turn weigh):
@@ -111,13 +123,7 @@ def test_exact_gradient_and_hessian_hold_at_large_relative_rotations():
     assert np.linalg.norm(np.concatenate([ti, tj]), axis=1).max() > 1.0      # relative rotations far from small
     G, K = fr.gradient_hessian()
     K = K.toarray()
-    x0, R0 = fr.x.copy(), fr.R.copy()
-
-    def energy_at(dq):
-        fr.apply(dq)
-        e = fr.energy()
-        fr.x, fr.R = x0.copy(), R0.copy()
-        return e
+    energy_at = _energy_at(fr)
 
     h = 1e-5
     n = 6 * fr.n
@@ -141,13 +147,7 @@ def test_batched_derivatives_match_direct_differences_of_the_total_energy():
     _, fr = _curved_ring_state()
     G, K = fr.gradient_hessian()
     K = K.toarray()
-    x0, R0 = fr.x.copy(), fr.R.copy()
-
-    def energy_at(dq):
-        fr.apply(dq)
-        e = fr.energy()
-        fr.x, fr.R = x0.copy(), R0.copy()
-        return e
+    energy_at = _energy_at(fr)
 
     rng = np.random.default_rng(0)
     for k in rng.choice(6 * fr.n, 12, replace=False):
