@@ -203,10 +203,10 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     assert "(measured with four cells around, this sleeve has 8)" in rev
     one = acc.solid_order_note(combination_cells("1"), 4, {"loading": [0, 1], "unloading": [1, 0]})
     assert "first peak +22.32 +- 0.27 %" in one and "loading [0, 1], unloading [1, 0] (symmetric)" in one and "the same" in one
-    assert ("two such rings stacked as one curved solid (r = 1, implicit dynamics) snap loading [0, 1], unloading "
+    assert ("two such rings stacked as one curved solid (r = 1 and 2, implicit dynamics) snap loading [0, 1], unloading "
             "[1, 0] (symmetric), the rule's") in one
     flip = acc.solid_order_note(combination_cells("1")[::-1], 4, {"loading": [1, 0], "unloading": [0, 1]})
-    assert "stacked as one curved solid (r = 1, implicit dynamics) snap loading [1, 0], unloading [0, 1]" in flip
+    assert "stacked as one curved solid (r = 1 and 2, implicit dynamics) snap loading [1, 0], unloading [0, 1]" in flip
     assert acc.solid_order_note([two[0]], 4, {"loading": [0], "unloading": [0]}) is None
     assert acc.solid_order_note([CellGeometry(), two[1]], 4, {"loading": [0, 1], "unloading": [0, 1]}) is None
     other_L = [CellGeometry(L=20.0, t=g.t, h=g.h) for g in two]

@@ -188,7 +188,7 @@ SOLID_ORDERS = {
                                      "valley": (98.17, 2.08), "mesh": "extrapolated over three meshes",
                                      "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
                                                "mesh": "r = 1 and 2"},
-                                     "stacked": {"loading": [0, 1], "unloading": [1, 0], "mesh": "r = 1"}},
+                                     "stacked": {"loading": [0, 1], "unloading": [1, 0], "mesh": "r = 1 and 2"}},
 }
 
 
