@@ -29,6 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from metamaterial_wb.core.lattice.mechanics import inv_left_jacobian
 from metamaterial_wb.core.sleeve.analysis import units_snapped
 from metamaterial_wb.core.sleeve.frame3d import RingFrame
 from metamaterial_wb.core.sleeve.frame3d_plate import RigidPlate, reduce
@@ -49,16 +50,11 @@ def _dot(a, b):
 
 
 def _jl_inv_t(t, v):
-    """``Jl(t)^-T v``: the left Jacobian of SO(3)'s inverse, transposed, at rotation vectors ``t`` (..., 3) on
-    ``v`` (..., 3). A turn ``phi`` on the left of ``exp(t)`` moves ``t`` by ``Jl(t)^-1 phi`` (``Jl^-1 = I - [t]/2 +
-    c [t]^2``, c = 1 / a^2 - (1 + cos a) / (2 a sin a), a = |t|), so a gradient ``v`` in ``t`` is ``Jl^-T v``
-    in ``phi``."""
-    a = np.linalg.norm(t, axis=-1)
-    small = a < 1e-3
-    a_ = np.where(small, 1.0, a)
-    c = np.where(small, 1 / 12 + a ** 2 / 720, 1 / a_ ** 2 - (1 + np.cos(a_)) / (2 * a_ * np.sin(a_)))
-    tv = _cross(t, v)
-    return v + 0.5 * tv + c[..., None] * _cross(t, tv)
+    """``Jl(t)^-T v``: the inverse left Jacobian of SO(3) (``lattice.mechanics.inv_left_jacobian``), transposed, at
+    rotation vectors ``t`` (..., 3) on ``v`` (..., 3). A turn ``phi`` on the left of ``exp(t)`` moves ``t`` by
+    ``Jl(t)^-1 phi``, so a gradient ``v`` in ``t`` is ``Jl^-T v`` in ``phi``."""
+    J = inv_left_jacobian(t.reshape(-1, 3)).reshape(t.shape + (3,))
+    return np.einsum("...ba,...b->...a", J, v)
 
 
 # An element's energy depends on its nodes' positions only through their difference r = x_j - x_i: its gradient
@@ -151,13 +147,12 @@ class NonlinearFrame:
         Re = np.stack([e1, e2, e3], axis=-2)
         return l, Re, qs[0], qs[1], s, logm_so3(Re @ Ms[0]), logm_so3(Re @ Ms[1])
 
-    def _energy(self, elements, dxi, dxj, turn_i, turn_j, axial=True):
-        """The element energies with the nodes moved and turned (``_local``); without the stretching term if not
-        ``axial``."""
+    def _energy(self, elements, dxi, dxj, turn_i, turn_j):
+        """The element energies with the nodes moved and turned (``_local``)."""
         l, _, _, _, _, ti, tj = self._local(elements, dxi, dxj, turn_i, turn_j)
         l0, EA, GJ = self.l0[elements], self.EA[elements], self.GJ[elements]
         EI2, EI3 = self.EI2[elements], self.EI3[elements]
-        return ((EA / (2 * l0) * (l - l0) ** 2 if axial else 0.0) + GJ / (2 * l0) * (tj[..., 0] - ti[..., 0]) ** 2
+        return (EA / (2 * l0) * (l - l0) ** 2 + GJ / (2 * l0) * (tj[..., 0] - ti[..., 0]) ** 2
                 + 2 * EI2 / l0 * (ti[..., 1] ** 2 + ti[..., 1] * tj[..., 1] + tj[..., 1] ** 2)
                 + 2 * EI3 / l0 * (ti[..., 2] ** 2 + ti[..., 2] * tj[..., 2] + tj[..., 2] ** 2))
 
