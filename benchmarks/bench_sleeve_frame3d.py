@@ -56,32 +56,35 @@ def main(argv=None):
     s["held"] = {part: run["p1"] for part, run in raw.get("p1_held", {}).items()}
     s["held"]["free"] = raw.get("cells", {}).get("4", {}).get("fe_curved_p1")
     old = os.path.join(RESULTS, "frame3d.json")
+    stored = json.load(open(old)) if os.path.exists(old) else None      # read once: the runs not redone are kept
+
+    def keep(*keys):
+        if stored is not None:
+            s.update({k: stored.get(k) for k in keys})
     if a.nonlinear:
         s["nonlinear"] = fe_frame3d.nonlinear_study()
         s["p1_sensitivity"] = fe_frame3d.p1_sensitivity()
-    elif os.path.exists(old):
-        s["nonlinear"] = json.load(open(old)).get("nonlinear")
-        s["p1_sensitivity"] = json.load(open(old)).get("p1_sensitivity")
+    else:
+        keep("nonlinear", "p1_sensitivity")
     from metamaterial_wb.bench import fe_frame3d_plate
     if a.plate:
         s["plate"] = fe_frame3d_plate.plate_study()
         s["plate_meshes"] = fe_frame3d_plate.count_meshes()
-    elif os.path.exists(old):
-        s["plate"] = json.load(open(old)).get("plate")
-        s["plate_meshes"] = json.load(open(old)).get("plate_meshes")
+    else:
+        keep("plate", "plate_meshes")
     if a.sequence:
         s["sequence"] = fe_frame3d_plate.sequence_study()
-    elif os.path.exists(old):
-        s["sequence"] = json.load(open(old)).get("sequence")
+    else:
+        keep("sequence")
     if a.walker:
         s["walker"] = fe_frame3d_plate.walker_study()
-    elif os.path.exists(old):
-        s["walker"] = json.load(open(old)).get("walker")
+    else:
+        keep("walker")
     from metamaterial_wb.bench import fe_frame3d_stack, fe_ring3d_combinations, fe_ring3d_stack
     if a.stacked:
         s["stacked"] = fe_frame3d_stack.stacked_study()
-    elif os.path.exists(old):
-        s["stacked"] = json.load(open(old)).get("stacked")
+    else:
+        keep("stacked")
     off = (fe_frame3d.p1_off(s["nonlinear"], s["fe_family"], s["planar_calibrated"])[0]
            if s.get("nonlinear") else None)
     plate = [fe_frame3d_plate.markdown(s["plate"], comp, off, s.get("plate_meshes"))] if s.get("plate") else []
