@@ -366,11 +366,17 @@ def cycles_markdown(cycles, solid, frame=None):
               "seed's asymmetric sequence needs a path with hysteresis, which these solids do not have ("
               + ("" if gaps["dynamic"] else "the seed's FE was dynamic implicit; ")
               + "its two-hysteron reading treats each type as a separate bistable element)."]
+    groups = {}
     for key, mesh, gap, seq in gaps["dynamic"]:
-        L += ["", f"By implicit dynamics (the seed's procedure) combination {key}'s mixed solid on r = {mesh[1:]} "
-              + f"snaps {order_text(seq)}, its paths {'coinciding' if gap < 0.01 else 'apart'} (the largest gap "
-              f"{100 * gap:.2f} % of its first peak): " + ("inertia does not give the ring hysteresis either."
-                                                         if gap < 0.01 else "inertia gives the ring hysteresis.")]
+        groups.setdefault((key, order_text(seq), gap < 0.01), []).append((mesh, gap))
+    for (key, order, flat), runs in groups.items():
+        meshes = [m[1:] for m, _ in runs]
+        where = ", ".join(meshes[:-1]) + " and " + meshes[-1] if len(meshes) > 1 else meshes[0]
+        L += ["", f"By implicit dynamics (the seed's procedure) combination {key}'s mixed solid on r = {where} "
+              + f"snaps {order}, its paths {'coinciding' if flat else 'apart'} (the largest gap "
+              + " / ".join(f"{100 * g:.2f}" for _, g in runs) + " % of its first peak"
+              + (", by mesh" if len(runs) > 1 else "") + "): "
+              + ("inertia does not give the ring hysteresis either." if flat else "inertia gives the ring hysteresis.")]
     for key, mesh, seq, biased in unbiased:
         same = (seq["loading"], seq["unloading"]) == (biased["loading"], biased["unloading"])
         turned = _angle(seq["lean_loading_deg"], biased["lean_loading_deg"])

@@ -168,16 +168,21 @@ def test_the_solids_snapping_orders_quoted_are_the_stored_runs():
                     "loading": seq["loading"], "unloading": seq["unloading"],
                     "lean_reverses": seq["lean_reverses"]}, (mesh, variant)
         dyn = [m[1:] for m in sorted(runs) if "cycle_dynamic" in runs[m]]
-        assert rec["mixed"]["mesh"] == ("r = " + " and ".join(m[1:] for m in sorted(runs) if "cycle" in runs[m])
-                                        + (f"; r = {' and '.join(dyn)} by implicit dynamics too" if dyn else ""))
+        assert rec["mixed"]["mesh"] == ("r = " + _listed([m[1:] for m in sorted(runs) if "cycle" in runs[m]])
+                                        + (f"; r = {_listed(dyn)} by implicit dynamics too" if dyn else ""))
         # the two types as two stacked rings in one solid (``stacked_solid``): the order its run gives
         from metamaterial_wb.bench import fe_ring3d_stack as fs
         stacks = _load("fe-ring3d.json")["stacked_solid"][key]
-        assert rec["stacked"]["mesh"] == "r = " + " and ".join(m[1:] for m in sorted(stacks))
+        assert rec["stacked"]["mesh"] == "r = " + _listed([m[1:] for m in sorted(stacks)])
         for mesh, run in stacks.items():
             seq = fs.stack_sequence(run)
             assert [seq["loading"], seq["unloading"]] == [rec["stacked"]["loading"], rec["stacked"]["unloading"]]
             assert rec["stacked"].get("damped", False) == bool(run.get("damping")), (key, mesh)
+
+
+def _listed(words):
+    """``["1", "2", "3"]`` as "1, 2 and 3"."""
+    return ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
 
 
 def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
@@ -189,7 +194,7 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     note = acc.solid_order_note(two, 4, {"loading": [1, 0], "unloading": [1, 0]})
     assert "type 1's first peak +1.76 +- 0.34 % and its valley -3.85 +- 0.10 % against type 0's" in note
     assert "loading [0, 1], unloading [0, 1] (asymmetric)" in note and "they differ" in note
-    assert ("the mixed ring [0, 0, 1, 1] itself as one curved solid (r = 1 and 2; r = 1 by implicit dynamics too) "
+    assert ("the mixed ring [0, 0, 1, 1] itself as one curved solid (r = 1 and 2; r = 1 and 2 by implicit dynamics too) "
             "snaps loading [0, 1], unloading [1, 0] "
             "(symmetric), leaning the same way on both") in note
     assert "on the curved solid and on the 3-D frame the seed's mixed combination 2 is symmetric" in note
@@ -199,7 +204,7 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     rev = acc.solid_order_note(two[::-1], 8, {"loading": [1, 0], "unloading": [1, 0]})
     assert "type 0's first peak +1.76 +- 0.34 %" in rev and "against type 1's" in rev
     assert "loading [1, 0], unloading [1, 0] (asymmetric)" in rev and "the same" in rev
-    assert "the mixed ring [1, 1, 0, 0] itself as one curved solid (r = 1 and 2; r = 1 by implicit dynamics too) snaps loading [1, 0], unloading [0, 1]" in rev
+    assert "the mixed ring [1, 1, 0, 0] itself as one curved solid (r = 1 and 2; r = 1 and 2 by implicit dynamics too) snaps loading [1, 0], unloading [0, 1]" in rev
     assert "(measured with four cells around, this sleeve has 8)" in rev
     one = acc.solid_order_note(combination_cells("1"), 4, {"loading": [0, 1], "unloading": [1, 0]})
     assert "first peak +22.32 +- 0.27 %" in one and "loading [0, 1], unloading [1, 0] (symmetric)" in one and "the same" in one
