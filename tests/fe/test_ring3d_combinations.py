@@ -369,10 +369,15 @@ def test_stored_mixed_solids_are_their_types_averaged():
     """The stored mixed solids' first peak and valley lie within 2.5 % of the mean of their types' uniform rings as
     they stand in them (combination 2: 0.4 %), as the docs say: springs in parallel, not the seed's lower peak."""
     raw = json.load(open(os.path.join(ROOT, "benchmarks", "results", "fe-ring3d.json")))
+    checked = 0
     for key, meshes in raw["mixed_cycles"].items():
         for mesh, run in meshes.items():
+            if "raised" not in run:                     # a mesh run by implicit dynamics only (no static cycle)
+                continue
+            checked += 1
             rows = fc.standing(key, run["raised"], raw["combinations"][key][mesh])
             dp, dv = fc.against_mean(run["cycle"], rows)
             assert abs(dp) < (0.005 if key == "2" else 0.025) and abs(dv) < 0.005, (key, mesh, dp, dv)
+    assert checked == 4
     assert "of the mean of its two types' uniform rings as they stand in it" in open(
         os.path.join(ROOT, "docs", "sleeves.md")).read()

@@ -176,7 +176,7 @@ def test_tiny_stack_acts_as_two_rings_in_series():
 
 
 def test_stored_stacked_solids_act_in_series_in_the_rules_order():
-    """The stored runs (``bench_sleeve_ring3d.py --stacked-solid``, r = 1, implicit dynamics). Each stack's peaks
+    """The stored runs (``bench_sleeve_ring3d.py --stacked-solid``, r = 1 and 2, implicit dynamics). Each stack's peaks
     on loading are its two rings' own first peaks (each ring run alone on the same mesh) and its valleys the
     first-snapping ring's and the higher of the two, to 0.5 %: two hysterons in series, as the frame's stack. Both
     combinations snap loading in the two-hysteron order on those thresholds; combination 1 comes back down in the
