@@ -299,6 +299,11 @@ def against_mean(run, rows):
     return (peak[2] / np.mean([r["P1"] for r in rows]) - 1.0, valley / np.mean([r["valley"] for r in rows]) - 1.0)
 
 
+def listed(words):
+    """``["1", "2", "3"]`` as "1, 2 and 3" (the meshes a sentence names)."""
+    return ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
+
+
 def cycles_markdown(cycles, solid, frame=None):
     """The seed's mixed rings on the solid (``cycles``: ``{combination: {mesh: {"cycle", "raised"}}}``, as stored
     under ``mixed_cycles``): each ring's own sequence and lean (``cycle_sequence``) beside the rule on its types'
@@ -370,9 +375,8 @@ def cycles_markdown(cycles, solid, frame=None):
     for key, mesh, gap, seq in gaps["dynamic"]:
         groups.setdefault((key, order_text(seq), gap < 0.01), []).append((mesh, gap))
     for (key, order, flat), runs in groups.items():
-        meshes = [m[1:] for m, _ in runs]
-        where = ", ".join(meshes[:-1]) + " and " + meshes[-1] if len(meshes) > 1 else meshes[0]
-        L += ["", f"By implicit dynamics (the seed's procedure) combination {key}'s mixed solid on r = {where} "
+        L += ["", f"By implicit dynamics (the seed's procedure) combination {key}'s mixed solid on r = "
+              f"{listed([m[1:] for m, _ in runs])} "
               + f"snaps {order}, its paths {'coinciding' if flat else 'apart'} (the largest gap "
               + " / ".join(f"{100 * g:.2f}" for _, g in runs) + " % of its first peak"
               + (", by mesh" if len(runs) > 1 else "") + "): "

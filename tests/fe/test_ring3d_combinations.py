@@ -320,9 +320,8 @@ def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
         assert fc._angle(seq["lean_loading_deg"], biased["lean_loading_deg"]) < 5 and fc.hysteresis(dyn) < 0.005
         assert sorted(u for e in seq["events_loading"] for u in e["units"]) == [0, 1, 2, 3], mesh
         assert f"| 2 | r = {mesh[1:]}, dynamic | [0, 1] \\| [1, 0] (symmetric) |" in text
-    meshes = [m[1:] for m in dynamic]
     assert ("By implicit dynamics (the seed's procedure) combination 2's mixed solid on r = "
-            + ", ".join(meshes[:-1]) + " and " + meshes[-1] + " snaps [0, 1] \\| [1, 0] (symmetric), its paths "
+            + fc.listed([m[1:] for m in dynamic]) + " snaps [0, 1] \\| [1, 0] (symmetric), its paths "
             "coinciding") in text
     assert "| 2 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text and "| 1 | r = 1 | [0, 1] \\| [1, 0] (symmetric) |" in text
     assert text in open(os.path.join(ROOT, "docs", "sleeves.md")).read()

@@ -168,21 +168,16 @@ def test_the_solids_snapping_orders_quoted_are_the_stored_runs():
                     "loading": seq["loading"], "unloading": seq["unloading"],
                     "lean_reverses": seq["lean_reverses"]}, (mesh, variant)
         dyn = [m[1:] for m in sorted(runs) if "cycle_dynamic" in runs[m]]
-        assert rec["mixed"]["mesh"] == ("r = " + _listed([m[1:] for m in sorted(runs) if "cycle" in runs[m]])
-                                        + (f"; r = {_listed(dyn)} by implicit dynamics too" if dyn else ""))
+        assert rec["mixed"]["mesh"] == ("r = " + fc.listed([m[1:] for m in sorted(runs) if "cycle" in runs[m]])
+                                        + (f"; r = {fc.listed(dyn)} by implicit dynamics too" if dyn else ""))
         # the two types as two stacked rings in one solid (``stacked_solid``): the order its run gives
         from metamaterial_wb.bench import fe_ring3d_stack as fs
         stacks = _load("fe-ring3d.json")["stacked_solid"][key]
-        assert rec["stacked"]["mesh"] == "r = " + _listed([m[1:] for m in sorted(stacks)])
+        assert rec["stacked"]["mesh"] == "r = " + fc.listed([m[1:] for m in sorted(stacks)])
         for mesh, run in stacks.items():
             seq = fs.stack_sequence(run)
             assert [seq["loading"], seq["unloading"]] == [rec["stacked"]["loading"], rec["stacked"]["unloading"]]
             assert rec["stacked"].get("damped", False) == bool(run.get("damping")), (key, mesh)
-
-
-def _listed(words):
-    """``["1", "2", "3"]`` as "1, 2 and 3"."""
-    return ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
 
 
 def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
