@@ -287,16 +287,62 @@ def hysteresis(run):
     return float(gap / p1)
 
 
-def against_mean(run, rows):
-    """A ``solid_cycle`` run's first peak and first valley on loading against the mean of its two types' uniform
-    rings ``rows`` (``[{"P1", "valley"}, ...]``, as the types stand in it; two cells of each type), as fractions
-    (``(P1 / mean - 1, valley / mean - 1)``): 0 for cells that act as springs in parallel under one plate."""
+def cycle_thresholds(run):
+    """A ``solid_cycle`` run's first peak and the first valley after it on loading: ``{"P1", "valley"}``."""
     from metamaterial_wb.fe.sleeve3d import all_extrema
     down = np.asarray(run["unloading"], bool)
     ext = all_extrema(np.asarray(run["d"])[~down], np.asarray(run["F"])[~down])
     peak = next(x for x in ext if x[0] == "peak")
-    valley = next(y for k, x, y in ext if k == "valley" and x > peak[1])
-    return (peak[2] / np.mean([r["P1"] for r in rows]) - 1.0, valley / np.mean([r["valley"] for r in rows]) - 1.0)
+    return {"P1": peak[2], "valley": next(y for k, x, y in ext if k == "valley" and x > peak[1])}
+
+
+def against_mean(run, rows):
+    """A ``solid_cycle`` run's first peak and first valley on loading against the mean of its two types' uniform
+    rings ``rows`` (``[{"P1", "valley"}, ...]``, as the types stand in it; two cells of each type), as fractions
+    (``(P1 / mean - 1, valley / mean - 1)``): 0 for cells that act as springs in parallel under one plate."""
+    own = cycle_thresholds(run)
+    return tuple(own[q] / np.mean([r[q] for r in rows]) - 1.0 for q in ("P1", "valley"))
+
+
+def standing_extrapolated(runs, uniform):
+    """One combination's static mixed rings over r = 1, 2, 3 (``runs``: ``{mesh: {"cycle", "raised"}}``, as stored
+    under ``mixed_cycles``; ``uniform``: ``{mesh: [row, row]}``, as under ``combinations``), extrapolated as
+    ``extrapolated`` does: its types as they stand in it (``standing``: each type's P1 and valley, their
+    differences, per cent) and, under ``"mixed"``, the ring's own first peak and valley (``cycle_thresholds``),
+    each ``(value, error)``; ``None`` until all three meshes have both runs."""
+    from metamaterial_wb.core.extrapolation import richardson3
+    names = ("r1", "r2", "r3")
+    if not all(runs.get(m, {}).get("cycle") and runs[m].get("raised") and all(uniform.get(m) or [None])
+               for m in names):
+        return None
+    key = runs["r1"]["cycle"]["combination"]
+    out = extrapolated({m: standing(key, runs[m]["raised"], uniform[m]) for m in names})
+    if out is None:
+        return None
+    own = [cycle_thresholds(runs[m]["cycle"]) for m in names]
+    ext, err, _ = richardson3([1.0 / MESH_R[m] for m in names], [[o["P1"], o["valley"]] for o in own])
+    out["mixed"] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
+    return out
+
+
+def standing_sentence(key, sx, orders):
+    """What the extrapolated standing types (``standing_extrapolated``'s ``sx``) of combination ``key`` say beside
+    the mixed ring's own orders on the three meshes (``orders``: ``order_text`` strings), one paragraph."""
+    dp, dv = sx["differences"]["P1"], sx["differences"]["valley"]
+    beyond = abs(dp[0]) > dp[1] and abs(dv[0]) > dv[1]
+    mean = {q: 0.5 * (sx[0][q][0] + sx[1][q][0]) for q in ("P1", "valley")}
+    (p, ep), (v, ev) = sx["mixed"]["P1"], sx["mixed"]["valley"]
+    own = (f"snaps {orders[0]} on each of them" if len(set(orders)) == 1 else
+           "does not snap in the same order on each of them")
+    return (f"Over r = 1, 2 and 3 (Richardson in the element size 1 / r) combination {key}'s types as they stand in "
+            f"its mixed ring differ by {dp[0]:+.2f} +- {dp[1]:.2f} % on the first peak and {dv[0]:+.2f} +- "
+            f"{dv[1]:.2f} % on the valley, so the rule on the extrapolated solid gives "
+            f"{order_text(extrapolated_rule(sx))} ("
+            + ("both differences beyond their errors" if beyond else "a difference within its error")
+            + f"), while the mixed ring itself {own}. Its own first peak and valley extrapolate to "
+            f"{1e3 * p:.4f} +- {1e3 * ep:.4f} and {1e3 * v:.4f} +- {1e3 * ev:.4f} x1e-3 (F / (G L^2)), "
+            f"{100 * (p / mean['P1'] - 1):+.1f} % and {100 * (v / mean['valley'] - 1):+.1f} % from its types' "
+            "extrapolated mean.")
 
 
 def listed(words):
@@ -396,6 +442,11 @@ def cycles_markdown(cycles, solid, frame=None):
         L += ["", f"Each mixed solid's first peak and valley lie within {100 * worst:.1f} % of the mean of its two types' "
               "uniform rings as they stand in it: its cells act as springs in parallel under one plate. The seed's "
               "mixed ring took the first type's peak and the other type's valley (its two-hysteron reading)."]
+    for key in sorted(cycles):
+        sx = standing_extrapolated(cycles[key], solid.get(key, {}))
+        orders = [cycle_sequence(cycles[key][m]["cycle"]) for m in ("r1", "r2", "r3")] if sx else []
+        if sx and all(orders):
+            L += ["", standing_sentence(key, sx, [order_text(o) for o in orders])]
     L += ["", f"![the seed's mixed rings on the solid: force and each pillar's rise beyond h]({IMG_CYCLES})"]
     return "\n".join(L + [""]) if rows else ""
 

@@ -364,6 +364,41 @@ def test_against_mean_compares_the_mixed_peak_and_valley_with_its_types_mean():
         (1 / 1.1 - 1, 1 / 1.1 - 1), rel=1e-9)
 
 
+def test_standing_types_and_the_mixed_ring_extrapolate_over_three_static_meshes():
+    """Types whose rows converge as v0 (1 + c h^2) (h = 1 / r) as they stand in the mixed ring, and a mixed ring
+    whose force converges so too, extrapolate to their limits: the standing types' differences, the rule on them
+    and the ring's own first peak and valley in one paragraph of the report; with r = 3's raised ring missing there
+    is none."""
+    def row(r, P1, valley):
+        h = 1.0 / r
+        return {"P1": P1 * (1 + 0.2 * h * h), "valley": valley * (1 - 0.3 * h * h), "wall_s": 600.0, "d_reached": 0.7}
+    base = _cycle({0: 2, 1: 4}, {0: 4, 1: 2}, lean_down=(1e-3, 0.0))
+    own = fc.cycle_thresholds(base)
+    runs, uniform = {}, {}
+    for r in (1, 2, 3):
+        cyc = dict(base, r=r, F=(np.asarray(base["F"]) * (1 + 0.1 / r ** 2)).tolist())
+        runs[f"r{r}"] = {"cycle": cyc, "raised": row(r, 1.20e-3, 0.70e-3)}            # type 0 is the shorter
+        uniform[f"r{r}"] = [row(r, 1.0e-3, 0.5e-3), row(r, 1.26e-3, 0.64e-3)]
+    sx = fc.standing_extrapolated(runs, uniform)
+    assert sx[0]["P1"][0] == pytest.approx(1.20e-3, rel=1e-9) and sx[1]["valley"][0] == pytest.approx(0.64e-3, rel=1e-9)
+    assert sx["differences"]["P1"][0] == pytest.approx(5.0, abs=1e-6)
+    assert sx["differences"]["valley"][0] == pytest.approx(100 * (0.64 / 0.70 - 1), abs=1e-6)
+    assert sx["mixed"]["P1"][0] == pytest.approx(own["P1"], rel=1e-9)
+    assert sx["mixed"]["valley"][0] == pytest.approx(own["valley"], rel=1e-9)
+    text = fc.cycles_markdown({"2": runs}, {"2": uniform})
+    assert ("Over r = 1, 2 and 3 (Richardson in the element size 1 / r) combination 2's types as they stand in its "
+            "mixed ring differ by +5.00 +- 0.00 % on the first peak and -8.57 +- 0.00 % on the valley, so the rule on "
+            "the extrapolated solid gives [0, 1] \\| [0, 1] (asymmetric) (both differences beyond their errors), while "
+            "the mixed ring itself snaps [0, 1] \\| [1, 0] (symmetric) on each of them.") in text
+    p, v = (1e3 * own[q] for q in ("P1", "valley"))            # the error: how far r = 3 is from the limit
+    assert f"extrapolate to {p:.4f} +- {p * 0.1 / 9:.4f} and {v:.4f} +- {v * 0.1 / 9:.4f} x1e-3" in text
+    mean_p = 100 * (own["P1"] / (0.5 * (1.20e-3 + 1.26e-3)) - 1)
+    assert f"x1e-3 (F / (G L^2)), {mean_p:+.1f} % and" in text
+    assert fc.standing_extrapolated(dict(runs, r3={"cycle": runs["r3"]["cycle"]}), uniform) is None
+    assert "Over r = 1, 2 and 3" not in fc.cycles_markdown({"2": dict(runs, r3={"cycle": runs["r3"]["cycle"]})},
+                                                           {"2": uniform})
+
+
 def test_stored_mixed_solids_are_their_types_averaged():
     """The stored mixed solids' first peak and valley lie within 2.5 % of the mean of their types' uniform rings as
     they stand in them (combination 2: 0.4 %), as the docs say: springs in parallel, not the seed's lower peak."""
