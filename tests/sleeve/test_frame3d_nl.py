@@ -254,6 +254,56 @@ def test_plate_gradient_is_the_total_energys_derivative_when_tilted():
         assert g[-3 + a] == pytest.approx((e[0] - e[1]) / 2e-6, rel=1e-5, abs=1e-10)
 
 
+def test_assembly_on_the_stored_pattern_is_the_coo_sum():
+    """Element blocks summed on the pattern found once are the matrix scipy builds from the COO triplets (shared
+    nodes' entries summed), with sorted indices, and stay so for other blocks on the same frame."""
+    import scipy.sparse as sp
+    fr = NonlinearFrame.of_ring(RingFrame(CellGeometry(), 4, plane="stress", n_el=3))
+    rng = np.random.default_rng(5)
+    for _ in range(2):
+        blocks = rng.normal(size=(fr._m, 12, 12))
+        K = fr.assemble(blocks)
+        want = sp.csr_matrix((blocks.ravel(), (fr._rows, fr._cols)), shape=K.shape)
+        assert K.has_sorted_indices and K.nnz == want.nnz
+        assert abs(K - want).max() <= 1e-15 * abs(want).max()
+        assert np.array_equal(np.diff(K.indptr), np.diff(want.indptr))
+
+
+def test_gradient_alone_is_the_reduced_gradient_with_the_hessian():
+    """The chord steps' gradient (``reduced(..., hessian=False)``: the plates' part summed over their carried nodes
+    without the reduction matrix) is the gradient ``reduced`` gives with the Hessian, at a tilted, raised, moved
+    plate, with and without the plate."""
+    ring, fr, free, top, RigidPlate = _plate_ring()
+    plate = RigidPlate(fr, top, (2e-4, -3e-4, 1e-4), translate=(0, 2))
+    plate.place(fr, 0.05)
+    plate.turn(fr, np.array([0.2, -0.2, 0.1]))
+    fr.x = fr.x + 1e-3 * np.random.default_rng(4).normal(size=fr.x.shape)
+    for p in (plate, None):
+        g, K = fr.reduced(free, p)
+        g_alone, none = fr.reduced(free, p, hessian=False)
+        assert none is None and K is not None and g_alone.shape == g.shape
+        assert g_alone == pytest.approx(g, rel=1e-12, abs=1e-14 * np.abs(g).max())
+
+
+def test_plate_lever_hessian_is_its_double_cross_product_definition():
+    """The plate's second-order term at a tilted, raised plate: each carried node's force times the curvature of
+    its path, ``f . (e_a x (e_b x arm) + e_b x (e_a x arm)) / 2`` summed over the nodes, written out here one cross
+    product at a time; the translations' rows and columns are zero."""
+    ring, fr, free, top, RigidPlate = _plate_ring()
+    plate = RigidPlate(fr, top, (2e-4, -3e-4, 1e-4))
+    plate.place(fr, 0.05)
+    plate.turn(fr, np.array([0.2, -0.2, 0.1]))
+    G = np.random.default_rng(3).normal(size=6 * fr.n)
+    H = plate.lever_hessian(fr, G)
+    arm = fr.x[plate.nodes] - plate.centre()
+    f = G.reshape(-1, 6)[plate.nodes, :3]
+    E = np.eye(3)
+    want = np.array([[np.sum(f * 0.5 * (np.cross(E[a], np.cross(E[b], arm)) + np.cross(E[b], np.cross(E[a], arm))))
+                      for b in range(3)] for a in range(3)])
+    assert H.shape == (plate.ndof, plate.ndof) and not H[:-3].any() and not H[:, :-3].any()
+    assert H[-3:, -3:] == pytest.approx(want, rel=1e-12, abs=1e-12 * np.abs(want).max())
+
+
 def test_small_moment_tilts_the_plate_as_the_linear_frame_says():
     """At no rise a small moment on the free plate turns it by ``K_p^-1 M``, with ``K_p`` the plate's 3 x 3
     stiffness condensed from the linear frame's own assembly (``RingFrame.K``, element matrices in closed form)."""

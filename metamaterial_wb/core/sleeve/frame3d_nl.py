@@ -64,6 +64,32 @@ _T = np.zeros((9, 12))
 _T[0:3, 0:3], _T[0:3, 6:9], _T[3:6, 3:6], _T[6:9, 9:12] = -np.eye(3), np.eye(3), np.eye(3), np.eye(3)
 
 
+def _solve(K, b):
+    """``K^-1 b`` for the sparse symmetric ``K`` (CSC): by the symmetric-mode LU (minimum degree on K + K^T,
+    diagonal pivots, as ``tangent.symmetric_lu`` without the inertia; about twice as fast as ``spsolve``'s column ordering here), or by
+    ``spsolve`` (partial pivoting) where that LU fails or its residual is above round-off (an indefinite ``K``
+    that needs pivoting off the diagonal). ``spsolve``'s RuntimeError for a singular ``K`` passes through."""
+    try:
+        lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        x = lu.solve(b)
+        if np.all(np.isfinite(x)) and np.linalg.norm(K @ x - b) <= 1e-10 * np.linalg.norm(b):
+            return x, lu.solve
+    except RuntimeError:
+        pass
+    return spla.spsolve(K, b), None
+
+
+def _csr_pattern(rows, cols, n):
+    """The CSR structure of the COO triplets' positions ``rows``, ``cols`` (n x n, duplicates summed): the slot of
+    each triplet in the data array, the column indices (sorted within each row) and the row pointer."""
+    order = np.lexsort((cols, rows))
+    r, c = rows[order], cols[order]
+    first = np.r_[True, (r[1:] != r[:-1]) | (c[1:] != c[:-1])]
+    slot = np.empty(len(rows), np.int64)
+    slot[order] = np.cumsum(first) - 1
+    return slot, c[first], np.searchsorted(r[first], np.arange(n + 1))
+
+
 def _moves():
     """The Hessian's stencil: each of an element's 9 relative increments by +H_FD (rows 0-8) and -H_FD (rows
     9-17), r applied to node j, as ``(dxi, dxj, turn_i, turn_j)``: the moves (18, 1, 3) to broadcast over the
@@ -79,6 +105,8 @@ def _moves():
 
 _MOVES = _moves()
 BATCH = 60000        # element states evaluated per pass (memory about 200 * BATCH doubles)
+CHORD_RATE = 0.3     # equilibrium: chord steps go on while each cuts the gradient at least this much,
+CHORD_FLOOR = 1e-2   # and to this fraction of the tolerance (cheap; Newton's last step overshoots as far)
 
 
 class NonlinearFrame:
@@ -100,6 +128,16 @@ class NonlinearFrame:
         self._cols = np.tile(dofs, (1, 12)).ravel()
         self._dofs = dofs
         self._m = m
+        self._pattern = _csr_pattern(self._rows, self._cols, 6 * self.n)
+
+    def assemble(self, blocks):
+        """The element blocks ``blocks`` (m, 12, 12) summed into the sparse 6 n x 6 n matrix (CSR) on the pattern
+        found once (``_csr_pattern``): the same matrix as from the COO triplets, without sorting them each time."""
+        slot, indices, indptr = self._pattern
+        data = np.bincount(slot, np.asarray(blocks).ravel(), len(indices))
+        K = sp.csr_matrix((data, indices, indptr), shape=(6 * self.n, 6 * self.n))
+        K.has_sorted_indices = True
+        return K
 
     @classmethod
     def of_ring(cls, ring):
@@ -203,8 +241,7 @@ class NonlinearFrame:
             gs = self._bend_gradient(el, *_MOVES)                   # (18, elements, 9)
             D = np.transpose(gs[:9] - gs[9:], (1, 2, 0)) / (2 * H_FD)    # D[e, a, b] = d g_a / d u_b
             H9[el] = 0.5 * (D + np.transpose(D, (0, 2, 1)))
-        K = sp.csr_matrix(((Ha + _T.T @ H9 @ _T).ravel(), (self._rows, self._cols)), shape=(6 * self.n, 6 * self.n))
-        return G, K
+        return G, self.assemble(Ha + _T.T @ H9 @ _T)
 
     def _axial(self, hessian=True):
         """The stretching energy's exact gradient (m, 12) and Hessian (m, 12, 12): with k = EA / l0,
@@ -233,13 +270,13 @@ class NonlinearFrame:
         self.x = self.x + dq[:, :3]
         self.R = expm_so3(dq[:, 3:]) @ self.R
 
-    def reduced(self, free, plate=None):
-        """The total energy's gradient and Hessian (sparse CSC) in the ``free`` DOFs and, with a ``RigidPlate``
-        or a list of them, their free DOFs (last; ``frame3d_plate.reduce``)."""
-        G, K = self.gradient_hessian()
+    def reduced(self, free, plate=None, hessian=True):
+        """The total energy's gradient and Hessian (sparse CSC; ``None`` without ``hessian``) in the ``free`` DOFs
+        and, with a ``RigidPlate`` or a list of them, their free DOFs (last; ``frame3d_plate.reduce``)."""
+        G, K = self.gradient_hessian(hessian)
         plates = _plates(plate)
         if not plates:
-            return G[free], K[free][:, free].tocsc()
+            return G[free], K[free][:, free].tocsc() if hessian else None
         return reduce(self, free, plates, G, K)
 
     def lowest_modes(self, free, plate=None, k=4):
@@ -267,7 +304,55 @@ class NonlinearFrame:
         nf = int(free.sum())
         plates = _plates(plate)
         escapes = 0
+
+        def total():
+            return self.energy() - sum(p.work() for p in plates)
+
+        def move(v):
+            dq = np.zeros(6 * self.n)
+            dq[free] = v[:nf]
+            self.apply(dq)
+            f0 = nf
+            for p in plates:
+                p.move(self, v[f0:f0 + p.ndof])
+                f0 += p.ndof
+
+        def keep():
+            x0, R0, saved = self.x.copy(), self.R.copy(), [p.state() for p in plates]
+
+            def back():
+                self.x, self.R = x0.copy(), R0.copy()
+                for p, st in zip(plates, saved):
+                    p.restore(st)
+            return back
+
+        def search(step, gf, e0, back):
+            """The step, halved until the energy falls enough (Armijo); the full step once the decrease it
+            predicts is below the energy's round-off."""
+            t = 1.0
+            exact = abs(step @ gf) < 1e-12 * abs(e0)
+            for _ in range(30):
+                move(t * step)
+                if exact or total() <= e0 + 1e-4 * t * (step @ gf) or t < 1e-6:
+                    return
+                back()
+                t *= 0.5
+
+        chord, g_last = None, None
         for it in range(1, maxit + 1):
+            if chord is not None:
+                # a chord step: the last Newton step's factor again while it cuts the gradient by CHORD_RATE a
+                # step (a Hessian and its LU cost about ten gradients); the converged state's own Hessian below
+                gf = self.reduced(free, plate, hessian=False)[0]
+                g_now = float(np.max(np.abs(gf)))
+                if CHORD_FLOOR * tol <= g_now < CHORD_RATE * g_last:
+                    step = chord(-gf)
+                    if np.all(np.isfinite(step)) and step @ gf < 0:
+                        e0 = total()
+                        search(step, gf, e0, keep())
+                        g_last = g_now
+                        continue
+                chord = None
             gf, Kff = self.reduced(free, plate)
             saddle = False
             if np.max(np.abs(gf)) < tol:
@@ -278,7 +363,8 @@ class NonlinearFrame:
             scale = float(np.abs(Kff.diagonal()).max())
             for _ in range(0 if saddle else 60):
                 try:
-                    step = spla.spsolve(Kff + shift * sp.identity(Kff.shape[0], format="csc"), -gf)
+                    step, chord = _solve(Kff + shift * sp.identity(Kff.shape[0], format="csc") if shift else Kff,
+                                         -gf)
                 except RuntimeError:
                     step = None
                 if step is not None and np.all(np.isfinite(step)) and step @ gf < 0:
@@ -287,27 +373,11 @@ class NonlinearFrame:
             else:
                 if not saddle:
                     raise RuntimeError("no descent direction")
-
-            def total():
-                return self.energy() - sum(p.work() for p in plates)
-
-            def move(v):
-                dq[free] = v[:nf]
-                self.apply(dq)
-                f0 = nf
-                for p in plates:
-                    p.move(self, v[f0:f0 + p.ndof])
-                    f0 += p.ndof
-
-            def back():
-                self.x, self.R = x0.copy(), R0.copy()
-                for p, st in zip(plates, saved):
-                    p.restore(st)
-
+            if saddle or shift > 0:
+                chord = None
+            g_last = float(np.max(np.abs(gf)))
             e0 = total()
-            x0, R0 = self.x.copy(), self.R.copy()
-            saved = [p.state() for p in plates]
-            dq = np.zeros(6 * self.n)
+            back = keep()
             if saddle or shift > 0:
                 # a converged state counts as a saddle below -1e-10 of the scale (the differenced Hessian's
                 # soft modes stay above that); before that, any way down helps
@@ -318,14 +388,7 @@ class NonlinearFrame:
                     escapes += 1
                 if moved:
                     continue
-            t = 1.0
-            exact = abs(step @ gf) < 1e-12 * abs(e0)      # the decrease is below the energy's round-off: Newton
-            for _ in range(30):
-                move(t * step)
-                if exact or total() <= e0 + 1e-4 * t * (step @ gf) or t < 1e-6:
-                    break
-                back()
-                t *= 0.5
+            search(step, gf, e0, back)
         raise RuntimeError(f"no equilibrium in {maxit} iterations (|gradient| {np.max(np.abs(gf)):.2e})")
 
     @staticmethod

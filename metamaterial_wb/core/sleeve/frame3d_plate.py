@@ -99,27 +99,35 @@ class RigidPlate:
             vals.append(np.ones(len(arm)))
         return np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
 
+    def gradient(self, frame, G):
+        """The frame's gradient ``G`` (all DOFs) in the plate's free DOFs, as ``T^T G`` with its ``columns``
+        (without building them): the carried nodes' forces along each translation, and about the centre their
+        moments ``arm x f`` plus their own ``m`` (``dx = dtheta x arm``, so ``f . dx = dtheta . (arm x f)``)."""
+        GN = G.reshape(-1, 6)[self.nodes]
+        arm = frame.x[self.nodes] - self.centre()
+        return np.concatenate([GN[:, self.translate].sum(axis=0),
+                               (np.cross(arm, GN[:, :3]) + GN[:, 3:]).sum(axis=0)])
+
     def lever_hessian(self, frame, G):
         """The plate's second-order term (``ndof`` square; the translations move the nodes linearly, so only the
         rotations' block): the carried nodes' forces times the curvature of their paths, sum over nodes of
-        ``f . (e_a x (e_b x arm) + e_b x (e_a x arm)) / 2``."""
+        ``f . (e_a x (e_b x arm) + e_b x (e_a x arm)) / 2``. As ``e_a x (e_b x arm) = e_b arm_a - arm delta_ab``,
+        that is ``(A + A^T) / 2 - tr(A) I`` with ``A = sum arm f^T`` (one 3 x 3 product, not 36 cross products)."""
         arm = frame.x[self.nodes] - self.centre()
         f = G.reshape(-1, 6)[self.nodes, :3]
+        A = arm.T @ f
         H = np.zeros((self.ndof, self.ndof))
-        E = np.eye(3)
-        r = self.ndof - 3
-        for a in range(3):
-            for b in range(3):
-                v = 0.5 * (np.cross(E[a], np.cross(E[b], arm)) + np.cross(E[b], np.cross(E[a], arm)))
-                H[r + a, r + b] = float(np.sum(f * v))
+        H[-3:, -3:] = 0.5 * (A + A.T) - np.trace(A) * np.eye(3)
         return H
 
 
 def reduce(frame, free, plates, G, K):
     """The gradient ``G`` and Hessian ``K`` of the frame's energy (all DOFs) in the ``free`` node DOFs and the
     ``plates``' free DOFs (after them, in order), the plates' moments' work subtracted: ``(g, K)``, K sparse
-    CSC."""
+    CSC (``None`` for ``K`` None: the gradient alone)."""
     n6, nf = 6 * frame.n, int(free.sum())
+    if K is None:
+        return np.concatenate([G[free]] + [p.gradient(frame, G) - p.work_gradient() for p in plates]), None
     rows, cols, vals = [np.flatnonzero(free)], [np.arange(nf)], [np.ones(nf)]
     first, blocks = nf, []
     for p in plates:
