@@ -198,7 +198,7 @@ def nonlinear_markdown(nl, fe, planar, sens=None):
         kinds = _kinds(ex)
         parts.append(f"{n_el} elements per beam half: {kinds}, P1 {1e3 * fp:.3f} at d/L {dp:.3f}, valley "
                      f"{1e3 * fv:.3f} at d/L {dv:.3f}, force at d/L 0.7 {1e3 * r['F'][-1]:.3f} "
-                     f"({r['seconds']:.0f} s, {r['iterations']} Newton iterations{timing_note(r)})")
+                     f"({r['seconds']:.0f} s, {r['iterations']} Newton and chord iterations{timing_note(r)})")
     _, fpe, efp, _ = fe["p1_ext"]
     dve, fve, efv, _ = fe["valley_ext"]
     off, off_planar = p1_off(nl, fe, planar)

@@ -122,8 +122,9 @@ def test_nonlinear_paragraph_reports_each_mesh_against_the_solid():
     assert "calibrated ring is +152 % off" in text
     assert "times faster" not in text                                  # no baselines stored: no speed claim
     nl["12"].update(derivatives_seconds=0.01, reference_derivatives_seconds=0.13, planar_seconds=2.0)
-    assert ("(60 s, 400 Newton iterations; one gradient and Hessian in 10 ms, 13.0 times faster than differencing "
-            "each element's whole energy, the path 30.0 times the planar model's 2.0 s)") in nonlinear_markdown(nl, fe, planar)
+    assert ("(60 s, 400 Newton and chord iterations; one gradient and Hessian in 10 ms, 13.0 times faster than "
+            "differencing each element's whole energy, the path 30.0 times the planar model's 2.0 s)"
+            ) in nonlinear_markdown(nl, fe, planar)
 
 
 def test_plate_study_is_current_and_its_paragraph_quotes_it():
