@@ -280,7 +280,9 @@ def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
     cycles = raw["mixed_cycles"]
     assert set(cycles["1"]) == {"r1", "r2"} and {"r1", "r2"} <= set(cycles["2"])
     assert all("cycle" in cycles[k][m] for k in ("1", "2") for m in ("r1", "r2"))
-    for key, mesh in (("1", "r1"), ("1", "r2"), ("2", "r1"), ("2", "r2")):
+    static = [(k, m) for k in ("1", "2") for m in sorted(cycles[k]) if "cycle" in cycles[k][m]]
+    assert ("2", "r3") in static
+    for key, mesh in static:
         run = cycles[key][mesh]["cycle"]
         assert not run["stopped"] and run["d_reached"] == pytest.approx(0.0, abs=1e-9)
         assert max(run["d"]) == pytest.approx(0.7, abs=1e-3)          # ccx need not land an increment on the turn
@@ -296,9 +298,20 @@ def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
             max(g.height for g in combination_cells(key)))
         assert frame[key]["flat_top"]["symmetric"]                           # the frame at the same flat top
     a, b = combination_cells("2")
-    for mesh in ("r1", "r2"):
+    for mesh in ("r1", "r2", "r3"):
         rows = [cycles["2"][mesh]["raised"], raw["combinations"]["2"][mesh][1]]
         assert fc.rule(rows) == {"loading": [0, 1], "unloading": [0, 1], "symmetric": False}, mesh
+    # over the three static meshes the types as they stand in combination 2's ring extrapolate (with their errors)
+    # to the seed's asymmetric rule, both differences well beyond their errors, while the ring itself is symmetric
+    # on each mesh (combination 1 has no static r = 3: nothing to extrapolate)
+    sx = fc.standing_extrapolated(cycles["2"], raw["combinations"]["2"])
+    dp, dv = sx["differences"]["P1"], sx["differences"]["valley"]
+    assert dp[0] > 5 * dp[1] and -dv[0] > 5 * dv[1], (dp, dv)
+    assert fc.extrapolated_rule(sx) == {"loading": [0, 1], "unloading": [0, 1], "symmetric": False}
+    assert fc.standing_extrapolated(cycles["1"], raw["combinations"]["1"]) is None
+    from metamaterial_wb.bench.fe_ring3d_combinations import standing_sentence
+    orders = [fc.order_text(fc.cycle_sequence(cycles["2"][m]["cycle"])) for m in ("r1", "r2", "r3")]
+    assert "snaps [0, 1] \\| [1, 0] (symmetric) on each of them" in standing_sentence("2", sx, orders)
     # without the bias moment: the same order, leaning along the ring's mirror plane (45 deg) on both paths, the other
     # way from the biased ring: the tiny bias picks the side, not the order
     free = cycles["2"]["r1"]["cycle_unbiased"]
@@ -415,6 +428,6 @@ def test_stored_mixed_solids_are_their_types_averaged():
             rows = fc.standing(key, run["raised"], raw["combinations"][key][mesh])
             dp, dv = fc.against_mean(run["cycle"], rows)
             assert abs(dp) < (0.005 if key == "2" else 0.025) and abs(dv) < 0.005, (key, mesh, dp, dv)
-    assert checked == 4
+    assert checked == 5
     assert "of the mean of its two types' uniform rings as they stand in it" in open(
         os.path.join(ROOT, "docs", "sleeves.md")).read()

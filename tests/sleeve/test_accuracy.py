@@ -191,8 +191,8 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     note = acc.solid_order_note(two, 4, {"loading": [1, 0], "unloading": [1, 0]})
     assert "type 1's first peak +1.76 +- 0.34 % and its valley -3.85 +- 0.10 % against type 0's" in note
     assert "loading [0, 1], unloading [0, 1] (asymmetric)" in note and "they differ" in note
-    assert ("the mixed ring [0, 0, 1, 1] itself as one curved solid (r = 1 and 2; r = 1, 2 and 3 by implicit "
-            "dynamics too) snaps loading [0, 1], unloading [1, 0] (symmetric), leaning the same way on both") in note
+    assert ("the mixed ring [0, 0, 1, 1] itself as one curved solid (r = 1, 2 and 3, static and by implicit "
+            "dynamics) snaps loading [0, 1], unloading [1, 0] (symmetric), leaning the same way on both") in note
     assert "on the curved solid and on the 3-D frame the seed's mixed combination 2 is symmetric" in note
     assert ("two such rings stacked as one curved solid (r = 1 and 2, implicit dynamics with the rubber's damping) "
             "snap loading [0, 1], unloading [0, 1] (asymmetric), the rule's") in note
@@ -200,8 +200,8 @@ def test_solid_order_note_maps_the_types_and_sets_the_models_order_beside():
     rev = acc.solid_order_note(two[::-1], 8, {"loading": [1, 0], "unloading": [1, 0]})
     assert "type 0's first peak +1.76 +- 0.34 %" in rev and "against type 1's" in rev
     assert "loading [1, 0], unloading [1, 0] (asymmetric)" in rev and "the same" in rev
-    assert ("the mixed ring [1, 1, 0, 0] itself as one curved solid (r = 1 and 2; r = 1, 2 and 3 by implicit "
-            "dynamics too) snaps loading [1, 0], unloading [0, 1]") in rev
+    assert ("the mixed ring [1, 1, 0, 0] itself as one curved solid (r = 1, 2 and 3, static and by implicit "
+            "dynamics) snaps loading [1, 0], unloading [0, 1]") in rev
     assert "(measured with four cells around, this sleeve has 8)" in rev
     one = acc.solid_order_note(combination_cells("1"), 4, {"loading": [0, 1], "unloading": [1, 0]})
     assert "first peak +22.32 +- 0.27 %" in one and "loading [0, 1], unloading [1, 0] (symmetric)" in one and "the same" in one

@@ -181,7 +181,7 @@ SOLID_ORDERS = {
     ((1.098, 7.092), (1.098, 7.488)): {"loading": [0, 1], "unloading": [0, 1], "P1": (1.76, 0.34),
                                        "valley": (-3.85, 0.10), "mesh": "extrapolated over three meshes",
                                        "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
-                                                 "mesh": "r = 1 and 2; r = 1, 2 and 3 by implicit dynamics too"},
+                                                 "mesh": "r = 1, 2 and 3, static and by implicit dynamics"},
                                        "stacked": {"loading": [0, 1], "unloading": [0, 1], "mesh": "r = 1 and 2",
                                                    "damped": True}},
     ((0.99, 6.696), (1.17, 6.696)): {"loading": [0, 1], "unloading": [1, 0], "P1": (22.32, 0.27),
