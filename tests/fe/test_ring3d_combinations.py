@@ -271,7 +271,8 @@ def test_cycles_markdown_compares_an_unbiased_cycle_with_the_biased_one():
 def test_stored_mixed_rings_on_the_solid_are_symmetric_as_the_docs_say():
     """The stored mixed cycles (``bench_sleeve_ring3d.py --mixed-cycles``, static on r = 1 and 2 (combination 2 on
     r = 3 too); both combinations by implicit dynamics on every mesh stored (at least r = 1 and 2), and
-    combination 2 without the bias moment on r = 1): every ring went up to d/L 0.7 and all the way back, every pillar snapped on loading and back on unloading, and both snap loading [0, 1],
+    combination 2 without the bias moment on r = 1): every ring went up to d/L 0.7 and all the way back, every
+    pillar snapped on loading and back on unloading, and both snap loading [0, 1],
     unloading [1, 0] (symmetric), leaning the same way on both paths - while the two-hysteron rule on the same
     types' uniform rings as they stand in it (the shorter one at the flat top) gives combination 2 the seed's
     asymmetric order: the mixed solid does not follow it. The docs' table is the report's of these runs."""

@@ -66,9 +66,9 @@ _T[0:3, 0:3], _T[0:3, 6:9], _T[3:6, 3:6], _T[6:9, 9:12] = -np.eye(3), np.eye(3),
 
 def _solve(K, b):
     """``K^-1 b`` for the sparse symmetric ``K`` (CSC): by the symmetric-mode LU (minimum degree on K + K^T,
-    diagonal pivots, as ``tangent.symmetric_lu`` without the inertia; about twice as fast as ``spsolve``'s column ordering here), or by
-    ``spsolve`` (partial pivoting) where that LU fails or its residual is above round-off (an indefinite ``K``
-    that needs pivoting off the diagonal). ``spsolve``'s RuntimeError for a singular ``K`` passes through."""
+    diagonal pivots, as ``tangent.symmetric_lu`` without the inertia; about twice as fast as ``spsolve``'s column
+    ordering here), or by ``spsolve`` (partial pivoting) where that LU fails or its residual is above round-off (an
+    indefinite ``K`` that needs pivoting off the diagonal). ``spsolve``'s RuntimeError for a singular ``K`` passes through."""
     try:
         lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         x = lu.solve(b)
@@ -296,8 +296,10 @@ class NonlinearFrame:
     def equilibrium(self, free, tol=1e-10, maxit=40, plate=None, stable=True):
         """Minimise the energy over the ``free`` DOFs (boolean, 6 n) and, with a ``RigidPlate`` or a list of
         them, their free DOFs, from the current state (Newton, a line search on the energy, a diagonal shift where
-        the step is not a descent; the full step once the decrease it predicts is below the energy's round-off):
-        the iterations taken. With ``stable`` a state where the gradient vanishes but the reduced Hessian has a
+        the step is not a descent; the full step once the decrease it predicts is below the energy's round-off;
+        after a Newton step, chord steps on its LU while each cuts the gradient to ``CHORD_RATE`` of the last, down
+        to ``CHORD_FLOOR`` of ``tol``, and the converged state's own Hessian for the check below): the iterations
+        taken, Newton and chord. With ``stable`` a state where the gradient vanishes but the reduced Hessian has a
         negative eigenvalue (below -1e-10 of its largest diagonal entry; by its pivots' signs, Sylvester) is a
         saddle, left down its lowest eigenvector (``_negative_curvature``, at most ten times) - the symmetric
         state a symmetric structure keeps by itself, e.g. two equal rings in series past their shared peak."""
