@@ -359,3 +359,37 @@ def test_flat_ring_leaves_its_plane_where_the_in_plane_path_is_a_saddle():
     out = trace_ring(RingFrame(g, 4, curved=False, n_el=6, root_extension=0.63), d)
     assert np.abs(flat["frame"].x[:, 1]).max() < 1e-9 < 1e-3 < np.abs(out["frame"].x[:, 1]).max()
     assert out["frame"].energy() < flat["frame"].energy()
+
+
+def test_newton_solve_uses_the_symmetric_factor_and_falls_back_where_it_must_pivot(monkeypatch):
+    """``_solve`` takes the symmetric-mode factor (the one ``tangent.symmetric_lu`` reads the inertia from) where its
+    residual is at round-off (also with a zero diagonal), and ``spsolve`` where that factor fails or is off."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from metamaterial_wb.core.sleeve import frame3d_nl
+    from metamaterial_wb.core.sleeve.tangent import symmetric_lu
+
+    rng = np.random.default_rng(3)
+    A = sp.random(40, 40, density=0.1, random_state=rng)
+    K = (A + A.T + sp.diags(np.r_[np.full(37, 5.0), -5.0, -5.0, -5.0])).tocsc()
+    b = rng.normal(size=40)
+    x, solve = frame3d_nl._solve(K, b)
+    assert solve is not None and np.linalg.norm(K @ x - b) <= 1e-10 * np.linalg.norm(b)
+    assert np.allclose(solve(b), x, rtol=0, atol=1e-12 * np.abs(x).max())
+    assert symmetric_lu(K)[1] == int(np.sum(np.linalg.eigvalsh(K.toarray()) < 0))
+    P = sp.csc_matrix(np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 2.0]]))
+    x, solve = frame3d_nl._solve(P, np.array([1.0, 2.0, 4.0]))
+    assert np.allclose(x, [2.0, 1.0, 2.0], rtol=0, atol=1e-14)
+
+    class Off:                                  # a factor whose answer is off by 1e-6: not at round-off
+        def __init__(self, M):
+            self.lu = spla.splu(M)
+
+        def solve(self, r):
+            return self.lu.solve(r) * (1 + 1e-6)
+
+    for bad in (Off, lambda M: (_ for _ in ()).throw(RuntimeError("singular"))):
+        monkeypatch.setattr(frame3d_nl, "symmetric_factor", bad)
+        x, solve = frame3d_nl._solve(K, b)
+        assert solve is None and np.linalg.norm(K @ x - b) <= 1e-12 * np.linalg.norm(b)

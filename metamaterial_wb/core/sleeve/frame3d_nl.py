@@ -34,7 +34,7 @@ from metamaterial_wb.core.sleeve.analysis import units_snapped
 from metamaterial_wb.core.sleeve.frame3d import RingFrame
 from metamaterial_wb.core.sleeve.frame3d_plate import RigidPlate, reduce
 from metamaterial_wb.core.sleeve.rotations import expm_so3, logm_so3
-from metamaterial_wb.core.sleeve.tangent import min_eig_sparse, symmetric_lu
+from metamaterial_wb.core.sleeve.tangent import min_eig_sparse, symmetric_factor, symmetric_lu
 
 H_FD = 1e-6          # the Hessian's difference step (positions in L, rotations in rad)
 
@@ -65,12 +65,12 @@ _T[0:3, 0:3], _T[0:3, 6:9], _T[3:6, 3:6], _T[6:9, 9:12] = -np.eye(3), np.eye(3),
 
 
 def _solve(K, b):
-    """``K^-1 b`` for the sparse symmetric ``K`` (CSC): by the symmetric-mode LU (minimum degree on K + K^T,
-    diagonal pivots, as ``tangent.symmetric_lu`` without the inertia; about twice as fast as ``spsolve``'s column
-    ordering here), or by ``spsolve`` (partial pivoting) where that LU fails or its residual is above round-off (an
-    indefinite ``K`` that needs pivoting off the diagonal). ``spsolve``'s RuntimeError for a singular ``K`` passes through."""
+    """``K^-1 b`` for the sparse symmetric ``K`` (CSC): by ``tangent.symmetric_factor`` (minimum degree on
+    K + K^T, diagonal pivots; about twice as fast as ``spsolve``'s column ordering here), or by ``spsolve``
+    (partial pivoting) where that LU fails or its residual is above round-off (an indefinite ``K`` that needs
+    pivoting off the diagonal). ``spsolve``'s RuntimeError for a singular ``K`` passes through."""
     try:
-        lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        lu = symmetric_factor(K)
         x = lu.solve(b)
         if np.all(np.isfinite(x)) and np.linalg.norm(K @ x - b) <= 1e-10 * np.linalg.norm(b):
             return x, lu.solve
@@ -555,7 +555,8 @@ def trace_ring(ring, d, tol=1e-10, progress=None, predict=True, stop_after_peak=
     last = None
     for k, dk in enumerate(d):
         now = state()
-        if predict and last is not None and k >= 2 and d[k - 1] != d[k - 2]:      # secant predictor from the last two states
+        # secant predictor from the last two states
+        if predict and last is not None and k >= 2 and d[k - 1] != d[k - 2]:
             s = (dk - d[k - 1]) / (d[k - 1] - d[k - 2])
             fr.x = now[0] + s * (now[0] - last[0])
             fr.R = expm_so3(s * logm_so3(now[1] @ np.transpose(last[1], (0, 2, 1)))) @ now[1]

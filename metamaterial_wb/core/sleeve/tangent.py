@@ -11,13 +11,19 @@ import scipy.sparse.linalg as spla
 DEGENERATE = 0.05       # two lowest eigenvalues within 5 %: one (symmetry-degenerate) mode pair
 
 
+def symmetric_factor(K):
+    """SuperLU's symmetric mode for the sparse symmetric ``K`` (CSC): minimum degree on K + K^T, diagonal pivots
+    (``P K P^T = L D L^T`` where the pivots allow). SuperLU's RuntimeError for an exactly singular ``K`` passes."""
+    return spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+
+
 def symmetric_lu(K):
     """The symmetric-mode LU of the sparse symmetric ``K`` (CSC; diagonal pivots, ``P K P^T = L D L^T``) and
     the number of its negative eigenvalues by Sylvester's law of inertia (the signs of the pivots): ``(lu,
     negatives)``; ``(None, 1)`` when ``K`` is exactly singular, ``(lu, None)`` when SuperLU had to pivot off the
     diagonal (the inertia is then unknown from U)."""
     try:
-        lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        lu = symmetric_factor(K)
     except RuntimeError:
         return None, 1
     if not np.array_equal(lu.perm_r, lu.perm_c):
