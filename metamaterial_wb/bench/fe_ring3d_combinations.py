@@ -371,6 +371,7 @@ def cycles_markdown(cycles, solid, frame=None):
          "uniform rings at the flat top | frame's mixed ring at the flat top (12 elements) | seed | time |",
          "|---|---|---|---|---|---|---|---|---|---|"]
     rows, gaps, means, unbiased = 0, {m: [] for m in CYCLE_KEYS}, [], []
+    static_orders = {}           # (combination, mesh): the static cycle's order, for the extrapolation paragraph
     for key in sorted(cycles):
         for mesh, variant in ((m, x) for m in sorted(cycles[key]) for x in CYCLE_KEYS):
             run = cycles[key][mesh]
@@ -378,6 +379,8 @@ def cycles_markdown(cycles, solid, frame=None):
             if variant != "static" and not cyc:
                 continue
             seq = cycle_sequence(cyc) if cyc else None
+            if variant == "static":
+                static_orders[key, mesh] = seq
             if cyc and seq is None:
                 text, lean = f"stopped at d/L {cyc['d_reached']:.3f}", "-"
             elif seq:
@@ -444,7 +447,7 @@ def cycles_markdown(cycles, solid, frame=None):
               "mixed ring took the first type's peak and the other type's valley (its two-hysteron reading)."]
     for key in sorted(cycles):
         sx = standing_extrapolated(cycles[key], solid.get(key, {}))
-        orders = [cycle_sequence(cycles[key][m]["cycle"]) for m in ("r1", "r2", "r3")] if sx else []
+        orders = [static_orders.get((key, m)) for m in ("r1", "r2", "r3")] if sx else []
         if sx and all(orders):
             L += ["", standing_sentence(key, sx, [order_text(o) for o in orders])]
     L += ["", f"![the seed's mixed rings on the solid: force and each pillar's rise beyond h]({IMG_CYCLES})"]
