@@ -111,6 +111,44 @@ def test_forces_and_newton_matrix_match_numpy(label, system, full_band):
         assert seen["inside"] > 0 and seen["stick"] > 0 and seen["slide"] > 0, seen
 
 
+@pytest.mark.parametrize("label,system", systems(), ids=lambda x: x if isinstance(x, str) else "")
+def test_ledger_terms_match_numpy(label, system):
+    """The energy ledger's per-step terms in the kernel (``Kernel.actuation_jump``, ``Kernel.contact_damping``)
+    against the numpy code they replace on the compiled path (``Simulator._actuation_jump`` on the numpy path,
+    ``PlanarSystem.dissipation_power``'s contact part over a step): points staying in, entering and leaving the
+    floor, sticking and sliding; an actuation that turns the rest angles and, separately, moves the pins."""
+    lib = lib_or_skip()
+    k = fastkernel.Kernel(lib, system, fastkernel.layout_for(system, band_max=64))
+    rng = np.random.default_rng(11)
+    sim = Simulator(system, np.zeros((system.n, 3)))
+    sim.kernel = "numpy"
+    cases = {"stay": 0, "enter": 0, "leave": 0}
+    states = list(random_states(system, rng, 24))
+    for (q0, v0, _), (q, v, anchors) in zip(states[:-1], states[1:]):
+        for dt in (1e-3, 2.5e-4):
+            _, pn = system.dissipation_power(q, v, anchors, dt, q_start=q0, v_start=v0, hinges=False)
+            pk = k.contact_damping(q, v, q0, v0, anchors, dt)
+            assert pk == pytest.approx(pn, rel=1e-12, abs=1e-14 * (1 + abs(pn)))
+        if system.cb.size:
+            py0, py = system.contact_points(q0)[:, 1], system.contact_points(q)[:, 1]
+            cases["stay"] += int(np.sum((py0 < 0) & (py < 0)))
+            cases["enter"] += int(np.sum((py0 >= 0) & (py < 0)))
+            cases["leave"] += int(np.sum((py0 < 0) & (py >= 0)))
+        old = (system.theta0.copy(), system.ra.copy(), system.rb.copy())
+        for moved in ("theta0", "pins"):
+            if moved == "theta0":
+                system.theta0[:] = old[0] + rng.normal(0, 0.1, old[0].shape)
+            else:
+                system.ra[:] = old[1] * (1 + rng.normal(0, 0.05, old[1].shape))
+                system.rb[:] = old[2] + rng.normal(0, 1e-3, old[2].shape)
+            wn, wk = sim._actuation_jump(q, old), k.actuation_jump(q, old)
+            assert wk == pytest.approx(wn, rel=1e-10, abs=1e-14)
+            system.theta0[:], system.ra[:], system.rb[:] = old
+        assert k.actuation_jump(q, old) == 0.0            # nothing moved: nothing booked
+    if system.cb.size:
+        assert all(cases.values()), cases
+
+
 def _run(sc, seconds, kernel, dt=None, perturb=0.0):
     cfg = dynamics_config(sc)
     model = build(sc, cfg)
@@ -143,7 +181,7 @@ def test_short_trajectory_matches_numpy_path(name, seconds):
     assert dq <= max(1e-9 * L, 10 * float(np.max(np.abs(c.q - a.q)))), dq
     assert np.array_equal(a.inside, b.inside)
     assert np.allclose(b.anchors, a.anchors, rtol=0, atol=max(10 * dq, 1e-12))
-    for key in ("actuator_work_J", "damping_J", "friction_J"):
+    for key in ("actuator_work_J", "damping_J", "contact_damping_J", "friction_J"):
         spread = abs(c.ledger[key] - a.ledger[key])
         assert abs(b.ledger[key] - a.ledger[key]) <= max(1e-9 * abs(a.ledger[key]), 10 * spread, 1e-15), key
     pa, pb, pc = (x.stats["max_penetration_mm"] for x in (a, b, c))

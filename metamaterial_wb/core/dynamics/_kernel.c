@@ -400,3 +400,80 @@ void mm_update_anchors(Sys *S, const double *q, const double *v, double *anchors
     pen *= 1e3;
     if (pen > acc[1]) acc[1] = pen;
 }
+
+/* Simulator._actuation_jump (integrators.py): the elastic energy at positions q with the current actuation
+ * (S->theta0, S->ra, S->rb) minus that with the old one (th_old, ra_old, rb_old). An unchanged pin gives the
+ * same distance both ways, so its terms cancel exactly, as the numpy path's skip of them. */
+double mm_actuation_jump(Sys *S, const double *q, const double *th_old, const double *ra_old, const double *rb_old)
+{
+    double w = 0.0;
+    int64_t i;
+    for (i = 0; i < S->m; i++) {
+        int64_t a = S->ha[i], b = S->hb[i];
+        double rel = q[3 * b + 2] - q[3 * a + 2];
+        double dn = rel - S->theta0[i], dold = rel - th_old[i];
+        w += S->kr[i] * (dn * dn - dold * dold);
+        double ca = cos(q[3 * a + 2]), sa = sin(q[3 * a + 2]), cb = cos(q[3 * b + 2]), sb = sin(q[3 * b + 2]);
+        double e[2] = {0.0, 0.0};
+        int k;
+        for (k = 0; k < 2; k++) {
+            const double *ra = k ? ra_old : S->ra, *rb = k ? rb_old : S->rb;
+            double dx = q[3 * b] + cb * rb[2 * i] - sb * rb[2 * i + 1] - q[3 * a] - (ca * ra[2 * i] - sa * ra[2 * i + 1]);
+            double dy = q[3 * b + 1] + sb * rb[2 * i] + cb * rb[2 * i + 1] - q[3 * a + 1]
+                        - (sa * ra[2 * i] + ca * ra[2 * i + 1]);
+            e[k] = dx * dx + dy * dy;
+        }
+        w += S->kp[i] * (e[0] - e[1]);
+    }
+    return 0.5 * w;
+}
+
+/* PlanarSystem._contact_damper_power (system.py) for contact i at (q, v): its height (py) and the contact
+ * dampers' power (0 in the air); the normal damper and a clamped point's lost penalty energy (capped at its
+ * penalty energy per step dt), and the tangential damper of a sticking point. */
+static double damper_power(Sys *S, int64_t i, const double *q, const double *v, const double *anchors, double dt,
+                           double *py_out)
+{
+    int64_t c = S->cb[i];
+    double cc = cos(q[3 * c + 2]), sc = sin(q[3 * c + 2]);
+    double rcx = S->rc[2 * i], rcy = S->rc[2 * i + 1];
+    double ux = cc * rcx - sc * rcy, uy = sc * rcx + cc * rcy;
+    double py = q[3 * c + 1] + uy;
+    *py_out = py;
+    if (!(py < 0)) return 0.0;
+    double vpx = v[3 * c] - v[3 * c + 2] * uy, vpy = v[3 * c + 1] + v[3 * c + 2] * ux;
+    double pen = -py, kn = S->kn[i];
+    double fn = kn * pen - S->cn[i] * vpy;
+    if (!(fn > 0.0) && !isnan(fn)) fn = 0.0;
+    double dn = -(fn - kn * pen) * vpy;
+    if (!(fn > 0.0)) {
+        double cap = 0.5 * kn * pen * pen / dt;
+        if (cap < dn) dn = cap;
+    }
+    double trial = -S->kt[i] * (q[3 * c] + ux - anchors[i]) - S->ct[i] * vpx;
+    if (fabs(trial) <= S->mu[i] * fn) dn += S->ct[i] * vpx * vpx;
+    return dn;
+}
+
+/* PlanarSystem.dissipation_power(q, v, anchors, dt, q_start, v_start, hinges=False) (system.py): the contact
+ * dampers' power over a step from (q0, v0) to (q, v); a point that enters the floor counts for the part of its
+ * motion spent in it, one that leaves counts, at the start state's power, for the part before it left. */
+double mm_contact_damping(Sys *S, const double *q, const double *v, const double *q0, const double *v0,
+                          const double *anchors, double dt)
+{
+    double pc = 0.0, py, py0;
+    int64_t i;
+    for (i = 0; i < S->p; i++) {
+        double p_end = damper_power(S, i, q, v, anchors, dt, &py);
+        int64_t c = S->cb[i];
+        double rcx = S->rc[2 * i], rcy = S->rc[2 * i + 1];
+        py0 = q0[3 * c + 1] + sin(q0[3 * c + 2]) * rcx + cos(q0[3 * c + 2]) * rcy;
+        if (py0 < 0 && py < 0)
+            pc += p_end;
+        else if (py0 >= 0 && py < 0)
+            pc += p_end * (-py) / (py0 - py);
+        else if (py0 < 0 && py >= 0)
+            pc += damper_power(S, i, q0, v0, anchors, dt, &py0) * (-py0) / (py - py0);
+    }
+    return pc;
+}

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import operator
 import os
 import shutil
 import subprocess
@@ -110,6 +111,10 @@ def load():
         lib.mm_newton.restype = None
         lib.mm_update_anchors.argtypes = [P, P, P, P, P, P]
         lib.mm_update_anchors.restype = None
+        lib.mm_actuation_jump.argtypes = [P, P, P, P, P]
+        lib.mm_actuation_jump.restype = D
+        lib.mm_contact_damping.argtypes = [P, P, P, P, P, P, D]
+        lib.mm_contact_damping.restype = D
         _state["lib"], _state["path"] = lib, path
     except Exception as e:        # no compiler, build or load failure: the numpy path is used
         _state["note"] = f"compiled kernel unavailable ({e}); numpy path used"
@@ -157,6 +162,8 @@ class Kernel:
         self.lib = lib
         self.sys = s
         self.refs = tuple(getattr(s, k) for k in _SYS_ARRAYS) + (s.free_dof,)
+        self._ids = tuple(map(id, self.refs))      # held in refs, so no other array can take these ids
+        self._get = operator.attrgetter(*_SYS_ARRAYS, "free_dof")
         for k, a in zip(_SYS_ARRAYS, self.refs):
             want = np.int64 if k in _INT_ARRAYS else np.float64
             if a.dtype != want or not a.flags.c_contiguous:
@@ -213,12 +220,8 @@ class Kernel:
         self._q1_p = _ptr(self.q1)
 
     def matches(self, system):
-        if system is not self.sys:
-            return False
-        s = system
-        cur = (s.M, s.gravity, s.ha, s.hb, s.cb, s.ra, s.rb, s.kp, s.cp, s.kr, s.cr, s.theta0, s.rc, s.mu, s.kn,
-               s.cn, s.kt, s.ct, s.free_dof)
-        return all(a is b for a, b in zip(cur, self.refs))
+        """True while ``system`` is the bound one with the same array objects (by identity)."""
+        return system is self.sys and tuple(map(id, self._get(system))) == self._ids
 
     def invalidate(self):
         """Forget the factorisation (the numpy path's ``Simulator._fact = None``)."""
@@ -281,6 +284,20 @@ class Kernel:
                            anchors.ctypes.data, max_it, tol_abs, tol_rel, max_age,
                            int(bool(refactor_on_contact_change)), self._stats_p)
         return self.stats
+
+    def actuation_jump(self, q, old):
+        """``Simulator._actuation_jump``: the elastic energy at ``q`` with the system's current actuation minus
+        that with ``old`` (theta0, ra, rb), in one call."""
+        q = np.ascontiguousarray(q, float)
+        th, ra, rb = (np.ascontiguousarray(a, float) for a in old)
+        return self.lib.mm_actuation_jump(self.Sp, q.ctypes.data, th.ctypes.data, ra.ctypes.data, rb.ctypes.data)
+
+    def contact_damping(self, q, v, q0, v0, anchors, dt):
+        """``PlanarSystem.dissipation_power(q, v, anchors, dt, q_start=q0, v_start=v0, hinges=False)``'s contact
+        part (W), in one call."""
+        q, v, q0, v0, anchors = (np.ascontiguousarray(a, float) for a in (q, v, q0, v0, anchors))
+        return self.lib.mm_contact_damping(self.Sp, q.ctypes.data, v.ctypes.data, q0.ctypes.data, v0.ctypes.data,
+                                           anchors.ctypes.data, dt)
 
     def update_anchors(self, q, v, anchors, inside, friction_J, max_pen_mm):
         acc = self.acc

@@ -96,10 +96,18 @@ class Simulator:
         self._act_old = old
         self.ledger["actuator_work_J"] += 0.5 * self._actuation_jump(self.q, old)
 
+    def _compiled(self):
+        """The compiled kernel when the last step ran on it and it still matches the system, else None."""
+        k = self._kern
+        return k if k is not None and self._kern_used and k.matches(self.sys) else None
+
     def _actuation_jump(self, q, old):
         """Elastic energy at positions ``q`` with the current actuation minus that with ``old``
-        (theta0, ra, rb)."""
+        (theta0, ra, rb); by the compiled kernel where the steps run on it (``_compiled``)."""
         s = self.sys
+        k = self._compiled()
+        if k is not None:
+            return k.actuation_jump(q, old)
         th_old, ra_old, rb_old = old
         rel = q[s.hb, 2] - q[s.ha, 2]
         W = 0.5 * float(np.sum(s.kr * ((rel - s.theta0) ** 2 - (rel - th_old) ** 2)))
@@ -121,8 +129,8 @@ class Simulator:
         s = self.sys
         if not s.cb.size:
             return
-        k = self._kern
-        if k is not None and self._kern_used and k.matches(s) and self.anchors.flags.c_contiguous \
+        k = self._compiled()
+        if k is not None and self.anchors.flags.c_contiguous \
                 and self.anchors.dtype == np.float64 and self.inside.dtype == bool and self.inside.flags.c_contiguous:
             # the same update in the compiled kernel (anchors and inside flags in place)
             fr, pen = k.update_anchors(self.q, self.v, self.anchors, self.inside, self.ledger["friction_J"],
@@ -400,8 +408,12 @@ class Simulator:
         # hinge dampers: the power of the step's first force evaluation (numpy path and compiled kernel
         # alike); contact dampers: at the step's end state (where the implicit step evaluates its
         # forces), entering / leaving points for their part of the step
-        _, pc = self.sys.dissipation_power(self.q, self.v, self.anchors, dt, q_start=self._prev[0],
-                                           v_start=self._prev[1], hinges=False)
+        k = self._compiled()
+        if k is not None:
+            pc = k.contact_damping(self.q, self.v, self._prev[0], self._prev[1], self.anchors, dt)
+        else:
+            _, pc = self.sys.dissipation_power(self.q, self.v, self.anchors, dt, q_start=self._prev[0],
+                                               v_start=self._prev[1], hinges=False)
         self.ledger["damping_J"] += dt * damp_power
         self.ledger["contact_damping_J"] += dt * pc
         self.t += dt
