@@ -281,3 +281,15 @@ def test_singular_matrix_is_reported_not_hidden():
         except np.linalg.LinAlgError:          # numpy refuses outright: no finite answer exists either
             ref = None
     assert ref is None or not np.all(np.isfinite(ref))
+
+
+def test_contact_flags_frozen_from_the_first_iteration_run():
+    """``Simulator.freeze_after = 0`` (an experimental Newton option, numpy path): the first iteration has no
+    earlier contact state to keep, so it evaluates its own (it raised UnboundLocalError on ``st_last`` before)."""
+    sc = scene("worm_crawl.json")
+    cfg = dynamics_config(sc)
+    model = build(sc, cfg)
+    sim = Simulator(model.system, model.q0, actuate=model.actuate)
+    sim.freeze_after = 0
+    sim.run(0.01, method="implicit", dt=cfg["integrator"]["dt_s"])
+    assert sim.stats["kernel"] == "numpy" and sim.stats["steps"] == 40 and np.all(np.isfinite(sim.q))

@@ -220,7 +220,7 @@ class Simulator:
             A, _ = s.system_matrix(q, v, self.anchors, st, h, dense=dense)
         self.stats["jacobians"] = self.stats.get("jacobians", 0) + 1
         if band is not None:
-            kl, ku, perm, pos = band["kl"], band["ku"], band["perm"], band["pos"]
+            kl, ku, perm = band["kl"], band["ku"], band["perm"]
             lu, piv, info = _gbtrf(A, kl, ku, overwrite_ab=1)
             if info > 0:      # singular: let the caller see non-finite values (handled by the checks)
                 solve = lambda r: np.full(r.shape, np.nan)
@@ -324,6 +324,7 @@ class Simulator:
         Mf = s.M.ravel()
         damp_power = None
         prev = None
+        st_last = None          # the last iteration's contact state (freeze_after)
         refresh = False
         converged = False
         st0 = None
