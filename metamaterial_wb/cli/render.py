@@ -33,7 +33,7 @@ def _size(text):
 
 
 def run(args):
-    from metamaterial_wb.cli.solve import parse_sets
+    from metamaterial_wb.cli.solve import chosen_global, parse_sets
     from metamaterial_wb.core import kinematics
     from metamaterial_wb.core.design import ensure_configured, global_D, kinematics_for
     from metamaterial_wb.core.render import render_png, state_title, view_angles
@@ -46,11 +46,11 @@ def run(args):
     sets = parse_sets(args.set)
     for name, v in sets:
         scene.set_value(name, v)
+    g = chosen_global(args.global_g, sets, scene)
     elev, azim = view_angles(args.view)
     size = _size(args.size)
     for w in (ensure_configured(scene) or {}).get("warnings", []):
         print(f"warning: {w}", file=sys.stderr)
-    g = args.global_g if args.global_g is not None else (None if sets else scene.global_deformation)
     if g is not None:
         D = global_D(scene, g)
         warnings = []

@@ -49,6 +49,17 @@ def parse_sets(items):
     return out
 
 
+def chosen_global(global_g, sets, scene):
+    """The global deformation a command draws or solves: ``--global``'s, else none where ``--set`` gives values
+    (they are solved for), else the one the scene was saved with. ``--global`` with ``--set`` is refused: two
+    different states (every D = G, or the actuators' values solved for), and one would be ignored."""
+    from metamaterial_wb.core.errors import SceneError
+    if global_g is not None and sets:
+        raise SceneError("--global", f"{global_g:g} with --set {sets[0][0]}={sets[0][1]:g}: --global sets every D, "
+                                     "--set solves for the actuators' values; give one of them")
+    return global_g if global_g is not None else (None if sets else scene.global_deformation)
+
+
 def parse_options(items):
     """``["tol=1e-10", "contact=false"]`` -> ``{"tol": 1e-10, "contact": False}`` (numbers, booleans, text)."""
     from metamaterial_wb.core.errors import SceneError
@@ -123,12 +134,13 @@ def run(args):
     check_output(args.out, "file", "--out")
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
-    for name, v in parse_sets(args.set):
+    sets = parse_sets(args.set)
+    for name, v in sets:
         scene.set_value(name, v)
+    g = chosen_global(args.global_g, sets, scene)
     from metamaterial_wb.core.design import ensure_configured
     for w in (ensure_configured(scene) or {}).get("warnings", []):  # axes without joint_config: configure
         print(f"warning: {w}", file=sys.stderr)
-    g = args.global_g if args.global_g is not None else scene.global_deformation
     opts = {"backend": args.backend} if args.model == "quadratic" else {}
     opts.update(parse_options(args.option))
     from metamaterial_wb.core import resultfile

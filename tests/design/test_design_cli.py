@@ -111,3 +111,27 @@ def test_examples_design_and_fold_exactly(name, tmp_path):
         assert names
         for n in names:
             assert fold[s.topology.joint_index[n]] == pytest.approx(ax.fold_deg, abs=1e-7)
+
+
+@pytest.mark.parametrize("cmd", ["render", "solve"])
+def test_global_and_set_together_are_refused_not_one_ignored(tmp_path, cmd):
+    """``--global`` (every D = G) and ``--set`` (an actuator's value, then solve) describe two states; given both,
+    one was silently ignored. Now: exit 2, one line naming both, nothing written."""
+    src = write(tmp_path, "s.json", STRIP)
+    out = tmp_path / ("p.png" if cmd == "render" else "r.json")
+    r = cli(cmd, src, "--out", str(out), "--global", "0.7", "--set", "m=-0.5")
+    assert r.returncode == 2 and "--global" in r.stderr and "--set" in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_solve_set_overrides_the_scenes_stored_global_deformation(tmp_path):
+    """A scene saved in its global state (``global_deformation``) solved with ``--set``: the set actuator's value
+    is solved for (as ``render`` does), not the stored global state."""
+    src = write(tmp_path, "s.json", dict(STRIP, global_deformation=0.7))
+    out = tmp_path / "r.json"
+    r = cli("solve", src, "--out", str(out), "--set", "m=-0.5")
+    assert r.returncode == 0, r.stderr
+    res = json.loads(out.read_text())
+    assert res["global_deformation"] is None
+    D = {n["name"]: n["D"] for n in res["nodes"]}
+    assert min(D.values()) == pytest.approx(-0.5, abs=1e-9)
