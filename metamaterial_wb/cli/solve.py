@@ -4,7 +4,6 @@
 ``--fields`` picks what is written per node / joint (default all three); ``--npz`` writes the
 arrays to ``RESULT.npz`` beside a small ``RESULT.json`` that holds everything else
 (``core/resultfile.py``, docs/scene-format.md "Result file")."""
-import math
 import sys
 import time
 
