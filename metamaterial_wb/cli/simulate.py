@@ -26,7 +26,7 @@ def add_arguments(p):
     p.add_argument("scene", help="scene file (JSON, docs/scene-format.md, section Dynamics)")
     p.add_argument("--seconds", type=float, required=True, help="simulated time (s)")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--frames", action="store_true", help="also write PNG frames and an animated GIF")
+    p.add_argument("--frames", action="store_true", help="also write PNG frames and an animated GIF (the GIF needs ImageMagick's convert)")
     p.add_argument("--method", default=None, choices=("auto", "symplectic", "implicit"),
                    help="integrator (default: the scene's dynamics.integrator.method, else auto)")
     p.add_argument("--dt", type=float, default=None, help="time step (s); default: automatic")
@@ -60,7 +60,6 @@ def write_frames(model, traj, folder, every=1):
         fig, ax = plt.subplots(figsize=(6, 3), dpi=80)
         ax.axhline(0, color="0.3", lw=2)
         pa = (qq[a, :2] + _rot(qq[a, 2], sys_.ra)) * 1e3
-        pb = (qq[b, :2] + _rot(qq[b, 2], sys_.rb)) * 1e3
         ca = qq[a, :2] * 1e3
         cbp = qq[b, :2] * 1e3
         for i in range(len(a)):
@@ -135,10 +134,15 @@ def run(args):
                 import subprocess
                 delay = max(1, int(round(100.0 / fps)))
                 r = subprocess.run([conv, "-delay", str(delay), "-loop", "0"] + names
-                                   + [os.path.join(tmp, "motion.gif")], capture_output=True)
+                                   + [os.path.join(tmp, "motion.gif")], capture_output=True, text=True)
                 summary["frames"] = {"count": len(names), "gif": r.returncode == 0}
+                if r.returncode:
+                    summary["frames"]["note"] = (f"ImageMagick's convert failed ({r.stderr.strip()[:200]}): "
+                                                 "PNG frames only, no motion.gif")
             else:
-                summary["frames"] = {"count": len(names), "gif": False}
+                summary["frames"] = {"count": len(names), "gif": False,
+                                     "note": "no ImageMagick (its convert command makes the GIF; Debian: "
+                                             "imagemagick): PNG frames only, no motion.gif"}
         write_json(os.path.join(tmp, "summary.json"), summary)
     it = summary["integrator"]
     print(f"{scene.name or args.scene}: {summary['displacement_mm']:+.2f} mm in {seconds:g} s "
@@ -148,6 +152,8 @@ def run(args):
         print(f"warning: at t = {fb['at_s']} s {fb['reason']}; {fb['action']}", file=sys.stderr)
     if it.get("note"):
         print(f"note: {it['note']}", file=sys.stderr)
+    if summary.get("frames", {}).get("note"):
+        print(f"note: {summary['frames']['note']}", file=sys.stderr)
     for w in summary.get("warnings", []):
         print(f"warning: {w}", file=sys.stderr)
     return 0

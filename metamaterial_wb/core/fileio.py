@@ -449,12 +449,13 @@ def _mkdirs(folder):
 
 
 def write_atomic(path, data, mode="w"):
-    """Write ``data`` (str or bytes) to ``path`` through a temporary file and a rename.
+    """Write ``data`` (str or bytes, or a callable that writes to the open file) to ``path`` through a
+    temporary file and a rename; the file gets the usual permissions (0666 less the umask).
 
     Parameters
     ----------
     path : str
-    data : str or bytes
+    data : str, bytes or callable
     mode : str, optional
         ``"w"`` (text, UTF-8) or ``"wb"``.
 
@@ -470,7 +471,10 @@ def write_atomic(path, data, mode="w"):
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=temp_prefix(), suffix="-" + os.path.basename(path)[-40:])
     try:
         with os.fdopen(fd, mode, **({"encoding": "utf-8"} if "b" not in mode else {})) as f:
-            f.write(data)
+            if callable(data):
+                data(f)
+            else:
+                f.write(data)
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file normal permissions

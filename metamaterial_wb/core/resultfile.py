@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 
 import numpy as np
 
@@ -84,20 +83,12 @@ def joint_list(arrays):
 
 
 def write_npz(path, arrays, meta):
-    """Write ``arrays`` and the JSON metadata ``meta`` (``meta_json`` entry) atomically to ``path``."""
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".npz")
-    os.close(fd)
-    try:
-        payload = dict(arrays)
-        payload["meta_json"] = np.asarray(json.dumps(dict(meta, format=NPZ_FORMAT), allow_nan=False))
-        with open(tmp, "wb") as fh:
-            np.savez(fh, **payload)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    """Write ``arrays`` and the JSON metadata ``meta`` (``meta_json`` entry) atomically to ``path``
+    (``fileio.write_atomic``: a temporary file, a rename, the usual permissions)."""
+    from .fileio import write_atomic
+    payload = dict(arrays)
+    payload["meta_json"] = np.asarray(json.dumps(dict(meta, format=NPZ_FORMAT), allow_nan=False))
+    write_atomic(os.fspath(path), lambda fh: np.savez(fh, **payload), mode="wb")
 
 
 def read_result(path):

@@ -168,6 +168,16 @@ def test_cli_writes_summary_trajectory_and_frames(tmp_path):
     # the trajectory's centre of mass agrees with the summary (equal-mass check is not assumed)
     assert (out / "frames" / "frame_0000.png").exists()
     assert not [p for p in out.iterdir() if p.name.startswith(".tmp")]
+    # the animated GIF needs ImageMagick's convert: made where it is there, and said where it is not
+    import shutil
+    if shutil.which("convert") and s["frames"]["gif"]:
+        assert (out / "motion.gif").exists() and "note" not in s["frames"]
+    elif shutil.which("convert"):                 # a convert that fails (or a stand-in): said, not hidden
+        assert not (out / "motion.gif").exists() and "convert failed" in s["frames"]["note"]
+        assert "no motion.gif" in r.stderr
+    else:
+        assert s["frames"]["gif"] is False and not (out / "motion.gif").exists()
+        assert "ImageMagick" in s["frames"]["note"] and "no motion.gif" in r.stderr
 
 
 def test_cli_bad_input_exits_2_and_writes_nothing(tmp_path):

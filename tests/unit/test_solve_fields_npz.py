@@ -62,3 +62,18 @@ def test_bad_fields_exit_2_and_write_nothing(tmp_path, capsys, fields):
     assert main(["solve", example_path("fish"), "--out", str(out), "--fields", fields, "--npz"]) == 2
     assert "--fields" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_npz_gets_the_same_permissions_as_the_json(tmp_path):
+    """The .npz beside the JSON is readable as the JSON is (0666 less the umask), not 0600 as a bare mkstemp file,
+    and no temporary file is left behind."""
+    import os
+    import stat
+    old = os.umask(0o022)
+    try:
+        out = _solve(tmp_path, "perm.json", "--npz")
+    finally:
+        os.umask(old)
+    mode = {p.name: stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()}
+    assert mode == {"perm.json": 0o644, "perm.npz": 0o644}, mode
+    assert out.exists()
