@@ -368,7 +368,9 @@ def format_report(report):
     lines = []
     for r in report["axes"]:
         lines.append(f"axis {r['axis']} ({r['direction']} line {r['line']}): fold {r['fold_deg']:g} deg at D=+1 "
-                     f"(max +-{r['max_fold_deg']:.2f} deg, bound by {r['binding']}); {r['joints']} joints tilted "
+                     f"(max +-{r['max_fold_deg']:.2f} deg, bound by {r['binding']}"
+                     + (f"; printable +-{r['printable_fold_deg']:.2f} deg" if "printable_fold_deg" in r else "")
+                     + f"); {r['joints']} joints tilted "
                      f"up to {r['tilt_deg']:.2f} deg; fold at D=-1: {r.get('fold_at_Dminus1_deg', 0.0):.2f} deg")
     lim = report.get("limits")
     if lim:

@@ -40,6 +40,8 @@ def test_design_writes_configured_scene_and_report(tmp_path):
     assert cfg["H0,2"]["tilt_deg"] == pytest.approx(-cfg["H1,2"]["tilt_deg"])
     report = json.load(open(rep))
     assert report["axes"][0]["max_fold_deg"] > 50
+    # the printable fold (what the hinge can be printed to) is printed beside the kinematic maximum
+    assert f"printable +-{report['axes'][0]['printable_fold_deg']:.2f} deg" in r.stdout
 
 
 def test_design_rejects_too_large_fold_with_the_maximum_and_writes_nothing(tmp_path):
