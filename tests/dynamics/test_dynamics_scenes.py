@@ -143,6 +143,13 @@ def test_bad_dynamics_fields_are_named():
     d["dynamics"]["incline_deg"] = 90
     with pytest.raises(SceneError, match="incline_deg"):
         dynamics_config(Scene.from_dict(d))
+    # a count of points is a whole number: 2.5 support points were taken as they came (the contact stiffness
+    # scaled by 4 / 2.5)
+    for bad in (2.5, True, "4", 0):
+        d = load("worm_crawl.json")
+        d["dynamics"].setdefault("contact", {})["support_points"] = bad
+        with pytest.raises(SceneError, match=r"dynamics\.contact\.support_points: .*an integer 1\.\.1000000"):
+            dynamics_config(Scene.from_dict(d))
 
 
 def cli(*args):

@@ -105,7 +105,10 @@ def dynamics_config(scene):
     c = cfg["contact"]
     c["penetration_tol_mm"] = check_number(f"{f}.contact.penetration_tol_mm", c["penetration_tol_mm"], 0.0,
                                            100.0, "mm", low_open=True)
-    c["support_points"] = check_number(f"{f}.contact.support_points", c["support_points"], 1.0, 1e6)
+    sp_ = c["support_points"]
+    if not isinstance(sp_, int) or isinstance(sp_, bool) or not 1 <= sp_ <= 1_000_000:
+        raise SceneError(f"{f}.contact.support_points", f"{sp_!r}; allowed: an integer 1..1000000 (the points the "
+                                                        "weight rests on)")
     c["damping_ratio"] = check_number(f"{f}.contact.damping_ratio", c["damping_ratio"], 0.0, 10.0)
     it = cfg["integrator"]
     from .integrators import METHODS

@@ -64,7 +64,8 @@ def cells_from_layout(layout, field_name="layout"):
             if not _ROW_RE.fullmatch(s):
                 j = next(k for k, ch in enumerate(s) if ch not in "#Xx1. 0-")
                 raise SceneError(f"{field_name}.rows[{i}]", f"character {s[j]!r} at column {j}; use '#' for a "
-                                                           f"cell and '.' for an empty place")
+                                                           f"cell and '.' for an empty place (also X, x, 1 for a "
+                                                           f"cell and a space, 0, - for an empty place)")
             b = np.frombuffer(s.encode("ascii"), dtype=np.uint8)
             js = np.flatnonzero((b == 35) | (b == 88) | (b == 120) | (b == 49))
             if js.size:

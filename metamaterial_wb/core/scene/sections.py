@@ -130,7 +130,7 @@ def parse_axes(s, data):
 
 def parse_fixed(s, data):
     """``actuators[]`` and ``constraints[]`` (names unique across both)."""
-    used_names = {}
+    used_names, used_joints = {}, {}
     n_max = max(s.topology.n_joints, 1)
     for listname, klass in (("actuators", Actuator), ("constraints", Constraint)):
         items = _list(data, listname, "objects")
@@ -144,6 +144,9 @@ def parse_fixed(s, data):
             if "joint" not in item:
                 raise SceneError(f"{f}.joint", "missing: every actuator and constraint sits on a joint")
             joint = s._joint(item["joint"], f"{f}.joint")
+            if joint in used_joints:
+                raise SceneError(f"{f}.joint", f"{joint} already carries {used_joints[joint]}; at most one actuator or "
+                                               "constraint per joint")
             default_name = ("m" if listname == "actuators" else "c") + str(k + 1)
             name = item.get("name", default_name)
             if not isinstance(name, str) or not _NAME_RE.match(name):
@@ -152,6 +155,7 @@ def parse_fixed(s, data):
             if name in used_names:
                 raise SceneError(f"{f}.name", f"{name!r} is already used by {used_names[name]}")
             used_names[name] = f
+            used_joints[joint] = f"{f} ({name!r})"
             value = check_number(f"{f}.value ({name})", item.get("value", 0.0), *VALUE_RANGE)
             if listname == "actuators":
                 profile = item.get("profile")
