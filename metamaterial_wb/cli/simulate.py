@@ -112,6 +112,7 @@ def run(args):
         check_budget("--dt", seconds / args.dt, MAX_STEPS, "time steps", f"--seconds {seconds:g} / --dt {args.dt:g}")
     scene = Scene.load(args.scene)
     if args.incline is not None:
+        check_number("--incline", args.incline, -60.0, 60.0, "deg")      # dynamics.incline_deg's range
         dyn = dict(scene.extra.get("dynamics", {}))
         dyn["incline_deg"] = args.incline
         scene.extra["dynamics"] = dyn

@@ -38,6 +38,7 @@ CORPUS = [
     ("cells-disconnected", scene(layout={"cells": [[0, 0], [0, 1], [3, 0], [3, 1]]}), "layout", r"not connected"),
     ("cells-hole", scene(layout={"rows": ["###", "#.#", "###"]}), "layout", r"closed contour around the empty cell \[1, 1\]"),
     ("cells-hole-corner", scene(layout={"rows": ["###", "#.#", "##."]}), "layout", r"closed contour around the empty cell \[1, 1\]"),
+    ("layout-unknown-key", scene(layout={"grid": [2, 6], "colour": 3}), "layout.colour", r"unknown field; allowed: grid, chain, cells, rows"),
     ("rows-bad-char", scene(layout={"rows": ["#?#"]}), "layout.rows[0]", r"character '\?'"),
     ("joints-not-list", scene(joints={"H0,0": 1}), "joints", r"expected a list"),
     ("joint-bad-name", scene(joints=[{"joint": "X0,0", "k1": 0.5}]), "joints[0].joint", r"not a joint name"),

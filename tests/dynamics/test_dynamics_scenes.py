@@ -197,3 +197,6 @@ def test_cli_bad_input_exits_2_and_writes_nothing(tmp_path):
     assert r.returncode == 2
     assert "n1" in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not out.exists()
+    # an option is named as the option (it was named as the scene field it overrides)
+    r = cli(os.path.join(EX, "worm_crawl.json"), "--seconds", "1", "--out", str(out), "--incline", "90")
+    assert r.returncode == 2 and r.stderr.startswith("error: --incline: 90") and not out.exists(), r.stderr

@@ -44,6 +44,14 @@ def test_bad_target_documents(scene, doc, words):
     assert words in str(e.value)
 
 
+def test_keyframes_shared_align_is_named_where_it_is_written(scene):
+    """A bad top-level ``align`` shared by every keyframe is named as ``align``, not as keyframes[0]'s own."""
+    doc = {"align": "affine", "keyframes": [{"time_s": 0, "nodes": [{"name": "N0,0", "position_mm": [0, 0, 0]}]}]}
+    with pytest.raises(MetamaterialError) as e:
+        parse_target(scene, doc)
+    assert e.value.field == "align" and "'affine'; allowed:" in str(e.value)
+
+
 def test_unreachable_fold_names_the_range():
     s = scene_with(GRID_FOLD, [("V1,0", 0.5)])
     with pytest.raises(MetamaterialError) as e:

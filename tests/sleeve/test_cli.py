@@ -157,3 +157,23 @@ def test_nonlinear_frame_first_peak_on_request(tmp_path):
     assert r.returncode == 2 and "model.frame_nonlinear" in r.stderr and "ring_curvature" in r.stderr
     r, out = _run(tmp_path, dict(SPEC, model=dict(SPEC["model"], frame_elements=100)))
     assert r.returncode == 2 and "model.frame_elements" in r.stderr and "100" in r.stderr
+
+
+@pytest.mark.parametrize("where,patch", [
+    ("colour", {"colour": "red"}),
+    ("model.stepz", {"model": {"stepz": 20}}),
+    ("cell_types[0].t", {"cell_types": [{"t_mm": 1.0, "h_mm": 6.7, "t": 5}]}),
+    ("actuator.core_diam_mm", {"actuator": {"core_diam_mm": 5}}),
+    ("walker.foot_mm", {"walker": {"foot_mm": 500}}),
+    ("design_map.ringz", {"design_map": {"ringz": True}}),
+    ("design_map.ring", {"design_map": {"ring": "yes"}}),
+])
+def test_misspelt_or_mistyped_spec_fields_are_refused_not_ignored(where, patch):
+    """A misspelt key (or a non-boolean switch) in a sleeve spec was ignored and the default used in its place:
+    now a SceneError that names it (the scene format refuses unknown keys in the same way)."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.sleeve.spec import SleeveSpec
+    with pytest.raises(SceneError) as e:
+        SleeveSpec(dict(SPEC, **patch))
+    assert e.value.field == where, str(e.value)
+    assert "unknown field" in str(e.value) or "true or false" in str(e.value)

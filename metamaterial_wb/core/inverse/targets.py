@@ -304,6 +304,8 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None):
         if not isinstance(kf, list) or not kf:
             raise TargetError("keyframes", "expected a non-empty list of frames")
         shared = {k: v for k, v in data.items() if k in ("align", "rotation_weight_mm", "fold_weight_mm_per_deg")}
+        if shared.get("align", "rigid") not in ALIGN_MODES:      # the shared value's own place, not a frame's
+            raise TargetError("align", f"{shared['align']!r}; allowed: {', '.join(ALIGN_MODES)}")
         frames = []
         for k, f in enumerate(kf):
             if not isinstance(f, dict):

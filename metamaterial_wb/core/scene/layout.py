@@ -29,6 +29,9 @@ def cells_from_layout(layout, field_name="layout"):
 
     if not isinstance(layout, dict):
         raise SceneError(field_name, f"expected an object with \"grid\", \"chain\" or \"cells\", got {_short(layout)}")
+    for k in layout:
+        if k not in ("grid", "chain", "cells", "rows"):
+            raise SceneError(f"{field_name}.{k}", "unknown field; allowed: grid, chain, cells, rows (one of them)")
     keys = [k for k in ("grid", "chain", "cells", "rows") if k in layout]
     if len(keys) != 1:
         raise SceneError(field_name, f"give exactly one of \"grid\": [rows, columns], \"chain\": n, \"cells\": "

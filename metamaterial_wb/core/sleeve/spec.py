@@ -38,6 +38,7 @@ class SleeveSpec:
         if not isinstance(data, dict):
             raise SceneError("", f"{source}: expected a JSON object")
         self.raw = data
+        _known(data, "", "")
         fmt = data.get("format")
         if fmt != FORMAT:
             raise SceneError("format", f"{fmt!r}; expected {FORMAT!r}")
@@ -70,6 +71,7 @@ class SleeveSpec:
             f = f"cell_types[{i}]"
             if not isinstance(ct, dict):
                 raise SceneError(f, f"expected an object, got {ct!r}")
+            _known(ct, f, "cell_types")
             for k in ("t_mm", "h_mm"):
                 if k not in ct:
                     raise SceneError(f"{f}.{k}", "missing")
@@ -105,6 +107,7 @@ class SleeveSpec:
         m = data.get("model", {})
         if not isinstance(m, dict):
             raise SceneError("model", "expected an object")
+        _known(m, "model", "model")
         self.n_el_cell = _integer("model.elements_cell", m.get("elements_cell", 16), 2, 80)
         self.n_el_ring = _integer("model.elements_ring", m.get("elements_ring", 24), 2, 80)
         self.steps = _integer("model.steps", m.get("steps", 160), 20, 2000)
@@ -134,6 +137,7 @@ class SleeveSpec:
         a = data.get("actuator", {})
         if not isinstance(a, dict):
             raise SceneError("actuator", "expected an object")
+        _known(a, "actuator", "actuator")
         self.core_diameter = check_number("actuator.core_diameter_mm", a.get("core_diameter_mm", 24.6), 0, BED_MM, "mm",
                                           low_open=True)
         self.membrane = check_number("actuator.membrane_kPa_per_mL", a.get("membrane_kPa_per_mL", 0.0), 0, 1e4, "kPa/mL")
@@ -144,10 +148,13 @@ class SleeveSpec:
                 dmap = {}
             if not isinstance(dmap, dict):
                 raise SceneError("design_map", "expected true or an object")
+            _known(dmap, "design_map", "design_map")
+            if not isinstance(dmap.get("ring", False), bool):
+                raise SceneError("design_map.ring", f"{dmap['ring']!r}; expected true or false")
             self.design_map = {
                 "t_over_L": _range3("design_map.t_over_L", dmap.get("t_over_L", [0.045, 0.072, 5]), 0, 0.25),
                 "h_over_L": _range3("design_map.h_over_L", dmap.get("h_over_L", [0.30, 0.42, 5]), 0, 0.6),
-                "ring": bool(dmap.get("ring", False)),
+                "ring": dmap.get("ring", False),
                 "elements": _integer("design_map.elements", dmap.get("elements", 10), 2, 80)}
         w = data.get("walker")
         self.walker = None
@@ -156,6 +163,7 @@ class SleeveSpec:
                 w = {}
             if not isinstance(w, dict):
                 raise SceneError("walker", "expected true or an object")
+            _known(w, "walker", "walker")
             self.walker = {
                 "foot_length_mm": check_number("walker.foot_length_mm", w.get("foot_length_mm", 20.0), 0, MAX_HEIGHT_MM, "mm"),
                 "body_length_mm": check_number("walker.body_length_mm", w.get("body_length_mm", 120.0), 0, 1000, "mm",
@@ -200,6 +208,25 @@ class SleeveSpec:
     def radius_mm(self):
         """Mid radius of the sleeve wall: the circumference holds N cell widths."""
         return self.N * (self.L + self.c) / (2 * math.pi)
+
+
+FIELDS = {"": ("format", "version", "name", "L_mm", "c_mm", "delta_mm", "T_mm", "shear_modulus_MPa", "layout",
+               "cell_types", "pattern", "ring", "rings", "model", "actuator", "design_map", "walker"),
+          "cell_types": ("t_mm", "h_mm"),
+          "model": ("elements_cell", "elements_ring", "steps", "plane", "imperfection", "pillar_tip", "ring_curvature",
+                    "frame_nonlinear", "frame_elements", "root_extension", "max_displacement_mm"),
+          "actuator": ("core_diameter_mm", "membrane_kPa_per_mL"),
+          "design_map": ("t_over_L", "h_over_L", "ring", "elements"),
+          "walker": ("foot_length_mm", "body_length_mm", "contact_band_mm")}
+
+
+def _known(obj, field, section):
+    """Refuse a key of the object ``obj`` (at ``field``) that ``FIELDS[section]`` does not list: a misspelt key
+    would otherwise be ignored and its default used."""
+    for k in obj:
+        if k not in FIELDS[section]:
+            raise SceneError(f"{field}.{k}" if field else str(k),
+                             f"unknown field; allowed: {', '.join(FIELDS[section])}")
 
 
 def _integer(field, v, lo, hi):
