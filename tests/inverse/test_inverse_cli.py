@@ -36,6 +36,7 @@ def test_search_writes_a_loadable_scene_report_and_picture(planted):
     p = _cli(planted / "scene.json", "--target", planted / "target.json", "--servos", 2, "--out", out)
     assert p.returncode == 0, p.stderr
     assert "inverse:" in p.stderr                                  # progress on stderr
+    assert "it is no bound" not in p.stderr                        # an exact fit is at the bound, not below it
     s = Scene.load(out / "scene.json")
     assert {a.joint for a in s.actuators} == {"H1,1", "V3,3"}
     rep = json.loads((out / "report.json").read_text())

@@ -57,3 +57,14 @@ def test_4x4_two_servos_finds_the_exhaustive_optimum_of_an_unreachable_target(un
     res = search_placement(pb, 2, strategy=strategy)
     assert res.fit.cost <= best_cost * (1 + 1e-6)
     assert set(res.joints) == set(best)
+
+
+def test_round_off_costs_do_not_unseat_the_free_field_bound():
+    """Two exact fits (costs at round-off, 7.4e-12 and 8.5e-12 mm^2 on the fish's tail target) do not make the
+    free-field lower bound "no bound" (the progress line said the free field had not converged); a placement
+    that is really below it does."""
+    from metamaterial_wb.core.inverse.search import COST_FLOOR, at_bound, below_bound
+    assert not below_bound(7.37086e-12, 8.4932e-12) and at_bound(7.37086e-12, 8.4932e-12)
+    assert below_bound(0.5, 1.0) and not below_bound(1.0 - 5e-7, 1.0)
+    assert at_bound(1.0 + 5e-7, 1.0) and not at_bound(1.0 + 1e-5, 1.0)
+    assert below_bound(0.0, 10 * COST_FLOOR) and not below_bound(0.0, 0.5 * COST_FLOOR)

@@ -61,6 +61,20 @@ def _chunks(items, n):
 # evaluations (top-level functions: picklable for process pools and Dask)
 # ----------------------------------------------------------------------------------------------
 SEARCH_TOL = 1e-7       # relative cost change that ends a candidate's fit (the final fit uses 1e-15)
+COST_FLOOR = 1e-9       # mm^2: costs below this are zero to the fits' round-off (positions to about 3e-5 mm)
+
+
+def below_bound(cost, bound):
+    """True where ``cost`` lies below the free-field lower bound ``bound`` by more than 1e-6 of it and the
+    round-off floor (``COST_FLOOR``): then the free field did not converge and ``bound`` is no bound. Two costs
+    at round-off level (e.g. 7e-12 and 8e-12 mm^2: both exact fits) are not."""
+    return cost < bound * (1.0 - 1e-6) - COST_FLOOR
+
+
+def at_bound(cost, bound):
+    """True where ``cost`` reaches the lower bound ``bound``: at most 1e-6 of it or the round-off floor above it
+    (a cost below it is caught first by ``below_bound``)."""
+    return cost <= bound * (1.0 + 1e-6) + COST_FLOOR
 
 
 def fit_batch(problem, batch):
@@ -387,11 +401,11 @@ class PlacementSearch:
             self.progress(f"servo {step + 1}/{self.n}: {', '.join(placed)} (cost {cost:.6g} mm^2, "
                           f"{self.fits} fits, {self.screened} screened)")
         for rnd in range(self.max_swap_rounds):
-            if self.lower_bound is not None and cost < self.lower_bound * (1.0 - 1e-6) - 1e-20:
+            if self.lower_bound is not None and below_bound(cost, self.lower_bound):
                 self.progress(f"the free field did not converge (cost {self.lower_bound:.6g} above a placement's "
                               f"{cost:.6g}): it is no bound")
                 self.lower_bound = None
-            if self.lower_bound is not None and cost <= self.lower_bound * (1.0 + 1e-6) + 1e-20:
+            if self.lower_bound is not None and at_bound(cost, self.lower_bound):
                 self.progress("cost at the free-field lower bound: no swap can improve it")
                 break
             placements, warm, groups = [], [], []
@@ -419,7 +433,7 @@ class PlacementSearch:
         placed, values = tuple(placed[i] for i in order), values[:, order]
         fit = self.pb.fit(placed, v0=values, starts=(0.0, 0.5, -0.5))
         self.fits += 1
-        if self.lower_bound is not None and fit.cost < self.lower_bound * (1.0 - 1e-6) - 1e-20:
+        if self.lower_bound is not None and below_bound(fit.cost, self.lower_bound):
             self.progress(f"the free field did not converge (cost {self.lower_bound:.6g} above the answer's "
                           f"{fit.cost:.6g}): it is no bound")
             self.lower_bound = None
