@@ -170,8 +170,8 @@ def test_the_solids_snapping_orders_quoted_are_the_stored_runs():
         dyn = [m[1:] for m in sorted(runs) if "cycle_dynamic" in runs[m]]
         stat = [m[1:] for m in sorted(runs) if "cycle" in runs[m]]
         assert rec["mixed"]["mesh"] == (f"r = {fc.listed(stat)}, static and by implicit dynamics" if dyn == stat else
-                                        "r = " + fc.listed(stat)
-                                        + (f"; r = {fc.listed(dyn)} by implicit dynamics too" if dyn else ""))
+                                        f"r = {fc.listed(stat)} static, r = {fc.listed(dyn)} by implicit dynamics"
+                                        if dyn else "r = " + fc.listed(stat))
         # the two types as two stacked rings in one solid (``stacked_solid``): the order its run gives
         from metamaterial_wb.bench import fe_ring3d_stack as fs
         stacks = _load("fe-ring3d.json")["stacked_solid"][key]

@@ -187,7 +187,7 @@ SOLID_ORDERS = {
     ((0.99, 6.696), (1.17, 6.696)): {"loading": [0, 1], "unloading": [1, 0], "P1": (22.32, 0.27),
                                      "valley": (98.17, 2.08), "mesh": "extrapolated over three meshes",
                                      "mixed": {"loading": [0, 1], "unloading": [1, 0], "lean_reverses": False,
-                                               "mesh": "r = 1 and 2, static and by implicit dynamics"},
+                                               "mesh": "r = 1 and 2 static, r = 1, 2 and 3 by implicit dynamics"},
                                      "stacked": {"loading": [0, 1], "unloading": [1, 0], "mesh": "r = 1 and 2"}},
 }
 
