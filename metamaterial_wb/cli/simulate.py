@@ -26,7 +26,8 @@ def add_arguments(p):
     p.add_argument("scene", help="scene file (JSON, docs/scene-format.md, section Dynamics)")
     p.add_argument("--seconds", type=float, required=True, help="simulated time (s)")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--frames", action="store_true", help="also write PNG frames and an animated GIF (the GIF needs ImageMagick's convert)")
+    p.add_argument("--frames", action="store_true",
+                   help="also write PNG frames and an animated GIF (the GIF needs ImageMagick's convert)")
     p.add_argument("--method", default=None, choices=("auto", "symplectic", "implicit"),
                    help="integrator (default: the scene's dynamics.integrator.method, else auto)")
     p.add_argument("--dt", type=float, default=None, help="time step (s); default: automatic")

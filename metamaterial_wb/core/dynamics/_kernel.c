@@ -418,7 +418,8 @@ double mm_actuation_jump(Sys *S, const double *q, const double *th_old, const do
         int k;
         for (k = 0; k < 2; k++) {
             const double *ra = k ? ra_old : S->ra, *rb = k ? rb_old : S->rb;
-            double dx = q[3 * b] + cb * rb[2 * i] - sb * rb[2 * i + 1] - q[3 * a] - (ca * ra[2 * i] - sa * ra[2 * i + 1]);
+            double dx = q[3 * b] + cb * rb[2 * i] - sb * rb[2 * i + 1] - q[3 * a]
+                        - (ca * ra[2 * i] - sa * ra[2 * i + 1]);
             double dy = q[3 * b + 1] + sb * rb[2 * i] + cb * rb[2 * i + 1] - q[3 * a + 1]
                         - (sa * ra[2 * i] + ca * ra[2 * i + 1]);
             e[k] = dx * dx + dy * dy;
