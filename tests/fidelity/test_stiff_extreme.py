@@ -296,8 +296,14 @@ def test_plates_do_not_overlap_geometrically_at_full_actuation(contact):
 
 
 def test_actuator_and_clip_on_one_joint_with_equal_values_are_one_constraint():
+    """A scene file may not put two items on one joint (scene-format.md; refused on loading), but the models
+    still take an equal duplicate built in code as one constraint, not as a singular pair."""
+    from metamaterial_wb.core.scene.items import Constraint
     acts = [{"name": "m", "joint": "H1,1", "value": 0.4}]
-    both = scene(3, acts, constraints=[{"name": "c", "joint": "H1,1", "value": 0.4}])
+    with pytest.raises(SceneError, match="already carries"):
+        scene(3, acts, constraints=[{"name": "c", "joint": "H1,1", "value": 0.4}])
+    both = scene(3, acts)
+    both.constraints.append(Constraint("c", "H1,1", 0.4))
     one = scene(3, acts)
     for model in ("linear", "nonlinear"):
         a, b = run_model(model, both), run_model(model, one)

@@ -49,7 +49,7 @@ AT_BOUND = [
     ("model max", {("model",): {"elements_cell": 80, "elements_ring": 80, "steps": 2000, "imperfection": 0.1,
                                 "pillar_tip": 12, "max_displacement_mm": 180}}),
     ("model min", {("model",): {"elements_cell": 2, "elements_ring": 2, "steps": 20, "imperfection": 0,
-                                "pillar_tip": 3, "elements_cell_": 0}}),
+                                "pillar_tip": 3}}),
     ("integral floats", {("model",): {"elements_cell": 16.0, "steps": 160.0}}),
     ("actuator max", {("actuator",): {"core_diameter_mm": 240, "membrane_kPa_per_mL": 10000}}),
     ("design map bounds", {("design_map",): {"t_over_L": [0.01, 0.25, 40], "h_over_L": [0.01, 0.6, 1],
