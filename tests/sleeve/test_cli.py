@@ -177,3 +177,13 @@ def test_misspelt_or_mistyped_spec_fields_are_refused_not_ignored(where, patch):
         SleeveSpec(dict(SPEC, **patch))
     assert e.value.field == where, str(e.value)
     assert "unknown field" in str(e.value) or "true or false" in str(e.value)
+
+
+def test_a_scene_file_given_as_a_sleeve_spec_is_named_by_its_format():
+    """The format is checked before the keys: a scene passed to ``sleeve`` says it is not a sleeve spec, rather
+    than that ``hinge`` is an unknown field."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.sleeve.spec import SleeveSpec
+    with pytest.raises(SceneError) as e:
+        SleeveSpec({"format": "metamaterial-scene", "version": 1, "layout": {"grid": [2, 2]}, "hinge": {}})
+    assert e.value.field == "format" and "'metamaterial-scene'" in str(e.value)

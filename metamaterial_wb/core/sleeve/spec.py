@@ -38,13 +38,13 @@ class SleeveSpec:
         if not isinstance(data, dict):
             raise SceneError("", f"{source}: expected a JSON object")
         self.raw = data
-        _known(data, "", "")
         fmt = data.get("format")
         if fmt != FORMAT:
             raise SceneError("format", f"{fmt!r}; expected {FORMAT!r}")
         ver = data.get("version", 1)
         if ver != 1:
             raise SceneError("version", f"{ver!r}; supported: 1")
+        _known(data, "", "")          # after the format: a scene file given here is named as one
         name = data.get("name", "sleeve")
         if not isinstance(name, str) or len(name) > 200:
             raise SceneError("name", f"{str(name)[:40]!r}...; expected a string of at most 200 characters"
