@@ -49,6 +49,16 @@ def add_arguments(p):
                         "instead of running the models again")
 
 
+def _read_study(path, hint=""):
+    """The FE study stored in the JSON file ``path`` (``--fe-json``), or a SceneError naming it (``hint`` added)."""
+    from metamaterial_wb.core.errors import SceneError
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError) as exc:
+        raise SceneError("--fe-json", f"{path!r}: cannot read the FE study ({exc}){hint}") from None
+
+
 def run(args):
     from metamaterial_wb.bench import fidelity
     from metamaterial_wb.core.errors import MetamaterialError, SceneError
@@ -97,11 +107,7 @@ def run(args):
         from metamaterial_wb.fe import ccx
         fe_study = {}
         if args.fe_json:
-            try:
-                with open(args.fe_json) as f:
-                    fe_study = json.load(f)
-            except (OSError, ValueError) as exc:
-                raise SceneError("--fe-json", f"{args.fe_json!r}: cannot read the FE study ({exc})") from None
+            fe_study = _read_study(args.fe_json)
             fe_note = f"FE figures read from `{os.path.basename(args.fe_json)}` (a previous `--fe` run)."
         # run every requested part the JSON (if any) does not hold
         todo = [x for x in parts if {"hinge": "stiffness", "patch": "patch", "sleeve": "sleeve"}[x] not in fe_study]
@@ -130,12 +136,7 @@ def run(args):
         # the stored CalculiX study goes into the report as it is, so regenerating it keeps its FE rung
         path = args.fe_json or (STORED_FE if os.path.exists(STORED_FE) else None)
         if path:
-            try:
-                with open(path) as f:
-                    fe_study = json.load(f)
-            except (OSError, ValueError) as exc:
-                raise SceneError("--fe-json", f"{path!r}: cannot read the FE study ({exc}); without --fe-json the "
-                                              "stored one is read, with --fe CalculiX runs again") from None
+            fe_study = _read_study(path, "; without --fe-json the stored one is read, with --fe CalculiX runs again")
             fe_note = (f"FE figures read from `{os.path.basename(path)}` (a stored `--fe` run; `--fe` runs "
                        "CalculiX again).")
     results = []

@@ -97,7 +97,7 @@ def check_budget(option, n, limit, what, how):
 def run(args):
     import numpy as np  # noqa: F401
 
-    from metamaterial_wb.core.dynamics.builders import build, dynamics_config
+    from metamaterial_wb.core.dynamics.builders import INCLINE_RANGE_DEG, build, dynamics_config
     from metamaterial_wb.core.dynamics.simulate import simulate
     from metamaterial_wb.core.errors import check_number
     from metamaterial_wb.core.fileio import OutputSet, check_output, write_json
@@ -113,7 +113,7 @@ def run(args):
         check_budget("--dt", seconds / args.dt, MAX_STEPS, "time steps", f"--seconds {seconds:g} / --dt {args.dt:g}")
     scene = Scene.load(args.scene)
     if args.incline is not None:
-        check_number("--incline", args.incline, -60.0, 60.0, "deg")      # dynamics.incline_deg's range
+        check_number("--incline", args.incline, *INCLINE_RANGE_DEG, "deg")
         dyn = dict(scene.extra.get("dynamics", {}))
         dyn["incline_deg"] = args.incline
         scene.extra["dynamics"] = dyn

@@ -68,6 +68,7 @@ BELT_DEFAULTS = {
 INITIAL_PRESSURES = ("vented", "gait")
 
 GAIT_TYPES = ("none", "open_loop", "closed_loop")
+INCLINE_RANGE_DEG = (-60.0, 60.0)   # dynamics.incline_deg (and simulate --incline)
 
 
 def _obj(field, value):
@@ -95,7 +96,7 @@ def dynamics_config(scene):
     cfg["integrator"] = _merge("dynamics.integrator", raw.get("integrator", {}), DEFAULTS["integrator"])
     f = "dynamics"
     cfg["gravity_m_s2"] = check_number(f"{f}.gravity_m_s2", cfg["gravity_m_s2"], 0.0, 100.0, "m/s^2")
-    cfg["incline_deg"] = check_number(f"{f}.incline_deg", cfg["incline_deg"], -60.0, 60.0, "deg")
+    cfg["incline_deg"] = check_number(f"{f}.incline_deg", cfg["incline_deg"], *INCLINE_RANGE_DEG, "deg")
     cfg["friction"] = check_number(f"{f}.friction", cfg["friction"], 0.0, 10.0)
     cfg["damping_ratio"] = check_number(f"{f}.damping_ratio", cfg["damping_ratio"], 0.0, 10.0)
     cfg["density_kg_m3"] = check_number(f"{f}.density_kg_m3", cfg["density_kg_m3"], 1.0, 30000.0, "kg/m^3")

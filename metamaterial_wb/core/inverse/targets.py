@@ -256,6 +256,13 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
     return SurfaceTerm(surf, idx, src)
 
 
+def _align(value, field):
+    """``value`` if it is one of ``ALIGN_MODES``, else a TargetError at ``field``."""
+    if value not in ALIGN_MODES:
+        raise TargetError(field, f"{value!r}; allowed: {', '.join(ALIGN_MODES)}")
+    return value
+
+
 def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     pre = f"{where}." if where else ""
     if not isinstance(d, dict):
@@ -264,10 +271,7 @@ def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     if unknown:
         raise TargetError(f"{pre}{sorted(unknown)[0]}", f"unknown field; allowed: {sorted(_FRAME_KEYS)}")
     fr = Frame(time_s=_num(d.get("time_s", 0.0), f"{pre}time_s"), name=str(d.get("name", "")))
-    align = d.get("align", "rigid")
-    if align not in ALIGN_MODES:
-        raise TargetError(f"{pre}align", f"{align!r}; allowed: {', '.join(ALIGN_MODES)}")
-    fr.align = align
+    align = fr.align = _align(d.get("align", "rigid"), f"{pre}align")
     if "nodes" in d:
         fr.nodes = _parse_nodes(scene, d["nodes"], d, f"{pre}nodes")
         if len(fr.nodes.idx) < 3 and align != "none":
@@ -304,8 +308,7 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None):
         if not isinstance(kf, list) or not kf:
             raise TargetError("keyframes", "expected a non-empty list of frames")
         shared = {k: v for k, v in data.items() if k in ("align", "rotation_weight_mm", "fold_weight_mm_per_deg")}
-        if shared.get("align", "rigid") not in ALIGN_MODES:      # the shared value's own place, not a frame's
-            raise TargetError("align", f"{shared['align']!r}; allowed: {', '.join(ALIGN_MODES)}")
+        _align(shared.get("align", "rigid"), "align")     # the shared value's own place, not a frame's
         frames = []
         for k, f in enumerate(kf):
             if not isinstance(f, dict):
