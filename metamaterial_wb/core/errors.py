@@ -58,3 +58,11 @@ def check_number(field, value, low=None, high=None, unit="", low_open=False, hig
         raise SceneError(field, range_message(value, lo, hi, unit, low_open or low is None,
                                               high_open or high is None))
     return v
+
+
+def check_integer(field, value, low, high, note=""):
+    """Return ``value`` if it is an integer in [low, high], else raise a SceneError naming the field, the value and
+    the range. Strict: a boolean (True == 1 in Python) and a float (2.0) are refused, never taken as a count."""
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise SceneError(field, f"{value!r}; allowed: an integer {low}..{high}" + (f" ({note})" if note else ""))
+    return value

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, asdict
 
 import numpy as np
 
-from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.errors import SceneError, check_integer, check_number
 from metamaterial_wb.core.materials import MATERIALS  # noqa: F401 - the one table (core/materials.py)
 from metamaterial_wb.core.scene import parse_joint
 
@@ -363,9 +363,7 @@ def _material(name, v):
 
 
 def _extruder(name, v):
-    if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= 16:
-        raise SceneError(f"fabrication.{name}", f"{v!r}: expected an extruder number 1..16 (1-based)")
-    return v
+    return check_integer(f"fabrication.{name}", v, 1, 16, "an extruder number, 1-based")
 
 
 def _printable_fold_deg(scene, p, tilt_deg):

@@ -26,7 +26,7 @@ import math
 import re
 from dataclasses import dataclass, field, replace
 
-from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.errors import SceneError, check_integer, check_number
 from metamaterial_wb.core.fabrication import joint_pivot
 from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
 from metamaterial_wb.geometry.snapfit import design_snap_fit
@@ -178,8 +178,7 @@ def parse_modules(scene, p):
         if not isinstance(mat, str) or mat.upper() not in MATERIALS:
             raise SceneError(f"{f}.material", f"{mat!r} is not a known material; allowed: {sorted(MATERIALS)}")
         ext = item.get("extruder", p.rigid_extruder)
-        if isinstance(ext, bool) or not isinstance(ext, int) or not 1 <= ext <= 16:
-            raise SceneError(f"{f}.extruder", f"{ext!r}: expected an extruder number 1..16")
+        check_integer(f"{f}.extruder", ext, 1, 16, "an extruder number, 1-based")
         spec = ModuleSpec(k, typ, name, side, mat.upper(), ext)
         if p.sockets:
             spec.snap = design_snap_fit(p, spec.material, f)

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.errors import SceneError, check_integer, check_number
 
 from . import protocol as P
 from .joint_angle import JointRotation, joint_rotation
@@ -96,8 +96,7 @@ def _check_servo(field_name, spec, n_channels):
     out = {}
     if "channel" in spec:
         ch = spec["channel"]
-        if isinstance(ch, bool) or not isinstance(ch, int) or not 0 <= ch < n_channels:
-            raise SceneError(f"{field_name}.channel", f"{ch!r} is not a channel; allowed: integers 0..{n_channels - 1}")
+        check_integer(f"{field_name}.channel", ch, 0, n_channels - 1, "a channel")
         out["channel"] = ch
     if "scale_deg" in spec:
         out["scale_deg"] = check_number(f"{field_name}.scale_deg", spec["scale_deg"], 0.0, 90.0, "deg",

@@ -150,6 +150,19 @@ def test_bad_dynamics_fields_are_named():
         d["dynamics"].setdefault("contact", {})["support_points"] = bad
         with pytest.raises(SceneError, match=r"dynamics\.contact\.support_points: .*an integer 1\.\.1000000"):
             dynamics_config(Scene.from_dict(d))
+    # a boolean is no cell and no direction: True was taken as 1 (True == 1 in Python), and the
+    # open-loop gait started at cell 1 or ran forwards without a word
+    for key, bad, allowed in (("start_cell", True, r"an integer 0\.\.7"), ("start_cell", 2.0, r"an integer 0\.\.7"),
+                              ("direction", True, r"1 or -1"), ("direction", 1.0, r"1 or -1")):
+        d = load("belt8.json")
+        d["dynamics"]["gait"] = {"type": "open_loop", key: bad}
+        with pytest.raises(SceneError, match=rf"dynamics\.gait\.{key}: .*{allowed}"):
+            dynamics_config(Scene.from_dict(d))
+    for key, bad in (("segments_per_cell", 2.0), ("segments_per_cell", False)):
+        d = load("belt8.json")
+        d["dynamics"]["belt"][key] = bad
+        with pytest.raises(SceneError, match=rf"dynamics\.belt\.{key}: .*an integer 1\.\.32"):
+            dynamics_config(Scene.from_dict(d))
 
 
 def cli(*args):

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from ..errors import SceneError, check_number
+from ..errors import SceneError, check_integer, check_number
 from ..gait import gait_rule_array
 from .system import PlanarSystem
 
@@ -106,10 +106,7 @@ def dynamics_config(scene):
     c = cfg["contact"]
     c["penetration_tol_mm"] = check_number(f"{f}.contact.penetration_tol_mm", c["penetration_tol_mm"], 0.0,
                                            100.0, "mm", low_open=True)
-    sp_ = c["support_points"]
-    if not isinstance(sp_, int) or isinstance(sp_, bool) or not 1 <= sp_ <= 1_000_000:
-        raise SceneError(f"{f}.contact.support_points", f"{sp_!r}; allowed: an integer 1..1000000 (the points the "
-                                                        "weight rests on)")
+    check_integer(f"{f}.contact.support_points", c["support_points"], 1, 1_000_000, "the points the weight rests on")
     c["damping_ratio"] = check_number(f"{f}.contact.damping_ratio", c["damping_ratio"], 0.0, 10.0)
     it = cfg["integrator"]
     from .integrators import METHODS
@@ -153,9 +150,7 @@ def _belt_config(scene, raw):
     b["extra_mass_g"] = check_number(f"{f}.extra_mass_g", b["extra_mass_g"], 0.0, 1e5, "g")
     if b["segments_per_cell"] is None:
         b["segments_per_cell"] = 4 if n <= 64 else 1
-    k = b["segments_per_cell"]
-    if not isinstance(k, int) or isinstance(k, bool) or not 1 <= k <= 32:
-        raise SceneError(f"{f}.segments_per_cell", f"{k!r}; allowed: an integer 1..32")
+    k = check_integer(f"{f}.segments_per_cell", b["segments_per_cell"], 1, 32)
     b["boundary_stiffness_ratio"] = check_number(f"{f}.boundary_stiffness_ratio", b["boundary_stiffness_ratio"],
                                                  1e-3, 1e4)
     if b["boundary_stiffness_ratio"] != 1.0 and k < 2:
@@ -199,16 +194,13 @@ def _gait_config(raw, model, scene):
                                             f"(the opposite pair)")
         g["tau_on_s"] = check_number(f"{f}.tau_on_s", g["tau_on_s"], 0.0, 1000.0, "s", low_open=True)
         g["tau_off_s"] = check_number(f"{f}.tau_off_s", g["tau_off_s"], 0.0, 1000.0, "s")
-        if not isinstance(g["start_cell"], int) or not 0 <= g["start_cell"] < n:
-            raise SceneError(f"{f}.start_cell", f"{g['start_cell']!r}; allowed: an integer 0..{n - 1}")
-        if g["direction"] not in (1, -1):
+        check_integer(f"{f}.start_cell", g["start_cell"], 0, n - 1)
+        if isinstance(g["direction"], bool) or not isinstance(g["direction"], int) or g["direction"] not in (1, -1):
             raise SceneError(f"{f}.direction", f"{g['direction']!r}; allowed: 1 or -1")
         return g
     g = _merge(f, raw, {"type": typ, "n1": 1, "n2": 0, "control_period_s": 0.02})
     for key in ("n1", "n2"):
-        v = g[key]
-        if not isinstance(v, int) or isinstance(v, bool) or not 0 <= v < n:
-            raise SceneError(f"{f}.{key}", f"{v!r}; allowed: an integer 0..{n - 1} (0 switches the term off)")
+        check_integer(f"{f}.{key}", g[key], 0, n - 1, "0 switches the term off")
     g["control_period_s"] = check_number(f"{f}.control_period_s", g["control_period_s"], 0.0, 10.0, "s",
                                          low_open=True)
     return g

@@ -4,7 +4,7 @@ See ``docs/scene-format.md`` section "Sleeve spec" for every field.
 """
 import math
 
-from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.errors import SceneError, check_integer, check_number
 from metamaterial_wb.core.sleeve.cell import CellGeometry
 from metamaterial_wb.core.sleeve.model import pillar_tip_coefficient
 
@@ -89,9 +89,7 @@ class SleeveSpec:
             if not isinstance(ring, list):
                 raise SceneError("ring", "expected a list of cell type indices around the circumference, e.g. [0, 0, 1, 1]")
             rings = data.get("rings", 1)
-            if isinstance(rings, bool) or not isinstance(rings, int) or not RINGS_RANGE[0] <= rings <= RINGS_RANGE[1]:
-                raise SceneError("rings", f"{rings!r} is outside the allowed range [{RINGS_RANGE[0]}, {RINGS_RANGE[1]}] "
-                                          "(integer)")
+            check_integer("rings", rings, *RINGS_RANGE)
             pat = [list(ring) for _ in range(rings)]
         n = len(pat[0])
         for r, row in enumerate(pat):
@@ -101,8 +99,7 @@ class SleeveSpec:
             if not 2 <= n <= 32:
                 raise SceneError(f, f"{n} cells around; allowed range [2, 32]")
             for k, v in enumerate(row):
-                if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < len(self.cells):
-                    raise SceneError(f"{f}[{k}]", f"{v!r} is not a cell type index in [0, {len(self.cells) - 1}]")
+                check_integer(f"{f}[{k}]", v, 0, len(self.cells) - 1, "a cell type index")
         self.pattern = pat
         m = data.get("model", {})
         if not isinstance(m, dict):
@@ -243,6 +240,5 @@ def _range3(field, v, lo, hi):
     a = check_number(f"{field}[0]", v[0], lo, hi, "", low_open=True)
     b = check_number(f"{field}[1]", v[1], a, hi, "")
     n = v[2]
-    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 40:
-        raise SceneError(f"{field}[2]", f"{n!r} is outside the allowed range [1, 40] (integer)")
+    check_integer(f"{field}[2]", n, 1, 40, "the count")
     return (a, b, n)
