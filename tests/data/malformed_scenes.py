@@ -66,4 +66,8 @@ CORPUS = [
     ("global-out-of-range", scene(global_deformation=3), "global_deformation", r"3 is outside"),
     ("modules-not-list", scene(modules={"type": "pad"}), "modules", r"expected a list"),
     ("joint-config-bad-tilt", scene(joint_config={"H0,1": {"tilt_deg": 95}}), "joint_config.H0,1.tilt_deg", r"95 deg is outside"),
+    # the belt and its gait are read inside `dynamics`; at the top level they were type-checked, then ignored
+    # (belt8.json's belt moved up ran as a sheet and crawled 0 mm without a word)
+    ("belt-top-level", scene(belt={"cell_length_mm": 38}), "belt", r"belongs inside 'dynamics' \(dynamics\.belt\)"),
+    ("gait-top-level", scene(gait={"type": "closed_loop"}), "gait", r"belongs inside 'dynamics' \(dynamics\.gait\)"),
 ]

@@ -216,9 +216,12 @@ def parse_rest(s, data):
     g = data.get("global_deformation")
     if g is not None:
         s.global_deformation = check_number("global_deformation", g, -1.0, 1.0)
-    for key in ("material", "fabrication", "dynamics", "belt", "gait"):
+    for key in ("material", "fabrication", "dynamics"):
         if key in data and not isinstance(data[key], dict):
             raise SceneError(key, f"expected an object, got {_short(data[key])}")
+    for key in ("belt", "gait"):   # read inside `dynamics` only: at the top level they would be ignored
+        if key in data:
+            raise SceneError(key, f"belongs inside 'dynamics' (dynamics.{key}); at the top level it would be ignored")
     mat = data.get("material", {})
     if "hinge_strain_limit" in mat:
         check_number("material.hinge_strain_limit", mat["hinge_strain_limit"], 0.0, 10.0, low_open=True)
