@@ -553,9 +553,20 @@ def commit_set(tmp, out_dir, names):
 
     Raises
     ------
+    SceneError
+        An entry of ``out_dir`` is of another kind than the new one (a folder where a file goes, or a file
+        where a folder goes): nothing is moved.
     OSError
         The first failed move (after rolling back).
     """
+    for n in names:     # before any move: an entry of another kind is the user's, never ours to replace
+        dst = os.path.join(out_dir, n)
+        new_dir = os.path.isdir(os.path.join(tmp, n))
+        if os.path.lexists(dst) and not os.path.islink(dst) and os.path.isdir(dst) != new_dir:
+            what = "a folder" if os.path.isdir(dst) else "a file"
+            raise SceneError("--out", f"{dst} exists and is {what}; it is not replaced (this run writes "
+                                      f"{'a folder' if new_dir else 'a file'} of that name): move it or choose "
+                                      f"another output folder")
     backup = os.path.join(tmp, ".old")
     os.makedirs(backup, exist_ok=True)
     moved, saved = [], []

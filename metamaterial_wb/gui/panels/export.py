@@ -122,13 +122,14 @@ class ExportPanel(BasePanel):
 
     def _done(self, result):
         try:
+            from metamaterial_wb.core.errors import MetamaterialError
             from metamaterial_wb.core.fileio import commit_set
             os.makedirs(self.target, exist_ok=True)
             files = list(result["files"])
             for folder in sorted({os.path.dirname(p) for p in files}):   # all together or none (one staging folder)
                 commit_set(folder, self.target, [os.path.basename(p) for p in files if os.path.dirname(p) == folder])
             written = [os.path.join(self.target, os.path.basename(p)) for p in files]
-        except OSError as exc:
+        except (OSError, MetamaterialError) as exc:   # a user's folder where a file goes is refused
             self._failed(f"cannot move the files into {self.target}: {exc}")
             return
         finally:

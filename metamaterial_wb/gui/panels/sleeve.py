@@ -300,10 +300,11 @@ class SleevePanel(BasePanel):
         self.export_btn.setEnabled(True)
         names = list(result.get("files", []))
         try:
+            from metamaterial_wb.core.errors import MetamaterialError
             from metamaterial_wb.core.fileio import commit_set
             os.makedirs(self.export_target, exist_ok=True)
             commit_set(os.path.join(self.staging, "out"), self.export_target, names)   # all together or none
-        except OSError as exc:
+        except (OSError, MetamaterialError) as exc:   # a user's folder where a file goes is refused
             self._export_failed(translate("Metamaterial", "cannot move the files into {0}: {1}").format(
                 self.export_target, exc))
             return
