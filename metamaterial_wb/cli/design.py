@@ -50,9 +50,9 @@ def run(args):
     from metamaterial_wb.core.fileio import check_output, write_atomic, write_json
     from metamaterial_wb.core.scene import Scene
 
-    check_output(args.out, "file", "--out")
+    check_output(args.out, "file", "--out")     # the configured scene may replace its input (configure in place)
     if args.report is not None:
-        check_output(args.report, "file", "--report")
+        check_output(args.report, "file", "--report", inputs=[("scene", args.scene)])
     scene = Scene.load(args.scene)
     if not scene.axes:
         raise SceneError("axes", f"{args.scene} has no rotary axes; add \"axes\": [{{\"direction\": \"vertical\", "

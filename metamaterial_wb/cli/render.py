@@ -16,7 +16,9 @@ def add_arguments(p):
                    help="global deformation: every D = G in [-1, 1] (flat 0, folded target +1)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="change one actuator's or constraint's value before solving (repeatable)")
-    p.add_argument("--view", default="28,-62", metavar="ELEV,AZIM", help="camera angles in degrees")
+    p.add_argument("--view", default="28,-62", metavar="ELEV,AZIM",
+                   help="camera angles in degrees, elevation in [-90, 90], azimuth in [-360, 360] (default 28,-62; "
+                        "a negative elevation needs the = form: --view=-10,30)")
     p.add_argument("--size", default="1200x800", metavar="WxH", help="picture size in pixels")
     p.add_argument("--title", default=None, help="title (default: scene name and state)")
 
@@ -41,7 +43,10 @@ def run(args):
     from metamaterial_wb.core.solver import solve_scene
 
     from metamaterial_wb.core.fileio import check_output
-    check_output(args.out, "file", "--out")
+    check_output(args.out, "file", "--out", inputs=[("scene", args.scene)])
+    if not args.out.lower().endswith(".png"):
+        from metamaterial_wb.core.errors import SceneError
+        raise SceneError("--out", f"{args.out}: render writes a PNG picture; give a name ending in .png")
     scene = Scene.load(args.scene)
     sets = parse_sets(args.set)
     for name, v in sets:

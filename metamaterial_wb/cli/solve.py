@@ -130,7 +130,7 @@ def run(args):
     from metamaterial_wb.core.scene import Scene
 
     from metamaterial_wb.core.fileio import check_output
-    check_output(args.out, "file", "--out")
+    check_output(args.out, "file", "--out", inputs=[("scene", args.scene)])
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
     sets = parse_sets(args.set)

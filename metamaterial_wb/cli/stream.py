@@ -21,7 +21,8 @@ def add_arguments(p):
     p.add_argument("--mode", choices=("stream", "osc"), default="stream",
                    help="stream: send a frame every 1/rate s (any profile); osc: send sine profiles once and let "
                         "the firmware generate them (no host timing jitter), keeping the link alive with PINGs")
-    p.add_argument("--baud", type=int, default=115200, help="baud rate (default 115200)")
+    p.add_argument("--baud", type=int, default=115200,
+                   help="baud rate, 1200..4000000 (default 115200, what the firmware speaks)")
     p.add_argument("--rate", type=float, default=50.0, help="frames per second (default 50, allowed 1..100)")
     p.add_argument("--map", default="", metavar="NAME=CH,...",
                    help="actuator -> channel, e.g. head=0,tail=3 (default: the scene's servo.channel, else order)")
@@ -43,7 +44,7 @@ def add_arguments(p):
 
 
 def run(args):
-    from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number
+    from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_integer, check_number
     from metamaterial_wb.core.fileio import write_json
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.hardware import Link, Streamer, channel_map, check_motion, parse_map
@@ -51,11 +52,13 @@ def run(args):
 
     from metamaterial_wb.core.fileio import check_output
     if args.report is not None:
-        check_output(args.report, "file", "--report")
+        check_output(args.report, "file", "--report", inputs=[("scene", args.scene), ("--channels file",
+                                                                                      args.channels)])
     if not args.port and not args.dry_run:
         raise SceneError("--port", "a serial port is required (or --dry-run to stream over loop://)")
     check_number("--seconds", args.seconds, 0.0, 86400.0, "s", low_open=True)
     check_number("--rate", args.rate, 1.0, 100.0, "Hz")
+    check_integer("--baud", args.baud, 1200, 4_000_000, "bits/s, 8N1; the firmware speaks 115200")
     check_number("--watchdog-ms", args.watchdog_ms, 50, 10000, "ms")
     check_number("--park-after-ms", args.park_after_ms, 0, 60000, "ms")
     check_number("--release-after-ms", args.release_after_ms, 0, 60000, "ms")
@@ -68,6 +71,8 @@ def run(args):
         osc_params(scene, channels)  # refuse a scene the generator cannot run before opening the port
     elif not args.clamp:
         check_motion(scene, channels, args.seconds, args.rate)
+    if args.mode == "stream":
+        _check_bandwidth(args.baud, args.rate, channels)
 
     port = "loop://" if args.dry_run and not args.port else args.port
     link = Link.open(port, baud=args.baud, dry_run=args.dry_run)
@@ -123,6 +128,17 @@ def run(args):
               f"{s['frames']}", file=sys.stderr)
         return 1
     return 0
+
+
+def _check_bandwidth(baud, rate, channels):
+    """The frames and their ACKs must fit the line: 10 bits per byte at 8N1, with a quarter to spare."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.hardware.streamer import wire_bytes_per_tick
+    need = wire_bytes_per_tick(channels) * 10 * rate * 1.25
+    if baud < need:
+        raise SceneError("--baud", f"{baud} bits/s is too slow for --rate {rate:g}: each tick's frames and ACKs "
+                                   f"take {wire_bytes_per_tick(channels)} bytes, so at least {need:.0f} bits/s are "
+                                   f"needed (the firmware speaks 115200)")
 
 
 def _run_osc(args, scene, channels, link):

@@ -296,12 +296,13 @@ def read_json(path, what="input"):
 # ----------------------------------------------------------------------------------------------
 # output
 # ----------------------------------------------------------------------------------------------
-def check_output(path, kind="file", option="--out"):
+def check_output(path, kind="file", option="--out", inputs=()):
     """Check an output path before any work: ``kind`` is "file" or "dir". Returns the absolute path.
 
     Refused: an empty name, a NUL, a path under /proc, /sys or /dev, a name longer than 255 bytes or a
     path longer than 4095, an existing entry of another kind (a directory for a file, a FIFO, a
-    device, a symlink loop), a parent that is a file, and a folder that cannot be written.
+    device, a symlink loop), a parent that is a file, a folder that cannot be written, and a file that is
+    one of the command's ``inputs`` (the same file, also through a link: it would be overwritten).
 
     Parameters
     ----------
@@ -310,6 +311,8 @@ def check_output(path, kind="file", option="--out"):
         ``"file"`` or ``"dir"``.
     option : str, optional
         The option name used in error messages.
+    inputs : sequence of (str, str), optional
+        ``(what, path)`` of the files the command reads (``None`` paths are skipped).
 
     Returns
     -------
@@ -370,6 +373,15 @@ def check_output(path, kind="file", option="--out"):
                                  f"not a folder, so {path} cannot be created")
     if not os.access(anc, os.W_OK | os.X_OK) or (os.statvfs(anc).f_flag & os.ST_RDONLY):
         raise SceneError(option, f"folder {anc} is not writable")
+    if st is not None and kind == "file":
+        for what, inp in inputs:
+            try:
+                same = inp is not None and os.path.samefile(ab, inp)
+            except OSError:
+                same = False
+            if same:
+                raise SceneError(option, f"{path} is the {what} this command reads; it would be overwritten: "
+                                         f"choose another file")
     return ab
 
 

@@ -121,4 +121,7 @@ def view_angles(text):
         raise SceneError("--view", f"{text!r}: expected ELEV,AZIM in degrees, e.g. 28,-62") from None
     if not (math.isfinite(e) and math.isfinite(a)):
         raise SceneError("--view", f"{text!r} is not finite")
+    for what, v, lim in (("elevation", e, 90), ("azimuth", a, 360)):
+        if not -lim <= v <= lim:
+            raise SceneError("--view", f"{text!r}: {what} {v:g} is outside the allowed range [-{lim}, {lim}] deg")
     return e, a

@@ -62,6 +62,16 @@ class StreamStats:
                 "events": self.events, "error": self.error}
 
 
+def wire_bytes_per_tick(channels):
+    """Bytes on the wire per streamed tick: each channel run's SET_ANGLES frame and the firmware's ACK of it
+    (request, state, clamp mask, count: 11 bytes), COBS and the delimiter included. At 8N1 a byte is 10 bits."""
+    total = 0
+    for first, cfgs in runs(channels):
+        total += len(P.build_frame(P.SET_ANGLES, 1, P.set_angles_payload(first, [0] * len(cfgs))))
+        total += len(P.build_frame(P.ACK, 1, bytes([P.SET_ANGLES, P.ST_ARMED, 0, 0, len(cfgs)])))
+    return total
+
+
 def source_function(source):
     """A Scene (its actuators' motion profiles) or a callable ``t -> {name: value}``."""
     if callable(source):
