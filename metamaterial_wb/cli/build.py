@@ -34,8 +34,8 @@ def add_arguments(p):
     p.add_argument("--step", action="store_true", help="write STEP files")
     p.add_argument("--3mf", dest="threemf", action="store_true", help="write 3MF files")
     p.add_argument("--modules", action="store_true", help="also build the scene's modules (own files)")
-    p.add_argument("--layout", choices=("prusa", "components", "both"), default="both",
-                   help="3MF layout(s) of the sheet (default both)")
+    p.add_argument("--layout", choices=("prusa", "components", "both"), default=None,
+                   help="3MF layout(s) of the sheet (default both; not with --step alone)")
     p.add_argument("--tolerance", type=float, default=None, metavar="MM",
                    help="3MF tessellation tolerance in mm (default: fabrication.tolerance_mm, 0.05)")
     p.add_argument("--no-sockets", action="store_true", help="plain nodes without snap-fit sockets")
@@ -58,6 +58,12 @@ def run(args):
 
     from metamaterial_wb.core.fileio import check_output
     check_output(args.out, "dir", "--out")
+    if args.check and args.no_check:
+        raise SceneError("--no-check", "contradicts --check (one adds the hinge-anchor check, the other skips all "
+                                       "checks): give one of them")
+    if args.layout is not None and args.step and not args.threemf:
+        raise SceneError("--layout", f"{args.layout!r} chooses a 3MF layout, but only --step is written: add --3mf "
+                                     f"or drop --layout")
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
     overrides = {}
@@ -77,7 +83,7 @@ def run(args):
         raise SceneError("--out", f"{args.out!r} exists and is not a directory")
     step = args.step or not args.threemf
     threemf = args.threemf or not args.step
-    layouts = ("prusa", "components") if args.layout == "both" else (args.layout,)
+    layouts = ("prusa", "components") if args.layout in (None, "both") else (args.layout,)
     result = build_scene(scene, modules=args.modules, progress=not args.quiet, params=params)
     from metamaterial_wb.geometry.validity import ALL_CHECKS, DEFAULT_CHECKS
     checks = () if args.no_check else (ALL_CHECKS if args.check else DEFAULT_CHECKS)

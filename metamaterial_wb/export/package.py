@@ -50,7 +50,8 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                   stem="scene", stream=None, tolerance_mm=None, checks=None):
     """Check (:func:`run_checks`, ``checks=()`` to skip) and write the files of a BuildResult into
     ``out_dir`` (atomically as a set). Returns the file list."""
-    from metamaterial_wb.export.manifest import build_manifest, write_manifest
+    from metamaterial_wb.export.manifest import (build_manifest, earlier_build_files, remove_earlier_build_files,
+                                                 write_manifest)
     from metamaterial_wb.export.mesh import part_meshes
     from metamaterial_wb.export.printpose import forced_poses, lay_out_best_poses
     from metamaterial_wb.export.step import result_instances, write_step_instanced
@@ -110,7 +111,12 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
         os.umask(umask)
         for name in written:
             os.chmod(os.path.join(tmp, name), 0o666 & ~umask)    # mkstemp files are 0600
+        stale = earlier_build_files(out_dir, written)
         commit_set(tmp, out_dir, written)
+        gone = remove_earlier_build_files(out_dir, stale)
+        if gone:
+            note(f"removed {len(gone)} file(s) of the earlier build that this one does not write: {', '.join(gone)}",
+                 progress, stream)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return [os.path.join(out_dir, n) for n in written]

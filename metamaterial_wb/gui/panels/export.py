@@ -125,10 +125,13 @@ class ExportPanel(BasePanel):
             from metamaterial_wb.core.errors import MetamaterialError
             from metamaterial_wb.core.fileio import commit_set
             os.makedirs(self.target, exist_ok=True)
+            from metamaterial_wb.export.manifest import earlier_build_files, remove_earlier_build_files
             files = list(result["files"])
+            stale = earlier_build_files(self.target, [os.path.basename(p) for p in files])
             for folder in sorted({os.path.dirname(p) for p in files}):   # all together or none (one staging folder)
                 commit_set(folder, self.target, [os.path.basename(p) for p in files if os.path.dirname(p) == folder])
             written = [os.path.join(self.target, os.path.basename(p)) for p in files]
+            gone = remove_earlier_build_files(self.target, stale)
         except (OSError, MetamaterialError) as exc:   # a user's folder where a file goes is refused
             self._failed(f"cannot move the files into {self.target}: {exc}")
             return
@@ -138,6 +141,9 @@ class ExportPanel(BasePanel):
         self._keep_active()
         lines = [f"wrote {len(written)} file(s) to {self.target} in {result.get('seconds', 0.0):.1f} s:"]
         lines += ["  " + os.path.basename(p) for p in written]
+        if gone:
+            lines.append(f"removed {len(gone)} file(s) of the earlier export that this one does not write: "
+                         + ", ".join(gone))
         lines += [f"warning: {w}" for w in self.warnings]
         self.jobbox.summary.setStyleSheet(GREEN if not self.warnings else "color: #a05a00;")
         self.jobbox.summary.setText("\n".join(lines))
