@@ -129,12 +129,18 @@ def _check_servo(field_name, spec, n_channels):
     return out
 
 
-def _finish(cfg: ChannelConfig, field_name):
+def _finish(cfg: ChannelConfig, origin):
+    """Checks across fields; ``origin``: ``{field: where it was given}`` (the scene's servo object or --channels),
+    so that the error names the place to fix."""
     if cfg.min_us >= cfg.max_us:
-        raise SceneError(f"{field_name}.min_us", f"{cfg.min_us} us must be below max_us {cfg.max_us} us")
+        raise SceneError(f"{origin['min_us']}.min_us", f"{cfg.min_us} us must be below max_us {cfg.max_us} us"
+                         + (f" (max_us from {origin['max_us']})" if origin["max_us"] != origin["min_us"] else ""))
     lo, hi = cfg.limits_deg
     if not lo <= cfg.park_deg <= hi:
-        raise SceneError(f"{field_name}.park_deg", f"{cfg.park_deg} deg is outside the limits [{lo}, {hi}] deg")
+        raise SceneError(f"{origin['park_deg']}.park_deg", f"{cfg.park_deg} deg is outside the limits [{lo}, {hi}] "
+                                                           f"deg" + (f" (limits_deg from {origin['limits_deg']})"
+                                                                     if origin["limits_deg"] != origin["park_deg"]
+                                                                     else ""))
     return cfg
 
 
@@ -145,6 +151,9 @@ def parse_map(text):
         name, sep, ch = item.partition("=")
         if not sep:
             raise SceneError(f"--map {item}", "expected NAME=CHANNEL, e.g. --map head=0,tail=1")
+        if name.strip() in out:
+            raise SceneError(f"--map {name.strip()}", f"given twice (channels {out[name.strip()]} and {ch.strip()}); "
+                                                      f"map each actuator once")
         try:
             out[name.strip()] = int(ch)
         except ValueError:
@@ -180,12 +189,18 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
     for k, a in enumerate(scene.actuators):
         fname = f"actuators[{k}].servo"
         spec = dict(_check_servo(fname, a.extra.get("servo", {}), n_channels))
+        origin = dict.fromkeys(("min_us", "max_us", "park_deg", "limits_deg"), fname)
         if mapping and a.name in mapping:
             spec.update(_check_servo(f"--map {a.name}", {"channel": mapping[a.name]}, n_channels))
         if overrides and a.name in overrides:
-            spec.update(_check_servo(f"--channels {a.name}", overrides[a.name], n_channels))
+            given = _check_servo(f"--channels {a.name}", overrides[a.name], n_channels)
+            spec.update(given)
+            origin.update({k: f"--channels {a.name}" for k in given if k in origin})
         spec.setdefault("channel", k)
         rot = joint_rotation(scene, a.joint, f"actuators[{k}].joint")
+        if "limits_deg" not in spec:
+            origin["limits_deg"] = ("the default limits" if "scale_deg" in spec
+                                    else f"actuators[{k}].joint's kinematic range")
         if "limits_deg" not in spec and "scale_deg" not in spec:  # the joint's kinematic range, outward to 0.01 deg
             lo, hi = rot.range_deg()
             spec["limits_deg"] = (max(-90.0, math.floor(lo * 100 - 1e-6) / 100),
@@ -194,7 +209,7 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
         if spec["channel"] >= n_channels:
             raise SceneError(f"{fname}.channel", f"{spec['channel']}: the firmware has {n_channels} channels "
                                                  f"(0..{n_channels - 1}); map the actuator with --map")
-        out.append(_finish(ChannelConfig(a.name, **spec), fname))
+        out.append(_finish(ChannelConfig(a.name, **spec), origin))
     seen = {}
     for c in out:
         if c.channel in seen:

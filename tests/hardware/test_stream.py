@@ -4,6 +4,7 @@ the scene's motion profiles evaluated in closed form."""
 import json
 import math
 import os
+import re
 import struct
 import subprocess
 import sys
@@ -234,3 +235,17 @@ def test_cli_osc_mode_dry_run():
     assert "rear -> ch0: v = 0 + 0.8 sin(2 pi 0.5 Hz t + 0 deg), joint angle -5.10..72.00 deg" in r.stderr
     assert "front -> ch1: v = 0 + 0.8 sin(2 pi 0.5 Hz t + 90 deg), joint angle -5.10..72.00 deg" in r.stderr
     assert "keep-alive pings" in r.stdout
+
+
+def test_cross_field_errors_name_the_file_that_gave_the_value(tmp_path):
+    """min_us / max_us and park_deg from a --channels file were named as the scene's actuators[0].servo fields,
+    so a user looked for them in the wrong file; --map head=1,head=2 kept the last one without a word."""
+    for fields, where in (({"min_us": 2500, "max_us": 500}, r"--channels head\.min_us: 2500 us must be below"),
+                          ({"park_deg": 80}, r"--channels head\.park_deg: 80(\.0)? deg is outside the limits \[-90(\.0)?, 24\.31\] deg \(limits_deg "
+                                             r"from actuators\[0\]\.joint's kinematic range\)")):
+        chans = tmp_path / "c.json"
+        chans.write_text(json.dumps({"head": fields}))
+        r = run_cli(FISH, "--dry-run", "--seconds", "0.1", "--channels", str(chans))
+        assert r.returncode == 2 and re.search(where, r.stderr), r.stderr
+    r = run_cli(FISH, "--dry-run", "--seconds", "0.1", "--map", "head=1,head=2")
+    assert r.returncode == 2 and "--map head: given twice (channels 1 and 2)" in r.stderr, r.stderr
