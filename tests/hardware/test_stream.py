@@ -241,8 +241,9 @@ def test_cross_field_errors_name_the_file_that_gave_the_value(tmp_path):
     """min_us / max_us and park_deg from a --channels file were named as the scene's actuators[0].servo fields,
     so a user looked for them in the wrong file; --map head=1,head=2 kept the last one without a word."""
     for fields, where in (({"min_us": 2500, "max_us": 500}, r"--channels head\.min_us: 2500 us must be below"),
-                          ({"park_deg": 80}, r"--channels head\.park_deg: 80(\.0)? deg is outside the limits \[-90(\.0)?, 24\.31\] deg \(limits_deg "
-                                             r"from actuators\[0\]\.joint's kinematic range\)")):
+                          ({"park_deg": 80}, r"--channels head\.park_deg: 80(\.0)? deg is outside the limits "
+                                             r"\[-90(\.0)?, 24\.31\] deg \(limits_deg from actuators\[0\]\.joint's "
+                                             r"kinematic range\)")):
         chans = tmp_path / "c.json"
         chans.write_text(json.dumps({"head": fields}))
         r = run_cli(FISH, "--dry-run", "--seconds", "0.1", "--channels", str(chans))
