@@ -31,14 +31,21 @@ class ViewProviderShapeSource(ViewProviderBase):
 
 class ViewProviderItem(ViewProviderBase):
     ICON = "MM_PlaceMotor.svg"
+    COLOURS = {"actuator": (0.90, 0.08, 0.08), "constraint": (0.15, 0.35, 0.95)}   # red motor, blue clip
 
     def __init__(self, vobj):
         super().__init__(vobj)
-        obj = vobj.Object
-        if getattr(obj, "Kind", "actuator") == "constraint":
-            set_color(vobj, (0.15, 0.35, 0.95))
-        else:
-            set_color(vobj, (0.90, 0.08, 0.08))
+        self._kind = getattr(vobj.Object, "Kind", "actuator")
+        set_color(vobj, self.COLOURS.get(self._kind, self.COLOURS["actuator"]))
+
+    def updateData(self, obj, prop):
+        """A motor turned into a clip turns blue (and back). The first Kind seen (on restore: the saved one) only
+        sets the reference, so a colour the user chose is kept when the file is opened again."""
+        if prop != "Kind" or obj.ViewObject is None:
+            return
+        if getattr(self, "_kind", None) not in (None, obj.Kind):
+            set_color(obj.ViewObject, self.COLOURS.get(obj.Kind, self.COLOURS["actuator"]))
+        self._kind = obj.Kind
 
     def getIcon(self):
         import metamaterial_wb

@@ -83,6 +83,24 @@ class ViewProviderBase:
     __setstate__ = loads
 
 
+def json_property(obj, prop, what="an object", kind=dict):
+    """The JSON in text property ``prop`` of ``obj`` (empty text: an empty ``kind``), or a SceneError naming the
+    object, the property and what it should hold (``json.loads``'s own message named neither)."""
+    from metamaterial_wb.core.errors import SceneError
+    text = getattr(obj, prop) or ""
+    if not text.strip():
+        return kind()
+    try:
+        value = json.loads(text)
+    except ValueError as exc:
+        raise SceneError(f"{obj.Label}.{prop}", f"not valid JSON ({getattr(exc, 'msg', exc)} at line "
+                                                f"{getattr(exc, 'lineno', '?')} column {getattr(exc, 'colno', '?')});"
+                                                f" expected {what}") from None
+    if not isinstance(value, kind):
+        raise SceneError(f"{obj.Label}.{prop}", f"holds {type(value).__name__} JSON; expected {what}")
+    return value
+
+
 def set_color(vobj, rgb):
     """Shape colour for 0.20 (ShapeColor) and 1.x (ShapeAppearance): see geometry.fc.set_shape_colour."""
     from metamaterial_wb.geometry.fc import set_shape_colour

@@ -1,10 +1,10 @@
 """Markers: motors (``Kind`` actuator, red sphere) and angular constraints (blue disc) on a joint."""
-import json
 
 import FreeCAD
 
 from metamaterial_wb.core.errors import SceneError
-from metamaterial_wb.objects.common import ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
+from metamaterial_wb.objects.common import (ProxyBase, attach_proxy, count_execute, ensure_property, json_property,
+                                            tag_proxy)
 
 PROFILE_SHAPES = ["none", "sine", "constant", "steps", "keyframes"]
 
@@ -57,7 +57,7 @@ class ItemProxy(ProxyBase):
 
 
 def item_to_dict(obj):
-    d = json.loads(obj.ExtraJSON) if (obj.ExtraJSON or "").strip() else {}
+    d = json_property(obj, "ExtraJSON", "an object of the item's other fields")
     d.update({"name": obj.ItemName or obj.Name, "joint": obj.Joint, "value": float(obj.Value)})
     if obj.Kind == "actuator" and obj.ProfileShape != "none":
         if obj.ProfileShape == "sine":
@@ -66,7 +66,8 @@ def item_to_dict(obj):
             if obj.Offset:
                 prof["offset"] = float(obj.Offset)
         else:
-            prof = json.loads(obj.ProfileData) if (obj.ProfileData or "").strip() else {}
+            prof = json_property(obj, "ProfileData", f"an object with the {obj.ProfileShape} profile's fields, e.g. "
+                                 '{"times_s": [0, 1], "values": [0, 0.5]}')
             prof["shape"] = obj.ProfileShape
         from metamaterial_wb.core.motion import validate_profile
         try:

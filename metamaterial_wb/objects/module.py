@@ -6,7 +6,8 @@ import FreeCAD
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene import DEFAULT_HINGE
 from metamaterial_wb.core.scene.names import plate_side_mm
-from metamaterial_wb.objects.common import OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
+from metamaterial_wb.objects.common import (OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property,
+                                            json_property, tag_proxy)
 
 # module types of the fabrication package (geometry/modules.py); joint modules sit across a joint
 MODULE_TYPES = ["servo_housing", "connection_hub", "stable_hub", "friction_pad", "constraint_clip"]
@@ -55,7 +56,12 @@ class ModuleProxy(ProxyBase):
             proxy = getattr(sc, "Proxy", None)
             if not hasattr(proxy, "scene"):
                 raise SceneError(f"module {obj.Label}", f"its Scene {sc.Label!r} has no scene proxy")
-            scene = proxy.scene(sc)
+            try:
+                scene = proxy.scene(sc)
+            except SceneError:
+                # the Scene's own error: it recomputes after its modules (it depends on them) and reports it there;
+                # once it is valid again it refreshes this module (SceneProxy.execute). Not this module's fault.
+                return
         self.refresh(obj, scene, force=True)
 
     def refresh(self, obj, scene, force=False):
@@ -73,7 +79,7 @@ class ModuleProxy(ProxyBase):
 
 
 def module_to_dict(obj):
-    d = json.loads(obj.ModuleData) if (obj.ModuleData or "").strip() else {}
+    d = json_property(obj, "ModuleData", "an object of the module's other fields, e.g. {\"thickness_mm\": 3}")
     d["type"] = obj.ModuleType
     d.pop("node", None)
     d.pop("joint", None)
@@ -120,8 +126,10 @@ def build_module_shape(obj, scene):
             spec = parse_modules(one, p)[0]
             res = BuildResult(one, p)
             build_module(res, spec)
-        except SceneError as exc:
-            raise SceneError(f"module {obj.Label}", exc.message if hasattr(exc, "message") else str(exc)) from None
+        except SceneError as exc:     # the field without the one-module scene's index: node, joint, thickness_mm
+            field = (getattr(exc, "field", "") or "").replace("modules[0].", "").replace("modules[0]", "")
+            msg = exc.message if hasattr(exc, "message") else str(exc)
+            raise SceneError(f"module {obj.Label}", f"{field}: {msg}" if field else msg) from None
         shapes = [res.shapes[part.key] for part in res.parts]
         # Part.Compound, not Part.makeCompound: the latter kills FreeCAD 1.0/1.1 run from plain Python
         return (shapes[0] if len(shapes) == 1 else Part.Compound(shapes)), "geometry.modules"

@@ -10,7 +10,8 @@ import json
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.live import LiveSolver
 from metamaterial_wb.core.scene import DEFAULT_HINGE, Scene
-from metamaterial_wb.objects.common import OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, tag_proxy
+from metamaterial_wb.objects.common import (OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, json_property,
+                                            tag_proxy)
 from metamaterial_wb.objects.display import apply_frame, apply_hinge_scales
 from metamaterial_wb.objects.item import item_to_dict
 from metamaterial_wb.objects.module import module_to_dict
@@ -124,10 +125,16 @@ class SceneProxy(ProxyBase):
             if getattr(getattr(m, "Proxy", None), "Type", "") != "MetamaterialModule":
                 continue
             try:
-                if m.Proxy.refresh(m, scene):
-                    m.purgeTouched()
+                if m.isValid():
+                    if m.Proxy.refresh(m, scene):
+                        m.purgeTouched()
+                    continue
             except SceneError as exc:
                 module_warnings.append(str(exc))
+            # FreeCAD keeps an object's error state until it runs the object itself: run the module, so that it is
+            # marked invalid with its own message (not left showing its old solid as valid), or cleared once it
+            # builds again
+            m.recompute()
         obj.SolveWarnings = list(design_warnings) + list(solver.warnings) + module_warnings
         apply_frame(obj, solver, frame, purge=True)
         apply_hinge_scales(obj, scene, purge=True)
@@ -170,7 +177,7 @@ def find_scene_objects(doc):
 
 def compose_scene(obj):
     """The :class:`Scene` that the object and its markers / modules describe (validated)."""
-    data = json.loads(obj.SceneJSON) if (obj.SceneJSON or "").strip() else {
+    data = json_property(obj, "SceneJSON", "the scene as a JSON object (docs/scene-format.md)") or {
         "format": "metamaterial-scene", "version": 1, "layout": {"grid": [1, 1]}}
     if obj.SceneName:
         data["name"] = obj.SceneName
@@ -178,6 +185,8 @@ def compose_scene(obj):
     data["hinge"] = {"length_mm": float(obj.HingeLength.Value), "width_mm": float(obj.HingeWidth.Value),
                      "thickness_mm": float(obj.HingeThickness.Value)}
     rows = [str(r) for r in obj.Layout]
+    if not rows and (obj.SceneJSON or "").strip():
+        raise SceneError("Layout", f"empty (object {obj.Label}); give at least one row with a cell, e.g. ['###']")
     if rows:
         try:
             from metamaterial_wb.core.scene import cells_from_layout
@@ -225,7 +234,7 @@ def solver_for(obj, scene=None):
 
 def set_scene_fields(obj, **fields):
     """Change top-level fields of SceneJSON (axes, joint_config, joints, ...); ``None`` removes one."""
-    data = json.loads(obj.SceneJSON) if (obj.SceneJSON or "").strip() else {}
+    data = json_property(obj, "SceneJSON", "the scene as a JSON object (docs/scene-format.md)")
     for k, v in fields.items():
         if v is None:
             data.pop(k, None)

@@ -240,6 +240,13 @@ def test_angular_constraint_and_conflict_error(doc):
     c = sc.Items[-1]
     assert c.Kind == "constraint" and c.Joint == "H0,3"
     assert c.ViewObject.ShapeColor[2] > 0.8
+    # turned into a motor in the property editor: the marker turns red (it kept the clip's blue), and back
+    c.Kind = "actuator"
+    doc.recompute()
+    assert c.ViewObject.ShapeColor[0] > 0.8 and c.ViewObject.ShapeColor[2] < 0.2
+    c.Kind = "constraint"
+    doc.recompute()
+    assert c.ViewObject.ShapeColor[2] > 0.8 and c.ViewObject.ShapeColor[0] < 0.2
 
 
 def test_add_module(doc):

@@ -1,0 +1,100 @@
+"""The document objects' errors as a user meets them by editing properties (App level): the object at fault is
+the one marked invalid, with a message naming its property; nothing stale is shown as valid."""
+import pytest
+
+FreeCAD = pytest.importorskip("FreeCAD")
+
+import metamaterial_wb  # noqa: E402
+from metamaterial_wb.core.scene import Scene  # noqa: E402
+from metamaterial_wb.objects import structure  # noqa: E402
+
+
+@pytest.fixture
+def doc():
+    d = FreeCAD.newDocument("MMErr")
+    name = d.Name
+    yield d
+    if name in FreeCAD.listDocuments():
+        FreeCAD.closeDocument(name)
+
+
+def fish():
+    return Scene.load(metamaterial_wb.example_path("fish"))
+
+
+def test_a_module_that_no_longer_fits_is_marked_invalid_and_recovers(doc):
+    """The cell shrank under a servo housing: the housing kept its old solid and stayed valid (only a line in
+    the Scene's SolveWarnings said so), while a recompute of the module alone made it invalid."""
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "servo_housing", "V0,1")
+    doc.recompute()
+    assert m.isValid() and sc.isValid()
+    sc.HingeLength = 2.4
+    sc.CellSize = 8.0
+    doc.recompute()
+    assert sc.isValid(), sc.State                       # the sheet itself is fine at 8 mm
+    assert not m.isValid() and "Invalid" in m.State
+    assert any(m.Label in w and "plate" in w for w in sc.SolveWarnings)
+    sc.CellSize = 27.0
+    sc.HingeLength = 2.0
+    doc.recompute()
+    assert m.isValid() and sc.isValid(), (m.State, sc.State)
+    assert '"cell_size_mm"' not in m.BuiltFor and "27.0" in m.BuiltFor
+
+
+def test_a_scene_error_is_the_scenes_not_its_modules(doc):
+    """A motor moved onto a joint that does not exist while a module was edited: the module was marked invalid
+    with the Scene's error, and the Scene, skipped, reported itself valid with stale results."""
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "friction_pad", "N2,3")
+    doc.recompute()
+    sc.Items[0].Joint = "V9,9"
+    m.Target = "N1,3"
+    doc.recompute()
+    assert not sc.isValid() and "V9,9" in sc.getStatusString()
+    assert m.isValid(), m.getStatusString()
+    sc.Items[0].Joint = "V0,1"
+    doc.recompute()
+    assert sc.isValid() and m.isValid()
+    assert '"N1,3"' in m.BuiltFor                       # the Scene rebuilt it for its new node
+
+
+def test_an_empty_layout_is_an_error_not_ignored(doc):
+    sc = structure.make_structure(doc, fish())
+    doc.recompute()
+    sc.Layout = []
+    doc.recompute()
+    assert not sc.isValid() and "Layout" in sc.getStatusString() and "empty" in sc.getStatusString()
+
+
+@pytest.mark.parametrize("target, prop, text, words", [
+    ("item", "ProfileData", "{bad", "not valid JSON"),
+    ("item", "ProfileData", "[1, 2]", "holds list JSON; expected an object with the steps profile's fields"),
+    ("item", "ExtraJSON", "[1, 2]", "holds list JSON"),
+    ("module", "ModuleData", "{bad", "not valid JSON"),
+    ("scene", "SceneJSON", "not json", "not valid JSON"),
+])
+def test_bad_json_in_a_text_property_names_the_object_and_property(doc, target, prop, text, words):
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "friction_pad", "N2,3")
+    doc.recompute()
+    obj = {"item": sc.Items[0], "module": m, "scene": sc}[target]
+    if target == "item":
+        obj.ProfileShape = "steps"
+    setattr(obj, prop, text)
+    doc.recompute()
+    bad = [o for o in doc.Objects if not o.isValid()]
+    msgs = " | ".join(o.getStatusString() for o in bad)
+    assert f"{obj.Label}.{prop}: " in msgs and words in msgs, msgs
+
+
+def test_a_module_error_names_the_field(doc):
+    """A friction pad turned into a servo housing keeps its node target: the error said 'unknown field' without
+    naming it."""
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "friction_pad", "N2,3")
+    doc.recompute()
+    m.ModuleType = "servo_housing"
+    doc.recompute()
+    assert not m.isValid()
+    assert f"module {m.Label}: node: unknown field" in m.getStatusString(), m.getStatusString()
