@@ -4,22 +4,8 @@ import pytest
 
 FreeCAD = pytest.importorskip("FreeCAD")
 
-import metamaterial_wb  # noqa: E402
-from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-
-
-@pytest.fixture
-def doc():
-    d = FreeCAD.newDocument("MMErr")
-    name = d.Name
-    yield d
-    if name in FreeCAD.listDocuments():
-        FreeCAD.closeDocument(name)
-
-
-def fish():
-    return Scene.load(metamaterial_wb.example_path("fish"))
+from test_fc_objects import doc, fish  # noqa: E402,F401 - the App tests' document fixture and example
 
 
 def test_a_module_that_no_longer_fits_is_marked_invalid_and_recovers(doc):
