@@ -5,9 +5,11 @@ semantics of ``[fn(problem, b) for b in batches]`` (the order is kept):
 
 * ``workers`` > 1: a local ``concurrent.futures.ProcessPoolExecutor``; the problem is sent once per
   worker (its initializer), not once per batch;
-* ``scheduler`` ``tcp://HOST:PORT`` (or a ``distributed.Client`` / ``LocalCluster``): Dask
-  ``distributed``; the problem is scattered once to every worker (``broadcast=True``) and the batches
-  are mapped over it (``pure=False``: every batch runs).
+* ``scheduler`` ``tcp://HOST:PORT`` (``tls://`` too; a bare ``HOST:PORT`` is tcp; or a
+  ``distributed.Client`` / ``LocalCluster``): Dask ``distributed`` (an address is checked by
+  :func:`check_scheduler_address` first, a failed connection is a :class:`SceneError` too); the problem
+  is scattered once to every worker (``broadcast=True``) and the batches are mapped over it
+  (``pure=False``: every batch runs).
 
 Nothing here is home-made distribution: the pool is the standard library's, the cluster Dask's. Lives
 above ``core`` (which stays numpy/scipy only and just calls the mapper it is given).
@@ -16,12 +18,27 @@ import concurrent.futures as cf
 import multiprocessing as mp
 import os
 import pickle
+import re
 import shutil
 import sys
 
-from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.errors import MetamaterialError, SceneError
 
 _PROBLEM = None
+_SCHEDULER_RE = re.compile(r"^(?:(tcp|tls)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_](?:[A-Za-z0-9_.-]*[A-Za-z0-9_])?)"
+                           r":(\d{1,5})$")
+SCHEDULER_ALLOWED = ("a Dask scheduler address tcp://HOST:PORT (or tls://HOST:PORT; port 1-65535), "
+                     "e.g. tcp://127.0.0.1:8786")
+
+
+def check_scheduler_address(address, option="--scheduler"):
+    """``address`` if it is a Dask scheduler address ``tcp://HOST:PORT`` / ``tls://HOST:PORT`` / ``HOST:PORT``
+    (port 1-65535), else a :class:`SceneError` naming ``option``, the value and what is allowed. Only the form
+    is checked (no connection, no Dask needed)."""
+    m = _SCHEDULER_RE.match(address) if isinstance(address, str) else None
+    if m is None or not 1 <= int(m.group(3)) <= 65535:
+        raise SceneError(option, f"{address!r}; allowed: {SCHEDULER_ALLOWED}")
+    return address
 
 
 def _init_worker(blob):
@@ -88,6 +105,8 @@ class PoolMapper:
 
 class DaskMapper:
     def __init__(self, scheduler):
+        if isinstance(scheduler, str):
+            check_scheduler_address(scheduler)
         try:
             from distributed import Client
         except ImportError:
@@ -96,8 +115,11 @@ class DaskMapper:
         if isinstance(scheduler, str):
             try:
                 self.client = Client(scheduler, timeout="10s")
-            except (OSError, TimeoutError) as exc:
-                raise MetamaterialError(f"--scheduler {scheduler}: cannot connect to a Dask scheduler ({exc})") from None
+            except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, Dask's ValueError / TypeError ...
+                reason = " ".join(str(exc).split())[:300] or type(exc).__name__
+                raise SceneError("--scheduler", f"{scheduler!r}: cannot connect to a Dask scheduler ({reason}); "
+                                                f"allowed: the address of a running scheduler, tcp://HOST:PORT") \
+                    from None
             self._own = True
         elif hasattr(scheduler, "scatter"):
             self.client = scheduler

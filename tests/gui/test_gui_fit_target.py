@@ -167,3 +167,20 @@ def test_fit_on_a_dask_scheduler_equals_the_local_fit(doc, tmp_path):
         assert p.wait(600) and p.error.text() == "", p.error.text()
     assert p.result.joints == local.joints and abs(p.result.values - local.values).max() < 1e-12
     p.reject()
+
+
+def test_forbidden_joints_keep_their_comma(doc, tmp_path):
+    """The forbid field split its text on commas, and every joint name holds one: "V2,3" became "V2" and "3"."""
+    _structure(doc)
+    doc.recompute()
+    p = run_panel("MM_FitTarget")
+    set_text(p.path, _write_target(tmp_path, _planted(4, [("H1,1", 0.6), ("V2,3", 0.5)])))
+    set_spin(p.servos, 2)
+    set_text(p.forbid, "V2,3")
+    p._add_forbidden("H0,2")                              # what a click on a hinge in the 3D view adds
+    assert p.forbid.text() == "V2,3, H0,2"
+    press(p.run_btn)
+    assert p.wait(600)
+    assert p.error.text() == "", p.error.text()
+    assert len(p.result.joints) == 2 and not {"V2,3", "H0,2"} & set(p.result.joints)
+    p.reject()

@@ -7,7 +7,9 @@ evaluation under every model and the fabrication checks (a callable given by the
 build geometry), and returns an :class:`InverseRun`. :func:`report_dict` is ``report.json`` of it.
 
 ``progress(msg)`` is called at every stage; it may raise (the panel's Cancel does) to stop the run.
+:func:`parse_joint_list` and :func:`parse_models` read the joint lists and model lists people type (CLI, panel).
 """
+import re
 import time
 from dataclasses import dataclass, field
 
@@ -33,8 +35,71 @@ class InverseRun:
     seconds: float = 0.0
 
 
+SCREEN_RANGE = (0, 1000)
+_JOINT_TOKEN = re.compile(r"([HVhv])\s*\(?\s*(-?\d{1,9})\s*,\s*(-?\d{1,9})(?:\s*\))?")
+_JOINT_SEP = re.compile(r"[\s,;]*")
+_JOINT_LIST_ALLOWED = ("joint names H<i>,<j> or V<i>,<j>, several separated by spaces or semicolons "
+                       "(e.g. \"V0,1 H2,3\" or \"V0,1; H2,3\")")
+
+
 def _quiet(msg):
     pass
+
+
+def parse_joint_list(items, field="--forbid"):
+    """Joint names from the strings ``items`` (one per ``--forbid``), in order, repeats dropped.
+
+    A joint name holds a comma (``V0,1``), so a string may hold several names separated by spaces,
+    semicolons or commas between whole names: ``"V0,1 H2,3"``, ``"V0,1; H2,3"``, ``"V0,1, H2,3"`` (the
+    panel's way) and ``"V0,1,H2,3"`` all give ``["V0,1", "H2,3"]``. ``H(1,2)`` and lower case are accepted.
+    Whether the joints exist is the search's check (it knows the scene).
+
+    Raises
+    ------
+    SceneError
+        At ``field`` for a string naming no joint or holding something that is not a joint name.
+    """
+    out = []
+    for item in items:
+        text = str(item)
+        if _JOINT_SEP.fullmatch(text):
+            raise SceneError(field, f"{text!r} names no joint; allowed: {_JOINT_LIST_ALLOWED}")
+        pos = 0
+        while True:
+            pos = _JOINT_SEP.match(text, pos).end()
+            if pos == len(text):
+                break
+            m = _JOINT_TOKEN.match(text, pos)
+            if m is None or (m.end() < len(text) and text[m.end()] not in " \t\r\n,;"):
+                bad = re.match(r"[^\s;]*", text[pos:]).group(0) or text[pos:]
+                where = "" if bad == text else f"{text!r}: "
+                raise SceneError(field, f"{where}{bad!r} is not a joint name; allowed: {_JOINT_LIST_ALLOWED}")
+            name = f"{m.group(1).upper()}{int(m.group(2))},{int(m.group(3))}"
+            if name not in out:
+                out.append(name)
+            pos = m.end()
+    return out
+
+
+def parse_models(text, field="--evaluate"):
+    """The model names of a comma-separated list (repeats dropped); at least one, each of ``evaluate.MODELS``.
+
+    Raises
+    ------
+    SceneError
+        At ``field`` for an empty list or an unknown model.
+    """
+    allowed = ", ".join(ev.MODELS)
+    models = []
+    for m in str(text).split(","):
+        m = m.strip()
+        if m and m not in ev.MODELS:
+            raise SceneError(field, f"{m!r}; allowed: {allowed} (comma-separated)")
+        if m and m not in models:
+            models.append(m)
+    if not models:
+        raise SceneError(field, f"{text!r} names no model; allowed: one or more of {allowed} (comma-separated)")
+    return models
 
 
 def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_regions=None, model="quadratic",
@@ -48,10 +113,13 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
     for m in evaluate:
         if m not in ev.MODELS:
             raise SceneError("--evaluate", f"{m!r}; allowed: {', '.join(ev.MODELS)}")
+    if not list(evaluate):
+        raise SceneError("--evaluate", f"no model given; allowed: one or more of {', '.join(ev.MODELS)}")
     if model not in ev.MODELS:
         raise SceneError("--model", f"{model!r}; allowed: {', '.join(ev.MODELS)}")
-    if screen < 0:
-        raise SceneError("--screen", f"{screen} is outside the allowed range [0, 1000] (0: fit every candidate)")
+    if not SCREEN_RANGE[0] <= screen <= SCREEN_RANGE[1]:
+        raise SceneError("--screen", f"{screen} is outside the allowed range [{SCREEN_RANGE[0]}, {SCREEN_RANGE[1]}] "
+                                     f"(0: fit every candidate)")
     forbidden = list(forbidden or ())
     if values_only and forbidden:
         raise SceneError("--forbid", "has no effect with --values-only (the placement is the scene's)")

@@ -132,8 +132,17 @@ class FitTargetPanel(base.BasePanel):
         if fn:
             self.path.setText(fn)
 
+    def _forbidden(self):
+        """The joints in the forbid field (a joint name holds a comma: ``pipeline.parse_joint_list``)."""
+        from metamaterial_wb.core.inverse.pipeline import parse_joint_list
+        return parse_joint_list([self.forbid.text()], "forbidden joints") if self.forbid.text().strip() else []
+
     def _add_forbidden(self, joint):
-        cur = [j.strip() for j in self.forbid.text().split(",") if j.strip()]
+        try:
+            cur = self._forbidden()
+        except MetamaterialError:          # the user's half-typed text stays; the clicked joint goes after it
+            self.forbid.setText(f"{self.forbid.text().rstrip()}; {joint}")
+            return
         if joint not in cur:
             cur.append(joint)
         self.forbid.setText(", ".join(cur))
@@ -160,13 +169,13 @@ class FitTargetPanel(base.BasePanel):
             target = self._target()
             from metamaterial_wb.core.inverse.fit import Problem
             Problem(self.scene, target, keep_actuators=self.values_only.isChecked())   # bad targets: now
+            forbidden = [] if self.values_only.isChecked() else self._forbidden()
         except MetamaterialError as exc:
             self.show_error(str(exc))
             return False
         opts = {"servos": None if self.values_only.isChecked() else int(self.servos.value()),
                 "values_only": self.values_only.isChecked(),
-                "forbidden": [] if self.values_only.isChecked() else
-                [j.strip() for j in self.forbid.text().split(",") if j.strip()]}
+                "forbidden": forbidden}
         workers, sched = int(self.workers.value()), self.scheduler.text().strip() or None
         geometry = "subprocess" if self.geometry_checks.isChecked() else "off"
         scene = self.scene
