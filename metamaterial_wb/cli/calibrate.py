@@ -14,15 +14,45 @@ HELP = "fit the quadratic model's k1/k2 per hinge size to the nonlinear model or
 
 
 def _floats(text, field):
+    """A comma-separated list of sizes in mm: numbers, strictly increasing (each size is range-checked by
+    ``core.calibrate.check_sizes`` before any fit)."""
     from metamaterial_wb.core.errors import SceneError
 
     try:
         vals = [float(x) for x in text.split(",") if x.strip()]
     except ValueError:
         raise SceneError(field, f"{text!r}: expected comma-separated numbers in mm") from None
-    if not vals or any(v <= 0 for v in vals) or sorted(set(vals)) != vals:
-        raise SceneError(field, f"{text!r}: expected strictly increasing positive numbers in mm")
+    if not vals:
+        raise SceneError(field, f"{text!r}: expected comma-separated numbers in mm")
+    if any(b <= a for a, b in zip(vals, vals[1:])):
+        raise SceneError(field, f"{text!r}: expected strictly increasing numbers in mm")
     return vals
+
+
+def _check_flags(args):
+    """Refuse flags the chosen source would ignore (before any work)."""
+    from metamaterial_wb.core.errors import SceneError
+
+    if args.source == "model":
+        if args.table is not None:
+            raise SceneError("--table", "is for 'calibrate measured' (the table to update); 'calibrate model' "
+                                        "fits a whole new table")
+        return
+    for flag, val in (("--lengths", args.lengths), ("--widths", args.widths)):
+        if val is not None:
+            raise SceneError(flag, "is for 'calibrate model'; 'calibrate measured' takes the hinge sizes from "
+                                   "PIECE.json")
+    if args.table is not None and args.out is None:
+        raise SceneError("--table", "needs --out: the updated table is only written with --out")
+
+
+def _inputs(args):
+    """``(what, path)`` of the files ``calibrate`` reads, which ``--out`` must not overwrite."""
+    if args.source != "measured":
+        return []
+    from metamaterial_wb.core.calibration import _DEFAULT_PATH
+    table = ("--table", args.table) if args.table is not None else ("shipped table (--table default)", _DEFAULT_PATH)
+    return [("PIECE.json", args.piece), ("ANGLES.csv", args.angles), table]
 
 
 def add_arguments(p):
@@ -41,13 +71,15 @@ def run(args):
     from metamaterial_wb.core.fileio import write_atomic
 
     from metamaterial_wb.core.fileio import check_output, read_json
+    if args.source == "model" and (args.piece or args.angles):
+        raise SceneError("calibrate model", "takes no positional files (did you mean 'calibrate measured'?)")
+    _check_flags(args)
     if args.out is not None:
-        check_output(args.out, "file", "--out")
+        check_output(args.out, "file", "--out", inputs=_inputs(args))
     if args.source == "model":
-        if args.piece or args.angles:
-            raise SceneError("calibrate model", "takes no positional files (did you mean 'calibrate measured'?)")
-        lengths = _floats(args.lengths, "--lengths") if args.lengths else C.DEFAULT_LENGTHS_MM
-        widths = _floats(args.widths, "--widths") if args.widths else C.DEFAULT_WIDTHS_MM
+        lengths = _floats(args.lengths, "--lengths") if args.lengths is not None else C.DEFAULT_LENGTHS_MM
+        widths = _floats(args.widths, "--widths") if args.widths is not None else C.DEFAULT_WIDTHS_MM
+        C.check_sizes(lengths, widths, "--lengths", "--widths")
         if C.REFERENCE_WIDTH_MM not in widths:
             raise SceneError("--widths", f"must include the reference width {C.REFERENCE_WIDTH_MM} mm (factor 1)")
         table, kl, kw = C.fit_table_to_model(lengths, widths,
@@ -68,33 +100,36 @@ def run(args):
     from metamaterial_wb.core.calibration import Calibration, _DEFAULT_PATH
     from metamaterial_wb.core.scene import Scene
 
+    table = cal = None
+    if args.out:                        # the table to update is read and checked before any work
+        table_path = args.table or _DEFAULT_PATH
+        table = read_json(table_path, "--table")
+        try:
+            cal = Calibration(table)
+        except SceneError as exc:
+            raise SceneError("--table", f"{table_path}: {exc}") from None
     scene = Scene.load(args.piece)
     if not scene.constraints and not scene.actuators:
         raise SceneError("constraints", "the test piece has no angular constraint or actuator; the fit needs the "
                                         "deformation you imposed")
     idx, ang = C.read_angles_csv(args.angles, scene)
     fit = C.fit_measured(scene, idx, ang)
-    print(f"k1 = {fit['k1']:.6f}" + (f", k2 ratio (width {fit['widths_mm'][1]} / {fit['widths_mm'][0]} mm) = "
-                                      f"{fit['k2_ratio']:.4g}" if fit["k2_ratio"] is not None else ""))
+    ratio = fit["k2_ratio"]
+    print(f"k1 = {fit['k1']:.6f}" + (f", k2 ratio (width {fit['other_width_mm']} / {fit['base_width_mm']} mm) = "
+                                      f"{ratio:.4g}" if ratio is not None else ""))
     print(f"residual: RMS {fit['rms_D']:.4f} / max {fit['max_D']:.4f} D units, RMS {fit['rms_deg']:.3f} deg "
           f"over {len(fit['nodes'])} measured free nodes")
     for n, r in zip(fit["nodes"], fit["residual_deg"]):
         print(f"  {n}: {r:+.3f} deg")
     if args.out:
-        table = read_json(args.table or _DEFAULT_PATH, "--table")
-        Calibration(table)
-        widths = fit["widths_mm"]
-        base_w = scene.hinge["width_mm"]
-        w_other = [w for w in widths if w != base_w]
-        factor = None
-        if fit["k2_ratio"] is not None and w_other:
-            cal = Calibration(table)
-            factor = cal.k2(base_w, cal.t_ref) * fit["k2_ratio"]
-        table = C.update_table(table, scene.hinge["length_mm"], round(fit["k1"], 6),
-                               w_other[0] if factor is not None else None, factor)
+        width = factor = None
+        if ratio is not None and fit["other_width_mm"] is not None:
+            width, factor = C.measured_width_factor(cal, fit["base_width_mm"], fit["other_width_mm"], ratio)
+        table = C.update_table(table, scene.hinge["length_mm"], round(fit["k1"], 6), width, factor)
         table["source"] = (table.get("source", "") + f" Updated from measured angles: {args.angles} on {args.piece} "
-                           f"(k1 = {fit['k1']:.4f} at {scene.hinge['length_mm']} mm, RMS residual "
-                           f"{fit['rms_deg']:.3f} deg).")
+                           f"(k1 = {fit['k1']:.4f} at {scene.hinge['length_mm']} mm"
+                           + (f", k2 factor {factor:.4g} at {width} mm" if factor is not None else "")
+                           + f", RMS residual {fit['rms_deg']:.3f} deg).")
         write_atomic(args.out, C.table_json(table))
         print(f"wrote {args.out}")
     return 0

@@ -19,8 +19,9 @@ import re
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from metamaterial_wb.core.errors import MetamaterialError, SceneError
+from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number, range_message
 from metamaterial_wb.core.scene import Scene, joint_nodes, parse_joint
+from metamaterial_wb.core.scene.names import plate_side_mm
 
 REFERENCE_WIDTH_MM = 0.8
 REFERENCE_THICKNESS_MM = 7.0
@@ -33,13 +34,27 @@ TEST_PIECES = ({"rows": 1, "cols": 8, "joint": "V0,1", "value": 0.3},
                {"rows": 3, "cols": 6, "joint": "H1,2", "value": 0.3},
                {"rows": 5, "cols": 5, "joint": "H2,2", "value": 0.3})
 MIXED_PIECE = {"rows": 5, "cols": 6, "joint": "H2,1", "value": 0.3}
+CELL_SIZE_MM = 20.0          # the test pieces' cell pitch
+WIDTH_FIT_LENGTH_MM = 2.0    # hinge length of the k2 (width) fit
+# Sizes the model fit accepts. Lower bound: 0.1 mm, the finest nozzle core/fabrication accepts (a thinner gap or
+# hinge cannot be printed; far below it the D scale underflows: the closing limit is 0 for a 1e-8 mm hinge and the
+# fit is NaN, the lattice model stops converging for a 1e-6 mm width). Upper bounds: the scene's hinge checks
+# (length < cell / 2, width <= plate side / 4 at the width fit's 2 mm length).
+MIN_SIZE_MM = 0.1
+MAX_LENGTH_MM = 0.5 * CELL_SIZE_MM
+MAX_WIDTH_MM = 0.25 * plate_side_mm(CELL_SIZE_MM, WIDTH_FIT_LENGTH_MM)
+# search ranges of the measured fit; a result within these tolerances of a bound is refused (not determined)
+K1_BOUNDS = (0.0, 1.0)
+LOG10_K2_RATIO_BOUNDS = (-4.0, 4.0)
+_K1_BOUND_TOL = 1e-6
+_LOG10_RATIO_BOUND_TOL = 1e-3
 
 
 # ----------------------------------------------------------------------------------------------------
 # test pieces
 # ----------------------------------------------------------------------------------------------------
 def test_piece(length_mm, width_mm=REFERENCE_WIDTH_MM, thickness_mm=REFERENCE_THICKNESS_MM, right_width_mm=None,
-               rows=None, cols=None, joint=None, value=None, cell_size_mm=20.0):
+               rows=None, cols=None, joint=None, value=None, cell_size_mm=CELL_SIZE_MM):
     """The k1 test piece: 5 x 5 cells with one angular constraint (D = 0.3) on the central joint H2,2.
 
     With ``right_width_mm``: the mixed piece, 5 x 6 cells whose right half (columns >= 3) has hinges of
@@ -66,6 +81,23 @@ def test_piece(length_mm, width_mm=REFERENCE_WIDTH_MM, thickness_mm=REFERENCE_TH
                 joints.append({"joint": f"V{r},{c}", "width_mm": right_width_mm})
         d["joints"] = joints
     return Scene.from_dict(d)
+
+
+def check_sizes(lengths, widths, length_field="lengths", width_field="widths"):
+    """Check the model fit's hinge sizes before any work: every length in [MIN_SIZE_MM, MAX_LENGTH_MM), every
+    width in [MIN_SIZE_MM, MAX_WIDTH_MM] (finite). Raises a SceneError naming the field, the value and the range."""
+    cells = f"{CELL_SIZE_MM:g} mm cells"
+    for field, vals, high, high_open, why in (
+            (length_field, lengths, MAX_LENGTH_MM, True, f"hinge length below cell / 2 of {cells}"),
+            (width_field, widths, MAX_WIDTH_MM, False, f"hinge width at most plate side / 4 of {cells} with the "
+                                                       f"width fit's {WIDTH_FIT_LENGTH_MM:g} mm hinges")):
+        for v in vals:
+            try:
+                check_number(field, v, MIN_SIZE_MM, high, "mm", high_open=high_open)
+            except SceneError:
+                raise SceneError(field, range_message(v, MIN_SIZE_MM, high, "mm", high_open=high_open) +
+                                 f" ({why}; at least {MIN_SIZE_MM:g} mm, the finest nozzle, for a meaningful "
+                                 f"fit)") from None
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -102,11 +134,12 @@ class _Fitter:
     def residual(self, k1, k2):
         """D-unit residual over the free nodes after removing the rigid rotation; also its angle form."""
         geo = self.geo
-        phi_q = geo.phi_from_D(self.D(k1, k2))
-        diff = (phi_q - self.phi_ref)[self.free]
-        w = float(diff.mean()) if diff.size else 0.0
-        Dref = geo.D_from_phi(self.phi_ref)[self.free]
-        r = geo.parity[self.free] * (diff - w) / np.where(Dref >= 0, geo.closing_rad, geo.opening_rad)
+        with np.errstate(invalid="ignore", divide="ignore"):     # a degenerate D scale: NaN, refused by callers
+            phi_q = geo.phi_from_D(self.D(k1, k2))
+            diff = (phi_q - self.phi_ref)[self.free]
+            w = float(diff.mean()) if diff.size else 0.0
+            Dref = geo.D_from_phi(self.phi_ref)[self.free]
+            r = geo.parity[self.free] * (diff - w) / np.where(Dref >= 0, geo.closing_rad, geo.opening_rad)
         return r, diff - w
 
     def rms(self, k1, k2):
@@ -118,10 +151,10 @@ def _fit_k1(fitter, k2=(1.0,)):
     """One k1 for every joint group (k2 per group held)."""
     ng = len(k2)
     f = lambda k: fitter.rms([k] * ng, k2)
-    res = minimize_scalar(f, bounds=(0.0, 1.0), method="bounded", options={"xatol": 1e-7})
+    res = minimize_scalar(f, bounds=K1_BOUNDS, method="bounded", options={"xatol": 1e-7})
     k1 = float(res.x)
     # the bounded search never evaluates the end points: compare with them explicitly
-    for edge in (0.0, 1.0 - 1e-9):
+    for edge in (K1_BOUNDS[0], K1_BOUNDS[1] - 1e-9):
         if f(edge) < f(k1):
             k1 = edge
     return k1
@@ -129,7 +162,7 @@ def _fit_k1(fitter, k2=(1.0,)):
 
 def _fit_k2_ratio(fitter, k1):
     f = lambda lr: fitter.rms([k1, k1], [1.0, 10.0 ** lr])
-    res = minimize_scalar(f, bounds=(-4.0, 4.0), method="bounded", options={"xatol": 1e-5})
+    res = minimize_scalar(f, bounds=LOG10_K2_RATIO_BOUNDS, method="bounded", options={"xatol": 1e-5})
     return float(10.0 ** res.x)
 
 
@@ -177,9 +210,14 @@ def fit_length(length_mm, model="nonlinear", pieces=None, **piece):
                     "k1_alone": _fit_k1(fi), "rms_D": float(np.sqrt(np.mean(r ** 2)))})
     r = np.concatenate(rs)
     dphi = np.concatenate(ds)
-    return {"length_mm": length_mm, "k1": k1, "rms_D": float(np.sqrt(np.mean(r ** 2))),
-            "max_D": float(np.abs(r).max()), "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2)))),
-            "pieces": per}
+    out = {"length_mm": length_mm, "k1": k1, "rms_D": float(np.sqrt(np.mean(r ** 2))),
+           "max_D": float(np.abs(r).max()), "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2)))),
+           "pieces": per}
+    if not all(math.isfinite(out[k]) for k in ("k1", "rms_D", "max_D", "rms_deg")):
+        raise MetamaterialError(f"calibration: the fit for hinge length {length_mm} mm is not finite (k1 = {k1:.6g}, "
+                                f"RMS residual {out['rms_D']} D units): the test pieces' D scale is degenerate at "
+                                f"this size; no fit made")
+    return out
 
 
 def fit_width(width_mm, k1, length_mm=2.0, model="nonlinear"):
@@ -201,20 +239,31 @@ def fit_width(width_mm, k1, length_mm=2.0, model="nonlinear"):
             raise MetamaterialError(f"calibration: the {model} model did not converge for width {w} mm")
         energies.append(res.info["elastic_energy_Nmm"])
     factor = energies[1] / energies[0]
+    if not (math.isfinite(factor) and factor > 0):
+        raise MetamaterialError(f"calibration: the k2 factor for hinge width {width_mm} mm is {factor!r} (elastic "
+                                f"energies {energies[0]!r} / {energies[1]!r} N mm); no fit made")
     sc = test_piece(length_mm, right_width_mm=width_mm)
     topo = sc.topology
     jg = np.array([1 if sc.joint_hinge(n)["width_mm"] == width_mm and width_mm != REFERENCE_WIDTH_MM else 0
                    for n in topo.joint_names], dtype=np.int64)
     fitter = _Fitter(sc, reference_angles(sc, model), jg)
     r, dphi = fitter.residual([k1, k1], [1.0, factor])
-    return {"width_mm": width_mm, "factor": factor, "energy_Nmm": energies[1],
-            "rms_D": float(np.sqrt(np.mean(r ** 2))), "max_D": float(np.abs(r).max()),
-            "rms_D_equal": fitter.rms([k1, k1], [1.0, 1.0]),
-            "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2))))}
+    out = {"width_mm": width_mm, "factor": factor, "energy_Nmm": energies[1],
+           "rms_D": float(np.sqrt(np.mean(r ** 2))), "max_D": float(np.abs(r).max()),
+           "rms_D_equal": fitter.rms([k1, k1], [1.0, 1.0]),
+           "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2))))}
+    if not all(math.isfinite(out[k]) for k in ("rms_D", "max_D", "rms_D_equal", "rms_deg")):
+        raise MetamaterialError(f"calibration: the mixed-piece check for hinge width {width_mm} mm is not finite "
+                                f"(RMS residual {out['rms_D']} D units); no fit made")
+    return out
 
 
 def fit_table_to_model(lengths=DEFAULT_LENGTHS_MM, widths=DEFAULT_WIDTHS_MM, model="nonlinear", progress=None):
-    """Regenerate the calibration table (same format as core/data/calibration.json) from a lattice model."""
+    """Regenerate the calibration table (same format as core/data/calibration.json) from a lattice model.
+
+    The sizes are checked first (:func:`check_sizes`); a non-finite fit is an error, never a table entry.
+    """
+    check_sizes(lengths, widths)
     kl = []
     for L in lengths:
         if progress:
@@ -302,8 +351,12 @@ def read_angles_csv(path, scene):
 def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
     """Fit k1 (and, for a piece with two hinge widths, the k2 ratio) to measured node angles.
 
-    Only the measured nodes enter the residual. Returns a dict with k1, k2 ratio, residuals (D units
-    and degrees) and per-node residuals.
+    Only the measured nodes enter the residual. Returns a dict with k1, the k2 ratio
+    ``k2(other_width_mm) / k2(base_width_mm)`` (the base width is the piece's default ``hinge.width_mm``),
+    residuals (D units and degrees) and per-node residuals.
+
+    Raises a SceneError when the fit is not finite or ends on its search bound (k1 in [0, 1], log10 of the k2
+    ratio in [-4, 4]): the measured angles then do not determine the value, and it must not enter a table.
     """
     topo = scene.topology
     widths = sorted({scene.joint_hinge(n)["width_mm"] for n in topo.joint_names})
@@ -330,7 +383,8 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
             best = (k1, ratio)
         from scipy.optimize import least_squares
         sol = least_squares(lambda x: fitter.residual([x[0], x[0]], [1.0, 10.0 ** x[1]])[0],
-                            [best[0], math.log10(best[1])], bounds=([0.0, -4.0], [1.0, 4.0]),
+                            [best[0], math.log10(best[1])],
+                            bounds=([K1_BOUNDS[0], LOG10_K2_RATIO_BOUNDS[0]], [K1_BOUNDS[1], LOG10_K2_RATIO_BOUNDS[1]]),
                             x_scale=[1e-2, 0.1], xtol=1e-12, ftol=1e-12)
         k1, ratio = float(sol.x[0]), float(10.0 ** sol.x[1])
         k2 = [1.0, ratio]
@@ -340,9 +394,37 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
         k2 = [1.0, 1.0]
     r, dphi = fitter.residual([k1, k1], k2)
     nodes = [f"N{topo.nodes[k][0]},{topo.nodes[k][1]}" for k in use]
-    return {"k1": k1, "k2_ratio": ratio, "widths_mm": widths, "rms_D": float(np.sqrt(np.mean(r ** 2))),
-            "max_D": float(np.abs(r).max()), "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2)))),
-            "nodes": nodes, "residual_deg": [float(x) for x in np.degrees(dphi)]}
+    other = [w for w in widths if w != base_w]
+    fit = {"k1": k1, "k2_ratio": ratio, "widths_mm": widths, "base_width_mm": base_w,
+           "other_width_mm": other[0] if other else None, "rms_D": float(np.sqrt(np.mean(r ** 2))),
+           "max_D": float(np.abs(r).max()), "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2)))),
+           "nodes": nodes, "residual_deg": [float(x) for x in np.degrees(dphi)]}
+    _check_measured_fit(fit)
+    return fit
+
+
+def _check_measured_fit(fit):
+    """Refuse a measured fit that is not finite or ends on its search bound (the data do not determine it)."""
+    res = f"RMS residual {fit['rms_D']:.4g} D units, {fit['rms_deg']:.3g} deg"
+    vals = [fit["k1"], fit["rms_D"], fit["max_D"], fit["rms_deg"]] + ([fit["k2_ratio"]] if fit["k2_ratio"] else [])
+    if not all(math.isfinite(v) for v in vals):
+        raise SceneError("k1", f"the fit is not finite (k1 = {fit['k1']!r}, {res}): the test piece's D scale is "
+                               f"degenerate; no fit made")
+    advice = "check the clip values in the piece, the angle signs and units, and the node names; nothing written"
+    k1 = fit["k1"]
+    for b in K1_BOUNDS:
+        if abs(k1 - b) <= _K1_BOUND_TOL:
+            raise SceneError("k1", f"the fit ended on its search bound {b:g} of [{K1_BOUNDS[0]:g}, {K1_BOUNDS[1]:g}] "
+                                   f"(k1 = {k1:.6g}, {res}): the measured angles do not determine k1; {advice}")
+    if fit["k2_ratio"] is not None:
+        lr = math.log10(fit["k2_ratio"])
+        for b in LOG10_K2_RATIO_BOUNDS:
+            if abs(lr - b) <= _LOG10_RATIO_BOUND_TOL:
+                lo, hi = (10.0 ** x for x in LOG10_K2_RATIO_BOUNDS)
+                raise SceneError("k2 ratio", f"the fit ended on its search bound {10.0 ** b:g} of [{lo:g}, {hi:g}] "
+                                             f"(k2({fit['other_width_mm']} mm) / k2({fit['base_width_mm']} mm) = "
+                                             f"{fit['k2_ratio']:.6g}, {res}): the measured angles do not determine "
+                                             f"the ratio; {advice}")
 
 
 def table_json(table):
@@ -381,8 +463,29 @@ def _set_point(xs, ys, x, y):
     return [xs[i] for i in order], [ys[i] for i in order]
 
 
+def measured_width_factor(cal, base_width_mm, other_width_mm, ratio):
+    """``(width_mm, factor)`` to enter in a table for a fitted ratio ``k2(other) / k2(base)``.
+
+    The table's factors are relative to the reference width (0.8 mm = factor 1): when the piece's other width is
+    the reference, the base width gets ``factor(reference) / ratio``; otherwise the other width gets
+    ``factor(base) * ratio`` (the base width's factor taken from the table ``cal``).
+    """
+    anchor, target = ((other_width_mm, base_width_mm) if other_width_mm == REFERENCE_WIDTH_MM
+                      else (base_width_mm, other_width_mm))
+    lo, hi = float(cal.w_mm[0]), float(cal.w_mm[-1])
+    if not lo <= anchor <= hi:
+        raise SceneError("k2 ratio", f"the piece's width {anchor} mm, relative to which the fitted ratio is entered, "
+                                     f"is outside the table's widths [{lo:g}, {hi:g}] mm; nothing written")
+    f_anchor = cal.k2(anchor, cal.t_ref)
+    return target, (f_anchor / ratio if target == base_width_mm else f_anchor * ratio)
+
+
 def update_table(table, length_mm, k1, width_mm=None, factor=None):
-    """A copy of a calibration table with one k1 (and optionally one width factor) inserted/replaced."""
+    """A copy of a calibration table with one k1 (and optionally one width factor) inserted/replaced.
+
+    A width factor that would make the table's k2 factors not increase strictly with the width (a wider hinge
+    softer than a narrower one) is refused: it comes from a measurement that cannot be trusted.
+    """
     import copy
 
     t = copy.deepcopy(table)
@@ -391,6 +494,13 @@ def update_table(table, length_mm, k1, width_mm=None, factor=None):
     if width_mm is not None and factor is not None:
         W, F = _set_point(t["k2_vs_width"]["width_mm"], t["k2_vs_width"]["factor"], width_mm, factor)
         t["k2_vs_width"] = {"width_mm": W, "factor": F}
+        k = W.index(width_mm)
+        near = [(W[i], F[i]) for i in (k - 1, k + 1) if 0 <= i < len(W)]
+        if any((w < width_mm) != (f < factor) or f == factor for w, f in near):
+            shown = ", ".join(f"{f:.4g} at {w:g} mm" for w, f in near)
+            raise SceneError("k2 ratio", f"the fitted k2 factor {factor:.4g} at width {width_mm:g} mm does not lie "
+                                         f"between its neighbours in the table ({shown}): a wider hinge would be "
+                                         f"softer; check the measurement; nothing written")
     from metamaterial_wb.core.calibration import Calibration
     Calibration(t)        # validates (monotone abscissae, ranges)
     return t

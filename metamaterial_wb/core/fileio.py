@@ -380,7 +380,8 @@ def check_output(path, kind="file", option="--out", inputs=()):
             except OSError:
                 same = False
             if same:
-                raise SceneError(option, f"{path} is the {what} this command reads; it would be overwritten: "
+                where = "" if os.path.abspath(inp) == ab else f" ({inp})"
+                raise SceneError(option, f"{path} is the {what} this command reads{where}; it would be overwritten: "
                                          f"choose another file")
     return ab
 
