@@ -25,16 +25,19 @@ import sys
 from metamaterial_wb.core.errors import MetamaterialError, SceneError
 
 _PROBLEM = None
-_SCHEDULER_RE = re.compile(r"^(?:(tcp|tls)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_](?:[A-Za-z0-9_.-]*[A-Za-z0-9_])?)"
-                           r":(\d{1,5})$")
-SCHEDULER_ALLOWED = ("a Dask scheduler address tcp://HOST:PORT (or tls://HOST:PORT; port 1-65535), "
-                     "e.g. tcp://127.0.0.1:8786")
+_SCHEDULER_RE = re.compile(r"^(?:(tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_](?:[A-Za-z0-9_.-]*"
+                           r"[A-Za-z0-9_])?):(\d{1,5})$")
+_INPROC_RE = re.compile(r"^inproc://\S+$")      # Dask's in-process transport (a LocalCluster without processes)
+SCHEDULER_ALLOWED = ("a Dask scheduler address tcp://HOST:PORT (or tls://, ws://, wss://, ucx://; port 1-65535), "
+                     "e.g. tcp://127.0.0.1:8786, or an in-process inproc:// address")
 
 
 def check_scheduler_address(address, option="--scheduler"):
     """``address`` if it is a Dask scheduler address ``tcp://HOST:PORT`` / ``tls://HOST:PORT`` / ``HOST:PORT``
     (port 1-65535), else a :class:`SceneError` naming ``option``, the value and what is allowed. Only the form
     is checked (no connection, no Dask needed)."""
+    if isinstance(address, str) and _INPROC_RE.match(address):
+        return address
     m = _SCHEDULER_RE.match(address) if isinstance(address, str) else None
     if m is None or not 1 <= int(m.group(3)) <= 65535:
         raise SceneError(option, f"{address!r}; allowed: {SCHEDULER_ALLOWED}")

@@ -99,6 +99,14 @@ def test_bad_scheduler_address_is_a_one_line_error(tmp_path, addr):
     assert not out.exists()
 
 
+@pytest.mark.parametrize("addr", ["tcp://127.0.0.1:8786", "127.0.0.1:8786", "tls://sched.lab:8786",
+                                  "ws://[::1]:8787", "inproc://192.0.2.2/12886/1"])
+def test_dask_scheduler_address_forms_are_accepted(addr):
+    """Every form Dask connects to passes the format check: the GUI's own test runs an in-process cluster."""
+    from metamaterial_wb.parallel import check_scheduler_address
+    assert check_scheduler_address(addr) == addr
+
+
 # ------------------------------------------------------------------------------------------------
 # 3. an unreadable STEP target
 # ------------------------------------------------------------------------------------------------
