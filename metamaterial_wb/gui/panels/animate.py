@@ -29,6 +29,7 @@ from metamaterial_wb.gui.i18n import translate
 
 class AnimatePanel(BasePanel):
     """Timeline from the motors' motion profiles: play / pause / loop / speed, optional streaming."""
+    VIEW_ATTRS = ("floor",)
     TITLE = "Animate"
     ICON = "MM_Animate.svg"
 
@@ -78,6 +79,7 @@ class AnimatePanel(BasePanel):
         self.keyframes = KeyframeTable(self._keys_edited)
         self.keyframes.setVisible(False)
         self.key_motor = None
+        self.untouched = {a.name: self._row_state(a.name) for a in self.scene.actuators}
         self.layout.addWidget(self.keyframes)
         self.layout.addWidget(self.problem_label("profiles"))
         tl = QtGui.QHBoxLayout()
@@ -204,10 +206,19 @@ class AnimatePanel(BasePanel):
         periods = [a.profile.get("period_s") for a in self.scene.actuators if a.profile and a.profile.get("period_s")]
         return float(max(periods)) if periods else 4.0
 
+    def _row_state(self, name):
+        """What a motor's row shows: its shape, its three spin boxes and its keyframes."""
+        return (self.shapes[name].currentText(), tuple(w.value() for w in self.spins[name]), tuple(self.keys[name]))
+
     def profiles(self):
+        """The motors' profiles; a row the user did not touch keeps its stored profile exactly (the spin boxes
+        round 0.1234 to 0.123, and an OK that changed nothing writes nothing)."""
         out = {}
         for a in self.scene.actuators:
             shape = self.shapes[a.name].currentText()
+            if a.profile and self._row_state(a.name) == getattr(self, "untouched", {}).get(a.name):
+                out[a.name] = dict(a.profile)
+                continue
             if shape.startswith("stored"):
                 out[a.name] = dict(self.stored[a.name])
                 continue
@@ -222,7 +233,12 @@ class AnimatePanel(BasePanel):
         return out
 
     def key_period(self, name):
+        """A keyframes profile's period: its stored one while the keys fit in it, else the timeline's."""
         last = max((t for t, _v in self.keys[name]), default=0.0)
+        a = next((a for a in self.scene.actuators if a.name == name), None)
+        stored = (a.profile or {}).get("period_s") if a is not None else None
+        if stored and last < stored:
+            return float(stored)
         return max(self.duration.value(), last + 0.1) if hasattr(self, "duration") else last + 1.0
 
     def _shape_changed(self, name):

@@ -71,12 +71,22 @@ def recompute_checked(doc):
         raise MetamaterialError("; ".join(f"{label}: {msg}" for label, msg in bad))
 
 
+def _retire(panel):
+    """The panel's cleanup, never in the way of what comes next (its preview, picker, timers go)."""
+    try:
+        panel.cleanup()
+    except Exception as exc:  # pragma: no cover - a cleanup that fails must not keep the next panel out
+        FreeCAD.Console.PrintWarning(f"Metamaterial: cleanup of {type(panel).__name__} failed: {exc}\n")
+
+
 def show(panel):
     global ACTIVE
+    _watch_documents()
     if FreeCADGui.Control.activeDialog():
+        old, ACTIVE = ACTIVE, None
+        if old is not None:
+            _retire(old)            # first: closing the dialog deletes the old panel's widgets
         FreeCADGui.Control.closeDialog()
-        if ACTIVE is not None:
-            ACTIVE.cleanup()
     ACTIVE = panel
     FreeCADGui.Control.showDialog(panel)
     reveal(panel.form)
@@ -114,6 +124,37 @@ def _close():
     global ACTIVE
     ACTIVE = None
     FreeCADGui.Control.closeDialog()
+
+
+class _DocumentWatch:
+    """Closes the open panel when the document it works on is closed (its timers and preview go with it)."""
+
+    def slotDeletedDocument(self, doc):
+        p = ACTIVE
+        if p is not None and getattr(p, "doc_name", None) == doc.Name:
+            p.forget_view()         # its Coin nodes and preview objects go with the document: never touched now
+            _retire(p)              # timers, threads, jobs, the selection observer
+
+            def close():
+                if ACTIVE is p:
+                    _close()
+            QtCore.QTimer.singleShot(0, close)
+
+
+_WATCH = None
+
+
+def _watch_documents():
+    global _WATCH
+    if _WATCH is None:
+        _WATCH = _DocumentWatch()
+        FreeCAD.addDocumentObserver(_WATCH)
+
+
+def _deleted(exc):
+    """FreeCAD's words for an object that is gone (deleted, or its document closed)."""
+    text = str(exc)
+    return isinstance(exc, ReferenceError) or "not part of a document" in text or "deleted object" in text
 
 
 def _fit(doc):
@@ -185,6 +226,7 @@ def red_label(text=""):
 class BasePanel:
     TITLE = "Metamaterial"
     ICON = "Metamaterial_Workbench.svg"
+    VIEW_ATTRS = ()        # attributes holding the panel's own Coin nodes or preview objects (``forget_view``)
 
     def __init__(self):
         self.form = QtGui.QWidget()
@@ -200,6 +242,7 @@ class BasePanel:
         self._observer = None
         self.live_preview = None     # gui.preview.Preview while the panel previews frames
         self._preview_scene = None
+        self.doc_name = FreeCAD.ActiveDocument.Name if FreeCAD.ActiveDocument is not None else None
 
     def finish_layout(self):
         self.layout.addWidget(self.error)
@@ -282,6 +325,28 @@ class BasePanel:
             self.live_preview = None
             self._preview_scene = None
 
+    def target_gone(self):
+        """True when the object the panel edits (``self.obj``) is no longer in its document (deleted, its creation
+        undone, or the document closed)."""
+        obj = getattr(self, "obj", None)
+        if obj is None:
+            return False
+        try:
+            name, doc = obj.Name, obj.Document      # FreeCAD 1.1: a removed object has no name
+            return not name or doc is None or doc.getObject(name) is None
+        except (ReferenceError, RuntimeError):
+            return True
+
+    def forget_view(self):
+        """The document (and its 3D view) is being closed: drop the preview, the picker's callbacks and the
+        ``VIEW_ATTRS`` without removing them (removing nodes from a view being destroyed crashes FreeCAD)."""
+        self.live_preview = self._preview_scene = None
+        if self.picker is not None:
+            self.picker.view = None
+            self.picker = None
+        for attr in self.VIEW_ATTRS:
+            setattr(self, attr, None)
+
     def cleanup(self):
         self.remove_preview()
         if self.picker is not None:
@@ -298,10 +363,19 @@ class BasePanel:
         if self.problems:
             self.show_error("not applied: " + self.problem_text())
             return False
+        gone = translate("Metamaterial", "not applied: the structure this panel edits was deleted (press Cancel)")
+        if self.target_gone():
+            self.show_error(gone)
+            return False
         try:
             self.apply()
         except (MetamaterialError, ValueError) as exc:
             self.show_error(str(exc))
+            return False
+        except (ReferenceError, RuntimeError) as exc:
+            if not _deleted(exc):
+                raise
+            self.show_error(gone)
             return False
         self.cleanup()
         _close()

@@ -60,6 +60,7 @@ def object_triangles(obj):
 
 
 class FitTargetPanel(base.BasePanel):
+    VIEW_ATTRS = ("preview", "preview_target")
     TITLE = "Fit to target"
     ICON = "MM_FitTarget.svg"
 

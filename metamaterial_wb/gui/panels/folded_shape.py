@@ -17,6 +17,7 @@ from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
 
 FOLD_RANGE = ranges.FIELDS["axes.fold_deg"][:2]     # the scene validator's range of axes[k].fold_deg
+FOLD_DECIMALS = 3
 STEP = 0.1                       # deg per slider step
 
 
@@ -58,7 +59,7 @@ class FoldedShapePanel(BasePanel):
             name = getattr(a, "name", "")
             grid.addWidget(QtGui.QLabel(translate("Metamaterial", "{0}{1} {2}").format(name + ': ' if name else '', a.direction, a.line)), 3 * k, 0)
             spin = QtGui.QDoubleSpinBox()
-            spin.setDecimals(1)
+            spin.setDecimals(FOLD_DECIMALS)     # what is typed is kept (12.25 stays 12.25); steps of 0.1 deg
             spin.setSingleStep(STEP)
             ranges.bind(spin, "axes.fold_deg")
             spin.setSuffix(" deg")
@@ -164,7 +165,13 @@ class FoldedShapePanel(BasePanel):
         self._preview_timer.start()
 
     def folds(self):
-        return [float(round(spin.value(), 6)) for spin in self.spins]
+        """The folds shown; an axis whose spin box still shows its stored fold keeps that fold exactly (a stored
+        fold of 5.2504 is shown as 5.250, and an OK that changed nothing writes nothing)."""
+        out = []
+        for spin, a in zip(self.spins, self.scene.axes):
+            v = spin.value()
+            out.append(float(a.fold_deg) if v == round(float(a.fold_deg), FOLD_DECIMALS) else float(round(v, 6)))
+        return out
 
     def set_fold(self, k, deg):
         self.spins[k].setValue(float(deg))

@@ -10,6 +10,7 @@ from metamaterial_wb.gui.i18n import translate
 
 
 class RotaryAxesPanel(BasePanel):
+    VIEW_ATTRS = ("overlay",)
     TITLE = "Rotary axes"
     ICON = "MM_RotaryAxes.svg"
 

@@ -32,6 +32,7 @@ class SimulatePanel(BasePanel):
         self.use_global = QtGui.QCheckBox("")
         self.use_global.setChecked(bool(scene_obj.UseGlobal))
         self.global_slider = _slider(-100, 100, int(round(100 * scene_obj.GlobalDeformation)))
+        self.initial_global = (self.global_slider.value(), float(scene_obj.GlobalDeformation))
         self.global_label = QtGui.QLabel("")
         gl.addWidget(self.use_global)
         gl.addWidget(self.global_slider, 1)
@@ -155,11 +156,23 @@ class SimulatePanel(BasePanel):
             for it in self.obj.Items:
                 if it.ItemName in vals and abs(it.Value - vals[it.ItemName]) > 1e-12:
                     it.Value = vals[it.ItemName]
-            self.obj.UseGlobal = self.use_global.isChecked()
-            self.obj.GlobalDeformation = self.global_slider.value() / 100.0
+            if bool(self.obj.UseGlobal) != self.use_global.isChecked():
+                self.obj.UseGlobal = self.use_global.isChecked()
+            g0, stored = self.initial_global          # an untouched slider keeps the stored value exactly
+            g = stored if self.global_slider.value() == g0 else self.global_slider.value() / 100.0
+            if abs(self.obj.GlobalDeformation - g) > 1e-12:
+                self.obj.GlobalDeformation = g
             if self.obj.Model != self.model.currentText():
                 self.obj.Model = self.model.currentText()
+        if self.changes_nothing(vals):
+            return                                    # an OK that changes nothing writes nothing (no undo step)
         self.commit(doc, "Simulate", change)
+
+    def changes_nothing(self, vals):
+        g0, _stored = self.initial_global
+        return (all(abs(it.Value - vals[it.ItemName]) <= 1e-12 for it in self.obj.Items if it.ItemName in vals)
+                and bool(self.obj.UseGlobal) == self.use_global.isChecked() and self.global_slider.value() == g0
+                and self.obj.Model == self.model.currentText())
 
 
 # ----------------------------------------------------------------------------------------------
