@@ -80,3 +80,20 @@ def test_export_keeps_an_active_document_and_reports_in_the_panel(doc, tmp_path)
     assert p.job.outcome == "cancelled" and "cancelled" in p.jobbox.summary.text()
     assert not [n for n in os.listdir(tmp_path) if n.startswith(".mm-export-")]
     assert sc.isValid()
+
+
+def test_export_folder_with_a_tilde_is_in_the_home_folder(doc, tmp_path, monkeypatch):
+    """'~/fish_export' made a folder named '~' in FreeCAD's working directory."""
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    monkeypatch.chdir(cwd)
+    p = run_panel("MM_OpenExample")
+    p.select("fish")
+    assert press_ok()
+    p = run_panel("MM_Export")
+    type_into(p.path, "~/fish_export")
+    click(p.export_btn)
+    assert p.wait(300) and p.job.outcome == "done", p.error.text()
+    assert any(n.endswith(".step") for n in os.listdir(tmp_path / "home" / "fish_export"))
+    assert os.listdir(cwd) == []

@@ -170,7 +170,9 @@ def test_sleeve_command_builds_a_valid_sleeve_and_predicts_like_the_core(doc, tm
     assert d["T_mm"] == 2.0 and d["rings"] == 2 and d["ring"] == [0, 0, 1, 1] and d["model"] == spec["model"]
     # a bad pattern is reported, not built
     p.ring.setText("0, 0, 5")
-    assert p.accept() is False and "[0, 1]" in p.error.text()
+    lab = p.problem_label("spec")          # shown at once, next to the pattern, and OK refused
+    assert "ring[2]" in lab.text() and "an integer 0..1" in lab.text() and "spec" in p.problems
+    assert p.accept() is False and "an integer 0..1" in p.error.text()
     p.ring.setText("0, 0, 1, 1")
     p.rings.setValue(1)
 

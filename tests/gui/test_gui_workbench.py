@@ -26,7 +26,7 @@ from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.core.solver import solve_scene  # noqa: E402
 from metamaterial_wb.gui import commands, panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import doc, run_panel, shown_placements, workbench  # noqa: E402,F401
+from guihelpers import dialog_button, doc, run_panel, shown_placements, workbench  # noqa: E402,F401
 
 
 def process_events():
@@ -204,6 +204,20 @@ def test_flexibility_sets_sizes_and_shows_k(doc):
     joints = json.loads(sc.SceneJSON)["joints"]
     assert joints == [{"joint": "V1,3", "length_mm": 2.5, "width_mm": pytest.approx(0.8)}]
     assert sc.isValid()
+
+
+def test_flexibility_checks_a_joint_size_when_it_is_set(doc):
+    """"Set for this joint" took a 20 mm hinge on a 27 mm cell without a word; only OK refused it."""
+    open_fish(doc)
+    p = run_panel("MM_Flexibility")
+    p.joint.setCurrentText("V0,1")
+    p.j_length.setValue(20.0)
+    p.set_override()
+    lab = p.problem_label("joints")
+    assert "V0,1" in lab.text() and "length_mm" in lab.text() and "outside the allowed range" in lab.text()
+    assert not dialog_button("Ok").isEnabled()
+    p.remove_override()
+    assert lab.text() == "" and dialog_button("Ok").isEnabled()
 
 
 def test_place_motor_by_clicking_a_hinge_is_one_undo_step(doc):

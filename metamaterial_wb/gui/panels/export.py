@@ -95,7 +95,7 @@ class ExportPanel(BasePanel):
         except MetamaterialError as exc:
             self.show_error(f"not exported: {exc}")
             return False
-        out = os.path.abspath(self.path.text().strip())
+        out = os.path.abspath(os.path.expanduser(self.path.text().strip()))   # ~ is the home folder
         parent = os.path.dirname(out)
         try:
             os.makedirs(parent, exist_ok=True)

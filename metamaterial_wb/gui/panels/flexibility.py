@@ -110,6 +110,7 @@ class FlexibilityPanel(BasePanel):
         ov["length_mm"] = float(self.j_length.value())
         ov["width_mm"] = float(self.j_width.value())
         self._refresh_list()
+        self.validate()            # shown in red under the list at once, OK disabled (not only when OK is pressed)
 
     def remove_override(self):
         self.overrides.pop(self.joint.currentText(), None)

@@ -82,6 +82,7 @@ class SleevePanel(BasePanel):
         ranges.bind(self.rings, "sleeve.rings")
         f2.addRow(translate("Metamaterial", "Ring pattern"), self.ring)
         f2.addRow(translate("Metamaterial", "Rings"), self.rings)
+        f2.addRow("", self.problem_label("spec"))     # the whole spec checked on every edit (``check_spec``)
         self.frame_nl = QtGui.QCheckBox(translate("Metamaterial", "Check on a 3-D frame: first peaks and sequence"))
         self.frame_nl.setToolTip(translate("Metamaterial", "model.frame_nonlinear: the same beams as a nonlinear 3-D "
                                            "frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out "
@@ -123,6 +124,21 @@ class SleevePanel(BasePanel):
         self.predict_btn.clicked.connect(self.predict)
         if os.path.exists(self.DEFAULT):
             self.load_spec(self.DEFAULT)
+        self.ring.textChanged.connect(self.check_spec)
+        self.rings.valueChanged.connect(self.check_spec)
+        for w in self.dims.values():
+            w.valueChanged.connect(self.check_spec)
+        self.types.itemChanged.connect(self.check_spec)
+
+    def check_spec(self, *_):
+        """The spec as the fields give it, checked at once: its error in red under the pattern, OK disabled."""
+        try:
+            self.spec()
+        except (MetamaterialError, ValueError) as exc:
+            self.set_problem("spec", str(exc))
+            return False
+        self.set_problem("spec", "")
+        return True
 
     def _browse(self):  # pragma: no cover - modal file dialog, tests call load_spec
         path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Sleeve spec", "", "Sleeve spec (*.json)")
@@ -143,6 +159,7 @@ class SleevePanel(BasePanel):
     def remove_type(self):
         if self.types.rowCount() > 1:
             self.types.removeRow(self.types.rowCount() - 1)
+            self.check_spec()          # the pattern may name the type just removed
 
     def load_spec(self, path):
         """Fill the widgets from a spec file (validated by core.sleeve.spec). Returns True on success."""
@@ -267,7 +284,7 @@ class SleevePanel(BasePanel):
         if not folder:
             self.show_error(translate("Metamaterial", "export: choose a folder"))
             return False
-        folder = os.path.abspath(folder)
+        folder = os.path.abspath(os.path.expanduser(folder))   # ~ is the home folder
         self.exported = []
         try:
             spec_dict = self.spec_dict()
