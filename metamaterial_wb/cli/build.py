@@ -73,7 +73,13 @@ def run(args):
         overrides["clearance_mm"] = args.clearance
     if args.tolerance is not None:
         overrides["tolerance_mm"] = args.tolerance
-    params = fabrication_params(scene, effective_tilts_deg(scene), **overrides)       # all checks before any geometry
+    try:
+        params = fabrication_params(scene, effective_tilts_deg(scene), **overrides)   # all checks before any geometry
+    except SceneError as exc:      # a value from a flag: name the flag the user typed
+        flag = {"fabrication.clearance_mm": "--clearance", "fabrication.tolerance_mm": "--tolerance"}.get(exc.field)
+        if flag is None or getattr(args, flag[2:]) is None:
+            raise
+        raise SceneError(f"{flag} ({exc.field})", exc.message) from None
     if args.modules:
         from metamaterial_wb.geometry.modules import parse_modules
         parse_modules(scene, params)

@@ -39,3 +39,12 @@ def test_a_second_build_removes_the_first_builds_files(fc, tmp_path):
     assert sorted(os.listdir(out)) == ["manifest.json", "notes.txt", "strip_fold_sheet.3mf"]
     assert json.loads((out / "manifest.json").read_text())["files"] == ["strip_fold_sheet.3mf"]
     assert "removed 2 file(s) of the earlier build" in r.stderr
+
+
+@pytest.mark.parametrize("flag, value, field", [("--clearance", "-1", "clearance_mm"),
+                                                ("--tolerance", "0", "tolerance_mm")])
+def test_a_bad_flag_value_names_the_flag(tmp_path, flag, value, field):
+    """The error named fabrication.clearance_mm, a field the user never wrote (it came from the flag)."""
+    r = build("--out", str(tmp_path / "o"), flag, value)
+    assert r.returncode == 2 and r.stderr.startswith(f"error: {flag} (fabrication.{field}): "), r.stderr
+    assert not (tmp_path / "o").exists()
