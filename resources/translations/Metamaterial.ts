@@ -4,22 +4,22 @@
 <context>
     <name>Metamaterial</name>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="133"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
         <source> (slider +-{0:.1f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="238"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="248"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="75"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="76"/>
         <source>...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="89"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -29,7 +29,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="364"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="380"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -39,7 +39,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="148"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -69,7 +69,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="85"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
         <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
@@ -84,7 +84,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="23"/>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="24"/>
         <source>Click grid lines here, or click a hinge in the 3D view.
 Vertical axes run down a cell column and cross its H joints;
 horizontal axes run along a cell row and cross its V joints.</source>
@@ -96,23 +96,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="110"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="525"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="541"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="97"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="107"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="108"/>
         <source>Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="517"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="533"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -122,7 +122,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="110"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
@@ -132,7 +132,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="97"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -142,7 +142,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="87"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="88"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
     </message>
@@ -157,7 +157,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="54"/>
         <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -172,7 +172,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="98"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
@@ -193,7 +193,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="53"/>
         <source>Limit to printable folds</source>
         <translation type="unfinished"></translation>
     </message>
@@ -203,12 +203,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="137"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="88"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
@@ -228,12 +228,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="145"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="147"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="40"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="41"/>
         <source>Motors and constraints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -245,12 +245,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="59"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="60"/>
         <source>No motors yet: use 'Place motor'.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="52"/>
         <source>No rotary axes yet: use 'Rotary axes' first.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -270,7 +270,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="479"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="495"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -280,23 +280,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="84"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="483"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="499"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="136"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="138"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="116"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
@@ -316,17 +316,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="112"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="113"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="109"/>
         <source>Run build's geometry checks on the answer (a child process)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -336,17 +336,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="93"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="94"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="143"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="145"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="134"/>
         <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -371,17 +371,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="131"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="79"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="80"/>
         <source>Target file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="93"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="94"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -391,7 +391,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="97"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -407,22 +407,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="105"/>
         <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="166"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="290"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="307"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="307"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="325"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -437,39 +437,39 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
         <source>clip {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="96"/>
         <source>e.g. H0,0, V1,2 (or click hinges)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="326"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="167"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="344"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="265"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="282"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="268"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="285"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="321"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="284"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="339"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="301"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="412"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="428"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -486,47 +486,52 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="127"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
         <source>kinematic +-{0:.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="104"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="104"/>
         <source>local worker processes for the candidate evaluations (inverse --workers)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="148"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="149"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="87"/>
         <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (under a second per cell type) and the sleeve's snapping sequence and lean (about 10 s per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="161"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
         <source>motor values now: servo angle (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="46"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
         <source>motor {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="366"/>
+        <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="107"/>
         <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -536,7 +541,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="87"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="88"/>
         <source>or target object</source>
         <translation type="unfinished"></translation>
     </message>
@@ -546,39 +551,39 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="368"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="442"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="156"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="329"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="370"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="345"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="386"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="313"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="329"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="230"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="247"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="252"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="269"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
         <source>printable +-{0:.2f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="131"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -588,97 +593,97 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="353"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="369"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="374"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="390"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="111"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="100"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="102"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="527"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="543"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="108"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="400"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="416"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="74"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="75"/>
         <source>target JSON, solve result, .stl / .obj / .step</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="121"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="123"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="196"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="366"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="440"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="316"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="334"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="313"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="331"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="94"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="95"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="133"/>
         <source>{0:+.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="265"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="281"/>
         <source>{0:.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="469"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="485"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="185"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="192"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="27"/>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="28"/>
         <source>{0} axes ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -693,12 +698,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="131"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="132"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="59"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="60"/>
         <source>{0}{1} {2}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -142,7 +142,7 @@ class FitTargetPanel(base.BasePanel):
         try:
             cur = self._forbidden()
         except MetamaterialError:          # the user's half-typed text stays; the clicked joint goes after it
-            self.forbid.setText(f"{self.forbid.text().rstrip()}; {joint}")
+            self.forbid.setText("; ".join((self.forbid.text().rstrip(), joint)))
             return
         if joint not in cur:
             cur.append(joint)
