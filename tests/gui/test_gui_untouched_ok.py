@@ -11,13 +11,7 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import doc, press_ok, process, run_panel, type_into, workbench  # noqa: E402,F401
-
-
-def open_example(name):
-    p = run_panel("MM_OpenExample")
-    p.select(name)
-    assert press_ok()
-    return structure.find_scene_objects(FreeCAD.ActiveDocument)[-1]
+from test_gui_panel_details import open_example  # noqa: E402
 
 
 def folds(sc):
