@@ -99,7 +99,7 @@ def run(args):
 
     from metamaterial_wb.core.dynamics.builders import INCLINE_RANGE_DEG, build, dynamics_config
     from metamaterial_wb.core.dynamics.simulate import simulate
-    from metamaterial_wb.core.errors import check_number
+    from metamaterial_wb.core.errors import SceneError, check_number
     from metamaterial_wb.core.fileio import OutputSet, check_output, write_json
     from metamaterial_wb.core.scene import Scene
 
@@ -125,8 +125,13 @@ def run(args):
     model = build(scene, cfg)
     if model.kind == "sheet":
         model.scene_nodes = scene.topology.nodes
-    summary, traj, model, sim = simulate(scene, seconds, method=args.method, dt=args.dt,
-                                         record_dt=1.0 / fps, cfg=cfg, model=model, dt_check=args.dt_check)
+    from metamaterial_wb.core.dynamics.integrators import StepBudgetError
+    try:
+        summary, traj, model, sim = simulate(scene, seconds, method=args.method, dt=args.dt, record_dt=1.0 / fps,
+                                             cfg=cfg, model=model, dt_check=args.dt_check, max_steps=MAX_STEPS)
+    except StepBudgetError as exc:      # the step the integrator chose (automatic, or the symplectic guard)
+        raise SceneError("--seconds", f"{exc} (the size budget): shorten --seconds or give a larger --dt "
+                                      f"with --method implicit") from None
     with OutputSet(args.out, "tmp-simulate") as tmp:
         write_json(os.path.join(tmp, "trajectory.json"), trajectory_dict(model, traj), indent=None)
         if args.frames:

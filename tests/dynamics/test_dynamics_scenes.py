@@ -213,3 +213,27 @@ def test_cli_bad_input_exits_2_and_writes_nothing(tmp_path):
     # an option is named as the option (it was named as the scene field it overrides)
     r = cli(os.path.join(EX, "worm_crawl.json"), "--seconds", "1", "--out", str(out), "--incline", "90")
     assert r.returncode == 2 and r.stderr.startswith("error: --incline: 90") and not out.exists(), r.stderr
+
+
+def test_the_step_budget_counts_the_step_the_integrator_takes(tmp_path):
+    """The 20 000 000-step budget was checked against --dt or dt_s only: with the automatic step (or the
+    symplectic guard, 50 times smaller) a run of 45 million steps started and ran for hours."""
+    d = load("worm_crawl.json")
+    d["dynamics"].get("integrator", {}).pop("dt_s", None)
+    f = tmp_path / "worm_nodt.json"
+    f.write_text(json.dumps(d))
+    out = tmp_path / "run"
+    for extra in ((), ("--method", "symplectic")):
+        seconds = "90000" if not extra else "1000"
+        r = cli(str(f), "--seconds", seconds, "--fps", "1", "--no-dt-check", "--out", str(out), *extra)
+        assert r.returncode == 2 and r.stderr.startswith(f"error: --seconds: {seconds} s at the integrator's step")
+        assert "at most 20000000 are allowed" in r.stderr and not out.exists(), r.stderr
+
+
+def test_frames_faster_than_the_step_are_recorded_once(tmp_path):
+    """--fps above 1 / dt recorded every state twice (times 0.002, 0.002, 0.004, 0.004, ...)."""
+    out = tmp_path / "run"
+    r = cli(os.path.join(EX, "belt8.json"), "--seconds", "0.2", "--no-dt-check", "--fps", "1000", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    t = json.loads((out / "trajectory.json").read_text())["times_s"]
+    assert len(t) == len(set(t)) and t == sorted(t) and len(t) > 50

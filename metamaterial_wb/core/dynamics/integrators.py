@@ -37,6 +37,10 @@ from .system import DynamicsError, PlanarSystem
 METHODS = ("auto", "symplectic", "implicit")
 
 
+class StepBudgetError(DynamicsError):
+    """A run that would take more time steps than allowed, found before the first step."""
+
+
 class Simulator:
     """State + integrators + energy ledger for one system.
 
@@ -555,6 +559,9 @@ class Simulator:
         """Integrate to ``t_end`` (s). Records frames every ``record_dt`` (s) through ``on_record(sim)``."""
         t0 = time.perf_counter()
         method, dt, note = self.choose(method, dt, t_end)
+        if t_end / dt > max_steps:          # before the first step, with the step the integrator takes
+            raise StepBudgetError(f"{t_end:g} s at the integrator's step {dt:.3g} s ({method}) is "
+                                  f"{t_end / dt:.3g} time steps; at most {max_steps} are allowed")
         self.stats.update({"method": method, "dt_s": dt, "dt_guard_s": self.dt_guard,
                            "dt_stability_limit_s": self.dt_limit, "omega_max_rad_s": self.omega_max})
         if note:
@@ -606,10 +613,10 @@ class Simulator:
                     continue
                 cp = self._checkpoint()
                 since = 0
-                while crossed and self.t >= next_rec - eps:
+                if crossed:                   # one frame per state, however many record times the step crossed
                     on_record(self)
-                    next_rec += record_dt
-                    crossed = self.t >= next_rec - eps
+                    while self.t >= next_rec - eps:
+                        next_rec += record_dt
         self.stats["dt_final_s"] = dt
         self.stats["wall_s"] = time.perf_counter() - t0
         return self

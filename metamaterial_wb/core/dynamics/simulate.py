@@ -85,12 +85,14 @@ def convergence_warnings(energy, scale_J, study=None, stats=None):
     return out
 
 
-def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, model=None, dt_check=False):
+def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, model=None, dt_check=False,
+             max_steps=50_000_000):
     """Run the scene's dynamics. Returns ``(summary dict, Trajectory, model, simulator)``.
 
     The bodies start at a static equilibrium under gravity and the actuators' values at t = 0 when
     ``dynamics.initial_state`` is ``"settled"`` (the default for sheets). ``dt_check``: also run the
-    first ``DT_CHECK_WINDOW_S`` at dt / 2 and warn when the motion changes (``summary["dt_study"]``)."""
+    first ``DT_CHECK_WINDOW_S`` at dt / 2 and warn when the motion changes (``summary["dt_study"]``).
+    ``max_steps``: the most time steps the run may take (``StepBudgetError`` before the first one)."""
     t_wall = time.perf_counter()
     cfg = cfg or dynamics_config(scene)
     model = model or build(scene, cfg)
@@ -109,7 +111,7 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
             traj.extra.append(model.actuate.p.copy())
 
     t_build = time.perf_counter() - t_wall
-    sim.run(seconds, method=method, dt=dt, record_dt=record_dt, on_record=rec)
+    sim.run(seconds, method=method, dt=dt, record_dt=record_dt, on_record=rec, max_steps=max_steps)
     t, q = traj.arrays()
     com = np.array([model.com_x(qq) for qq in q])
     disp_mm = (com[-1] - com[0]) * 1e3
