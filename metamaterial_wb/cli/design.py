@@ -3,6 +3,7 @@
 The seed's design stage (section 4.1): validate the rotary axes, report the maximum achievable
 fold of every axis, compute the hinge tilt of every crossed joint and write the configured scene.
 """
+import os
 import sys
 
 NAME = "design"
@@ -16,13 +17,15 @@ def add_arguments(p):
                    help="set the fold (deg, at D = +1) of an axis by name or index (repeatable)")
     p.add_argument("--report", default=None, metavar="REPORT.json",
                    help="also write the design report (maximum folds, what binds, limits) as JSON")
-    p.add_argument("--quiet", action="store_true", help="do not print the report")
+    p.add_argument("--quiet", action="store_true", help="do not print the report (warnings are still printed)")
 
 
 def _apply_folds(scene, items):
+    """Set the folds given by ``--fold``; returns ``{axis index: (the flag's key, its text)}`` (for errors)."""
     from metamaterial_wb.core.design import plan_axes
     from metamaterial_wb.core.errors import SceneError, check_number
 
+    given = {}
     for s in items:
         if "=" not in s:
             raise SceneError(f"--fold {s}", "expected AXIS=DEG, e.g. --fold spine=30 or --fold 0=30")
@@ -33,15 +36,21 @@ def _apply_folds(scene, items):
         except ValueError:
             raise SceneError(f"--fold {key}", f"{val!r} is not a number") from None
         plans = plan_axes(scene)
-        idx = None
-        for p in plans:
-            if key in (p.label_name, str(p.index), scene.axes[p.index].name):
-                idx = p.index
+        hits = sorted({p.index for p in plans if key in (p.label_name, str(p.index), scene.axes[p.index].name)})
+        if len(hits) > 1:
+            raise SceneError(f"--fold {key}", f"names axes {hits} (one by name, another by index); give the "
+                                              f"other axis's name or index")
+        idx = hits[0] if hits else None
         if idx is None:
             names = [p.label_name for p in plans]
             raise SceneError(f"--fold {key}", f"no axis is called {key!r}; the scene has {names or 'no axes'} "
                                               f"(or give the index 0..{len(plans) - 1})")
+        if idx in given:
+            raise SceneError(f"--fold {key}", f"axis {idx} given twice ({given[idx][1]} and {s.strip()}); give "
+                                              f"each axis once")
         scene.axes[idx].fold_deg = check_number(f"--fold {key}", v, -180.0, 180.0, "deg")
+        given[idx] = (key, s.strip())
+    return given
 
 
 def run(args):
@@ -53,17 +62,28 @@ def run(args):
     check_output(args.out, "file", "--out")     # the configured scene may replace its input (configure in place)
     if args.report is not None:
         check_output(args.report, "file", "--report", inputs=[("scene", args.scene)])
+        if os.path.realpath(args.report) == os.path.realpath(args.out):
+            raise SceneError("--report", f"{args.report} is also --out; the configured scene would overwrite the "
+                                         f"report: give two files")
     scene = Scene.load(args.scene)
     if not scene.axes:
         raise SceneError("axes", f"{args.scene} has no rotary axes; add \"axes\": [{{\"direction\": \"vertical\", "
                                  f"\"line\": 1, \"fold_deg\": 30}}] (docs/design.md)")
-    _apply_folds(scene, args.fold)
-    report = configure(scene)
+    given = _apply_folds(scene, args.fold)
+    try:
+        report = configure(scene)
+    except SceneError as exc:       # a fold from the command line: name the flag the user typed
+        idx = next((i for i in given if exc.field == f"axes[{i}].fold_deg"), None)
+        if idx is None:
+            raise
+        raise SceneError(f"--fold {given[idx][0]} ({exc.field})", exc.message) from None
     text = scene.to_json()
     if args.report:
         write_json(args.report, report)
     write_atomic(args.out, text)
-    if not args.quiet:
-        for line in format_report(report):
-            print(line, file=sys.stdout if not line.startswith("warning") else sys.stderr)
+    for line in format_report(report):      # --quiet hides the report, never a warning
+        if line.startswith("warning"):
+            print(line, file=sys.stderr)
+        elif not args.quiet:
+            print(line)
     return 0

@@ -137,3 +137,28 @@ def test_solve_set_overrides_the_scenes_stored_global_deformation(tmp_path):
     assert res["global_deformation"] is None
     D = {n["name"]: n["D"] for n in res["nodes"]}
     assert min(D.values()) == pytest.approx(-0.5, abs=1e-9)
+
+
+def test_design_flags_are_named_and_never_silently_lost(tmp_path):
+    fish = os.path.join(EXAMPLES, "fish_axes.json")
+    out = tmp_path / "c.json"
+    # a fold beyond the maximum given on the command line names the flag (it named axes[3].fold_deg only)
+    r = cli("design", fish, "--out", str(out), "--fold", "tail=120")
+    assert r.returncode == 2 and r.stderr.startswith("error: --fold tail (axes[3].fold_deg): 120 deg"), r.stderr
+    # one axis given twice: the last one won without a word
+    r = cli("design", fish, "--out", str(out), "--fold", "tail=10", "--fold", "tail=20")
+    assert r.returncode == 2 and "axis 3 given twice (tail=10 and tail=20)" in r.stderr, r.stderr
+    # an axis named "1" and the axis at index 1: ambiguous, not silently the index
+    d = json.load(open(fish))
+    d["axes"][3]["name"] = "1"
+    src = write(tmp_path, "named.json", d)
+    r = cli("design", src, "--out", str(out), "--fold", "1=3")
+    assert r.returncode == 2 and "names axes [1, 3]" in r.stderr, r.stderr
+    # the report and the scene in one file: the scene overwrote the report
+    r = cli("design", fish, "--out", str(out), "--report", str(out))
+    assert r.returncode == 2 and r.stderr.startswith("error: --report: ") and "also --out" in r.stderr
+    assert not out.exists()
+    # --quiet hides the report, not a warning that build will reject the design
+    r = cli("design", fish, "--out", str(out), "--fold", "tail=20", "--quiet")
+    assert r.returncode == 0 and r.stdout == ""
+    assert "warning: axis tail" in r.stderr and "`build` will reject" in r.stderr
