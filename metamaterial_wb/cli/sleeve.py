@@ -23,7 +23,7 @@ def add_arguments(p):
     p.add_argument("--3mf", dest="threemf", action="store_true",
                    help="also export a 3MF with TPU sleeve and PLA rings/caps (needs FreeCAD)")
     p.add_argument("--render", action="store_true", help="also write sleeve.png, a picture of the geometry (needs FreeCAD)")
-    p.add_argument("--no-plots", action="store_true", help="summary.json only")
+    p.add_argument("--no-plots", action="store_true", help="summary.json only (not with --render)")
     p.add_argument("--fe-check", choices=("stiffness", "converged", "peak"), default=None,
                    help="also run every cell type's uniform ring as a curved CalculiX solid (needs ccx) and compare the "
                         "beam model with it: 'stiffness' (about a minute per type), 'converged' (the stiffness on three "
@@ -56,6 +56,9 @@ def run(args):
     from metamaterial_wb.core.threads import blas_threads
 
     out = check_output(args.out, "dir", "--out")
+    if args.no_plots and args.render:
+        from metamaterial_wb.core.errors import SceneError
+        raise SceneError("--render", "writes sleeve.png, but --no-plots asks for summary.json only: give one of them")
     spec = SleeveSpec.load(args.spec)
     fe_check = getattr(args, "fe_check", None)
     if fe_check:                                           # refuse before minutes of work, not after

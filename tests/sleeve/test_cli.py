@@ -187,3 +187,14 @@ def test_a_scene_file_given_as_a_sleeve_spec_is_named_by_its_format():
     with pytest.raises(SceneError) as e:
         SleeveSpec({"format": "metamaterial-scene", "version": 1, "layout": {"grid": [2, 2]}, "hinge": {}})
     assert e.value.field == "format" and "'metamaterial-scene'" in str(e.value)
+
+
+@pytest.mark.parametrize("patch, args, words", [
+    ({"pattern": [[1, 1, 0, 0, 0]], "rings": 3}, (), "pattern: with ring / rings; give one of them (pattern"),
+    ({}, ("--no-plots", "--render"), "--render: writes sleeve.png, but --no-plots asks for summary.json only"),
+], ids=["pattern-and-ring", "no-plots-and-render"])
+def test_contradictory_spec_or_flags_are_refused(tmp_path, patch, args, words):
+    """Both were accepted: the pattern silently won over ring and rings, and --render wrote a picture that
+    --no-plots said would not be there."""
+    r, out = _run(tmp_path, dict(SPEC, **patch), *args)
+    assert r.returncode == 2 and words in r.stderr and not out.exists(), r.stderr

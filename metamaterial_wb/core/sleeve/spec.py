@@ -81,6 +81,10 @@ class SleeveSpec:
             self.cells.append(CellGeometry.checked(f, L=self.L, t=t, h=h, c=self.c, delta=self.delta, T=self.T,
                                                    layout=self.layout))
         if "pattern" in data:
+            both = [k for k in ("ring", "rings") if k in data]
+            if both:
+                raise SceneError("pattern", f"with {' / '.join(both)}; give one of them (pattern: every ring's cells; "
+                                            f"ring and rings: one ring repeated)")
             pat = data["pattern"]
             if not isinstance(pat, list) or not pat or not all(isinstance(r, list) for r in pat):
                 raise SceneError("pattern", "expected a list of rings, each a list of cell type indices")
