@@ -59,6 +59,14 @@ def run(args):
     if args.no_plots and args.render:
         from metamaterial_wb.core.errors import SceneError
         raise SceneError("--render", "writes sleeve.png, but --no-plots asks for summary.json only: give one of them")
+    geometry = [f for f, on in (("--step", args.step), ("--3mf", args.threemf), ("--render", args.render)) if on]
+    if geometry:                                           # refuse before the analysis, not after
+        from metamaterial_wb.core.errors import MetamaterialError, SceneError
+        from metamaterial_wb.geometry.fc import freecad
+        try:
+            freecad()
+        except MetamaterialError as exc:
+            raise SceneError(geometry[0], str(exc)) from None
     spec = SleeveSpec.load(args.spec)
     fe_check = getattr(args, "fe_check", None)
     if fe_check:                                           # refuse before minutes of work, not after

@@ -198,3 +198,18 @@ def test_contradictory_spec_or_flags_are_refused(tmp_path, patch, args, words):
     --no-plots said would not be there."""
     r, out = _run(tmp_path, dict(SPEC, **patch), *args)
     assert r.returncode == 2 and words in r.stderr and not out.exists(), r.stderr
+
+
+def test_geometry_without_freecad_is_refused_before_the_analysis(tmp_path):
+    """--step / --3mf / --render found a missing FreeCAD only after the whole analysis (minutes on a big spec)."""
+    hide = tmp_path / "hide"
+    hide.mkdir()
+    (hide / "FreeCAD.py").write_text("raise ImportError('FreeCAD hidden by the test')\n")
+    p = tmp_path / "spec.json"
+    p.write_text(json.dumps(SPEC))
+    out = tmp_path / "out"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(hide), REPO]))
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "sleeve", str(p), "--out", str(out), "--step"],
+                       capture_output=True, text=True, cwd=REPO, env=env, timeout=120)
+    assert r.returncode == 2 and r.stderr.startswith("error: --step: building geometry needs FreeCAD"), r.stderr
+    assert "unit cell" not in r.stderr and not out.exists()
