@@ -100,7 +100,7 @@ def run(args):
     from metamaterial_wb.core.dynamics.builders import INCLINE_RANGE_DEG, build, dynamics_config
     from metamaterial_wb.core.dynamics.simulate import simulate
     from metamaterial_wb.core.errors import SceneError, check_number
-    from metamaterial_wb.core.fileio import OutputSet, check_output, write_json
+    from metamaterial_wb.core.fileio import OutputSet, check_output, earlier_outputs, remove_outputs, write_json
     from metamaterial_wb.core.scene import Scene
 
     check_output(args.out, "dir", "--out")
@@ -150,7 +150,13 @@ def run(args):
                 summary["frames"] = {"count": len(names), "gif": False,
                                      "note": "no ImageMagick (its convert command makes the GIF; Debian: "
                                              "imagemagick): PNG frames only, no motion.gif"}
+        summary["files"] = sorted(set(os.listdir(tmp)) | {"summary.json"})
         write_json(os.path.join(tmp, "summary.json"), summary)
+        stale = earlier_outputs(args.out, "summary.json", summary["format"], summary["files"])
+    gone = remove_outputs(args.out, stale)     # an earlier run's frames or GIF this one does not write
+    if gone:
+        print(f"note: removed {len(gone)} file(s) of the earlier run that this one does not write: "
+              f"{', '.join(gone)}", file=sys.stderr)
     it = summary["integrator"]
     print(f"{scene.name or args.scene}: {summary['displacement_mm']:+.2f} mm in {seconds:g} s "
           f"({it['method']}, {it['steps']} steps, {it['wall_s']:.2f} s wall, "

@@ -50,7 +50,8 @@ def _progress(quiet):
 
 
 def run(args):
-    from metamaterial_wb.core.fileio import check_output, commit_set, make_temp_dir, write_json
+    from metamaterial_wb.core.fileio import (check_output, commit_set, earlier_outputs, make_temp_dir, remove_outputs,
+                                             write_json)
     from metamaterial_wb.core.sleeve.pipeline import analyse
     from metamaterial_wb.core.sleeve.spec import SleeveSpec
     from metamaterial_wb.core.threads import blas_threads
@@ -96,7 +97,11 @@ def run(args):
         summary["files"] = sorted(["summary.json"] + files)
         write_json(os.path.join(tmp, "summary.json"), summary)
         os.makedirs(out, exist_ok=True)
+        stale = earlier_outputs(out, "summary.json", summary["format"], summary["files"])
         commit_set(tmp, out, sorted(os.listdir(tmp)))          # all together or none
+        gone = remove_outputs(out, stale)      # an earlier run's plots or geometry this one does not write
+        if gone:
+            log(f"removed {len(gone)} file(s) of the earlier run that this one does not write: {', '.join(gone)}")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     seq = summary["sequence"]

@@ -603,3 +603,37 @@ def commit_set(tmp, out_dir, names):
             except OSError:
                 pass
         raise
+
+
+def earlier_outputs(out_dir, listing, fmt, names, key="files"):
+    """The outputs an earlier run listed in ``out_dir/listing`` (a JSON file of format ``fmt`` with the list
+    ``key``) that the new set ``names`` does not write: left in place they would sit beside a listing that no
+    longer names them. Only plain names that the earlier listing holds and that exist now; anything else in the
+    folder is the user's and is never touched. Take them before the new set is moved in."""
+    try:
+        with open(os.path.join(out_dir, listing), encoding="utf-8") as f:
+            old = json.load(f)
+    except (OSError, ValueError):
+        return []
+    if not isinstance(old, dict) or old.get("format") != fmt or not isinstance(old.get(key), list):
+        return []
+    keep = set(names)
+    return sorted({n for n in old[key] if isinstance(n, str) and n not in keep and n == os.path.basename(n)
+                   and n not in ("", ".", "..") and os.path.lexists(os.path.join(out_dir, n))
+                   and not os.path.islink(os.path.join(out_dir, n))})
+
+
+def remove_outputs(out_dir, stale):
+    """Remove ``stale`` (from :func:`earlier_outputs`; a folder with its contents); returns the names removed."""
+    gone = []
+    for n in stale:
+        p = os.path.join(out_dir, n)
+        try:
+            if os.path.isdir(p):
+                shutil.rmtree(p)
+            else:
+                os.remove(p)
+            gone.append(n)
+        except OSError:
+            pass
+    return gone

@@ -94,36 +94,3 @@ def write_manifest(path, manifest):
     with open(path, "w", encoding="utf-8") as fh:
         json.dump(manifest, fh, indent=1)
         fh.write("\n")
-
-
-def earlier_build_files(out_dir, names):
-    """The files an earlier build listed in ``out_dir/manifest.json`` that the new set ``names`` does not write:
-    left in place they would sit beside a manifest that no longer lists them. Only plain file names that the
-    earlier manifest (this format) lists and that are regular files now; anything else in the folder is the
-    user's and is never touched."""
-    import os
-    try:
-        with open(os.path.join(out_dir, "manifest.json"), encoding="utf-8") as f:
-            old = json.load(f)
-    except (OSError, ValueError):
-        return []
-    if not isinstance(old, dict) or old.get("format") != FORMAT or not isinstance(old.get("files"), list):
-        return []
-    keep = set(names)
-    return sorted({n for n in old["files"] if isinstance(n, str) and n not in keep and n == os.path.basename(n)
-                   and n not in (".", "..") and os.path.isfile(os.path.join(out_dir, n))
-                   and not os.path.islink(os.path.join(out_dir, n))})
-
-
-def remove_earlier_build_files(out_dir, stale):
-    """Remove ``stale`` (from :func:`earlier_build_files`, taken before the new set was moved in); returns the
-    names removed."""
-    import os
-    gone = []
-    for n in stale:
-        try:
-            os.remove(os.path.join(out_dir, n))
-            gone.append(n)
-        except OSError:
-            pass
-    return gone

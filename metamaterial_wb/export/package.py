@@ -50,8 +50,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
                   stem="scene", stream=None, tolerance_mm=None, checks=None):
     """Check (:func:`run_checks`, ``checks=()`` to skip) and write the files of a BuildResult into
     ``out_dir`` (atomically as a set). Returns the file list."""
-    from metamaterial_wb.export.manifest import (build_manifest, earlier_build_files, remove_earlier_build_files,
-                                                 write_manifest)
+    from metamaterial_wb.export.manifest import FORMAT, build_manifest, write_manifest
     from metamaterial_wb.export.mesh import part_meshes
     from metamaterial_wb.export.printpose import forced_poses, lay_out_best_poses
     from metamaterial_wb.export.step import result_instances, write_step_instanced
@@ -62,7 +61,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     stream = stream if stream is not None else sys.stderr
     result.checks_ran = run_checks(result, checks, progress, stream)
     os.makedirs(out_dir, exist_ok=True)
-    from metamaterial_wb.core.fileio import commit_set, make_temp_dir
+    from metamaterial_wb.core.fileio import commit_set, earlier_outputs, make_temp_dir, remove_outputs
     tmp = make_temp_dir(out_dir, "build")
     written = []
     files_by_group = {}
@@ -111,9 +110,9 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
         os.umask(umask)
         for name in written:
             os.chmod(os.path.join(tmp, name), 0o666 & ~umask)    # mkstemp files are 0600
-        stale = earlier_build_files(out_dir, written)
+        stale = earlier_outputs(out_dir, "manifest.json", FORMAT, written)
         commit_set(tmp, out_dir, written)
-        gone = remove_earlier_build_files(out_dir, stale)
+        gone = remove_outputs(out_dir, stale)
         if gone:
             note(f"removed {len(gone)} file(s) of the earlier build that this one does not write: {', '.join(gone)}",
                  progress, stream)

@@ -237,3 +237,18 @@ def test_frames_faster_than_the_step_are_recorded_once(tmp_path):
     assert r.returncode == 0, r.stderr
     t = json.loads((out / "trajectory.json").read_text())["times_s"]
     assert len(t) == len(set(t)) and t == sorted(t) and len(t) > 50
+
+
+def test_a_second_run_into_a_folder_leaves_no_files_of_the_first(tmp_path):
+    """The belt's frames stayed beside the worm's summary (which has no frames) after a second run."""
+    out = tmp_path / "run"
+    r = cli(os.path.join(EX, "belt8.json"), "--seconds", "0.1", "--no-dt-check", "--fps", "20", "--frames",
+            "--out", str(out))
+    assert r.returncode == 0 and (out / "frames").is_dir(), r.stderr
+    (out / "notes.txt").write_text("mine")
+    r = cli(os.path.join(EX, "worm_crawl.json"), "--seconds", "0.1", "--no-dt-check", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert s["files"] == ["summary.json", "trajectory.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt", "summary.json", "trajectory.json"]
+    assert "removed" in r.stderr and "frames" in r.stderr

@@ -213,3 +213,12 @@ def test_geometry_without_freecad_is_refused_before_the_analysis(tmp_path):
                        capture_output=True, text=True, cwd=REPO, env=env, timeout=120)
     assert r.returncode == 2 and r.stderr.startswith("error: --step: building geometry needs FreeCAD"), r.stderr
     assert "unit cell" not in r.stderr and not out.exists()
+
+
+def test_a_second_run_into_a_folder_leaves_no_plots_of_the_first(tmp_path):
+    r, out = _run(tmp_path, SPEC)
+    assert r.returncode == 0 and (out / "fd_ring.png").exists(), r.stderr
+    r, out = _run(tmp_path, SPEC, "--no-plots")
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
+    assert json.loads((out / "summary.json").read_text())["files"] == ["summary.json"]

@@ -125,13 +125,14 @@ class ExportPanel(BasePanel):
             from metamaterial_wb.core.errors import MetamaterialError
             from metamaterial_wb.core.fileio import commit_set
             os.makedirs(self.target, exist_ok=True)
-            from metamaterial_wb.export.manifest import earlier_build_files, remove_earlier_build_files
+            from metamaterial_wb.core.fileio import earlier_outputs, remove_outputs
+            from metamaterial_wb.export.manifest import FORMAT
             files = list(result["files"])
-            stale = earlier_build_files(self.target, [os.path.basename(p) for p in files])
+            stale = earlier_outputs(self.target, "manifest.json", FORMAT, [os.path.basename(p) for p in files])
             for folder in sorted({os.path.dirname(p) for p in files}):   # all together or none (one staging folder)
                 commit_set(folder, self.target, [os.path.basename(p) for p in files if os.path.dirname(p) == folder])
             written = [os.path.join(self.target, os.path.basename(p)) for p in files]
-            gone = remove_earlier_build_files(self.target, stale)
+            gone = remove_outputs(self.target, stale)
         except (OSError, MetamaterialError) as exc:   # a user's folder where a file goes is refused
             self._failed(f"cannot move the files into {self.target}: {exc}")
             return
