@@ -3,7 +3,12 @@
 
 ``--fields`` picks what is written per node / joint (default all three); ``--npz`` writes the
 arrays to ``RESULT.npz`` beside a small ``RESULT.json`` that holds everything else
-(``core/resultfile.py``, docs/scene-format.md "Result file")."""
+(``core/resultfile.py``, docs/scene-format.md "Result file").
+
+``--option KEY=VALUE`` values are parsed and checked against the model's option table
+(``core/models.py`` ``model_options``: quadratic in ``core/models.py``, linear / nonlinear in
+``core/lattice/__init__.py``). Flags that would be ignored are refused: ``--backend`` with a lattice model or
+contradicting ``--option backend``, ``--option`` with ``--global`` (closed form, no model runs)."""
 import sys
 import time
 
@@ -17,18 +22,32 @@ def add_arguments(p):
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="change one actuator's or constraint's value (repeatable)")
     p.add_argument("--global", dest="global_g", type=float, default=None, metavar="G",
-                   help="global deformation: every D = G in [-1, 1] (perfect propagation)")
+                   help="global deformation: every D = G in [-1, 1] (perfect propagation; closed form, so no "
+                        "--option)")
     p.add_argument("--model", default="quadratic",
                    help="simulation model (default quadratic; see docs/fidelity.md for the others)")
-    p.add_argument("--backend", default="auto", choices=("auto", "superlu", "cholmod", "dense"),
-                   help="linear solver of the quadratic model (default: CHOLMOD when installed, else SuperLU)")
+    p.add_argument("--backend", default=None, choices=("auto", "superlu", "cholmod", "dense"),
+                   help="linear solver of the quadratic model only (default auto: CHOLMOD when installed, "
+                        "else SuperLU)")
     p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
-                   help="model option, e.g. --option tol=1e-10 (repeatable; docs/fidelity-models.md)")
+                   help="model option, e.g. --model nonlinear --option tol=1e-10 (repeatable; checked, see "
+                        "docs/fidelity-models.md). " + OPTIONS_HELP)
     p.add_argument("--fields", default="D,poses,joints", metavar="LIST",
                    help="what to write per node / joint: any of D, poses, joints, comma-separated (default all)")
     p.add_argument("--npz", action="store_true",
                    help="write the per-node / per-joint arrays to RESULT.npz (binary, numpy.load) beside a "
-                        "small RESULT.json; much faster than JSON for large sheets")
+                        "small RESULT.json (--out must not end in .npz); much faster than JSON for large sheets")
+
+
+# the option names per model, for --help (kept numpy-free: every command builds this parser); the tables with
+# types and ranges are core/models.py QUADRATIC_OPTIONS and core/lattice/__init__.py LINEAR_OPTIONS /
+# NONLINEAR_OPTIONS (tests/unit/test_solve_options.py checks this text names all of them)
+OPTIONS_HELP = ("Options: quadratic: backend (auto, superlu, cholmod, dense). linear: planar, contact, "
+                "contact_fraction (0, 1], poses (chain, linear), about (quadratic, flat), line_search, hinge_law "
+                "(beam, fe). nonlinear: planar, contact, contact_fraction (0, 1], tol (0, 1), max_iter 1..100000, "
+                "load_steps 1..100000, min_step (0, 1], contact_stiffness (0, 1e12], fallback, dr_max_iter "
+                "1..10000000, predictor, method (newton, dynamic_relaxation), hinge_elements, hinge_law (beam, fe). "
+                "Booleans: true/false/1/0/yes/no.")
 
 
 def parse_sets(items):
@@ -59,15 +78,25 @@ def chosen_global(global_g, sets, scene):
     return global_g if global_g is not None else (None if sets else scene.global_deformation)
 
 
-def parse_options(items):
-    """``["tol=1e-10", "contact=false"]`` -> ``{"tol": 1e-10, "contact": False}`` (numbers, booleans, text)."""
+def parse_options(items, model=None):
+    """``["tol=1e-10", "contact=false"]`` -> ``{"tol": 1e-10, "contact": False}``: with ``model``, every
+    option of its table is parsed and checked by type and range (``core.models.check_options``: a bad value
+    is a SceneError ``--option KEY: VALUE; allowed: ...``); other values become numbers, booleans or text
+    for the model to check."""
     from metamaterial_wb.core.errors import SceneError
 
     out = {}
+    table = {}
+    if model is not None:
+        from metamaterial_wb.core.models import model_options
+        table = model_options(model)
     for s in items:
         if "=" not in s:
-            raise SceneError(f"--option {s}", "expected KEY=VALUE, e.g. --option tol=1e-10")
+            raise SceneError(f"--option {s}", "expected KEY=VALUE, e.g. --model nonlinear --option tol=1e-10")
         key, _, val = s.partition("=")
+        if table.get(key.strip()) is not None and table[key.strip()].kind != "text":
+            out[key.strip()] = val.strip()          # parsed and checked by the table below
+            continue
         low = val.strip().lower()
         if low in ("true", "yes", "on"):
             v = True
@@ -82,7 +111,32 @@ def parse_options(items):
                 except ValueError:
                     v = val
         out[key.strip()] = v
+    if model is not None:
+        from metamaterial_wb.core.models import check_options
+        out = check_options(model, out)
     return out
+
+
+def check_flags(args):
+    """Refuse flags that would be ignored or contradict each other, before any work: ``--global`` out of
+    [-1, 1] (named as the flag), ``--global`` with ``--option`` (closed form: no model runs),
+    ``--backend`` with a lattice model (``run`` refuses ``--backend`` with a different ``--option backend``)."""
+    import math
+
+    from metamaterial_wb.core.errors import SceneError
+
+    g = args.global_g
+    if g is not None:
+        if not (math.isfinite(g) and -1.0 <= g <= 1.0):
+            raise SceneError("--global", f"{g!r}; allowed: a number in [-1, 1] (every node's D, the scene's "
+                                         "global_deformation)")
+        if args.option:
+            raise SceneError("--global", f"{g:g} with --option {args.option[0]}: --global sets every D in closed "
+                                         "form and runs no model, so model options would be ignored; give one "
+                                         "of them")
+    if args.backend is not None and args.model != "quadratic":
+        raise SceneError("--backend", f"{args.backend} with --model {args.model}; allowed: only with --model "
+                                      "quadratic (the lattice models choose their own linear solver)")
 
 
 def result_dict(scene, res, global_g=None, model="quadratic", fields=None, arrays=None):
@@ -129,8 +183,21 @@ def run(args):
     from metamaterial_wb.core.models import run_model
     from metamaterial_wb.core.scene import Scene
 
+    from metamaterial_wb.core import resultfile
+    from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.fileio import check_output
     check_output(args.out, "file", "--out", inputs=[("scene", args.scene)])
+    npz_path = None
+    if args.npz:
+        npz_path = resultfile.npz_path_for(args.out)
+        check_output(npz_path, "file", "--npz", inputs=[("scene", args.scene)])
+    check_flags(args)
+    opts = parse_options(args.option, args.model)
+    if args.backend is not None:
+        if opts.get("backend", args.backend) != args.backend:
+            raise SceneError("--option backend", f"{opts['backend']} contradicts --backend {args.backend}; "
+                                                 "allowed: one of them, or the same value")
+        opts["backend"] = args.backend
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
     sets = parse_sets(args.set)
@@ -140,15 +207,10 @@ def run(args):
     from metamaterial_wb.core.design import ensure_configured
     for w in (ensure_configured(scene) or {}).get("warnings", []):  # axes without joint_config: configure
         print(f"warning: {w}", file=sys.stderr)
-    opts = {"backend": args.backend} if args.model == "quadratic" else {}
-    opts.update(parse_options(args.option))
-    from metamaterial_wb.core import resultfile
     fields = resultfile.parse_fields(args.fields)
     res = run_model(args.model, scene, global_deformation=g, **opts)
     if args.npz:
         import os
-        base = args.out[:-5] if args.out.endswith(".json") else args.out
-        npz_path = base + ".npz"
         arrays = resultfile.result_arrays(scene, res, fields)
         out = result_dict(scene, res, g, args.model, fields, arrays=arrays)
         out["arrays"] = {"file": os.path.basename(npz_path), "keys": sorted(arrays)}

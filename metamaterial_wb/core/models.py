@@ -25,7 +25,84 @@ class ModelResult:
 _MODELS = {}
 
 
-def register_model(name, fn, description=""):
+@dataclass(frozen=True)
+class Option:
+    """One model option: ``kind`` "bool", "int", "float" (checked here, from a Python value or the text of
+    ``--option KEY=VALUE``) or "text" (a choice the model checks itself, with its own message); ``low`` /
+    ``high`` the allowed range (``low_open`` / ``high_open``: bound excluded); ``meaning`` one line for
+    error messages and listings; ``none_ok``: None (the automatic default) is allowed."""
+    kind: str
+    meaning: str = ""
+    low: float = None
+    high: float = None
+    low_open: bool = False
+    high_open: bool = False
+    none_ok: bool = False
+
+
+_TRUE, _FALSE = ("true", "1", "yes"), ("false", "0", "no")
+
+
+def _allowed(opt):
+    if opt.kind == "bool":
+        return "true/false/1/0/yes/no"
+    lo = "(" if opt.low_open else "["
+    hi = ")" if opt.high_open else "]"
+    if opt.kind == "int":
+        what = f"an integer {opt.low}..{opt.high}"
+    else:
+        what = f"a number in {lo}{opt.low:g}, {opt.high:g}{hi}"
+    return what + (f" ({opt.meaning})" if opt.meaning else "")
+
+
+def check_option(model, key, value, opt):
+    """``value`` (Python value or the text of ``--option``) as the option's type, or a SceneError
+    ``--option KEY: VALUE; allowed: ...``. "text" options are returned as they are (the model checks them)."""
+    import math
+
+    if opt.kind == "text" or (value is None and opt.none_ok):
+        return value
+    bad = SceneError(f"--option {key}", f"{value!r}; allowed: {_allowed(opt)}")
+    if opt.kind == "bool":
+        if isinstance(value, (bool, np.bool_)):
+            return bool(value)
+        if isinstance(value, str) and value.strip().lower() in _TRUE + _FALSE:
+            return value.strip().lower() in _TRUE
+        raise bad
+    if isinstance(value, str):
+        try:
+            value = int(value.strip()) if opt.kind == "int" else float(value.strip())
+        except ValueError:
+            raise bad from None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise bad
+    if opt.kind == "int":
+        if not isinstance(value, (int, np.integer)) or not opt.low <= value <= opt.high:
+            raise bad
+        return int(value)
+    v = float(value)
+    if not math.isfinite(v) or (v <= opt.low if opt.low_open else v < opt.low) or \
+            (v >= opt.high if opt.high_open else v > opt.high):
+        raise bad
+    return v
+
+
+def model_options(name):
+    """The option table of a model: ``{key: Option}`` (empty for a model registered without one)."""
+    _load_builtin()
+    if name not in _MODELS:
+        raise SceneError("--model", f"{name!r}; allowed: {', '.join(_MODELS)}")
+    return dict(_MODELS[name][2] or {})
+
+
+def check_options(name, options):
+    """``options`` with every value of the model's table parsed and checked (:func:`check_option`); keys
+    the table does not know are left for the model, which refuses them naming the allowed ones."""
+    table = model_options(name)
+    return {k: (check_option(name, k, v, table[k]) if k in table else v) for k, v in options.items()}
+
+
+def register_model(name, fn, description="", options=None):
     """Add a model to the registry (or replace the one of that name).
 
     Parameters
@@ -36,8 +113,10 @@ def register_model(name, fn, description=""):
         ``fn(scene, global_deformation=None, **options) -> ModelResult``.
     description : str, optional
         One line for listings.
+    options : dict of str to Option, optional
+        The model's options (type, range, meaning): ``run_model`` checks every value against it.
     """
-    _MODELS[name] = (fn, description)
+    _MODELS[name] = (fn, description, options)
 
 
 def model_names():
@@ -62,7 +141,8 @@ def run_model(name, scene, global_deformation=None, **options):
     global_deformation : float, optional
         The seed's global deformation (D = g), for models that honour it.
     **options
-        Model-specific options; unknown ones are an error.
+        Model-specific options (the model's table: :func:`model_options`); Python values or the text of
+        ``--option`` ("1e-8", "true"); unknown ones and values of the wrong type or range are an error.
 
     Returns
     -------
@@ -76,14 +156,16 @@ def run_model(name, scene, global_deformation=None, **options):
     _load_builtin()
     if name not in _MODELS:
         raise SceneError("--model", f"{name!r}; allowed: {', '.join(_MODELS)}")
+    options = check_options(name, options)
     return _MODELS[name][0](scene, global_deformation=global_deformation, **options)
 
 
-_QUADRATIC_OPTS = {"backend", "model"}
 _BACKENDS = ("auto", "superlu", "cholmod", "dense")
+QUADRATIC_OPTIONS = {"backend": Option("text", "linear solver: " + ", ".join(_BACKENDS))}
+_QUADRATIC_OPTS = set(QUADRATIC_OPTIONS)
 
 
-def _quadratic(scene, global_deformation=None, backend="auto", model=None, **unknown):
+def _quadratic(scene, global_deformation=None, backend="auto", **unknown):
     from metamaterial_wb.core import kinematics
     from metamaterial_wb.core.solver import solve_scene
 
@@ -92,8 +174,7 @@ def _quadratic(scene, global_deformation=None, backend="auto", model=None, **unk
     if backend not in _BACKENDS:
         raise SceneError("--option backend", f"{backend!r}; allowed: {list(_BACKENDS)}")
 
-    D, _m, warnings, timings = solve_scene(scene, global_deformation=global_deformation, model=model,
-                                           backend=backend)
+    D, _m, warnings, timings = solve_scene(scene, global_deformation=global_deformation, backend=backend)
     t = time.perf_counter()
     from metamaterial_wb.core.design import kinematics_for
     pos, R, _phi = kinematics.node_poses(scene, D, kin=kinematics_for(scene))
@@ -102,7 +183,8 @@ def _quadratic(scene, global_deformation=None, backend="auto", model=None, **unk
     return ModelResult(D, pos, R, warnings, timings)
 
 
-register_model("quadratic", _quadratic, "the seed's simplified energy (eq. 1-2), one sparse solve")
+register_model("quadratic", _quadratic, "the seed's simplified energy (eq. 1-2), one sparse solve",
+               QUADRATIC_OPTIONS)
 
 _BUILTIN_LOADED = False
 

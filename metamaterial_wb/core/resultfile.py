@@ -82,6 +82,16 @@ def joint_list(arrays):
                                           arrays["joint_tilt_deg"].tolist())]
 
 
+def npz_path_for(json_path):
+    """The ``.npz`` written beside a JSON result: ``R.json`` (or ``R``) -> ``R.npz``. A JSON path that itself
+    ends in ``.npz`` is a :class:`SceneError` (the JSON would be written under the arrays' name)."""
+    json_path = os.fspath(json_path)
+    if json_path.lower().endswith(".npz"):
+        raise SceneError("--out", f"{json_path}; allowed with --npz: a JSON name such as R.json (the arrays go "
+                                  "to R.npz beside it)")
+    return (json_path[:-5] if json_path.endswith(".json") else json_path) + ".npz"
+
+
 def write_npz(path, arrays, meta):
     """Write ``arrays`` and the JSON metadata ``meta`` (``meta_json`` entry) atomically to ``path``
     (``fileio.write_atomic``: a temporary file, a rename, the usual permissions)."""

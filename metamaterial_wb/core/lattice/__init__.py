@@ -4,7 +4,8 @@ Importing this package only registers the two models; the numerical modules are 
 lattice model actually runs, so selecting the quadratic model never builds (or imports) them
 (tests/fidelity/test_leave_out.py).
 
-Options (``run_model(name, scene, **options)``; ``solve --model ... --option key=value``):
+Options (``run_model(name, scene, **options)``; ``solve --model ... --option key=value``; types and ranges:
+``LINEAR_OPTIONS`` / ``NONLINEAR_OPTIONS`` below, checked by ``core.models.check_options``):
 
 * both: ``planar`` (bool, default: automatic = no tilted hinge in the scene), ``contact`` (plate
   contact, true: one-sided constraints in the linear model, a penalty in the nonlinear one),
@@ -33,11 +34,38 @@ from collections import OrderedDict
 
 import numpy as np
 
-from metamaterial_wb.core.models import ModelResult, register_model
+from metamaterial_wb.core.models import ModelResult, Option, register_model
 
-_LINEAR_OPTS = {"planar", "contact", "contact_fraction", "poses", "about", "line_search", "hinge_law"}
-_NONLINEAR_OPTS = {"planar", "tol", "max_iter", "load_steps", "min_step", "contact", "contact_fraction",
-                   "contact_stiffness", "fallback", "dr_max_iter", "predictor", "method", "hinge_elements", "hinge_law"}
+# every option of the two models: type, range, meaning (run_model parses and checks the values against these;
+# "text" options are choices the model checks itself). Keep the module docstring and docs/fidelity-models.md
+# in step.
+_BOTH = {
+    "planar": Option("bool", "solve in the sheet's plane; default: automatic, no tilted hinge", none_ok=True),
+    "contact": Option("bool", "plate contact"),
+    "contact_fraction": Option("float", "fraction of the plate-contact rotation where contact starts", 0.0, 1.0,
+                               low_open=True),
+    "hinge_law": Option("text", "beam or fe"),
+}
+LINEAR_OPTIONS = dict(_BOTH, **{
+    "poses": Option("text", "chain or linear"),
+    "about": Option("text", "quadratic or flat"),
+    "line_search": Option("bool", "step length from the nonlinear energy (about=quadratic)"),
+})
+NONLINEAR_OPTIONS = dict(_BOTH, **{
+    "tol": Option("float", "relative residual", 0.0, 1.0, low_open=True, high_open=True),
+    "max_iter": Option("int", "Newton iterations per load step", 1, 100000),
+    "load_steps": Option("int", "initial number of load steps", 1, 100000),
+    "min_step": Option("float", "smallest load step, a fraction of the load", 0.0, 1.0, low_open=True),
+    "contact_stiffness": Option("float", "contact penalty, times the hinge's soft bending stiffness", 0.0, 1e12,
+                                low_open=True),
+    "fallback": Option("bool", "dynamic relaxation when Newton fails"),
+    "dr_max_iter": Option("int", "dynamic-relaxation iterations", 1, 10000000),
+    "predictor": Option("bool", "start Newton from the linear model with contact"),
+    "method": Option("text", "newton or dynamic_relaxation"),
+    "hinge_elements": Option("text", "corotational elements per hinge"),
+})
+_LINEAR_OPTS = set(LINEAR_OPTIONS)
+_NONLINEAR_OPTS = set(NONLINEAR_OPTIONS)
 
 
 def _check_options(model, options, allowed):
@@ -265,6 +293,7 @@ def _nonlinear(scene, global_deformation=None, **options):
     return ModelResult(D, X, R, warnings, timings, bool(ok), info)
 
 
-register_model("linear", _linear, "linearised lattice: rigid plates, TPU beam hinges, one sparse solve")
+register_model("linear", _linear, "linearised lattice: rigid plates, TPU beam hinges, one sparse solve",
+               LINEAR_OPTIONS)
 register_model("nonlinear", _nonlinear, "nonlinear corotational lattice: Newton + line search + load stepping, "
-                                        "plate contact, dynamic-relaxation fallback")
+                                        "plate contact, dynamic-relaxation fallback", NONLINEAR_OPTIONS)
