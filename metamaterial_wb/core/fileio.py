@@ -609,7 +609,26 @@ def earlier_outputs(out_dir, listing, fmt, names, key="files"):
     """The outputs an earlier run listed in ``out_dir/listing`` (a JSON file of format ``fmt`` with the list
     ``key``) that the new set ``names`` does not write: left in place they would sit beside a listing that no
     longer names them. Only plain names that the earlier listing holds and that exist now; anything else in the
-    folder is the user's and is never touched. Take them before the new set is moved in."""
+    folder is the user's and is never touched. Take them before the new set is moved in.
+
+    Parameters
+    ----------
+    out_dir : str
+        The output folder.
+    listing : str
+        The earlier run's listing in it (``manifest.json``, ``summary.json``).
+    fmt : str
+        The listing's ``"format"``; another format (or none) lists nothing.
+    names : sequence of str
+        What the new run writes.
+    key : str, optional
+        The listing's key of the file names.
+
+    Returns
+    -------
+    list of str
+        Sorted names to remove once the new set is in place.
+    """
     try:
         with open(os.path.join(out_dir, listing), encoding="utf-8") as f:
             old = json.load(f)
@@ -624,7 +643,20 @@ def earlier_outputs(out_dir, listing, fmt, names, key="files"):
 
 
 def remove_outputs(out_dir, stale):
-    """Remove ``stale`` (from :func:`earlier_outputs`; a folder with its contents); returns the names removed."""
+    """Remove ``stale`` (from :func:`earlier_outputs`; a folder with its contents).
+
+    Parameters
+    ----------
+    out_dir : str
+        The output folder.
+    stale : sequence of str
+        Names inside it.
+
+    Returns
+    -------
+    list of str
+        The names removed (one that cannot be removed is skipped).
+    """
     gone = []
     for n in stale:
         p = os.path.join(out_dir, n)

@@ -57,7 +57,24 @@ def _allowed(opt):
 
 def check_option(model, key, value, opt):
     """``value`` (Python value or the text of ``--option``) as the option's type, or a SceneError
-    ``--option KEY: VALUE; allowed: ...``. "text" options are returned as they are (the model checks them)."""
+    ``--option KEY: VALUE; allowed: ...``. "text" options are returned as they are (the model checks them).
+
+    Parameters
+    ----------
+    model : str
+        The model's name.
+    key : str
+        The option's name.
+    value : object
+        A Python value or the text given to ``--option``.
+    opt : Option
+        The option's type and range.
+
+    Returns
+    -------
+    object
+        The value as the option's type (bool, int, float; text and None as given).
+    """
     import math
 
     if opt.kind == "text" or (value is None and opt.none_ok):
@@ -88,7 +105,17 @@ def check_option(model, key, value, opt):
 
 
 def model_options(name):
-    """The option table of a model: ``{key: Option}`` (empty for a model registered without one)."""
+    """The option table of a model: ``{key: Option}`` (empty for a model registered without one).
+
+    Parameters
+    ----------
+    name : str
+        The model's name.
+
+    Returns
+    -------
+    dict of str to Option
+    """
     _load_builtin()
     if name not in _MODELS:
         raise SceneError("--model", f"{name!r}; allowed: {', '.join(_MODELS)}")
@@ -97,7 +124,20 @@ def model_options(name):
 
 def check_options(name, options):
     """``options`` with every value of the model's table parsed and checked (:func:`check_option`); keys
-    the table does not know are left for the model, which refuses them naming the allowed ones."""
+    the table does not know are left for the model, which refuses them naming the allowed ones.
+
+    Parameters
+    ----------
+    name : str
+        The model's name.
+    options : dict
+        ``{key: value}`` (Python values or ``--option`` text).
+
+    Returns
+    -------
+    dict
+        The options with every known value parsed and checked.
+    """
     table = model_options(name)
     return {k: (check_option(name, k, v, table[k]) if k in table else v) for k, v in options.items()}
 
