@@ -46,9 +46,11 @@ def add_arguments(p):
     p.add_argument("--screen", type=int, default=12,
                    help="placements fully fitted per search round, 0..1000 (0: every candidate; default 12)")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=int, default=1, help="local worker processes, 1..256 (default 1)")
+    g.add_argument("--workers", type=int, default=None,
+                   help="local worker processes of the placement search, 1..256 (default 1; not with --values-only)")
     g.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
-                   help="a Dask scheduler to run on: tcp://HOST:PORT or tls://HOST:PORT")
+                   help="a Dask scheduler to run the placement search on: tcp://HOST:PORT or tls://HOST:PORT "
+                        "(not with --values-only)")
     p.add_argument("--no-picture", action="store_true",
                    help="skip result.png (an earlier inverse run's result.png in DIR is removed; docs/inverse.md)")
     p.add_argument("--fab-checks", default="all", choices=("all", "parameters", "off"),
@@ -84,12 +86,17 @@ def _check_flags(args):
         from metamaterial_wb.core.inverse.hinges import parse_regions
         regions = parse_regions(args.hinge_regions if args.hinge_regions is not None else "2x2")
     models = pipeline.parse_models(args.evaluate, "--evaluate")
-    lo, hi = WORKERS_RANGE
-    if not lo <= args.workers <= hi:
-        raise SceneError("--workers", range_message(args.workers, lo, hi))
+    if args.workers is not None:
+        lo, hi = WORKERS_RANGE
+        if not lo <= args.workers <= hi:
+            raise SceneError("--workers", range_message(args.workers, lo, hi))
     lo, hi = pipeline.SCREEN_RANGE
     if not lo <= args.screen <= hi:
         raise SceneError("--screen", range_message(args.screen, lo, hi) + " (0: fit every candidate)")
+    for flag, value in (("--workers", args.workers), ("--scheduler", args.scheduler)):
+        if value is not None and args.values_only:
+            raise SceneError(flag, f"{value} with --values-only; allowed: only without --values-only (a values-only "
+                                   f"fit runs in this process; the placement search is what runs in parallel)")
     forbidden = pipeline.parse_joint_list(args.forbid, "--forbid") if args.forbid else []
     if forbidden and args.values_only:
         raise SceneError("--forbid", f"{', '.join(forbidden)} with --values-only; allowed: only without "
@@ -158,7 +165,7 @@ def run(args):
     mapper, nworkers = None, 1
     if not args.values_only:
         from metamaterial_wb.parallel import make_mapper
-        mapper, nworkers = make_mapper(args.workers, args.scheduler)
+        mapper, nworkers = make_mapper(args.workers or 1, args.scheduler)
     try:
         run_ = pipeline.solve(scene, target, servos=args.servos, values_only=args.values_only, forbidden=forbidden,
                               hinge_regions=regions, model=args.model, evaluate=models, screen=args.screen,

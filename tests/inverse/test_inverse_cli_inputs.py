@@ -186,18 +186,23 @@ def test_out_holding_the_input_scene_is_refused(tmp_path):
 ])
 def test_ranges_are_enforced(tmp_path, flag, value, allowed):
     out = tmp_path / "never"
-    args = [a for a in QUICK if a not in ("--workers", "1")] if flag == "--workers" else list(QUICK)
-    p = _cli(FISH, "--target", TAIL, "--values-only", "--out", out, *args, "--no-picture", flag, value)
-    _refused(p, flag, str(value), allowed)
+    _refused(_search(out, flag, value), flag, str(value), allowed)
     assert not out.exists()
 
 
 def test_range_ends_are_accepted(tmp_path):
     p = _values(tmp_path / "o", "--screen", 1000)
     assert p.returncode == 0, p.stderr
-    p = _cli(FISH, "--target", TAIL, "--values-only", "--out", tmp_path / "o2", "--evaluate", "quadratic",
-             "--fab-checks", "off", "--no-picture", "--workers", 256, "--screen", 0)
+    p = _values(tmp_path / "o2", "--screen", 0)
     assert p.returncode == 0, p.stderr
+    # 256 workers pass the flag check (a search with them would start 256 processes on this machine)
+    import argparse
+    from metamaterial_wb.cli import inverse
+    parser = argparse.ArgumentParser()
+    inverse.add_arguments(parser)
+    args = parser.parse_args([FISH, "--target", TAIL, "--servos", "2", "--out", str(tmp_path / "o3"),
+                              "--workers", "256"])
+    inverse._check_flags(args)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -206,6 +211,14 @@ def test_range_ends_are_accepted(tmp_path):
 def test_servos_with_values_only_is_refused(tmp_path):
     out = tmp_path / "never"
     _refused(_values(out, "--servos", 2), "--servos", "2", "--values-only")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("flag,value", [("--workers", "2"), ("--workers", "1"), ("--scheduler", "tcp://127.0.0.1:8786")])
+def test_workers_or_scheduler_with_values_only_is_refused(tmp_path, flag, value):
+    """A values-only fit runs in this process: a worker count or a scheduler would be silently unused."""
+    out = tmp_path / "never"
+    _refused(_values(out, flag, value), flag, value, "--values-only")
     assert not out.exists()
 
 
