@@ -36,6 +36,30 @@ def _bound(x):
 _ULPS = 4e-16 * 4
 
 
+def in_range(v, low=None, high=None, low_open=False, high_open=False):
+    """Whether the finite number ``v`` lies within the bounds (None: unbounded on that side).
+
+    A closed bound computed from other fields (0.6 * 18 = 10.799999999999999) admits the value people write for
+    it (10.8): a margin of a few units in the last place, never more. Open bounds are strict.
+
+    Parameters
+    ----------
+    v : float
+        The value.
+    low, high : float or None
+        The bounds.
+    low_open, high_open : bool
+        Whether a bound is excluded.
+
+    Returns
+    -------
+    bool
+    """
+    if low is not None and (v <= low if low_open else v < low - _ULPS * abs(low)):
+        return False
+    return high is None or not (v >= high if high_open else v > high + _ULPS * abs(high))
+
+
 def check_number(field, value, low=None, high=None, unit="", low_open=False, high_open=False):
     """Return ``value`` as a float or raise a SceneError naming the field, the value and the range."""
     import math
@@ -45,14 +69,7 @@ def check_number(field, value, low=None, high=None, unit="", low_open=False, hig
     v = float(value)
     if not math.isfinite(v):
         raise SceneError(field, f"{value!r} is not a finite number")
-    bad = False
-    # a closed bound computed from other fields (0.6 * 18 = 10.799999999999999) admits the value people
-    # write for it (10.8): a margin of a few units in the last place, never more
-    if low is not None:
-        bad |= v <= low if low_open else v < low - _ULPS * abs(low)
-    if high is not None:
-        bad |= v >= high if high_open else v > high + _ULPS * abs(high)
-    if bad:
+    if not in_range(v, low, high, low_open, high_open):
         lo = "-inf" if low is None else low
         hi = "inf" if high is None else high
         raise SceneError(field, range_message(value, lo, hi, unit, low_open or low is None,

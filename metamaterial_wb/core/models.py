@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.errors import SceneError, in_range
 
 
 @dataclass
@@ -98,8 +98,7 @@ def check_option(model, key, value, opt):
             raise bad
         return int(value)
     v = float(value)
-    if not math.isfinite(v) or (v <= opt.low if opt.low_open else v < opt.low) or \
-            (v >= opt.high if opt.high_open else v > opt.high):
+    if not math.isfinite(v) or not in_range(v, opt.low, opt.high, opt.low_open, opt.high_open):
         raise bad
     return v
 
