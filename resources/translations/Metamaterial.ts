@@ -29,8 +29,23 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="380"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="403"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="69"/>
+        <source>= {0} joint rotation</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="303"/>
+        <source>? deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="96"/>
+        <source>? deg ({0:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -39,7 +54,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="148"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="171"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -96,13 +111,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="541"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="564"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="102"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -112,7 +127,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="533"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="556"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -137,7 +152,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="54"/>
         <source>Frequency</source>
         <translation type="unfinished"></translation>
     </message>
@@ -162,12 +177,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="70"/>
+        <source>How far the joint turns for this value (plate B relative to plate A, the servo's sign): the angle a servo on it is sent; closing and opening differ. A servo with scale_deg in the scene is sent value x scale_deg instead.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="46"/>
         <source>Joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="39"/>
         <source>Joint (or click a hinge)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -203,13 +223,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="160"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="88"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="111"/>
         <source>Loop</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="64"/>
+        <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -228,7 +253,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="147"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="170"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
@@ -239,7 +264,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="47"/>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="57"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
@@ -270,28 +295,28 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="495"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="518"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="55"/>
         <source>Phase offset</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="86"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="499"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="522"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="161"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="116"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="139"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
@@ -326,7 +351,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="169"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -341,17 +366,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="145"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="168"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="157"/>
         <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="53"/>
         <source>Sine amplitude</source>
         <translation type="unfinished"></translation>
     </message>
@@ -371,13 +396,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="131"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="154"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="80"/>
         <source>Target file</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="98"/>
+        <source>The angle sent to the servo for this value (closing and opening differ); the firmware's invert and trim come after</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -396,7 +426,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="39"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="40"/>
         <source>Value D (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -412,7 +442,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="166"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="190"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
@@ -447,7 +477,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="167"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="168"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="344"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
@@ -469,7 +499,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="428"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="451"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -496,7 +526,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="127"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -506,7 +536,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="149"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="154"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -516,8 +546,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
-        <source>motor values now: servo angle (value in -1..1)</source>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="186"/>
+        <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -556,14 +586,14 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="158"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="345"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="386"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="409"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="329"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="352"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -593,12 +623,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="369"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="63"/>
+        <source>servo angle range</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="392"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="390"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="413"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
@@ -608,22 +643,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="125"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="543"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="566"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="131"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="416"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="439"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -633,7 +668,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="123"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
@@ -658,22 +693,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="304"/>
+        <source>{0:+.1f} .. {1:+.1f} deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="97"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="133"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="138"/>
         <source>{0:+.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="281"/>
-        <source>{0:.1f} deg</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="485"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -216,7 +216,8 @@ def test_motor_sliders_disabled_under_global_and_servo_degrees(doc):
     s = p.sliders["tail"]
     assert s.isEnabled()
     p.set_value("tail", 0.5)
-    assert p.labels["tail"].text() == "+45.0 deg (+0.500)"
+    # the angle stream sends (the tail's joint closes by 12.2 deg at +0.5, negative on its servo), not 0.5 x 90
+    assert p.labels["tail"].text() == "-12.2 deg (+0.500)"
     click(p.use_global)
     assert p.use_global.isChecked() and not s.isEnabled() and "overridden" in s.toolTip()
     click(p.use_global)

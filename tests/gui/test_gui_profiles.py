@@ -23,6 +23,8 @@ def open_fish():
 
 def test_square_triangle_and_keyframes(doc):
     sc = open_fish()
+    from metamaterial_wb.hardware.mapping import channel_map
+    tail_servo = {c.name: c for c in channel_map(structure.compose_scene(sc))}["tail"]
     p = run_panel("MM_Animate")
     amp, f, ph = 0.6, 0.8, 60.0
     t = np.linspace(0.013, 5.0, 397)
@@ -38,7 +40,9 @@ def test_square_triangle_and_keyframes(doc):
         got = profile_value(prof, t)
         keep = np.abs(np.sin(x)) > 0.05 if shape == "square" else np.ones_like(t, dtype=bool)
         np.testing.assert_allclose(got[keep], closed(x)[keep], atol=1e-9)
-        assert p.amp_deg["tail"].text() == f"{amp * 90:.1f} deg"
+        # the servo column: the angle range stream sends over the swing -amp..+amp (not amp x 90)
+        ang = tail_servo.angle_deg(np.linspace(-amp, amp, 201))
+        assert p.amp_deg["tail"].text() == f"{ang.min():+.1f} .. {ang.max():+.1f} deg"
     # keyframes: a small time / value table
     p.set_shape("head", "keyframes")
     assert p.keyframes.isVisible() and p.keyframes.title.text() == "Keyframes of head"

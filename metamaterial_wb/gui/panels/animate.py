@@ -22,9 +22,28 @@ from metamaterial_wb.gui.panels.base import BasePanel, _slider, np_zeros
 from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
 from metamaterial_wb.gui.panels.profiles import SHAPES, KeyframeTable, keyframes_profile, wave_profile
-from metamaterial_wb.gui.panels.stream import StreamController, hardware_available, servo_scales
+from metamaterial_wb.gui.panels.stream import ServoAngles, StreamController, hardware_available
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
+
+
+def profile_value_range(profile, default=0.0):
+    """(lowest, highest) value a motion profile takes (``core.motion.profile_value``): offset -+ amplitude for a
+    sine, the lowest and highest key of steps / keyframes, ``default`` without a profile."""
+    if not profile:
+        return float(default), float(default)
+    shape = profile.get("shape", "sine")
+    if shape == "sine":
+        off, amp = float(profile.get("offset", 0.0)), abs(float(profile.get("amplitude", 1.0)))
+        if float(profile.get("frequency_hz", 1.0)) == 0.0:   # a constant sin(phase)
+            v = off + float(profile.get("amplitude", 1.0)) * math.sin(math.radians(profile.get("phase_deg", 0.0)))
+            return v, v
+        return off - amp, off + amp
+    if shape == "constant":
+        v = float(profile.get("value", 0.0))
+        return v, v
+    values = [float(v) for v in profile.get("values", [])] or [float(default)]
+    return min(values), max(values)
 
 
 class AnimatePanel(BasePanel):
@@ -38,10 +57,13 @@ class AnimatePanel(BasePanel):
         self.obj = scene_obj
         self.scene = structure.compose_scene(scene_obj)
         self.solver = structure.solver_for(scene_obj, self.scene)
-        self.scales = servo_scales(self.scene)
+        self.angles = ServoAngles(self.scene)    # the angle stream sends for a value, per motor
         self.table = QtGui.QTableWidget(len(self.scene.actuators), 6)
         self.table.setHorizontalHeaderLabels(["motor", "shape", "amplitude", "freq (Hz)", "phase (deg)",
-                                              "servo amplitude"])
+                                              translate("Metamaterial", "servo angle range")])
+        self.table.horizontalHeaderItem(5).setToolTip(translate(
+            "Metamaterial", "Lowest .. highest angle sent to the servo over the profile's swing (closing and "
+            "opening differ, the sign is the servo's)"))
         self.spins, self.shapes, self.amp_deg, self.keys, self.stored = {}, {}, {}, {}, {}
         for r, a in enumerate(self.scene.actuators):
             p = a.profile or {"shape": "sine", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
@@ -70,6 +92,7 @@ class AnimatePanel(BasePanel):
                 sp.append(w)
             self.spins[a.name] = sp
             lab = QtGui.QLabel("")
+            lab.setToolTip(self.angles.tooltip([a.name]))
             self.table.setCellWidget(r, 5, lab)
             self.amp_deg[a.name] = lab
             combo.currentTextChanged.connect(lambda _t, n=a.name: self._shape_changed(n))
@@ -160,7 +183,8 @@ class AnimatePanel(BasePanel):
         tv.addWidget(self.traj_label)
         self.layout.addWidget(tg)
         self.values_label = QtGui.QLabel("")
-        self.values_label.setToolTip(translate("Metamaterial", "motor values now: servo angle (value in -1..1)"))
+        self.values_label.setToolTip("\n".join([translate(
+            "Metamaterial", "motor values now: the angle sent to each servo (value in -1..1)"), self.angles.tooltip()]))
         self.layout.addWidget(self.values_label)
         self.rate_label = QtGui.QLabel("")
         self.rate_label.setToolTip(translate("Metamaterial", "achieved frame rate while playing and the real-time factor (animation "
@@ -275,10 +299,9 @@ class AnimatePanel(BasePanel):
             a["profile"] = prof[a["name"]]
         for a in self.scene.actuators:
             if a.name in self.amp_deg:
-                shape = self.shapes[a.name].currentText()
-                amp = self.spins[a.name][0].value() if shape in ("sine", "square", "triangle") else \
-                    max((abs(v) for _t, v in self.keys[a.name]), default=0.0)
-                self.amp_deg[a.name].setText(translate("Metamaterial", "{0:.1f} deg").format(amp * self.scales.get(a.name, 90.0)))
+                span = self.angles.span(a.name, *profile_value_range(prof[a.name], a.value))
+                self.amp_deg[a.name].setText(translate("Metamaterial", "? deg") if span is None else
+                                             translate("Metamaterial", "{0:+.1f} .. {1:+.1f} deg").format(*span))
         try:
             self.preview_scene = Scene.from_dict(d)
             self.set_problem("profiles", "")
@@ -415,7 +438,7 @@ class AnimatePanel(BasePanel):
         self.timeline.blockSignals(False)
         self.time_label.setText(translate("Metamaterial", "t = {0:.2f} s").format(t))
         self.shown_values = {a.name: float(vals[a.name]) for a in self.scene.actuators}
-        self.values_label.setText("  ".join(f"{n} {v * self.scales.get(n, 90.0):+.1f} deg ({v:+.2f})"
+        self.values_label.setText("  ".join(f"{n} {self.angles.text(n, v)} ({v:+.2f})"
                                             for n, v in self.shown_values.items()))
         err = self.stream.take_error()
         if err:

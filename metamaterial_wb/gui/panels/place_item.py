@@ -6,6 +6,7 @@ from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel
 from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.panels.stream import joint_angle_text
 from metamaterial_wb.gui.i18n import translate
 
 
@@ -63,7 +64,15 @@ class PlaceItemPanel(BasePanel):
 
     def _validate(self, *_):
         v = float(self.value.value())
-        self.value_deg.setText(f"= {v * 90.0:+.1f} deg servo" if self.kind == "actuator" else "")
+        if self.kind == "actuator":   # the joint's rotation for v: the angle its servo will be sent
+            deg, how = joint_angle_text(self.scene, self.joint.currentText(), v)
+            self.value_deg.setText(translate("Metamaterial", "= {0} joint rotation").format(deg))
+            self.value_deg.setToolTip("\n".join([translate(
+                "Metamaterial", "How far the joint turns for this value (plate B relative to plate A, the "
+                "servo's sign): the angle a servo on it is sent; closing and opening differ. A servo with "
+                "scale_deg in the scene is sent value x scale_deg instead."), how]))
+        else:
+            self.value_deg.setText("")
         try:
             self.scene_with_item()
             self.set_problem("item", "")

@@ -18,8 +18,8 @@ class SimulatePanel(BasePanel):
         super().__init__()
         self.obj = scene_obj
         self.scene = structure.compose_scene(scene_obj)
-        from metamaterial_wb.gui.panels.stream import servo_scales
-        self.scales = servo_scales(self.scene)
+        from metamaterial_wb.gui.panels.stream import ServoAngles
+        self.angles = ServoAngles(self.scene)     # the angle stream sends for a value, per motor
         self.initial = {}
         f = QtGui.QFormLayout()
         self.model = QtGui.QComboBox()
@@ -92,7 +92,12 @@ class SimulatePanel(BasePanel):
 
     def _label(self, name, v):
         if self.kinds.get(name) == "actuator":
-            self.labels[name].setText(translate("Metamaterial", "{0:+.1f} deg ({1:+.3f})").format(v * self.scales.get(name, 90.0), v))
+            deg = self.angles.deg(name, v)
+            self.labels[name].setText(translate("Metamaterial", "? deg ({0:+.3f})").format(v) if deg is None else
+                                      translate("Metamaterial", "{0:+.1f} deg ({1:+.3f})").format(deg, v))
+            self.labels[name].setToolTip("\n".join([translate(
+                "Metamaterial", "The angle sent to the servo for this value (closing and opening differ); the "
+                "firmware's invert and trim come after"), self.angles.tooltip([name])]))
         else:
             self.labels[name].setText(translate("Metamaterial", "D {0:+.3f}").format(v))
 

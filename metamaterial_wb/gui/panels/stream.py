@@ -16,13 +16,105 @@ def hardware_available():
         return False
 
 
-def servo_scales(scene):
-    """``{actuator: degrees per unit value}`` (the servo mapping of hardware.mapping; 90 by default)."""
+class ServoAngles:
+    """The angle each actuator's servo is commanded for a value: what ``stream`` sends, shown by the panels.
+
+    ``ChannelConfig.angle_deg`` of :func:`metamaterial_wb.hardware.mapping.channel_map`: the simulated rotation
+    of the actuator's joint with the servo's sign (closing and opening differ), or ``v * scale_deg`` when the
+    actuator's ``"servo"`` object sets ``scale_deg``; the firmware's ``invert`` / ``trim_deg`` calibration
+    comes after and is not shown. When ``channel_map`` refuses the scene as a whole (e.g. more actuators than
+    the firmware's channels, two on one channel), each actuator's mapping is built alone from the same
+    ``joint_rotation`` and ``scale_deg`` (``note`` says why). An actuator whose angle cannot be computed has
+    no angle (``?``) and its reason in ``errors``; nothing falls back to ``v * 90 deg``.
+    """
+
+    def __init__(self, scene):
+        self.channels = {}    # name -> ChannelConfig (only its angle is used)
+        self.errors = {}      # name -> why there is no angle
+        self.note = ""        # why channel_map could not be used for the whole scene
+        if not scene.actuators:
+            return
+        try:
+            from metamaterial_wb.core.errors import SceneError
+            from metamaterial_wb.hardware.mapping import channel_map
+        except ImportError as exc:     # a checkout without the hardware package: say so, show no angle
+            self.errors = {a.name: f"no servo mapping (metamaterial_wb.hardware: {exc})" for a in scene.actuators}
+            return
+        try:
+            self.channels = {c.name: c for c in channel_map(scene)}
+        except SceneError as exc:
+            self.note = f"channel map: {exc}; each motor's angle is its own joint's"
+            for k, a in enumerate(scene.actuators):
+                try:
+                    self.channels[a.name] = _channel_alone(scene, k, a)
+                except SceneError as err:
+                    self.errors[a.name] = str(err)
+
+    def deg(self, name, value):
+        """Commanded angle (degrees) of actuator ``name`` for ``value`` (a number or an array); None when it
+        has none (see ``errors``)."""
+        c = self.channels.get(name)
+        return None if c is None else c.angle_deg(value)
+
+    def text(self, name, value):
+        """``"+7.3 deg"`` (``"? deg"`` without an angle)."""
+        d = self.deg(name, value)
+        return "? deg" if d is None else f"{d:+.1f} deg"
+
+    def span(self, name, lo, hi, samples=201):
+        """(lowest, highest) angle over the values ``lo..hi`` (the mapping is not symmetric: closing and opening
+        differ, and the sign is the servo's); None without an angle."""
+        import numpy as np
+        c = self.channels.get(name)
+        if c is None:
+            return None
+        a = np.atleast_1d(c.angle_deg(np.linspace(float(lo), float(hi), samples)))
+        return float(a.min()), float(a.max())
+
+    def describe(self, name):
+        """How the angle of ``name`` is computed, or why there is none (for tooltips)."""
+        if name in self.errors:
+            return f"{name}: no servo angle: {self.errors[name]}"
+        c = self.channels.get(name)
+        if c is None:
+            return f"{name}: not an actuator"
+        return f"{name}: {c.source}"
+
+    def tooltip(self, names=None):
+        """One line per actuator (``describe``), then ``note``."""
+        lines = [self.describe(n) for n in (names if names is not None else list(self.channels) + list(self.errors))]
+        return "\n".join(lines + ([self.note] if self.note else []))
+
+
+def joint_angle_text(scene, joint, value):
+    """``("+12.2 deg", how)``: the rotation ``joint`` of ``scene`` turns for an actuator value (the angle a
+    servo without ``scale_deg`` would be sent, ``hardware.joint_angle.joint_rotation``), or ``("? deg", why)``."""
+    from metamaterial_wb.core.errors import SceneError
     try:
-        from metamaterial_wb.hardware.mapping import channel_map
-        return {c.name: float(c.scale_deg) for c in channel_map(scene)}
-    except Exception:  # noqa: BLE001 - no actuators / no hardware package: the seed's -90..90 servos
-        return {a.name: 90.0 for a in scene.actuators}
+        from metamaterial_wb.hardware.joint_angle import joint_rotation
+    except ImportError as exc:
+        return "? deg", f"no servo mapping (metamaterial_wb.hardware: {exc})"
+    try:
+        rot = joint_rotation(scene, joint)
+    except SceneError as exc:
+        return "? deg", str(exc)
+    return f"{rot.angle_deg(value):+.1f} deg", f"simulated rotation of joint {rot.joint}"
+
+
+def _channel_alone(scene, k, actuator):
+    """The ChannelConfig of one actuator without the scene-wide channel checks: its joint's rotation and its
+    servo's ``scale_deg`` (checked as channel_map checks it)."""
+    from metamaterial_wb.hardware.joint_angle import joint_rotation
+    from metamaterial_wb.hardware.mapping import MAX_CHANNELS, ChannelConfig, _check_servo
+
+    servo = actuator.extra.get("servo", {})
+    if not isinstance(servo, dict):
+        _check_servo(f"actuators[{k}].servo", servo, MAX_CHANNELS)      # raises, naming the field
+    scale = None
+    if "scale_deg" in servo:
+        scale = _check_servo(f"actuators[{k}].servo", {"scale_deg": servo["scale_deg"]}, MAX_CHANNELS)["scale_deg"]
+    rot = joint_rotation(scene, actuator.joint, f"actuators[{k}].joint")
+    return ChannelConfig(actuator.name, k, scale_deg=scale, rotation=rot)
 
 
 class StreamController:
