@@ -30,7 +30,9 @@ def add_arguments(p):
                    help="JSON {actuator: {channel, scale_deg, invert, trim_deg, limits_deg, min_us, max_us, "
                         "park_deg, max_slew_dps}} (docs/firmware.md)")
     p.add_argument("--clamp", action="store_true",
-                   help="clamp angles to the channel limits instead of refusing a motion that leaves them")
+                   help="clamp angles to the channel limits instead of refusing a motion that leaves them (counted "
+                        "per actuator in the summary; a servo angle, +-angle + trim_deg, past +-90 deg is still "
+                        "refused)")
     p.add_argument("--watchdog-ms", type=int, default=500, help="host silence before the firmware holds (default 500)")
     p.add_argument("--park-after-ms", type=int, default=500, help="hold time before parking (default 500)")
     p.add_argument("--release-after-ms", type=int, default=5000,
@@ -40,7 +42,8 @@ def add_arguments(p):
                    help="frames that may go without an answer (lost = sent - acked - NAKed over the whole stream) "
                         "before the command fails with exit 1 (default 0)")
     p.add_argument("--report", metavar="FILE",
-                   help="write the statistics as JSON, with the angle sent per frame and channel (frames_sent)")
+                   help="write the statistics as JSON, with the angle sent per frame and channel (frames_sent; "
+                        "wanted_deg: the motion's angle where the host clamped it)")
 
 
 def run(args):
@@ -69,8 +72,8 @@ def run(args):
     if args.mode == "osc":
         from metamaterial_wb.hardware.onboard import osc_params
         osc_params(scene, channels)  # refuse a scene the generator cannot run before opening the port
-    elif not args.clamp:
-        check_motion(scene, channels, args.seconds, args.rate)
+    else:  # the limits (unless --clamp) and, on the angles as sent, the servo's reach (+-angle + trim)
+        check_motion(scene, channels, args.seconds, args.rate, clamp=args.clamp)
     if args.mode == "stream":
         _check_bandwidth(args.baud, args.rate, channels)
 
@@ -90,8 +93,10 @@ def run(args):
         if args.mode == "osc":
             return _run_osc(args, scene, channels, link)
         sent = []  # (t, {name: angle_deg}) per frame: --report lists what each channel was told
+        wanted = {}  # t -> {name: the motion's angle} where the host clamped it (--clamp)
         if args.report:
             streamer.on_frame = lambda t, angles: sent.append((t, angles))
+            streamer.on_clamp = lambda t, angles: wanted.setdefault(round(t, 9), {}).update(angles)
         try:
             stats = streamer.run(scene, args.seconds)
         except KeyboardInterrupt:
@@ -110,8 +115,12 @@ def run(args):
         merged = {}
         for t, angles in sent:  # one entry per frame time (a frame per contiguous channel run)
             merged.setdefault(round(t, 9), {}).update(angles)
-        s["frames_sent"] = [{"t": t, "angles_deg": {str(by_ch[n]): round(a, 4) for n, a in sorted(
-            angles.items(), key=lambda kv: by_ch[kv[0]])}} for t, angles in merged.items()]
+        def by_channel(angles):
+            return {str(by_ch[n]): round(a, 4) for n, a in sorted(angles.items(), key=lambda kv: by_ch[kv[0]])}
+        # angles_deg: what each channel was sent; wanted_deg (only where the host clamped): the motion's angle
+        s["frames_sent"] = [dict({"t": t, "angles_deg": by_channel(angles)},
+                                 **({"wanted_deg": by_channel(wanted[t])} if t in wanted else {}))
+                            for t, angles in merged.items()]
         s["frames_sent_columns"] = {str(c.channel): c.name for c in channels}
         write_json(args.report, s)
     rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
@@ -120,14 +129,28 @@ def run(args):
           f"{s['naked']} NAKed{' ' + json.dumps(s['nak_reasons']) if s['nak_reasons'] else ''}, {s['lost']} lost, "
           f"{s['skipped']} skipped; {s['nak_unreadable']} unreadable-frame NAKs"
           f"{' ' + json.dumps(s['unreadable_reasons']) if s['unreadable_reasons'] else ''}; {rtt}; "
-          f"{s['clamped_frames']} frames clamped")
+          f"{s['clamped_frames']} frames clamped (host {s['host_clamped_frames']}{_per_actuator(s, 'host')}; "
+          f"firmware {s['firmware_clamped_frames']}{_per_actuator(s, 'firmware')})")
     if stats.error:
         raise MetamaterialError(f"stream stopped: {stats.error}")
+    status = 0
     if s["lost"] > args.max_lost or s["naked"]:
         print(f"error: {s['lost']} frames lost (--max-lost {args.max_lost}) and {s['naked']} refused out of "
               f"{s['frames']}", file=sys.stderr)
-        return 1
-    return 0
+        status = 1
+    if s["firmware_clamped_frames"]:  # the host checked every angle sent: the board should have clamped none
+        print(f"error: the firmware clamped {s['firmware_clamped_frames']} frames"
+              f" ({_per_actuator(s, 'firmware')[2:]}) that the host had checked against the channel limits and the "
+              f"servo range: the servos did not go where they were told; is the board configured by another "
+              f"program, or running other firmware?", file=sys.stderr)
+        status = 1
+    return status
+
+
+def _per_actuator(s, by):
+    """': tail 28, head 3' for the actuators that ``by`` ("host" / "firmware") clamped, else ''."""
+    counts = [f"{name} {n[by]}" for name, n in s["clamped_by_actuator"].items() if n[by]]
+    return ": " + ", ".join(counts) if counts else ""
 
 
 def _check_bandwidth(baud, rate, channels):

@@ -1,8 +1,9 @@
 """The angle a servo must turn: the simulated relative rotation of its actuated joint (issue 16, item 9).
 
-An actuator of value ``v`` fixes D = v on both nodes of its joint; every model (quadratic kinematics, lattice,
-dynamics) then holds the joint's plate B, relative to plate A, at the rotation about the hinge axis that puts
-the joint in the rotating-squares mechanism (``core/lattice/geometry.hinge_target``)::
+An actuator of value ``v`` fixes D = v on both nodes of its joint; the lattice models and dynamics (and the
+quadratic kinematics on an untilted joint; on a tilted one its least-squares fold frames turn up to 3.6 % less)
+then hold the joint's plate B, relative to plate A, at the rotation about the hinge axis that puts the joint in
+the rotating-squares mechanism (``core/lattice/geometry.hinge_target``)::
 
     untilted joint:  rel = phi_B - phi_A = -2 p_A v phi_max(sign v)
     tilted joint:    |rel| = psi with cos(psi/2) = cos(gamma/2) cos(phi),  tan(gamma/2) = -tan(tilt) sin(phi_A)

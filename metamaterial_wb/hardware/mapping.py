@@ -1,16 +1,17 @@
 """Actuator value -> servo channel and angle.
 
 An actuator value ``v`` in [-1, 1] (the solver's node deformation D imposed by a servo) is commanded as the
-**simulated relative rotation of its joint** (``joint_angle.JointRotation``: what every model holds that joint
+**simulated relative rotation of its joint** (``joint_angle.JointRotation``: what the lattice models hold that joint
 at, the solver's ``joints[].hinge_rotation_deg`` with the servo's sign), not a fixed ``v * 90 deg``. Per channel:
 
 * ``channel``: firmware channel 0..7 (Arduino pins D4..D11); by default the scene's actuators in order;
 * ``limits_deg`` [lo, hi]: soft limits of the commanded angle (inside [-90, 90]); default the joint's kinematic
   range, plate contact (v = +1) to full opening (v = -1); the firmware enforces them too and reports clamping;
-* ``invert``, ``trim_deg``: calibration applied by the firmware (pulse = f(+-angle + trim));
+* ``invert``, ``trim_deg``: calibration applied by the firmware (pulse = f(+-angle + trim)); the servo angle
+  +-angle + trim must stay inside [-90, 90] deg (check_servo_reach), else the pulse would stop at min/max_us;
 * ``min_us``, ``max_us``: pulse widths at -90 and +90 degrees (default 500 / 2500 us);
 * ``park_deg``: where the firmware parks the joint when the host goes silent;
-* ``max_slew_dps``: firmware slew limit in degrees per second (0 = none);
+* ``max_slew_dps``: firmware slew limit, a whole number of degrees per second 0..3600 (0 = none);
 * ``scale_deg``: only for a servo that does not turn its joint directly: command ``v * scale_deg`` instead.
 
 These come from an actuator's optional ``"servo"`` object in the scene (docs/scene-format.md), then
@@ -44,7 +45,7 @@ class ChannelConfig:
     min_us: int = 500
     max_us: int = 2500
     park_deg: float = 0.0
-    max_slew_dps: float = 0.0
+    max_slew_dps: int = 0     # whole deg/s (the protocol's u16); 0: no limit
     extra: dict = field(default_factory=dict)
     rotation: JointRotation = None  # the actuated joint (channel_map sets it); None and no scale_deg: v * 90
 
@@ -72,9 +73,12 @@ class ChannelConfig:
 
     def config_payload(self) -> bytes:
         lo, hi = self.limits_deg
+        if self.max_slew_dps != int(self.max_slew_dps) or not 0 <= self.max_slew_dps <= 3600:  # never rounded to 0
+            raise SceneError(f"channel {self.channel} ({self.name}).max_slew_dps",
+                             f"{self.max_slew_dps!r} deg/s; allowed: a whole number 0..3600 deg/s (0: no limit)")
         return P.config_ch_payload(self.channel, int(self.min_us), int(self.max_us), int(round(self.trim_deg * 100)),
                                    self.invert, int(round(lo * 100)), int(round(hi * 100)),
-                                   int(round(self.park_deg * 100)), int(round(self.max_slew_dps)))
+                                   int(round(self.park_deg * 100)), int(self.max_slew_dps))
 
     def to_dict(self):
         d = {k: getattr(self, k) for k in ("name", "channel", "scale_deg", "invert", "trim_deg", "min_us", "max_us",
@@ -124,8 +128,13 @@ def _check_servo(field_name, spec, n_channels):
             out[k] = int(v)
     if "park_deg" in spec:
         out["park_deg"] = check_number(f"{field_name}.park_deg", spec["park_deg"], -90.0, 90.0, "deg")
-    if "max_slew_dps" in spec:
-        out["max_slew_dps"] = check_number(f"{field_name}.max_slew_dps", spec["max_slew_dps"], 0.0, 3600.0, "deg/s")
+    if "max_slew_dps" in spec:  # the protocol's u16: 2.5 would be sent as 2, 0.4 as 0 = no limit at all
+        v = spec["max_slew_dps"]
+        whole = "a whole number 0..3600 deg/s (0: no limit)"
+        check_number(f"{field_name}.max_slew_dps", v, 0.0, 3600.0, "deg/s")
+        if v != int(v) or not 0 <= v <= 3600:
+            raise SceneError(f"{field_name}.max_slew_dps", f"{v!r} deg/s is not a whole number; allowed: {whole}")
+        out["max_slew_dps"] = int(v)
     return out
 
 
@@ -141,6 +150,13 @@ def _finish(cfg: ChannelConfig, origin):
                                                            f"deg" + (f" (limits_deg from {origin['limits_deg']})"
                                                                      if origin["limits_deg"] != origin["park_deg"]
                                                                      else ""))
+    park = round(cfg.park_deg * 100.0)
+    servo = (-park if cfg.invert else park) + round(cfg.trim_deg * 100.0)
+    if abs(servo) > SERVO_RANGE_CDEG:   # the firmware parks at +-park + trim: past +-90 the pulse stops short
+        raise SceneError(f"{origin['park_deg']}.park_deg",
+                         f"{cfg.park_deg:g} deg: the servo would park at {servo / 100:.2f} deg ("
+                         + ("inverted, " if cfg.invert else "") + f"+ trim_deg {cfg.trim_deg:g}); allowed: a servo "
+                         f"angle within [-90, 90] deg (min_us {cfg.min_us} .. max_us {cfg.max_us} us)")
     return cfg
 
 
@@ -218,9 +234,40 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
     return out
 
 
-def check_motion(scene, channels, duration_s, rate_hz=50.0):
-    """Raise SceneError if the scene's motion leaves a channel's limits within ``duration_s`` (sampled at the
-    stream rate and at 1 kHz). Returns the largest |angle| per actuator (degrees)."""
+SERVO_RANGE_CDEG = 9000  # a servo turns within [-90, 90] deg: min_us at -90, max_us at +90 (PROTOCOL.md section 5)
+
+
+def check_servo_reach(cfg: ChannelConfig, angles_deg, where, times_s=None):
+    """Raise SceneError if the servo angle ``(invert ? -angle : angle) + trim_deg`` of a commanded joint angle
+    leaves the servo's [-90, 90] deg, where the firmware would stop the pulse at min_us / max_us (and report a
+    clamp): the servo would stop short of the commanded angle. The one check of the stream, the on-board
+    oscillators and single frames.
+
+    ``angles_deg``: the angles sent (after any clamping to the limits); ``times_s``: their times (named in the
+    error) or None. Computed in the centidegrees the firmware gets, so host and firmware agree exactly.
+    """
+    cdeg = np.round(np.atleast_1d(np.asarray(angles_deg, dtype=float)) * 100.0)
+    servo = (-cdeg if cfg.invert else cdeg) + round(cfg.trim_deg * 100.0)
+    bad = np.nonzero(np.abs(servo) > SERVO_RANGE_CDEG)[0]
+    if not bad.size:
+        return
+    i = bad[0]
+    at = "" if times_s is None else f" at t = {np.atleast_1d(times_s)[i]:.3f} s"
+    how = (f"joint angle {cdeg[i] / 100:.2f} deg" + (", inverted," if cfg.invert else "")
+           + f" + trim_deg {cfg.trim_deg:g}")
+    stop = cfg.max_us if servo[i] > 0 else cfg.min_us
+    raise SceneError(where, f"its servo would turn to {servo[i] / 100:.2f} deg{at} ({how}); the servo of channel "
+                            f"{cfg.channel} turns within [-90, 90] deg (min_us {cfg.min_us} .. max_us {cfg.max_us} "
+                            f"us): the firmware would stop it at {stop} us; lower the motion or servo.limits_deg, "
+                            f"or change trim_deg")
+
+
+def check_motion(scene, channels, duration_s, rate_hz=50.0, clamp=False):
+    """Check the scene's motion over ``duration_s`` (sampled at the stream rate and at 1 kHz) before streaming.
+
+    Without ``clamp``, raise SceneError if an angle leaves its channel's limits. In both cases (with ``clamp`` on
+    the angles clamped to the limits, as they will be sent) raise SceneError if a servo angle (+-angle + trim)
+    leaves [-90, 90] deg (check_servo_reach). Returns the largest |angle sent| per actuator (degrees)."""
     from metamaterial_wb.core.motion import profile_value
 
     t = np.union1d(np.arange(0.0, duration_s + 1e-9, 1.0 / rate_hz), np.arange(0.0, duration_s + 1e-9, 1e-3))
@@ -228,15 +275,19 @@ def check_motion(scene, channels, duration_s, rate_hz=50.0):
     peaks = {}
     for k, c in enumerate(channels):
         a = by_name[c.name]
+        where = f"actuators[{[x.name for x in scene.actuators].index(c.name)}] ({c.name})"
         v = np.atleast_1d(profile_value(a.profile, t, a.value)) * np.ones_like(t)
         ang = np.atleast_1d(c.angle_deg(v))
         lo, hi = c.limits_deg
+        if clamp:
+            ang = np.clip(ang, lo, hi)
         bad = np.nonzero((ang < lo - 1e-9) | (ang > hi + 1e-9))[0]
         if bad.size:
             i = bad[0]
-            raise SceneError(f"actuators[{[x.name for x in scene.actuators].index(c.name)}] ({c.name})",
-                             f"the motion reaches {ang[i]:.1f} deg at t = {t[i]:.3f} s; channel {c.channel} "
-                             f"allows [{lo:g}, {hi:g}] deg; lower the profile, widen servo.limits_deg, or pass --clamp")
+            raise SceneError(where, f"the motion reaches {ang[i]:.1f} deg at t = {t[i]:.3f} s; channel {c.channel} "
+                                    f"allows [{lo:g}, {hi:g}] deg; lower the profile, widen servo.limits_deg, or pass "
+                                    f"--clamp")
+        check_servo_reach(c, ang, where, t)
         peaks[c.name] = float(np.max(np.abs(ang))) if ang.size else 0.0
     return peaks
 

@@ -15,6 +15,7 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError
 
 from . import protocol as P
+from .mapping import check_servo_reach
 
 
 @dataclass
@@ -47,7 +48,7 @@ def osc_params(scene, channels):
         shape = p.get("shape", "sine")
         field = f"actuators[{k}] ({a.name}).profile"
         if shape == "constant":
-            amp, off, period, phase, ferr = 0.0, p.get("value", 0.0), 0, 0.0, 0.0
+            amp, off, period, phase, ferr, f = 0.0, p.get("value", 0.0), 0, 0.0, 0.0, 0.0
         elif shape == "sine":
             amp, off = p.get("amplitude", 1.0), p.get("offset", 0.0)
             f = float(p.get("frequency_hz", 1.0))
@@ -67,11 +68,13 @@ def osc_params(scene, channels):
             raise SceneError(field, f"swings over [{off - amp:g}, {off + amp:g}]; actuator values are in [-1, 1]")
         lo, hi = c.limits_deg
         phase_cdeg = int(round((phase % 360.0) * 100)) % 36000
+        t_swing, v_swing = _one_period(amp, off, f, phase)  # for the servo's reach (+-angle + trim), once in limits
         if c.scale_deg is not None or c.rotation is None:  # linear: amplitude and offset are angles
             amp_deg, off_deg = c.angle_deg(amp), c.angle_deg(off)
             if off_deg - amp_deg < lo - 1e-9 or off_deg + amp_deg > hi + 1e-9:
                 raise SceneError(field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg; "
                                         f"channel {c.channel} allows [{lo:g}, {hi:g}] deg")
+            check_servo_reach(c, c.angle_deg(v_swing), f"actuators[{k}] ({a.name})", t_swing)
             out.append(OscParams(c.name, c.channel, int(round(amp_deg * 100)), int(round(off_deg * 100)), period,
                                  phase_cdeg, ferr, angle_range_deg=(off_deg - amp_deg, off_deg + amp_deg)))
             continue
@@ -94,9 +97,21 @@ def osc_params(scene, channels):
         if a_lo < lo - 1e-9 or a_hi > hi + 1e-9:
             raise SceneError(field, f"swings over [{a_lo:.2f}, {a_hi:.2f}] deg of joint rotation; channel "
                                     f"{c.channel} allows [{lo:g}, {hi:g}] deg")
+        for angles in (c.angle_deg(v_swing), v_swing * 90.0 * np.where(v_swing >= 0, g_pos, g_neg) / P.GAIN_ONE):
+            check_servo_reach(c, angles, f"actuators[{k}] ({a.name})", t_swing)  # the simulated and the chip's
         out.append(OscParams(c.name, c.channel, int(round(amp * 9000)), int(round(off * 9000)), period, phase_cdeg,
                              ferr, g_pos, g_neg, (a_lo, a_hi), err))
     return out
+
+
+def _one_period(amp, off, freq_hz, phase_deg):
+    """Times over the first period (1 ms apart, plus the two extremes of the sine) and the values v(t) there."""
+    if not amp or not freq_hz:
+        return np.zeros(1), np.full(1, float(off))
+    period, ph = 1.0 / freq_hz, math.radians(phase_deg)
+    extremes = [((s * math.pi / 2 - ph) / (2 * math.pi * freq_hz)) % period for s in (1, -1)]
+    t = np.union1d(np.arange(0.0, period, 1e-3), extremes)
+    return t, off + amp * np.sin(2 * math.pi * freq_hz * t + ph)
 
 
 def run_oscillators(link, params, seconds, keepalive_s=0.1, stop=None):

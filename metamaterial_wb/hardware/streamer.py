@@ -5,7 +5,7 @@
     streamer = Streamer(link, channel_map(scene))
     streamer.start(scene)            # or start(callable t -> {actuator name: value in [-1, 1]})
     ...
-    stats = streamer.stop()          # StreamStats: sent, acked, naked, lost, round-trip times
+    stats = streamer.stop()          # StreamStats: sent, acked, naked, lost, round-trip times, clamps
 
 Frames carry absolute angles: the latest wins, a lost frame is never retransmitted (the next one, 20 ms
 later, supersedes it). Deadlines are absolute (``next += period``), so the rate does not drift; a frame
@@ -23,7 +23,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 
 from . import protocol as P
 from .link import LinkError
-from .mapping import runs
+from .mapping import check_servo_reach, runs
 
 
 @dataclass
@@ -36,7 +36,10 @@ class StreamStats:
     rx_errors: int = 0        # replies the host could not decode
     skipped: int = 0          # deadlines missed by more than one period (not sent)
     resets: int = 0           # board reboots seen (re-configured and re-armed)
-    clamped_frames: int = 0   # ACKs whose clamp mask was not zero
+    clamped_frames: int = 0   # frames clamped by the host (--clamp) or the firmware (ACK clamp mask), each once
+    host_clamped_frames: int = 0      # frames in which the host clamped an angle to its channel's limits
+    firmware_clamped_frames: int = 0  # ACKs whose clamp mask was not zero
+    clamped_by_actuator: dict = field(default_factory=dict)  # {name: {"host": frames, "firmware": frames}}
     nak_reasons: dict = field(default_factory=dict)
     unreadable_reasons: dict = field(default_factory=dict)
     rtt_ms: list = field(default_factory=list)
@@ -53,6 +56,8 @@ class StreamStats:
                 "nak_unreadable": self.nak_unreadable, "unreadable_reasons": self.unreadable_reasons,
                 "rx_errors": self.rx_errors,
                 "skipped": self.skipped, "resets": self.resets, "clamped_frames": self.clamped_frames,
+                "host_clamped_frames": self.host_clamped_frames, "firmware_clamped_frames": self.firmware_clamped_frames,
+                "clamped_by_actuator": {k: dict(v) for k, v in self.clamped_by_actuator.items()},
                 "nak_reasons": self.nak_reasons,
                 "duration_s": round(self.duration_s, 4), "last_t": self.last_t,
                 "rate_hz": round(self.frames / self.duration_s, 3) if self.duration_s > 0 else 0.0,
@@ -95,10 +100,13 @@ class Streamer:
         self.catch_up = catch_up  # True: after a stall send the missed frames back to back instead of skipping
         self.stats = StreamStats()
         self.on_frame = None   # callback(t, {name: angle_deg}) after each frame (from the streaming thread)
+        self.on_clamp = None   # callback(t, {name: wanted angle_deg}) for a frame whose angles the host clamped
         self.on_error = None   # callback(message) when the stream stops on an error
         self._thread = None
         self._stop = threading.Event()
-        self._outstanding = {}  # seq -> send time of the frames not answered yet (a seq is reused after 254 frames)
+        # seq -> (send time, whether the host clamped it) of the frames not answered yet (a seq is reused after
+        # 254 frames)
+        self._outstanding = {}
         self._link_timing = (500, 500, 5000)
         self._events_seen = 0
 
@@ -113,10 +121,14 @@ class Streamer:
         self.link.arm()
 
     def frame_payloads(self, values):
-        """``{name: value}`` -> [(payload, {name: angle})] for the channel runs, checking the limits."""
+        """``{name: value}`` -> [(payload, {name: angle sent}, {name: wanted angle})] for the channel runs.
+
+        An angle outside its channel's limits is refused, or with ``clamp`` clamped (the third item holds the
+        wanted angle of every clamped channel, empty if none); a servo angle (+-angle + trim) outside [-90, 90]
+        deg is refused in both cases (mapping.check_servo_reach)."""
         out = []
         for first, cfgs in runs(self.channels):
-            cdeg, angles = [], {}
+            cdeg, angles, wanted = [], {}, {}
             for c in cfgs:
                 v = float(values.get(c.name, 0.0))
                 a = c.angle_deg(v)
@@ -125,31 +137,40 @@ class Streamer:
                     if not self.clamp:
                         raise MetamaterialError(f"actuator {c.name!r}: {a:.2f} deg (value {v:.4f}) is outside channel "
                                                 f"{c.channel}'s limits [{lo:g}, {hi:g}] deg")
+                    wanted[c.name] = a
                     a = min(max(a, lo), hi)
+                check_servo_reach(c, a, f"actuator {c.name!r} (value {v:.4f})")
                 angles[c.name] = a
                 cdeg.append(int(round(a * 100)))
-            out.append((P.set_angles_payload(first, cdeg), angles))
+            out.append((P.set_angles_payload(first, cdeg), angles, wanted))
         return out
 
     def _collect(self, timeout):
         self.link.poll(timeout)
         for seq in [q for q in self._outstanding if q in self.link.pending]:  # also replies read by another thread
             r = self.link.pending.pop(seq)
-            sent = self._outstanding.pop(seq)
+            sent, host_clamped = self._outstanding.pop(seq)
             if r.kind == "ACK":
                 self.stats.acked += 1
                 self.stats.rtt_ms.append((getattr(r, "time", time.perf_counter()) - sent) * 1000.0)
                 if r.clamp_mask:
-                    self.stats.clamped_frames += 1
+                    self.stats.firmware_clamped_frames += 1
+                    self.stats.clamped_frames += 0 if host_clamped else 1
+                    for c in self.channels:
+                        if r.clamp_mask >> c.channel & 1:
+                            self._count_clamp(c.name, "firmware")
             else:
                 self.stats.naked += 1
                 self.stats.nak_reasons[r.reason] = self.stats.nak_reasons.get(r.reason, 0) + 1
+
+    def _count_clamp(self, name, by):
+        self.stats.clamped_by_actuator.setdefault(name, {"host": 0, "firmware": 0})[by] += 1
 
     def run(self, source, duration_s=None, t0=0.0):
         """Stream in the calling thread until ``duration_s`` (None: until stop()). Returns the stats."""
         fn = source_function(source)
         period = 1.0 / self.rate_hz
-        self.stats = StreamStats()
+        self.stats = StreamStats(clamped_by_actuator={c.name: {"host": 0, "firmware": 0} for c in self.channels})
         self._outstanding = {}
         n_events = len(self.link.events)
         self._events_seen = 0
@@ -176,13 +197,20 @@ class Streamer:
                 t = t0 + k * period
                 if duration_s is not None and k * period >= duration_s - 1e-9:
                     break
-                for payload, angles in self.frame_payloads(fn(t)):
+                for payload, angles, wanted in self.frame_payloads(fn(t)):
                     seq = self.link.send(P.SET_ANGLES, payload)
                     # a seq still outstanding 254 frames later was lost: it stays counted (lost = frames -
                     # acked - naked), only its entry is replaced
-                    self._outstanding[seq] = time.perf_counter()
+                    self._outstanding[seq] = (time.perf_counter(), bool(wanted))
                     self.stats.frames += 1
                     self.stats.last_t = t
+                    if wanted:  # the host clamped (--clamp): counted here, the firmware's clamps from the ACKs
+                        self.stats.host_clamped_frames += 1
+                        self.stats.clamped_frames += 1
+                        for name in wanted:
+                            self._count_clamp(name, "host")
+                        if self.on_clamp:
+                            self.on_clamp(t, wanted)
                     if self.on_frame:
                         self.on_frame(t, angles)
                 deadline += period

@@ -19,7 +19,7 @@ class FakeDevice(threading.Thread):
     ``nak``: {type: (code, detail)}; ``event_before_ack``: send an EVENT in the same write as each ACK."""
 
     def __init__(self, drop=None, nak=None, event_before_ack=False, major=P.PROTO_MAJOR, n_channels=8,
-                 after_angles=None, lose_angles=(), garble_angles=()):
+                 after_angles=None, lose_angles=(), garble_angles=(), clamp_angles=()):
         super().__init__(daemon=True)
         self.master, self.slave = pty.openpty()
         tty.setraw(self.slave)
@@ -33,6 +33,7 @@ class FakeDevice(threading.Thread):
         self.received = []
         self.lose_angles = set(lose_angles)      # SET_ANGLES frames (1-based) that never arrive
         self.garble_angles = set(garble_angles)  # SET_ANGLES frames that arrive damaged: NAK CRC with seq 0xFF
+        self.clamp_angles = set(clamp_angles)    # SET_ANGLES frames ACKed with every channel's clamp bit set
         self.stop_flag = False
         os.write(self.master, P.build_frame(P.HELLO_ACK, 0, self.hello()))  # boot banner, already waiting
 
@@ -65,6 +66,10 @@ class FakeDevice(threading.Thread):
                     out = P.build_frame(P.NAK, pkt.seq, bytes(self.nak[pkt.type]))
                 elif pkt.type == P.HELLO:
                     out = P.build_frame(P.HELLO_ACK, pkt.seq, self.hello())
+                elif pkt.type == P.SET_ANGLES and n_angles in self.clamp_angles:
+                    first, count = pkt.payload[0], pkt.payload[1]
+                    mask = ((1 << count) - 1) << first
+                    out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, mask & 0xFF, mask >> 8, count]))
                 else:
                     out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, 0, 0, 1]))
                     if self.event_before_ack:
@@ -261,3 +266,24 @@ def test_missing_pyserial_says_how_to_install_it(monkeypatch):
         L.Link.open("/dev/ttyUSB0")
     msg = str(exc.value)
     assert "python3-serial" in msg and "pip install pyserial" in msg and "allow-list" in msg
+
+
+def test_cli_exits_1_naming_the_firmware_clamps_of_a_checked_motion(device, tmp_path):
+    """The host checks the whole motion against the channel limits and the servo range before streaming, so a
+    clamp mask in an ACK means the board did not do what it was told: before, it was only a number at the end of
+    the summary line, with exit status 0."""
+    import json
+    import subprocess
+    import sys
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    fish = os.path.join(repo, "examples", "fish.json")
+    dev = device(clamp_angles=(10, 11, 30))
+    rep = tmp_path / "r.json"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "stream", fish, "--port", dev.port, "--seconds", "1",
+                        "--report", str(rep)], capture_output=True, text=True, cwd=repo, timeout=60)
+    assert r.returncode == 1, (r.stdout, r.stderr)
+    assert "3 frames clamped (host 0; firmware 3: head 3, tail 3)" in r.stdout
+    assert "error: the firmware clamped 3 frames (head 3, tail 3) that the host had checked" in r.stderr
+    d = json.loads(rep.read_text())
+    assert d["firmware_clamped_frames"] == 3 and d["host_clamped_frames"] == 0
+    assert d["clamped_by_actuator"] == {"head": {"host": 0, "firmware": 3}, "tail": {"host": 0, "firmware": 3}}
