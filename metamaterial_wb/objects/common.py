@@ -34,6 +34,36 @@ def ensure_property(obj, ptype, name, group, tip, default=None, attr=0, readonly
     return True
 
 
+def warn(msg):
+    """A warning in FreeCAD's report view, and on stderr when headless (FreeCAD's console is silent in library
+    mode)."""
+    FreeCAD.Console.PrintWarning(msg + "\n")
+    if not FreeCAD.GuiUp:
+        import sys
+        print(msg, file=sys.stderr)
+
+
+def ensure_range(obj, name, low, high, step):
+    """Re-apply the ``[low, high]`` limits of the ``App::PropertyFloatConstraint`` ``name``, keeping its value.
+
+    FreeCAD saves the value of such a property but not its limits: after a reopen any number was accepted as
+    typed. Called by ``onDocumentRestored``; it touches nothing that was not touched. A stored value outside the
+    range (a file saved while the limits were lost) is clamped, with a warning naming the object, the value and
+    the range, and the object is left touched so that the next recompute uses the clamped value.
+    """
+    if name not in obj.PropertiesList:
+        return
+    value = float(getattr(obj, name))
+    clamped = min(max(value, low), high)
+    was_touched = "Touched" in obj.State
+    setattr(obj, name, (clamped, low, high, step))
+    if clamped != value:
+        warn(f"Metamaterial: {obj.Label}.{name} = {value:g} in the file is outside the allowed range "
+             f"[{low:g}, {high:g}]; set to {clamped:g}")
+    elif not was_touched:
+        obj.purgeTouched()
+
+
 class ProxyBase:
     """Common persistence: the state is ``{"Type": ..., "schema": ...}``."""
 

@@ -82,11 +82,25 @@ def configure(scene):
 def ensure_configured(scene):
     """Configure a scene with axes but no (or a stale, design-made) joint configuration, in place.
 
-    Returns the warnings to show (empty when nothing was done).
+    Returns the design warnings to show, on every call (not only when it configures): those of the
+    configuration run, else :func:`design_warnings` of the current configuration.
     """
     if not scene.axes:
         return []
     report = design.ensure_configured(scene)
     if not report:
-        return []
+        return design_warnings(scene)
     return list(report.get("warnings", [])) or ["joint configuration computed from the axes"]
+
+
+def design_warnings(scene):
+    """The design check's warnings (e.g. a fold whose hinge tilts do not fit their node plates: ``build`` will
+    reject it) for a scene whose design-made joint configuration is current. The check runs on a copy: the
+    scene is not changed. A hand-written configuration (entries without ``"axis"``, kept as it is by
+    ``core.design.ensure_configured``) gets none: the axes' check does not describe its tilts.
+    """
+    config = scene.joint_config
+    if not scene.axes or not config or not all("axis" in c for c in config.values()):
+        return []
+    report = design.configure(scene.copy(), strict=False)
+    return list(report.get("warnings", [])) if isinstance(report, dict) else []

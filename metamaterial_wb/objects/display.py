@@ -26,10 +26,47 @@ def _offset_positions(pos, quat, offset):
     return pos + R @ offset
 
 
+def array_owner(obj, arr):
+    """The Scene object that ``arr`` (the Scene ``obj``'s NodeArray or HingeArray) shows, when it is not ``obj``.
+
+    A link array shows a shape source (``NodeShape`` / ``HingeShape``) whose ``Scene`` link names the Scene it
+    belongs to. A copy of the Scene alone (``doc.copyObject(scene, True)``) copies the markers and modules it
+    links, but not the hidden-linked arrays: its NodeArray / HingeArray still are the original's. Returns None
+    for the Scene's own arrays (and for an array without that back-reference).
+    """
+    src = getattr(arr, "LinkedObject", None) if arr is not None else None
+    if src is None or "Scene" not in getattr(src, "PropertiesList", ()):
+        return None
+    owner = src.Scene
+    if owner is None or getattr(getattr(owner, "Proxy", None), "Type", "") != "MetamaterialScene":
+        return None
+    if owner.Document.Name == obj.Document.Name and owner.Name == obj.Name:
+        return None
+    return owner
+
+
+def own_arrays(obj):
+    """``(nodes, hinges)``: the Scene's link arrays, None for a missing one or one of another Scene (a copy of a
+    Scene never writes into the original's display: :func:`array_owner`)."""
+    return tuple(a if array_owner(obj, a) is None else None for a in (obj.NodeArray, obj.HingeArray))
+
+
+def check_own_arrays(obj):
+    """Raise a SceneError naming the Scene when its arrays belong to another Scene (:func:`array_owner`)."""
+    for arr in (obj.NodeArray, obj.HingeArray):
+        owner = array_owner(obj, arr)
+        if owner is not None:
+            part = next((p for p in owner.InList if p.TypeId == "App::Part"), None)
+            where = f"the whole Metamaterial part ({part.Label!r})" if part is not None else \
+                "the whole Metamaterial part"
+            raise SceneError(obj.Label, f"its display array {arr.Label!r} belongs to the Scene {owner.Label!r}: a "
+                                        f"copy of a Scene alone shares the original's node and hinge arrays and "
+                                        f"would move them; copy {where} instead, and delete this copy")
+
+
 def apply_frame(obj, solver, frame, purge=True):
     """Write node / hinge / marker / module placements for a solved frame. Nothing is recomputed."""
-    nodes = obj.NodeArray
-    hinges = obj.HingeArray
+    nodes, hinges = own_arrays(obj)
     if nodes is not None:
         pl = to_placements(frame.positions, frame.quaternions)
         if nodes.ElementCount != len(pl):
@@ -64,7 +101,7 @@ def hinge_scales(scene, joint_names):
 def apply_hinge_scales(obj, scene, purge=True):
     """Write the hinge array's ``ScaleList`` from the per-joint hinge sizes (on recompute, not per live frame:
     sizes do not change while dragging). Written only when it differs, so an unchanged scene costs nothing."""
-    hinges = obj.HingeArray
+    hinges = own_arrays(obj)[1]
     if hinges is None or not hasattr(hinges, "ScaleList"):
         return
     scales = hinge_scales(scene, scene.topology.joint_names)
@@ -121,7 +158,7 @@ def place_markers(obj, solver, frame, purge=True):
 def display_state(obj):
     """Everything a panel changes, to restore it on close."""
     st = {}
-    for arr in (obj.NodeArray, obj.HingeArray):
+    for arr in own_arrays(obj):
         if arr is not None:
             st[arr.Name] = ("list", list(arr.PlacementList))
     for it in list(obj.Items) + list(obj.Modules):

@@ -3,10 +3,11 @@
 import FreeCAD
 
 from metamaterial_wb.core.errors import SceneError
-from metamaterial_wb.objects.common import (ProxyBase, attach_proxy, count_execute, ensure_property, json_property,
-                                            tag_proxy)
+from metamaterial_wb.objects.common import (ProxyBase, attach_proxy, count_execute, ensure_property, ensure_range,
+                                            json_property, tag_proxy)
 
 PROFILE_SHAPES = ["none", "sine", "constant", "steps", "keyframes"]
+VALUE_RANGE = (-1.0, 1.0, 0.05)   # (low, high, step) of Value (a D): re-applied on restore, FreeCAD does not save it
 
 
 class ItemProxy(ProxyBase):
@@ -24,7 +25,7 @@ class ItemProxy(ProxyBase):
         ensure_property(obj, "App::PropertyString", "Joint", "Item", "Joint, e.g. V0,1 or H2,3")
         ensure_property(obj, "App::PropertyFloatConstraint", "Value", "Item",
                         "Deformation the item imposes on both nodes of its joint, in [-1, 1]",
-                        (0.0, -1.0, 1.0, 0.05))
+                        (0.0,) + VALUE_RANGE)
         if ensure_property(obj, "App::PropertyEnumeration", "ProfileShape", "Motion",
                            "Motion profile over time (actuators)"):
             obj.ProfileShape = PROFILE_SHAPES
@@ -40,6 +41,7 @@ class ItemProxy(ProxyBase):
 
     def onDocumentRestored(self, obj):
         self._ensure_properties(obj)
+        ensure_range(obj, "Value", *VALUE_RANGE)
         tag_proxy(obj, self)   # files saved before the split name objects.structure (still importable)
 
     def execute(self, obj):

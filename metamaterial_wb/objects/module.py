@@ -1,4 +1,5 @@
 """Snap-fit modules (``Part::FeaturePython``) on a node or across a joint; solids from ``geometry.modules``."""
+import contextlib
 import json
 
 import FreeCAD
@@ -14,6 +15,25 @@ MODULE_TYPES = ["servo_housing", "connection_hub", "stable_hub", "friction_pad",
 JOINT_MODULES = {"servo_housing", "stable_hub", "constraint_clip"}
 MODULE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
                   "hub": "connection_hub", "pad": "friction_pad"}
+_RUN_BY_SCENE = set()   # (document, module name) that SceneProxy.execute runs itself: their errors mark them invalid
+
+
+@contextlib.contextmanager
+def run_by_scene(m):
+    """``with run_by_scene(m): m.recompute()``: the Scene runs its module ``m``; a failure marks ``m`` invalid."""
+    key = (m.Document.Name, m.Name)
+    _RUN_BY_SCENE.add(key)
+    try:
+        yield
+    finally:
+        _RUN_BY_SCENE.discard(key)
+
+
+def _scene_runs_next(obj, sc):
+    """Whether the Scene ``sc`` runs after the module in this recompute and marks it itself: it links the module
+    (so depends on it) and the module is not being run by it."""
+    return (obj.Document.Name, obj.Name) not in _RUN_BY_SCENE and \
+        any(o.Name == obj.Name for o in getattr(sc, "Modules", []))
 
 
 class ModuleProxy(ProxyBase):
@@ -62,15 +82,25 @@ class ModuleProxy(ProxyBase):
                 # the Scene's own error: it recomputes after its modules (it depends on them) and reports it there;
                 # once it is valid again it refreshes this module (SceneProxy.execute). Not this module's fault.
                 return
-        self.refresh(obj, scene, force=True)
+        try:
+            self.refresh(obj, scene, force=True)
+        except SceneError:
+            if scene is None or not _scene_runs_next(obj, sc):
+                raise
+            # FreeCAD skips an object whose input failed in the same recompute: failing here would stop the Scene
+            # (it depends on its modules) from solving, now and on every recompute while this module stays broken.
+            # The Scene runs next, refreshes this module and runs it itself (run_by_scene): that run marks it
+            # invalid with this message (BuiltFor cleared: its refresh rebuilds, and fails, whatever it held).
+            obj.BuiltFor = ""
 
     def refresh(self, obj, scene, force=False):
         """(Re)build the solid when its parameters changed; raises SceneError naming the module."""
-        key = module_build_key(obj, scene)
+        prepared = prepare_module(obj, scene) if scene is not None else None   # Export's checks, no geometry
+        key = module_build_key(obj, scene, prepared)
         if not force and obj.BuiltFor == key and not obj.Shape.isNull():
             return False
         pl = FreeCAD.Placement(obj.Placement)
-        shape, source = build_module_shape(obj, scene)
+        shape, source = build_module_shape(obj, scene, prepared)
         obj.Shape = shape
         obj.GeometrySource = source
         obj.BuiltFor = key
@@ -97,39 +127,79 @@ def fabrication_overrides():
             "module_material": prm.GetString("ModuleMaterial", "ABS") or "ABS"}
 
 
-def module_build_key(obj, scene):
+def prepare_module(obj, scene):
+    """``(one-module scene, FabParams, ModuleSpec)``: the module checked as Export checks it (``build_scene``):
+    the fabrication parameters of the whole scene with its effective hinge tilts (axes, joint configuration,
+    per-joint hinge sizes), and the module parsed on the scene with this module alone (the sockets other modules
+    use are checked by Export). Builds no geometry; raises a SceneError naming the module."""
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
+    from metamaterial_wb.core.scene import Scene as _Scene
+    from metamaterial_wb.geometry.modules import parse_modules
+    d = scene.to_dict()
+    d["modules"] = [module_to_dict(obj)]
+    try:
+        one = _Scene.from_dict(d)
+        p = fabrication_params(one, effective_tilts_deg(one), **fabrication_overrides())
+        spec = parse_modules(one, p)[0]
+    except SceneError as exc:
+        raise _module_error(obj, exc) from None
+    return one, p, spec
+
+
+def _module_error(obj, exc):
+    """The SceneError ``exc`` of the one-module scene, named by the module: its field without the index of the
+    one-module scene (node, joint, thickness_mm), then the builder's message."""
+    field = (getattr(exc, "field", "") or "").replace("modules[0].", "").replace("modules[0]", "").strip()
+    msg = exc.message if hasattr(exc, "message") else str(exc)
+    return SceneError(f"module {obj.Label}", f"{field}: {msg}" if field else msg)
+
+
+def _json_default(v):
+    tolist = getattr(v, "tolist", None)
+    return tolist() if tolist is not None else str(v)
+
+
+def build_inputs(p, spec):
+    """Everything the module builder (``geometry.modules.build_module``) reads: the module's spec (its sizes,
+    sockets, the joint's pivot, which follows the motors' D range on the joint and the hinge tilts, the snap
+    pins) and the scalar fabrication parameters, with the hinge of the module's joint."""
+    from dataclasses import asdict, fields
+    fab = {f.name: getattr(p, f.name) for f in fields(p) if f.name != "hinges"}   # not every joint's hinge
+    if spec.joint is not None:
+        fab["joint_hinge"] = asdict(p.hinges[spec.joint])
+    out = {k: getattr(spec, k) for k in ("type", "side", "material", "extruder", "node", "joint", "a", "b",
+                                          "values", "sockets", "mu")}
+    out["pivot"] = spec.pivot.as_dict() if spec.pivot is not None else None
+    out["snap"] = spec.snap.as_dict() if spec.snap is not None else None
+    out["fab"] = fab
+    return out
+
+
+def module_build_key(obj, scene, prepared=None):
+    """``BuiltFor`` of the module: its fields, and with a scene exactly the builder's inputs (:func:`build_inputs`
+    of :func:`prepare_module`), so that the solid is rebuilt when and only when Export would build another one."""
     d = module_to_dict(obj)
     d["_fab"] = fabrication_overrides()
     if scene is not None:
-        d["_scene"] = [scene.cell_size_mm, scene.hinge, [c.to_dict() for c in scene.constraints]]
-    return json.dumps(d, sort_keys=True)
+        _one, p, spec = prepared or prepare_module(obj, scene)
+        d["_build"] = build_inputs(p, spec)
+    return json.dumps(d, sort_keys=True, default=_json_default)
 
 
-def build_module_shape(obj, scene):
+def build_module_shape(obj, scene, prepared=None):
     """``(solid, source)``: the fabrication package's module in its own frame (sheet from z = 0 to its
     thickness, joint modules with u from the first to the second node), or, without a scene, a stand-in."""
     import Part
     if scene is not None:
-        from metamaterial_wb.core.scene import Scene as _Scene
         from metamaterial_wb.geometry.build import BuildResult
-        from metamaterial_wb.geometry.modules import build_module, parse_modules
-        from metamaterial_wb.core.fabrication import fabrication_params
-        # the module only needs the sheet's sizes and sockets: drop axes / tilts (their fit is checked
-        # by the export of the sheet) and the other modules (sockets they use are checked there too)
-        d = scene.to_dict()
-        for k in ("axes", "joint_config", "joints"):
-            d.pop(k, None)
-        d["modules"] = [module_to_dict(obj)]
-        one = _Scene.from_dict(d)
+        from metamaterial_wb.geometry.modules import build_module
+        one, p, spec = prepared or prepare_module(obj, scene)
         try:
-            p = fabrication_params(one, **fabrication_overrides())
-            spec = parse_modules(one, p)[0]
             res = BuildResult(one, p)
             build_module(res, spec)
-        except SceneError as exc:     # the field without the one-module scene's index: node, joint, thickness_mm
-            field = (getattr(exc, "field", "") or "").replace("modules[0].", "").replace("modules[0]", "")
-            msg = exc.message if hasattr(exc, "message") else str(exc)
-            raise SceneError(f"module {obj.Label}", f"{field}: {msg}" if field else msg) from None
+        except SceneError as exc:
+            raise _module_error(obj, exc) from None
         shapes = [res.shapes[part.key] for part in res.parts]
         # Part.Compound, not Part.makeCompound: the latter kills FreeCAD 1.0/1.1 run from plain Python
         return (shapes[0] if len(shapes) == 1 else Part.Compound(shapes)), "geometry.modules"

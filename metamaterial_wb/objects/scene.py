@@ -10,11 +10,11 @@ import json
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.live import LiveSolver
 from metamaterial_wb.core.scene import DEFAULT_HINGE, Scene
-from metamaterial_wb.objects.common import (OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property, json_property,
-                                            tag_proxy)
-from metamaterial_wb.objects.display import apply_frame, apply_hinge_scales
-from metamaterial_wb.objects.item import item_to_dict
-from metamaterial_wb.objects.module import module_to_dict
+from metamaterial_wb.objects.common import (OUTPUT, ProxyBase, attach_proxy, count_execute, ensure_property,
+                                            ensure_range, json_property, tag_proxy)
+from metamaterial_wb.objects.display import apply_frame, apply_hinge_scales, check_own_arrays
+from metamaterial_wb.objects.item import VALUE_RANGE, item_to_dict
+from metamaterial_wb.objects.module import module_to_dict, run_by_scene
 
 _SOLVERS = {}   # (doc name, scene object name) -> (scene JSON, model, LiveSolver): reused by panels
 
@@ -70,7 +70,7 @@ class SceneProxy(ProxyBase):
         ensure_property(obj, "App::PropertyBool", "UseGlobal", "Simulation",
                         "Show the global deformation (every D = GlobalDeformation) instead of the actuators")
         ensure_property(obj, "App::PropertyFloatConstraint", "GlobalDeformation", "Simulation",
-                        "Global deformation g in [-1, 1]", (0.0, -1.0, 1.0, 0.05))
+                        "Global deformation g in [-1, 1]", (0.0,) + VALUE_RANGE)
         ensure_property(obj, "App::PropertyLinkList", "Items", "Simulation", "Motors and angular constraints")
         ensure_property(obj, "App::PropertyLinkList", "Modules", "Modules", "Snap-fit modules")
         ensure_property(obj, "App::PropertyLinkHidden", "NodeArray", "Display", "Link array of the nodes")
@@ -90,6 +90,7 @@ class SceneProxy(ProxyBase):
 
     def onDocumentRestored(self, obj):
         self._ensure_properties(obj)
+        ensure_range(obj, "GlobalDeformation", *VALUE_RANGE)   # FreeCAD does not save the limits
         tag_proxy(obj, self)   # files saved before the split name objects.structure (still importable)
         # the model list may have grown since the file was saved
         try:
@@ -102,9 +103,11 @@ class SceneProxy(ProxyBase):
 
     def execute(self, obj):
         count_execute(obj)
+        check_own_arrays(obj)      # a copy of this Scene alone must not move the original's nodes and hinges
         scene = compose_scene(obj)
         from metamaterial_wb.objects.design_adapter import ensure_configured
-        design_warnings = ensure_configured(scene)   # axes without (or with a stale) joint configuration
+        # configures axes without (or with a stale) joint configuration; the design check's warnings every time
+        design_warnings = ensure_configured(scene)
         solver = solver_for(obj, scene)
         frame = solver.frame(global_deformation=obj.GlobalDeformation if obj.UseGlobal else None)
         text = scene.to_json()
@@ -124,17 +127,21 @@ class SceneProxy(ProxyBase):
         for m in obj.Modules:
             if getattr(getattr(m, "Proxy", None), "Type", "") != "MetamaterialModule":
                 continue
+            error = None
             try:
                 if m.isValid():
                     if m.Proxy.refresh(m, scene):
                         m.purgeTouched()
                     continue
             except SceneError as exc:
-                module_warnings.append(str(exc))
+                error = str(exc)
             # FreeCAD keeps an object's error state until it runs the object itself: run the module, so that it is
             # marked invalid with its own message (not left showing its old solid as valid), or cleared once it
-            # builds again
-            m.recompute()
+            # builds again; a module that stays invalid is listed here (whether it failed now or at its own run)
+            with run_by_scene(m):
+                m.recompute()
+            if not m.isValid():
+                module_warnings.append(error or m.getStatusString())
         obj.SolveWarnings = list(design_warnings) + list(solver.warnings) + module_warnings
         apply_frame(obj, solver, frame, purge=True)
         apply_hinge_scales(obj, scene, purge=True)

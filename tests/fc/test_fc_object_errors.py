@@ -25,7 +25,23 @@ def test_a_module_that_no_longer_fits_is_marked_invalid_and_recovers(doc):
     sc.HingeLength = 2.0
     doc.recompute()
     assert m.isValid() and sc.isValid(), (m.State, sc.State)
-    assert '"cell_size_mm"' not in m.BuiltFor and "27.0" in m.BuiltFor
+    assert '"cell_size_mm": 27.0' in m.BuiltFor         # rebuilt for the new cell (BuiltFor: the builder's inputs)
+
+
+def test_an_invalid_module_stays_listed_in_the_scenes_warnings(doc):
+    """The Scene listed a module's error only on the recompute that broke it: after moving a motor the module
+    was still invalid, and SolveWarnings no longer said so."""
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "servo_housing", "V0,1")
+    doc.recompute()
+    sc.HingeLength = 2.4
+    sc.CellSize = 8.0
+    doc.recompute()
+    assert not m.isValid() and any(m.Label in w for w in sc.SolveWarnings)
+    sc.Items[0].Value = 0.7
+    doc.recompute()
+    assert sc.isValid() and not m.isValid()
+    assert [w for w in sc.SolveWarnings if m.Label in w] == [m.getStatusString()], list(sc.SolveWarnings)
 
 
 def test_a_scene_error_is_the_scenes_not_its_modules(doc):
@@ -84,3 +100,30 @@ def test_a_module_error_names_the_field(doc):
     doc.recompute()
     assert not m.isValid()
     assert f"module {m.Label}: node: unknown field" in m.getStatusString(), m.getStatusString()
+
+
+def test_a_module_that_fails_at_its_own_run_does_not_stop_the_scene(doc):
+    """FreeCAD skips an object whose input failed in the same recompute: a module that could not be built when it
+    ran itself (made or edited where it does not fit, or on a sheet Export refuses) kept its Scene from solving,
+    on every recompute until the module was fixed (the Scene stayed Touched, moving a motor moved nothing)."""
+    sc = structure.make_structure(doc, fish())
+    doc.recompute()
+    m = structure.make_module(doc, sc, "servo_housing", "V0,1", {"wall_mm": 0.1})   # under two nozzle widths
+    doc.recompute()
+    assert not m.isValid() and "wall_mm" in m.getStatusString() and m.Label in m.getStatusString()
+    assert sc.isValid() and "Touched" not in sc.State, sc.State
+    assert [w for w in sc.SolveWarnings if m.Label in w] == [m.getStatusString()], list(sc.SolveWarnings)
+    d0 = list(sc.Deformation)
+    sc.Items[0].Value = 0.7
+    doc.recompute()
+    assert "Touched" not in sc.State and list(sc.Deformation) != d0
+    assert not m.isValid()
+    m.ModuleData = ""                                   # fixed: it builds again
+    doc.recompute()
+    assert m.isValid() and sc.isValid() and not m.Shape.isNull(), m.getStatusString()
+    assert not any(m.Label in w for w in sc.SolveWarnings)
+    m.ModuleData = '{"wall_mm": 0.1}'                 # only the module changes, and breaks again
+    doc.recompute()
+    assert not m.isValid() and "wall_mm" in m.getStatusString()
+    assert sc.isValid() and "Touched" not in sc.State, sc.State
+    assert [w for w in sc.SolveWarnings if m.Label in w] == [m.getStatusString()], list(sc.SolveWarnings)
