@@ -88,6 +88,8 @@ def run(deck, name="job", timeout_s=600.0, keep_dir=None, partial=False):
     does not converge or exceeds ``timeout_s`` (it is then killed). With ``partial=True`` a run that stops
     early (no convergence, time limit) returns the increments it converged, with ``info["stopped"]`` saying
     why (a path traced as far as the solver goes)."""
+    from metamaterial_wb.fe.checks import number
+    number("timeout_s", timeout_s, 0, None, "s", low_open=True)
     ok, path = available()
     if not ok:
         raise FEError(path)
@@ -118,7 +120,7 @@ def run(deck, name="job", timeout_s=600.0, keep_dir=None, partial=False):
                 raise FEError(stopped)
         if not os.path.exists(dat):
             raise FEError(stopped or f"ccx wrote no .dat file for job {name!r}")
-        with open(dat) as f:
+        with open(dat, encoding="utf-8", errors="replace") as f:     # a .dat that is not ccx's: its tables are missing
             text = f.read()
         tables = parse_dat(text)
         info = {"wall_s": wall, "log_tail": log[-400:]}
@@ -131,6 +133,28 @@ def run(deck, name="job", timeout_s=600.0, keep_dir=None, partial=False):
     finally:
         if keep_dir is None:
             shutil.rmtree(tmp, ignore_errors=True)
+
+
+def table(tables, key, job, nodes=(), info=None):
+    """The ``*NODE PRINT`` table ``key`` (``(quantity, set)``, :func:`parse_dat`) of job ``job``'s ``.dat``: its rows
+    ``[(time, {node: values}), ...]``, each holding every node of ``nodes``. A table that is missing or empty, or a
+    row without one of ``nodes``, raises :class:`FEError` naming the job and the table (a ``.dat`` that is empty,
+    truncated or not ccx's; ``info["stopped"]``, a partial run's reason, is added), never a KeyError. A partial run's
+    last row may lack nodes (ccx stopped while printing it): it is dropped."""
+    rows = list(tables.get(key) or ())
+    why = (info or {}).get("stopped")
+    need = [int(n) for n in np.asarray(nodes, dtype=np.int64).ravel()]
+    if rows and need and why and any(n not in rows[-1][1] for n in need):
+        rows = rows[:-1]
+    if not rows:
+        raise FEError(f"ccx job {job!r}: no {key[0]} table for node set {key[1]} in its .dat "
+                      + (f"({why})" if why else "(ccx printed no converged increment, or the file is not ccx's)"))
+    for t, vals in rows:
+        gone = [n for n in need if n not in vals]
+        if gone:
+            raise FEError(f"ccx job {job!r}: the {key[0]} table for node set {key[1]} at time {t:g} lacks "
+                          f"{len(gone)} of its {len(need)} nodes (node {gone[0]} first): a truncated .dat")
+    return rows
 
 
 def fmt_nodes(nodes, first=1):

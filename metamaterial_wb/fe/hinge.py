@@ -16,15 +16,18 @@ the lattice measures its hinge strains ``(u, Theta)``.
   place, as where neighbouring plates hold a hinge's chord); moment and end displacement per increment.
 
 Meshes: 20-node bricks with reduced integration (C3D20R) on a graded structured grid
-(:mod:`metamaterial_wb.fe.mesh`), element size ``h`` in the hinge; :func:`mesh_study` refines ``h``.
+(:mod:`metamaterial_wb.fe.mesh`), nominal element size ``h`` in the hinge (the grid rounds its counts up:
+:func:`element_sizes` gives the bricks' own edges and the representative size mesh studies extrapolate with);
+:func:`mesh_study` refines ``h``. Bad sizes or moduli are refused (``HingeSpec.check``, ``fe.checks``).
 """
 import math
 import time
 
 import numpy as np
 
-from metamaterial_wb.fe import ccx
+from metamaterial_wb.fe import ccx, checks
 from metamaterial_wb.fe.mesh import box_union_mesh, graded
+from metamaterial_wb.fe.richardson import extrapolate, representative_size
 
 PLA_E, PLA_NU = 3500.0, 0.36          # MPa, printed PLA (typical datasheet values)
 REF, ROT = 900001, 900002             # rigid-body reference and rotation nodes
@@ -35,9 +38,22 @@ class HingeSpec:
 
     def __init__(self, length=2.0, width=0.8, thickness=7.0, E=26.0, nu=0.45, plate_len=1.5, plate_margin=1.5,
                  plate_E=PLA_E, plate_nu=PLA_NU):
-        self.L, self.w, self.t, self.E, self.nu = float(length), float(width), float(thickness), float(E), float(nu)
-        self.plate_len, self.plate_margin = float(plate_len), float(plate_margin)
-        self.plate_E, self.plate_nu = float(plate_E), float(plate_nu)
+        self.L, self.w, self.t, self.E, self.nu = length, width, thickness, E, nu
+        self.plate_len, self.plate_margin, self.plate_E, self.plate_nu = plate_len, plate_margin, plate_E, plate_nu
+        self.check()
+
+    def check(self):
+        """Check every field (sizes and moduli positive and finite, Poisson ratios from 0 to 0.5, 0.5 excluded)
+        and store it as a float; a SceneError names the first bad one (``HingeSpec.<argument>: <value>; allowed:
+        ...``). Run by the constructor and again by every mesh and deck (a field may have been changed since)."""
+        for arg, attr in (("length", "L"), ("width", "w"), ("thickness", "t"), ("plate_len", "plate_len"),
+                          ("plate_margin", "plate_margin")):
+            setattr(self, attr, checks.number(f"HingeSpec.{arg}", getattr(self, attr), 0.0, None, "mm", low_open=True))
+        for arg in ("E", "plate_E"):
+            setattr(self, arg, checks.number(f"HingeSpec.{arg}", getattr(self, arg), 0.0, None, "MPa", low_open=True))
+        self.nu = checks.poisson("HingeSpec.nu", self.nu)
+        self.plate_nu = checks.poisson("HingeSpec.plate_nu", self.plate_nu)
+        return self
 
     def beam_K(self):
         from metamaterial_wb.core.lattice.geometry import beam_tip_stiffness
@@ -48,14 +64,10 @@ class HingeSpec:
 
 
 def hinge_mesh(spec, h):
-    """The structured C3D20R mesh with element size ``h`` (mm) in the hinge, graded to 4 h in the plates."""
+    """The structured C3D20R mesh with element size ``h`` (mm) in the hinge, graded to 4 h in the plates
+    (``hinge_lines``; the sizes its bricks have: ``element_sizes``)."""
     L, w, t, Lp, mg = spec.L, spec.w, spec.t, spec.plate_len, spec.plate_margin
-    hw = min(h, w / 2.0)                                 # at least two elements across the width
-    xs = np.concatenate([graded(-Lp, 0.0, h, 4 * h, "high")[:-1], graded(0.0, L, h),
-                         graded(L, L + Lp, h, 4 * h, "low")[1:]])
-    ys = np.concatenate([graded(-w / 2 - mg, -w / 2, hw, 4 * h, "high")[:-1], graded(-w / 2, w / 2, hw),
-                         graded(w / 2, w / 2 + mg, hw, 4 * h, "low")[1:]])
-    zs = graded(-t / 2, t / 2, max(2 * h, t / 40.0)) if t > 4 * h else graded(-t / 2, t / 2, t / 4)
+    xs, ys, zs = hinge_lines(spec, h)
     W = w / 2 + mg
     boxes = [(0.0, L, -w / 2, w / 2, -t / 2, t / 2),            # 0: hinge (TPU)
              (-Lp, 0.0, -W, W, -t / 2, t / 2),                  # 1: plate A (PLA)
@@ -63,7 +75,36 @@ def hinge_mesh(spec, h):
     return box_union_mesh(boxes, (xs, ys, zs))
 
 
+def element_sizes(spec, h):
+    """The bricks of the hinge in its mesh of nominal size ``h``: ``{"element_mm": [along, across, through],
+    "h_eff_mm"}``, the edge lengths (``mesh.graded`` rounds the counts up, so they are ``h`` or less along and across,
+    about ``2 h`` through) and the representative size the mesh studies extrapolate with, the cube root of the
+    brick volume (``richardson.representative_size``)."""
+    xs, ys, zs = hinge_lines(spec, h)
+    size = [float(np.diff(g[(g >= lo - 1e-9) & (g <= hi + 1e-9)]).max())
+            for g, lo, hi in ((xs, 0.0, spec.L), (ys, -spec.w / 2, spec.w / 2), (zs, -spec.t / 2, spec.t / 2))]
+    return {"element_mm": size, "h_eff_mm": representative_size(size)}
+
+
+def hinge_lines(spec, h):
+    """The grid lines ``(xs, ys, zs)`` of ``hinge_mesh``: spacing ``h`` along the hinge, ``min(h, w / 2)`` across
+    it, ``max(2 h, t / 40)`` through it (``t / 4`` for a thin one), each count rounded up; growing to ``4 h`` in
+    the plates."""
+    spec.check()
+    h = checks.number("h", h, 0.0, None, "mm", low_open=True)
+    L, w, t, Lp, mg = spec.L, spec.w, spec.t, spec.plate_len, spec.plate_margin
+    hw = min(h, w / 2.0)                                 # at least two elements across the width
+    checks.element_count("h", h, (L / h) * (w / hw) * (t / max(2 * h, t / 40.0) if t > 4 * h else 4))  # the hinge's
+    xs = np.concatenate([graded(-Lp, 0.0, h, 4 * h, "high")[:-1], graded(0.0, L, h),
+                         graded(L, L + Lp, h, 4 * h, "low")[1:]])
+    ys = np.concatenate([graded(-w / 2 - mg, -w / 2, hw, 4 * h, "high")[:-1], graded(-w / 2, w / 2, hw),
+                         graded(w / 2, w / 2 + mg, hw, 4 * h, "low")[1:]])
+    zs = graded(-t / 2, t / 2, max(2 * h, t / 40.0)) if t > 4 * h else graded(-t / 2, t / 2, t / 4)
+    return xs, ys, zs
+
+
 def _deck_head(spec, mesh, hyperelastic):
+    spec.check()
     L = spec.L
     fixA = mesh.nodes_where(0, -spec.plate_len) + 1
     faceB = mesh.nodes_where(0, L + spec.plate_len) + 1
@@ -93,6 +134,8 @@ _PRINT = "*NODE PRINT, NSET=NREF\nU, RF\n*NODE PRINT, NSET=NROT\nU, RF\n"
 
 
 def stiffness_deck(spec, mesh, du=1e-3, dr=1e-3):
+    du = checks.number("du", du, 0.0, None, "mm", low_open=True)
+    dr = checks.number("dr", dr, 0.0, None, "rad", low_open=True)
     steps = []
     for k in range(6):
         vals = [0.0] * 6
@@ -103,12 +146,11 @@ def stiffness_deck(spec, mesh, du=1e-3, dr=1e-3):
     return _deck_head(spec, mesh, hyperelastic=False) + "".join(steps)
 
 
-def _end_table(tables):
-    """Per printed time: (time, reference-node U and RF, rotation-node U and RF)."""
-    uR = tables[("displacements", "NREF")]
-    fR = tables[("forces", "NREF")]
-    uT = tables[("displacements", "NROT")]
-    fT = tables[("forces", "NROT")]
+def _end_table(tables, job):
+    """Per printed time: (time, reference-node U and RF, rotation-node U and RF); an :class:`ccx.FEError` naming
+    ``job`` and the table if one is missing (``ccx.table``)."""
+    uR, fR = (ccx.table(tables, (q, "NREF"), job, [REF]) for q in ("displacements", "forces"))
+    uT, fT = (ccx.table(tables, (q, "NROT"), job, [ROT]) for q in ("displacements", "forces"))
     return [(t, a[REF], b[REF], c[ROT], d[ROT]) for (t, a), (_, b), (_, c), (_, d) in zip(uR, fR, uT, fT)]
 
 
@@ -117,19 +159,21 @@ def stiffness(spec, h, timeout_s=600.0):
     mesh = hinge_mesh(spec, h)
     du, dr = 1e-3, 1e-3
     tables, info = ccx.run(stiffness_deck(spec, mesh, du, dr), "hinge_K", timeout_s)
-    rows = _end_table(tables)
+    rows = _end_table(tables, "hinge_K")
     if len(rows) != 6:
         raise ccx.FEError(f"expected 6 load cases in the ccx output, found {len(rows)}")
     K = np.zeros((6, 6))
     for k, (_t, _u, f, _r, m) in enumerate(rows):
         K[:, k] = np.concatenate([f, m]) / (du if k < 3 else dr)
     K = 0.5 * (K + K.T)
-    info.update({"h_mm": h, "nodes": mesh.n_nodes, "elements": mesh.n_elements, "dofs": 3 * mesh.n_nodes})
+    info.update({"h_mm": h, "nodes": mesh.n_nodes, "elements": mesh.n_elements, "dofs": 3 * mesh.n_nodes,
+                 **element_sizes(spec, h)})
     return K, info
 
 
 def bending_deck(spec, mesh, angle_deg, increments=8, held=False):
-    th = math.radians(angle_deg)
+    th = math.radians(checks.number("angle_deg", angle_deg, -180.0, 180.0, "deg"))
+    increments = checks.integer("increments", increments, 1)
     bc = f"FIXA,1,3,0\n{ROT},1,2,0\n{ROT},3,3,{th:.12g}\n"
     if held:
         bc += f"{REF},1,3,0\n"
@@ -144,12 +188,12 @@ def bending_curve(spec, h, angle_deg=45.0, increments=8, held=False, timeout_s=9
     "end_force_N" (k, 3)}`` per converged increment, and the run info."""
     mesh = hinge_mesh(spec, h)
     tables, info = ccx.run(bending_deck(spec, mesh, angle_deg, increments, held), "hinge_bend", timeout_s)
-    rows = _end_table(tables)
+    rows = _end_table(tables, "hinge_bend")
     out = {"time": np.array([r[0] for r in rows]), "angle_rad": np.array([r[3][2] for r in rows]),
            "moment_Nmm": np.array([r[4][2] for r in rows]), "end_u_mm": np.array([r[1] for r in rows]),
            "end_force_N": np.array([r[2] for r in rows])}
     info.update({"h_mm": h, "nodes": mesh.n_nodes, "elements": mesh.n_elements, "dofs": 3 * mesh.n_nodes,
-                 "held": bool(held), "increments": len(rows)})
+                 "held": bool(held), "increments": len(rows), **element_sizes(spec, h)})
     return out, info
 
 
@@ -162,35 +206,23 @@ def lattice_bending(spec, angles, held=False, hinge_elements=1):
 
 
 def mesh_study(spec, sizes=(0.4, 0.27, 0.2), timeout_s=900.0, progress=None):
-    """FE stiffness at every mesh size, with the observed convergence order and Richardson estimate of
-    the converged diagonal (three finest sizes, ratio assumed constant)."""
+    """FE stiffness at every nominal mesh size, and the Richardson estimate of the converged diagonal over the
+    meshes' own sizes (``h_eff_mm``, ``element_sizes``; ``richardson.extrapolate``: observed order from the three
+    finest, flagged where clipped)."""
     rows = []
     for h in sizes:
         t0 = time.perf_counter()
         K, info = stiffness(spec, h, timeout_s)
         rows.append({"h_mm": h, "K": K, "wall_s": info["wall_s"], "dofs": info["dofs"],
-                     "elements": info["elements"]})
+                     "elements": info["elements"], "h_eff_mm": info["h_eff_mm"], "element_mm": info["element_mm"]})
         if progress:
             progress(f"FE hinge stiffness h = {h:g} mm: {info['dofs']} DOFs, {time.perf_counter() - t0:.1f} s")
-    return rows, richardson([r["h_mm"] for r in rows], [np.diag(r["K"]) for r in rows])
+    return rows, extrapolate([r["h_eff_mm"] for r in rows], [np.diag(r["K"]) for r in rows])
 
 
 def richardson(h, values):
-    """Extrapolate ``values`` (sequence of arrays at mesh sizes ``h``, coarse to fine) to ``h -> 0`` from the
-    last three: ``(extrapolated, error estimate, observed order)``; with two values, order 2 is assumed."""
-    v = [np.asarray(x, float) for x in values]
-    h = [float(x) for x in h]
-    if len(v) < 2:
-        return v[-1], np.full_like(v[-1], np.nan), np.nan
-    if len(v) >= 3:
-        d1, d2 = v[-2] - v[-3], v[-1] - v[-2]
-        r = h[-2] / h[-1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            p = np.log(np.abs(d1 / d2)) / np.log(h[-3] / h[-2]) if h[-3] / h[-2] == r else \
-                np.log(np.abs(d1 / d2)) / np.log(r)
-        p = np.where(np.isfinite(p), np.clip(p, 0.5, 4.0), 2.0)
-    else:
-        r = h[-2] / h[-1]
-        p = np.full_like(v[-1], 2.0)
-    ext = v[-1] + (v[-1] - v[-2]) / (r ** p - 1.0)
-    return ext, np.abs(ext - v[-1]), p
+    """``(extrapolated, error estimate, order)`` of ``values`` (arrays, coarse to fine) at the element sizes ``h``
+    (the meshes' own, any ratios: ``richardson.extrapolate``, whose result also says which orders were clipped or
+    assumed); with two values, order 2 is assumed."""
+    res = extrapolate(h, values)
+    return res["value"], res["error"], res["order"]

@@ -15,31 +15,45 @@ Untilted (planar) scenes only.
 import numpy as np
 
 from metamaterial_wb.core.errors import SceneError
-from metamaterial_wb.fe import ccx
+from metamaterial_wb.fe import ccx, checks
 from metamaterial_wb.fe.mesh import box_union_mesh, graded
+from metamaterial_wb.fe.richardson import representative_size
 
 
 def _hinge_box(rest, w, t, h, nz):
+    return box_union_mesh([(0.0, rest, -w / 2, w / 2, -t / 2, t / 2)], hinge_lines(rest, w, t, h, nz))
+
+
+def hinge_lines(rest, w, t, h, nz):
+    """The grid lines ``(xs, ys, zs)`` of one hinge's box: element size ``h`` along it (``rest`` long) and across
+    it (at least two elements across its width ``w``), ``nz`` elements through its thickness ``t``."""
     hw = min(h, w / 2.0)
-    return box_union_mesh([(0.0, rest, -w / 2, w / 2, -t / 2, t / 2)],
-                          (graded(0.0, rest, h), graded(-w / 2, w / 2, hw), graded(-t / 2, t / 2, t / nz)))
+    return graded(0.0, rest, h), graded(-w / 2, w / 2, hw), graded(-t / 2, t / 2, t / nz)
 
 
 def patch_deck(scene, h=0.4, nz=4, increments=5, E=None, nu=None):
-    """``(deck, meta)``: the ccx input for the scene's sheet and what is needed to read the answer."""
+    """``(deck, meta)``: the ccx input for the scene's sheet and what is needed to read the answer (with
+    ``element_mm``, the largest brick edges along, across and through the hinges, and ``h_eff_mm``, the cube root of
+    the mean brick volume: the sizes the mesh has, ``h`` and ``nz`` being rounded up to whole counts per hinge)."""
     from metamaterial_wb.core.lattice.geometry import LatticeGeometry, fixed_items
     from metamaterial_wb.core.lattice.solve import _support_node
 
+    h = checks.number("h", h, 0.0, None, "mm", low_open=True)
+    nz = checks.integer("nz", nz, 1, 64, "elements through the hinge's thickness")
+    increments = checks.integer("increments", increments, 1)
     geo = LatticeGeometry(scene)
     if not geo.planar:
         raise SceneError("joints", "the FE patch handles untilted hinges only (tilted hinges fold out of plane)")
     joints, values, psi, names = fixed_items(scene, geo)
-    E = geo.E if E is None else E
-    nu = geo.nu if nu is None else nu
-    nodes, elems, ends = [], [], {}
+    E = geo.E if E is None else checks.number("E", E, 0.0, None, "MPa", low_open=True)
+    nu = geo.nu if nu is None else checks.poisson("nu", nu)
+    rest = float(geo.rest)
+    checks.element_count("h", h, sum((rest / h) * (w / min(h, w / 2.0)) * nz for w in np.asarray(geo.w, float)))
+    nodes, elems, ends, sizes = [], [], {}, []
     base = 0
     for k in range(geo.m):
         box = _hinge_box(float(geo.rest), float(geo.w[k]), float(geo.t[k]), h, nz)
+        sizes += [[float(np.diff(g).max()) for g in box.lines]] * box.n_elements
         Q = geo.Q0[k]
         pA = geo.X0[geo.a[k]] + geo.rA[k]
         X = pA + box.nodes @ Q.T
@@ -94,7 +108,7 @@ def patch_deck(scene, h=0.4, nz=4, increments=5, E=None, nu=None):
     out.append(f"*STEP, NLGEOM, INC=1000\n*STATIC\n{inc:.6g},1.0,{inc / 64:.6g},{inc:.6g}\n*BOUNDARY\n{bc}"
                "*NODE PRINT, NSET=NREF\nU\n*NODE PRINT, NSET=NROT\nU\n*END STEP\n")
     meta = {"geo": geo, "ref": ref, "rot": rot, "support": sup, "dofs": 3 * nn, "elements": int(elems.shape[0]),
-            "h_mm": h, "nz": nz}
+            "h_mm": h, "nz": nz, "element_mm": np.max(sizes, axis=0).tolist(), "h_eff_mm": representative_size(sizes)}
     return "".join(out), meta
 
 
@@ -118,12 +132,13 @@ def solve_patch(scene, h=0.4, nz=4, increments=5, timeout_s=1800.0):
     deck, meta = patch_deck(scene, h, nz, increments)
     tables, info = ccx.run(deck, "patch", timeout_s)
     geo = meta["geo"]
-    u = tables[("displacements", "NREF")][-1][1]
-    r = tables[("displacements", "NROT")][-1][1]
+    u_rows = ccx.table(tables, ("displacements", "NREF"), "patch", list(meta["ref"].values()))
+    u = u_rows[-1][1]
+    r = ccx.table(tables, ("displacements", "NROT"), "patch", list(meta["rot"].values()))[-1][1]
     X = np.array([geo.X0[p] + u[meta["ref"][p]] for p in range(geo.n)])
     phi = np.array([r[meta["rot"][p]][2] for p in range(geo.n)])
-    info.update({k: meta[k] for k in ("dofs", "elements", "h_mm", "nz")})
-    info["increments"] = len(tables[("displacements", "NREF")])
+    info.update({k: meta[k] for k in ("dofs", "elements", "h_mm", "nz", "element_mm", "h_eff_mm")})
+    info["increments"] = len(u_rows)
     info["max_out_of_plane_rotation_rad"] = float(max(np.abs(r[meta["rot"][p]][:2]).max() for p in range(geo.n)))
     return FEPatchResult(phi, X, info)
 

@@ -33,10 +33,12 @@ import math
 
 import numpy as np
 
-from metamaterial_wb.fe import ccx
+from metamaterial_wb.fe import ccx, checks
 from metamaterial_wb.fe.mesh import Mesh
 
 BULK_RATIO = 500.0      # K / G of the nearly incompressible neo-Hooke solid (nu = 0.499)
+R_MAX, CELLS_MAX = 8, 64  # the largest refinement and number of cells a mesh takes (sleeve3d's bounds)
+D_MAX = 1.5             # the largest travel d_max of a deck, in L (sleeve3d's)
 
 
 def _beam_point(g, p, s):
@@ -207,6 +209,8 @@ def cell_mesh(g, r=1, cells=1, top=None):
     there)."""
     from scipy.spatial import cKDTree
 
+    r = checks.integer("r", r, 1, R_MAX)
+    cells = checks.integer("cells", cells, 1, CELLS_MAX)
     geoms = ring_cells(g, cells)
     g = geoms[0]
     if g.layout != "single":
@@ -221,7 +225,7 @@ def cell_mesh(g, r=1, cells=1, top=None):
     base = 0
     blocks = {}                       # per distinct cell type (the same numbering as a uniform ring's)
     for gk in geoms:
-        blocks.setdefault(id(gk), _blocks(gk, int(r), height, side_t))
+        blocks.setdefault(id(gk), _blocks(gk, r, height, side_t))
     for b, (name, _f, nu, nv) in enumerate(blocks[id(g)]):
         U, V = np.meshgrid(np.linspace(0, 1, 2 * nu + 1), np.linspace(0, 1, 2 * nv + 1), indexing="ij")
         idx = np.arange(U.size).reshape(2 * nu + 1, 2 * nv + 1)
@@ -304,10 +308,20 @@ def _step(d_total, increments, prints):
             "*END STEP\n")
 
 
+def check_travel(g, d_max, increments, default):
+    """``(d_max, increments)`` of a deck, checked: ``d_max`` (mm; ``default`` times L when None) from 0 (excluded)
+    to ``D_MAX`` L, ``increments`` an integer >= 1 (the step's largest increment is ``1 / increments``)."""
+    d_max = default * g.L if d_max is None else checks.number("d_max", d_max, 0.0, D_MAX * g.L, "mm", low_open=True,
+                                                                note=f"{D_MAX:g} L")
+    return d_max, checks.integer("increments", increments, 1)
+
+
 def cell_deck(g, r=1, d_max=None, increments=100, full_near=0.0, full_low=False):
-    """``(deck, meta)``: the periodic unit cell pulled to ``d_max`` (mm; default 0.7 L, past the valley).
+    """``(deck, meta)``: the periodic unit cell pulled to ``d_max`` (mm; default 0.7 L, past the valley; at most
+    ``D_MAX`` L) in at most ``increments`` steps (an integer >= 1; ``r``: ``cell_mesh``).
     ``full_near`` (mm), ``full_low``: the elements of ``QuadMesh.corner_elements(full_near, full_low)`` fully
     integrated (CPE8), the rest CPE8R (as ``sleeve3d.ring_deck3d``'s corner bricks)."""
+    d_max, increments = check_travel(g, d_max, increments, 0.7)
     mesh = cell_mesh(g, r, 1)
     if not 0 <= full_near <= 0.5 * g.L:
         raise ValueError(f"full_near: {full_near!r} mm; allowed: 0 (none) to L/2 = {0.5 * g.L:g} mm")
@@ -315,7 +329,6 @@ def cell_deck(g, r=1, d_max=None, increments=100, full_near=0.0, full_low=False)
         raise ValueError("full_low: the edge pillar's strip joins the corner elements of full_near, which is 0; "
                          "allowed: full_near > 0 with it")
     full = mesh.corner_elements(full_near, full_low)
-    d_max = 0.7 * g.L if d_max is None else float(d_max)
     bottom, top, pairs = _edges(mesh)
     out = ["*HEADING\nmetamaterial_wb: sleeve unit cell, plane strain, periodic edges\n", _mesh_text(mesh, full)]
     out += ["*NSET, NSET=BOTTOM\n", ccx.fmt_set(bottom + 1), "*NSET, NSET=TOP\n", ccx.fmt_set(top + 1)]
@@ -363,9 +376,10 @@ def ring_deck(g, n_cells=4, r=1, d_max=None, increments=60, bias=1e-5, bias_angl
     module docstring); ``bias``: the tilt bias force in ``G L^2`` (towards ``bias_angle * pi / N``;
     ``check_bias``)."""
     check_bias(bias, bias_angle)
+    n_cells = checks.integer("n_cells", n_cells, 2, CELLS_MAX, "cells around the ring")
+    d_max, increments = check_travel(g, d_max, increments, 0.25)
     mesh = cell_mesh(g, r, n_cells)
     R = n_cells * g.width / (2 * math.pi)
-    d_max = 0.25 * g.L if d_max is None else float(d_max)
     bottom, top, pairs = _edges(mesh)
     out = ["*HEADING\nmetamaterial_wb: sleeve ring (unrolled), plane strain, tilting top plate\n", _mesh_text(mesh)]
     out.append(f"*NODE\n{DRV},0,{g.height:.9g},0\n{TILT},0,{g.height:.9g},0\n")
@@ -393,7 +407,7 @@ def ring_deck(g, n_cells=4, r=1, d_max=None, increments=60, bias=1e-5, bias_angl
     # edge's reaction (the bias is a pure tilt load, its net vertical force is zero to round-off)
     prints = "*NODE PRINT, NSET=BOTTOM\nRF\n*NODE PRINT, NSET=NTILT\nU\n"
     out.append(_step(d_max, increments, prints).replace("{bc}", bc))
-    meta = {"mesh": mesh, "radius_mm": R, "d_max_mm": d_max, "r": int(r), "dofs": 2 * mesh.n_nodes,
+    meta = {"mesh": mesh, "bottom": bottom, "radius_mm": R, "d_max_mm": d_max, "r": int(r), "dofs": 2 * mesh.n_nodes,
             "elements": mesh.n_elements, "increments": increments, "n_cells": n_cells}
     return "".join(out), meta
 
@@ -409,7 +423,7 @@ def solve_cell(g, r=1, d_max=None, increments=100, timeout_s=1800.0, full_near=0
     deck, meta = cell_deck(g, r, d_max, increments, full_near, full_low)
     tables, info = ccx.run(deck, "sleeve_cell", timeout_s)
     top = meta["top"] + 1
-    rows = tables[("forces", "TOP")]
+    rows = ccx.table(tables, ("forces", "TOP"), "sleeve_cell", top, info)
     t = np.array([r_[0] for r_ in rows])
     F = np.array([sum(r_[1][int(n)][1] for n in top) for r_ in rows])
     d, Fn = _curve(t, meta["d_max_mm"], F, g.L)
@@ -424,12 +438,11 @@ def solve_ring(g, n_cells=4, r=1, d_max=None, increments=60, bias=1e-5, timeout_
     says why, ``info["d_reached"]`` how far, in ``d / L``)."""
     deck, meta = ring_deck(g, n_cells, r, d_max, increments, bias)
     tables, info = ccx.run(deck, "sleeve_ring", timeout_s, partial=partial)
-    rows = tables.get(("forces", "BOTTOM"), [])
-    if not rows:
-        raise ccx.FEError(info.get("stopped", "ccx printed no increment") + " (no increment converged)")
+    rows = ccx.table(tables, ("forces", "BOTTOM"), "sleeve_ring", meta["bottom"] + 1, info)
     t = np.array([r_[0] for r_ in rows])
     F = -np.array([sum(v[1] for v in r_[1].values()) for r_ in rows])
-    tilt = np.array([r_[1][TILT][:2] for r_ in tables[("displacements", "NTILT")]]) / meta["radius_mm"]
+    tilt = ccx.table(tables, ("displacements", "NTILT"), "sleeve_ring", [TILT], info)
+    tilt = np.array([r_[1][TILT][:2] for r_ in tilt]) / meta["radius_mm"]
     d, Fn = _curve(t, meta["d_max_mm"], F, g.L)
     info.update({k: meta[k] for k in ("r", "dofs", "elements", "d_max_mm", "n_cells", "radius_mm")})
     info["increments"] = len(t)

@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from metamaterial_wb.fe import ccx, sleeve2d
+from metamaterial_wb.fe import ccx, checks, sleeve2d
 from metamaterial_wb.fe.mesh import Mesh
 
 REF, ROT = 9000001, 9000002
@@ -230,12 +230,8 @@ def ring_mesh(g, n_cells=4, r=1, n_layers=1, wall="mid", top=None):
 
 
 def _checked(n_cells, r, n_layers):
-    out = []
-    for name, v, lo, hi in (("n_cells", n_cells, 3, 64), ("r", r, 1, 8), ("n_layers", n_layers, 1, 8)):
-        if isinstance(v, bool) or int(v) != v or not lo <= v <= hi:
-            raise ValueError(f"{name}: {v!r}; allowed: an integer from {lo} to {hi}")
-        out.append(int(v))
-    return out
+    return [checks.integer(name, v, lo, hi) for name, v, lo, hi in
+            (("n_cells", n_cells, 3, sleeve2d.CELLS_MAX), ("r", r, 1, sleeve2d.R_MAX), ("n_layers", n_layers, 1, 8))]
 
 
 def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1e-5, bias_angle=0.5,
@@ -287,8 +283,7 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
         raise ValueError(f"stability: {stability!r}; allowed: an integer from 0 (none) to 20 eigenvalues")
     if not 0 <= full_near <= 0.5 * g.L:
         raise ValueError(f"full_near: {full_near!r} mm; allowed: 0 (none) to L/2 = {0.5 * g.L:g} mm")
-    if not increments >= 1:
-        raise ValueError(f"increments: {increments!r}; allowed: an integer >= 1")
+    increments = checks.integer("increments", increments, 1)
     sleeve2d.check_bias(bias, bias_angle, "a moment bias L^2 R")
     d_max = 0.25 * g.L if d_max is None else float(d_max)
     if not 0 < d_max <= 1.5 * g.L:
@@ -339,7 +334,8 @@ def ring_deck3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=1
     if stability:
         out.append(f"*STEP, PERTURBATION\n*FREQUENCY\n{int(stability)}\n*NODE PRINT, NSET=NROT\nU\n"
                    + ("*NODE PRINT, NSET=SHAPE\nU\n" if shapes else "") + "*END STEP\n")
-    meta = {"mesh": mesh, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r), "n_layers": int(n_layers),
+    meta = {"mesh": mesh, "bottom": bottom, "radius_mm": mesh.radius, "d_max_mm": d_max, "r": int(r),
+            "n_layers": int(n_layers),
             "dofs": 3 * mesh.n_nodes, "elements": mesh.n_elements, "increments": int(increments),
             "n_cells": int(n_cells), "bias": bias, "bias_angle": bias_angle, "radial": radial,
             "method": method, "element": element, "patient": patient, "stability": int(stability),
@@ -404,7 +400,7 @@ def step_text(method, unload, increments, patient, body):
     """One nonlinear ``*STEP`` (static or implicit dynamics, HHT ``ALPHA=-0.3``) of time 1, or 2 with ``unload``,
     in ``increments`` per unit of time at most (down to 1e-4 of one), ``patient`` Newton (``ring_deck3d``), with
     ``body`` (boundary conditions, loads, prints)."""
-    inc = 1.0 / int(increments)
+    inc = 1.0 / checks.integer("increments", increments, 1)
     proc = "*DYNAMIC, ALPHA=-0.3" if method == "dynamic" else "*STATIC"
     return (f"*STEP, NLGEOM, INC=100000\n{proc}\n{inc:.6g},{2.0 if unload else 1.0},{inc / 1e4:.6g},{inc:.6g}\n"
             + ("*CONTROLS, PARAMETERS=TIME INCREMENTATION\n8,12,13,30,10,4,0,5\n" if patient else "")
@@ -446,12 +442,10 @@ def solve_ring3d(g, n_cells=4, r=1, n_layers=1, d_max=None, increments=70, bias=
                              full_low=full_low, watch=watch, unload=unload, top=top)
     g = meta["mesh"].geom
     tables, info = ccx.run(deck, "sleeve_ring3d", timeout_s, partial=partial)
-    rows = tables.get(("forces", "BOTTOM"), [])
-    if not rows:
-        raise ccx.FEError(info.get("stopped", "ccx printed no increment") + " (no increment converged)")
+    rows = ccx.table(tables, ("forces", "BOTTOM"), "sleeve_ring3d", meta["bottom"] + 1, info)
     t = np.array([r_[0] for r_ in rows])
     F = -np.array([sum(v[2] for v in r_[1].values()) for r_ in rows])
-    rot = tables.get(("displacements", "NROT"), [])
+    rot = ccx.table(tables, ("displacements", "NROT"), "sleeve_ring3d", [ROT], info)
     tilt = np.array([r_[1][ROT][:2] for r_ in rot])[:len(t)]
     down = t > 1.0 + 1e-9                                  # ccx's time: unloading from 1 to 2
     d = np.where(down, 2.0 - t, t) * meta["d_max_mm"] / g.L

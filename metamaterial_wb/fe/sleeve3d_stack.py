@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from metamaterial_wb.fe import ccx, sleeve3d
+from metamaterial_wb.fe import ccx, checks, sleeve3d
 from metamaterial_wb.fe.sleeve3d import REF, ROT
 
 MREF, MROT = 9000003, 9000004
@@ -99,8 +99,7 @@ def stack_deck3d(cells, n_cells=4, r=1, d_max=None, increments=70, bias=1e-5, bi
         raise ValueError(f"damping: {damping!r} 1/s; allowed: 0 to {DAMPING_MAX:g} 1/s")
     if damping and method != "dynamic":
         raise ValueError(f"damping: {damping!r} 1/s damps implicit dynamics; method {method!r} has no time")
-    if isinstance(increments, bool) or int(increments) != increments or not increments >= 1:
-        raise ValueError(f"increments: {increments!r}; allowed: an integer >= 1")
+    increments = checks.integer("increments", increments, 1)
     sleeve3d.sleeve2d.check_bias(bias, bias_angle, "a moment bias L^2 R")
     d_max = 0.5 * L if d_max is None else float(d_max)
     if not 0 < d_max <= 3.0 * L:
@@ -168,9 +167,7 @@ def read_stack(tables, meta, info=None):
     of the deck ``stack_deck3d`` wrote with ``meta``; the hysterons when it watched the beams' ends."""
     mesh, L, n_cells = meta["mesh"], meta["mesh"].rings[0].geom.L, meta["n_cells"]
     watch, ends = meta["watch"], meta["ends"]
-    rows = tables.get(("forces", "BOTTOM"), [])
-    if not rows:
-        raise ccx.FEError((info or {}).get("stopped", "ccx printed no increment") + " (no increment converged)")
+    rows = ccx.table(tables, ("forces", "BOTTOM"), "sleeve_stack3d", info=info)
     sets = ["NROT", "NMID", "NMROT"] + (["WATCH"] if ends is not None else [])
     k = min([len(rows)] + [len(tables.get(("displacements", n), [])) for n in sets])   # a live file's last one
     rows = rows[:k]
