@@ -143,8 +143,35 @@ def prepare_module(obj, scene):
         p = fabrication_params(one, effective_tilts_deg(one), **fabrication_overrides())
         spec = parse_modules(one, p)[0]
     except SceneError as exc:
+        sheet = sheet_error(scene)
+        if sheet is not None:     # the sheet itself cannot be built: not this module's fault (a design warning)
+            return SheetNotBuilt(sheet)
         raise _module_error(obj, exc) from None
     return one, p, spec
+
+
+class SheetNotBuilt:
+    """What :func:`prepare_module` returns when Export refuses the sheet itself (hinge tilts of a fold that do not
+    fit their plates, which the Scene's design check reports as a warning): no module can be Export's solid, so it
+    shows its stand-in and stays valid; ``message`` is the sheet's error."""
+
+    def __init__(self, message):
+        self.message = message
+
+
+def sheet_error(scene):
+    """Export's error for the sheet of ``scene`` without its modules (None when the sheet can be built)."""
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.fabrication import fabrication_params
+    from metamaterial_wb.core.scene import Scene as _Scene
+    d = scene.to_dict()
+    d["modules"] = []
+    try:
+        bare = _Scene.from_dict(d)
+        fabrication_params(bare, effective_tilts_deg(bare), **fabrication_overrides())
+    except SceneError as exc:
+        return str(exc)
+    return None
 
 
 def _module_error(obj, exc):
@@ -182,8 +209,12 @@ def module_build_key(obj, scene, prepared=None):
     d = module_to_dict(obj)
     d["_fab"] = fabrication_overrides()
     if scene is not None:
-        _one, p, spec = prepared or prepare_module(obj, scene)
-        d["_build"] = build_inputs(p, spec)
+        prepared = prepared or prepare_module(obj, scene)
+        if isinstance(prepared, SheetNotBuilt):
+            d["_sheet_not_built"] = prepared.message
+        else:
+            _one, p, spec = prepared
+            d["_build"] = build_inputs(p, spec)
     return json.dumps(d, sort_keys=True, default=_json_default)
 
 
@@ -192,9 +223,11 @@ def build_module_shape(obj, scene, prepared=None):
     thickness, joint modules with u from the first to the second node), or, without a scene, a stand-in."""
     import Part
     if scene is not None:
+        prepared = prepared or prepare_module(obj, scene)
+    if scene is not None and not isinstance(prepared, SheetNotBuilt):
         from metamaterial_wb.geometry.build import BuildResult
         from metamaterial_wb.geometry.modules import build_module
-        one, p, spec = prepared or prepare_module(obj, scene)
+        one, p, spec = prepared
         try:
             res = BuildResult(one, p)
             build_module(res, spec)
@@ -208,13 +241,14 @@ def build_module_shape(obj, scene, prepared=None):
     side = scene.plate_side_mm if scene is not None else plate_side_mm(cell, DEFAULT_HINGE["length_mm"])
     typ = obj.ModuleType
     V = FreeCAD.Vector
+    src = "stand-in" if scene is None else "stand-in (the sheet cannot be built; see the Scene's SolveWarnings)"
     if typ == "servo_housing":  # SG90-sized body above the joint
-        return Part.makeBox(23.0, 12.5, 22.0, V(-11.5, -6.25, t)), "stand-in"
+        return Part.makeBox(23.0, 12.5, 22.0, V(-11.5, -6.25, t)), src
     if typ == "friction_pad":  # under the node
         s = 0.7 * side
-        return Part.makeBox(s, s, 3.0, V(-s / 2, -s / 2, -3.0)), "stand-in"
+        return Part.makeBox(s, s, 3.0, V(-s / 2, -s / 2, -3.0)), src
     if typ == "constraint_clip":
-        return Part.makeBox(cell, 0.5 * side, 3.0, V(-cell / 2, -0.25 * side, t)), "stand-in"
+        return Part.makeBox(cell, 0.5 * side, 3.0, V(-cell / 2, -0.25 * side, t)), src
     if typ == "stable_hub":
-        return Part.makeBox(0.6 * cell, 0.6 * cell, 6.0, V(-0.3 * cell, -0.3 * cell, t)), "stand-in"
-    return Part.makeCylinder(0.3 * side, 3.0, V(0, 0, t)), "stand-in"
+        return Part.makeBox(0.6 * cell, 0.6 * cell, 6.0, V(-0.3 * cell, -0.3 * cell, t)), src
+    return Part.makeCylinder(0.3 * side, 3.0, V(0, 0, t)), src

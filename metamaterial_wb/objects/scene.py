@@ -14,7 +14,7 @@ from metamaterial_wb.objects.common import (OUTPUT, ProxyBase, attach_proxy, cou
                                             ensure_range, json_property, tag_proxy)
 from metamaterial_wb.objects.display import apply_frame, apply_hinge_scales, check_own_arrays
 from metamaterial_wb.objects.item import VALUE_RANGE, item_to_dict
-from metamaterial_wb.objects.module import module_to_dict, run_by_scene
+from metamaterial_wb.objects.module import module_to_dict, run_by_scene, sheet_error
 
 _SOLVERS = {}   # (doc name, scene object name) -> (scene JSON, model, LiveSolver): reused by panels
 
@@ -142,6 +142,10 @@ class SceneProxy(ProxyBase):
                 m.recompute()
             if not m.isValid():
                 module_warnings.append(error or m.getStatusString())
+        stand_ins = [m.Label for m in obj.Modules if getattr(m, "GeometrySource", "").startswith("stand-in (")]
+        if stand_ins:      # the sheet itself cannot be built: say why once (not every module's fault)
+            module_warnings.append(f"modules {', '.join(stand_ins)} show stand-ins: Export refuses the sheet itself: "
+                                   f"{sheet_error(scene)}")
         obj.SolveWarnings = list(design_warnings) + list(solver.warnings) + module_warnings
         apply_frame(obj, solver, frame, purge=True)
         apply_hinge_scales(obj, scene, purge=True)

@@ -15,12 +15,12 @@ def test_a_module_that_no_longer_fits_is_marked_invalid_and_recovers(doc):
     m = structure.make_module(doc, sc, "servo_housing", "V0,1")
     doc.recompute()
     assert m.isValid() and sc.isValid()
-    sc.HingeLength = 2.4
-    sc.CellSize = 8.0
+    sc.HingeLength = 2.0
+    sc.CellSize = 16.0                                 # the sheet builds, the SG90 housing does not fit
     doc.recompute()
-    assert sc.isValid(), sc.State                       # the sheet itself is fine at 8 mm
+    assert sc.isValid(), sc.State                       # the sheet itself is fine at 16 mm
     assert not m.isValid() and "Invalid" in m.State
-    assert any(m.Label in w and "plate" in w for w in sc.SolveWarnings)
+    assert any(m.Label in w and "cell" in w for w in sc.SolveWarnings)
     sc.CellSize = 27.0
     sc.HingeLength = 2.0
     doc.recompute()
@@ -34,8 +34,8 @@ def test_an_invalid_module_stays_listed_in_the_scenes_warnings(doc):
     sc = structure.make_structure(doc, fish())
     m = structure.make_module(doc, sc, "servo_housing", "V0,1")
     doc.recompute()
-    sc.HingeLength = 2.4
-    sc.CellSize = 8.0
+    sc.HingeLength = 2.0
+    sc.CellSize = 16.0                                 # the sheet builds, the SG90 housing does not fit
     doc.recompute()
     assert not m.isValid() and any(m.Label in w for w in sc.SolveWarnings)
     sc.Items[0].Value = 0.7
@@ -127,3 +127,22 @@ def test_a_module_that_fails_at_its_own_run_does_not_stop_the_scene(doc):
     assert not m.isValid() and "wall_mm" in m.getStatusString()
     assert sc.isValid() and "Touched" not in sc.State, sc.State
     assert [w for w in sc.SolveWarnings if m.Label in w] == [m.getStatusString()], list(sc.SolveWarnings)
+
+
+def test_modules_on_a_sheet_export_refuses_show_stand_ins_and_the_scene_says_why(doc):
+    """At 12 mm cells the sheet's own sockets do not fit: Export builds nothing, so a module cannot be Export's
+    solid. It shows its stand-in and stays valid (panels keep working on the design); the Scene says why, once."""
+    sc = structure.make_structure(doc, fish())
+    m = structure.make_module(doc, sc, "servo_housing", "V0,1")
+    doc.recompute()
+    sc.HingeLength = 2.0
+    sc.CellSize = 12.0
+    doc.recompute()
+    assert sc.isValid() and m.isValid(), (sc.State, m.getStatusString())
+    assert m.GeometrySource.startswith("stand-in (the sheet cannot be built")
+    said = [w for w in sc.SolveWarnings if m.Label in w]
+    assert len(said) == 1 and "Export refuses the sheet itself" in said[0] and "H0,0.length_mm" in said[0], said
+    sc.CellSize = 27.0
+    doc.recompute()
+    assert m.isValid() and m.GeometrySource == "geometry.modules"
+    assert not [w for w in sc.SolveWarnings if m.Label in w]
