@@ -9,16 +9,8 @@ import metamaterial_wb  # noqa: E402
 from metamaterial_wb.core import design  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from test_fc_objects import fish  # noqa: E402 - the App tests' example
+from test_fc_objects import doc, fish  # noqa: E402,F401 - the App tests' document fixture and example
 
-
-@pytest.fixture
-def doc():
-    d = FreeCAD.newDocument("MMApp")
-    name = d.Name
-    yield d
-    if name in FreeCAD.listDocuments():
-        FreeCAD.closeDocument(name)
 
 
 def export_volume(sc, mtype):

@@ -7,16 +7,8 @@ FreeCAD = pytest.importorskip("FreeCAD")
 from metamaterial_wb.core import design  # noqa: E402
 from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.objects import design_adapter, structure  # noqa: E402
-from test_fc_objects import fish  # noqa: E402 - the App tests' example
+from test_fc_objects import doc, fish  # noqa: E402,F401 - the App tests' document fixture and example
 
-
-@pytest.fixture
-def doc():
-    d = FreeCAD.newDocument("MMApp")
-    name = d.Name
-    yield d
-    if name in FreeCAD.listDocuments():
-        FreeCAD.closeDocument(name)
 
 FOLD = [{"direction": "vertical", "line": 2, "fold_deg": 30.0}]   # beyond the printable fold of the fish
 

@@ -21,8 +21,8 @@ import pytest
 pytest.importorskip("serial")
 
 from metamaterial_wb.core.errors import MetamaterialError, SceneError  # noqa: E402
-from metamaterial_wb.core.scene import Scene  # noqa: E402
 from metamaterial_wb.hardware import Link, Streamer, channel_map, check_motion  # noqa: E402
+from test_stream import fish  # noqa: E402 - the stream tests' fish with servo fields
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FISH = os.path.join(REPO, "examples", "fish.json")
@@ -37,12 +37,6 @@ def TAIL_AT(t):  # the fish's tail: v = 0.9 sin(2 pi t + 90 deg)
     return TAIL(0.9 * math.sin(2 * math.pi * t + math.pi / 2))
 
 
-def fish(**servo):
-    d = json.load(open(FISH))
-    for a in d["actuators"]:
-        if a["name"] in servo:
-            a["servo"] = servo[a["name"]]
-    return Scene.from_dict(d)
 
 
 def run_cli(*args):
