@@ -106,7 +106,7 @@ class Preview:
         self.node_half, self.hinge_half = display.box_half_sizes(self.obj, scene)
 
     def _activate(self):
-        for arr in (self.obj.NodeArray, self.obj.HingeArray):
+        for arr in display.own_arrays(self.obj):      # a copy of a Scene never hides the original's arrays
             if arr is None:
                 continue
             vo = getattr(arr, "ViewObject", None)
@@ -140,10 +140,11 @@ class Preview:
         hc = display.box_corners(frame.hinge_positions, frame.hinge_quaternions, self.hinge_half) \
             if len(self.hinge_half) == len(frame.hinge_positions) else np.zeros((0, 8, 3))
         t1 = time.perf_counter()
-        if self.obj.NodeArray is not None:
-            self._group("nodes", self.obj.NodeArray, len(nc)).write(nc)
-        if self.obj.HingeArray is not None and len(hc):
-            self._group("hinges", self.obj.HingeArray, len(hc)).write(hc)
+        nodes, hinges = display.own_arrays(self.obj)
+        if nodes is not None:
+            self._group("nodes", nodes, len(nc)).write(nc)
+        if hinges is not None and len(hc):
+            self._group("hinges", hinges, len(hc)).write(hc)
         t2 = time.perf_counter()
         doc = self.obj.Document
         for name, pl in display.marker_placements(self.obj, solver, frame).items():
