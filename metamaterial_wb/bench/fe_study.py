@@ -326,7 +326,7 @@ def run_patch_study(amplitudes=PATCH_AMPLITUDES, meshes=PATCH_MESHES, timeout_s=
 
 def patch_errors(scene, result, ref):
     """``{"rms_D", "max_D", "max_pos"}`` of a model's or an FE run's ``result`` against the FE reference ``ref``."""
-    from metamaterial_wb.bench.fidelity import compare
+    from metamaterial_wb.bench.measures import compare
     e = compare(scene, result, ref)
     return {k: float(e[k]) for k in ("rms_D", "max_D", "max_pos")}
 

@@ -16,7 +16,11 @@ Every build also writes ``DIR/manifest.json`` (docs/fabrication.md, "The build m
 placements, files, servo shafts and joint pivots, snap-fit strains, print-pose checks, checks run.
 Module 3MF files hold each part in the axis-aligned pose that needs the least support (checked on
 the mesh: export/printpose.py). Without ``--step`` and ``--3mf`` both are written. Progress goes to stderr. Every file is written
-to a temporary directory first and moved into DIR only when all succeeded.
+to a temporary directory first and moved into DIR only when all succeeded (DIR, if this run created it, is
+removed again when it fails). Every output name is known before any geometry: a module whose files would be
+another output's (``sheet_components``), or a name that makes a file name longer than 255 bytes, is refused
+then. Files of an earlier build that this one does not write are removed and named on stderr, also with
+``--quiet``.
 """
 import os
 import sys
@@ -25,7 +29,7 @@ import time
 NAME = "build"
 HELP = "fabrication: build the sheet (and modules) and export STEP / 3MF for dual-extruder printers"
 
-from metamaterial_wb.export.package import export_result, safe_stem  # noqa: E402
+from metamaterial_wb.export.package import check_output_names, export_result, safe_stem  # noqa: E402
 
 
 def add_arguments(p):
@@ -66,6 +70,13 @@ def run(args):
                                      f"or drop --layout")
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
+    step = args.step or not args.threemf
+    threemf = args.threemf or not args.step
+    layouts = ("prusa", "components") if args.layout in (None, "both") else (args.layout,)
+    stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
+    names = dict(stem=stem, step=step, threemf=threemf, layouts=layouts,
+                 stem_field="name" if scene.name else "scene (its file name)")
+    check_output_names(modules=[], **names)        # the sheet's file names, before any work
     overrides = {}
     if args.no_sockets:
         overrides["sockets"] = False
@@ -82,18 +93,14 @@ def run(args):
         raise SceneError(f"{flag} ({exc.field})", exc.message) from None
     if args.modules:
         from metamaterial_wb.geometry.modules import parse_modules
-        parse_modules(scene, params)
+        check_output_names(modules=[(m.index, m.name) for m in parse_modules(scene, params)], **names)
     elif scene.modules and not args.quiet:
         print(f"build: the scene has {len(scene.modules)} module(s); add --modules to build them", file=sys.stderr)
     if os.path.exists(args.out) and not os.path.isdir(args.out):
         raise SceneError("--out", f"{args.out!r} exists and is not a directory")
-    step = args.step or not args.threemf
-    threemf = args.threemf or not args.step
-    layouts = ("prusa", "components") if args.layout in (None, "both") else (args.layout,)
     result = build_scene(scene, modules=args.modules, progress=not args.quiet, params=params)
     from metamaterial_wb.geometry.validity import ALL_CHECKS, DEFAULT_CHECKS
     checks = () if args.no_check else (ALL_CHECKS if args.check else DEFAULT_CHECKS)
-    stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
     files = export_result(result, args.out, step=step, threemf=threemf, layouts=layouts,
                           progress=not args.quiet, stem=stem, checks=checks)
     if not args.quiet:

@@ -165,17 +165,36 @@ def _raw_params(scene, overrides):
     return raw
 
 
+def _lip(name, value, nozzle_mm, where):
+    """An anchor size that is also the width of the node's lip (docs/fabrication.md, "Anchors that hook"): the node
+    material between the plate edge and the anchor head, which alone holds the hinge in its node, is
+    ``anchor_neck_mm`` long and ``anchor_margin_mm`` wide. Like every wall: at least two nozzle widths."""
+    from metamaterial_wb.core.errors import in_range, range_message
+
+    v = _num(name, value, 0.0, 50.0, low_open=True)
+    low = 2.0 * nozzle_mm
+    if not in_range(v, low, 50.0):
+        raise SceneError(f"fabrication.{name}",
+                         f"{range_message(value, low, 50.0, 'mm')}: it is the lip of node material {where} "
+                         f"(the hook that holds the hinge in its node), a wall of at least two nozzle widths "
+                         f"({low:.3g} mm for fabrication.nozzle_mm = {nozzle_mm:g})")
+    return v
+
+
 def _params(scene, raw, hinges, thick):
     c = float(scene.cell_size_mm)
     T = raw["sheet_thickness_mm"]
     from_hinge = T is None
     T = thick if T is None else _num("sheet_thickness_mm", T, 0.0, 200.0, low_open=True)
     clr = _num("clearance_mm", raw["clearance_mm"], 0.0, 2.0)
+    nozzle = _num("nozzle_mm", raw["nozzle_mm"], 0.1, 1.2)
+    _bool("limit_design_tilt", raw["limit_design_tilt"])      # read by the design stage: checked on every scene
     return FabParams(
         cell_size_mm=c, sheet_thickness_mm=T, clearance_mm=clr,
-        anchor_neck_mm=_num("anchor_neck_mm", raw["anchor_neck_mm"], 0.0, 50.0, low_open=True),
+        anchor_neck_mm=_lip("anchor_neck_mm", raw["anchor_neck_mm"], nozzle, "in front of the anchor head"),
         anchor_depth_mm=_num("anchor_depth_mm", raw["anchor_depth_mm"], 0.0, 50.0, low_open=True),
-        anchor_margin_mm=_num("anchor_margin_mm", raw["anchor_margin_mm"], 0.0, 50.0, low_open=True),
+        anchor_margin_mm=_lip("anchor_margin_mm", raw["anchor_margin_mm"], nozzle, "beside the neck, that the head "
+                                                                                  "bears on"),
         sockets=_bool("sockets", raw["sockets"]),
         socket_diameter_mm=_num("socket_diameter_mm", raw["socket_diameter_mm"], 0.0, 50.0, low_open=True),
         socket_inset_mm=_num("socket_inset_mm", raw["socket_inset_mm"], 0.0, 100.0, low_open=True),
@@ -189,7 +208,7 @@ def _params(scene, raw, hinges, thick):
         tolerance_mm=_num("tolerance_mm", raw["tolerance_mm"], 0.001, 1.0),
         hinges=hinges,
         plate_side_mm_global=scene.plate_side_mm,
-        nozzle_mm=_num("nozzle_mm", raw["nozzle_mm"], 0.1, 1.2),
+        nozzle_mm=nozzle,
         sheet_from_hinge=from_hinge,
     )
 

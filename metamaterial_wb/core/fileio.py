@@ -568,10 +568,18 @@ def commit_set(tmp, out_dir, names):
     ------
     SceneError
         An entry of ``out_dir`` is of another kind than the new one (a folder where a file goes, or a file
-        where a folder goes): nothing is moved.
+        where a folder goes), or ``names`` holds one name twice (also in another letter case: one file on
+        Windows and macOS; the second move would save the first one's new file as the "earlier" one, and a
+        rollback would restore it): nothing is moved.
     OSError
         The first failed move (after rolling back).
     """
+    seen = {}
+    for n in names:
+        if n.casefold() in seen:
+            raise SceneError("--out", f"this run would write {n} twice ({seen[n.casefold()]} and {n}); nothing was "
+                                      f"moved into {out_dir}")
+        seen[n.casefold()] = n
     for n in names:     # before any move: an entry of another kind is the user's, never ours to replace
         dst = os.path.join(out_dir, n)
         new_dir = os.path.isdir(os.path.join(tmp, n))

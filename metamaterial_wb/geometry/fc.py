@@ -26,6 +26,24 @@ def freecad():
     return FreeCAD, Part
 
 
+def kernel_error(exc):
+    """The reason of a geometry-kernel failure (FreeCAD's ``Base.FreeCADError``, ``Part.OCCError`` and its kinds, or
+    the ``RuntimeError`` carrying FreeCAD's exception dictionary, e.g. "Multi cut failed"), else None: any other
+    exception is a programming error and must stay visible."""
+    payload = exc.args[0] if getattr(exc, "args", None) else None
+    fc_dict = isinstance(payload, dict) and ("sErrMsg" in payload or "sclassname" in payload)
+    base = getattr(sys.modules.get("FreeCAD"), "Base", None)
+    kinds = tuple(k for k in (getattr(base, "FreeCADError", None),
+                              getattr(sys.modules.get("Part"), "OCCError", None)) if isinstance(k, type))
+    if not ((type(exc) is RuntimeError and fc_dict) or (kinds and isinstance(exc, kinds))):
+        return None
+    if fc_dict:
+        why = payload.get("sErrMsg") or payload.get("swhat") or payload.get("sclassname")
+    else:
+        why = str(exc)
+    return " ".join(str(why).split()) or type(exc).__name__
+
+
 def placement(x=0.0, y=0.0, z=0.0, angle_deg=0.0, axis=(0.0, 0.0, 1.0)):
     App, _ = freecad()
     return App.Placement(App.Vector(x, y, z), App.Rotation(App.Vector(*axis), angle_deg))

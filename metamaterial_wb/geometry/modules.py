@@ -26,8 +26,9 @@ import math
 import re
 from dataclasses import dataclass, field, replace
 
-from metamaterial_wb.core.errors import SceneError, check_integer, check_number
+from metamaterial_wb.core.errors import SceneError, check_integer, check_number, in_range, range_message
 from metamaterial_wb.core.fabrication import joint_pivot
+from metamaterial_wb.geometry.fc import kernel_error
 from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
 from metamaterial_wb.geometry.snapfit import design_snap_fit
 from metamaterial_wb.geometry.solids import (  # noqa: F401
@@ -75,6 +76,11 @@ WALL_KEYS = {
 TYPE_ALIASES = {"clip": "constraint_clip", "angular_constraint": "constraint_clip", "servo": "servo_housing",
                 "hub": "connection_hub", "pad": "friction_pad"}
 HUB_POST_HALF_MM = 3.0       # half the stable hub's post / foot length along the joint
+HUB_HOLE_RADIUS_MM = 1.6     # the stable hub platform's M3 clearance hole (for the attached shape)
+# module names whose files would be the sheet's: NAME_<name>.step / .3mf (export/package.output_names)
+RESERVED_NAMES = {"sheet": "NAME_sheet.step and NAME_sheet.3mf (the sheet's)",
+                  "sheet_components": "NAME_sheet_components.3mf (the sheet's components layout)",
+                  "assembly": "NAME_assembly.step (the assembly)"}
 _NODE_RE = re.compile(r"^\s*[Nn]\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
 
 
@@ -167,9 +173,15 @@ def parse_modules(scene, p):
         name = item.get("name", f"{typ}_{k + 1}")
         if not isinstance(name, str) or not re.match(r"^[A-Za-z_][A-Za-z0-9_\-]{0,63}$", name):
             raise SceneError(f"{f}.name", f"{name!r} is not a valid module name (letters, digits, _ -)")
-        if name in names or name == "sheet" or name == "assembly":
-            raise SceneError(f"{f}.name", f"module name {name!r} is used twice (or reserved)")
-        names.add(name)
+        if name.casefold() in RESERVED_NAMES:
+            from metamaterial_wb.geometry.parts import safe_stem
+            files = RESERVED_NAMES[name.casefold()].replace("NAME", safe_stem(scene.name) if scene.name else "NAME")
+            raise SceneError(f"{f}.name", f"{name!r} is reserved: its files would replace {files}; allowed: any "
+                                          f"other name")
+        if name.casefold() in names:
+            raise SceneError(f"{f}.name", f"module name {name!r} is used twice (names that differ only in case "
+                                          f"name the same file on Windows and macOS); allowed: a name of its own")
+        names.add(name.casefold())
         side = item.get("side", "bottom" if typ == "friction_pad" else "top")
         if side not in ("top", "bottom"):
             raise SceneError(f"{f}.side", f"{side!r}; allowed: \"top\" or \"bottom\"")
@@ -218,13 +230,8 @@ def parse_modules(scene, p):
         if (typ in JOINT_MODULES or typ in NODE_MODULES) and not p.sockets:
             raise SceneError(f"{f} ({name})", "modules plug into the node sockets, but fabrication.sockets is false")
         if typ == "servo_housing":
-            spec.values.update(_servo_dims(item, f, name))
-            tilt = p.hinges[spec.joint].tilt_deg
-            if abs(tilt) > 1e-9:
-                raise SceneError(f"{f}.joint ({name})",
-                                 f"joint {spec.joint} has a tilted hinge ({tilt:g} deg): its relative rotation axis "
-                                 f"leans from the sheet normal, and a servo's vertical shaft cannot be coaxial with "
-                                 f"it; put the servo on an untilted joint (tilt 0)")
+            spec.values.update(_servo_dims(item, f, name, p))
+            _untilted(spec, p, f, "a servo's vertical shaft cannot be coaxial with it")
             spec.pivot = joint_pivot(scene, p, spec.joint)
             su, sv = to_module_frame(spec, p, spec.pivot.point_mm)
             spec.values["shaft_u_mm"], spec.values["shaft_v_mm"] = round(su, 6), round(sv, 6)
@@ -263,6 +270,8 @@ def parse_modules(scene, p):
             if 2 * v["pocket_inset_mm"] >= p.plate_side_mm_global - 2.0:
                 raise SceneError(f"{f}.pocket_inset_mm ({name})", f"{v['pocket_inset_mm']} mm leaves no pocket")
         elif typ == "constraint_clip":
+            _untilted(spec, p, f, "the clip, built turning its second plate about the vertical, would hold "
+                                  "another motion than the joint's")
             if "angle_deg" in item:
                 spec.values["angle_deg"] = check_number(f"{f}.angle_deg ({name})", item["angle_deg"], -60.0, 60.0,
                                                         "deg")
@@ -276,12 +285,14 @@ def parse_modules(scene, p):
             pu = round(to_module_frame(spec, p, spec.pivot.point_mm)[0], 6)
             v["pivot_u_mm"] = pu
             room = 2.0 * (0.5 * p.cell_size_mm - HUB_POST_HALF_MM - 1.0 - abs(pu))
-            if v["platform_mm"] >= room:
-                raise SceneError(f"{f}.platform_mm ({name})", f"{v['platform_mm']} mm leaves no room for the beams "
-                                                              f"between the posts on the node centres "
-                                                              f"({p.cell_size_mm} mm apart, platform over the joint's "
-                                                              f"pivot {pu:+.3g} mm off the midpoint); allowed range "
-                                                              f"(0, {room:.3g}) mm")
+            low = 2.0 * (HUB_HOLE_RADIUS_MM + p.min_wall_mm)      # two nozzle widths around the M3 hole
+            if not (in_range(v["platform_mm"], low) and v["platform_mm"] < room):
+                shown = range_message(v["platform_mm"], low, math.floor(room * 100) / 100, "mm", high_open=True)
+                raise SceneError(f"{f}.platform_mm ({name})",
+                                 f"{shown}: the platform needs two nozzle widths ({p.min_wall_mm:.3g} mm) of wall around its "
+                                 f"{2 * HUB_HOLE_RADIUS_MM:g} mm M3 hole, and room for the beams between the posts "
+                                 f"on the node centres ({p.cell_size_mm} mm apart, platform over the joint's pivot "
+                                 f"{pu:+.3g} mm off the midpoint)")
         for ij, lab in spec.sockets:
             # a snap pin runs through the whole socket, so a top and a bottom module cannot share one either
             key = (ij, lab)
@@ -294,6 +305,15 @@ def parse_modules(scene, p):
             used[key] = (name, side)
         specs.append(spec)
     return specs
+
+
+def _untilted(spec, p, f, why):
+    """Refuse a module whose geometry turns about the vertical on a joint with a tilted hinge."""
+    tilt = p.hinges[spec.joint].tilt_deg
+    if abs(tilt) > 1e-9:
+        raise SceneError(f"{f}.joint ({spec.name})",
+                         f"joint {spec.joint} has a tilted hinge ({tilt:g} deg): its relative rotation axis leans "
+                         f"from the sheet normal, and {why}; allowed: an untilted joint (tilt 0)")
 
 
 def _adapter_sockets(spec, p):
@@ -447,7 +467,7 @@ def build_stable_hub(spec, p):
         parts.append(box(u0, u1, -bw, bw, zp, zp + bh))
         pins += _lateral_points(p, uc)
     parts.append(box(pu - P, pu + P, -P, P, zp, zp + bh))
-    hole = Part.makeCylinder(1.6, bh + 2.0, V(pu, 0, zp - 1.0))     # M3 clearance for the attached shape
+    hole = Part.makeCylinder(HUB_HOLE_RADIUS_MM, bh + 2.0, V(pu, 0, zp - 1.0))   # M3 clearance (attached shape)
     hub, rivets = riveted(p, _finish(parts, [hole], spec.name), pins, spec.snap, spec.name)
     return [("hub", hub)] + rivet_parts("hub", rivets)
 
@@ -533,10 +553,17 @@ def build_module(res, spec):
     builders = {"servo_housing": build_servo_housing, "connection_hub": build_connection_hub,
                 "friction_pad": build_friction_pad, "stable_hub": build_stable_hub}
     if key0 not in res.module_parts:
-        if spec.type == "constraint_clip":
-            built = build_constraint_clip(spec, p, extra[0])
-        else:
-            built = builders[spec.type](spec, p)
+        try:
+            if spec.type == "constraint_clip":
+                built = build_constraint_clip(spec, p, extra[0])
+            else:
+                built = builders[spec.type](spec, p)
+        except Exception as exc:           # the geometry kernel's failures only: programming errors stay visible
+            why = kernel_error(exc)
+            if why is None:
+                raise
+            raise SceneError(spec.field, f"the geometry kernel could not build this {spec.type} ({why}); its sizes "
+                                         f"do not make a solid: check its fields and dims") from None
         if spec.side == "bottom":
             T = p.sheet_thickness_mm
             built = [(n, sh.mirror(V(0, 0, 0.5 * T), V(0, 0, 1))) for n, sh in built]

@@ -17,6 +17,12 @@ class PlacedPart:
     info: dict = field(default_factory=dict)
 
 
+def safe_stem(text):
+    """The scene's name as the stem of its file names (``NAME_sheet.step``): letters, digits, ``-_.`` kept."""
+    keep = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text)
+    return keep.strip("._") or "scene"
+
+
 class BuildResult:
     def __init__(self, scene, params):
         self.scene = scene

@@ -4,7 +4,7 @@ pivot (core/joints.py). Parsed and placed by geometry/modules.py (scene format: 
 "Modules"; geometry: docs/fabrication.md)."""
 import math
 
-from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.errors import SceneError, check_number, in_range, range_message
 
 # Servo presets (mm) from public datasheet drawings, bodies at the upper end of what the parts measure
 # (SG90s measure 22.2-23.0 x 11.8-12.5 mm): the cavity adds the fit clearance on every side. ``tab_z_mm``:
@@ -39,9 +39,34 @@ CABLE_SLOT_MM = 5.0         # height of the cable's way out at the housing's far
 # a margin under 10 mm). The servo hangs on its tabs (screwed into the seats), not on the floor.
 GROOVE_BRIDGE_MM = 8.0
 GROOVE_SLOPE_DEG = 55.0
+PILOT_UNDERSIZE_MM = 0.3    # a tab screw's pilot hole is this much narrower than the screw
+FIT_MARGIN_MM = 0.3         # the horn adapter's column ends at least this far inside node B's far edge
 
 
-def _servo_dims(item, f, nm):
+def cable_height_mm(tab_z_mm, wall_mm):
+    """Height of the cable's way out under the tab seat (CABLE_SLOT_MM where the seat is tall enough)."""
+    return min(CABLE_SLOT_MM, max(tab_z_mm - 2 * wall_mm - 4.0, 1.0))
+
+
+def pilot_depth_mm(tab_z_mm, wall_mm):
+    """Depth of the tab screws' pilot holes: down from the seat top to two nozzle widths above the cable slot."""
+    return tab_z_mm - cable_height_mm(tab_z_mm, wall_mm) - wall_mm
+
+
+def _min_tab_z_mm(depth_mm, wall_mm):
+    """Lowest ``tab_z_mm`` whose pilot holes are ``depth_mm`` deep (:func:`pilot_depth_mm` grows with tab_z: by
+    1 while the cable slot is 1 mm high, not at all while the slot grows, by 1 again once it is CABLE_SLOT_MM)."""
+    if depth_mm <= wall_mm + 4.0:
+        return depth_mm + 1.0 + wall_mm
+    return depth_mm + CABLE_SLOT_MM + wall_mm
+
+
+def _dims_range(field, value, low, high, why):
+    if not in_range(value, low, high):
+        raise SceneError(field, f"{range_message(value, low, high, 'mm')}: {why}")
+
+
+def _servo_dims(item, f, nm, p=None):
     servo = item.get("servo", "SG90")
     if not isinstance(servo, str) or servo.upper() not in list(SERVO_PRESETS) + ["CUSTOM"]:
         raise SceneError(f"{f}.servo ({nm})", f"{servo!r} is not a known servo; allowed: {sorted(SERVO_PRESETS)} or "
@@ -70,17 +95,32 @@ def _servo_dims(item, f, nm):
     if not 0 < d["shaft_offset_mm"] < d["body_length_mm"]:
         raise SceneError(f"{f}.dims.shaft_offset_mm ({nm})", f"{d['shaft_offset_mm']} mm is outside the body; allowed "
                                                       f"range (0, {d['body_length_mm']}) mm")
-    if d["tab_z_mm"] + d["tab_thickness_mm"] > d["body_height_mm"]:
-        raise SceneError(f"{f}.dims.tab_z_mm ({nm})", f"tabs at {d['tab_z_mm']} mm + {d['tab_thickness_mm']} mm stick out of "
-                                               f"the {d['body_height_mm']} mm body")
+    nozzle = p.nozzle_mm if p is not None else 0.4
+    W = 2.0 * nozzle
+    ext = 0.5 * (d["tab_length_mm"] - d["body_length_mm"])
+    # the tab screws' pilot holes (build_servo_housing): radius (screw - 0.3) / 2, at screw_inset_mm from the seat's
+    # end, pilot_depth_mm deep. At least a nozzle width wide (a narrower hole does not print), two nozzle widths
+    # of seat around it, as deep as the screw is wide (its thread needs that much to hold)
+    if not 0 < d["screw_inset_mm"] < ext:
+        raise SceneError(f"{f}.dims.screw_inset_mm ({nm})", f"{d['screw_inset_mm']} mm puts the tab's screw outside "
+                                                           f"the {ext:.3g} mm tab; allowed range (0, {ext:.3g}) mm")
+    _dims_range(f"{f}.dims.screw_inset_mm ({nm})", d["screw_inset_mm"], 0.5 * nozzle + W, ext,
+                f"the narrowest pilot hole (a nozzle width, {nozzle:g} mm) needs two nozzle widths ({W:.3g} mm) of "
+                f"tab seat between it and the seat's end, and the screw must stay on the {ext:.3g} mm tab")
+    _dims_range(f"{f}.dims.screw_diameter_mm ({nm})", d["screw_diameter_mm"], PILOT_UNDERSIZE_MM + nozzle,
+                2 * (d["screw_inset_mm"] - W) + PILOT_UNDERSIZE_MM,
+                f"the tab seat's pilot hole ({PILOT_UNDERSIZE_MM} mm narrower than the screw) must be at least "
+                f"a nozzle width ({nozzle:g} mm) wide and leave two nozzle widths ({W:.3g} mm) of seat before "
+                f"the seat's end, {d['screw_inset_mm']} mm (screw_inset_mm) from the screw's centre")
+    _dims_range(f"{f}.dims.tab_z_mm ({nm})", d["tab_z_mm"], _min_tab_z_mm(d["screw_diameter_mm"], W),
+                d["body_height_mm"] - d["tab_thickness_mm"],
+                f"the tabs ({d['tab_thickness_mm']} mm thick) must stay on the {d['body_height_mm']} mm body, and "
+                f"the tab seat under them must hold pilot holes as deep as the {d['screw_diameter_mm']} mm screw "
+                f"is wide above the cable slot and two nozzle widths ({W:.3g} mm) of floor")
     if d["shaft_top_mm"] - d["horn_thickness_mm"] <= d["body_height_mm"]:
         raise SceneError(f"{f}.dims.shaft_top_mm ({nm})", f"the horn ({d['horn_thickness_mm']} mm) under the shaft top at "
                                                    f"{d['shaft_top_mm']} mm would touch the body top "
                                                    f"({d['body_height_mm']} mm)")
-    ext = 0.5 * (d["tab_length_mm"] - d["body_length_mm"])
-    if not 0 < d["screw_inset_mm"] < ext:
-        raise SceneError(f"{f}.dims.screw_inset_mm ({nm})", f"{d['screw_inset_mm']} mm puts the tab's screw outside "
-                                                           f"the {ext:.3g} mm tab; allowed range (0, {ext:.3g}) mm")
     d["servo"] = servo
     return d
 
@@ -94,7 +134,6 @@ def servo_layout(spec, p):
     clr = p.clearance_mm
     a = v["shaft_offset_mm"]
     L = v["body_length_mm"]
-    tab_end = a + 0.5 * (v["tab_length_mm"] - L)
     standoff = v["pad_mm"] + clr
     wall = v["wall_mm"]
     w = v["body_width_mm"] + 2 * clr
@@ -107,29 +146,59 @@ def servo_layout(spec, p):
         # the column turns against the housing about the shaft: it stands 1 mm outside the circle through
         # the housing's far corners (tab seats), and beyond the whole horn arm (which turns with it: the
         # horn pocket ends at the column)
-        "col_u0": max(math.hypot(max(a + clr + wall, tab_end), 0.5 * v["body_width_mm"] + clr + wall) + 1.0,
-                      v["horn_arm_length_mm"] + clr),
+        "col_u0": max(_housing_radius_mm(v, clr, wall), v["horn_arm_length_mm"] + clr),
         "col_t": 3.0, "arm_t": max(2.5, v["horn_thickness_mm"] + clr + 1.0),
     }
     lay["z_arm"] = lay["zb"] + v["shaft_top_mm"] - v["horn_thickness_mm"]
     return lay
 
 
+def _housing_radius_mm(v, clr, wall):
+    """Radius about the shaft of the circle the housing's far corners (tub and tab seats) sweep, plus 1 mm: where
+    the horn adapter's column may start (servo_layout ``col_u0`` but for the horn arm)."""
+    a = v["shaft_offset_mm"]
+    tab_end = a + 0.5 * (v["tab_length_mm"] - v["body_length_mm"])
+    return math.hypot(max(a + clr + wall, tab_end), 0.5 * v["body_width_mm"] + clr + wall) + 1.0
+
+
 def _check_servo_fit(spec, p, f):
+    """The horn adapter's column (servo_layout: outside the housing's circle and beyond the horn arm) must end
+    FIT_MARGIN_MM inside node B. The advice names what sets the column's place, with numbers that work: the cell
+    size rounded up, a shorter horn arm only when the horn sets it, a thinner wall_mm only when the housing does
+    (both rounded down to 0.1 mm)."""
     lay = servo_layout(spec, p)
+    v = spec.values
     c = p.cell_size_mm
-    s = p.plate_side_mm_global
-    gap = p.gap_mm
-    su = spec.values.get("shaft_u_mm", 0.0)
-    far_b = 0.5 * gap + s - su
-    need = lay["col_u0"] + lay["col_t"]
-    if need > far_b - 0.3:
-        raise SceneError(f"{f}.servo ({spec.name})",
-                         f"the horn adapter's column (beyond the {spec.values['horn_arm_length_mm']} mm horn arm) "
-                         f"needs {need:.3g} mm from the shaft but node N{spec.b[0]},{spec.b[1]} ends {far_b:.3g} mm "
-                         f"from it; this servo needs cells of at least {c + (need - far_b + 0.3):.3g} mm "
-                         f"(cell_size_mm is {c}) or a shorter horn (dims.horn_arm_length_mm at most "
-                         f"{spec.values['horn_arm_length_mm'] - (need - far_b + 0.3):.3g} mm)")
+    clr = p.clearance_mm
+    far_b = 0.5 * p.gap_mm + p.plate_side_mm_global - v.get("shaft_u_mm", 0.0)
+    need = lay["col_u0"] + lay["col_t"] + FIT_MARGIN_MM
+    if need <= far_b:
+        return
+    room = far_b - lay["col_t"] - FIT_MARGIN_MM             # the largest col_u0 that fits
+    housing = _housing_radius_mm(v, clr, v["wall_mm"])
+    horn = v["horn_arm_length_mm"] + clr
+    cell = math.ceil((c + need - far_b) * 10.0 - 1e-6) / 10.0
+    tips = [f"cells of at least {cell:g} mm (cell_size_mm is {c:g})"]
+    by = (f"the circle the housing's corners sweep (wall_mm {v['wall_mm']:g} mm)" if housing >= horn else
+          f"the {v['horn_arm_length_mm']:g} mm horn arm")
+    if horn > housing and housing <= room:
+        arm = math.floor((room - clr) * 10.0 + 1e-6) / 10.0
+        if arm > 0:
+            tips.append(f"a shorter horn (dims.horn_arm_length_mm at most {arm:g} mm)")
+    if housing >= horn and horn <= room and _housing_radius_mm(v, clr, p.min_wall_mm) <= room:
+        lo, hi = p.min_wall_mm, v["wall_mm"]
+        for _ in range(60):                                  # the radius grows with the wall
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if _housing_radius_mm(v, clr, mid) <= room else (lo, mid)
+        wall = math.floor(lo * 10.0 + 1e-6) / 10.0
+        if wall >= p.min_wall_mm - 1e-9:
+            tips.append(f"a thinner housing wall (wall_mm at most {wall:g} mm; at least two nozzle widths, "
+                        f"{p.min_wall_mm:.3g} mm)")
+    raise SceneError(f"{f}.servo ({spec.name})",
+                     f"the horn adapter's column, outside {by}, needs {math.ceil(need * 100) / 100:.2f} mm from the "
+                     f"shaft (its {lay['col_t']:g} mm width and a {FIT_MARGIN_MM} mm margin included) but node "
+                     f"N{spec.b[0]},{spec.b[1]} ends {math.floor(far_b * 100) / 100:.2f} mm from it; allowed: "
+                     + " or ".join(tips))
 
 
 def adapter_block_fits(spec, p):
@@ -209,10 +278,10 @@ def build_servo_housing(spec, p):
                                  V(a - L - clr, w1, zbot), V(a - L - clr, -w1, zbot), V(a - L - clr, -w0, lay["zb"]),
                                  V(a - L - clr, -w0, zt)])
         troughs.append(Part.Face(prof).extrude(V(L + 2 * clr, 0, 0)))
-    cable_h = min(CABLE_SLOT_MM, max(v["tab_z_mm"] - 2 * p.min_wall_mm - 4.0, 1.0))
+    cable_h = cable_height_mm(v["tab_z_mm"], p.min_wall_mm)
     cable = box(a - L - ext - 1.0, a - L, -2.0, 2.0, lay["zb"], lay["zb"] + cable_h)
-    pilot_r = 0.5 * (v["screw_diameter_mm"] - 0.3)
-    pilot_depth = v["tab_z_mm"] - cable_h - p.min_wall_mm
+    pilot_r = 0.5 * (v["screw_diameter_mm"] - PILOT_UNDERSIZE_MM)      # _servo_dims checked the pilot's ranges
+    pilot_depth = pilot_depth_mm(v["tab_z_mm"], p.min_wall_mm)
     pilots = [Part.makeCylinder(pilot_r, pilot_depth + 1.0, V(u, 0.0, top - pilot_depth))
               for u in (a - L - ext + v["screw_inset_mm"], a + ext - v["screw_inset_mm"])]
     d = 0.5 * s - p.socket_inset_mm

@@ -81,7 +81,7 @@ def test_tab_screws_go_into_material(sg90, fc):
         assert h.common(Part.makeCylinder(rp * 0.9, 3.0, c)).Volume < 1e-6      # the pilot hole is open
 
 
-@pytest.mark.parametrize("servo,cell", [("MG90S", 20), ("MG996R", 45)])
+@pytest.mark.parametrize("servo,cell", [("MG90S", 20), ("MG996R", 26.1)])
 def test_presets_build_and_clear_their_rotation(fc, servo, cell):
     from metamaterial_wb.geometry import validity
     from metamaterial_wb.geometry.build import build_scene
