@@ -7,8 +7,9 @@
   deformations D through the quadratic model (superposition of per-actuator responses, solved once),
   and D sets each cell's pitch (rotating squares, ``kinematics.uniform_pitch_mm``) and, for tilted
   hinges, its out-of-plane fold ``gamma = 2 phi tan(tilt)`` (physics note 3.5). Friction pads
-  (``modules: {"type": "friction_pad", "node": "N0,3", "mu": 1.2, "height_mm": 2}``) add a contact
-  point with their own friction coefficient below their node.
+  (``modules: {"type": "friction_pad", "node": "N0,3", "mu": 1.2, "thickness_mm": 2}``) add a contact
+  point with their own friction coefficient ``thickness_mm`` below their node (``PAD_KEYS``: the
+  fabrication module's fields; any other field is refused).
 * ``belt`` (seed 2): a closed chain of N curvature-changing cells (the layout ``{"chain": N}``),
   each split into ``segments_per_cell`` rigid segments joined by torsional/axial springs. A cell's
   rest curvature is the ring's ``2 pi / (N l)`` plus the bimorph ``kappa = 2 sqrt(3) eps / h`` with
@@ -66,6 +67,11 @@ BELT_DEFAULTS = {
 }
 
 INITIAL_PRESSURES = ("vented", "gait")
+
+# a friction pad's fields: the fabrication's (geometry/modules.py, a test keeps them equal); the dynamics reads
+# node, mu, thickness_mm and side, and weighs the pad as ABS whatever its material
+PAD_KEYS = {"type", "name", "side", "material", "extruder", "node", "mu", "thickness_mm", "pocket_depth_mm",
+            "pocket_inset_mm"}
 
 GAIT_TYPES = ("none", "open_loop", "closed_loop")
 INCLINE_RANGE_DEG = (-60.0, 60.0)   # dynamics.incline_deg (and simulate --incline)
@@ -469,6 +475,9 @@ def build_sheet(scene, cfg):
         if not isinstance(mod, dict) or mod.get("type") not in ("friction_pad", "pad"):
             continue
         f = f"modules[{k}]"
+        for key in mod:
+            if key not in PAD_KEYS:
+                raise SceneError(f"{f}.{key}", f"unknown field for a friction_pad; allowed: {sorted(PAD_KEYS)}")
         if "node" not in mod:
             raise SceneError(f"{f}.node", "a friction pad sits on a node, e.g. \"node\": \"N0,3\"")
         ni, nj = _parse_node(mod["node"], f"{f}.node")

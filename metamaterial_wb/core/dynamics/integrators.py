@@ -13,11 +13,12 @@
 
 Safety: every ``check_every`` steps the state is checked (finite, speeds below ``v_limit``, energy
 not growing by more than the actuators' work); on failure the run returns to the last checkpoint
-and either falls back (symplectic -> implicit, implicit -> half step, up to 6 times) or raises a
-:class:`DynamicsError` that names the time, the symptom and what to change. Never a silent blow-up.
+and either falls back (symplectic -> implicit at the requested step, else the implicit automatic step;
+implicit -> half step, up to 6 times) or raises a :class:`DynamicsError` that names the time, the
+symptom and what to change. Never a silent blow-up.
 
-Energy bookkeeping (joules): ``E = kinetic + gravity + elastic + contact``; actuator work is the
-change of elastic energy caused by moving rest angles / anchors at fixed positions; friction
+Energy bookkeeping (joules, ledger.py): ``E = kinetic + gravity + elastic + contact``; actuator work is
+the change of energy caused by moving rest angles / anchors, booked as each integrator applies it; friction
 dissipation is the energy released when a contact anchor slips; damping dissipation is integrated
 from the damper powers; ``numerical_J`` is what is left (E0 + W - D - E_end).
 """
@@ -32,6 +33,7 @@ import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgbtrf as _gbtrf, dgbtrs as _gbtrs
 
 from . import fastkernel
+from .ledger import EnergyLedger
 from .system import DynamicsError, PlanarSystem
 
 METHODS = ("auto", "symplectic", "implicit")
@@ -41,7 +43,7 @@ class StepBudgetError(DynamicsError):
     """A run that would take more time steps than allowed, found before the first step."""
 
 
-class Simulator:
+class Simulator(EnergyLedger):
     """State + integrators + energy ledger for one system.
 
     ``actuate(t, sim)``: optional callback that sets the system's actuation (theta0, anchors) for
@@ -81,53 +83,10 @@ class Simulator:
         _, st = self.sys.forces(self.q, self.v, self.anchors)
         return st["inside"], st["fn"]
 
-    def _apply_actuation(self, t):
-        """Set the actuation for time ``t`` and book the actuators' work of the step: the change of elastic
-        energy that moving the rest angles / anchors from their old to their new values causes, averaged
-        over the positions at the step's start (here) and at its end (``_book_actuation_end``). The average
-        is the trapezoidal rule for ``W = int dE/da . da``; the jump at the start positions alone (the former
-        ledger) also counts ``k (da)^2 / 2`` per step, which the integrator then dissipates again: an O(dt)
-        error that landed in both "actuator work" and "numerical" (most of both on the worm's stiff pins
-        at 1 ms)."""
-        self._act_old = None
-        if self.actuate is None:
-            return
-        s = self.sys
-        old = (s.theta0.copy(), s.ra.copy(), s.rb.copy())
-        self.actuate(t, self)
-        if np.array_equal(old[0], s.theta0) and np.array_equal(old[1], s.ra) and np.array_equal(old[2], s.rb):
-            return
-        self._act_old = old
-        self.ledger["actuator_work_J"] += 0.5 * self._actuation_jump(self.q, old)
-
     def _compiled(self):
         """The compiled kernel when the last step ran on it and it still matches the system, else None."""
         k = self._kern
         return k if k is not None and self._kern_used and k.matches(self.sys) else None
-
-    def _actuation_jump(self, q, old):
-        """Elastic energy at positions ``q`` with the current actuation minus that with ``old``
-        (theta0, ra, rb); by the compiled kernel where the steps run on it (``_compiled``)."""
-        s = self.sys
-        k = self._compiled()
-        if k is not None:
-            return k.actuation_jump(q, old)
-        th_old, ra_old, rb_old = old
-        rel = q[s.hb, 2] - q[s.ha, 2]
-        W = 0.5 * float(np.sum(s.kr * ((rel - s.theta0) ** 2 - (rel - th_old) ** 2)))
-        if not (np.array_equal(ra_old, s.ra) and np.array_equal(rb_old, s.rb)):
-            from .system import _rot
-            qa, qb = q[s.ha], q[s.hb]
-            d_new = qb[:, :2] + _rot(qb[:, 2], s.rb) - qa[:, :2] - _rot(qa[:, 2], s.ra)
-            d_old = qb[:, :2] + _rot(qb[:, 2], rb_old) - qa[:, :2] - _rot(qa[:, 2], ra_old)
-            W += 0.5 * float(np.sum(s.kp * (np.sum(d_new * d_new, 1) - np.sum(d_old * d_old, 1))))
-        return W
-
-    def _book_actuation_end(self):
-        old = getattr(self, "_act_old", None)
-        if old is not None:
-            self.ledger["actuator_work_J"] += 0.5 * self._actuation_jump(self.q, old)
-            self._act_old = None
 
     def _update_anchors(self):
         s = self.sys
@@ -167,7 +126,15 @@ class Simulator:
 
     # -- single steps -------------------------------------------------------------------------
     def step_symplectic(self, dt):
-        self._apply_actuation(self.t)
+        """One semi-implicit Euler step, ``v += dt M^-1 Q(q, v); q += dt v``, with the actuation of the step's
+        start held over the step; its work is booked as this step applies it (ledger.py).
+
+        Parameters
+        ----------
+        dt : float
+            The step (s).
+        """
+        self._book_symplectic_actuation(self.t, dt)
         Q, _ = self.sys.forces(self.q, self.v, self.anchors)
         self.stats["force_evaluations"] += 1
         acc = Q / self.sys.M
@@ -178,7 +145,6 @@ class Simulator:
         self.ledger["contact_damping_J"] += dt * pc
         self.v = v_new
         self.q = self.q + dt * self.v
-        self._book_actuation_end()
         self.t += dt
         self._update_anchors()
 
@@ -425,24 +391,6 @@ class Simulator:
         self._update_anchors()
 
     # -- checks ------------------------------------------------------------------------------
-    def _health(self):
-        """None if fine, else a sentence describing the symptom."""
-        if not (np.all(np.isfinite(self.q)) and np.all(np.isfinite(self.v))):
-            return "the state became non-finite (NaN/inf)"
-        vmax = float(np.max(np.abs(self.v[:, :2]))) if self.v.size else 0.0
-        self.stats["max_speed_m_s"] = max(self.stats["max_speed_m_s"], vmax)
-        if vmax > self.v_limit:
-            return f"a body reached {vmax:.3g} m/s (limit {self.v_limit:g} m/s)"
-        E = self.sys.energy(self.q, self.v, self.anchors)["total_J"]
-        # dissipation only removes energy: the energy can never exceed the initial energy plus the
-        # actuators' work (the dissipation estimates are not used here, so they cannot raise false alarms)
-        budget = self.E0 + self.ledger["actuator_work_J"]
-        scale = abs(self.E0) + abs(self.ledger["actuator_work_J"]) + 1e-6 + self.energy_scale
-        if E - budget > 0.5 * scale:
-            return (f"the energy grew to {E:.4g} J, {E - budget:.3g} J more than the initial energy plus the "
-                    f"actuators' work allows")
-        return None
-
     def _checkpoint(self):
         return (self.q.copy(), self.v.copy(), self.t, self.anchors.copy(), self.inside.copy(),
                 dict(self.ledger), self.sys.theta0.copy(), self.sys.ra.copy(), self.sys.rb.copy(),
@@ -556,8 +504,11 @@ class Simulator:
 
     def run(self, t_end, method="auto", dt=None, record_dt=None, check_every=100, on_record=None,
             max_steps=50_000_000):
-        """Integrate to ``t_end`` (s). Records frames every ``record_dt`` (s) through ``on_record(sim)``."""
+        """Integrate to ``t_end`` (s). Records frames every ``record_dt`` (s) through ``on_record(sim)``,
+        and always the final state at ``t_end`` (the last frame may follow the one before it by less
+        than ``record_dt``)."""
         t0 = time.perf_counter()
+        dt_requested = dt
         method, dt, note = self.choose(method, dt, t_end)
         if t_end / dt > max_steps:          # before the first step, with the step the integrator takes
             raise StepBudgetError(f"{t_end:g} s at the integrator's step {dt:.3g} s ({method}) is "
@@ -569,8 +520,10 @@ class Simulator:
         if method == "symplectic":
             self.stats.setdefault("kernel", "numpy")      # the explicit integrator is numpy only
         next_rec = 0.0
+        rec_t = None                  # the time of the last recorded frame
         if on_record is not None:
             on_record(self)
+            rec_t = self.t
             next_rec = record_dt
         cp = self._checkpoint()
         since = 0
@@ -595,10 +548,17 @@ class Simulator:
                     self._restore(cp)
                     since = 0
                     if method == "symplectic":
+                        # the implicit integrator at the step the run asked for (the scene's dt_s or --dt; the
+                        # explicit step may have been reduced below it), else at its automatic step
                         method = "implicit"
-                        dt = self.default_implicit_dt
+                        if dt_requested is not None:
+                            dt = min(dt_requested, t_end) if t_end > 0 else dt_requested
+                            how = f"the requested step dt = {dt:g} s"
+                        else:
+                            dt = self.default_implicit_dt
+                            how = f"its automatic step dt = {dt:g} s (no step was requested)"
                         self.stats["fallbacks"].append(
-                            {"at_s": round(t_bad, 6), "reason": bad, "action": f"switched to implicit, dt={dt:g} s"})
+                            {"at_s": round(t_bad, 6), "reason": bad, "action": f"switched to implicit at {how}"})
                         self.stats["method"] = "symplectic->implicit"
                         continue
                     retries += 1
@@ -615,19 +575,13 @@ class Simulator:
                 since = 0
                 if crossed:                   # one frame per state, however many record times the step crossed
                     on_record(self)
+                    rec_t = self.t
                     while self.t >= next_rec - eps:
                         next_rec += record_dt
+        if on_record is not None and rec_t != self.t:
+            # the final state is always a frame (closer than record_dt to the one before it when t_end is
+            # not a multiple of record_dt): the summary's travel and energy are both taken at t_end
+            on_record(self)
         self.stats["dt_final_s"] = dt
         self.stats["wall_s"] = time.perf_counter() - t0
         return self
-
-    def energy_report(self):
-        e = self.sys.energy(self.q, self.v, self.anchors)
-        W = self.ledger["actuator_work_J"]
-        out = {"initial_J": self.E0, "final_J": e["total_J"], "final_parts_J": e,
-               "actuator_work_J": W, "damping_dissipated_J": self.ledger["damping_J"],
-               "friction_dissipated_J": self.ledger["friction_J"],
-               "contact_damping_dissipated_J": self.ledger["contact_damping_J"]}
-        out["numerical_J"] = (self.E0 + W - self.ledger["damping_J"] - self.ledger["friction_J"]
-                              - self.ledger["contact_damping_J"] - e["total_J"])
-        return out
