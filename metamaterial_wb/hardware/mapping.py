@@ -150,8 +150,7 @@ def _finish(cfg: ChannelConfig, origin):
                                                            f"deg" + (f" (limits_deg from {origin['limits_deg']})"
                                                                      if origin["limits_deg"] != origin["park_deg"]
                                                                      else ""))
-    park = round(cfg.park_deg * 100.0)
-    servo = (-park if cfg.invert else park) + round(cfg.trim_deg * 100.0)
+    servo = float(servo_cdeg(cfg, cfg.park_deg)[0])
     if abs(servo) > SERVO_RANGE_CDEG:   # the firmware parks at +-park + trim: past +-90 the pulse stops short
         raise SceneError(f"{origin['park_deg']}.park_deg",
                          f"{cfg.park_deg:g} deg: the servo would park at {servo / 100:.2f} deg ("
@@ -237,6 +236,13 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
 SERVO_RANGE_CDEG = 9000  # a servo turns within [-90, 90] deg: min_us at -90, max_us at +90 (PROTOCOL.md section 5)
 
 
+def servo_cdeg(cfg: ChannelConfig, angles_deg):
+    """``(invert ? -angle : angle) + trim_deg`` of commanded joint angles, in the whole centidegrees the firmware
+    gets and maps to a pulse (so host and firmware agree exactly): ``(servo cdeg, commanded cdeg)`` arrays."""
+    cdeg = np.round(np.atleast_1d(np.asarray(angles_deg, dtype=float)) * 100.0)
+    return (-cdeg if cfg.invert else cdeg) + round(cfg.trim_deg * 100.0), cdeg
+
+
 def check_servo_reach(cfg: ChannelConfig, angles_deg, where, times_s=None):
     """Raise SceneError if the servo angle ``(invert ? -angle : angle) + trim_deg`` of a commanded joint angle
     leaves the servo's [-90, 90] deg, where the firmware would stop the pulse at min_us / max_us (and report a
@@ -246,8 +252,7 @@ def check_servo_reach(cfg: ChannelConfig, angles_deg, where, times_s=None):
     ``angles_deg``: the angles sent (after any clamping to the limits); ``times_s``: their times (named in the
     error) or None. Computed in the centidegrees the firmware gets, so host and firmware agree exactly.
     """
-    cdeg = np.round(np.atleast_1d(np.asarray(angles_deg, dtype=float)) * 100.0)
-    servo = (-cdeg if cfg.invert else cdeg) + round(cfg.trim_deg * 100.0)
+    servo, cdeg = servo_cdeg(cfg, angles_deg)
     bad = np.nonzero(np.abs(servo) > SERVO_RANGE_CDEG)[0]
     if not bad.size:
         return
