@@ -132,15 +132,9 @@ def prepare_module(obj, scene):
     the fabrication parameters of the whole scene with its effective hinge tilts (axes, joint configuration,
     per-joint hinge sizes), and the module parsed on the scene with this module alone (the sockets other modules
     use are checked by Export). Builds no geometry; raises a SceneError naming the module."""
-    from metamaterial_wb.core.design import effective_tilts_deg
-    from metamaterial_wb.core.fabrication import fabrication_params
-    from metamaterial_wb.core.scene import Scene as _Scene
     from metamaterial_wb.geometry.modules import parse_modules
-    d = scene.to_dict()
-    d["modules"] = [module_to_dict(obj)]
     try:
-        one = _Scene.from_dict(d)
-        p = fabrication_params(one, effective_tilts_deg(one), **fabrication_overrides())
+        one, p = _fabricated(scene, [module_to_dict(obj)])
         spec = parse_modules(one, p)[0]
     except SceneError as exc:
         sheet = sheet_error(scene)
@@ -159,16 +153,22 @@ class SheetNotBuilt:
         self.message = message
 
 
-def sheet_error(scene):
-    """Export's error for the sheet of ``scene`` without its modules (None when the sheet can be built)."""
+def _fabricated(scene, modules):
+    """``(scene, FabParams)``: ``scene`` with only ``modules`` and its fabrication parameters as Export computes
+    them (the effective hinge tilts, the workbench's preferences); raises the SceneError Export would."""
     from metamaterial_wb.core.design import effective_tilts_deg
     from metamaterial_wb.core.fabrication import fabrication_params
     from metamaterial_wb.core.scene import Scene as _Scene
     d = scene.to_dict()
-    d["modules"] = []
+    d["modules"] = modules
+    one = _Scene.from_dict(d)
+    return one, fabrication_params(one, effective_tilts_deg(one), **fabrication_overrides())
+
+
+def sheet_error(scene):
+    """Export's error for the sheet of ``scene`` without its modules (None when the sheet can be built)."""
     try:
-        bare = _Scene.from_dict(d)
-        fabrication_params(bare, effective_tilts_deg(bare), **fabrication_overrides())
+        _fabricated(scene, [])
     except SceneError as exc:
         return str(exc)
     return None
