@@ -13,8 +13,6 @@ MAX_NAME_BYTES = 255            # a file name on Linux, macOS and Windows file s
 MANIFEST = "manifest.json"
 
 
-
-
 def file_name(stem, group, kind):
     """The name of one output: ``kind`` "step", "prusa" / "components" (the sheet's 3MF layouts) or "3mf" (a
     module's 3MF); ``group`` "sheet", "assembly" or a module's name."""
@@ -116,14 +114,6 @@ def onto_bed(meshes, margin_mm=BED_MARGIN_MM):
     return [(n, V + off, T, m, e) for n, V, T, m, e in meshes], [round(float(c), 6) for c in off]
 
 
-def commit_outputs(tmp, out_dir, names):
-    """Move the set ``names`` from ``tmp`` into ``out_dir`` (core/fileio.commit_set, which refuses before any move a
-    set that names one file twice, also in another letter case)."""
-    from metamaterial_wb.core.fileio import commit_set
-
-    commit_set(tmp, out_dir, names)
-
-
 def _missing_dirs(path):
     """The folders of ``path`` (itself and its parents) that do not exist yet, innermost first."""
     out = []
@@ -142,7 +132,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     """Check the output names (:func:`check_output_names`) and the geometry (:func:`run_checks`, ``checks=()`` to
     skip), then write the files of a BuildResult into ``out_dir`` (atomically as a set; folders this call creates
     are removed again if it fails). Returns the file list."""
-    from metamaterial_wb.core.fileio import earlier_outputs, make_temp_dir, remove_outputs
+    from metamaterial_wb.core.fileio import commit_set, earlier_outputs, make_temp_dir, remove_outputs
     from metamaterial_wb.export.manifest import FORMAT
     from metamaterial_wb.geometry.progress import note
 
@@ -158,9 +148,9 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
         tmp = make_temp_dir(out_dir, "build")
         written = _write_files(result, groups, tmp, step, threemf, layouts, progress, stem, stream, tolerance_mm)
         stale = earlier_outputs(out_dir, MANIFEST, FORMAT, written)
-        commit_outputs(tmp, out_dir, written)
+        commit_set(tmp, out_dir, written)     # refuses a set naming one file twice before any move
     except BaseException:
-        if tmp is not None:
+        if tmp is not None:                     # first: the folders below can only go once empty
             shutil.rmtree(tmp, ignore_errors=True)
         for d in created:                       # innermost first: the folders this call made, if still empty
             try:

@@ -68,8 +68,8 @@ def test_output_names_are_planned_per_format_and_layout():
 
 def test_the_commit_refuses_duplicate_names_before_moving_anything(tmp_path):
     """Defence in depth: a set that names one file twice is refused before any move (commit_set had moved the
-    first, then restored the second copy over the earlier file)."""
-    from metamaterial_wb.export.package import commit_outputs
+    first, then restored the second copy over the earlier file); every writer of a set goes through commit_set."""
+    from metamaterial_wb.core.fileio import commit_set
     out = tmp_path / "o"
     out.mkdir()
     (out / "a.3mf").write_text("old")
@@ -77,7 +77,7 @@ def test_the_commit_refuses_duplicate_names_before_moving_anything(tmp_path):
     tmp.mkdir()
     (tmp / "a.3mf").write_text("new")
     with pytest.raises(SceneError, match="a.3mf"):
-        commit_outputs(str(tmp), str(out), ["a.3mf", "b.step", "A.3mf"])
+        commit_set(str(tmp), str(out), ["a.3mf", "b.step", "A.3mf"])
     assert (out / "a.3mf").read_text() == "old" and sorted(os.listdir(out)) == ["a.3mf"]
 
 
