@@ -150,7 +150,7 @@ def _finish(cfg: ChannelConfig, origin):
                                                            f"deg" + (f" (limits_deg from {origin['limits_deg']})"
                                                                      if origin["limits_deg"] != origin["park_deg"]
                                                                      else ""))
-    servo = float(servo_cdeg(cfg, cfg.park_deg)[0])
+    servo = float(servo_cdeg(cfg, cfg.park_deg)[0][0])
     if abs(servo) > SERVO_RANGE_CDEG:   # the firmware parks at +-park + trim: past +-90 the pulse stops short
         raise SceneError(f"{origin['park_deg']}.park_deg",
                          f"{cfg.park_deg:g} deg: the servo would park at {servo / 100:.2f} deg ("
