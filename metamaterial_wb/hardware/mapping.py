@@ -91,6 +91,16 @@ class ChannelConfig:
         return d
 
 
+def _check_whole(field, value, low, high, unit, note=""):
+    """``value`` as an int when it is a whole number in [low, high] (the wire carries integers: 2.5 would be sent
+    as 2), else a SceneError naming the field, the value and the range."""
+    v = check_number(field, value, low, high, unit)
+    if v != int(v):
+        raise SceneError(field, f"{value!r} {unit} is not a whole number; allowed: a whole number {low}..{high} "
+                                f"{unit}{note}")
+    return int(v)
+
+
 def _check_servo(field_name, spec, n_channels):
     if not isinstance(spec, dict):
         raise SceneError(field_name, f"expected an object with any of {list(SERVO_KEYS)}, got {spec!r}")
@@ -122,19 +132,12 @@ def _check_servo(field_name, spec, n_channels):
         out["limits_deg"] = (lo, hi)
     for k in ("min_us", "max_us"):
         if k in spec:
-            v = check_number(f"{field_name}.{k}", spec[k], 400, 2600, "us")
-            if v != int(v):
-                raise SceneError(f"{field_name}.{k}", f"{v} us must be a whole number of microseconds")
-            out[k] = int(v)
+            out[k] = _check_whole(f"{field_name}.{k}", spec[k], 400, 2600, "us")
     if "park_deg" in spec:
         out["park_deg"] = check_number(f"{field_name}.park_deg", spec["park_deg"], -90.0, 90.0, "deg")
     if "max_slew_dps" in spec:  # the protocol's u16: 2.5 would be sent as 2, 0.4 as 0 = no limit at all
-        v = spec["max_slew_dps"]
-        whole = "a whole number 0..3600 deg/s (0: no limit)"
-        check_number(f"{field_name}.max_slew_dps", v, 0.0, 3600.0, "deg/s")
-        if v != int(v) or not 0 <= v <= 3600:
-            raise SceneError(f"{field_name}.max_slew_dps", f"{v!r} deg/s is not a whole number; allowed: {whole}")
-        out["max_slew_dps"] = int(v)
+        out["max_slew_dps"] = _check_whole(f"{field_name}.max_slew_dps", spec["max_slew_dps"], 0, 3600, "deg/s",
+                                           " (0: no limit)")
     return out
 
 

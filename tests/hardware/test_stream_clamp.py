@@ -170,6 +170,15 @@ def test_max_slew_dps_must_be_a_whole_number(dps):
         channel_map(fish(), overrides={"head": {"max_slew_dps": dps}})
 
 
+@pytest.mark.parametrize("field", ["min_us", "max_us"])
+def test_pulse_widths_are_whole_microseconds_with_one_wording(field):
+    """min_us / max_us share max_slew_dps's whole-number check and its wording (value, unit, range)."""
+    with pytest.raises(SceneError, match=rf"actuators\[0\]\.servo\.{field}: 1500\.5 us is not a whole number; "
+                                         rf"allowed: a whole number 400\.\.2600 us"):
+        channel_map(fish(head={field: 1500.5}))
+    assert getattr(channel_map(fish(head={field: 1500.0}))[0], field) == 1500
+
+
 def test_whole_max_slew_dps_is_sent_as_is():
     for dps in (16.0, 16, 0, 3600):
         c = channel_map(fish(head={"max_slew_dps": dps}))[0]
