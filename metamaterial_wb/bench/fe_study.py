@@ -8,8 +8,8 @@ import time
 import numpy as np
 
 from metamaterial_wb.fe import hinge
-from metamaterial_wb.fe.richardson import P_RANGE, extrapolate
-from metamaterial_wb.fe.richardson import summary as order_summary
+from metamaterial_wb.core.extrapolation import P_RANGE, extrapolate
+from metamaterial_wb.core.extrapolation import summary as order_summary
 
 DOF_NAMES = ("axial u1", "in-plane shear u2", "out-of-plane shear u3", "torsion T1", "out-of-plane bending T2",
              "in-plane bending T3")

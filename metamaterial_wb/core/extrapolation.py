@@ -1,34 +1,147 @@
-"""Richardson extrapolation of FE figures over nested meshes (the sleeve's 2-D and 3-D studies, issue 18): one
-place for the observed order and the error estimate every FE table quotes."""
+"""Richardson extrapolation of FE figures over meshes (issue 18): one place for the observed order and the error
+estimate every FE table quotes: the hinge and patch studies (:func:`extrapolate`, the meshes' own element sizes),
+the sleeve's 2-D and 3-D studies and ``sleeve --fe-check`` (:func:`richardson3`, the same computation per column).
+
+Meshes whose element sizes are not in one ratio are handled by the generalised form of Roache's grid convergence
+index method.
+
+With ``f(h) = f0 + C h^p`` at three element sizes ``h1 > h2 > h3`` (ratios ``r21 = h1 / h2``, ``r32 = h2 / h3``),
+the observed order ``p`` solves ``(f2 - f1) / (f3 - f2) = r32^p (r21^p - 1) / (r32^p - 1)`` (the right side grows
+monotonically in ``p``, from ``ln r21 / ln r32`` at ``p -> 0``; with equal ratios it is ``r^p``), and
+``f0 = f3 + (f3 - f2) / (r32^p - 1)``; the error estimate is ``|f0 - f3|``, the correction to the finest mesh.
+Celik et al., "Procedure for estimation and reporting of uncertainty due to discretization in CFD applications",
+ASME J. Fluids Eng. 130 (2008) 078001, eq. 1-4, without the safety factor.
+
+The sizes must be the meshes' own: :func:`representative_size` (also theirs: ``(dx dy dz)^(1/3)``, the cube root
+of the mean brick volume, when the three directions are refined by different ratios). An observed order outside
+``p_range`` is clipped to it and flagged (``clipped``); one that cannot be observed (two meshes, or differences that
+change sign: oscillating convergence) is taken as 2 and flagged (``assumed``): nothing is clipped silently.
+"""
+import math
+
 import numpy as np
 
+P_RANGE = (0.5, 4.0)
+P_ASSUMED = 2.0
 
-def richardson3(h, values, p_range=(0.5, 4.0)):
-    """Richardson extrapolation from the last three of ``values`` at element sizes ``h`` (any ratios): the
-    observed order ``p`` solves ``(v2 - v1) / (v3 - v2) = (h1^p - h2^p) / (h2^p - h3^p)`` (bisection, clipped to
-    ``p_range``; 2 when the differences do not shrink monotonically), then ``v = v3 + (v3 - v2) h3^p /
-    (h2^p - h3^p)``. Error estimate: ``|v - v3|``. With two values, order 2 is assumed."""
-    V = np.atleast_2d(np.asarray(values, float).T).T          # (k, m)
-    h = np.asarray(h, float)
-    ext, err, order = [], [], []
-    for col in V.T:
-        if len(col) < 2 or not np.all(np.isfinite(col)):
-            ext.append(col[-1] if len(col) else np.nan); err.append(np.nan); order.append(np.nan)
-            continue
-        p = 2.0
+
+def representative_size(sizes):
+    """The representative element size of a mesh whose bricks measure ``sizes`` (``(dx, dy, dz)`` mm, or a list of
+    such for every brick): the cube root of the mean brick volume (Celik et al. 2008, eq. 1)."""
+    s = np.atleast_2d(np.asarray(sizes, float))
+    return float(np.mean(np.prod(s, axis=1)) ** (1.0 / s.shape[1]))
+
+
+def _order(h, v, p_range):
+    """``(p, observed, clipped, assumed)`` from the last three ``(h, v)``: ``observed`` the solution before
+    clipping (NaN when there is none)."""
+    (h1, h2, h3), (v1, v2, v3) = h[-3:], v[-3:]
+    r21, r32 = h1 / h2, h2 / h3
+    e21, e32 = v2 - v1, v3 - v2
+    if e21 == 0.0 and e32 == 0.0:
+        return P_ASSUMED, math.nan, False, True              # nothing changes: converged, any order
+    if e32 == 0.0 or e21 / e32 <= 0.0:
+        if e32 == 0.0:                                      # the finest step changed nothing: order "infinite"
+            return p_range[1], math.inf, True, False
+        return P_ASSUMED, math.nan, False, True             # the differences change sign: oscillating
+    q = e21 / e32
+
+    def g(p):                                               # increasing in p
+        return p * math.log(r32) + math.log(math.expm1(p * math.log(r21))) - math.log(math.expm1(p * math.log(r32))) \
+            - math.log(q)
+    observed = math.nan
+    lo, hi = 1e-9, 64.0
+    if g(lo) < 0.0 < g(hi):
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if g(mid) < 0.0 else (lo, mid)
+        observed = 0.5 * (lo + hi)
+    elif g(hi) <= 0.0:
+        observed = math.inf
+    else:
+        observed = 0.0                                      # no positive order: convergence does not speed up
+    p = min(max(observed, p_range[0]), p_range[1])
+    return p, observed, p != observed, False
+
+
+def extrapolate(h, values, p_range=P_RANGE):
+    """Richardson extrapolation of ``values`` (a sequence of arrays, one per mesh, coarse to fine) at the meshes'
+    element sizes ``h`` (their own: :func:`representative_size`) to ``h -> 0``, from the last three (two: order 2
+    assumed). A dict of arrays of the values' shape: ``value`` (extrapolated), ``error`` (``|value - finest|``),
+    ``order`` (the order used), ``order_observed`` (before clipping; NaN where none was observed), ``clipped`` (the
+    observed order lay outside ``p_range`` and was clipped to it), ``assumed`` (no order could be observed: 2 used),
+    and ``ratios`` (the meshes' size ratios, ``h[i] / h[i + 1]`` over the last three)."""
+    V = [np.asarray(x, float) for x in values]
+    h = [float(x) for x in h]
+    if len(V) != len(h) or not V:
+        raise ValueError(f"values: {len(V)} meshes for {len(h)} element sizes; allowed: one value per size")
+    if any(not (math.isfinite(x) and x > 0) for x in h) or any(a <= b for a, b in zip(h, h[1:])):
+        raise ValueError(f"h: {h!r}; allowed: positive element sizes, coarse to fine (strictly decreasing)")
+    shape = V[-1].shape
+    flat = np.stack([x.ravel() for x in V])                  # (meshes, components)
+    n = flat.shape[1]
+    out = {k: np.full(n, np.nan) for k in ("value", "error", "order", "order_observed")}
+    out.update(clipped=np.zeros(n, bool), assumed=np.zeros(n, bool))
+    if len(V) < 2:
+        out["value"] = flat[-1].copy()
+    for j in range(n if len(V) >= 2 else 0):
+        col = flat[:, j]
         if len(col) >= 3:
-            (h1, h2, h3), (v1, v2, v3) = h[-3:], col[-3:]
-            q = (v2 - v1) / (v3 - v2) if v3 != v2 else np.inf
-            g = lambda pp: (h1 ** pp - h2 ** pp) / (h2 ** pp - h3 ** pp) - q  # noqa: E731
-            lo, hi = p_range
-            if np.isfinite(q) and q > 0 and g(lo) * g(hi) < 0:
-                for _ in range(80):
-                    mid = 0.5 * (lo + hi)
-                    lo, hi = (mid, hi) if g(lo) * g(mid) > 0 else (lo, mid)
-                p = 0.5 * (lo + hi)
-            elif np.isfinite(q) and q > 0:
-                p = lo if abs(g(lo)) < abs(g(hi)) else hi
-        h2, h3 = h[-2], h[-1]
-        v = col[-1] + (col[-1] - col[-2]) * h3 ** p / (h2 ** p - h3 ** p)
-        ext.append(float(v)); err.append(float(abs(v - col[-1]))); order.append(float(p))
-    return ext, err, order
+            p, observed, clipped, assumed = _order(h, col, p_range)
+        else:
+            p, observed, clipped, assumed = P_ASSUMED, math.nan, False, True
+        r = h[-2] / h[-1]
+        value = col[-1] + (col[-1] - col[-2]) / (r ** p - 1.0)
+        out["value"][j], out["error"][j], out["order"][j] = value, abs(value - col[-1]), p
+        out["order_observed"][j], out["clipped"][j], out["assumed"][j] = observed, clipped, assumed
+    res = {k: v.reshape(shape) for k, v in out.items()}
+    res["ratios"] = [a / b for a, b in zip(h[-3:], h[-3:][1:])]
+    return res
+
+
+def summary(res):
+    """How the orders of :func:`extrapolate`'s result ``res`` came about, in words: ``""`` when every one was
+    observed inside the range, else how many were clipped (and to which bound) or assumed."""
+    clipped, assumed = np.asarray(res["clipped"]).ravel(), np.asarray(res["assumed"]).ravel()
+    order = np.asarray(res["order"]).ravel()
+    parts = []
+    if clipped.any():
+        lo = int(np.sum(clipped & (order <= P_RANGE[0])))
+        hi = int(clipped.sum()) - lo
+        parts.append(f"{int(clipped.sum())} of {clipped.size} observed orders outside [{P_RANGE[0]:g}, "
+                     f"{P_RANGE[1]:g}] and clipped to it ({lo} to {P_RANGE[0]:g}, {hi} to {P_RANGE[1]:g})")
+    if assumed.any():
+        parts.append(f"{int(assumed.sum())} of {assumed.size} not observable (two meshes, or oscillating "
+                     f"differences): order {P_ASSUMED:g} assumed")
+    return "; ".join(parts)
+
+
+
+
+def richardson3(h, values):
+    """``(extrapolated, error, order)``, lists with one entry per column of ``values`` (rows: meshes, coarse to
+    fine, at element sizes ``h``): :func:`extrapolate`'s ``value``, ``error`` and ``order`` (the order's flags:
+    :func:`richardson3_flags`). A column with a non-finite value, or fewer than two meshes, is its finest value
+    with NaN error and order."""
+    res = _columns(h, values)
+    return [float(x) for x in res["value"]], [float(x) for x in res["error"]], [float(x) for x in res["order"]]
+
+
+def richardson3_flags(h, values):
+    """:func:`summary` of :func:`richardson3`'s orders for the same input: ``""`` when every order was observed
+    inside ``P_RANGE``."""
+    return summary(_columns(h, values))
+
+
+def _columns(h, values):
+    V = np.atleast_2d(np.asarray(values, float).T).T          # (meshes, columns)
+    good = np.all(np.isfinite(V), axis=0)
+    res = extrapolate(h, [np.where(good, row, 0.0) for row in V])
+    for k in ("error", "order", "order_observed"):
+        res[k] = np.where(good, res[k], np.nan)
+    res["value"] = np.where(good, res["value"], V[-1])
+    res["clipped"], res["assumed"] = res["clipped"] & good, res["assumed"] & good
+    return res
+
+
+__all__ = ["extrapolate", "representative_size", "summary", "richardson3", "richardson3_flags", "P_RANGE"]

@@ -7,7 +7,6 @@ Imports only ``core``. Decks are written in the Abaqus input format CalculiX rea
 * :mod:`.ccx`: the solver runner and the ``.dat`` parser; ``available()`` says whether ccx is installed,
   ``table()`` reads one printed table or raises ``FEError`` naming the job and the table;
 * :mod:`.checks`: the entry points' input checks (``"<field>: <value>; allowed: ..."``);
-* :mod:`.richardson`: extrapolation over meshes in unequal size ratios, with the meshes' own element sizes;
 * :mod:`.patch`: a small patch of rigid plates and solid hinges with actuated joints;
 * :mod:`.hinge`: one TPU hinge between two PLA plates: its 6 x 6 stiffness and its large-rotation
   moment-rotation curve, against the lattice's beam law.

@@ -27,7 +27,7 @@ import numpy as np
 
 from metamaterial_wb.fe import ccx, checks
 from metamaterial_wb.fe.mesh import box_union_mesh, graded
-from metamaterial_wb.fe.richardson import extrapolate, representative_size
+from metamaterial_wb.core.extrapolation import extrapolate, representative_size
 
 PLA_E, PLA_NU = 3500.0, 0.36          # MPa, printed PLA (typical datasheet values)
 REF, ROT = 900001, 900002             # rigid-body reference and rotation nodes
@@ -207,7 +207,7 @@ def lattice_bending(spec, angles, held=False, hinge_elements=1):
 
 def mesh_study(spec, sizes=(0.4, 0.27, 0.2), timeout_s=900.0, progress=None):
     """FE stiffness at every nominal mesh size, and the Richardson estimate of the converged diagonal over the
-    meshes' own sizes (``h_eff_mm``, ``element_sizes``; ``richardson.extrapolate``: observed order from the three
+    meshes' own sizes (``h_eff_mm``, ``element_sizes``; ``core.extrapolation.extrapolate``: observed order from the three
     finest, flagged where clipped)."""
     rows = []
     for h in sizes:
@@ -222,7 +222,7 @@ def mesh_study(spec, sizes=(0.4, 0.27, 0.2), timeout_s=900.0, progress=None):
 
 def richardson(h, values):
     """``(extrapolated, error estimate, order)`` of ``values`` (arrays, coarse to fine) at the element sizes ``h``
-    (the meshes' own, any ratios: ``richardson.extrapolate``, whose result also says which orders were clipped or
+    (the meshes' own, any ratios: ``core.extrapolation.extrapolate``, whose result also says which orders were clipped or
     assumed); with two values, order 2 is assumed."""
     res = extrapolate(h, values)
     return res["value"], res["error"], res["order"]

@@ -17,7 +17,7 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.fe import ccx, checks
 from metamaterial_wb.fe.mesh import box_union_mesh, graded
-from metamaterial_wb.fe.richardson import representative_size
+from metamaterial_wb.core.extrapolation import representative_size
 
 
 def _hinge_box(rest, w, t, h, nz):

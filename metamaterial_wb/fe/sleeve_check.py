@@ -71,8 +71,9 @@ def ring_stiffness(g, n, r, layers, element="C3D20R", timeout_s=3600.0):
 
 def converged_stiffness(g, n, timeout_s=3600.0, log=None):
     """The curved uniform ring's initial stiffness on ``CONVERGED_MESHES`` (every brick C3D20) and extrapolated:
-    ``{"meshes": [k...], "seconds": [...], "extrapolated", "error", "order"}``."""
-    from metamaterial_wb.core.extrapolation import richardson3
+    ``{"meshes": [k...], "seconds": [...], "extrapolated", "error", "order", "order_note"}`` (``order_note``: how
+    the order came about when it was not observed inside the range, else ``""``)."""
+    from metamaterial_wb.core.extrapolation import richardson3, richardson3_flags
     ks, secs = [], []
     for r, layers in CONVERGED_MESHES:
         if log:
@@ -80,8 +81,10 @@ def converged_stiffness(g, n, timeout_s=3600.0, log=None):
         k, wall_s = ring_stiffness(g, n, r, layers, "C3D20", timeout_s)
         ks.append(k)
         secs.append(wall_s)
-    ext, err, order = richardson3([1.0 / r for r, _ in CONVERGED_MESHES], ks)
-    return {"meshes": ks, "seconds": secs, "extrapolated": ext[0], "error": err[0], "order": order[0]}
+    h = [1.0 / r for r, _ in CONVERGED_MESHES]
+    ext, err, order = richardson3(h, ks)
+    return {"meshes": ks, "seconds": secs, "extrapolated": ext[0], "error": err[0], "order": order[0],
+            "order_note": richardson3_flags(h, ks)}
 
 
 def _model(spec, i):
@@ -119,6 +122,7 @@ def check_sleeve(spec, peak=False, timeout_s=3600.0, log=None, converged=False):
             ratio = row["model_stiffness"] / c["extrapolated"]
             row.update({"fe_stiffness_meshes": c["meshes"], "fe_stiffness_extrapolated": c["extrapolated"],
                         "fe_stiffness_error": c["error"], "fe_stiffness_order": c["order"],
+                        "fe_stiffness_order_note": c["order_note"],
                         "stiffness_ratio_extrapolated": ratio, "stiffness_ratio_error": ratio * c["error"] / c["extrapolated"],
                         "fe_seconds": row["fe_seconds"] + sum(c["seconds"])})
         if peak:
@@ -149,7 +153,9 @@ def notes(check):
         if "fe_stiffness_extrapolated" in r:
             s += (f"; extrapolated over meshes r = 1, 2, 3 (every brick C3D20: "
                   f"{', '.join(f'{1e3 * k:.3g}' for k in r['fe_stiffness_meshes'])}e-3, order "
-                  f"{r['fe_stiffness_order']:.2f}) the solid's is {1e3 * r['fe_stiffness_extrapolated']:.3g} +- "
+                  f"{r['fe_stiffness_order']:.2f}"
+                  + (f": {r['fe_stiffness_order_note']}" if r.get("fe_stiffness_order_note") else "")
+                  + f") the solid's is {1e3 * r['fe_stiffness_extrapolated']:.3g} +- "
                   f"{1e3 * r['fe_stiffness_error']:.2g}e-3 (model / solid {r['stiffness_ratio_extrapolated']:.2f} +- "
                   f"{r['stiffness_ratio_error']:.2f})")
         if "model_p1" in r:

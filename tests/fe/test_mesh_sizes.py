@@ -22,7 +22,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 def test_unequal_ratios_recover_the_limit_and_the_order(p):
     """f(h) = f0 + C h^p at three sizes in unequal ratios (the hinge's true sizes, ratios 1.51 and 1.32): the
     closed form's f0 and p come back, through the studies' own call (``hinge.richardson``) too."""
-    from metamaterial_wb.fe.richardson import extrapolate
+    from metamaterial_wb.core.extrapolation import extrapolate
     f0, C = np.array([3.0, -1.5]), np.array([-2.0, 0.7])
     h = [0.4993, 0.3298, 0.2497]
     vals = [f0 + C * x ** p for x in h]
@@ -37,7 +37,7 @@ def test_unequal_ratios_recover_the_limit_and_the_order(p):
 
 
 def test_an_order_outside_the_range_is_clipped_and_flagged():
-    from metamaterial_wb.fe.richardson import extrapolate, summary
+    from metamaterial_wb.core.extrapolation import extrapolate, summary
     h = [0.5, 0.333, 0.25]
     res = extrapolate(h, [1.0 + x ** 5.5 for x in h])
     assert res["clipped"].all() and res["order"] == pytest.approx(4.0)
@@ -113,7 +113,7 @@ def test_the_patch_deck_records_its_own_element_size():
 def test_the_stored_study_is_extrapolated_with_its_meshes_own_sizes():
     """benchmarks/results/fe-study.json: every mesh row records its sizes, and the hinge stiffness' extrapolation is
     the one those sizes give (recomputed here from its per-mesh stiffness, without ccx)."""
-    from metamaterial_wb.fe.richardson import extrapolate
+    from metamaterial_wb.core.extrapolation import extrapolate
     with open(os.path.join(REPO, "benchmarks", "results", "fe-study.json")) as f:
         st = json.load(f)
     spec = hinge.HingeSpec(**{k: v for k, v in st["spec"].items() if k not in ("L", "w", "t")},
@@ -134,3 +134,18 @@ def test_the_stored_study_is_extrapolated_with_its_meshes_own_sizes():
             assert m["h_eff_mm"] == pytest.approx(hinge.element_sizes(s, m["h_mm"])["h_eff_mm"], rel=1e-9)
     for row in st["patch"]:
         assert all("h_eff_mm" in f and len(f["element_mm"]) == 3 for f in row["fe"])
+
+
+def test_the_sleeve_studies_extrapolate_with_the_same_computation():
+    """``richardson3`` (the sleeve studies, per column) is ``extrapolate`` with its flags: one implementation. A
+    column with a non-finite value keeps its finest value with NaN error and order; a clipped order is reported by
+    ``richardson3_flags``."""
+    from metamaterial_wb.core.extrapolation import extrapolate, richardson3, richardson3_flags
+    h = [1.0, 0.5, 1.0 / 3.0]
+    rows = [[2.0 + x ** 1.7, 1.0 + x ** 5.5, 3.0 + (np.nan if x == 1.0 else x)] for x in h]
+    ext, err, order = richardson3(h, rows)
+    ref = extrapolate(h, [np.array(r[:2]) for r in rows])
+    assert ext[:2] == pytest.approx(ref["value"]) and err[:2] == pytest.approx(ref["error"])
+    assert order[:2] == pytest.approx(ref["order"]) and order[0] == pytest.approx(1.7)
+    assert ext[2] == rows[-1][2] and np.isnan(err[2]) and np.isnan(order[2])
+    assert richardson3_flags(h, rows) == "1 of 3 observed orders outside [0.5, 4] and clipped to it (0 to 0.5, 1 to 4)"

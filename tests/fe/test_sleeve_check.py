@@ -149,6 +149,28 @@ def test_converged_check_runs_three_meshes_and_extrapolates(monkeypatch):
     assert "extrapolated over meshes r = 1, 2, 3" in sleeve_check.notes({"types": [row]})[0]
 
 
+def test_converged_check_says_when_the_order_was_clipped(monkeypatch):
+    """A solid converging as k + a h^5.5: the observed order lies above the range [0.5, 4]; the check uses 4 and
+    says so in its row and its note (the sleeve studies' Richardson clipped orders silently)."""
+    import numpy as np
+
+    from metamaterial_wb.core.sleeve.spec import SleeveSpec
+    from metamaterial_wb.fe import sleeve3d
+    k, a = 0.0143, 0.0027
+
+    def fake(g, n, r, layers, d_max=None, increments=2, timeout_s=0, partial=True, element="C3D20R", **kw):
+        d = np.linspace(0, d_max / g.L, increments + 1)
+        return {"d": d, "F": (k + a * r ** -5.5) * d, "tilt_rad": np.zeros((len(d), 2))}, {"wall_s": 1.0}
+
+    monkeypatch.setattr(sleeve3d, "solve_ring3d", fake)
+    monkeypatch.setattr(ccx, "available", lambda: (True, "ccx"))
+    (row,) = sleeve_check.check_sleeve(SleeveSpec(SEED), converged=True)["types"]
+    assert row["fe_stiffness_order"] == pytest.approx(4.0)
+    assert "1 of 1 observed orders outside [0.5, 4] and clipped to it (0 to 0.5, 1 to 4)" in row[
+        "fe_stiffness_order_note"]
+    assert "order 4.00: 1 of 1 observed orders outside" in sleeve_check.notes({"types": [row]})[0]
+
+
 def test_secant_refuses_a_curve_that_stops_short_of_its_rise():
     """A traced curve that stops before d/L ``SECANT_AT`` (a partial ccx run) has no secant there: ``np.interp``
     would hold its last force and report a stiffness the ring does not have. The error names the rise reached."""
