@@ -194,8 +194,13 @@ def configure(scene, strict=True):
     """
     config, report = compute_joint_config(scene, strict=strict)
     warnings = []
+    for name, cfg in hand_written(scene).items():     # kept: a tilt set by hand, on any joint
+        if name in config:
+            warnings.append(f"joint_config.{name}: its hand-written tilt_deg = {cfg.get('tilt_deg', 0.0):g} wins "
+                            f"over the configured {config[name]['tilt_deg']:.3f} deg of axis {config[name]['axis']}")
+        config[name] = dict(cfg)
     for name, ov in scene.joint_overrides.items():
-        if "tilt_deg" in ov and name in config:
+        if "tilt_deg" in ov and "axis" in config.get(name, {}):
             warnings.append(f"joint {name}: its override tilt_deg = {ov['tilt_deg']} wins over the configured "
                             f"{config[name]['tilt_deg']:.3f} deg of axis {config[name]['axis']}")
     for row in report["axes"]:
@@ -212,7 +217,7 @@ def configure(scene, strict=True):
     par = kin.joint_parity(scene)
     topo = scene.topology
     for row in report["axes"]:
-        names = [n for n, c in config.items() if c["axis"] == row["axis"]]
+        names = [n for n, c in config.items() if c.get("axis") == row["axis"]]
         if names:
             j = topo.joint_index[names[0]] if topo.n_joints < 10000 else _jid(topo, names[0])
             phi_rev = -par[j] * info["opening_rad"]
@@ -317,17 +322,23 @@ def ensure_configured(scene):
         return None
     if not scene.joint_config:
         return configure(scene)
-    if all("axis" in c for c in scene.joint_config.values()):
-        want = compute_joint_config(scene)[0]
-        same = set(want) == set(scene.joint_config) and all(
-            abs(float(want[k]["tilt_deg"]) - float(scene.joint_config[k].get("tilt_deg", 0.0))) < 1e-6
-            for k in want)
-        if not same:
-            report = configure(scene)
-            report["warnings"].insert(0, "the scene's joint_config did not match its axes (stale design); "
-                                         "it was recomputed - run `design` to store the new one")
-            return report
+    hand = hand_written(scene)
+    designed = {k: c for k, c in scene.joint_config.items() if k not in hand}
+    want = {k: c for k, c in compute_joint_config(scene)[0].items() if k not in hand}
+    same = set(want) == set(designed) and all(
+        abs(float(want[k]["tilt_deg"]) - float(designed[k].get("tilt_deg", 0.0))) < 1e-6 for k in want)
+    if not same:
+        report = configure(scene)
+        report["warnings"].insert(0, "the scene's joint_config did not match its axes (stale design); "
+                                     "it was recomputed - run `design` to store the new one")
+        return report
     return None
+
+
+def hand_written(scene):
+    """The entries of ``scene.joint_config`` set by hand (without ``axis``): design keeps them, and they win over an
+    axis' tilt on their joint."""
+    return {k: c for k, c in scene.joint_config.items() if "axis" not in c}
 
 
 def global_D(scene, g):

@@ -236,5 +236,11 @@ def test_stale_design_configuration_is_recomputed_but_hand_written_one_is_kept()
     assert rep is not None and "stale" in rep["warnings"][0]
     assert s.joint_config["H0,1"]["fold_deg"] == 45.0
     assert design.ensure_configured(s) is None      # now consistent
+    # a hand-written tilt on one of the axis' two joints is kept; the other joint (H1,1) was solved flat, silently:
+    # it is configured now, with the stale-design warning
     hand = scene({"chain": 4}, [V(1, 30.0)], joint_config={"H0,1": {"tilt_deg": 10.0}})
-    assert design.ensure_configured(hand) is None and hand.joint_tilt_deg("H0,1") == 10.0
+    rep = design.ensure_configured(hand)
+    assert rep is not None and "stale" in rep["warnings"][0] and hand.joint_tilt_deg("H0,1") == 10.0
+    assert hand.joint_config["H1,1"]["axis"] == "v1" and design.ensure_configured(hand) is None
+    both = scene({"chain": 4}, [V(1, 30.0)], joint_config={"H0,1": {"tilt_deg": 10.0}, "H1,1": {"tilt_deg": -10.0}})
+    assert design.ensure_configured(both) is None and both.joint_tilt_deg("H1,1") == -10.0

@@ -126,6 +126,22 @@ def parse_axes(s, data):
             raise SceneError(f"{f}.name", f"expected text, got {_short(name)}")
         extra = {kk: vv for kk, vv in a.items() if kk not in ("direction", "line", "fold_deg", "name")}
         s.axes.append(Axis(direction, line, fold, name, extra))
+    _check_axis_names(s.axes)
+
+
+def _check_axis_names(axes):
+    """Every axis' name (its own, or its default ``v<line>`` / ``h<line>``) names one axis: ``--fold NAME=...``,
+    the design report and inverse targets pick axes by it."""
+    seen = {}
+    for k, a in enumerate(axes):
+        name = a.name or f"{a.direction[0]}{a.line}"
+        if name in seen and (a.name or seen[name][1]):      # two unnamed axes on one line: plan_axes says so
+            j, j_named = seen[name]
+            k_, j_ = (k, j) if a.name else (j, k)      # blame the axis whose written name collides
+            what = "the name" if a.name and j_named else "the default name"
+            raise SceneError(f"axes[{k_}].name", f"{name!r} is already {what} of axes[{j_}]; allowed: a name no "
+                                                 "other axis has (defaults: v<line> / h<line>)")
+        seen[name] = (k, bool(a.name))
 
 
 def parse_fixed(s, data):
@@ -196,6 +212,9 @@ def parse_modules(s, data):
     s.modules = modules
 
 
+JOINT_CONFIG_KEYS = ("tilt_deg", "fold_deg", "axis")
+
+
 def parse_joint_config(s, data):
     jc = data.get("joint_config", {})
     if not isinstance(jc, dict):
@@ -204,6 +223,12 @@ def parse_joint_config(s, data):
         jn = s._joint(name, f"joint_config.{_short(name, 40)}")
         if not isinstance(cfg, dict):
             raise SceneError(f"joint_config.{jn}", f"expected an object like {{\"tilt_deg\": 20}}, got {_short(cfg)}")
+        for key in cfg:
+            if key not in JOINT_CONFIG_KEYS:
+                raise SceneError(f"joint_config.{jn}.{key[:40]}", f"unknown field; allowed: "
+                                                                         f"{list(JOINT_CONFIG_KEYS)}")
+        if "axis" in cfg and not isinstance(cfg["axis"], str):
+            raise SceneError(f"joint_config.{jn}.axis", f"expected text (the axis' name), got {_short(cfg['axis'])}")
         for key in ("tilt_deg", "fold_deg"):
             if key in cfg:
                 lim = MAX_TILT_DEG if key == "tilt_deg" else 180.0
