@@ -24,8 +24,9 @@ Full derivation and conventions: ``docs/kinematics.md``. Summary:
   ``psi`` with ``cos(psi / 2) = cos(gamma / 2) cos(phi)``.
 * Poses. Every node gets ``R = F Rz(phi)``: ``F`` is the fold frame (paper-like folding of the sheet
   along its bending lines), ``Rz(phi)`` the in-plane rotation. Fold frames come from one scalar
-  graph-Laplacian least-squares solve per bending direction group (``theta_B - theta_A = gamma`` on
-  tilted joints, 0 elsewhere), positions from the least-squares hinge closure
+  graph-Laplacian least-squares solve per fold group (a stretch of a bending line; ``theta_B - theta_A
+  = gamma`` on its tilted joints, 0 elsewhere), composed from node 0 outwards, positions from the
+  least-squares hinge closure
 
       sum_joints | c_B + R_B r_B - c_A - R_A r_A - M d0 |^2,   M = mid(F_A, F_B) Rz((phi_A + phi_B) / 2),
 
@@ -111,6 +112,46 @@ def flat_positions_mm(scene):
     return np.column_stack([ij[:, 1] * p, -ij[:, 0] * p, np.zeros(len(ij))])
 
 
+def _fold_groups(topo, a, b, tilted):
+    """Fold groups ``[(direction, f, joint indices)]`` in composition order (empty for a planar sheet).
+
+    A group is one stretch of a bending line: the tilted joints of one line (``H(., k)`` vertical,
+    ``V(k, .)`` horizontal) between the same two regions (components of the sheet without its tilted
+    joints), so that the stretches of one line on different branches (a U's legs, a comb's teeth) are
+    folded separately. Stretches are ordered by their graph distance from node 0, which puts every
+    stretch after the stretches between it and node 0: the product ``Rot(f_1, theta_1) Rot(f_2, theta_2) ...``
+    then composes each node's folds along its own path from the root (for uniform D the fold field of a
+    stretch off that path is exactly 0 at the node; for non-uniform D it is the least-squares compromise).
+    Consecutive groups of one direction are merged (rotations about one vector commute and the fold
+    fields add).
+    """
+    from scipy.sparse.csgraph import connected_components, shortest_path
+
+    if not tilted.size:
+        return []
+    n, m = topo.n_nodes, topo.n_joints
+    keep = np.ones(m, dtype=bool)
+    keep[tilted] = False
+    _, region = connected_components(sp.coo_matrix((np.ones(int(keep.sum())), (a[keep], b[keep])), shape=(n, n)),
+                                     directed=False)
+    ij = topo.joint_ij()
+    keys = {}
+    for k in tilted.tolist():
+        line = ("vertical", int(ij[k, 1])) if k < topo.n_h else ("horizontal", int(ij[k, 0]))
+        keys.setdefault(line + tuple(sorted((int(region[a[k]]), int(region[b[k]])))), []).append(k)
+    dist = shortest_path(sp.coo_matrix((np.ones(m), (a, b)), shape=(n, n)).tocsr(), indices=0, unweighted=True,
+                         directed=False)
+    depth = {key: float(np.min(np.minimum(dist[a[js]], dist[b[js]]))) for key, js in keys.items()}
+    groups = []
+    for key in sorted(keys, key=lambda k: (depth[k], k)):
+        if groups and groups[-1][0] == key[0]:
+            groups[-1][2].extend(keys[key])
+        else:
+            f = np.array([0.0, -1.0, 0.0]) if key[0] == "vertical" else np.array([-1.0, 0.0, 0.0])
+            groups.append((key[0], f, list(keys[key])))
+    return [(d, f, np.array(sorted(js), dtype=np.int64)) for d, f, js in groups]
+
+
 # ----------------------------------------------------------------------------------------------
 # the factored kinematics
 # ----------------------------------------------------------------------------------------------
@@ -131,8 +172,6 @@ class Kinematics:
     """
 
     def __init__(self, scene, tilts_rad=None):
-        from scipy.sparse.csgraph import shortest_path
-
         self.scene = scene
         topo = scene.topology
         self.n = n = topo.n_nodes
@@ -151,29 +190,8 @@ class Kinematics:
         if n > 1:
             L = (inc.T @ inc).tocsc()
             self._lu = spla.splu(L[1:, 1:].tocsc(), permc_spec="MMD_AT_PLUS_A")
-        # bending lines: tilted H joints group by column (vertical lines), tilted V joints by row
-        tilted = np.flatnonzero(np.abs(self.tilt) > _TILT_EPS)
-        self.tilted = tilted
-        self.groups = []       # list of (fold vector (3,), joint indices) in composition order
-        if tilted.size:
-            ij = topo.joint_ij()
-            isH = tilted < topo.n_h
-            keys = {}
-            for k, h in zip(tilted.tolist(), isH.tolist()):
-                key = ("vertical", int(ij[k, 1])) if h else ("horizontal", int(ij[k, 0]))
-                keys.setdefault(key, []).append(k)
-            adj = sp.coo_matrix((np.ones(m), (self.a, self.b)), shape=(n, n)).tocsr()
-            dist = shortest_path(adj, indices=0, unweighted=True, directed=False)
-            depth = {key: float(np.min(np.minimum(dist[self.a[js]], dist[self.b[js]])))
-                     for key, js in keys.items()}
-            order = sorted(keys, key=lambda k: (depth[k], k))
-            for key in order:      # merge consecutive lines of the same direction (they commute)
-                f = np.array([0.0, -1.0, 0.0]) if key[0] == "vertical" else np.array([-1.0, 0.0, 0.0])
-                if self.groups and self.groups[-1][0] == key[0]:
-                    self.groups[-1][2].extend(keys[key])
-                else:
-                    self.groups.append((key[0], f, list(keys[key])))
-            self.groups = [(d, f, np.array(js, dtype=np.int64)) for d, f, js in self.groups]
+        self.tilted = np.flatnonzero(np.abs(self.tilt) > _TILT_EPS)
+        self.groups = _fold_groups(topo, self.a, self.b, self.tilted)
         self.planar = not self.groups
 
     # -- linear algebra ----------------------------------------------------------------------
