@@ -64,6 +64,14 @@ def _mesh_loader(path):
     return load_surface_mesh(path)
 
 
+def _module_check(scene):
+    """The first problem build's parameter checks find in ``scene``'s modules (and sheet), or None: decides where a
+    servo housing may move with its servo (``core/inverse/evaluate.move_housings``)."""
+    from metamaterial_wb.export.printability import parameter_checks
+    problems = parameter_checks(scene)[0]
+    return problems[0] if problems else None
+
+
 def _progress(msg):
     print(f"inverse: {msg}", file=sys.stderr, flush=True)
 
@@ -169,7 +177,8 @@ def run(args):
     try:
         run_ = pipeline.solve(scene, target, servos=args.servos, values_only=args.values_only, forbidden=forbidden,
                               hinge_regions=regions, model=args.model, evaluate=models, screen=args.screen,
-                              mapper=mapper, workers=nworkers, progress=_progress, fab_check=fab_check)
+                              mapper=mapper, workers=nworkers, progress=_progress, fab_check=fab_check,
+                              module_check=_module_check)
     finally:
         if mapper is not None:
             mapper.close()

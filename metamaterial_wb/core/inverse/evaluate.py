@@ -6,14 +6,17 @@ alignment is the only thing refitted; a lattice model's frame is not the kinemat
 target error is reported per model, per keyframe and per node. Folds are measured from the model's
 rotations (``kinematics.joint_angles``) for every model alike.
 """
+import copy
+
 import numpy as np
 
 from metamaterial_wb.core import kinematics as _k
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.inverse.fit import box_gauss_newton, combined_errors, frame_errors
-from metamaterial_wb.core.scene import Scene, node_name
+from metamaterial_wb.core.scene import Scene, node_name, parse_joint
 
 MODELS = ("quadratic", "linear", "nonlinear")
+HOUSING_TYPES = ("servo_housing", "servo")          # "servo": the alias the scene format accepts
 
 
 def servo_names(scene, n):
@@ -26,17 +29,25 @@ def servo_names(scene, n):
     return names
 
 
-def answer_scene(problem, joints, values, names=None, hinge_overrides=None):
+def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warnings=None, module_check=None):
     """A normal scene: the problem's scene with servos on ``joints``; one keyframe: ``value``; several:
-    a ``keyframes`` motion profile per servo (times of the target's keyframes, its period)."""
+    a ``keyframes`` motion profile per servo (times of the target's keyframes, its period).
+
+    An actuator the scene already has (same name and joint: ``--values-only``) is copied with every field it
+    has (``servo`` channel, ``profile``, notes, ...); only its ``value`` (and, for a keyframe target, its
+    ``profile``) is replaced. New servos replace the others; the ``servo_housing`` modules of the replaced
+    actuators are moved onto the new servos' joints (:func:`move_housings`), messages about them are appended
+    to ``warnings`` (a list) when given; ``module_check(scene)`` (optional) returns a module problem or None."""
     base = problem.scene
     d = base.to_dict()
     values = np.atleast_2d(np.asarray(values, dtype=float))
     names = names or servo_names(Scene.from_dict(dict(d, actuators=[])), len(joints))
     frames = problem.target.frames
+    old = {(a.get("name"), a.get("joint")): a for a in d.get("actuators", [])}
     acts = []
     for k, (name, j) in enumerate(zip(names, joints)):
-        a = {"name": name, "joint": j, "value": round_value(values[0, k])}
+        a = copy.deepcopy(old.get((name, j), {"name": name, "joint": j}))
+        a["value"] = round_value(values[0, k])
         if len(frames) > 1:
             prof = {"shape": "keyframes", "times_s": [float(f.time_s) for f in frames],
                     "values": [round_value(v) for v in values[:, k]]}
@@ -44,13 +55,86 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None):
                 prof["period_s"] = float(problem.target.period_s)
             a["profile"] = prof
         acts.append(a)
+    replaced = [a.get("joint") for a in d.get("actuators", []) if (a.get("name"), a.get("joint")) not in
+                set(zip(names, joints))]
     d["actuators"] = acts
     if hinge_overrides:
         ov = {o["joint"]: o for o in d.get("joints", [])}
         for j, sizes in hinge_overrides.items():
             ov.setdefault(j, {"joint": j}).update(sizes)
         d["joints"] = [ov[k] for k in sorted(ov)]
+    if replaced and d.get("modules"):
+        d["modules"], notes = move_housings(d, replaced, list(joints), module_check)
+        if warnings is not None:
+            warnings.extend(n for n in notes if n not in warnings)
     return Scene.from_dict(d)
+
+
+def _joint_key(text):
+    try:
+        kind, i, j = parse_joint(text)
+    except (MetamaterialError, TypeError, ValueError):
+        return None
+    return f"{kind}{i},{j}"
+
+
+def _is_housing(m):
+    return isinstance(m, dict) and m.get("type") in HOUSING_TYPES
+
+
+def move_housings(d, replaced, joints, module_check=None):
+    """``(modules, notes)``: the scene dict ``d``'s modules with the ``servo_housing`` of every replaced actuator
+    (on a joint of ``replaced`` that gets no new servo) moved onto a new servo's joint (``joints``) that has no
+    housing yet, in order; ``housing_node`` (a node of the old joint) is dropped. A joint where the housing is
+    not valid is skipped: a tilted joint (Export refuses a housing there), another joint module on it, or a
+    problem ``module_check`` reports that the scene without the move does not have. A housing that fits no new
+    servo is dropped; every move and drop is a line of ``notes``."""
+    from metamaterial_wb.core.design import effective_tilts_deg
+    mods = [copy.deepcopy(m) for m in d["modules"]]
+    keys = [_joint_key(m.get("joint")) if isinstance(m, dict) else None for m in mods]
+    gone = {_joint_key(j) for j in replaced} - set(joints)
+    orphans = [k for k, m in enumerate(mods) if _is_housing(m) and keys[k] in gone]
+    if not orphans:
+        return mods, []
+    housed = {keys[k] for k, m in enumerate(mods) if _is_housing(m) and k not in orphans}
+    taken = {keys[k] for k, m in enumerate(mods) if k not in orphans and keys[k] is not None}
+    free = [j for j in joints if j not in housed]
+    probe = Scene.from_dict(dict(d, modules=[m for k, m in enumerate(mods) if k not in orphans]))
+    tilt = dict(zip(probe.topology.joint_names, effective_tilts_deg(probe)))
+    baseline = module_check(probe) if module_check else None
+    notes, drop, pending = [], [], set(orphans)
+    for k in orphans:
+        m, why = mods[k], []
+        label = f"modules[{k}] ({m.get('name', m.get('type'))})"
+        for j in list(free):
+            if abs(tilt.get(j, 0.0)) > 1e-9:
+                why.append(f"{j} has a tilted hinge ({tilt[j]:.4g} deg; a servo housing needs an untilted joint)")
+                continue
+            if j in taken:
+                why.append(f"{j} already carries another joint module")
+                continue
+            trial = dict(m, joint=j)
+            trial.pop("housing_node", None)
+            if module_check:
+                rest = [trial if i == k else x for i, x in enumerate(mods)
+                        if i == k or (i not in pending and i not in drop)]
+                problem = module_check(Scene.from_dict(dict(d, modules=rest)))
+                if problem is not None and problem != baseline:
+                    why.append(f"{j}: {problem}")
+                    continue
+            notes.append(f"{label}: servo housing moved from {m.get('joint')} to {j} (the servo there replaces "
+                         f"the actuator on {m.get('joint')})")
+            mods[k] = trial
+            free.remove(j)
+            taken.add(j)
+            break
+        else:
+            drop.append(k)
+            reason = "; ".join(why) if why else "no new servo is left without a housing"
+            notes.append(f"{label}: servo housing on {m.get('joint')} dropped: no servo there any more and it fits "
+                         f"no new servo's joint ({reason})")
+        pending.discard(k)
+    return [m for k, m in enumerate(mods) if k not in drop], notes
 
 
 def round_value(v):

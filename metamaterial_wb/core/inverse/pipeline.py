@@ -103,8 +103,9 @@ def parse_models(text, field="--evaluate"):
 
 
 def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_regions=None, model="quadratic",
-          evaluate=ev.MODELS, screen=12, mapper=None, workers=1, progress=None, fab_check=None):
-    """The whole run (see the module doc). ``hinge_regions``: ``(rows, cols)`` or None."""
+          evaluate=ev.MODELS, screen=12, mapper=None, workers=1, progress=None, fab_check=None, module_check=None):
+    """The whole run (see the module doc). ``hinge_regions``: ``(rows, cols)`` or None; ``module_check(scene)``:
+    a module problem (str) or None, used when servo housings move with the servos (``evaluate.move_housings``)."""
     from metamaterial_wb.core.inverse.fit import Problem
     from metamaterial_wb.core.inverse.search import search_placement
 
@@ -146,23 +147,31 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         info.update(fits=res.fits, screened=res.screened, linearised=res.info.get("linearised", 0))
         lower = res.info.get("lower_bound")
     values = fit.values
-    hinge_report, overrides = None, None
+    hinge_report, overrides, warnings = None, None, []
     if hinge_regions is not None:
         from metamaterial_wb.core.inverse.hinges import HingeRegions
         hr = HingeRegions(pb, *hinge_regions)
         progress(f"fitting {hr.n_unknowns} hinge size(s) of {len(hr.regions)} region(s) with the values")
         hfit, sizes = hr.fit(joints, v0=values)
-        if hfit.cost < fit.cost:
-            fit, values = hfit, hfit.values
-            overrides = hr.overrides(sizes)
+        info["fits"] += 1
+        kept = hinge_answer(pb, hr, joints, names, fit, hfit, sizes, warnings, progress, module_check)
+        if kept is not None:
+            pb, fit, sizes, overrides = kept
+            values = fit.values
+            info["fits"] += 1
         else:
             sizes = hr.start_sizes()
         hinge_report = hr.report(sizes)
-        info["fits"] += 1
-    out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
+    out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
+                                module_check=module_check)
     if model != "quadratic":
         values = ev.polish_values(pb, out_scene, values, model, progress=progress)
-        out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides)
+        out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
+                                    module_check=module_check)
+    loadable_scene(out_scene)                     # the written scene loads and configures as solve reads it
+    for w in warnings:
+        progress(f"warning: {w}")
+    info["warnings"] = warnings
     errors = ev.evaluate_all(pb, out_scene, values, list(evaluate), progress=progress)
     fab = None
     if fab_check is not None:
@@ -171,6 +180,65 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
     names = [a.name for a in out_scene.actuators]
     return InverseRun(pb, out_scene, tuple(joints), names, np.atleast_2d(values), fit, errors, hinge_report, fab,
                       info, lower, time.perf_counter() - t0)
+
+
+HINGE_STEPS = (1.0, 0.5, 0.25)     # fractions of the fitted size change tried when the full change breaks a rule
+
+
+def loadable_scene(scene):
+    """``scene`` as ``solve`` reads it: through its JSON text, then configured (``design.ensure_configured``: the
+    joint configuration and rotation limits re-derived from the scene's own hinges; an axis fold beyond its
+    maximum raises). Returns the configured Scene (a new object)."""
+    from metamaterial_wb.core import design
+    from metamaterial_wb.core.scene import Scene
+    s = Scene.from_json(scene.to_json())
+    design.ensure_configured(s)
+    return s
+
+
+def hinge_answer(pb, hr, joints, names, fit, hfit, sizes, warnings, progress=_quiet, module_check=None):
+    """The hinge answer to keep, or None to keep the scene's own hinges (``fit``: the values fit without hinge
+    unknowns). The fitted sizes (and, when they break a rule, sizes moved back towards the scene's by
+    :data:`HINGE_STEPS`) are written into an answer scene that must load and configure as ``solve`` does
+    (:func:`loadable_scene`: an axis whose fold the new hinges cannot reach is refused); the values are then refitted
+    on that scene (its own rotation limits) and the answer is kept only if that cost is below ``fit.cost``.
+    Returns ``(problem of the answer scene, FitResult, sizes, overrides)``; notes go to ``warnings``."""
+    from metamaterial_wb.core.errors import MetamaterialError
+    from metamaterial_wb.core.inverse.fit import Problem
+    if not hfit.cost < fit.cost:                  # the hinge fit itself found nothing better
+        return None
+    p0 = hr.start_sizes()
+    first_error = None
+    for t in HINGE_STEPS:
+        p = p0 + t * (np.asarray(sizes, dtype=float) - p0)
+        ov = hr.overrides(p)
+        if not ov:
+            return None
+        notes, v0 = [], (hfit.values if t == 1.0 else fit.values)
+        cand = ev.answer_scene(pb, joints, v0, names, hinge_overrides=ov, warnings=notes, module_check=module_check)
+        try:
+            checked = loadable_scene(cand)
+        except MetamaterialError as exc:
+            first_error = first_error or str(exc)
+            progress(f"hinge sizes at {t:g} of the fitted change refused: {exc}")
+            continue
+        pb2 = Problem(checked, pb.target, keep_actuators=True)
+        fit2 = pb2.fit(joints, v0=np.atleast_2d(v0), starts=(0.5, -0.5))
+        progress(f"hinge answer ({t:g} of the fitted size change) re-evaluated with its own rotation limits: cost "
+                 f"{fit2.cost:.6g} mm^2 (scene's hinges: {fit.cost:.6g} mm^2; the hinge fit saw {hfit.cost:.6g})")
+        if fit2.cost >= fit.cost:
+            warnings.append(f"--hinges: the fitted hinge sizes do not lower the cost once the scene's rotation limits "
+                            f"are re-derived from them ({fit2.cost:.6g} mm^2 against {fit.cost:.6g} mm^2 with the "
+                            f"scene's hinges); the answer keeps the scene's hinges")
+            return None
+        if first_error:
+            warnings.append(f"--hinges: the fitted hinge sizes were refused ({first_error}); the answer moves the "
+                            f"sizes {t:g} of the way from the scene's to the fitted ones")
+        warnings.extend(n for n in notes if n not in warnings)
+        return pb2, fit2, p, ov
+    warnings.append(f"--hinges: the fitted hinge sizes were refused ({first_error}), also moved back towards the "
+                    f"scene's; the answer keeps the scene's hinges")
+    return None
 
 
 def json_errors(e):
@@ -192,9 +260,10 @@ def report_dict(run, **extra):
         "hinges": run.hinges,
         "errors": {m: json_errors(e) for m, e in run.errors.items()},
         "fit_cost_mm2": float(run.fit.cost), "free_field_bound_mm2": run.lower_bound,
-        "candidates_evaluated": run.info,
+        "candidates_evaluated": {k: v for k, v in run.info.items() if k != "warnings"},
         "fabrication": run.fabrication,
         "printable": None if run.fabrication is None else run.fabrication.get("printable"),
+        "warnings": list(run.info.get("warnings", [])),
         "run_time_s": run.seconds,
     }
     rep.update(extra)

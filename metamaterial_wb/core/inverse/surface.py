@@ -36,12 +36,28 @@ def load_mesh(path):
     return check_mesh(tri, path)
 
 
+COORD_MAX_MM = 10 ** 6          # mesh coordinates within [-1e6, 1e6] mm (as target positions, targets.COORD_MAX_MM)
+
+
 def check_mesh(tri, where="surface"):
-    tri = np.asarray(tri, dtype=float).reshape(-1, 3, 3)
+    """``(t, 3, 3)`` triangles (mm): finite, within ``COORD_MAX_MM``, the degenerate ones dropped; a TargetError
+    naming ``where`` otherwise."""
+    try:
+        tri = np.asarray(tri, dtype=float)
+    except (TypeError, ValueError):
+        raise TargetError("surface", f"{where}: expected triangles of three [x, y, z] points (numbers)") from None
+    if tri.size % 9 or (tri.size and (tri.ndim < 2 or tri.shape[-1] not in (3, 9))):
+        raise TargetError("surface", f"{where}: expected triangles of three [x, y, z] points, got an array of "
+                                     f"shape {tri.shape}")
+    tri = tri.reshape(-1, 3, 3)
     if tri.shape[0] == 0:
         raise TargetError("surface", f"{where}: the mesh has no triangles")
     if not np.all(np.isfinite(tri)):
         raise TargetError("surface", f"{where}: the mesh has non-finite coordinates (NaN or inf)")
+    big = float(np.abs(tri).max())
+    if big > COORD_MAX_MM:
+        raise TargetError("surface", f"{where}: a coordinate of magnitude {big:.4g} mm is outside the allowed range "
+                                     f"[-{COORD_MAX_MM:g}, {COORD_MAX_MM:g}] mm")
     area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
     keep = area > 1e-12 * max(1.0, float(np.abs(tri).max()) ** 2)
     if not np.any(keep):

@@ -16,17 +16,25 @@ A ``solve`` result file (``"format": "metamaterial-result"``) is accepted as it 
 positions are the target). A bare ``.stl`` / ``.obj`` path is a surface target of every node.
 Every check raises :class:`TargetError` naming the field, the value and what is allowed.
 """
-import json
-import math
 import os
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from metamaterial_wb.core.inverse.surface import Surface, TargetError, load_mesh
+from metamaterial_wb.core.errors import SceneError, check_integer, check_number
+from metamaterial_wb.core.inverse.surface import Surface, TargetError, check_mesh, load_mesh
 from metamaterial_wb.core.scene import parse_joint
 
 FORMAT = "metamaterial-target"
+COORD_MAX_MM = 10 ** 6          # target coordinates (positions, surface vertices) within [-1e6, 1e6] mm (1 km)
+WEIGHT_MAX = 10 ** 6            # node weights in [0, 1e6]; rotation_weight_mm in [0, 1e6]; fold weight in (0, 1e6]
+TIME_MAX_S = 10 ** 6            # keyframe times in [0, 1e6] s; period_s up to 1e6 s
+_NODE_KEYS = {"name", "i", "j", "position_mm", "rotation", "weight"}
+_RESULT_NODE_KEYS = {"D", "rotation_deg"}    # a solve result's node output fields: accepted, not used
+_FOLD_KEYS = {"joint", "axis", "fold_deg"}
+_SURFACE_KEYS = {"file", "triangles", "nodes"}
+_SHARED_KEYS = ("align", "rotation_weight_mm", "fold_weight_mm_per_deg")
+_TOP_KEYS = {"format", "version", "description"}
 ALIGN_MODES = ("none", "rigid", "similarity")
 _FRAME_KEYS = {"nodes", "folds", "surface", "align", "rotation_weight_mm", "fold_weight_mm_per_deg", "time_s",
                "name"}
@@ -80,12 +88,33 @@ class Target:
     info: dict = field(default_factory=dict)
 
 
-def _num(v, where):
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise TargetError(where, f"expected a number, got {v!r}")
-    if not math.isfinite(float(v)):
-        raise TargetError(where, f"{v!r} is not a finite number (NaN or inf)")
-    return float(v)
+def _num(v, where, low=None, high=None, unit="", low_open=False, high_open=False):
+    """``v`` as a float, or a TargetError at ``where`` naming the value and the allowed range
+    (``core.errors.check_number``'s wording; a boolean is not a number)."""
+    try:
+        return check_number(where, v, low, high, unit, low_open, high_open)
+    except SceneError as exc:
+        raise TargetError(where, exc.message) from None
+
+
+def _keys(d, allowed, where):
+    """Refuse a key of the object ``d`` that is not in ``allowed`` (a misspelt key is not ignored)."""
+    unknown = sorted(str(k) for k in d if k not in allowed)
+    if unknown:
+        raise TargetError(f"{where}.{unknown[0]}" if where else unknown[0],
+                          f"unknown field; allowed: {', '.join(sorted(allowed))}")
+
+
+def _point(p, where):
+    """``[x, y, z]`` (mm, each within ``COORD_RANGE_MM``) as a list of floats."""
+    if not isinstance(p, (list, tuple)) or len(p) != 3:
+        raise TargetError(where, f"expected [x, y, z] in mm, got {_short(p)}")
+    return [_num(x, f"{where}[{k}]", -COORD_MAX_MM, COORD_MAX_MM, "mm") for k, x in enumerate(p)]
+
+
+def _short(v, limit=80):
+    text = repr(v)
+    return text if len(text) <= limit else text[:limit] + " ..."
 
 
 def _node_index(scene, name, where):
@@ -99,7 +128,8 @@ def _node_index(scene, name, where):
         i, j = name
     else:
         i = j = None
-    k = topo.node_id(i, j) if isinstance(i, int) and isinstance(j, int) else -1
+    ok = all(isinstance(x, int) and not isinstance(x, bool) and abs(x) < 2 ** 31 for x in (i, j))
+    k = topo.node_id(i, j) if ok else -1
     if k < 0:
         ij = topo.node_ij()
         raise TargetError(where, f"node {name!r} does not exist in this scene ({topo.n_nodes} nodes, "
@@ -115,32 +145,35 @@ def _parse_nodes(scene, items, frame, where):
     for k, it in enumerate(items):
         f = f"{where}[{k}]"
         if not isinstance(it, dict):
-            raise TargetError(f, f"expected an object with name and position_mm, got {it!r}")
+            raise TargetError(f, f"expected an object with name and position_mm, got {_short(it)}")
+        _keys(it, _NODE_KEYS | _RESULT_NODE_KEYS, f)
+        if ("i" in it) != ("j" in it):
+            raise TargetError(f"{f}.{'j' if 'i' in it else 'i'}", "missing: give both \"i\" (row) and \"j\" (column)")
+        if "i" in it:
+            ij = scene.topology.node_ij()
+            for c, key in enumerate("ij"):
+                try:
+                    check_integer(f"{f}.{key}", it[key], int(ij[:, c].min()), int(ij[:, c].max()),
+                                  "the node's row" if key == "i" else "the node's column")
+                except SceneError as exc:
+                    raise TargetError(exc.field, exc.message) from None
         name = it.get("name", [it.get("i"), it.get("j")] if "i" in it else None)
         n = _node_index(scene, name, f"{f}.name")
+        if "name" in it and "i" in it and _node_index(scene, [it["i"], it["j"]], f"{f}.i") != n:
+            raise TargetError(f"{f}.i", f"i = {it['i']}, j = {it['j']} is another node than name {name!r}; allowed: "
+                                        f"the same node (or only one of the two)")
         if n in seen:
             raise TargetError(f"{f}.name", f"node {name!r} is already given by {seen[n]}")
         seen[n] = f
-        p = it.get("position_mm")
-        if not isinstance(p, (list, tuple)) or len(p) != 3:
-            raise TargetError(f"{f}.position_mm", f"expected [x, y, z] in mm, got {p!r}")
-        pos.append([_num(x, f"{f}.position_mm") for x in p])
-        w.append(_num(it.get("weight", 1.0), f"{f}.weight"))
-        if w[-1] < 0:
-            raise TargetError(f"{f}.weight", f"{w[-1]} is outside the allowed range [0, inf)")
+        pos.append(_point(it.get("position_mm"), f"{f}.position_mm"))
+        w.append(_num(it.get("weight", 1.0), f"{f}.weight", 0, WEIGHT_MAX))
         r = it.get("rotation")
         if r is not None:
-            Rm = np.asarray(r, dtype=float) if isinstance(r, list) else None
-            if Rm is None or Rm.shape != (3, 3) or not np.all(np.isfinite(Rm)) or \
-                    np.abs(Rm.T @ Rm - np.eye(3)).max() > 1e-6 or np.linalg.det(Rm) < 0:
-                raise TargetError(f"{f}.rotation", "expected a 3 x 3 proper rotation matrix (finite, orthonormal)")
-            rot.append(Rm)
+            rot.append(_rotation(r, f"{f}.rotation"))
         idx.append(n)
     if sum(w) <= 0:
         raise TargetError(where, "every node has weight 0: nothing to fit")
-    rw = _num(frame.get("rotation_weight_mm", 0.0), "rotation_weight_mm")
-    if rw < 0:
-        raise TargetError("rotation_weight_mm", f"{rw} is outside the allowed range [0, inf)")
+    rw = _num(frame.get("rotation_weight_mm", 0.0), "rotation_weight_mm", 0, WEIGHT_MAX, "mm")
     R = None
     if rw > 0:
         if len(rot) != len(idx):
@@ -148,6 +181,18 @@ def _parse_nodes(scene, items, frame, where):
                                                     f"({len(rot)} of {len(idx)} have one)")
         R = np.array(rot)
     return NodeTerm(np.array(idx), np.array(pos), np.array(w), R, rw)
+
+
+def _rotation(r, where):
+    """A 3 x 3 proper rotation matrix (a list of three rows of three numbers, orthonormal, det +1)."""
+    if not isinstance(r, (list, tuple)) or len(r) != 3 or \
+            not all(isinstance(row, (list, tuple)) and len(row) == 3 for row in r):
+        raise TargetError(where, f"expected a 3 x 3 rotation matrix (three rows of three numbers), got {_short(r)}")
+    Rm = np.array([[_num(x, f"{where}[{a}][{b}]", -1.0 - 1e-6, 1.0 + 1e-6) for b, x in enumerate(row)]
+                   for a, row in enumerate(r)])
+    if np.abs(Rm.T @ Rm - np.eye(3)).max() > 1e-6 or np.linalg.det(Rm) < 0:
+        raise TargetError(where, "expected a 3 x 3 proper rotation matrix (orthonormal rows, determinant +1)")
+    return Rm
 
 
 def fold_ranges_deg(scene):
@@ -174,9 +219,11 @@ def _parse_folds(scene, items, frame, where):
     rows, target, labels = [], [], []
     for k, it in enumerate(items):
         f = f"{where}[{k}]"
+        if isinstance(it, dict):
+            _keys(it, _FOLD_KEYS, f)
         if not isinstance(it, dict) or "fold_deg" not in it or ("joint" in it) == ("axis" in it):
             raise TargetError(f, f"expected {{\"joint\": \"H0,1\", \"fold_deg\": 30}} or {{\"axis\": NAME, "
-                                 f"\"fold_deg\": 30}}, got {it!r}")
+                                 f"\"fold_deg\": 30}}, got {_short(it)}")
         val = _num(it["fold_deg"], f"{f}.fold_deg")
         row = np.zeros(topo.n_joints)
         if "joint" in it:
@@ -211,9 +258,8 @@ def _parse_folds(scene, items, frame, where):
         target.append(val)
         labels.append(label)
     A = np.array(rows)
-    wf = _num(frame.get("fold_weight_mm_per_deg", 1.0), "fold_weight_mm_per_deg")
-    if wf <= 0:
-        raise TargetError("fold_weight_mm_per_deg", f"{wf} is outside the allowed range (0, inf)")
+    wf = _num(frame.get("fold_weight_mm_per_deg", 1.0), "fold_weight_mm_per_deg", 0, WEIGHT_MAX, "mm/deg",
+              low_open=True)
     return FoldTerm(A, np.flatnonzero(np.any(A != 0, axis=0)), np.array(target), labels, wf)
 
 
@@ -227,12 +273,17 @@ def _sheet_bbox(scene):
 def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
     if isinstance(spec, str):
         spec = {"file": spec}
-    if not isinstance(spec, dict) or "file" not in spec and "triangles" not in spec:
-        raise TargetError(where, f"expected {{\"file\": \"shape.stl\"}}, got {spec!r}")
+    if isinstance(spec, dict):
+        _keys(spec, _SURFACE_KEYS, where)
+    if not isinstance(spec, dict) or ("file" in spec) == ("triangles" in spec):
+        raise TargetError(where, f"expected {{\"file\": \"shape.stl\"}} or {{\"triangles\": [[[x, y, z] x 3], ...]}} "
+                                 f"(one of the two), got {_short(spec)}")
     if "triangles" in spec:
-        tri, src = np.asarray(spec["triangles"], dtype=float), "triangles"
+        tri, src = check_mesh(_triangles(spec["triangles"], f"{where}.triangles"), f"{where}.triangles"), "triangles"
     else:
         path = spec["file"]
+        if not isinstance(path, str) or not path:
+            raise TargetError(f"{where}.file", f"expected a file name, got {_short(path)}")
         if not os.path.isabs(path):
             path = os.path.join(base_dir or ".", path)
         if not os.path.exists(path):
@@ -241,6 +292,8 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
         src = path
     surf = Surface(tri)
     names = spec.get("nodes")
+    if names is not None and not isinstance(names, list):
+        raise TargetError(f"{where}.nodes", f"expected a list of node names, got {_short(names)}")
     idx = (np.arange(scene.topology.n_nodes) if names is None else
            np.array([_node_index(scene, nm, f"{where}.nodes[{k}]") for k, nm in enumerate(names)]))
     if idx.size == 0:
@@ -256,6 +309,19 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
     return SurfaceTerm(surf, idx, src)
 
 
+def _triangles(items, where):
+    """``(t, 3, 3)`` triangles of a ``surface.triangles`` list: each three ``[x, y, z]`` points in mm."""
+    if not isinstance(items, list) or not items:
+        raise TargetError(where, f"expected a non-empty list of triangles [[x, y, z], [x, y, z], [x, y, z]] (mm), "
+                                 f"got {_short(items)}")
+    out = []
+    for k, t in enumerate(items):
+        if not isinstance(t, (list, tuple)) or len(t) != 3:
+            raise TargetError(f"{where}[{k}]", f"expected a triangle: three points [x, y, z] (mm), got {_short(t)}")
+        out.append([_point(q, f"{where}[{k}][{c}]") for c, q in enumerate(t)])
+    return np.array(out, dtype=float)
+
+
 def _align(value, field):
     """``value`` if it is one of ``ALIGN_MODES``, else a TargetError at ``field``."""
     if value not in ALIGN_MODES:
@@ -267,10 +333,8 @@ def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     pre = f"{where}." if where else ""
     if not isinstance(d, dict):
         raise TargetError(where or "target", f"expected an object, got {type(d).__name__}")
-    unknown = set(d) - _FRAME_KEYS - {"format", "version", "keyframes", "period_s", "description"}
-    if unknown:
-        raise TargetError(f"{pre}{sorted(unknown)[0]}", f"unknown field; allowed: {sorted(_FRAME_KEYS)}")
-    fr = Frame(time_s=_num(d.get("time_s", 0.0), f"{pre}time_s"), name=str(d.get("name", "")))
+    _keys(d, _FRAME_KEYS | (set() if where else _TOP_KEYS), where)
+    fr = Frame(time_s=_num(d.get("time_s", 0.0), f"{pre}time_s", 0, TIME_MAX_S, "s"), name=str(d.get("name", "")))
     align = fr.align = _align(d.get("align", "rigid"), f"{pre}align")
     if "nodes" in d:
         fr.nodes = _parse_nodes(scene, d["nodes"], d, f"{pre}nodes")
@@ -298,6 +362,11 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None):
     """A :class:`Target` from a dict (a target document or a ``solve`` result)."""
     if not isinstance(data, dict):
         raise TargetError("", f"a target is a JSON object, got {type(data).__name__}")
+    from metamaterial_wb.core.fileio import check_tree
+    try:
+        check_tree(data)                       # finite, sane numbers and depth, as a scene's (fileio.check_tree)
+    except SceneError as exc:
+        raise TargetError(exc.field, exc.message) from None
     fmt = data.get("format", FORMAT)
     if fmt == "metamaterial-result":
         data = _from_result(scene, data)
@@ -307,12 +376,13 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None):
         kf = data["keyframes"]
         if not isinstance(kf, list) or not kf:
             raise TargetError("keyframes", "expected a non-empty list of frames")
-        shared = {k: v for k, v in data.items() if k in ("align", "rotation_weight_mm", "fold_weight_mm_per_deg")}
+        _keys(data, _TOP_KEYS | set(_SHARED_KEYS) | {"keyframes", "period_s", "name"}, "")
+        shared = {k: v for k, v in data.items() if k in _SHARED_KEYS}
         _align(shared.get("align", "rigid"), "align")     # the shared value's own place, not a frame's
         frames = []
         for k, f in enumerate(kf):
             if not isinstance(f, dict):
-                raise TargetError(f"keyframes[{k}]", f"expected an object, got {f!r}")
+                raise TargetError(f"keyframes[{k}]", f"expected an object, got {_short(f)}")
             merged = dict(shared)
             merged.update(f)
             merged.setdefault("time_s", float(k))
@@ -322,10 +392,13 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None):
             raise TargetError("keyframes", f"times {times} must start at >= 0 s and increase strictly")
         period = data.get("period_s")
         if period is not None:
-            period = _num(period, "period_s")
+            period = _num(period, "period_s", 0, TIME_MAX_S, "s", low_open=True)
             if period <= times[-1]:
                 raise TargetError("period_s", f"{period} s must be longer than the last keyframe time {times[-1]} s")
         return Target(frames, period)
+    if "period_s" in data:
+        raise TargetError("period_s", f"{_short(data['period_s'])} without keyframes; allowed: only with a "
+                                      f"\"keyframes\" list (the period of the keyframe motion)")
     return Target([parse_frame(scene, data, base_dir, "", mesh_loader)])
 
 
@@ -337,11 +410,11 @@ def load_target(scene, path, mesh_loader=None):
     if ext != ".json":
         t = Target([parse_frame(scene, {"surface": {"file": os.path.abspath(path)}}, None, "", mesh_loader)])
     else:
-        with open(path, encoding="utf-8") as f:
-            try:
-                data = json.loads(f.read())
-            except json.JSONDecodeError as exc:
-                raise TargetError("", f"{path}: not valid JSON: {exc.msg} at line {exc.lineno}") from None
+        from metamaterial_wb.core.fileio import read_json
+        try:
+            data = read_json(path, "")          # as a scene is read: fileio's checks of numbers, depth, text
+        except SceneError as exc:
+            raise TargetError(exc.field, exc.message) from None
         t = parse_target(scene, data, os.path.dirname(os.path.abspath(path)), mesh_loader)
     t.source = path
     return t
