@@ -8,7 +8,8 @@ arrays to ``RESULT.npz`` beside a small ``RESULT.json`` that holds everything el
 ``--option KEY=VALUE`` values are parsed and checked against the model's option table
 (``core/models.py`` ``model_options``: quadratic in ``core/models.py``, linear / nonlinear in
 ``core/lattice/__init__.py``). Flags that would be ignored are refused: ``--backend`` with a lattice model or
-contradicting ``--option backend``, ``--option`` with ``--global`` (closed form, no model runs)."""
+contradicting ``--option backend``, ``--option`` with ``--global`` (closed form, no model runs), ``--option`` or ``--backend`` when the scene's
+stored ``global_deformation`` is solved (the same closed form; ``check_scene_global``)."""
 import sys
 import time
 
@@ -139,6 +140,23 @@ def check_flags(args):
                                       "quadratic (the lattice models choose their own linear solver)")
 
 
+def check_scene_global(args, g):
+    """Refuse ``--option`` and ``--backend`` when the scene's stored ``global_deformation`` is what gets solved
+    (no ``--global``, no ``--set``): the closed form runs and no model does, so they would be ignored, exactly as
+    with ``--global`` (:func:`check_flags`)."""
+    from metamaterial_wb.core.errors import SceneError
+
+    if args.global_g is not None or g is None:
+        return
+    flag = f"--option {args.option[0]}" if args.option else (f"--backend {args.backend}" if args.backend else None)
+    if flag is not None:
+        raise SceneError("global_deformation", f"{g:g} stored in the scene with {flag}: the scene's global "
+                                               "deformation sets every D in closed form and runs no model, so "
+                                               f"{flag.split()[0]} would be ignored; allowed: remove the scene's "
+                                               "global_deformation, or give actuator values with --set, or drop "
+                                               f"{flag.split()[0]}")
+
+
 def result_dict(scene, res, global_g=None, model="quadratic", fields=None, arrays=None):
     """The result document (shared by ``solve`` and the GUI's export of a solved state).
     ``fields``: any of ``core.resultfile.FIELDS`` (default all); ``arrays``: with ``--npz``, the
@@ -204,6 +222,7 @@ def run(args):
     for name, v in sets:
         scene.set_value(name, v)
     g = chosen_global(args.global_g, sets, scene)
+    check_scene_global(args, g)
     from metamaterial_wb.core.design import ensure_configured
     for w in (ensure_configured(scene) or {}).get("warnings", []):  # axes without joint_config: configure
         print(f"warning: {w}", file=sys.stderr)

@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from metamaterial_wb.core import design, kinematics
-from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.errors import SceneError, check_number
 from metamaterial_wb.core.motion import scene_values_at
 from metamaterial_wb.core.scene import joint_nodes, parse_joint
 from metamaterial_wb.core.solver import model_for_scene, scene_values
@@ -248,16 +248,22 @@ class LiveSolver:
         values : dict, optional
             Overrides of item values (see :meth:`values_with`).
         global_deformation : float, optional
-            If given, D = g everywhere (no solve).
+            If given, D = g everywhere (no solve); a number in [-1, 1].
 
         Returns
         -------
         numpy.ndarray
             (n_nodes,) D.
+
+        Raises
+        ------
+        SceneError
+            If ``global_deformation`` is not a finite number in [-1, 1] (named ``global_deformation``).
         """
         n = self.topo.n_nodes
         if global_deformation is not None:
-            return np.full(n, float(global_deformation))
+            g = global_deformation.item() if isinstance(global_deformation, np.generic) else global_deformation
+            return np.full(n, check_number("global_deformation", g, -1.0, 1.0))
         if self.model_name != "quadratic":
             return self._run_other(values, None).D
         if self.qmodel is None:

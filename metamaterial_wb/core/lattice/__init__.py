@@ -7,7 +7,8 @@ lattice model actually runs, so selecting the quadratic model never builds (or i
 Options (``run_model(name, scene, **options)``; ``solve --model ... --option key=value``; types and ranges:
 ``LINEAR_OPTIONS`` / ``NONLINEAR_OPTIONS`` below, checked by ``core.models.check_options``):
 
-* both: ``planar`` (bool, default: automatic = no tilted hinge in the scene), ``contact`` (plate
+* both: ``planar`` (bool, default: automatic = no tilted hinge in the scene; true on a scene with tilted
+  hinges suppresses their folds, with a warning), ``contact`` (plate
   contact, true: one-sided constraints in the linear model, a penalty in the nonlinear one),
   ``contact_fraction`` (0.98 of the plate-contact rotation);
 * linear: ``poses`` (``chain``, default: positions through the hinge chain from the plate rotations;
@@ -15,7 +16,9 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   linearised about the quadratic model's predicted state, material tangent, one factorisation per call,
   about a third of the quadratic model's error at working amplitudes; ``flat``: linearised at the flat
   sheet, factorisation cached across actuator values, so a value-only change re-solves without a new
-  factorisation, 0.3-1 ms on 10 x 10); ``line_search`` (with ``about=quadratic``: step length minimising
+  factorisation, ~0.5-0.65 ms on 10 x 10 without plate contact, ~1.2-1.9 ms when the contact active set
+  re-solves; valid up to amplitude ~0.4 there: beyond, hinges pass the scene's rotation limits, which
+  ``_limit_check`` warns about for both models); ``line_search`` (with ``about=quadratic``: step length minimising
   the nonlinear energy along the solved step, true). Without CHOLMOD (scikit-sparse) the linear model
   factors its KKT matrix by SuperLU: same results, ~1.4 x the time;
 * nonlinear: ``tol`` (relative residual, default 1e-8), ``max_iter`` (Newton iterations per load
@@ -24,7 +27,8 @@ Options (``run_model(name, scene, **options)``; ``solve --model ... --option key
   ``contact_stiffness`` (1e4, times the hinge's soft bending stiffness), ``fallback`` (dynamic
   relaxation when Newton fails, true), ``dr_max_iter`` (5000), ``hinge_elements`` (corotational
   Timoshenko elements per hinge, 1; more resolve a hinge's deformed shape at large rotations:
-  ``core/lattice/refine``, convergence study in docs/fidelity.md);
+  ``core/lattice/refine``, convergence study in docs/fidelity.md), ``predictor`` (false; only with one
+  element per hinge, the scene's own ``planar`` and Newton: refused otherwise);
 * both: ``hinge_law`` (``beam``, default: Timoshenko beam theory; ``fe``: its stiffness scaled per DOF to the
   CalculiX hinge study, ``core/data/fe_hinge_law.json``, hinges of length / width 1.25-7.5).
 """
@@ -88,13 +92,80 @@ def _global(scene, g, t0):
                        {"method": "global deformation: closed-form kinematics, no solve"})
 
 
-def _range_warnings(scene, D, warnings):
+def _range_warnings(scene, D, warnings, past_limits=False):
     over = np.flatnonzero(np.abs(D) > 1.0 + 1e-9)
     if over.size:
         k = int(over[np.argmax(np.abs(D[over]))])
         i, j = scene.topology.nodes[k]
+        why = ("hinges past the scene's rotation limits (warned above): not a physical amplification" if past_limits
+               else "free-edge amplification: D beyond +-1 means the plate turns further than in the uniform "
+                    "mechanism at its limit")
         warnings.append(f"{over.size} node(s) turn further than the actuators' range, e.g. N{i},{j} at D = "
-                        f"{D[k]:.3f} (free-edge amplification: D beyond +-1 means the plate turns further than in the uniform mechanism at its limit)")
+                        f"{D[k]:.3f} ({why})")
+
+
+# a hinge whose relative rotation passes the scene's limit by more than this fraction is flagged (the plate-contact
+# penalty and the linear contact constraint start at contact_fraction = 0.98 of it, so a resolved contact stays
+# inside); a total rotation from this angle on folds the plates back onto each other whatever the limits
+_LIMIT_SLACK = 0.01
+_FOLD_THROUGH_DEG = 170.0
+
+
+def _limit_check(scene, geo, R, model):
+    """Hinges turned past the scene's rotation limits: ``(warning or None, records)``.
+
+    Per hinge the relative rotation of its two plates (``R_a^T R_b``) is split into its in-plane part, signed
+    closing (+) / opening (-) like the D scale, and compared with the scene's limits for that sense: twice the
+    plate rotation at D = +1 (closing) or D = -1 (opening) (``core.limits.rotation_limit_info``, the same rule as
+    the quadratic model's D scale); a total rotation of ``_FOLD_THROUGH_DEG`` or more is flagged whatever the
+    sense (the plates fold through each other). ``records``: the worst ten, each ``joint``, ``angle_deg``,
+    ``sense``, ``limit_deg``."""
+    from metamaterial_wb.core.rotations import rotation_log
+
+    R = np.asarray(R, float)
+    a, b = geo.a, geo.b
+    if not len(a):
+        return None, []
+    v = rotation_log(np.swapaxes(R[a], 1, 2) @ R[b])
+    total = np.degrees(np.linalg.norm(v, axis=1))
+    inplane = np.degrees(-geo.parity[a] * v[:, 2])          # > 0 closing, < 0 opening (D's sign)
+    closing = inplane >= 0
+    limit = np.where(closing, 2.0 * np.degrees(geo.closing_rad), 2.0 * np.degrees(geo.opening_rad))
+    ratio = np.maximum(np.abs(inplane) / limit, total / _FOLD_THROUGH_DEG)
+    bad = np.flatnonzero((np.abs(inplane) > (1.0 + _LIMIT_SLACK) * limit) | (total >= _FOLD_THROUGH_DEG))
+    if not bad.size:
+        return None, []
+    bad = bad[np.argsort(-ratio[bad])]
+    names = scene.topology.joint_names
+    records = [{"joint": names[k], "angle_deg": float(total[k]), "in_plane_deg": float(abs(inplane[k])),
+                "sense": "closing" if closing[k] else "opening", "limit_deg": float(limit[k])} for k in bad[:10]]
+    k = int(bad[0])
+    from metamaterial_wb.core.limits import rotation_limit_info
+    binding = rotation_limit_info(scene, geo.tilt)["closing_binding" if closing[k] else "opening_binding"]
+    sense = "closing" if closing[k] else "opening"
+    d = "+1" if closing[k] else "-1"
+    text = (f"{bad.size} hinge(s) turn past the scene's rotation limits, e.g. {names[k]} turns {total[k]:.1f} deg "
+            f"({abs(inplane[k]):.1f} deg {sense} in the plane), past the scene's {sense} limit {limit[k]:.1f} deg "
+            f"(twice the plate rotation at D = {d}: {binding})"
+            + (f" and folding through at {_FOLD_THROUGH_DEG:g} deg" if total[k] >= _FOLD_THROUGH_DEG else ""))
+    if model == "linear":
+        text += ("; the linear model's result is not a valid pose there (a linearisation far outside its range: "
+                 "plates may pass through each other): use smaller actuator values or the nonlinear model "
+                 "(docs/fidelity-models.md)")
+    else:
+        text += "; plates may touch or pass through each other and the hinge may be overstrained there"
+    return text, records
+
+
+def _planar_warning(geo, planar_override, warnings):
+    """``planar=true`` on a scene with tilted hinges: every plate stays in the sheet's plane, so no fold."""
+    tilted = np.flatnonzero(np.asarray(geo.tilt) != 0.0)
+    if planar_override and tilted.size:
+        k = int(tilted[0])
+        warnings.append(f"--option planar=true on a scene with {tilted.size} tilted hinge(s) (e.g. "
+                        f"{geo.scene.topology.joint_names[k]} at {np.degrees(geo.tilt[k]):.1f} deg): the solve keeps "
+                        "every plate in the sheet's plane, so the tilted hinges' folds are suppressed; omit planar "
+                        "(automatic) to let them fold")
 
 
 _LINEAR_CACHE = OrderedDict()
@@ -178,7 +249,7 @@ def _linear(scene, global_deformation=None, planar=None, contact=True, contact_f
         warnings.append(f"the quadratic model cannot predict this scene ({fallback}); the linear model is "
                         "linearised at the flat sheet instead (about=flat)")
     return _linear_result(scene, lin, D, X, R, info, warnings, t0,
-                          {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2})
+                          {"geometry_s": t1 - t0, "assemble_factor_s": t2 - t1, "solve_s": t3 - t2}, planar)
 
 
 def _geometry(scene, planar, hinge_law=None):
@@ -191,14 +262,20 @@ def _geometry(scene, planar, hinge_law=None):
     return geo
 
 
-def _linear_result(scene, lin, D, X, R, info, warnings, t0, timings):
-    """The linear model's result, either linearisation: contact report, range warnings, total time."""
+def _linear_result(scene, lin, D, X, R, info, warnings, t0, timings, planar=None):
+    """The linear model's result, either linearisation: contact report, hinges past the scene's rotation limits,
+    range warnings, total time."""
     info.update(lin.contact_info)
     if lin.contact_info.get("active_set_iterations"):
         info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"
     if info.get("active_set_converged") is False:
         warnings.append("the linear model's contact active set did not settle in 100 iterations")
-    _range_warnings(scene, D, warnings)
+    _planar_warning(lin.geo, planar, warnings)
+    text, records = _limit_check(scene, lin.geo, R, "linear")
+    info["hinge_limit_exceeded"] = records
+    if text:
+        warnings.append(text)
+    _range_warnings(scene, D, warnings, past_limits=bool(records))
     timings["total_s"] = time.perf_counter() - t0
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 
@@ -249,7 +326,7 @@ def _linear_about_quadratic(scene, planar, contact, contact_fraction, poses, lin
             "about": "quadratic", "step_length": alpha}
     return _linear_result(scene, lin, D, X, R, info, warnings, t0,
                           {"geometry_s": t1 - t0 - tq, "quadratic_state_s": t2 - t1 + tq,
-                           "assemble_factor_s": t3 - t2, "solve_s": t4 - t3})
+                           "assemble_factor_s": t3 - t2, "solve_s": t4 - t3}, planar)
 
 
 def _nonlinear(scene, global_deformation=None, **options):
@@ -288,7 +365,12 @@ def _nonlinear(scene, global_deformation=None, **options):
                         f"{info.get('residual_force_rel', float('nan')):.2e} and constraint residual "
                         f"{info.get('residual_constraint_rad', float('nan')):.2e} rad; tolerance {model.tol:g}); "
                         "the result is the last iterate, not an equilibrium")
-    _range_warnings(scene, D, warnings)
+    _planar_warning(base, options.get("planar"), warnings)
+    text, records = _limit_check(scene, base, R, "nonlinear")
+    info["hinge_limit_exceeded"] = records
+    if text:
+        warnings.append(text)
+    _range_warnings(scene, D, warnings, past_limits=bool(records))
     timings = {"geometry_s": t1 - t0, "solve_s": t2 - t1, "total_s": time.perf_counter() - t0}
     return ModelResult(D, X, R, warnings, timings, bool(ok), info)
 

@@ -13,6 +13,24 @@ from metamaterial_wb.core.lattice.poses import _apply
 _ROT_DOFS = np.array([3, 4, 5, 9, 10, 11])
 
 
+def _check_predictor(geo, planar, method):
+    """Refuse ``predictor=true`` where the linear predictor cannot run (it would be skipped silently): refined
+    hinges (``hinge_elements`` >= 2), a ``planar`` override that differs from the scene's own (the one-element
+    linear lattice has other unknowns), ``method=dynamic_relaxation`` (no Newton start to predict)."""
+    from metamaterial_wb.core.errors import SceneError
+    n = getattr(geo, "hinge_elements", 1)
+    if n != 1:
+        raise SceneError("--option predictor", f"true with --option hinge_elements={n}; allowed: predictor only with "
+                                               "hinge_elements=1 (the linear predictor has one element per hinge)")
+    own = getattr(geo, "base", geo).planar
+    if bool(planar) != bool(own):
+        raise SceneError("--option predictor", f"true with --option planar={str(bool(planar)).lower()} on a scene "
+                                               f"whose own is planar={str(bool(own)).lower()}; allowed: predictor "
+                                               "with the scene's own planar setting (omit planar)")
+    if method != "newton":
+        raise SceneError("--option predictor", f"true with --option method={method}; allowed: predictor only with "
+                                               "method=newton (it is Newton's starting point)")
+
 class NonlinearLattice:
     """Nonlinear corotational lattice: ``solve()`` returns ``(X, R, converged)``; ``stats`` says how.
 
@@ -32,7 +50,9 @@ class NonlinearLattice:
     fallback : bool
         Dynamic relaxation when Newton fails.
     predictor : bool
-        Start from the linear model with contact.
+        Start from the linear model with contact; only with one element per hinge, the scene's own ``planar``
+        and Newton (elsewhere the linear lattice's unknowns are not the model's: refused with a SceneError).
+        ``stats["predictor_used"]`` records whether it ran.
     planar : bool, optional
     method : {"newton", "dynamic_relaxation"}
     """
@@ -67,9 +87,11 @@ class NonlinearLattice:
         self.min_step = float(min_step)
         self.fallback = fallback
         self.dr_max_iter = int(dr_max_iter)
-        self.predictor = predictor
+        self.predictor = bool(predictor)
+        if self.predictor:
+            _check_predictor(geo, self.planar, method)
         self.stats = {"newton_iterations": 0, "load_steps": 0, "line_search_backtracks": 0,
-                      "dr_iterations": 0, "method": "newton"}
+                      "dr_iterations": 0, "method": "newton", "predictor_used": False}
 
     # -- energy pieces ------------------------------------------------------------------------------
     def _state(self, X, R, tangent=True):
@@ -283,6 +305,7 @@ class NonlinearLattice:
             lin.contact = self.contact
             lin.kappa_c, lin.kc = self.kappa0, self.kc
             q_lin = lin.solve(self.psi)[2]
+            self.stats["predictor_used"] = True
         self.scale_f = scale_f
         if self.method == "dynamic_relaxation":
             # dynamic relaxation alone (for comparison; the default uses it only as Newton's fallback)

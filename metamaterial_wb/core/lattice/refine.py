@@ -30,7 +30,11 @@ MAX_HINGE_ELEMENTS = 64
 
 
 def check_hinge_elements(value):
-    """The option's value as an int in [1, MAX_HINGE_ELEMENTS], or a SceneError naming it."""
+    """The option's value as an int in [1, MAX_HINGE_ELEMENTS], or a SceneError naming it (a boolean is refused:
+    ``hinge_elements=true`` is not a count, though Python's ``int(True)`` is 1)."""
+    if isinstance(value, bool):
+        raise SceneError("--option hinge_elements", f"{value!r}; allowed: an integer in [1, {MAX_HINGE_ELEMENTS}] "
+                                                    "(a count of elements, not a boolean)")
     try:
         n = int(value)
         ok = float(value) == n
