@@ -157,7 +157,7 @@ def main(argv=None):
               f"re-solves and a step length from the energy; [model guide](fidelity-models.md#linearised-about-the-"
               f"quadratic-models-state-aboutquadratic), `benchmarks/bench_fidelity_r0_linearised.py`). Its flat-sheet "
               f"linearisation (`--option about=flat`, the default before) on 10 x 10: {flat}; it stays the choice for "
-              f"animation (cached re-solve). The linear model's positions come from "
+              f"animation (cached re-solve) (valid up to amplitude about 0.4 on 10 x 10: beyond it hinges pass their opening/closing limits, which `solve` now warns; at 0.7 its error is worse than the quadratic model's, [model guide](fidelity-models.md)). The linear model's positions come from "
               f"its rotations through the hinge chain; adding the solved displacements instead (`--option "
               f"poses=linear`) gives a largest position error of {old_pos} cells.", END]
     block = "\n".join(lines)

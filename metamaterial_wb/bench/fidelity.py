@@ -259,7 +259,7 @@ def _targets(results):
         if x["flat_ms"] == x["flat_ms"]:
             out[-1] += (f" It takes {x['linear_ms'] / x['flat_ms']:.1f} x the flat linearisation's cold time there; "
                         f"the flat one stays available for animation, where only actuator values change and its "
-                        f"cached factorisation re-solves without a new factorisation.")
+                        f"cached factorisation re-solves without a new factorisation (valid up to amplitude about 0.4 on 10 x 10: beyond it hinges pass their opening/closing limits, which `solve` now warns; at 0.7 its error is worse than the quadratic model's, [model guide](fidelity-models.md)).")
     pos = [x for x in summ if x["amplitude"] == a_hi and x["key"] in ("grid10", "grid30", "mixed")]
     if pos:
         out[-1] += (f" Positions: the linear model places its plates through the hinge chain from their rotations; "
