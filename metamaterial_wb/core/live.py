@@ -142,14 +142,18 @@ def hinge_corner_offsets(scene):
 
 class Frame:
     """One solved state: ``D`` per node, node ``positions`` (n, 3) mm and ``rotations`` (n, 3, 3),
-    hinge ``hinge_positions`` (m, 3) and ``hinge_quaternions`` (m, 4), node ``quaternions`` (n, 4)."""
+    hinge ``hinge_positions`` (m, 3) and ``hinge_quaternions`` (m, 4), node ``quaternions`` (n, 4); the model's
+    ``warnings`` for this state (a list; the lattice models warn per state, e.g. a hinge past its limits) and
+    whether its solve ``converged``."""
 
     __slots__ = ("D", "positions", "rotations", "quaternions", "hinge_positions", "hinge_quaternions",
-                 "timings")
+                 "timings", "warnings", "converged")
 
     def __init__(self, **kw):
         for k in self.__slots__:
             setattr(self, k, kw.get(k))
+        self.warnings = list(self.warnings or ())
+        self.converged = True if self.converged is None else bool(self.converged)
 
 
 class LiveSolver:
@@ -309,9 +313,11 @@ class LiveSolver:
         Frame
         """
         t0 = time.perf_counter()
+        state = {}
         if self.model_name != "quadratic" and global_deformation is None:
             res = self._run_other(values, None)
             D, pos, R = res.D, np.asarray(res.positions_mm, float), np.asarray(res.rotations, float)
+            state = {"warnings": res.warnings, "converged": res.converged}
         else:
             D = self.solve(values, global_deformation)
             last = self._last
@@ -330,7 +336,7 @@ class LiveSolver:
         if self.model_name == "quadratic" or global_deformation is not None:
             self._last = (D.copy(), pos, R, q, hp, hq)
         return Frame(D=D, positions=pos, rotations=R, quaternions=q, hinge_positions=hp, hinge_quaternions=hq,
-                     timings={"total_s": t3 - t0, "hinges_s": t3 - t2})
+                     timings={"total_s": t3 - t0, "hinges_s": t3 - t2}, **state)
 
     def hinge_frames(self, pos, R, q=None):
         """Hinge centres (m, 3) and orientations (m, 4) from the node poses.

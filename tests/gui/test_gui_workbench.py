@@ -361,6 +361,30 @@ def test_simulate_other_model_selector(doc):
     assert np.all(np.isfinite(xyz(sc.NodeArray)))
 
 
+def test_simulate_shows_the_other_models_warnings_for_the_state_shown(doc):
+    """A lattice model warns per state (the gripper's nonlinear solve at -1 turns hinges past the scene's limits);
+    the panel showed only the warnings from when the model was chosen, so the slider drove the sheet through its
+    limits without a word. The warning comes with the state and goes with it."""
+    p = run_panel("MM_OpenExample")
+    p.select("gripper")
+    assert p.accept() is True
+    p = run_panel("MM_Simulate")
+    p.model.setCurrentText("nonlinear")
+    process_events()
+    assert p.error.text() == "", p.error.text()
+    assert "past the scene's rotation limits" not in p.warn.text()
+    for name in p.sliders:
+        p.set_value(name, -1.0)
+    process_events()
+    assert "hinge(s) turn past the scene's rotation limits" in p.warn.text(), p.warn.text()
+    assert p.last_frame.converged
+    for name in p.sliders:
+        p.set_value(name, 0.2)
+    process_events()
+    assert "past the scene's rotation limits" not in p.warn.text(), p.warn.text()
+    p.reject()
+
+
 def test_animation_plays_frames_and_restores(doc):
     sc = open_fish(doc)
     scene = structure.compose_scene(sc)

@@ -67,6 +67,7 @@ class SimulatePanel(BasePanel):
         self.layout.addWidget(self.warn)
         self.finish_layout()
         self.solver = None
+        self.base_warnings = []
         self.frames = 0
         self.update_ms = None
         self.update_times = []
@@ -84,8 +85,9 @@ class SimulatePanel(BasePanel):
                 from metamaterial_wb.core.live import LiveSolver
                 self.solver = LiveSolver(self.scene, model=name)
             self.error.setText("")
-            self.warn.setText("\n".join(list(self.obj.SolveWarnings) + [w for w in self.solver.warnings
-                                                                          if w not in self.obj.SolveWarnings]))
+            self.base_warnings = list(self.obj.SolveWarnings) + [w for w in self.solver.warnings
+                                                                 if w not in self.obj.SolveWarnings]
+            self.warn.setText("\n".join(self.base_warnings))
             self.update()
         except MetamaterialError as exc:
             self.show_error(str(exc))
@@ -143,6 +145,7 @@ class SimulatePanel(BasePanel):
             self.show_error(str(exc))
             return
         t1 = time.perf_counter()
+        self._show_frame_warnings(frame)
         self.preview_frame(self.obj, self.solver, frame)
         self.frames += 1
         self.last_frame = frame
@@ -152,6 +155,17 @@ class SimulatePanel(BasePanel):
         self.update_times.append(self.update_ms["total"])
         self.clear_error()
         self.stats.setText(translate("Metamaterial", "max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)").format(abs(frame.D).max(), self.update_ms['total'], self.update_ms['solve'], self.update_ms['placements']))
+
+    def _show_frame_warnings(self, frame):
+        """The model's own warnings for the state shown (a lattice model's hinge past its limits), after the
+        scene's; a solve that did not converge says so."""
+        extra = [w for w in frame.warnings if w not in self.base_warnings]
+        if not frame.converged:
+            extra.append(translate("Metamaterial", "the {0} solve did not converge: the pose shown is its last "
+                                                   "iterate").format(self.solver.model_name))
+        text = "\n".join(self.base_warnings + extra)
+        if text != self.warn.text():
+            self.warn.setText(text)
 
     def apply(self):
         vals = self.values()
