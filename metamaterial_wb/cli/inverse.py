@@ -64,14 +64,6 @@ def _mesh_loader(path):
     return load_surface_mesh(path)
 
 
-def _module_check(scene):
-    """The first problem build's parameter checks find in ``scene``'s modules (and sheet), or None: decides where a
-    servo housing may move with its servo (``core/inverse/evaluate.move_housings``)."""
-    from metamaterial_wb.export.printability import parameter_checks
-    problems = parameter_checks(scene)[0]
-    return problems[0] if problems else None
-
-
 def _progress(msg):
     print(f"inverse: {msg}", file=sys.stderr, flush=True)
 
@@ -174,11 +166,12 @@ def run(args):
     if not args.values_only:
         from metamaterial_wb.parallel import make_mapper
         mapper, nworkers = make_mapper(args.workers or 1, args.scheduler)
+    from metamaterial_wb.export.printability import first_module_problem
     try:
         run_ = pipeline.solve(scene, target, servos=args.servos, values_only=args.values_only, forbidden=forbidden,
                               hinge_regions=regions, model=args.model, evaluate=models, screen=args.screen,
                               mapper=mapper, workers=nworkers, progress=_progress, fab_check=fab_check,
-                              module_check=_module_check)
+                              module_check=first_module_problem)
     finally:
         if mapper is not None:
             mapper.close()

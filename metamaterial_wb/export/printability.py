@@ -26,6 +26,14 @@ def _result(printable, problems, ran, notes):
     return {"printable": printable, "problems": list(problems), "checks_run": list(ran), "notes": list(notes)}
 
 
+def first_module_problem(scene):
+    """The first problem build's parameter checks find in ``scene`` (its modules and sheet), or None: where a servo
+    housing may move with its servo in inverse design (``core/inverse/evaluate.move_housings``), for the command
+    line and the Fit to target panel alike."""
+    problems = parameter_checks(scene)[0]
+    return problems[0] if problems else None
+
+
 def parameter_checks(scene):
     """``(problems, ran, params)`` of the checks before any geometry."""
     from metamaterial_wb.core.errors import MetamaterialError

@@ -184,3 +184,41 @@ def test_forbidden_joints_keep_their_comma(doc, tmp_path):
     assert p.error.text() == "", p.error.text()
     assert len(p.result.joints) == 2 and not {"V2,3", "H0,2"} & set(p.result.joints)
     p.reject()
+
+
+def test_apply_moves_the_replaced_motors_housing_and_keeps_a_motors_servo_channel(doc, tmp_path):
+    """OK applied only the motors: the replaced motor's servo housing stayed on its old joint (build printed a
+    housing where no servo is), and a values-only fit lost the motor's servo channel. Now the panel applies the
+    answer's module moves and keeps every field of a kept motor, as the command line writes them."""
+    s = Scene.grid(4, 4, actuators=[{"name": "old", "joint": "H0,0", "value": 0.2}])
+    d = s.to_dict()
+    d["modules"] = [{"type": "servo_housing", "joint": "H0,0"}]
+    sc = structure.make_structure(doc, Scene.from_dict(d))
+    doc.recompute()
+    p = run_panel("MM_FitTarget")
+    set_text(p.path, _write_target(tmp_path, _planted(4, [("H1,1", 0.6), ("V2,3", 0.5)])))
+    set_spin(p.servos, 2)
+    set_spin(p.workers, 1)
+    press(p.run_btn)
+    assert p.wait(600)
+    assert p.error.text() == "", p.error.text()
+    first = p.result.scene.actuators[0].joint
+    assert "servo housing moved from H0,0 to " + first in p.status.text(), p.status.text()
+    assert p.accept() is True
+    (mod,) = [m for m in sc.Modules if m.ModuleType == "servo_housing"]
+    assert mod.Target == first and sc.isValid()
+    assert structure.compose_scene(sc).modules[0]["joint"] == first
+
+    # a values-only fit keeps the motor's own fields (its servo channel)
+    (motor,) = [it for it in sc.Items if it.Kind == "actuator" and it.Joint == first]
+    motor.ExtraJSON = json.dumps({"servo": {"channel": 5}})
+    doc.recompute()
+    p = run_panel("MM_FitTarget")
+    set_text(p.path, _write_target(tmp_path, _planted(4, [("H1,1", 0.4), ("V2,3", 0.3)]), "t2.json"))
+    p.values_only.setChecked(True)
+    press(p.run_btn)
+    assert p.wait(600)
+    assert p.error.text() == "", p.error.text()
+    assert p.accept() is True
+    (motor,) = [it for it in sc.Items if it.Kind == "actuator" and it.Joint == first]
+    assert json.loads(motor.ExtraJSON) == {"servo": {"channel": 5}}

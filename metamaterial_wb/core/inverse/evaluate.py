@@ -29,7 +29,8 @@ def servo_names(scene, n):
     return names
 
 
-def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warnings=None, module_check=None):
+def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warnings=None, module_check=None,
+                 moves=None):
     """A normal scene: the problem's scene with servos on ``joints``; one keyframe: ``value``; several:
     a ``keyframes`` motion profile per servo (times of the target's keyframes, its period).
 
@@ -37,7 +38,8 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
     has (``servo`` channel, ``profile``, notes, ...); only its ``value`` (and, for a keyframe target, its
     ``profile``) is replaced. New servos replace the others; the ``servo_housing`` modules of the replaced
     actuators are moved onto the new servos' joints (:func:`move_housings`), messages about them are appended
-    to ``warnings`` (a list) when given; ``module_check(scene)`` (optional) returns a module problem or None."""
+    to ``warnings`` (a list) when given, the moves themselves to ``moves`` (see :func:`move_housings`);
+    ``module_check(scene)`` (optional) returns a module problem or None."""
     base = problem.scene
     d = base.to_dict()
     values = np.atleast_2d(np.asarray(values, dtype=float))
@@ -64,7 +66,7 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
             ov.setdefault(j, {"joint": j}).update(sizes)
         d["joints"] = [ov[k] for k in sorted(ov)]
     if replaced and d.get("modules"):
-        d["modules"], notes = move_housings(d, replaced, list(joints), module_check)
+        d["modules"], notes = move_housings(d, replaced, list(joints), module_check, moves)
         if warnings is not None:
             warnings.extend(n for n in notes if n not in warnings)
     return Scene.from_dict(d)
@@ -82,13 +84,15 @@ def _is_housing(m):
     return isinstance(m, dict) and m.get("type") in HOUSING_TYPES
 
 
-def move_housings(d, replaced, joints, module_check=None):
+def move_housings(d, replaced, joints, module_check=None, moves=None):
     """``(modules, notes)``: the scene dict ``d``'s modules with the ``servo_housing`` of every replaced actuator
     (on a joint of ``replaced`` that gets no new servo) moved onto a new servo's joint (``joints``) that has no
     housing yet, in order; ``housing_node`` (a node of the old joint) is dropped. A joint where the housing is
     not valid is skipped: a tilted joint (Export refuses a housing there), another joint module on it, or a
     problem ``module_check`` reports that the scene without the move does not have. A housing that fits no new
-    servo is dropped; every move and drop is a line of ``notes``."""
+    servo is dropped; every move and drop is a line of ``notes`` and, when ``moves`` (a list) is given, a tuple
+    ``(index in d["modules"], old joint, new joint or None for a drop)`` appended to it (the GUI applies them to
+    its module objects)."""
     from metamaterial_wb.core.design import effective_tilts_deg
     mods = [copy.deepcopy(m) for m in d["modules"]]
     keys = [_joint_key(m.get("joint")) if isinstance(m, dict) else None for m in mods]
@@ -125,11 +129,15 @@ def move_housings(d, replaced, joints, module_check=None):
             notes.append(f"{label}: servo housing moved from {m.get('joint')} to {j} (the servo there replaces "
                          f"the actuator on {m.get('joint')})")
             mods[k] = trial
+            if moves is not None:
+                moves.append((k, m.get("joint"), j))
             free.remove(j)
             taken.add(j)
             break
         else:
             drop.append(k)
+            if moves is not None:
+                moves.append((k, m.get("joint"), None))
             reason = "; ".join(why) if why else "no new servo is left without a housing"
             notes.append(f"{label}: servo housing on {m.get('joint')} dropped: no servo there any more and it fits "
                          f"no new servo's joint ({reason})")

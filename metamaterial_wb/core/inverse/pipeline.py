@@ -162,16 +162,19 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         else:
             sizes = hr.start_sizes()
         hinge_report = hr.report(sizes)
+    moves = []
     out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
-                                module_check=module_check)
+                                module_check=module_check, moves=moves)
     if model != "quadratic":
         values = ev.polish_values(pb, out_scene, values, model, progress=progress)
+        moves = []
         out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
-                                    module_check=module_check)
+                                    module_check=module_check, moves=moves)
     loadable_scene(out_scene)                     # the written scene loads and configures as solve reads it
     for w in warnings:
         progress(f"warning: {w}")
     info["warnings"] = warnings
+    info["module_moves"] = moves              # (module index, old joint, new joint or None): the GUI applies them
     errors = ev.evaluate_all(pb, out_scene, values, list(evaluate), progress=progress)
     fab = None
     if fab_check is not None:
@@ -260,7 +263,7 @@ def report_dict(run, **extra):
         "hinges": run.hinges,
         "errors": {m: json_errors(e) for m, e in run.errors.items()},
         "fit_cost_mm2": float(run.fit.cost), "free_field_bound_mm2": run.lower_bound,
-        "candidates_evaluated": {k: v for k, v in run.info.items() if k != "warnings"},
+        "candidates_evaluated": {k: v for k, v in run.info.items() if k not in ("warnings", "module_moves")},
         "fabrication": run.fabrication,
         "printable": None if run.fabrication is None else run.fabrication.get("printable"),
         "warnings": list(run.info.get("warnings", [])),

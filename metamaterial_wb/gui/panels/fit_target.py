@@ -10,6 +10,7 @@ target (one sphere per node, coloured by its quadratic-model distance: green 0 t
 error; the target in orange), and OK applies it to the structure as one undoable transaction (the
 structure's motors replaced by the fitted servos).
 """
+import json
 import os
 
 import FreeCAD
@@ -191,7 +192,7 @@ class FitTargetPanel(base.BasePanel):
     def _compute(scene, target, opts, workers, sched, geometry, report):
         """The work of the background thread: the CLI's pipeline with a cancellable mapper."""
         from metamaterial_wb.core.inverse import pipeline
-        from metamaterial_wb.export.printability import check_printable
+        from metamaterial_wb.export.printability import check_printable, first_module_problem
         from metamaterial_wb.parallel import make_mapper
         counter = [0]
         stage = {"f": 0.0}
@@ -220,7 +221,8 @@ class FitTargetPanel(base.BasePanel):
                                   workers=n if inner is not None else 4,
                                   progress=progress,
                                   fab_check=lambda s: check_printable(s, geometry=geometry, python=py,
-                                                                      pythonpath=paths), **opts)
+                                                                      pythonpath=paths),
+                                  module_check=first_module_problem, **opts)
         finally:
             if inner is not None:
                 inner.close()
@@ -244,7 +246,8 @@ class FitTargetPanel(base.BasePanel):
         from metamaterial_wb.core.inverse.pipeline import summary_lines
         parts = [f"{a.name} on {a.joint}: {', '.join(f'{v:+.3f}' for v in run.values[:, k])}"
                  for k, a in enumerate(run.scene.actuators)]
-        self.status.setText("; ".join(parts) + "\n" + "\n".join(summary_lines(run)) + "\n" +
+        notes = [translate("Metamaterial", "warning: {0}").format(w) for w in run.info.get("warnings", [])]
+        self.status.setText("; ".join(parts) + "\n" + "\n".join(summary_lines(run) + notes) + "\n" +
                             translate("Metamaterial", "({0:.1f} s, {1} fits). OK applies it.").format(
                                 run.seconds, run.info.get("fits", 0)))
         self.show_preview()
@@ -321,9 +324,30 @@ class FitTargetPanel(base.BasePanel):
             self.obj.Items = [it for it in self.obj.Items if it not in old]
             for it in old:
                 self.doc.removeObject(it.Name)
-            for a in scene.actuators:
-                structure.make_item(self.doc, self.obj, "actuator", a.name, a.joint, a.value, a.profile)
+            for a in scene.actuators:     # with every field the answer kept (a servo channel, notes)
+                structure.make_item(self.doc, self.obj, "actuator", a.name, a.joint, a.value, a.profile,
+                                    extra=a.extra or None)
+            self._move_modules(self.result.info.get("module_moves", ()))
             self.doc.recompute()
+
+    def _move_modules(self, moves):
+        """The servo housings of replaced motors, moved onto the new servos' joints or removed, as the answer
+        says (``(module index, old joint, new joint or None)``, indices in the Scene's module order)."""
+        mods = [m for m in self.obj.Modules if getattr(getattr(m, "Proxy", None), "Type", "") == "MetamaterialModule"]
+        gone = []
+        for k, _old, new in moves:
+            m = mods[k]
+            if new is None:
+                gone.append(m)
+                continue
+            m.Target = new
+            data = json.loads(m.ModuleData or "{}")
+            if data.pop("housing_node", None) is not None:
+                m.ModuleData = json.dumps(data)
+        if gone:
+            self.obj.Modules = [m for m in self.obj.Modules if m not in gone]
+            for m in gone:
+                self.doc.removeObject(m.Name)
 
     def cleanup(self):
         self.job.cancel()
