@@ -12,6 +12,7 @@ as acknowledged, so the whole path (encoding, framing, pacing) runs without hard
 """
 from __future__ import annotations
 
+import struct
 import sys
 import threading
 import time
@@ -58,6 +59,7 @@ class Link:
         self.events = []    # (time, Reply) for EVENT packets and unsolicited HELLO_ACKs
         self.on_event = None
         self.info = None
+        self.watchdog_ms = None  # the link watchdog configured (CONFIG_LINK), else the device's (HELLO_ACK)
         self.resets_seen = 0
         self.rx_errors = 0
         self.unreadable_naks = 0   # NAKs with seq 0xFF: the device could not decode a frame (CRC, COBS, ...)
@@ -212,7 +214,11 @@ class Link:
                     raise LinkError(f"{self.name}: the firmware speaks servolink {r.detail}.x, this host "
                                     f"{P.PROTO_MAJOR}.{P.PROTO_MINOR}; update the firmware (firmware/README in docs/firmware.md)")
                 continue
-            info = P.parse_hello_ack(r.data)
+            try:
+                info = P.parse_hello_ack(r.data)
+            except P.ProtocolError as exc:
+                raise LinkError(f"{self.name}: malformed answer to HELLO ({exc}): is the servolink firmware "
+                                f"flashed, and the baud rate 115200?") from None
             if info.proto_major != P.PROTO_MAJOR:
                 raise LinkError(f"{self.name}: protocol {info.proto_major}.{info.proto_minor}, expected "
                                 f"{P.PROTO_MAJOR}.x")
@@ -220,6 +226,8 @@ class Link:
                 raise LinkError(f"{self.name}: the firmware drives {info.n_channels} channels; the scene "
                                 f"needs {min_channels}")
             self.info = info
+            if self.watchdog_ms is None:
+                self.watchdog_ms = info.watchdog_ms
             # a boot banner (HELLO_ACK seq 0) that arrived during the handshake is the reset we expected
             self.events = [(t, e) for t, e in self.events if not (e.kind == "HELLO_ACK" and t >= t_start)]
             self.resets_seen = resets_before
@@ -236,6 +244,7 @@ class Link:
 
     def configure_watchdog(self, watchdog_ms=500, park_after_ms=500, release_after_ms=5000):
         self.request(P.CONFIG_LINK, P.config_link_payload(watchdog_ms, park_after_ms, release_after_ms))
+        self.watchdog_ms = watchdog_ms
 
     def arm(self):
         return self.request(P.ARM)
@@ -245,12 +254,19 @@ class Link:
 
     def ping(self):
         r = self.request(P.PING)
-        out = P.parse_ping(r.data) if not self.dry_run else {}
+        out = self._parse(P.parse_ping, r.data) if not self.dry_run else {}
         out["state"] = r.state
         return out
 
     def get_state(self):
         r = self.request(P.GET_STATE)
-        out = P.parse_state(r.data) if not self.dry_run else {"pulse_us": []}
+        out = self._parse(P.parse_state, r.data) if not self.dry_run else {"pulse_us": []}
         out["state"] = r.state
         return out
+
+    def _parse(self, parse, data):
+        """A reply's data decoded; a malformed one is a LinkError naming the port (never a struct.error)."""
+        try:
+            return parse(data)
+        except (P.ProtocolError, struct.error, IndexError) as exc:
+            raise LinkError(f"{self.name}: malformed reply: {exc}") from None

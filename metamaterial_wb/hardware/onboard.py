@@ -114,9 +114,41 @@ def _one_period(amp, off, freq_hz, phase_deg):
     return t, off + amp * np.sin(2 * math.pi * freq_hz * t + ph)
 
 
-def run_oscillators(link, params, seconds, keepalive_s=0.1, stop=None):
+def keepalive_interval(watchdog_ms, cap_s=0.1):
+    """Seconds between keep-alive frames: the device must hear from the host more often than every
+    ``watchdog_ms / 3`` (firmware/PROTOCOL.md section 6), and at least every ``cap_s``. None: the default 500 ms."""
+    if not watchdog_ms:
+        return cap_s
+    return min(cap_s, watchdog_ms / 3000.0)
+
+
+def link_watchdog_ms(link):
+    """The watchdog the link was configured with (CONFIG_LINK), else the device's (HELLO_ACK), else None."""
+    wd = getattr(link, "watchdog_ms", None)
+    if wd is None and getattr(link, "info", None) is not None:
+        wd = link.info.watchdog_ms
+    return wd
+
+
+def raise_on_trip(link, since):
+    """LinkError if the device reported a watchdog EVENT among ``link.events[since:]``."""
+    from .link import LinkError
+    for _, e in link.events[since:]:
+        if e.kind == "EVENT" and e.code == P.EV_SERVO_FAULT:
+            raise LinkError(f"{link.name}: EVENT SERVO_FAULT: {P.SERVO_FAULT_HELP}")
+        if e.kind == "EVENT":
+            raise LinkError(f"{link.name}: the firmware's watchdog tripped during on-board motion "
+                            f"({P.EVENT_NAMES.get(e.code, hex(e.code))} at {e.time_ms} ms): the host was silent for "
+                            f"longer than the link watchdog; the servos hold, then park; connect again to re-ARM")
+
+
+def run_oscillators(link, params, seconds, keepalive_s=None, stop=None):
     """Send the oscillators, switch to OSC mode, keep the link alive for ``seconds`` (or until ``stop()``
-    returns true). Returns {"pings", "rtt_ms": [...], "t_start_ms": firmware time of the start}."""
+    returns true) with a PING every ``keepalive_s`` (default: ``keepalive_interval`` of the link's watchdog).
+    Raises LinkError as soon as the firmware reports a watchdog trip.
+    Returns {"pings", "rtt_ms": [...], "t_start_ms": firmware time of the start}."""
+    if keepalive_s is None:
+        keepalive_s = keepalive_interval(link_watchdog_ms(link))
     n_events = len(link.events)
     for p in params:
         link.request(P.OSC_SET, p.payload())
@@ -128,12 +160,14 @@ def run_oscillators(link, params, seconds, keepalive_s=0.1, stop=None):
         t0 = time.perf_counter()
         link.request(P.PING)
         rtts.append((time.perf_counter() - t0) * 1000.0)
-        time.sleep(max(0.0, keepalive_s - (time.perf_counter() - t0)))
-    for _, e in link.events[n_events:]:
-        if e.kind == "EVENT":
-            from .link import LinkError
-            raise LinkError(f"{link.name}: the firmware's watchdog tripped during on-board motion "
-                            f"({P.EVENT_NAMES.get(e.code, hex(e.code))})")
+        raise_on_trip(link, n_events)
+        while True:  # wait for the next PING, reading (events) meanwhile
+            left = min(t0 + keepalive_s, end) - time.perf_counter()
+            if left <= 0 or (stop and stop()):
+                break
+            link.poll(min(left, 0.01))
+            raise_on_trip(link, n_events)
+    raise_on_trip(link, n_events)
     return {"pings": len(rtts), "rtt_ms": rtts, "t_start_ms": t_fw}
 
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 
+from metamaterial_wb.core.errors import MetamaterialError
+
 PROTO_MAJOR = 1
 PROTO_MINOR = 0
 MAX_PACKET = 64
@@ -39,14 +41,17 @@ ST_DISARMED, ST_ARMED, ST_HOLD, ST_PARK, ST_RELEASED = range(5)
 STATE_NAMES = {ST_DISARMED: "DISARMED", ST_ARMED: "ARMED", ST_HOLD: "HOLD", ST_PARK: "PARK",
                ST_RELEASED: "RELEASED"}
 MODE_STREAM, MODE_OSC, MODE_GAIT = 0, 1, 2
-EV_HOLD, EV_PARK, EV_RELEASE = 0xE1, 0xE2, 0xE3
-EVENT_NAMES = {EV_HOLD: "HOLD", EV_PARK: "PARK", EV_RELEASE: "RELEASE"}
+EV_HOLD, EV_PARK, EV_RELEASE, EV_SERVO_FAULT = 0xE1, 0xE2, 0xE3, 0xE4
+EVENT_NAMES = {EV_HOLD: "HOLD", EV_PARK: "PARK", EV_RELEASE: "RELEASE", EV_SERVO_FAULT: "SERVO_FAULT"}
+SERVO_FAULT_HELP = ("the servo driver did not take the pulse widths (PCA9685 back end: no answer on I2C; check its "
+                    "wiring to A4/A5, its power and its address 0x40): the servos are not where they were told")
 CAP_OSC, CAP_GAIT, CAP_PCA9685, CAP_CONTACT_PINS = 0x01, 0x02, 0x04, 0x08
 GAIT_CLOSED, GAIT_PINS = 0x01, 0x02
 
 
-class ProtocolError(Exception):
-    """A frame or payload that does not follow servolink v1."""
+class ProtocolError(MetamaterialError):
+    """A frame or payload that does not follow servolink v1 (a MetamaterialError: the CLI reports it in one line,
+    exit 2)."""
 
 
 # ------------------------------------------------------------------------------------------------
@@ -296,12 +301,20 @@ def parse_reply(pkt: Packet) -> Reply:
 
 
 def parse_ping(data: bytes) -> dict:
+    if len(data) < 14:
+        raise ProtocolError(f"PING reply with {len(data)} data bytes; expected 14 (uptime_ms u32, 4 counters u16, "
+                            f"wdt_trips u8, mode u8)")
     up, rx_ok, crc_err, fr_err, gaps, trips, mode = struct.unpack("<IHHHHBB", data[:14])
     return {"uptime_ms": up, "rx_ok": rx_ok, "crc_err": crc_err, "framing_err": fr_err, "seq_gaps": gaps,
-            "wdt_trips": trips, "mode": mode}
+            "wdt_trips": trips, "mode": mode, "servo_fault": bool(data[14]) if len(data) > 14 else False,
+            "servo_faults": data[15] if len(data) > 15 else 0}
 
 
 def parse_state(data: bytes) -> dict:
+    if len(data) < 2:
+        raise ProtocolError(f"GET_STATE reply with {len(data)} data bytes; expected at least 2 (mode u8, n u8)")
     mode, n = data[0], data[1]
+    if len(data) < 2 + 2 * n:
+        raise ProtocolError(f"GET_STATE reply with {len(data)} data bytes for {n} channels; expected {2 + 2 * n}")
     us = list(struct.unpack(f"<{n}H", data[2:2 + 2 * n]))
     return {"mode": mode, "n_channels": n, "pulse_us": us}

@@ -24,6 +24,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from . import protocol as P
 from .link import LinkError
 from .mapping import check_servo_reach, runs
+from .onboard import keepalive_interval
 
 
 @dataclass
@@ -35,6 +36,7 @@ class StreamStats:
     nak_unreadable: int = 0   # NAKs with seq 0xFF during the stream: the device could not decode a frame
     rx_errors: int = 0        # replies the host could not decode
     skipped: int = 0          # deadlines missed by more than one period (not sent)
+    keepalive_pings: int = 0  # PINGs sent between slow frames to feed the link watchdog (not frames)
     resets: int = 0           # board reboots seen (re-configured and re-armed)
     clamped_frames: int = 0   # frames clamped by the host (--clamp) or the firmware (ACK clamp mask), each once
     host_clamped_frames: int = 0      # frames in which the host clamped an angle to its channel's limits
@@ -55,7 +57,7 @@ class StreamStats:
         return {"frames": self.frames, "acked": self.acked, "naked": self.naked, "lost": self.lost,
                 "nak_unreadable": self.nak_unreadable, "unreadable_reasons": self.unreadable_reasons,
                 "rx_errors": self.rx_errors,
-                "skipped": self.skipped, "resets": self.resets, "clamped_frames": self.clamped_frames,
+                "skipped": self.skipped, "keepalive_pings": self.keepalive_pings, "resets": self.resets, "clamped_frames": self.clamped_frames,
                 "host_clamped_frames": self.host_clamped_frames, "firmware_clamped_frames": self.firmware_clamped_frames,
                 "clamped_by_actuator": {k: dict(v) for k, v in self.clamped_by_actuator.items()},
                 "nak_reasons": self.nak_reasons,
@@ -65,6 +67,23 @@ class StreamStats:
                 "rtt_ms_p99": round(pct(0.99), 3) if r else None,
                 "rtt_ms_max": round(r[-1], 3) if r else None,
                 "events": self.events, "error": self.error}
+
+
+def check_servo_driver(link, settle_s=0.05):
+    """After ARM the firmware writes the pulses to its servo driver (a failed write is retried every 20 ms): a PING
+    ``settle_s`` later tells whether the last write failed (PING byte servo_fault). LinkError if so. PINGs keep the
+    link watchdog fed meanwhile."""
+    if link.dry_run:
+        return
+    step = keepalive_interval(getattr(link, "watchdog_ms", None))
+    end = time.perf_counter() + settle_s
+    while True:
+        time.sleep(max(0.0, min(step, end - time.perf_counter())))
+        r = link.request(P.PING)
+        if time.perf_counter() >= end:
+            break
+    if len(r.data) > 14 and r.data[14]:  # (firmware before the servo_fault byte: nothing to check)
+        raise LinkError(f"{link.name}: PING reports a servo fault: {P.SERVO_FAULT_HELP}")
 
 
 def wire_bytes_per_tick(channels):
@@ -107,6 +126,7 @@ class Streamer:
         # seq -> (send time, whether the host clamped it) of the frames not answered yet (a seq is reused after
         # 254 frames)
         self._outstanding = {}
+        self._pings = set()  # seqs of keep-alive PINGs not answered yet (their replies are only discarded)
         self._link_timing = (500, 500, 5000)
         self._events_seen = 0
 
@@ -119,6 +139,7 @@ class Streamer:
         self.link.configure(self.channels)
         self.link.configure_watchdog(watchdog_ms, park_after_ms, release_after_ms)
         self.link.arm()
+        check_servo_driver(self.link)
 
     def frame_payloads(self, values):
         """``{name: value}`` -> [(payload, {name: angle sent}, {name: wanted angle})] for the channel runs.
@@ -147,6 +168,9 @@ class Streamer:
 
     def _collect(self, timeout):
         self.link.poll(timeout)
+        for seq in [q for q in self._pings if q in self.link.pending]:
+            self.link.pending.pop(seq)
+            self._pings.discard(seq)
         for seq in [q for q in self._outstanding if q in self.link.pending]:  # also replies read by another thread
             r = self.link.pending.pop(seq)
             sent, host_clamped = self._outstanding.pop(seq)
@@ -166,10 +190,28 @@ class Streamer:
     def _count_clamp(self, name, by):
         self.stats.clamped_by_actuator.setdefault(name, {"host": 0, "firmware": 0})[by] += 1
 
+    def _check_events(self, n_events):
+        """Raise LinkError on a watchdog EVENT from the device (checked between frames too, not only per frame)."""
+        for _, e in self.link.events[n_events + self._events_seen:]:
+            self._events_seen += 1
+            if e.kind == "EVENT" and e.code == P.EV_SERVO_FAULT:
+                raise LinkError(f"{self.link.name}: EVENT SERVO_FAULT: {P.SERVO_FAULT_HELP}")
+            if e.kind == "EVENT":
+                raise LinkError(f"{self.link.name}: the firmware's link watchdog tripped "
+                                f"({P.EVENT_NAMES.get(e.code, hex(e.code))} at {e.time_ms} ms): the stream "
+                                f"stalled for longer than its watchdog; the servos hold, then park; "
+                                f"connect again to re-ARM")
+
     def run(self, source, duration_s=None, t0=0.0):
-        """Stream in the calling thread until ``duration_s`` (None: until stop()). Returns the stats."""
+        """Stream in the calling thread until ``duration_s`` (None: until stop()). Returns the stats.
+
+        Between frames further apart than the keep-alive interval (``min(0.1 s, watchdog_ms / 3)``, e.g. at a
+        slow rate) a PING keeps the link watchdog fed (PROTOCOL.md section 6); a watchdog EVENT stops the stream
+        as soon as it arrives."""
         fn = source_function(source)
         period = 1.0 / self.rate_hz
+        keepalive_s = keepalive_interval(self._link_timing[0])
+        self._pings = set()
         self.stats = StreamStats(clamped_by_actuator={c.name: {"host": 0, "firmware": 0} for c in self.channels})
         self._outstanding = {}
         n_events = len(self.link.events)
@@ -178,6 +220,7 @@ class Streamer:
         rx_errors0 = self.link.rx_errors
         start = time.perf_counter()
         deadline = start
+        last_tx = start
         k = 0
         try:
             resets = self.link.resets_seen
@@ -187,18 +230,14 @@ class Streamer:
                     self.stats.resets += 1
                     self._outstanding.clear()
                     self.prepare(*self._link_timing, handshake=False)
-                for _, e in self.link.events[n_events + self._events_seen:]:
-                    self._events_seen += 1
-                    if e.kind == "EVENT":
-                        raise LinkError(f"{self.link.name}: the firmware's link watchdog tripped "
-                                        f"({P.EVENT_NAMES.get(e.code, hex(e.code))} at {e.time_ms} ms): the stream "
-                                        f"stalled for longer than its watchdog; the servos hold, then park; "
-                                        f"connect again to re-ARM")
+                self._check_events(n_events)
                 t = t0 + k * period
                 if duration_s is not None and k * period >= duration_s - 1e-9:
                     break
                 for payload, angles, wanted in self.frame_payloads(fn(t)):
                     seq = self.link.send(P.SET_ANGLES, payload)
+                    last_tx = time.perf_counter()
+                    self._pings.discard(seq)  # a seq reused (wrap) by a frame is the frame's now
                     # a seq still outstanding 254 frames later was lost: it stays counted (lost = frames -
                     # acked - naked), only its entry is replaced
                     self._outstanding[seq] = (time.perf_counter(), bool(wanted))
@@ -215,12 +254,20 @@ class Streamer:
                         self.on_frame(t, angles)
                 deadline += period
                 k += 1
-                # collect replies until the next deadline
+                # collect replies until the next deadline; keep the link alive between slow frames
                 while True:
-                    left = deadline - time.perf_counter()
-                    if left <= 0:
+                    now = time.perf_counter()
+                    left = deadline - now
+                    if left <= 0 or self._stop.is_set():
                         break
-                    self._collect(min(left, 0.005))
+                    if now - last_tx >= keepalive_s and left > 0.002:
+                        ping = self.link.send(P.PING)
+                        self._outstanding.pop(ping, None)  # (a seq reused by the PING: that frame stays lost)
+                        self._pings.add(ping)
+                        self.stats.keepalive_pings += 1
+                        last_tx = now
+                    self._collect(min(left, 0.005, max(0.0, last_tx + keepalive_s - now)))
+                    self._check_events(n_events)
                 late = time.perf_counter() - deadline
                 if late > period and not self.catch_up:  # fell behind: skip the missed deadlines, keep the time base
                     missed = int(late // period)

@@ -25,7 +25,9 @@ def test_urls_icon_versions_and_dependencies(root):
     assert root.findtext("p:pythonmin", namespaces=NS)
     deps = {d.text: d.attrib for d in root.findall("p:depend", NS)}
     assert deps["numpy"].get("type") == "python" and deps["scipy"].get("type") == "python"
-    assert deps["pyserial"].get("optional") == "true", "pyserial is optional: only streaming needs it"
+    # no pyserial: FreeCAD 0.20's Addon Manager ignores optional="true" and imports "pyserial" (the module is
+    # "serial"), so every install said "Missing Requirement" (tests/hardware/test_package_deps.py)
+    assert "pyserial" not in deps
     for icon in [root.findtext("p:icon", namespaces=NS)] + [w.findtext("p:icon", namespaces=NS)
                                                             for w in root.iter("{%s}workbench" % NS["p"])]:
         path = os.path.join(REPO_DIR, icon)

@@ -95,13 +95,15 @@ int main(void)
     DDRC &= (uint8_t)~cmask;
     PORTC |= cmask;
 
-    hal_servo_init();
+    uint8_t servo_ok = hal_servo_init();
+    uint32_t servo_retry_ms = 0;
     set_sleep_mode(SLEEP_MODE_IDLE);
     sei();
     wdt_enable(WDTO_250MS);
     sl_link_init(&link_state, HAL_N_SERVOS, (uint8_t)(hal_servo_caps | SL_CAP_CONTACT_PINS), uart_tx, read_contacts,
                  0, millis());
     link_state.pin_cells = hal_contact_cells;
+    sl_link_servo_status(&link_state, servo_ok, millis());
 
     for (;;) {
         wdt_reset();
@@ -112,9 +114,15 @@ int main(void)
             sl_link_feed(&link_state, b, millis());
         }
         sl_link_tick(&link_state, millis());
-        if (link_state.out_changed) {
+        /* a failed back-end write (PCA9685 absent, bus fault) is retried every 20 ms and reported to the host */
+        if (link_state.out_changed && (servo_ok || (uint32_t)(millis() - servo_retry_ms) >= 20)) {
             link_state.out_changed = 0;
-            hal_servo_write(link_state.out_us, link_state.n_ch);
+            servo_ok = hal_servo_write(link_state.out_us, link_state.n_ch);
+            if (!servo_ok) {
+                link_state.out_changed = 1;
+                servo_retry_ms = millis();
+            }
+            sl_link_servo_status(&link_state, servo_ok, millis());
         }
         /* idle until the next interrupt (UART byte, 1 ms tick, servo edge); checked with interrupts off so
          * that a byte arriving now is not slept over */

@@ -61,7 +61,7 @@ ISR(TIMER1_COMPA_vect)
     OCR1A = (uint16_t)(next - LEAD_TICKS);
 }
 
-void hal_servo_init(void)
+uint8_t hal_servo_init(void)
 {
     DDRD |= 0xF0; /* PD4..PD7 = D4..D7 */
     DDRB |= 0x0F; /* PB0..PB3 = D8..D11 */
@@ -78,12 +78,14 @@ void hal_servo_init(void)
     }
     TIFR1 = (1 << OCF1A);
     TIMSK1 |= (1 << OCIE1A);
+    return 1;
 }
 
-void hal_servo_write(const uint16_t *us, uint8_t n)
+uint8_t hal_servo_write(const uint16_t *us, uint8_t n)
 {
     for (uint8_t ch = 0; ch < HAL_N_SERVOS; ch++) {
         uint16_t t = ch < n ? (uint16_t)(us[ch] * 2u) : 0u;
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { ticks[ch] = t; }
     }
+    return 1;
 }

@@ -137,12 +137,14 @@ void sl_link_init(sl_link_t *l, uint8_t n_ch, uint8_t extra_caps, sl_tx_fn tx, s
 
 /* ---------------------------------------------------------------------------------------------- */
 /* The channel run of a SET_ANGLES / SET_PULSES request (first u8, count u8, count x 16-bit values).
- * NAKs (LEN, then CHANNEL) and returns 0 when the length or the channel range is wrong. */
+ * NAKs (LEN, then CHANNEL) and returns 0 when the length or the channel range is wrong. The LEN detail is the
+ * expected length: 2 + 2 count, saturated at 255; 4 (the shortest valid run) without a count or with count 0. */
 static uint8_t channel_run(sl_link_t *l, const sl_packet_t *rq, uint8_t *first, uint8_t *count)
 {
     const uint8_t *p = rq->payload;
-    if (rq->plen < 2 || p[1] == 0 || rq->plen != 2 + 2 * p[1]) {
-        nak(l, rq->seq, SL_E_LEN, (uint8_t)(rq->plen < 2 ? 2 : 2 + 2 * p[1]));
+    if (rq->plen < 2 || p[1] == 0 || rq->plen != 2 + 2 * (uint16_t)p[1]) {
+        uint16_t want = (rq->plen < 2 || p[1] == 0) ? 4 : 2 + 2 * (uint16_t)p[1];
+        nak(l, rq->seq, SL_E_LEN, (uint8_t)(want > 255 ? 255 : want));
         return 0;
     }
     *first = p[0];
@@ -484,12 +486,18 @@ static void dispatch(sl_link_t *l, const sl_packet_t *rq, uint32_t now)
         l->seq_gaps++;
     l->last_seq = rq->seq;
     l->have_seq = 1;
+    /* requests without a payload: PING, ARM, DISARM, GET_STATE (NAK LEN, detail 0: nothing changes) */
+    if ((rq->type == SL_T_PING || rq->type == SL_T_ARM || rq->type == SL_T_DISARM || rq->type == SL_T_GET_STATE) &&
+        rq->plen != 0) {
+        nak(l, rq->seq, SL_E_LEN, 0);
+        return;
+    }
     switch (rq->type) {
-    case SL_T_HELLO:
-        if (rq->plen < 1)
-            nak(l, rq->seq, SL_E_LEN, 3);
-        else if (rq->payload[0] != SL_PROTO_MAJOR)
+    case SL_T_HELLO: /* another major first (a later protocol may lengthen HELLO), then exactly 3 bytes */
+        if (rq->plen >= 1 && rq->payload[0] != SL_PROTO_MAJOR)
             nak(l, rq->seq, SL_E_VERSION, SL_PROTO_MAJOR);
+        else if (rq->plen != 3)
+            nak(l, rq->seq, SL_E_LEN, 3);
         else
             send_hello_ack(l, rq->seq);
         break;
@@ -501,7 +509,9 @@ static void dispatch(sl_link_t *l, const sl_packet_t *rq, uint32_t now)
         sl_put_u16(out + 12, l->seq_gaps);
         out[14] = l->wdt_trips;
         out[15] = l->mode;
-        ack(l, rq, out, 16);
+        out[16] = l->servo_fault_on;
+        out[17] = l->servo_faults;
+        ack(l, rq, out, 18);
         break;
     case SL_T_ARM:
         arm(l);
@@ -563,6 +573,20 @@ void sl_link_feed(sl_link_t *l, uint8_t byte, uint32_t now_ms)
         else
             l->framing_err++;
         nak(l, SL_SEQ_NONE, err, 0);
+    }
+}
+
+void sl_link_servo_status(sl_link_t *l, uint8_t ok, uint32_t now)
+{
+    if (ok) {
+        l->servo_fault_on = 0;
+        return;
+    }
+    if (l->servo_faults < 255)
+        l->servo_faults++;
+    if (!l->servo_fault_on) {
+        l->servo_fault_on = 1;
+        event(l, SL_EV_SERVO_FAULT, now);
     }
 }
 

@@ -37,6 +37,7 @@
 #define SL_EV_HOLD 0xE1
 #define SL_EV_PARK 0xE2
 #define SL_EV_RELEASE 0xE3
+#define SL_EV_SERVO_FAULT 0xE4 /* the servo back end failed a write (PCA9685: no answer on I2C) */
 /* capability bits of HELLO_ACK */
 #define SL_CAP_OSC 0x01
 #define SL_CAP_GAIT 0x02
@@ -78,6 +79,7 @@ typedef struct {
     /* statistics (PING) */
     uint16_t rx_ok, crc_err, framing_err, seq_gaps;
     uint8_t wdt_trips, last_seq, have_seq;
+    uint8_t servo_faults, servo_fault_on; /* failed servo back-end writes (saturating), a fault is going on */
     /* I/O */
     sl_rx_t rx;
     sl_tx_fn tx;
@@ -90,6 +92,9 @@ void sl_link_init(sl_link_t *l, uint8_t n_ch, uint8_t extra_caps, sl_tx_fn tx, s
                   uint32_t now_ms);
 void sl_link_feed(sl_link_t *l, uint8_t byte, uint32_t now_ms);
 void sl_link_tick(sl_link_t *l, uint32_t now_ms);
+/* The servo back end's result of its last write (1 = ok): a failure is counted (PING servo_faults) and the first
+ * of a run reported with EVENT SERVO_FAULT; a success ends the run. */
+void sl_link_servo_status(sl_link_t *l, uint8_t ok, uint32_t now_ms);
 
 /* The pulse channel ch must output in the link's present state (0 = none), computed from scratch: pulses only
  * while ARMED / HOLD / PARK; a SET_PULSES override clamped to the channel's pulse window; otherwise the current

@@ -119,9 +119,22 @@ static void test_arm_clamp_atomic(void)
     CHECK(r && r->type == SL_T_ACK && r->plen == 4 + 16 && r->payload[3] == 8, "GET_STATE");
     /* PING counts: 8 valid frames with this one; two sequence gaps (ARM used seq 1 after 2, then 3 after 1) */
     r = request(&l, &c, SL_T_PING, 8, NULL, 0, 10);
-    CHECK(r && r->type == SL_T_ACK && r->plen == 16 && sl_get_u16(r->payload + 6) == 8, "PING rx_ok %u",
+    CHECK(r && r->type == SL_T_ACK && r->plen == 18 && sl_get_u16(r->payload + 6) == 8, "PING rx_ok %u",
           r ? sl_get_u16(r->payload + 6) : 0);
     CHECK(r && sl_get_u16(r->payload + 12) == 2, "seq gaps %u", r ? sl_get_u16(r->payload + 12) : 0);
+    CHECK(r && r->payload[16] == 0 && r->payload[17] == 0, "no servo faults");
+    /* servo back-end faults: one EVENT SERVO_FAULT per run of failures, every failure counted in PING */
+    int before = c.n;
+    sl_link_servo_status(&l, 0, 11);
+    sl_link_servo_status(&l, 0, 12);
+    CHECK(c.n == before + 1 && c.pkt[before].type == SL_T_EVENT && c.pkt[before].payload[0] == SL_EV_SERVO_FAULT,
+          "one SERVO_FAULT event for a run of failures");
+    sl_link_servo_status(&l, 1, 13);
+    sl_link_servo_status(&l, 0, 14);
+    CHECK(c.n == before + 2 && c.pkt[before + 1].payload[0] == SL_EV_SERVO_FAULT, "a new run: a new event");
+    r = request(&l, &c, SL_T_PING, 9, NULL, 0, 15);
+    CHECK(r && r->type == SL_T_ACK && r->payload[16] == 1 && r->payload[17] == 3, "PING servo fault %u, count %u",
+          r ? r->payload[16] : 0, r ? r->payload[17] : 0);
 }
 
 static void test_watchdog(void)

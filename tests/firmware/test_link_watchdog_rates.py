@@ -1,0 +1,47 @@
+"""The link watchdog against slow frame rates and the OSC keep-alive, on the real firmware in simavr: a slow
+``--rate`` is legitimate (the host PINGs between frames), and ``--mode osc`` PINGs more often than
+``watchdog_ms / 3`` (firmware/PROTOCOL.md section 6) for any allowed ``--watchdog-ms``; no HOLD / PARK event."""
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+FISH = os.path.join(REPO, "examples", "fish.json")
+
+
+def stream(port, *args, report=None):
+    cmd = [sys.executable, "-m", "metamaterial_wb", "stream", FISH, "--port", port, *args]
+    if report:
+        cmd += ["--report", str(report)]
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, timeout=120)
+
+
+@pytest.mark.parametrize("rate,seconds", [(1, 3), (2, 2)])
+def test_slow_rate_keeps_the_link_alive(sim, tmp_path, rate, seconds):
+    rep = tmp_path / "r.json"
+    r = stream(sim.port, "--rate", str(rate), "--seconds", str(seconds), report=rep)
+    assert r.returncode == 0 and "watchdog" not in r.stderr, r.stdout + r.stderr
+    d = json.loads(rep.read_text())
+    assert d["frames"] == rate * seconds == d["acked"] and d["lost"] == 0 and d["events"] == []
+    assert d["keepalive_pings"] >= seconds * 5  # a PING every 100 ms between the frames (watchdog 500 ms)
+
+
+@pytest.mark.parametrize("watchdog_ms", [50, 100])
+def test_osc_mode_keeps_a_short_watchdog_fed(sim, tmp_path, watchdog_ms):
+    rep = tmp_path / "osc.json"
+    r = stream(sim.port, "--mode", "osc", "--seconds", "2", "--watchdog-ms", str(watchdog_ms), report=rep)
+    assert r.returncode == 0 and "watchdog" not in r.stderr, r.stdout + r.stderr
+    d = json.loads(rep.read_text())
+    assert d["pings"] >= 2.0 / (watchdog_ms / 3000.0) * 0.6, d["pings"]
+
+
+def test_stream_at_50_hz_with_a_50_ms_watchdog(sim, tmp_path):
+    """Frames 20 ms apart, the watchdog 50 ms: PINGs fill the gaps longer than 50/3 ms; nothing trips."""
+    rep = tmp_path / "r.json"
+    r = stream(sim.port, "--seconds", "2", "--watchdog-ms", "50", report=rep)
+    assert r.returncode == 0 and "watchdog" not in r.stderr, r.stdout + r.stderr
+    d = json.loads(rep.read_text())
+    assert d["lost"] == 0 and d["events"] == []
