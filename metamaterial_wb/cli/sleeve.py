@@ -71,12 +71,16 @@ def run(args):
         except MetamaterialError as exc:
             raise SceneError(geometry[0], str(exc)) from None
     spec = SleeveSpec.load(args.spec)
+    if geometry:
+        spec.check_end_pieces()                            # the end pieces fit: before the analysis, not after
     fe_check = getattr(args, "fe_check", None)
     if fe_check:                                           # refuse before minutes of work, not after
         from metamaterial_wb.fe import ccx
+        from metamaterial_wb.fe.sleeve_check import check_spec
         ok, why = ccx.available()
         if not ok:
             raise ccx.FEError(f"--fe-check: {why}")
+        check_spec(spec)
     prog, log = _progress(args.quiet)
     with blas_threads(1):   # many small dense systems: threads only cost time (not for other commands)
         summary, curves = analyse(spec, progress=None, log=log)
@@ -107,10 +111,21 @@ def run(args):
     seq = summary["sequence"]
     log(f"ring peaks {['%.3g' % p for p in summary['ring']['peaks']]}, valleys "
         f"{['%.3g' % v for v in summary['ring']['valleys']]} (F/GL^2); sequence {seq['loading']}|{seq['unloading']} "
-        f"({'symmetric' if seq['symmetric'] else 'asymmetric'}); wrote {out}")
+        f"({symmetry_word(seq)}); wrote {out}")
+    for u in summary["unit_cells"] + summary["uniform_rings"]:
+        if u.get("note"):
+            log(f"note: {'unit cell' if 'peak_force' in u else 'uniform ring'} of type {u['type']}: {u['note']}")
+    for note in (([seq["note"]] if seq.get("note") else []) + summary["pv"].get("notes", [])
+                 + summary.get("walker", {}).get("notes", []) + summary.get("design_map", {}).get("notes", [])):
+        log(f"note: {note}")
     for note in summary["accuracy"]["notes"]:
         log(f"accuracy: {note}")
     return 0
+
+
+def symmetry_word(seq):
+    """``symmetric`` / ``asymmetric`` of a snapping sequence, or ``nothing snapped`` (``symmetric`` null)."""
+    return "nothing snapped" if seq["symmetric"] is None else ("symmetric" if seq["symmetric"] else "asymmetric")
 
 
 def _fe_check(spec, kind, log):
@@ -146,8 +161,10 @@ def write_plots(spec, summary, curves, folder):
         g = spec.cells[i]
         ax.plot(up.d, up.F * 1e3, label=f"type {i}: t/L={g.t / g.L:.3f}, h/L={g.h / g.L:.3f}")
         u = summary["unit_cells"][i]
-        ax.plot([u["peak_displacement"]], [u["peak_force"] * 1e3], "^k")
-        ax.plot([u["valley_displacement"]], [u["valley_force"] * 1e3], "vk")
+        if u["peak_force"] is not None:            # null: no peak (valley) within the stroke
+            ax.plot([u["peak_displacement"]], [u["peak_force"] * 1e3], "^k")
+        if u["valley_force"] is not None:
+            ax.plot([u["valley_displacement"]], [u["valley_force"] * 1e3], "vk")
     ax.axhline(0, color="0.6", lw=0.8)
     ax.set_xlabel("displacement d/L [-]")
     ax.set_ylabel("force F/(G L$^2$) [x1e-3]")
@@ -171,7 +188,7 @@ def write_plots(spec, summary, curves, folder):
     ax.set_ylim(_ylim([up.F] + [u.F for _, u in curves["uniform"]], 1e3))
     seq = summary["sequence"]
     ax.set_title(f"sleeve FD: sequence {seq['loading']}|{seq['unloading']} "
-                 f"({'symmetric' if seq['symmetric'] else 'asymmetric'})", fontsize=10)
+                 f"({symmetry_word(seq)})", fontsize=10)
     ax.legend(fontsize=7)
     from metamaterial_wb.core.sleeve.pipeline import design_axis
     axis = design_axis(model)
@@ -243,11 +260,11 @@ def plot_design_map(dm, path):
     fig, axes = plt.subplots(1, len(keys), figsize=(3.3 * len(keys), 3.2))
     t, h = np.array(dm["t_over_L"]), np.array(dm["h_over_L"])
     for ax, (k, title) in zip(np.atleast_1d(axes), keys):
-        Z = np.array(dm[k]) * 1e3
+        Z = np.array(dm[k], dtype=float) * 1e3         # null (a skipped cell, no peak): not drawn
         im = ax.pcolormesh(t, h, Z, shading="nearest", cmap="viridis")
         fig.colorbar(im, ax=ax, label="F/(G L$^2$) x1e-3")
         if k in ("P1", "V2") and "peaks_count" in dm:
-            one = np.array(dm["peaks_count"]) < 2
+            one = np.array(dm["peaks_count"], dtype=float) < 2
             for (i, j) in zip(*np.nonzero(one)):
                 ax.plot(t[j], h[i], "wx", ms=5)
         ax.set_xlabel("t/L"); ax.set_ylabel("h/L"); ax.set_title(title, fontsize=9)

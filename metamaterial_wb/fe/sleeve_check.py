@@ -93,6 +93,15 @@ def _model(spec, i):
                        curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip, root_extension=spec.root_extension)
 
 
+def check_spec(spec):
+    """Refuse a spec the solid cannot be built for (the double layout) with :class:`MetamaterialError`: the
+    ``sleeve`` command calls it before the analysis, next to the ccx check."""
+    for i, g in enumerate(spec.cells):
+        if g.layout != "single":
+            raise MetamaterialError(f"--fe-check: cell type {i} has layout {g.layout!r}; the FE solid is the "
+                                    "single layout only (layout 'single')")
+
+
 def check_sleeve(spec, peak=False, timeout_s=3600.0, log=None, converged=False):
     """``{"types": [...], "note", "seconds"}``: per used cell type the solid's and the model's initial stiffness
     (and first peak with ``peak``; the solid extrapolated over three meshes with ``converged``) and their ratio
@@ -101,10 +110,7 @@ def check_sleeve(spec, peak=False, timeout_s=3600.0, log=None, converged=False):
     ok, why = ccx.available()
     if not ok:
         raise ccx.FEError(f"--fe-check: {why}")
-    for i, g in enumerate(spec.cells):
-        if g.layout != "single":
-            raise MetamaterialError(f"--fe-check: cell type {i} has layout {g.layout!r}; the FE solid is the "
-                                    "single layout only")
+    check_spec(spec)
     say = log or (lambda s: None)
     t0 = time.perf_counter()
     used = sorted({t for row in spec.pattern for t in row})

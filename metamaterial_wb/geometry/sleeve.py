@@ -18,6 +18,7 @@ import numpy as np
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.materials import MATERIALS
 from metamaterial_wb.core.sleeve.cell import triangulate_polygon
+from metamaterial_wb.core.sleeve.spec import END_RING_WALL_MM, MIN_FEATURE_MM, TUBE_HOLE_MM
 from metamaterial_wb.geometry.fc import freecad, set_shape_colour
 
 TPU = MATERIALS["TPU"]
@@ -111,14 +112,19 @@ def build_sleeve(spec, samples=16, progress=None):
     return solids[0]
 
 
-def build_end_pieces(spec, ring_extra_mm=4.0, ring_wall_mm=2.0, cap_mm=2.0, tube_hole_mm=4.0):
-    """PLA end rings (inside the sleeve's end bars) and caps: ``{name: solid}``."""
+def build_end_pieces(spec, ring_extra_mm=4.0, ring_wall_mm=END_RING_WALL_MM, cap_mm=2.0, tube_hole_mm=TUBE_HOLE_MM):
+    """PLA end rings (inside the sleeve's end bars) and caps: ``{name: solid}``. The spec's
+    ``check_end_pieces`` (the default wall and hole) is checked first: the CLI checks it before the analysis."""
+    if ring_wall_mm == END_RING_WALL_MM and tube_hole_mm == TUBE_HOLE_MM:
+        spec.check_end_pieces()
     App, Part = freecad()
     lay = sleeve_layout(spec)
     Ri, H = lay["inner_radius"], lay["height"]
     hr = spec.c / 2 + ring_extra_mm
-    if ring_wall_mm >= Ri:
-        raise MetamaterialError(f"end ring: wall {ring_wall_mm} mm exceeds the sleeve's inner radius {Ri:.2f} mm")
+    if ring_wall_mm + tube_hole_mm / 2 + MIN_FEATURE_MM > Ri:
+        raise MetamaterialError(f"end pieces: a {ring_wall_mm} mm ring wall and a {tube_hole_mm} mm tube hole need an "
+                                f"inner radius of at least {ring_wall_mm + tube_hole_mm / 2 + MIN_FEATURE_MM:g} mm; "
+                                f"the sleeve's is {Ri:.4g} mm")
     out = {}
     for name, z in (("ring_bottom", -ring_extra_mm), ("ring_top", H - spec.c / 2)):
         out[name] = Part.makeCylinder(Ri, hr, App.Vector(0, 0, z)).cut(

@@ -9,12 +9,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="248"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="251"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="76"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="77"/>
         <source>...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -44,7 +44,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="98"/>
         <source>? deg ({0:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -74,7 +74,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="72"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="78"/>
         <source>Cell types (row = type index)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -84,7 +84,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="92"/>
         <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
@@ -117,12 +117,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="104"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="109"/>
         <source>Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -137,7 +137,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="116"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
@@ -147,7 +147,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="98"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -192,7 +192,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="98"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="99"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
@@ -265,7 +265,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="47"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="57"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="62"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
@@ -290,7 +290,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="55"/>
         <source>Open...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -321,17 +321,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="102"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="83"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="89"/>
         <source>Ring pattern</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="84"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="90"/>
         <source>Rings</source>
         <translation type="unfinished"></translation>
     </message>
@@ -341,12 +341,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="113"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="114"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="110"/>
         <source>Run build's geometry checks on the answer (a child process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -361,7 +361,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="94"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="95"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
@@ -386,7 +386,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="56"/>
         <source>Spec</source>
         <translation type="unfinished"></translation>
     </message>
@@ -401,12 +401,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="80"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="81"/>
         <source>Target file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="98"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="100"/>
         <source>The angle sent to the servo for this value (closing and opening differ); the firmware's invert and trim come after</source>
         <translation type="unfinished"></translation>
     </message>
@@ -421,7 +421,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="103"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -437,7 +437,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="105"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="106"/>
         <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
@@ -447,12 +447,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="307"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="328"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="325"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="346"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -462,7 +462,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="80"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
         <source>cell type index of each cell around the circumference</source>
         <translation type="unfinished"></translation>
     </message>
@@ -472,29 +472,29 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="97"/>
         <source>e.g. H0,0, V1,2 (or click hinges)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="168"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="344"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="365"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="282"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="303"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="285"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="306"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="339"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="301"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="360"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="322"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -531,17 +531,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="105"/>
         <source>local worker processes for the candidate evaluations (inverse --workers)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="154"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="157"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="87"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="93"/>
         <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (under a second per cell type) and the sleeve's snapping sequence and lean (about 10 s per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
@@ -561,7 +561,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="107"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="108"/>
         <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -571,7 +571,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="88"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="89"/>
         <source>or target object</source>
         <translation type="unfinished"></translation>
     </message>
@@ -598,12 +598,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="247"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="268"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="269"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="290"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
@@ -638,7 +638,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="111"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
@@ -663,7 +663,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="75"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="76"/>
         <source>target JSON, solve result, .stl / .obj / .step</source>
         <translation type="unfinished"></translation>
     </message>
@@ -673,7 +673,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="164"/>
+        <source>the {0} solve did not converge: the pose shown is its last iterate</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="217"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -683,12 +688,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="334"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="249"/>
+        <source>warning: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="355"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="331"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="352"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -698,12 +708,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="99"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="140"/>
         <source>{0:+.2f}</source>
         <translation type="unfinished"></translation>
     </message>

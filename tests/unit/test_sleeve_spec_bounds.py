@@ -3,6 +3,7 @@ refused with an error that names the field, the value and the allowed range; at 
 
 The out-of-range cases are the hostile corpus's (``hostile_corpus.SLEEVE_BOUNDS``; the corpus also runs
 them through the ``sleeve`` command); the in-range ones below sit exactly on a bound each."""
+import math
 import os
 import sys
 
@@ -33,14 +34,15 @@ def test_just_outside_a_bound_is_refused_naming_field_value_and_range(cid, chang
 
 
 SMALLEST = {("L_mm",): 2, ("c_mm",): 0.4, ("delta_mm",): 0.2, ("T_mm",): 0.4,
-            ("cell_types",): [{"t_mm": 0.4, "h_mm": 1.2}], ("ring",): [0, 0, 0, 0]}
+            ("cell_types",): [{"t_mm": 0.4, "h_mm": 1.2}], ("ring",): [0, 0, 0, 0],
+            ("actuator",): {}}       # 2.7 mm inside: the cap is the default, which follows the inner diameter
 
 AT_BOUND = [
     ("smallest printable cell", SMALLEST),
     ("L max, 2 cells", {("L_mm",): 200, ("ring",): [0, 1]}),
     ("c max", {("c_mm",): 10.8}),
     ("delta max", {("delta_mm",): 18}),
-    ("T max, 8 cells", {("T_mm",): 36, ("ring",): [0, 1] * 4}),
+    ("T max, 8 cells", {("T_mm",): 36, ("ring",): [0, 1] * 4, ("actuator",): {}}),
     ("G max", {("shear_modulus_MPa",): 5000}),
     ("t max", {("cell_types", 0, "t_mm"): 4.5}),
     ("h max", {("cell_types", 1, "h_mm"): 10.8}),
@@ -51,12 +53,22 @@ AT_BOUND = [
     ("model min", {("model",): {"elements_cell": 2, "elements_ring": 2, "steps": 20, "imperfection": 0,
                                 "pillar_tip": 3}}),
     ("integral floats", {("model",): {"elements_cell": 16.0, "steps": 160.0}}),
-    ("actuator max", {("actuator",): {"core_diameter_mm": 240, "membrane_kPa_per_mL": 10000}}),
+    # the cap at most the sleeve's inner diameter N (L + c) / pi - T (26.21 mm for the base's four cells)
+    ("actuator max", {("actuator",): {"core_diameter_mm": 4 * 22 / math.pi - 1.8, "membrane_kPa_per_mL": 10000}}),
     ("design map bounds", {("design_map",): {"t_over_L": [0.01, 0.25, 40], "h_over_L": [0.01, 0.6, 1],
                                              "elements": 80}}),
     ("walker bounds", {("walker",): {"foot_length_mm": 300, "body_length_mm": 1000, "contact_band_mm": 100}}),
     ("walker foot zero", {("walker",): {"foot_length_mm": 0}}),
+    ("walker all defaults", {("walker",): {}}),
+    ("design map all defaults", {("design_map",): {}}),
 ]
+
+
+def test_a_cap_just_wider_than_the_sleeves_inside_is_refused():
+    inner = 4 * 22 / math.pi - 1.8
+    with pytest.raises(SceneError) as ei:
+        SleeveSpec(hc.sleeve_with({("actuator", "core_diameter_mm"): inner + 1e-6}))
+    assert ei.value.field == "actuator.core_diameter_mm" and f"(0, {inner:.6g}]" in ei.value.message
 
 
 @pytest.mark.parametrize("name,changes", AT_BOUND, ids=[a[0] for a in AT_BOUND])

@@ -57,7 +57,9 @@ def sequence(ring, up, down):
         out[f"events_{name}"] = [{"d": float(e[1]), "units": e[2], "snapped": e[3]} for e in events]
         out[f"max_tilt_{name}_deg"] = float(math.degrees(np.hypot(*tilt[k])))
         out[f"lean_{name}_deg"] = float(math.degrees(math.atan2(lean[1], lean[0]))) if np.any(lean) else None
-    out["symmetric"] = bool(out["loading"][::-1] == out["unloading"])
+    # nothing snapped on either path: neither symmetric nor asymmetric
+    out["symmetric"] = (bool(out["loading"][::-1] == out["unloading"]) if out["loading"] or out["unloading"]
+                        else None)
     out["rings"] = ring.rings
     out["lean_reverses"] = bool(np.dot(leans[0], leans[1]) < 0)
     return out

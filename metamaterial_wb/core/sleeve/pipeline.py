@@ -14,6 +14,7 @@ from metamaterial_wb.core.sleeve.analysis import (extrema, lean_direction, peaks
                                                   pv_curve, snap_order, two_hysteron_sequence)
 from metamaterial_wb.core.sleeve.cell import CellGeometry
 from metamaterial_wb.core.sleeve.model import SleeveModel, default_stroke
+from metamaterial_wb.core.sleeve.spec import MIN_FEATURE_MM
 from metamaterial_wb.core.sleeve.walker import walker_cycle
 
 
@@ -24,18 +25,33 @@ def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None, root_
     up = m.trace(d)
     down = m.trace(d[::-1], q0=m.last_q)
     p, v = extrema(up.F)
-    peak = p[0] if p else int(np.argmax(up.F))
-    after = up.F[peak:]
-    valley = (v[0] if v else peak + int(np.argmin(after)))
     F = up.F
+    # the stroke's last point is no peak (the force still rises) and no valley (it still falls): null and a note
+    peak = p[0] if p else None
+    valley = v[0] if v else None
     sign_changes = int(np.sum(np.diff(np.sign(F[1:])) != 0))
+    at = lambda i, x: None if i is None else float(x[i])  # noqa: E731
     res = {"t_mm": geom.t, "h_mm": geom.h, "t_over_L": geom.t / geom.L, "h_over_L": geom.h / geom.L,
-           "peak_force": float(F[peak]), "peak_displacement": float(up.d[peak]),
-           "valley_force": float(F[valley]), "valley_displacement": float(up.d[valley]),
-           "bistable": bool(F[valley] < 0), "zero_crossings": sign_changes,
+           "peak_force": at(peak, F), "peak_displacement": at(peak, up.d),
+           "valley_force": at(valley, F), "valley_displacement": at(valley, up.d),
+           "bistable": bool(peak is not None and np.min(F[peak:]) < 0), "zero_crossings": sign_changes,
            "hysteresis": float(np.max(np.abs(up.F - down.F[::-1]))),
            "seconds": up.seconds + down.seconds}
+    note = _extrema_note(peak, valley, up.d[-1])
+    if note:
+        res["note"] = note
     return res, up, down
+
+
+def _extrema_note(peak, valley, d_end):
+    """Why a curve's peak or valley is null: ``""`` when it has both."""
+    if peak is None:
+        return (f"no peak within the stroke (to d/L {d_end:.4g}: the force never falls by more than 2 % of its "
+                "range, analysis.extrema)")
+    if valley is None:
+        return (f"no valley within the stroke (to d/L {d_end:.4g}: after its peak the force never rises by more "
+                "than 2 % of its range)")
+    return ""
 
 
 def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, unload=True,
@@ -57,10 +73,11 @@ def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, un
 
 
 def ring_thresholds(up):
-    """First peak P1 and second valley V2 (last valley when there is only one) of a loading curve."""
+    """First peak P1 and second valley V2 (last valley when there is only one) of a loading curve; None for one
+    the stroke does not reach (the end of the stroke is neither)."""
     p, v = extrema(up.F)
-    P1 = float(up.F[p[0]]) if p else float(np.max(up.F))
-    V2 = float(up.F[v[1]]) if len(v) >= 2 else (float(up.F[v[0]]) if v else float(np.min(up.F)))
+    P1 = float(up.F[p[0]]) if p else None
+    V2 = float(up.F[v[1]]) if len(v) >= 2 else (float(up.F[v[0]]) if v else None)
     return P1, V2, len(p), len(v)
 
 
@@ -84,7 +101,7 @@ def simulated_sequence(model, up, down):
     types, geoms, units = model.state_types, model.state_geoms, model.state_units
     lo, ev_up = snap_order(up, types, geoms, units)
     un, ev_dn = snap_order(down, types, geoms, units)
-    sym = lo[::-1] == un
+    sym = (lo[::-1] == un) if (lo or un) else None        # nothing snapped: neither symmetric nor asymmetric
     ti_up = up.tilt[np.argmax(np.linalg.norm(up.tilt, axis=1))]
     ti_dn = down.tilt[np.argmax(np.linalg.norm(down.tilt, axis=1))]
     lu, ld = lean_direction(ti_up), lean_direction(ti_dn)
@@ -96,7 +113,7 @@ def simulated_sequence(model, up, down):
         reverses = bool(np.dot(lu, axis) * np.dot(ld, axis) < 0)
     else:
         reverses = bool(np.dot(lu, ld) < 0)
-    return {"loading": lo, "unloading": un, "symmetric": bool(sym),
+    return {"loading": lo, "unloading": un, "symmetric": None if sym is None else bool(sym),
             "max_tilt_loading_deg": float(math.degrees(np.linalg.norm(ti_up))),
             "max_tilt_unloading_deg": float(math.degrees(np.linalg.norm(ti_dn))),
             "lean_loading_deg": float(math.degrees(math.atan2(lu[1], lu[0]))) if np.any(lu) else None,
@@ -109,16 +126,31 @@ def simulated_sequence(model, up, down):
 def design_map(L, c, delta, T, t_range, h_range, ring=False, n_el=8, steps=120, plane="strain",
                n_cells=4, progress=None, layout="single", curvature=True, pillar_tip="guided", root_extension=0.0):
     """Peak/valley over a grid of t/L and h/L (seed figure 2C; with ``ring`` also P1/V2, fig. 2F)."""
+    from metamaterial_wb.core.errors import SceneError
     ts = np.linspace(*t_range[:2], t_range[2])
     hs = np.linspace(*h_range[:2], h_range[2])
-    out = {"t_over_L": ts.tolist(), "h_over_L": hs.tolist(), "peak": [], "valley": []}
+    out = {"t_over_L": ts.tolist(), "h_over_L": hs.tolist(), "peak": [], "valley": [], "notes": []}
     if ring:
         out.update({"P1": [], "V2": [], "peaks_count": []})
     k = 0
     for h in hs:
         rowp, rowv, rp1, rv2, rn = [], [], [], [], []
         for t in ts:
-            g = CellGeometry(L=L, t=t * L, h=h * L, c=c, delta=delta, T=T, layout=layout)
+            try:       # a grid point the spec validator refuses (e.g. c >= L - 2t: no free beam) is not built
+                g = CellGeometry.checked("design_map", L=L, t=t * L, h=h * L, c=c, delta=delta, T=T, layout=layout)
+                if t * L < MIN_FEATURE_MM:
+                    raise SceneError("design_map.t_over_L", f"t = {t * L:.4g} mm is below the printable "
+                                                            f"{MIN_FEATURE_MM:g} mm (cell_types' t_mm)")
+            except SceneError as exc:
+                out["notes"].append(f"t/L {t:.4g}, h/L {h:.4g}: skipped, not a valid cell ({exc}); its entries "
+                                    "are null")
+                rowp.append(None); rowv.append(None)
+                if ring:
+                    rp1.append(None); rv2.append(None); rn.append(None)
+                k += 1
+                if progress:
+                    progress(k, len(ts) * len(hs))
+                continue
             res, _, _ = unit_cell_result(g, n_el, steps, plane, root_extension=root_extension)
             rowp.append(res["peak_force"]); rowv.append(res["valley_force"])
             if ring:
@@ -148,8 +180,8 @@ def analyse(spec, progress=None, log=None):
         say(f"unit cell {i}: t = {g.t:g} mm, h = {g.h:g} mm")
         res, up, down = unit_cell_result(g, spec.n_el_cell, spec.steps, spec.plane, dmax, spec.root_extension)
         res["type"] = i
-        res["peak_force_N"] = res["peak_force"] * Fscale
-        res["valley_force_N"] = res["valley_force"] * Fscale
+        res["peak_force_N"] = None if res["peak_force"] is None else res["peak_force"] * Fscale
+        res["valley_force_N"] = None if res["valley_force"] is None else res["valley_force"] * Fscale
         unit_cells.append(res)
         curves["cells"].append((up, down))
     used = sorted({t for row in spec.pattern for t in row})
@@ -167,6 +199,9 @@ def analyse(spec, progress=None, log=None):
         uniform.append({"type": i, "P1": P1, "V2": V2, "two_peaks": n_p >= 2 and n_v >= 2,
                         "peaks": [f for _, f in pv["peaks"]], "valleys": [f for _, f in pv["valleys"]],
                         "seconds": up.seconds})
+        note = _extrema_note(None if P1 is None else 0, None if V2 is None else 0, up.d[-1])
+        if note:
+            uniform[-1]["note"] = note
         if spec.ring_curvature and spec.layout == "single":
             uniform[-1]["frame3d"] = curvature_check(spec.cells[i], n, spec.plane, spec.root_extension,
                                                      spec.pillar_tip, spec.n_el_ring)
@@ -192,9 +227,15 @@ def analyse(spec, progress=None, log=None):
             "max_tilt_deg": float(math.degrees(np.max(np.linalg.norm(up.tilt, axis=1)))),
             "radius_mm": spec.radius_mm, "seconds_loading": up.seconds, "seconds_unloading": down.seconds,
             "degrees_of_freedom": int(model.nred)}
-    rule = two_hysteron_sequence([thresholds[used.index(i)] for i in used])
-    rule["loading"] = [used[k] for k in rule["loading"]]
-    rule["unloading"] = [used[k] for k in rule["unloading"]]
+    missing = [i for k, i in enumerate(used) if None in thresholds[k]]
+    if missing:                # the rule ranks P1 and V2: a uniform ring without them within the stroke has no rank
+        rule = {"loading": None, "unloading": None, "symmetric": None, "combination": None,
+                "note": f"no two-hysteron prediction: the uniform ring of type(s) {missing} has no first peak or "
+                        "no valley within the stroke"}
+    else:
+        rule = two_hysteron_sequence([thresholds[used.index(i)] for i in used])
+        rule["loading"] = [used[k] for k in rule["loading"]]
+        rule["unloading"] = [used[k] for k in rule["unloading"]]
     rule["thresholds"] = {str(i): {"P1": thresholds[k][0], "V2": thresholds[k][1]} for k, i in enumerate(used)}
     sim = simulated_sequence(model, up, down)
     seq = {"loading": sim["loading"], "unloading": sim["unloading"], "symmetric": sim["symmetric"],
@@ -206,8 +247,12 @@ def analyse(spec, progress=None, log=None):
            "max_tilt_unloading_deg": sim["max_tilt_unloading_deg"],
            "events_loading": sim["events_loading"], "events_unloading": sim["events_unloading"],
            "two_hysteron": rule,
-           "agrees_with_two_hysteron": bool(sim["loading"] == rule["loading"]
-                                            and sim["unloading"] == rule["unloading"])}
+           "agrees_with_two_hysteron": (None if rule["loading"] is None or sim["symmetric"] is None else
+                                        bool(sim["loading"] == rule["loading"]
+                                             and sim["unloading"] == rule["unloading"]))}
+    if sim["symmetric"] is None:
+        seq["note"] = (f"nothing snapped within the stroke (to d/L {float(up.d[-1]):.4g}): no snapping sequence, "
+                       "neither symmetric nor asymmetric")
     frame_paths = None
     if spec.frame_nonlinear:
         say("sleeve: loading and unloading cycle on the nonlinear 3-D frame")
@@ -224,12 +269,13 @@ def analyse(spec, progress=None, log=None):
     Vpc, ppc, jl = pressure_control(Vl, pl, True)
     Vpu, ppu, ju = pressure_control(Vu, pu, False)
     ppv = peaks_valleys(Vl, pl)
-    pvres = {"cap_area_mm2": A, "membrane_kPa_per_mL": spec.membrane,
+    pvres = {"cap_diameter_mm": spec.core_diameter, "cap_area_mm2": A, "membrane_kPa_per_mL": spec.membrane,
              "peaks_kPa": [p for _, p in ppv["peaks"]], "valleys_kPa": [p for _, p in ppv["valleys"]],
              "peak_volumes_mL": [v for v, _ in ppv["peaks"]],
              "pressure_control_loading_jumps": [{"p_kPa": a, "V_from_mL": b, "V_to_mL": c} for a, b, c in jl],
              "pressure_control_unloading_jumps": [{"p_kPa": a, "V_from_mL": b, "V_to_mL": c} for a, b, c in ju],
-             "needs_vacuum_to_reset": bool(np.min(pu) < 0)}
+             "needs_vacuum_to_reset": bool(np.min(pu) < 0),
+             "notes": [spec.core_diameter_note] if spec.core_diameter_note else []}
     curves["pv"] = {"load": (Vl, pl), "unload": (Vu, pu), "pc_load": (Vpc, ppc), "pc_unload": (Vpu, ppu)}
     summary = {"format": "metamaterial-sleeve-summary", "version": 1, "name": spec.name,
                "normalisation": {"force": "F / (G L^2)", "displacement": "d / L", "G_MPa": G, "L_mm": L,
@@ -237,7 +283,8 @@ def analyse(spec, progress=None, log=None):
                "cell": {"width_mm": spec.cells[0].width, "height_mm": max(g.height for g in spec.cells),
                         "c_mm": spec.c, "delta_mm": spec.delta, "T_mm": spec.T},
                "unit_cells": unit_cells, "uniform_rings": uniform, "ring": ring, "sequence": seq,
-               "pv": pvres, "accuracy": accuracy(spec.cells, n, spec.root_extension, spec.ring_curvature)}
+               "pv": pvres, "accuracy": accuracy(spec.cells, n, spec.root_extension, spec.ring_curvature, spec.plane,
+                                                     spec.pillar_tip, spec.n_el_cell, spec.n_el_ring)}
     summary["accuracy"]["notes"] += [frame_note(u["type"], n, u["frame3d"]) for u in uniform if "frame3d" in u]
     summary["accuracy"]["notes"] += [frame_nl_note(u["type"], n, u["frame3d_nl"], Fscale, L)
                                      for u in uniform if "frame3d_nl" in u]
@@ -255,7 +302,11 @@ def analyse(spec, progress=None, log=None):
         summary["walker"] = {k: cyc[k] for k in ("area_mm2", "orientation", "lateral_stroke_mm", "lift_mm",
                                                    "step_per_cycle_mm", "direction")}
         summary["walker"].update({"legs": 4, "pairs_in_antiphase": [[1, 3], [2, 4]],
-                                  "sleeve_height_mm": H, "foot_length_mm": wk["foot_length_mm"]})
+                                  "sleeve_height_mm": H, "foot_length_mm": wk["foot_length_mm"], "notes": []})
+        if "body_length_mm" in wk:
+            summary["walker"]["notes"].append(
+                f"walker.body_length_mm ({wk['body_length_mm']:g} mm) is not used: the walker model (one leg's tip "
+                "loop and the diagonal gait) does not depend on the body's length")
         if frame_paths:                        # the same leg on the frame's cycle (model.frame_nonlinear)
             fu, fd = frame_paths
             fc = walker_cycle(fu["d"] * L, fu["tilt"][:, :2], fd["d"] * L, fd["tilt"][:, :2], H,

@@ -20,6 +20,12 @@ MIN_GAP_MM = 0.2
 BED_MM = 240.0
 MAX_HEIGHT_MM = 300.0
 MAX_G_MPA = 5000.0
+# the actuator's cap (the core the inner membrane pushes on), mm: the seed's; a sleeve narrower inside takes its
+# inner diameter instead. The PLA end pieces (geometry/sleeve.py): the end ring's wall and the bottom cap's hole for
+# the supply tube
+DEFAULT_CAP_MM = 24.6
+END_RING_WALL_MM = 2.0
+TUBE_HOLE_MM = 4.0
 MAX_L_MM = 200.0        # a beam span beyond most of the bed's short side (and 2 cells around: 130 mm across)
 # The widest static range of each field, (low, high, unit, low_open): the one owner of these numbers (the
 # validator below and the GUI's spin boxes read them). c, delta and T are also bounded by L, and a cell
@@ -139,16 +145,14 @@ class SleeveSpec:
         if not isinstance(a, dict):
             raise SceneError("actuator", "expected an object")
         _known(a, "actuator", "actuator")
-        self.core_diameter = check_number("actuator.core_diameter_mm", a.get("core_diameter_mm", 24.6), 0, BED_MM, "mm",
-                                          low_open=True)
+        self.core_diameter = (None if "core_diameter_mm" not in a else      # absent: the default (_check_cap)
+                              check_number("actuator.core_diameter_mm", a["core_diameter_mm"], 0, BED_MM, "mm",
+                                           low_open=True))
+        self.core_diameter_note = ""          # why the cap is not the one given or the default (set below)
         self.membrane = check_number("actuator.membrane_kPa_per_mL", a.get("membrane_kPa_per_mL", 0.0), 0, 1e4, "kPa/mL")
-        dmap = data.get("design_map")
+        dmap = _section(data, "design_map")
         self.design_map = None
-        if dmap:
-            if dmap is True:
-                dmap = {}
-            if not isinstance(dmap, dict):
-                raise SceneError("design_map", "expected true or an object")
+        if dmap is not None:
             _known(dmap, "design_map", "design_map")
             if not isinstance(dmap.get("ring", False), bool):
                 raise SceneError("design_map.ring", f"{dmap['ring']!r}; expected true or false")
@@ -157,21 +161,22 @@ class SleeveSpec:
                 "h_over_L": _range3("design_map.h_over_L", dmap.get("h_over_L", [0.30, 0.42, 5]), 0, 0.6),
                 "ring": dmap.get("ring", False),
                 "elements": _integer("design_map.elements", dmap.get("elements", 10), 2, 80)}
-        w = data.get("walker")
+        w = _section(data, "walker")
         self.walker = None
-        if w:
-            if w is True:
-                w = {}
-            if not isinstance(w, dict):
-                raise SceneError("walker", "expected true or an object")
+        if w is not None:
             _known(w, "walker", "walker")
             self.walker = {
                 "foot_length_mm": check_number("walker.foot_length_mm", w.get("foot_length_mm", 20.0), 0, MAX_HEIGHT_MM, "mm"),
-                "body_length_mm": check_number("walker.body_length_mm", w.get("body_length_mm", 120.0), 0, 1000, "mm",
-                                               low_open=True),
                 "contact_band_mm": check_number("walker.contact_band_mm", w.get("contact_band_mm", 1.0), 0, 100, "mm",
                                                 low_open=True)}
+            if "body_length_mm" in w:
+                # accepted so that older specs load (examples/walker.json), checked, never used: the walker model
+                # (one leg's tip loop and the diagonal gait, core/sleeve/walker.py) has no place for the body;
+                # the summary's walker notes say so
+                self.walker["body_length_mm"] = check_number("walker.body_length_mm", w["body_length_mm"], 0, 1000,
+                                                             "mm", low_open=True)
         self._check_printable()
+        self._check_cap()
 
     def _check_printable(self):
         """The whole sleeve: a tube (wall thinner than its diameter) that fits the printer."""
@@ -186,6 +191,46 @@ class SleeveSpec:
         if height > MAX_HEIGHT_MM:
             raise SceneError("rings", f"{self.M} ring(s) of {height / self.M:.4g} mm make a sleeve {height:.4g} mm high; "
                                       f"allowed: at most {MAX_HEIGHT_MM:g} mm (the printer's build height)")
+
+    @property
+    def inner_diameter_mm(self):
+        """The sleeve's inner diameter, 2 R - T (R: the wall's mid radius): the room for the cap and end pieces."""
+        return 2 * self.radius_mm - self.T
+
+    def _inner_words(self):
+        return (f"the sleeve's inner diameter N (L + c) / pi - T = {self.N} x {self.L + self.c:g} mm / pi - "
+                f"{self.T:g} mm = {self.inner_diameter_mm:.6g} mm (ring, L_mm, c_mm, T_mm)")
+
+    def _check_cap(self):
+        """The cap the membrane pushes on sits inside the sleeve: its diameter at most the inner diameter. The
+        default (``DEFAULT_CAP_MM``) follows a smaller sleeve's inner diameter, and ``core_diameter_note`` says so;
+        a value given is never changed."""
+        inner = self.inner_diameter_mm
+        if self.core_diameter is None:
+            self.core_diameter = DEFAULT_CAP_MM
+            if DEFAULT_CAP_MM > inner:
+                self.core_diameter = inner
+                self.core_diameter_note = (f"actuator.core_diameter_mm not given: the cap is the sleeve's inner "
+                                           f"diameter {inner:.4g} mm (the default {DEFAULT_CAP_MM:g} mm does not fit)")
+            return
+        if self.core_diameter > inner:
+            raise SceneError("actuator.core_diameter_mm",
+                             f"{self.raw['actuator']['core_diameter_mm']!r} mm is outside the allowed range "
+                             f"(0, {inner:.6g}]: the cap sits inside the sleeve, and {self._inner_words()}")
+
+    def check_end_pieces(self):
+        """The PLA end pieces that ``--step`` / ``--3mf`` / ``--render`` build (``geometry/sleeve.py``) fit inside
+        this sleeve: a ring of wall ``END_RING_WALL_MM`` inside each end, and a cap inside the ring with the
+        ``TUBE_HOLE_MM`` supply-tube hole and at least ``MIN_FEATURE_MM`` of cap around it. Raises SceneError
+        naming the fields and the limit; checked before any analysis."""
+        need = 2 * END_RING_WALL_MM + TUBE_HOLE_MM + 2 * MIN_FEATURE_MM
+        inner = self.inner_diameter_mm
+        if inner < need:
+            raise SceneError("ring", f"{self._inner_words()} is too small for the end pieces: a PLA ring of "
+                                     f"{END_RING_WALL_MM:g} mm wall and its cap around a {TUBE_HOLE_MM:g} mm supply-tube "
+                                     f"hole (at least {MIN_FEATURE_MM:g} mm of cap around it); allowed: an inner "
+                                     f"diameter of at least {need:g} mm (more cells, larger L_mm or c_mm, a thinner "
+                                     f"T_mm), or no --step / --3mf / --render")
 
     @classmethod
     def load(cls, path):
@@ -219,6 +264,21 @@ FIELDS = {"": ("format", "version", "name", "L_mm", "c_mm", "delta_mm", "T_mm", 
           "actuator": ("core_diameter_mm", "membrane_kPa_per_mL"),
           "design_map": ("t_over_L", "h_over_L", "ring", "elements"),
           "walker": ("foot_length_mm", "body_length_mm", "contact_band_mm")}
+
+
+def _section(data, key):
+    """An optional section (``design_map``, ``walker``): absent, null or false -> None (off); true or an object
+    -> the object (``{}``: every default). Anything else is refused, never read as off."""
+    v = data.get(key)
+    if v is None or v is False:
+        return None
+    if v is True:
+        return {}
+    if not isinstance(v, dict):
+        r = repr(v)
+        raise SceneError(key, f"{r if len(r) <= 60 else r[:57] + '...'}; expected true, false or an object (an "
+                              "empty object: every default)")
+    return v
 
 
 def _known(obj, field, section):

@@ -16,16 +16,18 @@ from metamaterial_wb.gui.i18n import translate
 def sleeve_summary_text(summary):
     """The panel's short report of a ``core.sleeve.pipeline.analyse`` summary (plain text lines)."""
     lines = []
+    num = lambda x: "none" if x is None else f"{x:.4g}"  # noqa: E731  (null: not within the stroke)
     for uc in summary["unit_cells"]:
-        lines.append(f"cell type {uc['type']}: peak {uc['peak_force']:.4g}, valley {uc['valley_force']:.4g} "
-                     f"(F / G L^2)")
+        lines.append(f"cell type {uc['type']}: peak {num(uc['peak_force'])}, valley {num(uc['valley_force'])} "
+                     f"(F / G L^2)" + (f"; {uc['note']}" if uc.get("note") else ""))
     ring = summary["ring"]
     fmt = lambda xs: ", ".join(f"{x:.4g}" for x in xs) or "none"  # noqa: E731
     lines.append(f"sleeve ({ring['rings']} x {ring['cells']} cells): peaks {fmt(ring['peaks'])}; "
                  f"valleys {fmt(ring['valleys'])}")
     seq = summary["sequence"]
     lines.append(f"sequence: loading {seq['loading']}, unloading {seq['unloading']} -> "
-                 f"{'symmetric' if seq['symmetric'] else 'asymmetric'}")
+                 + ("nothing snapped" if seq["symmetric"] is None else
+                    "symmetric" if seq["symmetric"] else "asymmetric"))
     pv = summary.get("pv", {})
     if pv.get("peaks_kPa"):
         lines.append(f"pressure peaks {fmt(pv['peaks_kPa'])} kPa")
@@ -45,6 +47,9 @@ class SleevePanel(BasePanel):
         super().__init__()
         self.doc = doc
         self.raw = {}
+        # the spec's own value of each spin box set from it, until the user edits that box: a box shows a few
+        # decimals (t 1.0985 as 1.099, G below 0.001 at its smallest step), the spec keeps the exact value
+        self.exact = {}
         fl = QtGui.QHBoxLayout()
         self.path = QtGui.QLineEdit("")
         self.open_btn = QtGui.QPushButton(translate("Metamaterial", "Open..."))
@@ -65,6 +70,7 @@ class SleevePanel(BasePanel):
             w.setSuffix(" MPa" if key.endswith("MPa") else " mm")
             f.addRow(label, w)
             self.dims[key] = w
+            self._track_edits(w)
         self.layout.addLayout(f)
         self.types = QtGui.QTableWidget(0, 2)
         self.types.setHorizontalHeaderLabels(["t (mm)", "h (mm)"])
@@ -153,8 +159,22 @@ class SleevePanel(BasePanel):
             w.setDecimals(3)
             ranges.bind(w, ("sleeve.cell_types.t_mm", "sleeve.cell_types.h_mm")[c])   # t <= L/4, h <= 0.6 L: in words
             w.setSingleStep(0.05)
-            w.setValue(float(v))
+            self._set_exact(w, v)
+            self._track_edits(w)
             self.types.setCellWidget(r, c, w)
+
+    def _track_edits(self, w):
+        """A spin box the user changes gives its own (shown) value from then on."""
+        w.valueChanged.connect(lambda *_: self.exact.pop(w, None))
+
+    def _set_exact(self, w, v):
+        """Show ``v`` in ``w`` (rounded to its decimals) and keep ``v`` itself for the spec."""
+        w.setValue(float(v))
+        self.exact[w] = float(v)
+
+    def value(self, w):
+        """The spec's value of spin box ``w``: the exact value it was set to, or the user's edit."""
+        return self.exact.get(w, round(w.value(), 6))
 
     def remove_type(self):
         if self.types.rowCount() > 1:
@@ -175,10 +195,11 @@ class SleevePanel(BasePanel):
 
     def set_spec(self, spec):
         self.raw = dict(spec.raw)
+        self.exact = {}
         self.name.setText(spec.name)
         for key, attr in (("L_mm", "L"), ("c_mm", "c"), ("delta_mm", "delta"), ("T_mm", "T"),
                           ("shear_modulus_MPa", "G")):
-            self.dims[key].setValue(getattr(spec, attr))
+            self._set_exact(self.dims[key], getattr(spec, attr))
         self.types.setRowCount(0)
         for g in spec.cells:
             self.add_type(g.t, g.h)
@@ -202,9 +223,9 @@ class SleevePanel(BasePanel):
         d.setdefault("version", 1)
         d["name"] = self.name.text().strip() or "sleeve"
         for key, w in self.dims.items():
-            d[key] = round(w.value(), 6)
-        d["cell_types"] = [{"t_mm": round(self.types.cellWidget(r, 0).value(), 6),
-                            "h_mm": round(self.types.cellWidget(r, 1).value(), 6)} for r in range(self.types.rowCount())]
+            d[key] = self.value(w)
+        d["cell_types"] = [{"t_mm": self.value(self.types.cellWidget(r, 0)),
+                            "h_mm": self.value(self.types.cellWidget(r, 1))} for r in range(self.types.rowCount())]
         if self.ring.isEnabled():
             try:
                 d["ring"] = [int(x) for x in self.ring.text().replace(";", ",").split(",") if x.strip()]
@@ -288,7 +309,7 @@ class SleevePanel(BasePanel):
         self.exported = []
         try:
             spec_dict = self.spec_dict()
-            self.spec()                                   # the validator's message, before anything runs
+            self.spec().check_end_pieces()                # the validator's message, before anything runs
             os.makedirs(os.path.dirname(folder), exist_ok=True)
             self.staging = tempfile.mkdtemp(prefix=".sleeve-export-", dir=os.path.dirname(folder))
             jpath = os.path.join(self.staging, "job.json")
