@@ -1,10 +1,7 @@
 """The pyserial link: dry run over loop://, and a scripted fake device on a real pseudo-terminal
 (handshake after a boot banner, retries, NAK reasons, events arriving in the same read as a reply)."""
 import os
-import pty
-import threading
 import time
-import tty
 
 import pytest
 
@@ -12,18 +9,16 @@ serial = pytest.importorskip("serial")
 
 from metamaterial_wb.hardware import protocol as P  # noqa: E402
 from metamaterial_wb.hardware.link import Link, LinkError  # noqa: E402
+from ptydevice import PtyDevice, device_fixture  # noqa: E402
 
 
-class FakeDevice(threading.Thread):
+class FakeDevice(PtyDevice):
     """Answers servolink requests on the master side of a pty. ``drop``: {type: how many to ignore};
     ``nak``: {type: (code, detail)}; ``event_before_ack``: send an EVENT in the same write as each ACK."""
 
     def __init__(self, drop=None, nak=None, event_before_ack=False, major=P.PROTO_MAJOR, n_channels=8,
                  after_angles=None, lose_angles=(), garble_angles=(), clamp_angles=()):
-        super().__init__(daemon=True)
-        self.master, self.slave = pty.openpty()
-        tty.setraw(self.slave)
-        self.port = os.ttyname(self.slave)
+        super().__init__()
         self.drop = dict(drop or {})
         self.nak = nak or {}
         self.event_before_ack = event_before_ack
@@ -34,70 +29,39 @@ class FakeDevice(threading.Thread):
         self.lose_angles = set(lose_angles)      # SET_ANGLES frames (1-based) that never arrive
         self.garble_angles = set(garble_angles)  # SET_ANGLES frames that arrive damaged: NAK CRC with seq 0xFF
         self.clamp_angles = set(clamp_angles)    # SET_ANGLES frames ACKed with every channel's clamp bit set
-        self.stop_flag = False
         os.write(self.master, P.build_frame(P.HELLO_ACK, 0, self.hello()))  # boot banner, already waiting
 
     def hello(self):
         return bytes([self.major, 0, 1, 0, 0, self.n_channels, 100, 0xF4, 0x01, 3, 0x28, 0, 0, 0, 0])
 
-    def run(self):
-        rd = P.FrameReader()
-        import select
-        while not self.stop_flag:
-            r, _, _ = select.select([self.master], [], [], 0.02)
-            if not r:
-                continue
-            try:
-                data = os.read(self.master, 256)
-            except OSError:
-                return
-            for pkt in rd.feed(data):
-                self.received.append(pkt)
-                if self.drop.get(pkt.type, 0) > 0:
-                    self.drop[pkt.type] -= 1
-                    continue
-                n_angles = sum(p.type == P.SET_ANGLES for p in self.received)
-                if pkt.type == P.SET_ANGLES and n_angles in self.lose_angles:
-                    continue
-                if pkt.type == P.SET_ANGLES and n_angles in self.garble_angles:
-                    os.write(self.master, P.build_frame(P.NAK, P.SEQ_NONE, bytes([P.E_CRC, 0])))
-                    continue
-                if pkt.type in self.nak:
-                    out = P.build_frame(P.NAK, pkt.seq, bytes(self.nak[pkt.type]))
-                elif pkt.type == P.HELLO:
-                    out = P.build_frame(P.HELLO_ACK, pkt.seq, self.hello())
-                elif pkt.type == P.SET_ANGLES and n_angles in self.clamp_angles:
-                    first, count = pkt.payload[0], pkt.payload[1]
-                    mask = ((1 << count) - 1) << first
-                    out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, mask & 0xFF, mask >> 8, count]))
-                else:
-                    out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, 0, 0, 1]))
-                    if self.event_before_ack:
-                        out = P.build_frame(P.EVENT, 0, bytes([P.EV_HOLD, P.ST_HOLD])) + out
-                os.write(self.master, out)
-                if self.after_angles and pkt.type == P.SET_ANGLES:
-                    if sum(p.type == P.SET_ANGLES for p in self.received) == self.after_angles[0]:
-                        os.write(self.master, self.after_angles[1])
-
-    def close(self):
-        self.stop_flag = True
-        self.join(1)
-        os.close(self.master)
-        os.close(self.slave)
+    def answer(self, pkt):
+        self.received.append(pkt)
+        if self.drop.get(pkt.type, 0) > 0:
+            self.drop[pkt.type] -= 1
+            return None
+        n_angles = sum(p.type == P.SET_ANGLES for p in self.received)
+        if pkt.type == P.SET_ANGLES and n_angles in self.lose_angles:
+            return None
+        if pkt.type == P.SET_ANGLES and n_angles in self.garble_angles:
+            return P.build_frame(P.NAK, P.SEQ_NONE, bytes([P.E_CRC, 0]))
+        if pkt.type in self.nak:
+            out = P.build_frame(P.NAK, pkt.seq, bytes(self.nak[pkt.type]))
+        elif pkt.type == P.HELLO:
+            out = P.build_frame(P.HELLO_ACK, pkt.seq, self.hello())
+        elif pkt.type == P.SET_ANGLES and n_angles in self.clamp_angles:
+            first, count = pkt.payload[0], pkt.payload[1]
+            mask = ((1 << count) - 1) << first
+            out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, mask & 0xFF, mask >> 8, count]))
+        else:
+            out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, 0, 0, 1]))
+            if self.event_before_ack:
+                out = P.build_frame(P.EVENT, 0, bytes([P.EV_HOLD, P.ST_HOLD])) + out
+        if self.after_angles and pkt.type == P.SET_ANGLES and n_angles == self.after_angles[0]:
+            out += self.after_angles[1]
+        return out
 
 
-@pytest.fixture
-def device(request):
-    devs = []
-
-    def make(**kw):
-        d = FakeDevice(**kw)
-        d.start()
-        devs.append(d)
-        return d
-    yield make
-    for d in devs:
-        d.close()
+device = device_fixture(FakeDevice)
 
 
 def test_handshake_skips_boot_banner_and_retries(device):

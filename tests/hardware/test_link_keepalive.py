@@ -7,13 +7,9 @@ fake device on a pseudo-terminal (no emulator needed).
   frame or after the whole ``--seconds``.
 * A device that answers with a malformed reply gives a one-line error (exit 2), never a traceback."""
 import os
-import pty
-import select
 import subprocess
 import sys
-import threading
 import time
-import tty
 
 import pytest
 
@@ -26,76 +22,50 @@ from metamaterial_wb.hardware.link import LinkError  # noqa: E402
 from metamaterial_wb.hardware.mapping import ChannelConfig  # noqa: E402
 from metamaterial_wb.hardware import onboard  # noqa: E402
 from metamaterial_wb.hardware.onboard import OscParams, run_oscillators  # noqa: E402
+from ptydevice import PtyDevice, device_fixture  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FISH = os.path.join(REPO, "examples", "fish.json")
 HELLO = bytes([1, 0, 1, 0, 0, 8, 100, 0xF4, 0x01, 3, 0x28, 0, 0, 0, 0])
 
 
-class Device(threading.Thread):
+class Device(PtyDevice):
     """Answers every request with an ACK (HELLO with a HELLO_ACK), recording (time, packet).
     ``replies``: {type: payload of the reply} overriding the default; ``event_after``: (type, n, delay_s) sends
     an EVENT HOLD ``delay_s`` after the n-th request of that type."""
 
+    poll_s = 0.005
+
     def __init__(self, replies=None, event_after=None):
-        super().__init__(daemon=True)
-        self.master, self.slave = pty.openpty()
-        tty.setraw(self.slave)
-        self.port = os.ttyname(self.slave)
+        super().__init__()
         self.replies = replies or {}
         self.event_after = event_after
         self.received = []
-        self.stop_flag = False
         self._event_at = None
 
-    def run(self):
-        rd = P.FrameReader()
-        while not self.stop_flag:
-            if self._event_at is not None and time.perf_counter() >= self._event_at:
-                self._event_at = None
-                os.write(self.master, P.build_frame(P.EVENT, 0, bytes([P.EV_HOLD, P.ST_HOLD, 0, 0, 0, 0])))
-            r, _, _ = select.select([self.master], [], [], 0.005)
-            if not r:
-                continue
-            try:
-                data = os.read(self.master, 256)
-            except OSError:
-                return
-            for pkt in rd.feed(data):
-                self.received.append((time.perf_counter(), pkt))
-                if pkt.type in self.replies:
-                    kind, payload = self.replies[pkt.type]
-                    out = P.build_frame(kind, pkt.seq, payload)
-                elif pkt.type == P.HELLO:
-                    out = P.build_frame(P.HELLO_ACK, pkt.seq, HELLO)
-                elif pkt.type == P.SET_ANGLES:
-                    out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, 0, 0, pkt.payload[1]]))
-                else:
-                    out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED]))
-                os.write(self.master, out)
-                if self.event_after and pkt.type == self.event_after[0]:
-                    if sum(p.type == pkt.type for _, p in self.received) == self.event_after[1]:
-                        self._event_at = time.perf_counter() + self.event_after[2]
+    def tick(self):
+        if self._event_at is not None and time.perf_counter() >= self._event_at:
+            self._event_at = None
+            os.write(self.master, P.build_frame(P.EVENT, 0, bytes([P.EV_HOLD, P.ST_HOLD, 0, 0, 0, 0])))
 
-    def close(self):
-        self.stop_flag = True
-        self.join(1)
-        os.close(self.master)
-        os.close(self.slave)
+    def answer(self, pkt):
+        self.received.append((time.perf_counter(), pkt))
+        if pkt.type in self.replies:
+            kind, payload = self.replies[pkt.type]
+            out = P.build_frame(kind, pkt.seq, payload)
+        elif pkt.type == P.HELLO:
+            out = P.build_frame(P.HELLO_ACK, pkt.seq, HELLO)
+        elif pkt.type == P.SET_ANGLES:
+            out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED, 0, 0, pkt.payload[1]]))
+        else:
+            out = P.build_frame(P.ACK, pkt.seq, bytes([pkt.type, P.ST_ARMED]))
+        if self.event_after and pkt.type == self.event_after[0]:
+            if sum(p.type == pkt.type for _, p in self.received) == self.event_after[1]:
+                self._event_at = time.perf_counter() + self.event_after[2]
+        return out
 
 
-@pytest.fixture
-def device():
-    devs = []
-
-    def make(**kw):
-        d = Device(**kw)
-        d.start()
-        devs.append(d)
-        return d
-    yield make
-    for d in devs:
-        d.close()
+device = device_fixture(Device)
 
 
 def _gaps(dev, after_type=P.ARM):
