@@ -66,6 +66,18 @@ def _motors(sc):
     return sorted((it.Joint, round(it.Value, 6)) for it in sc.Items if it.Kind == "actuator")
 
 
+def _fit_planted(tmp_path):
+    """The panel run on one worker towards a 4 x 4 grid's planted servos (H1,1 0.6, V2,3 0.5), done without
+    error."""
+    p = run_panel("MM_FitTarget")
+    set_text(p.path, _write_target(tmp_path, _planted(4, [("H1,1", 0.6), ("V2,3", 0.5)])))
+    set_spin(p.servos, 2)
+    set_spin(p.workers, 1)
+    press(p.run_btn)
+    assert p.wait(600) and p.error.text() == "", p.error.text()
+    return p
+
+
 @pytest.fixture
 def pool_calls(monkeypatch):
     calls = []
@@ -154,12 +166,7 @@ def test_fit_on_a_dask_scheduler_equals_the_local_fit(doc, tmp_path):
     distributed = pytest.importorskip("distributed")
     _structure(doc)
     doc.recompute()
-    p = run_panel("MM_FitTarget")
-    set_text(p.path, _write_target(tmp_path, _planted(4, [("H1,1", 0.6), ("V2,3", 0.5)])))
-    set_spin(p.servos, 2)
-    set_spin(p.workers, 1)
-    press(p.run_btn)
-    assert p.wait(600) and p.error.text() == "", p.error.text()
+    p = _fit_planted(tmp_path)
     local = p.result
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as c:
         set_text(p.scheduler, c.scheduler_address)
@@ -195,13 +202,7 @@ def test_apply_moves_the_replaced_motors_housing_and_keeps_a_motors_servo_channe
     d["modules"] = [{"type": "servo_housing", "joint": "H0,0"}]
     sc = structure.make_structure(doc, Scene.from_dict(d))
     doc.recompute()
-    p = run_panel("MM_FitTarget")
-    set_text(p.path, _write_target(tmp_path, _planted(4, [("H1,1", 0.6), ("V2,3", 0.5)])))
-    set_spin(p.servos, 2)
-    set_spin(p.workers, 1)
-    press(p.run_btn)
-    assert p.wait(600)
-    assert p.error.text() == "", p.error.text()
+    p = _fit_planted(tmp_path)
     first = p.result.scene.actuators[0].joint
     assert "servo housing moved from H0,0 to " + first in p.status.text(), p.status.text()
     assert p.accept() is True
