@@ -27,7 +27,7 @@ def add_arguments(p):
     p.add_argument("--no-plots", action="store_true", help="summary.json only (not with --render)")
     p.add_argument("--fe-check", choices=("stiffness", "converged", "peak"), default=None,
                    help="also run every cell type's uniform ring as a curved CalculiX solid (needs ccx) and compare the "
-                        "beam model with it: 'stiffness' (about a minute per type), 'converged' (the stiffness on three "
+                        "beam model with it: 'stiffness' (10-30 s per type for four cells), 'converged' (the stiffness on three "
                         "finer meshes too, extrapolated, with its error: a few minutes per type), 'peak' (its first "
                         "peak too, minutes); refused without ccx; if ccx fails on it, the outputs are still written "
                         "with the failure in the summary's notes and a warning, exit 0")
