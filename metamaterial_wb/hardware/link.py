@@ -54,8 +54,8 @@ class Link:
         self.reader = P.FrameReader()
         self._seq = 0
         self._lock = threading.RLock()       # writers
-        self._read_lock = threading.Lock()   # readers
-        self.pending = {}   # seq -> Reply received but not yet claimed
+        self._read_lock = threading.Lock()   # readers, and every read-modify of ``pending``
+        self.pending = {}   # seq -> Reply received but not yet claimed (take it with take_reply / take_replies)
         self.events = []    # (time, Reply) for EVENT packets and unsolicited HELLO_ACKs
         self.on_event = None
         self.info = None
@@ -108,6 +108,8 @@ class Link:
         return seq
 
     def _handle(self, pkt, now):
+        """File one packet (called by poll, under ``_read_lock``); returns the seq of the reply it stored in
+        ``pending``, or None (an event, an unparsable reply)."""
         if self.dry_run and pkt.type < 0x7F:  # our own request, echoed by loop://
             data = b""
             if pkt.type in (P.SET_ANGLES, P.SET_PULSES) and len(pkt.payload) >= 2:
@@ -115,26 +117,27 @@ class Link:
             if pkt.type == P.HELLO:
                 self.pending[pkt.seq] = P.Reply("HELLO_ACK", pkt.seq, data=bytes(
                     [P.PROTO_MAJOR, P.PROTO_MINOR, 0, 0, 0, 8, 100, 0xF4, 0x01, 0x03, 0, 0, 0, 0, 0]))
-                return
+                return pkt.seq
             self.pending[pkt.seq] = P.Reply("ACK", pkt.seq, request=pkt.type, state=P.ST_ARMED, data=data)
-            return
+            return pkt.seq
         try:
             r = P.parse_reply(pkt)
         except P.ProtocolError:
             self.rx_errors += 1
-            return
+            return None
         if r.kind == "EVENT" or (r.kind == "HELLO_ACK" and r.seq == 0):
             if r.kind == "HELLO_ACK":
                 self.resets_seen += 1
             self.events.append((now, r))
             if self.on_event:
                 self.on_event(r)
-            return
+            return None
         r.time = now
         if r.kind == "NAK" and r.seq == P.SEQ_NONE:  # the answer to no request in particular: counted (streams)
             self.unreadable_naks += 1
             self.unreadable_reasons[r.reason] = self.unreadable_reasons.get(r.reason, 0) + 1
         self.pending[r.seq] = r
+        return r.seq
 
     def poll(self, timeout=0.0):
         """Read what has arrived (waiting up to ``timeout`` s for the first byte); returns new replies' seqs.
@@ -143,7 +146,7 @@ class Link:
         got = []
         while True:
             # one reader at a time (the streaming thread and e.g. a GUI ping); replies land in self.pending,
-            # where every thread looks for its own seq
+            # where every thread looks for its own seq (taking it under the same lock: take_reply)
             if self._read_lock.acquire(timeout=max(0.0, min(end - time.perf_counter(), 0.01))):
                 try:
                     n = self.ser.in_waiting
@@ -156,9 +159,9 @@ class Link:
                     if data:
                         now = time.perf_counter()
                         for pkt in self.reader.feed(data):
-                            before = set(self.pending)
-                            self._handle(pkt, now)
-                            got += [s for s in self.pending if s not in before]
+                            seq = self._handle(pkt, now)
+                            if seq is not None:
+                                got.append(seq)
                         self.rx_errors = len(self.reader.errors)
                 finally:
                     self._read_lock.release()
@@ -167,12 +170,29 @@ class Link:
             if time.perf_counter() >= end:
                 return got
 
+    def take_reply(self, seq):
+        """The reply with this seq, removed from ``pending``; None if it has not arrived. Thread-safe: another
+        thread's poll() may be filing replies meanwhile."""
+        with self._read_lock:
+            return self.pending.pop(seq, None)
+
+    def take_replies(self, seqs):
+        """``{seq: reply}`` of those of ``seqs`` that have arrived, removed from ``pending`` (thread-safe)."""
+        with self._read_lock:
+            return {s: self.pending.pop(s) for s in list(seqs) if s in self.pending}
+
+    def clear_replies(self):
+        """Drop every reply not claimed yet (thread-safe)."""
+        with self._read_lock:
+            self.pending.clear()
+
     def wait_reply(self, seq, timeout):
         """The reply (ACK / NAK / HELLO_ACK) with this seq, or None after ``timeout`` seconds."""
         end = time.perf_counter() + timeout
         while True:
-            if seq in self.pending:
-                return self.pending.pop(seq)
+            r = self.take_reply(seq)
+            if r is not None:
+                return r
             left = end - time.perf_counter()
             if left <= 0:
                 return None
@@ -233,7 +253,7 @@ class Link:
             self.resets_seen = resets_before
             # replies still queued answer frames from before the handshake (e.g. a NAK for HELLO bytes that
             # reached a booting board only in part): they would be taken for answers to later requests
-            self.pending.clear()
+            self.clear_replies()
             return info
         raise LinkError(f"{self.name}: no HELLO_ACK within {total_s:g} s (is the servolink firmware flashed, "
                         f"and the baud rate 115200?)")

@@ -168,11 +168,10 @@ class Streamer:
 
     def _collect(self, timeout):
         self.link.poll(timeout)
-        for seq in [q for q in self._pings if q in self.link.pending]:
-            self.link.pending.pop(seq)
+        # taken under the link's read lock: another thread (e.g. a GUI ping) may be polling meanwhile
+        for seq in self.link.take_replies(self._pings):
             self._pings.discard(seq)
-        for seq in [q for q in self._outstanding if q in self.link.pending]:  # also replies read by another thread
-            r = self.link.pending.pop(seq)
+        for seq, r in self.link.take_replies(self._outstanding).items():  # also replies read by another thread
             sent, host_clamped = self._outstanding.pop(seq)
             if r.kind == "ACK":
                 self.stats.acked += 1

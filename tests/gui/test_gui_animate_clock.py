@@ -97,3 +97,50 @@ def test_stream_sends_the_wall_clock_values(doc, slow_frames):
     assert checked and len(off) <= 0.1 * len(checked), f"{len(off)} of {len(checked)} streamed angles off: {off[:5]}"
     click(p.connect_btn)
     assert p.connect_btn.text() == "Connect"
+
+
+def test_streamed_clock_never_runs_back_on_a_speed_change(doc):
+    """The streaming thread reads clock() while the user turns the speed: a speed change must re-anchor the
+    clock at the animation time *now* (old anchor, old speed), not at the last frame drawn, which lags the
+    clock by up to a timer tick x speed (the stream jumped back by up to 0.11 s). Sampled from a Python
+    thread every 0.5 ms while the speed switches 5 <-> 0.2 x every few ms; with loop on, the only drop
+    allowed is a wrap at the end of the timeline (by nearly the whole duration)."""
+    import threading
+    import traceback
+    open_fish(doc)
+    p = run_panel("MM_Animate")
+    p.loop.setChecked(True)
+    p.duration.setValue(2.0)
+    dur = p.duration.value()
+    click(p.play_btn)
+    process(200)
+    samples, errors, stop = [], [], threading.Event()
+
+    def sample():
+        try:
+            while not stop.is_set():
+                samples.append(p.clock())
+                time.sleep(0.0005)
+        except Exception:  # noqa: BLE001 - reported below
+            errors.append(traceback.format_exc())
+
+    th = threading.Thread(target=sample, daemon=True)
+    th.start()
+    changes, end = 0, time.perf_counter() + 4.0
+    try:
+        while time.perf_counter() < end:
+            p.speed.setValue(5.0 if changes % 2 == 0 else 0.2)
+            changes += 1
+            process(7)
+    finally:
+        stop.set()
+        th.join(5)
+        click(p.play_btn)      # Pause
+    assert not errors, errors[0]
+    assert changes > 100 and len(samples) > 1000, (changes, len(samples))
+    back = [(k, a, b) for k, (a, b) in enumerate(zip(samples, samples[1:]))
+            if b < a - 1e-9 and not (a - b > 0.5 * dur and b < 0.5 * dur)]   # a wrap goes back ~dur to ~0
+    wraps = sum(1 for a, b in zip(samples, samples[1:]) if a - b > 0.5 * dur)
+    assert wraps >= 1, "the clock never wrapped: the test did not play through the timeline"
+    assert not back, (f"{len(back)} of {len(samples)} clock samples went back (up to "
+                      f"{max(a - b for _k, a, b in back):.4f} s) over {changes} speed changes: {back[:5]}")

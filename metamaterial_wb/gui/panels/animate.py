@@ -4,12 +4,15 @@ The clock follows wall time: each timer tick shows the frame of *now* (start tim
 x speed), so a frame that costs more than its slot makes the next ones skip ahead (frames are dropped,
 time is not). The panel shows the achieved frame rate and the real-time factor (animation seconds per
 wall second over speed; 1.00 = real time). The stream controller sends the values for the wall-clock
-time, whatever the view manages to draw. Frames are drawn by the Coin preview (``gui/preview.py``), which
+time, whatever the view manages to draw: it calls ``clock()`` from its own thread, which reads only plain
+attributes (one anchor tuple replaced whole, and copies of the play / length / loop settings kept by the
+widgets' signals), never a Qt widget. Frames are drawn by the Coin preview (``gui/preview.py``), which
 writes nothing into the document; Cancel removes it.
 """
 import json
 import math
 import os
+import threading
 import time
 
 import FreeCAD
@@ -206,7 +209,14 @@ class AnimatePanel(BasePanel):
         self.frame_times = []
         self.stream = StreamController(self.values_at, self.clock)
         self.shown_values = {}
-        self.anchor = None            # (wall time, animation time) of the last start / scrub / speed change
+        # (wall time, animation time, speed) of the last start / scrub / speed change / wrap: one tuple, replaced
+        # whole on the GUI thread; clock() (also called by the streaming thread) reads it under _clock_lock
+        self.anchor = None
+        self._clock_lock = threading.Lock()
+        # the settings clock() needs, copied from the widgets on the GUI thread (no widget reads elsewhere)
+        self._playing = False
+        self._duration = self.duration.value()
+        self._loop = self.loop.isChecked()
         self.rate_window = []         # (wall, animation time) of the frames shown while playing
         self.preview_scene = self.scene
         fps = max(1, int(preferences.get("AnimationFps")))
@@ -215,7 +225,9 @@ class AnimatePanel(BasePanel):
         self.timer.setInterval(max(1, int(1000 / fps)))
         self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
         self.timer.timeout.connect(self.tick)
-        self.speed.valueChanged.connect(lambda *_: self._reanchor())
+        self.speed.valueChanged.connect(self._speed_changed)
+        self.duration.valueChanged.connect(self._duration_changed)
+        self.loop.toggled.connect(self._loop_toggled)
         self.play_btn.toggled.connect(self._play_toggled)
         self.timeline.sliderMoved.connect(self._scrub)
         self.connect_btn.toggled.connect(self._connect_toggled)
@@ -457,9 +469,9 @@ class AnimatePanel(BasePanel):
         self._reanchor()
 
     def _wrap(self, t):
-        dur = self.duration.value()
+        dur = self._duration
         if t > dur:
-            if self.loop.isChecked():
+            if self._loop:
                 t = math.fmod(t, dur)
             else:
                 t = dur
@@ -467,32 +479,64 @@ class AnimatePanel(BasePanel):
         return t
 
     def _reanchor(self):
-        self.anchor = (time.perf_counter(), self.t)
+        """Anchor the clock at the frame shown (start, scrub, scripted steps); GUI thread."""
+        speed = self.speed.value()
+        with self._clock_lock:
+            self.anchor = (time.perf_counter(), self.t, speed)
         self.rate_window = []
 
-    def clock(self, now=None):
-        """The animation time at wall time ``now`` (default: now); the paused time when not playing."""
-        if not self.timer.isActive() or self.anchor is None:
-            return self.t
-        now = time.perf_counter() if now is None else now
-        wall0, t0 = self.anchor
-        t = t0 + (now - wall0) * self.speed.value()
-        dur = self.duration.value()
+    def _speed_changed(self, *_):
+        """Re-anchor at the clock's time now, reckoned at the old speed (the streaming thread has already sent
+        values of times ahead of the last frame drawn: anchoring there would send it back)."""
+        speed = self.speed.value()
+        with self._clock_lock:
+            now = time.perf_counter()
+            t = self._clock_at(now, self.anchor) if self._playing and self.anchor is not None else self.t
+            self.anchor = (now, t, speed)
+        self.rate_window = []
+
+    def _duration_changed(self, *_):
+        self._duration = self.duration.value()
+
+    def _loop_toggled(self, on):
+        self._loop = bool(on)
+
+    def _clock_at(self, now, anchor):
+        wall0, t0, speed = anchor
+        t = t0 + (now - wall0) * speed
+        dur = self._duration
         if t > dur:
-            t = math.fmod(t, dur) if self.loop.isChecked() else dur
+            t = math.fmod(t, dur) if self._loop else dur
         return t
+
+    def clock(self, now=None):
+        """The animation time at wall time ``now`` (default: now); the paused time when not playing.
+        Thread-safe (the stream calls it from its thread): reads plain attributes, no widget."""
+        if not self._playing:
+            return self.t
+        with self._clock_lock:     # the anchor and the time it is read at belong together (a speed change
+            anchor = self.anchor   # between the two would put the sample before the new anchor's start)
+            if now is None:
+                now = time.perf_counter()
+        if anchor is None:
+            return self.t
+        return self._clock_at(now, anchor)
 
     def tick(self):
         """Timer: show the frame of the wall-clock time (frames that did not fit are skipped)."""
         now = time.perf_counter()
         if self.anchor is None:
             self._reanchor()
-        wall0, t0 = self.anchor
-        raw = t0 + (now - wall0) * self.speed.value()
+        anchor = self.anchor
+        wall0, t0, speed = anchor
+        raw = t0 + (now - wall0) * speed
+        wrapped = raw > self._duration and self._loop
         t = self._wrap(raw)
+        if wrapped:
+            with self._clock_lock:
+                if self.anchor is anchor:
+                    self.anchor = (now, t, speed)   # keep the clock exact across the wrap
         self.show_time(t)
-        if raw > self.duration.value() and self.loop.isChecked():
-            self.anchor = (now, t)          # keep the clock exact across the wrap
         self._rate(now, raw)
 
     def _rate(self, now, anim_t):
@@ -517,10 +561,15 @@ class AnimatePanel(BasePanel):
         if on:
             self.play_btn.setText(translate("Metamaterial", "Pause"))
             self._reanchor()
+            self._playing = True
             self.timer.start()
         else:
             self.play_btn.setText(translate("Metamaterial", "Play"))
-            self.timer.stop()
+            self._stop_timer()
+
+    def _stop_timer(self):
+        self._playing = False
+        self.timer.stop()
 
     def _scrub(self, v):
         self.show_time(v / 1000.0 * self.duration.value())
@@ -567,14 +616,14 @@ class AnimatePanel(BasePanel):
         return stats
 
     def cleanup(self):
-        self.timer.stop()
+        self._stop_timer()
         self.sim.stop()               # the daemon thread stops at its next progress report
         self._remove_floor()
         self.disconnect()
         super().cleanup()
 
     def apply(self):
-        self.timer.stop()
+        self._stop_timer()
         prof = self.profiles()
         doc = self.obj.Document
 
@@ -600,7 +649,7 @@ class AnimatePanel(BasePanel):
         self.commit(doc, "Animate: motion profiles", change)
 
     def reject(self):
-        self.timer.stop()
+        self._stop_timer()
         return super().reject()
 
 
