@@ -29,7 +29,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="403"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="415"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -39,7 +39,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="303"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="315"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -54,7 +54,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="171"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="174"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -64,7 +64,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="42"/>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="45"/>
         <source>Cancel</source>
         <translation type="unfinished"></translation>
     </message>
@@ -111,8 +111,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="135"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="564"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="613"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -127,7 +127,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="556"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="605"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -223,17 +223,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="160"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="111"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="114"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="64"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="67"/>
         <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -253,7 +253,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="170"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="173"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
@@ -295,7 +295,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="518"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="562"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -305,18 +305,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="109"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="522"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="567"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="161"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="164"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="139"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="142"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
@@ -351,7 +351,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="169"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="172"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -366,12 +366,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="168"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="171"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="157"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="160"/>
         <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -391,12 +391,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="43"/>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="46"/>
         <source>Stop this job; nothing it would have written is kept</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="154"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="157"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -442,17 +442,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="190"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="193"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="328"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="334"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="346"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="352"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -478,28 +478,33 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="168"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="365"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="371"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="303"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="306"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="312"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="360"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="322"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="309"/>
+        <source>export: the prediction is still running: wait or cancel it</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="366"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="328"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="451"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="463"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -526,7 +531,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="127"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="130"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -546,7 +551,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="186"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="189"/>
         <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -586,24 +591,29 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="181"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="409"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="184"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="380"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="421"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="352"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="364"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="268"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="262"/>
+        <source>predict: the export is still running: wait or cancel it</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="271"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="290"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="293"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
@@ -623,17 +633,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="63"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="66"/>
         <source>servo angle range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="392"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="404"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="413"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="425"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
@@ -643,22 +653,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="125"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="128"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="566"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="615"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="131"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="134"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="439"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="451"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -668,7 +678,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="149"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
@@ -693,17 +703,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="355"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="361"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="352"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="358"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="304"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="316"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -718,7 +728,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="552"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -1,6 +1,7 @@
 """Long work off the GUI thread, with a progress bar, a Cancel button and a summary in the panel.
 
-Two kinds of job share one :class:`JobBox` widget:
+Two kinds of job share one :class:`JobBox` widget, one job at a time: while one runs, ``start`` of another job
+of the same box returns False (the panel says why); the bar and Cancel belong to the running job.
 
 * :class:`ThreadJob` runs pure-Python / numpy work (the dynamics simulation, the sleeve prediction) in a
   daemon thread. The work gets a ``report(fraction, text)`` callable; once Cancel is pressed,
@@ -30,10 +31,12 @@ class Cancelled(Exception):
 
 
 class JobBox(QtGui.QWidget):
-    """Progress bar + status text + Cancel; hidden while no job runs. ``summary`` keeps the last result."""
+    """Progress bar + status text + Cancel; hidden while no job runs. ``summary`` keeps the last result.
+    ``job`` is the job that last started on it; one runs at a time (:meth:`busy_for`)."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
+        self.job = None
         lay = QtGui.QVBoxLayout(self)
         lay.setContentsMargins(0, 0, 0, 0)
         row = QtGui.QHBoxLayout()
@@ -52,6 +55,11 @@ class JobBox(QtGui.QWidget):
         self.summary.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
         lay.addWidget(self.summary)
         self.set_running(False)
+
+    def busy_for(self, job):
+        """True while another job than ``job`` runs on this box (``job`` may not start then)."""
+        other = self.job
+        return other is not None and other is not job and other.running
 
     def set_running(self, on):
         self.progress.setVisible(on)
@@ -83,6 +91,7 @@ class _Job:
         self.running, self.cancelled, self.outcome = True, False, None
         self.started = time.perf_counter()
         if self.box is not None:
+            self.box.job = self
             self.box.summary.setText("")
             self.box.set_progress(0.0, text)
             self.box.set_running(True)
@@ -90,7 +99,7 @@ class _Job:
     def _end(self, outcome, payload=None):
         self.running = False
         self.outcome = outcome
-        if self.box is not None:
+        if self.box is not None and not self.box.busy_for(self):
             self.box.set_running(False)
         if outcome == "done":
             self.on_done(payload)
@@ -124,7 +133,7 @@ class ThreadJob(_Job):
         self._state = None
 
     def start(self, work, text="working ..."):
-        if self.running:
+        if self.running or (self.box is not None and self.box.busy_for(self)):
             return False
         state = {"fraction": 0.0, "text": text, "done": False, "result": None, "error": None}
         self._state = state
@@ -151,7 +160,7 @@ class ThreadJob(_Job):
         return True
 
     def cancel(self):
-        if not self.running:
+        if not self.running:      # the box's Cancel is connected to every job of the box: only the running one acts
             return
         self.cancelled = True
         self.timer.stop()
@@ -223,7 +232,7 @@ class ProcessJob(_Job):
         self._buf = ""
 
     def start(self, module, args, text="working ..."):
-        if self.running:
+        if self.running or (self.box is not None and self.box.busy_for(self)):
             return False
         self.stdout, self.stderr_lines, self._buf = "", [], ""
         proc = QtCore.QProcess()

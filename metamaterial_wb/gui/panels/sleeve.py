@@ -258,6 +258,9 @@ class SleevePanel(BasePanel):
         from metamaterial_wb.core.sleeve.pipeline import analyse
         if self.prediction.running:
             return False
+        if self.export_job.running:         # one job at a time: the progress bar and Cancel are the export's
+            self.show_error(translate("Metamaterial", "predict: the export is still running: wait or cancel it"))
+            return False
         try:
             spec = self.spec()
         except MetamaterialError as exc:
@@ -301,6 +304,9 @@ class SleevePanel(BasePanel):
 
         if self.export_job.running:
             self.show_error(translate("Metamaterial", "export: an export is running (Cancel it first)"))
+            return False
+        if self.prediction.running:         # one job at a time: the progress bar and Cancel are the prediction's
+            self.show_error(translate("Metamaterial", "export: the prediction is still running: wait or cancel it"))
             return False
         if not folder:
             self.show_error(translate("Metamaterial", "export: choose a folder"))
