@@ -28,6 +28,7 @@ import re
 import shutil
 import signal
 import sys
+import time
 import threading
 from contextlib import contextmanager
 
@@ -145,6 +146,11 @@ class PoolMapper:
             self._procs = list((pool._processes or {}).values())     # the pool's processes, for terminate()
             return [f.result() for f in futs]
         except BrokenProcessPool:
+            # the executor's own thread reaps the dead process (and stops the rest) while we read its exit code:
+            # wait for every code (at most a second) so that the cause is the real one, not a guess
+            deadline = time.monotonic() + 1.0
+            while any(p.exitcode is None for p in self._procs) and time.monotonic() < deadline:
+                time.sleep(0.02)
             causes = sorted({t for t in (_exit_text(p.exitcode) for p in self._procs) if t and "SIGTERM" not in t})
             self.terminate()
             cause = ", ".join(causes) if causes else "killed, or out of memory"
