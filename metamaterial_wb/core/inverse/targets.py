@@ -24,6 +24,7 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number
 from metamaterial_wb.core.inverse.surface import Surface, TargetError, check_mesh, load_mesh
 from metamaterial_wb.core.scene import parse_joint
+from metamaterial_wb.core.scene.names import _short
 
 FORMAT = "metamaterial-target"
 COORD_MAX_MM = 10 ** 6          # target coordinates (positions, surface vertices) within [-1e6, 1e6] mm (1 km)
@@ -110,11 +111,6 @@ def _point(p, where):
     if not isinstance(p, (list, tuple)) or len(p) != 3:
         raise TargetError(where, f"expected [x, y, z] in mm, got {_short(p)}")
     return [_num(x, f"{where}[{k}]", -COORD_MAX_MM, COORD_MAX_MM, "mm") for k, x in enumerate(p)]
-
-
-def _short(v, limit=80):
-    text = repr(v)
-    return text if len(text) <= limit else text[:limit] + " ..."
 
 
 def _node_index(scene, name, where):

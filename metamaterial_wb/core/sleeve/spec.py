@@ -5,6 +5,7 @@ See ``docs/scene-format.md`` section "Sleeve spec" for every field.
 import math
 
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number
+from metamaterial_wb.core.scene.names import _short
 from metamaterial_wb.core.sleeve.cell import CellGeometry
 from metamaterial_wb.core.sleeve.model import pillar_tip_coefficient
 
@@ -275,9 +276,8 @@ def _section(data, key):
     if v is True:
         return {}
     if not isinstance(v, dict):
-        r = repr(v)
-        raise SceneError(key, f"{r if len(r) <= 60 else r[:57] + '...'}; expected true, false or an object (an "
-                              "empty object: every default)")
+        raise SceneError(key, f"{_short(v, 60)}; expected true, false or an object (an empty object: every "
+                              "default)")
     return v
 
 
