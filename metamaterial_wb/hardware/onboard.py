@@ -130,16 +130,20 @@ def link_watchdog_ms(link):
     return wd
 
 
-def raise_on_trip(link, since):
-    """LinkError if the device reported a watchdog EVENT among ``link.events[since:]``."""
+def raise_on_trip(link, since, context="during on-board motion"):
+    """LinkError if the device reported an EVENT among ``link.events[since:]`` (a servo-driver fault, or the link
+    watchdog tripped ``context``); the one check of the streamed and the on-board modes. Returns ``len(link.events)``,
+    where the next check starts."""
     from .link import LinkError
     for _, e in link.events[since:]:
         if e.kind == "EVENT" and e.code == P.EV_SERVO_FAULT:
             raise LinkError(f"{link.name}: EVENT SERVO_FAULT: {P.SERVO_FAULT_HELP}")
         if e.kind == "EVENT":
-            raise LinkError(f"{link.name}: the firmware's watchdog tripped during on-board motion "
-                            f"({P.EVENT_NAMES.get(e.code, hex(e.code))} at {e.time_ms} ms): the host was silent for "
-                            f"longer than the link watchdog; the servos hold, then park; connect again to re-ARM")
+            raise LinkError(f"{link.name}: the firmware's link watchdog tripped "
+                            f"({P.EVENT_NAMES.get(e.code, hex(e.code))} at {e.time_ms} ms) {context}: the host was "
+                            f"silent for longer than the link watchdog; the servos hold, then park; connect again "
+                            f"to re-ARM")
+    return len(link.events)
 
 
 def run_oscillators(link, params, seconds, keepalive_s=None, stop=None):

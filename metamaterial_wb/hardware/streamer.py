@@ -24,7 +24,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from . import protocol as P
 from .link import LinkError
 from .mapping import check_servo_reach, runs
-from .onboard import keepalive_interval
+from .onboard import keepalive_interval, link_watchdog_ms, raise_on_trip
 
 
 @dataclass
@@ -75,7 +75,7 @@ def check_servo_driver(link, settle_s=0.05):
     link watchdog fed meanwhile."""
     if link.dry_run:
         return
-    step = keepalive_interval(getattr(link, "watchdog_ms", None))
+    step = keepalive_interval(link_watchdog_ms(link))
     end = time.perf_counter() + settle_s
     while True:
         time.sleep(max(0.0, min(step, end - time.perf_counter())))
@@ -190,16 +190,8 @@ class Streamer:
         self.stats.clamped_by_actuator.setdefault(name, {"host": 0, "firmware": 0})[by] += 1
 
     def _check_events(self, n_events):
-        """Raise LinkError on a watchdog EVENT from the device (checked between frames too, not only per frame)."""
-        for _, e in self.link.events[n_events + self._events_seen:]:
-            self._events_seen += 1
-            if e.kind == "EVENT" and e.code == P.EV_SERVO_FAULT:
-                raise LinkError(f"{self.link.name}: EVENT SERVO_FAULT: {P.SERVO_FAULT_HELP}")
-            if e.kind == "EVENT":
-                raise LinkError(f"{self.link.name}: the firmware's link watchdog tripped "
-                                f"({P.EVENT_NAMES.get(e.code, hex(e.code))} at {e.time_ms} ms): the stream "
-                                f"stalled for longer than its watchdog; the servos hold, then park; "
-                                f"connect again to re-ARM")
+        """Raise LinkError on an EVENT from the device (checked between frames too, not only per frame)."""
+        self._events_seen = raise_on_trip(self.link, n_events + self._events_seen, "while streaming") - n_events
 
     def run(self, source, duration_s=None, t0=0.0):
         """Stream in the calling thread until ``duration_s`` (None: until stop()). Returns the stats.

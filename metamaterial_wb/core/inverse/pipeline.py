@@ -162,14 +162,12 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         else:
             sizes = hr.start_sizes()
         hinge_report = hr.report(sizes)
+    if model != "quadratic":  # (the statics read no modules: the housings move once, in the answer below)
+        values = ev.polish_values(pb, ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides),
+                                  values, model, progress=progress)
     moves = []
     out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
                                 module_check=module_check, moves=moves)
-    if model != "quadratic":
-        values = ev.polish_values(pb, out_scene, values, model, progress=progress)
-        moves = []
-        out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
-                                    module_check=module_check, moves=moves)
     loadable_scene(out_scene)                     # the written scene loads and configures as solve reads it
     for w in warnings:
         progress(f"warning: {w}")

@@ -172,6 +172,17 @@ _LINEAR_CACHE = OrderedDict()
 _LINEAR_CACHE_SIZE = 4
 
 
+def _state_warnings(scene, geo, D, R, model, planar_override, info, warnings):
+    """What both lattice models warn about a solved state: ``planar=true`` on tilted hinges, hinges past the
+    scene's rotation limits (also recorded as ``info["hinge_limit_exceeded"]``) and the range warnings."""
+    _planar_warning(geo, planar_override, warnings)
+    text, records = _limit_check(scene, geo, R, model)
+    info["hinge_limit_exceeded"] = records
+    if text:
+        warnings.append(text)
+    _range_warnings(scene, D, warnings, past_limits=bool(records))
+
+
 def _structure_key(scene, planar):
     """Everything but the actuator/constraint values: scenes with equal keys share a factorisation."""
     d = scene.to_dict()
@@ -270,12 +281,7 @@ def _linear_result(scene, lin, D, X, R, info, warnings, t0, timings, planar=None
         info["method"] += f" + plate contact ({lin.contact_info['active_set_iterations']} active-set re-solves)"
     if info.get("active_set_converged") is False:
         warnings.append("the linear model's contact active set did not settle in 100 iterations")
-    _planar_warning(lin.geo, planar, warnings)
-    text, records = _limit_check(scene, lin.geo, R, "linear")
-    info["hinge_limit_exceeded"] = records
-    if text:
-        warnings.append(text)
-    _range_warnings(scene, D, warnings, past_limits=bool(records))
+    _state_warnings(scene, lin.geo, D, R, "linear", planar, info, warnings)
     timings["total_s"] = time.perf_counter() - t0
     return ModelResult(D, X, R, warnings, timings, bool(info.get("active_set_converged", True)), info)
 
@@ -365,12 +371,7 @@ def _nonlinear(scene, global_deformation=None, **options):
                         f"{info.get('residual_force_rel', float('nan')):.2e} and constraint residual "
                         f"{info.get('residual_constraint_rad', float('nan')):.2e} rad; tolerance {model.tol:g}); "
                         "the result is the last iterate, not an equilibrium")
-    _planar_warning(base, options.get("planar"), warnings)
-    text, records = _limit_check(scene, base, R, "nonlinear")
-    info["hinge_limit_exceeded"] = records
-    if text:
-        warnings.append(text)
-    _range_warnings(scene, D, warnings, past_limits=bool(records))
+    _state_warnings(scene, base, D, R, "nonlinear", options.get("planar"), info, warnings)
     timings = {"geometry_s": t1 - t0, "solve_s": t2 - t1, "total_s": time.perf_counter() - t0}
     return ModelResult(D, X, R, warnings, timings, bool(ok), info)
 
