@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from metamaterial_wb.core.errors import MetamaterialError
 
 PROTO_MAJOR = 1
-PROTO_MINOR = 0
+PROTO_MINOR = 1
 MAX_PACKET = 64
 MAX_PAYLOAD = MAX_PACKET - 4
 MAX_ENCODED = MAX_PACKET + 2

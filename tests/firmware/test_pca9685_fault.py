@@ -32,3 +32,14 @@ def test_present_pca9685_reports_no_fault(fw_build, tmp_path):
         link.arm()
         st = link.ping()
         assert not st["servo_fault"] and st["servo_faults"] == 0, st
+
+
+def test_the_device_says_protocol_1_1_which_has_the_servo_fault_bytes(link):
+    """The PING reply's servo_fault bytes and EVENT SERVO_FAULT came with protocol 1.1 (PROTOCOL.md): the device
+    and the host both say 1.1, and the 1.1 PING reply is 16 bytes."""
+    from metamaterial_wb.hardware import protocol as P
+    info = link.handshake()
+    assert (info.proto_major, info.proto_minor) == (P.PROTO_MAJOR, P.PROTO_MINOR) == (1, 1)
+    assert len(link.request(P.PING).data) == 16
+    with open(os.path.join(REPO, "firmware", "PROTOCOL.md"), encoding="utf-8") as f:
+        assert "Version 1.1." in f.read()

@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SL_PROTO_MAJOR 1
-#define SL_PROTO_MINOR 0
+#define SL_PROTO_MINOR 1
 
 #define SL_MAX_PACKET 64                        /* decoded: type, seq, payload, crc16 */
 #define SL_MAX_PAYLOAD (SL_MAX_PACKET - 4)      /* 60 */
