@@ -68,11 +68,22 @@ def parse_sets(items):
     return out
 
 
+def check_global(g):
+    """SceneError naming ``--global`` unless ``g`` is None or a number in [-1, 1]."""
+    import math
+
+    from metamaterial_wb.core.errors import SceneError
+    if g is not None and not (math.isfinite(g) and -1.0 <= g <= 1.0):
+        raise SceneError("--global", f"{g!r}; allowed: a number in [-1, 1] (every node's D, the scene's "
+                                     "global_deformation)")
+
+
 def chosen_global(global_g, sets, scene):
     """The global deformation a command draws or solves: ``--global``'s, else none where ``--set`` gives values
     (they are solved for), else the one the scene was saved with. ``--global`` with ``--set`` is refused: two
     different states (every D = G, or the actuators' values solved for), and one would be ignored."""
     from metamaterial_wb.core.errors import SceneError
+    check_global(global_g)
     if global_g is not None and sets:
         raise SceneError("--global", f"{global_g:g} with --set {sets[0][0]}={sets[0][1]:g}: --global sets every D, "
                                      "--set solves for the actuators' values; give one of them")
@@ -122,15 +133,11 @@ def check_flags(args):
     """Refuse flags that would be ignored or contradict each other, before any work: ``--global`` out of
     [-1, 1] (named as the flag), ``--global`` with ``--option`` (closed form: no model runs),
     ``--backend`` with a lattice model (``run`` refuses ``--backend`` with a different ``--option backend``)."""
-    import math
-
     from metamaterial_wb.core.errors import SceneError
 
     g = args.global_g
     if g is not None:
-        if not (math.isfinite(g) and -1.0 <= g <= 1.0):
-            raise SceneError("--global", f"{g!r}; allowed: a number in [-1, 1] (every node's D, the scene's "
-                                         "global_deformation)")
+        check_global(g)
         if args.option:
             raise SceneError("--global", f"{g:g} with --option {args.option[0]}: --global sets every D in closed "
                                          "form and runs no model, so model options would be ignored; give one "

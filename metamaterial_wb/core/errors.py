@@ -36,7 +36,7 @@ def _bound(x):
 _ULPS = 4e-16 * 4
 
 
-def in_range(v, low=None, high=None, low_open=False, high_open=False):
+def in_range(v, low=None, high=None, low_open=False, high_open=False, exact=False):
     """Whether the finite number ``v`` lies within the bounds (None: unbounded on that side).
 
     A closed bound computed from other fields (0.6 * 18 = 10.799999999999999) admits the value people write for
@@ -50,18 +50,22 @@ def in_range(v, low=None, high=None, low_open=False, high_open=False):
         The bounds.
     low_open, high_open : bool
         Whether a bound is excluded.
+    exact : bool
+        A fixed bound (the [-1, 1] of a value): no margin.
 
     Returns
     -------
     bool
     """
-    if low is not None and (v <= low if low_open else v < low - _ULPS * abs(low)):
+    m = 0.0 if exact else _ULPS
+    if low is not None and (v <= low if low_open else v < low - m * abs(low)):
         return False
-    return high is None or not (v >= high if high_open else v > high + _ULPS * abs(high))
+    return high is None or not (v >= high if high_open else v > high + m * abs(high))
 
 
-def check_number(field, value, low=None, high=None, unit="", low_open=False, high_open=False):
-    """Return ``value`` as a float or raise a SceneError naming the field, the value and the range."""
+def check_number(field, value, low=None, high=None, unit="", low_open=False, high_open=False, exact=False):
+    """Return ``value`` as a float or raise a SceneError naming the field, the value and the range (``exact``: a
+    fixed bound, no margin for computed ones: :func:`in_range`)."""
     import math
 
     if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -69,7 +73,7 @@ def check_number(field, value, low=None, high=None, unit="", low_open=False, hig
     v = float(value)
     if not math.isfinite(v):
         raise SceneError(field, f"{value!r} is not a finite number")
-    if not in_range(v, low, high, low_open, high_open):
+    if not in_range(v, low, high, low_open, high_open, exact):
         lo = "-inf" if low is None else low
         hi = "inf" if high is None else high
         raise SceneError(field, range_message(value, lo, hi, unit, low_open or low is None,

@@ -235,6 +235,21 @@ def read_text(path, what="input"):
     return text
 
 
+class _DuplicateKey(ValueError):
+    pass
+
+
+def _unique_keys(pairs):
+    d = dict(pairs)
+    if len(d) != len(pairs):
+        seen = set()
+        for k, _ in pairs:
+            if k in seen:
+                raise _DuplicateKey(k[:60])
+            seen.add(k)
+    return d
+
+
 def parse_json(text, what=""):
     """``json.loads`` that never raises anything but a one-line SceneError (then :func:`check_tree`).
 
@@ -254,7 +269,10 @@ def parse_json(text, what=""):
     SceneError
     """
     try:
-        data = json.loads(text, parse_int=_parse_int)
+        data = json.loads(text, parse_int=_parse_int, object_pairs_hook=_unique_keys)
+    except _DuplicateKey as exc:
+        raise SceneError(what, f"{exc.args[0]!r} is given twice in one JSON object (the later value would "
+                               "silently win); give each key once") from None
     except RecursionError:
         raise SceneError(what, f"too deeply nested (more than {MAX_DEPTH} levels)") from None
     except json.JSONDecodeError as exc:

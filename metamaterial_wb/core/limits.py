@@ -11,9 +11,10 @@ import numpy as np
 
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.scene.names import MAX_TILT_DEG  # noqa: F401 - the scene format's tilt range
+from metamaterial_wb.core.scene.sections import MATERIAL_FIELDS, material_value
 
 OPENING_LIMIT_RAD = math.pi / 4       # widest pitch of the rotating-squares mechanism
-DEFAULT_HINGE_STRAIN_LIMIT = 0.5      # peak bending strain of a TPU hinge (scene.material.hinge_strain_limit)
+DEFAULT_HINGE_STRAIN_LIMIT = MATERIAL_FIELDS["hinge_strain_limit"][0]  # peak bending strain of a TPU hinge
 _TILT_EPS = 1e-12
 
 
@@ -48,13 +49,9 @@ def hinge_strain_limit(scene):
     Raises
     ------
     SceneError
-        A value outside (0, 5].
+        A value outside (0, 5] (``core.scene.sections.MATERIAL_FIELDS``).
     """
-    v = scene.material.get("hinge_strain_limit", DEFAULT_HINGE_STRAIN_LIMIT) if scene.material else \
-        DEFAULT_HINGE_STRAIN_LIMIT
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 5):
-        raise SceneError("material.hinge_strain_limit", f"{v!r} is outside the allowed range (0, 5]")
-    return float(v)
+    return material_value(scene.material, "hinge_strain_limit")
 
 
 def joint_hinge_arrays(scene):

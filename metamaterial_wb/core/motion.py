@@ -75,7 +75,7 @@ def validate_profile(p, field_name="profile"):
             if tk <= prev:
                 raise SceneError(f"{field_name}.times_s[{k}]", f"{tk} s: times must increase strictly")
             prev = tk
-            check_number(f"{field_name}.values[{k}]", vk, -1.0, 1.0)
+            check_number(f"{field_name}.values[{k}]", vk, -1.0, 1.0, exact=True)
         if "period_s" in p:
             per = check_number(f"{field_name}.period_s", p["period_s"], 0.0, None, "s", low_open=True)
             if per <= t[-1]:

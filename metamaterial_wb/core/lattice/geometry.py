@@ -27,20 +27,16 @@ import math
 
 import numpy as np
 
-from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.scene.sections import MATERIAL_FIELDS, material_value
 
-DEFAULT_MODULUS_MPA = 26.0      # TPU 95A, tensile modulus (printed, typical datasheet value)
-DEFAULT_POISSON = 0.45
+DEFAULT_MODULUS_MPA = MATERIAL_FIELDS["hinge_modulus_MPa"][0]   # TPU 95A, tensile modulus (printed, datasheet)
+DEFAULT_POISSON = MATERIAL_FIELDS["hinge_poisson_ratio"][0]
 SHEAR_COEFFICIENT = 5.0 / 6.0   # rectangular section
 
 
 def hinge_material(scene):
-    mat = scene.material or {}
-    E = check_number("material.hinge_modulus_MPa", mat.get("hinge_modulus_MPa", DEFAULT_MODULUS_MPA),
-                     0.0, 1e6, "MPa", low_open=True)
-    nu = check_number("material.hinge_poisson_ratio", mat.get("hinge_poisson_ratio", DEFAULT_POISSON),
-                      0.0, 0.5, high_open=True)
-    return E, nu
+    return material_value(scene.material, "hinge_modulus_MPa"), material_value(scene.material, "hinge_poisson_ratio")
 
 
 def torsion_constant(w, t):

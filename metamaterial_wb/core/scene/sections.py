@@ -20,6 +20,17 @@ VALUE_RANGE = (-1.0, 1.0)            # an actuator / constraint value
 THICKNESS_MAX_MM = 100.0             # hinge thickness (0, 100]; length (0, 0.5 cell), width (0, (cell - length) / 4]
 K2_RANGE = (1e-9, 1e9)  # relative stiffness: beyond this the solve loses every digit (issue 19)
 MAX_TEXT = 100_000      # characters of name / description
+# material.<key>: (default, low, high, low_open, high_open, unit); read by core.limits (the strain limit) and
+# core.lattice.geometry (the lattice models), checked here when a scene loads
+MATERIAL_FIELDS = {"hinge_strain_limit": (0.5, 0, 5, True, False, ""),
+                   "hinge_modulus_MPa": (26.0, 0, 1_000_000, True, False, "MPa"),
+                   "hinge_poisson_ratio": (0.45, 0, 0.5, False, True, "")}
+
+
+def material_value(material, key):
+    """``material[key]`` (its default when absent) checked against :data:`MATERIAL_FIELDS`, as a float."""
+    default, lo, hi, lo_open, hi_open, unit = MATERIAL_FIELDS[key]
+    return check_number(f"material.{key}", (material or {}).get(key, default), lo, hi, unit, lo_open, hi_open)
 
 
 def _text(data, key):
@@ -172,7 +183,10 @@ def parse_fixed(s, data):
                 raise SceneError(f"{f}.name", f"{name!r} is already used by {used_names[name]}")
             used_names[name] = f
             used_joints[joint] = f"{f} ({name!r})"
-            value = check_number(f"{f}.value ({name})", item.get("value", 0.0), *VALUE_RANGE)
+            value = check_number(f"{f}.value ({name})", item.get("value", 0.0), *VALUE_RANGE, exact=True)
+            if listname == "constraints" and "profile" in item:
+                raise SceneError(f"{f}.profile ({name})", "a constraint holds its one value; only actuators move "
+                                                         "(give the profile to an actuator on this joint)")
             if listname == "actuators":
                 profile = item.get("profile")
                 if profile is not None:
@@ -219,8 +233,13 @@ def parse_joint_config(s, data):
     jc = data.get("joint_config", {})
     if not isinstance(jc, dict):
         raise SceneError("joint_config", f"expected an object keyed by joint name, got {_short(jc)}")
+    written = {}
     for name, cfg in jc.items():
         jn = s._joint(name, f"joint_config.{_short(name, 40)}")
+        if jn in written:
+            raise SceneError(f"joint_config.{jn}", f"{_short(written[jn], 40)!s} and {_short(name, 40)!s} name the "
+                                                   "same joint; give one entry per joint")
+        written[jn] = name
         if not isinstance(cfg, dict):
             raise SceneError(f"joint_config.{jn}", f"expected an object like {{\"tilt_deg\": 20}}, got {_short(cfg)}")
         for key in cfg:
@@ -240,7 +259,7 @@ def parse_rest(s, data):
     """``global_deformation``, ``material``, the objects other stages read, and unknown keys (kept)."""
     g = data.get("global_deformation")
     if g is not None:
-        s.global_deformation = check_number("global_deformation", g, -1.0, 1.0)
+        s.global_deformation = check_number("global_deformation", g, *VALUE_RANGE, exact=True)
     for key in ("material", "fabrication", "dynamics"):
         if key in data and not isinstance(data[key], dict):
             raise SceneError(key, f"expected an object, got {_short(data[key])}")
@@ -248,11 +267,16 @@ def parse_rest(s, data):
         if key in data:
             raise SceneError(key, f"belongs inside 'dynamics' (dynamics.{key}); at the top level it would be ignored")
     mat = data.get("material", {})
-    if "hinge_strain_limit" in mat:
-        check_number("material.hinge_strain_limit", mat["hinge_strain_limit"], 0.0, 10.0, low_open=True)
+    for key in mat:
+        if key not in MATERIAL_FIELDS:
+            raise SceneError(f"material.{key[:40]}", f"unknown field; allowed: {list(MATERIAL_FIELDS)}")
+        material_value(mat, key)
     s.material = mat
     s.extra = {k: v for k, v in data.items() if k not in KNOWN_KEYS}
     if "units" in data:
+        if data["units"] != "mm":
+            raise SceneError("units", f"{_short(data['units'])}; allowed: 'mm' (every length in a scene is in "
+                                      "millimetres)")
         s.extra["units"] = data["units"]
 
 
