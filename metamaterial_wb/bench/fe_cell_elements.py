@@ -39,12 +39,25 @@ def run(refinements=REFINEMENTS, increments=40, timeout_s=1800.0, progress=None)
     return out
 
 
+def _inputs(rows):
+    """``(h, values)`` of :func:`extrapolated`: h ~ 1/r, the peak and valley forces per mesh."""
+    return [1.0 / x["r"] for x in rows], [[x["pv"][1], x["pv"][3]] for x in rows]
+
+
 def extrapolated(rows):
     """Richardson (``fe_sleeve.richardson3``, h ~ 1/r) of the peak and valley forces from the last three meshes:
     ``(peak, err, valley, err)``."""
     from metamaterial_wb.core.extrapolation import richardson3
-    v, e, _ = richardson3([1.0 / x["r"] for x in rows], [[x["pv"][1], x["pv"][3]] for x in rows])
+    v, e, _ = richardson3(*_inputs(rows))
     return v[0], e[0], v[1], e[1]
+
+
+def order_note(el):
+    """``extrapolation.order_note`` of the table's extrapolations (``el``: the stored ``sleeve.cell.elements``):
+    ``""`` when every order was observed inside the range."""
+    from metamaterial_wb.core.extrapolation import order_note as note
+    return note([([f"{words}: peak", f"{words}: valley"], *_inputs(el["runs"][name]))
+                 for name, _, _, words in FORMULATIONS])
 
 
 def markdown_lines(cell):
@@ -68,6 +81,8 @@ def markdown_lines(cell):
         L.append(f"| {words} | " + " | ".join(f"{1e3 * x['pv'][1]:.3f} / {1e3 * x['pv'][3]:.4f}" for x in rows) +
                  f" | {1e3 * p:.3f} +- {1e3 * ep:.3f} / {1e3 * v:.4f} +- {1e3 * ev:.4f} |")
     L.append("")
+    note = order_note(el)
+    L += [note, ""] if note else []
     if ref:
         r4 = el["runs"]["reduced"][-1]
         (_, pk, _, va), (_, epk, _, eva) = ref["pv"], ref["err"]

@@ -46,7 +46,7 @@ def solid_extrapolated(row):
         if not all(k in row for k in names):
             return None
         v = [row[k] for k in names]
-        ext, err, order = richardson3([1.0 / int(m[1:]) for m in meshes], v)
+        ext, err, order = richardson3(_sizes(meshes), v)
         return (ext[0], err[0], order[0]), v
     curved, flat = "c3d20_{}_fe_curved", "{}_fe_flat"
     sides = {"curved": over(SOLID_MESHES, curved), "flat": over(FLAT_MESHES, flat),
@@ -59,6 +59,24 @@ def solid_extrapolated(row):
             out[side], out[f"{side}_meshes"] = got
     out["seconds"] = [row[f"c3d20_{m}_fe_curved_wall_s"] for m in SOLID_MESHES]
     return out
+
+
+def _sizes(meshes):
+    """The element sizes 1 / r of in-plane meshes named ``r<r>``."""
+    return [1.0 / int(m[1:]) for m in meshes]
+
+
+SIDE_MESHES = {"curved": SOLID_MESHES, "flat": FLAT_MESHES, "flat_coarse": SOLID_MESHES, "curved_check": CHECK_MESHES}
+SIDE_NAMES = {"curved": "curved", "flat": "flat", "flat_coarse": "flat over r = 1, 2, 3",
+              "curved_check": "curved over r = 2, 3, 4"}
+
+
+def solid_order_note(exts, sides=("curved", "flat", "flat_coarse", "curved_check")):
+    """``extrapolation.order_note`` of the ``sides`` of :func:`solid_extrapolated`'s results ``exts`` (``[(ring
+    size, result)]``, from their stored values per mesh): ``""`` when every order was observed inside the range."""
+    from metamaterial_wb.core.extrapolation import order_note
+    return order_note([(f"{n} cells, {SIDE_NAMES[side]}", _sizes(SIDE_MESHES[side]), x[f"{side}_meshes"])
+                       for n, x in exts if x for side in sides if x.get(side)])
 
 
 def study(fe_cells, root_extensions=(0.0, 0.63), n_el=24):
@@ -373,6 +391,8 @@ def markdown(s, extra=()):
                  f"{r['frame_s']:.2f} s / {r.get('wall_s', np.nan):.0f} s |" +
                  (f" {1e3 * r['solid_ext']['curved'][0]:.1f} +- {1e3 * r['solid_ext']['curved'][1]:.1f} | "
                   f"{r[f'frame_stress_{e1:g}'] / r['solid_ext']['curved'][0]:.2f} |" if ext else ""))
+    note = solid_order_note([(n, r["solid_ext"]) for n, r in cells.items()], ("curved",)) if ext else ""
+    L += ["", note] if note else []
     sm = summary(s, e1)
     L += ["", "Variants: " + "; ".join(f"{k}: {label}" for k, _, label in VARIANTS) + ".", "",
           f"**Reading.** The frame gives the solid's curvature knock-down where the beam model's springs do not: "

@@ -226,7 +226,7 @@ def eight_cell_meshes(c, pre="c3d20_bias0.001_"):
     the four-cell ring's on the same meshes (the all-C3D20 family), and the eight-cell peak extrapolated with the
     four-cell family's observed order (``richardson3`` over its r = 1, 2, 3): ``None`` until both runs are stored
     with a peak."""
-    from metamaterial_wb.core.extrapolation import richardson3
+    from metamaterial_wb.core.extrapolation import order_note, richardson3
     from metamaterial_wb.bench.fe_ring3d_corner import family_convergence
     row = c.get("cells", {}).get("8", {})
     p8 = [row.get(f"{pre}{m}_fe_curved_p1") for m in ("r1", "r2")]
@@ -236,6 +236,7 @@ def eight_cell_meshes(c, pre="c3d20_bias0.001_"):
     p4 = [F for m, (_, F) in zip(pc["meshes"], pc["p1"]) if m in ("r1", "r2", "r3")]
     h = [1.0, 0.5, 1.0 / 3.0]                 # element sizes of r = 1, 2, 3
     _, _, order = richardson3(h, p4)
+    figures = [("the four-cell family's order", h, p4)]
     p = order[0]
     ext = p8[1] + (p8[1] - p8[0]) * 0.5 ** p / (1.0 - 0.5 ** p)
     out = {"r1": p8[0], "r2": p8[1], "d": [row.get(f"{pre}{m}_fe_curved_p1_d") for m in ("r1", "r2")],
@@ -245,9 +246,11 @@ def eight_cell_meshes(c, pre="c3d20_bias0.001_"):
     r3 = row.get(f"{pre}r3_fe_curved_p1")
     if r3:                    # a third mesh: the eight-cell ring's own observed order (--cells-p1-mesh r3)
         e3, err3, p3 = richardson3(h, p8 + [r3])
+        figures.append(("the eight-cell ring's own order", h, p8 + [r3]))
         out.update({"r3": r3, "r3_d": row.get(f"{pre}r3_fe_curved_p1_d"), "r3_seconds": row.get(f"{pre}r3_p1_wall_s"),
                     "fall3": r3 / p8[1] - 1.0, "four_fall3": p4[2] / p4[1] - 1.0, "own_order": p3[0],
                     "own_ext": (e3[0], err3[0])})
+    out["note"] = order_note(figures)
     return out
 
 
@@ -268,7 +271,7 @@ def eight_cell_words(m, frame_p1):
              f"%): the eight-cell ring's own observed order is {m['own_order']:.2f}, its peak extrapolates to "
              f"{1e3 * m['own_ext'][0]:.2f} +- {1e3 * m['own_ext'][1]:.2f}e-3, and the frame's leaning peak is "
              f"{100 * (frame_p1 / m['own_ext'][0] - 1):+.0f} % off it ({100 * m['own_ext'][1] / m['own_ext'][0]:.0f} "
-             "% its error). " if "r3" in m else ""))
+             "% its error). " if "r3" in m else "") + (m["note"] + " " if m.get("note") else ""))
 
 
 def markdown(pl, c, p1_off=None, meshes=None):

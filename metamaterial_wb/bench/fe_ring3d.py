@@ -5,7 +5,7 @@ beam model's curves are made by ``benchmarks/bench_sleeve_ring3d.py``; everythin
 import numpy as np
 
 from metamaterial_wb.bench import fe_ring3d_corner as corner
-from metamaterial_wb.bench.fe_ring3d_paths import (MESH_NAMES, MESHES, NUMBER, _kinds, cell_geometry,
+from metamaterial_wb.bench.fe_ring3d_paths import (MESH_NAMES, MESHES, NUMBER, _kinds, cell_geometry, order_note,
                                                    path_convergence, snap, stop_reason, tilt_facts)
 
 MARK_BEGIN, MARK_END = "<!-- fe-ring3d:begin -->", "<!-- fe-ring3d:end -->"
@@ -91,6 +91,8 @@ def path_markdown(c):
                  ("-" if ext is None else f"{1e3 * ext:.3f} +- {1e3 * err:.3f}" + (" (2 meshes)" if n == 2 else ""))
                  + eig + " |")
     L.append("")
+    note = order_note(pc, ("rows", "p1"))             # the table and the P1 line below
+    L += [note, ""] if note else []
     other = []
     for k, pr in sorted(st.items(), key=lambda kv: (kv[0].split("@")[0], kv[1]["d"])):
         if k.startswith("r2@") or pr.get("n_cells", 4) != 4:        # other ring sizes: cells_markdown
@@ -198,7 +200,7 @@ def _span(v, fmt="+.0f"):
 def cells_meshes_markdown(rows):
     """The ring-size stiffness on three meshes and extrapolated (``--cells-meshes``,
     ``fe_frame3d.solid_extrapolated``), with the beam model against the extrapolated solid; "" until stored."""
-    from metamaterial_wb.bench.fe_frame3d import solid_extrapolated
+    from metamaterial_wb.bench.fe_frame3d import solid_extrapolated, solid_order_note
     ext = [(n, v, solid_extrapolated(v)) for n, v in rows]
     if not ext or not all(x for _, _, x in ext):
         return ""
@@ -211,6 +213,7 @@ def cells_meshes_markdown(rows):
     flat = [100 * (v["fe_flat"] / x["flat"][0] - 1) for _, v, x in ext]
     knock = max(abs(x["curved"][0] / x["flat"][0] - v["fe_curved"] / v["fe_flat"]) for _, v, x in ext)
     secs = [t for _, _, x in ext for t in x["seconds"]]
+    note = solid_order_note([(n, x) for n, _, x in ext])
     early = [100 * (x["flat_coarse"][0] / x["flat"][0] - 1) for _, _, x in ext]
     early_order = [x["flat_coarse"][2] for _, _, x in ext]
     return ("The same stiffness on three meshes and extrapolated (`--cells-meshes r1,r2,r3`: in-plane r = 1, 2, 3, "
@@ -228,7 +231,7 @@ def cells_meshes_markdown(rows):
             f". The table's coarse curved mesh is {_span(coarse)} % off the extrapolated "
             f"solid, its flat one {_span(flat)} %, so the "
             f"knock-down curved / flat moves by at most {knock:.2f}; the ratios against the extrapolated solid, with their error, are the ones the `sleeve` "
-            "command quotes (`core/sleeve/accuracy.py`)." + check_note(ext))
+            "command quotes (`core/sleeve/accuracy.py`)." + check_note(ext) + (" " + note if note else ""))
 
 
 def check_note(ext):

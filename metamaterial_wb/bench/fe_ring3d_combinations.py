@@ -242,17 +242,34 @@ def extrapolated(meshes):
     differences from type 0 (per cent), each ``(value, error)``; ``None`` until all three meshes are stored with
     both thresholds."""
     from metamaterial_wb.core.extrapolation import richardson3
+    figs = extrapolation_figures(meshes)
+    if figs is None:
+        return None
+    out = {}
+    for key, (_, h, values) in zip((0, 1, "differences"), figs):
+        ext, err, _ = richardson3(h, values)
+        out[key] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
+    return out
+
+
+def extrapolation_figures(meshes, label=""):
+    """What :func:`extrapolated` extrapolates, as ``extrapolation.order_note`` takes it: ``(names, h, values)`` for
+    type 0's and type 1's P1 and valley and their differences (names prefixed by ``label``), ``None`` until all
+    three meshes are stored with both thresholds."""
     names = ("r1", "r2", "r3")
     if not all(solid_rule(meshes.get(m)) for m in names):
         return None
     h = [1.0 / MESH_R[m] for m in names]
-    out = {}
-    for k in range(2):
-        ext, err, _ = richardson3(h, [[meshes[m][k]["P1"], meshes[m][k]["valley"]] for m in names])
-        out[k] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
-    ext, err, _ = richardson3(h, [list(differences(meshes[m])) for m in names])
-    out["differences"] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
-    return out
+    return [([f"{label}type {k}'s P1", f"{label}type {k}'s valley"], h,
+             [[meshes[m][k]["P1"], meshes[m][k]["valley"]] for m in names]) for k in range(2)] + \
+        [([f"{label}type 1 against type 0, P1", f"{label}type 1 against type 0, valley"], h,
+          [list(differences(meshes[m])) for m in names])]
+
+
+def order_note(figures):
+    """``extrapolation.order_note`` of ``figures`` (:func:`extrapolation_figures` entries; ``None`` ones left out)."""
+    from metamaterial_wb.core.extrapolation import order_note as note
+    return note([f for f in figures if f is not None])
 
 
 def extrapolated_rule(ex):
@@ -311,18 +328,33 @@ def standing_extrapolated(runs, uniform):
     differences, per cent) and, under ``"mixed"``, the ring's own first peak and valley (``cycle_thresholds``),
     each ``(value, error)``; ``None`` until all three meshes have both runs."""
     from metamaterial_wb.core.extrapolation import richardson3
+    figs = standing_figures(runs, uniform)
+    if figs is None:
+        return None
+    key = runs["r1"]["cycle"]["combination"]
+    out = extrapolated({m: standing(key, runs[m]["raised"], uniform[m]) for m in ("r1", "r2", "r3")})
+    _, h, values = figs[-1]
+    ext, err, _ = richardson3(h, values)
+    out["mixed"] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
+    return out
+
+
+def standing_figures(runs, uniform):
+    """What :func:`standing_extrapolated` extrapolates, as ``extrapolation.order_note`` takes it
+    (:func:`extrapolation_figures` of the types as they stand, then the mixed ring's own P1 and valley); ``None``
+    until all three meshes have both runs."""
     names = ("r1", "r2", "r3")
     if not all(runs.get(m, {}).get("cycle") and runs[m].get("raised") and all(uniform.get(m) or [None])
                for m in names):
         return None
     key = runs["r1"]["cycle"]["combination"]
-    out = extrapolated({m: standing(key, runs[m]["raised"], uniform[m]) for m in names})
-    if out is None:
+    figs = extrapolation_figures({m: standing(key, runs[m]["raised"], uniform[m]) for m in names},
+                                 "as they stand, ")
+    if figs is None:
         return None
     own = [cycle_thresholds(runs[m]["cycle"]) for m in names]
-    ext, err, _ = richardson3([1.0 / MESH_R[m] for m in names], [[o["P1"], o["valley"]] for o in own])
-    out["mixed"] = {"P1": (ext[0], err[0]), "valley": (ext[1], err[1])}
-    return out
+    return figs + [(["mixed ring's own P1", "mixed ring's own valley"], [1.0 / MESH_R[m] for m in names],
+                    [[o["P1"], o["valley"]] for o in own])]
 
 
 def standing_sentence(key, sx, orders):
@@ -449,7 +481,8 @@ def cycles_markdown(cycles, solid, frame=None):
         sx = standing_extrapolated(cycles[key], solid.get(key, {}))
         orders = [static_orders.get((key, m)) for m in ("r1", "r2", "r3")] if sx else []
         if sx and all(orders):
-            L += ["", standing_sentence(key, sx, [order_text(o) for o in orders])]
+            note = order_note(standing_figures(cycles[key], solid.get(key, {})))
+            L += ["", standing_sentence(key, sx, [order_text(o) for o in orders]) + (" " + note if note else "")]
     L += ["", f"![the seed's mixed rings on the solid: force and each pillar's rise beyond h]({IMG_CYCLES})"]
     return "\n".join(L + [""]) if rows else ""
 
@@ -489,13 +522,14 @@ def solid_markdown(solid, mixed, stacked=False):
             "a stacked solid is not run (its snaps under displacement control are dynamic):"), "",
          "| combination | model, mesh | type 0: P1, valley | type 1: P1, valley | type 1 against type 0: P1, "
          "valley | rule (stacked order) | seed | time |", "|---|---|---|---|---|---|---|---|"]
-    verdict, frame_notes = [], []
+    verdict, frame_notes, figures = [], [], []
     for key in sorted(solid):
         seed = seed_order(key)
         rows = [("solid, r = " + mesh[1:], solid[key][mesh]) for mesh in sorted(solid[key])]
         ex = extrapolated(solid[key])
         if ex:
             rows.append(("solid, extrapolated", [ex[0], ex[1]]))
+            figures += extrapolation_figures(solid[key], f"combination {key}, ")
         u = mixed.get(key, {}).get("uniform")
         if u:
             rows.append(("frame, 12 elements (plane stress, calibrated, free plate)",
@@ -537,6 +571,8 @@ def solid_markdown(solid, mixed, stacked=False):
                                + f"; the frame's types differ by {fd[0]:+.1f} % (P1) and {fd[1]:+.1f} % (valley), "
                                f"the solid's by {sd_['P1'][0]:+.2f} +- {sd_['P1'][1]:.2f} % and "
                                f"{sd_['valley'][0]:+.2f} +- {sd_['valley'][1]:.2f} %.")
+    note = order_note(figures)
+    L += ["", note] if note else []
     L += ["", "; ".join(verdict) + "." if verdict else "", ""]
     if frame_notes:
         L += [" ".join(frame_notes), ""]

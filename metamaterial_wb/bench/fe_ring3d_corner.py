@@ -101,6 +101,8 @@ def family_markdown(c, family=FAMILY):
                  ("-" if ext is None else f"{1e3 * ext:.3f} +- {1e3 * err:.3f}" + (" (2 meshes)" if n == 2 else ""))
                  + " | " + ("-" if ext is None or not fine else f"{100 * err / abs(ext):.1f} %") + " |")
     L.append("")
+    note = base.order_note(pc)
+    L += [note, ""] if note else []
     ex = "; ".join(f"{base.MESH_NAMES[m]}: {base._kinds(c['p1_' + m + family]['extrema'])} to d/L "
                    f"{c['p1_' + m + family]['info']['d_reached']:.3f}" for m in pc["meshes"])
     p1 = "; ".join(f"{base.MESH_NAMES[m]} {1e3 * q[1]:.3f} at d/L {q[0]:.3f}" for m, q in zip(pc["meshes"], pc["p1"]))

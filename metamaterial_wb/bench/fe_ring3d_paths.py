@@ -93,12 +93,14 @@ def _path(c, mesh, suffix=""):
 def path_convergence(c, suffix="", points=PATH_D):
     """Force along the path on r = 1, 2, 3 (``p1_<mesh><suffix>``) at fixed d/L (``points`` and the r = 2 probes),
     extrapolated in h ~ 1/r, and P1 and the valley after it on each mesh: ``{"rows": [(d, [F per mesh or None],
-    ext, err, n_meshes)], "p1": [(d, F)], "p1_ext": (d, F, err F, err d), "valley", "valley_ext"}``."""
+    ext, err, n_meshes)], "p1": [(d, F)], "p1_ext": (d, F, err F, err d), "valley", "valley_ext", "figures"}``;
+    ``"figures"``: the extrapolations' inputs as ``extrapolation.order_note`` takes them, ``{"rows": [...],
+    "p1": [...], "valley": [...]}`` (:func:`order_note` words them)."""
     from metamaterial_wb.core.extrapolation import richardson3
     from metamaterial_wb.fe.sleeve2d import peak_valley
     meshes = [m for m in ("r1", "r2", "r3", "r4") if _path(c, m, suffix) is not None]
     paths = {m: _path(c, m, suffix) for m in meshes}
-    rows = []
+    rows, figures = [], {"rows": [], "p1": [], "valley": []}
     probes = set() if suffix else {round(v["d"], 3) for k, v in c.get("stability", {}).items()
                                    if k.startswith("r2@") and v.get("eigenvalues")}
     for d in sorted(set(points) | probes):
@@ -106,18 +108,29 @@ def path_convergence(c, suffix="", points=PATH_D):
                 for m in meshes]
         have = [(MESHES[m][0], v) for m, v in zip(meshes, vals) if v is not None]
         if len(have) >= 2:
-            ext, err, _ = richardson3([1.0 / r for r, _ in have], [v for _, v in have])
+            h, v = [1.0 / r for r, _ in have], [v for _, v in have]
+            ext, err, _ = richardson3(h, v)
             rows.append((d, vals, ext[0], err[0], len(have)))
+            figures["rows"].append((f"d/L {d:.2f}", h, v))
         else:
             rows.append((d, vals, None, None, len(have)))
     pv = [peak_valley(paths[m]["d"], paths[m]["F"]) for m in meshes]
 
-    def extrapolated(qs):
+    def extrapolated(qs, name):
         ok = [(MESHES[m][0], q) for m, q in zip(meshes, qs) if np.isfinite(q[1])]
         if len(ok) < 2:
             return None
-        ext, err, _ = richardson3([1.0 / r for r, _ in ok], [[q[0], q[1]] for _, q in ok])
+        h, v = [1.0 / r for r, _ in ok], [[q[0], q[1]] for _, q in ok]
+        ext, err, _ = richardson3(h, v)
+        figures[name.lower()].append(([f"{name} at d/L", name], h, v))
         return (ext[0], ext[1], err[1], err[0])
     p1, valley = [q[:2] for q in pv], [q[2:] for q in pv]
-    return {"meshes": meshes, "rows": rows, "p1": p1, "p1_ext": extrapolated(p1), "valley": valley,
-            "valley_ext": extrapolated(valley)}
+    return {"meshes": meshes, "rows": rows, "p1": p1, "p1_ext": extrapolated(p1, "P1"), "valley": valley,
+            "valley_ext": extrapolated(valley, "valley"), "figures": figures}
+
+
+def order_note(pc, parts=("rows", "p1", "valley")):
+    """``extrapolation.order_note`` of the extrapolations a text shows from :func:`path_convergence`'s ``pc``
+    (``parts`` of its ``"figures"``): ``""`` when every order was observed inside the range."""
+    from metamaterial_wb.core.extrapolation import order_note as note
+    return note([f for part in parts for f in pc["figures"][part]])

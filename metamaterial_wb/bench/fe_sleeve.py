@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from metamaterial_wb.core.extrapolation import richardson3
+from metamaterial_wb.core.extrapolation import order_note, richardson3
 from metamaterial_wb.fe import sleeve2d
 
 CELL_REFINEMENTS = (1, 2, 3)          # elements through the beam's thickness (nested counts, h ~ 1 / r)
@@ -28,6 +28,31 @@ def _geom():
 def _extrapolate(refinements, values):
     """Richardson in the element size ``h ~ 1 / r``: ``(values, error estimates, orders)`` per column."""
     return richardson3([1.0 / r for r in refinements], values)
+
+
+def figures(rows, size, width, model, names):
+    """One :func:`order_note` entry of what :func:`summarise` extrapolates: the first ``width`` figures of each
+    row's ``pv`` at ``h ~ 1 / row[size]``, named ``"<model>, extrapolated: <name>"`` (a ``None`` name: a figure
+    the table does not show)."""
+    return ([None if n is None else f"{model}, extrapolated: {n}" for n in names[:width]],
+            [1.0 / r[size] for r in rows], [r["pv"][:width] for r in rows])
+
+
+PV_NAMES = ("peak at d/L", "peak", "valley at d/L", "valley")
+P1_NAMES = ("P1 at d/L", "P1")
+
+
+def order_notes(study):
+    """``{"cell": note, "ring": note}``: :func:`order_note` of each table's extrapolations (``""`` when every order
+    was observed inside the range)."""
+    c, r_ = study["cell"], study["ring"]
+    ring = [figures(r_["fe"], "r", 2, "CalculiX", P1_NAMES)]
+    for curv in (False, True):
+        ring.append(figures([m for m in r_["model"] if m["curvature"] == curv], "n_el", 2,
+                            f"beam model, {'curved' if curv else 'flat'}", P1_NAMES))
+    return {"cell": order_note([figures(c["fe"], "r", 4, "CalculiX", PV_NAMES),
+                                figures(c["model"], "n_el", 4, "beam model", PV_NAMES)]),
+            "ring": order_note(ring)}
 
 
 def model_cell(geom, n_el, d_max=0.7, steps=140):
@@ -105,6 +130,7 @@ def _x3(v):
 def markdown(study, img=None):
     """The section between the markers in docs/sleeves.md."""
     c, r_ = study["cell"], study["ring"]
+    notes = order_notes(study)
     L = [MARK_BEGIN, "", "### CalculiX check of the cell and the four-cell ring (issue 18)", ""]
     L.append("Our beam model against a solid 2-D model in CalculiX (`metamaterial_wb/fe/sleeve2d.py`, run by "
              "`python3 -m metamaterial_wb bench fidelity --fe --fe-parts sleeve`): the printed outline of the seed's "
@@ -140,6 +166,7 @@ def markdown(study, img=None):
         L.append(f"| beam model, extrapolated | | | {_x3(v[1])} +- {_x3(e[1])} | {v[0]:.3f} | {_x3(v[3])} +- {_x3(e[3])} | "
                  f"{v[2]:.3f} | |")
     L.append("")
+    L += [notes["cell"], ""] if notes["cell"] else []
     from metamaterial_wb.bench.fe_cell_elements import markdown_lines
     L += markdown_lines(c)
     L.append("**Four-cell ring, first peak** (the same cells unrolled side by side and closed on themselves, the top "
@@ -168,6 +195,7 @@ def markdown(study, img=None):
             L.append(f"| beam model, {'curved' if curv else 'flat'}, extrapolated | | | {_x3(v[1])} +- {_x3(e[1])} | "
                      f"{v[0]:.3f} | |")
     L.append("")
+    L += [notes["ring"], ""] if notes["ring"] else []
     L += comparison_lines(study)
     if img:
         L.append(f"![FE against the beam model]({img})")

@@ -139,6 +139,24 @@ def _rel(m, em, f, ef):
     return r, abs(m / f) * np.hypot(em / abs(m), ef / abs(f))
 
 
+def fe_order_note(cal):
+    """``extrapolation.order_note`` of the CalculiX column of :func:`markdown`'s table, from the stored meshes
+    (``fe_cell_by_mesh``, ``fe_ring_by_mesh``: what ``fe_sleeve.summarise`` extrapolated): ``""`` when every order
+    was observed inside the range."""
+    from metamaterial_wb.core.extrapolation import order_note
+    figs = []
+    for key, names in (("fe_cell_by_mesh", ("cell peak at d/L", "cell peak (fitted)", "cell valley at d/L",
+                                            "cell valley")),
+                       ("fe_ring_by_mesh", ("four-cell ring P1 at d/L", "four-cell ring P1 (flat)"))):
+        by = cal.get(key) or {}
+        if key == "fe_ring_by_mesh" and not cal.get("fe_ring"):
+            continue
+        rs = sorted(by, key=int)
+        figs.append(([f"CalculiX, extrapolated: {n}" for n in names], [1.0 / int(r) for r in rs],
+                     [by[r][:len(names)] for r in rs]))
+    return order_note(figs)
+
+
 def markdown(cal, img=None):
     e, (elo, ehi) = cal["root_extension"], cal["root_extension_range"]
     fc, fr = cal["fe_cell"], cal["fe_ring"]
@@ -175,6 +193,8 @@ def markdown(cal, img=None):
             cells.append(f"{mc[kv][j] - fv[j]:+.3f} +- {np.hypot(mc[ke][j], fe[j]):.3f}")
         L.append(f"| {name} | " + " | ".join(cells) + " |")
     L.append("")
+    note = fe_order_note(cal)
+    L += [note, ""] if note else []
     if "trace" in cal:
         L += trace_lines(cal)
     if img:
@@ -325,7 +345,8 @@ def fidelity_markdown(sleeve, calibration=None, curved=None):
     against CalculiX (``sleeve``: the FE sleeve study, ``calibration``: :func:`run`'s result or None, ``curved``:
     the curved 3-D FE ring's summary from ``benchmarks/bench_sleeve_ring3d.py`` or None)."""
     from metamaterial_wb.bench.fe_cell_elements import reference_sentence
-    from metamaterial_wb.bench.fe_sleeve import summarise
+    from metamaterial_wb.bench.fe_sleeve import figures, summarise
+    from metamaterial_wb.core.extrapolation import order_note
     sl = summarise(sleeve)
     c, r_ = sl["cell"], sl["ring"]
     L = ["### Sleeve cell and ring: the beam model against CalculiX\n",
@@ -367,6 +388,14 @@ def fidelity_markdown(sleeve, calibration=None, curved=None):
             row += (f" {pm(mcv, mce)} | {100 * rc:+.1f} % +- {100 * uc:.1f} %"
                     f"{' (fitted)' if name == 'unit cell, peak' else ''} |")
         L.append(row)
+    pv = (None, "peak", None, "valley")                 # the figures the table shows
+    note = order_note([figures(c["fe"], "r", 4, "CalculiX, unit cell", pv),
+                       figures(c["model"], "n_el", 4, "beam model, unit cell", pv)] +
+                      ([figures(r_["fe"], "r", 2, "CalculiX, four-cell ring (flat)", (None, "P1")),
+                        figures([m for m in r_["model"] if not m["curvature"]], "n_el", 2,
+                                "beam model, four-cell ring (flat)", (None, "P1"))]
+                       if "fe_extrapolated" in r_ and "model_extrapolated_flat" in r_ else []))
+    L += ["", note] if note else []
     ratio_fe = r_["fe_extrapolated"]["pv"][1] / fe[1] if "fe_extrapolated" in r_ else float("nan")
     ratio_mo = r_["model_extrapolated_flat"]["pv"][1] / mo[1] if "model_extrapolated_flat" in r_ else float("nan")
     rp, _ = _rel(mo[1], emo[1], fe[1], efe[1])

@@ -15,7 +15,8 @@ ASME J. Fluids Eng. 130 (2008) 078001, eq. 1-4, without the safety factor.
 The sizes must be the meshes' own: :func:`representative_size` (also theirs: ``(dx dy dz)^(1/3)``, the cube root
 of the mean brick volume, when the three directions are refined by different ratios). An observed order outside
 ``p_range`` is clipped to it and flagged (``clipped``); one that cannot be observed (two meshes, or differences that
-change sign: oscillating convergence) is taken as 2 and flagged (``assumed``): nothing is clipped silently.
+change sign: oscillating convergence) is taken as 2 and flagged (``assumed``): nothing is clipped silently. Every
+sleeve FE table says so under it in :func:`order_note`'s words (the hinge and patch tables per figure).
 """
 import math
 
@@ -133,6 +134,45 @@ def richardson3_flags(h, values):
     return summary(_columns(h, values))
 
 
+def order_note(figures):
+    """The sentence under a table whose figures come from :func:`richardson3`: ``""`` when every order was observed
+    inside ``P_RANGE``, else ``"Richardson orders: "`` and :func:`summary`'s words over all the table's figures,
+    then the clipped and the assumed ones by name (``"Clipped: <names>. Assumed: <names>."``).
+
+    Parameters
+    ----------
+    figures : iterable of ``(names, h, values)``
+        One entry per extrapolation, ``h`` and ``values`` as :func:`richardson3` takes them (fewer than two meshes:
+        left out); ``names`` the table's name of each column (a string for a single column), ``None`` for a column
+        the table does not show (left out of the count).
+
+    Returns
+    -------
+    str
+        The sentence, ending with a full stop, or ``""``.
+    """
+    clipped, assumed, order, names = [], [], [], []
+    for cols, h, values in figures:
+        if len(h) < 2:
+            continue
+        res = _columns(h, values)
+        cols = [cols] if isinstance(cols, str) or cols is None else list(cols)
+        if len(cols) != res["order"].size:
+            raise ValueError(f"names: {len(cols)} for {res['order'].size} columns; allowed: one name per column")
+        for k, name in enumerate(cols):
+            if name is not None:
+                clipped.append(bool(res["clipped"][k]))
+                assumed.append(bool(res["assumed"][k]))
+                order.append(float(res["order"][k]))
+                names.append(name)
+    words = summary({"clipped": np.array(clipped, bool), "assumed": np.array(assumed, bool), "order": np.array(order)})
+    if not words:
+        return ""
+    which = [f"{kind}: " + "; ".join(n for n, f in zip(names, flags) if f) + "."
+             for kind, flags in (("Clipped", clipped), ("Assumed", assumed)) if any(flags)]
+    return f"Richardson orders: {words}. " + " ".join(which)
+
+
 def _columns(h, values):
     V = np.atleast_2d(np.asarray(values, float).T).T          # (meshes, columns)
     good = np.all(np.isfinite(V), axis=0)
@@ -144,4 +184,5 @@ def _columns(h, values):
     return res
 
 
-__all__ = ["extrapolate", "representative_size", "summary", "richardson3", "richardson3_flags", "P_RANGE"]
+__all__ = ["extrapolate", "representative_size", "summary", "richardson3", "richardson3_flags", "order_note",
+           "P_RANGE"]
