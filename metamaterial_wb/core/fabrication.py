@@ -400,6 +400,7 @@ def _check_fit(p, scene=None):
     left between two features is at least two nozzle widths (``p.min_wall_mm``)."""
     T = p.sheet_thickness_mm
     W = p.min_wall_mm
+    _check_anchor_depth(p, W)
     if p.sockets:
         if 2 * p.socket_lip_height_mm + W > T:
             if p.sheet_from_hinge:
@@ -419,11 +420,22 @@ def _check_fit(p, scene=None):
             raise SceneError("fabrication.socket_diameter_mm",
                              f"{p.socket_diameter_mm} mm leaves no plug after the clearance of {p.clearance_mm} mm "
                              f"per side; use more than {2 * p.clearance_mm + 0.4:.3g} mm")
-        if p.socket_inset_mm - p.counterbore_radius_mm < W:
+        inset_lo = p.counterbore_radius_mm + W
+        # the four sockets sit at the middles of the sides, d = side / 2 - inset from the centre: neighbours are
+        # d sqrt(2) apart, and their ledges must leave a wall of two nozzle widths between them
+        inset_hi = 0.5 * p.plate_side_mm_global - (2.0 * p.counterbore_radius_mm + W) / math.sqrt(2.0)
+        if not inset_lo - 1e-9 <= p.socket_inset_mm <= inset_hi + 1e-9:
+            where = ("closer than two nozzle widths to the plate edge" if p.socket_inset_mm < inset_lo else
+                     f"so close to the plate's centre that neighbouring sockets are less than {W:.3g} mm (two nozzle "
+                     f"widths) apart")
+            span = (f"allowed range [{inset_lo:.3g}, {inset_hi:.3g}] mm on a {p.plate_side_mm_global:.4g} mm node "
+                    f"plate" if inset_hi >= inset_lo else
+                    f"no inset fits on a {p.plate_side_mm_global:.4g} mm node plate (at least {inset_lo:.3g} mm "
+                    f"from the edge, at most {inset_hi:.3g} mm); use larger cells, a smaller socket_diameter_mm or "
+                    f"sockets: false")
             raise SceneError("fabrication.socket_inset_mm",
-                             f"{p.socket_inset_mm} mm puts the socket ledge (radius {p.counterbore_radius_mm:.3g} mm) "
-                             f"closer than {W:.3g} mm (two nozzle widths) to the plate edge; use at least "
-                             f"{p.counterbore_radius_mm + W:.3g} mm")
+                             f"{p.socket_inset_mm} mm puts the socket ledges (radius {p.counterbore_radius_mm:.3g} mm) "
+                             f"{where}; {span}")
     for name, h in p.hinges.items():
         f = f"joints {name}"
         s = p.plate_side_mm_global
@@ -459,15 +471,30 @@ def _check_fit(p, scene=None):
                              f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} mm "
                              f"along the plate edge but the plate (side {s:.3g} mm) has {room_edge:.3g} mm before "
                              f"the socket; reduce the width, the tilt or the anchor margin")
-        depth = p.anchor_neck_mm + p.anchor_depth_mm
-        need = depth + ((p.counterbore_radius_mm + W) if p.sockets else W)
-        if 2 * need > s:
-            raise SceneError(f"{f}.length_mm",
-                             f"hinge {name} is {h.length_mm} mm long, which leaves a plate side of {s:.3g} mm in a "
-                             f"{p.cell_size_mm} mm cell; its anchors ({depth:.3g} mm deep) and the sockets need a "
-                             f"plate side of at least {2 * need:.3g} mm, so the hinge may be at most "
-                             f"{p.cell_size_mm - 2 * need:.3g} mm long (allowed range (0, "
-                             f"{p.cell_size_mm - 2 * need:.3g}] mm)")
+
+
+def _check_anchor_depth(p, W):
+    """The anchors of two opposite hinges and a socket between them must fit across a node plate (side set by
+    ``hinge.length_mm``): name the hinge length when a shorter one fits, else the anchor depth."""
+    s = p.plate_side_mm_global
+    sock = (p.counterbore_radius_mm + W) if p.sockets else W
+    depth = p.anchor_neck_mm + p.anchor_depth_mm
+    need = depth + sock
+    if 2 * need <= s + 1e-9:
+        return
+    max_len = p.cell_size_mm - 2 * need
+    why = (f"the anchors ({p.anchor_neck_mm:.3g} mm neck + {p.anchor_depth_mm:.3g} mm deep) and "
+           f"{'the sockets' if p.sockets else 'a wall'} need a plate side of at least {2 * need:.3g} mm")
+    if max_len > 0:
+        raise SceneError("hinge.length_mm", f"{p.cell_size_mm - s:.4g} mm leaves a plate side of {s:.3g} mm in a "
+                                            f"{p.cell_size_mm} mm cell; {why}, so the hinges may be at most "
+                                            f"{max_len:.3g} mm long: allowed range (0, {max_len:.3g}] mm, or use a "
+                                            f"smaller fabrication.anchor_depth_mm")
+    depth_max = 0.5 * s - sock - p.anchor_neck_mm
+    span = (f"allowed range (0, {depth_max:.3g}] mm" if depth_max > 0 else
+            "no anchor depth fits: use larger cells or a smaller fabrication.anchor_neck_mm")
+    raise SceneError("fabrication.anchor_depth_mm", f"{p.anchor_depth_mm} mm: {why}, and the plate side is "
+                                                    f"{s:.3g} mm; {span}")
 
 
 def pin_slot_width_mm(p):

@@ -273,8 +273,9 @@ def parse_modules(scene, p):
             _untilted(spec, p, f, "the clip, built turning its second plate about the vertical, would hold "
                                   "another motion than the joint's")
             if "angle_deg" in item:
-                spec.values["angle_deg"] = check_number(f"{f}.angle_deg ({name})", item["angle_deg"], -60.0, 60.0,
-                                                        "deg")
+                lo, hi = _clip_range(scene, spec)
+                spec.values["angle_deg"] = check_number(
+                    f"{f}.angle_deg ({name})", item["angle_deg"], lo, hi, "deg")
             else:
                 spec.values["angle_deg"] = _constraint_angle(scene, spec, f)
             spec.pivot = joint_pivot(scene, p, spec.joint, range_deg=(spec.values["angle_deg"],) * 2)
@@ -355,17 +356,28 @@ def to_module_frame(spec, p, xy):
     return (ca * dx + sa * dy, -sa * dx + ca * dy)
 
 
-def _constraint_angle(scene, spec, f):
-    """Relative in-plane rotation (deg) of node B to node A held by the scene's constraint on the joint."""
+def _clip_angle(scene, spec, D):
+    """Relative in-plane rotation (deg) of node B to node A at deformation ``D`` of the clip's joint."""
     from metamaterial_wb.core.design import rotation_limits
 
+    closing, opening = rotation_limits(scene)
+    mag = closing if D >= 0 else opening
+    pa = 1.0 if (spec.a[0] + spec.a[1]) % 2 == 0 else -1.0
+    return math.degrees(-2.0 * pa * D * mag)
+
+
+def _clip_range(scene, spec):
+    """The angles (deg) a clip on ``spec``'s joint may hold: what the joint turns between D = -1 and D = +1
+    (beyond, the plates would overlap), within [-60, 60]."""
+    a, b = sorted((_clip_angle(scene, spec, -1.0), _clip_angle(scene, spec, 1.0)))
+    return max(a, -60.0), min(b, 60.0)
+
+
+def _constraint_angle(scene, spec, f):
+    """Relative in-plane rotation (deg) of node B to node A held by the scene's constraint on the joint."""
     for c in scene.constraints:
         if c.joint == spec.joint:
-            closing, opening = rotation_limits(scene)
-            D = c.value
-            mag = closing if D >= 0 else opening
-            pa = 1.0 if (spec.a[0] + spec.a[1]) % 2 == 0 else -1.0
-            return math.degrees(-2.0 * pa * D * mag)
+            return _clip_angle(scene, spec, c.value)
     raise SceneError(f"{f}.angle_deg ({spec.name})", f"give the clip's angle (degrees, range [-60, 60]); the scene "
                                                      f"has no constraint on joint {spec.joint} to take it from")
 

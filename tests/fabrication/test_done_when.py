@@ -25,7 +25,7 @@ def _setup(name):
     if name == "hub_clip":          # the two riveted module types no example set-up has
         return {"format": "metamaterial-scene", "version": 1, "name": "hub_clip", "layout": {"grid": [2, 4]},
                 "modules": [{"type": "connection_hub", "name": "hub", "node": "N0,0"},
-                            {"type": "constraint_clip", "name": "clip", "joint": "H1,2", "angle_deg": 8.0}]}
+                            {"type": "constraint_clip", "name": "clip", "joint": "H1,2", "angle_deg": -8.0}]}
     with open(os.path.join(EXAMPLES, f"{name}.json")) as f:
         return json.load(f)
 

@@ -11,7 +11,7 @@ MODULES = [
     {"type": "friction_pad", "name": "pad", "node": "N0,0", "mu": 0.9},
     {"type": "connection_hub", "name": "hub", "node": "N2,3"},
     {"type": "stable_hub", "name": "stable", "joint": "H0,2"},
-    {"type": "constraint_clip", "name": "clip", "joint": "H2,1", "angle_deg": 12.0},
+    {"type": "constraint_clip", "name": "clip", "joint": "H2,1", "angle_deg": 6.0},
 ]
 
 

@@ -87,7 +87,7 @@ def test_unknown_fabrication_key(no_geometry):
     ({"type": "servo_housing", "joint": "V0,1", "servo": "custom", "dims": {"body_length_mm": 20}},
      "modules[0].dims", ["missing"]),
     ({"type": "constraint_clip", "joint": "H0,0"}, "modules[0].angle_deg", ["no constraint"]),
-    ({"type": "constraint_clip", "joint": "H0,0", "angle_deg": 75}, "modules[0].angle_deg", ["75", "[-60.0, 60.0]"]),
+    ({"type": "constraint_clip", "joint": "H0,0", "angle_deg": 75}, "modules[0].angle_deg", ["75", "allowed range [-6.369477073, 60.0]"]),
     ({"type": "friction_pad", "node": "N0,0", "mu": -1}, "modules[0].mu", ["-1"]),
 ])
 def test_bad_modules(no_geometry, module, field, words):
@@ -123,6 +123,7 @@ def test_worm_setup_servo_on_end_node_with_pad_under_it_is_refused(no_geometry):
 
 def test_servo_too_big_for_small_cells(no_geometry):
     sc = make_scene({"chain": 2}, cell_size_mm=14, hinge={"length_mm": 1, "width_mm": 0.8, "thickness_mm": 7},
+                    fabrication={"socket_inset_mm": 2.9},   # (the default 3.5 puts a 13 mm plate's sockets together)
                     modules=[{"type": "servo_housing", "joint": "V0,1", "servo": "MG90S"}])
     with pytest.raises(SceneError) as e:
         _build(sc)

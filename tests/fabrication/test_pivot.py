@@ -158,7 +158,7 @@ def test_clip_turns_about_the_same_pivot(fc):
     from metamaterial_wb.geometry.modules import clip_pivot, parse_modules, to_module_frame
     from metamaterial_wb.core.design import effective_tilts_deg
     from metamaterial_wb.core.fabrication import fabrication_params
-    sc = make_scene({"chain": 3}, modules=[{"type": "constraint_clip", "joint": "H0,1", "angle_deg": 10.0}])
+    sc = make_scene({"chain": 3}, modules=[{"type": "constraint_clip", "joint": "H0,1", "angle_deg": -10.0}])
     p = fabrication_params(sc, effective_tilts_deg(sc))
     spec = parse_modules(sc, p)[0]
     x, y, _ = spec.pivot.point_mm
