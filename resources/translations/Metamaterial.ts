@@ -112,7 +112,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="138"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="613"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="616"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -127,7 +127,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="605"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="608"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -295,7 +295,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="562"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="565"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -306,7 +306,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="567"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="570"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
@@ -504,7 +504,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="463"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="466"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -593,7 +593,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="184"/>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="380"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="421"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="424"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
@@ -643,8 +643,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="425"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="428"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="418"/>
+        <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -658,7 +663,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="615"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="618"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -668,7 +673,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="451"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="454"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -728,7 +733,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="552"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="555"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -139,6 +139,21 @@ def test_animate_simulates_in_the_background_like_the_cli(doc, tmp_path):
     np.testing.assert_allclose(node_state(sc.NodeArray)[0], pos0, atol=1e-9)
 
 
+def test_animate_shows_the_simulations_warnings(doc):
+    """The summary's warnings (here: implicit steps accepted with Newton unconverged) reached no GUI user: the panel
+    showed only the displacement (an audit of the dynamics journey, session 26)."""
+    structure.load_scene_file(doc, os.path.join(ROOT, "examples", "worm_crawl.json"))
+    doc.recompute()
+    p = run_panel("MM_Animate")
+    assert p.simulate_trajectory(2.0) is True
+    assert p.wait_simulation(300.0)
+    assert p.trajectory is not None, p.error.text()
+    warnings = p.last_simulation["warnings"]
+    assert warnings, "precondition: the worm's 2 s accept a few unconverged Newton steps"
+    assert all(w in p.error.text() for w in warnings), p.error.text()
+    p.reject()
+
+
 def test_trajectory_of_another_layout_is_refused(doc, tmp_path):
     structure.load_scene_file(doc, os.path.join(ROOT, "examples", "fish.json"))
     doc.recompute()

@@ -481,9 +481,11 @@ class Simulator(EnergyLedger):
         note = None
         if method == "auto":
             # implicit steps cost ~4-8 explicit steps; take the explicit one when its guard step is
-            # not much smaller than the implicit default step
+            # not much smaller than the implicit default step, and never for a requested step beyond its
+            # stability limit (it would run at its guard instead of the step asked for)
             dt_imp = dt if dt is not None else self.default_implicit_dt
-            method = "symplectic" if self.dt_guard * 6.0 >= dt_imp else "implicit"
+            method = ("symplectic" if self.dt_guard * 6.0 >= dt_imp and (dt is None or dt <= self.dt_limit)
+                      else "implicit")
         if method == "symplectic":
             if dt is None:
                 dt = self.dt_guard

@@ -414,6 +414,9 @@ class AnimatePanel(BasePanel):
         if self.load_trajectory(data):
             self.traj_label.setText(self.traj_label.text() + translate(
                 "Metamaterial", "; centre of mass moved {0:+.2f} mm").format(summary["displacement_mm"]))
+            if summary.get("warnings"):   # what simulate prints (energy ledger, Newton, fallbacks): never hidden
+                self.show_error(translate("Metamaterial", "simulation warning: {0}").format(
+                    "\n".join(summary["warnings"])))
 
     def _simulation_failed(self, message):
         self.traj_sim_btn.setEnabled(True)
