@@ -131,10 +131,31 @@ def dynamics_config(scene):
     cfg["initial_state"] = init
     if model == "belt":
         cfg["belt"] = _belt_config(scene, cfg["belt"] or {})
+        _belt_reads_none_of(scene, raw)
     elif cfg["belt"] is not None:
         raise SceneError(f"{f}.belt", "only used with \"model\": \"belt\"")
     cfg["gait"] = _gait_config(cfg["gait"], model, scene)
+    if model == "belt" and cfg["gait"]["type"] != "none" and scene.actuators:
+        raise SceneError("actuators", f"{len(scene.actuators)} actuator(s) beside the belt's "
+                                      f"{cfg['gait']['type']} gait, which drives every cell itself: they would be "
+                                      "ignored; remove them, or use \"gait\": {\"type\": \"none\"} to drive the "
+                                      "cells by the actuators' profiles")
     return cfg
+
+
+SHEET_ONLY = {"density_kg_m3": "dynamics.belt.density_kg_m3", "hinge_modulus_mpa": "dynamics.belt.modulus_kpa",
+              "servo_mass_g": "dynamics.belt.extra_mass_g"}
+
+
+def _belt_reads_none_of(scene, raw):
+    """The sheet's fields and friction pads on a belt scene: refused (the belt model reads neither)."""
+    for key, instead in SHEET_ONLY.items():
+        if key in raw:
+            raise SceneError(f"dynamics.{key}", f"only used by the sheet model; the belt's is {instead}")
+    for k, mod in enumerate(scene.modules):
+        if isinstance(mod, dict) and mod.get("type") in ("friction_pad", "pad"):
+            raise SceneError(f"modules[{k}]", "a friction pad is a sheet's contact; the belt model has none (its "
+                                              "cells touch the floor with dynamics.friction)")
 
 
 def _belt_config(scene, raw):
@@ -207,6 +228,8 @@ def _gait_config(raw, model, scene):
     g = _merge(f, raw, {"type": typ, "n1": 1, "n2": 0, "control_period_s": 0.02})
     for key in ("n1", "n2"):
         check_integer(f"{f}.{key}", g[key], 0, n - 1, "0 switches the term off")
+    if g["n1"] == 0 and g["n2"] == 0:
+        raise SceneError(f, "n1 = n2 = 0: no cell would ever inflate; allowed: at least one of n1, n2 above 0")
     g["control_period_s"] = check_number(f"{f}.control_period_s", g["control_period_s"], 0.0, 10.0, "s",
                                          low_open=True)
     return g
