@@ -400,7 +400,8 @@ class Simulator(EnergyLedger):
     # extremes that describe the motion: they come from the accepted trajectory only (a discarded
     # attempt's blow-up is reported in its fallback entry, not as the run's penetration; the Newton-unconverged
     # count of the summary's warning, likewise, counts the accepted steps only)
-    ACCEPTED_STATS = ("max_penetration_mm", "max_speed_m_s", "newton_unconverged_steps")
+    ACCEPTED_STATS = ("max_penetration_mm", "max_speed_m_s", "newton_unconverged_steps", "com_x_min_m",
+                      "com_x_max_m")
 
     def _restore(self, cp):
         (self.q, self.v, self.t, self.anchors, self.inside, ledger, th0, ra, rb, ast, acc) = cp
@@ -527,6 +528,13 @@ class Simulator(EnergyLedger):
             on_record(self)
             rec_t = self.t
             next_rec = record_dt
+        # the centre of mass's extremes over every step, not only the recorded frames (the summary's travel
+        # extremes must not depend on the frame rate); mass-weighted x of the free bodies, as Model.com_x
+        w = self.sys.mass * ~self.sys.fixed
+        w = w / w.sum() if w.sum() > 0 else w
+        x = float(w @ self.q[:, 0])
+        self.stats["com_x_min_m"] = min(self.stats.get("com_x_min_m", x), x)
+        self.stats["com_x_max_m"] = max(self.stats.get("com_x_max_m", x), x)
         cp = self._checkpoint()
         since = 0
         retries = 0
@@ -537,6 +545,11 @@ class Simulator(EnergyLedger):
                 self.step_symplectic(h)
             else:
                 self.step_implicit(h)
+            x = float(w @ self.q[:, 0])
+            if x < self.stats["com_x_min_m"]:
+                self.stats["com_x_min_m"] = x
+            elif x > self.stats["com_x_max_m"]:
+                self.stats["com_x_max_m"] = x
             self.stats["steps"] += 1
             since += 1
             if self.stats["steps"] > max_steps:

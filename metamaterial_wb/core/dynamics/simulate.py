@@ -121,8 +121,9 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
         "format": "metamaterial-simulation", "version": 1, "scene": scene.name, "model": model.kind,
         "seconds": seconds, "displacement_mm": disp_mm,
         "mean_speed_mm_s": disp_mm / seconds if seconds > 0 else 0.0,
-        "min_com_displacement_mm": float((com.min() - com[0]) * 1e3),
-        "max_com_displacement_mm": float((com.max() - com[0]) * 1e3),
+        # over every step (the integrator's extremes), not only the recorded frames
+        "min_com_displacement_mm": float((min(com.min(), sim.stats.get("com_x_min_m", com.min())) - com[0]) * 1e3),
+        "max_com_displacement_mm": float((max(com.max(), sim.stats.get("com_x_max_m", com.max())) - com[0]) * 1e3),
         "energy": sim.energy_report(),
         "integrator": dict(sim.stats, build_s=t_build, realtime_factor=seconds / max(sim.stats["wall_s"], 1e-9)),
         "incline_deg": cfg["incline_deg"],
