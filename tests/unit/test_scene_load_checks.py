@@ -96,3 +96,11 @@ def test_a_constraint_with_a_motion_profile_is_refused():
     with pytest.raises(SceneError) as e:
         Scene.from_dict(d)
     assert e.value.field.startswith("constraints[0].profile") and "only actuators move" in str(e.value)
+
+
+def test_an_unnamed_item_after_a_named_one_gets_a_free_default_name():
+    """``[{"name": "m2", ...}, {...}]`` was refused as "'m2' is already used": the default of the second item."""
+    s = Scene.from_dict(scene(actuators=[{"name": "m2", "joint": "V0,0", "value": 0.5}, {"joint": "V2,3"}]))
+    assert [a.name for a in s.actuators] == ["m2", "m3"]
+    s = Scene.from_dict(scene(actuators=[{"joint": "V0,0"}, {"joint": "V2,3"}]))
+    assert [a.name for a in s.actuators] == ["m1", "m2"]                      # unchanged where nothing collides

@@ -174,8 +174,7 @@ def parse_fixed(s, data):
             if joint in used_joints:
                 raise SceneError(f"{f}.joint", f"{joint} already carries {used_joints[joint]}; at most one actuator or "
                                                "constraint per joint")
-            default_name = ("m" if listname == "actuators" else "c") + str(k + 1)
-            name = item.get("name", default_name)
+            name = item.get("name") if "name" in item else _default_name(data, listname, k, used_names)
             if not isinstance(name, str) or not _NAME_RE.match(name):
                 raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name (letters, digits, _ . -; "
                                               f"starting with a letter or _)")
@@ -253,6 +252,17 @@ def parse_joint_config(s, data):
                 lim = MAX_TILT_DEG if key == "tilt_deg" else 180.0
                 check_number(f"joint_config.{jn}.{key}", cfg[key], -lim, lim, "deg")
         s.joint_config[jn] = dict(cfg)
+
+
+def _default_name(data, listname, k, used):
+    """``m<k+1>`` / ``c<k+1>``, or the next number that no item of either list is given or has taken (an unnamed
+    item after one named ``m2`` was refused as "'m2' is already used", a name nobody wrote)."""
+    given = {it.get("name") for key in ("actuators", "constraints") for it in data.get(key, []) or []
+             if isinstance(it, dict)}
+    prefix, n = ("m" if listname == "actuators" else "c"), k + 1
+    while f"{prefix}{n}" in given or f"{prefix}{n}" in used:
+        n += 1
+    return f"{prefix}{n}"
 
 
 def parse_rest(s, data):
