@@ -400,6 +400,12 @@ def _check_fit(p, scene=None):
     left between two features is at least two nozzle widths (``p.min_wall_mm``)."""
     T = p.sheet_thickness_mm
     W = p.min_wall_mm
+    if p.rigid_extruder == p.flexible_extruder and p.rigid_material != p.flexible_material:
+        raise SceneError("fabrication.flexible_extruder",
+                         f"{p.flexible_extruder}, the rigid parts' extruder, but the hinges are "
+                         f"{p.flexible_material} and the nodes {p.rigid_material}: one extruder prints one filament, "
+                         f"so a slicer would print both in one; allowed: an extruder other than "
+                         f"{p.rigid_extruder}, or the same material for both")
     _check_anchor_depth(p, W)
     if p.sockets:
         if 2 * p.socket_lip_height_mm + W > T:

@@ -102,3 +102,15 @@ def test_an_anchor_too_deep_for_any_hinge_names_the_anchor_depth():
     assert e.value.field == "fabrication.anchor_depth_mm", str(e.value)
     hi = float(re.search(r"allowed range \(0, ([\d.]+)\] mm", str(e.value)).group(1))
     fabrication_params(make_scene({"grid": [1, 2]}, fabrication={"anchor_depth_mm": hi}))
+
+
+def test_hinges_and_nodes_of_two_materials_on_one_extruder_are_refused():
+    """rigid_extruder == flexible_extruder with PLA nodes and TPU hinges was accepted: the slicer prints both in one
+    filament (the hinges in PLA do not flex)."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fabrication import fabrication_params
+    with pytest.raises(SceneError) as e:
+        fabrication_params(make_scene({"grid": [1, 2]}, fabrication={"rigid_extruder": 2, "flexible_extruder": 2}))
+    assert e.value.field == "fabrication.flexible_extruder" and "TPU" in str(e.value), str(e.value)
+    fabrication_params(make_scene({"grid": [1, 2]}, fabrication={"rigid_extruder": 1, "flexible_extruder": 1,
+                                                                 "rigid_material": "TPU"}))   # one material: fine
