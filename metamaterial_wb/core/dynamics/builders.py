@@ -215,15 +215,17 @@ def _gait_config(raw, model, scene):
     n = scene.layout.get("chain", 0)
     if typ == "open_loop":
         g = _merge(f, raw, {"type": typ, "torque": "normal", "tau_on_s": 1.0, "tau_off_s": 0.3,
-                            "start_cell": 0, "direction": 1})
+                            "start_cell": None, "direction": 1})
         if g["torque"] not in ("normal", "high"):
             raise SceneError(f"{f}.torque", f"{g['torque']!r}; allowed: \"normal\" (one cell) or \"high\" "
                                             f"(the opposite pair)")
         g["tau_on_s"] = check_number(f"{f}.tau_on_s", g["tau_on_s"], 0.0, 1000.0, "s", low_open=True)
         g["tau_off_s"] = check_number(f"{f}.tau_off_s", g["tau_off_s"], 0.0, 1000.0, "s")
-        check_integer(f"{f}.start_cell", g["start_cell"], 0, n - 1)
         if isinstance(g["direction"], bool) or not isinstance(g["direction"], int) or g["direction"] not in (1, -1):
             raise SceneError(f"{f}.direction", f"{g['direction']!r}; allowed: 1 or -1")
+        if g["start_cell"] is None:   # the released ring's mirror of cell 0 is cell N - 1: -1 mirrors +1
+            g["start_cell"] = 0 if g["direction"] == 1 else n - 1
+        check_integer(f"{f}.start_cell", g["start_cell"], 0, n - 1)
         return g
     g = _merge(f, raw, {"type": typ, "n1": 1, "n2": 0, "control_period_s": 0.02})
     for key in ("n1", "n2"):
