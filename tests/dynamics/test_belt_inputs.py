@@ -48,3 +48,16 @@ def test_a_closed_loop_gait_that_never_inflates_is_refused():
     with pytest.raises(SceneError) as e:
         dynamics_config(s)
     assert e.value.field == "dynamics.gait" and "n1" in str(e.value), str(e.value)
+
+
+def test_two_pads_on_one_face_of_a_sheet_node_are_refused():
+    """A second friction pad on the same node face was accepted: it doubled the pad's mass and contact point and
+    changed the crawl."""
+    from metamaterial_wb.core.dynamics.builders import build
+    with open(example_path("worm_crawl")) as f:
+        d = json.load(f)
+    pad = next(m for m in d["modules"] if m["type"] == "friction_pad")
+    d["modules"].append(dict(pad, name="again") if "name" in pad else dict(pad))
+    with pytest.raises(SceneError) as e:
+        build(Scene.from_dict(d))
+    assert e.value.field.startswith("modules[") and "one friction pad per face" in str(e.value), str(e.value)

@@ -501,7 +501,7 @@ def build_sheet(scene, cfg):
     system = PlanarSystem(mass, inertia, gravity=_gravity(cfg))
 
     # friction pads (the fabrication's module: "mu", "thickness_mm" = how far it stands out, "side")
-    pads = []
+    pads, faces = [], {}
     for k, mod in enumerate(scene.modules):
         if not isinstance(mod, dict) or mod.get("type") not in ("friction_pad", "pad"):
             continue
@@ -519,6 +519,10 @@ def build_sheet(scene, cfg):
         side = mod.get("side", "bottom")
         if side not in ("top", "bottom"):
             raise SceneError(f"{f}.side", f"{side!r}; allowed: \"bottom\" (on the floor) or \"top\"")
+        if (ni, nj, side) in faces:       # one pad covers the whole face: a second one would double its weight
+            raise SceneError(f"{f}.node", f"N{ni},{nj}'s {side} face already carries {faces[ni, nj, side]}; one "
+                                          "friction pad per face")
+        faces[ni, nj, side] = f
         mass[col_index[nj]] += 1050.0 * s * s * hp          # ABS pad under the whole node face
         if side == "bottom":
             pads.append((col_index[nj], mu, hp))
