@@ -444,16 +444,21 @@ def _check_fit(p, scene=None):
                              f"{where}; {span}")
     for name, h in p.hinges.items():
         f = f"joints {name}"
+
+        def field(key, name=name, f=f):
+            """``hinge.<key>`` where the joint takes the scene's default hinge (no joints[] entry sets it)."""
+            own = scene is None or key in scene.joint_overrides.get(name, {})
+            return f"{f}.{key}" if own else f"hinge.{key}"
         s = p.plate_side_mm_global
         gap = p.cell_size_mm - p.plate_side_mm_global
         if h.length_mm > gap + 1e-9:
-            raise SceneError(f"{f}.length_mm",
+            raise SceneError(field("length_mm"),
                              f"hinge {name} is {h.length_mm} mm long but the gap between the node plates is "
                              f"{gap:.4g} mm (cell {p.cell_size_mm} mm - plate side {p.plate_side_mm_global:.4g} mm, "
                              f"set by hinge.length_mm); allowed range (0, {gap:.4g}] mm (shorter hinges get rigid "
                              f"stubs)")
         if h.thickness_mm > T + 1e-9:
-            raise SceneError(f"{f}.thickness_mm", f"hinge thickness {h.thickness_mm} mm exceeds the sheet thickness "
+            raise SceneError(field("thickness_mm"), f"hinge thickness {h.thickness_mm} mm exceeds the sheet thickness "
                                                   f"{T} mm; allowed range (0, {T}] mm")
         tilt = math.radians(h.tilt_deg)
         shift = T * abs(math.tan(tilt))
@@ -473,7 +478,7 @@ def _check_fit(p, scene=None):
                                  f"before the socket; allowed tilt range [-{t_max:.3g}, {t_max:.3g}] deg for this "
                                  f"hinge{fold_txt}; fold less, or use longer hinges, larger cells, a thinner sheet or a smaller "
                                  f"fabrication.anchor_margin_mm (now {p.anchor_margin_mm} mm)")
-            raise SceneError(f"{f}.width_mm",
+            raise SceneError(field("width_mm"),
                              f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} mm "
                              f"along the plate edge but the plate (side {s:.3g} mm) has {room_edge:.3g} mm before "
                              f"the socket; reduce the width, the tilt or the anchor margin")

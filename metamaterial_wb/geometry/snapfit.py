@@ -74,14 +74,21 @@ def design_snap_fit(p, material, field_name="modules"):
     t = min(t_strain, t_slot)
     if t < p.min_wall_mm - 1e-9:
         t_need = p.min_wall_mm
+        if t_strain >= t_need - 1e-9:        # the strain allows the prong: the pin is too thin for its slot
+            raise SceneError("fabrication.socket_diameter_mm",
+                             f"{p.socket_diameter_mm} mm: the {2 * r:.3g} mm pin (after the {clr} mm clearance) has "
+                             f"no room for its {2 * (r - t_need):.3g} mm slot between two prongs of two nozzle widths "
+                             f"({t_need:.3g} mm) and the barb's {y:.3g} mm; use a larger socket_diameter_mm or a "
+                             f"smaller fabrication.socket_lip_mm")
         L_need = (1.5 * t_need * y / limit) ** 0.5
+        softer = [k for k, v in ALLOWABLE_STRAIN.items() if v > limit and k != "TPU"]
         raise SceneError(f"{field_name}.material",
                          f"no snap pin fits {mat} (allowable strain {100 * limit:.3g} %): a prong of two nozzle widths "
                          f"({t_need:.3g} mm) bent by the barb's {y:.3g} mm over the {L:.3g} mm the sheet allows is "
                          f"strained {100 * cantilever_strain(t_need, y, L):.3g} %"
                          + (f" and the {2 * r:.3g} mm pin leaves no room for the slot" if t_slot < t_need else "")
-                         + f"; use a more flexible material ({', '.join(k for k, v in ALLOWABLE_STRAIN.items() if v > limit and k != 'TPU')}), "
-                           f"a thicker sheet (prong length at least {L_need:.3g} mm), a smaller "
+                         + "; use " + (f"a more flexible material ({', '.join(softer)}), " if softer else "")
+                         + f"a thicker sheet (prong length at least {L_need:.3g} mm), a smaller "
                            f"fabrication.socket_lip_mm or a larger socket_diameter_mm")
     slot = 2.0 * (r - t)
     return SnapFit(mat, t, y, L, slot, T, cantilever_strain(t, y, L), limit)

@@ -29,3 +29,17 @@ def make_scene(layout, **kw):
     d = {"format": "metamaterial-scene", "version": 1, "name": kw.pop("name", "t"), "layout": layout}
     d.update(kw)
     return Scene.from_dict(d)
+
+
+def run_build(tmp_path, scene, *args):
+    """``build`` run as a user runs it on the scene dict ``scene`` (written to tmp_path/s.json) into
+    tmp_path/out: ``(CompletedProcess, out folder)``."""
+    import json
+    import subprocess
+    import sys
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(scene))
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(path), "--out", str(out), *args],
+                       capture_output=True, text=True, cwd=REPO, timeout=600)
+    return r, out

@@ -1,24 +1,12 @@
 """Build inputs that passed every check and built parts that cannot be assembled (an audit of the fabrication
 journey, session 26): sockets pushed so far in that neighbouring ones merge, and a clip turned beyond what its
 joint can turn. Each is refused before any geometry, naming the field, the value and the allowed range."""
-import json
 import os
 import re
-import subprocess
-import sys
 
 import pytest
 
-from fabhelpers import REPO, make_scene
-
-
-def build(tmp_path, scene):
-    path = tmp_path / "s.json"
-    path.write_text(json.dumps(scene))
-    out = tmp_path / "out"
-    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(path), "--out", str(out), "--modules"],
-                       capture_output=True, text=True, cwd=REPO, timeout=600)
-    return r, out
+from fabhelpers import REPO, make_scene, run_build
 
 
 @pytest.mark.parametrize("inset", [6.0, 7.0, 9.5, 12.0])
@@ -67,7 +55,8 @@ def clip_range():
 def test_a_clip_angle_the_joint_cannot_turn_is_refused(fc, tmp_path):
     lo, hi = clip_range()
     assert -15.0 < lo < -5.0 and hi > 30.0, (lo, hi)   # this joint closes to about -9.6 deg
-    r, out = build(tmp_path, dict(CLIP_SCENE, modules=[dict(CLIP_SCENE["modules"][0], angle_deg=-30)]))
+    r, out = run_build(tmp_path, dict(CLIP_SCENE, modules=[dict(CLIP_SCENE["modules"][0], angle_deg=-30)]),
+                       "--modules")
     assert r.returncode == 2, r.stderr
     assert "modules[0].angle_deg" in r.stderr and f"allowed range [{lo:.3f}" in r.stderr, r.stderr
     assert not out.exists() or not os.listdir(out)
@@ -114,3 +103,41 @@ def test_hinges_and_nodes_of_two_materials_on_one_extruder_are_refused():
     assert e.value.field == "fabrication.flexible_extruder" and "TPU" in str(e.value), str(e.value)
     fabrication_params(make_scene({"grid": [1, 2]}, fabrication={"rigid_extruder": 1, "flexible_extruder": 1,
                                                                  "rigid_material": "TPU"}))   # one material: fine
+
+
+def _pad_error(fabrication, material="ABS", thickness=7.0):
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fabrication import fabrication_params
+    from metamaterial_wb.geometry.modules import parse_modules
+    s = make_scene({"grid": [1, 2]}, fabrication=fabrication, hinge={"length_mm": 2, "width_mm": 0.8,
+                                                                     "thickness_mm": thickness},
+                   modules=[{"type": "friction_pad", "node": "N0,0", "material": material}])
+    with pytest.raises(SceneError) as e:
+        parse_modules(s, fabrication_params(s))
+    return e.value
+
+
+def test_a_pin_too_thin_for_its_slot_names_the_socket_not_the_material():
+    """When the slot, not the strain, is the limit, the error named modules[k].material and advised a thicker sheet
+    (the prong was already long enough)."""
+    e = _pad_error({"socket_diameter_mm": 2.6})
+    assert e.field == "fabrication.socket_diameter_mm" and "thicker sheet" not in str(e), str(e)
+
+
+def test_the_strain_error_lists_softer_materials_only_when_there_are_some():
+    e = _pad_error({"sheet_thickness_mm": 3.0, "socket_lip_height_mm": 1.0}, material="PETG", thickness=3.0)
+    assert e.field.endswith(".material") and "()" not in str(e), str(e)
+
+
+def test_a_default_hinge_that_does_not_fit_is_named_as_the_scenes_hinge():
+    """A global hinge thicker than the sheet was reported as 'joints H0,0.thickness_mm', a joint nobody listed."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fabrication import fabrication_params
+    with pytest.raises(SceneError) as e:
+        fabrication_params(make_scene({"grid": [1, 2]}, fabrication={"sheet_thickness_mm": 3.0, "socket_lip_height_mm": 1.0}))
+    assert e.value.field == "hinge.thickness_mm", str(e.value)
+    with pytest.raises(SceneError) as e:   # a joints[] entry's own size keeps its joint's name
+        fabrication_params(make_scene({"grid": [1, 2]}, fabrication={"sheet_thickness_mm": 3.0, "socket_lip_height_mm": 1.0},
+                                      hinge={"length_mm": 2, "width_mm": 0.8, "thickness_mm": 3},
+                                      joints=[{"joint": "H0,1", "thickness_mm": 5}]))
+    assert e.value.field == "joints H0,1.thickness_mm", str(e.value)

@@ -3,10 +3,8 @@ beside a servo housing on V0,1, turned 20 deg) was refused by build's collision 
 import json
 import os
 import re
-import subprocess
-import sys
 
-from fabhelpers import REPO
+from fabhelpers import REPO, run_build
 
 
 def doc_example():
@@ -20,10 +18,7 @@ def doc_example():
 def test_the_doc_modules_example_builds(fc, tmp_path):
     scene = doc_example()
     assert {m["type"] for m in scene["modules"]} == {"servo_housing", "friction_pad", "constraint_clip"}
-    path = tmp_path / "modules.json"
-    path.write_text(json.dumps(scene))
-    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "build", str(path), "--out", str(tmp_path / "out"),
-                        "--modules"], capture_output=True, text=True, cwd=REPO, timeout=600)
+    r, out = run_build(tmp_path, scene, "--modules")
     assert r.returncode == 0, r.stderr
-    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    manifest = json.loads((out / "manifest.json").read_text())
     assert len(manifest["modules"]) == 3, manifest.keys()
