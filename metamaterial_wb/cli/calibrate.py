@@ -18,8 +18,11 @@ def _floats(text, field):
     ``core.calibrate.check_sizes`` before any fit)."""
     from metamaterial_wb.core.errors import SceneError
 
+    items = text.split(",")
+    if len(items) > 1 and any(not x.strip() for x in items):
+        raise SceneError(field, f"{text!r}: an empty item; expected comma-separated numbers in mm")
     try:
-        vals = [float(x) for x in text.split(",") if x.strip()]
+        vals = [float(x) for x in items if x.strip()]
     except ValueError:
         raise SceneError(field, f"{text!r}: expected comma-separated numbers in mm") from None
     if not vals:
@@ -86,10 +89,10 @@ def run(args):
                                               progress=lambda m: print(m, file=sys.stderr, flush=True))
         print("length_mm  k1        rms_D   max_D   (fit residual, D units)")
         for r in kl:
-            print(f"{r['length_mm']:8.3g}  {r['k1']:.6f}  {r['rms_D']:.4f}  {r['max_D']:.4f}")
+            print(f"{r['length_mm']:8g}  {r['k1']:.6f}  {r['rms_D']:.4f}  {r['max_D']:.4f}")
         print("width_mm  k2 factor  rms_D mixed piece (equal k2)")
         for r in kw:
-            print(f"{r['width_mm']:8.3g}  {r['factor']:9.4g}  {r['rms_D']:.4f} ({r['rms_D_equal']:.4f})")
+            print(f"{r['width_mm']:8g}  {r['factor']:9.4g}  {r['rms_D']:.4f} ({r['rms_D_equal']:.4f})")
         if args.out:
             write_atomic(args.out, C.table_json(table))
             print(f"wrote {args.out}")

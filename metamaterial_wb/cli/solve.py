@@ -64,6 +64,8 @@ def parse_sets(items):
             v = float(val)
         except ValueError:
             raise SceneError(f"--set {name}", f"{val!r} is not a number") from None
+        if any(n == name.strip() for n, _ in out):
+            raise SceneError(f"--set {name.strip()}", "given twice; give each actuator or constraint once")
         out.append((name.strip(), v))
     return out
 

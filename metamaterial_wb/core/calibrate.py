@@ -318,14 +318,16 @@ def read_angles_csv(path, scene):
 
     from metamaterial_wb.core.fileio import read_text
     rows = list(csv.reader(io.StringIO(read_text(path, "ANGLES.csv"), newline="")))
+    first = True                      # the header may follow comment and blank lines
     for ln, row in enumerate(rows, start=1):
         if not row or all(not c.strip() for c in row) or row[0].strip().startswith("#"):
             continue
+        header_allowed, first = first, False
         if len(row) == 3:             # N,i,j form: "N1,2" split by the CSV reader -> ["N1", "2", angle]
             row = [f"{row[0]},{row[1]}", row[2]]
         if len(row) != 2:
             raise SceneError(f"{path}:{ln}", f"expected 2 columns 'node,angle_deg', got {len(row)}: {row!r}")
-        if ln == 1 and row[1].strip().lower().startswith("angle"):
+        if header_allowed and row[1].strip().lower().startswith("angle"):
             continue
         m = _NODE_RE.match(row[0].replace('"', ""))
         if not m:

@@ -189,3 +189,31 @@ def test_out_equal_to_the_default_table_is_refused(piece):
     r = cli("measured", pj, pc, "--out", shipped)
     one_line_error(r, "--out")
     assert "shipped table" in r.stderr and open(shipped, "rb").read() == before
+
+
+# ---- an audit of the scene format and calibrate (session 26) -------------------------------------------------
+def test_an_empty_item_in_a_size_list_is_refused(tmp_path):
+    """``--lengths 2,,3`` silently dropped the empty item."""
+    r = cli("model", "--lengths", "2,,3", "--widths", "0.8", "--out", tmp_path / "t.json")
+    one_line_error(r, "--lengths")
+    assert "empty item" in r.stderr
+
+
+def test_a_header_after_comment_lines_is_read_as_a_header(tmp_path):
+    """A comment line before ``node,angle_deg`` made the header line 2, read as data ('node' is not a node name)."""
+    sc = C.test_piece(2.0)
+    _, pc = write_piece(tmp_path, sc, synthetic_angles(sc, 0.9))
+    text = pc.read_text()
+    pc.write_text("# measured 2026-12-06, caliper\n\n" + text)
+    idx, ang = C.read_angles_csv(str(pc), sc)
+    assert len(idx) == sc.topology.n_nodes
+    pc.write_text("# a comment\n" + text.splitlines()[1] + "\n" + text)   # a header after data is still refused
+    with pytest.raises(SceneError):
+        C.read_angles_csv(str(pc), sc)
+
+
+def test_set_twice_for_one_item_is_refused():
+    from metamaterial_wb.cli.solve import parse_sets
+    with pytest.raises(SceneError) as e:
+        parse_sets(["m1=0.2", "m1=0.9"])
+    assert e.value.field == "--set m1" and "twice" in str(e.value)
