@@ -131,3 +131,17 @@ def test_hinge_answer_loads_solves_and_reports_its_own_cost(tmp_path):
     plain = json.loads((tmp_path / "plain" / "report.json").read_text())
     assert rep["errors"]["quadratic"]["cost_mm2"] <= plain["errors"]["quadratic"]["cost_mm2"] * (1 + 1e-9)
     assert any("--hinges" in w for w in rep["warnings"])                # the full fitted sizes broke axis a
+
+
+# ---- C: the servo channels of replaced motors go to the new servos --------------------------------------------
+def test_new_servos_take_the_replaced_motors_servo_channels():
+    """A new servo had no ``servo`` object while the motor it replaced was wired to channel 3 (trim, invert): the
+    answer streamed on another channel than the wiring (found in session 25, mended in 26)."""
+    from types import SimpleNamespace
+    problem = SimpleNamespace(scene=Scene.from_dict(G5), target=SimpleNamespace(frames=[None], period_s=None))
+    notes = []
+    s = ev.answer_scene(problem, ["V2,0", "H4,4"], [[0.3, -0.2]], names=["s1", "q"], warnings=notes)
+    a = {x["name"]: x for x in s.to_dict()["actuators"]}
+    assert a["s1"]["servo"] == G5["actuators"][0]["servo"]          # p's wiring, now on V2,0
+    assert a["q"]["note"] == "left flipper" and "servo" not in a["q"]  # kept motor: its own fields only
+    assert any("channel 3" in n and "s1" in n for n in notes), notes

@@ -57,8 +57,10 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
                 prof["period_s"] = float(problem.target.period_s)
             a["profile"] = prof
         acts.append(a)
-    replaced = [a.get("joint") for a in d.get("actuators", []) if (a.get("name"), a.get("joint")) not in
-                set(zip(names, joints))]
+    kept = set(zip(names, joints))
+    gone = [a for a in d.get("actuators", []) if (a.get("name"), a.get("joint")) not in kept]
+    replaced = [a.get("joint") for a in gone]
+    _carry_servo_channels(acts, old, gone, warnings)
     d["actuators"] = acts
     if hinge_overrides:
         ov = {o["joint"]: o for o in d.get("joints", [])}
@@ -70,6 +72,25 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
         if warnings is not None:
             warnings.extend(n for n in notes if n not in warnings)
     return Scene.from_dict(d)
+
+
+def _carry_servo_channels(acts, old, gone, warnings):
+    """Each new servo (not in ``old``) without a ``servo`` object takes the wiring (channel, trim, invert, ...) of
+    a replaced motor, in order: the servo moves to the new joint, its cable stays on its channel."""
+    wiring = [a for a in gone if isinstance(a.get("servo"), dict)]
+    for a in acts:
+        if not wiring:
+            return
+        if (a.get("name"), a.get("joint")) in old or "servo" in a:
+            continue
+        src = wiring.pop(0)
+        a["servo"] = copy.deepcopy(src["servo"])
+        if warnings is not None:
+            ch = src["servo"].get("channel")
+            warnings.append(f"actuator {a['name']!r} on {a['joint']} takes the servo wiring of the replaced "
+                            f"{src.get('name')!r} on {src.get('joint')}"
+                            + (f" (channel {ch})" if ch is not None else "")
+                            + ": check its invert and trim_deg at the new joint")
 
 
 def _joint_key(text):
