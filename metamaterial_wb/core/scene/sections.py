@@ -158,6 +158,7 @@ def _check_axis_names(axes):
 def parse_fixed(s, data):
     """``actuators[]`` and ``constraints[]`` (names unique across both)."""
     used_names, used_joints = {}, {}
+    given = _given_names(data)
     n_max = max(s.topology.n_joints, 1)
     for listname, klass in (("actuators", Actuator), ("constraints", Constraint)):
         items = _list(data, listname, "objects")
@@ -174,7 +175,7 @@ def parse_fixed(s, data):
             if joint in used_joints:
                 raise SceneError(f"{f}.joint", f"{joint} already carries {used_joints[joint]}; at most one actuator or "
                                                "constraint per joint")
-            name = item.get("name") if "name" in item else _default_name(data, listname, k, used_names)
+            name = item.get("name") if "name" in item else _default_name(given, listname, k, used_names)
             if not isinstance(name, str) or not _NAME_RE.match(name):
                 raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name (letters, digits, _ . -; "
                                               f"starting with a letter or _)")
@@ -254,11 +255,15 @@ def parse_joint_config(s, data):
         s.joint_config[jn] = dict(cfg)
 
 
-def _default_name(data, listname, k, used):
-    """``m<k+1>`` / ``c<k+1>``, or the next number that no item of either list is given or has taken (an unnamed
-    item after one named ``m2`` was refused as "'m2' is already used", a name nobody wrote)."""
-    given = {it.get("name") for key in ("actuators", "constraints") for it in data.get(key, []) or []
-             if isinstance(it, dict)}
+def _given_names(data):
+    """The names the file gives its actuators and constraints (lists of objects only: the rest is refused later)."""
+    return {it.get("name") for key in ("actuators", "constraints") if isinstance(data.get(key), list)
+            for it in data[key] if isinstance(it, dict) and isinstance(it.get("name"), str)}
+
+
+def _default_name(given, listname, k, used):
+    """``m<k+1>`` / ``c<k+1>``, or the next number that no item of either list is given (``given``) or has taken
+    (``used``): an unnamed item after one named ``m2`` was refused as "'m2' is already used", a name nobody wrote."""
     prefix, n = ("m" if listname == "actuators" else "c"), k + 1
     while f"{prefix}{n}" in given or f"{prefix}{n}" in used:
         n += 1
