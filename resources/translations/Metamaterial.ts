@@ -9,6 +9,11 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="120"/>
+        <source> ({0} set directly for this joint: the sizes do not change it)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="251"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
@@ -29,7 +34,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="415"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="426"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -39,7 +44,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="315"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="326"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -112,7 +117,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="138"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="616"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="627"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -127,7 +132,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="608"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="619"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -295,7 +300,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="565"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="576"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -306,7 +311,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="570"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="581"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
@@ -477,7 +482,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="168"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="171"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="371"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
@@ -504,13 +509,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="466"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="477"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="89"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="98"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="117"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="93"/>
         <source>k1 = {0:.3f}, k2 = {1:.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -581,7 +586,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="91"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="95"/>
         <source>out of the calibrated range</source>
         <translation type="unfinished"></translation>
     </message>
@@ -592,13 +597,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="184"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="380"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="424"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="391"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="435"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="364"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="375"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -638,17 +643,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="404"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="415"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="428"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="439"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="418"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="429"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -663,7 +668,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="618"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="629"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -673,7 +678,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="454"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="465"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -718,7 +723,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="316"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="327"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -733,7 +738,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="555"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="566"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -64,3 +64,80 @@ def test_simulate_keeps_an_untouched_global_deformation(doc):
     assert press_ok()
     assert sc.GlobalDeformation == 0.123 and sc.UseGlobal
     assert doc.UndoCount == undo0                       # nothing changed: no undo step
+
+
+# ---- an audit of the task panels by hand (session 26) ---------------------------------------------------------
+def test_flexibility_keeps_exact_sizes_and_an_untouched_ok_writes_nothing(doc):
+    """Flexibility showed 2 decimals and wrote them back: an untouched OK turned 2.345 / 0.8125 into 2.35 / 0.81 with
+    an undo step, and changing only the thickness rounded the width."""
+    sc = open_example("fish")
+    sc.HingeLength, sc.HingeWidth = 2.345, 0.8125
+    doc.recompute()
+    undo0 = doc.UndoCount
+    run_panel("MM_Flexibility")
+    assert press_ok()
+    assert (sc.HingeLength, sc.HingeWidth) == (2.345, 0.8125)
+    assert doc.UndoCount == undo0
+    p = run_panel("MM_Flexibility")
+    type_into(p.thick, "6.5")
+    process()
+    assert press_ok()
+    assert (sc.HingeLength, sc.HingeWidth, sc.HingeThickness) == (2.345, 0.8125, 6.5)
+
+
+def test_flexibility_joint_label_is_the_solvers_stiffness(doc):
+    """For a joint with its own thickness, or k1 / k2 set directly, the label showed the global hinge's values."""
+    from metamaterial_wb.core.calibration import joint_stiffness
+    sc = open_example("fish")
+    structure.set_scene_fields(sc, joints=[{"joint": "H0,1", "thickness_mm": 3.0},
+                                           {"joint": "H0,2", "k1": 0.5, "k2": 2.0}])
+    doc.recompute()
+    scene = structure.compose_scene(sc)
+    k1, k2 = joint_stiffness(scene)
+    idx = scene.topology.joint_index
+    p = run_panel("MM_Flexibility")
+    for name in ("H0,1", "H0,2"):
+        p.joint.setCurrentText(name)
+        process()
+        want = f"k1 = {k1[idx[name]]:.3f}, k2 = {k2[idx[name]]:.3f}"
+        assert p.jk_label.text().startswith(want), (name, p.jk_label.text(), want)
+    assert "set directly" in p.jk_label.text()
+    p.reject()
+
+
+def test_folded_shape_and_rotary_axes_untouched_ok_add_no_undo_step(doc):
+    open_example("fish_axes")
+    run_panel("MM_FoldedShape")
+    assert press_ok()                                  # (designs the joints if the example had no design)
+    for cmd in ("MM_FoldedShape", "MM_RotaryAxes"):
+        undo0 = doc.UndoCount
+        run_panel(cmd)
+        assert press_ok()
+        assert doc.UndoCount == undo0, cmd
+
+
+def test_animate_keeps_the_fields_not_edited_in_an_edited_row(doc):
+    sc = open_example("fish")
+    head = sc.Items[0]
+    head.Amplitude, head.PhaseDeg = 0.1234, 12.25
+    doc.recompute()
+    p = run_panel("MM_Animate")
+    amp, freq, phase = p.spins[head.ItemName]
+    freq.setValue(0.75)
+    process()
+    assert press_ok()
+    assert (head.Amplitude, head.FrequencyHz, head.PhaseDeg) == (0.1234, 0.75, 12.25)
+
+
+def test_export_of_a_deleted_structure_is_refused(doc, tmp_path):
+    sc = open_example("fish")
+    p = run_panel("MM_Export")
+    p.path.setText(str(tmp_path / "out"))
+    for name in [o.Name for o in doc.Objects]:       # the structure and everything it holds, as a user deletes
+        if doc.getObject(name) is not None:           # (removing a part removes its children with it)
+            doc.removeObject(name)
+    process()
+    assert p.start_export() is False
+    assert "deleted" in p.error.text()
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+    p.reject()

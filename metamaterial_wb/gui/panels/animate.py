@@ -261,12 +261,23 @@ class AnimatePanel(BasePanel):
             if shape == "keyframes":
                 out[a.name] = keyframes_profile(self.keys[a.name], self.key_period(a.name))
                 continue
-            amp, f, ph = (w.value() for w in self.spins[a.name])
+            amp, f, ph = self._wave_fields(a, shape)
             p = wave_profile(shape, amp, f, ph)
             if shape == "sine" and a.profile and a.profile.get("offset"):
                 p["offset"] = a.profile["offset"]
             out[a.name] = p
         return out
+
+    def _wave_fields(self, a, shape):
+        """Amplitude, frequency and phase of a touched row: a spin box still at its first value keeps the stored
+        sine's exact field (changing the frequency rounded an amplitude of 0.1234 to 0.123)."""
+        vals = [w.value() for w in self.spins[a.name]]
+        first = getattr(self, "untouched", {}).get(a.name)
+        if first is not None and shape == "sine" and (a.profile or {}).get("shape", "sine") == "sine" and a.profile:
+            for k, key in enumerate(("amplitude", "frequency_hz", "phase_deg")):
+                if vals[k] == first[1][k] and key in a.profile:
+                    vals[k] = float(a.profile[key])
+        return vals
 
     def key_period(self, name):
         """A keyframes profile's period: its stored one while the keys fit in it, else the timeline's."""

@@ -90,6 +90,9 @@ class ExportPanel(BasePanel):
             return False
         if self.job.running:
             return False
+        if self.target_gone():
+            self.show_error("not exported: the structure this panel exports was deleted (press Cancel)")
+            return False
         try:
             scene = structure.compose_scene(self.obj)
         except MetamaterialError as exc:

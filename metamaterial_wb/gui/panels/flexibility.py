@@ -54,6 +54,10 @@ class FlexibilityPanel(BasePanel):
         pf.addRow(self.problem_label("joints"))
         self.layout.addWidget(pj)
         self.finish_layout()
+        # an untouched size keeps the stored value exactly (the boxes show 3 decimals: 2.3456 stays 2.3456)
+        self._first = {w: (w.value(), float(v)) for w, v in
+                       ((self.length, self.scene.hinge["length_mm"]), (self.width, self.scene.hinge["width_mm"]),
+                        (self.thick, self.scene.hinge["thickness_mm"]))}
         for w in (self.length, self.width, self.thick):
             w.valueChanged.connect(self._update_k)
         for w in (self.j_length, self.j_width):
@@ -69,7 +73,7 @@ class FlexibilityPanel(BasePanel):
     @staticmethod
     def _spin(v, field):
         s = QtGui.QDoubleSpinBox()
-        s.setDecimals(2)
+        s.setDecimals(3)
         ranges.bind(s, field)          # the validator's widest range; what fits this cell is said in words
         s.setKeyboardTracking(False)
         s.setSingleStep(0.1)
@@ -92,17 +96,36 @@ class FlexibilityPanel(BasePanel):
         self._update_jk()
         self.validate()
 
+    def size(self, spin):
+        """A global size as OK writes it: the stored value while the box still shows it, else the box's."""
+        shown, exact = self._first.get(spin, (None, None)) if hasattr(self, "_first") else (None, None)
+        return exact if spin.value() == shown else float(spin.value())
+
     def _update_jk(self, *_):
+        """The joint's k1 / k2 as the solver takes them: its own thickness, and k1 / k2 set directly win over
+        the sizes (core.calibration.joint_stiffness)."""
+        ov = self.overrides.get(self.joint.currentText(), {})
         try:
-            k1, k2 = self.k_values(self.j_length.value(), self.j_width.value(), self.thick.value())
-            self.jk_label.setText(translate("Metamaterial", "k1 = {0:.3f}, k2 = {1:.3f}").format(k1, k2))
+            k1, k2 = self.k_values(self.j_length.value(), self.j_width.value(),
+                                   ov.get("thickness_mm", self.thick.value()))
         except MetamaterialError as exc:
-            self.jk_label.setText(str(exc))
+            if not ("k1" in ov and "k2" in ov):
+                self.jk_label.setText(str(exc))
+                return
+            k1 = k2 = None
+        k1, k2 = ov.get("k1", k1), ov.get("k2", k2)
+        text = translate("Metamaterial", "k1 = {0:.3f}, k2 = {1:.3f}").format(k1, k2)
+        direct = [k for k in ("k1", "k2") if k in ov]
+        if direct:
+            text += translate("Metamaterial", " ({0} set directly for this joint: the sizes do not change it)").format(
+                " and ".join(direct))
+        self.jk_label.setText(text)
 
     def _joint_changed(self, name):
         ov = self.overrides.get(name, {})
         self.j_length.setValue(ov.get("length_mm", self.length.value()))
         self.j_width.setValue(ov.get("width_mm", self.width.value()))
+        self._update_jk()
 
     def set_override(self):
         name = self.joint.currentText()
@@ -125,8 +148,8 @@ class FlexibilityPanel(BasePanel):
     def scene_dict(self):
         joints = [dict({"joint": k}, **v) for k, v in sorted(self.overrides.items()) if v]
         d = structure.compose_scene(self.obj).to_dict()
-        d["hinge"] = {"length_mm": float(self.length.value()), "width_mm": float(self.width.value()),
-                      "thickness_mm": float(self.thick.value())}
+        d["hinge"] = {"length_mm": self.size(self.length), "width_mm": self.size(self.width),
+                      "thickness_mm": self.size(self.thick)}
         d["joints"] = joints
         return d
 
@@ -152,12 +175,15 @@ class FlexibilityPanel(BasePanel):
         if not self.validate():
             raise MetamaterialError(self.problem_text())
         d = self.scene_dict()
-        joints = d["joints"]
+        joints, h = d["joints"], d["hinge"]
         doc = self.obj.Document
+        if (h == self.scene.hinge and joints == [dict({"joint": k}, **v) for k, v in
+                                                 sorted(self.scene.joint_overrides.items()) if v]):
+            return                                    # an OK that changes nothing writes nothing (no undo step)
 
         def change():
-            self.obj.HingeLength = float(self.length.value())
-            self.obj.HingeWidth = float(self.width.value())
-            self.obj.HingeThickness = float(self.thick.value())
+            self.obj.HingeLength = h["length_mm"]
+            self.obj.HingeWidth = h["width_mm"]
+            self.obj.HingeThickness = h["thickness_mm"]
             structure.set_scene_fields(self.obj, joints=joints or None)
         self.commit(doc, "Flexibility", change)

@@ -215,6 +215,10 @@ class FoldedShapePanel(BasePanel):
         self._preview_timer.stop()
         sc = self.configured_scene()
         doc = self.obj.Document
+        now = structure.compose_scene(self.obj).to_dict()
+        if ([a.to_dict() for a in sc.axes] == now.get("axes", []) and
+                (sc.joint_config or {}) == now.get("joint_config", {})):
+            return                                    # an OK that changes nothing writes nothing (no undo step)
 
         def change():
             structure.set_scene_fields(self.obj, axes=[a.to_dict() for a in sc.axes] or None,
