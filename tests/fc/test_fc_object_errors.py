@@ -16,7 +16,7 @@ def test_a_module_that_no_longer_fits_is_marked_invalid_and_recovers(doc):
     doc.recompute()
     assert m.isValid() and sc.isValid()
     sc.HingeLength = 2.0
-    sc.CellSize = 16.0                                 # the sheet builds, the SG90 housing does not fit
+    sc.CellSize = 17.0                                 # the sheet builds, the SG90 housing does not fit
     doc.recompute()
     assert sc.isValid(), sc.State                       # the sheet itself is fine at 16 mm
     assert not m.isValid() and "Invalid" in m.State
@@ -35,7 +35,7 @@ def test_an_invalid_module_stays_listed_in_the_scenes_warnings(doc):
     m = structure.make_module(doc, sc, "servo_housing", "V0,1")
     doc.recompute()
     sc.HingeLength = 2.0
-    sc.CellSize = 16.0                                 # the sheet builds, the SG90 housing does not fit
+    sc.CellSize = 17.0                                 # the sheet builds, the SG90 housing does not fit
     doc.recompute()
     assert not m.isValid() and any(m.Label in w for w in sc.SolveWarnings)
     sc.Items[0].Value = 0.7
@@ -141,7 +141,7 @@ def test_modules_on_a_sheet_export_refuses_show_stand_ins_and_the_scene_says_why
     assert sc.isValid() and m.isValid(), (sc.State, m.getStatusString())
     assert m.GeometrySource.startswith("stand-in (the sheet cannot be built")
     said = [w for w in sc.SolveWarnings if m.Label in w]
-    assert len(said) == 1 and "Export refuses the sheet itself" in said[0] and "H0,0.length_mm" in said[0], said
+    assert len(said) == 1 and "Export refuses the sheet itself" in said[0] and "hinge.length_mm" in said[0], said
     sc.CellSize = 27.0
     doc.recompute()
     assert m.isValid() and m.GeometrySource == "geometry.modules"
