@@ -14,12 +14,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="251"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="308"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="77"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="134"/>
         <source>...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -127,7 +127,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="166"/>
         <source>Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -152,7 +152,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="98"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="155"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -197,7 +197,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="99"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="156"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
@@ -346,12 +346,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="171"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="167"/>
         <source>Run build's geometry checks on the answer (a child process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -366,7 +366,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="152"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
@@ -406,7 +406,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="81"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="138"/>
         <source>Target file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -442,7 +442,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="163"/>
         <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
@@ -477,7 +477,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="154"/>
         <source>e.g. H0,0, V1,2 (or click hinges)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -541,7 +541,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="105"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
         <source>local worker processes for the candidate evaluations (inverse --workers)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -571,7 +571,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="165"/>
         <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -581,7 +581,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="89"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="146"/>
         <source>or target object</source>
         <translation type="unfinished"></translation>
     </message>
@@ -683,7 +683,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="76"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="133"/>
         <source>target JSON, solve result, .stl / .obj / .step</source>
         <translation type="unfinished"></translation>
     </message>
@@ -708,7 +708,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="249"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -120,8 +120,8 @@ def test_fit_runs_the_cli_search_on_a_pool_shows_three_models_and_applies_in_one
         assert m in text, text
     assert r.fabrication["printable"] in (True, None) and "parameters" in r.fabrication["checks_run"]
     # the preview over the target, coloured by distance (one colour per node)
-    assert p.preview is not None and len(p.preview.Shape.Solids) == 25
-    assert len(p.preview.ViewObject.DiffuseColor) == 25
+    assert p.preview is not None and p.preview.count == 25 and len(p.preview.colours) == 25
+    assert not [o for o in doc.Objects if o.Label.startswith("FitTargetPreview")]    # a Coin overlay, no object
     before = _motors(sc)
     n_undo = doc.UndoCount
     assert p.accept() is True
@@ -223,3 +223,25 @@ def test_apply_moves_the_replaced_motors_housing_and_keeps_a_motors_servo_channe
     assert p.accept() is True
     (motor,) = [it for it in sc.Items if it.Kind == "actuator" and it.Joint == first]
     assert json.loads(motor.ExtraJSON) == {"servo": {"channel": 5}}
+
+
+def test_the_preview_leaves_a_saved_document_unmodified(doc, tmp_path):
+    """The preview was two document objects: a fit then Cancel left a saved document modified, and a save while it
+    showed stored them (an audit of the panels by hand, session 26)."""
+    import FreeCADGui
+    _structure(doc)
+    doc.recompute()
+    doc.saveAs(str(tmp_path / "saved.FCStd"))
+    gdoc = FreeCADGui.getDocument(doc.Name)            # (FreeCAD 0.20: the flag is the GUI document's)
+    FreeCADGui.runCommand("Std_Save")                  # as a user saves (saveAs from Python leaves the flag set)
+    process()
+    assert not gdoc.Modified
+    p = run_panel("MM_FitTarget")
+    set_text(p.path, _write_target(tmp_path, _planted(4, [("H1,1", 0.6), ("V2,3", 0.5)])))
+    set_spin(p.servos, 2)
+    press(p.run_btn)
+    assert p.wait(600) and p.preview is not None and p.preview.count == 25
+    assert not gdoc.Modified
+    assert not [o for o in doc.Objects if o.Label.startswith("FitTargetPreview")]
+    p.reject()
+    assert not gdoc.Modified

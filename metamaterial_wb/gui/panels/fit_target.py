@@ -14,6 +14,7 @@ import json
 import os
 
 import FreeCAD
+import FreeCADGui
 from PySide import QtCore, QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
@@ -22,6 +23,62 @@ from metamaterial_wb.gui.panels import base, jobs, ranges
 from metamaterial_wb.objects import structure
 
 PREVIEW_LABEL = "FitTargetPreview"
+
+
+class FitOverlay:
+    """Spheres and a surface drawn over the 3D view of ``doc`` (a Coin separator named ``PREVIEW_LABEL``): no
+    document object. ``count``: the spheres of the first call (the answer's nodes); ``colours``: theirs."""
+
+    def __init__(self, doc):
+        from pivy import coin
+        self.coin, self.view, self.count, self.colours = coin, None, 0, []
+        gd = FreeCADGui.getDocument(doc.Name) if FreeCAD.GuiUp else None
+        if gd is not None and hasattr(gd.ActiveView, "getSceneGraph"):
+            self.view = gd.ActiveView
+        self.root = coin.SoSeparator()
+        self.root.setName(PREVIEW_LABEL)
+        if self.view is not None:
+            self.view.getSceneGraph().addChild(self.root)
+
+    def _material(self, rgb, transparency):
+        m = self.coin.SoMaterial()
+        m.diffuseColor.setValue(*rgb)
+        m.transparency.setValue(transparency)
+        return m
+
+    def spheres(self, points, radius, colours, transparency=0.0):
+        for p, c in zip(points, colours):
+            sep = self.coin.SoSeparator()
+            sep.addChild(self._material(c, transparency))
+            t = self.coin.SoTranslation()
+            t.translation.setValue(*(float(x) for x in p))
+            sep.addChild(t)
+            sph = self.coin.SoSphere()
+            sph.radius.setValue(float(radius))
+            sep.addChild(sph)
+            self.root.addChild(sep)
+        if not self.count:
+            self.count, self.colours = len(colours), list(colours)
+
+    def surface(self, triangles, rgb, transparency=0.0):
+        sep = self.coin.SoSeparator()
+        sep.addChild(self._material(rgb, transparency))
+        coords = self.coin.SoCoordinate3()
+        pts = [tuple(float(x) for x in v) for t in triangles for v in t]
+        coords.point.setValues(0, len(pts), pts)
+        faces = self.coin.SoFaceSet()
+        faces.numVertices.setValues(0, len(pts) // 3, [3] * (len(pts) // 3))
+        sep.addChild(coords)
+        sep.addChild(faces)
+        self.root.addChild(sep)
+
+    def remove(self):
+        if self.view is not None:
+            try:
+                self.view.getSceneGraph().removeChild(self.root)
+            except Exception:  # pragma: no cover - the view is gone
+                pass
+        self.view = None
 
 
 Cancelled = jobs.Cancelled
@@ -61,7 +118,7 @@ def object_triangles(obj):
 
 
 class FitTargetPanel(base.BasePanel):
-    VIEW_ATTRS = ("preview", "preview_target")
+    VIEW_ATTRS = ("preview",)
     TITLE = "Fit to target"
     ICON = "MM_FitTarget.svg"
 
@@ -258,8 +315,10 @@ class FitTargetPanel(base.BasePanel):
 
     # -- preview: the answer over the target, coloured by distance ----------------------------
     def show_preview(self):
+        """The answer's nodes as spheres coloured by their distance to the target (green to red), the target as
+        small orange spheres or its surface: a Coin overlay in the 3D view, never a document object (Cancel leaves
+        the document as it was; a save while the preview shows stores nothing of it)."""
         import numpy as np
-        import Part
         self.remove_preview()
         r = self.result
         e = r.errors["quadratic"]["per_frame"][0]
@@ -271,42 +330,22 @@ class FitTargetPanel(base.BasePanel):
                 i, j = (int(x) for x in row["node"][1:].split(","))
                 dist[r.problem.topo.node_id(i, j)] = row["error_mm"]
         rad = 0.12 * self.scene.cell_size_mm
-        spheres = [Part.makeSphere(rad, FreeCAD.Vector(*p)) for p in pos]
-        self.preview = self.doc.addObject("Part::Feature", PREVIEW_LABEL)
-        self.preview.Shape = Part.Compound(spheres)
         vmax = max(float(dist.max()), 1e-9)
-        self.preview_colours = [(min(1.0, 2 * d / vmax), min(1.0, 2 * (1 - d / vmax)), 0.0) for d in dist]
+        colours = [(min(1.0, 2 * d / vmax), min(1.0, 2 * (1 - d / vmax)), 0.0) for d in dist]
         fr = r.problem.target.frames[0]
-        tgt = []
+        self.preview = FitOverlay(self.doc)
+        self.preview.spheres(pos, rad, colours)
         if fr.nodes is not None:
-            tgt = [Part.makeSphere(0.5 * rad, FreeCAD.Vector(*p)) for p in fr.nodes.pos]
-        if tgt:
-            self.preview_target = self.doc.addObject("Part::Feature", PREVIEW_LABEL + "Target")
-            self.preview_target.Shape = Part.Compound(tgt)
+            self.preview.spheres(fr.nodes.pos, 0.5 * rad, [(1.0, 0.55, 0.1)] * len(fr.nodes.pos), transparency=0.6)
         if fr.surface is not None:
-            import Mesh
-            self.preview_target = self.doc.addObject("Mesh::Feature", PREVIEW_LABEL + "Target")
-            self.preview_target.Mesh = Mesh.Mesh([[list(v) for v in t] for t in fr.surface.surface.tri])
-        if FreeCAD.GuiUp:
-            vo = self.preview.ViewObject
-            if vo is not None:
-                vo.DiffuseColor = self.preview_colours
-            tv = getattr(getattr(self, "preview_target", None), "ViewObject", None)
-            if tv is not None:
-                tv.ShapeColor = (1.0, 0.55, 0.1)
-                if hasattr(tv, "Transparency"):
-                    tv.Transparency = 60
-        self.doc.recompute()
+            self.preview.surface(fr.surface.surface.tri, (1.0, 0.55, 0.1), transparency=0.6)
+        self.preview_colours = colours
 
     def remove_preview(self):
-        for attr in ("preview", "preview_target"):
-            o = getattr(self, attr, None)
-            if o is not None:
-                try:
-                    self.doc.removeObject(o.Name)
-                except Exception:  # pragma: no cover - already gone
-                    pass
-                setattr(self, attr, None)
+        if getattr(self, "preview", None) is not None:
+            self.preview.remove()
+            self.preview = None
+
 
     # -- apply / close ------------------------------------------------------------------------
     def apply(self):
