@@ -141,3 +141,18 @@ def test_export_of_a_deleted_structure_is_refused(doc, tmp_path):
     assert "deleted" in p.error.text()
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
     p.reject()
+
+
+def test_a_value_typed_past_a_boxs_range_is_refused_not_clamped(doc):
+    """Typing 200 into a fold box of range [-180, 180] left 20 (the box drops the keystroke) and OK wrote 20 without
+    a word; now OK is refused naming the field, the value typed and the range, until the box takes a keystroke."""
+    open_example("fish_axes")
+    p = run_panel("MM_FoldedShape")
+    spin = p.spins[0]
+    type_into(spin, "200")
+    assert spin.value() == 20.0                                    # (what Qt leaves in the box)
+    assert not press_ok()
+    text = p.error.text()
+    assert "200" in text and "allowed range [-180, 180]" in text and "fold_deg" in text, text
+    type_into(spin, "12")
+    assert press_ok()

@@ -363,6 +363,11 @@ class BasePanel:
         if self.problems:
             self.show_error("not applied: " + self.problem_text())
             return False
+        from metamaterial_wb.gui.panels.ranges import REFUSED
+        refused = [w.property(REFUSED) for w in self.form.findChildren(QtGui.QAbstractSpinBox) if w.property(REFUSED)]
+        if refused:                                   # a value typed past a box's range: never clamped in silence
+            self.show_error("not applied: " + refused[0])
+            return False
         gone = translate("Metamaterial", "not applied: the structure this panel edits was deleted (press Cancel)")
         if self.target_gone():
             self.show_error(gone)

@@ -7,6 +7,8 @@ cell, a cell type's t below a quarter of L) is given its widest value here and c
 validator when the panel applies. Spin boxes that edit no validated quantity (playback speed, the
 number of servos a fit searches) are tagged with ``ui_only(spin, reason)``.
 """
+from PySide import QtCore, QtGui
+
 from metamaterial_wb.core import motion
 from metamaterial_wb.core.scene import sections
 from metamaterial_wb.core.sleeve import spec as sleeve_spec
@@ -57,7 +59,64 @@ def bind(spin, field):
     lo, hi = spin_range(spin, field)
     spin.setRange(lo, hi)
     spin.setProperty("validator_field", field)
+    _watch_refused_keys(spin, field)
     return spin
+
+
+REFUSED = "refused_input"    # the spin box property holding the message of a keystroke its range refused
+
+
+def _watch_refused_keys(spin, field):
+    """A spin box drops a keystroke that would take it past its range (typing 200 in [-180, 180] leaves 20):
+    say so instead of clamping in silence. The message goes to the box's ``REFUSED`` property (``BasePanel.accept``
+    refuses OK while one is set) and a tooltip; the next keystroke the box takes clears it."""
+    if spin.property("refused_watch") or spin.lineEdit() is None:
+        return
+    spin.setProperty("refused_watch", True)
+    watcher = _RefusedKeys(spin, field)
+    spin.installEventFilter(watcher)
+    spin.lineEdit().installEventFilter(watcher)
+    spin.lineEdit().textEdited.connect(lambda _t: spin.setProperty(REFUSED, ""))
+    spin._mm_refused_watcher = watcher    # (kept alive with the box)
+
+
+class _RefusedKeys(QtCore.QObject):
+    def __init__(self, spin, field):
+        super().__init__(spin)
+        self.spin, self.field = spin, field
+
+    def eventFilter(self, obj, ev):
+        if ev.type() == QtCore.QEvent.Type.KeyPress and ev.text() and ev.text().isprintable():
+            line = self.spin.lineEdit()
+            text = line.text()
+            if line.hasSelectedText():
+                a = line.selectionStart()
+                new = text[:a] + ev.text() + text[a + len(line.selectedText()):]
+            else:
+                c = line.cursorPosition()
+                new = text[:c] + ev.text() + text[c:]
+            QtCore.QTimer.singleShot(0, lambda: self._after(new))
+        return False
+
+    def _after(self, new):
+        try:
+            if self.spin.lineEdit().text() == new:
+                return                                # taken
+            core = new
+            if self.spin.prefix() and core.startswith(self.spin.prefix()):
+                core = core[len(self.spin.prefix()):]
+            if self.spin.suffix() and core.endswith(self.spin.suffix()):
+                core = core[:-len(self.spin.suffix())]
+            value = float(core.strip().replace(",", "."))
+        except (ValueError, RuntimeError):            # not a number yet, or the box is gone
+            return
+        lo, hi = self.spin.minimum(), self.spin.maximum()
+        if lo <= value <= hi:
+            return                                    # refused for another reason (more decimals than shown)
+        msg = f"{self.field}: {value:g} is outside the allowed range [{lo:g}, {hi:g}]; the box kept " \
+              f"{self.spin.value():g}"
+        self.spin.setProperty(REFUSED, msg)
+        QtGui.QToolTip.showText(self.spin.mapToGlobal(QtCore.QPoint(0, self.spin.height())), msg, self.spin)
 
 
 def ui_only(spin, reason):
