@@ -566,7 +566,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="366"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="371"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -591,7 +591,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="442"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="447"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -703,7 +703,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="440"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="445"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>

@@ -339,7 +339,6 @@ class FitTargetPanel(base.BasePanel):
             self.preview.spheres(fr.nodes.pos, 0.5 * rad, [(1.0, 0.55, 0.1)] * len(fr.nodes.pos), transparency=0.6)
         if fr.surface is not None:
             self.preview.surface(fr.surface.surface.tri, (1.0, 0.55, 0.1), transparency=0.6)
-        self.preview_colours = colours
 
     def remove_preview(self):
         if getattr(self, "preview", None) is not None:

@@ -145,8 +145,13 @@ class FlexibilityPanel(BasePanel):
         for name, ov in sorted(self.overrides.items()):
             self.ov_list.addItem(f"{name}: " + ", ".join(f"{k} {v:g}" for k, v in sorted(ov.items())))
 
+    @staticmethod
+    def joint_list(overrides):
+        """``{joint: fields}`` -> the scene's ``joints`` list (sorted, empty entries left out)."""
+        return [dict({"joint": k}, **v) for k, v in sorted(overrides.items()) if v]
+
     def scene_dict(self):
-        joints = [dict({"joint": k}, **v) for k, v in sorted(self.overrides.items()) if v]
+        joints = self.joint_list(self.overrides)
         d = structure.compose_scene(self.obj).to_dict()
         d["hinge"] = {"length_mm": self.size(self.length), "width_mm": self.size(self.width),
                       "thickness_mm": self.size(self.thick)}
@@ -177,8 +182,7 @@ class FlexibilityPanel(BasePanel):
         d = self.scene_dict()
         joints, h = d["joints"], d["hinge"]
         doc = self.obj.Document
-        if (h == self.scene.hinge and joints == [dict({"joint": k}, **v) for k, v in
-                                                 sorted(self.scene.joint_overrides.items()) if v]):
+        if h == self.scene.hinge and joints == self.joint_list(self.scene.joint_overrides):
             return                                    # an OK that changes nothing writes nothing (no undo step)
 
         def change():
