@@ -10,7 +10,7 @@ if not getattr(FreeCAD, "GuiUp", False):
     pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
 
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import doc, press_ok, process, run_panel, type_into, workbench  # noqa: E402,F401
+from guihelpers import doc, press_ok, process, qtest, run_panel, type_into, workbench  # noqa: E402,F401
 from test_gui_panel_details import open_example  # noqa: E402
 
 
@@ -156,3 +156,22 @@ def test_a_value_typed_past_a_boxs_range_is_refused_not_clamped(doc):
     assert "200" in text and "allowed range [-180, 180]" in text and "fold_deg" in text, text
     type_into(spin, "12")
     assert press_ok()
+
+
+def test_a_box_stepped_by_its_arrow_after_a_refused_keystroke_is_taken(doc):
+    """After a refused keystroke (200 typed in [-180, 180]) a user who steps the box with its arrow key to 20.1 sees 20.1
+    in the box; OK was still refused quoting the 200 (only a typed key cleared the refusal). The box's own change of
+    value now clears it and OK writes what the box shows."""
+    from PySide import QtCore
+    open_example("fish_axes")
+    p = run_panel("MM_FoldedShape")
+    spin = p.spins[0]
+    type_into(spin, "200")
+    assert spin.value() == 20.0
+    spin.setFocus()
+    qtest().keyClick(spin, QtCore.Qt.Key.Key_Up)
+    process()
+    assert spin.value() == pytest.approx(20.1)
+    assert press_ok(), p.error.text()
+    sc = doc.getObject(p.obj.Name)
+    assert folds(sc)[0] == pytest.approx(20.1)

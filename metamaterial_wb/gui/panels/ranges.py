@@ -69,7 +69,7 @@ REFUSED = "refused_input"    # the spin box property holding the message of a ke
 def _watch_refused_keys(spin, field):
     """A spin box drops a keystroke that would take it past its range (typing 200 in [-180, 180] leaves 20):
     say so instead of clamping in silence. The message goes to the box's ``REFUSED`` property (``BasePanel.accept``
-    refuses OK while one is set) and a tooltip; the next keystroke the box takes clears it."""
+    refuses OK while one is set) and a tooltip; the next keystroke the box takes, or a step of its arrows, clears it."""
     if spin.property("refused_watch") or spin.lineEdit() is None:
         return
     spin.setProperty("refused_watch", True)
@@ -77,6 +77,7 @@ def _watch_refused_keys(spin, field):
     spin.installEventFilter(watcher)
     spin.lineEdit().installEventFilter(watcher)
     spin.lineEdit().textEdited.connect(lambda _t: spin.setProperty(REFUSED, ""))
+    spin.valueChanged.connect(lambda *_a: spin.setProperty(REFUSED, ""))   # stepped by its arrows or the wheel
     spin._mm_refused_watcher = watcher    # (kept alive with the box)
 
 
