@@ -356,7 +356,8 @@ class FitTargetPanel(base.BasePanel):
         scene = self.result.scene
         from metamaterial_wb.core.scene import Scene
         Scene.from_dict(scene.to_dict())
-        with base.transaction(self.doc, self.TITLE):
+
+        def change():
             old = [it for it in self.obj.Items if getattr(getattr(it, "Proxy", None), "Type", "") ==
                    "MetamaterialItem" and it.Kind == "actuator"]
             self.obj.Items = [it for it in self.obj.Items if it not in old]
@@ -366,7 +367,7 @@ class FitTargetPanel(base.BasePanel):
                 structure.make_item(self.doc, self.obj, "actuator", a.name, a.joint, a.value, a.profile,
                                     extra=a.extra or None)
             self._move_modules(self.result.info.get("module_moves", ()))
-            self.doc.recompute()
+        self.commit(self.doc, self.TITLE, change)     # one undo step; an invalid result is undone, its error shown
 
     def _move_modules(self, moves):
         """The servo housings of replaced motors, moved onto the new servos' joints or removed, as the answer

@@ -100,7 +100,6 @@ class RotaryAxesPanel(BasePanel):
         v = self.current_violations()
         if v:
             raise MetamaterialError("the axes break the rules: " + "; ".join(v))
-        self.cleanup()
         doc = self.obj.Document
         def key(a):
             return (a.get("direction"), a.get("line"))
