@@ -29,6 +29,10 @@ class FlexibilityPanel(BasePanel):
         self.length = self._spin(self.scene.hinge["length_mm"], "hinge.length_mm")
         self.width = self._spin(self.scene.hinge["width_mm"], "hinge.width_mm")
         self.thick = self._spin(self.scene.hinge["thickness_mm"], "hinge.thickness_mm")
+        # an untouched size keeps the stored value exactly (the boxes show 3 decimals: 2.3456 stays 2.3456)
+        self._first = {w: (w.value(), float(v)) for w, v in
+                       ((self.length, self.scene.hinge["length_mm"]), (self.width, self.scene.hinge["width_mm"]),
+                        (self.thick, self.scene.hinge["thickness_mm"]))}
         f.addRow(translate("Metamaterial", "Length"), self.length)
         f.addRow(translate("Metamaterial", "Width"), self.width)
         f.addRow(translate("Metamaterial", "Thickness"), self.thick)
@@ -54,10 +58,6 @@ class FlexibilityPanel(BasePanel):
         pf.addRow(self.problem_label("joints"))
         self.layout.addWidget(pj)
         self.finish_layout()
-        # an untouched size keeps the stored value exactly (the boxes show 3 decimals: 2.3456 stays 2.3456)
-        self._first = {w: (w.value(), float(v)) for w, v in
-                       ((self.length, self.scene.hinge["length_mm"]), (self.width, self.scene.hinge["width_mm"]),
-                        (self.thick, self.scene.hinge["thickness_mm"]))}
         for w in (self.length, self.width, self.thick):
             w.valueChanged.connect(self._update_k)
         for w in (self.j_length, self.j_width):
@@ -98,7 +98,7 @@ class FlexibilityPanel(BasePanel):
 
     def size(self, spin):
         """A global size as OK writes it: the stored value while the box still shows it, else the box's."""
-        shown, exact = self._first.get(spin, (None, None)) if hasattr(self, "_first") else (None, None)
+        shown, exact = self._first.get(spin, (None, None))
         return exact if spin.value() == shown else float(spin.value())
 
     def _update_jk(self, *_):
