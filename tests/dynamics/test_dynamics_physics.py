@@ -198,3 +198,21 @@ def test_analytic_jacobian_matches_finite_differences():
         Cfd[:, j] = (s.forces(q, v + d, anc)[0] - s.forces(q, v - d, anc)[0]).ravel() / (2 * eps)
     assert np.abs(K - Kfd).max() < 1e-5 * np.abs(Kfd).max()
     assert np.abs(C - Cfd).max() < 1e-5 * np.abs(Cfd).max()
+
+
+
+@pytest.mark.parametrize("method,dt,t_end,steps", [("symplectic", 1e-4, 30.0, 300000), ("implicit", 2e-3, 100.0, 50000),
+                                                   ("symplectic", 7e-5, 10.0, 142858)])
+def test_a_run_takes_exactly_its_steps_and_ends_at_t_end(method, dt, t_end, steps):
+    """Time was accumulated by addition: after 300 000 steps of 0.1 ms (or 50 000 of 2 ms) the round-off left t short
+    of t_end by ~1e-11 s and the run took one more step of that size (a force evaluation, a Newton solve and a frame
+    for nothing). The step that reaches t_end within round-off now ends there: t_end / dt steps (rounded up when
+    dt does not divide t_end: 10 s at 70 us is 142 857 steps and a shorter last one), ending at t_end exactly."""
+    s = PlanarSystem([0.1], [1e-4], gravity=(0.0, 0.0))
+    sim = Simulator(s, np.array([[0.0, 2.0, 0.0]]), np.array([[0.01, 0.0, 0.0]]))
+    times = []
+    sim.run(t_end, method=method, dt=dt, record_dt=0.5, on_record=lambda sm: times.append(sm.t))
+    assert sim.stats["steps"] == steps
+    assert sim.t == t_end
+    assert times[-1] == t_end and len(times) == round(t_end / 0.5) + 1
+    assert sim.q[0, 0] == pytest.approx(0.01 * t_end, rel=1e-9)

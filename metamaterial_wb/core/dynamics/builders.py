@@ -271,8 +271,7 @@ class Model:
         self.info = info
 
     def com_x(self, q):
-        m = self.system.mass * ~self.system.fixed
-        return float(np.sum(m * q[:, 0]) / np.sum(m))
+        return float(self.system.com_weights() @ q[:, 0])
 
 
 # ----------------------------------------------------------------------------------------------

@@ -39,6 +39,9 @@ from .system import DynamicsError, PlanarSystem
 METHODS = ("auto", "symplectic", "implicit")
 
 
+ROUNDOFF_STEPS = 1e-6    # a time short of a mark by less than this fraction of a step is round-off, not a step
+
+
 class StepBudgetError(DynamicsError):
     """A run that would take more time steps than allowed, found before the first step."""
 
@@ -529,22 +532,26 @@ class Simulator(EnergyLedger):
             rec_t = self.t
             next_rec = record_dt
         # the centre of mass's extremes over every step, not only the recorded frames (the summary's travel
-        # extremes must not depend on the frame rate); mass-weighted x of the free bodies, as Model.com_x
-        w = self.sys.mass * ~self.sys.fixed
-        w = w / w.sum() if w.sum() > 0 else w
+        # extremes must not depend on the frame rate), as Model.com_x
+        w = self.sys.com_weights()
         x = float(w @ self.q[:, 0])
         self.stats["com_x_min_m"] = min(self.stats.get("com_x_min_m", x), x)
         self.stats["com_x_max_m"] = max(self.stats.get("com_x_max_m", x), x)
         cp = self._checkpoint()
         since = 0
         retries = 0
-        eps = 1e-12
+        eps = ROUNDOFF_STEPS * dt
         while self.t < t_end - eps:
-            h = min(dt, t_end - self.t)
+            # the step that reaches t_end (within round-off of a whole step) ends there exactly: time accumulated
+            # by addition would otherwise leave a last step of ~1e-11 s on long runs
+            last = t_end - self.t <= dt + eps
+            h = t_end - self.t if last else dt
             if method == "symplectic":
                 self.step_symplectic(h)
             else:
                 self.step_implicit(h)
+            if last:
+                self.t = t_end
             x = float(w @ self.q[:, 0])
             if x < self.stats["com_x_min_m"]:
                 self.stats["com_x_min_m"] = x
@@ -572,6 +579,7 @@ class Simulator(EnergyLedger):
                         else:
                             dt = self.default_implicit_dt
                             how = f"its automatic step dt = {dt:g} s (no step was requested)"
+                        eps = ROUNDOFF_STEPS * dt
                         self.stats["fallbacks"].append(
                             {"at_s": round(t_bad, 6), "reason": bad, "action": f"switched to implicit at {how}"})
                         self.stats["method"] = "symplectic->implicit"
@@ -583,6 +591,7 @@ class Simulator(EnergyLedger):
                             f"with dt = {dt:.3g} s failed. Check for very large forces (stiffness, pressure, "
                             f"servo amplitude) or set dynamics.integrator.dt_s smaller")
                     dt *= 0.5
+                    eps = ROUNDOFF_STEPS * dt
                     self.stats["fallbacks"].append(
                         {"at_s": round(t_bad, 6), "reason": bad, "action": f"halved implicit dt to {dt:g} s"})
                     continue

@@ -85,6 +85,12 @@ class PlanarSystem:
         self._fsc = None
         self.last_damping_power = 0.0
 
+    def com_weights(self):
+        """Mass fractions of the free bodies: the centre of mass whose travel the summaries report is
+        ``com_weights() @ q[:, 0]`` (fixed bodies, a belt's frame or a ground, do not travel)."""
+        m = self.mass * ~self.fixed
+        return m / m.sum() if m.sum() > 0 else m
+
     # -- construction -----------------------------------------------------------------------
     def set_hinges(self, a, b, ra, rb, kp, cp, kr, cr, theta0=0.0):
         m = len(a)
