@@ -155,15 +155,21 @@ def attach_view_provider(obj, vp_class_name, module="metamaterial_wb.gui.viewpro
 # saving then writes the proxies as null. Two typed records survive such a save, because FreeCAD
 # keeps typed properties without the proxy:
 #   * every object carries a hidden ``ProxyClass`` property ("module:Class");
-#   * the document's ``Meta`` map holds ``metamaterial_wb.objects``: the names of all our objects,
-#     written at every save (the <Document> header comes first in Document.xml, so a truncated file
-#     still has it).
+#   * the document's ``Meta`` map holds ``metamaterial_wb.objects.2``: each of our objects with the names
+#     of the properties the workbench added to it, written at every save (the <Document> header comes
+#     first in Document.xml, so a truncated file still has it). Only our own properties: FreeCAD's differ
+#     between versions (1.1 gives a Part::FeaturePython ``ShapeMaterial`` and ``_ElementMapVersion``,
+#     0.20 does not), so a file saved on 1.1 would look truncated on 0.20. Files saved before 2026-12
+#     hold ``metamaterial_wb.objects`` (counts of all properties): there only the objects and their
+#     ``ProxyClass`` are checked.
 # When the package is imported (before or after the document was opened) :func:`repair_document`
 # re-attaches the proxies from ``ProxyClass``, and reports objects that the manifest names but the
 # file lost. A document that cannot be repaired is locked: its FileName is cleared, so ``save()``
 # fails (FreeCAD: "Saving document failed") and only Save As to a new file is possible.
 PROXY_CLASS = "ProxyClass"
-MANIFEST_KEY = "metamaterial_wb.objects"
+MANIFEST_KEY = "metamaterial_wb.objects.2"
+LEGACY_MANIFEST_KEY = "metamaterial_wb.objects"
+PROP_DYNAMIC = 21   # Property::PropDynamic as getPropertyStatus reports it (the same on FreeCAD 0.20, 1.0, 1.1)
 _REPORTS = {}       # document name -> last repair report (tests, GUI)
 
 
@@ -186,14 +192,37 @@ def _ours(doc):
     return [o for o in doc.Objects if PROXY_CLASS in o.PropertiesList]
 
 
+def own_properties(obj):
+    """The names of the properties the workbench added to ``obj`` (FreeCAD's own, which differ between
+    FreeCAD versions, left out)."""
+    return sorted(n for n in obj.PropertiesList if PROP_DYNAMIC in obj.getPropertyStatus(n))
+
+
 def write_manifest(doc):
-    """``doc.Meta[MANIFEST_KEY]``: {object name: number of properties} of every object of ours."""
-    text = json.dumps({o.Name: len(o.PropertiesList) for o in sorted(_ours(doc), key=lambda o: o.Name)},
+    """``doc.Meta[MANIFEST_KEY]``: {object name: [names of its own properties]} of every object of ours."""
+    text = json.dumps({o.Name: own_properties(o) for o in sorted(_ours(doc), key=lambda o: o.Name)},
                       sort_keys=True)
     meta = dict(doc.Meta)
-    if meta.get(MANIFEST_KEY) != text:
+    if meta.get(MANIFEST_KEY) != text or LEGACY_MANIFEST_KEY in meta:
         meta[MANIFEST_KEY] = text
+        meta.pop(LEGACY_MANIFEST_KEY, None)
         doc.Meta = meta
+
+
+def _manifest(doc):
+    """{object name: [property names]} from the file's record; a legacy record (counts) gives empty lists."""
+    meta = dict(doc.Meta)
+    for key, legacy in ((MANIFEST_KEY, False), (LEGACY_MANIFEST_KEY, True)):
+        if key not in meta:
+            continue
+        try:
+            rec = json.loads(meta[key])
+        except ValueError:
+            return {}
+        if not isinstance(rec, dict):
+            return {}
+        return {str(k): ([] if legacy or not isinstance(v, list) else [str(n) for n in v]) for k, v in rec.items()}
+    return {}
 
 
 def repair_document(doc, announce=True):
@@ -223,18 +252,12 @@ def repair_document(doc, announce=True):
             restored.append(o.Name)
         except Exception:  # noqa: BLE001 - reported below, never raised into FreeCAD's restore
             unknown.append(o.Name)
-    try:
-        expected = json.loads(dict(doc.Meta).get(MANIFEST_KEY, "{}"))
-    except ValueError:
-        expected = {}
-    if not isinstance(expected, dict):
-        expected = {}
     # lost: missing, or its data never restored (a truncated Document.xml: the object list comes
     # first, so the object exists but its properties, ProxyClass among them, stop at the cut)
     lost = []
-    for name, n_props in sorted(expected.items()):
+    for name, props in sorted(_manifest(doc).items()):
         o = doc.getObject(name)
-        if o is None or PROXY_CLASS not in o.PropertiesList or len(o.PropertiesList) < int(n_props):
+        if o is None or PROXY_CLASS not in o.PropertiesList or not set(props) <= set(o.PropertiesList):
             lost.append(name)
     locked = bool(lost or unknown)
     report = {"restored": restored, "lost": lost, "unknown": unknown, "locked": locked}
