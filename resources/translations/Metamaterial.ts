@@ -14,7 +14,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="308"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="317"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -153,6 +153,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="155"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="300"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -187,7 +188,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="46"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="50"/>
         <source>Joint</source>
         <translation type="unfinished"></translation>
     </message>
@@ -198,6 +199,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="156"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="298"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
@@ -212,8 +214,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="32"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="36"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="51"/>
         <source>Length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -290,7 +292,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="39"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="43"/>
         <source>One joint (click a hinge in the 3D view)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -367,6 +369,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="152"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="299"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
@@ -421,7 +424,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="34"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="38"/>
         <source>Thickness</source>
         <translation type="unfinished"></translation>
     </message>
@@ -436,8 +439,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="33"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="52"/>
         <source>Width</source>
         <translation type="unfinished"></translation>
     </message>
@@ -520,8 +523,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="36"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="49"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="40"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="53"/>
         <source>k1, k2</source>
         <translation type="unfinished"></translation>
     </message>
@@ -708,7 +711,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>

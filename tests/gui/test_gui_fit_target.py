@@ -245,3 +245,28 @@ def test_the_preview_leaves_a_saved_document_unmodified(doc, tmp_path):
     assert not [o for o in doc.Objects if o.Label.startswith("FitTargetPreview")]
     p.reject()
     assert not gdoc.Modified
+
+
+def test_fit_errors_name_the_panels_fields_not_the_command_lines_flags(doc, tmp_path):
+    """The panel said "fit: --servos: 13 servos do not fit", "fit: --forbid: joint 'V9,9' does not exist" and
+    "--values-only needs a scene with actuators": flags of the command line, which the panel does not have. Its
+    messages name its own fields (Servo budget, Forbidden joints, the values-only box)."""
+    sc = structure.make_structure(doc, Scene.grid(3, 3))
+    doc.recompute()
+    p = run_panel("MM_FitTarget")
+    set_text(p.path, _write_target(tmp_path, _planted(3, [("H1,1", 0.6)])))
+    seen = []
+    for setup in (lambda: set_spin(p.servos, 11), lambda: (set_spin(p.servos, 1), set_text(p.forbid, "V9,9")),
+                  lambda: (set_text(p.forbid, ""), p.values_only.setChecked(True))):
+        setup()
+        press(p.run_btn)
+        assert p.wait(300)
+        text = p.error.text()
+        assert text and p.result is None, text
+        assert "--" not in text, text
+        seen.append(text)
+    assert "Servo budget" in seen[0] and "11" in seen[0], seen
+    assert "Forbidden joints" in seen[1] and "V9,9" in seen[1], seen
+    assert "Keep the motors, fit their values only" in seen[2], seen
+    p.reject()
+    assert sc.Name in [o.Name for o in doc.Objects]

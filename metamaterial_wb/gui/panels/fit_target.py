@@ -230,7 +230,7 @@ class FitTargetPanel(base.BasePanel):
             Problem(self.scene, target, keep_actuators=self.values_only.isChecked())   # bad targets: now
             forbidden = [] if self.values_only.isChecked() else self._forbidden()
         except MetamaterialError as exc:
-            self.show_error(str(exc))
+            self.show_error(self.in_panel_words(str(exc)))
             return False
         opts = {"servos": None if self.values_only.isChecked() else int(self.servos.value()),
                 "values_only": self.values_only.isChecked(),
@@ -290,7 +290,16 @@ class FitTargetPanel(base.BasePanel):
     def _failed(self, msg):
         self.run_btn.setEnabled(True)
         self.status.setText("")
-        self.show_error(f"fit: {msg}")
+        self.show_error(f"fit: {self.in_panel_words(msg)}")
+
+    @staticmethod
+    def in_panel_words(msg):
+        """A message of the fit (worded for the command line) with its flags as this panel's fields."""
+        for flag, field in (("--values-only", translate("Metamaterial", "Keep the motors, fit their values only")),
+                            ("--servos", translate("Metamaterial", "Servo budget")),
+                            ("--forbid", translate("Metamaterial", "Forbidden joints"))):
+            msg = msg.replace(flag, f"'{field}'")
+        return msg
 
     def _cancelled(self):
         self.run_btn.setEnabled(True)
