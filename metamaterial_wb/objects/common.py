@@ -113,6 +113,16 @@ class ViewProviderBase:
     __setstate__ = loads
 
 
+def assign(obj, prop, value):
+    """``obj.prop = value`` only when it differs. FreeCAD records every set, an equal one too (an undo step, the
+    document marked modified), and drops a transaction that recorded nothing: an edit that changes nothing,
+    written through this, leaves no trace. Returns whether it wrote."""
+    if getattr(obj, prop) == value:
+        return False
+    setattr(obj, prop, value)
+    return True
+
+
 def json_property(obj, prop, what="an object", kind=dict):
     """The JSON in text property ``prop`` of ``obj`` (empty text: an empty ``kind``), or a SceneError naming the
     object, the property and what it should hold (``json.loads``'s own message named neither)."""

@@ -244,13 +244,17 @@ def solver_for(obj, scene=None):
 
 
 def set_scene_fields(obj, **fields):
-    """Change top-level fields of SceneJSON (axes, joint_config, joints, ...); ``None`` removes one."""
+    """Change top-level fields of SceneJSON (axes, joint_config, joints, ...); ``None`` removes one. Fields equal
+    to the stored ones write nothing (``common.assign``)."""
     data = json_property(obj, "SceneJSON", "the scene as a JSON object (docs/scene-format.md)")
+    old = dict(data)
     for k, v in fields.items():
         if v is None:
             data.pop(k, None)
         else:
             data[k] = v
+    if data == old:
+        return
     Scene.from_dict(dict(data, actuators=[], constraints=[], modules=[]))  # validate what we can
     obj.SceneJSON = json.dumps(data, indent=1)
 

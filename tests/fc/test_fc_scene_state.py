@@ -171,3 +171,26 @@ def test_copy_of_the_whole_part_has_its_own_arrays(doc):
     doc.recompute()
     assert cp.isValid() and sc.isValid(), (cp.getStatusString(), sc.getStatusString())
     assert _nodes(sc) == before and _nodes(cp) != before
+
+
+def test_an_edit_that_changes_nothing_leaves_no_undo_step_and_a_real_one_does(doc):
+    """The task panels write through ``common.assign`` and ``set_scene_fields``, which skip equal values: FreeCAD
+    records every set, an equal one too (an undo step, the document marked modified), and drops a transaction
+    that recorded nothing. A real change is one undo step that Undo takes back."""
+    from metamaterial_wb.objects.common import assign
+    doc.UndoMode = 1
+    sc = structure.make_structure(doc, fish())
+    doc.recompute()
+    stored = structure.compose_scene(sc).to_dict()
+    n0 = doc.UndoCount
+    doc.openTransaction("same")
+    assert not assign(sc, "HingeLength", stored["hinge"]["length_mm"])
+    structure.set_scene_fields(sc, axes=stored.get("axes"), joint_config=stored.get("joint_config"))
+    doc.commitTransaction()
+    assert doc.UndoCount == n0
+    doc.openTransaction("changed")
+    assert assign(sc, "HingeLength", stored["hinge"]["length_mm"] + 0.5)
+    doc.commitTransaction()
+    assert doc.UndoCount == n0 + 1
+    doc.undo()
+    assert sc.HingeLength.Value == stored["hinge"]["length_mm"]

@@ -9,6 +9,7 @@ from PySide import QtGui
 from metamaterial_wb.core.errors import MetamaterialError, SceneError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
+from metamaterial_wb.objects.common import assign
 from metamaterial_wb.gui.panels.base import BasePanel, button_row
 from metamaterial_wb.gui.panels.checks import design_problem
 from metamaterial_wb.gui.panels import ranges
@@ -182,12 +183,10 @@ class FlexibilityPanel(BasePanel):
         d = self.scene_dict()
         joints, h = d["joints"], d["hinge"]
         doc = self.obj.Document
-        if h == self.scene.hinge and joints == self.joint_list(self.scene.joint_overrides):
-            return                                    # an OK that changes nothing writes nothing (no undo step)
 
-        def change():
-            self.obj.HingeLength = h["length_mm"]
-            self.obj.HingeWidth = h["width_mm"]
-            self.obj.HingeThickness = h["thickness_mm"]
+        def change():                                 # equal values write nothing: an untouched OK leaves no trace
+            for prop, key in (("HingeLength", "length_mm"), ("HingeWidth", "width_mm"),
+                              ("HingeThickness", "thickness_mm")):
+                assign(self.obj, prop, h[key])
             structure.set_scene_fields(self.obj, joints=joints or None)
         self.commit(doc, "Flexibility", change)

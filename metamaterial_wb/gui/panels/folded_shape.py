@@ -215,12 +215,8 @@ class FoldedShapePanel(BasePanel):
         self._preview_timer.stop()
         sc = self.configured_scene()
         doc = self.obj.Document
-        now = structure.compose_scene(self.obj).to_dict()
-        if ([a.to_dict() for a in sc.axes] == now.get("axes", []) and
-                (sc.joint_config or {}) == now.get("joint_config", {})):
-            return                                    # an OK that changes nothing writes nothing (no undo step)
 
-        def change():
+        def change():                                 # equal fields write nothing: an untouched OK leaves no trace
             structure.set_scene_fields(self.obj, axes=[a.to_dict() for a in sc.axes] or None,
                                        joint_config=sc.joint_config or None)
         self.commit(doc, "Folded shape", change)

@@ -101,11 +101,12 @@ class RotaryAxesPanel(BasePanel):
         if v:
             raise MetamaterialError("the axes break the rules: " + "; ".join(v))
         doc = self.obj.Document
+
         def key(a):
             return (a.get("direction"), a.get("line"))
         if sorted(self.axes(), key=key) == sorted(structure.compose_scene(self.obj).to_dict().get("axes", []),
                                                   key=key):
-            return                                    # the same axes: nothing written, the design kept
+            return                                    # the same axes in any order: the design (joint_config) kept
         # changing the axes invalidates a previous joint configuration
         self.commit(doc, "Rotary axes", lambda: structure.set_scene_fields(self.obj, axes=self.axes() or None,
                                                                            joint_config=None))

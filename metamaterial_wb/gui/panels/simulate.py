@@ -5,6 +5,7 @@ from PySide import QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
+from metamaterial_wb.objects.common import assign
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
 from metamaterial_wb.gui.i18n import translate
 
@@ -172,26 +173,15 @@ class SimulatePanel(BasePanel):
         doc = self.obj.Document
 
         def change():
-            for it in self.obj.Items:
-                if it.ItemName in vals and abs(it.Value - vals[it.ItemName]) > 1e-12:
-                    it.Value = vals[it.ItemName]
-            if bool(self.obj.UseGlobal) != self.use_global.isChecked():
-                self.obj.UseGlobal = self.use_global.isChecked()
+            for it in self.obj.Items:                 # equal values write nothing: an untouched OK leaves no trace
+                if it.ItemName in vals:
+                    assign(it, "Value", vals[it.ItemName])
+            assign(self.obj, "UseGlobal", self.use_global.isChecked())
             g0, stored = self.initial_global          # an untouched slider keeps the stored value exactly
-            g = stored if self.global_slider.value() == g0 else self.global_slider.value() / 100.0
-            if abs(self.obj.GlobalDeformation - g) > 1e-12:
-                self.obj.GlobalDeformation = g
-            if self.obj.Model != self.model.currentText():
-                self.obj.Model = self.model.currentText()
-        if self.changes_nothing(vals):
-            return                                    # an OK that changes nothing writes nothing (no undo step)
+            assign(self.obj, "GlobalDeformation", stored if self.global_slider.value() == g0
+                   else self.global_slider.value() / 100.0)
+            assign(self.obj, "Model", self.model.currentText())
         self.commit(doc, "Simulate", change)
-
-    def changes_nothing(self, vals):
-        g0, _stored = self.initial_global
-        return (all(abs(it.Value - vals[it.ItemName]) <= 1e-12 for it in self.obj.Items if it.ItemName in vals)
-                and bool(self.obj.UseGlobal) == self.use_global.isChecked() and self.global_slider.value() == g0
-                and self.obj.Model == self.model.currentText())
 
 
 # ----------------------------------------------------------------------------------------------
