@@ -1,10 +1,11 @@
 """``stream SCENE.json --port PORT [--seconds S] [--dry-run] [--map NAME=CH,...] [--channels FILE] ...``
 
 Streams the scene's actuator motion profiles to the servolink firmware (firmware/, docs/firmware.md) at
-50 Hz: handshake, channel configuration, watchdog timing, ARM, then one SET_ANGLES frame per 20 ms with
-each actuated joint's simulated rotation (hardware/joint_angle.py; ``servo.scale_deg`` for a linear
-``value * scale`` instead). ``--dry-run`` runs everything over
-pyserial's ``loop://`` without hardware.
+50 Hz: handshake, channel configuration, watchdog timing, ARM, then every 20 ms (a tick) one SET_ANGLES frame
+per run of adjacent channels with each actuated joint's simulated rotation (hardware/joint_angle.py;
+``servo.scale_deg`` for a linear ``value * scale`` instead). Before the port is opened the motion is checked:
+the limits, the servos' reach, and whether the frames at ``--rate`` follow it (``--rate-tolerance``).
+``--dry-run`` runs everything over pyserial's ``loop://`` without hardware.
 """
 import json
 import sys
@@ -23,7 +24,14 @@ def add_arguments(p):
                         "the firmware generate them (no host timing jitter), keeping the link alive with PINGs")
     p.add_argument("--baud", type=int, default=115200,
                    help="baud rate, 1200..4000000 (default 115200, what the firmware speaks)")
-    p.add_argument("--rate", type=float, default=50.0, help="frames per second (default 50, allowed 1..100)")
+    p.add_argument("--rate", type=float, default=50.0,
+                   help="ticks per second, each sending one SET_ANGLES frame per run of adjacent channels (default "
+                        "50, allowed 1..100); a rate whose frames cannot follow the motion is refused "
+                        "(--rate-tolerance)")
+    p.add_argument("--rate-tolerance", type=float, default=None, metavar="DEG",
+                   help="how far (deg) the servos, moving linearly from frame to frame, may stray from the motion "
+                        "sampled at 1 kHz before --rate is refused (default 3, allowed (0, 180]; 180 lets any rate "
+                        "through)")
     p.add_argument("--map", default="", metavar="NAME=CH,...",
                    help="actuator -> channel, e.g. head=0,tail=3 (default: the scene's servo.channel, else order)")
     p.add_argument("--channels", metavar="FILE",
@@ -61,6 +69,8 @@ def run(args):
         raise SceneError("--port", "a serial port is required (or --dry-run to stream over loop://)")
     check_number("--seconds", args.seconds, 0.0, 86400.0, "s", low_open=True)
     check_number("--rate", args.rate, 1.0, 100.0, "Hz")
+    if args.rate_tolerance is not None:
+        check_number("--rate-tolerance", args.rate_tolerance, 0, 180, "deg", low_open=True)
     check_integer("--baud", args.baud, 1200, 4_000_000, "bits/s, 8N1; the firmware speaks 115200")
     check_number("--watchdog-ms", args.watchdog_ms, 50, 10000, "ms")
     check_number("--park-after-ms", args.park_after_ms, 0, 60000, "ms")
@@ -72,8 +82,10 @@ def run(args):
     if args.mode == "osc":
         from metamaterial_wb.hardware.onboard import osc_params
         osc_params(scene, channels)  # refuse a scene the generator cannot run before opening the port
-    else:  # the limits (unless --clamp) and, on the angles as sent, the servo's reach (+-angle + trim)
-        check_motion(scene, channels, args.seconds, args.rate, clamp=args.clamp)
+    else:  # the limits (unless --clamp) and, on the angles as sent, the servo's reach (+-angle + trim) and
+        # whether the frames at --rate follow the motion (within --rate-tolerance)
+        check_motion(scene, channels, args.seconds, args.rate, clamp=args.clamp,
+                     rate_tolerance_deg=args.rate_tolerance)
     if args.mode == "stream":
         _check_bandwidth(args.baud, args.rate, channels)
 
@@ -125,7 +137,10 @@ def run(args):
         write_json(args.report, s)
     rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
            if s["rtt_ms_median"] is not None else "no replies")
-    print(f"{s['frames']} frames in {s['duration_s']:.2f} s ({s['rate_hz']:.1f} Hz): {s['acked']} acked, "
+    per_tick = (f" ({s['frames_per_tick']} a tick: one per run of adjacent channels)" if s["frames_per_tick"] > 1
+                else "")
+    print(f"{s['ticks']} ticks in {s['duration_s']:.2f} s ({s['rate_hz']:.1f} Hz), {s['frames']} frames{per_tick}: "
+          f"{s['acked']} acked, "
           f"{s['naked']} NAKed{' ' + json.dumps(s['nak_reasons']) if s['nak_reasons'] else ''}, {s['lost']} lost, "
           f"{s['skipped']} skipped; {s['nak_unreadable']} unreadable-frame NAKs"
           f"{' ' + json.dumps(s['unreadable_reasons']) if s['unreadable_reasons'] else ''}; {rtt}; "

@@ -270,14 +270,17 @@ def check_servo_reach(cfg: ChannelConfig, angles_deg, where, times_s=None):
                             f"or change trim_deg")
 
 
-def check_motion(scene, channels, duration_s, rate_hz=50.0, clamp=False):
+def check_motion(scene, channels, duration_s, rate_hz=50.0, clamp=False, rate_tolerance_deg=None):
     """Check the scene's motion over ``duration_s`` (sampled at the stream rate and at 1 kHz) before streaming.
 
     Without ``clamp``, raise SceneError if an angle leaves its channel's limits. In both cases (with ``clamp`` on
     the angles clamped to the limits, as they will be sent) raise SceneError if a servo angle (+-angle + trim)
-    leaves [-90, 90] deg (check_servo_reach). Returns the largest |angle sent| per actuator (degrees)."""
+    leaves [-90, 90] deg (check_servo_reach), and if ``rate_hz`` cannot follow the motion within
+    ``rate_tolerance_deg`` (check_rate; None: RATE_TOLERANCE_DEG). Returns the largest |angle sent| per actuator
+    (degrees)."""
     from metamaterial_wb.core.motion import profile_value
 
+    tol = _check_tolerance(rate_tolerance_deg)
     t = np.union1d(np.arange(0.0, duration_s + 1e-9, 1.0 / rate_hz), np.arange(0.0, duration_s + 1e-9, 1e-3))
     by_name = {a.name: a for a in scene.actuators}
     peaks = {}
@@ -297,7 +300,145 @@ def check_motion(scene, channels, duration_s, rate_hz=50.0, clamp=False):
                                     f"--clamp")
         check_servo_reach(c, ang, where, t)
         peaks[c.name] = float(np.max(np.abs(ang))) if ang.size else 0.0
+    check_rate(scene, channels, duration_s, rate_hz, clamp=clamp, tolerance_deg=tol)
     return peaks
+
+
+# --------------------------------------------------------------------------------------------------------------
+# Can the frame rate follow the motion?
+
+RATE_TOLERANCE_DEG = 3.0  # the fish's tail at 50 Hz strays 1.86 deg (the corner of its joint's two rotation rates)
+MAX_RATE_HZ = 100         # the streamer's allowed rates: 1..100 Hz
+_DENSE_S = 1e-3           # the motion is compared at 1 kHz (as check_motion samples it)
+_WINDOW = 100_000         # dense samples per block (long streams are compared block by block)
+_SUGGEST_SPAN_S = 600.0   # the whole rates suggested after a refusal are compared over at most this much motion
+
+
+@dataclass
+class RateDeviation:
+    """The worst distance (``deg``) between the motion and the servo's path through the frames, at ``t``."""
+    deg: float
+    name: str = None          # actuator
+    channel: int = None
+    t: float = None           # s
+    servo_deg: float = None   # where the servo is (on its path between frames)
+    motion_deg: float = None  # where the motion is
+
+
+def _check_tolerance(tolerance_deg, field_name="rate_tolerance_deg"):
+    if tolerance_deg is None:
+        return RATE_TOLERANCE_DEG
+    return check_number(field_name, tolerance_deg, 0, 180, "deg", low_open=True)
+
+
+def _rate_tracks(scene, channels, clamp):
+    """``[(cfg, angles(t), steps)]`` of the channels whose motion changes: ``angles`` gives the commanded angles
+    (clamped to the limits with ``clamp``, as they are sent); ``steps``: the profile jumps."""
+    from metamaterial_wb.core.motion import profile_value
+
+    by_name = {a.name: a for a in scene.actuators}
+    out = []
+    for c in channels:
+        a = by_name[c.name]
+        p = a.profile
+        if p is None or p.get("shape", "sine") == "constant":
+            continue
+
+        def angles(t, a=a, c=c):
+            v = np.atleast_1d(profile_value(a.profile, t, a.value)) * np.ones_like(t)
+            ang = np.atleast_1d(np.asarray(c.angle_deg(v), dtype=float))
+            return np.clip(ang, *c.limits_deg) if clamp else ang
+        out.append((c, angles, p.get("shape") == "steps"))
+    return out
+
+
+def _deviations(tracks, duration_s, rates, stop_above=None):
+    """``{rate: RateDeviation}``: the worst deviation of each rate over [0, duration_s]. With ``stop_above``, a
+    rate is dropped (its entry kept) as soon as it exceeds it."""
+    worst = {r: RateDeviation(0.0) for r in rates}
+    alive = list(rates)
+    n = int(math.floor(duration_s / _DENSE_S + 1e-9)) + 1
+    for i0 in range(0, n, _WINDOW):
+        td = np.arange(i0, min(n, i0 + _WINDOW)) * _DENSE_S
+        if i0 + _WINDOW >= n and td[-1] < duration_s - 1e-12:
+            td = np.append(td, duration_s)
+        for c, angles, steps in tracks:
+            m = angles(td)
+            for r in alive:
+                # the frames around the block: t = k / r (the one after the last sent one included)
+                k0 = int(math.floor(td[0] * r - 1e-9))
+                k1 = max(k0 + 1, int(math.ceil(td[-1] * r + 1e-9)))
+                tf = np.arange(max(k0, 0), k1 + 1) / r
+                f = np.round(angles(tf) * 100.0) / 100.0    # in the whole centidegrees sent
+                path = np.interp(td, tf, f)
+                dev = np.abs(m - path)
+                if steps:  # no servo follows a jump: the nearer of the two frames around t counts
+                    j = np.clip(np.searchsorted(tf, td, side="right") - 1, 0, len(tf) - 2)
+                    cand = np.stack([path, f[j], f[j + 1]])
+                    pick = np.argmin(np.abs(cand - m), axis=0)
+                    path = cand[pick, np.arange(td.size)]
+                    dev = np.abs(m - path)
+                i = int(np.argmax(dev >= dev.max() - 1e-6))   # the earliest place of the worst (ties in rounding)
+                if dev[i] > worst[r].deg + 1e-6:
+                    worst[r] = RateDeviation(float(dev[i]), c.name, c.channel, float(td[i]), float(path[i]),
+                                             float(m[i]))
+        if stop_above is not None:
+            alive = [r for r in alive if worst[r].deg <= stop_above]
+            if not alive:
+                break
+    return worst
+
+
+def rate_deviation(scene, channels, duration_s, rate_hz, clamp=False):
+    """How far the servos stray from the scene's motion when it is streamed at ``rate_hz``.
+
+    The frames go out at t = k / rate_hz (in whole centidegrees; with ``clamp`` clamped to the limits) and a servo
+    moves linearly from one frame's angle to the next; the motion is sampled at 1 kHz over [0, duration_s]. For
+    a ``steps`` profile, whose jumps no servo follows, the distance at t is to the nearer of the two frames around
+    t (a level shorter than a frame period that falls between two frames counts). Returns the worst
+    RateDeviation (``deg`` 0 when nothing moves)."""
+    return _deviations(_rate_tracks(scene, channels, clamp), duration_s, [rate_hz])[rate_hz]
+
+
+def check_rate(scene, channels, duration_s, rate_hz, clamp=False, tolerance_deg=None):
+    """Raise SceneError naming ``--rate`` when the servos stray from the motion by more than ``tolerance_deg``
+    (None: RATE_TOLERANCE_DEG) at ``rate_hz`` (rate_deviation), with the worst place, the Nyquist rate of the
+    fastest sine and the whole rates that would pass."""
+    tol = _check_tolerance(tolerance_deg)
+    tracks = _rate_tracks(scene, channels, clamp)
+    d = _deviations(tracks, duration_s, [rate_hz])[rate_hz]
+    if d.deg <= tol:
+        return d
+    msg = (f"{rate_hz:g} Hz cannot follow the motion: {d.name} (channel {d.channel}), moving linearly between "
+           f"frames {1000.0 / rate_hz:g} ms apart, would be {d.deg:.2f} deg off it at t = {d.t:.3f} s (at "
+           f"{d.servo_deg:.2f} deg where the motion is at {d.motion_deg:.2f} deg); allowed: at most {tol:g} deg "
+           f"(--rate-tolerance)")
+    sines = [(float(a.profile.get("frequency_hz", 1.0)), a.name) for a in scene.actuators
+             if a.name in {c.name for c, _, _ in tracks} and a.profile.get("shape", "sine") == "sine"
+             and a.profile.get("amplitude", 1.0) > 0]
+    if sines:
+        f, name = max(sines)
+        if rate_hz <= 2 * f:
+            msg += f"; {rate_hz:g} Hz is not above {2 * f:g} Hz, twice the {f:g} Hz of {name}'s sine (Nyquist)"
+    # the whole rates that pass (over at most _SUGGEST_SPAN_S of motion: 100 rates over a day would take minutes;
+    # the rate then chosen is checked over the whole stream like any other)
+    span = min(duration_s, _SUGGEST_SPAN_S)
+    over = "" if span == duration_s else f" (over the first {span:g} s)"
+    whole = list(range(1, MAX_RATE_HZ + 1))
+    ok = [r for r, w in _deviations(tracks, span, whole, stop_above=tol).items() if w.deg <= tol]
+    if MAX_RATE_HZ not in ok:
+        msg += (f"; no rate up to {MAX_RATE_HZ} Hz passes{over}: slow the motion down, or allow more with "
+                f"--rate-tolerance")
+    else:
+        every = MAX_RATE_HZ
+        while every - 1 in ok:
+            every -= 1
+        if ok[0] == every:
+            msg += f"; every whole rate from {every} to {MAX_RATE_HZ} Hz passes{over} (none lower): --rate {every}"
+        else:
+            msg += (f"; the lowest whole rate that passes{over} is {ok[0]} Hz, and every whole rate from {every} "
+                    f"to {MAX_RATE_HZ} Hz does (some in between do not)")
+    raise SceneError("--rate", msg)
 
 
 def expected_pulse_us(cfg: ChannelConfig, angle_deg: float) -> float:

@@ -180,8 +180,10 @@ class FirmwareGait:
 
     ``step(c_air)`` has the meaning of ``metamaterial_wb.core.gait.gait_rule_step``: ``c_air[i] = 1`` when cell
     i is in the air; returns 1 for the cells to inflate. With ``pins=True`` the board reads its own contact
-    switches (A0..A3, D2, D3) instead. ``start()`` lets the board drive its servos (GAIT mode; needs ARM):
-    channel k shows cell ``first_cell + k`` at ``inflate_deg`` or ``vent_deg``."""
+    switches instead: cell k on A0 + k (port C, PC0..PC5: A0..A5, up to 6 cells; A0..A3 with the PCA9685 back
+    end, whose I2C bus takes A4 / A5), a switch closed to ground = on the ground (internal pull-ups).
+    ``start()`` lets the board drive its servos (GAIT mode; needs ARM): channel k shows cell ``first_cell + k``
+    at ``inflate_deg`` or ``vent_deg``."""
 
     def __init__(self, link, n_cells, n1, n2, closed=True, pins=False, first_cell=0, inflate_deg=45.0,
                  vent_deg=0.0):

@@ -7,10 +7,13 @@
     ...
     stats = streamer.stop()          # StreamStats: sent, acked, naked, lost, round-trip times, clamps
 
-Frames carry absolute angles: the latest wins, a lost frame is never retransmitted (the next one, 20 ms
-later, supersedes it). Deadlines are absolute (``next += period``), so the rate does not drift; a frame
-that would be more than one period late is skipped and counted (``catch_up=True`` sends it late instead). The GUI calls ``start``/``stop`` from
-its thread; the sending happens here, never in the Qt event loop.
+Each tick (every 1 / rate s) sends one SET_ANGLES frame per run of adjacent channels (channels 2 and 5: two
+frames a tick); the stats count ticks and frames apart, and their rate is ticks per second. Frames carry
+absolute angles: the latest wins, a lost frame is never retransmitted (the next one, 20 ms later, supersedes
+it). Deadlines are absolute (``next += period``), so the rate does not drift; a tick that would be more than
+one period late is skipped and counted (``catch_up=True`` sends it late instead). Whether the rate can follow a
+scene's motion is checked before streaming (mapping.check_motion / check_rate; the CLI does, this class does
+not). The GUI calls ``start``/``stop`` from its thread; the sending happens here, never in the Qt event loop.
 """
 from __future__ import annotations
 
@@ -29,13 +32,15 @@ from .onboard import keepalive_interval, link_watchdog_ms, raise_on_trip
 
 @dataclass
 class StreamStats:
-    frames: int = 0           # SET_ANGLES frames sent
+    ticks: int = 0            # deadlines at which the frames went out (rate_hz = ticks / duration_s)
+    frames: int = 0           # SET_ANGLES frames sent: one per run of adjacent channels a tick
+    frames_per_tick: int = 1  # the channel runs (mapping.runs): channels 2 and 5 take two frames a tick
     acked: int = 0            # answered with an ACK carrying the frame's seq
     naked: int = 0            # answered with a NAK carrying the frame's seq (read, refused)
     lost: int = 0             # frames - acked - naked over the whole stream: no answer of their own
     nak_unreadable: int = 0   # NAKs with seq 0xFF during the stream: the device could not decode a frame
     rx_errors: int = 0        # replies the host could not decode
-    skipped: int = 0          # deadlines missed by more than one period (not sent)
+    skipped: int = 0          # ticks missed by more than one period (not sent)
     keepalive_pings: int = 0  # PINGs sent between slow frames to feed the link watchdog (not frames)
     resets: int = 0           # board reboots seen (re-configured and re-armed)
     clamped_frames: int = 0   # frames clamped by the host (--clamp) or the firmware (ACK clamp mask), each once
@@ -54,15 +59,18 @@ class StreamStats:
         r = sorted(self.rtt_ms)
         def pct(q):
             return r[min(len(r) - 1, int(q * len(r)))] if r else float("nan")
-        return {"frames": self.frames, "acked": self.acked, "naked": self.naked, "lost": self.lost,
+        return {"ticks": self.ticks, "frames": self.frames, "frames_per_tick": self.frames_per_tick,
+                "acked": self.acked, "naked": self.naked, "lost": self.lost,
                 "nak_unreadable": self.nak_unreadable, "unreadable_reasons": self.unreadable_reasons,
                 "rx_errors": self.rx_errors,
-                "skipped": self.skipped, "keepalive_pings": self.keepalive_pings, "resets": self.resets, "clamped_frames": self.clamped_frames,
-                "host_clamped_frames": self.host_clamped_frames, "firmware_clamped_frames": self.firmware_clamped_frames,
+                "skipped": self.skipped, "keepalive_pings": self.keepalive_pings, "resets": self.resets,
+                "clamped_frames": self.clamped_frames, "host_clamped_frames": self.host_clamped_frames,
+                "firmware_clamped_frames": self.firmware_clamped_frames,
                 "clamped_by_actuator": {k: dict(v) for k, v in self.clamped_by_actuator.items()},
                 "nak_reasons": self.nak_reasons,
                 "duration_s": round(self.duration_s, 4), "last_t": self.last_t,
-                "rate_hz": round(self.frames / self.duration_s, 3) if self.duration_s > 0 else 0.0,
+                # ticks per second (the --rate achieved), not frames: a tick sends a frame per channel run
+                "rate_hz": round(self.ticks / self.duration_s, 3) if self.duration_s > 0 else 0.0,
                 "rtt_ms_median": round(statistics.median(r), 3) if r else None,
                 "rtt_ms_p99": round(pct(0.99), 3) if r else None,
                 "rtt_ms_max": round(r[-1], 3) if r else None,
@@ -203,7 +211,8 @@ class Streamer:
         period = 1.0 / self.rate_hz
         keepalive_s = keepalive_interval(self._link_timing[0])
         self._pings = set()
-        self.stats = StreamStats(clamped_by_actuator={c.name: {"host": 0, "firmware": 0} for c in self.channels})
+        self.stats = StreamStats(clamped_by_actuator={c.name: {"host": 0, "firmware": 0} for c in self.channels},
+                                 frames_per_tick=len(runs(self.channels)))
         self._outstanding = {}
         n_events = len(self.link.events)
         self._events_seen = 0
@@ -243,6 +252,7 @@ class Streamer:
                             self.on_clamp(t, wanted)
                     if self.on_frame:
                         self.on_frame(t, angles)
+                self.stats.ticks += 1
                 deadline += period
                 k += 1
                 # collect replies until the next deadline; keep the link alive between slow frames
