@@ -9,7 +9,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="120"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="121"/>
         <source> ({0} set directly for this joint: the sizes do not change it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -34,8 +34,18 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="426"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="428"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="167"/>
+        <source>; no speed down to {0:g}x follows it: slow the motion down</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="169"/>
+        <source>; {0:g}x follows it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -49,12 +59,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="98"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="99"/>
         <source>? deg ({0:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="27"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="28"/>
         <source>All hinges</source>
         <translation type="unfinished"></translation>
     </message>
@@ -117,12 +127,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="138"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="627"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="645"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="105"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -132,7 +142,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="619"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="637"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -168,7 +178,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="30"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="31"/>
         <source>Global deformation (perfect propagation)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -188,7 +198,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="51"/>
         <source>Joint</source>
         <translation type="unfinished"></translation>
     </message>
@@ -214,8 +224,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="36"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="52"/>
         <source>Length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -245,7 +255,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="28"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="29"/>
         <source>Model</source>
         <translation type="unfinished"></translation>
     </message>
@@ -265,7 +275,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="41"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="42"/>
         <source>Motors and constraints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -277,7 +287,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="60"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="61"/>
         <source>No motors yet: use 'Place motor'.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -292,7 +302,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="43"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="44"/>
         <source>One joint (click a hinge in the 3D view)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -302,7 +312,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="576"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="591"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -313,7 +323,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="581"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="596"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
@@ -414,7 +424,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="100"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="101"/>
         <source>The angle sent to the servo for this value (closing and opening differ); the firmware's invert and trim come after</source>
         <translation type="unfinished"></translation>
     </message>
@@ -424,7 +434,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="38"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="39"/>
         <source>Thickness</source>
         <translation type="unfinished"></translation>
     </message>
@@ -439,8 +449,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="37"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="38"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="53"/>
         <source>Width</source>
         <translation type="unfinished"></translation>
     </message>
@@ -452,6 +462,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="193"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="161"/>
+        <source>at {0:g}x the link's {1:g} frames a second cannot follow the motion: {2}, moving straight from frame to frame, would be {3:.1f} deg off it at t = {4:.2f} s (at most {5:g} deg, as the stream command allows)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -475,7 +490,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="49"/>
         <source>clip {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -512,19 +527,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="477"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="479"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="117"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="93"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="118"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="94"/>
         <source>k1 = {0:.3f}, k2 = {1:.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="40"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="41"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="54"/>
         <source>k1, k2</source>
         <translation type="unfinished"></translation>
     </message>
@@ -549,7 +564,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="157"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="158"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -564,7 +579,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
         <source>motor {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -589,7 +604,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="96"/>
         <source>out of the calibrated range</source>
         <translation type="unfinished"></translation>
     </message>
@@ -600,13 +615,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="184"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="391"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="435"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="393"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="437"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="375"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="377"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -646,17 +661,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="415"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="417"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="439"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="441"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="429"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="431"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -671,7 +686,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="629"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="647"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -681,7 +696,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="465"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="467"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -696,7 +711,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="165"/>
         <source>the {0} solve did not converge: the pose shown is its last iterate</source>
         <translation type="unfinished"></translation>
     </message>
@@ -711,6 +726,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="525"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
@@ -731,17 +747,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="99"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="100"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="141"/>
         <source>{0:+.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="566"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="581"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>

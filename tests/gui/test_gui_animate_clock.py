@@ -12,7 +12,7 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 from metamaterial_wb.core.motion import scene_values_at  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import click, doc, press_ok, process, run_panel, workbench  # noqa: E402,F401
+from guihelpers import click, doc, press_ok, process, run_panel, type_into, workbench  # noqa: E402,F401
 
 FRAME_COST_S = 0.08
 
@@ -144,3 +144,33 @@ def test_streamed_clock_never_runs_back_on_a_speed_change(doc):
     assert wraps >= 1, "the clock never wrapped: the test did not play through the timeline"
     assert not back, (f"{len(back)} of {len(samples)} clock samples went back (up to "
                       f"{max(a - b for _k, a, b in back):.4f} s) over {changes} speed changes: {back[:5]}")
+
+
+def test_connect_is_refused_when_the_links_frames_cannot_follow_the_motion(doc):
+    """The link sends 50 frames a (wall) second of the animation clock: at 10x the fish's 1 Hz tail swings ten
+    times a second, five frames a swing, and the servo, moving straight from frame to frame, strays tens of degrees
+    from the motion (the stream command refuses such a rate; Connect streamed it). Connect is refused naming the
+    speed and the fastest one that follows; at 1x it connects; speeding up while connected is warned of."""
+    from metamaterial_wb.gui.panels import hardware_available
+    if not hardware_available():
+        pytest.skip("metamaterial_wb.hardware is not in this checkout")
+    pytest.importorskip("serial")
+    open_fish(doc)
+    p = run_panel("MM_Animate")
+    p.port.setText("loop://")
+    type_into(p.speed, "10")
+    assert p.speed.value() == 10.0
+    click(p.connect_btn)
+    assert p.connect_btn.text() == "Connect" and not p.stream.connected
+    text = p.error.text()
+    assert "10x" in text and "tail" in text and "deg off" in text, text
+    follows = float(text.split("; ")[-1].split("x follows")[0])
+    assert 1.0 <= follows < 10.0, text
+    type_into(p.speed, f"{follows:g}")
+    click(p.connect_btn)
+    assert p.connect_btn.text() == "Disconnect", p.error.text()
+    assert p.error.text() == ""
+    type_into(p.speed, "10")
+    assert p.stream.connected and "10x" in p.error.text(), p.error.text()
+    click(p.connect_btn)
+    assert p.connect_btn.text() == "Connect"

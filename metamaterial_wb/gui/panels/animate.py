@@ -330,6 +330,8 @@ class AnimatePanel(BasePanel):
             self.set_problem("profiles", "")
         except MetamaterialError as exc:
             self.set_problem("profiles", str(exc))
+            return
+        self._warn_follow()
 
     def values_at(self, t):
         from metamaterial_wb.core.motion import scene_values_at
@@ -508,6 +510,19 @@ class AnimatePanel(BasePanel):
             t = self._clock_at(now, self.anchor) if self._playing and self.anchor is not None else self.t
             self.anchor = (now, t, speed)
         self.rate_window = []
+        self._warn_follow()
+
+    def _warn_follow(self):
+        """While streaming: say so when the link's frames can no longer follow the motion (a faster speed, an
+        edited profile); Connect refuses such a state (``StreamController.follow_problem``)."""
+        if not self.stream.connected or self.preview_scene is None:
+            return
+        try:
+            problem = self.stream.follow_problem(self.preview_scene, self.duration.value(), self.speed.value())
+        except MetamaterialError as exc:
+            problem = str(exc)
+        if problem:
+            self.show_error(translate("Metamaterial", "warning: {0}").format(problem))
 
     def _duration_changed(self, *_):
         self._duration = self.duration.value()
@@ -605,6 +620,9 @@ class AnimatePanel(BasePanel):
         try:
             if not self.shown_values:
                 self.show_time(self.t)
+            problem = self.stream.follow_problem(self.preview_scene, self.duration.value(), self.speed.value())
+            if problem:
+                raise MetamaterialError(problem)
             self.stream.connect(port, self.preview_scene)
         except Exception as exc:  # noqa: BLE001 - shown in the panel
             self.show_error(f"cannot stream to {port}: {exc}")

@@ -3,8 +3,11 @@
 The :class:`~metamaterial_wb.hardware.Streamer` thread asks for values at 50 Hz; the controller answers
 with ``values_at(clock())``: the values for *now* on the animation clock (which follows wall time), not
 the last frame the view managed to draw, so real servos move in real time even when rendering drops
-frames. Errors from the streaming thread are kept and reported by the panel in the GUI thread.
+frames. Errors from the streaming thread are kept and reported by the panel in the GUI thread. Connect is
+refused when those frames, at the animation's speed, cannot follow the motion (``follow_problem``: the stream
+command's rate check).
 """
+from metamaterial_wb.gui.i18n import translate
 
 
 def hardware_available():
@@ -137,6 +140,33 @@ class StreamController:
         vals = self.values_at(self.clock())
         self.sent += 1
         return vals
+
+    RATE_HZ = 50.0                    # the link's frames per wall second (Streamer's default)
+    FOLLOW_SPAN_S = 60.0              # the motion compared (a longer timeline: its first minute; it runs per edit)
+    SPEEDS = (5.0, 4.0, 3.0, 2.0, 1.5, 1.0, 0.75, 0.5, 0.25, 0.1, 0.05)   # offered when a speed is too fast
+
+    def follow_problem(self, scene, duration_s, speed):
+        """None when the link's frames (``RATE_HZ`` a wall second, so ``RATE_HZ / speed`` per second of motion)
+        follow the motion of ``scene`` over ``duration_s`` within the stream command's tolerance
+        (``mapping.check_rate``); else the message, with the fastest of ``SPEEDS`` below ``speed`` that does."""
+        from metamaterial_wb.hardware.mapping import RATE_TOLERANCE_DEG, channel_map, rate_deviation
+        channels = channel_map(scene)
+        duration_s = min(duration_s, self.FOLLOW_SPAN_S)
+
+        def dev(s):
+            return rate_deviation(scene, channels, duration_s, self.RATE_HZ / s)
+        d = dev(speed)
+        if d.deg <= RATE_TOLERANCE_DEG:
+            return None
+        msg = translate("Metamaterial", "at {0:g}x the link's {1:g} frames a second cannot follow the motion: {2}, "
+                        "moving straight from frame to frame, would be {3:.1f} deg off it at t = {4:.2f} s (at most "
+                        "{5:g} deg, as the stream command allows)").format(speed, self.RATE_HZ, d.name, d.deg, d.t,
+                                                                           RATE_TOLERANCE_DEG)
+        ok = next((s for s in self.SPEEDS if s < speed and dev(s).deg <= RATE_TOLERANCE_DEG), None)
+        if ok is None:
+            return msg + translate("Metamaterial", "; no speed down to {0:g}x follows it: slow the motion "
+                                   "down").format(self.SPEEDS[-1])
+        return msg + translate("Metamaterial", "; {0:g}x follows it").format(ok)
 
     def connect(self, port, scene):
         """Open ``port`` (``loop://`` = dry run), hand-shake, ARM and start streaming. Raises on failure
