@@ -60,6 +60,40 @@ def test_unreachable_fold_names_the_range():
     assert "unreachable" in msg and "-150" in msg and "reachable range" in msg
 
 
+@pytest.mark.parametrize("where,wrap", [("surface", lambda f: f),
+                                        ("keyframes[0].surface", lambda f: {"keyframes": [dict(f, time_s=0)]})])
+def test_a_node_repeated_in_a_surface_target_is_refused_like_a_repeated_target_node(where, wrap):
+    """docs/inverse.md: repeated node names are errors. A node listed twice in ``surface.nodes`` was counted twice
+    (double weight, twice in the report's per_node); it is refused with the words of a repeated ``nodes[]`` entry."""
+    s = Scene.load(GRID_FOLD)
+    frame = {"surface": {"triangles": [[[0, 0, 0], [300, 0, 0], [0, 300, 0]]], "nodes": ["N0,0", "N0,0", "N1,1"]}}
+    with pytest.raises(MetamaterialError) as e:
+        parse_target(s, wrap(frame))
+    assert e.value.field == f"{where}.nodes[1]"
+    assert e.value.message == f"node 'N0,0' is already given by {where}.nodes[0]"
+    frame["surface"]["nodes"] = ["N0,0", [0, 0]]                  # the same node by its [i, j]
+    with pytest.raises(MetamaterialError, match=r"node \[0, 0\] is already given by .*surface\.nodes\[0\]"):
+        parse_target(s, wrap(frame))
+    frame["surface"]["nodes"] = ["N0,0", "N1,1"]
+    tgt = parse_target(s, wrap(frame))
+    assert len(tgt.frames[0].surface.idx) == 2
+
+
+def test_a_surface_far_from_the_sheet_names_the_distance_and_the_allowed_one(tmp_path, scene):
+    """The refusal does not claim the alignment is a local refinement (it is global: docs/inverse.md); it names
+    the distance, the allowed one and what to do."""
+    res = planted_result(scene)
+    pos = np.array([n["position_mm"] for n in res["nodes"]])
+    far = tmp_path / "far.stl"
+    write_stl(far, grid_surface(scene, pos) + [5000, 0, 0])
+    with pytest.raises(MetamaterialError) as e:
+        load_target(scene, str(far))
+    msg = str(e.value)
+    assert "local" not in msg
+    assert "from the flat sheet" in msg and "allowed: at most half the sheet's diagonal" in msg
+    assert "place the surface over the sheet" in msg
+
+
 def test_surface_far_from_the_sheet_and_empty_files(tmp_path, scene):
     res = planted_result(scene)
     pos = np.array([n["position_mm"] for n in res["nodes"]])

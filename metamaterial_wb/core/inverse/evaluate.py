@@ -2,8 +2,9 @@
 
 Every answer is re-evaluated with the quadratic, the linear and the nonlinear lattice model
 (``core/models.py``): each model's poses of every keyframe are rigidly re-aligned to the target (the
-alignment is the only thing refitted; a lattice model's frame is not the kinematics' frame), and the
-target error is reported per model, per keyframe and per node. Folds are measured from the model's
+alignment is the only thing refitted; a lattice model's frame is not the kinematics' frame) from the frame's
+alignment starts and from the fit's final alignment, the best end kept (so the quadratic error is at most the
+fit's cost), and the target error is reported per model, per keyframe and per node. Folds are measured from the model's
 rotations (``kinematics.joint_angles``) for every model alike.
 """
 import copy
@@ -181,11 +182,12 @@ def frame_scene(scene, problem, fi, values_row):
     return s
 
 
-def align_only(fr_res, pos, R, fold_deg=None):
-    """Refit only the frame's alignment for given poses: ``(r, parts, transform)`` (the best of the
-    frame's alignment starts)."""
+def align_only(fr_res, pos, R, fold_deg=None, starts=()):
+    """Refit only the frame's alignment for given poses: ``(r, parts, transform)``, the best end of the
+    frame's own alignment starts (``initial_alignments``) and of ``starts`` (more ``(R0, xi0)`` pairs: the
+    fit's final alignment, so a model with the fit's poses ends no worse than the fit)."""
     best = None
-    for R0, xi0 in fr_res.initial_alignments(pos):
+    for R0, xi0 in list(fr_res.initial_alignments(pos)) + list(starts or ()):
         out = _align_from(fr_res, pos, R, fold_deg, R0, xi0)
         if best is None or float(out[0] @ out[0]) < float(best[0] @ best[0]) - 1e-15:
             best = out
@@ -207,8 +209,10 @@ def _align_from(fr_res, pos, R, fold_deg, R0, xi0):
     return r, parts, fr_res.transform(x, R0)
 
 
-def evaluate_model(problem, scene, values, model, options=None):
-    """Errors of ``scene`` (servos valued per keyframe by ``values``) under ``model``."""
+def evaluate_model(problem, scene, values, model, options=None, alignments=None):
+    """Errors of ``scene`` (servos valued per keyframe by ``values``) under ``model``. ``alignments``: per
+    keyframe, extra alignment starts ``[(R0, xi0), ...]`` (:func:`fit_alignments`: the fit's final ones) tried
+    besides the frame's own; the best end is kept."""
     from metamaterial_wb.core.models import run_model
     values = np.atleast_2d(values)
     frames, parts_all, converged, warnings = [], [], True, []
@@ -218,7 +222,8 @@ def evaluate_model(problem, scene, values, model, options=None):
         converged &= bool(res.converged)
         warnings += [w for w in res.warnings if w not in warnings]
         fold = _k.joint_angles(s, res.rotations)[0] if fr_res.frame.folds is not None else None
-        r, parts, (sc, Rm, t) = align_only(fr_res, res.positions_mm, res.rotations, fold)
+        extra = alignments[fi] if alignments is not None else ()
+        r, parts, (sc, Rm, t) = align_only(fr_res, res.positions_mm, res.rotations, fold, extra)
         parts_all.append(parts)
         e = frame_errors(parts)
         e.update({"time_s": fr_res.frame.time_s, "cost_mm2": 0.5 * float(r @ r),
@@ -250,13 +255,20 @@ def per_node(problem, parts_all):
     return rows
 
 
-def evaluate_all(problem, scene, values, models=MODELS, progress=None):
+def fit_alignments(fit):
+    """Per keyframe, ``[(R0, xi)]``: the final alignment of a ``FitResult`` as a start of :func:`align_only`
+    (empty for a frame without one)."""
+    return [[] if f.R0 is None else [(f.R0, f.xi)] for f in fit.frames]
+
+
+def evaluate_all(problem, scene, values, models=MODELS, progress=None, alignments=None):
+    """``{model: evaluate_model() output or {"error": ...}}``; ``alignments`` as in :func:`evaluate_model`."""
     out = {}
     for m in models:
         if progress:
             progress(f"evaluating under the {m} model")
         try:
-            out[m] = evaluate_model(problem, scene, values, m)
+            out[m] = evaluate_model(problem, scene, values, m, alignments=alignments)
         except MetamaterialError as exc:
             out[m] = {"error": str(exc), "rms_mm": None, "max_mm": None}
     return out

@@ -173,7 +173,8 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         progress(f"warning: {w}")
     info["warnings"] = warnings
     info["module_moves"] = moves              # (module index, old joint, new joint or None): the GUI applies them
-    errors = ev.evaluate_all(pb, out_scene, values, list(evaluate), progress=progress)
+    errors = ev.evaluate_all(pb, out_scene, values, list(evaluate), progress=progress,
+                             alignments=ev.fit_alignments(fit))   # a start: quadratic error <= fit.cost
     fab = None
     if fab_check is not None:
         progress("fabrication checks (the ones build runs)")

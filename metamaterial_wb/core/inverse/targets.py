@@ -290,8 +290,16 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
     names = spec.get("nodes")
     if names is not None and not isinstance(names, list):
         raise TargetError(f"{where}.nodes", f"expected a list of node names, got {_short(names)}")
-    idx = (np.arange(scene.topology.n_nodes) if names is None else
-           np.array([_node_index(scene, nm, f"{where}.nodes[{k}]") for k, nm in enumerate(names)]))
+    if names is None:
+        idx = np.arange(scene.topology.n_nodes)
+    else:
+        seen = {}
+        for k, nm in enumerate(names):
+            n = _node_index(scene, nm, f"{where}.nodes[{k}]")
+            if n in seen:                                  # the words of a repeated nodes[] entry
+                raise TargetError(f"{where}.nodes[{k}]", f"node {nm!r} is already given by {seen[n]}")
+            seen[n] = f"{where}.nodes[{k}]"
+        idx = np.array(list(seen), dtype=np.int64)
     if idx.size == 0:
         raise TargetError(f"{where}.nodes", "empty: no node to match to the surface")
     lo, hi = _sheet_bbox(scene)
@@ -299,9 +307,10 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
     gap = float(np.linalg.norm(np.maximum(0.0, np.maximum(slo - hi, lo - shi))))
     diag = float(np.linalg.norm(hi - lo))
     if gap > 0.5 * diag:
-        raise TargetError(where, f"the surface {src!r} is {gap:.1f} mm from the flat sheet (bounding boxes), more than "
-                                 f"half the sheet's diagonal ({0.5 * diag:.1f} mm); the rigid alignment is a local "
-                                 f"refinement: place the surface over the sheet")
+        raise TargetError(where, f"the surface {src!r} is {gap:.1f} mm from the flat sheet (bounding boxes); allowed: "
+                                 f"at most half the sheet's diagonal ({0.5 * diag:.1f} mm): place the surface over the "
+                                 f"sheet (a surface that far is taken for a mistake: another file, or units other than "
+                                 f"mm)")
     return SurfaceTerm(surf, idx, src)
 
 
