@@ -27,7 +27,7 @@ MAX_INPUT_BYTES = 256 * 2 ** 20     # a scene of 4 M cells as a "cells" list is 
 MAX_DEPTH = 32                      # the deepest real scene field is ~6 levels
 MAX_INT = 2 ** 63 - 1
 TEMP_PREFIXES = (".tmp-", ".build-", ".sleeve-", ".tmp-simulate-")
-_STALE_RE = re.compile(r"^\.(?:tmp|build|sleeve|tmp-simulate|sleeve-export|mmwb)-(\d+)-")
+_STALE_RE = re.compile(r"^\.(?:tmp|build|sleeve|tmp-simulate|sleeve-export|mmwb|mm-export)-(\d+)-")
 _KERNEL_FS = ("/proc", "/sys", "/dev")
 
 

@@ -1,13 +1,16 @@
 """Export STEP / 3MF from the panel, in the background (progress + Cancel), ending with a summary.
 
-The files are written by a child process into a staging folder next to the target and moved into the
-target folder only when every file succeeded: Cancel (or an error) leaves nothing behind. The document
-the structure lives in stays the active one (structure commands stay enabled).
+The files are written by a child process into a staging folder inside the target folder (as the command
+line's ``build``: the final move is a rename on one file system, also into a mount point or a link to another
+drive) and moved into the target folder only when every file succeeded: Cancel (or an error) leaves nothing
+behind, not even the folders the export made. The staging folder's name carries this process's id
+(``.mm-export-<pid>-...``), so one left by a killed FreeCAD is removed by the next export into that folder
+(``core.fileio.sweep_stale``). The document the structure lives in stays the active one (structure commands
+stay enabled).
 """
 import json
 import os
 import shutil
-import tempfile
 
 import FreeCAD
 from PySide import QtGui
@@ -57,6 +60,7 @@ class ExportPanel(BasePanel):
         self.written = []
         self.warnings = []
         self.staging = None
+        self.created = []       # the folders this export made (innermost first): removed again unless it succeeds
         self.close_when_done = False
         self.job = ProcessJob(self.jobbox, self._done, self._failed, self._cancelled)
         self.export_btn.clicked.connect(self.start_export)
@@ -98,30 +102,41 @@ class ExportPanel(BasePanel):
         except MetamaterialError as exc:
             self.show_error(f"not exported: {exc}")
             return False
+        from metamaterial_wb.core.fileio import make_temp_dir
+        from metamaterial_wb.export.package import _missing_dirs
         out = os.path.abspath(os.path.expanduser(self.path.text().strip()))   # ~ is the home folder
-        parent = os.path.dirname(out)
-        try:
-            os.makedirs(parent, exist_ok=True)
-            self.staging = tempfile.mkdtemp(prefix=".mm-export-", dir=parent)
-        except OSError as exc:
-            self.show_error(f"not exported: cannot write in {parent}: {exc}")
-            return False
-        self.target = out
-        job = {"scene": scene.to_dict(), "out_dir": self.staging, "step": self.step.isChecked(),
+        job = {"scene": scene.to_dict(), "out_dir": None, "step": self.step.isChecked(),
                "threemf": self.threemf.isChecked(), "modules": self.modules.isChecked(),
                "sockets": self.sockets.isChecked(), "overrides": exporting.preference_overrides(),
                "stem": exporting.stem_of(scene.name, self.obj.Label)}
-        jpath = os.path.join(self.staging, ".job.json")
-        with open(jpath, "w", encoding="utf-8") as f:
-            json.dump(job, f)
+        self.written, self.warnings = [], []
+        self.created = _missing_dirs(out)
+        try:
+            os.makedirs(out, exist_ok=True)
+            self.staging = job["out_dir"] = make_temp_dir(out, "mm-export")   # sweeps a killed FreeCAD's first
+            jpath = os.path.join(self.staging, ".job.json")
+            with open(jpath, "w", encoding="utf-8") as f:
+                json.dump(job, f)
+        except OSError as exc:
+            self._discard_staging(created=True)
+            self.show_error(f"not exported: cannot write in {out}: {exc}")
+            return False
+        self.target = out
         self.export_btn.setEnabled(False)
         self.job.start("metamaterial_wb.gui.export_job", [jpath], text="building the sheet ...")
         return True
 
-    def _discard_staging(self):
+    def _discard_staging(self, created=False):
+        """Remove the staging folder; with ``created``, also the folders this export made, if still empty."""
         if self.staging:
             shutil.rmtree(self.staging, ignore_errors=True)
         self.staging = None
+        for d in self.created if created else ():     # innermost first (package.export_result does the same)
+            try:
+                os.rmdir(d)
+            except OSError:
+                break
+        self.created = []
 
     def _done(self, result):
         try:
@@ -140,7 +155,7 @@ class ExportPanel(BasePanel):
             self._failed(f"cannot move the files into {self.target}: {exc}")
             return
         finally:
-            self._discard_staging()
+            self._discard_staging()     # after _failed (which also removed the folders it made): nothing left
         self.written, self.warnings = written, list(result.get("warnings", []))
         self._keep_active()
         lines = [f"wrote {len(written)} file(s) to {self.target} in {result.get('seconds', 0.0):.1f} s:"]
@@ -158,14 +173,14 @@ class ExportPanel(BasePanel):
             _close()
 
     def _failed(self, message):
-        self._discard_staging()
+        self._discard_staging(created=True)
         self._keep_active()
         self.written = []
         self.show_error(f"not exported: {message}")
         self._check()
 
     def _cancelled(self):
-        self._discard_staging()
+        self._discard_staging(created=True)
         self._keep_active()
         self.jobbox.summary.setStyleSheet("")
         self.jobbox.summary.setText(translate("Metamaterial", "export cancelled: nothing written"))
@@ -184,7 +199,7 @@ class ExportPanel(BasePanel):
         if not self.start_export():
             return False
         self.wait()
-        if self.job.outcome != "done":
+        if self.job.outcome != "done" or not self.written:   # the child succeeded but the files were not moved in
             return False
         self.cleanup()
         _close()
@@ -192,5 +207,5 @@ class ExportPanel(BasePanel):
 
     def cleanup(self):
         self.job.stop()
-        self._discard_staging()
+        self._discard_staging(created=True)     # closed while it ran: as Cancel (nothing left after a success)
         super().cleanup()

@@ -1,0 +1,149 @@
+"""The Export panel's folders, driven through its widgets: it writes into a folder on another file system (a
+link to another drive), the scripting ``accept()`` is False when the files could not be moved in, Cancel /
+an error / closing the panel leave no folder the export created, and a killed FreeCAD's staging folder is
+removed by the next export (the command line's ``build`` does all of these)."""
+import os
+import shutil
+import subprocess
+import tempfile
+
+import pytest
+
+FreeCAD = pytest.importorskip("FreeCAD")
+if not getattr(FreeCAD, "GuiUp", False):
+    pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
+
+from metamaterial_wb.core import fileio  # noqa: E402
+from metamaterial_wb.gui import panels  # noqa: E402
+from metamaterial_wb.objects import structure  # noqa: E402
+from guihelpers import (click, dialog_button, doc, press_ok, process, run_panel, type_into,  # noqa: E402,F401
+                        workbench)
+
+
+def open_example(name):
+    p = run_panel("MM_OpenExample")
+    p.select(name)
+    assert press_ok()
+    return structure.find_scene_objects(FreeCAD.ActiveDocument)[-1]
+
+
+def other_file_system(path):
+    """A writable folder on another file system than ``path`` (a tmpfs such as /dev/shm), or None."""
+    dev = os.stat(path).st_dev
+    for cand in (os.environ.get("MM_OTHER_FS_DIR", ""), "/dev/shm", "/run/shm", "/run/user/%d" % os.getuid()):
+        if cand and os.path.isdir(cand) and os.access(cand, os.W_OK | os.X_OK) and os.stat(cand).st_dev != dev:
+            return cand
+    return None
+
+
+def dead_pid():
+    child = subprocess.Popen(["/bin/sh", "-c", "exit 0"])
+    child.wait()
+    return child.pid
+
+
+def staging_names(folder):
+    return [n for n in os.listdir(folder) if n.startswith(".mm-export-")] if os.path.isdir(folder) else []
+
+
+def test_export_into_a_link_to_another_file_system(doc, tmp_path):
+    """The files were staged in the link's parent and then moved: '[Errno 18] Invalid cross-device link'."""
+    other = other_file_system(tmp_path)
+    if other is None:
+        pytest.skip(f"no writable folder on another file system than {tmp_path} (set MM_OTHER_FS_DIR)")
+    drive = tempfile.mkdtemp(prefix="mm-gui-export-", dir=other)
+    try:
+        link = tmp_path / "on_the_other_drive"
+        os.symlink(drive, link)
+        open_example("fish")
+        p = run_panel("MM_Export")
+        type_into(p.path, str(link))
+        click(p.export_btn)
+        assert p.wait(300), "export did not finish"
+        assert p.job.outcome == "done" and p.error.text() == "", p.error.text()
+        names = sorted(os.listdir(drive))
+        assert "manifest.json" in names and any(n.endswith(".step") for n in names), names
+        assert p.jobbox.summary.text().startswith(f"wrote {len(names)} file(s) to {link}"), p.jobbox.summary.text()
+        assert sorted(os.listdir(tmp_path)) == ["on_the_other_drive"], "nothing staged beside the link"
+    finally:
+        shutil.rmtree(drive, ignore_errors=True)
+
+
+def test_accept_is_false_when_the_files_cannot_be_moved_in(doc, tmp_path):
+    """The child process succeeded (outcome "done"), the move was refused: accept() said True and closed."""
+    open_example("fish")
+    out = tmp_path / "OUT"
+    (out / "fish_sheet.step").mkdir(parents=True)     # the user's folder where an output file goes
+    p = run_panel("MM_Export")
+    type_into(p.path, str(out))
+    assert p.accept() is False
+    assert panels.active() is p, "the panel stays open with the reason"
+    err = p.error.text()
+    assert err.startswith("not exported:") and "fish_sheet.step" in err and "not replaced" in err, err
+    assert p.written == []
+    assert sorted(os.listdir(out)) == ["fish_sheet.step"] and os.listdir(out / "fish_sheet.step") == []
+
+
+def test_cancel_or_closing_the_panel_leaves_no_folder_the_export_made(doc, tmp_path):
+    open_example("gripper")
+    p = run_panel("MM_Export")
+    out = tmp_path / "x" / "a" / "b" / "out"
+    type_into(p.path, str(out))
+    click(p.export_btn)
+    assert p.job.running
+    process(3000)                                      # the child is building
+    click(p.jobbox.cancel_btn)
+    assert p.job.outcome == "cancelled", p.error.text()
+    assert os.listdir(tmp_path) == [], "Cancel left the folders the export made"
+    # a folder that exists stays (it is the user's), also when the export made folders inside it
+    (tmp_path / "x").mkdir()
+    type_into(p.path, str(tmp_path / "x" / "a" / "out"))
+    click(p.export_btn)
+    process(1000)
+    click(p.jobbox.cancel_btn)
+    assert os.listdir(tmp_path) == ["x"] and os.listdir(tmp_path / "x") == []
+    # the panel closed while the export runs
+    type_into(p.path, str(out))
+    click(p.export_btn)
+    assert p.job.running
+    click(dialog_button("Close"))
+    assert panels.active() is None
+    assert os.listdir(tmp_path / "x") == [], "closing the panel left the folders the export made"
+
+
+def test_a_failed_export_leaves_no_folder_it_made(doc, tmp_path):
+    run_panel("MM_NewStructure")
+    assert press_ok()
+    sc = structure.find_scene_objects(doc)[-1]
+    # a 10 deg fold on 2 mm hinges: kinematically fine, not printable (the export's checks refuse it)
+    structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 3, "fold_deg": 10.0}])
+    doc.recompute()
+    p = run_panel("MM_Export")
+    type_into(p.path, str(tmp_path / "x" / "a" / "out"))
+    click(p.export_btn)
+    assert p.wait(300)
+    assert p.job.outcome == "error" and "tilt" in p.error.text(), p.error.text()
+    assert os.listdir(tmp_path) == [], "the failed export left the folders it made"
+
+
+def test_a_killed_exports_staging_folder_is_removed_by_the_next_export(doc, tmp_path):
+    """The staging folder had no process id, so nothing could tell a killed FreeCAD's one from a running one."""
+    open_example("fish")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine.txt").write_text("the user's")
+    pid = dead_pid()
+    left = out / f".mm-export-{pid}-k9x2"               # what a FreeCAD killed during an export leaves
+    (left / f".build-{pid + 1}-q").mkdir(parents=True)  # ... with its export child's folder
+    (left / f".build-{pid + 1}-q" / "fish_sheet.step").write_text("partial")
+    (left / ".job.json").write_text("{}")
+    p = run_panel("MM_Export")
+    type_into(p.path, str(out))
+    click(p.export_btn)
+    assert p.job.running
+    staging = os.path.basename(p.staging)
+    m = fileio._STALE_RE.match(staging)
+    assert m and int(m.group(1)) == os.getpid(), f"{staging}: the sweep cannot tell whose staging folder it is"
+    assert not left.exists(), "the killed export's staging folder was not removed"
+    click(p.jobbox.cancel_btn)
+    assert sorted(os.listdir(out)) == ["mine.txt"]
