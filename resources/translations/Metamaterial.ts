@@ -29,7 +29,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="36"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="39"/>
         <source>3MF (PLA nodes / TPU hinges)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -74,7 +74,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="54"/>
         <source>Build the sheet (and modules) and write the files in the background</source>
         <translation type="unfinished"></translation>
     </message>
@@ -84,12 +84,17 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="98"/>
+        <source>Cap diameter (core_diameter_mm)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="51"/>
         <source>Cell size</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="78"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="103"/>
         <source>Cell types (row = type index)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -99,7 +104,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="92"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
         <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
@@ -147,17 +152,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="53"/>
         <source>Export</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="116"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="141"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="42"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="45"/>
         <source>Folder</source>
         <translation type="unfinished"></translation>
     </message>
@@ -265,7 +270,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="38"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="41"/>
         <source>Modules as separate files</source>
         <translation type="unfinished"></translation>
     </message>
@@ -282,7 +287,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="47"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="62"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="70"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
@@ -307,7 +312,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="55"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="63"/>
         <source>Open...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -338,17 +343,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="127"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="89"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="114"/>
         <source>Ring pattern</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="90"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="115"/>
         <source>Rings</source>
         <translation type="unfinished"></translation>
     </message>
@@ -373,7 +378,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="34"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="37"/>
         <source>STEP (named bodies, assembly)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -399,12 +404,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="40"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="43"/>
         <source>Snap-fit sockets on the nodes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="56"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="64"/>
         <source>Spec</source>
         <translation type="unfinished"></translation>
     </message>
@@ -439,7 +444,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="128"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -465,17 +470,37 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="206"/>
+        <source>actuator.core_diameter_mm: the cap the inner membrane pushes on; at most the sleeve's inner diameter N (L + c) / pi - T</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="161"/>
         <source>at {0:g}x the link's {1:g} frames a second cannot follow the motion: {2}, moving straight from frame to frame, would be {3:.1f} deg off it at t = {4:.2f} s (at most {5:g} deg, as the stream command allows)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="334"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="90"/>
+        <source>automatic</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="196"/>
+        <source>automatic: the default cap, {0:g} mm</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="193"/>
+        <source>automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm does not fit)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="418"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="352"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="436"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -485,7 +510,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="111"/>
         <source>cell type index of each cell around the circumference</source>
         <translation type="unfinished"></translation>
     </message>
@@ -500,29 +525,29 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="171"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="371"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="186"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="455"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="390"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="312"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="396"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="309"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="393"/>
         <source>export: the prediction is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="366"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="328"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="450"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="412"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -569,7 +594,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="93"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="118"/>
         <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (under a second per cell type) and the sleeve's snapping sequence and lean (about 10 s per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
@@ -626,17 +651,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="262"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="346"/>
         <source>predict: the export is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="271"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="355"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="293"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="377"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
@@ -676,7 +701,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="142"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
@@ -706,6 +731,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="91"/>
+        <source>the default cap, {0:g} mm, or the sleeve's inner diameter N (L + c) / pi - T when that is smaller; untick to give your own (kept as typed, refused when it does not fit)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="149"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
@@ -716,7 +746,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="217"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="294"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -732,12 +762,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="361"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="445"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="358"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="442"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>

@@ -11,6 +11,13 @@ from metamaterial_wb.gui.panels.base import BasePanel, button_row, transaction, 
 from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob, ThreadJob
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.core.sleeve import spec as sleeve_spec
+
+# The cap the inner membrane pushes on (``actuator.core_diameter_mm``): the validator allows (0, BED_MM] and at most
+# the sleeve's inner diameter (checked in words, as t <= L / 4 is). panels/ranges.py has no entry for it yet: the
+# panel adds the validator's own bounds so that its box is bound (and tests/gui/test_gui_ranges.py walks it)
+CAP_FIELD = "sleeve.actuator.core_diameter_mm"
+ranges.FIELDS.setdefault(CAP_FIELD, (0.0, sleeve_spec.BED_MM, True))
 
 
 def sleeve_summary_text(summary):
@@ -50,6 +57,7 @@ class SleevePanel(BasePanel):
         # the spec's own value of each spin box set from it, until the user edits that box: a box shows a few
         # decimals (t 1.0985 as 1.099, G below 0.001 at its smallest step), the spec keeps the exact value
         self.exact = {}
+        self._loading = False       # set_spec fills the widgets: one check when it is done, none on the way
         fl = QtGui.QHBoxLayout()
         self.path = QtGui.QLineEdit("")
         self.open_btn = QtGui.QPushButton(translate("Metamaterial", "Open..."))
@@ -71,6 +79,23 @@ class SleevePanel(BasePanel):
             f.addRow(label, w)
             self.dims[key] = w
             self._track_edits(w)
+        # the cap (actuator.core_diameter_mm): automatic (the validator's default, which follows the inner diameter
+        # of a narrower sleeve; the box shows the cap used) or the user's value, kept as typed
+        self.cap = QtGui.QDoubleSpinBox()
+        self.cap.setDecimals(3)
+        ranges.bind(self.cap, CAP_FIELD)
+        self.cap.setSingleStep(0.1)
+        self.cap.setSuffix(" mm")
+        self._track_edits(self.cap)
+        self.cap_auto = QtGui.QCheckBox(translate("Metamaterial", "automatic"))
+        self.cap_auto.setToolTip(translate(
+            "Metamaterial", "the default cap, {0:g} mm, or the sleeve's inner diameter N (L + c) / pi - T when that "
+            "is smaller; untick to give your own (kept as typed, refused when it does not fit)").format(
+                sleeve_spec.DEFAULT_CAP_MM))
+        cl = QtGui.QHBoxLayout()
+        cl.addWidget(self.cap, 1)
+        cl.addWidget(self.cap_auto)
+        f.addRow(translate("Metamaterial", "Cap diameter (core_diameter_mm)"), cl)
         self.layout.addLayout(f)
         self.types = QtGui.QTableWidget(0, 2)
         self.types.setHorizontalHeaderLabels(["t (mm)", "h (mm)"])
@@ -128,23 +153,59 @@ class SleevePanel(BasePanel):
         self.staging, self.export_target, self.exported = None, None, []
         self.open_btn.clicked.connect(self._browse)
         self.predict_btn.clicked.connect(self.predict)
-        if os.path.exists(self.DEFAULT):
-            self.load_spec(self.DEFAULT)
+        # every edit is checked: the fields, the cap, and the t / h boxes of the table (add_type: cell widgets
+        # send no itemChanged)
         self.ring.textChanged.connect(self.check_spec)
         self.rings.valueChanged.connect(self.check_spec)
-        for w in self.dims.values():
+        for w in list(self.dims.values()) + [self.cap]:
             w.valueChanged.connect(self.check_spec)
-        self.types.itemChanged.connect(self.check_spec)
+        self.cap_auto.toggled.connect(self._cap_mode)
+        if os.path.exists(self.DEFAULT) and self.load_spec(self.DEFAULT):
+            # the example is where the panel starts, not the user's choice: its cap, the seed's (the validator's
+            # default), is automatic and follows the sleeve the user makes of it. A spec the user opens keeps its own
+            if self.exact.get(self.cap) == sleeve_spec.DEFAULT_CAP_MM:
+                self.cap_auto.setChecked(True)
 
     def check_spec(self, *_):
-        """The spec as the fields give it, checked at once: its error in red under the pattern, OK disabled."""
+        """The spec as the fields give it, checked at once: its error in red under the pattern, OK disabled.
+        An automatic cap shows the diameter the spec gives it."""
+        if self._loading:
+            return True
         try:
-            self.spec()
+            spec = self.spec()
         except (MetamaterialError, ValueError) as exc:
             self.set_problem("spec", str(exc))
             return False
         self.set_problem("spec", "")
+        if self.cap_auto.isChecked():
+            self._show_cap(spec)
         return True
+
+    def _show_cap(self, spec):
+        """The automatic cap's diameter in its (disabled) box, kept exactly for when the user unticks automatic."""
+        self.cap.blockSignals(True)          # a shown value is no edit (no check, no loss of the exact value)
+        try:
+            self.cap.setValue(spec.core_diameter)
+        finally:
+            self.cap.blockSignals(False)
+        self.exact[self.cap] = spec.core_diameter
+        if spec.core_diameter_note:
+            tip = translate("Metamaterial", "automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm "
+                            "does not fit)").format(spec.core_diameter, sleeve_spec.DEFAULT_CAP_MM)
+        else:
+            tip = translate("Metamaterial", "automatic: the default cap, {0:g} mm").format(spec.core_diameter)
+        self.cap.setToolTip(tip)
+
+    def _cap_mode(self, automatic):
+        """Automatic: the spec gives no cap (the validator's default). Unticked: the box starts from the cap shown,
+        exactly, and the user's value is kept from then on."""
+        self.cap.setEnabled(not automatic)
+        if automatic:
+            self.cap.setProperty(ranges.REFUSED, "")      # a keystroke its range refused goes with the value typed
+        else:
+            self.cap.setToolTip(translate("Metamaterial", "actuator.core_diameter_mm: the cap the inner membrane "
+                                          "pushes on; at most the sleeve's inner diameter N (L + c) / pi - T"))
+        self.check_spec()
 
     def _browse(self):  # pragma: no cover - modal file dialog, tests call load_spec
         path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Sleeve spec", "", "Sleeve spec (*.json)")
@@ -161,7 +222,9 @@ class SleevePanel(BasePanel):
             w.setSingleStep(0.05)
             self._set_exact(w, v)
             self._track_edits(w)
+            w.valueChanged.connect(self.check_spec)     # after _track_edits: the check reads the edited value
             self.types.setCellWidget(r, c, w)
+        self.check_spec()              # the pattern may name the type just added
 
     def _track_edits(self, w):
         """A spin box the user changes gives its own (shown) value from then on."""
@@ -194,6 +257,14 @@ class SleevePanel(BasePanel):
         return True
 
     def set_spec(self, spec):
+        self._loading = True
+        try:
+            self._fill(spec)
+        finally:
+            self._loading = False
+        self.check_spec()             # a valid spec: any error the fields had goes
+
+    def _fill(self, spec):
         self.raw = dict(spec.raw)
         self.exact = {}
         self.name.setText(spec.name)
@@ -210,6 +281,12 @@ class SleevePanel(BasePanel):
         self.rings.setEnabled(uniform)
         self.frame_nl.setChecked(spec.frame_nonlinear)
         self.frame_nl.setEnabled(spec.ring_curvature and spec.layout == "single")
+        given = isinstance(spec.raw.get("actuator"), dict) and "core_diameter_mm" in spec.raw["actuator"]
+        self.cap_auto.blockSignals(True)
+        self.cap_auto.setChecked(not given)           # a spec's own cap is kept as given
+        self.cap_auto.blockSignals(False)
+        self._cap_mode(not given)
+        self._set_exact(self.cap, spec.core_diameter)
         self.summary = None
         self.result.setText("")
         self.error.setText("")
@@ -234,6 +311,13 @@ class SleevePanel(BasePanel):
                                         "separated by commas, e.g. 0, 0, 1, 1") from None
             d["rings"] = int(self.rings.value())
             d.pop("pattern", None)
+        actuator = dict(d.get("actuator", {}))
+        if self.cap_auto.isChecked():
+            actuator.pop("core_diameter_mm", None)     # the validator's default cap
+        else:
+            actuator["core_diameter_mm"] = self.value(self.cap)
+        if actuator or "actuator" in d:
+            d["actuator"] = actuator
         model = dict(d.get("model", {}))
         if self.frame_nl.isEnabled() and self.frame_nl.isChecked():
             model["frame_nonlinear"] = True
