@@ -139,9 +139,10 @@ class Problem:
 
     # -- the free field (every node's D an unknown): a lower bound and a metric for the search --
     def free_field(self, fi, reg=1e-6, max_nfev=40):
-        """``(D*, W, cost*)`` of frame ``fi``: the D field (every node free in [-1, 1]) that best reaches
-        the target, the Gauss-Newton metric ``W = B^T B`` of the residual in D there (alignment
-        projected out) and the reached cost. A small multiple ``reg`` of the quadratic energy keeps
+        """``(D*, W, cost*, converged)`` of frame ``fi``: the D field (every node free in [-1, 1]) that best
+        reaches the target, the Gauss-Newton metric ``W = B^T B`` of the residual in D there (alignment
+        projected out), the reached cost, and whether its fit converged within ``max_nfev`` evaluations (only
+        then is ``cost*`` a lower bound of every placement's cost). A small multiple ``reg`` of the quadratic energy keeps
         directions the target does not see at the smoothest field."""
         from metamaterial_wb.core.solver import assemble_hessian
         n = self.topo.n_nodes
@@ -179,11 +180,11 @@ class Problem:
         for R0, xi0 in aligns:                     # the local and (surfaces) the global alignment start
             both = make(R0)
             for start in ((0.0, 0.5, -0.5) if n <= 400 else (0.0,)):   # the kink at D = 0: try both sides
-                x, _ = box_gauss_newton(both, np.concatenate([np.full(n, start), xi0]), lo, -lo, max_nfev=max_nfev,
-                                        tol=1e-12)
+                x, nfev = box_gauss_newton(both, np.concatenate([np.full(n, start), xi0]), lo, -lo,
+                                           max_nfev=max_nfev, tol=1e-12)
                 c = float(np.sum(both(x, False)[0] ** 2))
                 if best is None or c < best[0]:
-                    best = (c, x, R0)
+                    best = (c, x, R0, nfev < max_nfev)
         R0 = best[2]
         x = best[1]
         r, Jv, Jx, _ = self.frame_residual(fi, x[:n], x[n:], R0, zero, eye)
@@ -192,7 +193,7 @@ class Problem:
             B = Jv - Q @ (Q.T @ Jv)
         else:
             B = Jv
-        return x[:n], B.T @ B, 0.5 * float(r @ r)
+        return x[:n], B.T @ B, 0.5 * float(r @ r), best[3]
 
     # pickling for process pools and Dask: the factorisations are rebuilt on arrival
     def __getstate__(self):
