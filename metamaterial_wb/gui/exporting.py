@@ -82,3 +82,35 @@ def export_structure(scene_obj, out_dir, step=True, threemf=True, modules=True, 
     finally:
         if active is not None and active.Name in FreeCAD.listDocuments():
             FreeCAD.setActiveDocument(active.Name)
+
+
+class Staging:
+    """The staging folder of a background export into ``target``: made inside ``target`` (``.KIND-<pid>-...``,
+    so the final move is a rename on that folder's own file system, also a mount point or a link to another drive,
+    and a killed FreeCAD's is swept by ``fileio.make_temp_dir`` next time), and the folders of ``target`` the
+    export made, removed (innermost first, while empty) when it fails or is cancelled: nothing is left."""
+
+    def __init__(self, target, kind):
+        from metamaterial_wb.core.fileio import make_temp_dir
+        from metamaterial_wb.export.package import _missing_dirs
+        self.target, self.path = target, None
+        self.created = _missing_dirs(target)
+        try:
+            os.makedirs(target, exist_ok=True)
+            self.path = make_temp_dir(target, kind)
+        except OSError:
+            self.discard(created=True)
+            raise
+
+    def discard(self, created=False):
+        """Remove the staging folder; with ``created``, also the folders the export made, if still empty."""
+        import shutil
+        if self.path:
+            shutil.rmtree(self.path, ignore_errors=True)
+        self.path = None
+        for d in self.created if created else ():
+            try:
+                os.rmdir(d)
+            except OSError:
+                break
+        self.created = []

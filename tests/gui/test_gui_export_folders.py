@@ -141,9 +141,35 @@ def test_a_killed_exports_staging_folder_is_removed_by_the_next_export(doc, tmp_
     type_into(p.path, str(out))
     click(p.export_btn)
     assert p.job.running
-    staging = os.path.basename(p.staging)
+    staging = os.path.basename(p.staging.path)
     m = fileio._STALE_RE.match(staging)
     assert m and int(m.group(1)) == os.getpid(), f"{staging}: the sweep cannot tell whose staging folder it is"
     assert not left.exists(), "the killed export's staging folder was not removed"
     click(p.jobbox.cancel_btn)
     assert sorted(os.listdir(out)) == ["mine.txt"]
+
+
+def test_sleeve_export_into_a_link_to_another_file_system_leaves_nothing_beside_it(doc, tmp_path):
+    """The Sleeve panel staged beside the folder (in its parent, with no process id) and moved the files across:
+    the same cross-device failure, and a cancelled export left the folders it made. It shares the Export panel's
+    staging now (``exporting.Staging``)."""
+    other = other_file_system(tmp_path)
+    if other is None:
+        pytest.skip(f"no writable folder on another file system than {tmp_path} (set MM_OTHER_FS_DIR)")
+    drive = tempfile.mkdtemp(prefix="mm-gui-sleeve-", dir=other)
+    try:
+        link = tmp_path / "on_the_other_drive"
+        os.symlink(drive, link)
+        p = run_panel("MM_Sleeve")
+        assert p.export(str(link)), p.error.text()
+        assert p.wait_export(300), "export did not finish"
+        assert sorted(os.listdir(drive)) == ["sleeve.3mf", "sleeve.step"], (os.listdir(drive), p.error.text())
+        assert sorted(os.listdir(tmp_path)) == ["on_the_other_drive"], "nothing staged beside the link"
+        deep = tmp_path / "x" / "a" / "b"
+        assert p.export(str(deep))
+        click(p.jobbox.cancel_btn)
+        assert p.export_job.outcome == "cancelled"
+        assert not (tmp_path / "x").exists(), "a cancelled export leaves no folder it made"
+        p.reject()
+    finally:
+        shutil.rmtree(drive, ignore_errors=True)

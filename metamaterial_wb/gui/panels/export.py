@@ -10,7 +10,6 @@ stay enabled).
 """
 import json
 import os
-import shutil
 
 import FreeCAD
 from PySide import QtGui
@@ -59,8 +58,7 @@ class ExportPanel(BasePanel):
         self.finish_layout()
         self.written = []
         self.warnings = []
-        self.staging = None
-        self.created = []       # the folders this export made (innermost first): removed again unless it succeeds
+        self.staging = None     # exporting.Staging while an export runs (with the folders it made)
         self.close_when_done = False
         self.job = ProcessJob(self.jobbox, self._done, self._failed, self._cancelled)
         self.export_btn.clicked.connect(self.start_export)
@@ -102,19 +100,16 @@ class ExportPanel(BasePanel):
         except MetamaterialError as exc:
             self.show_error(f"not exported: {exc}")
             return False
-        from metamaterial_wb.core.fileio import make_temp_dir
-        from metamaterial_wb.export.package import _missing_dirs
         out = os.path.abspath(os.path.expanduser(self.path.text().strip()))   # ~ is the home folder
         job = {"scene": scene.to_dict(), "out_dir": None, "step": self.step.isChecked(),
                "threemf": self.threemf.isChecked(), "modules": self.modules.isChecked(),
                "sockets": self.sockets.isChecked(), "overrides": exporting.preference_overrides(),
                "stem": exporting.stem_of(scene.name, self.obj.Label)}
         self.written, self.warnings = [], []
-        self.created = _missing_dirs(out)
         try:
-            os.makedirs(out, exist_ok=True)
-            self.staging = job["out_dir"] = make_temp_dir(out, "mm-export")   # sweeps a killed FreeCAD's first
-            jpath = os.path.join(self.staging, ".job.json")
+            self.staging = exporting.Staging(out, "mm-export")    # inside out; sweeps a killed FreeCAD's first
+            job["out_dir"] = self.staging.path
+            jpath = os.path.join(self.staging.path, ".job.json")
             with open(jpath, "w", encoding="utf-8") as f:
                 json.dump(job, f)
         except OSError as exc:
@@ -128,15 +123,9 @@ class ExportPanel(BasePanel):
 
     def _discard_staging(self, created=False):
         """Remove the staging folder; with ``created``, also the folders this export made, if still empty."""
-        if self.staging:
-            shutil.rmtree(self.staging, ignore_errors=True)
+        if self.staging is not None:
+            self.staging.discard(created)
         self.staging = None
-        for d in self.created if created else ():     # innermost first (package.export_result does the same)
-            try:
-                os.rmdir(d)
-            except OSError:
-                break
-        self.created = []
 
     def _done(self, result):
         try:

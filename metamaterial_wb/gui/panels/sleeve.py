@@ -14,10 +14,8 @@ from metamaterial_wb.gui.i18n import translate
 from metamaterial_wb.core.sleeve import spec as sleeve_spec
 
 # The cap the inner membrane pushes on (``actuator.core_diameter_mm``): the validator allows (0, BED_MM] and at most
-# the sleeve's inner diameter (checked in words, as t <= L / 4 is). panels/ranges.py has no entry for it yet: the
-# panel adds the validator's own bounds so that its box is bound (and tests/gui/test_gui_ranges.py walks it)
+# the sleeve's inner diameter (checked in words, as t <= L / 4 is); its box's range comes from ranges.FIELDS
 CAP_FIELD = "sleeve.actuator.core_diameter_mm"
-ranges.FIELDS.setdefault(CAP_FIELD, (0.0, sleeve_spec.BED_MM, True))
 
 
 def sleeve_summary_text(summary):
@@ -381,10 +379,10 @@ class SleevePanel(BasePanel):
 
     def export(self, folder):
         """Write sleeve.step and sleeve.3mf into ``folder`` in the background (a child process builds,
-        meshes and writes them into a staging folder beside ``folder``; the files are moved in when it
+        meshes and writes them into a staging folder inside ``folder``; the files are moved in when it
         ends: nothing half-written, Cancel leaves nothing). Returns True when the export started, False
         with the error shown; ``wait_export()`` waits, ``exported`` lists the paths written."""
-        import tempfile
+        from metamaterial_wb.gui.exporting import Staging
 
         if self.export_job.running:
             self.show_error(translate("Metamaterial", "export: an export is running (Cancel it first)"))
@@ -400,15 +398,14 @@ class SleevePanel(BasePanel):
         try:
             spec_dict = self.spec_dict()
             self.spec().check_end_pieces()                # the validator's message, before anything runs
-            os.makedirs(os.path.dirname(folder), exist_ok=True)
-            self.staging = tempfile.mkdtemp(prefix=".sleeve-export-", dir=os.path.dirname(folder))
-            jpath = os.path.join(self.staging, "job.json")
-            out = os.path.join(self.staging, "out")
+            self.staging = Staging(folder, "sleeve-export")    # inside the folder; sweeps a killed FreeCAD's first
+            jpath = os.path.join(self.staging.path, "job.json")
+            out = os.path.join(self.staging.path, "out")
             os.makedirs(out)
             with open(jpath, "w", encoding="utf-8") as f:
                 json.dump({"spec": spec_dict, "out_dir": out}, f)
         except (MetamaterialError, OSError) as exc:
-            self._drop_staging()
+            self._drop_staging(created=True)
             self.show_error(translate("Metamaterial", "export: {0}").format(exc))
             return False
         self.export_target = folder
@@ -418,10 +415,10 @@ class SleevePanel(BasePanel):
                               text=translate("Metamaterial", "building the sleeve ..."))
         return True
 
-    def _drop_staging(self):
-        import shutil
-        if self.staging:
-            shutil.rmtree(self.staging, ignore_errors=True)
+    def _drop_staging(self, created=False):
+        """The staging folder goes; with ``created`` (a failed or cancelled export) the folders it made too."""
+        if self.staging is not None:
+            self.staging.discard(created)
         self.staging = None
 
     def _exported(self, result):
@@ -431,7 +428,7 @@ class SleevePanel(BasePanel):
             from metamaterial_wb.core.errors import MetamaterialError
             from metamaterial_wb.core.fileio import commit_set
             os.makedirs(self.export_target, exist_ok=True)
-            commit_set(os.path.join(self.staging, "out"), self.export_target, names)   # all together or none
+            commit_set(os.path.join(self.staging.path, "out"), self.export_target, names)   # all together or none
         except (OSError, MetamaterialError) as exc:   # a user's folder where a file goes is refused
             self._export_failed(translate("Metamaterial", "cannot move the files into {0}: {1}").format(
                 self.export_target, exc))
@@ -446,12 +443,12 @@ class SleevePanel(BasePanel):
 
     def _export_failed(self, message):
         self.export_btn.setEnabled(True)
-        self._drop_staging()
+        self._drop_staging(created=True)
         self.show_error(translate("Metamaterial", "export: {0}").format(message))
 
     def _export_cancelled(self):
         self.export_btn.setEnabled(True)
-        self._drop_staging()
+        self._drop_staging(created=True)
         self.jobbox.summary.setText(translate("Metamaterial", "export cancelled: nothing written"))
 
     def wait_export(self, timeout_s=300.0):
@@ -461,7 +458,7 @@ class SleevePanel(BasePanel):
         self.prediction.stop()
         if self.export_job.running:
             self.export_job.stop()
-            self._drop_staging()
+            self._drop_staging(created=True)
         super().cleanup()
 
     def apply(self):
