@@ -39,25 +39,6 @@ def built(monkeypatch):
     return specs
 
 
-def type_keys(spin, text):
-    """Type ``text`` into a spin box a key at a time, the event loop running between keys as it does for a user.
-    ``type_into`` (QTest.keyClicks) sends every key before any queued call runs: the range watcher
-    (``ranges._RefusedKeys``) then judges the "1" of "10" (below L's 2 mm) after the "0" has cleared its message,
-    and the stale message refuses OK."""
-    from PySide import QtCore
-    spin.setFocus()
-    line = spin.lineEdit()
-    line.selectAll()
-    for ch in text:
-        qtest().keyClicks(line, ch)
-        process()
-    qtest().keyClick(line, QtCore.Qt.Key.Key_Tab)
-    process()
-    line.clearFocus()
-    spin.clearFocus()
-    process()
-
-
 def problem(p):
     return p.problem_label("spec").text()
 
@@ -74,7 +55,7 @@ def sleeve_part(doc):
 
 def test_fixing_h_in_the_table_clears_the_error_and_ok_builds(doc, built):
     p = run_panel("MM_Sleeve")
-    type_keys(p.dims["L_mm"], "10")
+    type_into(p.dims["L_mm"], "10")
     assert p.dims["L_mm"].value() == 10.0
     assert "cell_types[0].h_mm: 7.092 mm is outside" in problem(p) and not ok_enabled(), problem(p)
     type_into(p.types.cellWidget(0, 1), "5")
@@ -140,7 +121,7 @@ def test_a_narrower_sleeve_builds_with_the_automatic_cap(doc, built, field, text
 
 def test_l_10_with_h_5_builds_with_the_automatic_cap(doc, built):
     p = run_panel("MM_Sleeve")
-    type_keys(p.dims["L_mm"], "10")
+    type_into(p.dims["L_mm"], "10")
     for r in range(2):
         type_into(p.types.cellWidget(r, 1), "5")
     assert problem(p) == "" and ok_enabled(), problem(p)
@@ -172,12 +153,12 @@ def test_a_typed_cap_is_kept_and_refused_naming_the_field_the_panel_shows(doc, b
 def test_ticking_automatic_again_gives_the_cap_back_to_the_sleeve(doc, built):
     p = run_panel("MM_Sleeve")
     click(p.cap_auto)
-    type_keys(p.cap, "300")                         # past the box's 240 mm: the box keeps 30 and says so
+    type_into(p.cap, "300")                         # past the box's 240 mm: the box keeps 30 and says so
     assert p.cap.value() == 30.0 and "240" in p.cap.property("refused_input")
     type_into(p.cap, "22")
     type_into(p.ring, "0, 0, 1")
     assert "actuator.core_diameter_mm" in problem(p)
-    type_keys(p.cap, "300")
+    type_into(p.cap, "300")
     assert p.cap.property("refused_input")
     click(p.cap_auto)                               # the refused keystroke goes with the value typed
     assert p.cap.property("refused_input") == ""
@@ -218,7 +199,7 @@ def test_a_spec_files_own_cap_is_kept_as_given(doc, tmp_path):
 
 def test_loading_a_valid_spec_clears_an_error_the_fields_had(doc):
     p = run_panel("MM_Sleeve")
-    type_keys(p.dims["L_mm"], "10")
+    type_into(p.dims["L_mm"], "10")
     assert problem(p) and not ok_enabled()
     assert p.load_spec(EXAMPLE), p.error.text()
     assert problem(p) == "" and ok_enabled(), problem(p)

@@ -19,6 +19,7 @@ FORMAT = "metamaterial-sleeve"
 MIN_FEATURE_MM = 0.4
 MIN_GAP_MM = 0.2
 BED_MM = 240.0
+CAP_RANGE_MM = (0.0, BED_MM)   # actuator.core_diameter_mm, open at 0 (and at most the inner diameter: _check_cap)
 MAX_HEIGHT_MM = 300.0
 MAX_G_MPA = 5000.0
 # the actuator's cap (the core the inner membrane pushes on), mm: the seed's; a sleeve narrower inside takes its
@@ -49,8 +50,8 @@ class SleeveSpec:
         if fmt != FORMAT:
             raise SceneError("format", f"{fmt!r}; expected {FORMAT!r}")
         ver = data.get("version", 1)
-        if ver != 1:
-            raise SceneError("version", f"{ver!r}; supported: 1")
+        if isinstance(ver, bool) or ver != 1:          # True == 1 in Python: a boolean is no version
+            raise SceneError("version", f"{ver!r}; supported: 1 (a number)")
         _known(data, "", "")          # after the format: a scene file given here is named as one
         name = data.get("name", "sleeve")
         if not isinstance(name, str) or len(name) > 200:
@@ -147,7 +148,7 @@ class SleeveSpec:
             raise SceneError("actuator", "expected an object")
         _known(a, "actuator", "actuator")
         self.core_diameter = (None if "core_diameter_mm" not in a else      # absent: the default (_check_cap)
-                              check_number("actuator.core_diameter_mm", a["core_diameter_mm"], 0, BED_MM, "mm",
+                              check_number("actuator.core_diameter_mm", a["core_diameter_mm"], *CAP_RANGE_MM, "mm",
                                            low_open=True))
         self.core_diameter_note = ""          # why the cap is not the one given or the default (set below)
         self.membrane = check_number("actuator.membrane_kPa_per_mL", a.get("membrane_kPa_per_mL", 0.0), 0, 1e4, "kPa/mL")

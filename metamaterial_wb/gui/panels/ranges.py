@@ -22,6 +22,7 @@ def _sleeve_fields():
     for k, (lo, ratio, lo_open) in sleeve_spec.CELL_TYPE_RANGES.items():
         out["cell_types." + k] = (lo, ratio * l_max, lo_open)
     out["rings"] = (sleeve_spec.RINGS_RANGE[0], sleeve_spec.RINGS_RANGE[1], False)
+    out["actuator.core_diameter_mm"] = (sleeve_spec.CAP_RANGE_MM[0], sleeve_spec.CAP_RANGE_MM[1], True)
     return out
 
 
@@ -85,6 +86,7 @@ class _RefusedKeys(QtCore.QObject):
     def __init__(self, spin, field):
         super().__init__(spin)
         self.spin, self.field = spin, field
+        self.keys = 0                 # keystrokes seen: only the last one's outcome is judged
 
     def eventFilter(self, obj, ev):
         if ev.type() == QtCore.QEvent.Type.KeyPress and ev.text() and ev.text().isprintable():
@@ -96,10 +98,17 @@ class _RefusedKeys(QtCore.QObject):
             else:
                 c = line.cursorPosition()
                 new = text[:c] + ev.text() + text[c:]
-            QtCore.QTimer.singleShot(0, lambda: self._after(new))
+            self.keys += 1
+            n = self.keys
+            QtCore.QTimer.singleShot(0, lambda: self._after(new, n))
         return False
 
-    def _after(self, new):
+    def _after(self, new, n):
+        """Judge keystroke ``n`` once the box has handled it. Keys that arrive together (fast typing, pasted
+        input) are handled before the first timer fires: an earlier key's text is then already extended ("1"
+        of "10", below a minimum of 2, is "10" by now), so only the last key is judged."""
+        if n != self.keys:
+            return
         try:
             if self.spin.lineEdit().text() == new:
                 return                                # taken
