@@ -18,13 +18,7 @@ from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import (click, dialog_button, doc, press_ok, process, run_panel, type_into,  # noqa: E402,F401
                         workbench)
-
-
-def open_example(name):
-    p = run_panel("MM_OpenExample")
-    p.select(name)
-    assert press_ok()
-    return structure.find_scene_objects(FreeCAD.ActiveDocument)[-1]
+from test_gui_panel_details import open_example  # noqa: E402
 
 
 def other_file_system(path):
@@ -46,27 +40,32 @@ def staging_names(folder):
     return [n for n in os.listdir(folder) if n.startswith(".mm-export-")] if os.path.isdir(folder) else []
 
 
-def test_export_into_a_link_to_another_file_system(doc, tmp_path):
-    """The files were staged in the link's parent and then moved: '[Errno 18] Invalid cross-device link'."""
+@pytest.fixture
+def other_drive(tmp_path):
+    """``(link, drive)``: ``tmp_path/on_the_other_drive``, a link to a fresh folder on another file system."""
     other = other_file_system(tmp_path)
     if other is None:
         pytest.skip(f"no writable folder on another file system than {tmp_path} (set MM_OTHER_FS_DIR)")
     drive = tempfile.mkdtemp(prefix="mm-gui-export-", dir=other)
-    try:
-        link = tmp_path / "on_the_other_drive"
-        os.symlink(drive, link)
-        open_example("fish")
-        p = run_panel("MM_Export")
-        type_into(p.path, str(link))
-        click(p.export_btn)
-        assert p.wait(300), "export did not finish"
-        assert p.job.outcome == "done" and p.error.text() == "", p.error.text()
-        names = sorted(os.listdir(drive))
-        assert "manifest.json" in names and any(n.endswith(".step") for n in names), names
-        assert p.jobbox.summary.text().startswith(f"wrote {len(names)} file(s) to {link}"), p.jobbox.summary.text()
-        assert sorted(os.listdir(tmp_path)) == ["on_the_other_drive"], "nothing staged beside the link"
-    finally:
-        shutil.rmtree(drive, ignore_errors=True)
+    link = tmp_path / "on_the_other_drive"
+    os.symlink(drive, link)
+    yield link, drive
+    shutil.rmtree(drive, ignore_errors=True)
+
+
+def test_export_into_a_link_to_another_file_system(doc, tmp_path, other_drive):
+    """The files were staged in the link's parent and then moved: '[Errno 18] Invalid cross-device link'."""
+    link, drive = other_drive
+    open_example("fish")
+    p = run_panel("MM_Export")
+    type_into(p.path, str(link))
+    click(p.export_btn)
+    assert p.wait(300), "export did not finish"
+    assert p.job.outcome == "done" and p.error.text() == "", p.error.text()
+    names = sorted(os.listdir(drive))
+    assert "manifest.json" in names and any(n.endswith(".step") for n in names), names
+    assert p.jobbox.summary.text().startswith(f"wrote {len(names)} file(s) to {link}"), p.jobbox.summary.text()
+    assert sorted(os.listdir(tmp_path)) == ["on_the_other_drive"], "nothing staged beside the link"
 
 
 def test_accept_is_false_when_the_files_cannot_be_moved_in(doc, tmp_path):
@@ -149,27 +148,19 @@ def test_a_killed_exports_staging_folder_is_removed_by_the_next_export(doc, tmp_
     assert sorted(os.listdir(out)) == ["mine.txt"]
 
 
-def test_sleeve_export_into_a_link_to_another_file_system_leaves_nothing_beside_it(doc, tmp_path):
+def test_sleeve_export_into_a_link_to_another_file_system_leaves_nothing_beside_it(doc, tmp_path, other_drive):
     """The Sleeve panel staged beside the folder (in its parent, with no process id) and moved the files across:
     the same cross-device failure, and a cancelled export left the folders it made. It shares the Export panel's
     staging now (``exporting.Staging``)."""
-    other = other_file_system(tmp_path)
-    if other is None:
-        pytest.skip(f"no writable folder on another file system than {tmp_path} (set MM_OTHER_FS_DIR)")
-    drive = tempfile.mkdtemp(prefix="mm-gui-sleeve-", dir=other)
-    try:
-        link = tmp_path / "on_the_other_drive"
-        os.symlink(drive, link)
-        p = run_panel("MM_Sleeve")
-        assert p.export(str(link)), p.error.text()
-        assert p.wait_export(300), "export did not finish"
-        assert sorted(os.listdir(drive)) == ["sleeve.3mf", "sleeve.step"], (os.listdir(drive), p.error.text())
-        assert sorted(os.listdir(tmp_path)) == ["on_the_other_drive"], "nothing staged beside the link"
-        deep = tmp_path / "x" / "a" / "b"
-        assert p.export(str(deep))
-        click(p.jobbox.cancel_btn)
-        assert p.export_job.outcome == "cancelled"
-        assert not (tmp_path / "x").exists(), "a cancelled export leaves no folder it made"
-        p.reject()
-    finally:
-        shutil.rmtree(drive, ignore_errors=True)
+    link, drive = other_drive
+    p = run_panel("MM_Sleeve")
+    assert p.export(str(link)), p.error.text()
+    assert p.wait_export(300), "export did not finish"
+    assert sorted(os.listdir(drive)) == ["sleeve.3mf", "sleeve.step"], (os.listdir(drive), p.error.text())
+    assert sorted(os.listdir(tmp_path)) == ["on_the_other_drive"], "nothing staged beside the link"
+    deep = tmp_path / "x" / "a" / "b"
+    assert p.export(str(deep))
+    click(p.jobbox.cancel_btn)
+    assert p.export_job.outcome == "cancelled"
+    assert not (tmp_path / "x").exists(), "a cancelled export leaves no folder it made"
+    p.reject()
