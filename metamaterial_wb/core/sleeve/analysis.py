@@ -2,12 +2,14 @@
 import numpy as np
 
 
-def extrema(F, rel_prominence=0.02):
+def extrema(F, rel_prominence=0.02, floor=0.0):
     """Alternating peaks and valleys of a sampled curve ``F`` (in path order).
 
     A local maximum counts as a peak (minimum as a valley) only if the curve falls (rises) by more
-    than ``rel_prominence`` times the curve's range (up to its lowest point) before the next
-    extremum of the other kind, so that numerical wiggles do not count. Returns lists of indices ``(peaks, valleys)``.
+    than ``rel_prominence`` times the curve's range (up to its lowest point), and by more than ``floor`` (the
+    force resolution of the model that traced it, ``model.Path.noise``: a curve of round-off has a range too),
+    before the next extremum of the other kind, so that numerical wiggles do not count. Returns lists of indices
+    ``(peaks, valleys)``.
     """
     F = np.asarray(F, dtype=float)
     if len(F) < 3:
@@ -16,7 +18,7 @@ def extrema(F, rel_prominence=0.02):
     # the stiff stretching branch after the last valley does not hide a second peak
     imin = int(np.argmin(F))
     scale = np.ptp(F[:imin + 1]) if imin > 0 else np.ptp(F)
-    thr = rel_prominence * max(scale, 1e-300)
+    thr = max(rel_prominence * max(scale, 1e-300), floor)
     peaks, valleys = [], []
     mode = "up"          # looking for a peak
     cand = 0
@@ -36,11 +38,31 @@ def extrema(F, rel_prominence=0.02):
     return peaks, valleys
 
 
-def peaks_valleys(d, F, rel_prominence=0.02):
-    """``{"peaks": [[d, F], ...], "valleys": [[d, F], ...]}`` of a loading curve."""
-    p, v = extrema(F, rel_prominence)
+def peaks_valleys(d, F, rel_prominence=0.02, floor=0.0):
+    """``{"peaks": [[d, F], ...], "valleys": [[d, F], ...]}`` of a loading curve (``floor``: :func:`extrema`'s)."""
+    p, v = extrema(F, rel_prominence, floor)
     return {"peaks": [[float(d[i]), float(F[i])] for i in p],
             "valleys": [[float(d[i]), float(F[i])] for i in v]}
+
+
+def zero_crossings(F, resolution=0.0):
+    """How often a sampled force changes sign, a force within ``resolution`` of zero counting as zero (neither
+    sign): round-off about zero is no crossing."""
+    F = np.asarray(F, float)
+    s = np.sign(np.where(np.abs(F) > resolution, F, 0.0))
+    s = s[s != 0]
+    return int(np.sum(s[1:] != s[:-1]))
+
+
+def has_force_drop(path, rel_prominence=0.02):
+    """Whether a traced path (``d``, ``F``, ``jumps``, ``noise`` as ``model.Path``) snaps anywhere: read along
+    increasing d (an unloading path reversed), its force has a peak (:func:`extrema`, ``floor`` the path's force
+    resolution), or the state jumped (the stable branch ended). A path without either passes every cell through
+    its chord continuously, as a spring does: no snap (:func:`snap_order` is not asked)."""
+    d, F = np.asarray(path.d, float), np.asarray(path.F, float)
+    if len(d) > 1 and d[-1] < d[0]:
+        F = F[::-1]
+    return bool(path.jumps) or bool(extrema(F, rel_prominence, getattr(path, "noise", 0.0))[0])
 
 
 def snapped(states, geoms_of_cells):
@@ -66,7 +88,9 @@ def snap_order(path, cell_types, geoms_of_cells, units=None):
     single-beam layout the edge pillar that carries two beam halves, which snap together; a unit
     is snapped when the mean of its parts' rises exceeds their mean h. Types are ordered by the
     first change of a unit made of one type only (a pillar between two types cannot be attributed
-    to either); if there is none, by all units.
+    to either); if there is none, by all units. A state change is a snap only on a path that has a force drop
+    (:func:`has_force_drop`; ``pipeline.simulated_sequence`` asks first): on a monostable path the cells pass h
+    continuously.
 
     Returns (order_of_types, events) where events are (index, d, [units], state_after).
     """

@@ -15,7 +15,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from metamaterial_wb.core.sleeve.analysis import lean_direction, snap_order
+from metamaterial_wb.core.sleeve.analysis import has_force_drop, lean_direction, snap_order
 from metamaterial_wb.core.sleeve.frame3d import RingFrame
 from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
 
@@ -47,8 +47,11 @@ def sequence(ring, up, down):
     out = {}
     leans = []
     for name, r in (("loading", up), ("unloading", down)):
-        order, events = snap_order(SimpleNamespace(d=r["d"], states=r["rises"]), ring.state_types, geoms,
-                                   ring.units)
+        path = SimpleNamespace(d=r["d"], F=r.get("F"), states=r["rises"], jumps=[])
+        # a snap needs a force drop, as on the beam model's paths (pipeline.simulated_sequence); a path without
+        # forces (a stored solid run, read off its beams' ends by bench/fe_ring3d_combinations) is read as it is
+        drops = path.F is None or has_force_drop(path)
+        order, events = snap_order(path, ring.state_types, geoms, ring.units) if drops else ([], [])
         tilt = r["tilt"][:, :2]
         k = int(np.argmax(np.hypot(tilt[:, 0], tilt[:, 1])))
         lean = lean_direction(plate_tilt(tilt[k]))

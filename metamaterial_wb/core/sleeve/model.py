@@ -39,6 +39,14 @@ from metamaterial_wb.core.sleeve.beam import BeamMesh
 from metamaterial_wb.core.sleeve.tangent import TangentSolver
 
 LINK_FACTOR = 1.0e3     # stiffness of the rigid-body links relative to the beam's axial stiffness
+# A traced path's force resolution (``Path.noise``), in units of the equilibrium tolerance ``trace`` converges to (the
+# residual force's norm, 1e-9 of the stiffest element's axial stiffness / LINK_FACTOR, so it scales with the model's
+# forces): below it a force is round-off, not mechanics. Measured on strokes of 1e-10 L, where the force is nothing
+# else (docs/sleeves.md, "Force resolution"): a unit cell's reaction is at most 1.03 tolerances, a ring's at d = 0
+# without its bias moment at most 5.2 (2-32 cells, L 6-200 mm); the slenderest cell's valley (t 0.4 on L 200 mm) is
+# 57 times the resolution, the seed's peak 4e5 times. The bias moment's own push at rest is no round-off: counted
+# apart (pipeline.force_resolution).
+FORCE_NOISE_FACTOR = 100.0
 
 
 def modulus(plane="strain"):
@@ -242,6 +250,7 @@ class Path:
     jumps: list                   # indices i where the state jumped between i-1 and i
     iterations: int = 0
     seconds: float = 0.0
+    noise: float = 0.0            # force resolution (F / (G L^2)): a force within it is round-off (FORCE_NOISE_FACTOR)
 
 
 class SleeveModel(TangentSolver):
@@ -512,7 +521,7 @@ class SleeveModel(TangentSolver):
                 progress(i + 1, len(dv))
         self.last_q = q
         return Path(np.array(ds), np.array(Fs), np.array(states), np.array(tilts), np.array(thetas),
-                    jumps, total_it, time.perf_counter() - t0)
+                    jumps, total_it, time.perf_counter() - t0, FORCE_NOISE_FACTOR * tol)
 
     def _solve_step(self, guess, q, d, d_old, tol, depth=0):
         try:

@@ -10,8 +10,9 @@ from metamaterial_wb.core.sleeve.accuracy import (accuracy, frame_nl_note, frame
 from metamaterial_wb.core.sleeve.frame3d import curvature_check
 from metamaterial_wb.core.sleeve.frame3d_nl import first_peak
 from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
-from metamaterial_wb.core.sleeve.analysis import (extrema, lean_direction, peaks_valleys, pressure_control,
-                                                  pv_curve, snap_order, two_hysteron_sequence)
+from metamaterial_wb.core.sleeve.analysis import (extrema, has_force_drop, lean_direction, peaks_valleys,
+                                                  pressure_control, pv_curve, snap_order, two_hysteron_sequence,
+                                                  zero_crossings)
 from metamaterial_wb.core.sleeve.cell import CellGeometry
 from metamaterial_wb.core.sleeve.model import SleeveModel, default_stroke
 from metamaterial_wb.core.sleeve.spec import MIN_FEATURE_MM
@@ -24,17 +25,19 @@ def unit_cell_result(geom, n_el=10, steps=160, plane="strain", d_max=None, root_
     d = np.linspace(0.0, d_max, steps + 1)
     up = m.trace(d)
     down = m.trace(d[::-1], q0=m.last_q)
-    p, v = extrema(up.F)
+    # extrema larger than the force resolution only: on a stroke of a few nanometres the curve is round-off
+    p, v = extrema(up.F, floor=up.noise)
     F = up.F
     # the stroke's last point is no peak (the force still rises) and no valley (it still falls): null and a note
     peak = p[0] if p else None
     valley = v[0] if v else None
-    sign_changes = int(np.sum(np.diff(np.sign(F[1:])) != 0))
+    res_F = force_resolution(up)
     at = lambda i, x: None if i is None else float(x[i])  # noqa: E731
     res = {"t_mm": geom.t, "h_mm": geom.h, "t_over_L": geom.t / geom.L, "h_over_L": geom.h / geom.L,
            "peak_force": at(peak, F), "peak_displacement": at(peak, up.d),
            "valley_force": at(valley, F), "valley_displacement": at(valley, up.d),
-           "bistable": bool(peak is not None and np.min(F[peak:]) < 0), "zero_crossings": sign_changes,
+           "bistable": bool(peak is not None and np.min(F[peak:]) < -res_F),
+           "zero_crossings": zero_crossings(F[1:], res_F),
            "hysteresis": float(np.max(np.abs(up.F - down.F[::-1]))),
            "seconds": up.seconds + down.seconds}
     note = _extrema_note(peak, valley, up.d[-1])
@@ -47,11 +50,19 @@ def _extrema_note(peak, valley, d_end):
     """Why a curve's peak or valley is null: ``""`` when it has both."""
     if peak is None:
         return (f"no peak within the stroke (to d/L {d_end:.4g}: the force never falls by more than 2 % of its "
-                "range, analysis.extrema)")
+                "range and the model's force resolution, analysis.extrema)")
     if valley is None:
         return (f"no valley within the stroke (to d/L {d_end:.4g}: after its peak the force never rises by more "
-                "than 2 % of its range)")
+                "than 2 % of its range and the model's force resolution)")
     return ""
+
+
+def force_resolution(up):
+    """How far from zero a force of the model traced along ``up`` (a loading path from d = 0) must be to count as
+    positive or negative, F / (G L^2): the path's round-off (``model.Path.noise``) plus the force the model has at
+    rest (``up.F[0]``, d = 0: the ring's bias moment, ``model.imperfection``, pushes the plate by a little; a real
+    sleeve at rest carries nothing). Both scale with the model's forces: docs/sleeves.md, "Force resolution"."""
+    return float(up.noise + abs(up.F[0]))
 
 
 def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, unload=True,
@@ -75,7 +86,7 @@ def ring_trace(cells, pattern, n_el=8, steps=160, plane="strain", d_max=None, un
 def ring_thresholds(up):
     """First peak P1 and second valley V2 (last valley when there is only one) of a loading curve; None for one
     the stroke does not reach (the end of the stroke is neither)."""
-    p, v = extrema(up.F)
+    p, v = extrema(up.F, floor=up.noise)
     P1 = float(up.F[p[0]]) if p else None
     V2 = float(up.F[v[1]]) if len(v) >= 2 else (float(up.F[v[0]]) if v else None)
     return P1, V2, len(p), len(v)
@@ -99,8 +110,9 @@ def design_axis(model):
 def simulated_sequence(model, up, down):
     """Snapping order of the cell types along the traced loading and unloading paths, and tilts."""
     types, geoms, units = model.state_types, model.state_geoms, model.state_units
-    lo, ev_up = snap_order(up, types, geoms, units)
-    un, ev_dn = snap_order(down, types, geoms, units)
+    # a snap needs a force drop: on a path without one (a monostable sleeve) the cells pass their chord as springs
+    lo, ev_up = snap_order(up, types, geoms, units) if has_force_drop(up) else ([], [])
+    un, ev_dn = snap_order(down, types, geoms, units) if has_force_drop(down) else ([], [])
     sym = (lo[::-1] == un) if (lo or un) else None        # nothing snapped: neither symmetric nor asymmetric
     ti_up = up.tilt[np.argmax(np.linalg.norm(up.tilt, axis=1))]
     ti_dn = down.tilt[np.argmax(np.linalg.norm(down.tilt, axis=1))]
@@ -195,7 +207,7 @@ def analyse(spec, progress=None, log=None):
                               curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip,
                               root_extension=spec.root_extension)
         P1, V2, n_p, n_v = ring_thresholds(up)
-        pv = peaks_valleys(up.d, up.F)
+        pv = peaks_valleys(up.d, up.F, floor=up.noise)
         uniform.append({"type": i, "P1": P1, "V2": V2, "two_peaks": n_p >= 2 and n_v >= 2,
                         "peaks": [f for _, f in pv["peaks"]], "valleys": [f for _, f in pv["valleys"]],
                         "seconds": up.seconds})
@@ -217,8 +229,8 @@ def analyse(spec, progress=None, log=None):
                                  progress=progress, curvature=spec.ring_curvature, pillar_tip=spec.pillar_tip,
                                  root_extension=spec.root_extension)
     curves["ring"] = (model, up, down)
-    pv = peaks_valleys(up.d, up.F)
-    pvd = peaks_valleys(down.d[::-1], down.F[::-1])
+    pv = peaks_valleys(up.d, up.F, floor=up.noise)
+    pvd = peaks_valleys(down.d[::-1], down.F[::-1], floor=down.noise)
     ring = {"cells": n, "rings": spec.M, "pattern": spec.pattern,
             "peaks": [f for _, f in pv["peaks"]], "valleys": [f for _, f in pv["valleys"]],
             "peak_displacements": [d for d, _ in pv["peaks"]],
@@ -268,13 +280,16 @@ def analyse(spec, progress=None, log=None):
     Vu, pu = pv_curve(down.d * L, down.F * Fscale, A, spec.membrane)
     Vpc, ppc, jl = pressure_control(Vl, pl, True)
     Vpu, ppu, ju = pressure_control(Vu, pu, False)
-    ppv = peaks_valleys(Vl, pl)
+    kPa = Fscale / A * 1000.0          # kPa per normalised force unit
+    ppv = peaks_valleys(Vl, pl, floor=up.noise * kPa)
+    # below zero: below it by more than the force resolution (round-off at d = 0 is no valley)
+    reset_tol = force_resolution(up) * kPa
     pvres = {"cap_diameter_mm": spec.core_diameter, "cap_area_mm2": A, "membrane_kPa_per_mL": spec.membrane,
              "peaks_kPa": [p for _, p in ppv["peaks"]], "valleys_kPa": [p for _, p in ppv["valleys"]],
              "peak_volumes_mL": [v for v, _ in ppv["peaks"]],
              "pressure_control_loading_jumps": [{"p_kPa": a, "V_from_mL": b, "V_to_mL": c} for a, b, c in jl],
              "pressure_control_unloading_jumps": [{"p_kPa": a, "V_from_mL": b, "V_to_mL": c} for a, b, c in ju],
-             "needs_vacuum_to_reset": bool(np.min(pu) < 0),
+             "needs_vacuum_to_reset": bool(np.min(pu) < -reset_tol),
              "notes": [spec.core_diameter_note] if spec.core_diameter_note else []}
     curves["pv"] = {"load": (Vl, pl), "unload": (Vu, pu), "pc_load": (Vpc, ppc), "pc_unload": (Vpu, ppu)}
     summary = {"format": "metamaterial-sleeve-summary", "version": 1, "name": spec.name,
