@@ -22,7 +22,8 @@ def add_arguments(p):
     p.add_argument("--out", required=True, help="output folder (created; files in it are replaced)")
     p.add_argument("--step", action="store_true", help="also export the sleeve as STEP (needs FreeCAD)")
     p.add_argument("--3mf", dest="threemf", action="store_true",
-                   help="also export a 3MF with TPU sleeve and PLA rings/caps (needs FreeCAD)")
+                   help="also export a 3MF with TPU sleeve and PLA rings/caps laid out on the bundled printer's bed "
+                        "(sleeve.3mf; sleeve_plate1.3mf, ... when the parts need more than one bed; needs FreeCAD)")
     p.add_argument("--render", action="store_true", help="also write sleeve.png, a picture of the geometry (needs FreeCAD)")
     p.add_argument("--no-plots", action="store_true", help="summary.json only (not with --render)")
     p.add_argument("--fe-check", choices=("stiffness", "converged", "peak"), default=None,
