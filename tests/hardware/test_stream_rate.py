@@ -43,7 +43,7 @@ def run_cli(*args):
 
 def fish_with(**profiles):
     """The fish with other motion profiles (``name=profile``) and optional servo fields (``name_servo=...``)."""
-    d = json.load(open(FISH))
+    d = json.load(open(FISH, encoding="utf-8"))
     for a in d["actuators"]:
         if a["name"] in profiles:
             a["profile"] = profiles[a["name"]]
@@ -128,7 +128,7 @@ def scenes_that_stream():
     out = []
     for name in sorted(os.listdir(os.path.join(REPO, "examples"))):
         if name.endswith(".json"):
-            d = json.load(open(os.path.join(REPO, "examples", name)))
+            d = json.load(open(os.path.join(REPO, "examples", name), encoding="utf-8"))
             if d.get("format") == "metamaterial-scene" and d.get("actuators"):
                 out.append(name)
     return out
@@ -175,7 +175,7 @@ def test_rate_tolerance_flag_lets_a_slow_rate_through_and_is_checked(tmp_path):
     rep = tmp_path / "r.json"
     r = run_cli(FISH, "--dry-run", "--seconds", "2", "--rate", "1", "--rate-tolerance", "180", "--report", str(rep))
     assert r.returncode == 0, r.stderr
-    assert json.loads(rep.read_text())["ticks"] == 2
+    assert json.loads(rep.read_text(encoding="utf-8"))["ticks"] == 2
     for bad in ("0", "-1", "180.5", "nan"):
         r = run_cli(FISH, "--dry-run", "--seconds", "0.1", "--rate-tolerance", bad)
         assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
@@ -184,7 +184,7 @@ def test_rate_tolerance_flag_lets_a_slow_rate_through_and_is_checked(tmp_path):
 
 
 def test_docs_describe_the_rate_rule_and_its_tolerance():
-    text = open(os.path.join(REPO, "docs", "firmware.md")).read()
+    text = open(os.path.join(REPO, "docs", "firmware.md"), encoding="utf-8").read()
     assert "`--rate-tolerance DEG`" in text
     tol = mapping().RATE_TOLERANCE_DEG
     assert f"default {tol:g}" in text and "Nyquist" in text
@@ -199,7 +199,7 @@ def test_cli_rate_is_ticks_per_second_with_channels_that_are_not_adjacent(tmp_pa
     rep = tmp_path / "r.json"
     r = run_cli(FISH, "--dry-run", "--seconds", "1", "--map", "head=2,tail=5", "--report", str(rep))
     assert r.returncode == 0, r.stderr
-    d = json.loads(rep.read_text())
+    d = json.loads(rep.read_text(encoding="utf-8"))
     # a loaded machine may skip a late tick (counted in "skipped"): then fewer ticks, each still two frames
     n = d["ticks"]
     assert n + d["skipped"] == 50 and n >= 40 and d["frames"] == 2 * n == d["acked"] and d["frames_per_tick"] == 2
@@ -223,7 +223,7 @@ def test_streamer_counts_ticks_and_frames_apart():
 
 
 def test_docs_sample_summary_has_the_cli_format():
-    text = open(os.path.join(REPO, "docs", "firmware.md")).read()
+    text = open(os.path.join(REPO, "docs", "firmware.md"), encoding="utf-8").read()
     m = re.search(r"one summary line, e\.g\. `([^`]+)`", text.replace("\n", " "))
     assert m and re.match(r"\d+ ticks in \d+\.\d\d s \(\d+\.\d Hz\), \d+ frames: \d+ acked, \d+ NAKed, +\d+ lost",
                           m[1]), m and m[1]
@@ -236,12 +236,12 @@ def test_docs_sample_summary_has_the_cli_format():
 def test_firmware_gait_names_the_contact_pins_the_firmware_reads():
     from metamaterial_wb.hardware.onboard import FirmwareGait
     src = os.path.join(REPO, "firmware", "src", "avr")
-    main = open(os.path.join(src, "main.c")).read()
+    main = open(os.path.join(src, "main.c"), encoding="utf-8").read()
     body = main[main.index("static void read_contacts"):main.index("int main(void)")]
     assert "PINC" in body and "PIND" not in body and "PINB" not in body   # port C: A0..A5
     cells = {}
     for backend in ("servo_isr.c", "servo_pca9685.c"):
-        cells[backend] = int(re.search(r"hal_contact_cells = (\d+);", open(os.path.join(src, backend)).read())[1])
+        cells[backend] = int(re.search(r"hal_contact_cells = (\d+);", open(os.path.join(src, backend), encoding="utf-8").read())[1])
     doc = " ".join(FirmwareGait.__doc__.split())
     assert f"A0..A{cells['servo_isr.c'] - 1}" in doc and f"A0..A{cells['servo_pca9685.c'] - 1} with the PCA9685" in doc
     assert "D2" not in doc and "D3" not in doc, doc

@@ -27,7 +27,7 @@ PARTS = ["sleeve", "ring_bottom", "ring_top", "cap_bottom", "cap_top"]
 
 
 def _ini(key):
-    return re.search(rf"^{key}\s*=\s*(.*)$", open(PROFILE).read(), re.M).group(1).strip()
+    return re.search(rf"^{key}\s*=\s*(.*)$", open(PROFILE, encoding="utf-8").read(), re.M).group(1).strip()
 
 
 def _bed():
@@ -206,7 +206,7 @@ def test_every_plate_slices_with_the_bundled_profile(wide, tmp_path, arrange):
                             *([] if arrange else ["--dont-arrange"]), "-o", str(g), str(folder / f)],
                            capture_output=True, encoding="utf-8", errors="replace", timeout=900)
         assert r.returncode == 0, (f, r.stderr[-1500:])
-        text = g.read_text()
+        text = g.read_text(encoding="utf-8")
         used = [float(v) for v in re.search(r"^; filament used \[mm\] = (.*)$", text, re.M).group(1).split(",")]
         # the sleeve in TPU (extruder 2) beside PLA on the first plate; the others PLA only (extruder 1, at PLA's
         # first-layer temperature; PrusaSlicer lists the one extruder used)
@@ -218,7 +218,7 @@ def test_every_plate_slices_with_the_bundled_profile(wide, tmp_path, arrange):
             assert "\nT1" not in text, f
         if not arrange:
             xy = np.array([[float(v) for v in m] for m in
-                           re.findall(r"^G1 X(-?[\d.]+) Y(-?[\d.]+)[^\n;]* E[\d.]+", g.read_text(), re.M)])
+                           re.findall(r"^G1 X(-?[\d.]+) Y(-?[\d.]+)[^\n;]* E[\d.]+", g.read_text(encoding="utf-8"), re.M)])
             assert len(xy) > 100, f
             assert (xy >= lo).all() and (xy <= hi).all(), f
 
