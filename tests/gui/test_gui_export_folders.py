@@ -15,10 +15,9 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 from metamaterial_wb.core import fileio  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
-from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import (click, dialog_button, doc, press_ok, process, run_panel, type_into,  # noqa: E402,F401
                         workbench)
-from test_gui_panel_details import open_example  # noqa: E402
+from test_gui_panel_details import open_example, unprintable_structure  # noqa: E402
 
 
 def other_file_system(path):
@@ -111,12 +110,7 @@ def test_cancel_or_closing_the_panel_leaves_no_folder_the_export_made(doc, tmp_p
 
 
 def test_a_failed_export_leaves_no_folder_it_made(doc, tmp_path):
-    run_panel("MM_NewStructure")
-    assert press_ok()
-    sc = structure.find_scene_objects(doc)[-1]
-    # a 10 deg fold on 2 mm hinges: kinematically fine, not printable (the export's checks refuse it)
-    structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 3, "fold_deg": 10.0}])
-    doc.recompute()
+    unprintable_structure(doc)
     p = run_panel("MM_Export")
     type_into(p.path, str(tmp_path / "x" / "a" / "out"))
     click(p.export_btn)

@@ -56,13 +56,19 @@ def test_a_second_module_on_a_joint_or_node_is_refused_in_the_panel(doc):
     assert press_cancel()
 
 
-def test_export_failure_is_shown_in_the_panel(doc, tmp_path):
+def unprintable_structure(doc):
+    """A new structure with a 10 deg fold on its 2 mm hinges: kinematically fine (31.9 deg), not printable (3.96
+    deg): the export's checks refuse it."""
     run_panel("MM_NewStructure")
     assert press_ok()
     sc = structure.find_scene_objects(doc)[-1]
-    # a 10 deg fold on 2 mm hinges: kinematically fine (31.9 deg), not printable (3.96 deg)
     structure.set_scene_fields(sc, axes=[{"direction": "vertical", "line": 3, "fold_deg": 10.0}])
     doc.recompute()
+    return sc
+
+
+def test_export_failure_is_shown_in_the_panel(doc, tmp_path):
+    sc = unprintable_structure(doc)
     assert sc.isValid()
     p = run_panel("MM_Export")
     blocker = tmp_path / "a_file"
