@@ -18,6 +18,9 @@ PROFILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "profiles", "
 # between two parts on a plate: PrusaSlicer's own arrange distance (duplicate_distance, 6 mm), so that its arrange
 # (what a user's slicer runs on opening the file) finds room for what is laid out here
 PART_GAP_MM = 6.0
+# the 3MF names of an export: one plate, or several (``export_sleeve``); a folder's files of these names are an
+# earlier export's (``earlier_plates``)
+PLATE_NAME = re.compile(r"sleeve(_plate[1-9][0-9]*)?\.3mf")
 
 
 def profile_bed(path=PROFILE):
@@ -86,6 +89,20 @@ def _place(plate, it, w, d, W, D, gap):
     plate["rows"].append([y, d, w + gap])
     plate["parts"].append((it, 0.0, y))
     return True
+
+
+def earlier_plates(folder, names):
+    """The 3MF files of an earlier export in ``folder`` (``sleeve.3mf``, ``sleeve_plateN.3mf``: plain files, no
+    links) that the new export's ``names`` do not hold: left in place, a one-plate export would sit beside three
+    plates of another sleeve. Sorted; empty when ``names`` hold no 3MF (the earlier print is not this one's)."""
+    if not any(PLATE_NAME.fullmatch(n) for n in names):
+        return []
+    try:
+        present = os.listdir(folder)
+    except OSError:
+        return []
+    return sorted(n for n in present if PLATE_NAME.fullmatch(n) and n not in names
+                  and os.path.isfile(os.path.join(folder, n)) and not os.path.islink(os.path.join(folder, n)))
 
 
 def export_sleeve(spec, folder, step=True, threemf=True, render=False):

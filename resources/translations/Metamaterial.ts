@@ -29,7 +29,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="39"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="38"/>
         <source>3MF (PLA nodes / TPU hinges)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -74,7 +74,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="53"/>
         <source>Build the sheet (and modules) and write the files in the background</source>
         <translation type="unfinished"></translation>
     </message>
@@ -84,7 +84,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="98"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
         <source>Cap diameter (core_diameter_mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -94,7 +94,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="101"/>
         <source>Cell types (row = type index)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -104,7 +104,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="115"/>
         <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
@@ -152,17 +152,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="52"/>
         <source>Export</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="141"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="139"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="45"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="44"/>
         <source>Folder</source>
         <translation type="unfinished"></translation>
     </message>
@@ -270,7 +270,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="41"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="40"/>
         <source>Modules as separate files</source>
         <translation type="unfinished"></translation>
     </message>
@@ -287,7 +287,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="47"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="70"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="68"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
@@ -312,7 +312,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="63"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="61"/>
         <source>Open...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -343,17 +343,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="127"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="125"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="112"/>
         <source>Ring pattern</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="115"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="113"/>
         <source>Rings</source>
         <translation type="unfinished"></translation>
     </message>
@@ -378,7 +378,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="36"/>
         <source>STEP (named bodies, assembly)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -404,12 +404,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="43"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="42"/>
         <source>Snap-fit sockets on the nodes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="64"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="62"/>
         <source>Spec</source>
         <translation type="unfinished"></translation>
     </message>
@@ -444,7 +444,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="126"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -470,7 +470,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="206"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="207"/>
         <source>actuator.core_diameter_mm: the cap the inner membrane pushes on; at most the sleeve's inner diameter N (L + c) / pi - T</source>
         <translation type="unfinished"></translation>
     </message>
@@ -480,17 +480,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="90"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="88"/>
         <source>automatic</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="197"/>
         <source>automatic: the default cap, {0:g} mm</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="193"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="194"/>
         <source>automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -500,7 +500,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="436"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="438"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -510,7 +510,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="111"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="109"/>
         <source>cell type index of each cell around the circumference</source>
         <translation type="unfinished"></translation>
     </message>
@@ -525,28 +525,28 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="186"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="455"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="175"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="460"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="390"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="391"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="396"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="397"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="393"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="394"/>
         <source>export: the prediction is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="450"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="455"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="412"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
@@ -594,7 +594,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="118"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="116"/>
         <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (under a second per cell type) and the sleeve's snapping sequence and lean (about 10 s per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
@@ -651,17 +651,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="346"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="347"/>
         <source>predict: the export is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="355"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="356"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="377"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="378"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
@@ -673,6 +673,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="131"/>
         <source>printable: n/a</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="447"/>
+        <source>removed the earlier export's {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -701,8 +706,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="142"/>
-        <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders), as 'sleeve SPEC --step --3mf'</source>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="140"/>
+        <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders; sleeve_plate1.3mf, sleeve_plate2.3mf, ... when the parts need more than one bed, and an earlier export's plates this one does not write are removed), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -731,7 +736,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="91"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="89"/>
         <source>the default cap, {0:g} mm, or the sleeve's inner diameter N (L + c) / pi - T when that is smaller; untick to give your own (kept as typed, refused when it does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -746,7 +751,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="294"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="295"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -767,7 +772,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="442"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="448"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>

@@ -158,3 +158,24 @@ def test_sleeve_export_into_a_link_to_another_file_system_leaves_nothing_beside_
     assert p.export_job.outcome == "cancelled"
     assert not (tmp_path / "x").exists(), "a cancelled export leaves no folder it made"
     p.reject()
+
+
+def test_sleeve_export_removes_the_earlier_exports_plates_it_does_not_write(doc, tmp_path):
+    """A one-plate export into a folder holding an earlier three-plate export left ``sleeve_plate1..3.3mf`` beside
+    the new ``sleeve.3mf``: two sleeves' prints in one folder (the command line removes its earlier files). The
+    panel removes an earlier export's plates now, and nothing else: a user's file, a link, a folder stay."""
+    out = tmp_path / "exp"
+    out.mkdir()
+    for n in ("sleeve_plate1.3mf", "sleeve_plate2.3mf", "sleeve_plate3.3mf", "mine.txt", "sleeve_plate.3mf"):
+        (out / n).write_text("earlier")
+    (out / "sleeve_plate9.3mf").mkdir()
+    os.symlink(str(out / "mine.txt"), str(out / "sleeve_plate4.3mf"))
+    p = run_panel("MM_Sleeve")
+    type_into(p.export_dir, str(out))
+    click(p.export_btn)
+    assert p.wait_export(300), "export did not finish"
+    assert sorted(os.listdir(out)) == ["mine.txt", "sleeve.3mf", "sleeve.step", "sleeve_plate.3mf",
+                                       "sleeve_plate4.3mf", "sleeve_plate9.3mf"], (os.listdir(out), p.error.text())
+    assert (out / "sleeve.3mf").read_bytes()[:2] == b"PK"
+    assert "removed the earlier export's sleeve_plate1.3mf, sleeve_plate2.3mf, sleeve_plate3.3mf" in p.result.text()
+    p.reject()

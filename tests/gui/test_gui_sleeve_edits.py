@@ -204,3 +204,14 @@ def test_loading_a_valid_spec_clears_an_error_the_fields_had(doc):
     assert p.load_spec(EXAMPLE), p.error.text()
     assert problem(p) == "" and ok_enabled(), problem(p)
     p.reject()
+
+
+def test_the_name_is_checked_as_it_is_typed(doc, built):
+    """The name was checked on OK only: 201 characters kept OK enabled, and OK then failed (audit, session 27)."""
+    p = run_panel("MM_Sleeve")
+    type_into(p.name, "s" * 201)
+    assert "name: " in problem(p) and "at most 200 characters" in problem(p) and not ok_enabled(), problem(p)
+    type_into(p.name, "my sleeve")
+    assert problem(p) == "" and ok_enabled(), problem(p)
+    press_ok()
+    assert sleeve_part(FreeCAD.ActiveDocument).Label == "my sleeve"

@@ -138,7 +138,9 @@ class SleevePanel(BasePanel):
         self.export_dir = QtGui.QLineEdit(os.path.join(os.path.expanduser("~"), "sleeve_export"))
         self.export_btn = QtGui.QPushButton(translate("Metamaterial", "Export STEP + 3MF"))
         self.export_btn.setToolTip(translate("Metamaterial", "sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, "
-                                   "per-part extruders), as 'sleeve SPEC --step --3mf'"))
+                                   "per-part extruders; sleeve_plate1.3mf, sleeve_plate2.3mf, ... when the parts need "
+                                   "more than one bed, and an earlier export's plates this one does not write are "
+                                   "removed), as 'sleeve SPEC --step --3mf'"))
         self.export_btn.clicked.connect(lambda: self.export(self.export_dir.text().strip()))
         el.addWidget(self.export_dir)
         el.addWidget(self.export_btn)
@@ -153,6 +155,7 @@ class SleevePanel(BasePanel):
         self.predict_btn.clicked.connect(self.predict)
         # every edit is checked: the fields, the cap, and the t / h boxes of the table (add_type: cell widgets
         # send no itemChanged)
+        self.name.textChanged.connect(self.check_spec)
         self.ring.textChanged.connect(self.check_spec)
         self.rings.valueChanged.connect(self.check_spec)
         for w in list(self.dims.values()) + [self.cap]:
@@ -426,20 +429,25 @@ class SleevePanel(BasePanel):
         names = list(result.get("files", []))
         try:
             from metamaterial_wb.core.errors import MetamaterialError
-            from metamaterial_wb.core.fileio import commit_set
+            from metamaterial_wb.core.fileio import commit_set, remove_outputs
+            from metamaterial_wb.export.sleeve import earlier_plates
             os.makedirs(self.export_target, exist_ok=True)
+            stale = earlier_plates(self.export_target, names)    # an earlier export's plates this one does not write
             commit_set(os.path.join(self.staging.path, "out"), self.export_target, names)   # all together or none
         except (OSError, MetamaterialError) as exc:   # a user's folder where a file goes is refused
             self._export_failed(translate("Metamaterial", "cannot move the files into {0}: {1}").format(
                 self.export_target, exc))
             return
+        gone = remove_outputs(self.export_target, stale)
         self._drop_staging()
         self.exported = [os.path.join(self.export_target, n) for n in names]
         FreeCAD.Console.PrintMessage("Metamaterial sleeve export: " + ", ".join(self.exported) + "\n")
+        text = translate("Metamaterial", "wrote {0}").format(", ".join(names))
+        if gone:
+            text += "; " + translate("Metamaterial", "removed the earlier export's {0}").format(", ".join(gone))
         self.jobbox.summary.setText(translate("Metamaterial", "wrote {0} file(s) to {1}: {2} ({3:.1f} s)").format(
             len(names), self.export_target, ", ".join(names), float(result.get("seconds", 0.0))))
-        self.result.setText((self.result.text() + "\n" if self.result.text() else "")
-                            + translate("Metamaterial", "wrote {0}").format(", ".join(names)))
+        self.result.setText((self.result.text() + "\n" if self.result.text() else "") + text)
 
     def _export_failed(self, message):
         self.export_btn.setEnabled(True)
