@@ -148,12 +148,12 @@ def test_design_flags_are_named_and_never_silently_lost(tmp_path):
     # one axis given twice: the last one won without a word
     r = cli("design", fish, "--out", str(out), "--fold", "tail=10", "--fold", "tail=20")
     assert r.returncode == 2 and "axis 3 given twice (tail=10 and tail=20)" in r.stderr, r.stderr
-    # an axis named "1" and the axis at index 1: ambiguous, not silently the index
-    d = json.load(open(fish))
+    # an axis named "1" would be ambiguous with the axis at index 1: such a name is refused as the scene loads
+    d = json.load(open(fish, encoding="utf-8"))
     d["axes"][3]["name"] = "1"
     src = write(tmp_path, "named.json", d)
     r = cli("design", src, "--out", str(out), "--fold", "1=3")
-    assert r.returncode == 2 and "names axes [1, 3]" in r.stderr, r.stderr
+    assert r.returncode == 2 and "axes[3].name: '1' is not a valid name" in r.stderr, r.stderr
     # the report and the scene in one file: the scene overwrote the report
     r = cli("design", fish, "--out", str(out), "--report", str(out))
     assert r.returncode == 2 and r.stderr.startswith("error: --report: ") and "also --out" in r.stderr

@@ -132,12 +132,26 @@ def parse_axes(s, data):
             if key in a and (not isinstance(a[key], int) or isinstance(a[key], bool)):
                 raise SceneError(f"{f}.{key}", f"expected an integer cell index, got {_short(a[key])}")
         fold = check_number(f"{f}.fold_deg", a.get("fold_deg", 0.0), *FOLD_RANGE, "deg")
-        name = a.get("name", "")
-        if not isinstance(name, str):
-            raise SceneError(f"{f}.name", f"expected text, got {_short(name)}")
+        name = _axis_name(a, f)
         extra = {kk: vv for kk, vv in a.items() if kk not in ("direction", "line", "fold_deg", "name")}
         s.axes.append(Axis(direction, line, fold, name, extra))
     _check_axis_names(s.axes)
+
+
+def _axis_name(a, f):
+    """``a["name"]`` (``""`` when absent: the default ``v<line>`` / ``h<line>``), checked by the naming rule of
+    actuators and constraints (docs/scene-format.md). A written ``""`` or ``"2"`` is refused: the first silently
+    became the default, the second reads as an index in ``--fold 2=...``."""
+    if "name" not in a:
+        return ""
+    name = a["name"]
+    if not isinstance(name, str):
+        raise SceneError(f"{f}.name", f"expected text, got {_short(name)}")
+    if not _NAME_RE.fullmatch(name):      # fullmatch: the pattern's $ also matches before a final newline
+        raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name (letters, digits, _ . -; starting with a "
+                                      f"letter or _; at most 64 characters; leave the name out for the default "
+                                      f"v<line> / h<line>)")
+    return name
 
 
 def _check_axis_names(axes):
