@@ -18,9 +18,9 @@ Module 3MF files hold each part in the axis-aligned pose that needs the least su
 the mesh: export/printpose.py). Without ``--step`` and ``--3mf`` both are written. Progress goes to stderr. Every file is written
 to a temporary directory first and moved into DIR only when all succeeded (DIR, if this run created it, is
 removed again when it fails). Every output name is known before any geometry: a module whose files would be
-another output's (``sheet_components``), or a name that makes a file name longer than 255 bytes, is refused
-then. Files of an earlier build that this one does not write are removed and named on stderr, also with
-``--quiet``.
+another output's (``sheet_components``), a name that makes a file name longer than 255 bytes, or an output that is
+the scene file itself (``DIR/manifest.json`` read as the scene), is refused then. Files of an earlier build that
+this one does not write are removed and named on stderr, also with ``--quiet``.
 """
 import os
 import sys
@@ -29,7 +29,8 @@ import time
 NAME = "build"
 HELP = "fabrication: build the sheet (and modules) and export STEP / 3MF for dual-extruder printers"
 
-from metamaterial_wb.export.package import check_output_names, export_result, safe_stem  # noqa: E402
+from metamaterial_wb.export.package import (check_output_names, check_scene_not_output, export_result,  # noqa: E402
+                                            safe_stem)
 
 
 def add_arguments(p):
@@ -76,7 +77,7 @@ def run(args):
     stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
     names = dict(stem=stem, step=step, threemf=threemf, layouts=layouts,
                  stem_field="name" if scene.name else "scene (its file name)")
-    check_output_names(modules=[], **names)        # the sheet's file names, before any work
+    check_scene_not_output(args.out, check_output_names(modules=[], **names), args.scene)  # before any work
     overrides = {}
     if args.no_sockets:
         overrides["sockets"] = False
@@ -93,7 +94,8 @@ def run(args):
         raise SceneError(f"{flag} ({exc.field})", exc.message) from None
     if args.modules:
         from metamaterial_wb.geometry.modules import parse_modules
-        check_output_names(modules=[(m.index, m.name) for m in parse_modules(scene, params)], **names)
+        check_scene_not_output(args.out, check_output_names(
+            modules=[(m.index, m.name) for m in parse_modules(scene, params)], **names), args.scene)
     elif scene.modules and not args.quiet:
         print(f"build: the scene has {len(scene.modules)} module(s); add --modules to build them", file=sys.stderr)
     if os.path.exists(args.out) and not os.path.isdir(args.out):
