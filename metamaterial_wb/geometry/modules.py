@@ -171,7 +171,7 @@ def parse_modules(scene, p):
             if key not in allowed:
                 raise SceneError(f"{f}.{key}", f"unknown field for a {typ}; allowed: {sorted(allowed)}")
         name = item.get("name", f"{typ}_{k + 1}")
-        if not isinstance(name, str) or not re.match(r"^[A-Za-z_][A-Za-z0-9_\-]{0,63}$", name):
+        if not isinstance(name, str) or not re.match(r"^[A-Za-z_][A-Za-z0-9_\-]{0,63}\Z", name):
             raise SceneError(f"{f}.name", f"{name!r} is not a valid module name (letters, digits, _ -)")
         if name.casefold() in RESERVED_NAMES:
             from metamaterial_wb.geometry.parts import safe_stem

@@ -249,3 +249,14 @@ def test_friction_pad_too_thin_for_recessed_rivet_heads_is_refused():
     sc = make_scene({"grid": [2, 3]}, modules=[dict(MODULES[1], thickness_mm=2.0, pocket_depth_mm=0.5)])
     with pytest.raises(SceneError, match=r"thickness_mm \(pad\).*rivet heads recessed 1.4 mm.*allowed range \[2.2, 200\]"):
         parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))
+
+
+def test_a_module_name_ending_in_a_newline_is_refused():
+    """``$`` also matches before a final newline: "h\\n" passed the module naming rule (and named its files)."""
+    from metamaterial_wb.core.design import effective_tilts_deg
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fabrication import fabrication_params
+    from metamaterial_wb.geometry.modules import parse_modules
+    sc = make_scene({"chain": 3}, modules=[{"type": "connection_hub", "name": "h\n", "node": "N0,1"}])
+    with pytest.raises(SceneError, match="not a valid module name"):
+        parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))

@@ -89,3 +89,13 @@ def test_design_refuses_it_and_writes_nothing(tmp_path, name, shown):
     assert r.returncode == 2, (r.stdout, r.stderr)
     assert "axes[0].name: " in r.stderr and shown in r.stderr, r.stderr
     assert not out.exists()
+
+
+@pytest.mark.parametrize("where", ["actuators", "constraints"])
+def test_an_actuator_or_constraint_name_ending_in_a_newline_is_refused(where):
+    """``$`` also matches before a final newline: "tail\\n" passed the naming rule of actuators and constraints."""
+    d = copy.deepcopy(fish_axes())
+    d["actuators"], d["constraints"] = [], []
+    d[where] = [{"name": "tail\n", "joint": "V1,5", "value": 0.1}]
+    with pytest.raises(SceneError, match=r"\.name: 'tail\\n' is not a valid name"):
+        Scene.from_dict(d)
