@@ -4,8 +4,12 @@ Each axis shows its kinematic maximum (tilt limit, hinge strain, plate contact: 
 printable maximum (the hinge tilt the printed hinge fits in its node plate) on the control. A fold is
 never rounded (12.5 deg stays 12.5) nor clamped: a fold beyond the maximum in force (the kinematic
 one, or the printable one with "Limit to printable") is shown in red next to its axis and OK is
-refused. **OK = Confirm** runs the joint configuration and stores the folds and hinge tilts.
+refused. Every maximum is shown rounded toward zero (to the spin box's 3 decimals) and a slider ends on its
+last 0.1 deg step within the maximum in force, so every value a slider or a stated range offers is allowed.
+**OK = Confirm** runs the joint configuration and stores the folds and hinge tilts.
 """
+import math
+
 from PySide import QtCore, QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
@@ -19,6 +23,20 @@ from metamaterial_wb.gui.i18n import translate
 FOLD_RANGE = ranges.FIELDS["axes.fold_deg"][:2]     # the scene validator's range of axes[k].fold_deg
 FOLD_DECIMALS = 3
 STEP = 0.1                       # deg per slider step
+STEPS_PER_DEG = int(round(1 / STEP))
+TOL = 1e-9                       # deg: a fold this close to a maximum counts as on it (float noise)
+
+
+def toward_zero(lim, decimals=FOLD_DECIMALS):
+    """``lim`` (>= 0) rounded toward zero to ``decimals`` places: a stated range [-x, x] holds allowed folds only
+    (97.6281 -> 97.628, never 97.63, which is beyond the maximum); a maximum on a multiple keeps it (15.3)."""
+    q = 10 ** decimals
+    return math.floor((lim + TOL) * q) / q
+
+
+def slider_span(lim):
+    """The slider's end in steps for the maximum ``lim`` (deg): the last step within it (never beyond)."""
+    return int(math.floor((lim + TOL) * STEPS_PER_DEG))
 
 
 def axis_limits(scene):
@@ -45,6 +63,7 @@ class FoldedShapePanel(BasePanel):
     def __init__(self, scene_obj):
         super().__init__()
         self.obj = scene_obj
+        self._closed = False              # set by cleanup(): late signals (editingFinished as the form closes) do nothing
         self.scene = structure.compose_scene(scene_obj)
         self.limits = axis_limits(unconfigured(self.scene)) if self.scene.axes else []
         self.spins, self.sliders, self.limit_labels = [], [], []
@@ -103,7 +122,7 @@ class FoldedShapePanel(BasePanel):
         self._preview_timer.setSingleShot(True)
         self._preview_timer.setInterval(0)
         self._preview_timer.timeout.connect(self.preview)
-        self.global_slider.valueChanged.connect(lambda *_: self._preview_timer.start())
+        self.global_slider.valueChanged.connect(lambda *_: None if self._closed else self._preview_timer.start())
         self.printable.toggled.connect(self._limits_changed)
         self._limits_changed()
 
@@ -116,22 +135,24 @@ class FoldedShapePanel(BasePanel):
         return mx
 
     def _limits_changed(self, *_):
+        if self._closed:
+            return
         for k, (s, _mx) in enumerate(self.sliders):
             mx, _why, pmx = self.limits[k]
             lim = self.limit_deg(k)
-            span = int(round(lim / STEP)) if lim is not None else int(FOLD_RANGE[1] / STEP)
+            span = slider_span(lim if lim is not None else FOLD_RANGE[1])
             s.blockSignals(True)
             s.setRange(-span, span)
             s.setTickInterval(max(1, span // 5))
             s.setValue(int(round(self.spins[k].value() / STEP)))
             s.blockSignals(False)
-            kin = translate("Metamaterial", "kinematic +-{0:.1f} deg").format(mx) if mx is not None else \
+            kin = translate("Metamaterial", "kinematic +-{0:.3f} deg").format(toward_zero(mx)) if mx is not None else \
                 translate("Metamaterial", "kinematic: n/a")
-            pr = translate("Metamaterial", "printable +-{0:.2f} deg").format(pmx) if pmx is not None else \
+            pr = translate("Metamaterial", "printable +-{0:.3f} deg").format(toward_zero(pmx)) if pmx is not None else \
                 translate("Metamaterial", "printable: n/a")
             text = translate("Metamaterial", "{0}, {1}").format(kin, pr)
             if lim is not None:
-                text += translate("Metamaterial", " (slider +-{0:.1f})").format(lim)
+                text += translate("Metamaterial", " (slider +-{0:.1f})").format(span / STEPS_PER_DEG)
             self.limit_labels[k].setText(text)
         self._validate()
         self._preview_timer.start()
@@ -141,14 +162,17 @@ class FoldedShapePanel(BasePanel):
             f = spin.value()
             lim = self.limit_deg(k)
             msg = ""
-            if lim is not None and abs(f) > lim + 1e-9:
+            if lim is not None and abs(f) > lim + TOL:
                 kind = "printable" if self.printable.isChecked() and self.limits[k][2] is not None else "kinematic"
+                b = toward_zero(lim)
                 msg = (f"{f:g} deg is beyond the {kind} maximum of this axis: allowed range "
-                       f"[-{lim:.2f}, {lim:.2f}] deg")
+                       f"[-{b:.{FOLD_DECIMALS}f}, {b:.{FOLD_DECIMALS}f}] deg")
             self.set_problem(f"axis{k}", msg)
 
     # edits ------------------------------------------------------------------------------
     def _slider_moved(self, k, v):
+        if self._closed:
+            return
         spin = self.spins[k]
         spin.blockSignals(True)
         spin.setValue(v * STEP)
@@ -157,6 +181,8 @@ class FoldedShapePanel(BasePanel):
         self._preview_timer.start()
 
     def _spin_changed(self, k, v):
+        if self._closed:                    # the closing form's spin box emits editingFinished after cleanup()
+            return
         s = self.sliders[k][0]
         s.blockSignals(True)
         s.setValue(int(round(v / STEP)))     # the slider shows it; the spin box keeps the exact value
@@ -188,6 +214,8 @@ class FoldedShapePanel(BasePanel):
 
     def preview(self, *_):
         """Show the folds in the 3D view now (called after every edit; nothing is recomputed)."""
+        if self._closed:
+            return
         g = self.global_slider.value() / 100.0
         self.global_label.setText(translate("Metamaterial", "{0:.2f}").format(g))
         if self.problems:
@@ -222,6 +250,7 @@ class FoldedShapePanel(BasePanel):
         self.commit(doc, "Folded shape", change)
 
     def cleanup(self):
+        self._closed = True
         self._preview_timer.stop()
         super().cleanup()
 
