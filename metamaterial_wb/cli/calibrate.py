@@ -100,7 +100,7 @@ def run(args):
 
     if not args.piece or not args.angles:
         raise SceneError("calibrate measured", "needs PIECE.json and ANGLES.csv")
-    from metamaterial_wb.core.calibration import Calibration, _DEFAULT_PATH
+    from metamaterial_wb.core.calibration import _DEFAULT_PATH, Calibration, default_calibration
     from metamaterial_wb.core.scene import Scene
 
     table = cal = None
@@ -124,13 +124,19 @@ def run(args):
           f"over {len(fit['nodes'])} measured free nodes")
     for n, r in zip(fit["nodes"], fit["residual_deg"]):
         print(f"  {n}: {r:+.3f} deg")
+    t_ref = (cal or default_calibration()).t_ref
+    if fit["thickness_mm"] != t_ref:
+        print(f"note: the piece's hinge thickness {fit['thickness_mm']:g} mm differs from the table's reference "
+              f"thickness {t_ref:g} mm; the table takes k1 as independent of the thickness (its assumptions), so "
+              f"k1 is filed under the hinge length {fit['length_mm']:g} mm alone")
     if args.out:
         width = factor = None
         if ratio is not None and fit["other_width_mm"] is not None:
             width, factor = C.measured_width_factor(cal, fit["base_width_mm"], fit["other_width_mm"], ratio)
-        table = C.update_table(table, scene.hinge["length_mm"], round(fit["k1"], 6), width, factor)
-        table["source"] = (table.get("source", "") + f" Updated from measured angles: {args.angles} on {args.piece} "
-                           f"(k1 = {fit['k1']:.4f} at {scene.hinge['length_mm']} mm"
+        table = C.update_table(table, fit["length_mm"], round(fit["k1"], 6), width, factor)
+        before = table.get("source", "")          # text or absent (checked by Calibration)
+        table["source"] = ((before + " " if before else "") + f"Updated from measured angles: {args.angles} on "
+                           f"{args.piece} (k1 = {fit['k1']:.4f} at {fit['length_mm']} mm"
                            + (f", k2 factor {factor:.4g} at {width} mm" if factor is not None else "")
                            + f", RMS residual {fit['rms_deg']:.3f} deg).")
         write_atomic(args.out, C.table_json(table))

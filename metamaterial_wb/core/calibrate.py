@@ -350,21 +350,55 @@ def read_angles_csv(path, scene):
     return np.array(idx, dtype=np.int64), np.array(ang)
 
 
+def _sizes_by_joint(scene, key):
+    """``{size: [joint names]}`` of one hinge size (``length_mm``, ``width_mm``, ``thickness_mm``) over the joints."""
+    out = {}
+    for n in scene.topology.joint_names:
+        out.setdefault(float(scene.joint_hinge(n)[key]), []).append(n)
+    return out
+
+
+def _sizes_text(by_size, base):
+    """``2 mm on 48 joints (the piece's hinge), 6 mm on 12 joints (H0,3, H0,4, H1,3, H1,4, ...)``."""
+    parts = []
+    for v in sorted(by_size, key=lambda v: (v != base, v)):
+        names = by_size[v]
+        which = "the piece's hinge" if v == base else ", ".join(names[:4]) + (", ..." if len(names) > 4 else "")
+        parts.append(f"{v:g} mm on {len(names)} joint{'s' if len(names) != 1 else ''} ({which})")
+    return ", ".join(parts)
+
+
+def check_piece_sizes(scene):
+    """Refuse a measured test piece whose hinges the fit cannot represent: more than one hinge length (k1 is filed
+    under one length), more than one thickness (k2 scales with it; the fit groups joints by width only), more than
+    two widths. The error names the sizes and the joints that have them (docs/calibration.md, section 2)."""
+    base = scene.hinge
+    for key, what, most, use in (
+            ("length_mm", "hinge lengths", 1, "k1 is fitted for one hinge length: give every joint the same "
+                                              "length_mm"),
+            ("thickness_mm", "hinge thicknesses", 1, "the fit assumes one thickness: give every joint the same "
+                                                     "thickness_mm"),
+            ("width_mm", "hinge widths", 2, "use one (k1 fit) or two (k1 and k2 ratio fit)")):
+        by = _sizes_by_joint(scene, key)
+        if len(by) > most:
+            raise SceneError("joints", f"the test piece has {len(by)} {what}: {_sizes_text(by, float(base[key]))}; "
+                                       f"{use}")
+
+
 def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
     """Fit k1 (and, for a piece with two hinge widths, the k2 ratio) to measured node angles.
 
     Only the measured nodes enter the residual. Returns a dict with k1, the k2 ratio
     ``k2(other_width_mm) / k2(base_width_mm)`` (the base width is the piece's default ``hinge.width_mm``),
+    the joints' hinge ``length_mm`` and ``thickness_mm`` (one each: :func:`check_piece_sizes`, checked first),
     residuals (D units and degrees) and per-node residuals.
 
     Raises a SceneError when the fit is not finite or ends on its search bound (k1 in [0, 1], log10 of the k2
     ratio in [-4, 4]): the measured angles then do not determine the value, and it must not enter a table.
     """
     topo = scene.topology
+    check_piece_sizes(scene)
     widths = sorted({scene.joint_hinge(n)["width_mm"] for n in topo.joint_names})
-    if len(widths) > 2:
-        raise SceneError("joints", f"the test piece has {len(widths)} hinge widths; use one (k1 fit) or two "
-                                   f"(k1 and k2 ratio fit)")
     base_w = scene.hinge["width_mm"]
     jg = np.array([0 if scene.joint_hinge(n)["width_mm"] == base_w else 1 for n in topo.joint_names], dtype=np.int64)
     two = len(widths) == 2 if fit_k2 is None else bool(fit_k2)
@@ -398,6 +432,8 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
     nodes = [f"N{topo.nodes[k][0]},{topo.nodes[k][1]}" for k in use]
     other = [w for w in widths if w != base_w]
     fit = {"k1": k1, "k2_ratio": ratio, "widths_mm": widths, "base_width_mm": base_w,
+           "length_mm": float(scene.joint_hinge(topo.joint_names[0])["length_mm"]),
+           "thickness_mm": float(scene.joint_hinge(topo.joint_names[0])["thickness_mm"]),
            "other_width_mm": other[0] if other else None, "rms_D": float(np.sqrt(np.mean(r ** 2))),
            "max_D": float(np.abs(r).max()), "rms_deg": float(np.degrees(np.sqrt(np.mean(dphi ** 2)))),
            "nodes": nodes, "residual_deg": [float(x) for x in np.degrees(dphi)]}

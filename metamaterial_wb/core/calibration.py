@@ -11,44 +11,84 @@ import os
 
 import numpy as np
 
-from metamaterial_wb.core.errors import SceneError, range_message
+from metamaterial_wb.core.errors import SceneError, check_number, range_message
 
 _DEFAULT_PATH = os.path.join(os.path.dirname(__file__), "data", "calibration.json")
 
 
 class Calibration:
-    def __init__(self, table):
-        self.table = table
+    """A calibration table (the layout of ``core/data/calibration.json``), checked on construction.
+
+    Every entry is a real number (a JSON ``true`` or a quoted ``"0.9"`` is refused, never converted), finite and in
+    its range: lengths and widths > 0 mm and strictly increasing, k1 in [0, 1], k2 factors in [1e-6, 1e6], the
+    reference thickness in [0.1, 100] mm; ``source`` is text or absent, ``assumptions`` a list of text or absent.
+    Errors name the field with its index (``calibration.k1_vs_length.k1[0]``), the value and the range, and, with
+    ``path``, the table file.
+    """
+
+    def __init__(self, table, path=None):
         try:
-            self.len_mm = np.asarray(table["k1_vs_length"]["length_mm"], dtype=float)
-            self.k1_tab = np.asarray(table["k1_vs_length"]["k1"], dtype=float)
-            self.w_mm = np.asarray(table["k2_vs_width"]["width_mm"], dtype=float)
-            self.w_fac = np.asarray(table["k2_vs_width"]["factor"], dtype=float)
-            self.t_ref = float(table.get("k2_thickness_reference_mm", 7.0))
-        except (KeyError, TypeError, ValueError, AttributeError, OverflowError):
-            raise SceneError("calibration", "expected \"k1_vs_length\": {\"length_mm\": [...], \"k1\": [...]} and "
-                                            "\"k2_vs_width\": {\"width_mm\": [...], \"factor\": [...]} (numbers)") from None
-        if np.any(np.diff(self.len_mm) <= 0) or np.any(np.diff(self.w_mm) <= 0):
-            raise SceneError("calibration", "table abscissae must increase strictly")
-        for name, arr in (("k1_vs_length.length_mm", self.len_mm), ("k1_vs_length.k1", self.k1_tab),
-                          ("k2_vs_width.width_mm", self.w_mm), ("k2_vs_width.factor", self.w_fac)):
-            if arr.ndim != 1 or arr.size < 1 or not np.all(np.isfinite(arr)):
-                raise SceneError(f"calibration.{name}", "expected a non-empty list of finite numbers")
-        if self.len_mm.size != self.k1_tab.size or self.w_mm.size != self.w_fac.size:
-            raise SceneError("calibration", "each table's abscissae and values must have the same length")
-        if np.any(self.k1_tab < 0) or np.any(self.k1_tab > 1):
-            raise SceneError("calibration.k1_vs_length.k1", "table values must satisfy 0 <= k1 <= 1")
-        if np.any(self.w_fac < 1e-6) or np.any(self.w_fac > 1e6):
-            raise SceneError("calibration.k2_vs_width.factor", "k2 factors must lie in [1e-06, 1e6] (k2 itself is "
-                                                               "limited to [1e-9, 1e9])")
-        if not (np.isfinite(self.t_ref) and 0.1 <= self.t_ref <= 100):
-            raise SceneError("calibration.k2_thickness_reference_mm", range_message(self.t_ref, 0.1, 100, "mm"))
+            self._check(table)
+        except SceneError as exc:
+            if path is None:
+                raise
+            raise SceneError(exc.field, f"{exc.message} (in {path})") from None
+        self.table = table
+
+    def _check(self, table):
+        if not isinstance(table, dict):
+            raise SceneError("calibration", f"expected a JSON object with \"k1_vs_length\" and \"k2_vs_width\", "
+                                            f"got {type(table).__name__}")
+        for key, what in (("source", "text"), ("assumptions", "a list of text")):
+            if key not in table:
+                continue
+            v = table[key]
+            ok = isinstance(v, str) if key == "source" else (isinstance(v, list) and
+                                                             all(isinstance(x, str) for x in v))
+            if not ok:
+                raise SceneError(f"calibration.{key}", f"expected {what} (or no \"{key}\"), got {v!r}")
+        cols = {}
+        for sub, xkey, ykey in (("k1_vs_length", "length_mm", "k1"), ("k2_vs_width", "width_mm", "factor")):
+            if sub not in table:
+                raise SceneError(f"calibration.{sub}", f"missing; expected {{\"{xkey}\": [...], \"{ykey}\": [...]}} "
+                                                       f"(numbers)")
+            d = table[sub]
+            if not isinstance(d, dict):
+                raise SceneError(f"calibration.{sub}", f"expected {{\"{xkey}\": [...], \"{ykey}\": [...]}} "
+                                                       f"(numbers), got {d!r}")
+            for key in (xkey, ykey):
+                v = d.get(key)
+                if not isinstance(v, list) or not v:
+                    raise SceneError(f"calibration.{sub}.{key}", f"expected a non-empty list of numbers, got {v!r}")
+            if len(d[xkey]) != len(d[ykey]):
+                raise SceneError(f"calibration.{sub}", f"\"{xkey}\" has {len(d[xkey])} entries and \"{ykey}\" "
+                                                       f"{len(d[ykey])}; each abscissa needs one value")
+            cols[sub] = d
+        num = lambda sub, key, lo, hi, unit, lo_open=False: np.array(  # noqa: E731
+            [check_number(f"calibration.{sub}.{key}[{i}]", v, lo, hi, unit, low_open=lo_open, exact=True)
+             for i, v in enumerate(cols[sub][key])], dtype=float)
+        self.len_mm = num("k1_vs_length", "length_mm", 0, None, "mm", True)
+        self.k1_tab = num("k1_vs_length", "k1", 0, 1, "")
+        self.w_mm = num("k2_vs_width", "width_mm", 0, None, "mm", True)
+        # k2 itself is limited to [1e-9, 1e9]
+        self.w_fac = num("k2_vs_width", "factor", 1e-6, 1e6, "")
+        for sub, key, arr in (("k1_vs_length", "length_mm", self.len_mm), ("k2_vs_width", "width_mm", self.w_mm)):
+            bad = np.flatnonzero(np.diff(arr) <= 0)
+            if bad.size:
+                i = int(bad[0]) + 1
+                v, prev = cols[sub][key][i], cols[sub][key][i - 1]
+                raise SceneError(f"calibration.{sub}.{key}[{i}]", f"{v!r} mm is not greater than the entry before "
+                                                                  f"it ({prev!r} mm); the abscissae must increase "
+                                                                  f"strictly")
+        self.t_ref = check_number("calibration.k2_thickness_reference_mm", table.get("k2_thickness_reference_mm", 7.0),
+                                  0.1, 100, "mm", exact=True)
 
     @classmethod
     def load(cls, path=None):
         from metamaterial_wb.core.fileio import read_json
 
-        return cls(read_json(path or _DEFAULT_PATH, "calibration table"))
+        path = path or _DEFAULT_PATH
+        return cls(read_json(path, "calibration table"), path=path)
 
     def k1(self, length_mm, where="hinge"):
         lo, hi = self.len_mm[0], self.len_mm[-1]
