@@ -13,6 +13,7 @@ Writes into DIR (created; files written atomically, nothing half-way):
   available, otherwise PNG frames only).
 """
 import os
+import re
 import shutil
 import sys
 
@@ -30,7 +31,9 @@ def add_arguments(p):
                    help="also write PNG frames and an animated GIF (the GIF needs ImageMagick's convert)")
     p.add_argument("--method", default=None, choices=("auto", "symplectic", "implicit"),
                    help="integrator (default: the scene's dynamics.integrator.method, else auto)")
-    p.add_argument("--dt", type=float, default=None, help="time step (s); default: automatic")
+    p.add_argument("--dt", type=float, default=None,
+                   help="time step (s); default: the scene's dynamics.integrator.dt_s, else automatic "
+                        "(implicit: 2 ms for belts, 0.25 ms for sheets)")
     p.add_argument("--fps", type=float, default=30.0, help="trajectory / frame rate (default 30)")
     p.add_argument("--incline", type=float, default=None, metavar="DEG",
                    help="override dynamics.incline_deg")
@@ -85,6 +88,65 @@ def write_frames(model, traj, folder, every=1):
 
 MAX_STEPS = 20_000_000   # time steps of one run (size budget, issue 19): ~1e-5 s of wall time each at best
 MAX_FRAMES = 1_000_000   # recorded trajectory frames
+MAX_POSES = 10_000_000   # recorded body poses (frames x bodies): ~400 bytes of memory and ~35 of trajectory.json each
+OUTPUT_FILES = ("summary.json", "trajectory.json", "motion.gif")   # what a run writes into --out (with frames/)
+FRAME_RE = re.compile(r"^frame_\d{4,}\.png$")                      # the frame files a --frames run writes
+
+
+def check_scene_not_output(scene, out):
+    """Refuse a scene that is one of the files the run writes into ``out`` (also through a link; ``motion.gif``
+    also without ``--frames``: an earlier run's is removed) or that lies under ``out/frames/`` (replaced or removed
+    with the folder): it would be overwritten or deleted."""
+    from metamaterial_wb.core.errors import SceneError
+
+    for n in OUTPUT_FILES:
+        path = os.path.join(out, n)
+        try:
+            same = os.path.samefile(path, scene)
+        except (OSError, ValueError):
+            same = False
+        if same:
+            where = "" if os.path.abspath(scene) == path else f" ({scene})"
+            raise SceneError("--out", f"{path} is the scene this command reads{where}; it would be overwritten or "
+                                      f"removed: choose another output folder")
+    folder = os.path.join(out, "frames")
+    try:
+        inside = os.path.realpath(scene).startswith(os.path.realpath(folder) + os.sep)
+    except (OSError, ValueError):
+        inside = False
+    if inside:
+        raise SceneError("--out", f"{scene} is the scene this command reads and lies in {folder}, which a run "
+                                  f"replaces or removes as a whole: move the scene or choose another output folder")
+
+
+def check_frames_folder(out, frames):
+    """Before any work: ``out/frames`` is replaced (``--frames``) or removed (an earlier run's, without
+    ``--frames``) as a whole, so it must hold nothing but frame files (``frame_NNNN.png``); anything else in it is
+    the user's and the run is refused, naming it."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fileio import earlier_outputs
+
+    folder = os.path.join(out, "frames")
+    if not os.path.lexists(folder):
+        return
+    if not frames and "frames" not in earlier_outputs(out, "summary.json", "metamaterial-simulation",
+                                                      ["summary.json", "trajectory.json"]):
+        return                         # neither replaced nor removed: the user's folder, left alone
+    if os.path.islink(folder) or not os.path.isdir(folder):
+        return                         # not a folder of frames: commit_set refuses it / it is not removed
+    try:
+        names = sorted(os.listdir(folder))
+    except OSError as exc:
+        raise SceneError("--out", f"{folder} cannot be read ({exc.strerror or exc}); it is not replaced") from None
+    other = [n for n in names if not FRAME_RE.match(n) or os.path.islink(os.path.join(folder, n))
+             or not os.path.isfile(os.path.join(folder, n))]
+    if other:
+        shown = ", ".join(other[:3]) + (f" and {len(other) - 3} more" if len(other) > 3 else "")
+        how = "replaces that folder" if frames else "removes the earlier run's frames folder"
+        what = "not a frame file" if len(other) == 1 else "not frame files"
+        raise SceneError("--out", f"{folder} holds {shown} ({what} of a run, frame_NNNN.png); this run "
+                                  f"{how} as a whole: move {'it' if len(other) == 1 else 'them'} out or choose "
+                                  f"another output folder")
 
 
 def check_budget(option, n, limit, what, how):
@@ -103,7 +165,9 @@ def run(args):
     from metamaterial_wb.core.fileio import OutputSet, check_output, earlier_outputs, remove_outputs, write_json
     from metamaterial_wb.core.scene import Scene
 
-    check_output(args.out, "dir", "--out")
+    out = check_output(args.out, "dir", "--out")
+    check_scene_not_output(args.scene, out)
+    check_frames_folder(out, args.frames)
     seconds = check_number("--seconds", args.seconds, 0.0, 1e5, "s", low_open=True)
     fps = check_number("--fps", args.fps, 0.0, 1000.0, "Hz", low_open=True)
     if args.dt is not None:
@@ -123,6 +187,10 @@ def run(args):
         check_budget("dynamics.integrator.dt_s", seconds / dt_scene, MAX_STEPS, "time steps",
                      f"--seconds {seconds:g} / dt_s {dt_scene:g}")
     model = build(scene, cfg)
+    bodies = int(model.system.n)
+    check_budget("--fps", seconds * fps * bodies, MAX_POSES, "recorded body poses",
+                 f"--seconds {seconds:g} x --fps {fps:g} x {bodies} bodies (at most "
+                 f"{MAX_POSES // max(bodies, 1)} frames for this scene)")
     if model.kind == "sheet":
         model.scene_nodes = scene.topology.nodes
     from metamaterial_wb.core.dynamics.integrators import StepBudgetError

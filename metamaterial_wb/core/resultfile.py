@@ -101,16 +101,51 @@ def write_npz(path, arrays, meta):
     write_atomic(os.fspath(path), lambda fh: np.savez(fh, **payload), mode="wb")
 
 
+def _read_npz(path):
+    with np.load(path, allow_pickle=False) as z:
+        arrays = {k: z[k] for k in z.files if k != "meta_json"}
+        meta = json.loads(str(z["meta_json"]))
+    return meta, arrays
+
+
+def _arrays_beside(path, ref):
+    """The arrays of the ``.npz`` file a JSON result of ``solve --npz`` names (``"arrays": {"file", "keys"}``),
+    read from the JSON's folder; a missing or unreadable file, or one without the listed arrays, is a
+    :class:`SceneError` naming it."""
+    name = ref.get("file") if isinstance(ref, dict) else None
+    if not isinstance(name, str) or not name or name != os.path.basename(name) or name in (".", ".."):
+        raise SceneError("arrays.file", f"{name!r} in {path}; expected the file name of the arrays (R.npz) "
+                                        f"beside the JSON result")
+    npz = os.path.join(os.path.dirname(os.path.abspath(path)), name)
+    if not os.path.isfile(npz):
+        raise SceneError("arrays.file", f"{npz} (named in {path}) is missing: the JSON half of a `solve --npz` "
+                                        f"result holds no per-node data; keep the .npz file beside it")
+    try:
+        _, arrays = _read_npz(npz)
+    except (OSError, ValueError, KeyError) as exc:
+        raise SceneError("arrays.file", f"{npz} (named in {path}) is not a readable result .npz file "
+                                        f"({exc})") from None
+    keys = ref.get("keys")
+    missing = sorted(set(keys) - set(arrays)) if isinstance(keys, list) and all(isinstance(k, str) for k in keys) \
+        else []
+    if missing:
+        raise SceneError("arrays.file", f"{npz} (named in {path}) lacks the arrays {', '.join(missing)} its JSON "
+                                        f"lists; the two files do not belong together")
+    return arrays
+
+
 def read_result(path):
-    """``(meta dict, arrays dict)`` from a ``.npz`` result or a JSON result (converted to arrays)."""
+    """``(meta dict, arrays dict)`` from a ``.npz`` result or a JSON result (converted to arrays). The JSON half
+    of a ``solve --npz`` result (no ``nodes``, an ``"arrays"`` entry) gets its arrays from the ``.npz`` file it
+    names, beside it (:class:`SceneError` naming that file when it is missing)."""
     path = os.fspath(path)
     if path.endswith(".npz"):
-        with np.load(path, allow_pickle=False) as z:
-            arrays = {k: z[k] for k in z.files if k != "meta_json"}
-            meta = json.loads(str(z["meta_json"]))
-        return meta, arrays
-    with open(path) as fh:
+        return _read_npz(path)
+    with open(path, encoding="utf-8") as fh:
         doc = json.load(fh)
+    if "arrays" in doc and "nodes" not in doc:
+        arrays = _arrays_beside(path, doc["arrays"])
+        return {k: v for k, v in doc.items() if k not in ("nodes", "joints")}, arrays
     nodes = doc.get("nodes", [])
     arrays = {"ij": np.array([[n["i"], n["j"]] for n in nodes], dtype=np.int64).reshape(-1, 2)}
     if nodes and "D" in nodes[0]:

@@ -138,6 +138,8 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
         summary["dt_study"] = study
     summary["warnings"] = convergence_warnings(summary["energy"], sim.energy_scale, study, sim.stats)
     if model.kind == "belt":
-        # "rolls back": the centre of mass ends more than one cell length downhill / backwards
-        summary["rolled_back"] = bool(disp_mm < -cfg["belt"]["cell_length_mm"])
+        # "rolls back": the centre of mass ends more than one cell length against the commanded direction
+        # (an open-loop gait's direction, -1 rolls towards -x; every other gait rolls towards +x)
+        d = cfg["gait"].get("direction", 1) if isinstance(cfg.get("gait"), dict) else 1
+        summary["rolled_back"] = bool(d * disp_mm < -cfg["belt"]["cell_length_mm"])
     return summary, traj, model, sim
