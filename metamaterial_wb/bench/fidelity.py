@@ -392,7 +392,9 @@ def report_markdown(results, img_rel, machine="", command="python3 -m metamateri
               "level, and every error below is uncertain by that much (the error bars of the plot; the ratio columns give "
               "their range). Errors against it: "
               "node angle in D units after removing the rigid rotation (RMS and max over nodes), node position "
-              f"after rigid alignment divided by the cell size (max). Times: best of up to {repeats} runs, wall clock, "
+              f"after rigid alignment divided by the cell size (max). Times: "
+              + (f"best of up to {repeats} runs" if repeats else "best of several runs (how many was not recorded)")
+              + ", wall clock, "
               "everything included (geometry, assembly, factorisation, solve, poses). Two actuator amplitudes: "
               "0.05 (small, where the linearised lattice is accurate) and 0.5 (working range, where plate "
               "contact and large hinge rotations matter). The linear lattice (R1) rows are the linear model as it runs by "
