@@ -9,7 +9,6 @@
 import copy
 import json
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -22,19 +21,7 @@ from metamaterial_wb.core.scene import Scene
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_calibrate_cli_inputs import synthetic_angles, write_piece  # noqa: E402
-
-
-def cli(*args):
-    return subprocess.run([sys.executable, "-m", "metamaterial_wb", "calibrate", *map(str, args)], cwd=REPO,
-                          capture_output=True, text=True, timeout=300, env=dict(os.environ, PYTHONPATH=REPO))
-
-
-def one_line_error(r, field):
-    assert r.returncode == 2, (r.stdout, r.stderr)
-    assert r.stderr.startswith(f"error: {field}: "), r.stderr
-    assert r.stderr.strip().count("\n") == 0, r.stderr
-    assert "Traceback" not in r.stderr
+from test_calibrate_cli_inputs import cli, one_line_error, synthetic_angles, write_piece  # noqa: E402
 
 
 def shipped():
