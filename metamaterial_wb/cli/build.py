@@ -29,8 +29,8 @@ import time
 NAME = "build"
 HELP = "fabrication: build the sheet (and modules) and export STEP / 3MF for dual-extruder printers"
 
-from metamaterial_wb.export.package import (check_output_names, check_scene_not_output, export_result,  # noqa: E402
-                                            safe_stem)
+from metamaterial_wb.core.fileio import check_scene_not_output  # noqa: E402
+from metamaterial_wb.export.package import check_output_names, export_result, safe_stem  # noqa: E402
 
 
 def add_arguments(p):
@@ -77,7 +77,7 @@ def run(args):
     stem = safe_stem(scene.name or os.path.splitext(os.path.basename(args.scene))[0])
     names = dict(stem=stem, step=step, threemf=threemf, layouts=layouts,
                  stem_field="name" if scene.name else "scene (its file name)")
-    check_scene_not_output(args.out, check_output_names(modules=[], **names), args.scene)  # before any work
+    check_scene_not_output(args.out, check_output_names(modules=[], **names), args.scene, writer="the build")  # first
     overrides = {}
     if args.no_sockets:
         overrides["sockets"] = False
@@ -95,7 +95,7 @@ def run(args):
     if args.modules:
         from metamaterial_wb.geometry.modules import parse_modules
         check_scene_not_output(args.out, check_output_names(
-            modules=[(m.index, m.name) for m in parse_modules(scene, params)], **names), args.scene)
+            modules=[(m.index, m.name) for m in parse_modules(scene, params)], **names), args.scene, writer="the build")
     elif scene.modules and not args.quiet:
         print(f"build: the scene has {len(scene.modules)} module(s); add --modules to build them", file=sys.stderr)
     if os.path.exists(args.out) and not os.path.isdir(args.out):

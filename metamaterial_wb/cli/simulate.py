@@ -93,22 +93,14 @@ OUTPUT_FILES = ("summary.json", "trajectory.json", "motion.gif")   # what a run 
 FRAME_RE = re.compile(r"^frame_\d{4,}\.png$")                      # the frame files a --frames run writes
 
 
-def check_scene_not_output(scene, out):
+def check_not_input(scene, out):
     """Refuse a scene that is one of the files the run writes into ``out`` (also through a link; ``motion.gif``
     also without ``--frames``: an earlier run's is removed) or that lies under ``out/frames/`` (replaced or removed
     with the folder): it would be overwritten or deleted."""
     from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.fileio import check_scene_not_output
 
-    for n in OUTPUT_FILES:
-        path = os.path.join(out, n)
-        try:
-            same = os.path.samefile(path, scene)
-        except (OSError, ValueError):
-            same = False
-        if same:
-            where = "" if os.path.abspath(scene) == path else f" ({scene})"
-            raise SceneError("--out", f"{path} is the scene this command reads{where}; it would be overwritten or "
-                                      f"removed: choose another output folder")
+    check_scene_not_output(out, OUTPUT_FILES, scene)
     folder = os.path.join(out, "frames")
     try:
         inside = os.path.realpath(scene).startswith(os.path.realpath(folder) + os.sep)
@@ -166,7 +158,7 @@ def run(args):
     from metamaterial_wb.core.scene import Scene
 
     out = check_output(args.out, "dir", "--out")
-    check_scene_not_output(args.scene, out)
+    check_not_input(args.scene, out)
     check_frames_folder(out, args.frames)
     seconds = check_number("--seconds", args.seconds, 0.0, 1e5, "s", low_open=True)
     fps = check_number("--fps", args.fps, 0.0, 1000.0, "Hz", low_open=True)

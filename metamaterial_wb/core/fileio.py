@@ -631,6 +631,42 @@ def commit_set(tmp, out_dir, names):
         raise
 
 
+def check_scene_not_output(out_dir, names, scene, option="--out", writer="the run"):
+    """Refuse, before any work, an output ``out_dir/NAME`` that is the input file ``scene`` (the same file, also
+    through a link or another letter case): the run would overwrite or remove what it reads (``DIR/manifest.json``
+    given to ``build --out DIR``, ``DIR/summary.json`` to ``simulate --out DIR``).
+
+    Parameters
+    ----------
+    out_dir : str
+        The output folder.
+    names : sequence
+        The outputs' names in it: plain names, or ``(name, field, what)`` triples (``what``: the output's words).
+    scene : str
+        The input file.
+    option : str, optional
+        The option the error names.
+    writer : str, optional
+        Who writes the outputs, for the message ("the build").
+
+    Raises
+    ------
+    SceneError
+        One of the outputs is ``scene``.
+    """
+    for item in names:
+        n, what = (item, item) if isinstance(item, str) else (item[0], item[2])
+        path = os.path.join(out_dir, n)
+        try:
+            same = os.path.samefile(path, scene)
+        except (OSError, ValueError):       # not there yet (or not a path): not the scene
+            same = False
+        if same:
+            where = "" if os.path.abspath(scene) == os.path.abspath(path) else f" ({scene})"
+            raise SceneError(option, f"{path} is the scene this command reads{where}; {writer} writes {what} there "
+                                     f"and it would be overwritten: choose another output folder or move the scene")
+
+
 def earlier_outputs(out_dir, listing, fmt, names, key="files"):
     """The outputs an earlier run listed in ``out_dir/listing`` (a JSON file of format ``fmt`` with the list
     ``key``) that the new set ``names`` does not write: left in place they would sit beside a listing that no

@@ -82,24 +82,6 @@ def check_output_names(stem, modules, step=True, threemf=True, layouts=("prusa",
     return names
 
 
-def check_scene_not_output(out_dir, names, scene, option="--out"):
-    """Refuse, before any work, an output in ``out_dir`` that is the scene file ``scene`` (the same file, also
-    through a link or another letter case): the build would overwrite its input (``DIR/manifest.json`` as the
-    scene and ``--out DIR``). ``names``: :func:`check_output_names`'s list."""
-    from metamaterial_wb.core.errors import SceneError
-
-    for n, _field, what in names:
-        path = os.path.join(out_dir, n)
-        try:
-            same = os.path.samefile(path, scene)
-        except (OSError, ValueError):       # not there yet (or not a path): not the scene
-            same = False
-        if same:
-            raise SceneError(option, f"{path} is the scene this command reads ({scene}); the build writes {what} "
-                                     f"there and it would be overwritten: choose another output folder or move "
-                                     f"the scene")
-
-
 def run_checks(result, checks=None, progress=True, stream=None):
     """The geometry checks every export runs (``checks``: names for geometry.validity.check_build;
     ``None``: its defaults; ``()``: none). Raises MetamaterialError listing the problems, nothing written.
