@@ -8,8 +8,16 @@ arrays to ``RESULT.npz`` beside a small ``RESULT.json`` that holds everything el
 ``--option KEY=VALUE`` values are parsed and checked against the model's option table
 (``core/models.py`` ``model_options``: quadratic in ``core/models.py``, linear / nonlinear in
 ``core/lattice/__init__.py``). Flags that would be ignored are refused: ``--backend`` with a lattice model or
-contradicting ``--option backend``, ``--option`` with ``--global`` (closed form, no model runs), ``--option`` or ``--backend`` when the scene's
-stored ``global_deformation`` is solved (the same closed form; ``check_scene_global``)."""
+contradicting ``--option backend``, one ``--option`` key given twice, ``--option`` or a ``--model`` other than
+quadratic with ``--global`` (closed form, no model runs: the result is the quadratic model's closed form and says
+``"model": "quadratic"``), ``--option``, ``--backend`` or such a ``--model`` when the scene's stored
+``global_deformation`` is solved (the same closed form; ``check_scene_global``). With a global deformation the
+listed actuator / constraint values were not applied: the result says ``"values_applied": false`` and a
+``"values_note"``.
+
+With ``--npz`` the ``.npz`` and the ``.json`` are written as one set (``fileio.OutputSet``: both or neither); a
+run without ``--npz`` removes ``RESULT.npz`` only when the earlier ``RESULT.json`` (a result file) named it in its
+``"arrays"`` entry, i.e. an earlier ``solve --npz`` wrote it; any other file of that name is left alone."""
 import sys
 import time
 
@@ -25,8 +33,9 @@ def add_arguments(p):
     p.add_argument("--global", dest="global_g", type=float, default=None, metavar="G",
                    help="global deformation: every D = G in [-1, 1] (perfect propagation; closed form, so no "
                         "--option)")
-    p.add_argument("--model", default="quadratic",
-                   help="simulation model (default quadratic; see docs/fidelity.md for the others)")
+    p.add_argument("--model", default=None,
+                   help="simulation model (default quadratic; see docs/fidelity.md for the others; with a global "
+                        "deformation only quadratic, the closed form)")
     p.add_argument("--backend", default=None, choices=("auto", "superlu", "cholmod", "dense"),
                    help="linear solver of the quadratic model only (default auto: CHOLMOD when installed, "
                         "else SuperLU)")
@@ -108,6 +117,8 @@ def parse_options(items, model=None):
         if "=" not in s:
             raise SceneError(f"--option {s}", "expected KEY=VALUE, e.g. --model nonlinear --option tol=1e-10")
         key, _, val = s.partition("=")
+        if key.strip() in out:
+            raise SceneError(f"--option {key.strip()}", "given twice; give each option once")
         if table.get(key.strip()) is not None and table[key.strip()].kind != "text":
             out[key.strip()] = val.strip()          # parsed and checked by the table below
             continue
@@ -131,12 +142,33 @@ def parse_options(items, model=None):
     return out
 
 
+GLOBAL_MODEL = "quadratic"     # what a global deformation's closed form is reported as (the seed's slider)
+
+
+def _ignored_model(args):
+    """The explicit ``--model`` a global deformation would ignore (any but :data:`GLOBAL_MODEL`), else None."""
+    return args.model if args.model is not None and args.model != GLOBAL_MODEL else None
+
+
+def check_model_name(model):
+    """SceneError naming ``--model`` unless ``model`` is None or a registered model."""
+    if model is None:
+        return
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.models import model_names
+    names = model_names()
+    if model not in names:
+        raise SceneError("--model", f"{model!r}; allowed: {', '.join(names)}")
+
+
 def check_flags(args):
     """Refuse flags that would be ignored or contradict each other, before any work: ``--global`` out of
-    [-1, 1] (named as the flag), ``--global`` with ``--option`` (closed form: no model runs),
-    ``--backend`` with a lattice model (``run`` refuses ``--backend`` with a different ``--option backend``)."""
+    [-1, 1] (named as the flag), ``--global`` with ``--option`` or with a ``--model`` other than quadratic (closed
+    form: no model runs), ``--backend`` with a lattice model (``run`` refuses ``--backend`` with a different
+    ``--option backend``)."""
     from metamaterial_wb.core.errors import SceneError
 
+    check_model_name(args.model)
     g = args.global_g
     if g is not None:
         check_global(g)
@@ -144,20 +176,26 @@ def check_flags(args):
             raise SceneError("--global", f"{g:g} with --option {args.option[0]}: --global sets every D in closed "
                                          "form and runs no model, so model options would be ignored; give one "
                                          "of them")
-    if args.backend is not None and args.model != "quadratic":
+        if _ignored_model(args):
+            raise SceneError("--global", f"{g:g} with --model {args.model}: --global sets every D in closed "
+                                         "form and runs no model, so --model would be ignored (the closed form is "
+                                         f"reported as model {GLOBAL_MODEL}); give one of them")
+    if args.backend is not None and (args.model or "quadratic") != "quadratic":
         raise SceneError("--backend", f"{args.backend} with --model {args.model}; allowed: only with --model "
                                       "quadratic (the lattice models choose their own linear solver)")
 
 
 def check_scene_global(args, g):
-    """Refuse ``--option`` and ``--backend`` when the scene's stored ``global_deformation`` is what gets solved
-    (no ``--global``, no ``--set``): the closed form runs and no model does, so they would be ignored, exactly as
-    with ``--global`` (:func:`check_flags`)."""
+    """Refuse ``--option``, ``--backend`` and a ``--model`` other than quadratic when the scene's stored
+    ``global_deformation`` is what gets solved (no ``--global``, no ``--set``): the closed form runs and no model
+    does, so they would be ignored, exactly as with ``--global`` (:func:`check_flags`)."""
     from metamaterial_wb.core.errors import SceneError
 
     if args.global_g is not None or g is None:
         return
     flag = f"--option {args.option[0]}" if args.option else (f"--backend {args.backend}" if args.backend else None)
+    if flag is None and _ignored_model(args):
+        flag = f"--model {args.model}"
     if flag is not None:
         raise SceneError("global_deformation", f"{g:g} stored in the scene with {flag}: the scene's global "
                                                "deformation sets every D in closed form and runs no model, so "
@@ -177,7 +215,11 @@ def result_dict(scene, res, global_g=None, model="quadratic", fields=None, array
            "converged": bool(res.converged), "global_deformation": global_g,
            "actuators": {a.name: a.value for a in scene.actuators},
            "constraints": {c.name: c.value for c in scene.constraints},
+           "values_applied": global_g is None,
            "fields": list(fields), "warnings": list(res.warnings), "timings": dict(res.timings)}
+    if global_g is not None:
+        out["values_note"] = (f"not applied: the global deformation {global_g:g} set every D in closed form and "
+                              "replaced the actuator and constraint values (listed as stored in the scene)")
     if arrays is None:
         a = resultfile.result_arrays(scene, res, fields)
         out["nodes"] = resultfile.node_list(a)
@@ -185,6 +227,8 @@ def result_dict(scene, res, global_g=None, model="quadratic", fields=None, array
             out["joints"] = resultfile.joint_list(a)
     if res.info:
         out["info"] = res.info
+    elif global_g is not None:
+        out["info"] = {"method": "global deformation: closed-form kinematics, no solve"}
     return out
 
 
@@ -205,21 +249,44 @@ def joint_results(scene, rotations):
     return out
 
 
+def _our_earlier_npz(out_path, npz_name):
+    """``npz_name`` when the earlier result at ``out_path`` (a ``metamaterial-result`` JSON) named it in its
+    ``"arrays"`` entry - written by an earlier ``solve --npz`` - and it is a plain file beside it; else None.
+    Read before the new result replaces that JSON."""
+    import json
+    import os
+
+    folder = os.path.dirname(os.path.abspath(out_path))
+    p = os.path.join(folder, npz_name)
+    if not os.path.isfile(p) or os.path.islink(p):
+        return None             # nothing to remove (checked first: a large JSON result is not read for nothing)
+    try:
+        with open(out_path, encoding="utf-8") as f:
+            old = json.load(f)
+    except (OSError, ValueError):
+        return None
+    ref = old.get("arrays") if isinstance(old, dict) and old.get("format") == "metamaterial-result" else None
+    return npz_name if isinstance(ref, dict) and ref.get("file") == npz_name else None
+
+
 def run(args):
-    from metamaterial_wb.core.fileio import write_json
+    import os
+
+    from metamaterial_wb.core.fileio import OutputSet, remove_outputs, write_json
     from metamaterial_wb.core.models import run_model
     from metamaterial_wb.core.scene import Scene
 
     from metamaterial_wb.core import resultfile
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.fileio import check_output
-    check_output(args.out, "file", "--out", inputs=[("scene", args.scene)])
+    out_abs = check_output(args.out, "file", "--out", inputs=[("scene", args.scene)])
     npz_path = None
     if args.npz:
         npz_path = resultfile.npz_path_for(args.out)
         check_output(npz_path, "file", "--npz", inputs=[("scene", args.scene)])
     check_flags(args)
-    opts = parse_options(args.option, args.model)
+    model = args.model or "quadratic"
+    opts = parse_options(args.option, model)
     if args.backend is not None:
         if opts.get("backend", args.backend) != args.backend:
             raise SceneError("--option backend", f"{opts['backend']} contradicts --backend {args.backend}; "
@@ -236,22 +303,28 @@ def run(args):
     for w in (ensure_configured(scene) or {}).get("warnings", []):  # axes without joint_config: configure
         print(f"warning: {w}", file=sys.stderr)
     fields = resultfile.parse_fields(args.fields)
-    res = run_model(args.model, scene, global_deformation=g, **opts)
+    res = run_model(model, scene, global_deformation=g, **opts)
+    folder = os.path.dirname(out_abs)
     if args.npz:
-        import os
         arrays = resultfile.result_arrays(scene, res, fields)
-        out = result_dict(scene, res, g, args.model, fields, arrays=arrays)
-        out["arrays"] = {"file": os.path.basename(npz_path), "keys": sorted(arrays)}
+        out = result_dict(scene, res, g, model, fields, arrays=arrays)
+        npz_name = os.path.basename(npz_path)
+        out["arrays"] = {"file": npz_name, "keys": sorted(arrays)}
         out["timings"]["total_s"] = time.perf_counter() - t0
-        resultfile.write_npz(npz_path, arrays, out)
-        write_json(args.out, out)
+        with OutputSet(folder, "tmp-solve") as tmp:      # the .npz and the .json land together, or neither
+            resultfile.write_npz(os.path.join(tmp, npz_name), arrays, out)
+            write_json(os.path.join(tmp, os.path.basename(out_abs)), out)
     else:
-        out = result_dict(scene, res, g, args.model, fields)
+        out = result_dict(scene, res, g, model, fields)
         out["timings"]["total_s"] = time.perf_counter() - t0
+        stale = _our_earlier_npz(out_abs, os.path.basename(resultfile.npz_path_for(out_abs))) \
+            if not out_abs.lower().endswith(".npz") else None
         write_json(args.out, out)
+        if stale:       # an earlier `solve --npz` wrote it: beside this result it would name none of its arrays
+            remove_outputs(folder, [stale])
     for w in res.warnings:
         print(f"warning: {w}", file=sys.stderr)
     if not res.converged:   # the file is written (marked "converged": false) but the exit status says so
-        print(f"error: model {args.model!r} did not converge; {args.out} holds the last iterate", file=sys.stderr)
+        print(f"error: model {model!r} did not converge; {args.out} holds the last iterate", file=sys.stderr)
         return 1
     return 0
