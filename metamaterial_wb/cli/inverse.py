@@ -40,11 +40,14 @@ def add_arguments(p):
                    help="regions of --hinges (only with --hinges): blocks of the sheet, 1..20 each (default 2x2)")
     p.add_argument("--model", default="quadratic", choices=("quadratic", "linear", "nonlinear"),
                    help="model whose error the values minimise (placement always searched with the quadratic "
-                        "model; linear / nonlinear polish the values afterwards)")
+                        "model; linear / nonlinear polish the values afterwards, report.json 'polish'); always "
+                        "evaluated")
     p.add_argument("--evaluate", default="quadratic,linear,nonlinear",
-                   help="models the answer is evaluated with (comma-separated, at least one; default all three)")
-    p.add_argument("--screen", type=int, default=12,
-                   help="placements fully fitted per search round, 0..1000 (0: every candidate; default 12)")
+                   help="models the answer is evaluated with (comma-separated, at least one; default all three; "
+                        "the --model model is added when left out)")
+    p.add_argument("--screen", type=int, default=None,
+                   help="placements fully fitted per search round, 0..1000 (0: every candidate; default 12; "
+                        "not with --values-only)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, default=None,
                    help="local worker processes of the placement search, 1..256 (default 1; not with --values-only)")
@@ -91,12 +94,15 @@ def _check_flags(args):
         if not lo <= args.workers <= hi:
             raise SceneError("--workers", range_message(args.workers, lo, hi))
     lo, hi = pipeline.SCREEN_RANGE
-    if not lo <= args.screen <= hi:
+    if args.screen is not None and not lo <= args.screen <= hi:
         raise SceneError("--screen", range_message(args.screen, lo, hi) + " (0: fit every candidate)")
     for flag, value in (("--workers", args.workers), ("--scheduler", args.scheduler)):
         if value is not None and args.values_only:
             raise SceneError(flag, f"{value} with --values-only; allowed: only without --values-only (a values-only "
                                    f"fit runs in this process; the placement search is what runs in parallel)")
+    if args.screen is not None and args.values_only:
+        raise SceneError("--screen", f"{args.screen} with --values-only; allowed: only without --values-only (it sets "
+                                     f"how many placements the search fits fully; a values-only fit searches none)")
     forbidden = pipeline.parse_joint_list(args.forbid, "--forbid") if args.forbid else []
     if forbidden and args.values_only:
         raise SceneError("--forbid", f"{', '.join(forbidden)} with --values-only; allowed: only without "
@@ -169,7 +175,8 @@ def run(args):
     from metamaterial_wb.export.printability import first_module_problem
     try:
         run_ = pipeline.solve(scene, target, servos=args.servos, values_only=args.values_only, forbidden=forbidden,
-                              hinge_regions=regions, model=args.model, evaluate=models, screen=args.screen,
+                              hinge_regions=regions, model=args.model, evaluate=models,
+                              screen=pipeline.SCREEN_DEFAULT if args.screen is None else args.screen,
                               mapper=mapper, workers=nworkers, progress=_progress, fab_check=fab_check,
                               module_check=first_module_problem)
     finally:

@@ -40,9 +40,19 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
     ``profile``) is replaced. New servos replace the others; the ``servo_housing`` modules of the replaced
     actuators are moved onto the new servos' joints (:func:`move_housings`), messages about them are appended
     to ``warnings`` (a list) when given, the moves themselves to ``moves`` (see :func:`move_housings`);
-    ``module_check(scene)`` (optional) returns a module problem or None."""
+    ``module_check(scene)`` (optional) returns a module problem or None.
+
+    The answer has no ``global_deformation``: a stored one is what ``solve`` solves (every D = g) in place of the
+    actuators, so the fitted servos would do nothing; a scene that had one gets a line in ``warnings`` saying it
+    was dropped."""
     base = problem.scene
     d = base.to_dict()
+    g = d.pop("global_deformation", None)
+    if g is not None and warnings is not None:
+        note = (f"the scene's global deformation ({g:g}) was dropped from the answer so that the servos act: "
+                f"solve solves a stored global deformation (every D = {g:g}) instead of the actuators' values")
+        if note not in warnings:
+            warnings.append(note)
     values = np.atleast_2d(np.asarray(values, dtype=float))
     names = names or servo_names(Scene.from_dict(dict(d, actuators=[])), len(joints))
     frames = problem.target.frames
@@ -274,9 +284,11 @@ def evaluate_all(problem, scene, values, models=MODELS, progress=None, alignment
     return out
 
 
-def polish_values(problem, scene, values, model, max_nfev=30, progress=None):
+def polish_values(problem, scene, values, model, max_nfev=30, progress=None, costs=None):
     """Refine the values under a lattice model (finite-difference Jacobian; the model is a black box
-    here), starting from the quadratic answer. Returns the new values (frames, servos)."""
+    here), starting from the quadratic answer. Returns the new values (frames, servos); a keyframe keeps its
+    values when the polish does not lower its cost. ``costs`` (a list), when given, gets one
+    ``(cost before, cost of the values returned)`` pair (mm^2, under ``model``) per keyframe."""
     from scipy.optimize import least_squares
 
     from metamaterial_wb.core.models import run_model
@@ -296,4 +308,6 @@ def polish_values(problem, scene, values, model, max_nfev=30, progress=None):
             progress(f"keyframe {fi}: {model} polish cost {c0:.6g} -> {sol.cost:.6g} mm^2 ({sol.nfev} model runs)")
         if sol.cost < c0:
             values[fi] = np.clip(sol.x, -1, 1)
+        if costs is not None:
+            costs.append((c0, min(c0, float(sol.cost))))
     return values

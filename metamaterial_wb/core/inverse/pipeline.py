@@ -33,9 +33,11 @@ class InverseRun:
     info: dict = field(default_factory=dict)
     lower_bound: float = None
     seconds: float = 0.0
+    polish: dict = None            # --model linear|nonlinear: polish_report() (None: the values are the fit's)
 
 
 SCREEN_RANGE = (0, 1000)
+SCREEN_DEFAULT = 12                # placements fully fitted per search round when --screen is not given
 _JOINT_TOKEN = re.compile(r"([HVhv])\s*\(?\s*(-?\d{1,9})\s*,\s*(-?\d{1,9})(?:\s*\))?")
 _JOINT_SEP = re.compile(r"[\s,;]*")
 _JOINT_LIST_ALLOWED = ("joint names H<i>,<j> or V<i>,<j>, several separated by spaces or semicolons "
@@ -103,9 +105,11 @@ def parse_models(text, field="--evaluate"):
 
 
 def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_regions=None, model="quadratic",
-          evaluate=ev.MODELS, screen=12, mapper=None, workers=1, progress=None, fab_check=None, module_check=None):
+          evaluate=ev.MODELS, screen=SCREEN_DEFAULT, mapper=None, workers=1, progress=None, fab_check=None, module_check=None):
     """The whole run (see the module doc). ``hinge_regions``: ``(rows, cols)`` or None; ``module_check(scene)``:
-    a module problem (str) or None, used when servo housings move with the servos (``evaluate.move_housings``)."""
+    a module problem (str) or None, used when servo housings move with the servos (``evaluate.move_housings``).
+    ``screen`` None: :data:`SCREEN_DEFAULT`. The ``model`` model is always evaluated: when ``evaluate`` leaves it
+    out it is added, with a line in the warnings."""
     from metamaterial_wb.core.inverse.fit import Problem
     from metamaterial_wb.core.inverse.search import search_placement
 
@@ -118,6 +122,12 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         raise SceneError("--evaluate", f"no model given; allowed: one or more of {', '.join(ev.MODELS)}")
     if model not in ev.MODELS:
         raise SceneError("--model", f"{model!r}; allowed: {', '.join(ev.MODELS)}")
+    evaluate, notes = list(evaluate), []
+    if model not in evaluate:
+        evaluate.append(model)
+        notes.append(f"--model {model} is not in --evaluate ({', '.join(evaluate[:-1])}): the answer is evaluated "
+                     f"under the {model} model too (errors.{model}), the model whose error the values minimise")
+    screen = SCREEN_DEFAULT if screen is None else screen
     if not SCREEN_RANGE[0] <= screen <= SCREEN_RANGE[1]:
         raise SceneError("--screen", f"{screen} is outside the allowed range [{SCREEN_RANGE[0]}, {SCREEN_RANGE[1]}] "
                                      f"(0: fit every candidate)")
@@ -148,7 +158,7 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         lower = res.info.get("lower_bound")
     fit, capped = converge(pb, joints, fit, info, progress)
     values = fit.values
-    hinge_report, overrides, warnings = None, None, [capped] if capped else []
+    hinge_report, overrides, warnings = None, None, notes + ([capped] if capped else [])
     if hinge_regions is not None:
         from metamaterial_wb.core.inverse.hinges import HingeRegions
         hr = HingeRegions(pb, *hinge_regions)
@@ -163,9 +173,11 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         else:
             sizes = hr.start_sizes()
         hinge_report = hr.report(sizes)
+    polish_costs = None
     if model != "quadratic":  # (the statics read no modules: the housings move once, in the answer below)
+        polish_costs = []
         values = ev.polish_values(pb, ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides),
-                                  values, model, progress=progress)
+                                  values, model, progress=progress, costs=polish_costs)
     moves = []
     out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
                                 module_check=module_check, moves=moves)
@@ -174,15 +186,28 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         progress(f"warning: {w}")
     info["warnings"] = warnings
     info["module_moves"] = moves              # (module index, old joint, new joint or None): the GUI applies them
-    errors = ev.evaluate_all(pb, out_scene, values, list(evaluate), progress=progress,
-                             alignments=ev.fit_alignments(fit))   # a start: quadratic error <= fit.cost
+    errors = ev.evaluate_all(pb, out_scene, values, evaluate, progress=progress,
+                             alignments=ev.fit_alignments(fit))   # a start: quadratic error <= fit.cost (unpolished)
+    polish = None if polish_costs is None else polish_report(model, polish_costs, fit.values, out_scene)
     fab = None
     if fab_check is not None:
         progress("fabrication checks (the ones build runs)")
         fab = fab_check(out_scene)
     names = [a.name for a in out_scene.actuators]
     return InverseRun(pb, out_scene, tuple(joints), names, np.atleast_2d(values), fit, errors, hinge_report, fab,
-                      info, lower, time.perf_counter() - t0)
+                      info, lower, time.perf_counter() - t0, polish)
+
+
+def polish_report(model, costs, fit_values, scene):
+    """``report.json``'s ``polish``: the lattice ``model`` the written values were polished under, its cost
+    (mm^2, summed over the keyframes, alignment refitted from the frame's own starts) of the fit's values
+    (``start_cost_mm2``) and of the written ones (``cost_mm2``), and the fit's values before the polish
+    (``fit_values``: the values ``fit_cost_mm2`` describes), per servo."""
+    fv = np.atleast_2d(np.asarray(fit_values, dtype=float))
+    return {"model": model, "start_cost_mm2": float(sum(c for c, _ in costs)),
+            "cost_mm2": float(sum(c for _, c in costs)),
+            "fit_values": [{"name": a.name, "joint": a.joint, "values": [float(v) for v in fv[:, k]]}
+                           for k, a in enumerate(scene.actuators)]}
 
 
 FINAL_MAX_NFEV = 1000   # the answer's own fit runs to convergence (the search's fits stop at 40-60 evaluations)
@@ -284,7 +309,7 @@ def report_dict(run, **extra):
         "keyframes": [{"time_s": f.time_s} for f in run.problem.target.frames],
         "hinges": run.hinges,
         "errors": {m: json_errors(e) for m, e in run.errors.items()},
-        "fit_cost_mm2": float(run.fit.cost), "free_field_bound_mm2": run.lower_bound,
+        "fit_cost_mm2": float(run.fit.cost), "polish": run.polish, "free_field_bound_mm2": run.lower_bound,
         "candidates_evaluated": {k: v for k, v in run.info.items() if k not in ("warnings", "module_moves")},
         "fabrication": run.fabrication,
         "printable": None if run.fabrication is None else run.fabrication.get("printable"),
@@ -298,6 +323,11 @@ def report_dict(run, **extra):
 def summary_lines(run):
     """Human lines: the errors under every model, the placement, printability."""
     lines = []
+    if run.polish is not None:
+        p = run.polish
+        lines.append(f"values polished under the {p['model']} model: cost {p['start_cost_mm2']:.6g} -> "
+                     f"{p['cost_mm2']:.6g} mm^2 (the quadratic fit's cost {run.fit.cost:.6g} mm^2 is of the values "
+                     f"before the polish)")
     for m, e in run.errors.items():
         if e.get("rms_mm") is not None:
             lines.append(f"{m}: rms {e['rms_mm']:.4g} mm, max {e['max_mm']:.4g} mm")
