@@ -13,7 +13,10 @@ A target file (JSON, ``docs/inverse.md``) is one frame or a sequence of keyframe
      "keyframes": [{"time_s": 0, ...frame fields...}, ...], "period_s": 4 (optional)}
 
 A ``solve`` result file (``"format": "metamaterial-result"``) is accepted as it is (its nodes'
-positions are the target). A bare ``.stl`` / ``.obj`` path is a surface target of every node.
+positions are the target): a full JSON result, the JSON half of a ``solve --npz`` result (its arrays are read
+from the ``.npz`` beside it, ``core.resultfile.read_result``) or that ``.npz`` itself; it needs the node poses
+(not ``--fields D`` / ``joints`` alone) and a converged solve. A bare ``.stl`` / ``.obj`` path is a surface
+target of every node.
 Every check raises :class:`TargetError` naming the field, the value and what is allowed.
 """
 import os
@@ -133,11 +136,12 @@ def _node_index(scene, name, where):
     return int(k)
 
 
-def _parse_nodes(scene, items, frame, where):
+def _parse_nodes(scene, items, rw, where, rw_field):
     if not isinstance(items, list) or not items:
         raise TargetError(where, "expected a non-empty list of nodes with position_mm")
     idx, pos, w, rot = [], [], [], []
     seen = {}
+    plain_rot = []                     # nodes whose rotation is not a copied solve result's (with rotation_deg)
     for k, it in enumerate(items):
         f = f"{where}[{k}]"
         if not isinstance(it, dict):
@@ -166,16 +170,24 @@ def _parse_nodes(scene, items, frame, where):
         r = it.get("rotation")
         if r is not None:
             rot.append(_rotation(r, f"{f}.rotation"))
+            if "rotation_deg" not in it:
+                plain_rot.append(f"{f}.rotation")
         idx.append(n)
     if sum(w) <= 0:
         raise TargetError(where, "every node has weight 0: nothing to fit")
-    rw = _num(frame.get("rotation_weight_mm", 0.0), "rotation_weight_mm", 0, WEIGHT_MAX, "mm")
     R = None
     if rw > 0:
         if len(rot) != len(idx):
-            raise TargetError("rotation_weight_mm", f"{rw} > 0 needs a rotation for every target node "
-                                                    f"({len(rot)} of {len(idx)} have one)")
+            raise TargetError(rw_field, f"{rw} > 0 needs a rotation for every target node "
+                                        f"({len(rot)} of {len(idx)} have one)")
         R = np.array(rot)
+    elif plain_rot:
+        # a node copied from a solve result's nodes list (it carries rotation_deg) is read as it is: its rotation
+        # came with it and is not used at weight 0 (docs/inverse.md); a rotation written on purpose is not ignored
+        raise TargetError(rw_field, f"rotations given but rotation_weight_mm is 0: they would be ignored "
+                                    f"({len(plain_rot)} of {len(idx)} target nodes have one, first "
+                                    f"{plain_rot[0]}); allowed: a weight in (0, {WEIGHT_MAX}] mm per radian, "
+                                    f"or drop rotation")
     return NodeTerm(np.array(idx), np.array(pos), np.array(w), R, rw)
 
 
@@ -205,7 +217,7 @@ def fold_ranges_deg(scene):
     return vals.min(axis=0), vals.max(axis=0)
 
 
-def _parse_folds(scene, items, frame, where):
+def _parse_folds(scene, items, wf, where):
     from metamaterial_wb.core import design
     if not isinstance(items, list) or not items:
         raise TargetError(where, "expected a non-empty list of {\"joint\" or \"axis\", \"fold_deg\"}")
@@ -254,8 +266,6 @@ def _parse_folds(scene, items, frame, where):
         target.append(val)
         labels.append(label)
     A = np.array(rows)
-    wf = _num(frame.get("fold_weight_mm_per_deg", 1.0), "fold_weight_mm_per_deg", 0, WEIGHT_MAX, "mm/deg",
-              low_open=True)
     return FoldTerm(A, np.flatnonzero(np.any(A != 0, axis=0)), np.array(target), labels, wf)
 
 
@@ -334,6 +344,15 @@ def _align(value, field):
     return value
 
 
+def _weights(d, pre=""):
+    """``(rotation_weight_mm, fold_weight_mm_per_deg)`` of the frame (or shared top) ``d``, each range-checked:
+    [0, 1e6] mm per radian and (0, 1e6] mm per degree (defaults 0 and 1)."""
+    rw = _num(d.get("rotation_weight_mm", 0.0), f"{pre}rotation_weight_mm", 0, WEIGHT_MAX, "mm")
+    wf = _num(d.get("fold_weight_mm_per_deg", 1.0), f"{pre}fold_weight_mm_per_deg", 0, WEIGHT_MAX, "mm/deg",
+              low_open=True)
+    return rw, wf
+
+
 def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     pre = f"{where}." if where else ""
     if not isinstance(d, dict):
@@ -341,12 +360,13 @@ def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     _keys(d, _FRAME_KEYS | (set() if where else _TOP_KEYS), where)
     fr = Frame(time_s=_num(d.get("time_s", 0.0), f"{pre}time_s", 0, TIME_MAX_S, "s"), name=str(d.get("name", "")))
     align = fr.align = _align(d.get("align", "rigid"), f"{pre}align")
+    rw, wf = _weights(d, pre)          # checked even when the frame has no nodes / folds to weigh
     if "nodes" in d:
-        fr.nodes = _parse_nodes(scene, d["nodes"], d, f"{pre}nodes")
+        fr.nodes = _parse_nodes(scene, d["nodes"], rw, f"{pre}nodes", f"{pre}rotation_weight_mm")
         if len(fr.nodes.idx) < 3 and align != "none":
             fr.align = "none"          # fewer than 3 points do not fix a rigid transform
     if "folds" in d:
-        fr.folds = _parse_folds(scene, d["folds"], d, f"{pre}folds")
+        fr.folds = _parse_folds(scene, d["folds"], wf, f"{pre}folds")
     if "surface" in d:
         fr.surface = _parse_surface(scene, d["surface"], base_dir, f"{pre}surface", mesh_loader)
     if fr.nodes is None and fr.folds is None and fr.surface is None:
@@ -354,17 +374,69 @@ def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     return fr
 
 
-def _from_result(scene, d):
-    nodes = d.get("nodes")
+def _from_result(d, source=None):
+    """The target frame of a ``solve`` result ``d`` (its nodes' positions; rotations are not used).
+
+    ``d`` is a JSON result (``nodes`` list) or the JSON half of ``solve --npz`` (an ``"arrays"`` entry, no
+    ``nodes``): its arrays are read through ``core.resultfile.read_result`` from the ``.npz`` beside ``source``
+    (the JSON file's path). A result that did not converge, or one written without the poses
+    (``--fields D`` / ``joints``), is refused."""
+    src = f"the result file {source!r}" if source else "the result"
+    if d.get("converged") is False:
+        raise TargetError("converged", f"false: {src} is of a solve that did not converge (its node positions are "
+                                       f"not an equilibrium of the scene); allowed: a converged result (solve "
+                                       f"again, e.g. with more load_steps or max_iter)")
+    fields = d.get("fields")
+    no_poses = isinstance(fields, list) and "poses" not in fields
+    if "nodes" not in d and "arrays" in d:
+        if not source:
+            raise TargetError("arrays", f"{src} is the JSON half of a `solve --npz` result: its node data is in the "
+                                        f".npz file beside it; allowed: load it from its file (--target R.json)")
+        from metamaterial_wb.core.resultfile import read_result
+        try:
+            _, arrays = read_result(source)
+        except SceneError as exc:
+            raise TargetError(exc.field, exc.message) from None
+        if "position_mm" not in arrays:
+            no_poses = True
+        else:
+            ij = np.asarray(arrays["ij"]).reshape(-1, 2).tolist()
+            pos = np.asarray(arrays["position_mm"], dtype=float).reshape(-1, 3).tolist()
+            if len(ij) != len(pos):
+                raise TargetError("arrays.file", f"{src}: {len(ij)} nodes but {len(pos)} positions in its arrays")
+            nodes = [{"name": f"N{i},{j}", "position_mm": p} for (i, j), p in zip(ij, pos)]
+    else:
+        nodes = d.get("nodes")
+        if isinstance(nodes, list) and nodes and any(isinstance(nd, dict) and "position_mm" not in nd
+                                                     for nd in nodes):
+            no_poses = no_poses or not isinstance(fields, list)
+    if no_poses:
+        wrote = f"written with --fields {','.join(str(f) for f in fields)}" if isinstance(fields, list) else \
+            "its nodes lack position_mm"
+        raise TargetError("nodes", f"{src} has no node positions: {wrote}; node positions need --fields poses "
+                                   f"(or all)")
     if not isinstance(nodes, list) or not nodes:
-        raise TargetError("nodes", "the result file has no nodes")
-    items = [{"name": nd.get("name", [nd.get("i"), nd.get("j")]), "position_mm": nd.get("position_mm"),
-              "rotation": nd.get("rotation")} for nd in nodes]
+        raise TargetError("nodes", f"{src} has no nodes")
+    items = []
+    for k, nd in enumerate(nodes):
+        if not isinstance(nd, dict):
+            raise TargetError(f"nodes[{k}]", f"expected a result node object, got {_short(nd)}")
+        items.append({"name": nd.get("name", [nd.get("i"), nd.get("j")]), "position_mm": nd.get("position_mm")})
     return {"nodes": items, "align": "rigid"}
 
 
-def parse_target(scene, data, base_dir=None, mesh_loader=None):
-    """A :class:`Target` from a dict (a target document or a ``solve`` result)."""
+def _check_version(data):
+    """A target's ``version`` is 1 (or absent): the only version of the target format."""
+    if "version" in data:
+        v = data["version"]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or v != 1:
+            raise TargetError("version", f"{_short(v)}; allowed: 1 (the target format's only version; or leave it "
+                                         f"out)")
+
+
+def parse_target(scene, data, base_dir=None, mesh_loader=None, source=None):
+    """A :class:`Target` from a dict (a target document or a ``solve`` result). ``source``: the file the dict
+    was read from (named in errors; a ``solve --npz`` result's arrays are read beside it)."""
     if not isinstance(data, dict):
         raise TargetError("", f"a target is a JSON object, got {type(data).__name__}")
     from metamaterial_wb.core.fileio import check_tree
@@ -374,9 +446,11 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None):
         raise TargetError(exc.field, exc.message) from None
     fmt = data.get("format", FORMAT)
     if fmt == "metamaterial-result":
-        data = _from_result(scene, data)
+        data = _from_result(data, source)
     elif fmt != FORMAT:
         raise TargetError("format", f"{fmt!r}; expected \"{FORMAT}\" or a solve result \"metamaterial-result\"")
+    else:
+        _check_version(data)
     if "keyframes" in data:
         kf = data["keyframes"]
         if not isinstance(kf, list) or not kf:
@@ -384,6 +458,7 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None):
         _keys(data, _TOP_KEYS | set(_SHARED_KEYS) | {"keyframes", "period_s", "name"}, "")
         shared = {k: v for k, v in data.items() if k in _SHARED_KEYS}
         _align(shared.get("align", "rigid"), "align")     # the shared value's own place, not a frame's
+        _weights(shared)                                   # likewise the shared weights
         frames = []
         for k, f in enumerate(kf):
             if not isinstance(f, dict):
@@ -412,7 +487,23 @@ def load_target(scene, path, mesh_loader=None):
     ext = os.path.splitext(path)[1].lower()
     if not os.path.exists(path):
         raise TargetError("", f"file {path!r} does not exist")
-    if ext != ".json":
+    if ext == ".npz":                           # the arrays of a `solve --npz` result
+        from metamaterial_wb.core.resultfile import read_result
+        try:
+            meta, arrays = read_result(path)
+            if "ij" not in arrays:
+                raise KeyError("ij")
+        except (OSError, ValueError, KeyError) as exc:
+            raise TargetError("", f"{path!r} is not a readable solve result .npz file ({exc})") from None
+        doc = dict(meta, format="metamaterial-result")
+        if "position_mm" in arrays:
+            doc["nodes"] = [{"name": f"N{i},{j}", "position_mm": p} for (i, j), p in
+                            zip(np.asarray(arrays["ij"]).reshape(-1, 2).tolist(),
+                                np.asarray(arrays["position_mm"], dtype=float).reshape(-1, 3).tolist())]
+        else:
+            doc["nodes"] = [{}]                 # no positions: refused by _from_result, naming the fields
+        t = parse_target(scene, doc, None, mesh_loader, source=path)
+    elif ext != ".json":
         t = Target([parse_frame(scene, {"surface": {"file": os.path.abspath(path)}}, None, "", mesh_loader)])
     else:
         from metamaterial_wb.core.fileio import read_json
@@ -420,6 +511,6 @@ def load_target(scene, path, mesh_loader=None):
             data = read_json(path, "")          # as a scene is read: fileio's checks of numbers, depth, text
         except SceneError as exc:
             raise TargetError(exc.field, exc.message) from None
-        t = parse_target(scene, data, os.path.dirname(os.path.abspath(path)), mesh_loader)
+        t = parse_target(scene, data, os.path.dirname(os.path.abspath(path)), mesh_loader, source=path)
     t.source = path
     return t
