@@ -16,7 +16,8 @@ from PySide import QtGui  # noqa: E402
 from metamaterial_wb.core.errors import MetamaterialError  # noqa: E402
 from metamaterial_wb.core.sleeve.spec import SleeveSpec  # noqa: E402
 from metamaterial_wb.gui.panels import ranges  # noqa: E402
-from guihelpers import doc, press_cancel, press_ok, process, run_panel, workbench  # noqa: E402,F401
+from guihelpers import (click, doc, press_cancel, press_ok, process, qtest, run_panel,  # noqa: E402,F401
+                        type_into, workbench)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 EXAMPLE = os.path.join(ROOT, "examples", "sleeve.json")
@@ -138,3 +139,162 @@ def test_the_scene_validator_accepts_each_box_bound_and_no_more():
     axis = {"direction": "vertical", "line": 1}
     with pytest.raises(MetamaterialError):
         Scene.from_dict(dict(base, axes=[dict(axis, fold_deg=fhi + 0.1)]))
+
+
+# -- keystrokes a spin box refuses (audit of session 28): said, kept refused, OK writes nothing -----------------
+
+def _folds(sc):
+    return [a["fold_deg"] for a in json.loads(sc.SceneJSON)["axes"]]
+
+
+def _refusal(p):
+    return p.error.text() if hasattr(p, "error") else ""
+
+
+def _line_key(spin, key):
+    from PySide import QtCore
+    qtest().keyClick(spin.lineEdit(), getattr(QtCore.Qt.Key, key))
+    process()
+
+
+def test_a_fold_whose_key_the_range_refused_stays_refused_when_more_keys_follow(doc):
+    """190.5 typed in a fold box ([-180, 180]): the box refuses the 0, takes '.' and '5' and shows 19.5. The
+    refusal was cleared by the next key the box took and OK stored 19.5 in silence."""
+    from test_gui_panel_details import open_example
+    sc = open_example("fish_axes")
+    before = _folds(sc)
+    p = run_panel("MM_FoldedShape")
+    spin = p.spins[0]
+    type_into(spin, "190.5")
+    assert spin.value() == 19.5                      # (what Qt leaves in the box)
+    assert not press_ok(), "OK took a fold the box cut from 190.5 to 19.5"
+    text = _refusal(p)
+    assert "fold_deg" in text and "190.5" in text and "[-180, 180]" in text and "kept 19.5" in text, text
+    assert _folds(sc) == before
+    # Backspace removes text: what stays (19.) is what the user sees, and OK takes it
+    spin.setFocus()
+    spin.lineEdit().setCursorPosition(len(spin.lineEdit().text()) - len(spin.suffix()))
+    _line_key(spin, "Key_Backspace")
+    assert not spin.property(ranges.REFUSED), spin.property(ranges.REFUSED)
+    type_into(spin, "12.5")
+    assert press_ok(), _refusal(p)
+    assert _folds(sc)[0] == 12.5 and _folds(sc)[1:] == before[1:]
+
+
+def test_a_fold_with_more_decimals_than_the_box_shows_is_refused(doc):
+    """12.3456 in a 3-decimal fold box became 12.345 in silence (a fold is kept exactly as typed)."""
+    from test_gui_panel_details import open_example
+    sc = open_example("fish_axes")
+    before = _folds(sc)
+    p = run_panel("MM_FoldedShape")
+    n = p.spins[0].decimals()
+    type_into(p.spins[0], "12.3456")
+    assert not press_ok(), "OK took 12.3456 cut to the box's decimals"
+    text = _refusal(p)
+    assert "fold_deg" in text and "12.3456" in text and f"at most {n} decimals" in text and "kept 12.345" in text, text
+    assert _folds(sc) == before
+
+
+def _scenes(d):
+    from metamaterial_wb.objects import structure
+    return structure.find_scene_objects(d)
+
+
+@pytest.mark.parametrize("typed, words", [
+    ("1500.5", ("cell_size_mm", "1500.5", "allowed range [1, 1000]", "kept 150.5")),
+    ("12.345", ("cell_size_mm", "12.345", "at most 2 decimals", "kept 12.34")),
+])
+def test_a_cell_size_the_box_cut_is_refused_and_no_structure_is_made(doc, typed, words):
+    p = run_panel("MM_NewStructure")
+    type_into(p.cell, typed)
+    shown = p.cell.value()
+    assert not press_ok(), f"OK made a structure from {typed} cut to {shown}"
+    text = _refusal(p)
+    assert all(w in text for w in words), text
+    assert _scenes(doc) == []
+    type_into(p.cell, "25")                             # a value typed over the whole text is taken
+    assert press_ok(), _refusal(p)
+    assert [s.CellSize.Value for s in _scenes(doc)] == [25.0]
+
+
+@pytest.mark.parametrize("box", ["rows", "cols"])
+def test_the_grid_boxes_say_a_refused_key(doc, box):
+    """Rows and Columns (ui_only boxes) had no watcher: 3000 became 300 with OK enabled."""
+    p = run_panel("MM_NewStructure")
+    spin = getattr(p, box)
+    hi = spin.maximum()
+    typed = f"{hi + 1000}"                              # past the maximum: its last key is refused
+    type_into(spin, typed)
+    shown = spin.value()
+    assert shown == (hi + 1000) // 10                 # (what Qt leaves in the box)
+    assert not press_ok(), f"OK took {typed} cut to {shown}"
+    text = _refusal(p)
+    label = {"rows": "Rows", "cols": "Columns"}[box]
+    assert label in text and typed in text and f"allowed range [1, {hi}]" in text, text
+    assert _scenes(doc) == []
+    type_into(spin, "-5")                              # the box drops the sign and keeps 5
+    click(p.grid_btn)                                  # (the cells, cleared when the grid is resized)
+    assert not press_ok()
+    assert "-5" in _refusal(p) and f"allowed range [1, {hi}]" in _refusal(p), _refusal(p)
+    type_into(spin, "3.5")                             # a whole number only: 3.5 would become 35
+    click(p.grid_btn)
+    assert not press_ok()
+    assert label in _refusal(p) and "3.5" in _refusal(p) and "whole number" in _refusal(p), _refusal(p)
+    type_into(spin, "3")
+    assert not spin.property(ranges.REFUSED), spin.property(ranges.REFUSED)
+    click(p.grid_btn)                                  # (the cells, cleared when the grid went past 32)
+    assert press_ok(), (p.problems, _refusal(p))
+    sc = _scenes(doc)[0]
+    assert (len(sc.Layout) if box == "rows" else len(sc.Layout[0])) == 3
+
+
+def test_a_motor_frequency_with_a_third_decimal_is_refused(doc):
+    """0.125 Hz in the 2-decimal frequency box became 0.12 Hz in silence."""
+    p = run_panel("MM_NewStructure")
+    assert press_ok()
+    sc = _scenes(doc)[0]
+    items = list(sc.Items)
+    p = run_panel("MM_PlaceMotor")
+    type_into(p.freq, "0.125")
+    assert not press_ok(), "OK placed a motor at 0.12 Hz for the 0.125 typed"
+    text = _refusal(p)
+    assert "frequency_hz" in text and "0.125" in text and "at most 2 decimals" in text and "kept 0.12" in text, text
+    assert list(sc.Items) == items
+    type_into(p.freq, "0.25")
+    assert press_ok(), _refusal(p)
+    assert len(sc.Items) == len(items) + 1
+
+
+def test_keys_typed_one_by_one_below_the_minimum_on_their_way_are_taken(doc):
+    """Typed slowly (each key handled before the next), the "1" of "10" in the sleeve's L box (minimum 2) is
+    below the minimum for a moment: the box is refused only while it stays so."""
+    p = run_panel("MM_Sleeve")
+    spin = p.dims["L_mm"]
+    spin.setFocus()
+    spin.lineEdit().selectAll()
+    qtest().keyClicks(spin.lineEdit(), "1")
+    process()
+    assert "allowed range" in (spin.property(ranges.REFUSED) or "")    # 1 mm alone is not a span
+    qtest().keyClicks(spin.lineEdit(), "0")
+    process()
+    assert not spin.property(ranges.REFUSED), spin.property(ranges.REFUSED)
+    _line_key(spin, "Key_Tab")
+    assert spin.value() == 10.0 and not spin.property(ranges.REFUSED)
+    assert press_cancel()
+
+
+def test_a_fold_set_by_its_slider_after_a_refused_key_is_taken(doc):
+    """The slider sets the box (its signals blocked): the refusal of the 190.5 typed before goes with it."""
+    from guihelpers import drag_slider
+    from test_gui_panel_details import open_example
+    sc = open_example("fish_axes")
+    p = run_panel("MM_FoldedShape")
+    type_into(p.spins[0], "190.5")
+    assert "190.5" in (p.spins[0].property(ranges.REFUSED) or "")
+    slider = p.sliders[0][0]
+    drag_slider(slider, slider.value() + 30)
+    process(100)
+    shown = p.spins[0].value()
+    assert shown != 19.5 and not p.spins[0].property(ranges.REFUSED), p.spins[0].property(ranges.REFUSED)
+    assert press_ok(), _refusal(p)
+    assert _folds(sc)[0] == pytest.approx(shown)

@@ -7,6 +7,8 @@ cell, a cell type's t below a quarter of L) is given its widest value here and c
 validator when the panel applies. Spin boxes that edit no validated quantity (playback speed, the
 number of servos a fit searches) are tagged with ``ui_only(spin, reason)``.
 """
+import re
+
 from PySide import QtCore, QtGui
 
 from metamaterial_wb.core import motion
@@ -65,70 +67,274 @@ def bind(spin, field):
 
 
 REFUSED = "refused_input"    # the spin box property holding the message of a keystroke its range refused
+_NUMBER = re.compile(r"^[+-]?\d*(?:[.,]\d*)?$")    # what a number typed key by key can be on its way
 
 
 def _watch_refused_keys(spin, field):
-    """A spin box drops a keystroke that would take it past its range (typing 200 in [-180, 180] leaves 20):
-    say so instead of clamping in silence. The message goes to the box's ``REFUSED`` property (``BasePanel.accept``
-    refuses OK while one is set) and a tooltip; the next keystroke the box takes, or a step of its arrows, clears it."""
+    """A spin box drops a keystroke that would take it past its range (typing 200 in [-180, 180] leaves 20) or
+    give it more decimals than it shows (12.345 in a 2-decimal box leaves 12.34): say so instead of cutting the
+    value in silence. The message goes to the box's ``REFUSED`` property (``BasePanel.accept`` refuses OK while
+    one is set) and a tooltip. ``field`` names the quantity in the message (``None``: the box's form label)."""
     if spin.property("refused_watch") or spin.lineEdit() is None:
         return
     spin.setProperty("refused_watch", True)
     watcher = _RefusedKeys(spin, field)
     spin.installEventFilter(watcher)
     spin.lineEdit().installEventFilter(watcher)
-    spin.lineEdit().textEdited.connect(lambda _t: spin.setProperty(REFUSED, ""))
-    spin.valueChanged.connect(lambda *_a: spin.setProperty(REFUSED, ""))   # stepped by its arrows or the wheel
+    spin.valueChanged.connect(watcher.value_changed)
+    spin.editingFinished.connect(watcher.editing_finished)
     spin._mm_refused_watcher = watcher    # (kept alive with the box)
 
 
+def _fmt(v, decimals):
+    text = f"{v:.{max(decimals, 0)}f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
+
+
+def _ctrl(ev):
+    c = QtCore.Qt.KeyboardModifier.ControlModifier
+    return (ev.modifiers() & c) == c
+
+
 class _RefusedKeys(QtCore.QObject):
+    """Remembers the text the user's keys would have made (``intended``, without prefix and suffix), built
+    keystroke by keystroke from the box's own text when a sequence starts, and compares it with the box's text
+    once the keys are handled. While they differ because the box dropped a key, the box is refused ("hard"):
+    later keys do not clear it, only an edit that removes text (Backspace, Delete, cut, typing over a
+    selection), a step of the arrows or the wheel, or a value set by the program (the box then shows a text
+    no key made). A text the box shows but cannot take (below its minimum, waiting for more digits) is refused
+    while it stays so ("soft"). Keys that arrive together (``QTest.keyClicks("10")`` into a box with minimum 2)
+    are judged once all are handled, so the "1" on its way to "10" is never held against the box."""
+
+    STEP_KEYS = ("Key_Up", "Key_Down", "Key_PageUp", "Key_PageDown")
+    MOVE_KEYS = ("Key_Left", "Key_Right", "Key_Home", "Key_End")
+    REMOVE_KEYS = ("Key_Backspace", "Key_Delete")
+
     def __init__(self, spin, field):
         super().__init__(spin)
         self.spin, self.field = spin, field
-        self.keys = 0                 # keystrokes seen: only the last one's outcome is judged
+        self.intended = None          # the text (core) the user's keys would have made, or None: follow the box
+        self.cursor = 0               # where the next key goes in ``intended``
+        self.msg = ""                 # the message this watcher set (REFUSED), "" when none
+        self.hard = False             # a dropped key: kept until text is removed, a step or a value set
+        self.shown = ""               # the box's text (core) when last judged
+        self.typing = False           # keys (or the box's own reading of them on focus out) are being handled
+        self.stepping = False         # an arrow, a wheel turn or a click on the box's buttons
+        self.follow = False           # after a deletion: take the box's text as what the user means
+        self.pending = False          # a settle() is queued
+        self.sel = None               # the selection the last key was typed over
+        keys = QtCore.Qt.Key
+        self.step_keys = {getattr(keys, k) for k in self.STEP_KEYS}
+        self.move_keys = {getattr(keys, k) for k in self.MOVE_KEYS}
+        self.remove_keys = {getattr(keys, k) for k in self.REMOVE_KEYS}
 
+    # -- names and numbers ---------------------------------------------------------------------------------
+    def name(self):
+        if self.field:
+            return self.field
+        label = None
+        for lay in self.spin.window().findChildren(QtGui.QFormLayout):
+            label = lay.labelForField(self.spin)
+            if label is not None:
+                break
+        text = label.text() if label is not None and hasattr(label, "text") else ""
+        text = text or self.spin.accessibleName() or self.spin.objectName() or "this box"
+        return text.replace("&", "").rstrip(": ")
+
+    def decimals(self):
+        return self.spin.decimals() if hasattr(self.spin, "decimals") else 0
+
+    def core(self, text, cursor=None):
+        """``text`` without the box's prefix and suffix (and ``cursor`` moved with it)."""
+        pre, suf = self.spin.prefix(), self.spin.suffix()
+        if pre and text.startswith(pre):
+            text = text[len(pre):]
+            if cursor is not None:
+                cursor = max(cursor - len(pre), 0)
+        if suf and text.endswith(suf):
+            text = text[:-len(suf)]
+        if cursor is not None:
+            return text, min(cursor, len(text))
+        return text
+
+    def number(self, text):
+        text = text.strip()
+        if self.spin.locale().decimalPoint() == ",":
+            text = text.replace(",", ".")
+        try:
+            return float(text)
+        except ValueError:
+            return None
+
+    def kept(self):
+        """What the box shows (its value lags behind the text while a box without keyboard tracking is edited)."""
+        v = self.number(self.core(self.spin.lineEdit().text()))
+        return _fmt(self.spin.value() if v is None else v, self.decimals())
+
+    def bounds(self):
+        d = max(self.decimals(), 6)
+        return f"[{_fmt(self.spin.minimum(), d)}, {_fmt(self.spin.maximum(), d)}]"
+
+    # -- events --------------------------------------------------------------------------------------------
     def eventFilter(self, obj, ev):
-        if ev.type() == QtCore.QEvent.Type.KeyPress and ev.text() and ev.text().isprintable():
-            line = self.spin.lineEdit()
-            text = line.text()
-            if line.hasSelectedText():
-                a = line.selectionStart()
-                new = text[:a] + ev.text() + text[a + len(line.selectedText()):]
-            else:
-                c = line.cursorPosition()
-                new = text[:c] + ev.text() + text[c:]
-            self.keys += 1
-            n = self.keys
-            QtCore.QTimer.singleShot(0, lambda: self._after(new, n))
+        try:
+            t = ev.type()
+            if t == QtCore.QEvent.Type.KeyPress:
+                if self.spin.isEnabled():     # a disabled box takes no key (a filter sees it before the box)
+                    self.key(ev)
+            elif t == QtCore.QEvent.Type.Wheel:
+                self.step()
+            elif t == QtCore.QEvent.Type.MouseButtonPress:
+                if obj is self.spin:
+                    self.step()               # the box's arrow buttons (the text is the line edit's)
+                else:
+                    self.intended = None      # the cursor moves: follow the box from the next key on
+            elif t == QtCore.QEvent.Type.FocusIn:
+                self.intended = None
+            elif t == QtCore.QEvent.Type.FocusOut:
+                self.busy()                   # the box reads its text now (a value typed, not set)
+            elif t == QtCore.QEvent.Type.Paint and self.msg and not (self.typing or self.pending):
+                if self.core(self.spin.lineEdit().text()) != self.shown:    # set by the program (signals
+                    self.clear()                                             # blocked, or the same value)
+                    self.intended = None
+        except RuntimeError:                  # the box is gone
+            pass
         return False
 
-    def _after(self, new, n):
-        """Judge keystroke ``n`` once the box has handled it. Keys that arrive together (fast typing, pasted
-        input) are handled before the first timer fires: an earlier key's text is then already extended ("1"
-        of "10", below a minimum of 2, is "10" by now), so only the last key is judged."""
-        if n != self.keys:
-            return
+    def busy(self):
+        self.typing = True
+        if not self.pending:
+            self.pending = True
+            QtCore.QTimer.singleShot(0, self.settle)
+
+    def step(self):
+        self.stepping = True
+        self.busy()
+
+    def settle(self):
+        """The keys sent so far are handled: judge them."""
+        self.pending = False
         try:
-            if self.spin.lineEdit().text() == new:
-                return                                # taken
-            core = new
-            if self.spin.prefix() and core.startswith(self.spin.prefix()):
-                core = core[len(self.spin.prefix()):]
-            if self.spin.suffix() and core.endswith(self.spin.suffix()):
-                core = core[:-len(self.spin.suffix())]
-            value = float(core.strip().replace(",", "."))
-        except (ValueError, RuntimeError):            # not a number yet, or the box is gone
+            if self.follow:
+                line = self.spin.lineEdit()
+                self.intended, self.cursor = self.core(line.text(), line.cursorPosition())
+                self.follow = False
+            self.judge()
+        finally:
+            self.typing = self.stepping = False
+
+    def key(self, ev):
+        k = ev.key()
+        if k in self.step_keys:
+            self.step()
             return
-        lo, hi = self.spin.minimum(), self.spin.maximum()
-        if lo <= value <= hi:
-            return                                    # refused for another reason (more decimals than shown)
-        msg = f"{self.field}: {value:g} is outside the allowed range [{lo:g}, {hi:g}]; the box kept " \
-              f"{self.spin.value():g}"
+        self.busy()
+        std = getattr(QtGui.QKeySequence, "StandardKey", QtGui.QKeySequence)
+        if k in self.remove_keys or ev.matches(std.Cut):
+            self.clear()                      # text removed: what stays is what the user sees
+            self.intended, self.follow = None, True
+        elif ev.text() and ev.text().isprintable() and \
+                not _ctrl(ev):
+            self.typed(ev.text())
+        elif k in self.move_keys or _ctrl(ev):
+            self.intended = None              # the cursor moves, or select all, paste, undo: follow the box
+
+    def typed(self, ch):
+        if self.follow:                       # a deletion just before: its text first
+            self.settle()
+            self.typing = True
+        self.judge()                          # the keys before this one are handled by now
+        line = self.spin.lineEdit()
+        text = line.text()
+        sel = (line.selectionStart(), line.selectedText()) if line.hasSelectedText() else None
+        dropped = self.intended is not None and self.intended != self.core(text)
+        if sel and not (dropped and sel == self.sel):  # the key replaces a selection: removed text (a key
+            self.clear()                                # dropped over a selection leaves it: "-" over "12")
+            a = sel[0]
+            base, cur = self.core(text[:a] + text[a + len(sel[1]):], a)
+        elif dropped:
+            base, cur = self.intended, self.cursor    # a key was dropped: build on what the user meant
+        else:
+            base, cur = self.core(text, line.cursorPosition())
+        self.sel = sel
+        new = base[:cur] + ch + base[cur:]
+        if _NUMBER.match(new.strip()):
+            self.intended, self.cursor = new, cur + 1
+        else:                                 # a letter, a second point: no number the user meant
+            self.intended, self.cursor = base, cur
+
+    def value_changed(self, *_a):
+        if self.stepping or not self.typing:  # stepped by its arrows or the wheel, or set by the program
+            self.clear()
+            self.intended = None
+
+    def editing_finished(self):
+        self.judge(final=True)                # the box has read (and maybe put back) its text
+        self.intended = None
+
+    # -- judging -------------------------------------------------------------------------------------------
+    def set(self, msg, hard):
+        self.msg, self.hard = msg, hard
         self.spin.setProperty(REFUSED, msg)
-        QtGui.QToolTip.showText(self.spin.mapToGlobal(QtCore.QPoint(0, self.spin.height())), msg, self.spin)
+        if hard:
+            QtGui.QToolTip.showText(self.spin.mapToGlobal(QtCore.QPoint(0, self.spin.height())), msg, self.spin)
+
+    def clear(self):
+        if self.msg and self.spin.property(REFUSED) == self.msg:
+            self.spin.setProperty(REFUSED, "")
+        self.msg, self.hard = "", False
+
+    def judge(self, final=False):
+        """Compare the box's text with what the keys typed so far would have made (``final``: the box has read
+        its text, and may have written the same number its own way)."""
+        try:
+            if self.msg and self.spin.property(REFUSED) != self.msg:
+                self.msg, self.hard, self.intended = "", False, None    # cleared by the panel (a value set)
+            text = self.core(self.spin.lineEdit().text())
+            self.shown = text
+            if self.intended is None:
+                return
+            want = self.number(self.intended)
+            same = want is not None and self.number(text) == want and \
+                (final or not self.intended.rstrip().endswith((".", ",")))    # a point dropped: 3.5 -> 35
+            if text == self.intended or same:
+                if text != self.intended:     # the same number written the box's way (1.50 -> 1.5, 19. -> 19)
+                    self.intended, self.cursor = text, len(text)
+                if self.hard:
+                    return
+                lo, hi = self.spin.minimum(), self.spin.maximum()
+                if want is not None and not lo <= want <= hi:       # shown, but not a value the box takes
+                    self.set(self.refusal(self.intended.strip()), hard=False)
+                elif self.msg:
+                    self.clear()
+                return
+            if want is None:                  # not a number yet ("-" the box did not take): judged with the
+                if final:                     # next key ("-5" in a box from 1), or forgotten when editing ends
+                    self.intended = None
+                return
+            self.set(self.refusal(self.intended.strip()), hard=True)
+        except RuntimeError:                  # the box is gone
+            pass
+
+    def refusal(self, typed):
+        value = self.number(typed)
+        lo, hi = self.spin.minimum(), self.spin.maximum()
+        head = f"{self.name()}: {typed}"
+        kept = f"; the box kept {self.kept()}"
+        if value is not None and not lo <= value <= hi:
+            return f"{head} is outside the allowed range {self.bounds()}{kept}"
+        digits = typed.replace(",", ".").partition(".")[2]
+        n = self.decimals()
+        if len(digits) > n:
+            if n == 0:
+                return f"{head} is not a whole number (at most 0 decimals){kept}"
+            return f"{head} has more decimals than the box takes (at most {n} decimals){kept}"
+        return f"{head} was not taken as typed (allowed range {self.bounds()}, at most {n} decimals){kept}"
 
 
-def ui_only(spin, reason):
+def ui_only(spin, reason, field=None):
+    """Tag a spin box that edits no validated quantity (``reason`` says why). Its keystrokes are watched as a
+    bound box's are: a refused one is said, naming ``field`` (default: the box's form label)."""
     spin.setProperty("ui_only", reason)
+    _watch_refused_keys(spin, field)
     return spin
