@@ -2,6 +2,8 @@
 
 A joint carries at most one module and a node socket at most one: a second module on the same joint
 or node is refused in the panel, naming the module already there (checked while choosing, before OK).
+Only a target of the chosen module's kind is picked in the 3D view: a click on a hinge for a node module
+(or on a node for a joint module) picks nothing, keeps the target and says what the module goes on.
 """
 from PySide import QtGui
 
@@ -18,6 +20,9 @@ class AddModulePanel(BasePanel):
               "stable_hub": "Stable connection hub (across a joint)", "friction_pad": "Friction pad (node)",
               "constraint_clip": "Angular-constraint clip (joint)"}
     ON_JOINT = structure.JOINT_MODULES
+    NOUNS = {"servo_housing": "a servo housing", "connection_hub": "a connection hub",
+             "stable_hub": "a stable connection hub", "friction_pad": "a friction pad",
+             "constraint_clip": "an angular-constraint clip"}
 
     def __init__(self, scene_obj):
         super().__init__()
@@ -31,12 +36,15 @@ class AddModulePanel(BasePanel):
         f.addRow(translate("Metamaterial", "Module"), self.type)
         f.addRow(translate("Metamaterial", "On (or click in the 3D view)"), self.target)
         f.addRow(self.problem_label("target"))
+        f.addRow(self.problem_label("pick"))
         self.layout.addLayout(f)
         self.finish_layout()
         self.type.currentIndexChanged.connect(self._targets)
         self.target.currentTextChanged.connect(self._check)
+        self.target.activated.connect(self._target_chosen)
+        # both kinds are watched so that a click on the wrong kind is told apart from a click on nothing
+        self.watch_selection(scene_obj, on_joint=self._pick_joint, on_node=self._pick_node)
         self._targets()
-        self.watch_selection(scene_obj, on_joint=self._pick, on_node=self._pick)
 
     def module_type(self):
         return self.type.itemData(self.type.currentIndex())
@@ -44,12 +52,20 @@ class AddModulePanel(BasePanel):
     def set_type(self, t):
         self.type.setCurrentIndex(structure.MODULE_TYPES.index(t))
 
+    def on_joint(self):
+        """True when the chosen module goes across a joint (its targets are hinges), False for a node."""
+        return self.module_type() in self.ON_JOINT
+
     def _targets(self, *_):
         self.target.clear()
-        if self.module_type() in self.ON_JOINT:
+        if self.on_joint():
             self.target.addItems(self.scene.topology.joint_names)
         else:
             self.target.addItems([f"N{i},{j}" for i, j in self.scene.topology.nodes])
+        self.set_problem("pick", "")
+        if getattr(self, "pick_label", None) is not None:
+            self.pick_label.setText(translate("Metamaterial", "Click a hinge in the 3D view") if self.on_joint()
+                                    else translate("Metamaterial", "Click a node in the 3D view"))
 
     def occupant(self, target):
         """The module already on joint / node ``target`` (its name), or None."""
@@ -61,16 +77,60 @@ class AddModulePanel(BasePanel):
 
     def _check(self, *_):
         target = self.target.currentText()
+        self.set_problem("pick", "")          # a target chosen (in the list or by a pick) answers a refused click
         who = self.occupant(target) if target else None
-        kind = "joint" if self.module_type() in self.ON_JOINT else "node"
+        kind = "joint" if self.on_joint() else "node"
         self.set_problem("target", f"{kind} {target} already carries the module {who!r}: one module per "
                                    f"{'joint' if kind == 'joint' else 'node socket'}; choose another {kind} "
                                    f"or delete {who!r} first" if who else "")
+
+    def goes_on(self):
+        """``"a friction pad goes on a node"`` / ``"a servo housing goes across a joint"``."""
+        noun = self.NOUNS.get(self.module_type(), "this module")
+        if self.module_type() == "constraint_clip":
+            return translate("Metamaterial", "{0} goes on a joint").format(noun)
+        if self.on_joint():
+            return translate("Metamaterial", "{0} goes across a joint").format(noun)
+        return translate("Metamaterial", "{0} goes on a node").format(noun)
+
+    def picked(self, kind, name, hover=False):
+        """A hinge / node under the cursor or clicked: a pick when it fits the module, else the reason why not."""
+        if (kind == "joint") == self.on_joint():
+            return super().picked(kind, name, hover)
+        what = "hinge" if kind == "joint" else "node"
+        if hover:
+            self.pick_label.setText(translate("Metamaterial", "under the cursor: {0} {1} (not a target: {2})")
+                                    .format(what, name, self.goes_on()))
+        else:
+            self.pick_label.setText(translate("Metamaterial", "not picked: {0} {1} ({2})")
+                                    .format(what, name, self.goes_on()))
+
+    def _wrong_kind(self, kind, name):
+        what, want = ("hinge", "node") if kind == "joint" else ("node", "hinge")
+        self.set_problem("pick", translate(
+            "Metamaterial", "{0}; {1} is a {2}: click a {3} or choose one in the list (the target is still {4})")
+            .format(self.goes_on(), name, what, want, self.target.currentText() or "none"))
+
+    def _pick_joint(self, name):
+        if self.on_joint():
+            self._pick(name)
+        else:
+            self._wrong_kind("joint", name)
+
+    def _pick_node(self, name):
+        if self.on_joint():
+            self._wrong_kind("node", name)
+        else:
+            self._pick(name)
+
+    def _target_chosen(self, *_):
+        self.set_problem("pick", "")
 
     def _pick(self, name):
         i = self.target.findText(name)
         if i >= 0:
             self.target.setCurrentIndex(i)
+            self.set_problem("pick", "")
 
     def apply(self):
         t = self.module_type()

@@ -1,4 +1,11 @@
-"""New structure: rows / columns, toggle cells on a grid, presets, or a scene file."""
+"""New structure: rows / columns, toggle cells on a grid, presets, or a scene file.
+
+The grid editor and a scene file never mix: while the file field holds a path the structure comes from the
+file (its layout, cell size, motors), so the grid, its presets and the cell size are disabled (a note says
+so) and their problems do not block OK; clearing the file field gives them back, with their problems. The
+Name field names the structure either way: a loaded file fills it with the file's name unless the user
+typed a name.
+"""
 import os
 
 import FreeCAD
@@ -21,14 +28,18 @@ class NewStructurePanel(BasePanel):
     ICON = "MM_NewStructure.svg"
     BUTTONS_MAX = 32          # beyond 32 x 32 the layout is the full grid (too many buttons to click)
     GRID_MAX = 2000           # the scene validator allows at most 4,000,000 cells (it says so in words)
+    DEFAULT_NAME = "structure"
 
     def __init__(self, doc=None):
         super().__init__()
         self.doc = doc
         self.loaded_scene = None
         self.loaded_path = None
+        self._auto_name = self.DEFAULT_NAME     # the name the panel put in the Name field (not the user)
+        self._name_typed = False
+        self._file_on = False                   # the grid editor is disabled for a scene file
         form = QtGui.QFormLayout()
-        self.name = QtGui.QLineEdit("structure")
+        self.name = QtGui.QLineEdit(self.DEFAULT_NAME)
         self.rows = QtGui.QSpinBox()
         self.rows.setRange(1, self.GRID_MAX)
         ranges.ui_only(self.rows, "the grid editor (one button per cell); larger sheets come from a scene file")
@@ -68,8 +79,15 @@ class NewStructurePanel(BasePanel):
         self.status = QtGui.QLabel("")
         self.status.setWordWrap(True)
         self.layout.addWidget(self.status)
+        self.file_note = QtGui.QLabel(translate(
+            "Metamaterial", "The structure comes from the scene file (its cells, cell size and motors): the grid "
+                            "and the cell size above are not used. Clear the file field to use them again."))
+        self.file_note.setWordWrap(True)
+        self.file_note.setVisible(False)
+        self.layout.addWidget(self.file_note)
         fl = QtGui.QHBoxLayout()
         self.file = QtGui.QLineEdit()
+        self.file.setClearButtonEnabled(True)
         self.file.setPlaceholderText(translate("Metamaterial", "or a scene file (.json): type its path"))
         self.browse = QtGui.QPushButton(translate("Metamaterial", "Load scene file..."))
         fl.addWidget(self.file)
@@ -86,6 +104,7 @@ class NewStructurePanel(BasePanel):
         self.browse.clicked.connect(self._browse)
         self.file.editingFinished.connect(self._file_entered)
         self.file.textChanged.connect(self._file_edited)
+        self.name.textEdited.connect(self._name_edited)
         self._rebuild()
         self.preset_grid()
 
@@ -153,13 +172,44 @@ class NewStructurePanel(BasePanel):
             return {"grid": [self.rows.value(), self.cols.value()]}
         return {"rows": structure.layout_rows(self.cells())}
 
-    def _changed(self, *_):
-        if self.loaded_scene is not None or self.loaded_path is not None:
-            self.loaded_scene = self.loaded_path = None
-            self.file.blockSignals(True)
-            self.file.setText("")
-            self.file.blockSignals(False)
+    def file_mode(self):
+        """True while the file field holds a path: the structure comes from the file, not the grid."""
+        return bool(self.file.text().strip())
+
+    def _grid_widgets(self):
+        return [self.rows, self.cols, self.cell, self.grid_btn, self.chain_btn, self.clear_btn, self.grid_widget]
+
+    def _use_file(self, on):
+        """Enable the grid editor or the scene file (one of them makes the structure)."""
+        self._file_on = on
+        for w in self._grid_widgets():
+            w.setEnabled(not on)
+        self.file_note.setVisible(on)
+        if on:
+            self.set_problem("grid", "")       # the unused grid's problems never block a file
+            self.set_problem("cell", "")
+            self._forget_refused()
+        else:
             self.set_problem("file", "")
+            if self.name.text() == self._auto_name and not self._name_typed:
+                self._set_name(self.DEFAULT_NAME)
+            self._changed()
+
+    def _forget_refused(self):
+        """A keystroke refused in a grid box does not block OK while the file (not the grid) is used."""
+        for w in (self.rows, self.cols, self.cell):
+            w.setProperty(ranges.REFUSED, "")
+
+    def _name_edited(self, *_):
+        self._name_typed = True
+
+    def _set_name(self, text):
+        self.name.setText(text)
+        self._auto_name = text
+
+    def _changed(self, *_):
+        if self.file_mode():
+            return                             # the grid is not used (and disabled) while a file is
         grid = cell = ""
         try:
             if self.big():
@@ -193,6 +243,9 @@ class NewStructurePanel(BasePanel):
         if text.strip() != self.loaded_path:
             self.loaded_scene = self.loaded_path = None
             self.set_problem("file", "")      # checked again on Enter / OK
+            self.status.setText("")
+        if self.file_mode() != self._file_on:
+            self._use_file(self.file_mode())
 
     def _browse(self):  # pragma: no cover - modal file dialog, tests type the path
         path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Scene file", metamaterial_wb.EXAMPLES_DIR,
@@ -221,6 +274,9 @@ class NewStructurePanel(BasePanel):
             self.file.blockSignals(True)
             self.file.setText(path)
             self.file.blockSignals(False)
+            self._use_file(True)
+        if self.name.text() == self._auto_name and not self._name_typed:
+            self._set_name(scene.name or os.path.splitext(os.path.basename(path))[0])
         self.set_problem("file", "")
         self.status.setStyleSheet(GREEN)
         self.status.setText(translate("Metamaterial", "scene {0}: {1} cells, {2} motors").format(os.path.basename(path), len(scene.cells), len(scene.actuators)))
@@ -232,6 +288,7 @@ class NewStructurePanel(BasePanel):
             if self.load_file(typed) is None:
                 raise MetamaterialError(self.problems.get("file", f"cannot load {typed}"))
         if self.loaded_scene is not None:
+            self.loaded_scene.name = self.name.text().strip()     # the Name field names it, as for a grid
             return self.loaded_scene
         if "file" in self.problems:
             raise MetamaterialError(self.problems["file"])
@@ -242,6 +299,8 @@ class NewStructurePanel(BasePanel):
         typed = self.file.text().strip()
         if typed and typed != self.loaded_path:
             self.load_file(typed)           # a typed path counts even without Enter
+        if self._file_on:
+            self._forget_refused()
         return super().accept()
 
     def apply(self):
