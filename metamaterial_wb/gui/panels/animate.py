@@ -62,12 +62,19 @@ class AnimatePanel(BasePanel):
         self.solver = structure.solver_for(scene_obj, self.scene)
         self.angles = ServoAngles(self.scene)    # the angle stream sends for a value, per motor
         self.table = QtGui.QTableWidget(len(self.scene.actuators), 6)
-        self.table.setHorizontalHeaderLabels(["motor", "shape", "amplitude", "freq (Hz)", "phase (deg)",
+        self.table.setHorizontalHeaderLabels([translate("Metamaterial", "motor"), translate("Metamaterial", "shape"),
+                                              translate("Metamaterial", "amplitude"),
+                                              translate("Metamaterial", "freq (Hz)"),
+                                              translate("Metamaterial", "phase (deg)"),
                                               translate("Metamaterial", "servo angle range")])
         self.table.horizontalHeaderItem(5).setToolTip(translate(
             "Metamaterial", "Lowest .. highest angle sent to the servo over the profile's swing (closing and "
             "opening differ, the sign is the servo's)"))
         self.spins, self.shapes, self.amp_deg, self.keys, self.stored = {}, {}, {}, {}, {}
+        # a keyframes profile's period, fixed once (the stored one, or when a row becomes keyframes): never the
+        # timeline length shown, which is not stored
+        self.key_periods = {}
+        self.spin_tips = {}
         for r, a in enumerate(self.scene.actuators):
             p = a.profile or {"shape": "sine", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
             self.table.setItem(r, 0, QtGui.QTableWidgetItem(a.name))
@@ -81,6 +88,8 @@ class AnimatePanel(BasePanel):
                 combo.insertItem(0, f"stored {shape}")
                 combo.setCurrentIndex(0)
             self.keys[a.name] = list(zip(p.get("times_s", [0.0, 0.5]), p.get("values", [0.0, 0.5])))
+            if shape == "keyframes" and p.get("period_s"):
+                self.key_periods[a.name] = float(p["period_s"])
             self.table.setCellWidget(r, 1, combo)
             self.shapes[a.name] = combo
             sp = []
@@ -91,6 +100,7 @@ class AnimatePanel(BasePanel):
                 w.setSingleStep(0.05 if key != "phase_deg" else 15.0)
                 w.setValue(float(p.get(key, default)) if shape == "sine" else default)
                 w.valueChanged.connect(self._profiles_changed)
+                self.spin_tips[w] = w.toolTip()
                 self.table.setCellWidget(r, c, w)
                 sp.append(w)
             self.spins[a.name] = sp
@@ -105,8 +115,14 @@ class AnimatePanel(BasePanel):
         self.keyframes = KeyframeTable(self._keys_edited)
         self.keyframes.setVisible(False)
         self.key_motor = None
+        self.period_note = QtGui.QLabel("")
+        self.period_note.setWordWrap(True)
+        self.period_note.setStyleSheet("color: #a05a00;")
+        for a in self.scene.actuators:        # each row's shape shows its fields (stored rows: read-only)
+            self._shape_ui(a.name)
         self.untouched = {a.name: self._row_state(a.name) for a in self.scene.actuators}
         self.layout.addWidget(self.keyframes)
+        self.layout.addWidget(self.period_note)
         self.layout.addWidget(self.problem_label("profiles"))
         tl = QtGui.QHBoxLayout()
         self.play_btn = QtGui.QPushButton(translate("Metamaterial", "Play"))
@@ -229,7 +245,7 @@ class AnimatePanel(BasePanel):
         self.duration.valueChanged.connect(self._duration_changed)
         self.loop.toggled.connect(self._loop_toggled)
         self.play_btn.toggled.connect(self._play_toggled)
-        self.timeline.sliderMoved.connect(self._scrub)
+        self.timeline.valueChanged.connect(self._scrub)    # drag, click on the groove, keys (show_time blocks it)
         self.connect_btn.toggled.connect(self._connect_toggled)
         self._profiles_changed()
         self.show_time(0.0)
@@ -262,7 +278,7 @@ class AnimatePanel(BasePanel):
                 out[a.name] = keyframes_profile(self.keys[a.name], self.key_period(a.name))
                 continue
             amp, f, ph = self._wave_fields(a, shape)
-            p = wave_profile(shape, amp, f, ph)
+            p = wave_profile(shape, amp, f, ph, motor=a.name)
             if shape == "sine" and a.profile and a.profile.get("offset"):
                 p["offset"] = a.profile["offset"]
             out[a.name] = p
@@ -279,26 +295,76 @@ class AnimatePanel(BasePanel):
                     vals[k] = float(a.profile[key])
         return vals
 
-    def key_period(self, name):
-        """A keyframes profile's period: its stored one while the keys fit in it, else the timeline's."""
-        last = max((t for t, _v in self.keys[name]), default=0.0)
-        a = next((a for a in self.scene.actuators if a.name == name), None)
-        stored = (a.profile or {}).get("period_s") if a is not None else None
-        if stored and last < stored:
-            return float(stored)
-        return max(self.duration.value(), last + 0.1) if hasattr(self, "duration") else last + 1.0
+    def _last_key(self, name):
+        return max((t for t, _v in self.keys[name]), default=0.0)
 
-    def _shape_changed(self, name):
+    def key_period(self, name):
+        """A keyframes profile's period: the one fixed for the row (stored, or set when it became keyframes),
+        extended to the last key + 0.1 s while a key lies beyond it (``period_note`` says so); never the
+        timeline length, which is not stored."""
+        last = self._last_key(name)
+        fixed = self.key_periods.get(name)
+        if fixed is None:
+            fixed = self._fix_key_period(name)
+        return float(fixed) if last < fixed else round(last + 0.1, 9)
+
+    def _fix_key_period(self, name):
+        """The period a row gets when it becomes keyframes: the wave's period of the row (1 / its frequency),
+        else the last key + 0.1 s."""
+        f = self.spins[name][1].value() if name in self.spins else 0.0
+        last = self._last_key(name)
+        period = 1.0 / f if f > 0 else 0.0
+        if period <= last:
+            period = round(last + 0.1, 9)
+        self.key_periods[name] = period
+        return period
+
+    def _update_period_note(self):
+        notes = []
+        for name, combo in self.shapes.items():
+            if combo.currentText() != "keyframes":
+                continue
+            fixed = self.key_periods.get(name)
+            if fixed is None:
+                fixed = self._fix_key_period(name)
+            last = self._last_key(name)
+            if last >= fixed:
+                notes.append(translate("Metamaterial", "{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: "
+                                                       "the period becomes {3:.3f} s").format(
+                    name, last, fixed, self.key_period(name)))
+            elif name == self.key_motor:
+                notes.append(translate("Metamaterial", "{0}: keyframes repeat every {1:.3f} s").format(name, fixed))
+        self.period_note.setText("\n".join(notes))
+
+    def _shape_ui(self, name):
+        """Show the fields of the row's shape: the wave boxes for sine / square / triangle, the keyframe table
+        for keyframes; a stored steps / constant profile is kept as it is (its boxes disabled)."""
         shape = self.shapes[name].currentText()
+        wave = shape in ("sine", "square", "triangle")
+        if shape.startswith("stored"):
+            tip = translate("Metamaterial", "{0} keeps its {1} profile as stored: these boxes do not apply to it. "
+                                            "Choose another shape to replace it.").format(name, shape[len("stored "):])
+        elif shape == "keyframes":
+            tip = translate("Metamaterial", "a keyframes profile is edited in its time / value table below")
+        else:
+            tip = ""
         for w in self.spins[name]:
-            w.setEnabled(shape in ("sine", "square", "triangle"))
+            w.setEnabled(wave)
+            base = self.spin_tips.get(w, "")
+            w.setToolTip(tip if not base else (base if not tip else tip + "\n" + base))
+        self.shapes[name].setToolTip(tip if shape.startswith("stored") else "")
         if shape == "keyframes":
+            if name not in self.key_periods:
+                self._fix_key_period(name)
             self.key_motor = name
             self.keyframes.set_points(name, self.keys[name])
             self.keyframes.setVisible(True)
         elif self.key_motor == name:
             self.keyframes.setVisible(False)
             self.key_motor = None
+
+    def _shape_changed(self, name):
+        self._shape_ui(name)
         self._profiles_changed()
 
     def _keys_edited(self):
@@ -317,9 +383,14 @@ class AnimatePanel(BasePanel):
 
     def _profiles_changed(self, *_):
         d = self.scene.to_dict()
-        prof = self.profiles()
+        try:
+            prof = self.profiles()
+        except MetamaterialError as exc:     # a square / triangle at 0 Hz (profiles.wave_profile)
+            self.set_problem("profiles", str(exc))
+            return
         for a in d["actuators"]:
             a["profile"] = prof[a["name"]]
+        self._update_period_note()
         for a in self.scene.actuators:
             if a.name in self.amp_deg:
                 span = self.angles.span(a.name, *profile_value_range(prof[a.name], a.value))
@@ -433,7 +504,7 @@ class AnimatePanel(BasePanel):
 
     def _simulation_failed(self, message):
         self.traj_sim_btn.setEnabled(True)
-        self.show_error(f"simulation failed: {message}")
+        self.show_error(translate("Metamaterial", "simulation failed: {0}").format(message))
         self.traj_label.setText(translate("Metamaterial", "playing: the motors' profiles"))
 
     def _simulation_cancelled(self):
@@ -445,6 +516,8 @@ class AnimatePanel(BasePanel):
         return self.sim.wait(timeout_s)
 
     def show_time(self, t):
+        if self.check_target():       # deleted (Ctrl+Z, Delete): nothing drawn, playback stopped
+            return
         t0 = time.perf_counter()
         self.t = t
         vals = self.values_at(t)
@@ -457,7 +530,12 @@ class AnimatePanel(BasePanel):
             self.show_error(str(exc))
             self.pause()
             return
-        self.preview_frame(self.obj, self.solver, frame)
+        try:
+            self.preview_frame(self.obj, self.solver, frame)
+        except (ReferenceError, RuntimeError) as exc:
+            if self.lost_on(exc):
+                return
+            raise
         self.frames += 1
         self.last_values = vals
         dur = self.duration.value()
@@ -553,6 +631,8 @@ class AnimatePanel(BasePanel):
 
     def tick(self):
         """Timer: show the frame of the wall-clock time (frames that did not fit are skipped)."""
+        if self.check_target():
+            return
         now = time.perf_counter()
         if self.anchor is None:
             self._reanchor()
@@ -625,7 +705,7 @@ class AnimatePanel(BasePanel):
                 raise MetamaterialError(problem)
             self.stream.connect(port, self.preview_scene)
         except Exception as exc:  # noqa: BLE001 - shown in the panel
-            self.show_error(f"cannot stream to {port}: {exc}")
+            self.show_error(translate("Metamaterial", "cannot stream to {0}: {1}").format(port, exc))
             self.connect_btn.blockSignals(True)
             self.connect_btn.setChecked(False)
             self.connect_btn.blockSignals(False)
@@ -646,6 +726,22 @@ class AnimatePanel(BasePanel):
         if stats is not None:
             self.stats.setText(translate("Metamaterial", "streamed {0} frames, {1} acknowledged").format(stats.frames, stats.acked))
         return stats
+
+    def target_lost(self):
+        """The structure is gone: playback, the background simulation and the stream stop, the floor goes."""
+        self._stop_timer()                # every time: Play pressed again stops at its first frame
+        self.play_btn.blockSignals(True)
+        self.play_btn.setChecked(False)
+        self.play_btn.setText(translate("Metamaterial", "Play"))
+        self.play_btn.blockSignals(False)
+        if getattr(self, "_lost", False):
+            return
+        for stop in (self.sim.stop, self._remove_floor, self.disconnect):
+            try:
+                stop()
+            except Exception as exc:  # pragma: no cover - its view / link went with the structure
+                FreeCAD.Console.PrintWarning(f"Metamaterial: {exc}\n")
+        super().target_lost()
 
     def cleanup(self):
         self._stop_timer()

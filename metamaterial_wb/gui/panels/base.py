@@ -140,6 +140,23 @@ class _DocumentWatch:
                     _close()
             QtCore.QTimer.singleShot(0, close)
 
+    def slotDeletedObject(self, obj):
+        """An object is going (Delete, Ctrl+Z of its creation): once it is gone, the open panel checks whether
+        it was its structure (``BasePanel.check_target``: playback stops, the preview goes, the panel says so)."""
+        p = ACTIVE
+        if p is None or getattr(p, "obj", None) is None:
+            return
+        try:
+            if obj.Document.Name != getattr(p, "doc_name", None):
+                return
+        except Exception:  # pragma: no cover - an object without a document: check anyway
+            pass
+
+        def check():
+            if ACTIVE is p:
+                p.check_target()
+        QtCore.QTimer.singleShot(0, check)
+
 
 _WATCH = None
 
@@ -336,6 +353,35 @@ class BasePanel:
             return not name or doc is None or doc.getObject(name) is None
         except (ReferenceError, RuntimeError):
             return True
+
+    def check_target(self):
+        """True (after ``target_lost``) when the structure the panel edits is gone; the panels call it before
+        every frame they draw, so nothing is drawn for a deleted structure."""
+        if self.target_gone():
+            self.target_lost()
+            return True
+        return False
+
+    def target_lost(self):
+        """The structure is gone: the preview goes, OK is refused and the panel says so (once). Panels with a
+        timer or a stream stop them too."""
+        if getattr(self, "_lost", False):
+            return
+        self._lost = True
+        try:
+            self.remove_preview()
+        except Exception:  # pragma: no cover - its view objects went with the structure
+            self.live_preview = self._preview_scene = None
+        text = translate("Metamaterial", "the structure this panel edits was deleted (press Cancel)")
+        self.set_problem("target", text)
+        self.show_error(text)
+
+    def lost_on(self, exc):
+        """True (after ``target_lost``) when ``exc`` is FreeCAD's error for a deleted object."""
+        if isinstance(exc, (ReferenceError, RuntimeError)) and (_deleted(exc) or self.target_gone()):
+            self.target_lost()
+            return True
+        return False
 
     def forget_view(self):
         """The document (and its 3D view) is being closed: drop the preview, the picker's callbacks and the

@@ -32,7 +32,7 @@ class SimulatePanel(BasePanel):
         gl = QtGui.QHBoxLayout(gbox)
         self.use_global = QtGui.QCheckBox("")
         self.use_global.setChecked(bool(scene_obj.UseGlobal))
-        self.global_slider = _slider(-100, 100, int(round(100 * scene_obj.GlobalDeformation)))
+        self.global_slider = _slider(-1000, 1000, int(round(1000 * scene_obj.GlobalDeformation)))
         self.initial_global = (self.global_slider.value(), float(scene_obj.GlobalDeformation))
         self.global_label = QtGui.QLabel("")
         gl.addWidget(self.use_global)
@@ -79,6 +79,8 @@ class SimulatePanel(BasePanel):
         self._model_changed(self.model.currentText())
 
     def _model_changed(self, name):
+        if self.check_target():
+            return
         try:
             if name == self.obj.Model:
                 self.solver = structure.solver_for(self.obj, self.scene)   # the stored factorisation
@@ -108,7 +110,8 @@ class SimulatePanel(BasePanel):
         """Global deformation overrides the motors: their sliders are disabled while it is on."""
         for s in self.sliders.values():
             s.setEnabled(not on)
-            s.setToolTip("overridden by Global deformation (untick it to use the motors)" if on else "")
+            s.setToolTip(translate("Metamaterial", "overridden by Global deformation (untick it to use the motors)")
+                         if on else "")
         if update:
             self.update()
 
@@ -130,15 +133,20 @@ class SimulatePanel(BasePanel):
             out[n] = stored if s.value() == v0 else s.value() / 1000.0
         return out
 
+    def global_value(self):
+        """The global deformation the slider shows; an untouched slider keeps the stored value exactly."""
+        g0, stored = self.initial_global
+        return stored if self.global_slider.value() == g0 else self.global_slider.value() / 1000.0
+
     def set_value(self, name, value):
         self.sliders[name].setValue(int(round(1000 * value)))
 
     def update(self):
-        if self.solver is None:
+        if self.solver is None or self.check_target():
             return
         t0 = time.perf_counter()
-        g = self.global_slider.value() / 100.0
-        self.global_label.setText(translate("Metamaterial", "{0:+.2f}").format(g))
+        g = self.global_value()
+        self.global_label.setText(translate("Metamaterial", "{0:+.3f}").format(g))
         try:
             frame = (self.solver.frame(global_deformation=g) if self.use_global.isChecked()
                      else self.solver.frame(values=self.values()))
@@ -147,7 +155,12 @@ class SimulatePanel(BasePanel):
             return
         t1 = time.perf_counter()
         self._show_frame_warnings(frame)
-        self.preview_frame(self.obj, self.solver, frame)
+        try:
+            self.preview_frame(self.obj, self.solver, frame)
+        except (ReferenceError, RuntimeError) as exc:
+            if self.lost_on(exc):                     # deleted between the check and the drawing
+                return
+            raise
         self.frames += 1
         self.last_frame = frame
         t2 = time.perf_counter()
@@ -177,9 +190,7 @@ class SimulatePanel(BasePanel):
                 if it.ItemName in vals:
                     assign(it, "Value", vals[it.ItemName])
             assign(self.obj, "UseGlobal", self.use_global.isChecked())
-            g0, stored = self.initial_global          # an untouched slider keeps the stored value exactly
-            assign(self.obj, "GlobalDeformation", stored if self.global_slider.value() == g0
-                   else self.global_slider.value() / 100.0)
+            assign(self.obj, "GlobalDeformation", self.global_value())   # untouched: the stored value exactly
             assign(self.obj, "Model", self.model.currentText())
         self.commit(doc, "Simulate", change)
 

@@ -1,0 +1,231 @@
+"""Audit D: Simulate and Animate details, driven through real widgets.
+
+1. Ctrl+Z (Std_Undo) of the structure while Animate plays / Simulate previews: the panel notices at once
+   (playback stops, the preview goes, it says so), no traceback on every timer tick, no ghost sheet.
+2. The Animate timeline follows the keyboard and a click on the groove, not only a drag.
+3. A row with a stored steps / keyframes profile shows its fields as they are (steps: wave boxes disabled and
+   saying why; keyframes: its table shown).
+5. The keyframes period never follows the (not stored) timeline length; a key beyond it is said in the panel.
+6. Simulate's global deformation is shown and previewed exactly (0.123, not 0.12).
+"""
+import json
+import sys
+
+import pytest
+
+FreeCAD = pytest.importorskip("FreeCAD")
+if not getattr(FreeCAD, "GuiUp", False):
+    pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
+
+import FreeCADGui  # noqa: E402
+from PySide import QtCore  # noqa: E402
+
+from metamaterial_wb.gui import panels  # noqa: E402
+from metamaterial_wb.objects import structure  # noqa: E402
+from guihelpers import (click, doc, drag_slider, press_cancel, press_ok, process, qtest, run_panel,  # noqa: E402,F401
+                        type_into, workbench)
+
+
+@pytest.fixture
+def tracebacks():
+    """Exceptions raised in Qt slots (timer ticks, slider signals) reach sys.excepthook: collected here."""
+    seen = []
+    old = sys.excepthook
+
+    def hook(t, v, tb):
+        import traceback
+        seen.append("".join(traceback.format_exception(t, v, tb)))
+    sys.excepthook = hook
+    yield seen
+    sys.excepthook = old
+
+
+def open_fish(doc):
+    p = run_panel("MM_OpenExample")
+    p.select("fish")
+    assert press_ok()
+    return structure.find_scene_objects(doc)[-1]
+
+
+def items(sc):
+    return {i.ItemName: i for i in sc.Items}
+
+
+def in_graph(p):
+    lp = p.live_preview
+    if lp is None:
+        return False
+    return FreeCADGui.ActiveDocument.ActiveView.getSceneGraph().findChild(lp.root) >= 0
+
+
+# ---- 1: the structure deleted (Ctrl+Z) while the panel is open -------------------------------------------
+def test_undo_while_animating_stops_playback_and_says_so(doc, tracebacks):
+    open_fish(doc)
+    p = run_panel("MM_Animate")
+    click(p.play_btn)
+    process(200)
+    assert p.timer.isActive() and p.frames > 1
+    FreeCADGui.runCommand("Std_Undo")          # undoes "Open example": the structure is gone
+    process(100)
+    assert not doc.Objects, [o.Name for o in doc.Objects]
+    f0 = p.frames
+    process(400)
+    assert not tracebacks, tracebacks[0]
+    assert not p.timer.isActive() and not p._playing and not p.play_btn.isChecked()
+    assert p.frames == f0, "frames drawn for a deleted structure"
+    assert p.live_preview is None, "the preview (a ghost sheet) stayed in the view"
+    assert "deleted" in p.error.text() and "Cancel" in p.error.text(), p.error.text()
+    # the timeline and Play do nothing more (no traceback either)
+    p.timeline.setValue(700)
+    click(p.play_btn)
+    process(200)
+    assert not tracebacks, tracebacks[0]
+    assert p.frames == f0 and not p.timer.isActive()
+    assert press_ok() is False and "deleted" in p.error.text()
+    assert press_cancel()
+
+
+def test_undo_while_simulating_says_so_at_the_next_move(doc, tracebacks):
+    open_fish(doc)
+    p = run_panel("MM_Simulate")
+    if p.use_global.isChecked():
+        click(p.use_global)
+    name = list(p.sliders)[0]
+    drag_slider(p.sliders[name], 300)
+    assert p.live_preview is not None
+    FreeCADGui.runCommand("Std_Undo")
+    process(100)
+    assert "deleted" in p.error.text(), p.error.text()      # at once, not only at OK
+    assert p.live_preview is None
+    f0 = p.frames
+    drag_slider(p.sliders[name], 600)
+    process(100)
+    assert not tracebacks, tracebacks[0]
+    assert p.frames == f0 and p.live_preview is None
+    assert "deleted" in p.error.text() and "Cancel" in p.error.text(), p.error.text()
+    assert press_ok() is False
+    assert press_cancel()
+
+
+# ---- 2: the timeline follows keys and clicks --------------------------------------------------------------
+def test_timeline_follows_keys_and_a_click_on_the_groove(doc):
+    open_fish(doc)
+    p = run_panel("MM_Animate")
+    process(50)
+    dur = p.duration.value()
+    f0 = p.frames
+    p.timeline.setFocus()
+    qtest().keyClick(p.timeline, QtCore.Qt.Key.Key_PageUp)
+    process()
+    v = p.timeline.value()
+    assert v > 0
+    assert p.t == pytest.approx(v / 1000.0 * dur), (v, p.t)
+    assert p.time_label.text() == "t = %.2f s" % p.t and p.frames > f0
+    t = p.t
+    p.step(1)                                   # the next frame carries on from there (no snap back)
+    assert p.t > t
+    qtest().keyClick(p.timeline, QtCore.Qt.Key.Key_Right)
+    process()
+    assert p.t == pytest.approx(p.timeline.value() / 1000.0 * dur) and p.timeline.value() > v
+    w = p.timeline
+    v = w.value()
+    qtest().mouseClick(w, QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.KeyboardModifier.NoModifier,
+                       QtCore.QPoint(w.width() - 5, w.height() // 2))
+    process()          # a page step or a jump there, depending on the style (offscreen: maybe nothing)
+    assert p.t == pytest.approx(p.timeline.value() / 1000.0 * dur), (v, p.timeline.value(), p.t)
+    qtest().keyClick(p.timeline, QtCore.Qt.Key.Key_End)
+    process()
+    assert p.timeline.value() == 1000 and p.t == pytest.approx(dur)
+    qtest().keyClick(p.timeline, QtCore.Qt.Key.Key_PageDown)
+    process()
+    assert p.timeline.value() < 1000 and p.t == pytest.approx(p.timeline.value() / 1000.0 * dur)
+    assert press_cancel()
+
+
+# ---- 3: stored steps / keyframes rows ---------------------------------------------------------------------
+def test_stored_rows_show_what_they_are(doc):
+    sc = open_fish(doc)
+    p = run_panel("MM_Animate")
+    head, tail = list(p.shapes)[:2]
+    p.set_shape(head, "square")
+    p.set_shape(tail, "keyframes")
+    process()
+    assert press_ok(), p.error.text()
+    stored = items(sc)[head].ProfileData, items(sc)[tail].ProfileData
+    assert items(sc)[head].ProfileShape == "steps" and items(sc)[tail].ProfileShape == "keyframes"
+    p = run_panel("MM_Animate")
+    process(50)
+    assert p.shapes[head].currentText() == "stored steps"
+    assert not any(w.isEnabled() for w in p.spins[head]), "the stored steps row looks editable"
+    tip = p.spins[head][0].toolTip()
+    assert "stored" in tip and "another shape" in tip, tip
+    assert p.shapes[tail].currentText() == "keyframes"
+    assert p.keyframes.isVisible() and p.key_motor == tail
+    assert p.keyframes.points() == [tuple(k) for k in zip(*[json.loads(stored[1])[f] for f in ("times_s", "values")])]
+    assert not any(w.isEnabled() for w in p.spins[tail])
+    # untouched: OK writes nothing
+    n = doc.UndoCount
+    assert press_ok(), p.error.text()
+    assert doc.UndoCount == n and (items(sc)[head].ProfileData, items(sc)[tail].ProfileData) == stored
+    # choosing a wave shape again makes the boxes editable and replaces the stored steps
+    p = run_panel("MM_Animate")
+    p.set_shape(head, "square")
+    process()
+    assert all(w.isEnabled() for w in p.spins[head])
+    type_into(p.spins[head][0], "0.2")
+    assert p.profiles()[head]["shape"] == "steps" and max(p.profiles()[head]["values"]) == pytest.approx(0.2)
+    assert press_ok(), p.error.text()
+    assert max(json.loads(items(sc)[head].ProfileData)["values"]) == pytest.approx(0.2)
+
+
+# ---- 5: the keyframes period ------------------------------------------------------------------------------
+def test_keyframes_period_never_follows_the_timeline_length(doc):
+    sc = open_fish(doc)
+    p = run_panel("MM_Animate")
+    tail = list(p.shapes)[1]
+    p.set_shape(tail, "keyframes")
+    process()
+    period = p.profiles()[tail]["period_s"]
+    type_into(p.duration, "7")
+    assert p.profiles()[tail]["period_s"] == period, "the not-stored length changed the stored period"
+    assert press_ok(), p.error.text()
+    assert json.loads(items(sc)[tail].ProfileData)["period_s"] == period
+    p = run_panel("MM_Animate")
+    type_into(p.duration, "7")
+    assert p.profiles()[tail]["period_s"] == period
+    tbl = p.keyframes.table
+    type_into(tbl.cellWidget(1, 0), "9")           # a key beyond the period: it is extended, and said
+    assert p.profiles()[tail]["period_s"] == pytest.approx(9.1)
+    assert "beyond the period" in p.period_note.text() and "9.100" in p.period_note.text(), p.period_note.text()
+    type_into(tbl.cellWidget(1, 0), "0.5")
+    assert p.profiles()[tail]["period_s"] == period and "beyond" not in p.period_note.text()
+    assert press_cancel()
+
+
+# ---- 6: the global deformation exactly --------------------------------------------------------------------
+def test_global_deformation_shown_and_previewed_exactly(doc):
+    sc = open_fish(doc)
+    sc.GlobalDeformation = 0.123
+    sc.UseGlobal = True
+    doc.recompute()
+    p = run_panel("MM_Simulate")
+    process(50)
+    assert p.global_label.text() == "+0.123", p.global_label.text()
+    assert p.global_value() == 0.123
+    assert abs(p.last_frame.D).max() == pytest.approx(0.123, abs=1e-12)
+    p.global_slider.setFocus()
+    qtest().keyClick(p.global_slider, QtCore.Qt.Key.Key_Right)
+    process()
+    assert p.global_label.text() == "+0.124" and abs(p.last_frame.D).max() == pytest.approx(0.124, abs=1e-12)
+    qtest().keyClick(p.global_slider, QtCore.Qt.Key.Key_Left)      # back on the stored value: kept exactly
+    process()
+    assert p.global_value() == 0.123
+    n = doc.UndoCount
+    assert press_ok(), p.error.text()
+    assert sc.GlobalDeformation == 0.123 and doc.UndoCount == n
+    p = run_panel("MM_Simulate")
+    drag_slider(p.global_slider, 456)
+    g = p.global_slider.value() / 1000.0
+    assert p.global_label.text() == "%+.3f" % g and abs(p.last_frame.D).max() == pytest.approx(abs(g), abs=1e-12)
+    assert press_ok(), p.error.text()
+    assert sc.GlobalDeformation == pytest.approx(g, abs=1e-15)
