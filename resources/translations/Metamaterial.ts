@@ -4,12 +4,12 @@
 <context>
     <name>Metamaterial</name>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="155"/>
         <source> (slider +-{0:.1f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="121"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="123"/>
         <source> ({0} set directly for this joint: the sizes do not change it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -24,7 +24,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="109"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -34,7 +34,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="428"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="499"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -54,12 +54,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="326"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="397"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="99"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="101"/>
         <source>? deg ({0:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -69,7 +69,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="174"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="190"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -89,7 +89,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="62"/>
         <source>Cell size</source>
         <translation type="unfinished"></translation>
     </message>
@@ -99,7 +99,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="56"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="67"/>
         <source>Chain</source>
         <translation type="unfinished"></translation>
     </message>
@@ -109,12 +109,22 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="57"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="68"/>
         <source>Clear</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="61"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="67"/>
+        <source>Click a hinge in the 3D view</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="68"/>
+        <source>Click a node in the 3D view</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="72"/>
         <source>Click cells [row, col] to add or remove them:</source>
         <translation type="unfinished"></translation>
     </message>
@@ -126,18 +136,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="49"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="60"/>
         <source>Columns</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="138"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="645"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="154"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="725"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="105"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="107"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -147,7 +157,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="637"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="717"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -178,7 +188,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="88"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="107"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
     </message>
@@ -188,12 +198,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="55"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="66"/>
         <source>Grid</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="73"/>
         <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -203,7 +213,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="52"/>
         <source>Joint</source>
         <translation type="unfinished"></translation>
     </message>
@@ -219,43 +229,43 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="66"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="77"/>
         <source>Keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="107"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="119"/>
         <source>Keyframes of {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="37"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="53"/>
         <source>Length</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="72"/>
         <source>Limit to printable folds</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="74"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="92"/>
         <source>Load scene file...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="179"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="130"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="67"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="70"/>
         <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -265,7 +275,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="31"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="36"/>
         <source>Module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -275,7 +285,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="173"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="189"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
@@ -285,7 +295,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="58"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="68"/>
         <source>Name</source>
@@ -297,12 +307,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="71"/>
         <source>No rotary axes yet: use 'Rotary axes' first.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="32"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="37"/>
         <source>On (or click in the 3D view)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -317,7 +327,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="591"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="671"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -327,18 +337,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="596"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="735"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="676"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="180"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="142"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="158"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
@@ -358,7 +369,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="59"/>
         <source>Rows</source>
         <translation type="unfinished"></translation>
     </message>
@@ -373,7 +384,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="172"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="188"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -389,12 +400,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="171"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="187"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="160"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="176"/>
         <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -419,7 +430,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="157"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="173"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -429,12 +440,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="101"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="103"/>
         <source>The angle sent to the servo for this value (closing and opening differ); the firmware's invert and trim come after</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="94"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="82"/>
+        <source>The structure comes from the scene file (its cells, cell size and motors): the grid and the cell size above are not used. Clear the file field to use them again.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="113"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -455,7 +471,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="38"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="54"/>
         <source>Width</source>
         <translation type="unfinished"></translation>
     </message>
@@ -465,13 +481,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="193"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="348"/>
+        <source>a keyframes profile is edited in its time / value table below</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="207"/>
         <source>actuator.core_diameter_mm: the cap the inner membrane pushes on; at most the sleeve's inner diameter N (L + c) / pi - T</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="66"/>
+        <source>amplitude</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -505,7 +531,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="115"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="708"/>
+        <source>cannot stream to {0}: {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="134"/>
         <source>cell [{0}, {1}]</source>
         <translation type="unfinished"></translation>
     </message>
@@ -552,34 +583,39 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="479"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="557"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="118"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="94"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="67"/>
+        <source>freq (Hz)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="120"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="95"/>
         <source>k1 = {0:.3f}, k2 = {1:.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="41"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="55"/>
         <source>k1, k2</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
-        <source>kinematic +-{0:.1f} deg</source>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="149"/>
+        <source>kinematic +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="150"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="130"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -589,7 +625,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="171"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -599,7 +635,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="189"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="65"/>
+        <source>motor</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="205"/>
         <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -609,8 +650,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="371"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="417"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="105"/>
+        <source>not picked: {0} {1} ({2})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -619,7 +665,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="73"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="91"/>
         <source>or a scene file (.json): type its path</source>
         <translation type="unfinished"></translation>
     </message>
@@ -629,24 +675,34 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="97"/>
         <source>out of the calibrated range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="447"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="113"/>
+        <source>overridden by Global deformation (untick it to use the motors)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="68"/>
+        <source>phase (deg)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="493"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="184"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="393"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="437"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="200"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="464"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="377"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="448"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -666,12 +722,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
-        <source>printable +-{0:.2f} deg</source>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="151"/>
+        <source>printable +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="131"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="152"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -681,27 +737,37 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="226"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="282"/>
         <source>scene {0}: {1} cells, {2} motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="66"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="69"/>
         <source>servo angle range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="417"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="65"/>
+        <source>shape</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="488"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="441"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="512"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="431"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="507"/>
+        <source>simulation failed: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="502"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -711,22 +777,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="647"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="727"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="150"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="467"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="545"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -741,12 +807,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="149"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="165"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="165"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="375"/>
+        <source>the structure this panel edits was deleted (press Cancel)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="178"/>
         <source>the {0} solve did not converge: the pose shown is its last iterate</source>
         <translation type="unfinished"></translation>
     </message>
@@ -756,12 +827,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="445"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="80"/>
+        <source>time (s)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="491"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="525"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="102"/>
+        <source>under the cursor: {0} {1} (not a target: {2})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="81"/>
+        <source>value (-1..1)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="603"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
@@ -777,27 +863,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="327"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="398"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="100"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="102"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="141"/>
-        <source>{0:+.2f}</source>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="149"/>
+        <source>{0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="581"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="661"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="192"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="220"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -807,22 +893,57 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="185"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="235"/>
         <source>{0} cells: a valid layout</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="184"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="234"/>
         <source>{0} cells: a valid layout (the full grid)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="93"/>
+        <source>{0} goes across a joint</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="91"/>
+        <source>{0} goes on a joint</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="94"/>
+        <source>{0} goes on a node</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="345"/>
+        <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="153"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="60"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="332"/>
+        <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="336"/>
+        <source>{0}: keyframes repeat every {1:.3f} s</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="110"/>
+        <source>{0}; {1} is a {2}: click a {3} or choose one in the list (the target is still {4})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="79"/>
         <source>{0}{1} {2}</source>
         <translation type="unfinished"></translation>
     </message>

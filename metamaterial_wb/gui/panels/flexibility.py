@@ -48,6 +48,7 @@ class FlexibilityPanel(BasePanel):
         self.j_length = self._spin(self.scene.hinge["length_mm"], "hinge.length_mm")
         self.j_width = self._spin(self.scene.hinge["width_mm"], "hinge.width_mm")
         self.jk_label = QtGui.QLabel("")
+        self._shown = {}               # joint box -> the value it was given (the user's edit is what differs)
         pf.addRow(translate("Metamaterial", "Joint"), self.joint)
         pf.addRow(translate("Metamaterial", "Length"), self.j_length)
         pf.addRow(translate("Metamaterial", "Width"), self.j_width)
@@ -94,6 +95,7 @@ class FlexibilityPanel(BasePanel):
             self.k_label.setText(translate("Metamaterial", "k1 = {0:.3f}, k2 = {1:.3f}").format(k1, k2))
         except MetamaterialError:
             self.k_label.setText(translate("Metamaterial", "out of the calibrated range"))
+        self._follow_global()
         self._update_jk()
         self.validate()
 
@@ -122,22 +124,55 @@ class FlexibilityPanel(BasePanel):
                 " and ".join(direct))
         self.jk_label.setText(text)
 
+    def _joint_fields(self):
+        return ((self.j_length, "length_mm", self.length), (self.j_width, "width_mm", self.width))
+
+    def _show_joint(self, spin, value):
+        self._shown[spin] = None                     # not an edit while the box is being set
+        spin.setValue(value)
+        self._shown[spin] = spin.value()
+
     def _joint_changed(self, name):
         ov = self.overrides.get(name, {})
-        self.j_length.setValue(ov.get("length_mm", self.length.value()))
-        self.j_width.setValue(ov.get("width_mm", self.width.value()))
+        for spin, key, glob in self._joint_fields():
+            self._show_joint(spin, ov.get(key, glob.value()))
         self._update_jk()
 
+    def _edited(self, spin):
+        """Whether the user changed a joint box since it was last set (by the joint, an override or the global)."""
+        return spin.value() != self._shown.get(spin)
+
+    def _follow_global(self):
+        """A joint size without an override is the global one: its box follows the global box, unless the user
+        is editing it (an edit not yet set is kept)."""
+        if not self._shown:
+            return
+        ov = self.overrides.get(self.joint.currentText(), {})
+        for spin, key, glob in self._joint_fields():
+            if key not in ov and not self._edited(spin):
+                self._show_joint(spin, glob.value())
+
     def set_override(self):
+        """Pin the sizes edited in the joint boxes (only those: a width set here leaves the length following the
+        global size); with no edit, both shown sizes are pinned. Sizes already pinned stay as stored."""
         name = self.joint.currentText()
-        ov = self.overrides.setdefault(name, {})
-        ov["length_mm"] = float(self.j_length.value())
-        ov["width_mm"] = float(self.j_width.value())
+        ov = dict(self.overrides.get(name, {}))
+        fields = self._joint_fields()
+        edited = [(spin, key, glob) for spin, key, glob in fields if self._edited(spin)]
+        if not edited and not any(key in ov for _s, key, _g in fields):
+            edited = list(fields)
+        for spin, key, glob in edited:
+            # a box still equal to the global box keeps the global's exact value (3 decimals shown)
+            ov[key] = self.size(glob) if spin.value() == glob.value() else float(spin.value())
+            self._shown[spin] = spin.value()
+        self.overrides[name] = ov
         self._refresh_list()
+        self._update_jk()
         self.validate()            # shown in red under the list at once, OK disabled (not only when OK is pressed)
 
     def remove_override(self):
         self.overrides.pop(self.joint.currentText(), None)
+        self._joint_changed(self.joint.currentText())     # the boxes show the global sizes again
         self._refresh_list()
         self.validate()
 

@@ -9,6 +9,8 @@ import math
 
 from PySide import QtGui
 
+from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.motion import PROFILE_RANGES
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.panels.base import button_row
 from metamaterial_wb.gui.i18n import translate
@@ -25,9 +27,18 @@ def _keys(period, points):
     return [float(t) for t in ts], [float(pts[t]) for t in ts]
 
 
-def wave_profile(shape, amplitude, frequency_hz, phase_deg):
-    """The scene profile of a sine / square / triangle wave (validated later by the scene)."""
-    if shape == "sine" or frequency_hz <= 0:
+def wave_profile(shape, amplitude, frequency_hz, phase_deg, motor=None):
+    """The scene profile of a sine / square / triangle wave (validated later by the scene).
+
+    A square or triangle wave needs a frequency > 0 Hz (its period is 1 / f): at 0 Hz it is refused with a
+    ``SceneError`` naming the motor (``motor``), the shape and the value, never turned into a sine.
+    """
+    if shape in ("square", "triangle") and not frequency_hz > 0:
+        high = PROFILE_RANGES["frequency_hz"][1]
+        raise SceneError(f"motor {motor}" if motor else "",
+                         f"a {shape} wave needs a frequency > 0 Hz (its period is 1 / f); "
+                         f"got {float(frequency_hz):g} Hz, allowed (0, {high:g}] Hz")
+    if shape == "sine":
         return {"shape": "sine", "amplitude": float(amplitude), "frequency_hz": float(frequency_hz),
                 "phase_deg": float(phase_deg)}
     period = 1.0 / frequency_hz
@@ -66,7 +77,8 @@ class KeyframeTable(QtGui.QWidget):
         self.title = QtGui.QLabel(translate("Metamaterial", "Keyframes"))
         lay.addWidget(self.title)
         self.table = QtGui.QTableWidget(0, 2)
-        self.table.setHorizontalHeaderLabels(["time (s)", "value (-1..1)"])
+        self.table.setHorizontalHeaderLabels([translate("Metamaterial", "time (s)"),
+                                              translate("Metamaterial", "value (-1..1)")])
         self.table.setMaximumHeight(150)
         self.table.horizontalHeader().setStretchLastSection(True)
         lay.addWidget(self.table)
