@@ -270,3 +270,17 @@ def test_fit_errors_name_the_panels_fields_not_the_command_lines_flags(doc, tmp_
     assert "Keep the motors, fit their values only" in seen[2], seen
     p.reject()
     assert sc.Name in [o.Name for o in doc.Objects]
+
+
+def test_applying_a_fit_turns_the_structures_global_deformation_off(doc, tmp_path):
+    """A structure shown at a global deformation kept it after OK: the fitted motors were written but every D
+    stayed the global value, so the sheet did not take the fitted shape (the command line's answer scene kept it
+    too, audit session 28). The answer drops it, says so, and OK turns Use global off."""
+    sc = _structure(doc)
+    sc.UseGlobal, sc.GlobalDeformation = True, 0.5
+    doc.recompute()
+    p = _fit_planted(tmp_path)
+    assert "global deformation (0.5) was dropped" in p.status.text(), p.status.text()
+    assert p.accept() is True
+    assert not sc.UseGlobal and structure.compose_scene(sc).global_deformation is None
+    assert _motors(sc) == sorted((a.joint, round(a.value, 6)) for a in p.result.scene.actuators)

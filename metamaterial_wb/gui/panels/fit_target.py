@@ -376,6 +376,8 @@ class FitTargetPanel(base.BasePanel):
                 structure.make_item(self.doc, self.obj, "actuator", a.name, a.joint, a.value, a.profile,
                                     extra=a.extra or None)
             self._move_modules(self.result.info.get("module_moves", ()))
+            if self.obj.UseGlobal and scene.global_deformation is None:
+                self.obj.UseGlobal = False    # the answer's servos act (a global deformation replaces them)
         self.commit(self.doc, self.TITLE, change)     # one undo step; an invalid result is undone, its error shown
 
     def _move_modules(self, moves):
