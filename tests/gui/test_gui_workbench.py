@@ -71,6 +71,15 @@ def test_workbench_registers_every_command_with_an_icon():
     assert "Metamaterial design" in bars and "Metamaterial simulation" in bars
 
 
+def test_the_preferences_group_has_its_icon():
+    """Edit > Preferences looks for the icon ``preferences-`` + the group's name in lower case: it printed "Cannot
+    find icon: preferences-metamaterial" three times (audit, session 28)."""
+    icon = metamaterial_wb.icon_path("preferences-metamaterial.svg")
+    assert os.path.exists(icon), icon
+    with open(icon, encoding="utf-8") as f:
+        assert f.read().lstrip().startswith("<svg")
+
+
 def test_preferences_page_loads_with_defaults():
     from metamaterial_wb.gui import preferences
     ui = os.path.join(metamaterial_wb.RESOURCES_DIR, "ui", "preferences.ui")

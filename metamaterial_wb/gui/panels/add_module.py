@@ -37,6 +37,7 @@ class AddModulePanel(BasePanel):
         f.addRow(translate("Metamaterial", "On (or click in the 3D view)"), self.target)
         f.addRow(self.problem_label("target"))
         f.addRow(self.problem_label("pick"))
+        f.addRow(self.problem_label("preferences"))     # a module material or servo the fabrication does not know
         self.layout.addLayout(f)
         self.finish_layout()
         self.type.currentIndexChanged.connect(self._targets)
@@ -83,6 +84,9 @@ class AddModulePanel(BasePanel):
         self.set_problem("target", f"{kind} {target} already carries the module {who!r}: one module per "
                                    f"{'joint' if kind == 'joint' else 'node socket'}; choose another {kind} "
                                    f"or delete {who!r} first" if who else "")
+        from metamaterial_wb.gui.panels.checks import preference_problem
+        keys = ["ModuleMaterial"] + (["DefaultServo"] if self.module_type() == "servo_housing" else [])
+        self.set_problem("preferences", preference_problem(keys))
 
     def goes_on(self):
         """``"a friction pad goes on a node"`` / ``"a servo housing goes across a joint"``."""

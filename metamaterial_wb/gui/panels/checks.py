@@ -24,3 +24,24 @@ def design_problem(scene):
     except MetamaterialError as exc:
         return str(exc)
     return ""
+
+
+PREFERENCE_LABELS = {"RigidMaterial": "Rigid material", "FlexibleMaterial": "Flexible material",
+                     "ModuleMaterial": "Module material", "DefaultServo": "Default servo"}
+
+
+def preference_problem(keys):
+    """The first of the workbench preferences ``keys`` whose value the fabrication refuses (a material not in
+    ``core.materials.MATERIALS``, a servo not among the presets), as a message naming where to change it; "" when
+    they are all known. The preferences page takes free text: without this the error came only after OK or in
+    the background export, naming no preference."""
+    from metamaterial_wb.core.materials import MATERIALS
+    from metamaterial_wb.geometry.servo import SERVO_PRESETS
+    from metamaterial_wb.gui import preferences
+    for key in keys:
+        v = preferences.get(key)
+        allowed = sorted(SERVO_PRESETS) if key == "DefaultServo" else sorted(MATERIALS)
+        if not isinstance(v, str) or v.upper() not in allowed:
+            return (f"Edit > Preferences > Metamaterial > {PREFERENCE_LABELS[key]}: {v!r} is not a known "
+                    f"{'servo' if key == 'DefaultServo' else 'material'}; allowed: {', '.join(allowed)}")
+    return ""

@@ -48,6 +48,7 @@ class ExportPanel(BasePanel):
         f.addRow(self.threemf)
         f.addRow(self.problem_label("format"))
         f.addRow(self.modules)
+        f.addRow(self.problem_label("preferences"))     # a material the fabrication does not know
         self.layout.addLayout(f)
         self.export_btn = QtGui.QPushButton(translate("Metamaterial", "Export"))
         self.export_btn.setToolTip(translate("Metamaterial", "Build the sheet (and modules) and write the files in the background"))
@@ -62,7 +63,7 @@ class ExportPanel(BasePanel):
         self.close_when_done = False
         self.job = ProcessJob(self.jobbox, self._done, self._failed, self._cancelled)
         self.export_btn.clicked.connect(self.start_export)
-        for w in (self.step, self.threemf):
+        for w in (self.step, self.threemf, self.modules):
             w.toggled.connect(self._check)
         self.path.textChanged.connect(self._check)
         self._check()
@@ -80,6 +81,9 @@ class ExportPanel(BasePanel):
         elif os.path.exists(out) and not os.path.isdir(out):
             msg = f"{out!r} exists and is not a folder"
         self.set_problem("path", msg)
+        from metamaterial_wb.gui.panels.checks import preference_problem
+        keys = ["RigidMaterial", "FlexibleMaterial"] + (["ModuleMaterial"] if self.modules.isChecked() else [])
+        self.set_problem("preferences", preference_problem(keys))
         self.export_btn.setEnabled(not self.problems and not self.job.running)
 
     # the job ----------------------------------------------------------------------------
