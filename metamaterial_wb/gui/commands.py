@@ -6,8 +6,14 @@ import metamaterial_wb
 from metamaterial_wb.objects import structure
 
 
-def current_scene(doc=None):
-    """The Scene object the user means: the selected structure, else the last one in the document."""
+def is_invalid(obj):
+    """True when the object's last recompute failed (its ``getStatusString()`` says why)."""
+    state = getattr(obj, "State", [])
+    return "Invalid" in state or "Error" in state
+
+
+def selected_scene(doc=None):
+    """The Scene of the first selected object that belongs to a structure, or None."""
     doc = doc or FreeCAD.ActiveDocument
     if doc is None:
         return None
@@ -18,8 +24,21 @@ def current_scene(doc=None):
                 return sc
     except Exception:
         pass
+    return None
+
+
+def current_scene(doc=None):
+    """The Scene object the user means: the selected structure, else the last one in the document that is
+    not invalid (else the last one: ``Activated`` then says why it is invalid and opens nothing)."""
+    doc = doc or FreeCAD.ActiveDocument
+    if doc is None:
+        return None
+    sc = selected_scene(doc)
+    if sc is not None:
+        return sc
     scenes = structure.find_scene_objects(doc)
-    return scenes[-1] if scenes else None
+    valid = [sc for sc in scenes if not is_invalid(sc)]
+    return (valid or scenes or [None])[-1]
 
 
 class _Command:
@@ -33,6 +52,9 @@ class _Command:
         return {"Pixmap": metamaterial_wb.icon_path(self.ICON), "MenuText": self.MENU, "ToolTip": self.TIP}
 
     def IsActive(self):
+        from metamaterial_wb.gui.panels import base
+        if base.foreign_dialog_open():     # another tool's task dialog (sketch in edit, ...): never thrown away
+            return False
         if not self.NEEDS_SCENE:
             return True
         doc = FreeCAD.ActiveDocument
@@ -45,11 +67,21 @@ class _Command:
     def Activated(self):
         from metamaterial_wb.core.errors import MetamaterialError
         from metamaterial_wb.gui import panels
+        if panels.base.foreign_dialog_open():
+            FreeCAD.Console.PrintError(f"{self.MENU}: another tool's task dialog is open; "
+                                       "finish it with OK or Cancel first\n")
+            self.last_error = "another task dialog is open"
+            return
         try:
             if self.NEEDS_SCENE:
                 sc = current_scene()
                 if sc is None:
                     FreeCAD.Console.PrintError(f"{self.MENU}: no metamaterial structure in the active document\n")
+                    return
+                if is_invalid(sc) and selected_scene() is None:   # only invalid ones: say why
+                    msg = sc.getStatusString() or "recompute failed"
+                    FreeCAD.Console.PrintError(f"{self.MENU}: {sc.Label} is invalid: {msg}\n")
+                    self.last_error = f"{sc.Label} is invalid: {msg}"
                     return
                 panels.show(self.panel(sc))
             else:

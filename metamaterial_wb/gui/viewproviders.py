@@ -11,8 +11,8 @@ class ViewProviderScene(ViewProviderBase):
         if mode != 0:
             return None
         from metamaterial_wb.gui import panels
-        panels.show(panels.SimulatePanel(vobj.Object))
-        return True
+        # refused (another tool's task dialog is open): no edit mode without a panel
+        return panels.show(panels.SimulatePanel(vobj.Object)) is not None
 
     def unsetEdit(self, vobj, mode=0):
         return True

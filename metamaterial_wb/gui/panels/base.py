@@ -79,9 +79,37 @@ def _retire(panel):
         FreeCAD.Console.PrintWarning(f"Metamaterial: cleanup of {type(panel).__name__} failed: {exc}\n")
 
 
+def ours_shown():
+    """True while one of our panels is the open task dialog. ``ACTIVE`` alone can be stale: a dialog closed
+    by another tool (``Control.closeDialog()``) never ran our accept / reject, but FreeCAD then sets the
+    panel's ``form`` to None and deletes the widget, which is what is checked here."""
+    form = getattr(ACTIVE, "form", None)
+    if form is None:
+        return False
+    try:
+        form.objectName()           # raises once the C++ widget is deleted
+    except RuntimeError:
+        return False
+    return True
+
+
+def foreign_dialog_open():
+    """True while a task dialog that is not one of our panels is open (a sketch in edit, Part primitives,
+    ...): our commands are disabled then and ``show`` refuses, so that dialog is never thrown away."""
+    return bool(FreeCADGui.Control.activeDialog()) and not ours_shown()
+
+
 def show(panel):
+    """Open ``panel`` in the task view, replacing one of our own panels; refused (message in the Report
+    view, nothing opened, None returned) while another tool's task dialog is open."""
     global ACTIVE
     _watch_documents()
+    if foreign_dialog_open():
+        _retire(panel)
+        FreeCAD.Console.PrintError(
+            f"Metamaterial: {panel.form.windowTitle()} not opened: another tool's task dialog is open; "
+            "finish it with OK or Cancel first\n")
+        return None
     if FreeCADGui.Control.activeDialog():
         old, ACTIVE = ACTIVE, None
         if old is not None:
