@@ -3,7 +3,7 @@
 :func:`export_scene` does the work (no FreeCAD document, no Qt): one named body per node and hinge,
 PLA / TPU materials with per-part extruders, modules as separate files. The Export panel runs it in a
 child process (``python -m metamaterial_wb.gui.export_job``, see ``gui/panels/jobs.py``) so the GUI
-stays live and Cancel can stop it; scripts call :func:`export_structure` in-process. The preferences
+stays live and Cancel can stop it; scripts call :func:`export_structure` in-process. The stored preferences
 (clearance, materials) are passed as fabrication parameters.
 """
 import os
@@ -18,12 +18,11 @@ def stem_of(name, label=""):
 
 
 def preference_overrides():
-    """Fabrication parameters from the workbench preferences (GUI side)."""
-    from metamaterial_wb.gui import preferences
-    return {"clearance_mm": float(preferences.get("PrinterClearance")),
-            "rigid_material": preferences.get("RigidMaterial"),
-            "flexible_material": preferences.get("FlexibleMaterial"),
-            "module_material": preferences.get("ModuleMaterial")}
+    """The fabrication parameters the user chose in the workbench preferences (GUI side; see
+    ``objects.module.fabrication_overrides``): they win over the scene's own ``fabrication`` section; a preference
+    never set, cleared, or at the fabrication default leaves the scene's value, as ``build`` does."""
+    from metamaterial_wb.objects.module import PREFERENCE_PARAMS, fabrication_overrides
+    return fabrication_overrides(tuple(PREFERENCE_PARAMS))
 
 
 def check_out_dir(out_dir):

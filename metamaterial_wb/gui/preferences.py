@@ -11,14 +11,23 @@ def params():
     return FreeCAD.ParamGet(PATH)
 
 
-def get(name):
+def stored(name):
+    """The value the user stored for ``name`` in the parameter group, or None when it is not set (never stored,
+    removed, or a text field cleared to ''): only such values override a scene's own fabrication section."""
     p = params()
     d = DEFAULTS[name]
     if isinstance(d, float):
-        return p.GetFloat(name, d)
+        return p.GetFloat(name) if name in p.GetFloats() else None
     if isinstance(d, int):
-        return p.GetInt(name, d)
-    return p.GetString(name, d) or d
+        return p.GetInt(name) if name in p.GetInts() else None
+    text = p.GetString(name) if name in p.GetStrings() else ""
+    return text.strip() or None
+
+
+def get(name):
+    """The stored value of ``name``, else its default (a cleared text field is not set: the default)."""
+    v = stored(name)
+    return DEFAULTS[name] if v is None else v
 
 
 def all_values():

@@ -120,11 +120,29 @@ def module_to_dict(obj):
 from metamaterial_wb import PREFS_PATH  # noqa: E402 - one definition (also gui/preferences.py)
 
 
-def fabrication_overrides():
-    """Clearance and module material from the workbench preferences (same group as gui/preferences.py)."""
+# the workbench preferences that are fabrication parameters (their page: gui/preferences.py)
+PREFERENCE_PARAMS = {"PrinterClearance": "clearance_mm", "RigidMaterial": "rigid_material",
+                     "FlexibleMaterial": "flexible_material", "ModuleMaterial": "module_material"}
+
+
+def fabrication_overrides(prefs=("PrinterClearance", "ModuleMaterial")):
+    """The fabrication parameters the user chose in the workbench preferences ``prefs`` (the modules' solids:
+    clearance and module material; Export: all four, ``gui.exporting.preference_overrides``). Chosen: stored in the
+    group and not the fabrication default (OK on the preferences page stores every field it shows, so a default
+    there is no choice; a text field cleared is not set). The scene's own ``fabrication`` section is used for the
+    others, as ``build`` does."""
+    from metamaterial_wb.core.fabrication import FAB_DEFAULTS
     prm = FreeCAD.ParamGet(PREFS_PATH)
-    return {"clearance_mm": prm.GetFloat("PrinterClearance", 0.2),
-            "module_material": prm.GetString("ModuleMaterial", "ABS") or "ABS"}
+    out = {}
+    for pref in prefs:
+        key = PREFERENCE_PARAMS[pref]
+        if key == "clearance_mm":
+            v = prm.GetFloat(pref) if pref in prm.GetFloats() else None
+        else:
+            v = (prm.GetString(pref).strip() or None) if pref in prm.GetStrings() else None
+        if v is not None and str(v).upper() != str(FAB_DEFAULTS[key]).upper():
+            out[key] = v
+    return out
 
 
 def prepare_module(obj, scene):

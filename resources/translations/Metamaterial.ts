@@ -74,7 +74,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="54"/>
         <source>Build the sheet (and modules) and write the files in the background</source>
         <translation type="unfinished"></translation>
     </message>
@@ -114,12 +114,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="67"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="68"/>
         <source>Click a hinge in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="69"/>
         <source>Click a node in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
@@ -162,7 +162,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="53"/>
         <source>Export</source>
         <translation type="unfinished"></translation>
     </message>
@@ -556,7 +556,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="175"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="179"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="460"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
@@ -650,12 +650,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="417"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="445"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="105"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="109"/>
         <source>not picked: {0} {1} ({2})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -690,7 +690,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="493"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="521"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -812,7 +812,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="375"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="403"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -832,12 +832,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="491"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="519"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="106"/>
         <source>under the cursor: {0} {1} (not a target: {2})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -903,17 +903,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="93"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="97"/>
         <source>{0} goes across a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="91"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="95"/>
         <source>{0} goes on a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="94"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="98"/>
         <source>{0} goes on a node</source>
         <translation type="unfinished"></translation>
     </message>
@@ -938,7 +938,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="114"/>
         <source>{0}; {1} is a {2}: click a {3} or choose one in the list (the target is still {4})</source>
         <translation type="unfinished"></translation>
     </message>
