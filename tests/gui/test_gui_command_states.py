@@ -19,6 +19,7 @@ from metamaterial_wb.gui import commands, panels  # noqa: E402
 from metamaterial_wb.gui.panels import base  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import click, doc, press_cancel, press_ok, process, run_panel, workbench  # noqa: E402,F401
+from test_gui_panel_details import open_example  # noqa: E402
 
 NEED_SCENE = ["MM_Flexibility", "MM_Simulate", "MM_Export", "MM_Animate", "MM_AddModule"]
 ALL = ["MM_NewStructure", "MM_OpenExample"] + NEED_SCENE
@@ -37,13 +38,6 @@ def ours_open():
     """One of our panels is the open task dialog (FreeCAD sets a closed dialog's ``form`` to None)."""
     p = panels.active()
     return p is not None and getattr(p, "form", None) is not None
-
-
-def open_example(name="fish"):
-    p = run_panel("MM_OpenExample")
-    p.select(name)
-    assert press_ok()
-    return structure.find_scene_objects(FreeCAD.ActiveDocument)[-1]
 
 
 def edit_a_sketch(d):
@@ -65,7 +59,7 @@ def leave_sketch():
 
 
 def test_commands_are_disabled_and_open_nothing_while_a_sketch_is_in_edit(doc):
-    sc = open_example()
+    sc = open_example("fish")
     assert all(enabled(n) for n in ALL), [n for n in ALL if not enabled(n)]
     edit_a_sketch(doc)
     try:
@@ -90,7 +84,7 @@ def test_commands_are_disabled_and_open_nothing_while_a_sketch_is_in_edit(doc):
 
 
 def test_a_dialog_of_ours_closed_by_another_tool_does_not_count_as_ours(doc):
-    open_example()
+    open_example("fish")
     run_panel("MM_Simulate")
     FreeCADGui.Control.closeDialog()      # closed from outside: our reject never ran
     process()
@@ -105,7 +99,7 @@ def test_a_dialog_of_ours_closed_by_another_tool_does_not_count_as_ours(doc):
 
 
 def test_our_own_panel_keeps_the_commands_enabled_and_is_replaced(doc):
-    sc = open_example()
+    sc = open_example("fish")
     first = run_panel("MM_Flexibility")
     assert all(enabled(n) for n in ALL), [n for n in ALL if not enabled(n)]
     second = run_panel("MM_Simulate")
@@ -132,7 +126,7 @@ def invalid_copy(d, sc):
 
 @pytest.mark.parametrize("name", NEED_SCENE)
 def test_with_nothing_selected_a_command_opens_on_the_valid_structure(doc, name):
-    sc = open_example()
+    sc = open_example("fish")
     cp = invalid_copy(doc, sc)
     assert structure.find_scene_objects(doc)[-1] is cp
     FreeCADGui.Selection.clearSelection()
@@ -142,7 +136,7 @@ def test_with_nothing_selected_a_command_opens_on_the_valid_structure(doc, name)
 
 
 def test_with_only_invalid_structures_nothing_opens_and_the_reason_is_given(doc):
-    sc = open_example()
+    sc = open_example("fish")
     cp = invalid_copy(doc, sc)
     doc.removeObject(sc.Name)             # the valid structure goes: only the invalid copy is left
     assert structure.find_scene_objects(doc) == [cp] and "Invalid" in cp.State, cp.State
