@@ -11,7 +11,7 @@ FreeCAD = pytest.importorskip("FreeCAD")
 if not getattr(FreeCAD, "GuiUp", False):
     pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
 
-from PySide import QtGui  # noqa: E402
+from PySide import QtCore, QtGui  # noqa: E402
 
 from metamaterial_wb.core.errors import MetamaterialError  # noqa: E402
 from metamaterial_wb.core.sleeve.spec import SleeveSpec  # noqa: E402
@@ -298,3 +298,21 @@ def test_a_fold_set_by_its_slider_after_a_refused_key_is_taken(doc):
     assert shown != 19.5 and not p.spins[0].property(ranges.REFUSED), p.spins[0].property(ranges.REFUSED)
     assert press_ok(), _refusal(p)
     assert _folds(sc)[0] == pytest.approx(shown)
+
+
+def test_a_paste_with_shift_insert_is_not_a_refused_key(doc):
+    """Shift+Insert (paste on Linux and Windows) has no text and no Ctrl: the watcher kept the text typed before it
+    as the user's intent and called the pasted digits a dropped key, refusing OK (review, session 28)."""
+    p = run_panel("MM_NewStructure")
+    box = p.cell
+    QtGui.QApplication.clipboard().setText("2")
+    box.lineEdit().selectAll()
+    qtest().keyClicks(box.lineEdit(), "1")
+    process()
+    qtest().keyClick(box.lineEdit(), QtCore.Qt.Key.Key_Insert, QtCore.Qt.KeyboardModifier.ShiftModifier)
+    process()
+    qtest().keyClick(box.lineEdit(), QtCore.Qt.Key.Key_Tab)
+    process()
+    assert box.lineEdit().text().startswith("12"), box.lineEdit().text()
+    assert not box.property(ranges.REFUSED), box.property(ranges.REFUSED)
+    p.reject()

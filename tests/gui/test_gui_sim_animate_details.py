@@ -22,7 +22,7 @@ from PySide import QtCore  # noqa: E402
 
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
-from guihelpers import (click, doc, drag_slider, press_cancel, press_ok, process, qtest, run_panel,  # noqa: E402,F401
+from guihelpers import (click, dialog_button, doc, drag_slider, press_cancel, press_ok, process, qtest, run_panel,  # noqa: E402,F401
                         type_into, workbench)
 
 
@@ -229,3 +229,44 @@ def test_global_deformation_shown_and_previewed_exactly(doc):
     assert p.global_label.text() == "%+.3f" % g and abs(p.last_frame.D).max() == pytest.approx(abs(g), abs=1e-12)
     assert press_ok(), p.error.text()
     assert sc.GlobalDeformation == pytest.approx(g, abs=1e-15)
+
+
+def test_a_target_choice_after_the_structure_went_keeps_ok_refused(doc, tracebacks):
+    """The deleted-structure problem shared the key "target" with Add module's own target check: choosing another
+    target after Ctrl+Z cleared it and enabled OK again (review, session 28)."""
+    open_fish(doc)
+    p = run_panel("MM_AddModule")
+    FreeCADGui.runCommand("Std_Undo")
+    process(100)
+    assert "deleted" in p.error.text(), p.error.text()
+    p.target.setCurrentIndex(min(3, p.target.count() - 1))
+    process()
+    assert not tracebacks, tracebacks[0]
+    assert not dialog_button("Ok").isEnabled(), "OK enabled again for a deleted structure"
+    assert press_ok() is False
+    assert press_cancel()
+
+
+def test_a_stored_keyframes_row_shows_its_table_inside_the_form(doc, monkeypatch):
+    """The row's table was shown while the panel was being built, before it was put in the form: without a parent
+    Qt shows a widget as a window of its own, a flash of a separate "Keyframes" window (review, session 28)."""
+    from metamaterial_wb.gui.panels import animate
+    shown_as_window = []
+
+    class Watched(animate.KeyframeTable):
+        def setVisible(self, visible):
+            if visible:
+                shown_as_window.append(self.isWindow())
+            super().setVisible(visible)
+    sc = open_fish(doc)
+    p = run_panel("MM_Animate")
+    tail = list(p.shapes)[1]
+    p.set_shape(tail, "keyframes")
+    process()
+    assert press_ok(), p.error.text()
+    assert items(sc)[tail].ProfileShape == "keyframes"
+    monkeypatch.setattr(animate, "KeyframeTable", Watched)
+    shown_as_window.clear()
+    p = run_panel("MM_Animate")
+    assert shown_as_window and not any(shown_as_window), shown_as_window
+    assert press_cancel()

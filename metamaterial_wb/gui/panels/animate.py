@@ -118,11 +118,11 @@ class AnimatePanel(BasePanel):
         self.period_note = QtGui.QLabel("")
         self.period_note.setWordWrap(True)
         self.period_note.setStyleSheet("color: #a05a00;")
+        self.layout.addWidget(self.keyframes)     # in the form before a row shows it (no parent: its own window)
+        self.layout.addWidget(self.period_note)
         for a in self.scene.actuators:        # each row's shape shows its fields (stored rows: read-only)
             self._shape_ui(a.name)
         self.untouched = {a.name: self._row_state(a.name) for a in self.scene.actuators}
-        self.layout.addWidget(self.keyframes)
-        self.layout.addWidget(self.period_note)
         self.layout.addWidget(self.problem_label("profiles"))
         tl = QtGui.QHBoxLayout()
         self.play_btn = QtGui.QPushButton(translate("Metamaterial", "Play"))

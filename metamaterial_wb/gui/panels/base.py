@@ -401,7 +401,7 @@ class BasePanel:
         except Exception:  # pragma: no cover - its view objects went with the structure
             self.live_preview = self._preview_scene = None
         text = translate("Metamaterial", "the structure this panel edits was deleted (press Cancel)")
-        self.set_problem("target", text)
+        self.set_problem("structure", text)    # its own key: a panel's "target" problem (Add module) clears it not
         self.show_error(text)
 
     def lost_on(self, exc):

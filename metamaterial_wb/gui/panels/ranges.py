@@ -220,6 +220,8 @@ class _RefusedKeys(QtCore.QObject):
                 self.intended, self.cursor = self.core(line.text(), line.cursorPosition())
                 self.follow = False
             self.judge()
+        except RuntimeError:                  # the box went before the timer fired (its panel closed)
+            pass
         finally:
             self.typing = self.stepping = False
 
@@ -236,8 +238,8 @@ class _RefusedKeys(QtCore.QObject):
         elif ev.text() and ev.text().isprintable() and \
                 not _ctrl(ev):
             self.typed(ev.text())
-        elif k in self.move_keys or _ctrl(ev):
-            self.intended = None              # the cursor moves, or select all, paste, undo: follow the box
+        elif k in self.move_keys or _ctrl(ev) or any(ev.matches(getattr(std, n)) for n in ("Paste", "Undo", "Redo")):
+            self.intended = None              # the cursor moves, select all, paste (also Shift+Insert), undo: follow
 
     def typed(self, ch):
         if self.follow:                       # a deletion just before: its text first
