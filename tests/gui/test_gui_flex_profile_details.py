@@ -11,13 +11,7 @@ from metamaterial_wb.core.calibration import default_calibration  # noqa: E402
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import click, dialog_button, doc, press_cancel, press_ok, process, run_panel, type_into, workbench  # noqa: E402,F401
-
-
-def open_example(name):
-    p = run_panel("MM_OpenExample")
-    p.select(name)
-    assert press_ok()
-    return structure.find_scene_objects(FreeCAD.ActiveDocument)[-1]
+from test_gui_panel_details import open_example  # noqa: E402
 
 
 def k1_text(length):

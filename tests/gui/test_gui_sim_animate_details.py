@@ -20,10 +20,9 @@ if not getattr(FreeCAD, "GuiUp", False):
 import FreeCADGui  # noqa: E402
 from PySide import QtCore  # noqa: E402
 
-from metamaterial_wb.gui import panels  # noqa: E402
-from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import (click, dialog_button, doc, drag_slider, press_cancel, press_ok, process, qtest, run_panel,  # noqa: E402,F401
                         type_into, workbench)
+from test_gui_panel_details import open_example  # noqa: E402
 
 
 @pytest.fixture
@@ -41,10 +40,7 @@ def tracebacks():
 
 
 def open_fish(doc):
-    p = run_panel("MM_OpenExample")
-    p.select("fish")
-    assert press_ok()
-    return structure.find_scene_objects(doc)[-1]
+    return open_example("fish")
 
 
 def items(sc):
