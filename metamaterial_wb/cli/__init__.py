@@ -30,6 +30,25 @@ def _command_modules():
     return mods
 
 
+def number(text):
+    """argparse ``type=`` for a decimal number, read strictly (:func:`metamaterial_wb.core.numbers.parse_float`:
+    no ``1_0``, no non-ASCII digits, no inf/nan, no subnormals); argparse names the flag in the error."""
+    from metamaterial_wb.core.numbers import parse_float
+    try:
+        return parse_float("", text)
+    except MetamaterialError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def integer(text):
+    """argparse ``type=`` for a whole number, read strictly (:func:`metamaterial_wb.core.numbers.parse_int`)."""
+    from metamaterial_wb.core.numbers import parse_int
+    try:
+        return parse_int("", text)
+    except MetamaterialError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="python3 -m metamaterial_wb",

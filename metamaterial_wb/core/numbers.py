@@ -1,0 +1,67 @@
+"""Numbers typed by people (command-line flags, CSV cells, ``--set key=value``), read strictly.
+
+Python's ``float()`` and ``int()`` accept more than a person means by a number: ``1_0`` is 10, Arabic-Indic or
+full-width digits are read as their ASCII values, ``inf`` / ``nan`` are numbers and ``5e-320`` is a subnormal the
+solvers cannot compute with. A scene file refuses all of these (:mod:`metamaterial_wb.core.fileio`); the functions
+here refuse them in typed text too, naming what was typed and what is allowed.
+"""
+import re
+
+from metamaterial_wb.core.errors import SceneError
+
+_FLOAT = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
+_INT = re.compile(r"[+-]?[0-9]+\Z")
+_TINY = 2.2250738585072014e-308            # the smallest normal double
+_WHAT = "a decimal number such as 12, -0.5 or 1e-3 (ASCII digits, no '_', no inf/nan)"
+
+
+def _text(field, text):
+    if not isinstance(text, str):
+        raise SceneError(field, f"expected text holding a number, got {text!r}")
+    return text.strip(" \t\r\n")
+
+
+def parse_float(field, text):
+    """Return the finite, normal (or zero) float written in ``text``, or raise a SceneError naming ``field``.
+
+    Parameters
+    ----------
+    field : str
+        What the text is (a flag such as ``--dt``, a CSV cell such as ``angles.csv row 3 column 2``).
+    text : str
+        The typed text; surrounding ASCII blanks are ignored.
+
+    Returns
+    -------
+    float
+    """
+    t = _text(field, text)
+    if not _FLOAT.match(t):
+        raise SceneError(field, f"{text!r} is not a number; expected {_WHAT}")
+    v = float(t)
+    if v in (float("inf"), float("-inf")):
+        raise SceneError(field, f"{text!r} is beyond the largest number (about 1.8e308)")
+    if v != 0.0 and -_TINY < v < _TINY:
+        raise SceneError(field, f"{text!r} is subnormal (too close to zero to compute with)")
+    return v
+
+
+def parse_int(field, text):
+    """Return the integer written in ``text`` (ASCII digits, optional sign), or raise a SceneError naming ``field``.
+
+    Parameters
+    ----------
+    field : str
+        What the text is.
+    text : str
+        The typed text; surrounding ASCII blanks are ignored.
+
+    Returns
+    -------
+    int
+    """
+    t = _text(field, text)
+    if not _INT.match(t) or len(t) > 19:
+        raise SceneError(field, f"{text!r} is not a whole number; expected ASCII digits such as 3 or -12 "
+                                f"(no '_', no decimals, at most 18 digits)")
+    return int(t)
