@@ -34,6 +34,7 @@ def parse_float(field, text):
     Returns
     -------
     float
+        ``-0`` reads as 0.0 (never a negative zero).
     """
     t = _text(field, text)
     if not _FLOAT.match(t):
@@ -43,7 +44,7 @@ def parse_float(field, text):
         raise SceneError(field, f"{text!r} is beyond the largest number (about 1.8e308)")
     if v != 0.0 and -_TINY < v < _TINY:
         raise SceneError(field, f"{text!r} is subnormal (too close to zero to compute with)")
-    return v
+    return v + 0.0                          # "-0" is zero: no negative zero written back into a scene
 
 
 def parse_int(field, text):
