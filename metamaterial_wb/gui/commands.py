@@ -80,8 +80,10 @@ class _Command:
                     return
                 if is_invalid(sc) and selected_scene() is None:   # only invalid ones: say why
                     msg = sc.getStatusString() or "recompute failed"
-                    FreeCAD.Console.PrintError(f"{self.MENU}: {sc.Label} is invalid: {msg}\n")
-                    self.last_error = f"{sc.Label} is invalid: {msg}"
+                    why = (f"{sc.Label} is invalid: {msg} (to open {self.MENU} on it anyway, to mend it, "
+                           f"select it in the tree first)")
+                    FreeCAD.Console.PrintError(f"{self.MENU}: {why}\n")
+                    self.last_error = why
                     return
                 panels.show(self.panel(sc))
             else:

@@ -149,3 +149,19 @@ def test_with_only_invalid_structures_nothing_opens_and_the_reason_is_given(doc)
         assert panels.active() is None and not FreeCADGui.Control.activeDialog(), f"{name} opened a panel"
         err = commands.INSTANCES[name].last_error
         assert "invalid" in err and cp.Label in err and cp.getStatusString() in err, (err, cp.getStatusString())
+
+
+def test_the_refusal_says_how_to_open_a_panel_on_the_invalid_structure_and_that_way_works(doc):
+    sc = open_example("fish")
+    cp = invalid_copy(doc, sc)
+    doc.removeObject(sc.Name)
+    FreeCADGui.Selection.clearSelection()
+    commands.INSTANCES["MM_Flexibility"].last_error = ""
+    FreeCADGui.runCommand("MM_Flexibility")
+    process()
+    err = commands.INSTANCES["MM_Flexibility"].last_error
+    assert "select it in the tree" in err, err          # the user learns how to open the panel to mend it
+    FreeCADGui.Selection.addSelection(cp)
+    p = run_panel("MM_Flexibility")
+    assert p.obj is cp
+    close_panel()
