@@ -179,3 +179,18 @@ def test_add_module_picks_only_targets_of_its_kind(doc):
     p.target.setCurrentText("H0,2")
     assert press_ok(), p.error.text()
     assert [(m.ModuleType, m.Target) for m in sc.Modules] == [("servo_housing", "H0,2")]
+
+
+def test_new_structure_back_from_a_big_grid_keeps_the_full_grid(doc):
+    # beyond 32 rows the layout is the full grid (no buttons); coming back below 32 left no cell checked and the
+    # layout empty, so the user's grid vanished on the way back
+    p = run_panel("MM_NewStructure")
+    cols = p.cols.value()
+    type_into(p.rows, "40")
+    assert p.big() and len(p.cells()) == 40 * cols
+    type_into(p.rows, "5")
+    assert not p.big()
+    assert p.cells() == [(i, j) for i in range(5) for j in range(cols)], p.cells()
+    assert p.problems == {} and dialog_button("Ok").isEnabled(), p.problems
+    assert press_ok(), p.error.text()
+    assert sum(r.count("#") for r in structure.find_scene_objects(doc)[-1].Layout) == 5 * cols

@@ -113,6 +113,9 @@ class NewStructurePanel(BasePanel):
 
     def _rebuild(self, *_):
         keep = {k for k, b in self.buttons.items() if b.isChecked()}
+        if getattr(self, "_was_big", False):    # a big layout was the full grid: back below the limit it stays full
+            keep = {(i, j) for i in range(self.rows.value()) for j in range(self.cols.value())}
+        self._was_big = self.big()
         for w in list(self.buttons.values()) + self.headers:
             self.grid.removeWidget(w)
             w.deleteLater()
