@@ -13,23 +13,36 @@ NAME = "calibrate"
 HELP = "fit the quadratic model's k1/k2 per hinge size to the nonlinear model or to measured node angles"
 
 
-def _floats(text, field):
-    """A comma-separated list of sizes in mm: numbers, strictly increasing (each size is range-checked by
-    ``core.calibrate.check_sizes`` before any fit)."""
+def _floats(text, field, allowed=""):
+    """A comma-separated list of sizes in mm: numbers read strictly (:func:`metamaterial_wb.core.numbers.parse_float`:
+    no ``1_0``, no non-ASCII digits, no inf/nan, no subnormals; the error names the flag and the item), strictly
+    increasing (each size is range-checked by ``core.calibrate.check_sizes`` before any fit). ``allowed`` (such as
+    ``allowed range [0.1, 10) mm``) is added to the error of an item that is not a number."""
     from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.numbers import parse_float
 
     items = text.split(",")
     if len(items) > 1 and any(not x.strip() for x in items):
         raise SceneError(field, f"{text!r}: an empty item; expected comma-separated numbers in mm")
-    try:
-        vals = [float(x) for x in items if x.strip()]
-    except ValueError:
-        raise SceneError(field, f"{text!r}: expected comma-separated numbers in mm") from None
+    vals = []
+    for k, x in enumerate(items, start=1):
+        if not x.strip():
+            continue
+        try:
+            vals.append(parse_float(field, x))
+        except SceneError as e:
+            raise SceneError(field, f"item {k} of {text!r}: {e.message}" + (f"; {allowed}" if allowed else "")) \
+                from None
     if not vals:
         raise SceneError(field, f"{text!r}: expected comma-separated numbers in mm")
     if any(b <= a for a, b in zip(vals, vals[1:])):
         raise SceneError(field, f"{text!r}: expected strictly increasing numbers in mm")
     return vals
+
+
+def _allowed(low, high, high_open):
+    """``allowed range [0.1, 10) mm`` for a size flag's items."""
+    return f"sizes in mm, allowed range [{low:g}, {high:.10g}{')' if high_open else ']'} mm"
 
 
 def _check_flags(args):
@@ -80,8 +93,10 @@ def run(args):
     if args.out is not None:
         check_output(args.out, "file", "--out", inputs=_inputs(args))
     if args.source == "model":
-        lengths = _floats(args.lengths, "--lengths") if args.lengths is not None else C.DEFAULT_LENGTHS_MM
-        widths = _floats(args.widths, "--widths") if args.widths is not None else C.DEFAULT_WIDTHS_MM
+        lengths = (_floats(args.lengths, "--lengths", _allowed(C.MIN_SIZE_MM, C.MAX_LENGTH_MM, True))
+                   if args.lengths is not None else C.DEFAULT_LENGTHS_MM)
+        widths = (_floats(args.widths, "--widths", _allowed(C.MIN_SIZE_MM, C.MAX_WIDTH_MM, False))
+                  if args.widths is not None else C.DEFAULT_WIDTHS_MM)
         C.check_sizes(lengths, widths, "--lengths", "--widths")
         if C.REFERENCE_WIDTH_MM not in widths:
             raise SceneError("--widths", f"must include the reference width {C.REFERENCE_WIDTH_MM} mm (factor 1)")
@@ -124,11 +139,13 @@ def run(args):
           f"over {len(fit['nodes'])} measured free nodes")
     for n, r in zip(fit["nodes"], fit["residual_deg"]):
         print(f"  {n}: {r:+.3f} deg")
+    # the table the note compares with: the one read (--table, or the shipped one with --out), else the shipped one
     t_ref = (cal or default_calibration()).t_ref
+    which = f"--table {args.table}" if args.table is not None else f"the shipped table, {_DEFAULT_PATH}"
     if fit["thickness_mm"] != t_ref:
         print(f"note: the piece's hinge thickness {fit['thickness_mm']:g} mm differs from the table's reference "
-              f"thickness {t_ref:g} mm; the table takes k1 as independent of the thickness (its assumptions), so "
-              f"k1 is filed under the hinge length {fit['length_mm']:g} mm alone")
+              f"thickness {t_ref:g} mm ({which}); the table takes k1 as independent of the thickness (its "
+              f"assumptions), so k1 is filed under the hinge length {fit['length_mm']:g} mm alone")
     if args.out:
         width = factor = None
         if ratio is not None and fit["other_width_mm"] is not None:

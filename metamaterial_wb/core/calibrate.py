@@ -20,6 +20,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_number, range_message
+from metamaterial_wb.core.numbers import parse_float
 from metamaterial_wb.core.scene import Scene, joint_nodes, parse_joint
 from metamaterial_wb.core.scene.names import plate_side_mm
 
@@ -303,7 +304,7 @@ def fit_table_to_model(lengths=DEFAULT_LENGTHS_MM, widths=DEFAULT_WIDTHS_MM, mod
 # ----------------------------------------------------------------------------------------------------
 # measured angles (CSV)
 # ----------------------------------------------------------------------------------------------------
-_NODE_RE = re.compile(r"^\s*N?\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
+_NODE_RE = re.compile(r"^\s*N?\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$", re.ASCII)   # ASCII digits only
 
 
 def read_angles_csv(path, scene):
@@ -323,6 +324,7 @@ def read_angles_csv(path, scene):
         if not row or all(not c.strip() for c in row) or row[0].strip().startswith("#"):
             continue
         header_allowed, first = first, False
+        col = len(row)                # the angle's column in the file (3 in the N,i,j form)
         if len(row) == 3:             # N,i,j form: "N1,2" split by the CSV reader -> ["N1", "2", angle]
             row = [f"{row[0]},{row[1]}", row[2]]
         if len(row) != 2:
@@ -335,12 +337,10 @@ def read_angles_csv(path, scene):
         key = (int(m.group(1)), int(m.group(2)))
         if key not in topo.node_index:
             raise SceneError(f"{path}:{ln}", f"node N{key[0]},{key[1]} is not in the test piece's layout")
-        try:
-            a = float(row[1])
-        except ValueError:
-            raise SceneError(f"{path}:{ln}", f"angle {row[1]!r} is not a number (degrees)") from None
-        if not math.isfinite(a) or abs(a) > 90:
-            raise SceneError(f"{path}:{ln}", f"angle {a!r} deg is outside the allowed range [-90, 90]")
+        field = f"{path}:{ln} column {col} (angle_deg)"
+        a = parse_float(field, row[1])          # strict: no 1_0, no non-ASCII digits, no inf/nan, no subnormals
+        if abs(a) > 90:
+            raise SceneError(field, range_message(a, -90, 90, "deg"))
         if topo.node_index[key] in idx:
             raise SceneError(f"{path}:{ln}", f"node N{key[0]},{key[1]} is listed twice")
         idx.append(topo.node_index[key])
@@ -368,6 +368,24 @@ def _sizes_text(by_size, base):
     return ", ".join(parts)
 
 
+def check_piece_stiffness(scene):
+    """Refuse a measured test piece whose joints set ``k1`` / ``k2`` directly (per-joint overrides): the fit computes
+    k1 and k2 from the hinge sizes, so a pinned value could be neither honoured nor fitted; it was silently ignored.
+    The error names every such joint and its pinned values (docs/calibration.md, section 2)."""
+    pinned = []
+    for name in sorted(scene.joint_overrides):
+        ov = scene.joint_overrides[name]
+        keys = [k for k in ("k1", "k2") if k in ov]
+        if keys:
+            pinned.append(f"{name} (" + ", ".join(f"{k} {ov[k]:g}" for k in keys) + ")")
+    if pinned:
+        n = len(pinned)
+        raise SceneError("joints", f"{n} joint{'s' if n != 1 else ''} of the test piece set k1 / k2 directly: "
+                                   f"{', '.join(pinned[:6])}{', ...' if n > 6 else ''}; the fit computes k1 and k2 "
+                                   f"from the hinge sizes and cannot honour a pinned value; remove k1 / k2 from these "
+                                   f"joints (describe them by their hinge sizes); nothing fitted")
+
+
 def check_piece_sizes(scene):
     """Refuse a measured test piece whose hinges the fit cannot represent: more than one hinge length (k1 is filed
     under one length), more than one thickness (k2 scales with it; the fit groups joints by width only), more than
@@ -390,13 +408,15 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
 
     Only the measured nodes enter the residual. Returns a dict with k1, the k2 ratio
     ``k2(other_width_mm) / k2(base_width_mm)`` (the base width is the piece's default ``hinge.width_mm``),
-    the joints' hinge ``length_mm`` and ``thickness_mm`` (one each: :func:`check_piece_sizes`, checked first),
+    the joints' hinge ``length_mm`` and ``thickness_mm`` (one each: :func:`check_piece_sizes`, checked first; no
+    joint may set k1 / k2 directly: :func:`check_piece_stiffness`),
     residuals (D units and degrees) and per-node residuals.
 
     Raises a SceneError when the fit is not finite or ends on its search bound (k1 in [0, 1], log10 of the k2
     ratio in [-4, 4]): the measured angles then do not determine the value, and it must not enter a table.
     """
     topo = scene.topology
+    check_piece_stiffness(scene)
     check_piece_sizes(scene)
     widths = sorted({scene.joint_hinge(n)["width_mm"] for n in topo.joint_names})
     base_w = scene.hinge["width_mm"]
