@@ -4,7 +4,9 @@ k1 comes from the hinge's flexible length, k2 from its cross-section, through th
 ``core/data/calibration.json`` (its ``source`` and ``assumptions`` say where the numbers come from).
 Interpolation: piecewise linear in k1 over length; log-log linear for the k2 width factor (a power
 law between table points), times thickness / reference thickness. A length or width outside the
-table is an error that gives the table's range (no extrapolation, no silent clamping).
+table is an error that gives the table's range (no extrapolation, no silent clamping) and how to set k1 / k2
+directly; for a belt scene (``dynamics.model`` "belt", whose model never reads the hinge) it also points to
+`simulate`.
 Per-joint ``k1`` / ``k2`` overrides in the scene win over the table.
 """
 import os
@@ -94,14 +96,16 @@ class Calibration:
         lo, hi = self.len_mm[0], self.len_mm[-1]
         if not (lo <= length_mm <= hi):
             raise SceneError(f"{where}.length_mm", range_message(length_mm, lo, hi, "mm") +
-                             " of the calibration table (set k1 directly for other lengths)")
+                             " of the calibration table (set k1 directly for other lengths: "
+                             "a \"k1\" per joint in \"joints\", docs/scene-format.md)")
         return float(np.interp(length_mm, self.len_mm, self.k1_tab))
 
     def k2(self, width_mm, thickness_mm, where="hinge"):
         lo, hi = self.w_mm[0], self.w_mm[-1]
         if not (lo <= width_mm <= hi):
             raise SceneError(f"{where}.width_mm", range_message(width_mm, lo, hi, "mm") +
-                             " of the calibration table (set k2 directly for other widths)")
+                             " of the calibration table (set k2 directly for other widths: "
+                             "a \"k2\" per joint in \"joints\", docs/scene-format.md)")
         fac = np.exp(np.interp(np.log(width_mm), np.log(self.w_mm), np.log(self.w_fac)))
         return float(fac * thickness_mm / self.t_ref)
 
@@ -122,9 +126,37 @@ def joint_stiffness(scene, calibration=None):
     The default hinge is looked up in the table only for the values some joint still needs, so a
     scene whose every joint sets k1 (or k2) directly may use a base hinge outside the table.
     """
+    cal = calibration or default_calibration()
+    try:
+        return _joint_stiffness(scene, cal)
+    except SceneError as exc:
+        hint = _belt_hint(scene) if exc.field.endswith((".length_mm", ".width_mm")) else None
+        if hint is None:
+            raise
+        raise SceneError(exc.field, f"{exc.message}; {hint}") from None
+
+
+def _belt_hint(scene):
+    """What to do with a belt scene (``dynamics.model`` "belt") whose hinge is outside the table, else None.
+
+    The belt model never reads the hinge (its cells are ``dynamics.belt``), so such a scene is for `simulate`;
+    the quadratic model (`solve`, `render`) sees only its hinge sheet.
+    """
+    dyn = getattr(scene, "extra", {}).get("dynamics")
+    if not isinstance(dyn, dict):
+        return None
+    model = dyn.get("model")
+    if not (model == "belt" or (model is None and dyn.get("belt") is not None)):
+        return None
+    name = getattr(scene, "name", "") or ""
+    return (f"scene {name!r} is a belt (dynamics.model \"belt\"), whose model does not read the hinge: run it "
+            f"with `simulate` (--frames draws it); `solve` and `render` model its hinge sheet and need hinges "
+            f"in the table or k1 / k2 set on every joint")
+
+
+def _joint_stiffness(scene, cal):
     from metamaterial_wb.core.scene import parse_joint
 
-    cal = calibration or default_calibration()
     topo = scene.topology
     h = scene.hinge
     n = topo.n_joints
