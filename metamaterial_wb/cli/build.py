@@ -34,6 +34,8 @@ from metamaterial_wb.export.package import check_output_names, export_result, sa
 
 
 def add_arguments(p):
+    from metamaterial_wb.cli import number
+
     p.add_argument("scene", help="scene file (JSON, docs/scene-format.md)")
     p.add_argument("--out", required=True, help="output directory (created if missing)")
     p.add_argument("--step", action="store_true", help="write STEP files")
@@ -41,10 +43,10 @@ def add_arguments(p):
     p.add_argument("--modules", action="store_true", help="also build the scene's modules (own files)")
     p.add_argument("--layout", choices=("prusa", "components", "both"), default=None,
                    help="3MF layout(s) of the sheet (default both; not with --step alone)")
-    p.add_argument("--tolerance", type=float, default=None, metavar="MM",
+    p.add_argument("--tolerance", type=number, default=None, metavar="MM",
                    help="3MF tessellation tolerance in mm (default: fabrication.tolerance_mm, 0.05)")
     p.add_argument("--no-sockets", action="store_true", help="plain nodes without snap-fit sockets")
-    p.add_argument("--clearance", type=float, default=None, metavar="MM",
+    p.add_argument("--clearance", type=number, default=None, metavar="MM",
                    help="socket / plug clearance in mm (default: fabrication.clearance_mm, 0.2)")
     p.add_argument("--check", action="store_true",
                    help="also check rigid/flexible overlap only at the anchors of every hinge (slow on large "

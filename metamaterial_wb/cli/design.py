@@ -2,8 +2,12 @@
 
 The seed's design stage (section 4.1): validate the rotary axes, report the maximum achievable
 fold of every axis, compute the hinge tilt of every crossed joint and write the configured scene.
+``--out`` and ``--report`` are checked before any work and written together: both or neither (a failed
+write leaves both files as they were).
 """
+import json
 import os
+import shutil
 import sys
 
 NAME = "design"
@@ -24,6 +28,7 @@ def _apply_folds(scene, items):
     """Set the folds given by ``--fold``; returns ``{axis index: (the flag's key, its text)}`` (for errors)."""
     from metamaterial_wb.core.design import plan_axes
     from metamaterial_wb.core.errors import SceneError, check_number
+    from metamaterial_wb.core.numbers import parse_float
 
     given = {}
     for s in items:
@@ -31,10 +36,7 @@ def _apply_folds(scene, items):
             raise SceneError(f"--fold {s}", "expected AXIS=DEG, e.g. --fold spine=30 or --fold 0=30")
         key, _, val = s.partition("=")
         key = key.strip()
-        try:
-            v = float(val)
-        except ValueError:
-            raise SceneError(f"--fold {key}", f"{val!r} is not a number") from None
+        v = parse_float(f"--fold {key}", val)     # strictly: no 1_0, non-ASCII digits, inf/nan, subnormals
         plans = plan_axes(scene)
         hits = sorted({p.index for p in plans if key in (p.label_name, str(p.index), scene.axes[p.index].name)})
         if len(hits) > 1:
@@ -53,10 +55,61 @@ def _apply_folds(scene, items):
     return given
 
 
+def write_together(outputs):
+    """Write ``[(path, text), ...]`` (files in any folders) all together or not at all: every text goes to a
+    temporary folder beside its file first; then each file is moved into place, the one it replaces kept aside; if
+    a write or a move fails, the files already moved are taken back, the earlier ones restored and the folders this
+    call created removed, then the error is raised."""
+    from metamaterial_wb.core.fileio import make_temp_dir, write_atomic
+
+    made, staged, moved = [], [], []
+    try:
+        for path, text in outputs:
+            folder = os.path.dirname(os.path.abspath(path))
+            missing, f = [], folder
+            while not os.path.lexists(f):
+                missing.append(f)
+                f = os.path.dirname(f)
+            try:
+                os.makedirs(folder, exist_ok=True)
+            finally:
+                made += [m for m in missing if os.path.isdir(m)]
+            tmp = make_temp_dir(folder, "tmp")  # swept if this process dies
+            staged.append((os.path.abspath(path), tmp))
+            write_atomic(os.path.join(tmp, "new"), text)
+        for path, tmp in staged:
+            had_old = os.path.lexists(path)
+            if had_old:
+                os.replace(path, os.path.join(tmp, "old"))
+            moved.append((path, tmp, had_old))
+            os.replace(os.path.join(tmp, "new"), path)
+    except BaseException:
+        for path, tmp, had_old in reversed(moved):
+            try:
+                if os.path.lexists(os.path.join(tmp, "new")):
+                    pass                                    # its move failed: the earlier file is in tmp/old
+                else:
+                    os.replace(path, os.path.join(tmp, "new"))
+                if had_old:
+                    os.replace(os.path.join(tmp, "old"), path)
+            except OSError:
+                pass
+        for path, tmp in staged:
+            shutil.rmtree(tmp, ignore_errors=True)
+        for m in sorted(made, key=len, reverse=True):        # deepest first; only if empty
+            try:
+                os.rmdir(m)
+            except OSError:
+                pass
+        raise
+    for path, tmp in staged:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def run(args):
     from metamaterial_wb.core.design import configure, format_report
     from metamaterial_wb.core.errors import SceneError
-    from metamaterial_wb.core.fileio import check_output, write_atomic, write_json
+    from metamaterial_wb.core.fileio import check_output
     from metamaterial_wb.core.scene import Scene
 
     check_output(args.out, "file", "--out")     # the configured scene may replace its input (configure in place)
@@ -65,6 +118,10 @@ def run(args):
         if os.path.realpath(args.report) == os.path.realpath(args.out):
             raise SceneError("--report", f"{args.report} is also --out; the configured scene would overwrite the "
                                          f"report: give two files")
+        for a, b in ((args.report, args.out), (args.out, args.report)):     # one would need the other as a folder
+            if os.path.realpath(b).startswith(os.path.realpath(a).rstrip(os.sep) + os.sep):
+                raise SceneError("--report", f"{args.report} with --out {args.out}: {b} would be inside {a}, which "
+                                             f"is written as a file; give two files, neither inside the other")
     scene = Scene.load(args.scene)
     if not scene.axes:
         raise SceneError("axes", f"{args.scene} has no rotary axes; add \"axes\": [{{\"direction\": \"vertical\", "
@@ -77,10 +134,10 @@ def run(args):
         if idx is None:
             raise
         raise SceneError(f"--fold {given[idx][0]} ({exc.field})", exc.message) from None
-    text = scene.to_json()
+    outputs = [(args.out, scene.to_json())]          # both serialised before anything is written
     if args.report:
-        write_json(args.report, report)
-    write_atomic(args.out, text)
+        outputs.append((args.report, json.dumps(report, indent=1, allow_nan=False) + "\n"))
+    write_together(outputs)
     for line in format_report(report):      # --quiet hides the report, never a warning
         if line.startswith("warning"):
             print(line, file=sys.stderr)

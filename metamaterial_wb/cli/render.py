@@ -10,9 +10,11 @@ HELP = "draw the sheet in 3D in a given state to a PNG (no GUI needed)"
 
 
 def add_arguments(p):
+    from metamaterial_wb.cli import number
+
     p.add_argument("scene", help="scene file (JSON)")
     p.add_argument("--out", required=True, help="picture (PNG)")
-    p.add_argument("--global", dest="global_g", type=float, default=None, metavar="G",
+    p.add_argument("--global", dest="global_g", type=number, default=None, metavar="G",
                    help="global deformation: every D = G in [-1, 1] (flat 0, folded target +1)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="change one actuator's or constraint's value before solving (repeatable)")
@@ -25,10 +27,11 @@ def add_arguments(p):
 
 def _size(text):
     from metamaterial_wb.core.errors import SceneError
-    try:
-        w, h = (int(x) for x in text.lower().split("x"))
-    except ValueError:
-        raise SceneError("--size", f"{text!r}: expected WxH in pixels, e.g. 1200x800") from None
+    from metamaterial_wb.core.numbers import parse_int
+    try:                    # strictly: no 1_200, no non-ASCII digits
+        w, h = (parse_int("--size", x) for x in text.lower().split("x"))
+    except (ValueError, SceneError):
+        raise SceneError("--size", f"{text!r}: expected WxH in pixels (ASCII digits), e.g. 1200x800") from None
     if not (100 <= w <= 8000 and 100 <= h <= 8000):
         raise SceneError("--size", f"{text!r}: width and height must be in [100, 8000] px")
     return w, h
@@ -47,13 +50,13 @@ def run(args):
     if not args.out.lower().endswith(".png"):
         from metamaterial_wb.core.errors import SceneError
         raise SceneError("--out", f"{args.out}: render writes a PNG picture; give a name ending in .png")
+    size = _size(args.size)         # before any work
     scene = Scene.load(args.scene)
     sets = parse_sets(args.set)
     for name, v in sets:
         scene.set_value(name, v)
     g = chosen_global(args.global_g, sets, scene)
     elev, azim = view_angles(args.view)
-    size = _size(args.size)
     for w in (ensure_configured(scene) or {}).get("warnings", []):
         print(f"warning: {w}", file=sys.stderr)
     if g is not None:

@@ -26,11 +26,13 @@ HELP = "solve a scene: node deformations D and poses, written as JSON"
 
 
 def add_arguments(p):
+    from metamaterial_wb.cli import number
+
     p.add_argument("scene", help="scene file (JSON, docs/scene-format.md)")
     p.add_argument("--out", required=True, help="result file (JSON)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="change one actuator's or constraint's value (repeatable)")
-    p.add_argument("--global", dest="global_g", type=float, default=None, metavar="G",
+    p.add_argument("--global", dest="global_g", type=number, default=None, metavar="G",
                    help="global deformation: every D = G in [-1, 1] (perfect propagation; closed form, so no "
                         "--option)")
     p.add_argument("--model", default=None,
@@ -61,18 +63,17 @@ OPTIONS_HELP = ("Options: quadratic: backend (auto, superlu, cholmod, dense). li
 
 
 def parse_sets(items):
-    """``["m1=0.5", ...]`` -> ``[("m1", 0.5), ...]`` with clear errors."""
+    """``["m1=0.5", ...]`` -> ``[("m1", 0.5), ...]`` with clear errors; the value is read strictly
+    (:func:`metamaterial_wb.core.numbers.parse_float`: no ``1_0``, non-ASCII digits, inf/nan or subnormals)."""
     from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.numbers import parse_float
 
     out = []
     for s in items:
         if "=" not in s:
             raise SceneError(f"--set {s}", "expected NAME=VALUE, e.g. --set m1=0.5")
         name, _, val = s.partition("=")
-        try:
-            v = float(val)
-        except ValueError:
-            raise SceneError(f"--set {name}", f"{val!r} is not a number") from None
+        v = parse_float(f"--set {name.strip()}", val)
         if any(n == name.strip() for n, _ in out):
             raise SceneError(f"--set {name.strip()}", "given twice; give each actuator or constraint once")
         out.append((name.strip(), v))
@@ -105,8 +106,11 @@ def parse_options(items, model=None):
     """``["tol=1e-10", "contact=false"]`` -> ``{"tol": 1e-10, "contact": False}``: with ``model``, every
     option of its table is parsed and checked by type and range (``core.models.check_options``: a bad value
     is a SceneError ``--option KEY: VALUE; allowed: ...``); other values become numbers, booleans or text
-    for the model to check."""
+    for the model to check. Numbers are read strictly (:mod:`metamaterial_wb.core.numbers`): a text Python's
+    ``int()`` / ``float()`` would take but a person does not mean as a number (``1_0``, non-ASCII digits, inf/nan,
+    a subnormal) is a SceneError ``--option KEY``."""
     from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.numbers import parse_float, parse_int
 
     out = {}
     table = {}
@@ -119,7 +123,16 @@ def parse_options(items, model=None):
         key, _, val = s.partition("=")
         if key.strip() in out:
             raise SceneError(f"--option {key.strip()}", "given twice; give each option once")
-        if table.get(key.strip()) is not None and table[key.strip()].kind != "text":
+        opt = table.get(key.strip())
+        if opt is not None and opt.kind in ("int", "float"):    # read strictly here, its range checked below
+            read = parse_int if opt.kind == "int" else parse_float
+            try:
+                out[key.strip()] = read(f"--option {key.strip()}", val)
+            except SceneError as exc:
+                from metamaterial_wb.core.models import _allowed
+                raise SceneError(exc.field, f"{exc.message}; allowed: {_allowed(opt)}") from None
+            continue
+        if opt is not None and opt.kind != "text":
             out[key.strip()] = val.strip()          # parsed and checked by the table below
             continue
         low = val.strip().lower()
@@ -128,18 +141,48 @@ def parse_options(items, model=None):
         elif low in ("false", "no", "off"):
             v = False
         else:
-            try:
-                v = int(val)
-            except ValueError:
-                try:
-                    v = float(val)
-                except ValueError:
-                    v = val
+            v = _option_number(f"--option {key.strip()}", val)
         out[key.strip()] = v
     if model is not None:
         from metamaterial_wb.core.models import check_options
         out = check_options(model, out)
     return out
+
+
+def _option_number(field, val):
+    """An ``--option`` value that is not in the model's table as a number: an int or float when it is one (read
+    strictly), else the text; a text that Python's ``float()`` reads but :func:`core.numbers.parse_float` refuses
+    (``1_0``, non-ASCII digits, inf/nan, a subnormal) is refused, naming ``field``."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.numbers import parse_float, parse_int
+
+    try:
+        return parse_int(field, val)
+    except SceneError:
+        pass
+    try:
+        return parse_float(field, val)
+    except SceneError:
+        try:
+            float(val)
+        except ValueError:
+            return val                      # text for the model to check
+        raise
+
+
+def parse_fields(text):
+    """``--fields``: :func:`core.resultfile.parse_fields`, and a field given twice is refused, naming it."""
+    from metamaterial_wb.core import resultfile
+    from metamaterial_wb.core.errors import SceneError
+
+    names = [s.strip() for s in str(text).split(",")]
+    seen = set()
+    for n in names:
+        if n and n in seen:
+            raise SceneError("--fields", f"{text!r}: {n} given twice; give each of {', '.join(resultfile.FIELDS)} "
+                                         f"at most once")
+        seen.add(n)
+    return resultfile.parse_fields(text)
 
 
 GLOBAL_MODEL = "quadratic"     # what a global deformation's closed form is reported as (the seed's slider)
@@ -285,6 +328,7 @@ def run(args):
         npz_path = resultfile.npz_path_for(args.out)
         check_output(npz_path, "file", "--npz", inputs=[("scene", args.scene)])
     check_flags(args)
+    fields = parse_fields(args.fields)          # before any work
     model = args.model or "quadratic"
     opts = parse_options(args.option, model)
     if args.backend is not None:
@@ -302,7 +346,6 @@ def run(args):
     from metamaterial_wb.core.design import ensure_configured
     for w in (ensure_configured(scene) or {}).get("warnings", []):  # axes without joint_config: configure
         print(f"warning: {w}", file=sys.stderr)
-    fields = resultfile.parse_fields(args.fields)
     res = run_model(model, scene, global_deformation=g, **opts)
     folder = os.path.dirname(out_abs)
     if args.npz:

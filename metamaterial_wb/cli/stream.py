@@ -15,20 +15,22 @@ HELP = "stream a scene's motion to servo firmware over a serial port (servolink 
 
 
 def add_arguments(p):
+    from metamaterial_wb.cli import integer, number
+
     p.add_argument("scene", help="scene file (JSON, docs/scene-format.md)")
     p.add_argument("--port", help="serial port (/dev/ttyUSB0, /dev/ttyACM0, an emulator pty) or a pyserial URL")
-    p.add_argument("--seconds", type=float, default=10.0, help="how long to stream (default 10 s)")
+    p.add_argument("--seconds", type=number, default=10.0, help="how long to stream (default 10 s)")
     p.add_argument("--dry-run", action="store_true", help="no hardware: stream over pyserial's loop://")
     p.add_argument("--mode", choices=("stream", "osc"), default="stream",
                    help="stream: send a frame every 1/rate s (any profile); osc: send sine profiles once and let "
                         "the firmware generate them (no host timing jitter), keeping the link alive with PINGs")
-    p.add_argument("--baud", type=int, default=115200,
+    p.add_argument("--baud", type=integer, default=115200,
                    help="baud rate, 1200..4000000 (default 115200, what the firmware speaks)")
-    p.add_argument("--rate", type=float, default=50.0,
+    p.add_argument("--rate", type=number, default=50.0,
                    help="ticks per second, each sending one SET_ANGLES frame per run of adjacent channels (default "
                         "50, allowed 1..100); a rate whose frames cannot follow the motion is refused "
                         "(--rate-tolerance)")
-    p.add_argument("--rate-tolerance", type=float, default=None, metavar="DEG",
+    p.add_argument("--rate-tolerance", type=number, default=None, metavar="DEG",
                    help="how far (deg) the servos, moving linearly from frame to frame, may stray from the motion "
                         "sampled at 1 kHz before --rate is refused (default 3, allowed (0, 180]; 180 lets any rate "
                         "through)")
@@ -41,12 +43,13 @@ def add_arguments(p):
                    help="clamp angles to the channel limits instead of refusing a motion that leaves them (counted "
                         "per actuator in the summary; a servo angle, +-angle + trim_deg, past +-90 deg is still "
                         "refused)")
-    p.add_argument("--watchdog-ms", type=int, default=500, help="host silence before the firmware holds (default 500)")
-    p.add_argument("--park-after-ms", type=int, default=500, help="hold time before parking (default 500)")
-    p.add_argument("--release-after-ms", type=int, default=5000,
+    p.add_argument("--watchdog-ms", type=integer, default=500,
+                   help="host silence before the firmware holds (default 500)")
+    p.add_argument("--park-after-ms", type=integer, default=500, help="hold time before parking (default 500)")
+    p.add_argument("--release-after-ms", type=integer, default=5000,
                    help="time parked before the pulses stop (default 5000)")
     p.add_argument("--disarm", action="store_true", help="stop the pulses at the end (servos go limp)")
-    p.add_argument("--max-lost", type=int, default=0, metavar="N",
+    p.add_argument("--max-lost", type=integer, default=0, metavar="N",
                    help="frames that may go without an answer (lost = sent - acked - NAKed over the whole stream) "
                         "before the command fails with exit 1 (default 0)")
     p.add_argument("--report", metavar="FILE",

@@ -116,10 +116,19 @@ def test_ignored_flags_are_refused(tmp_path, capsys, args, needle):
 
 
 # -- defect 4: --global names the flag ----------------------------------------------------------------------------
-@pytest.mark.parametrize("g", ["2", "nan"])
+@pytest.mark.parametrize("g", ["2", "-1.5"])
 def test_bad_global_names_the_flag(tmp_path, capsys, g):
-    err = _refused(tmp_path, capsys, "--global", g, needle="--global")
+    err = _refused(tmp_path, capsys, f"--global={g}", needle="--global")
     assert err.startswith(f"error: --global: {float(g)!r}; allowed: a number in [-1, 1]"), err
+
+
+def test_global_nan_is_not_a_number(tmp_path, capsys):
+    # read strictly (core/numbers.py): nan is refused while the flag is read, naming it
+    with pytest.raises(SystemExit) as e:
+        main(["solve", FISH, "--out", str(tmp_path / "never.json"), "--global", "nan"])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and "argument --global: 'nan' is not a number" in err, err
+    assert not (tmp_path / "never.json").exists()
 
 
 # -- defect 5: --help's example works and lists the options --------------------------------------------------------
