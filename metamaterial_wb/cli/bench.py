@@ -13,10 +13,13 @@ import platform
 import sys
 import time
 
+from metamaterial_wb.cli import integer
+
 NAME = "bench"
 STORED_FE = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "benchmarks",
                          "results", "fe-study.json")
 FE_PARTS = {"hinge": "stiffness", "patch": "patch", "sleeve": "sleeve"}     # --fe-parts: the study's key in the JSON
+REPEATS, REPEATS_RANGE = 3, (1, 20)     # --repeats: default and allowed range
 HELP = "benchmarks: 'bench fidelity' writes docs/fidelity.md and its work-precision plot (error vs run time)"
 
 
@@ -30,7 +33,9 @@ def add_arguments(p):
     p.add_argument("--scenes", default=None,
                    help="comma-separated subset of chain,grid10,grid30,bending,mixed (default: all)")
     p.add_argument("--amplitudes", default=None, help="comma-separated actuator amplitudes (default 0.05,0.5)")
-    p.add_argument("--repeats", type=int, default=3, help="timing runs per model (best is reported)")
+    p.add_argument("--repeats", type=integer, default=None,
+                   help=f"timing runs per model, {REPEATS_RANGE[0]} to {REPEATS_RANGE[1]} (best is reported; default "
+                        f"{REPEATS}); not with --from-json, whose times were measured by the run that wrote it")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--fe", action="store_true",
                    help="also run the CalculiX rung (one hinge: stiffness and bending curves; the 3 x 3 patch "
@@ -42,8 +47,8 @@ def add_arguments(p):
                         "instead of running ccx again; without --fe: the FE study rendered into the report "
                         "(default: the stored one, benchmarks/results/fe-study.json, where it exists)")
     p.add_argument("--fe-json-out", default=None,
-                   help="with --fe: also write the FE study as JSON (figures not reached are null, listed in "
-                        "'nan_paths'; --fe-json reads them back)")
+                   help="with --fe (refused without it): also write the FE study as JSON (figures not reached are "
+                        "null, listed in 'nan_paths'; --fe-json reads them back)")
     p.add_argument("--fe-parts", default="hinge,patch,sleeve",
                    help="with --fe: which FE studies to run (one or more of hinge,patch,sleeve, comma-separated; every "
                         "study run or read from --fe-json is rendered into the report); "
@@ -213,7 +218,7 @@ def _command(args, amps, keys, parts):
     cmd = "python3 -m metamaterial_wb bench fidelity"
     if args.from_json:
         cmd += f" --from-json {shlex.quote(args.from_json)}"
-    elif args.repeats != 3:
+    elif args.repeats != REPEATS:
         cmd += f" --repeats {args.repeats}"
     if keys is not None:
         cmd += f" --scenes {','.join(keys)}"
@@ -232,20 +237,33 @@ def run(args):
     from metamaterial_wb.bench import fidelity
     from metamaterial_wb.core.errors import MetamaterialError, SceneError
     from metamaterial_wb.core.fileio import check_output, write_atomic, write_json
+    from metamaterial_wb.core.numbers import parse_float
 
     # every option checked before any work
     amps = fidelity.AMPLITUDES
     if args.amplitudes is not None:
         items = _list_option("--amplitudes", args.amplitudes, "amplitude", "0.05,0.5")
-        try:
-            amps = tuple(float(x) for x in items)
-        except ValueError:
-            raise SceneError("--amplitudes", f"{args.amplitudes!r}: expected numbers like 0.05,0.5") from None
-        for a in amps:
+        amps = tuple(parse_float(f"--amplitudes item {i}", x) for i, x in enumerate(items, 1))
+        for i, a in enumerate(amps, 1):
             if not (0 < a <= 1):
-                raise SceneError("--amplitudes", f"{a!r} is outside the allowed range (0, 1]")
-    if args.repeats < 1 or args.repeats > 20:
-        raise SceneError("--repeats", f"{args.repeats} is outside the allowed range [1, 20]")
+                raise SceneError(f"--amplitudes item {i}", f"{items[i - 1]!r} is outside the allowed range (0, 1]")
+            if a in amps[:i - 1]:
+                raise SceneError("--amplitudes", f"{a:g} is given more than once (items {amps.index(a) + 1} and "
+                                                 f"{i} of {args.amplitudes!r}); give each amplitude once (each is "
+                                                 "run, or read, once)")
+    if args.repeats is not None and args.from_json:
+        raise SceneError("--repeats", f"{args.repeats} with --from-json: no model runs, the report shows the times "
+                                      f"recorded in {args.from_json!r} (and how many runs they are the best of); "
+                                      "drop --repeats, or drop --from-json to measure again")
+    if args.repeats is None:
+        args.repeats = REPEATS
+    if not (REPEATS_RANGE[0] <= args.repeats <= REPEATS_RANGE[1]):
+        raise SceneError("--repeats", f"{args.repeats} is outside the allowed range [{REPEATS_RANGE[0]}, "
+                                      f"{REPEATS_RANGE[1]}]")
+    if args.fe_json_out is not None and not args.fe:
+        raise SceneError("--fe-json-out", f"{args.fe_json_out} without --fe: only a --fe run writes its FE study "
+                                          "there (without --fe the study is read, not made); add --fe, or drop "
+                                          "--fe-json-out")
     keys = None
     if args.scenes is not None:
         keys = _list_option("--scenes", args.scenes, "scene", "chain,grid10")
@@ -364,7 +382,7 @@ def run(args):
     command = _command(args, amps, keys, parts)
     try:
         text, png, sleeves, raw, lines, code = _render(args, fidelity, results, measured, command, fe_study, fe_note,
-                                                       args.fe and "sleeve" in parts)
+                                                       args.fe and "sleeve" in parts, fe_file=fe_in, fe_ran=fe_ran)
     except BaseException:
         if fe_ran:       # hours of CalculiX work are kept even when the report cannot be made
             save_fe_json()
@@ -383,11 +401,12 @@ def run(args):
     return code
 
 
-def _render(args, fidelity, results, measured, command, fe_study, fe_note, with_sleeves):
+def _render(args, fidelity, results, measured, command, fe_study, fe_note, with_sleeves, fe_file=None, fe_ran=False):
     """Everything written, in memory: ``(report, png, (sleeve png, sleeve doc) or None, --json text or None,
     summary lines, exit code)``; the sleeve document only ``with_sleeves`` (--fe with the sleeve part). Figures
-    read from --from-json / --fe-json that cannot be rendered are refused
-    naming the option."""
+    read from --from-json / --fe-json (``fe_file``: that file, or the stored study read without it) that cannot be
+    rendered are refused naming the option and the file at fault: when both were read, the raw figures are
+    rendered again without the FE study to tell which (only then, on the error path)."""
     import tempfile
 
     from metamaterial_wb.core.errors import SceneError
@@ -405,7 +424,8 @@ def _render(args, fidelity, results, measured, command, fe_study, fe_note, with_
         from metamaterial_wb.bench import fe_study as study
         fe_md = study.markdown(fe_study) + (f"\n{fe_note}\n" if fe_note else "")
     bad = (KeyError, IndexError, TypeError, ValueError, AttributeError, ZeroDivisionError, StopIteration)
-    try:
+
+    def render(fe_md, fe_study):
         text = fidelity.report_markdown(results, img_rel.replace(os.sep, "/"), machine, command=command,
                                         repeats=repeats, fe_markdown=fe_md)
         lines = [f"{s['key']:8s} amp {s['amplitude']:<5g} quadratic {s['quadratic_ms']:7.2f} ms  linear "
@@ -418,13 +438,30 @@ def _render(args, fidelity, results, measured, command, fe_study, fe_note, with_
             tmp_png = os.path.join(tmp, "plot.png")
             fidelity.plot_work_precision(results, tmp_png, fe_study)
             with open(tmp_png, "rb") as f:
-                png = f.read()
+                return text, lines, code, f.read()
+
+    try:
+        text, lines, code, png = render(fe_md, fe_study)
     except bad as exc:
-        if not (args.from_json or args.fe_json):
+        fe_read = bool(fe_study) and fe_file is not None
+        if not (args.from_json or fe_read):
             raise
-        flag = "--from-json" if args.from_json else "--fe-json"
-        raise SceneError(flag, f"{getattr(args, flag[2:].replace('-', '_'))!r}: the figures are incomplete or "
-                               f"malformed and cannot be rendered ({type(exc).__name__}: {exc})") from None
+        at_fault = "--from-json" if args.from_json else None
+        if fe_study:                         # which input: do the raw figures render without the FE study?
+            try:
+                render(None, None)
+                at_fault = "--fe-json" if fe_read else None
+            except bad:
+                pass
+        if at_fault is None:                 # the figures this run made (models or CalculiX), not a file: a bug
+            raise
+        if at_fault == "--from-json":
+            what = repr(args.from_json)
+        else:
+            what = repr(fe_file) + ("" if args.fe_json else " (the stored FE study, read without --fe-json)") + (
+                " with the FE parts this --fe run added" if fe_ran else "")
+        raise SceneError(at_fault, f"{what}: the figures are incomplete or malformed and cannot be rendered "
+                                   f"({type(exc).__name__}: {exc})") from None
     sleeves = None
     if with_sleeves and fe_study and fe_study.get("sleeve"):
         from metamaterial_wb.bench import fe_sleeve
