@@ -17,6 +17,8 @@ import re
 import shutil
 import sys
 
+from metamaterial_wb.cli import number
+from metamaterial_wb.core.dynamics.simulate import MAX_FRAMES, MAX_POSES, check_output_budget  # noqa: F401
 from metamaterial_wb.core.results import trajectory_dict  # noqa: F401  (simulate --out writes it)
 
 NAME = "simulate"
@@ -25,17 +27,17 @@ HELP = "simulate a scene's dynamics (contact, gravity, gaits) and write trajecto
 
 def add_arguments(p):
     p.add_argument("scene", help="scene file (JSON, docs/scene-format.md, section Dynamics)")
-    p.add_argument("--seconds", type=float, required=True, help="simulated time (s)")
+    p.add_argument("--seconds", type=number, required=True, help="simulated time (s)")
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--frames", action="store_true",
                    help="also write PNG frames and an animated GIF (the GIF needs ImageMagick's convert)")
     p.add_argument("--method", default=None, choices=("auto", "symplectic", "implicit"),
                    help="integrator (default: the scene's dynamics.integrator.method, else auto)")
-    p.add_argument("--dt", type=float, default=None,
+    p.add_argument("--dt", type=number, default=None,
                    help="time step (s); default: the scene's dynamics.integrator.dt_s, else automatic "
                         "(implicit: 2 ms for belts, 0.25 ms for sheets)")
-    p.add_argument("--fps", type=float, default=30.0, help="trajectory / frame rate (default 30)")
-    p.add_argument("--incline", type=float, default=None, metavar="DEG",
+    p.add_argument("--fps", type=number, default=30.0, help="trajectory / frame rate (default 30)")
+    p.add_argument("--incline", type=number, default=None, metavar="DEG",
                    help="override dynamics.incline_deg")
     p.add_argument("--no-dt-check", dest="dt_check", action="store_false",
                    help="skip the dt study (the first 2 s again at dt / 2; a warning when the motion changes)")
@@ -87,8 +89,7 @@ def write_frames(model, traj, folder, every=1):
 
 
 MAX_STEPS = 20_000_000   # time steps of one run (size budget, issue 19): ~1e-5 s of wall time each at best
-MAX_FRAMES = 1_000_000   # recorded trajectory frames
-MAX_POSES = 10_000_000   # recorded body poses (frames x bodies): ~400 bytes of memory and ~35 of trajectory.json each
+# MAX_FRAMES, MAX_POSES (recorded frames, frames x bodies): core.dynamics.simulate's, which the GUI's run checks too
 OUTPUT_FILES = ("summary.json", "trajectory.json", "motion.gif")   # what a run writes into --out (with frames/)
 FRAME_RE = re.compile(r"^frame_\d{4,}\.png$")                      # the frame files a --frames run writes
 
@@ -124,8 +125,14 @@ def check_frames_folder(out, frames):
     if not frames and "frames" not in earlier_outputs(out, "summary.json", "metamaterial-simulation",
                                                       ["summary.json", "trajectory.json"]):
         return                         # neither replaced nor removed: the user's folder, left alone
-    if os.path.islink(folder) or not os.path.isdir(folder):
-        return                         # not a folder of frames: commit_set refuses it / it is not removed
+    if os.path.islink(folder):
+        if frames:                     # replacing it would drop the user's link (and not write where it points)
+            raise SceneError("--out", f"{folder} is a symbolic link (to {os.readlink(folder)}); --frames replaces "
+                                      f"that folder as a whole and does not write through a link: remove the link "
+                                      f"or choose another output folder")
+        return                         # without --frames: not removed (earlier_outputs skips links), left alone
+    if not os.path.isdir(folder):
+        return                         # a file, not a folder of frames: commit_set refuses it / it is not removed
     try:
         names = sorted(os.listdir(folder))
     except OSError as exc:
@@ -164,7 +171,8 @@ def run(args):
     fps = check_number("--fps", args.fps, 0.0, 1000.0, "Hz", low_open=True)
     if args.dt is not None:
         check_number("--dt", args.dt, 0.0, 1.0, "s", low_open=True)
-    check_budget("--fps", seconds * fps, MAX_FRAMES, "recorded frames", f"--seconds {seconds:g} x --fps {fps:g}")
+    how = f"--seconds {seconds:g} x --fps {fps:g}"
+    check_output_budget(seconds, fps, field="--fps", how=how)
     if args.dt is not None:
         check_budget("--dt", seconds / args.dt, MAX_STEPS, "time steps", f"--seconds {seconds:g} / --dt {args.dt:g}")
     scene = Scene.load(args.scene)
@@ -180,9 +188,7 @@ def run(args):
                      f"--seconds {seconds:g} / dt_s {dt_scene:g}")
     model = build(scene, cfg)
     bodies = int(model.system.n)
-    check_budget("--fps", seconds * fps * bodies, MAX_POSES, "recorded body poses",
-                 f"--seconds {seconds:g} x --fps {fps:g} x {bodies} bodies (at most "
-                 f"{MAX_POSES // max(bodies, 1)} frames for this scene)")
+    check_output_budget(seconds, fps, bodies, field="--fps", how=how)    # simulate() checks it too (the GUI's run)
     if model.kind == "sheet":
         model.scene_nodes = scene.topology.nodes
     from metamaterial_wb.core.dynamics.integrators import StepBudgetError

@@ -25,6 +25,47 @@ DT_CHECK_CELLS = 0.05        # fraction of its travel, and at least this fractio
 ENERGY_GAIN_TOL = 0.05       # energy created by the integrator, relative to the energy turnover
 
 
+MAX_FRAMES = 1_000_000   # recorded trajectory frames of one run (size budget, issue 19)
+MAX_POSES = 10_000_000   # recorded body poses (frames x bodies): ~400 bytes of memory and ~35 of trajectory.json each
+
+
+def check_output_budget(seconds, fps, bodies=None, field="seconds", how=None):
+    """Refuse, before any work, a run that would record more than ``MAX_FRAMES`` frames or (``bodies`` given: the
+    built model's body count) more than ``MAX_POSES`` body poses (frames x bodies). The command line and the GUI's
+    background run (:func:`metamaterial_wb.core.playback.run_dynamics`) both pass here (:func:`simulate` checks).
+
+    Parameters
+    ----------
+    seconds : float
+        Simulated time (s).
+    fps : float
+        Recorded frames per second.
+    bodies : int, optional
+        Bodies of one frame.
+    field : str, optional
+        What the error names (``--fps`` on the command line).
+    how : str, optional
+        How the run was asked for, for the message (``--seconds 10 x --fps 30``); default ``10 s at 30 frames/s``.
+
+    Raises
+    ------
+    SceneError
+        Over the budget; the message names the frames, the bodies and the limit.
+    """
+    from ..errors import SceneError
+
+    how = how or f"{seconds:g} s at {fps:g} frames/s"
+    frames = seconds * fps
+    if frames > MAX_FRAMES:
+        raise SceneError(field, f"{how} asks for {frames:.3g} recorded frames; at most {MAX_FRAMES} are allowed "
+                                f"(the size budget)")
+    if bodies is not None and frames * bodies > MAX_POSES:
+        raise SceneError(field, f"{how} x {bodies} bodies asks for {frames * bodies:.3g} recorded body poses "
+                                f"({frames:.6g} frames; at most {MAX_POSES // max(bodies, 1)} frames for this scene); "
+                                f"at most {MAX_POSES} are allowed (the size budget): shorten the run or record fewer "
+                                f"frames per second")
+
+
 def _start(scene, cfg, model, settle):
     sim = Simulator(model.system, model.q0, actuate=model.actuate)
     sim.default_implicit_dt = getattr(model, "default_dt", None) or sim.default_implicit_dt
@@ -94,17 +135,20 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
     The bodies start at a static equilibrium under gravity and the actuators' values at t = 0 when
     ``dynamics.initial_state`` is ``"settled"`` (the default for sheets). ``dt_check``: also run the
     first ``DT_CHECK_WINDOW_S`` at dt / 2 and warn when the motion changes (``summary["dt_study"]``).
-    ``max_steps``: the most time steps the run may take (``StepBudgetError`` before the first one)."""
+    ``max_steps``: the most time steps the run may take (``StepBudgetError`` before the first one); more than
+    ``MAX_FRAMES`` recorded frames or ``MAX_POSES`` recorded body poses are refused before any work
+    (:func:`check_output_budget`)."""
     t_wall = time.perf_counter()
     cfg = cfg or dynamics_config(scene)
     model = model or build(scene, cfg)
     method = method or cfg["integrator"]["method"]
     if dt is None:
         dt = cfg["integrator"]["dt_s"]
-    sim, settled = _start(scene, cfg, model, True)
-    traj = Trajectory()
     if record_dt is None:
         record_dt = max(seconds / 200.0, 1e-3)
+    check_output_budget(seconds, 1.0 / record_dt, int(model.system.n))    # before settling / integrating
+    sim, settled = _start(scene, cfg, model, True)
+    traj = Trajectory()
 
     def rec(S):
         traj.t.append(S.t)
