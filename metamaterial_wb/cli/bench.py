@@ -49,15 +49,16 @@ def add_arguments(p):
     p.add_argument("--fe-json-out", default=None,
                    help="with --fe (refused without it): also write the FE study as JSON (figures not reached are "
                         "null, listed in 'nan_paths'; --fe-json reads them back)")
-    p.add_argument("--fe-parts", default="hinge,patch,sleeve",
+    p.add_argument("--fe-parts", default=None,
                    help="with --fe: which FE studies to run (one or more of hinge,patch,sleeve, comma-separated; every "
                         "study run or read from --fe-json is rendered into the report); "
                         "sleeve: the sleeve's unit cell and four-cell ring (2-D plane strain) against the beam model, "
                         "written into --sleeves-out")
-    p.add_argument("--sleeves-out", default=os.path.join("docs", "sleeves.md"),
-                   help="with --fe and the sleeve part: the document whose marked FE section is rewritten")
-    p.add_argument("--sleeves-img", default=os.path.join("docs", "img", "sleeve-fe-check.png"),
-                   help="with --fe and the sleeve part: its plot (PNG)")
+    p.add_argument("--sleeves-out", default=None,
+                   help="with --fe and the sleeve part: the document whose marked FE section is rewritten (default "
+                        "docs/sleeves.md)")
+    p.add_argument("--sleeves-img", default=None,
+                   help="with --fe and the sleeve part: its plot (PNG; default docs/img/sleeve-fe-check.png)")
     p.add_argument("--from-json", default=None,
                    help="render the report and plot from the raw figures of a previous run (its --json file) "
                         "instead of running the models again; --scenes / --amplitudes select among its results "
@@ -233,6 +234,31 @@ def _command(args, amps, keys, parts):
     return cmd
 
 
+SLEEVES_OUT = os.path.join("docs", "sleeves.md")
+SLEEVES_IMG = os.path.join("docs", "img", "sleeve-fe-check.png")
+
+
+def _fe_only_flags(args):
+    """Refuse the flags of a --fe run given without --fe (and the sleeve outputs without the sleeve part): they
+    would be ignored; then fill in their defaults."""
+    from metamaterial_wb.core.errors import SceneError
+
+    given = [(f, v) for f, v in (("--fe-parts", args.fe_parts), ("--sleeves-out", args.sleeves_out),
+                                 ("--sleeves-img", args.sleeves_img)) if v is not None]
+    if given and not args.fe:
+        flag, v = given[0]
+        raise SceneError(flag, f"{v} without --fe: only a --fe run uses it (without --fe the FE study is read, not "
+                               "made); add --fe, or drop " + flag)
+    args.fe_parts = args.fe_parts if args.fe_parts is not None else ",".join(FE_PARTS)
+    if "sleeve" not in [x.strip() for x in args.fe_parts.split(",")]:
+        for flag, v in given:
+            if flag != "--fe-parts":
+                raise SceneError(flag, f"{v} without the sleeve part of --fe-parts ({args.fe_parts!r}): only the "
+                                       "sleeve study writes it; add sleeve to --fe-parts, or drop " + flag)
+    args.sleeves_out = args.sleeves_out if args.sleeves_out is not None else SLEEVES_OUT
+    args.sleeves_img = args.sleeves_img if args.sleeves_img is not None else SLEEVES_IMG
+
+
 def run(args):
     from metamaterial_wb.bench import fidelity
     from metamaterial_wb.core.errors import MetamaterialError, SceneError
@@ -271,6 +297,7 @@ def run(args):
         for k in keys:
             if k not in known:
                 raise SceneError("--scenes", f"{k!r} is not a standard scene; known: {', '.join(known)}")
+    _fe_only_flags(args)
     parts = [x.strip() for x in args.fe_parts.split(",") if x.strip()]
     if not parts:
         raise SceneError("--fe-parts", f"{args.fe_parts!r} names no FE study; allowed: one or more of hinge, patch, "

@@ -5,7 +5,9 @@
 * ``--amplitudes 0.05,0.05`` ran the same amplitude twice: refused, naming the repeated value; the items are
   read strictly (``0.0_5``, non-ASCII digits, ``nan`` are not numbers) and so is ``--repeats``;
 * with ``--from-json`` and ``--fe-json`` a figure that cannot be rendered was always blamed on ``--from-json``:
-  the file actually at fault is named.
+  the file actually at fault is named;
+* `--fe-parts`, `--sleeves-out`, `--sleeves-img` without `--fe` (and the sleeve outputs without the sleeve part)
+  were ignored too: refused.
 
 Fast: every input is a small JSON written here (one chain scene, three models) or the stored FE study; no
 model and no CalculiX runs (every invocation passes ``--from-json``, so even a regression cannot start the
@@ -170,3 +172,33 @@ def test_render_error_in_the_raw_figures_names_from_json(raw, tmp_path, capsys):
     rc, _, err = bench(capsys, "--from-json", src, "--fe-json", good, *outs(tmp_path))
     refused(rc, err, "--from-json", tmp_path / "r.md", tmp_path / "r.png")
     assert "bad-run.json" in err and "cannot be rendered" in err and "good-fe.json" not in err
+
+
+# ---------------------------------------------------------------------------------------------------------
+# 5. the other --fe-only flags: --fe-parts, --sleeves-out, --sleeves-img without --fe were ignored too
+# ---------------------------------------------------------------------------------------------------------
+def _fe_only_value(tmp_path, flag):
+    if flag == "--fe-parts":
+        return "hinge"
+    if flag == "--sleeves-out":
+        doc = tmp_path / "sleeves.md"
+        doc.write_text("# sleeves\n", encoding="utf-8")
+        return doc
+    return tmp_path / "sleeve.png"
+
+
+@pytest.mark.parametrize("flag", ["--fe-parts", "--sleeves-out", "--sleeves-img"])
+def test_fe_only_flags_without_fe_are_refused(raw, tmp_path, capsys, flag):
+    rc, _, err = bench(capsys, "--from-json", raw, flag, _fe_only_value(tmp_path, flag), *outs(tmp_path))
+    refused(rc, err, flag, tmp_path / "r.md", tmp_path / "r.png")
+    assert "without --fe" in err
+
+
+@pytest.mark.parametrize("flag", ["--sleeves-out", "--sleeves-img"])
+def test_sleeve_outputs_without_the_sleeve_part_are_refused(raw, tmp_path, capsys, flag):
+    # refused before any CalculiX work (the check runs with the other option checks; the code before the fix ran
+    # the hinge study here and wrote no sleeve file)
+    rc, _, err = bench(capsys, "--from-json", raw, "--fe", "--fe-parts", "hinge", flag, _fe_only_value(tmp_path, flag),
+                       *outs(tmp_path))
+    refused(rc, err, flag, tmp_path / "r.md", tmp_path / "r.png")
+    assert "sleeve" in err
