@@ -143,10 +143,16 @@ def test_stored_rows_show_what_they_are(doc):
     sc = open_fish(doc)
     p = run_panel("MM_Animate")
     head, tail = list(p.shapes)[:2]
-    p.set_shape(head, "square")
     p.set_shape(tail, "keyframes")
     process()
     assert press_ok(), p.error.text()
+    # steps that are no square the panel writes (a square it wrote reopens as a square: test_gui_animate_stored_square)
+    doc.openTransaction("steps")
+    items(sc)[head].ProfileShape = "steps"
+    items(sc)[head].ProfileData = json.dumps({"times_s": [0.0, 0.5, 1.0], "values": [0.5, -0.5, 0.25],
+                                              "period_s": 2.0})
+    doc.commitTransaction()
+    doc.recompute()
     stored = items(sc)[head].ProfileData, items(sc)[tail].ProfileData
     assert items(sc)[head].ProfileShape == "steps" and items(sc)[tail].ProfileShape == "keyframes"
     p = run_panel("MM_Animate")

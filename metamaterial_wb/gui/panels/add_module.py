@@ -3,7 +3,8 @@
 A joint carries at most one module and a node socket at most one: a second module on the same joint
 or node is refused in the panel, naming the module already there (checked while choosing, before OK).
 Only a target of the chosen module's kind is picked in the 3D view: a click on a hinge for a node module
-(or on a node for a joint module) picks nothing, keeps the target and says what the module goes on.
+(or on a node for a joint module) picks nothing, keeps the target and says what the module goes on; the
+hover marker lights only targets of the chosen kind (the other kind is named as no target, unlit).
 """
 from PySide import QtGui
 
@@ -64,6 +65,8 @@ class AddModulePanel(BasePanel):
         else:
             self.target.addItems([f"N{i},{j}" for i, j in self.scene.topology.nodes])
         self.set_problem("pick", "")
+        if getattr(self, "picker", None) is not None:
+            self.picker.refresh()             # the candidate under the cursor may have become (no) target
         if getattr(self, "pick_label", None) is not None:
             self.pick_label.setText(translate("Metamaterial", "Click a hinge in the 3D view") if self.on_joint()
                                     else translate("Metamaterial", "Click a node in the 3D view"))
@@ -75,6 +78,11 @@ class AddModulePanel(BasePanel):
             if where == target:
                 return m.get("name") or f"{m.get('type', 'module')} #{k + 1}"
         return None
+
+    def is_target(self, kind):
+        """Whether a hinge (``kind`` "joint") / node ("node") is a target of the chosen module (the picker
+        lights only these)."""
+        return (kind == "joint") == self.on_joint()
 
     def _check(self, *_):
         target = self.target.currentText()
@@ -99,7 +107,7 @@ class AddModulePanel(BasePanel):
 
     def picked(self, kind, name, hover=False):
         """A hinge / node under the cursor or clicked: a pick when it fits the module, else the reason why not."""
-        if (kind == "joint") == self.on_joint():
+        if self.is_target(kind):
             return super().picked(kind, name, hover)
         what = "hinge" if kind == "joint" else "node"
         if hover:

@@ -24,7 +24,8 @@ from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel, _slider, np_zeros
 from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
-from metamaterial_wb.gui.panels.profiles import SHAPES, KeyframeTable, keyframes_profile, wave_profile
+from metamaterial_wb.gui.panels.profiles import (SHAPES, WAVE_DECIMALS, KeyframeTable, keyframes_profile,
+                                                 square_fields, wave_profile)
 from metamaterial_wb.gui.panels.stream import ServoAngles, StreamController, hardware_available
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
@@ -79,9 +80,15 @@ class AnimatePanel(BasePanel):
             p = a.profile or {"shape": "sine", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
             self.table.setItem(r, 0, QtGui.QTableWidgetItem(a.name))
             shape = p.get("shape", "sine")
+            # a square the panel wrote (stored as steps) shows as a square again, its boxes editable
+            square = square_fields(p) if shape == "steps" else None
+            wave = dict(zip(("amplitude", "frequency_hz", "phase_deg"), square)) if square else \
+                (p if shape == "sine" else {})
             combo = QtGui.QComboBox()
             combo.addItems(SHAPES)
-            if shape in ("sine", "keyframes"):
+            if square:
+                combo.setCurrentText("square")
+            elif shape in ("sine", "keyframes"):
                 combo.setCurrentText(shape)
             else:                                  # steps / constant from a file: kept as stored until changed
                 self.stored[a.name] = dict(p)
@@ -95,10 +102,10 @@ class AnimatePanel(BasePanel):
             sp = []
             for c, (key, default) in enumerate((("amplitude", 0.5), ("frequency_hz", 0.5), ("phase_deg", 0.0)), start=2):
                 w = QtGui.QDoubleSpinBox()
-                w.setDecimals(3 if key != "phase_deg" else 1)
+                w.setDecimals(WAVE_DECIMALS[c - 2])
                 ranges.bind(w, "profile." + key)
                 w.setSingleStep(0.05 if key != "phase_deg" else 15.0)
-                w.setValue(float(p.get(key, default)) if shape == "sine" else default)
+                w.setValue(float(wave.get(key, default)))
                 w.valueChanged.connect(self._profiles_changed)
                 self.spin_tips[w] = w.toolTip()
                 self.table.setCellWidget(r, c, w)

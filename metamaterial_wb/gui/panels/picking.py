@@ -6,6 +6,8 @@ ray (from the camera through the cursor) and picks the joint whose hinge midpoin
 two node centres, as displayed) lies nearest to that ray, within half a cell pitch; nodes likewise by
 their centres. The candidate under the cursor is highlighted (a yellow marker) and named in the panel
 before the click; a click picks it and is consumed, so FreeCAD's own selection does not act on it.
+A panel that watches both kinds but takes only one (Add module: a node or a joint, by module) says so with
+``is_target(kind)``: a candidate of the other kind is still named in the panel (as no target) but not lit.
 """
 import numpy as np
 
@@ -133,8 +135,18 @@ class Picker:
         return cands[k] if dist <= self.reach else None
 
     # events -----------------------------------------------------------------------------
+    def is_target(self, kind):
+        """Whether a candidate of ``kind`` (``"joint"`` / ``"node"``) is a target now: the panel's
+        ``is_target(kind)`` when it has one, else every kind watched."""
+        judge = getattr(self.panel, "is_target", None)
+        return True if judge is None else bool(judge(kind))
+
+    def refresh(self):
+        """Light the candidate under the cursor again after the panel's targets changed (a new module kind)."""
+        self._highlight(self.hover)
+
     def _highlight(self, hit):
-        if hit is None:
+        if hit is None or not self.is_target(hit[0]):
             self.switch.whichChild = self.coin.SO_SWITCH_NONE
         else:
             p = hit[2]

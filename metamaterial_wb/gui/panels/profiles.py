@@ -4,6 +4,8 @@ Square and triangle waves are written as the scene format's ``steps`` and ``keyf
 (docs/scene-format.md), with the same amplitude / frequency / phase (deg) meaning as the sine: the
 square is ``A sign(sin(2 pi f t + phase))``, the triangle has its peaks where the sine has them. A
 ``keyframes`` profile is a small time / value table, linear in between, repeating every period.
+A stored ``steps`` profile that is exactly such a square (``square_fields``: the encoding ``wave_profile`` writes
+for amplitude / frequency / phase the panel's boxes can hold) is shown as a square again.
 """
 import math
 
@@ -16,13 +18,16 @@ from metamaterial_wb.gui.panels.base import button_row
 from metamaterial_wb.gui.i18n import translate
 
 SHAPES = ["sine", "square", "triangle", "keyframes"]
+# decimals of the Animate panel's amplitude, frequency (Hz) and phase (deg) boxes
+WAVE_DECIMALS = (3, 3, 1)
 
 
 def _keys(period, points):
     """Sorted ``(times, values)`` from ``[(t, v)]`` wrapped into [0, period), a key at t = 0 first."""
     pts = {}
     for t, v in points:
-        pts[round(math.fmod(math.fmod(t, period) + period, period), 9)] = v
+        r = round(math.fmod(math.fmod(t, period) + period, period), 9)
+        pts[0.0 if r >= period else r] = v      # rounded onto the period itself: that is t = 0 of the next one
     ts = sorted(pts)
     return [float(t) for t in ts], [float(pts[t]) for t in ts]
 
@@ -57,6 +62,62 @@ def wave_profile(shape, amplitude, frequency_hz, phase_deg, motor=None):
         times, values = _keys(period, [(0.0, v0), (t_of(0.5 * math.pi), a), (t_of(1.5 * math.pi), -a)])
         return {"shape": "keyframes", "times_s": times, "values": values, "period_s": period}
     raise ValueError(f"unknown wave shape {shape!r}")
+
+
+def _number(x):
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _same_numbers(a, b):
+    """Equal lists of numbers, zeros of the same sign (a square of amplitude 0 keeps +0.0 / -0.0 apart)."""
+    return (isinstance(a, list) and len(a) == len(b) and all(_number(x) for x in a)
+            and all(x == y and math.copysign(1.0, x) == math.copysign(1.0, y) for x, y in zip(a, b)))
+
+
+def square_fields(profile):
+    """``(amplitude, frequency_hz, phase_deg)`` of a ``steps`` profile that is exactly the square wave
+    ``wave_profile("square", ...)`` writes for values the panel's boxes hold (``WAVE_DECIMALS``), else None.
+
+    The phase is given in (-180, 180] deg (a square stored with 270 deg shows -90 deg: the stored profile
+    is the same). Any other steps profile (other values, times or fields, a hair off) gives None."""
+    if not isinstance(profile, dict) or profile.get("shape") != "steps" or \
+            set(profile) != {"shape", "times_s", "values", "period_s"}:
+        return None
+    times, values, period = profile["times_s"], profile["values"], profile["period_s"]
+    if not (isinstance(times, list) and isinstance(values, list) and 1 <= len(times) == len(values) <= 3
+            and all(_number(x) for x in times + values) and _number(period) and period > 0):
+        return None
+    amp = round(abs(float(values[0])), WAVE_DECIMALS[0])
+    freq = round(1.0 / float(period), WAVE_DECIMALS[1])
+    lo, hi = PROFILE_RANGES["frequency_hz"]
+    if not (PROFILE_RANGES["amplitude"][0] <= amp <= PROFILE_RANGES["amplitude"][1] and lo < freq <= hi):
+        return None
+    # each key gives a phase: a +A key at t starts where 2 pi f t + phase = 0, a -A key where it is pi (a key a
+    # hair before the period end, from the wrap, is tried too); the phase in (-180, 180] first, then one or more
+    # turns away (those can differ in the last digit of a wrapped time), nearest to 0 first
+    low, high = PROFILE_RANGES["phase_deg"]
+    turns = sorted(range(-int(high // 360) - 1, int(high // 360) + 2), key=lambda k: (abs(k), k))
+    firsts = []
+    for t, v in zip(times, values):
+        turn = round(math.fmod((0.0 if math.copysign(1.0, v) > 0 else 180.0) - 360.0 * float(t) / float(period),
+                               360.0), WAVE_DECIMALS[2])
+        turn = turn + 360.0 if turn <= -180.0 else (turn - 360.0 if turn > 180.0 else turn)
+        if turn not in firsts:
+            firsts.append(turn)
+    tried = set()
+    for phase in (round(turn + 360.0 * k, WAVE_DECIMALS[2]) for k in turns for turn in firsts):
+        if not low <= phase <= high or phase in tried:
+            continue
+        tried.add(phase)
+        phase = 0.0 if phase == 0 else phase
+        try:
+            want = wave_profile("square", amp, freq, phase)
+        except (SceneError, ValueError, ZeroDivisionError):  # pragma: no cover - freq > 0 checked
+            return None
+        if _same_numbers(times, want["times_s"]) and _same_numbers(values, want["values"]) and \
+                float(period) == want["period_s"]:
+            return amp, freq, phase
+    return None
 
 
 def keyframes_profile(points, period_s):
