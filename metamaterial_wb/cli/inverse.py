@@ -14,6 +14,8 @@ import os
 import sys
 import time
 
+from metamaterial_wb.cli import integer
+
 NAME = "inverse"
 WORKERS_RANGE = (1, 256)
 HELP = "inverse design: place N servos and find their values that best reach a target shape"
@@ -25,7 +27,7 @@ def add_arguments(p):
     p.add_argument("--target", required=True,
                    help="target: target JSON (docs/inverse.md), a solve result JSON, or a surface "
                         "(.stl, .obj; .step/.stp with FreeCAD)")
-    p.add_argument("--servos", type=int, default=None,
+    p.add_argument("--servos", type=integer, default=None,
                    help="servo budget N (required, except with --values-only; not with --values-only)")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--values-only", action="store_true", help="keep the scene's actuators; fit their values only")
@@ -45,11 +47,11 @@ def add_arguments(p):
     p.add_argument("--evaluate", default="quadratic,linear,nonlinear",
                    help="models the answer is evaluated with (comma-separated, at least one; default all three; "
                         "the --model model is added when left out)")
-    p.add_argument("--screen", type=int, default=None,
+    p.add_argument("--screen", type=integer, default=None,
                    help="placements fully fitted per search round, 0..1000 (0: every candidate; default 12; "
                         "not with --values-only)")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=int, default=None,
+    g.add_argument("--workers", type=integer, default=None,
                    help="local worker processes of the placement search, 1..256 (default 1; not with --values-only)")
     g.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                    help="a Dask scheduler to run the placement search on: tcp://HOST:PORT or tls://HOST:PORT "

@@ -49,6 +49,7 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
     d = base.to_dict()
     g = d.pop("global_deformation", None)
     if g is not None and warnings is not None:
+        g = g + 0.0                                   # a stored -0.0 reads 0 in the note (no negative zero)
         note = (f"the scene's global deformation ({g:g}) was dropped from the answer so that the servos act: "
                 f"solve solves a stored global deformation (every D = {g:g}) instead of the actuators' values")
         if note not in warnings:
@@ -62,7 +63,7 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
         a = copy.deepcopy(old.get((name, j), {"name": name, "joint": j}))
         a["value"] = round_value(values[0, k])
         if len(frames) > 1:
-            prof = {"shape": "keyframes", "times_s": [float(f.time_s) for f in frames],
+            prof = {"shape": "keyframes", "times_s": [float(f.time_s) + 0.0 for f in frames],
                     "values": [round_value(v) for v in values[:, k]]}
             if problem.target.period_s is not None:
                 prof["period_s"] = float(problem.target.period_s)
@@ -182,7 +183,7 @@ def round_value(v):
     v = float(v)
     if abs(v) > 1.0 and abs(v) - 1.0 < 1e-12:
         v = float(np.sign(v))
-    return v
+    return v + 0.0                     # -0.0 is stored as 0.0 (no negative zero in the answer scene)
 
 
 def frame_scene(scene, problem, fi, values_row):

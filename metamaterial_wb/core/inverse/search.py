@@ -235,12 +235,17 @@ class PlacementSearch:
                 raise SceneError("candidates", f"joint {c!r} does not exist in this scene")
         self.nodes = {j: set(problem._joint_nodes(j)) for j in pool}
         self.allowed = [j for j in pool if j not in forbidden and not (self.nodes[j] & problem.fixed_nodes)]
+        most = self._max_independent()      # the scene's real limit: joints without a shared node
+        if most < 1:
+            raise SceneError("--servos", f"{self.n}: no joint can take a servo (every joint is forbidden or at a "
+                                         f"constrained node)")
         if self.n < 1:
-            raise SceneError("--servos", f"{self.n} is outside the allowed range [1, {len(self.allowed)}]")
-        if self.n > self._max_independent():
-            raise SceneError("--servos", f"{self.n} servos do not fit: at most {self._max_independent()} joints "
-                                         f"without a shared node are allowed (forbidden joints and constraints "
-                                         f"removed)")
+            raise SceneError("--servos", f"{self.n} is outside the allowed range [1, {most}] (at most {most} joints "
+                                         f"without a shared node; forbidden joints and constraints removed)")
+        if self.n > most:
+            raise SceneError("--servos", f"{self.n} servos do not fit: {self.n} is outside the allowed range "
+                                         f"[1, {most}] (at most {most} joints without a shared node are allowed; "
+                                         f"forbidden joints and constraints removed)")
         self.screen = int(screen)
         base_map = mapper or serial_map
         # every evaluation with one BLAS thread, wherever it runs (:func:`one_blas_thread`)

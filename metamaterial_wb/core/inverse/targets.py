@@ -214,7 +214,14 @@ def fold_ranges_deg(scene):
     for phi in (closing, -opening):
         vals.append(np.degrees(kin.fold_from_tilt(tilt, par * phi)))
     vals = np.array(vals)
-    return vals.min(axis=0), vals.max(axis=0)
+    return vals.min(axis=0) + 0.0, vals.max(axis=0) + 0.0       # + 0.0: an untilted joint's range is [0, 0], not -0
+
+
+def _g(x):
+    """``x`` printed with 4 significant digits, never as a negative zero (a -0.0, or a tiny negative that rounds
+    to 0, reads 0)."""
+    text = f"{float(x):.4g}"
+    return text[1:] if text.startswith("-") and float(text) == 0 else text
 
 
 def _parse_folds(scene, items, wf, where):
@@ -257,10 +264,10 @@ def _parse_folds(scene, items, wf, where):
             js = np.asarray(p.joints, dtype=np.int64)
             row[js] = 1.0 / len(js)
             label = f"axis {p.label_name}"
-            rlo, rhi = float(np.mean(lo[js])), float(np.mean(hi[js]))
+            rlo, rhi = float(np.mean(lo[js])) + 0.0, float(np.mean(hi[js])) + 0.0
         if not (rlo - 1e-9 <= val <= rhi + 1e-9):
             raise TargetError(f"{f}.fold_deg", f"{val!r} deg at {label} is unreachable: the reachable range of "
-                                               f"the scene's hinges is [{rlo:.4g}, {rhi:.4g}] deg "
+                                               f"the scene's hinges is [{_g(rlo)}, {_g(rhi)}] deg "
                                                f"(tilt and rotation limits; docs/kinematics.md)")
         rows.append(row)
         target.append(val)
@@ -324,6 +331,38 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
     return SurfaceTerm(surf, idx, src)
 
 
+NODE_SCALE_RANGE = (0.2, 5.0)   # target / flat distance of neighbouring nodes (cells do not stretch; about 0.9-1.4)
+
+
+def _check_node_units(scene, nodes, where):
+    """Refuse node positions in other units than mm, as a surface far from the sheet is refused: the median
+    distance of the target's neighbouring nodes (two nodes of one joint) against theirs on the flat sheet must be
+    within ``NODE_SCALE_RANGE`` (the cells are rigid plates: a bending or opening sheet keeps it near 1; metres
+    give 0.001). Not checked when the target has no two neighbouring nodes."""
+    from metamaterial_wb.core.kinematics import flat_positions_mm
+    pairs = np.asarray(scene.topology.joint_pairs, dtype=np.int64).reshape(-1, 2)
+    at = {int(n): k for k, n in enumerate(nodes.idx)}
+    both = [(at[int(a)], at[int(b)], int(a), int(b)) for a, b in pairs if int(a) in at and int(b) in at]
+    if not both:
+        return
+    k = np.array(both, dtype=np.int64)
+    flat = flat_positions_mm(scene)
+    d_flat = np.linalg.norm(flat[k[:, 2]] - flat[k[:, 3]], axis=1)
+    d_tgt = np.linalg.norm(nodes.pos[k[:, 0]] - nodes.pos[k[:, 1]], axis=1)
+    ok = d_flat > 0
+    if not np.any(ok):
+        return
+    ratio = float(np.median(d_tgt[ok] / d_flat[ok]))
+    lo, hi = NODE_SCALE_RANGE
+    if not lo <= ratio <= hi:
+        raise TargetError(where, f"neighbouring target nodes are {_g(float(np.median(d_tgt[ok])))} mm apart "
+                                 f"(median of {int(ok.sum())} pairs), {ratio:.3g} times their distance on the flat "
+                                 f"sheet ({_g(float(np.median(d_flat[ok])))} mm); allowed: {lo:g} to {hi:g} times "
+                                 f"(the cells do not stretch): give position_mm in mm (a target that small or large "
+                                 f"is taken for a mistake: units other than mm, e.g. metres), or align: similarity "
+                                 f"to fit the scale")
+
+
 def _triangles(items, where):
     """``(t, 3, 3)`` triangles of a ``surface.triangles`` list: each three ``[x, y, z]`` points in mm."""
     if not isinstance(items, list) or not items:
@@ -358,11 +397,14 @@ def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     if not isinstance(d, dict):
         raise TargetError(where or "target", f"expected an object, got {type(d).__name__}")
     _keys(d, _FRAME_KEYS | (set() if where else _TOP_KEYS), where)
-    fr = Frame(time_s=_num(d.get("time_s", 0.0), f"{pre}time_s", 0, TIME_MAX_S, "s"), name=str(d.get("name", "")))
+    fr = Frame(time_s=_num(d.get("time_s", 0.0), f"{pre}time_s", 0, TIME_MAX_S, "s") + 0.0,   # -0 s is 0 s
+               name=str(d.get("name", "")))
     align = fr.align = _align(d.get("align", "rigid"), f"{pre}align")
     rw, wf = _weights(d, pre)          # checked even when the frame has no nodes / folds to weigh
     if "nodes" in d:
         fr.nodes = _parse_nodes(scene, d["nodes"], rw, f"{pre}nodes", f"{pre}rotation_weight_mm")
+        if align != "similarity":                  # a similarity alignment fits the scale: any unit fits
+            _check_node_units(scene, fr.nodes, f"{pre}nodes")
         if len(fr.nodes.idx) < 3 and align != "none":
             fr.align = "none"          # fewer than 3 points do not fix a rigid transform
     if "folds" in d:
@@ -374,7 +416,7 @@ def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     return fr
 
 
-def _from_result(d, source=None):
+def _from_result(d, source=None, scene=None):
     """The target frame of a ``solve`` result ``d`` (its nodes' positions; rotations are not used).
 
     ``d`` is a JSON result (``nodes`` list) or the JSON half of ``solve --npz`` (an ``"arrays"`` entry, no
@@ -382,6 +424,12 @@ def _from_result(d, source=None):
     (the JSON file's path). A result that did not converge, or one written without the poses
     (``--fields D`` / ``joints``), is refused."""
     src = f"the result file {source!r}" if source else "the result"
+    own = getattr(scene, "name", None)
+    theirs = d.get("scene")
+    if isinstance(own, str) and own and isinstance(theirs, str) and theirs and theirs != own:
+        raise TargetError("scene", f"{theirs!r}: {src} is a result of the scene {theirs!r}, not of this scene "
+                                   f"{own!r}; allowed: a solve result of this scene (its node positions are the "
+                                   f"target; another scene's nodes are other nodes)")
     if d.get("converged") is False:
         raise TargetError("converged", f"false: {src} is of a solve that did not converge (its node positions are "
                                        f"not an equilibrium of the scene); allowed: a converged result (solve "
@@ -417,6 +465,11 @@ def _from_result(d, source=None):
                                    f"(or all)")
     if not isinstance(nodes, list) or not nodes:
         raise TargetError("nodes", f"{src} has no nodes")
+    n_scene = getattr(getattr(scene, "topology", None), "n_nodes", None)
+    if n_scene is not None and len(nodes) != n_scene:   # a result lists every node of its scene
+        raise TargetError("nodes", f"{src} has {len(nodes)} nodes, this scene {own or ''} has {n_scene}: it is a "
+                                   f"result of another scene (its scene field says {theirs!r}); allowed: a solve "
+                                   f"result of this scene")
     items = []
     for k, nd in enumerate(nodes):
         if not isinstance(nd, dict):
@@ -446,7 +499,7 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None, source=None):
         raise TargetError(exc.field, exc.message) from None
     fmt = data.get("format", FORMAT)
     if fmt == "metamaterial-result":
-        data = _from_result(data, source)
+        data = _from_result(data, source, scene)
     elif fmt != FORMAT:
         raise TargetError("format", f"{fmt!r}; expected \"{FORMAT}\" or a solve result \"metamaterial-result\"")
     else:
@@ -487,6 +540,10 @@ def load_target(scene, path, mesh_loader=None):
     ext = os.path.splitext(path)[1].lower()
     if not os.path.exists(path):
         raise TargetError("", f"file {path!r} does not exist")
+    if os.path.isdir(path):
+        raise TargetError("", f"{path!r} is a folder; expected a target file: a target JSON (docs/inverse.md), a "
+                              f"solve result (.json, or the .npz of solve --npz) or a surface (.stl, .obj; "
+                              f".step/.stp with FreeCAD)")
     if ext == ".npz":                           # the arrays of a `solve --npz` result
         from metamaterial_wb.core.resultfile import read_result
         try:
