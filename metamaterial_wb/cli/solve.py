@@ -129,8 +129,8 @@ def parse_options(items, model=None):
             try:
                 out[key.strip()] = read(f"--option {key.strip()}", val)
             except SceneError as exc:
-                from metamaterial_wb.core.models import _allowed
-                raise SceneError(exc.field, f"{exc.message}; allowed: {_allowed(opt)}") from None
+                from metamaterial_wb.core.models import allowed_text
+                raise SceneError(exc.field, f"{exc.message}; allowed: {allowed_text(opt)}") from None
             continue
         if opt is not None and opt.kind != "text":
             out[key.strip()] = val.strip()          # parsed and checked by the table below

@@ -26,8 +26,12 @@ from metamaterial_wb.core.errors import SceneError
 MAX_INPUT_BYTES = 256 * 2 ** 20     # a scene of 4 M cells as a "cells" list is ~60 MB
 MAX_DEPTH = 32                      # the deepest real scene field is ~6 levels
 MAX_INT = 2 ** 63 - 1
-TEMP_PREFIXES = (".tmp-", ".build-", ".sleeve-", ".tmp-simulate-")
-_STALE_RE = re.compile(r"^\.(?:tmp|build|sleeve|tmp-simulate|sleeve-export|mmwb|mm-export)-(\d+)-")
+# Every kind of temporary name (``.KIND-<pid>-...``) a writer may use: :func:`temp_prefix` refuses any other, so
+# :func:`sweep_stale` (whose pattern is made from this list) knows every folder / file a killed writer can leave.
+TEMP_KINDS = ("tmp", "tmp-solve", "tmp-simulate", "build", "sleeve", "sleeve-export", "mm-export", "mmwb")
+TEMP_PREFIXES = tuple(f".{k}-" for k in TEMP_KINDS)
+_STALE_RE = re.compile(r"^\.(?:%s)-([0-9]{1,10})-"      # ASCII digits; longer is no process id
+                       % "|".join(re.escape(k) for k in sorted(TEMP_KINDS, key=len, reverse=True)))
 _KERNEL_FS = ("/proc", "/sys", "/dev")
 
 
@@ -411,7 +415,7 @@ def _pid_alive(pid):
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
-    except OSError:
+    except (OSError, OverflowError):      # not ours to judge (no permission, or no such process id): keep it
         return True
     return True
 
@@ -447,11 +451,16 @@ def temp_prefix(kind="tmp"):
     Parameters
     ----------
     kind : str, optional
+        One of :data:`TEMP_KINDS` (the kinds :func:`sweep_stale` recognises); a ValueError otherwise, so a
+        new kind cannot be added without the sweep knowing it.
 
     Returns
     -------
     str
     """
+    if kind not in TEMP_KINDS:
+        raise ValueError(f"temporary kind {kind!r} is not in fileio.TEMP_KINDS {TEMP_KINDS}; add it there so "
+                         f"sweep_stale removes what a killed writer leaves")
     return f".{kind}-{os.getpid()}-"
 
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from metamaterial_wb.core.errors import SceneError, in_range
+from metamaterial_wb.core.numbers import parse_float, parse_int
 
 
 @dataclass
@@ -43,7 +44,17 @@ class Option:
 _TRUE, _FALSE = ("true", "1", "yes"), ("false", "0", "no")
 
 
-def _allowed(opt):
+def allowed_text(opt):
+    """What ``opt`` allows, for error messages: ``"an integer 1..100 (meaning)"``, ``"a number in (0, 1] ..."``.
+
+    Parameters
+    ----------
+    opt : Option
+
+    Returns
+    -------
+    str
+    """
     if opt.kind == "bool":
         return "true/false/1/0/yes/no"
     lo = "(" if opt.low_open else "["
@@ -79,18 +90,19 @@ def check_option(model, key, value, opt):
 
     if opt.kind == "text" or (value is None and opt.none_ok):
         return value
-    bad = SceneError(f"--option {key}", f"{value!r}; allowed: {_allowed(opt)}")
+    bad = SceneError(f"--option {key}", f"{value!r}; allowed: {allowed_text(opt)}")
     if opt.kind == "bool":
         if isinstance(value, (bool, np.bool_)):
             return bool(value)
         if isinstance(value, str) and value.strip().lower() in _TRUE + _FALSE:
             return value.strip().lower() in _TRUE
         raise bad
-    if isinstance(value, str):
+    if isinstance(value, str):    # strict: no '1_0', no non-ASCII digits, no inf/nan (int() / float() take them)
+        read = parse_int if opt.kind == "int" else parse_float
         try:
-            value = int(value.strip()) if opt.kind == "int" else float(value.strip())
-        except ValueError:
-            raise bad from None
+            value = read(f"--option {key}", value)
+        except SceneError as exc:
+            raise SceneError(exc.field, f"{exc.message}; allowed: {allowed_text(opt)}") from None
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise bad
     if opt.kind == "int":

@@ -6,7 +6,6 @@ Plates are drawn as squares (side ``cell_size - hinge length``) at their 3D pose
 angular constraints as black crosses. Equal scale on all three axes.
 """
 import io
-import math
 
 import numpy as np
 
@@ -115,12 +114,13 @@ def state_title(scene, g=None, values=None, extra=""):
 def view_angles(text):
     """``"ELEV,AZIM"`` -> (elev, azim) degrees, with a clear error."""
     from metamaterial_wb.core.errors import SceneError
-    try:
-        e, a = (float(x) for x in text.split(","))
-    except ValueError:
-        raise SceneError("--view", f"{text!r}: expected ELEV,AZIM in degrees, e.g. 28,-62") from None
-    if not (math.isfinite(e) and math.isfinite(a)):
-        raise SceneError("--view", f"{text!r} is not finite")
+    from metamaterial_wb.core.numbers import parse_float
+
+    items = text.split(",") if isinstance(text, str) else []
+    if len(items) != 2:
+        raise SceneError("--view", f"{text!r}: expected ELEV,AZIM in degrees, e.g. 28,-62")
+    # strict: no '1_0', no non-ASCII digits, no inf/nan (float() would take them all)
+    e, a = (parse_float(f"--view {what}", x) for what, x in zip(("elevation", "azimuth"), items))
     for what, v, lim in (("elevation", e, 90), ("azimuth", a, 360)):
         if not -lim <= v <= lim:
             raise SceneError("--view", f"{text!r}: {what} {v:g} is outside the allowed range [-{lim}, {lim}] deg")

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number
+from metamaterial_wb.core.numbers import parse_int
 
 from . import protocol as P
 from .joint_angle import JointRotation, joint_rotation
@@ -172,10 +173,10 @@ def parse_map(text):
         if name.strip() in out:
             raise SceneError(f"--map {name.strip()}", f"given twice (channels {out[name.strip()]} and {ch.strip()}); "
                                                       f"map each actuator once")
-        try:
-            out[name.strip()] = int(ch)
-        except ValueError:
-            raise SceneError(f"--map {name.strip()}", f"{ch!r} is not a channel number") from None
+        try:      # strict: no '1_0', no non-ASCII digits (int() would take them)
+            out[name.strip()] = parse_int(f"--map {name.strip()}", ch)
+        except SceneError as exc:
+            raise SceneError(exc.field, f"{exc.message} (the channel number, e.g. --map head=0)") from None
     return out
 
 

@@ -468,7 +468,7 @@ class BeltController:
 # ----------------------------------------------------------------------------------------------
 def _parse_node(text, field):
     import re
-    m = re.match(r"^\s*N\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$", str(text))
+    m = re.match(r"^\s*N\s*\(?\s*([0-9]{1,9})\s*,\s*([0-9]{1,9})\s*\)?\s*\Z", str(text))   # ASCII digits
     if not m:
         raise SceneError(field, f"{text!r} is not a node name like \"N0,3\"")
     return int(m.group(1)), int(m.group(2))

@@ -38,7 +38,7 @@ class InverseRun:
 
 SCREEN_RANGE = (0, 1000)
 SCREEN_DEFAULT = 12                # placements fully fitted per search round when --screen is not given
-_JOINT_TOKEN = re.compile(r"([HVhv])\s*\(?\s*(-?\d{1,9})\s*,\s*(-?\d{1,9})(?:\s*\))?")
+_JOINT_TOKEN = re.compile(r"([HVhv])\s*\(?\s*(-?[0-9]{1,9})\s*,\s*(-?[0-9]{1,9})(?:\s*\))?")   # ASCII digits
 _JOINT_SEP = re.compile(r"[\s,;]*")
 _JOINT_LIST_ALLOWED = ("joint names H<i>,<j> or V<i>,<j>, several separated by spaces or semicolons "
                        "(e.g. \"V0,1 H2,3\" or \"V0,1; H2,3\")")

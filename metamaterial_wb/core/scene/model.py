@@ -222,7 +222,7 @@ class Scene:
         """``"N1,2"`` (or ``"N(1,2)"``) -> ``(1, 2)`` of an existing node, else a SceneError."""
         import re
 
-        m = re.match(r"^\s*[Nn]\s*\(?\s*(\d{1,9})\s*,\s*(\d{1,9})\s*\)?\s*$", text) if isinstance(text, str) else None
+        m = re.match(r"^\s*[Nn]\s*\(?\s*([0-9]{1,9})\s*,\s*([0-9]{1,9})\s*\)?\s*\Z", text) if isinstance(text, str) else None
         if not m:
             raise SceneError(field_name, f"{_short(text)} is not a node name; write \"N<i>,<j>\"")
         i, j = int(m.group(1)), int(m.group(2))

@@ -29,7 +29,7 @@ def plate_side_mm(cell_size_mm, hinge_length_mm):
     """
     return float(cell_size_mm) - float(hinge_length_mm)
 
-_JOINT_RE = re.compile(r"^\s*([HVhv])\s*\(?\s*(-?\d{1,9})\s*,\s*(-?\d{1,9})\s*\)?\s*$")
+_JOINT_RE = re.compile(r"^\s*([HVhv])\s*\(?\s*(-?[0-9]{1,9})\s*,\s*(-?[0-9]{1,9})\s*\)?\s*\Z")  # ASCII digits
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,63}\Z")   # \Z: $ also matches before a final newline
 
 KNOWN_KEYS = {"format", "version", "name", "description", "cell_size_mm", "hinge", "layout", "joints",
