@@ -6,7 +6,8 @@ is a new file and nothing else changes. (FreeCAD's GUI commands are ``metamateri
 
 Errors: a :class:`~metamaterial_wb.core.errors.MetamaterialError` (bad input) prints one line on
 stderr and exits with status 2; so do a file the system refuses (OSError), running out of memory and
-nesting too deep for Python. No output file is left behind (commands write atomically): SIGTERM and
+nesting too deep for Python, and a command line argparse refuses (``error: MESSAGE (PROG --help)``, no usage
+block). No output file is left behind (commands write atomically): SIGTERM and
 SIGHUP are turned into KeyboardInterrupt so every ``finally`` removes its temporary files (exit
 128 + signal number, 130 for Ctrl-C).
 """
@@ -49,17 +50,37 @@ def integer(text):
         raise argparse.ArgumentTypeError(str(e)) from None
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argparse parser whose errors are what every other error of the CLI is: one line ``error: MESSAGE
+    (PROG --help)`` on stderr and exit status 2 (argparse printed its usage block first). ``--help`` is unchanged.
+    An unknown flag is blamed on the command that was given (argparse's top-level parser reported it)."""
+
+    commands = None          # the top-level parser: {command name: its parser}
+
+    def error(self, message):
+        self.exit(2, f"error: {_one_line(message)} ({self.prog} --help)\n")
+
+    def parse_args(self, args=None, namespace=None):
+        args, extra = self.parse_known_args(args, namespace)
+        if extra:
+            owner = (self.commands or {}).get(getattr(args, "command", None), self)
+            owner.error("unrecognized arguments: " + " ".join(extra))
+        return args
+
+
 def build_parser():
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="python3 -m metamaterial_wb",
         description="Sparsely actuated modular metamaterials: design, simulate, fabricate, drive.")
     parser.add_argument("--version", action="version", version=f"metamaterial_wb {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
+    parser.commands = {}
     for mod in _command_modules():
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
         p.set_defaults(_run=mod.run)
+        parser.commands[mod.NAME] = p
     return parser
 
 

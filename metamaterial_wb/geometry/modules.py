@@ -28,6 +28,7 @@ from dataclasses import dataclass, field, replace
 
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number, in_range, range_message
 from metamaterial_wb.core.fabrication import joint_pivot
+from metamaterial_wb.core.scene.sections import module_name_error
 from metamaterial_wb.geometry.fc import kernel_error
 from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
 from metamaterial_wb.geometry.snapfit import design_snap_fit
@@ -81,7 +82,9 @@ HUB_HOLE_RADIUS_MM = 1.6     # the stable hub platform's M3 clearance hole (for 
 RESERVED_NAMES = {"sheet": "NAME_sheet.step and NAME_sheet.3mf (the sheet's)",
                   "sheet_components": "NAME_sheet_components.3mf (the sheet's components layout)",
                   "assembly": "NAME_assembly.step (the assembly)"}
-_NODE_RE = re.compile(r"^\s*[Nn]\s*\(?\s*(\d+)\s*,\s*(\d+)\s*\)?\s*$")
+# the scene's own node pattern (Scene._node): ASCII digits only (\d took '٣', which int() reads as 3); the spaces
+# around stay those the scene accepts (re.ASCII would refuse here a node name the scene loaded)
+_NODE_RE = re.compile(r"^\s*[Nn]\s*\(?\s*([0-9]{1,9})\s*,\s*([0-9]{1,9})\s*\)?\s*\Z")
 
 
 @dataclass
@@ -171,8 +174,9 @@ def parse_modules(scene, p):
             if key not in allowed:
                 raise SceneError(f"{f}.{key}", f"unknown field for a {typ}; allowed: {sorted(allowed)}")
         name = item.get("name", f"{typ}_{k + 1}")
-        if not isinstance(name, str) or not re.match(r"^[A-Za-z_][A-Za-z0-9_\-]{0,63}\Z", name):
-            raise SceneError(f"{f}.name", f"{name!r} is not a valid module name (letters, digits, _ -)")
+        bad_name = module_name_error(f"{f}.name", name)       # the scene's naming rule (core/scene/sections.py)
+        if bad_name is not None:
+            raise bad_name
         if name.casefold() in RESERVED_NAMES:
             from metamaterial_wb.geometry.parts import safe_stem
             files = RESERVED_NAMES[name.casefold()].replace("NAME", safe_stem(scene.name) if scene.name else "NAME")

@@ -257,6 +257,6 @@ def test_a_module_name_ending_in_a_newline_is_refused():
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.fabrication import fabrication_params
     from metamaterial_wb.geometry.modules import parse_modules
-    sc = make_scene({"chain": 3}, modules=[{"type": "connection_hub", "name": "h\n", "node": "N0,1"}])
-    with pytest.raises(SceneError, match="not a valid module name"):
+    with pytest.raises(SceneError, match="not a valid module name"):     # refused when the scene loads now
+        sc = make_scene({"chain": 3}, modules=[{"type": "connection_hub", "name": "h\n", "node": "N0,1"}])
         parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))

@@ -15,7 +15,17 @@ from metamaterial_wb.core.scene.names import (_NAME_RE, DEFAULT_CELL_SIZE_MM, DE
 from metamaterial_wb.core.scene.topology import Topology
 
 CELL_SIZE_RANGE = (1.0, 1000.0)      # mm, closed
-FOLD_RANGE = (-180.0, 180.0)         # deg, an axis's fold_deg
+FOLD_RANGE = (-180.0, 180.0)         # deg, an axis's fold_deg and joint_config.*.fold_deg (docs/scene-format.md)
+# the naming rule of actuators, constraints, axes and modules (names.py's _NAME_RE), as the errors and the doc say it
+NAME_RULE = "letters, digits, _ . -; starting with a letter or _; at most 64 characters"
+
+
+def module_name_error(field, name):
+    """The SceneError for a module name ``name`` that breaks :data:`NAME_RULE` (at load here, at build in
+    geometry/modules.py: one message); None when it follows it. Module names name files (``NAME_<name>.step``)."""
+    if isinstance(name, str) and _NAME_RE.fullmatch(name):
+        return None
+    return SceneError(field, f"{_short(name)} is not a valid module name ({NAME_RULE})")
 VALUE_RANGE = (-1.0, 1.0)            # an actuator / constraint value
 THICKNESS_MAX_MM = 100.0             # hinge thickness (0, 100]; length (0, 0.5 cell), width (0, (cell - length) / 4]
 K2_RANGE = (1e-9, 1e9)  # relative stiffness: beyond this the solve loses every digit (issue 19)
@@ -54,8 +64,12 @@ def parse_header(s, data):
     if fmt != FORMAT:
         raise SceneError("format", f"{_short(fmt)} is not a scene; expected \"{FORMAT}\"")
     ver = data.get("version", VERSION)
-    if ver != VERSION or isinstance(ver, bool):
-        raise SceneError("version", f"{_short(ver)} is not supported; this program reads version {VERSION}")
+    if type(ver) is float and ver == VERSION:          # 1.0: the format's version is a whole number
+        raise SceneError("version", f"{_short(ver)} is a decimal number; allowed: the whole number {VERSION} "
+                                    f"(the version this program reads)")
+    if type(ver) is not int or ver != VERSION:         # type(): True is an int too
+        raise SceneError("version", f"{_short(ver)} is not supported; this program reads version {VERSION} "
+                                    f"(the whole number {VERSION})")
     s.name = _text(data, "name")
     s.description = _text(data, "description")
     s.cell_size_mm = check_number("cell_size_mm", data.get("cell_size_mm", DEFAULT_CELL_SIZE_MM),
@@ -148,9 +162,8 @@ def _axis_name(a, f):
     if not isinstance(name, str):
         raise SceneError(f"{f}.name", f"expected text, got {_short(name)}")
     if not _NAME_RE.fullmatch(name):      # fullmatch: the pattern's $ also matches before a final newline
-        raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name (letters, digits, _ . -; starting with a "
-                                      f"letter or _; at most 64 characters; leave the name out for the default "
-                                      f"v<line> / h<line>)")
+        raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name ({NAME_RULE}; leave the name out for "
+                                      f"the default v<line> / h<line>)")
     return name
 
 
@@ -190,9 +203,8 @@ def parse_fixed(s, data):
                 raise SceneError(f"{f}.joint", f"{joint} already carries {used_joints[joint]}; at most one actuator or "
                                                "constraint per joint")
             name = item.get("name") if "name" in item else _default_name(given, listname, k, used_names)
-            if not isinstance(name, str) or not _NAME_RE.match(name):
-                raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name (letters, digits, _ . -; "
-                                              f"starting with a letter or _)")
+            if not isinstance(name, str) or not _NAME_RE.fullmatch(name):
+                raise SceneError(f"{f}.name", f"{_short(name)} is not a valid name ({NAME_RULE})")
             if name in used_names:
                 raise SceneError(f"{f}.name", f"{name!r} is already used by {used_names[name]}")
             used_names[name] = f
@@ -232,6 +244,9 @@ def parse_modules(s, data):
         for key in ("name", "side", "material", "servo", "node", "joint", "housing_node"):
             if key in m and not isinstance(m[key], str):
                 raise SceneError(f"{f}.{key}", f"expected text, got {_short(m[key])}")
+        bad_name = module_name_error(f"{f}.name", m["name"]) if "name" in m else None
+        if bad_name is not None:          # module names name files: checked here, not first at build
+            raise bad_name
         if "joint" in m:
             s._joint(m["joint"], f"{f}.joint")
         for key in ("node", "housing_node"):
@@ -264,8 +279,8 @@ def parse_joint_config(s, data):
             raise SceneError(f"joint_config.{jn}.axis", f"expected text (the axis' name), got {_short(cfg['axis'])}")
         for key in ("tilt_deg", "fold_deg"):
             if key in cfg:
-                lim = MAX_TILT_DEG if key == "tilt_deg" else 180.0
-                check_number(f"joint_config.{jn}.{key}", cfg[key], -lim, lim, "deg")
+                lo, hi = (-MAX_TILT_DEG, MAX_TILT_DEG) if key == "tilt_deg" else FOLD_RANGE
+                check_number(f"joint_config.{jn}.{key}", cfg[key], lo, hi, "deg")
         s.joint_config[jn] = dict(cfg)
 
 
