@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from metamaterial_wb import REPO_DIR
+from clihelpers import one_line_error, run_cli
 
 EX = os.path.join(REPO_DIR, "examples")
 FISH = os.path.join(EX, "fish.json")
@@ -27,15 +28,7 @@ QUICK = ("--evaluate", "quadratic", "--fab-checks", "off", "--no-picture")
 
 
 def cli(*args):
-    return subprocess.run([sys.executable, "-m", "metamaterial_wb", "inverse", *map(str, args)], cwd=REPO_DIR,
-                          capture_output=True, text=True, timeout=600, env=dict(os.environ, PYTHONPATH=REPO_DIR))
-
-
-def one_line_error(r, field):
-    assert r.returncode == 2, (r.stdout, r.stderr)
-    assert r.stderr.startswith(f"error: {field}: "), r.stderr
-    assert r.stderr.strip().count("\n") == 0, r.stderr
-    assert "Traceback" not in r.stderr
+    return run_cli("inverse", *args, timeout=600)
 
 
 def last_line_error(r, field):

@@ -4,8 +4,6 @@ refused, the k2 ratio labelled and normalised by the piece's own base width, fla
 output equal to an input refused, a bad --table named as such."""
 import json
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -15,20 +13,13 @@ from metamaterial_wb.core.calibration import Calibration
 from metamaterial_wb.core.errors import MetamaterialError, SceneError
 from metamaterial_wb.core.lattice.geometry import LatticeGeometry
 from metamaterial_wb.core.solver import QuadraticModel, scene_groups
+from clihelpers import one_line_error, run_cli  # noqa: F401 (one_line_error: shared with other test files)
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def cli(*args):
-    return subprocess.run([sys.executable, "-m", "metamaterial_wb", "calibrate", *map(str, args)], cwd=REPO,
-                          capture_output=True, text=True, timeout=300, env=dict(os.environ, PYTHONPATH=REPO))
-
-
-def one_line_error(r, field):
-    assert r.returncode == 2, (r.stdout, r.stderr)
-    assert r.stderr.startswith(f"error: {field}: "), r.stderr
-    assert r.stderr.strip().count("\n") == 0, r.stderr
-    assert "Traceback" not in r.stderr
+    return run_cli("calibrate", *args)
 
 
 def synthetic_angles(scene, k1, k2_ratio=1.0):

@@ -4,12 +4,11 @@ full-width), inf / nan and subnormals such as 5e-320 are refused naming the flag
 refuses a field given twice. ``design`` writes ``--out`` and ``--report`` together or not at all."""
 import json
 import os
-import subprocess
-import sys
 
 import pytest
 
 from metamaterial_wb import cli as CLI
+from clihelpers import one_line_error, run_cli
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 STRIP = os.path.join(REPO, "examples", "strip_fold.json")         # actuator "left", axes first/second/third
@@ -17,16 +16,7 @@ FISH_AXES = os.path.join(REPO, "examples", "fish_axes.json")      # axes neck, b
 BAD = ["1_0", "\u0663", "\uff11", "inf", "nan", "5e-320"]          # all numbers to Python's float()
 
 
-def cli(*args):
-    return subprocess.run([sys.executable, "-m", "metamaterial_wb", *map(str, args)], cwd=REPO,
-                          capture_output=True, text=True, timeout=300, env=dict(os.environ, PYTHONPATH=REPO))
-
-
-def one_line_error(r, field):
-    assert r.returncode == 2, (r.stdout, r.stderr)
-    assert r.stderr.startswith(f"error: {field}: "), r.stderr
-    assert r.stderr.strip().count("\n") == 0, r.stderr
-    assert "Traceback" not in r.stderr
+cli = run_cli
 
 
 def flag_refused(r, flag, text):

@@ -1,0 +1,21 @@
+"""The command line as a user runs it, for tests in every folder: ``run_cli`` starts ``python -m
+metamaterial_wb`` in a subprocess (the checkout first on the path) and ``one_line_error`` checks a refusal is
+what every refusal of the CLI is (exit 2, one line ``error: FIELD: ...``, no traceback)."""
+import os
+import subprocess
+import sys
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run_cli(*args, timeout=300):
+    """``subprocess.CompletedProcess`` of ``python -m metamaterial_wb ARGS`` run in the checkout (text output)."""
+    return subprocess.run([sys.executable, "-m", "metamaterial_wb", *map(str, args)], cwd=REPO,
+                          capture_output=True, text=True, timeout=timeout, env=dict(os.environ, PYTHONPATH=REPO))
+
+
+def one_line_error(r, field):
+    assert r.returncode == 2, (r.stdout, r.stderr)
+    assert r.stderr.startswith(f"error: {field}: "), r.stderr
+    assert r.stderr.strip().count("\n") == 0, r.stderr
+    assert "Traceback" not in r.stderr
