@@ -18,7 +18,8 @@ import shutil
 import sys
 
 from metamaterial_wb.cli import number
-from metamaterial_wb.core.dynamics.simulate import MAX_FRAMES, MAX_POSES, check_output_budget  # noqa: F401
+from metamaterial_wb.core.dynamics.simulate import (MAX_FRAMES, MAX_POSES, MAX_STEPS,  # noqa: F401
+                                                     check_output_budget)
 from metamaterial_wb.core.results import trajectory_dict  # noqa: F401  (simulate --out writes it)
 
 NAME = "simulate"
@@ -88,8 +89,8 @@ def write_frames(model, traj, folder, every=1):
     return names
 
 
-MAX_STEPS = 20_000_000   # time steps of one run (size budget, issue 19): ~1e-5 s of wall time each at best
-# MAX_FRAMES, MAX_POSES (recorded frames, frames x bodies): core.dynamics.simulate's, which the GUI's run checks too
+# MAX_STEPS (time steps), MAX_FRAMES, MAX_POSES (recorded frames, frames x bodies): core.dynamics.simulate's, which
+# the GUI's run (core.playback.run_dynamics) uses too
 OUTPUT_FILES = ("summary.json", "trajectory.json", "motion.gif")   # what a run writes into --out (with frames/)
 FRAME_RE = re.compile(r"^frame_\d{4,}\.png$")                      # the frame files a --frames run writes
 

@@ -9,6 +9,10 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.live import Frame, matrices_to_quaternions
 
+ONLY_SHEET = ("only the 'sheet' model maps onto a structure's nodes (the belt has no sheet nodes; use "
+              "simulate --frames for its pictures)")
+
+
 class TrajectoryPlayer:
     """Map a dynamics trajectory (side view, floor frame) onto the structure's node poses.
 
@@ -35,9 +39,7 @@ class TrajectoryPlayer:
                                            "expected 'metamaterial-trajectory' (simulate --out DIR writes "
                                            "DIR/trajectory.json)")
         if data.get("model") != "sheet" or not data.get("body_of_node"):
-            raise SceneError("trajectory.model", f"{data.get('model')!r}: only the 'sheet' model maps onto a "
-                                                 "structure's nodes (the belt has no sheet nodes; use "
-                                                 "simulate --frames for its pictures)")
+            raise SceneError("trajectory.model", f"{data.get('model')!r}: {ONLY_SHEET}")
         self.times = np.asarray(data.get("times_s", []), dtype=float)
         poses = np.asarray(data.get("poses", []), dtype=float)
         if self.times.size < 1 or poses.ndim != 3 or poses.shape[0] != self.times.size or poses.shape[2] != 3:
@@ -180,6 +182,50 @@ class _ProgressActuation:
         return getattr(self._inner, name)
 
 
+def check_run_dynamics(scene, seconds, fps):
+    """Refuse, before any simulation work, a run of :func:`run_dynamics` that is over the command line's size
+    budget or could not be played: a scene whose ``dynamics.model`` is not ``"sheet"`` (checked first: the belt has
+    no sheet nodes, :class:`TrajectoryPlayer` refuses its trajectory), more than ``MAX_FRAMES`` recorded frames, more than ``MAX_STEPS`` time steps at
+    the scene's ``dynamics.integrator.dt_s``, more than ``MAX_POSES`` recorded body poses of the built model (the
+    build is cheap: no settling, no integration). The step the integrator chooses itself (no
+    ``dt_s``) is checked by ``simulate`` before its first step. The Animate panel calls this before it starts its
+    background thread, so the refusal shows at once.
+
+    Parameters
+    ----------
+    scene : Scene
+    seconds : float
+        Simulated duration (s).
+    fps : float
+        Frames per second recorded.
+
+    Returns
+    -------
+    tuple
+        ``(cfg, model)``: the scene's dynamics configuration and the built model.
+
+    Raises
+    ------
+    SceneError
+        Naming the field, the value and the limit.
+    """
+    from metamaterial_wb.core.dynamics.builders import build, dynamics_config
+    from metamaterial_wb.core.dynamics.simulate import check_output_budget, check_step_budget
+
+    cfg = dynamics_config(scene)
+    if cfg["model"] != "sheet":         # first: a belt is never played, whatever its length
+        raise SceneError("dynamics.model", f"{cfg['model']!r}: {ONLY_SHEET}")
+    check_output_budget(seconds, fps)
+    dt = cfg["integrator"]["dt_s"]
+    if dt is not None:
+        check_step_budget(seconds, dt, how=f"{seconds:g} s / dynamics.integrator.dt_s {dt:g} s")
+    model = build(scene, cfg)
+    check_output_budget(seconds, fps, int(model.system.n))
+    if model.kind != "sheet":
+        raise SceneError("dynamics.model", f"{model.kind!r}: {ONLY_SHEET}")
+    return cfg, model
+
+
 def run_dynamics(scene, seconds, fps=30.0, progress=None):
     """Simulate ``scene`` with core.dynamics (as ``simulate --out``) and return
     ``(trajectory dict, summary dict)``; the dict is what ``DIR/trajectory.json`` holds.
@@ -200,13 +246,10 @@ def run_dynamics(scene, seconds, fps=30.0, progress=None):
         ``(trajectory, summary)``.
     """
     from metamaterial_wb.core.results import trajectory_dict
-    from metamaterial_wb.core.dynamics.builders import build, dynamics_config
     from metamaterial_wb.core.dynamics.simulate import simulate
 
-    cfg = dynamics_config(scene)
-    model = build(scene, cfg)
-    if model.kind == "sheet":
-        model.scene_nodes = scene.topology.nodes
+    cfg, model = check_run_dynamics(scene, seconds, fps)   # before any work: the budget, the model
+    model.scene_nodes = scene.topology.nodes
     if progress is not None and model.actuate is not None:
         model.actuate = _ProgressActuation(model.actuate, seconds, progress)
     summary, traj, model, _sim = simulate(scene, seconds, record_dt=1.0 / fps, cfg=cfg, model=model)

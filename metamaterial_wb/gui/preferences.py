@@ -6,6 +6,10 @@ from metamaterial_wb import PREFS_PATH as PATH  # noqa: F401 - one definition (p
 DEFAULTS = {"PrinterClearance": 0.2, "RigidMaterial": "PLA", "FlexibleMaterial": "TPU",
             "ModuleMaterial": "ABS", "DefaultServo": "SG90", "SerialPort": "/dev/ttyACM0", "AnimationFps": 30}
 
+# the integer preferences' allowed range (the preference page's spin box: resources/ui/preferences.ui) and label
+RANGES = {"AnimationFps": (1, 120)}
+LABELS = {"AnimationFps": "Animation frame rate (1/s)"}
+
 
 def params():
     return FreeCAD.ParamGet(PATH)
@@ -32,3 +36,22 @@ def get(name):
 
 def all_values():
     return {k: get(k) for k in DEFAULTS}
+
+
+def checked(name):
+    """``get(name)`` within its range ``RANGES[name]`` (the preference page's spin box): a value stored outside it
+    (by a macro, an edited user.cfg) is refused, naming the preference, the value and the range, not used or
+    clamped.
+
+    Raises
+    ------
+    MetamaterialError
+        Outside the range.
+    """
+    from metamaterial_wb.core.errors import MetamaterialError
+    v = get(name)
+    lo, hi = RANGES[name]
+    if not lo <= v <= hi:
+        raise MetamaterialError(f"Edit > Preferences > Metamaterial > {LABELS[name]} ({name}): {v} is outside "
+                                f"the allowed range {lo}..{hi}; set it there")
+    return v

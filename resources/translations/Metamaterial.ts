@@ -34,7 +34,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="499"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="512"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -54,7 +54,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="397"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="405"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -69,7 +69,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="190"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="199"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -114,12 +114,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="71"/>
         <source>Click a hinge in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="69"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="72"/>
         <source>Click a node in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
@@ -141,8 +141,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="154"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="725"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="738"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -157,7 +157,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="717"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="730"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -229,12 +229,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="77"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="138"/>
         <source>Keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="119"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="180"/>
         <source>Keyframes of {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -255,17 +255,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="188"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="130"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="139"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="70"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="73"/>
         <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -275,7 +275,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="36"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="37"/>
         <source>Module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -285,7 +285,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="189"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="198"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
@@ -312,7 +312,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="38"/>
         <source>On (or click in the 3D view)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -327,7 +327,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="671"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="684"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -337,19 +337,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="128"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="735"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="676"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="748"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="689"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="180"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="189"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="167"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
@@ -384,7 +384,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="188"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="197"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -400,12 +400,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="187"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="196"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="176"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="185"/>
         <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -430,7 +430,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="173"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="182"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -481,12 +481,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="348"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="356"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="218"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
@@ -496,7 +496,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="66"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="69"/>
         <source>amplitude</source>
         <translation type="unfinished"></translation>
     </message>
@@ -531,12 +531,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="708"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="721"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="137"/>
         <source>cell [{0}, {1}]</source>
         <translation type="unfinished"></translation>
     </message>
@@ -583,12 +583,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="557"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="570"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="67"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="70"/>
         <source>freq (Hz)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -615,7 +615,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="146"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="155"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -635,12 +635,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="65"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="68"/>
         <source>motor</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="205"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="214"/>
         <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -655,7 +655,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="117"/>
         <source>not picked: {0} {1} ({2})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -685,7 +685,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="71"/>
         <source>phase (deg)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -695,14 +695,14 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="200"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="464"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="472"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="521"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="448"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="456"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -737,37 +737,37 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="282"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="285"/>
         <source>scene {0}: {1} cells, {2} motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="69"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="72"/>
         <source>servo angle range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="65"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="68"/>
         <source>shape</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="488"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="501"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="512"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="525"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="507"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="520"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="502"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="515"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -777,22 +777,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="153"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="727"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="740"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="150"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="159"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="545"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="558"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -807,7 +807,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="165"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="174"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
@@ -827,7 +827,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="80"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="141"/>
         <source>time (s)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -837,17 +837,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="114"/>
         <source>under the cursor: {0} {1} (not a target: {2})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="81"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="142"/>
         <source>value (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="603"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="616"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
@@ -863,7 +863,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="398"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="406"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -878,7 +878,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="661"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="674"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -893,32 +893,32 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="235"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="238"/>
         <source>{0} cells: a valid layout</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="234"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="237"/>
         <source>{0} cells: a valid layout (the full grid)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="105"/>
         <source>{0} goes across a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="103"/>
         <source>{0} goes on a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="98"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="106"/>
         <source>{0} goes on a node</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="345"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="353"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -928,17 +928,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="332"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="340"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="336"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="344"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="122"/>
         <source>{0}; {1} is a {2}: click a {3} or choose one in the list (the target is still {4})</source>
         <translation type="unfinished"></translation>
     </message>

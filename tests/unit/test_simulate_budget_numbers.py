@@ -74,14 +74,22 @@ def test_core_simulate_refuses_too_many_frames_before_any_work(no_work):
     assert "6e+06 recorded frames" in msg and "at most 1000000 are allowed" in msg, msg
 
 
+def long_sheet():
+    """A 1 x 600 strip: the sheet model (a side view) has a body per column line, 601: 600 s at 30 frames/s is
+    18000 frames x 601 bodies, 1.08e7 body poses."""
+    return Scene.from_dict({"format": "metamaterial-scene", "version": 1, "name": "long",
+                            "layout": {"grid": [1, 600]}, "actuators": [{"name": "m", "joint": "H0,1", "value": 0.5}]})
+
+
 def test_the_guis_background_run_is_refused_before_any_work(no_work):
-    """Animate's "Simulate" runs core.playback.run_dynamics (up to 600 s at the animation frame rate): belt1000
-    there is 18000 frames x 1000 bodies, 1.8e7 poses (the CLI refuses more than 1e7), and nothing checked it."""
+    """Animate's "Simulate" runs core.playback.run_dynamics (up to 600 s at the animation frame rate): a 1 x 600
+    strip there is 18000 frames x 601 bodies, 1.08e7 poses (the CLI refuses more than 1e7), and nothing checked it
+    (a belt is refused first, as no sheet: test_playback_guards.py)."""
     from metamaterial_wb.core.playback import run_dynamics
     with pytest.raises(SceneError) as e:
-        run_dynamics(Scene.load(BELT1000), 600.0, fps=30.0, progress=lambda f: None)
+        run_dynamics(long_sheet(), 600.0, fps=30.0, progress=lambda f: None)
     msg = str(e.value)
-    assert "18000 frames" in msg and "1000 bodies" in msg and "10000000" in msg, msg
+    assert "18000 frames" in msg and "601 bodies" in msg and "10000000" in msg, msg
 
 
 def test_the_cli_uses_the_core_budget():

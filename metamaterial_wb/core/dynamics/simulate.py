@@ -27,6 +27,40 @@ ENERGY_GAIN_TOL = 0.05       # energy created by the integrator, relative to the
 
 MAX_FRAMES = 1_000_000   # recorded trajectory frames of one run (size budget, issue 19)
 MAX_POSES = 10_000_000   # recorded body poses (frames x bodies): ~400 bytes of memory and ~35 of trajectory.json each
+MAX_STEPS = 20_000_000   # time steps of one run (size budget, issue 19): ~1e-5 s of wall time each at best; the command
+#                          line and the GUI's background run (core.playback.run_dynamics) both use it (simulate()'s default)
+
+
+def check_step_budget(seconds, dt, field="seconds", how=None, max_steps=MAX_STEPS):
+    """Refuse, before any work, a run of ``seconds`` at the time step ``dt`` that takes more than ``max_steps``
+    (default ``MAX_STEPS``) steps. The integrator may still take a smaller step (the automatic step, the symplectic
+    guard): :meth:`Simulator.run` checks that one before its first step.
+
+    Parameters
+    ----------
+    seconds : float
+        Simulated time (s).
+    dt : float
+        Time step (s), > 0.
+    field : str, optional
+        What the error names (``--dt`` on the command line).
+    how : str, optional
+        How the run was asked for, for the message; default ``10 s / dt 0.001 s``.
+    max_steps : int, optional
+        The limit.
+
+    Raises
+    ------
+    SceneError
+        Over the budget; the message names the steps and the limit.
+    """
+    from ..errors import SceneError
+
+    how = how or f"{seconds:g} s / dt {dt:g} s"
+    steps = seconds / dt
+    if steps > max_steps:
+        raise SceneError(field, f"{how} asks for {steps:.3g} time steps; at most {max_steps} are allowed "
+                                f"(the size budget)")
 
 
 def check_output_budget(seconds, fps, bodies=None, field="seconds", how=None):
@@ -129,13 +163,15 @@ def convergence_warnings(energy, scale_J, study=None, stats=None):
 
 
 def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, model=None, dt_check=False,
-             max_steps=50_000_000):
+             max_steps=MAX_STEPS):
     """Run the scene's dynamics. Returns ``(summary dict, Trajectory, model, simulator)``.
 
     The bodies start at a static equilibrium under gravity and the actuators' values at t = 0 when
     ``dynamics.initial_state`` is ``"settled"`` (the default for sheets). ``dt_check``: also run the
     first ``DT_CHECK_WINDOW_S`` at dt / 2 and warn when the motion changes (``summary["dt_study"]``).
-    ``max_steps``: the most time steps the run may take (``StepBudgetError`` before the first one); more than
+    ``max_steps``: the most time steps the run may take (default ``MAX_STEPS``, as the command line; a given
+    ``dt`` or the scene's ``dt_s`` is checked before settling (:func:`check_step_budget`), the step the integrator
+    chooses by ``StepBudgetError`` before the first step); more than
     ``MAX_FRAMES`` recorded frames or ``MAX_POSES`` recorded body poses are refused before any work
     (:func:`check_output_budget`)."""
     t_wall = time.perf_counter()
@@ -147,6 +183,8 @@ def simulate(scene, seconds, method=None, dt=None, record_dt=None, cfg=None, mod
     if record_dt is None:
         record_dt = max(seconds / 200.0, 1e-3)
     check_output_budget(seconds, 1.0 / record_dt, int(model.system.n))    # before settling / integrating
+    if dt is not None and dt > 0:                                          # (a bad dt: the integrator says why)
+        check_step_budget(seconds, dt, max_steps=max_steps)
     sim, settled = _start(scene, cfg, model, True)
     traj = Trajectory()
 

@@ -57,6 +57,8 @@ class AnimatePanel(BasePanel):
     ICON = "MM_Animate.svg"
 
     def __init__(self, scene_obj):
+        from metamaterial_wb.gui import preferences
+        fps = preferences.checked("AnimationFps")     # before anything is built: out of 1..120 opens nothing
         super().__init__()
         self.obj = scene_obj
         self.scene = structure.compose_scene(scene_obj)
@@ -242,7 +244,6 @@ class AnimatePanel(BasePanel):
         self._loop = self.loop.isChecked()
         self.rate_window = []         # (wall, animation time) of the frames shown while playing
         self.preview_scene = self.scene
-        fps = max(1, int(preferences.get("AnimationFps")))
         self.dt = 1.0 / fps
         self.timer = QtCore.QTimer()
         self.timer.setInterval(max(1, int(1000 / fps)))
@@ -480,7 +481,7 @@ class AnimatePanel(BasePanel):
     def simulate_trajectory(self, seconds):
         """Run core.dynamics on this structure in a background thread (progress bar + Cancel); plays it
         when done."""
-        from metamaterial_wb.core.playback import run_dynamics
+        from metamaterial_wb.core.playback import check_run_dynamics, run_dynamics
         if self.sim.running:
             self.show_error("a simulation is already running")
             return False
@@ -491,6 +492,11 @@ class AnimatePanel(BasePanel):
             a["profile"] = prof[a["name"]]
         scene = Scene.from_dict(d)
         fps = 1.0 / self.dt
+        try:                           # at once, before the background thread: over the budget, a belt scene
+            check_run_dynamics(scene, float(seconds), fps)
+        except MetamaterialError as exc:
+            self._simulation_failed(str(exc))
+            return False
         self.traj_sim_btn.setEnabled(False)
         self.traj_label.setText(translate("Metamaterial", "simulating {0:g} s ...").format(seconds))
         self.clear_error()
