@@ -425,11 +425,7 @@ def _from_result(d, source=None, scene=None):
     (``--fields D`` / ``joints``), is refused."""
     src = f"the result file {source!r}" if source else "the result"
     own = getattr(scene, "name", None)
-    theirs = d.get("scene")
-    if isinstance(own, str) and own and isinstance(theirs, str) and theirs and theirs != own:
-        raise TargetError("scene", f"{theirs!r}: {src} is a result of the scene {theirs!r}, not of this scene "
-                                   f"{own!r}; allowed: a solve result of this scene (its node positions are the "
-                                   f"target; another scene's nodes are other nodes)")
+    theirs = d.get("scene")     # named in the message only: a renamed copy (an inverse answer) has the same nodes
     if d.get("converged") is False:
         raise TargetError("converged", f"false: {src} is of a solve that did not converge (its node positions are "
                                        f"not an equilibrium of the scene); allowed: a converged result (solve "
@@ -468,8 +464,9 @@ def _from_result(d, source=None, scene=None):
     n_scene = getattr(getattr(scene, "topology", None), "n_nodes", None)
     if n_scene is not None and len(nodes) != n_scene:   # a result lists every node of its scene
         raise TargetError("nodes", f"{src} has {len(nodes)} nodes, this scene {own or ''} has {n_scene}: it is a "
-                                   f"result of another scene (its scene field says {theirs!r}); allowed: a solve "
-                                   f"result of this scene")
+                                   f"result of another sheet (its scene field says {theirs!r}); allowed: a solve "
+                                   f"result of a scene with this scene's nodes (every node name must be one of "
+                                   f"this scene's, as in a renamed copy or an inverse answer)")
     items = []
     for k, nd in enumerate(nodes):
         if not isinstance(nd, dict):
