@@ -40,6 +40,8 @@ def parse_float(field, text):
     if not _FLOAT.match(t):
         raise SceneError(field, f"{text!r} is not a number; expected {_WHAT}")
     v = float(t)
+    if v == 0.0 and any(c in "123456789" for c in t.split("e")[0].split("E")[0]):   # 1e-400: a non-zero typed
+        raise SceneError(field, f"{text!r} is too close to zero to compute with (below about 2.2e-308)")
     if v in (float("inf"), float("-inf")):
         raise SceneError(field, f"{text!r} is beyond the largest number (about 1.8e308)")
     if v != 0.0 and -_TINY < v < _TINY:
@@ -62,7 +64,7 @@ def parse_int(field, text):
     int
     """
     t = _text(field, text)
-    if not _INT.match(t) or len(t) > 19:
+    if not _INT.match(t) or len(t.lstrip("+-")) > 18:
         raise SceneError(field, f"{text!r} is not a whole number; expected ASCII digits such as 3 or -12 "
                                 f"(no '_', no decimals, at most 18 digits)")
     return int(t)

@@ -61,3 +61,26 @@ def test_minus_zero_reads_as_zero():
     import math
     assert math.copysign(1.0, parse_float("--global", "-0")) == 1.0
     assert math.copysign(1.0, parse_float("--global", "-0.0e5")) == 1.0
+
+
+@pytest.mark.parametrize("text", ["1e-400", "-2.5e-330", "0.0000001e-320"])
+def test_a_number_too_small_to_hold_is_refused_not_read_as_zero(text):
+    # float() gives 0.0 for these; a typed non-zero is not zero (a subnormal 1e-310 was refused already)
+    with pytest.raises(SceneError, match="too close to zero"):
+        parse_float("--set tail", text)
+
+
+@pytest.mark.parametrize("text", ["0", "0.000", "-0e-400", "0e5"])
+def test_zeros_are_zero(text):
+    assert parse_float("--x", text) == 0.0
+
+
+@pytest.mark.parametrize("text,ok", [("999999999999999999", True), ("+999999999999999999", True),
+                                     ("-999999999999999999", True), ("9999999999999999999", False),
+                                     ("+9999999999999999999", False)])
+def test_the_digit_limit_counts_digits_not_the_sign(text, ok):
+    if ok:
+        assert parse_int("--n", text) == int(text)
+    else:
+        with pytest.raises(SceneError, match="at most 18 digits"):
+            parse_int("--n", text)
