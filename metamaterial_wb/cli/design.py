@@ -7,7 +7,6 @@ write leaves both files as they were).
 """
 import json
 import os
-import shutil
 import sys
 
 NAME = "design"
@@ -55,61 +54,10 @@ def _apply_folds(scene, items):
     return given
 
 
-def write_together(outputs):
-    """Write ``[(path, text), ...]`` (files in any folders) all together or not at all: every text goes to a
-    temporary folder beside its file first; then each file is moved into place, the one it replaces kept aside; if
-    a write or a move fails, the files already moved are taken back, the earlier ones restored and the folders this
-    call created removed, then the error is raised."""
-    from metamaterial_wb.core.fileio import make_temp_dir, write_atomic
-
-    made, staged, moved = [], [], []
-    try:
-        for path, text in outputs:
-            folder = os.path.dirname(os.path.abspath(path))
-            missing, f = [], folder
-            while not os.path.lexists(f):
-                missing.append(f)
-                f = os.path.dirname(f)
-            try:
-                os.makedirs(folder, exist_ok=True)
-            finally:
-                made += [m for m in missing if os.path.isdir(m)]
-            tmp = make_temp_dir(folder, "tmp")  # swept if this process dies
-            staged.append((os.path.abspath(path), tmp))
-            write_atomic(os.path.join(tmp, "new"), text)
-        for path, tmp in staged:
-            had_old = os.path.lexists(path)
-            if had_old:
-                os.replace(path, os.path.join(tmp, "old"))
-            moved.append((path, tmp, had_old))
-            os.replace(os.path.join(tmp, "new"), path)
-    except BaseException:
-        for path, tmp, had_old in reversed(moved):
-            try:
-                if os.path.lexists(os.path.join(tmp, "new")):
-                    pass                                    # its move failed: the earlier file is in tmp/old
-                else:
-                    os.replace(path, os.path.join(tmp, "new"))
-                if had_old:
-                    os.replace(os.path.join(tmp, "old"), path)
-            except OSError:
-                pass
-        for path, tmp in staged:
-            shutil.rmtree(tmp, ignore_errors=True)
-        for m in sorted(made, key=len, reverse=True):        # deepest first; only if empty
-            try:
-                os.rmdir(m)
-            except OSError:
-                pass
-        raise
-    for path, tmp in staged:
-        shutil.rmtree(tmp, ignore_errors=True)
-
-
 def run(args):
     from metamaterial_wb.core.design import configure, format_report
     from metamaterial_wb.core.errors import SceneError
-    from metamaterial_wb.core.fileio import check_output
+    from metamaterial_wb.core.fileio import check_output, write_together
     from metamaterial_wb.core.scene import Scene
 
     check_output(args.out, "file", "--out")     # the configured scene may replace its input (configure in place)

@@ -640,6 +640,67 @@ def commit_set(tmp, out_dir, names):
         raise
 
 
+def write_together(outputs):
+    """Write text files in any folders all together or not at all (``commit_set`` does it for one folder).
+
+    Every text goes to a temporary folder beside its file first; then each file is moved into place, the one it
+    replaces kept aside; if a write or a move fails, the files already moved are taken back, the earlier ones
+    restored and the folders this call created removed, then the error is raised (``design --out --report``).
+
+    Parameters
+    ----------
+    outputs : sequence of (str, str)
+        ``(path, text)`` pairs.
+
+    Raises
+    ------
+    OSError
+        The first failed write or move (after rolling back).
+    """
+    made, staged, moved = [], [], []
+    try:
+        for path, text in outputs:
+            folder = os.path.dirname(os.path.abspath(path))
+            missing, f = [], folder
+            while not os.path.lexists(f):
+                missing.append(f)
+                f = os.path.dirname(f)
+            try:
+                os.makedirs(folder, exist_ok=True)
+            finally:
+                made += [m for m in missing if os.path.isdir(m)]
+            tmp = make_temp_dir(folder, "tmp")  # swept if this process dies
+            staged.append((os.path.abspath(path), tmp))
+            write_atomic(os.path.join(tmp, "new"), text)
+        for path, tmp in staged:
+            had_old = os.path.lexists(path)
+            if had_old:
+                os.replace(path, os.path.join(tmp, "old"))
+            moved.append((path, tmp, had_old))
+            os.replace(os.path.join(tmp, "new"), path)
+    except BaseException:
+        for path, tmp, had_old in reversed(moved):
+            try:
+                if os.path.lexists(os.path.join(tmp, "new")):
+                    pass                                    # its move failed: the earlier file is in tmp/old
+                else:
+                    os.replace(path, os.path.join(tmp, "new"))
+                if had_old:
+                    os.replace(os.path.join(tmp, "old"), path)
+            except OSError:
+                pass
+        for path, tmp in staged:
+            shutil.rmtree(tmp, ignore_errors=True)
+        for m in sorted(made, key=len, reverse=True):        # deepest first; only if empty
+            try:
+                os.rmdir(m)
+            except OSError:
+                pass
+        raise
+    for path, tmp in staged:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def check_scene_not_output(out_dir, names, scene, option="--out", writer="the run"):
     """Refuse, before any work, an output ``out_dir/NAME`` that is the input file ``scene`` (the same file, also
     through a link or another letter case): the run would overwrite or remove what it reads (``DIR/manifest.json``
