@@ -34,7 +34,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="512"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="519"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -54,7 +54,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="405"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="412"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -142,7 +142,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="738"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="745"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -157,7 +157,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="730"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="737"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -229,12 +229,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="144"/>
         <source>Keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="180"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="186"/>
         <source>Keyframes of {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -327,7 +327,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="684"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="691"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -338,8 +338,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="137"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="748"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="689"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="755"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="696"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
@@ -481,7 +481,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="356"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="363"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
@@ -531,7 +531,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="721"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="728"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -583,7 +583,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="570"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="577"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -696,13 +696,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="472"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="521"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="479"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="528"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="456"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="463"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -752,22 +752,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="501"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="525"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="532"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="520"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="527"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="515"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="522"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -782,7 +782,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="740"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="747"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -792,7 +792,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="558"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="565"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -827,7 +827,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="141"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="147"/>
         <source>time (s)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -842,12 +842,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="142"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="148"/>
         <source>value (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="616"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="623"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
@@ -863,7 +863,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="406"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="413"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -878,7 +878,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="674"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="681"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -918,7 +918,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="353"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="360"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -928,12 +928,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="340"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="347"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="344"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="343"/>
+        <source>{0}: keyframes play once (stored without a period) and hold the last value</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="351"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>

@@ -272,3 +272,28 @@ def test_a_stored_keyframes_row_shows_its_table_inside_the_form(doc, monkeypatch
     p = run_panel("MM_Animate")
     assert shown_as_window and not any(shown_as_window), shown_as_window
     assert press_cancel()
+
+
+def test_stored_keyframes_without_a_period_stay_played_once(doc):
+    # the scene format's keyframes without period_s play once and hold the last value; editing a key wrote the
+    # row's default wave period (2 s), so the motion repeated
+    sc = open_fish(doc)
+    p = run_panel("MM_Animate")
+    tail = list(p.shapes)[1]
+    assert press_cancel()
+    doc.openTransaction("one-shot keyframes")
+    items(sc)[tail].ProfileShape = "keyframes"
+    items(sc)[tail].ProfileData = json.dumps({"times_s": [0.0, 1.0, 3.0], "values": [0.0, 0.6, -0.2]})
+    doc.commitTransaction()
+    doc.recompute()
+    p = run_panel("MM_Animate")
+    assert p.shapes[tail].currentText() == "keyframes"
+    p.set_shape(tail, "keyframes")
+    process()
+    assert "play once" in p.period_note.text(), p.period_note.text()
+    type_into(p.keyframes.table.cellWidget(1, 1), "0.7")
+    prof = p.profiles()[tail]
+    assert prof["values"] == [0.0, 0.7, -0.2] and "period_s" not in prof, prof
+    assert press_ok(), p.error.text()
+    stored = json.loads(items(sc)[tail].ProfileData)
+    assert "period_s" not in stored and stored["values"] == [0.0, 0.7, -0.2], stored

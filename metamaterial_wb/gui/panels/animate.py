@@ -24,7 +24,7 @@ from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel, _slider, np_zeros
 from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
-from metamaterial_wb.gui.panels.profiles import (SHAPES, WAVE_DECIMALS, KeyframeTable, keyframes_profile,
+from metamaterial_wb.gui.panels.profiles import (ONCE, SHAPES, WAVE_DECIMALS, KeyframeTable, keyframes_profile,
                                                  square_fields, wave_profile)
 from metamaterial_wb.gui.panels.stream import ServoAngles, StreamController, hardware_available
 from metamaterial_wb.gui.panels import ranges
@@ -97,8 +97,8 @@ class AnimatePanel(BasePanel):
                 combo.insertItem(0, f"stored {shape}")
                 combo.setCurrentIndex(0)
             self.keys[a.name] = list(zip(p.get("times_s", [0.0, 0.5]), p.get("values", [0.0, 0.5])))
-            if shape == "keyframes" and p.get("period_s"):
-                self.key_periods[a.name] = float(p["period_s"])
+            if shape == "keyframes":              # stored without a period: it plays once and stays so
+                self.key_periods[a.name] = float(p["period_s"]) if p.get("period_s") else ONCE
             self.table.setCellWidget(r, 1, combo)
             self.shapes[a.name] = combo
             sp = []
@@ -314,6 +314,8 @@ class AnimatePanel(BasePanel):
         fixed = self.key_periods.get(name)
         if fixed is None:
             fixed = self._fix_key_period(name)
+        if fixed == ONCE:                     # a stored one-shot profile (no period_s): no period is made up
+            return None
         return float(fixed) if last < fixed else round(last + 0.1, 9)
 
     def _fix_key_period(self, name):
@@ -336,6 +338,11 @@ class AnimatePanel(BasePanel):
             if fixed is None:
                 fixed = self._fix_key_period(name)
             last = self._last_key(name)
+            if fixed == ONCE:
+                if name == self.key_motor:
+                    notes.append(translate("Metamaterial", "{0}: keyframes play once (stored without a period) and "
+                                                           "hold the last value").format(name))
+                continue
             if last >= fixed:
                 notes.append(translate("Metamaterial", "{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: "
                                                        "the period becomes {3:.3f} s").format(

@@ -120,11 +120,17 @@ def square_fields(profile):
     return None
 
 
+ONCE = float("inf")      # the period of a keyframes profile stored without one: it plays once, holding the last value
+
+
 def keyframes_profile(points, period_s):
-    """``[(t, v)]`` (any order) -> a keyframes profile repeating every ``period_s``."""
+    """``[(t, v)]`` (any order) -> a keyframes profile repeating every ``period_s`` (None: played once, no
+    ``period_s`` written, as the scene format allows)."""
     pts = sorted((float(t), float(v)) for t, v in points)
-    return {"shape": "keyframes", "times_s": [t for t, _ in pts], "values": [v for _, v in pts],
-            "period_s": float(period_s)}
+    out = {"shape": "keyframes", "times_s": [t for t, _ in pts], "values": [v for _, v in pts]}
+    if period_s is not None:
+        out["period_s"] = float(period_s)
+    return out
 
 
 class KeyframeTable(QtGui.QWidget):
