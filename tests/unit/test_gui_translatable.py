@@ -68,3 +68,14 @@ def test_the_ts_file_lists_every_translatable_text():
     want = {(c, t) for c, texts in messages().items() for t in texts}
     assert len(want) > 50
     assert want <= have, f"regenerate the .ts file: {sorted(want - have)[:5]}"
+
+
+def test_spin_box_refusals_are_translatable():
+    """A spin box's refusal ("... is outside the allowed range ...; the box kept ...", gui/panels/ranges.py) is a
+    message the user reads in the panel: it was built with f-strings, out of reach of a translation."""
+    sources = {m.text for m in ET.parse(TS).getroot().iter("source")}
+    for text in ("{0} is outside the allowed range {1}{2}", "; the box kept {0}",
+                 "{0} has more decimals than the box takes (at most {1} decimals){2}",
+                 "{0} is not a whole number (at most 0 decimals){1}",
+                 "{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}"):
+        assert text in sources, text

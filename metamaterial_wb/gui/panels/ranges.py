@@ -319,19 +319,23 @@ class _RefusedKeys(QtCore.QObject):
             pass
 
     def refusal(self, typed):
+        from metamaterial_wb.gui.i18n import translate
         value = self.number(typed)
         lo, hi = self.spin.minimum(), self.spin.maximum()
         head = f"{self.name()}: {typed}"
-        kept = f"; the box kept {self.kept()}"
+        kept = translate("Metamaterial", "; the box kept {0}").format(self.kept())
         if value is not None and not lo <= value <= hi:
-            return f"{head} is outside the allowed range {self.bounds()}{kept}"
+            return translate("Metamaterial", "{0} is outside the allowed range {1}{2}").format(
+                head, self.bounds(), kept)
         digits = typed.replace(",", ".").partition(".")[2]
         n = self.decimals()
         if len(digits) > n:
             if n == 0:
-                return f"{head} is not a whole number (at most 0 decimals){kept}"
-            return f"{head} has more decimals than the box takes (at most {n} decimals){kept}"
-        return f"{head} was not taken as typed (allowed range {self.bounds()}, at most {n} decimals){kept}"
+                return translate("Metamaterial", "{0} is not a whole number (at most 0 decimals){1}").format(head, kept)
+            return translate("Metamaterial", "{0} has more decimals than the box takes (at most {1} decimals){2}"
+                             ).format(head, n, kept)
+        return translate("Metamaterial", "{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}"
+                         ).format(head, self.bounds(), n, kept)
 
 
 def ui_only(spin, reason, field=None):
