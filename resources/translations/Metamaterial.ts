@@ -655,7 +655,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="445"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="467"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -695,7 +695,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="521"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="543"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -817,7 +817,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="403"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="425"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -837,7 +837,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="519"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="541"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -940,6 +940,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="360"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="405"/>
+        <source>{0} this panel shows was deleted from the structure (press Cancel and open the panel again)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>

@@ -297,3 +297,20 @@ def test_stored_keyframes_without_a_period_stay_played_once(doc):
     assert press_ok(), p.error.text()
     stored = json.loads(items(sc)[tail].ProfileData)
     assert "period_s" not in stored and stored["values"] == [0.0, 0.7, -0.2], stored
+
+
+@pytest.mark.parametrize("cmd", ["MM_Simulate", "MM_Animate"])
+def test_a_motor_deleted_under_the_panel_is_named_and_ok_refused(doc, tracebacks, cmd):
+    # Delete (or Ctrl+Z of Place motor) of a motor while the panel shows its slider / row: the panel kept it and
+    # OK applied values to the motors left, as if nothing had happened
+    sc = open_fish(doc)
+    p = run_panel(cmd)
+    gone = list(p.sliders if cmd == "MM_Simulate" else p.shapes)[1]
+    doc.removeObject(items(sc)[gone].Name)
+    process(100)
+    text = p.problem_label("items").text()
+    assert repr(gone) in text and "deleted" in text, text
+    assert p.problem_label("items").isVisible()
+    assert press_ok() is False
+    assert not tracebacks, tracebacks[0]
+    assert press_cancel()

@@ -181,8 +181,8 @@ class _DocumentWatch:
             pass
 
         def check():
-            if ACTIVE is p:
-                p.check_target()
+            if ACTIVE is p and not p.check_target():
+                p.check_items()
         QtCore.QTimer.singleShot(0, check)
 
 
@@ -389,6 +389,28 @@ class BasePanel:
             self.target_lost()
             return True
         return False
+
+    def check_items(self):
+        """An actuator or constraint the panel shows (``self.scene``, composed when it opened) was deleted from
+        the structure (Delete, Ctrl+Z of Place motor): OK is refused and the panel names it (its slider or row would
+        keep acting on a motor that is gone); the red line stays at the top of the panel."""
+        scene = getattr(self, "scene", None)
+        if scene is None or not hasattr(scene, "fixed_items") or self.target_gone():
+            return
+        try:
+            present = {it.ItemName for it in self.obj.Items if getattr(it, "ItemName", None)}
+        except (ReferenceError, RuntimeError, AttributeError):
+            return
+        gone = [it.name for _kind, it in scene.fixed_items() if it.name not in present]
+        text = translate("Metamaterial", "{0} this panel shows was deleted from the structure (press Cancel and "
+                                         "open the panel again)").format(", ".join(repr(n) for n in gone)) if gone \
+            else ""
+        lab = self.problem_label("items")
+        if text and lab.parent() is None:
+            self.layout.insertWidget(0, lab)          # shown above everything (a preview clears the error line)
+        self.set_problem("items", text)
+        if text:
+            self.show_error(text)
 
     def target_lost(self):
         """The structure is gone: the preview goes, OK is refused and the panel says so (once). Panels with a
