@@ -26,14 +26,14 @@ def add_arguments(p):
                         "the firmware generate them (no host timing jitter), keeping the link alive with PINGs")
     p.add_argument("--baud", type=integer, default=115200,
                    help="baud rate, 1200..4000000 (default 115200, what the firmware speaks)")
-    p.add_argument("--rate", type=number, default=50.0,
+    p.add_argument("--rate", type=number, default=None,
                    help="ticks per second, each sending one SET_ANGLES frame per run of adjacent channels (default "
                         "50, allowed 1..100); a rate whose frames cannot follow the motion is refused "
-                        "(--rate-tolerance)")
+                        "(--rate-tolerance); not with --mode osc")
     p.add_argument("--rate-tolerance", type=number, default=None, metavar="DEG",
                    help="how far (deg) the servos, moving linearly from frame to frame, may stray from the motion "
                         "sampled at 1 kHz before --rate is refused (default 3, allowed (0, 180]; 180 lets any rate "
-                        "through)")
+                        "through); not with --mode osc")
     p.add_argument("--map", default="", metavar="NAME=CH,...",
                    help="actuator -> channel, e.g. head=0,tail=3 (default: the scene's servo.channel, else order)")
     p.add_argument("--channels", metavar="FILE",
@@ -42,16 +42,16 @@ def add_arguments(p):
     p.add_argument("--clamp", action="store_true",
                    help="clamp angles to the channel limits instead of refusing a motion that leaves them (counted "
                         "per actuator in the summary; a servo angle, +-angle + trim_deg, past +-90 deg is still "
-                        "refused)")
+                        "refused); not with --mode osc")
     p.add_argument("--watchdog-ms", type=integer, default=500,
                    help="host silence before the firmware holds (default 500)")
     p.add_argument("--park-after-ms", type=integer, default=500, help="hold time before parking (default 500)")
     p.add_argument("--release-after-ms", type=integer, default=5000,
                    help="time parked before the pulses stop (default 5000)")
     p.add_argument("--disarm", action="store_true", help="stop the pulses at the end (servos go limp)")
-    p.add_argument("--max-lost", type=integer, default=0, metavar="N",
+    p.add_argument("--max-lost", type=integer, default=None, metavar="N",
                    help="frames that may go without an answer (lost = sent - acked - NAKed over the whole stream) "
-                        "before the command fails with exit 1 (default 0)")
+                        "before the command fails with exit 1 (default 0); not with --mode osc")
     p.add_argument("--report", metavar="FILE",
                    help="write the statistics as JSON, with the angle sent per frame and channel (frames_sent; "
                         "wanted_deg: the motion's angle where the host clamped it)")
@@ -70,6 +70,18 @@ def run(args):
                                                                                       args.channels)])
     if not args.port and not args.dry_run:
         raise SceneError("--port", "a serial port is required (or --dry-run to stream over loop://)")
+    if args.mode == "osc":  # the firmware generates the motion: no frames, no rate, nothing to clamp or lose
+        for flag, given, why in (("--clamp", args.clamp, "the on-board oscillators are refused, never clamped, "
+                                                         "when they leave a channel's limits"),
+                                 ("--rate", args.rate is not None, "the firmware generates the motion"),
+                                 ("--rate-tolerance", args.rate_tolerance is not None, "no frames are streamed"),
+                                 ("--max-lost", args.max_lost is not None, "no frames are streamed")):
+            if given:
+                raise SceneError(flag, f"not used with --mode osc ({why}); leave it out, or use --mode stream")
+    if args.rate is None:
+        args.rate = 50.0
+    if args.max_lost is None:
+        args.max_lost = 0
     check_number("--seconds", args.seconds, 0.0, 86400.0, "s", low_open=True)
     check_number("--rate", args.rate, 1.0, 100.0, "Hz")
     if args.rate_tolerance is not None:
@@ -131,7 +143,8 @@ def run(args):
         for t, angles in sent:  # one entry per frame time (a frame per contiguous channel run)
             merged.setdefault(round(t, 9), {}).update(angles)
         def by_channel(angles):
-            return {str(by_ch[n]): round(a, 4) for n, a in sorted(angles.items(), key=lambda kv: by_ch[kv[0]])}
+            return {str(by_ch[n]): round(a, 4) + 0.0  # + 0.0: never -0.0
+                    for n, a in sorted(angles.items(), key=lambda kv: by_ch[kv[0]])}
         # angles_deg: what each channel was sent; wanted_deg (only where the host clamped): the motion's angle
         s["frames_sent"] = [dict({"t": t, "angles_deg": by_channel(angles)},
                                  **({"wanted_deg": by_channel(wanted[t])} if t in wanted else {}))
@@ -192,10 +205,14 @@ def _run_osc(args, scene, channels, link):
     params = osc_params(scene, channels)
     for p in params:
         f = f"{1000.0 / p.period_ms:.4g} Hz" if p.period_ms else "constant"
-        wave = (f"{p.offset_cdeg / 100:g} + {p.amp_cdeg / 100:g} deg sin(2 pi {f} t + {p.phase_cdeg / 100:g} deg)"
-                if p.gain_pos is None else
-                f"v = {p.offset_cdeg / 9000:g} + {p.amp_cdeg / 9000:g} sin(2 pi {f} t + {p.phase_cdeg / 100:g} deg), "
-                f"joint angle {p.angle_range_deg[0]:.2f}..{p.angle_range_deg[1]:.2f} deg")
+        if not p.period_ms or not p.amp_cdeg:  # a constant channel: no sine to print
+            wave = (f"{p.offset_cdeg / 100:g} deg (constant)" if p.gain_pos is None else
+                    f"v = {p.offset_cdeg / 9000:g} (constant), joint angle {p.angle_range_deg[0]:.2f} deg")
+        elif p.gain_pos is None:
+            wave = f"{p.offset_cdeg / 100:g} + {p.amp_cdeg / 100:g} deg sin(2 pi {f} t + {p.phase_cdeg / 100:g} deg)"
+        else:
+            wave = (f"v = {p.offset_cdeg / 9000:g} + {p.amp_cdeg / 9000:g} sin(2 pi {f} t + {p.phase_cdeg / 100:g} "
+                    f"deg), joint angle {p.angle_range_deg[0]:.2f}..{p.angle_range_deg[1]:.2f} deg")
         print(f"  {p.name} -> ch{p.channel}: {wave}" + (f", frequency off by {p.frequency_error:+.2%}"
                                                           if abs(p.frequency_error) > 1e-4 else ""), file=sys.stderr)
     try:

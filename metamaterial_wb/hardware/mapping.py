@@ -200,6 +200,10 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
     names = [a.name for a in scene.actuators]
     if not names:
         raise SceneError("actuators", "the scene has no actuator to stream")
+    if len(names) > n_channels:  # before any channel: the default one (the actuator's position) would not exist
+        raise SceneError("actuators", f"{len(names)} actuators, the firmware drives {n_channels} channels "
+                                      f"(0..{n_channels - 1}), one actuator each; stream at most {n_channels} "
+                                      f"actuators per board (a scene per board)")
     for src, label in ((mapping or {}, "--map"), (overrides or {}, "--channels")):
         for k in src:
             if k not in names:
@@ -225,9 +229,6 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
             spec["limits_deg"] = (max(-90.0, math.floor(lo * 100 - 1e-6) / 100),
                                   min(90.0, math.ceil(hi * 100 + 1e-6) / 100))
         spec["rotation"] = rot
-        if spec["channel"] >= n_channels:
-            raise SceneError(f"{fname}.channel", f"{spec['channel']}: the firmware has {n_channels} channels "
-                                                 f"(0..{n_channels - 1}); map the actuator with --map")
         out.append(_finish(ChannelConfig(a.name, **spec), origin))
     seen = {}
     for c in out:
@@ -282,27 +283,55 @@ def check_motion(scene, channels, duration_s, rate_hz=50.0, clamp=False, rate_to
     from metamaterial_wb.core.motion import profile_value
 
     tol = _check_tolerance(rate_tolerance_deg)
-    t = np.union1d(np.arange(0.0, duration_s + 1e-9, 1.0 / rate_hz), np.arange(0.0, duration_s + 1e-9, 1e-3))
     by_name = {a.name: a for a in scene.actuators}
     peaks = {}
-    for k, c in enumerate(channels):
+    for c in channels:
         a = by_name[c.name]
         where = f"actuators[{[x.name for x in scene.actuators].index(c.name)}] ({c.name})"
-        v = np.atleast_1d(profile_value(a.profile, t, a.value)) * np.ones_like(t)
-        ang = np.atleast_1d(c.angle_deg(v))
         lo, hi = c.limits_deg
-        if clamp:
-            ang = np.clip(ang, lo, hi)
-        bad = np.nonzero((ang < lo - 1e-9) | (ang > hi + 1e-9))[0]
-        if bad.size:
-            i = bad[0]
-            raise SceneError(where, f"the motion reaches {ang[i]:.1f} deg at t = {t[i]:.3f} s; channel {c.channel} "
-                                    f"allows [{lo:g}, {hi:g}] deg; lower the profile, widen servo.limits_deg, or pass "
-                                    f"--clamp")
-        check_servo_reach(c, ang, where, t)
-        peaks[c.name] = float(np.max(np.abs(ang))) if ang.size else 0.0
+        reach = None  # the first servo-reach error: raised once the limits are checked over the whole motion
+        peak = 0.0
+        for t in _motion_times(duration_s, rate_hz):
+            v = np.atleast_1d(profile_value(a.profile, t, a.value)) * np.ones_like(t)
+            ang = np.atleast_1d(c.angle_deg(v))
+            if clamp:
+                ang = np.clip(ang, lo, hi)
+            bad = np.nonzero((ang < lo - 1e-9) | (ang > hi + 1e-9))[0]
+            if bad.size:
+                i = bad[0]
+                raise SceneError(where, f"the motion reaches {ang[i]:.1f} deg at t = {t[i]:.3f} s; channel "
+                                        f"{c.channel} allows [{lo:g}, {hi:g}] deg; lower the profile, widen "
+                                        f"servo.limits_deg, or pass --clamp")
+            if reach is None:
+                try:
+                    check_servo_reach(c, ang, where, t)
+                except SceneError as exc:
+                    reach = exc
+            if ang.size:
+                peak = max(peak, float(np.max(np.abs(ang))))
+        if reach is not None:
+            raise reach
+        peaks[c.name] = peak
     check_rate(scene, channels, duration_s, rate_hz, clamp=clamp, tolerance_deg=tol)
     return peaks
+
+
+def _motion_times(duration_s, rate_hz):
+    """The times check_motion samples, ``union(k / rate_hz, k ms)`` over [0, duration_s], in blocks of at most
+    _WINDOW samples at 1 kHz (and the frame times among them) in time order: a day's stream in one array would
+    take gigabytes."""
+    dense_all = int(math.ceil((duration_s + 1e-9) / 1e-3))            # as np.arange(0, duration_s + 1e-9, 1e-3)
+    step = 1.0 / rate_hz
+    frames_all = int(math.ceil((duration_s + 1e-9) / step))            # as np.arange(0, duration_s + 1e-9, step)
+    for i0 in range(0, dense_all, _WINDOW):
+        i1 = min(dense_all, i0 + _WINDOW)
+        dense = np.arange(i0, i1) * 1e-3
+        t0, t1 = dense[0], (i1 * 1e-3 if i1 < dense_all else math.inf)
+        k0 = max(0, int(math.floor(t0 * rate_hz)) - 1)
+        k1 = min(frames_all, int(math.ceil(t1 * rate_hz)) + 1) if i1 < dense_all else frames_all
+        frames = np.arange(k0, k1) * step
+        frames = frames[(frames >= t0) & (frames < t1)] if i0 else frames[frames < t1]
+        yield np.union1d(frames, dense)
 
 
 # --------------------------------------------------------------------------------------------------------------

@@ -150,7 +150,8 @@ class Streamer:
         check_servo_driver(self.link)
 
     def frame_payloads(self, values):
-        """``{name: value}`` -> [(payload, {name: angle sent}, {name: wanted angle})] for the channel runs.
+        """``{name: value}`` -> [(payload, {name: angle sent}, {name: wanted angle})] for the channel runs; the
+        angle sent is the whole centidegrees of the frame (cdeg / 100 deg), the wanted one the motion's.
 
         An angle outside its channel's limits is refused, or with ``clamp`` clamped (the third item holds the
         wanted angle of every clamped channel, empty if none); a servo angle (+-angle + trim) outside [-90, 90]
@@ -169,8 +170,9 @@ class Streamer:
                     wanted[c.name] = a
                     a = min(max(a, lo), hi)
                 check_servo_reach(c, a, f"actuator {c.name!r} (value {v:.4f})")
-                angles[c.name] = a
-                cdeg.append(int(round(a * 100)))
+                cd = int(round(a * 100))   # the wire carries whole centidegrees: report what was sent
+                cdeg.append(cd)
+                angles[c.name] = cd / 100  # an int / 100: never -0.0
             out.append((P.set_angles_payload(first, cdeg), angles, wanted))
         return out
 

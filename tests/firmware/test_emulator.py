@@ -281,7 +281,8 @@ def test_cli_streams_the_fish_into_the_emulator(sim, tmp_path):
     t = d["last_t"]
     head = HEAD(0.3 * math.sin(math.pi * t))
     tail = TAIL(0.9 * math.sin(2 * math.pi * t + math.pi / 2))
-    assert d["frames_sent"][-1]["angles_deg"] == pytest.approx({"0": head, "1": tail}, abs=1e-3)
+    # the whole centidegrees sent
+    assert d["frames_sent"][-1]["angles_deg"] == pytest.approx({"0": head, "1": tail}, abs=0.005 + 1e-9)
     with Link.open(sim.port) as link:
         got = settle_pulses(sim, link)
     assert abs(got[0] - (1500 + head / 90 * 1000)) <= TOL_US

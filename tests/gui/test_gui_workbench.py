@@ -534,7 +534,8 @@ def test_animate_connect_streams_what_is_shown(doc):
     assert len(sent) >= 5, "no frames streamed"
     chans = {c.name: c for c in channel_map(structure.compose_scene(sc))}
     for name, v in shown.items():
-        assert sent[-1][name] == pytest.approx(chans[name].angle_deg(v), abs=1e-9)
+        # the angle sent, in the whole centidegrees on the wire
+        assert sent[-1][name] == pytest.approx(round(chans[name].angle_deg(v) * 100) / 100, abs=1e-9)
     stats = p.disconnect()
     assert stats.frames >= 5 and not stats.error and stats.acked == stats.frames
     assert p.connect_btn.text() == "Connect"

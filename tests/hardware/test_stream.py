@@ -161,7 +161,8 @@ def test_streamer_thread_start_stop_and_callable_source():
     stats = st.stop()
     assert not st.running
     assert stats.frames >= 10 and stats.lost == 0
-    assert all(a == pytest.approx({"head": HEAD(0.5), "tail": TAIL(-0.25)}) for _, a in seen)
+    # the angles sent: whole centidegrees
+    assert all(a == {"head": round(HEAD(0.5) * 100) / 100, "tail": round(TAIL(-0.25) * 100) / 100} for _, a in seen)
     assert seen[0][1]["tail"] == pytest.approx(22.5)  # opening: 2 x 0.25 x 45 deg
     with pytest.raises(MetamaterialError, match="outside channel 1's limits"):
         st.start(lambda t: {"head": 0.0, "tail": 1.5})
@@ -185,8 +186,10 @@ def test_cli_dry_run_and_report(tmp_path):
     assert len(d["frames_sent"]) == 25 and d["frames_sent_columns"] == {"0": "head", "1": "tail"}
     for f in d["frames_sent"]:
         t = f["t"]
-        assert f["angles_deg"]["0"] == pytest.approx(HEAD(0.3 * math.sin(math.pi * t)), abs=1e-4)
-        assert f["angles_deg"]["1"] == pytest.approx(TAIL(0.9 * math.sin(2 * math.pi * t + math.pi / 2)), abs=1e-4)
+        # in the whole centidegrees sent
+        assert f["angles_deg"]["0"] == pytest.approx(HEAD(0.3 * math.sin(math.pi * t)), abs=0.005 + 1e-9)
+        assert f["angles_deg"]["1"] == pytest.approx(TAIL(0.9 * math.sin(2 * math.pi * t + math.pi / 2)),
+                                                     abs=0.005 + 1e-9)
 
 
 def test_cli_errors_are_one_line_exit_2(tmp_path):
