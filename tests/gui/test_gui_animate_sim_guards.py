@@ -13,15 +13,8 @@ if not getattr(FreeCAD, "GuiUp", False):
 import FreeCADGui  # noqa: E402,F401
 
 from metamaterial_wb.gui import commands, panels, preferences  # noqa: E402
-from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import click, doc, press_ok, process, run_panel, workbench  # noqa: E402,F401
-
-
-def open_example(name):
-    p = run_panel("MM_OpenExample")
-    p.select(name)
-    assert press_ok()
-    return structure.find_scene_objects(FreeCAD.ActiveDocument)[-1]
+from test_gui_panel_details import open_example  # noqa: E402
 
 
 def test_simulate_on_a_belt_scene_is_refused_at_once(doc):

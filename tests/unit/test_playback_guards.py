@@ -9,21 +9,12 @@ import pytest
 
 from metamaterial_wb.core.errors import MetamaterialError, SceneError
 from metamaterial_wb.core.scene import Scene
+from test_simulate_budget_numbers import no_work  # noqa: F401 (the fixture: no simulation work may start)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 EX = os.path.join(ROOT, "examples")
 WORM = os.path.join(EX, "worm_crawl.json")
 BELT8 = os.path.join(EX, "belt8.json")
-
-
-@pytest.fixture
-def no_work(monkeypatch):
-    """Starting the simulator (settling, integrating) fails the test: the refusal must come before it."""
-    from metamaterial_wb.core.dynamics import simulate as S
-
-    def started(*a, **k):
-        raise AssertionError("the simulation work started: the run was not refused before it")
-    monkeypatch.setattr(S, "_start", started)
 
 
 def test_a_belt_scene_is_refused_before_any_simulation_work(no_work):
