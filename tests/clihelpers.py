@@ -1,6 +1,10 @@
 """The command line as a user runs it, for tests in every folder: ``run_cli`` starts ``python -m
 metamaterial_wb`` in a subprocess (the checkout first on the path) and ``one_line_error`` checks a refusal is
-what every refusal of the CLI is (exit 2, one line ``error: FIELD: ...``, no traceback)."""
+what every refusal of the CLI is (exit 2, one line ``error: FIELD: ...``, no traceback).
+
+The arguments go out and the output comes back as UTF-8 whatever the test process's locale (CI's pytest process
+reads the C locale's ASCII once FreeCAD is loaded: a typed '٣' in an error message failed to decode there), and the
+command runs in Python's UTF-8 mode, as in a UTF-8 terminal."""
 import os
 import subprocess
 import sys
@@ -10,8 +14,9 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 def run_cli(*args, timeout=300):
     """``subprocess.CompletedProcess`` of ``python -m metamaterial_wb ARGS`` run in the checkout (text output)."""
-    return subprocess.run([sys.executable, "-m", "metamaterial_wb", *map(str, args)], cwd=REPO,
-                          capture_output=True, text=True, timeout=timeout, env=dict(os.environ, PYTHONPATH=REPO))
+    argv = [sys.executable, "-m", "metamaterial_wb", *map(str, args)]
+    return subprocess.run([a.encode("utf-8") for a in argv], cwd=REPO, capture_output=True, encoding="utf-8",
+                          timeout=timeout, env=dict(os.environ, PYTHONPATH=REPO, PYTHONUTF8="1"))
 
 
 def one_line_error(r, field):
