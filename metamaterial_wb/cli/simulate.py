@@ -19,7 +19,7 @@ import sys
 
 from metamaterial_wb.cli import number
 from metamaterial_wb.core.dynamics.simulate import (MAX_FRAMES, MAX_POSES, MAX_STEPS,  # noqa: F401
-                                                     check_output_budget)
+                                                     check_output_budget, check_step_budget)
 from metamaterial_wb.core.results import trajectory_dict  # noqa: F401  (simulate --out writes it)
 
 NAME = "simulate"
@@ -149,13 +149,6 @@ def check_frames_folder(out, frames):
                                   f"another output folder")
 
 
-def check_budget(option, n, limit, what, how):
-    from metamaterial_wb.core.errors import SceneError
-
-    if n > limit:
-        raise SceneError(option, f"{how} asks for {n:.3g} {what}; at most {limit} are allowed (the size budget)")
-
-
 def run(args):
     import numpy as np  # noqa: F401
 
@@ -175,7 +168,7 @@ def run(args):
     how = f"--seconds {seconds:g} x --fps {fps:g}"
     check_output_budget(seconds, fps, field="--fps", how=how)
     if args.dt is not None:
-        check_budget("--dt", seconds / args.dt, MAX_STEPS, "time steps", f"--seconds {seconds:g} / --dt {args.dt:g}")
+        check_step_budget(seconds, args.dt, field="--dt", how=f"--seconds {seconds:g} / --dt {args.dt:g}")
     scene = Scene.load(args.scene)
     if args.incline is not None:
         check_number("--incline", args.incline, *INCLINE_RANGE_DEG, "deg")
@@ -185,8 +178,8 @@ def run(args):
     cfg = dynamics_config(scene)
     dt_scene = ((scene.extra.get("dynamics") or {}).get("integrator") or {}).get("dt_s")
     if args.dt is None and isinstance(dt_scene, (int, float)) and dt_scene > 0:
-        check_budget("dynamics.integrator.dt_s", seconds / dt_scene, MAX_STEPS, "time steps",
-                     f"--seconds {seconds:g} / dt_s {dt_scene:g}")
+        check_step_budget(seconds, dt_scene, field="dynamics.integrator.dt_s",
+                          how=f"--seconds {seconds:g} / dt_s {dt_scene:g}")
     model = build(scene, cfg)
     bodies = int(model.system.n)
     check_output_budget(seconds, fps, bodies, field="--fps", how=how)    # simulate() checks it too (the GUI's run)

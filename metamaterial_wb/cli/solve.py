@@ -171,17 +171,9 @@ def _option_number(field, val):
 
 
 def parse_fields(text):
-    """``--fields``: :func:`core.resultfile.parse_fields`, and a field given twice is refused, naming it."""
+    """``--fields``: :func:`core.resultfile.parse_fields` (unknown, empty and repeated names refused)."""
     from metamaterial_wb.core import resultfile
-    from metamaterial_wb.core.errors import SceneError
 
-    names = [s.strip() for s in str(text).split(",")]
-    seen = set()
-    for n in names:
-        if n and n in seen:
-            raise SceneError("--fields", f"{text!r}: {n} given twice; give each of {', '.join(resultfile.FIELDS)} "
-                                         f"at most once")
-        seen.add(n)
     return resultfile.parse_fields(text)
 
 

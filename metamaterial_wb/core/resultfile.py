@@ -24,13 +24,17 @@ NPZ_FORMAT = "metamaterial-result-npz"
 
 
 def parse_fields(text):
-    """``"D,poses"`` -> ``("D", "poses")``; an unknown or empty name is a :class:`SceneError`."""
+    """``"D,poses"`` -> ``("D", "poses")``; an unknown, empty or repeated name is a :class:`SceneError`."""
     names = [s.strip() for s in str(text).split(",")]
     if not names or any(not s for s in names):
         raise SceneError("--fields", f"{text!r}: expected a comma-separated list of {', '.join(FIELDS)}")
     bad = [s for s in names if s not in FIELDS]
     if bad:
         raise SceneError("--fields", f"{', '.join(bad)}: unknown; allowed: {', '.join(FIELDS)}")
+    twice = [s for i, s in enumerate(names) if s in names[:i]]
+    if twice:
+        raise SceneError("--fields", f"{text!r}: {twice[0]} given twice; give each of {', '.join(FIELDS)} "
+                                     f"at most once")
     return tuple(f for f in FIELDS if f in names)
 
 

@@ -173,3 +173,13 @@ def test_design_writes_both_files(tmp_path):
     assert json.loads((tmp_path / "new" / "c.json").read_text(encoding="utf-8"))["joint_config"]
     assert json.loads((tmp_path / "other" / "r.json").read_text(encoding="utf-8"))
     assert sorted(os.listdir(tmp_path / "new")) == ["c.json"] and sorted(os.listdir(tmp_path / "other")) == ["r.json"]
+
+
+def test_core_parse_fields_refuses_a_repeated_field():
+    """The refusal lives in core (``resultfile.parse_fields``), for every caller, not only the command line."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.resultfile import parse_fields
+    with pytest.raises(SceneError) as e:
+        parse_fields("poses,D,poses")
+    assert "poses given twice" in str(e.value) and "--fields" in str(e.value), str(e.value)
+    assert parse_fields("joints,D") == ("D", "joints")

@@ -141,3 +141,28 @@ def test_a_symlinked_frames_folder_is_left_alone_without_frames(tmp_path, capsys
     assert code == 0, capsys.readouterr().err
     assert os.path.islink(out / "frames") and (out / "summary.json").is_file()
     assert os.listdir(elsewhere) == []
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the step budget: the command line uses core's check_step_budget for --dt and the scene's dt_s (one wording)
+# ------------------------------------------------------------------------------------------------------------
+def test_cli_step_budget_names_dt_flag(tmp_path, capsys, no_work):
+    rc = main(["simulate", WORM, "--seconds", "300", "--dt", "1e-5", "--fps", "1", "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err
+    assert rc != 0
+    assert "--dt" in err and "--seconds 300 / --dt 1e-05 asks for 3e+07 time steps" in err, err
+    assert "at most 20000000 are allowed (the size budget)" in err, err
+    assert not (tmp_path / "r").exists()
+
+
+def test_cli_step_budget_names_scene_dt_s(tmp_path, capsys, no_work):
+    import json
+    data = json.load(open(WORM, encoding="utf-8"))
+    data.setdefault("dynamics", {}).setdefault("integrator", {})["dt_s"] = 1e-5
+    p = tmp_path / "worm_fine.json"
+    p.write_text(json.dumps(data), encoding="utf-8")
+    rc = main(["simulate", str(p), "--seconds", "300", "--fps", "1", "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err
+    assert rc != 0
+    assert "dynamics.integrator.dt_s" in err and "--seconds 300 / dt_s 1e-05 asks for 3e+07 time steps" in err, err
+    assert not (tmp_path / "r").exists()

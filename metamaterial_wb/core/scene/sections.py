@@ -18,14 +18,6 @@ CELL_SIZE_RANGE = (1.0, 1000.0)      # mm, closed
 FOLD_RANGE = (-180.0, 180.0)         # deg, an axis's fold_deg and joint_config.*.fold_deg (docs/scene-format.md)
 # the naming rule of actuators, constraints, axes and modules (names.py's _NAME_RE), as the errors and the doc say it
 NAME_RULE = "letters, digits, _ . -; starting with a letter or _; at most 64 characters"
-
-
-def module_name_error(field, name):
-    """The SceneError for a module name ``name`` that breaks :data:`NAME_RULE` (at load here, at build in
-    geometry/modules.py: one message); None when it follows it. Module names name files (``NAME_<name>.step``)."""
-    if isinstance(name, str) and _NAME_RE.fullmatch(name):
-        return None
-    return SceneError(field, f"{_short(name)} is not a valid module name ({NAME_RULE})")
 VALUE_RANGE = (-1.0, 1.0)            # an actuator / constraint value
 THICKNESS_MAX_MM = 100.0             # hinge thickness (0, 100]; length (0, 0.5 cell), width (0, (cell - length) / 4]
 K2_RANGE = (1e-9, 1e9)  # relative stiffness: beyond this the solve loses every digit (issue 19)
@@ -35,6 +27,14 @@ MAX_TEXT = 100_000      # characters of name / description
 MATERIAL_FIELDS = {"hinge_strain_limit": (0.5, 0, 5, True, False, ""),
                    "hinge_modulus_MPa": (26.0, 0, 1_000_000, True, False, "MPa"),
                    "hinge_poisson_ratio": (0.45, 0, 0.5, False, True, "")}
+
+
+def module_name_error(field, name):
+    """The SceneError for a module name ``name`` that breaks :data:`NAME_RULE` (at load here, at build in
+    geometry/modules.py: one message); None when it follows it. Module names name files (``NAME_<name>.step``)."""
+    if isinstance(name, str) and _NAME_RE.fullmatch(name):
+        return None
+    return SceneError(field, f"{_short(name)} is not a valid module name ({NAME_RULE})")
 
 
 def material_value(material, key):
