@@ -2,8 +2,12 @@
 # Set up what is missing, then run the whole test suite on every FreeCAD lane:
 #   bash scripts/test.sh                  all lanes: 0.20 (this Debian 12 host), 1.0 (Debian 13 root), 1.1 (Debian testing root)
 #   bash scripts/test.sh --lane 1.1 [...] one lane; further arguments go to pytest
-# Each lane runs the pure-core and FreeCAD App tests and the GUI tests under Xvfb; firmware, slicer and
-# emulator tests run on the host lane. One summary line per lane; a lane whose root cannot be made fails.
+# Each lane runs the FreeCAD App tests and the GUI tests under Xvfb; the pure-core tests run on 0.20 and 1.1 (the
+# oldest and newest Python / numpy); firmware, slicer and emulator tests run on the host lane.
+# All lanes: two queues at once (a test process keeps about one core busy): the host lane, and the root lanes one
+# after the other (the 1.1 root is made while 1.0 runs). MM_LANES_SERIAL=1 runs the lanes one after the other.
+# The host lane's output streams; the root lanes' logs follow when they end. One summary line per lane; a lane
+# whose root cannot be made fails.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 SUDO=""
@@ -16,25 +20,77 @@ if [ "${1:-}" = "--lane" ]; then
 fi
 bash tools/install-deps.sh
 logdir="$(mktemp -d)"
+jobs_pids=()
+stop_jobs() {   # end the background queues (run-lane.sh unmounts on TERM) and wait for them
+  local p
+  for p in "${jobs_pids[@]}"; do kill -TERM -- "-$p" 2>/dev/null || true; done
+  for p in "${jobs_pids[@]}"; do wait "$p" 2>/dev/null || true; done
+}
 trap 'rm -rf "$logdir"' EXIT
-rc=0
-for lane in "${lanes[@]}"; do
-  echo "=== lane $lane ===" >&2
-  start=$SECONDS
-  lrc=0
+trap 'stop_jobs; exit 130' INT
+trap 'stop_jobs; exit 143' TERM
+
+run_one() {  # run_one LANE [pytest args]: the lane's output to $logdir/LANE.log, "rc seconds" to LANE.rc
+  local lane="$1"; shift
+  local start=$SECONDS lrc=0
   if [ "$lane" = 0.20 ]; then
-    bash tools/run-lane.sh "$lane" "$@" 2>&1 | tee "$logdir/$lane.log" || lrc=$?
+    bash tools/run-lane.sh "$lane" "$@" >> "$logdir/$lane.log" 2>&1 || lrc=$?
   else
-    $SUDO bash tools/run-lane.sh "$lane" "$@" 2>&1 | tee "$logdir/$lane.log" || lrc=$?
+    $SUDO bash tools/run-lane.sh "$lane" "$@" >> "$logdir/$lane.log" 2>&1 || lrc=$?
   fi
   echo "$lrc $((SECONDS - start))" > "$logdir/$lane.rc"
-  [ "$lrc" = 0 ] || rc=1
-done
+}
+
+roots_queue() {  # the root lanes one after the other; the later roots are made meanwhile
+  local lane i
+  local -a prep=()
+  for lane in "${rooted[@]:1}"; do
+    $SUDO bash tools/run-lane.sh --prepare "$lane" > "$logdir/$lane.log" 2>&1 &
+    prep+=($!)
+  done
+  i=0
+  for lane in "${rooted[@]}"; do
+    if [ "$i" -gt 0 ]; then wait "${prep[i-1]}" || true; fi   # a failed prepare: run-lane.sh tries again, and says so
+    run_one "$lane" "$@"
+    i=$((i + 1))
+  done
+}
+
+rooted=()
+for lane in "${lanes[@]}"; do [ "$lane" = 0.20 ] || rooted+=("$lane"); done
+if [ ${#lanes[@]} -gt 1 ] && [ -z "${MM_LANES_SERIAL:-}" ] && [ ${#rooted[@]} -gt 0 ]; then
+  echo "=== lanes ${rooted[*]} run in the background; their logs follow the host lane ===" >&2
+  set -m; roots_queue "$@" & jobs_pids+=($!); set +m   # its own process group: stop_jobs ends all of it
+  if [[ " ${lanes[*]} " == *" 0.20 "* ]]; then
+    echo "=== lane 0.20 ===" >&2
+    : > "$logdir/0.20.log"
+    tail -n +1 -f "$logdir/0.20.log" & tailpid=$!
+    run_one 0.20 "$@"
+    sleep 1; kill "$tailpid" 2>/dev/null || true; wait "$tailpid" 2>/dev/null || true
+  fi
+  wait "${jobs_pids[0]}" || true
+  jobs_pids=()
+  for lane in "${rooted[@]}"; do
+    echo "=== lane $lane ===" >&2
+    cat "$logdir/$lane.log"
+  done
+else
+  for lane in "${lanes[@]}"; do
+    echo "=== lane $lane ===" >&2
+    : > "$logdir/$lane.log"
+    tail -n +1 -f "$logdir/$lane.log" & tailpid=$!
+    run_one "$lane" "$@"
+    sleep 1; kill "$tailpid" 2>/dev/null || true; wait "$tailpid" 2>/dev/null || true
+  done
+fi
+
 echo
 echo "=== summary ==="
-tp=0 tf=0 ts=0
+rc=0 tp=0 tf=0 ts=0
 for lane in "${lanes[@]}"; do
-  read -r lrc secs < "$logdir/$lane.rc"
+  lrc=1 secs=0
+  [ -f "$logdir/$lane.rc" ] && read -r lrc secs < "$logdir/$lane.rc"
+  [ "$lrc" = 0 ] || rc=1
   info="$(grep -m1 "^lane $lane: FreeCAD" "$logdir/$lane.log" | sed "s/^lane $lane: //" || true)"
   parts=""
   while read -r _ _ part p f s e prc; do

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Run one FreeCAD lane:  tools/run-lane.sh 0.20|1.0|1.1 [pytest args...]
+#                        tools/run-lane.sh --prepare 1.0|1.1   only make (or refresh) the lane's root
 #   0.20  the host (Debian 12's FreeCAD 0.20.2, Python 3.11, numpy 1.24)
 #   1.0   a Debian 13 "trixie" root (FreeCAD 1.0, Python 3.13, numpy 2.x)
 #   1.1   a Debian testing "forky" root (FreeCAD 1.1, Qt 6, Python 3.14, numpy 2.x)
@@ -7,11 +8,14 @@
 # tools/lane-root.sh when missing or stale. The checkout, /proc, /dev, /dev/pts and /dev/shm are mounted into
 # the root for the run and unmounted on every exit path. A root that cannot be made fails the lane.
 set -euo pipefail
-lane="$1"; shift
+prepare=""
+if [ "${1:-}" = "--prepare" ]; then prepare=1; shift; fi
+lane="${1:-}"; [ $# -gt 0 ] && shift
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(dirname "$here")"
 case "$lane" in
-  0.20) exec bash "$here/run-suite.sh" 0.20 "$@" ;;
+  0.20) [ -z "$prepare" ] || exit 0       # the host lane has no root
+        exec bash "$here/run-suite.sh" 0.20 "$@" ;;
   1.0)  suite=trixie ;;
   1.1)  suite=forky ;;
   *) echo "run-lane: unknown lane '$lane' (allowed: 0.20, 1.0, 1.1)" >&2; exit 2 ;;
@@ -27,6 +31,7 @@ if ! bash "$here/lane-root.sh" "$suite" "$root"; then
   echo "run-lane: lane $lane FAILED: the $suite root could not be made" >&2
   exit 1
 fi
+[ -z "$prepare" ] || exit 0
 . "$here/lane-mounts.sh"
 child=""
 stop_child() {   # end the run inside the root (its own process group) before the mounts go
@@ -47,6 +52,7 @@ lane_bind "$root" "$repo" "$repo"
 set +e
 setsid chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb CI="${CI:-}" \
   MM_GUI_PYTEST_ARGS="${MM_GUI_PYTEST_ARGS:-}" MM_GUI_ONLY="${MM_GUI_ONLY:-}" MM_APP_ONLY="${MM_APP_ONLY:-}" \
+  MM_LANE_PURE="${MM_LANE_PURE:-}" \
   PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
   /bin/bash "$repo/tools/run-suite.sh" "$lane" "$@" < /dev/null &
 child=$!
