@@ -36,7 +36,7 @@ from metamaterial_wb.core.errors import MetamaterialError, SceneError
 
 _PROBLEM = None
 _SCHEDULER_RE = re.compile(r"^(?:(tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_](?:[A-Za-z0-9_.-]*"
-                           r"[A-Za-z0-9_])?):(\d{1,5})$")
+                           r"[A-Za-z0-9_])?):([0-9]{1,5})$")       # ASCII digits: int() reads others too
 _INPROC_RE = re.compile(r"^inproc://\S+$")      # Dask's in-process transport (a LocalCluster without processes)
 SCHEDULER_ALLOWED = ("a Dask scheduler address tcp://HOST:PORT (or tls://, ws://, wss://, ucx://; port 1-65535), "
                      "e.g. tcp://127.0.0.1:8786, or an in-process inproc:// address")

@@ -100,6 +100,17 @@ def test_bad_scheduler_address_is_a_one_line_error(tmp_path, addr):
     assert not out.exists()
 
 
+@pytest.mark.parametrize("addr", ["tcp://127.0.0.1:\u0668\u0667\u0668\u0666", "127.0.0.1:\uff18\uff17\uff18\uff16"])
+def test_scheduler_port_in_non_ascii_digits_is_refused_by_its_form(addr):
+    """A port in Arabic-Indic or full-width digits passed the format check (``\\d`` and ``int()`` read them) and
+    the search then waited 10 s for a connection that could not be made."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.parallel import check_scheduler_address
+    with pytest.raises(SceneError) as e:
+        check_scheduler_address(addr)
+    assert "--scheduler" in str(e.value) and "port 1-65535" in str(e.value), str(e.value)
+
+
 @pytest.mark.parametrize("addr", ["tcp://127.0.0.1:8786", "127.0.0.1:8786", "tls://sched.lab:8786",
                                   "ws://[::1]:8787", "inproc://192.0.2.2/12886/1"])
 def test_dask_scheduler_address_forms_are_accepted(addr):
