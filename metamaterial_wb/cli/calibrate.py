@@ -84,9 +84,9 @@ def add_arguments(p):
 def run(args):
     from metamaterial_wb.core import calibrate as C
     from metamaterial_wb.core.errors import SceneError
-    from metamaterial_wb.core.fileio import write_atomic
+    from metamaterial_wb.core.fileio import check_output, write_atomic
+    from metamaterial_wb.core.inputfile import read_json
 
-    from metamaterial_wb.core.fileio import check_output, read_json
     if args.source == "model" and (args.piece or args.angles):
         raise SceneError("calibrate model", "takes no positional files (did you mean 'calibrate measured'?)")
     _check_flags(args)

@@ -130,7 +130,7 @@ def _old_picture(out):
     """``(path, ours)`` of a ``result.png`` already in ``out`` (``(None, False)`` if there is none); ``ours``:
     the inverse report beside it lists it among the files its run wrote (so it shows that run's answer)."""
     from metamaterial_wb.core.errors import MetamaterialError
-    from metamaterial_wb.core.fileio import read_json
+    from metamaterial_wb.core.inputfile import read_json
 
     png = os.path.join(out, "result.png")
     if not os.path.lexists(png):

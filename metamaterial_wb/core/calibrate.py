@@ -317,7 +317,7 @@ def read_angles_csv(path, scene):
     idx, ang = [], []
     import io
 
-    from metamaterial_wb.core.fileio import read_text
+    from metamaterial_wb.core.inputfile import read_text
     rows = list(csv.reader(io.StringIO(read_text(path, "ANGLES.csv"), newline="")))
     first = True                      # the header may follow comment and blank lines
     for ln, row in enumerate(rows, start=1):

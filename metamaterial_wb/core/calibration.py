@@ -87,7 +87,7 @@ class Calibration:
 
     @classmethod
     def load(cls, path=None):
-        from metamaterial_wb.core.fileio import read_json
+        from metamaterial_wb.core.inputfile import read_json
 
         path = path or _DEFAULT_PATH
         return cls(read_json(path, "calibration table"), path=path)

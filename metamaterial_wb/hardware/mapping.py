@@ -182,7 +182,7 @@ def parse_map(text):
 
 def load_channel_file(path):
     """A JSON object ``{actuator_name: {servo fields...}}`` (see docs/firmware.md)."""
-    from metamaterial_wb.core.fileio import read_json
+    from metamaterial_wb.core.inputfile import read_json
 
     data = read_json(path, "--channels")   # one error line for unreadable / non-JSON / hostile files
     if not isinstance(data, dict):

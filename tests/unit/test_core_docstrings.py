@@ -12,7 +12,7 @@ from metamaterial_wb import PACKAGE_DIR
 
 CORE = os.path.join(PACKAGE_DIR, "core")
 MODULES = ["scene/model.py", "scene/names.py", "solver.py", "models.py", "motion.py", "live.py", "playback.py",
-           "results.py", "fileio.py", "joints.py"]
+           "results.py", "fileio.py", "inputfile.py", "joints.py"]
 # the scene package's section parsers are internal (Scene.from_dict runs them); its public checker is listed
 EXTRA = {"scene/sections.py": {"check_hinge_sizes"}}
 

@@ -489,9 +489,9 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None, source=None):
     was read from (named in errors; a ``solve --npz`` result's arrays are read beside it)."""
     if not isinstance(data, dict):
         raise TargetError("", f"a target is a JSON object, got {type(data).__name__}")
-    from metamaterial_wb.core.fileio import check_tree
+    from metamaterial_wb.core.inputfile import check_tree
     try:
-        check_tree(data)                       # finite, sane numbers and depth, as a scene's (fileio.check_tree)
+        check_tree(data)                       # finite, sane numbers and depth, as a scene's (inputfile.check_tree)
     except SceneError as exc:
         raise TargetError(exc.field, exc.message) from None
     fmt = data.get("format", FORMAT)
@@ -560,9 +560,9 @@ def load_target(scene, path, mesh_loader=None):
     elif ext != ".json":
         t = Target([parse_frame(scene, {"surface": {"file": os.path.abspath(path)}}, None, "", mesh_loader)])
     else:
-        from metamaterial_wb.core.fileio import read_json
+        from metamaterial_wb.core.inputfile import read_json
         try:
-            data = read_json(path, "")          # as a scene is read: fileio's checks of numbers, depth, text
+            data = read_json(path, "")          # as a scene is read: inputfile's checks of numbers, depth, text
         except SceneError as exc:
             raise TargetError(exc.field, exc.message) from None
         t = parse_target(scene, data, os.path.dirname(os.path.abspath(path)), mesh_loader, source=path)

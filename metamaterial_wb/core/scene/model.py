@@ -35,7 +35,7 @@ class Scene:
     def from_dict(cls, data, _fresh=False):
         """Validate ``data`` section by section (core/scene/sections.py) and build a Scene.
 
-        ``data`` is checked by :func:`~metamaterial_wb.core.fileio.check_tree` and copied first (the
+        ``data`` is checked by :func:`~metamaterial_wb.core.inputfile.check_tree` and copied first (the
         scene never shares lists or dicts with the caller).
 
         Parameters
@@ -52,7 +52,7 @@ class Scene:
         SceneError
             On the first invalid field, naming it, the value and the allowed range.
         """
-        from metamaterial_wb.core.fileio import check_tree
+        from metamaterial_wb.core.inputfile import check_tree
         from metamaterial_wb.core.scene.sections import PARSERS
 
         if not isinstance(data, dict):
@@ -84,7 +84,7 @@ class Scene:
         SceneError
             If the text is not JSON or the document is not a valid scene.
         """
-        from metamaterial_wb.core.fileio import parse_json
+        from metamaterial_wb.core.inputfile import parse_json
 
         return cls.from_dict(parse_json(text), _fresh=True)
 
@@ -106,7 +106,7 @@ class Scene:
         SceneError
             If the file cannot be read, is not JSON, or is not a valid scene.
         """
-        from metamaterial_wb.core.fileio import read_json
+        from metamaterial_wb.core.inputfile import read_json
 
         data = read_json(path, "scene")
         try:

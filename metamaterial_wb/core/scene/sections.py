@@ -1,7 +1,7 @@
 """One parser per section of a scene (``Scene.from_dict`` calls them in order).
 
 Each ``parse_X(scene, data)`` reads ``data["X"]`` (the whole scene dict, already checked by
-:func:`metamaterial_wb.core.fileio.check_tree`: finite numbers, sane depth, valid unicode), validates
+:func:`metamaterial_wb.core.inputfile.check_tree`: finite numbers, sane depth, valid unicode), validates
 it and stores it on ``scene``; an error is a :class:`SceneError` naming the field.
 """
 import math

@@ -236,7 +236,7 @@ class SleeveSpec:
 
     @classmethod
     def load(cls, path):
-        from metamaterial_wb.core.fileio import read_json
+        from metamaterial_wb.core.inputfile import read_json
 
         data = read_json(path, "spec")   # one SceneError line for any unreadable / non-JSON / hostile file
         try:
