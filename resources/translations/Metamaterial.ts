@@ -34,7 +34,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="519"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="500"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -59,7 +59,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="412"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="393"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -74,7 +74,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="199"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="180"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -146,8 +146,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="745"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="557"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -162,7 +162,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="737"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="549"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -234,12 +234,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="144"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="163"/>
         <source>Keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="186"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="205"/>
         <source>Keyframes of {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -260,17 +260,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="188"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="169"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="139"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="120"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="73"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="54"/>
         <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -290,7 +290,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="198"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="179"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
@@ -332,7 +332,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="691"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="174"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -342,19 +342,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="137"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="755"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="696"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="118"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="567"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="179"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="189"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="170"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="167"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="148"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
@@ -389,7 +389,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="197"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="178"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -405,12 +405,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="177"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="185"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="166"/>
         <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -435,7 +435,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="182"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -486,12 +486,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="363"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="344"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="218"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="199"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
@@ -501,7 +501,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="69"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="50"/>
         <source>amplitude</source>
         <translation type="unfinished"></translation>
     </message>
@@ -536,7 +536,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="728"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="540"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -588,12 +588,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="577"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="60"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="70"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="51"/>
         <source>freq (Hz)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -620,7 +620,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="155"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="136"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -640,12 +640,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="49"/>
         <source>motor</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="214"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="195"/>
         <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -690,7 +690,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="71"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="52"/>
         <source>phase (deg)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -700,14 +700,14 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="479"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="528"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="190"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="460"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="509"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="463"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="444"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -747,32 +747,32 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="72"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="53"/>
         <source>servo angle range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="49"/>
         <source>shape</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="489"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="532"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="513"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="527"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="522"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="503"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -782,22 +782,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="153"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="134"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="747"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="559"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="159"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="140"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="565"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="48"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -812,7 +812,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="174"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="155"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
@@ -832,7 +832,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="147"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="166"/>
         <source>time (s)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -847,12 +847,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="148"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="167"/>
         <source>value (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="623"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="106"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
@@ -868,7 +868,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="413"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="394"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -883,7 +883,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="681"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="164"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -938,7 +938,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="360"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="341"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -958,17 +958,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="347"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="328"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="343"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="324"/>
         <source>{0}: keyframes play once (stored without a period) and hold the last value</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="351"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="332"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>

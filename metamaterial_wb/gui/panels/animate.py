@@ -13,7 +13,6 @@ import json
 import math
 import os
 import threading
-import time
 
 import FreeCAD
 from PySide import QtCore, QtGui
@@ -21,36 +20,18 @@ from PySide import QtCore, QtGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.panels.animate_clock import PlaybackClock
 from metamaterial_wb.gui.panels.base import BasePanel, _slider, np_zeros
 from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
 from metamaterial_wb.gui.panels.profiles import (ONCE, SHAPES, WAVE_DECIMALS, KeyframeTable, keyframes_profile,
-                                                 square_fields, wave_profile)
+                                                 profile_value_range, square_fields, wave_profile)
 from metamaterial_wb.gui.panels.stream import ServoAngles, StreamController, hardware_available
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
 
 
-def profile_value_range(profile, default=0.0):
-    """(lowest, highest) value a motion profile takes (``core.motion.profile_value``): offset -+ amplitude for a
-    sine, the lowest and highest key of steps / keyframes, ``default`` without a profile."""
-    if not profile:
-        return float(default), float(default)
-    shape = profile.get("shape", "sine")
-    if shape == "sine":
-        off, amp = float(profile.get("offset", 0.0)), abs(float(profile.get("amplitude", 1.0)))
-        if float(profile.get("frequency_hz", 1.0)) == 0.0:   # a constant sin(phase)
-            v = off + float(profile.get("amplitude", 1.0)) * math.sin(math.radians(profile.get("phase_deg", 0.0)))
-            return v, v
-        return off - amp, off + amp
-    if shape == "constant":
-        v = float(profile.get("value", 0.0))
-        return v, v
-    values = [float(v) for v in profile.get("values", [])] or [float(default)]
-    return min(values), max(values)
-
-
-class AnimatePanel(BasePanel):
+class AnimatePanel(PlaybackClock, BasePanel):
     """Timeline from the motors' motion profiles: play / pause / loop / speed, optional streaming."""
     VIEW_ATTRS = ("floor",)
     TITLE = "Animate"
@@ -534,175 +515,6 @@ class AnimatePanel(BasePanel):
     def wait_simulation(self, timeout_s=60.0):
         """Block (processing events) until the background simulation is done (tests, scripts)."""
         return self.sim.wait(timeout_s)
-
-    def show_time(self, t):
-        if self.check_target():       # deleted (Ctrl+Z, Delete): nothing drawn, playback stopped
-            return
-        t0 = time.perf_counter()
-        self.t = t
-        vals = self.values_at(t)
-        try:
-            if self.trajectory is not None:
-                frame = self.trajectory.frame(self.solver, min(t, self.trajectory.duration))
-            else:
-                frame = self.solver.frame(values=vals)
-        except MetamaterialError as exc:
-            self.show_error(str(exc))
-            self.pause()
-            return
-        try:
-            self.preview_frame(self.obj, self.solver, frame)
-        except (ReferenceError, RuntimeError) as exc:
-            if self.lost_on(exc):
-                return
-            raise
-        self.frames += 1
-        self.last_values = vals
-        dur = self.duration.value()
-        self.timeline.blockSignals(True)
-        self.timeline.setValue(int(round(1000 * min(t, dur) / dur)))
-        self.timeline.blockSignals(False)
-        self.time_label.setText(translate("Metamaterial", "t = {0:.2f} s").format(t))
-        self.shown_values = {a.name: float(vals[a.name]) for a in self.scene.actuators}
-        self.values_label.setText("  ".join(f"{n} {self.angles.text(n, v)} ({v:+.2f})"
-                                            for n, v in self.shown_values.items()))
-        err = self.stream.take_error()
-        if err:
-            self.show_error(f"streaming stopped: {err}")
-            self.connect_btn.setChecked(False)
-        # the panel's own frame timer (values, solve, preview written, labels; the render follows)
-        self.frame_ms = 1000 * (time.perf_counter() - t0)
-        self.frame_times.append(self.frame_ms)
-        del self.frame_times[:-1000]
-        self.stats.setText(translate("Metamaterial", "frame {0}: {1:.1f} ms (no recompute)").format(self.frames, self.frame_ms))
-
-    def step(self, n=1):
-        """Advance ``n`` frames of ``dt`` (scripted playback, independent of wall time)."""
-        for _ in range(n):
-            self.show_time(self._wrap(self.t + self.dt * self.speed.value()))
-        self._reanchor()
-
-    def _wrap(self, t):
-        dur = self._duration
-        if t > dur:
-            if self._loop:
-                t = math.fmod(t, dur)
-            else:
-                t = dur
-                self.pause()
-        return t
-
-    def _reanchor(self):
-        """Anchor the clock at the frame shown (start, scrub, scripted steps); GUI thread."""
-        speed = self.speed.value()
-        with self._clock_lock:
-            self.anchor = (time.perf_counter(), self.t, speed)
-        self.rate_window = []
-
-    def _speed_changed(self, *_):
-        """Re-anchor at the clock's time now, reckoned at the old speed (the streaming thread has already sent
-        values of times ahead of the last frame drawn: anchoring there would send it back)."""
-        speed = self.speed.value()
-        with self._clock_lock:
-            now = time.perf_counter()
-            t = self._clock_at(now, self.anchor) if self._playing and self.anchor is not None else self.t
-            self.anchor = (now, t, speed)
-        self.rate_window = []
-        self._warn_follow()
-
-    def _warn_follow(self):
-        """While streaming: say so when the link's frames can no longer follow the motion (a faster speed, an
-        edited profile); Connect refuses such a state (``StreamController.follow_problem``)."""
-        if not self.stream.connected or self.preview_scene is None:
-            return
-        try:
-            problem = self.stream.follow_problem(self.preview_scene, self.duration.value(), self.speed.value())
-        except MetamaterialError as exc:
-            problem = str(exc)
-        if problem:
-            self.show_error(translate("Metamaterial", "warning: {0}").format(problem))
-
-    def _duration_changed(self, *_):
-        self._duration = self.duration.value()
-
-    def _loop_toggled(self, on):
-        self._loop = bool(on)
-
-    def _clock_at(self, now, anchor):
-        wall0, t0, speed = anchor
-        t = t0 + (now - wall0) * speed
-        dur = self._duration
-        if t > dur:
-            t = math.fmod(t, dur) if self._loop else dur
-        return t
-
-    def clock(self, now=None):
-        """The animation time at wall time ``now`` (default: now); the paused time when not playing.
-        Thread-safe (the stream calls it from its thread): reads plain attributes, no widget."""
-        if not self._playing:
-            return self.t
-        with self._clock_lock:     # the anchor and the time it is read at belong together (a speed change
-            anchor = self.anchor   # between the two would put the sample before the new anchor's start)
-            if now is None:
-                now = time.perf_counter()
-        if anchor is None:
-            return self.t
-        return self._clock_at(now, anchor)
-
-    def tick(self):
-        """Timer: show the frame of the wall-clock time (frames that did not fit are skipped)."""
-        if self.check_target():
-            return
-        now = time.perf_counter()
-        if self.anchor is None:
-            self._reanchor()
-        anchor = self.anchor
-        wall0, t0, speed = anchor
-        raw = t0 + (now - wall0) * speed
-        wrapped = raw > self._duration and self._loop
-        t = self._wrap(raw)
-        if wrapped:
-            with self._clock_lock:
-                if self.anchor is anchor:
-                    self.anchor = (now, t, speed)   # keep the clock exact across the wrap
-        self.show_time(t)
-        self._rate(now, raw)
-
-    def _rate(self, now, anim_t):
-        w = self.rate_window
-        w.append((now, anim_t))
-        while len(w) > 2 and now - w[0][0] > 2.0:
-            w.pop(0)
-        if len(w) >= 2 and now > w[0][0]:
-            span = now - w[0][0]
-            fps = (len(w) - 1) / span
-            rtf = (w[-1][1] - w[0][1]) / span / max(self.speed.value(), 1e-9)
-            self.achieved_fps, self.real_time_factor = fps, rtf
-            self.rate_label.setText(translate("Metamaterial", "{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}").format(fps, 1.0 / self.dt, rtf))
-
-    def play(self):
-        self.play_btn.setChecked(True)
-
-    def pause(self):
-        self.play_btn.setChecked(False)
-
-    def _play_toggled(self, on):
-        if on:
-            self.play_btn.setText(translate("Metamaterial", "Pause"))
-            self._reanchor()
-            self._playing = True
-            self.timer.start()
-        else:
-            self.play_btn.setText(translate("Metamaterial", "Play"))
-            self._stop_timer()
-
-    def _stop_timer(self):
-        self._playing = False
-        self.timer.stop()
-
-    def _scrub(self, v):
-        self.show_time(v / 1000.0 * self.duration.value())
-        self._reanchor()
 
     # hardware ---------------------------------------------------------------------------
     def _connect_toggled(self, on):

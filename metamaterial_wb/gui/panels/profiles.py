@@ -22,6 +22,25 @@ SHAPES = ["sine", "square", "triangle", "keyframes"]
 WAVE_DECIMALS = (3, 3, 1)
 
 
+def profile_value_range(profile, default=0.0):
+    """(lowest, highest) value a motion profile takes (``core.motion.profile_value``): offset -+ amplitude for a
+    sine, the lowest and highest key of steps / keyframes, ``default`` without a profile."""
+    if not profile:
+        return float(default), float(default)
+    shape = profile.get("shape", "sine")
+    if shape == "sine":
+        off, amp = float(profile.get("offset", 0.0)), abs(float(profile.get("amplitude", 1.0)))
+        if float(profile.get("frequency_hz", 1.0)) == 0.0:   # a constant sin(phase)
+            v = off + float(profile.get("amplitude", 1.0)) * math.sin(math.radians(profile.get("phase_deg", 0.0)))
+            return v, v
+        return off - amp, off + amp
+    if shape == "constant":
+        v = float(profile.get("value", 0.0))
+        return v, v
+    values = [float(v) for v in profile.get("values", [])] or [float(default)]
+    return min(values), max(values)
+
+
 def _keys(period, points):
     """Sorted ``(times, values)`` from ``[(t, v)]`` wrapped into [0, period), a key at t = 0 first."""
     pts = {}
