@@ -108,15 +108,20 @@ def check_output(path, kind="file", option="--out", inputs=()):
         raise SceneError(option, f"folder {anc} is not writable")
     if st is not None and kind == "file":
         for what, inp in inputs:
-            try:
-                same = inp is not None and os.path.samefile(ab, inp)
-            except OSError:
-                same = False
-            if same:
+            if _same_file(ab, inp):
                 where = "" if os.path.abspath(inp) == ab else f" ({inp})"
                 raise SceneError(option, f"{path} is the {what} this command reads{where}; it would be overwritten: "
                                          f"choose another file")
     return ab
+
+
+def _same_file(path, other):
+    """``path`` and ``other`` are one file (also through a link or another letter case); False when either is not
+    there yet, or ``other`` is None or not a path."""
+    try:
+        return other is not None and os.path.samefile(path, other)
+    except (OSError, ValueError, TypeError):
+        return False
 
 
 def _pid_alive(pid):
@@ -438,11 +443,7 @@ def check_scene_not_output(out_dir, names, scene, option="--out", writer="the ru
     for item in names:
         n, what = (item, item) if isinstance(item, str) else (item[0], item[2])
         path = os.path.join(out_dir, n)
-        try:
-            same = os.path.samefile(path, scene)
-        except (OSError, ValueError):       # not there yet (or not a path): not the scene
-            same = False
-        if same:
+        if _same_file(path, scene):
             where = "" if os.path.abspath(scene) == os.path.abspath(path) else f" ({scene})"
             raise SceneError(option, f"{path} is the scene this command reads{where}; {writer} writes {what} there "
                                      f"and it would be overwritten: choose another output folder or move the scene")
