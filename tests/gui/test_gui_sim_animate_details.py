@@ -314,3 +314,40 @@ def test_a_motor_deleted_under_the_panel_is_named_and_ok_refused(doc, tracebacks
     assert press_ok() is False
     assert not tracebacks, tracebacks[0]
     assert press_cancel()
+
+
+@pytest.mark.parametrize("cmd", ["MM_Simulate", "MM_Animate"])
+def test_a_deleted_motor_brought_back_by_undo_clears_the_line(doc, tracebacks, cmd):
+    # the red line and the refused OK stayed until the panel was reopened, though Ctrl+Z of the Delete had
+    # brought the motor back (review, session 29)
+    sc = open_fish(doc)
+    p = run_panel(cmd)
+    gone = list(p.sliders if cmd == "MM_Simulate" else p.shapes)[1]
+    doc.openTransaction("Delete")
+    doc.removeObject(items(sc)[gone].Name)
+    doc.commitTransaction()
+    process(100)
+    assert "items" in p.problems, p.problems
+    doc.undo()
+    process(100)
+    assert gone in items(sc), sorted(items(sc))
+    assert "items" not in p.problems, p.problems
+    assert not p.problem_label("items").isVisible()
+    assert "deleted" not in p.error.text(), p.error.text()
+    assert not tracebacks, tracebacks[0]
+    assert press_ok(), p.error.text()
+
+
+@pytest.mark.parametrize("cmd", ["MM_Flexibility", "MM_FoldedShape"])
+def test_panels_without_motor_rows_do_not_name_a_deleted_motor(doc, tracebacks, cmd):
+    # Flexibility and Folded shape show no motor: the "deleted from the structure" line and a refused OK there
+    # were wrong (review, session 29)
+    sc = open_fish(doc)
+    gone = sorted(n for n, it in items(sc).items() if getattr(it, "Kind", "") == "actuator")[0]
+    p = run_panel(cmd)
+    doc.removeObject(items(sc)[gone].Name)
+    process(100)
+    assert "items" not in p.problems, p.problems
+    assert "deleted" not in p.error.text(), p.error.text()
+    assert not tracebacks, tracebacks[0]
+    assert press_cancel()

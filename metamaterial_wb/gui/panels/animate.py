@@ -36,6 +36,7 @@ class AnimatePanel(PlaybackClock, BasePanel):
     VIEW_ATTRS = ("floor",)
     TITLE = "Animate"
     ICON = "MM_Animate.svg"
+    ITEM_ROWS = True
 
     def __init__(self, scene_obj):
         from metamaterial_wb.gui import preferences

@@ -185,6 +185,31 @@ class _DocumentWatch:
                 p.check_items()
         QtCore.QTimer.singleShot(0, check)
 
+    def slotCreatedObject(self, obj):
+        """An object comes (back): Ctrl+Z of a Delete, Ctrl+Y of Place motor. A motor the open panel shows may be
+        back, so it checks its items again (``BasePanel.check_items`` clears the red line)."""
+        self._recheck_items(obj)
+
+    def slotChangedObject(self, obj, prop):
+        if prop == "Items":
+            self._recheck_items(obj)
+
+    @staticmethod
+    def _recheck_items(obj):
+        p = ACTIVE
+        if p is None or not p.ITEM_ROWS or "items" not in getattr(p, "problems", {}):
+            return
+        try:
+            if obj.Document.Name != getattr(p, "doc_name", None):
+                return
+        except Exception:  # pragma: no cover - an object without a document: check anyway
+            pass
+
+        def check():
+            if ACTIVE is p and not p.check_target():
+                p.check_items()
+        QtCore.QTimer.singleShot(0, check)
+
 
 _WATCH = None
 
@@ -272,6 +297,7 @@ class BasePanel:
     TITLE = "Metamaterial"
     ICON = "Metamaterial_Workbench.svg"
     VIEW_ATTRS = ()        # attributes holding the panel's own Coin nodes or preview objects (``forget_view``)
+    ITEM_ROWS = False      # a slider / row per motor or constraint: a deleted one is named, OK refused (check_items)
 
     def __init__(self):
         self.form = QtGui.QWidget()
@@ -395,7 +421,7 @@ class BasePanel:
         the structure (Delete, Ctrl+Z of Place motor): OK is refused and the panel names it (its slider or row would
         keep acting on a motor that is gone); the red line stays at the top of the panel."""
         scene = getattr(self, "scene", None)
-        if scene is None or not hasattr(scene, "fixed_items") or self.target_gone():
+        if not self.ITEM_ROWS or scene is None or not hasattr(scene, "fixed_items") or self.target_gone():
             return
         try:
             present = {it.ItemName for it in self.obj.Items if getattr(it, "ItemName", None)}
@@ -408,9 +434,12 @@ class BasePanel:
         lab = self.problem_label("items")
         if text and lab.parent() is None:
             self.layout.insertWidget(0, lab)          # shown above everything (a preview clears the error line)
+        before = self.problems.get("items")
         self.set_problem("items", text)
         if text:
             self.show_error(text)
+        elif before and self.error.text() == before:  # the motor is back (Ctrl+Z of the Delete, Ctrl+Y)
+            self.clear_error()
 
     def target_lost(self):
         """The structure is gone: the preview goes, OK is refused and the panel says so (once). Panels with a

@@ -14,6 +14,7 @@ class SimulatePanel(BasePanel):
     """Global-deformation slider and one slider per motor and constraint, solved live."""
     TITLE = "Simulate"
     ICON = "MM_Simulate.svg"
+    ITEM_ROWS = True
 
     def __init__(self, scene_obj):
         super().__init__()
