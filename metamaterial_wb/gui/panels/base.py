@@ -171,33 +171,24 @@ class _DocumentWatch:
     def slotDeletedObject(self, obj):
         """An object is going (Delete, Ctrl+Z of its creation): once it is gone, the open panel checks whether
         it was its structure (``BasePanel.check_target``: playback stops, the preview goes, the panel says so)."""
-        p = ACTIVE
-        if p is None or getattr(p, "obj", None) is None:
-            return
-        try:
-            if obj.Document.Name != getattr(p, "doc_name", None):
-                return
-        except Exception:  # pragma: no cover - an object without a document: check anyway
-            pass
-
-        def check():
-            if ACTIVE is p and not p.check_target():
-                p.check_items()
-        QtCore.QTimer.singleShot(0, check)
+        self._check_later(obj, ACTIVE)
 
     def slotCreatedObject(self, obj):
-        """An object comes (back): Ctrl+Z of a Delete, Ctrl+Y of Place motor. A motor the open panel shows may be
-        back, so it checks its items again (``BasePanel.check_items`` clears the red line)."""
-        self._recheck_items(obj)
+        """An object comes (back): Ctrl+Z of a Delete, Ctrl+Y of Place motor. A motor the open panel named as
+        deleted may be back, so it checks its items again (``BasePanel.check_items`` clears the red line)."""
+        p = ACTIVE
+        if p is not None and p.ITEM_ROWS and "items" in getattr(p, "problems", {}):
+            self._check_later(obj, p)
 
     def slotChangedObject(self, obj, prop):
         if prop == "Items":
-            self._recheck_items(obj)
+            self.slotCreatedObject(obj)
 
     @staticmethod
-    def _recheck_items(obj):
-        p = ACTIVE
-        if p is None or not p.ITEM_ROWS or "items" not in getattr(p, "problems", {}):
+    def _check_later(obj, p):
+        """Once the document's change is done, the panel ``p`` checks its structure and items (if ``obj`` is in its
+        document)."""
+        if p is None or getattr(p, "obj", None) is None:
             return
         try:
             if obj.Document.Name != getattr(p, "doc_name", None):
