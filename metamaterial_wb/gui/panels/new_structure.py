@@ -13,12 +13,21 @@ from PySide import QtCore, QtGui
 
 import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
-from metamaterial_wb.core.scene import Scene, validate_layout
+from metamaterial_wb.core.scene import MAX_CELLS, MAX_INDEX, Scene, validate_layout
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import GREEN, BasePanel, _fit
 from metamaterial_wb.gui.panels.checks import design_problem
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
+
+
+def _check_full_grid(rows, cols):
+    """Check a full rows x cols grid as Scene.from_dict does, without building its cells when it passes: a
+    full rectangle is one connected structure without holes, so only the size budget of ``layout.grid``
+    can refuse it, and Scene.from_dict refuses that before it allocates anything (its own message). Within
+    the budget nothing is built: a 1000 x 1000 grid cost seconds per keystroke; OK builds the scene."""
+    if rows * cols > MAX_CELLS or max(rows, cols) > MAX_INDEX:
+        Scene.from_dict({"format": "metamaterial-scene", "version": 1, "layout": {"grid": [rows, cols]}})
 
 
 class NewStructurePanel(BasePanel):
@@ -27,7 +36,7 @@ class NewStructurePanel(BasePanel):
     TITLE = "New metamaterial structure"
     ICON = "MM_NewStructure.svg"
     BUTTONS_MAX = 32          # beyond 32 x 32 the layout is the full grid (too many buttons to click)
-    GRID_MAX = 2000           # the scene validator allows at most 4,000,000 cells (it says so in words)
+    GRID_MAX = 2000           # the scene validator allows at most 1,000,000 cells (it says so in words)
     DEFAULT_NAME = "structure"
 
     def __init__(self, doc=None):
@@ -74,8 +83,10 @@ class NewStructurePanel(BasePanel):
         self.grid = QtGui.QGridLayout(self.grid_widget)
         self.grid.setSpacing(2)
         self.layout.addWidget(self.grid_widget)
+        self.grid_widget.setStyleSheet("QPushButton:checked { background-color: #3b7dd8; }")
         self.buttons = {}
         self.headers = []
+        self._col_heads, self._row_heads = {}, {}
         self.status = QtGui.QLabel("")
         self.status.setWordWrap(True)
         self.layout.addWidget(self.status)
@@ -112,39 +123,50 @@ class NewStructurePanel(BasePanel):
         return self.rows.value() > self.BUTTONS_MAX or self.cols.value() > self.BUTTONS_MAX
 
     def _rebuild(self, *_):
-        keep = {k for k, b in self.buttons.items() if b.isChecked()}
-        if getattr(self, "_was_big", False):    # a big layout was the full grid: back below the limit it stays full
-            keep = {(i, j) for i in range(self.rows.value()) for j in range(self.cols.value())}
-        self._was_big = self.big()
-        for w in list(self.buttons.values()) + self.headers:
-            self.grid.removeWidget(w)
-            w.deleteLater()
-        self.buttons, self.headers = {}, []
-        if not self.big():
-            for j in range(self.cols.value()):
+        """Fit the toggle grid to rows x columns. Only the cells and headers that come or go are made or
+        removed (the others keep their state), so one more row costs one row of buttons; a big layout (the
+        full grid) has no buttons, and back below the limit it stays full."""
+        rows, cols = self.rows.value(), self.cols.value()
+        was_big, self._was_big = getattr(self, "_was_big", False), self.big()
+        if self.big():
+            rows = cols = 0                     # no buttons at all
+        for key in [k for k in self.buttons if k[0] >= rows or k[1] >= cols]:
+            self._drop(self.buttons.pop(key))
+        for heads, n in ((self._col_heads, cols), (self._row_heads, rows)):
+            for k in [k for k in heads if k >= n]:
+                self._drop(heads.pop(k))
+        for j in range(cols):
+            if j not in self._col_heads:
                 h = QtGui.QLabel(str(j))
                 h.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
                 self.grid.addWidget(h, 0, j + 1)
-                self.headers.append(h)
-            for i in range(self.rows.value()):
+                self._col_heads[j] = h
+        for i in range(rows):
+            if i not in self._row_heads:
                 h = QtGui.QLabel(str(i))
                 self.grid.addWidget(h, i + 1, 0)
-                self.headers.append(h)
-                for j in range(self.cols.value()):
+                self._row_heads[i] = h
+            for j in range(cols):
+                if (i, j) not in self.buttons:
                     b = QtGui.QPushButton("")
                     b.setCheckable(True)
                     b.setFixedSize(22, 22)
                     b.setToolTip(translate("Metamaterial", "cell [{0}, {1}]").format(i, j))
                     b.setAccessibleName(f"cell [{i}, {j}]")
-                    b.setStyleSheet("QPushButton:checked { background-color: #3b7dd8; }")
-                    b.setChecked((i, j) in keep)
+                    b.setChecked(was_big)
                     b.toggled.connect(self._changed)
                     self.grid.addWidget(b, i + 1, j + 1)
                     self.buttons[(i, j)] = b
+        self.headers = list(self._col_heads.values()) + list(self._row_heads.values())
+        if not self.big():
             for c in range(self.BUTTONS_MAX + 2):   # keep the toggle buttons packed to the left
-                self.grid.setColumnStretch(c, 1 if c == self.cols.value() + 1 else 0)
+                self.grid.setColumnStretch(c, 1 if c == cols + 1 else 0)
         self.grid_widget.setVisible(not self.big())
         self._changed()
+
+    def _drop(self, w):
+        self.grid.removeWidget(w)
+        w.deleteLater()
 
     def preset_grid(self):
         for b in self.buttons.values():
@@ -164,6 +186,12 @@ class NewStructurePanel(BasePanel):
     def toggle(self, i, j):
         b = self.buttons[(i, j)]
         b.setChecked(not b.isChecked())
+
+    def n_cells(self):
+        """len(cells()) without listing a big layout's cells."""
+        if self.big():
+            return self.rows.value() * self.cols.value()
+        return sum(b.isChecked() for b in self.buttons.values())
 
     def cells(self):
         if self.big():
@@ -216,8 +244,7 @@ class NewStructurePanel(BasePanel):
         grid = cell = ""
         try:
             if self.big():
-                Scene.from_dict({"format": "metamaterial-scene", "version": 1,
-                                 "layout": {"grid": [self.rows.value(), self.cols.value()]}})
+                _check_full_grid(self.rows.value(), self.cols.value())
             else:
                 validate_layout([list(c) for c in self.cells()])
         except MetamaterialError as exc:
@@ -233,7 +260,7 @@ class NewStructurePanel(BasePanel):
             self.status.setText("")
         else:
             self.status.setStyleSheet(GREEN)
-            n = len(self.cells())
+            n = self.n_cells()
             self.status.setText((translate("Metamaterial", "{0} cells: a valid layout (the full grid)") if self.big() else
                                  translate("Metamaterial", "{0} cells: a valid layout")).format(n))
 
