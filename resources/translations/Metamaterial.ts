@@ -34,7 +34,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="500"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="501"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -44,7 +44,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="326"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="348"/>
         <source>; the box kept {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -59,12 +59,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="393"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="394"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="101"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="102"/>
         <source>? deg ({0:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -74,7 +74,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="180"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="181"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -94,7 +94,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="62"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="71"/>
         <source>Cell size</source>
         <translation type="unfinished"></translation>
     </message>
@@ -104,7 +104,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="67"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="76"/>
         <source>Chain</source>
         <translation type="unfinished"></translation>
     </message>
@@ -114,7 +114,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="77"/>
         <source>Clear</source>
         <translation type="unfinished"></translation>
     </message>
@@ -129,7 +129,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="72"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="81"/>
         <source>Click cells [row, col] to add or remove them:</source>
         <translation type="unfinished"></translation>
     </message>
@@ -141,18 +141,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="60"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="69"/>
         <source>Columns</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="557"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="145"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="558"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="107"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="108"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -162,7 +162,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="549"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="550"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -198,12 +198,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="31"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="32"/>
         <source>Global deformation (perfect propagation)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="66"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="75"/>
         <source>Grid</source>
         <translation type="unfinished"></translation>
     </message>
@@ -255,27 +255,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="92"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="103"/>
         <source>Load scene file...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="169"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="170"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="120"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="121"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="55"/>
         <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="29"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="30"/>
         <source>Model</source>
         <translation type="unfinished"></translation>
     </message>
@@ -290,24 +290,24 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="180"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="42"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="43"/>
         <source>Motors and constraints</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="58"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="67"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="68"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="61"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="62"/>
         <source>No motors yet: use 'Place motor'.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -342,19 +342,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="118"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="567"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="119"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="568"/>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="179"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="170"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="171"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="148"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="149"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
@@ -374,7 +374,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="59"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="68"/>
         <source>Rows</source>
         <translation type="unfinished"></translation>
     </message>
@@ -389,7 +389,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="178"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="179"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -405,12 +405,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="177"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="178"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="166"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="167"/>
         <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -435,7 +435,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="163"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="164"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -445,12 +445,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="104"/>
         <source>The angle sent to the servo for this value (closing and opening differ); the firmware's invert and trim come after</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="82"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="93"/>
         <source>The structure comes from the scene file (its cells, cell size and motors): the grid and the cell size above are not used. Clear the file field to use them again.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -486,12 +486,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="344"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="345"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="199"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="200"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
@@ -501,7 +501,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="51"/>
         <source>amplitude</source>
         <translation type="unfinished"></translation>
     </message>
@@ -536,12 +536,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="540"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="541"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="154"/>
         <source>cell [{0}, {1}]</source>
         <translation type="unfinished"></translation>
     </message>
@@ -551,7 +551,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="49"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="50"/>
         <source>clip {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -593,7 +593,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="52"/>
         <source>freq (Hz)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -620,7 +620,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="136"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="137"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -630,7 +630,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="171"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="172"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -640,22 +640,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="49"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="50"/>
         <source>motor</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="195"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="196"/>
         <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="49"/>
         <source>motor {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="467"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="487"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -670,7 +670,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="91"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="102"/>
         <source>or a scene file (.json): type its path</source>
         <translation type="unfinished"></translation>
     </message>
@@ -685,29 +685,29 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="113"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="114"/>
         <source>overridden by Global deformation (untick it to use the motors)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="53"/>
         <source>phase (deg)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="543"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="563"/>
         <source>picked {0} {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="190"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="460"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="509"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="191"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="461"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="510"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="444"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="445"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -742,37 +742,37 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="285"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="312"/>
         <source>scene {0}: {1} cells, {2} motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="54"/>
         <source>servo angle range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="49"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="50"/>
         <source>shape</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="489"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="490"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="513"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="514"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="508"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="509"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="503"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="504"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -782,17 +782,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="135"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="559"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="560"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="141"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -812,17 +812,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="155"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="156"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="425"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="445"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="178"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="179"/>
         <source>the {0} solve did not converge: the pose shown is its last iterate</source>
         <translation type="unfinished"></translation>
     </message>
@@ -837,7 +837,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="541"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="561"/>
         <source>under the cursor: {0} {1} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -868,17 +868,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="394"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="395"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="103"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="149"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="150"/>
         <source>{0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -898,12 +898,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="238"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="265"/>
         <source>{0} cells: a valid layout</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="237"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="264"/>
         <source>{0} cells: a valid layout (the full grid)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -923,33 +923,43 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="335"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="365"/>
         <source>{0} has more decimals than the box takes (at most {1} decimals){2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="334"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="364"/>
         <source>{0} is not a whole number (at most 0 decimals){1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="328"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="358"/>
         <source>{0} is outside the allowed range {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="341"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="342"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="405"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="422"/>
         <source>{0} this panel shows was deleted from the structure (press Cancel and open the panel again)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="337"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="367"/>
         <source>{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="353"/>
+        <source>{0} was not taken: the box reads only the ASCII digits 0-9, not {1}{2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="355"/>
+        <source>{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -958,17 +968,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="328"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="329"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="324"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="325"/>
         <source>{0}: keyframes play once (stored without a period) and hold the last value</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="332"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="333"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>

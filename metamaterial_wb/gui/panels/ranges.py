@@ -67,7 +67,21 @@ def bind(spin, field):
 
 
 REFUSED = "refused_input"    # the spin box property holding the message of a keystroke its range refused
-_NUMBER = re.compile(r"^[+-]?\d*(?:[.,]\d*)?$")    # what a number typed key by key can be on its way
+# what a number typed key by key can be on its way. ``\d`` is any script's decimal digit on purpose: a digit the
+# box does not read (Arabic-Indic U+0663, full-width U+FF13 in a C/English locale) is dropped by Qt, and kept in
+# the intended text it makes the drop seen and said as such (``_RefusedKeys.foreign``), not taken for a letter
+_NUMBER = re.compile(r"^[+-]?\d*(?:[.,]\d*)?$")
+ASCII_DIGITS = "0123456789"
+
+
+def box_digits(locale):
+    """The digits a spin box with ``locale`` reads: the ASCII 0-9 (Qt reads them in every locale) and the
+    locale's own ten (Arabic-Indic in an Arabic locale)."""
+    zero = locale.zeroDigit()
+    zero = zero if isinstance(zero, str) else str(zero)
+    if len(zero) == 1 and zero != "0":
+        return ASCII_DIGITS + "".join(chr(ord(zero) + i) for i in range(10))
+    return ASCII_DIGITS
 
 
 def _watch_refused_keys(spin, field):
@@ -156,6 +170,11 @@ class _RefusedKeys(QtCore.QObject):
         if cursor is not None:
             return text, min(cursor, len(text))
         return text
+
+    def foreign(self, text):
+        """The digits in ``text`` the box does not read (Python's float reads any script's digits; Qt drops them)."""
+        own = box_digits(self.spin.locale())
+        return "".join(dict.fromkeys(c for c in text if c.isdecimal() and c not in own))
 
     def number(self, text):
         text = text.strip()
@@ -296,6 +315,9 @@ class _RefusedKeys(QtCore.QObject):
             self.shown = text
             if self.intended is None:
                 return
+            if text != self.intended and self.foreign(self.intended):    # a digit the box dropped: not a
+                self.set(self.refusal(self.intended.strip()), hard=True)      # number the box could show
+                return
             want = self.number(self.intended)
             same = want is not None and self.number(text) == want and \
                 (final or not self.intended.rstrip().endswith((".", ",")))    # a point dropped: 3.5 -> 35
@@ -324,6 +346,14 @@ class _RefusedKeys(QtCore.QObject):
         lo, hi = self.spin.minimum(), self.spin.maximum()
         head = f"{self.name()}: {typed}"
         kept = translate("Metamaterial", "; the box kept {0}").format(self.kept())
+        bad = self.foreign(typed)
+        if bad:
+            own = box_digits(self.spin.locale())
+            if own == ASCII_DIGITS:
+                return translate("Metamaterial", "{0} was not taken: the box reads only the ASCII digits 0-9, not {1}{2}"
+                                 ).format(head, " ".join(bad), kept)
+            return translate("Metamaterial", "{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}"
+                             ).format(head, own[10], own[-1], " ".join(bad), kept)
         if value is not None and not lo <= value <= hi:
             return translate("Metamaterial", "{0} is outside the allowed range {1}{2}").format(
                 head, self.bounds(), kept)
