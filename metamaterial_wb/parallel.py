@@ -46,9 +46,9 @@ def check_scheduler_address(address, option="--scheduler"):
     """``address`` if it is a Dask scheduler address ``tcp://HOST:PORT`` / ``tls://HOST:PORT`` / ``HOST:PORT``
     (port 1-65535), else a :class:`SceneError` naming ``option``, the value and what is allowed. Only the form
     is checked (no connection, no Dask needed)."""
-    if isinstance(address, str) and _INPROC_RE.match(address):
+    if isinstance(address, str) and _INPROC_RE.fullmatch(address):
         return address
-    m = _SCHEDULER_RE.match(address) if isinstance(address, str) else None
+    m = _SCHEDULER_RE.fullmatch(address) if isinstance(address, str) else None
     if m is None or not 1 <= int(m.group(3)) <= 65535:
         raise SceneError(option, f"{address!r}; allowed: {SCHEDULER_ALLOWED}")
     return address

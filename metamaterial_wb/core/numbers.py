@@ -2,7 +2,7 @@
 
 Python's ``float()`` and ``int()`` accept more than a person means by a number: ``1_0`` is 10, Arabic-Indic or
 full-width digits are read as their ASCII values, ``inf`` / ``nan`` are numbers and ``5e-320`` is a subnormal the
-solvers cannot compute with. A scene file refuses all of these (:mod:`metamaterial_wb.core.fileio`); the functions
+solvers cannot compute with. A scene file refuses all of these (:mod:`metamaterial_wb.core.inputfile`); the functions
 here refuse them in typed text too, naming what was typed and what is allowed.
 """
 import re

@@ -100,10 +100,12 @@ def test_bad_scheduler_address_is_a_one_line_error(tmp_path, addr):
     assert not out.exists()
 
 
-@pytest.mark.parametrize("addr", ["tcp://127.0.0.1:\u0668\u0667\u0668\u0666", "127.0.0.1:\uff18\uff17\uff18\uff16"])
+@pytest.mark.parametrize("addr", ["tcp://127.0.0.1:\u0668\u0667\u0668\u0666", "127.0.0.1:\uff18\uff17\uff18\uff16",
+                                  "tcp://127.0.0.1:8786\n", "inproc://a/1\n"])
 def test_scheduler_port_in_non_ascii_digits_is_refused_by_its_form(addr):
     """A port in Arabic-Indic or full-width digits passed the format check (``\\d`` and ``int()`` read them) and
-    the search then waited 10 s for a connection that could not be made."""
+    the search then waited 10 s for a connection that could not be made; so did an address with a trailing newline
+    (``$`` matches before it)."""
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.parallel import check_scheduler_address
     with pytest.raises(SceneError) as e:
