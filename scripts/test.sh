@@ -4,8 +4,9 @@
 #   bash scripts/test.sh --lane 1.1 [...] one lane; further arguments go to pytest
 # Each lane runs the FreeCAD App tests and the GUI tests under Xvfb; the pure-core tests run on 0.20 and 1.1 (the
 # oldest and newest Python / numpy); firmware, slicer and emulator tests run on the host lane.
-# All lanes: two queues at once (a test process keeps about one core busy): the host lane, and the root lanes one
-# after the other (the 1.1 root is made while 1.0 runs). MM_LANES_SERIAL=1 runs the lanes one after the other.
+# All lanes, as root: two queues at once (a test process keeps about one core busy): the host lane, and the root
+# lanes one after the other (the 1.1 root is made while 1.0 runs). MM_LANES_SERIAL=1 (or running as a user, with
+# sudo) runs the lanes one after the other.
 # The host lane's output streams; the root lanes' logs follow when they end. One summary line per lane; a lane
 # whose root cannot be made fails.
 set -euo pipefail
@@ -20,13 +21,26 @@ if [ "${1:-}" = "--lane" ]; then
 fi
 bash tools/install-deps.sh
 logdir="$(mktemp -d)"
-jobs_pids=()
-stop_jobs() {   # end the background queues (run-lane.sh unmounts on TERM) and wait for them
-  local p
-  for p in "${jobs_pids[@]}"; do kill -TERM -- "-$p" 2>/dev/null || true; done
-  for p in "${jobs_pids[@]}"; do wait "$p" 2>/dev/null || true; done
+groups=() tails=() shown=()
+stop_jobs() {   # TERM every queue's process group (run-lane.sh stops its root's run and unmounts), wait until gone
+  local p i
+  for p in "${groups[@]}"; do kill -TERM -- "-$p" 2>/dev/null || true; done
+  for p in "${groups[@]}"; do
+    for i in $(seq 300); do pgrep -g "$p" >/dev/null 2>&1 || break; sleep 0.1; done
+  done
 }
-trap 'rm -rf "$logdir"' EXIT
+finish() {      # on every exit: no tail left behind; the root lanes' logs are shown even after an interrupt
+  local t lane
+  for t in "${tails[@]}"; do kill "$t" 2>/dev/null || true; done
+  for lane in "${rooted[@]}"; do
+    if [[ " ${shown[*]} " != *" $lane "* ]] && [ -s "$logdir/$lane.log" ]; then
+      echo "=== lane $lane (log so far) ===" >&2
+      cat "$logdir/$lane.log"
+    fi
+  done
+  rm -rf "$logdir"
+}
+trap finish EXIT
 trap 'stop_jobs; exit 130' INT
 trap 'stop_jobs; exit 143' TERM
 
@@ -56,31 +70,47 @@ roots_queue() {  # the root lanes one after the other; the later roots are made 
   done
 }
 
+follow() {  # follow LANE: stream the lane's log from its start
+  : >> "$logdir/$1.log"
+  tail -n +1 -f "$logdir/$1.log" & tails+=($!)
+}
+
 rooted=()
 for lane in "${lanes[@]}"; do [ "$lane" = 0.20 ] || rooted+=("$lane"); done
-if [ ${#lanes[@]} -gt 1 ] && [ -z "${MM_LANES_SERIAL:-}" ] && [ ${#rooted[@]} -gt 0 ]; then
+# Two queues at once when every lane runs, as root (a sudo password prompt needs the terminal: as a user the
+# lanes run one after the other). Each queue is a process group of its own: an interrupt stops both (stop_jobs).
+if [ ${#lanes[@]} -gt 1 ] && [ "${MM_LANES_SERIAL:-0}" = 0 ] && [ -z "$SUDO" ] && [ ${#rooted[@]} -gt 0 ]; then
   echo "=== lanes ${rooted[*]} run in the background; their logs follow the host lane ===" >&2
-  set -m; roots_queue "$@" & jobs_pids+=($!); set +m   # its own process group: stop_jobs ends all of it
+  set -m
+  roots_queue "$@" & groups+=($!)
+  host=""
   if [[ " ${lanes[*]} " == *" 0.20 "* ]]; then
     echo "=== lane 0.20 ===" >&2
-    : > "$logdir/0.20.log"
-    tail -n +1 -f "$logdir/0.20.log" & tailpid=$!
-    run_one 0.20 "$@"
-    sleep 1; kill "$tailpid" 2>/dev/null || true; wait "$tailpid" 2>/dev/null || true
+    follow 0.20
+    run_one 0.20 "$@" & host=$!; groups+=($host)
   fi
-  wait "${jobs_pids[0]}" || true
-  jobs_pids=()
+  set +m
+  [ -z "$host" ] || wait "$host" || true      # a trapped INT / TERM interrupts the wait at once
+  shown+=(0.20)
+  wait "${groups[0]}" || true
+  groups=()
+  sleep 1
+  for t in "${tails[@]}"; do kill "$t" 2>/dev/null || true; done
+  tails=()
   for lane in "${rooted[@]}"; do
     echo "=== lane $lane ===" >&2
     cat "$logdir/$lane.log"
+    shown+=("$lane")
   done
 else
   for lane in "${lanes[@]}"; do
     echo "=== lane $lane ===" >&2
-    : > "$logdir/$lane.log"
-    tail -n +1 -f "$logdir/$lane.log" & tailpid=$!
+    follow "$lane"
     run_one "$lane" "$@"
-    sleep 1; kill "$tailpid" 2>/dev/null || true; wait "$tailpid" 2>/dev/null || true
+    shown+=("$lane")
+    sleep 1
+    for t in "${tails[@]}"; do kill "$t" 2>/dev/null || true; done
+    tails=()
   done
 fi
 
@@ -95,6 +125,10 @@ for lane in "${lanes[@]}"; do
   parts=""
   while read -r _ _ part p f s e prc; do
     errs=""; [ "${e:-0}" = 0 ] || errs=" $e errors"          # shown only when pytest reported errors
+    if [ "${prc:-0}" != 0 ] && [ $((f + e)) = 0 ]; then        # ended without a failed test: say how
+      case "$prc" in 124) errs+=" (no result: timed out, exit 124)" ;; *) errs+=" (exit $prc)" ;; esac
+      e=$((e + 1))
+    fi
     parts+=" $part $p passed $f failed $s skipped$errs;"
     tp=$((tp + p)); tf=$((tf + f + e)); ts=$((ts + s))
   done < <(grep '^LANE-RESULT ' "$logdir/$lane.log" || true)

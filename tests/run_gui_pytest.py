@@ -18,7 +18,7 @@ import sys
 from PySide import QtCore
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-WATCHDOG_S = int(os.environ.get("MM_GUI_WATCHDOG_S", "600"))
+WATCHDOG_S = int(os.environ.get("MM_GUI_WATCHDOG_S", "1500"))   # the whole GUI run: ~10 min with two lanes at once
 
 
 def _run():

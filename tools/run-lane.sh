@@ -27,7 +27,7 @@ mkdir -p "$roots"
 exec 9>"$root.lock"          # one run per root at a time (a second waits): mounts and rebuilds never overlap
 flock 9
 if ! bash "$here/lane-root.sh" "$suite" "$root"; then
-  echo "LANE-RESULT $lane root 0 0 0 1 1"
+  [ -n "$prepare" ] || echo "LANE-RESULT $lane root 0 0 0 1 1"   # (--prepare: the lane run that follows says it)
   echo "run-lane: lane $lane FAILED: the $suite root could not be made" >&2
   exit 1
 fi

@@ -37,7 +37,7 @@ if [ -n "${MM_GUI_ONLY:-}" ]; then       # developers: the GUI part only (MM_GUI
 else
   where=(tests)                         # test paths among the arguments replace the whole tests/ folder
   for a in "$@"; do [[ "$a" != -* && -e "${a%%::*}" ]] && where=(); done
-  if [ "$lane" = 1.0 ] && [ ${#where[@]} -gt 0 ] && [ -z "${MM_LANE_PURE:-}" ]; then
+  if [ "$lane" = 1.0 ] && [ $# -eq 0 ] && [ -z "${MM_LANE_PURE:-}" ]; then   # the whole suite, no selection
     args+=(-m "not pure")               # the pure-core tests run on 0.20 and 1.1 (docs/testing.md)
     echo "lane 1.0: the pure-core tests run on lanes 0.20 and 1.1 (MM_LANE_PURE=1 runs them here too)"
   fi
@@ -50,7 +50,7 @@ if [ -f tests/run_gui_pytest.py ] && [ -z "${MM_APP_ONLY:-}" ]; then   # MM_APP_
   cfgdir="$(mktemp -d)"; cp resources/test_user.cfg "$cfgdir/user.cfg"
   case "$lane" in 0.20) xn=99 ;; 1.0) xn=120 ;; *) xn=140 ;; esac   # lanes run at once; each root has its own /tmp,
   # so xvfb-run -a cannot see another lane's display: the numbers differ per lane
-  timeout 1200 xvfb-run -a -n "$xn" -s "-screen 0 1600x1000x24" freecad -u "$cfgdir/user.cfg" \
+  timeout 1800 xvfb-run -a -n "$xn" -s "-screen 0 1600x1000x24" freecad -u "$cfgdir/user.cfg" \
     tests/run_gui_pytest.py -M "$PWD" 2>&1 | tee "$logs/gui.log"
   rc_gui=${PIPESTATUS[0]}
   rm -rf "$cfgdir"
