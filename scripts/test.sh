@@ -29,9 +29,15 @@ stop_jobs() {   # TERM every queue's process group (run-lane.sh stops its root's
     for i in $(seq 300); do pgrep -g "$p" >/dev/null 2>&1 || break; sleep 0.1; done
   done
 }
-finish() {      # on every exit: no tail left behind; the root lanes' logs are shown even after an interrupt
-  local t lane
+stop_tails() {  # end the log followers (after a second: the last lines reach the output)
+  local t
+  [ "${1:-}" = now ] || sleep 1
   for t in "${tails[@]}"; do kill "$t" 2>/dev/null || true; done
+  tails=()
+}
+finish() {      # on every exit: no tail left behind; the root lanes' logs are shown even after an interrupt
+  local lane
+  stop_tails now
   for lane in "${rooted[@]}"; do
     if [[ " ${shown[*]} " != *" $lane "* ]] && [ -s "$logdir/$lane.log" ]; then
       echo "=== lane $lane (log so far) ===" >&2
@@ -94,9 +100,7 @@ if [ ${#lanes[@]} -gt 1 ] && [ "${MM_LANES_SERIAL:-0}" = 0 ] && [ -z "$SUDO" ] &
   shown+=(0.20)
   wait "${groups[0]}" || true
   groups=()
-  sleep 1
-  for t in "${tails[@]}"; do kill "$t" 2>/dev/null || true; done
-  tails=()
+  stop_tails
   for lane in "${rooted[@]}"; do
     echo "=== lane $lane ===" >&2
     cat "$logdir/$lane.log"
@@ -108,9 +112,7 @@ else
     follow "$lane"
     run_one "$lane" "$@"
     shown+=("$lane")
-    sleep 1
-    for t in "${tails[@]}"; do kill "$t" 2>/dev/null || true; done
-    tails=()
+    stop_tails
   done
 fi
 
