@@ -10,7 +10,7 @@ if not getattr(FreeCAD, "GuiUp", False):
     pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
 
 import FreeCADGui  # noqa: E402
-from PySide import QtGui  # noqa: E402
+from PySide import QtCore, QtGui  # noqa: E402
 
 from metamaterial_wb.gui import panels  # noqa: E402
 from metamaterial_wb.gui.panels.base import task_buttons  # noqa: E402
@@ -39,6 +39,24 @@ def decoys(form):
     return out
 
 
+def count_work(monkeypatch):
+    """Count, until ``monkeypatch.undo()``, every ``findChildren`` walk (of any widget), every event processing
+    and every ``time.sleep``: the cost of a call, independent of the machine's speed."""
+    work = {"findChildren": 0, "processEvents": 0, "sleep": 0}
+
+    def counted(key, fn):
+        def wrapper(*a, **k):
+            work[key] += 1
+            return fn(*a, **k)
+        return wrapper
+
+    monkeypatch.setattr(QtCore.QObject, "findChildren", counted("findChildren", QtCore.QObject.findChildren))
+    monkeypatch.setattr(QtCore.QCoreApplication, "processEvents",
+                        staticmethod(counted("processEvents", QtCore.QCoreApplication.processEvents)))
+    monkeypatch.setattr(time, "sleep", counted("sleep", time.sleep))
+    return work
+
+
 def test_the_panel_is_on_screen_and_its_own_buttons_are_found(doc):
     p = run_panel("MM_NewStructure")
     process(50)
@@ -58,7 +76,7 @@ def test_the_panel_is_on_screen_and_its_own_buttons_are_found(doc):
     assert task_buttons() is None, "no panel is shown: no box"
 
 
-def test_after_a_closed_dialog_the_new_dialogs_box_is_returned(doc):
+def test_after_a_closed_dialog_the_new_dialogs_box_is_returned(doc, monkeypatch):
     first = run_panel("MM_NewStructure")
     old = task_buttons()
     assert press_cancel()
@@ -71,10 +89,13 @@ def test_after_a_closed_dialog_the_new_dialogs_box_is_returned(doc):
     views = [w for w in FreeCADGui.getMainWindow().findChildren(QtGui.QWidget)
              if w.metaObject().className() == "Gui::TaskView::TaskView" and w.isAncestorOf(second.form)]
     assert views and views[-1].isAncestorOf(box), "the returned box is not in the second dialog's task view"
-    t0 = time.perf_counter()
-    for _ in range(10):
-        task_buttons()
-    assert (time.perf_counter() - t0) / 10 < 0.05, "task_buttons() is called on every field change"
+    # task_buttons() runs on every field change (update_ok): it stays a constant number of walks of the main
+    # window (no walk per widget), without event processing or sleeping - counted, not timed
+    work = count_work(monkeypatch)
+    assert all(task_buttons() is box for _ in range(10))
+    monkeypatch.undo()
+    assert 10 <= work["findChildren"] <= 2 * 10, f"task_buttons() is called on every field change: {work}"
+    assert work["processEvents"] == 0 and work["sleep"] == 0, f"task_buttons() is called on every field change: {work}"
     assert old is box or not shiboken().isValid(old) or old.isHidden(), "a stale box is still shown"
     click(box.button(SB.Cancel))
     assert panels.active() is None and not FreeCADGui.Control.activeDialog()
