@@ -20,6 +20,26 @@ trap 'rm -rf "$logs"' EXIT
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then   # Qt wants one; a lane root's clean environment has none
   export XDG_RUNTIME_DIR="$logs/xdg-runtime"; mkdir -m 700 "$XDG_RUNTIME_DIR"
 fi
+bounded_pid=""
+bounded() {  # bounded SECONDS LOG CMD...: CMD under timeout, its output to ours and to LOG. timeout runs CMD in a
+             # process group of its own, which an INT / TERM of this script's group misses: the traps pass it on
+  local secs="$1" log="$2" out teepid rc; shift 2
+  exec {out}> >(tee "$log"); teepid=$!
+  timeout -k 10 "$secs" "$@" >&"$out" 2>&1 &
+  bounded_pid=$!
+  exec {out}>&-
+  wait "$bounded_pid"; rc=$?
+  bounded_pid=""
+  wait "$teepid" 2>/dev/null     # the log is complete before it is read
+  return "$rc"
+}
+stop_bounded() {  # timeout passes the signal to its whole group (xvfb-run, Xvfb, FreeCAD), KILL after 10 s
+  [ -n "$bounded_pid" ] || return 0
+  kill -TERM "$bounded_pid" 2>/dev/null || return 0
+  for _ in $(seq 120); do kill -0 "$bounded_pid" 2>/dev/null || break; sleep 0.1; done
+}
+trap 'stop_bounded; exit 130' INT
+trap 'stop_bounded; exit 143' TERM
 args+=(-rfEs)                           # failures, errors and the reason of every skip in the summary
 count() {  # count WORD FILE: the number before WORD on pytest's closing line
   grep -E '^=*.* in [0-9.]+s' "$2" | tail -n1 | grep -oE "[0-9]+ $1" | awk '{print $1}' | head -n1
@@ -50,9 +70,9 @@ if [ -f tests/run_gui_pytest.py ] && [ -z "${MM_APP_ONLY:-}" ]; then   # MM_APP_
   cfgdir="$(mktemp -d)"; cp resources/test_user.cfg "$cfgdir/user.cfg"
   case "$lane" in 0.20) xn=99 ;; 1.0) xn=120 ;; *) xn=140 ;; esac   # lanes run at once; each root has its own /tmp,
   # so xvfb-run -a cannot see another lane's display: the numbers differ per lane
-  timeout 1800 xvfb-run -a -n "$xn" -s "-screen 0 1600x1000x24" freecad -u "$cfgdir/user.cfg" \
-    tests/run_gui_pytest.py -M "$PWD" 2>&1 | tee "$logs/gui.log"
-  rc_gui=${PIPESTATUS[0]}
+  bounded 1800 "$logs/gui.log" xvfb-run -a -n "$xn" -s "-screen 0 1600x1000x24" freecad -u "$cfgdir/user.cfg" \
+    tests/run_gui_pytest.py -M "$PWD"
+  rc_gui=$?
   rm -rf "$cfgdir"
   result gui "$logs/gui.log" "$rc_gui" > "$logs/gui.res"
 fi
