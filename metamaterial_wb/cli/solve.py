@@ -246,8 +246,9 @@ def result_dict(scene, res, global_g=None, model="quadratic", fields=None, array
     from metamaterial_wb.core import resultfile
 
     fields = resultfile.FIELDS if fields is None else tuple(fields)
-    out = {"format": "metamaterial-result", "version": 1, "scene": scene.name, "model": model,
-           "converged": bool(res.converged), "global_deformation": global_g,
+    out = {"format": "metamaterial-result", "version": 1, "scene": scene.name,
+           "cell_size_mm": float(scene.cell_size_mm),   # the sheet's pitch: its nodes' rest positions (inverse)
+           "model": model, "converged": bool(res.converged), "global_deformation": global_g,
            "actuators": {a.name: a.value for a in scene.actuators},
            "constraints": {c.name: c.value for c in scene.constraints},
            "values_applied": global_g is None,

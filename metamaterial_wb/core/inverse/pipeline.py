@@ -122,7 +122,7 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         raise SceneError("--evaluate", f"no model given; allowed: one or more of {', '.join(ev.MODELS)}")
     if model not in ev.MODELS:
         raise SceneError("--model", f"{model!r}; allowed: {', '.join(ev.MODELS)}")
-    evaluate, notes = list(evaluate), []
+    evaluate, notes = list(evaluate), list(getattr(target, "info", {}).get("warnings", []))   # the target's: an old result
     if model not in evaluate:
         evaluate.append(model)
         notes.append(f"--model {model} is not in --evaluate ({', '.join(evaluate[:-1])}): the answer is evaluated "

@@ -15,7 +15,9 @@ A target file (JSON, ``docs/inverse.md``) is one frame or a sequence of keyframe
 A ``solve`` result file (``"format": "metamaterial-result"``) is accepted as it is (its nodes'
 positions are the target): a full JSON result, the JSON half of a ``solve --npz`` result (its arrays are read
 from the ``.npz`` beside it, ``core.resultfile.read_result``) or that ``.npz`` itself; it needs the node poses
-(not ``--fields D`` / ``joints`` alone) and a converged solve. A bare ``.stl`` / ``.obj`` path is a surface
+(not ``--fields D`` / ``joints`` alone), a converged solve and the scene's sheet: its ``cell_size_mm`` (with its
+node names: the rest positions) must be the scene's (a result without it, from an older version, is read with a
+warning in ``Target.info["warnings"]``). A bare ``.stl`` / ``.obj`` path is a surface
 target of every node.
 Every check raises :class:`TargetError` naming the field, the value and what is allowed.
 """
@@ -421,8 +423,9 @@ def _from_result(d, source=None, scene=None):
 
     ``d`` is a JSON result (``nodes`` list) or the JSON half of ``solve --npz`` (an ``"arrays"`` entry, no
     ``nodes``): its arrays are read through ``core.resultfile.read_result`` from the ``.npz`` beside ``source``
-    (the JSON file's path). A result that did not converge, or one written without the poses
-    (``--fields D`` / ``joints``), is refused."""
+    (the JSON file's path). A result that did not converge, one written without the poses
+    (``--fields D`` / ``joints``), or one of another sheet (:func:`_check_sheet`) is refused. Returns the frame
+    dict and a warning text or None."""
     src = f"the result file {source!r}" if source else "the result"
     own = getattr(scene, "name", None)
     theirs = d.get("scene")     # named in the message only: a renamed copy (an inverse answer) has the same nodes
@@ -472,7 +475,49 @@ def _from_result(d, source=None, scene=None):
         if not isinstance(nd, dict):
             raise TargetError(f"nodes[{k}]", f"expected a result node object, got {_short(nd)}")
         items.append({"name": nd.get("name", [nd.get("i"), nd.get("j")]), "position_mm": nd.get("position_mm")})
-    return {"nodes": items, "align": "rigid"}
+    warning = _check_sheet(d, items, scene, src)
+    return {"nodes": items, "align": "rigid"}, warning
+
+
+REST_TOL_MM = 1e-6      # rest positions of a result's sheet and the scene's: equal up to float round-off
+
+
+def _check_sheet(d, items, scene, src):
+    """Refuse a result of another sheet: node names alone do not tell the sheets apart (a 3 x 3 grid of 20 mm cells
+    and one of 25 mm cells have the same names), the rest positions do. A node's rest position is
+    ``(j, -i) * cell_size_mm`` (``kinematics.flat_positions_mm``), so the result's ``cell_size_mm`` (written by
+    ``solve`` since it carries it) and its node names give its sheet's rest positions; any node's differing from
+    the scene's by more than ``REST_TOL_MM`` is a :class:`TargetError`. A result without ``cell_size_mm`` (an
+    older version's) cannot be told apart: the warning text is returned (None otherwise)."""
+    cell = getattr(scene, "cell_size_mm", None)
+    if cell is None:
+        return None
+    if "cell_size_mm" not in d:
+        return (f"{src} has no cell_size_mm (written by an older version of solve): whether it is a result of this "
+                f"sheet cannot be checked; its node positions are used as they are (solve the scene again to have "
+                f"it checked)")
+    from metamaterial_wb.core.scene.sections import CELL_SIZE_RANGE
+    theirs_cell = _num(d["cell_size_mm"], "cell_size_mm", *CELL_SIZE_RANGE, "mm")
+    worst = None
+    for it in items:
+        name = it["name"]
+        try:
+            i, j = (int(x) for x in name[1:].split(",")) if isinstance(name, str) else (int(name[0]), int(name[1]))
+        except (TypeError, ValueError, IndexError):
+            continue                   # not a node name: refused by the node list's own check
+        d_mm = abs(theirs_cell - cell) * float(np.hypot(i, j))
+        if worst is None or d_mm > worst[0]:
+            worst = (d_mm, i, j)
+    if worst is None or worst[0] <= REST_TOL_MM:
+        return None
+    d_mm, i, j = worst
+    raise TargetError("cell_size_mm", f"{src}: node N{i},{j}'s rest position ({_g(j * theirs_cell)}, "
+                                      f"{_g(-i * theirs_cell)}) mm differs from this scene's ({_g(j * cell)}, "
+                                      f"{_g(-i * cell)}) mm by {_g(d_mm)} mm (cell_size_mm {theirs_cell:.10g} mm in "
+                                      f"the result, {cell:.10g} mm in this scene): the result belongs to another "
+                                      f"sheet; allowed: a solve result of this sheet (its node names and "
+                                      f"cell_size_mm: rest positions within {REST_TOL_MM:g} mm), a renamed copy of "
+                                      f"one, or a target JSON of node positions")
 
 
 def _check_version(data):
@@ -495,8 +540,10 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None, source=None):
     except SceneError as exc:
         raise TargetError(exc.field, exc.message) from None
     fmt = data.get("format", FORMAT)
+    warnings = []
     if fmt == "metamaterial-result":
-        data = _from_result(data, source, scene)
+        data, warning = _from_result(data, source, scene)
+        warnings += [warning] if warning else []
     elif fmt != FORMAT:
         raise TargetError("format", f"{fmt!r}; expected \"{FORMAT}\" or a solve result \"metamaterial-result\"")
     else:
@@ -525,11 +572,12 @@ def parse_target(scene, data, base_dir=None, mesh_loader=None, source=None):
             period = _num(period, "period_s", 0, TIME_MAX_S, "s", low_open=True)
             if period <= times[-1]:
                 raise TargetError("period_s", f"{period} s must be longer than the last keyframe time {times[-1]} s")
-        return Target(frames, period)
+        return Target(frames, period, info={"warnings": warnings} if warnings else {})
     if "period_s" in data:
         raise TargetError("period_s", f"{_short(data['period_s'])} without keyframes; allowed: only with a "
                                       f"\"keyframes\" list (the period of the keyframe motion)")
-    return Target([parse_frame(scene, data, base_dir, "", mesh_loader)])
+    return Target([parse_frame(scene, data, base_dir, "", mesh_loader)],
+                  info={"warnings": warnings} if warnings else {})
 
 
 def load_target(scene, path, mesh_loader=None):
