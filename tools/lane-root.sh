@@ -59,12 +59,25 @@ opts=()
 [ ${#aptopts[@]} = 0 ] || opts+=(--aptopt='Acquire::Check-Valid-Until "false"')
 mkdir -p "$(dirname "$dir")"
 tmp="$dir.new"
+mm_pid=""
+stop_mm() {  # timeout passes the signal to mmdebstrap's group, KILL after 30 s
+  [ -n "$mm_pid" ] || return 0
+  kill -TERM "$mm_pid" 2>/dev/null || return 0
+  for _ in $(seq 400); do kill -0 "$mm_pid" 2>/dev/null || break; sleep 0.1; done
+}
+trap 'stop_mm; exit 130' INT
+trap 'stop_mm; exit 143' TERM
 for attempt in 1 2; do
   [ -z "$(mounted_below "$tmp")" ] || { echo "lane-root: $tmp has mounts inside it" >&2; exit 1; }
   rm -rf "$tmp"
   echo "lane-root: making the $suite root in $dir (attempt $attempt, takes 2-10 min)" >&2
-  if timeout 1500 mmdebstrap --variant=apt "${opts[@]}" \
-       --include="$(IFS=,; echo "${pkgs[*]}")" "$suite" "$tmp" 2>&1 | { grep -v "^I: " >&2 || true; }; then
+  # timeout runs mmdebstrap in a process group of its own, which a TERM of ours misses: the traps pass it on
+  timeout -k 30 1500 mmdebstrap --variant=apt "${opts[@]}" \
+    --include="$(IFS=,; echo "${pkgs[*]}")" "$suite" "$tmp" > >(grep -v "^I: " >&2) 2>&1 &
+  mm_pid=$!
+  wait "$mm_pid"; rc=$?
+  mm_pid=""
+  if [ "$rc" = 0 ]; then
     echo "$want" > "$tmp/.metamaterial-lane"
     rm -rf "$dir"
     mv "$tmp" "$dir"
