@@ -293,3 +293,106 @@ def test_contact_flags_frozen_from_the_first_iteration_run():
     sim.freeze_after = 0
     sim.run(0.01, method="implicit", dt=cfg["integrator"]["dt_s"])
     assert sim.stats["kernel"] == "numpy" and sim.stats["steps"] == 40 and np.all(np.isfinite(sim.q))
+
+
+def _run_burst(name, seconds, burst, actuate=None, **kw):
+    sc = scene(name)
+    cfg = dynamics_config(sc)
+    model = build(sc, cfg)
+    sim = Simulator(model.system, model.q0, actuate=actuate(model) if actuate else model.actuate)
+    sim.energy_scale = float(model.system.mass.sum() * 9.81 * 0.05)
+    sim.kernel = "c"
+    sim.burst = burst
+    frames = []
+    sim.run(seconds, method="implicit", dt=cfg["integrator"]["dt_s"], record_dt=seconds / 7,
+            on_record=lambda S: frames.append((S.t, S.q.copy(), S.v.copy(), S.anchors.copy(), S.inside.copy(),
+                                               dict(S.ledger))), **kw)
+    return sim, frames
+
+
+def _assert_same_run(a, b):
+    """Bitwise the same trajectory, ledger and counts; the centre of mass's extremes (summed in C in the burst, by
+    numpy's dot product step by step) to round-off."""
+    (sa, fa), (sb, fb) = a, b
+    assert sa.stats["kernel"] == sb.stats["kernel"] == "c"
+    for key in COUNTS + ("bdf2_steps", "max_penetration_mm", "rejected_checks"):
+        assert sa.stats.get(key, 0) == sb.stats.get(key, 0), key
+    for key in ("com_x_min_m", "com_x_max_m"):
+        assert sb.stats[key] == pytest.approx(sa.stats[key], rel=1e-13, abs=1e-15), key
+    assert sa.t == sb.t
+    for x, y in ((sa.q, sb.q), (sa.v, sb.v), (sa.anchors, sb.anchors), (sa.inside, sb.inside)):
+        assert np.array_equal(x, y)
+    assert sa.ledger == sb.ledger
+    assert len(fa) == len(fb)
+    for x, y in zip(fa, fb):
+        assert x[0] == y[0] and x[5] == y[5]
+        assert all(np.array_equal(p, r) for p, r in zip(x[1:5], y[1:5]))
+
+
+@pytest.mark.parametrize("name,seconds", [("worm_crawl.json", 0.3), ("belt8.json", 0.6), ("belt1000.json", 0.04)])
+def test_one_call_per_step_matches_step_implicit(name, seconds):
+    """``Simulator._burst`` (mm_step: the whole implicit step in one C call, run's default) against the same run
+    through ``step_implicit`` step by step (``Simulator.burst = False``): the same states at every recorded frame,
+    ledger and counts, bit for bit."""
+    lib_or_skip()
+    _assert_same_run(_run_burst(name, seconds, False), _run_burst(name, seconds, True))
+
+
+def test_one_call_per_step_with_an_actuator_that_replaces_arrays():
+    """An actuator that, now and then, replaces an array the kernel reads (``theta0``) instead of writing into it:
+    that step falls back to the numpy path and the next one rebinds the kernel, as step by step."""
+    lib_or_skip()
+
+    def replacing(model):
+        inner = model.actuate
+
+        def act(t, sim):
+            inner(t, sim)
+            if int(round(t / 2.5e-4)) % 37 == 0:
+                sim.sys.theta0 = sim.sys.theta0.copy()
+        return act
+    a = _run_burst("worm_crawl.json", 0.1, False, actuate=replacing)
+    b = _run_burst("worm_crawl.json", 0.1, True, actuate=replacing)
+    _assert_same_run(a, b)
+    assert b[0].stats["steps"] == 400
+
+
+def test_one_call_per_step_keeps_the_step_limit():
+    """The step limit counts the steps of earlier runs too; the burst stops at the same step as step by step."""
+    lib_or_skip()
+    out = []
+    for burst in (False, True):
+        sim, _ = _run_burst("belt8.json", 0.0, burst)
+        sim.run(0.1, method="implicit", dt=1e-3)                                  # 100 steps
+        with pytest.raises(DynamicsError, match="more than 130 steps"):
+            sim.run(0.26, method="implicit", dt=2e-3, max_steps=130)              # 0.26 s / 2 ms = 130: allowed
+        out.append(sim)
+    assert out[0].stats["steps"] == out[1].stats["steps"] == 131
+    assert np.array_equal(out[0].q, out[1].q) and out[0].ledger == out[1].ledger
+
+
+def test_one_call_per_step_books_the_steps_before_an_actuator_error():
+    """An actuator that raises mid-burst: the steps taken before it are counted and booked, as step by step."""
+    lib_or_skip()
+
+    def failing(model):
+        inner = model.actuate
+
+        def act(t, sim):
+            if t > 0.0301:
+                raise RuntimeError("sensor lost")
+            inner(t, sim)
+        return act
+    out = []
+    for burst in (False, True):
+        sc = scene("worm_crawl.json")
+        model = build(sc, dynamics_config(sc))
+        sim = Simulator(model.system, model.q0, actuate=failing(model))
+        sim.kernel, sim.burst = "c", burst
+        with pytest.raises(RuntimeError, match="sensor lost"):
+            sim.run(0.1, method="implicit", dt=2.5e-4)
+        out.append(sim)
+    a, b = out
+    assert a.stats["steps"] == b.stats["steps"] == 120
+    assert a.ledger == b.ledger and np.array_equal(a.q, b.q)
+    assert a.stats["force_evaluations"] == b.stats["force_evaluations"]

@@ -478,3 +478,95 @@ double mm_contact_damping(Sys *S, const double *q, const double *v, const double
     }
     return pc;
 }
+
+/* ----------------------------------------------------------------------------------------- */
+/* One whole implicit step (Simulator._burst, integrators.py): what step_implicit's compiled   */
+/* branch, _end_implicit_step, the ledger's actuation halves and _update_anchors do around     */
+/* mm_newton, in the same order with the same operations, so a run of steps costs one call    */
+/* per step. The actuation (S->theta0, ra, rb) has been set for the step's end by Python; the  */
+/* one it replaced is in th_old / ra_old / rb_old (saved by the previous call, or by Python).  */
+/* ----------------------------------------------------------------------------------------- */
+typedef struct {
+    const double *q, *v;             /* (N) state at the step's start (rotated by mm_step) */
+    const double *qp, *vp;           /* (N) the state before it (BDF2) */
+    double *out;                     /* (2N) q then v at the step's end; advanced by 2N per step */
+    double *anchors;                 /* (p) in place */
+    uint8_t *inside;                 /* (p) in place */
+    double *th_old, *ra_old, *rb_old;  /* (m), (2m), (2m) */
+    const double *w;                 /* (n) centre-of-mass weights */
+    double *qh, *vh, *v1, *q1;       /* (N) workspace */
+    double *ns;                      /* (5) mm_newton's stats */
+    /* ledger and statistics accumulators (in / out) */
+    double aw, damp, cdamp, fric, pen, com_min, com_max;
+    int64_t fe, jac, nit, unconv, bdf2_steps;
+    /* settings */
+    double dt, tol_abs, tol_rel;
+    int64_t bdf2, use_bdf2, max_it, max_age, refactor;
+} Step;
+
+void mm_save_actuation(Sys *S, Step *T)
+{
+    memcpy(T->th_old, S->theta0, (size_t)S->m * sizeof(double));
+    memcpy(T->ra_old, S->ra, (size_t)(2 * S->m) * sizeof(double));
+    memcpy(T->rb_old, S->rb, (size_t)(2 * S->m) * sizeof(double));
+}
+
+void mm_step(Sys *S, Step *T)
+{
+    int64_t N = S->N, m = S->m, i;
+    const double *q = T->q, *v = T->v;
+    double *qo = T->out, *vo = T->out + N;
+    double dt = T->dt, h;
+    int changed = 0;
+    /* ledger._set_actuation's comparison (np.array_equal: a NaN counts as a change) */
+    for (i = 0; i < m && !changed; i++) changed = S->theta0[i] != T->th_old[i];
+    for (i = 0; i < 2 * m && !changed; i++) changed = S->ra[i] != T->ra_old[i] || S->rb[i] != T->rb_old[i];
+    if (changed) T->aw += 0.5 * mm_actuation_jump(S, q, T->th_old, T->ra_old, T->rb_old);
+    if (T->bdf2) {
+        h = 2.0 * dt / 3.0;
+        for (i = 0; i < N; i++) {
+            T->qh[i] = (4.0 * q[i] - T->qp[i]) / 3.0;
+            T->vh[i] = (4.0 * v[i] - T->vp[i]) / 3.0;
+            T->v1[i] = 2.0 * v[i] - T->vp[i];
+        }
+        T->bdf2_steps += 1;
+    } else {
+        h = dt;
+        for (i = 0; i < N; i++) {
+            T->qh[i] = q[i];
+            T->vh[i] = v[i];
+            T->v1[i] = v[i];
+        }
+    }
+    mm_newton(S, T->qh, T->vh, T->v1, T->q1, h, T->anchors, T->max_it, T->tol_abs, T->tol_rel, T->max_age,
+              T->refactor, T->ns);
+    T->fe += (int64_t)T->ns[0];
+    T->jac += (int64_t)T->ns[1];
+    T->nit += (int64_t)T->ns[2];
+    if (!T->ns[3]) T->unconv += 1;
+    for (i = 0; i < N; i++) {
+        vo[i] = S->free_dof[i] ? T->v1[i] : 0.0;
+        qo[i] = T->qh[i] + h * vo[i];
+    }
+    if (changed) T->aw += 0.5 * mm_actuation_jump(S, qo, T->th_old, T->ra_old, T->rb_old);
+    double pc = mm_contact_damping(S, qo, vo, q, v, T->anchors, dt);
+    T->damp += dt * T->ns[4];
+    T->cdamp += dt * pc;
+    if (S->p) {
+        double acc[2] = {T->fric, T->pen};
+        mm_update_anchors(S, qo, vo, T->anchors, T->inside, acc);
+        T->fric = acc[0];
+        T->pen = acc[1];
+    }
+    double x = 0.0;
+    for (i = 0; i < S->n; i++) x += T->w[i] * qo[3 * i];
+    if (x < T->com_min) T->com_min = x;
+    else if (x > T->com_max) T->com_max = x;
+    if (changed) mm_save_actuation(S, T);
+    T->qp = q;
+    T->vp = v;
+    T->q = qo;
+    T->v = vo;
+    T->out = T->out + 2 * N;
+    T->bdf2 = T->use_bdf2;
+}

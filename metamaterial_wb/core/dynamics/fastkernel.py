@@ -1,7 +1,9 @@
 """Compiled kernel for the implicit integrator (forces, Newton matrix, band LU, the Newton loop).
 
 ``_kernel.c`` (next to this file) evaluates the same equations as :class:`PlanarSystem` and runs
-the Newton loop of :meth:`Simulator.step_implicit` in one call per time step; the numpy code in
+the Newton loop of :meth:`Simulator.step_implicit` in one call per time step (``mm_step``: the whole step with
+its ledger terms, anchors and statistics, driven by ``Simulator._burst`` between the run's checks and
+records; only the actuator callback runs in Python between two steps); the numpy code in
 ``system.py`` / ``integrators.py`` stays the reference and the fallback. The C file is compiled at
 first use with the system C compiler (``$CC``, else ``cc`` / ``gcc``; Debian: build-essential)::
 
@@ -115,6 +117,10 @@ def load():
         lib.mm_actuation_jump.restype = D
         lib.mm_contact_damping.argtypes = [P, P, P, P, P, P, D]
         lib.mm_contact_damping.restype = D
+        lib.mm_step.argtypes = [P, P]
+        lib.mm_step.restype = None
+        lib.mm_save_actuation.argtypes = [P, P]
+        lib.mm_save_actuation.restype = None
         _state["lib"], _state["path"] = lib, path
     except Exception as e:        # no compiler, build or load failure: the numpy path is used
         _state["note"] = f"compiled kernel unavailable ({e}); numpy path used"
@@ -141,6 +147,16 @@ class _Sys(ctypes.Structure):
                                                   "f_stick")]
                 + [("f_valid", ctypes.c_int64), ("f_age", ctypes.c_int64), ("f_singular", ctypes.c_int64),
                    ("f_h", ctypes.c_double)])
+
+
+class _Step(ctypes.Structure):
+    """``Step`` of _kernel.c: one whole implicit step (``mm_step``), driven by ``Simulator._burst`` (integrators.py)."""
+    _fields_ = ([(k, ctypes.c_void_p) for k in ("q", "v", "qp", "vp", "out", "anchors", "inside", "th_old", "ra_old",
+                                                 "rb_old", "w", "qh", "vh", "v1", "q1", "ns")]
+                + [(k, ctypes.c_double) for k in ("aw", "damp", "cdamp", "fric", "pen", "com_min", "com_max")]
+                + [(k, ctypes.c_int64) for k in ("fe", "jac", "nit", "unconv", "bdf2_steps")]
+                + [(k, ctypes.c_double) for k in ("dt", "tol_abs", "tol_rel")]
+                + [(k, ctypes.c_int64) for k in ("bdf2", "use_bdf2", "max_it", "max_age", "refactor")])
 
 
 _SYS_ARRAYS = ("M", "gravity", "ha", "hb", "cb", "ra", "rb", "kp", "cp", "kr", "cr", "theta0", "rc", "mu", "kn",
@@ -218,6 +234,16 @@ class Kernel:
         self._stats_p = _ptr(self.stats)
         self._acc_p = _ptr(self.acc)
         self._q1_p = _ptr(self.q1)
+        # mm_step's workspace and saved actuation (Simulator._burst)
+        m = s.ha.size
+        self.qh, self.vh, self.v1 = f(N), f(N), f(N)
+        self.th_old, self.ra_old, self.rb_old = f(m), f(2 * m), f(2 * m)
+        T = _Step()
+        for k in ("qh", "vh", "v1", "q1", "th_old", "ra_old", "rb_old"):
+            setattr(T, k, _ptr(getattr(self, k)))
+        T.ns = self._stats_p
+        self.T = T
+        self.Tp = ctypes.addressof(T)
 
     def matches(self, system):
         """True while ``system`` is the bound one with the same array objects (by identity)."""

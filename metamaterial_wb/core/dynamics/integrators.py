@@ -279,8 +279,12 @@ class Simulator(EnergyLedger):
             BE:   h = dt,      qh = q_n,                  vh = v_n
             BDF2: h = 2/3 dt,  qh = (4 q_n - q_{n-1})/3,  vh = (4 v_n - v_{n-1})/3
         """
-        s = self.sys
         self._apply_actuation(self.t + dt)
+        self._implicit_solve(dt)
+
+    def _implicit_solve(self, dt):
+        """``step_implicit`` after the actuation of the step's end is set (and its first half booked)."""
+        s = self.sys
         prev = getattr(self, "_prev", None)
         if self.bdf2 and prev is not None and abs(prev[2] - dt) <= 1e-12 * dt:
             h = 2.0 * dt / 3.0
@@ -392,6 +396,111 @@ class Simulator(EnergyLedger):
         self.ledger["contact_damping_J"] += dt * pc
         self.t += dt
         self._update_anchors()
+
+    burst = True              # run(): implicit steps on the compiled kernel, one C call each (_burst);
+                              # False: every step through step_implicit (the reference for the tests)
+    _BURST_BYTES = 65536      # output block of _burst (q and v of its steps, views handed out as self.q / self.v)
+
+    def _burst(self, k, dt, n_max, t_end, eps, rec_at, max_it):
+        """Up to ``n_max`` implicit steps of ``dt`` on the compiled kernel ``k``, each one ``mm_step`` call (the
+        actuation, the BDF2 / backward-Euler Newton solve, the step's end, the ledger's terms, the anchors and the
+        centre of mass's extremes of ``step_implicit`` + ``run``, in the same order with the same operations).
+        Stops before the step that would be run()'s last one (``t_end - t <= dt + eps``: run() takes it) and
+        after a step that reaches ``t_end - eps`` or the next record time ``rec_at``. The ledger and the statistics
+        (and the steps counted in ``stats["steps"]``) are written back when it returns, also on an exception (during
+        a burst only ``q``, ``v``, ``t``, ``anchors`` and ``inside`` are current). An actuator that replaces one of
+        the system's arrays ends the burst with that step on the numpy path (as ``step_implicit``). Returns the
+        number of steps taken."""
+        s = self.sys
+        n = 0
+        t = self.t
+        if n_max <= 0 or t_end - t <= dt + eps:
+            return 0
+        lib, Sp, T, Tp, N = k.lib, k.Sp, k.T, k.Tp, k.N
+        q = self.q = np.ascontiguousarray(self.q, float)
+        v = self.v = np.ascontiguousarray(self.v, float)
+        prev = getattr(self, "_prev", None)
+        bdf2 = bool(self.bdf2 and prev is not None and abs(prev[2] - dt) <= 1e-12 * dt)
+        if bdf2:
+            qp, vp = np.ascontiguousarray(prev[0], float), np.ascontiguousarray(prev[1], float)
+            self._prev = (qp, vp, prev[2])
+            T.qp, T.vp = qp.ctypes.data, vp.ctypes.data
+        T.q, T.v = q.ctypes.data, v.ctypes.data
+        if not (self.anchors.flags.c_contiguous and self.anchors.dtype == np.float64):
+            self.anchors = np.ascontiguousarray(self.anchors, float)
+        if not (self.inside.flags.c_contiguous and self.inside.dtype == bool):
+            self.inside = np.ascontiguousarray(self.inside, bool)
+        T.anchors, T.inside = self.anchors.ctypes.data, self.inside.ctypes.data
+        w = self._com_w
+        T.w = w.ctypes.data
+        led, st = self.ledger, self.stats
+        T.aw, T.damp, T.cdamp, T.fric = (led["actuator_work_J"], led["damping_J"], led["contact_damping_J"],
+                                         led["friction_J"])
+        T.pen, T.com_min, T.com_max = st["max_penetration_mm"], st["com_x_min_m"], st["com_x_max_m"]
+        T.fe = T.jac = T.nit = T.unconv = T.bdf2_steps = 0
+        T.dt, T.tol_abs, T.tol_rel = dt, self.newton_tol_abs, self.newton_tol_rel
+        T.bdf2, T.use_bdf2 = int(bdf2), int(bool(self.bdf2))
+        T.max_it, T.max_age, T.refactor = max_it, self.jacobian_max_age, int(bool(self.refactor_on_contact_change))
+        lib.mm_save_actuation(Sp, Tp)
+        step = lib.mm_step
+        act = self.actuate
+        get, ids = k._get, k._ids
+        B = max(1, min(n_max, self._BURST_BYTES // (16 * N)))
+        slot = B
+        qs = vs = ()
+        off_rec = rec_at is None
+        fallback = False
+        try:
+            while n < n_max:
+                if t_end - t <= dt + eps:
+                    break
+                if act is not None:
+                    act(t + dt, self)
+                    if tuple(map(id, get(s))) != ids:
+                        fallback = True
+                        break
+                if slot == B:
+                    block = np.empty((B, 2) + q.shape)
+                    qs, vs = list(block[:, 0]), list(block[:, 1])
+                    T.out = block.ctypes.data
+                    slot = 0
+                step(Sp, Tp)
+                self._prev = (self.q, self.v, dt)
+                self.q = qs[slot]
+                self.v = vs[slot]
+                slot += 1
+                t += dt
+                self.t = t
+                n += 1
+                if t >= t_end - eps or not (off_rec or t < rec_at):
+                    break
+        finally:      # the steps taken are booked also when the actuator raises
+            led["actuator_work_J"], led["damping_J"], led["contact_damping_J"], led["friction_J"] = (
+                T.aw, T.damp, T.cdamp, T.fric)
+            st["max_penetration_mm"], st["com_x_min_m"], st["com_x_max_m"] = T.pen, T.com_min, T.com_max
+            st["force_evaluations"] += T.fe
+            st["steps"] += n
+            for key, c in (("jacobians", T.jac), ("newton_iterations", T.nit), ("newton_unconverged_steps", T.unconv),
+                           ("bdf2_steps", T.bdf2_steps)):
+                if c:
+                    st[key] = st.get(key, 0) + c
+        if fallback:
+            # the actuator replaced an array the kernel reads: this step on the numpy path, as step_implicit
+            old = (k.th_old.copy(), k.ra_old.reshape(-1, 2).copy(), k.rb_old.reshape(-1, 2).copy())
+            same = (np.array_equal(old[0], s.theta0) and np.array_equal(old[1], s.ra)
+                    and np.array_equal(old[2], s.rb))
+            self._act_old = None if same else old
+            if not same:
+                self.ledger["actuator_work_J"] += 0.5 * self._actuation_jump(self.q, old)
+            self._implicit_solve(dt)
+            n += 1
+            st["steps"] += 1
+            x = float(self._com_w @ self.q[:, 0])
+            if x < st["com_x_min_m"]:
+                st["com_x_min_m"] = x
+            elif x > st["com_x_max_m"]:
+                st["com_x_max_m"] = x
+        return n
 
     # -- checks ------------------------------------------------------------------------------
     def _checkpoint(self):
@@ -533,7 +642,7 @@ class Simulator(EnergyLedger):
             next_rec = record_dt
         # the centre of mass's extremes over every step, not only the recorded frames (the summary's travel
         # extremes must not depend on the frame rate), as Model.com_x
-        w = self.sys.com_weights()
+        w = self._com_w = np.ascontiguousarray(self.sys.com_weights(), float)
         x = float(w @ self.q[:, 0])
         self.stats["com_x_min_m"] = min(self.stats.get("com_x_min_m", x), x)
         self.stats["com_x_max_m"] = max(self.stats.get("com_x_max_m", x), x)
@@ -541,24 +650,37 @@ class Simulator(EnergyLedger):
         since = 0
         retries = 0
         eps = ROUNDOFF_STEPS * dt
+        dense = 3 * self.sys.n <= 300
+        banded = not dense and self.use_band and self.sys.band_layout() is not None
         while self.t < t_end - eps:
-            # the step that reaches t_end (within round-off of a whole step) ends there exactly: time accumulated
-            # by addition would otherwise leave a last step of ~1e-11 s on long runs
-            last = t_end - self.t <= dt + eps
-            h = t_end - self.t if last else dt
-            if method == "symplectic":
-                self.step_symplectic(h)
+            nb = 0
+            if method == "implicit" and self.burst:
+                k = self._compiled()
+                if k is not None and self._kernel_for(dense, banded) is k:
+                    # runs of steps with nothing for Python to do in between but the actuator: one C call each
+                    nb = self._burst(k, dt, min(check_every - since, max_steps + 1 - self.stats["steps"]), t_end,
+                                     eps, next_rec - eps if on_record is not None else None,
+                                     self.newton_max_band if banded else self.newton_max)
+            if nb:
+                since += nb              # (_burst counted its steps in stats["steps"])
             else:
-                self.step_implicit(h)
-            if last:
-                self.t = t_end
-            x = float(w @ self.q[:, 0])
-            if x < self.stats["com_x_min_m"]:
-                self.stats["com_x_min_m"] = x
-            elif x > self.stats["com_x_max_m"]:
-                self.stats["com_x_max_m"] = x
-            self.stats["steps"] += 1
-            since += 1
+                # the step that reaches t_end (within round-off of a whole step) ends there exactly: time
+                # accumulated by addition would otherwise leave a last step of ~1e-11 s on long runs
+                last = t_end - self.t <= dt + eps
+                h = t_end - self.t if last else dt
+                if method == "symplectic":
+                    self.step_symplectic(h)
+                else:
+                    self.step_implicit(h)
+                if last:
+                    self.t = t_end
+                x = float(w @ self.q[:, 0])
+                if x < self.stats["com_x_min_m"]:
+                    self.stats["com_x_min_m"] = x
+                elif x > self.stats["com_x_max_m"]:
+                    self.stats["com_x_max_m"] = x
+                self.stats["steps"] += 1
+                since += 1
             if self.stats["steps"] > max_steps:
                 raise DynamicsError(f"more than {max_steps} steps; raise dt or use the implicit integrator")
             crossed = on_record is not None and self.t >= next_rec - eps
