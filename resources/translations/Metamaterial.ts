@@ -44,7 +44,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="348"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="367"/>
         <source>; the box kept {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -923,17 +923,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="365"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="388"/>
         <source>{0} has more decimals than the box takes (at most {1} decimals){2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="364"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="387"/>
         <source>{0} is not a whole number (at most 0 decimals){1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="358"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="381"/>
         <source>{0} is outside the allowed range {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -948,18 +948,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="367"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="390"/>
         <source>{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="353"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="372"/>
         <source>{0} was not taken: the box reads only the ASCII digits 0-9, not {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="355"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="374"/>
         <source>{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="378"/>
+        <source>{0} was not taken: the decimal point of this box is {1}, not {2}{3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>

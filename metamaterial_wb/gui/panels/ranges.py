@@ -67,10 +67,17 @@ def bind(spin, field):
 
 
 REFUSED = "refused_input"    # the spin box property holding the message of a keystroke its range refused
+# the decimal points of Qt's locales ('.', ',' and the Arabic '٫' U+066B: every locale listed on Qt 5.15 and 6).
+# A point typed is kept in the intended text, whichever the box reads: a point the box drops ('.' in an Arabic
+# locale) or reads as a group separator (',' in English: 1,5 -> 15) is then said, not taken for another number
+POINTS = ".,\u066b"
 # what a number typed key by key can be on its way. ``\d`` is any script's decimal digit on purpose: a digit the
 # box does not read (Arabic-Indic U+0663, full-width U+FF13 in a C/English locale) is dropped by Qt, and kept in
 # the intended text it makes the drop seen and said as such (``_RefusedKeys.foreign``), not taken for a letter
-_NUMBER = re.compile(r"^[+-]?\d*(?:[.,]\d*)?$")
+_NUMBER = re.compile(r"^[+-]?\d*(?:[" + POINTS + r"]\d*)?$")
+# the marks Qt 6 writes around a locale's minus sign (U+061C before '-' in Arabic, U+200E in Persian) and the
+# minus sign U+2212 of some locales: read as the ASCII '-'
+_SIGN_MARKS = {0x061C: None, 0x200E: None, 0x200F: None, 0x2212: "-"}
 ASCII_DIGITS = "0123456789"
 
 
@@ -176,10 +183,22 @@ class _RefusedKeys(QtCore.QObject):
         own = box_digits(self.spin.locale())
         return "".join(dict.fromkeys(c for c in text if c.isdecimal() and c not in own))
 
+    def point(self):
+        """The box's decimal point ('.', ',' or '٫')."""
+        dp = self.spin.locale().decimalPoint()
+        return dp if isinstance(dp, str) else str(dp)
+
+    def wrong_points(self, text):
+        """The decimal points in ``text`` that are not the box's (a '.' in an Arabic box, a ',' in an English one)."""
+        dp = self.point()
+        return "".join(dict.fromkeys(c for c in text if c in POINTS and c != dp))
+
     def number(self, text):
-        text = text.strip()
-        if self.spin.locale().decimalPoint() == ",":
-            text = text.replace(",", ".")
+        """``text`` as a number, its point being any of ``POINTS`` (the box's own or one it does not read: what
+        the user meant, compared with what the box shows), its digits any script's; None when it is no number."""
+        text = text.strip().translate(_SIGN_MARKS)
+        for p in POINTS + self.point():
+            text = text.replace(p, ".")
         try:
             return float(text)
         except ValueError:
@@ -320,7 +339,7 @@ class _RefusedKeys(QtCore.QObject):
                 return
             want = self.number(self.intended)
             same = want is not None and self.number(text) == want and \
-                (final or not self.intended.rstrip().endswith((".", ",")))    # a point dropped: 3.5 -> 35
+                (final or not self.intended.rstrip().endswith(tuple(POINTS)))    # a point dropped: 3.5 -> 35
             if text == self.intended or same:
                 if text != self.intended:     # the same number written the box's way (1.50 -> 1.5, 19. -> 19)
                     self.intended, self.cursor = text, len(text)
@@ -354,10 +373,14 @@ class _RefusedKeys(QtCore.QObject):
                                  ).format(head, " ".join(bad), kept)
             return translate("Metamaterial", "{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}"
                              ).format(head, own[10], own[-1], " ".join(bad), kept)
+        wrong = self.wrong_points(typed)
+        if wrong:                             # dropped (3.5 -> 35) or read as a group separator (1,5 -> 15)
+            return translate("Metamaterial", "{0} was not taken: the decimal point of this box is {1}, not {2}{3}"
+                             ).format(head, self.point(), " ".join(wrong), kept)
         if value is not None and not lo <= value <= hi:
             return translate("Metamaterial", "{0} is outside the allowed range {1}{2}").format(
                 head, self.bounds(), kept)
-        digits = typed.replace(",", ".").partition(".")[2]
+        digits = "".join("." if c in POINTS else c for c in typed).partition(".")[2]
         n = self.decimals()
         if len(digits) > n:
             if n == 0:
