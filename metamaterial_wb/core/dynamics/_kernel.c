@@ -480,7 +480,7 @@ double mm_contact_damping(Sys *S, const double *q, const double *v, const double
 }
 
 /* ----------------------------------------------------------------------------------------- */
-/* One whole implicit step (Simulator._burst, integrators.py): what step_implicit's compiled   */
+/* One whole implicit step (Simulator._burst, burst.py):         what step_implicit's compiled   */
 /* branch, _end_implicit_step, the ledger's actuation halves and _update_anchors do around     */
 /* mm_newton, in the same order with the same operations, so a run of steps costs one call    */
 /* per step. The actuation (S->theta0, ra, rb) has been set for the step's end by Python; the  */
@@ -569,4 +569,50 @@ void mm_step(Sys *S, Step *T)
     T->v = vo;
     T->out = T->out + 2 * N;
     T->bdf2 = T->use_bdf2;
+}
+
+/* ----------------------------------------------------------------------------------------- */
+/* n implicit steps of a sheet driven by its servos (SheetController, controllers.py, whose     */
+/* actuation depends on the time only): before each step the actuation of the step's end from   */
+/* its row of D (per hinge gap, computed by SheetController.gap_D), with the operations of      */
+/* SheetController.__call__ on each element (np.clip, np.where, np.cos / np.sin = libm, np.sign) */
+/* ----------------------------------------------------------------------------------------- */
+typedef struct {
+    const double *D;                           /* (n, m) D per gap, one row per step */
+    const double *closing, *opening, *tilt_tan;  /* (m) */
+    double lh, s;
+} SheetAct;
+
+static void sheet_actuate(Sys *S, const SheetAct *A, const double *D)
+{
+    int64_t i;
+    double lh = A->lh, s = A->s;
+    double *ra = (double *)S->ra, *rb = (double *)S->rb, *th = (double *)S->theta0;   /* the system's, in place */
+    for (i = 0; i < S->m; i++) {
+        double d = D[i];
+        d = d < -1.0 ? -1.0 : (d > 1.0 ? 1.0 : d);        /* np.clip (a NaN stays NaN) */
+        int pos = d >= 0;
+        double phi = pos ? d * A->closing[i] : -d * A->opening[i];
+        double c = cos(phi), sn = sin(phi);
+        double pitch = pos ? lh + s * (c - sn) : lh + s * (c + sn);
+        ra[2 * i] = pitch / 2;
+        rb[2 * i] = -pitch / 2;
+        double sg = d > 0 ? 1.0 : (d < 0 ? -1.0 : (d == 0 ? 0.0 : d));   /* np.sign */
+        th[i] = 2.0 * sg * phi * A->tilt_tan[i];
+    }
+}
+
+void mm_sheet_steps(Sys *S, Step *T, int64_t n, const SheetAct *A)
+{
+    int64_t k;
+    for (k = 0; k < n; k++) {
+        sheet_actuate(S, A, A->D + k * S->m);
+        mm_step(S, T);
+    }
+}
+
+/* the actuation of one row of D alone (tests) */
+void mm_sheet_actuate(Sys *S, const SheetAct *A)
+{
+    sheet_actuate(S, A, A->D);
 }

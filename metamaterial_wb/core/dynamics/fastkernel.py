@@ -121,6 +121,10 @@ def load():
         lib.mm_step.restype = None
         lib.mm_save_actuation.argtypes = [P, P]
         lib.mm_save_actuation.restype = None
+        lib.mm_sheet_steps.argtypes = [P, P, I, P]
+        lib.mm_sheet_steps.restype = None
+        lib.mm_sheet_actuate.argtypes = [P, P]
+        lib.mm_sheet_actuate.restype = None
         _state["lib"], _state["path"] = lib, path
     except Exception as e:        # no compiler, build or load failure: the numpy path is used
         _state["note"] = f"compiled kernel unavailable ({e}); numpy path used"
@@ -150,13 +154,19 @@ class _Sys(ctypes.Structure):
 
 
 class _Step(ctypes.Structure):
-    """``Step`` of _kernel.c: one whole implicit step (``mm_step``), driven by ``Simulator._burst`` (integrators.py)."""
+    """``Step`` of _kernel.c: one whole implicit step (``mm_step``), driven by ``Simulator._burst`` (burst.py)."""
     _fields_ = ([(k, ctypes.c_void_p) for k in ("q", "v", "qp", "vp", "out", "anchors", "inside", "th_old", "ra_old",
                                                  "rb_old", "w", "qh", "vh", "v1", "q1", "ns")]
                 + [(k, ctypes.c_double) for k in ("aw", "damp", "cdamp", "fric", "pen", "com_min", "com_max")]
                 + [(k, ctypes.c_int64) for k in ("fe", "jac", "nit", "unconv", "bdf2_steps")]
                 + [(k, ctypes.c_double) for k in ("dt", "tol_abs", "tol_rel")]
                 + [(k, ctypes.c_int64) for k in ("bdf2", "use_bdf2", "max_it", "max_age", "refactor")])
+
+
+class _SheetAct(ctypes.Structure):
+    """``SheetAct`` of _kernel.c: a sheet's servo actuation per step from D (``mm_sheet_steps``, burst.py)."""
+    _fields_ = ([(k, ctypes.c_void_p) for k in ("D", "closing", "opening", "tilt_tan")]
+                + [(k, ctypes.c_double) for k in ("lh", "s")])
 
 
 _SYS_ARRAYS = ("M", "gravity", "ha", "hb", "cb", "ra", "rb", "kp", "cp", "kr", "cr", "theta0", "rc", "mu", "kn",
@@ -301,6 +311,33 @@ class Kernel:
         out = np.empty_like(x)
         out[self.perm] = x
         return out, int(info)
+
+    def _sheet_act(self, ctrl):
+        """The ``SheetAct`` of a :class:`SheetController` (its parameters as arrays per hinge gap), kept with it."""
+        c = getattr(self, "_sheet", None)
+        if c is None or c[0] is not ctrl:
+            m = self.sys.ha.size
+            arrs = tuple(np.ascontiguousarray(np.broadcast_to(np.asarray(x, float), (m,)))
+                         for x in (ctrl.closing, ctrl.opening, ctrl.tilt_tan))
+            A = _SheetAct()
+            A.closing, A.opening, A.tilt_tan = (a.ctypes.data for a in arrs)
+            A.lh, A.s = float(ctrl.lh), float(ctrl.s)
+            self._sheet = c = (ctrl, arrs, A, ctypes.addressof(A))
+        return c
+
+    def sheet_steps(self, n, D, ctrl):
+        """``n`` steps (``mm_step``, set up by ``Simulator._burst``), each after setting the actuation of
+        :class:`SheetController` ``ctrl`` from its row of ``D`` (``(n, m)``, contiguous float64)."""
+        _, _, A, Ap = self._sheet_act(ctrl)
+        A.D = D.ctypes.data
+        self.lib.mm_sheet_steps(self.Sp, self.Tp, n, Ap)
+
+    def sheet_actuate(self, D, ctrl):
+        """Set the system's actuation from one row ``D`` (m) as ``ctrl.__call__`` would (tests)."""
+        D = np.ascontiguousarray(D, float)
+        _, _, A, Ap = self._sheet_act(ctrl)
+        A.D = D.ctypes.data
+        self.lib.mm_sheet_actuate(self.Sp, Ap)
 
     # -- the hot calls -------------------------------------------------------------------------
     def newton(self, qh, vh, v1, h, anchors, max_it, tol_abs, tol_rel, max_age, refactor_on_contact_change=True):
