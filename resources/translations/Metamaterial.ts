@@ -4,7 +4,7 @@
 <context>
     <name>Metamaterial</name>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="155"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="200"/>
         <source> (slider +-{0:.1f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -24,7 +24,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="152"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -193,7 +193,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="107"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="153"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
     </message>
@@ -208,7 +208,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="73"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="110"/>
         <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -250,7 +250,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="72"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="109"/>
         <source>Limit to printable folds</source>
         <translation type="unfinished"></translation>
     </message>
@@ -312,7 +312,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="71"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="108"/>
         <source>No rotary axes yet: use 'Rotary axes' first.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -455,7 +455,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="113"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="158"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -610,12 +610,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="149"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="194"/>
         <source>kinematic +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="150"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="195"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -727,12 +727,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="151"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="196"/>
         <source>printable +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="152"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="197"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -888,7 +888,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="220"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="265"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -968,7 +968,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="153"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="198"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -993,7 +993,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="79"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="135"/>
         <source>{0}{1} {2}</source>
         <translation type="unfinished"></translation>
     </message>

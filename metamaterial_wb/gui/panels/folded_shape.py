@@ -6,6 +6,9 @@ never rounded (12.5 deg stays 12.5) nor clamped: a fold beyond the maximum in fo
 one, or the printable one with "Limit to printable") is shown in red next to its axis and OK is
 refused. Every maximum is shown rounded toward zero (to the spin box's 3 decimals) and a slider ends on its
 last 0.1 deg step within the maximum in force, so every value a slider or a stated range offers is allowed.
+A fold beyond the slider's end (after ticking "Limit to printable") keeps its value in the spin box while the
+slider sits at its end. Each axis takes two lines (name and spin box, then the slider across the panel) so a slider
+keeps a width a hand can drag (>= SLIDER_MIN_WIDTH) in a narrow task dock.
 **OK = Confirm** runs the joint configuration and stores the folds and hinge tilts.
 """
 import math
@@ -25,6 +28,8 @@ FOLD_DECIMALS = 3
 STEP = 0.1                       # deg per slider step
 STEPS_PER_DEG = int(round(1 / STEP))
 TOL = 1e-9                       # deg: a fold this close to a maximum counts as on it (float noise)
+SLIDER_MIN_WIDTH = 120           # px: a slider narrower than this cannot be dragged by hand
+ROWS_PER_AXIS = 4                # name + fold box, slider, maxima, problem line
 
 
 def toward_zero(lim, decimals=FOLD_DECIMALS):
@@ -56,6 +61,38 @@ def axis_limits(scene):
         return [(design_adapter.max_fold_deg(scene, k), "", None) for k in range(len(scene.axes))]
 
 
+class ElidedLabel(QtGui.QLabel):
+    """A one-line label that never widens the panel: cut with "..." to the width it gets, in full in its tooltip."""
+
+    def __init__(self, text=""):
+        super().__init__()
+        self._full = ""
+        self.setMinimumWidth(1)
+        self.setSizePolicy(QtGui.QSizePolicy.Policy.Ignored, QtGui.QSizePolicy.Policy.Preferred)
+        self.setFullText(text)
+
+    def setFullText(self, text):
+        self._full = text
+        self.setToolTip(text)
+        self._elide()
+
+    def fullText(self):
+        return self._full
+
+    def sizeHint(self):
+        return self.fontMetrics().size(0, self._full) + QtCore.QSize(2 * self.margin(), 2 * self.margin())
+
+    def resizeEvent(self, ev):
+        super().resizeEvent(ev)
+        self._elide()
+
+    def _elide(self):
+        shown = self.fontMetrics().elidedText(self._full, QtCore.Qt.TextElideMode.ElideRight,
+                                              max(1, self.width() - 2 * self.margin()))
+        if shown != self.text():
+            self.setText(shown)
+
+
 class FoldedShapePanel(BasePanel):
     TITLE = "Folded shape"
     ICON = "MM_FoldedShape.svg"
@@ -73,10 +110,12 @@ class FoldedShapePanel(BasePanel):
         self.printable.setToolTip(translate("Metamaterial", "Hold every fold within what the printed hinges fit in their node plates "
                                   "(otherwise the kinematic maximum applies and Export may refuse the design)"))
         grid = QtGui.QGridLayout()
+        # two lines per axis so a narrow task dock (the combo view, ~300 px) leaves the slider a usable width:
+        # the axis name (elided, in full in its tooltip) with the fold box, then the slider across the whole width.
+        # The slider is added first: the tab order stays slider, fold box, axis by axis.
         for k, a in enumerate(self.scene.axes):
             mx, why, pmx = self.limits[k]
             name = getattr(a, "name", "")
-            grid.addWidget(QtGui.QLabel(translate("Metamaterial", "{0}{1} {2}").format(name + ': ' if name else '', a.direction, a.line)), 3 * k, 0)
             spin = QtGui.QDoubleSpinBox()
             spin.setDecimals(FOLD_DECIMALS)     # what is typed is kept (12.25 stays 12.25); steps of 0.1 deg
             spin.setSingleStep(STEP)
@@ -87,28 +126,34 @@ class FoldedShapePanel(BasePanel):
             s = _slider(-1000, 1000, 0)
             s.setSingleStep(1)
             s.setPageStep(10)
+            s.setMinimumWidth(SLIDER_MIN_WIDTH)
             lim = QtGui.QLabel("")
             lim.setWordWrap(True)
             lim.setToolTip(f"kinematic maximum bound by {why}" if why else "")
-            grid.addWidget(s, 3 * k, 1)
-            grid.addWidget(spin, 3 * k, 2)
-            grid.addWidget(lim, 3 * k + 1, 1, 1, 2)
-            grid.addWidget(self.problem_label(f"axis{k}"), 3 * k + 2, 0, 1, 3)
+            r = ROWS_PER_AXIS * k
+            grid.addWidget(s, r + 1, 0, 1, 2)
+            grid.addWidget(ElidedLabel(translate("Metamaterial", "{0}{1} {2}").format(
+                name + ': ' if name else '', a.direction, a.line)), r, 0)
+            grid.addWidget(spin, r, 1)
+            grid.addWidget(lim, r + 2, 0, 1, 2)
+            grid.addWidget(self.problem_label(f"axis{k}"), r + 3, 0, 1, 2)
             self.spins.append(spin)
             self.sliders.append((s, mx))
             self.limit_labels.append(lim)
             s.valueChanged.connect(lambda v, k=k: self._slider_moved(k, v))
             spin.valueChanged.connect(lambda v, k=k: self._spin_changed(k, v))
             spin.editingFinished.connect(lambda k=k: self._spin_changed(k, self.spins[k].value()))
-        grid.setColumnStretch(1, 1)
+        grid.setColumnStretch(0, 1)
         self.layout.addLayout(grid)
         self.layout.addWidget(self.printable)
-        gl = QtGui.QHBoxLayout()
-        gl.addWidget(QtGui.QLabel(translate("Metamaterial", "Global deformation")))
+        gl = QtGui.QGridLayout()                       # the same two lines: name and value, then the slider
         self.global_slider = _slider(-100, 100, 100)
+        self.global_slider.setMinimumWidth(SLIDER_MIN_WIDTH)
         self.global_label = QtGui.QLabel(translate("Metamaterial", "1.00"))
-        gl.addWidget(self.global_slider, 1)
-        gl.addWidget(self.global_label)
+        gl.addWidget(ElidedLabel(translate("Metamaterial", "Global deformation")), 0, 0)
+        gl.addWidget(self.global_label, 0, 1)
+        gl.addWidget(self.global_slider, 1, 0, 1, 2)
+        gl.setColumnStretch(0, 1)
         self.layout.addLayout(gl)
         self.info = QtGui.QLabel(translate("Metamaterial", "The view follows the folds live; Confirm (OK) stores them with the joint "
                                  "configuration."))
