@@ -993,7 +993,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
         <source>{0}{1} {2}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -14,7 +14,7 @@ import FreeCADGui  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 from metamaterial_wb.gui.panels import folded_shape  # noqa: E402
-from guihelpers import (click, dialog_button, doc, drag_slider, process, press_ok, run_panel,  # noqa: E402,F401
+from guihelpers import (click, dialog_button, doc, drag_slider, process, press_ok, qtest, run_panel,  # noqa: E402,F401
                         type_into, workbench)
 from test_gui_panel_details import open_example  # noqa: E402
 
@@ -158,4 +158,26 @@ def test_printable_limit_beyond_fold_is_shown_not_clamped_and_drag_brings_it_bac
     assert p.spins[k].value() == pytest.approx(s.value() * folded_shape.STEP)
     assert not lab.isVisible(), lab.text()
     assert dialog_button("Ok").isEnabled()
+    p.reject()
+
+
+def test_tab_follows_the_lines_fold_box_then_its_slider(doc):
+    """Each axis shows its fold box above its slider: Tab from the box goes to that axis's slider, then to the next
+    axis's box (not up and down the panel)."""
+    open_example("fish_axes")
+    p = run_panel("MM_FoldedShape")
+    app = QtGui.QApplication.instance()
+    order = []
+    p.spins[0].setFocus()
+    process()
+    w = app.focusWidget()
+    for _ in range(4):
+        qtest().keyClick(w, QtCore.Qt.Key.Key_Tab)
+        process()
+        w = app.focusWidget()
+        order.append(w)
+    slider0, spin1 = p.sliders[0][0], p.spins[1]
+    assert order[0] is slider0, [type(x).__name__ for x in order]
+    assert order[1] is spin1 or (order[1] is not None and order[1].parentWidget() is spin1), \
+        [type(x).__name__ for x in order]
     p.reject()

@@ -112,7 +112,7 @@ class FoldedShapePanel(BasePanel):
         grid = QtGui.QGridLayout()
         # two lines per axis so a narrow task dock (the combo view, ~300 px) leaves the slider a usable width:
         # the axis name (elided, in full in its tooltip) with the fold box, then the slider across the whole width.
-        # The slider is added first: the tab order stays slider, fold box, axis by axis.
+        # The tab order follows the lines: fold box, then its slider, axis by axis.
         for k, a in enumerate(self.scene.axes):
             mx, why, pmx = self.limits[k]
             name = getattr(a, "name", "")
@@ -131,10 +131,10 @@ class FoldedShapePanel(BasePanel):
             lim.setWordWrap(True)
             lim.setToolTip(f"kinematic maximum bound by {why}" if why else "")
             r = ROWS_PER_AXIS * k
-            grid.addWidget(s, r + 1, 0, 1, 2)
             grid.addWidget(ElidedLabel(translate("Metamaterial", "{0}{1} {2}").format(
                 name + ': ' if name else '', a.direction, a.line)), r, 0)
             grid.addWidget(spin, r, 1)
+            grid.addWidget(s, r + 1, 0, 1, 2)
             grid.addWidget(lim, r + 2, 0, 1, 2)
             grid.addWidget(self.problem_label(f"axis{k}"), r + 3, 0, 1, 2)
             self.spins.append(spin)
