@@ -75,7 +75,7 @@ for attempt in 1 2; do
   timeout -k 30 1500 mmdebstrap --variant=apt "${opts[@]}" \
     --include="$(IFS=,; echo "${pkgs[*]}")" "$suite" "$tmp" > >(grep -v "^I: " >&2) 2>&1 &
   mm_pid=$!
-  wait "$mm_pid"; rc=$?
+  rc=0; wait "$mm_pid" || rc=$?     # (set -e: a failed attempt must not end the script)
   mm_pid=""
   if [ "$rc" = 0 ]; then
     echo "$want" > "$tmp/.metamaterial-lane"
