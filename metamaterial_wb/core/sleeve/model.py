@@ -47,6 +47,13 @@ LINK_FACTOR = 1.0e3     # stiffness of the rigid-body links relative to the beam
 # 57 times the resolution, the seed's peak 4e5 times. The bias moment's own push at rest is no round-off: counted
 # apart (pipeline.force_resolution).
 FORCE_NOISE_FACTOR = 100.0
+# The smallest eigenvalue of an indefinite tangent that is its round-off, not a saddle, relative to its largest
+# diagonal entry (~4500 machine epsilons; the path's physical eigenvalues are >= 1e-9 of it): a perfect ring's lean
+# direction on its leaning branch (``model.imperfection`` 0) measured -1.1e-14.
+NEUTRAL_CURVATURE = 1e-12
+# Its residual's round-off floor, in tolerances: measured 1.16-1.27 (numpy of FreeCAD 1.1 and 0.20) on that branch,
+# where no energy is released along the mode; well inside the path's force resolution (FORCE_NOISE_FACTOR).
+NEUTRAL_RESIDUAL = 10.0
 
 
 def modulus(plane="strain"):
@@ -452,6 +459,12 @@ class SleeveModel(TangentSolver):
                 if best_a > 0:
                     q = q + best_a * v
                     continue
+                # a neutral mode, not a saddle: the negative curvature is the tangent's round-off (a perfect ring's
+                # leaning branch, where the lean's direction is free: ``model.imperfection`` 0) and no energy is
+                # released along it; a kick would only turn the lean (docs/sleeves.md, "A perfect ring")
+                neutral = -self._last_min_eig <= NEUTRAL_CURVATURE * float(np.abs(K.diagonal()).max())
+                if neutral and gn < NEUTRAL_RESIDUAL * tol:
+                    return q, F, it
                 if gn < tol:
                     kicked += 1
                     if kicked > 20:
@@ -465,6 +478,10 @@ class SleeveModel(TangentSolver):
                     step = -spla.spsolve((K + shift * sp.identity(K.shape[0], format="csc")).tocsc(), g)
                 else:
                     step = -np.linalg.solve(K + shift * np.eye(len(K)), g)
+                # on a neutral mode the residual cannot fall below its round-off floor: converged when the shifted
+                # step's decrement is at the energy's round-off level (the criterion of the definite case)
+                if neutral and abs(float(g @ step)) < 1e-16 * max(abs(e), 1e-30):
+                    return q + step, F, it
             # backtracking on the energy (full step accepted when it does not raise the energy)
             a = 1.0
             smax = np.abs(step).max()
