@@ -124,3 +124,12 @@ def test_bad_cell_size_in_a_result_is_refused(value, words):
     with pytest.raises(TargetError) as e:
         parse_target(_scene(cell=20.0), doc)
     assert e.value.field == "cell_size_mm" and words in e.value.message, e.value.message
+
+
+def test_a_name_of_no_node_is_named_as_such_not_as_another_sheet():
+    """'X3,3' is no node name: refused as that (the node list's check), not read as N3,3 of another cell size."""
+    doc = planted_result(_scene(cell=20.0))
+    doc["nodes"][-1]["name"] = "X" + doc["nodes"][-1]["name"][1:]
+    with pytest.raises(TargetError) as e:
+        parse_target(_scene(cell=25.0), doc)
+    assert e.value.field != "cell_size_mm" and "X" in e.value.message, (e.value.field, e.value.message)

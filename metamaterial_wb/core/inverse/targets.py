@@ -502,9 +502,11 @@ def _check_sheet(d, items, scene, src):
     for it in items:
         name = it["name"]
         try:
+            if isinstance(name, str) and not name.startswith("N"):
+                raise ValueError(name)
             i, j = (int(x) for x in name[1:].split(",")) if isinstance(name, str) else (int(name[0]), int(name[1]))
         except (TypeError, ValueError, IndexError):
-            continue                   # not a node name: refused by the node list's own check
+            return None                # not a node name: refused by the node list's own check (named as such)
         d_mm = abs(theirs_cell - cell) * float(np.hypot(i, j))
         if worst is None or d_mm > worst[0]:
             worst = (d_mm, i, j)
