@@ -11,7 +11,7 @@ step-by-step baseline (``Simulator.burst = False``: every step through ``step_im
 and prints their ratio and whether their final states, ledgers and counts are bitwise the same.
 
 ``--no-burst``: the baseline only. ``--split``: also the time spent in the scene's actuator callback
-(``model.actuate``), in the sheet's block actuation (``SheetController.gap_D``) and in the C calls
+(``model.actuate``), in the sheet's block actuation (``SheetController.block_actuation``) and in the C calls
 (``mm_step`` per step, or ``Kernel.sheet_steps`` per block). ``--lean-actuator``: a prototype, for measuring only, of the
 sheet controller's ``__call__`` (builders.py) with fewer numpy calls and the same operations on the same
 values (``np.clip`` -> ``np.minimum(np.maximum(...))``, the cosine and sine taken once).
@@ -61,7 +61,7 @@ def _timed(acc, i, f):
 def run_once(sc, seconds, burst=True, split=False):
     cfg = dynamics_config(sc)
     model = build(sc, cfg)
-    acc = [0.0, 0.0, 0.0, 0.0]   # actuator callback, C step, block actuation (gap_D), C block (mm_sheet_steps)
+    acc = [0.0, 0.0, 0.0, 0.0]   # actuator callback, C step, block actuation (block_actuation), C block (mm_sheet_steps)
     patched = []
     lib = fastkernel.load()
 
@@ -73,7 +73,7 @@ def run_once(sc, seconds, burst=True, split=False):
     if split:
         patch(type(model.actuate), "__call__", 0)
         patch(lib, "mm_step", 1)
-        patch(SheetController, "gap_D", 2)
+        patch(SheetController, "block_actuation", 2)
         patch(fastkernel.Kernel, "sheet_steps", 3)
     sim = Simulator(model.system, model.q0, actuate=model.actuate)
     sim.energy_scale = float(model.system.mass.sum() * 9.81 * 0.05)
@@ -102,7 +102,7 @@ def report(label, a, runs, r, split):
         n = r["steps"]
         c_s = r["c_step_s"] if not r["c_block_s"] else r["c_block_s"]
         rest = r["wall_s"] - r["actuator_s"] - r["block_act_s"] - c_s
-        print(f"    actuator callback {r['actuator_s'] / n * 1e6:.1f} us/step, block actuation (gap_D) "
+        print(f"    actuator callback {r['actuator_s'] / n * 1e6:.1f} us/step, block actuation (block_actuation) "
               f"{r['block_act_s'] / n * 1e6:.1f} us/step, C {'block' if r['c_block_s'] else 'step'} "
               f"{c_s / n * 1e6:.1f} us/step, rest {rest / n * 1e6:.1f} us/step")
 

@@ -1,5 +1,5 @@
 """A sheet's servo actuation for a block of steps at once (SheetController.gap_D, controllers.py) and set by the
-compiled kernel before each step (mm_sheet_steps / mm_sheet_actuate, _kernel.c; Simulator._burst, burst.py):
+compiled kernel before each step (block_actuation; mm_sheet_steps / mm_sheet_actuate, _kernel.c; Simulator._burst):
 the same numbers as ``SheetController.__call__`` step by step, bit for bit, and the same runs as
 ``Simulator.burst = False``."""
 from __future__ import annotations
@@ -74,8 +74,10 @@ def test_gap_D_is_call_s_D_row_for_row(profiles):
 
 
 def test_compiled_actuation_is_call_s_actuation_bitwise():
-    """mm_sheet_actuate (the kernel's per-step actuation from D) against ``__call__`` on the same D: pitch ->
-    anchors and fold -> rest angles, with tilted hinges, D beyond +-1 (clipped), +-0, tiny values and a NaN."""
+    """The block's actuation (``block_actuation``: numpy on the block, copied in by mm_sheet_actuate) against
+    ``__call__`` on the same D: pitch -> anchors and fold -> rest angles, with tilted hinges, D beyond +-1 (clipped),
+    +-0, tiny values and a NaN. (The cosine and sine are numpy's in both: on AVX-512 numpy's may be SVML's, whose
+    last bit can differ from the C library's, so the kernel does not compute them.)"""
     lib_or_skip()
     model, _ = worm()
     s = model.system
@@ -96,11 +98,25 @@ def test_compiled_actuation_is_call_s_actuation_bitwise():
             s.theta0[:] = 7.0
             s.ra[:, 0] = 7.0
             s.rb[:, 0] = 7.0
-            k.sheet_actuate(D, ctrl)
+            k.sheet_actuate(ctrl.block_actuation([0.0]))
             for a, b in zip(ref, (s.theta0, s.ra, s.rb)):
                 assert np.array_equal(a, b, equal_nan=True)
                 ok = ~np.isnan(a)          # (a NaN's sign bit is not a number's: not compared)
                 assert np.array_equal(np.signbit(a[ok]), np.signbit(b[ok]))
+
+
+def test_actuation_of_a_block_is_that_of_each_row():
+    """``actuation`` on a (n, m) block row by row equals it on each row alone, bitwise: the ufuncs' results do not
+    depend on an element's place in the array (SIMD lanes, the tail of a vector loop)."""
+    model, _ = worm()
+    c, m = model.actuate, model.system.ha.size
+    rng = np.random.default_rng(11)
+    for n in (1, 2, 3, 7, 8, 9, 17, 64, 301):
+        D = rng.uniform(-1.3, 1.3, (n, m))
+        block = c.actuation(D)
+        for i in range(n):
+            for a, b in zip(block, c.actuation(D[i])):
+                assert np.array_equal(a[i], b), (n, i)
 
 
 def _run(model, cfg, burst, seconds, record=None, check_every=100, dt=None):
@@ -125,9 +141,9 @@ def test_block_runs_match_step_by_step(monkeypatch, profiles, seconds, record, c
     calls = []
     real = fastkernel.Kernel.sheet_steps
 
-    def counting(self, n, D, ctrl):
+    def counting(self, n, block):
         calls.append(n)
-        return real(self, n, D, ctrl)
+        return real(self, n, block)
     monkeypatch.setattr(fastkernel.Kernel, "sheet_steps", counting)
     model, cfg = worm(profiles)
     a, fa = _run(model, cfg, False, seconds, record, check_every)

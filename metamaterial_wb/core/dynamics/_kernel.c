@@ -573,32 +573,24 @@ void mm_step(Sys *S, Step *T)
 
 /* ----------------------------------------------------------------------------------------- */
 /* n implicit steps of a sheet driven by its servos (SheetController, controllers.py, whose     */
-/* actuation depends on the time only): before each step the actuation of the step's end from   */
-/* its row of D (per hinge gap, computed by SheetController.gap_D), with the operations of      */
-/* SheetController.__call__ on each element (np.clip, np.where, np.cos / np.sin = libm, np.sign) */
+/* actuation depends on the time only): before each step the actuation of the step's end is     */
+/* copied from its row of the block SheetController.block_actuation computed in numpy with the  */
+/* ufuncs of __call__ (numpy's cos / sin may be SVML, not libm, on AVX-512: computing them here */
+/* would differ in the last bit from the per-step path there)                                  */
 /* ----------------------------------------------------------------------------------------- */
 typedef struct {
-    const double *D;                           /* (n, m) D per gap, one row per step */
-    const double *closing, *opening, *tilt_tan;  /* (m) */
-    double lh, s;
+    const double *ra, *rb, *th;   /* (n, m) each: the anchors' x (half pitch, minus it) and rest angles per step */
 } SheetAct;
 
-static void sheet_actuate(Sys *S, const SheetAct *A, const double *D)
+static void sheet_actuate(Sys *S, const SheetAct *A, int64_t k)
 {
-    int64_t i;
-    double lh = A->lh, s = A->s;
+    int64_t i, m = S->m;
     double *ra = (double *)S->ra, *rb = (double *)S->rb, *th = (double *)S->theta0;   /* the system's, in place */
-    for (i = 0; i < S->m; i++) {
-        double d = D[i];
-        d = d < -1.0 ? -1.0 : (d > 1.0 ? 1.0 : d);        /* np.clip (a NaN stays NaN) */
-        int pos = d >= 0;
-        double phi = pos ? d * A->closing[i] : -d * A->opening[i];
-        double c = cos(phi), sn = sin(phi);
-        double pitch = pos ? lh + s * (c - sn) : lh + s * (c + sn);
-        ra[2 * i] = pitch / 2;
-        rb[2 * i] = -pitch / 2;
-        double sg = d > 0 ? 1.0 : (d < 0 ? -1.0 : (d == 0 ? 0.0 : d));   /* np.sign */
-        th[i] = 2.0 * sg * phi * A->tilt_tan[i];
+    const double *a = A->ra + k * m, *b = A->rb + k * m, *t = A->th + k * m;
+    for (i = 0; i < m; i++) {
+        ra[2 * i] = a[i];
+        rb[2 * i] = b[i];
+        th[i] = t[i];
     }
 }
 
@@ -606,13 +598,13 @@ void mm_sheet_steps(Sys *S, Step *T, int64_t n, const SheetAct *A)
 {
     int64_t k;
     for (k = 0; k < n; k++) {
-        sheet_actuate(S, A, A->D + k * S->m);
+        sheet_actuate(S, A, k);
         mm_step(S, T);
     }
 }
 
-/* the actuation of one row of D alone (tests) */
+/* the actuation of the block's first row alone (tests) */
 void mm_sheet_actuate(Sys *S, const SheetAct *A)
 {
-    sheet_actuate(S, A, A->D);
+    sheet_actuate(S, A, 0);
 }

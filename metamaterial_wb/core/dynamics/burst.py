@@ -118,13 +118,13 @@ class BurstMixin:
         qs = vs = ()
         off_rec = rec_at is None
         fallback = False
-        sheet = getattr(act, "gap_D", None) if getattr(act, "time_only", False) else None
+        sheet = getattr(act, "block_actuation", None) if getattr(act, "time_only", False) else None
         if sheet is not None and not (getattr(act, "sys", None) is s and act.d_const.shape == (s.ha.size,)):
             sheet = None
         try:
             if sheet is not None:
                 # an actuation that depends on the time only: the D of the whole run of steps in one evaluation,
-                # the actuation from it and the steps in one C call (mm_sheet_steps)
+                # the actuation from it (numpy, __call__'s ufuncs) and the steps in one C call (mm_sheet_steps)
                 times = []
                 tt = t
                 while len(times) < n_max:
@@ -135,11 +135,11 @@ class BurstMixin:
                     if tt >= t_end - eps or not (off_rec or tt < rec_at):
                         break
                 if times:
-                    D = np.ascontiguousarray(sheet(times), float)
+                    acts = sheet(times)
                     nb = len(times)
                     block = np.empty((nb, 2) + q.shape)
                     T.out = block.ctypes.data
-                    k.sheet_steps(nb, D, act)
+                    k.sheet_steps(nb, acts)
                     n = nb
                     self._prev = (block[nb - 2, 0], block[nb - 2, 1], dt) if nb > 1 else (q, v, dt)
                     self.q, self.v = block[nb - 1, 0], block[nb - 1, 1]

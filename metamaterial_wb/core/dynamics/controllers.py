@@ -130,9 +130,9 @@ class SheetController:
         self.tilt_tan = np.tan(tilt)
         self.sys = system
 
-    # its actuation depends on the time only: Simulator._burst (burst.py) asks for the D of a block of steps at
-    # once (gap_D) and lets the compiled kernel set the actuation from it before each step (mm_sheet_steps, the
-    # operations of __call__ element for element)
+    # its actuation depends on the time only: Simulator._burst (burst.py) asks for the actuation of a block of steps
+    # at once (block_actuation: gap_D, then __call__'s ufuncs on the block) and lets the compiled kernel copy each
+    # step's row in before the step (mm_sheet_steps)
     time_only = True
 
     def values(self, t):
@@ -160,13 +160,24 @@ class SheetController:
         D += self.d_const          # d_const + (d_basis @ values): an addition is exact either way round
         return D
 
-    def __call__(self, t, sim):
-        D = self.d_const + self.d_basis @ self.values(t) if self.acts else self.d_const
+    def actuation(self, D):
+        """The anchors' x (``ra``, ``rb``: plus and minus half the pitch) and the rest angles for D per gap: one row
+        (``__call__``) or a block of rows (:meth:`block_actuation`), the same ufuncs element for element."""
         D = np.clip(D, -1.0, 1.0)     # the quadratic model keeps |D| <= max |actuator| <= 1 already
         phi = np.where(D >= 0, D * self.closing, -D * self.opening)
         pitch = np.where(D >= 0, self.lh + self.s * (np.cos(phi) - np.sin(phi)),
                          self.lh + self.s * (np.cos(phi) + np.sin(phi)))
-        self.sys.ra[:, 0] = pitch / 2
-        self.sys.rb[:, 0] = -pitch / 2
         # out-of-plane fold of tilted hinges: gamma = 2 phi tan(tilt), signed with D
-        self.sys.theta0[:] = 2.0 * np.sign(D) * phi * self.tilt_tan
+        return pitch / 2, -pitch / 2, 2.0 * np.sign(D) * phi * self.tilt_tan
+
+    def block_actuation(self, times):
+        """:meth:`actuation` at each of ``times`` (s): three C-contiguous (len(times), gaps) arrays, the rows the
+        compiled kernel copies in before each step (``mm_sheet_steps``)."""
+        return tuple(np.ascontiguousarray(a, dtype=float) for a in self.actuation(self.gap_D(times)))
+
+    def __call__(self, t, sim):
+        D = self.d_const + self.d_basis @ self.values(t) if self.acts else self.d_const
+        ra, rb, th = self.actuation(D)
+        self.sys.ra[:, 0] = ra
+        self.sys.rb[:, 0] = rb
+        self.sys.theta0[:] = th

@@ -164,9 +164,8 @@ class _Step(ctypes.Structure):
 
 
 class _SheetAct(ctypes.Structure):
-    """``SheetAct`` of _kernel.c: a sheet's servo actuation per step from D (``mm_sheet_steps``, burst.py)."""
-    _fields_ = ([(k, ctypes.c_void_p) for k in ("D", "closing", "opening", "tilt_tan")]
-                + [(k, ctypes.c_double) for k in ("lh", "s")])
+    """``SheetAct`` of _kernel.c: a sheet's servo actuation per step, rows of (n, m) arrays (``mm_sheet_steps``)."""
+    _fields_ = [(k, ctypes.c_void_p) for k in ("ra", "rb", "th")]
 
 
 _SYS_ARRAYS = ("M", "gravity", "ha", "hb", "cb", "ra", "rb", "kp", "cp", "kr", "cr", "theta0", "rc", "mu", "kn",
@@ -312,32 +311,30 @@ class Kernel:
         out[self.perm] = x
         return out, int(info)
 
-    def _sheet_act(self, ctrl):
-        """The ``SheetAct`` of a :class:`SheetController` (its parameters as arrays per hinge gap), kept with it."""
-        c = getattr(self, "_sheet", None)
-        if c is None or c[0] is not ctrl:
-            m = self.sys.ha.size
-            arrs = tuple(np.ascontiguousarray(np.broadcast_to(np.asarray(x, float), (m,)))
-                         for x in (ctrl.closing, ctrl.opening, ctrl.tilt_tan))
-            A = _SheetAct()
-            A.closing, A.opening, A.tilt_tan = (a.ctypes.data for a in arrs)
-            A.lh, A.s = float(ctrl.lh), float(ctrl.s)
-            self._sheet = c = (ctrl, arrs, A, ctypes.addressof(A))
-        return c
+    def _sheet_act(self, block):
+        """The ``SheetAct`` of a block ``(ra, rb, th)`` (``SheetController.block_actuation``: (n, m) each, C-contiguous
+        float64, kept alive by the caller during the call)."""
+        A = getattr(self, "_sheet", None)
+        if A is None:
+            A = self._sheet = _SheetAct()
+            self._sheet_p = ctypes.addressof(A)
+        for name, a in zip(("ra", "rb", "th"), block):
+            if not (a.dtype == np.float64 and a.flags.c_contiguous and a.shape[-1] == self.sys.ha.size):
+                raise ValueError(f"sheet actuation {name}: expected C-contiguous float64 rows of "
+                                 f"{self.sys.ha.size}, got {a.dtype} {a.shape}")
+            setattr(A, name, a.ctypes.data)
+        return self._sheet_p
 
-    def sheet_steps(self, n, D, ctrl):
-        """``n`` steps (``mm_step``, set up by ``Simulator._burst``), each after setting the actuation of
-        :class:`SheetController` ``ctrl`` from its row of ``D`` (``(n, m)``, contiguous float64)."""
-        _, _, A, Ap = self._sheet_act(ctrl)
-        A.D = D.ctypes.data
-        self.lib.mm_sheet_steps(self.Sp, self.Tp, n, Ap)
+    def sheet_steps(self, n, block):
+        """``n`` steps (``mm_step``, set up by ``Simulator._burst``), each after copying the actuation of its row of
+        ``block`` = ``(ra, rb, th)`` ((n, m) each) into the system."""
+        if any(a.shape[0] < n for a in block):
+            raise ValueError(f"sheet actuation: {n} steps, rows {[a.shape[0] for a in block]}")
+        self.lib.mm_sheet_steps(self.Sp, self.Tp, n, self._sheet_act(block))
 
-    def sheet_actuate(self, D, ctrl):
-        """Set the system's actuation from one row ``D`` (m) as ``ctrl.__call__`` would (tests)."""
-        D = np.ascontiguousarray(D, float)
-        _, _, A, Ap = self._sheet_act(ctrl)
-        A.D = D.ctypes.data
-        self.lib.mm_sheet_actuate(self.Sp, Ap)
+    def sheet_actuate(self, block):
+        """Copy the first row of ``block`` = ``(ra, rb, th)`` into the system's actuation (tests)."""
+        self.lib.mm_sheet_actuate(self.Sp, self._sheet_act(block))
 
     # -- the hot calls -------------------------------------------------------------------------
     def newton(self, qh, vh, v1, h, anchors, max_it, tol_abs, tol_rel, max_age, refactor_on_contact_change=True):
