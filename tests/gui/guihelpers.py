@@ -14,6 +14,21 @@ def workbench():
 
 
 @pytest.fixture
+def tracebacks():
+    """Exceptions raised in Qt slots (timer ticks, slider signals) reach sys.excepthook: collected here."""
+    import sys
+    import traceback
+    seen = []
+    old = sys.excepthook
+
+    def hook(t, v, tb):
+        seen.append("".join(traceback.format_exception(t, v, tb)))
+    sys.excepthook = hook
+    yield seen
+    sys.excepthook = old
+
+
+@pytest.fixture
 def doc():
     """A fresh active document; any open task panel is rejected and the document closed afterwards."""
     d = FreeCAD.newDocument("MMGui")

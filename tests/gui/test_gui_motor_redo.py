@@ -3,7 +3,6 @@
 Ctrl+Z of the Place motor takes the motor away under the open panel: the panel names it as deleted and refuses OK
 (as designed, ``BasePanel.check_items``). Ctrl+Y brings it back: the red line must go and OK be taken again, as
 after Ctrl+Z of a Delete (``test_gui_sim_animate_details.test_a_deleted_motor_brought_back_by_undo_clears_the_line``)."""
-import sys
 
 import pytest
 
@@ -13,23 +12,10 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 import FreeCADGui  # noqa: E402
 
-from guihelpers import doc, press_cancel, press_ok, process, run_panel, type_into, workbench  # noqa: E402,F401
+from guihelpers import doc, press_cancel, press_ok, process, run_panel, tracebacks, type_into, workbench  # noqa: E402,F401
 from test_gui_panel_details import open_example  # noqa: E402
 
 NEW = "redo_motor"
-
-
-@pytest.fixture
-def tracebacks():
-    seen = []
-    old = sys.excepthook
-
-    def hook(t, v, tb):
-        import traceback
-        seen.append("".join(traceback.format_exception(t, v, tb)))
-    sys.excepthook = hook
-    yield seen
-    sys.excepthook = old
 
 
 def items(sc):

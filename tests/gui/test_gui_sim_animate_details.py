@@ -9,7 +9,6 @@
 6. Simulate's global deformation is shown and previewed exactly (0.123, not 0.12).
 """
 import json
-import sys
 
 import pytest
 
@@ -21,22 +20,9 @@ import FreeCADGui  # noqa: E402
 from PySide import QtCore  # noqa: E402
 
 from guihelpers import (click, dialog_button, doc, drag_slider, press_cancel, press_ok, process, qtest, run_panel,  # noqa: E402,F401
+                        tracebacks,
                         type_into, workbench)
 from test_gui_panel_details import open_example  # noqa: E402
-
-
-@pytest.fixture
-def tracebacks():
-    """Exceptions raised in Qt slots (timer ticks, slider signals) reach sys.excepthook: collected here."""
-    seen = []
-    old = sys.excepthook
-
-    def hook(t, v, tb):
-        import traceback
-        seen.append("".join(traceback.format_exception(t, v, tb)))
-    sys.excepthook = hook
-    yield seen
-    sys.excepthook = old
 
 
 def open_fish(doc):
