@@ -164,6 +164,8 @@ def run(args):
             raise
         raise SceneError("--target", exc.message) from None     # a bare surface file: the flag is the field
     _progress(f"target {args.target}: {len(target.frames)} keyframe(s)")
+    for w in target.info.get("warnings", []):      # at once, not after the search (also in report.json)
+        _progress(f"warning: {w}")
     fab_check = None
     if args.fab_checks != "off":
         from metamaterial_wb.export.printability import check_printable

@@ -111,7 +111,10 @@ def test_result_without_cell_size_is_read_with_a_warning(tmp_path):
     scene = _write(tmp_path / "s.json", _scene(cell=20.0).to_json())
     r = run_cli("inverse", scene, "--target", old, "--out", str(tmp_path / "out"), *FAST)
     assert r.returncode == 0, r.stderr
-    assert "warning: " in r.stderr and "has no cell_size_mm" in r.stderr, r.stderr
+    assert "warning: " in r.stderr and r.stderr.count("has no cell_size_mm") == 1, r.stderr
+    lines = r.stderr.splitlines()                      # said when the target is read, before the search
+    said = next(i for i, l in enumerate(lines) if "has no cell_size_mm" in l)
+    assert said == next(i for i, l in enumerate(lines) if "keyframe(s)" in l) + 1, r.stderr
     report = json.loads((tmp_path / "out" / "report.json").read_text(encoding="utf-8"))
     assert any("has no cell_size_mm" in w for w in report["warnings"]), report["warnings"]   # the GUI shows these
 

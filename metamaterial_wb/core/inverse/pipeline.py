@@ -122,7 +122,9 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
         raise SceneError("--evaluate", f"no model given; allowed: one or more of {', '.join(ev.MODELS)}")
     if model not in ev.MODELS:
         raise SceneError("--model", f"{model!r}; allowed: {', '.join(ev.MODELS)}")
-    evaluate, notes = list(evaluate), list(getattr(target, "info", {}).get("warnings", []))   # the target's: an old result
+    # the target's warnings (an old result) open the run's list; the caller says them when it reads the target
+    told = list(getattr(target, "info", {}).get("warnings", []))
+    evaluate, notes = list(evaluate), list(told)
     if model not in evaluate:
         evaluate.append(model)
         notes.append(f"--model {model} is not in --evaluate ({', '.join(evaluate[:-1])}): the answer is evaluated "
@@ -182,7 +184,7 @@ def solve(scene, target, servos=None, values_only=False, forbidden=(), hinge_reg
     out_scene = ev.answer_scene(pb, joints, values, names, hinge_overrides=overrides, warnings=warnings,
                                 module_check=module_check, moves=moves)
     loadable_scene(out_scene)                     # the written scene loads and configures as solve reads it
-    for w in warnings:
+    for w in warnings[len(told):] if warnings[:len(told)] == told else warnings:
         progress(f"warning: {w}")
     info["warnings"] = warnings
     info["module_moves"] = moves              # (module index, old joint, new joint or None): the GUI applies them
