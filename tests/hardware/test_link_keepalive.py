@@ -89,12 +89,14 @@ def _watch_polls(link):
 def _stopped_at_once(polls):
     """The trip was noticed when the EVENT arrived, checked independently of the machine's speed: every wait for
     the device was a short poll (at most a quarter of the 0.2 s until the EVENT: a wait for the next frame or
-    keep-alive in one blocking read, which an EVENT does not end, is refused) and no poll followed the one that
-    filed the EVENT (the trip is checked after every read, not at the next frame / keep-alive / end)."""
+    keep-alive in one blocking read, which an EVENT does not end, is refused) and at most a few polls followed the
+    one that filed the EVENT (the trip is checked after every read, not at the next frame / keep-alive / end)."""
     assert polls, "no wait for the device was seen"
     assert max(t for t, _ in polls) <= 0.05, f"a blocking wait: timeouts up to {max(t for t, _ in polls):.3f} s"
     after = [t for t, seen in polls if seen]
-    assert not after, f"{len(after)} more waits for the device after the EVENT arrived"
+    # a reply already awaited when the EVENT lands (a frame's ACK on a loaded machine) is still read: a few short
+    # polls; checking the trip only at the next frame / keep-alive / end shows as 100+ (133 and 167 measured)
+    assert len(after) <= 5, f"{len(after)} more waits for the device after the EVENT arrived"
 
 
 def test_keepalive_interval_follows_the_watchdog():
