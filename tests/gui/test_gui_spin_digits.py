@@ -246,3 +246,69 @@ def test_digits_of_a_third_script_name_the_box_s_own_digits(doc, locale_default,
     leave(spin)
     assert spin.value() == 3 and not refused(spin), refused(spin)
     p.reject()
+
+
+# ---- a group separator typed: a number grouped the box's way is taken as Qt reads it (session 32) -----------------
+# Probed on 0.20 (Qt 5.15) and 1.1 (Qt 6), cell box [1, 1000] mm, 2 decimals, key by key: Qt reads any group
+# separator of the box's locale as such ("1,5" in English -> 15, "1,0,0,0" -> 1000), and drops the key that takes
+# the number past the maximum ("2,000" leaves "2,00", which it reads as 200). The watcher refused "1,000" in an
+# English box (the box held 1000, as meant) and said "2,00 was not taken: the decimal point ..." for "2,000" (the
+# maximum was the cause); "1,000.5" became "1,0005 was not taken: the decimal point ...", German "1.000" was refused
+# as a decimal point and de_CH's "1'000" (U+2019 on Qt 5) as "1000 was not taken as typed". A number grouped the
+# box's way (1-3 digits, then groups of 3, then the box's point) is now read as Qt reads it; any other use of the
+# separator stays a decimal point the box does not read.
+@pytest.mark.parametrize("locale, typed", [("en_US", "1,000"), ("C", "1,000"), ("de_DE", "1.000"),
+                                           ("de_CH", "1{g}000"), ("en_US", "1,000.00")])
+def test_a_number_grouped_the_box_s_way_is_taken_as_qt_reads_it(doc, locale_default, locale, typed):
+    loc = locale_default(locale)
+    p = run_panel("MM_NewStructure")
+    spin = p.cell
+    spin.setLocale(loc)
+    typed = typed.format(g=loc.groupSeparator())
+    keys(spin, typed)
+    assert spin.lineEdit().text() in (typed + spin.suffix(), spin.textFromValue(1000) + spin.suffix()), \
+        spin.lineEdit().text()                           # (Qt took every key; on 1.1 it may have rewritten them)
+    assert not refused(spin), refused(spin)
+    leave(spin)
+    assert spin.value() == 1000 and not refused(spin), (spin.lineEdit().text(), spin.value(), refused(spin))
+    assert press_ok(), p.error.text()
+    scenes = _scenes(doc)
+    assert len(scenes) == 1 and json.loads(scenes[0].SceneJSON)["cell_size_mm"] == 1000, scenes
+
+
+@pytest.mark.parametrize("locale, typed, kept", [("en_US", "2,000", "200"), ("de_DE", "2.000", "200"),
+                                                 ("en_US", "1,000.5", "1000"), ("de_DE", "1.000,5", "1000")])
+def test_a_grouped_number_above_the_maximum_is_refused_as_outside_the_range(doc, locale_default, locale, typed, kept):
+    """Qt drops the last key (2,000 > 1000 leaves "2,00", read as 200): the maximum is the cause, said with the
+    whole text typed."""
+    loc = locale_default(locale)
+    p = run_panel("MM_NewStructure")
+    spin = p.cell
+    spin.setLocale(loc)
+    keys(spin, typed)
+    leave(spin)
+    text = refused(spin)
+    assert f"cell_size_mm: {typed} is outside the allowed range [1, 1000]" in text, text
+    assert "decimal point" not in text and f"kept {kept}" in text, text
+    assert not press_ok(), f"OK took {spin.value()} for the {typed} typed"
+    assert _scenes(doc) == []
+    p.reject()
+
+
+@pytest.mark.parametrize("locale, typed, kept", [("en_US", "1,5", "15"), ("en_US", "12,5", "125"),
+                                                 ("en_US", "1,00", "100"), ("en_US", "1,0,0,0", "1000"),
+                                                 ("de_DE", "1.5", "15"), ("de_DE", "12.5", "125")])
+def test_a_separator_that_is_no_grouping_stays_a_decimal_point_the_box_does_not_read(doc, locale_default, locale,
+                                                                                     typed, kept):
+    loc = locale_default(locale)
+    p = run_panel("MM_NewStructure")
+    spin = p.cell
+    spin.setLocale(loc)
+    keys(spin, typed)
+    leave(spin)
+    text = refused(spin)
+    wrong = "," if loc.decimalPoint() == "." else "."
+    assert f"cell_size_mm: {typed} was not taken: the decimal point of this box is {loc.decimalPoint()}, not {wrong}" \
+        in text and f"kept {kept}" in text, text
+    assert not press_ok() and _scenes(doc) == []
+    p.reject()

@@ -75,6 +75,10 @@ POINTS = ".,\u066b"
 # box does not read (Arabic-Indic U+0663, full-width U+FF13 in a C/English locale) is dropped by Qt, and kept in
 # the intended text it makes the drop seen and said as such (``_RefusedKeys.foreign``), not taken for a letter
 _NUMBER = re.compile(r"^[+-]?\d*(?:[" + POINTS + r"]\d*)?$")
+# the same with the box's group separator G between digits ("1,000.5" in English, "1.000,5" in German, "1'000" in
+# de_CH on Qt 6): the box takes it (Qt reads any G as a group separator: "1,5" as 15), so it is kept in the intended
+# text and judged once typed (``_RefusedKeys.grouped``). A blank G (U+202F in French) is dropped by the box as typed
+_GROUPED_NUMBER = r"^[+-]?\d*(?:{g}\d*)*(?:[" + POINTS + r"]\d*)?$"
 # the marks Qt 6 writes around a locale's minus sign (U+061C before '-' in Arabic, U+200E in Persian) and the
 # minus sign U+2212 of some locales: read as the ASCII '-'
 _SIGN_MARKS = {0x061C: None, 0x200E: None, 0x200F: None, 0x2212: "-"}
@@ -188,15 +192,57 @@ class _RefusedKeys(QtCore.QObject):
         dp = self.spin.locale().decimalPoint()
         return dp if isinstance(dp, str) else str(dp)
 
+    def group(self):
+        """The box's group separator (',' in English, '.' in German, U+202F in French), "" when it has none."""
+        g = self.spin.locale().groupSeparator()
+        g = g if isinstance(g, str) else str(g)
+        return "" if g == self.point() else g
+
+    def shape(self, text):
+        """Whether ``text`` is a number on its way (any point of ``POINTS``, the box's group separator)."""
+        g = self.group()
+        if not g or g.isspace() or g.isdecimal() or g in "+-":
+            return bool(_NUMBER.match(text))
+        return bool(re.match(_GROUPED_NUMBER.format(g=re.escape(g)), text))
+
+    def grouped(self, text):
+        """``text`` without its group separators when it is a number grouped the box's way, as Qt reads it
+        ("1,000" and "1,000.5" in English, "1.000" in German: 1000 and 1000.5), else None ("1,5" in English is no
+        grouping: a decimal point the box does not read, which Qt takes for a group separator: 15)."""
+        g, dp = self.group(), self.point()
+        if not g:
+            return None
+        text = text.strip().translate(_SIGN_MARKS)
+        if re.match(r"^[+-]?\d{1,3}(?:" + re.escape(g) + r"\d{3})+(?:" + re.escape(dp) + r"\d*)?$", text):
+            return text.replace(g, "")
+        return None
+
     def wrong_points(self, text):
-        """The decimal points in ``text`` that are not the box's (a '.' in an Arabic box, a ',' in an English one)."""
+        """The decimal points in ``text`` that are not the box's (a '.' in an Arabic box, a ',' in an English one;
+        none in a number grouped the box's way: "1,000" in English)."""
         dp = self.point()
+        if self.grouped(text) is not None:
+            return ""
         return "".join(dict.fromkeys(c for c in text if c in POINTS and c != dp))
+
+    def read(self, text):
+        """The box's own ``text`` as the box reads it: its group separators dropped (Qt reads "1,5" in English as
+        15, "2,00" as 200), its point; None when it is no number yet."""
+        g, dp = self.group(), self.point()
+        text = text.strip().translate(_SIGN_MARKS)
+        if g:
+            text = text.replace(g, "")
+        try:
+            return float(text.replace(dp, "."))
+        except ValueError:
+            return None
 
     def number(self, text):
         """``text`` as a number, its point being any of ``POINTS`` (the box's own or one it does not read: what
-        the user meant, compared with what the box shows), its digits any script's; None when it is no number."""
-        text = text.strip().translate(_SIGN_MARKS)
+        the user meant, compared with what the box shows), its digits any script's, a number grouped the box's
+        way read as Qt reads it ("1,000" in English: 1000); None when it is no number."""
+        ungrouped = self.grouped(text)
+        text = (text if ungrouped is None else ungrouped).strip().translate(_SIGN_MARKS)
         for p in POINTS + self.point():
             text = text.replace(p, ".")
         try:
@@ -206,7 +252,9 @@ class _RefusedKeys(QtCore.QObject):
 
     def kept(self):
         """What the box shows (its value lags behind the text while a box without keyboard tracking is edited)."""
-        v = self.number(self.core(self.spin.lineEdit().text()))
+        text = self.core(self.spin.lineEdit().text())
+        v = self.read(text)
+        v = self.number(text) if v is None else v
         return _fmt(self.spin.value() if v is None else v, self.decimals())
 
     def bounds(self):
@@ -298,7 +346,7 @@ class _RefusedKeys(QtCore.QObject):
             base, cur = self.core(text, line.cursorPosition())
         self.sel = sel
         new = base[:cur] + ch + base[cur:]
-        if _NUMBER.match(new.strip()):
+        if self.shape(new.strip()):
             self.intended, self.cursor = new, cur + 1
         else:                                 # a letter, a second point: no number the user meant
             self.intended, self.cursor = base, cur
@@ -338,7 +386,7 @@ class _RefusedKeys(QtCore.QObject):
                 self.set(self.refusal(self.intended.strip()), hard=True)      # number the box could show
                 return
             want = self.number(self.intended)
-            same = want is not None and self.number(text) == want and \
+            same = want is not None and self.read(text) == want and \
                 (final or not self.intended.rstrip().endswith(tuple(POINTS)))    # a point dropped: 3.5 -> 35
             if text == self.intended or same:
                 if text != self.intended:     # the same number written the box's way (1.50 -> 1.5, 19. -> 19)
@@ -352,6 +400,11 @@ class _RefusedKeys(QtCore.QObject):
                     self.clear()
                 return
             if want is None:                  # not a number yet ("-" the box did not take): judged with the
+                if final and self.wrong_points(self.intended) and self.read(text) is not None:
+                    # separators that are no grouping ("1,0,0,0" in English): Qt read a number (1000), no
+                    # number the user could have meant
+                    self.set(self.refusal(self.intended.strip()), hard=True)
+                    return
                 if final:                     # next key ("-5" in a box from 1), or forgotten when editing ends
                     self.intended = None
                 return
@@ -380,7 +433,9 @@ class _RefusedKeys(QtCore.QObject):
         if value is not None and not lo <= value <= hi:
             return translate("Metamaterial", "{0} is outside the allowed range {1}{2}").format(
                 head, self.bounds(), kept)
-        digits = "".join("." if c in POINTS else c for c in typed).partition(".")[2]
+        plain = self.grouped(typed)
+        plain = typed if plain is None else plain
+        digits = "".join("." if c in POINTS else c for c in plain).partition(".")[2]
         n = self.decimals()
         if len(digits) > n:
             if n == 0:
