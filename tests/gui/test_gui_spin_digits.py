@@ -276,18 +276,23 @@ def test_a_number_grouped_the_box_s_way_is_taken_as_qt_reads_it(doc, locale_defa
     assert len(scenes) == 1 and json.loads(scenes[0].SceneJSON)["cell_size_mm"] == 1000, scenes
 
 
-@pytest.mark.parametrize("locale, typed, kept", [("en_US", "2,000", "200"), ("de_DE", "2.000", "200"),
-                                                 ("en_US", "1,000.5", "1000"), ("de_DE", "1.000,5", "1000")])
-def test_a_grouped_number_above_the_maximum_is_refused_as_outside_the_range(doc, locale_default, locale, typed, kept):
-    """Qt drops the last key (2,000 > 1000 leaves "2,00", read as 200): the maximum is the cause, said with the
-    whole text typed."""
+def _typed_in_cell(locale_default, locale, typed):
+    """New structure's cell box in ``locale``, ``typed`` key by key, then Tab: (panel, box, locale, refusal)."""
     loc = locale_default(locale)
     p = run_panel("MM_NewStructure")
     spin = p.cell
     spin.setLocale(loc)
     keys(spin, typed)
     leave(spin)
-    text = refused(spin)
+    return p, spin, loc, refused(spin)
+
+
+@pytest.mark.parametrize("locale, typed, kept", [("en_US", "2,000", "200"), ("de_DE", "2.000", "200"),
+                                                 ("en_US", "1,000.5", "1000"), ("de_DE", "1.000,5", "1000")])
+def test_a_grouped_number_above_the_maximum_is_refused_as_outside_the_range(doc, locale_default, locale, typed, kept):
+    """Qt drops the last key (2,000 > 1000 leaves "2,00", read as 200): the maximum is the cause, said with the
+    whole text typed."""
+    p, spin, loc, text = _typed_in_cell(locale_default, locale, typed)
     assert f"cell_size_mm: {typed} is outside the allowed range [1, 1000]" in text, text
     assert "decimal point" not in text and f"kept {kept}" in text, text
     assert not press_ok(), f"OK took {spin.value()} for the {typed} typed"
@@ -300,13 +305,7 @@ def test_a_grouped_number_above_the_maximum_is_refused_as_outside_the_range(doc,
                                                  ("de_DE", "1.5", "15"), ("de_DE", "12.5", "125")])
 def test_a_separator_that_is_no_grouping_stays_a_decimal_point_the_box_does_not_read(doc, locale_default, locale,
                                                                                      typed, kept):
-    loc = locale_default(locale)
-    p = run_panel("MM_NewStructure")
-    spin = p.cell
-    spin.setLocale(loc)
-    keys(spin, typed)
-    leave(spin)
-    text = refused(spin)
+    p, spin, loc, text = _typed_in_cell(locale_default, locale, typed)
     wrong = "," if loc.decimalPoint() == "." else "."
     assert f"cell_size_mm: {typed} was not taken: the decimal point of this box is {loc.decimalPoint()}, not {wrong}" \
         in text and f"kept {kept}" in text, text
