@@ -77,8 +77,9 @@ class BurstMixin:
         after a step that reaches ``t_end - eps`` or the next record time ``rec_at``. The ledger and the statistics
         (and the steps counted in ``stats["steps"]``) are written back when it returns, also on an exception (during
         a burst only ``q``, ``v``, ``t``, ``anchors`` and ``inside`` are current). An actuator that replaces one of
-        the system's arrays ends the burst with that step on the numpy path (as ``step_implicit``). Returns the
-        number of steps taken."""
+        the system's arrays, or binds a new array to ``self.anchors`` / ``self.inside`` (which the kernel updates in
+        place), ends the burst with that step on the numpy path (as ``step_implicit``; the next burst reads the new
+        arrays). Returns the number of steps taken."""
         s = self.sys
         n = 0
         t = self.t
@@ -98,7 +99,8 @@ class BurstMixin:
             self.anchors = np.ascontiguousarray(self.anchors, float)
         if not (self.inside.flags.c_contiguous and self.inside.dtype == bool):
             self.inside = np.ascontiguousarray(self.inside, bool)
-        T.anchors, T.inside = self.anchors.ctypes.data, self.inside.ctypes.data
+        anc, ins = self.anchors, self.inside       # the arrays the kernel updates in place (mm_step)
+        T.anchors, T.inside = anc.ctypes.data, ins.ctypes.data
         w = self._com_w
         T.w = w.ctypes.data
         led, st = self.ledger, self.stats
@@ -149,7 +151,7 @@ class BurstMixin:
                     break
                 if act is not None:
                     act(t + dt, self)
-                    if tuple(map(id, get(s))) != ids:
+                    if tuple(map(id, get(s))) != ids or self.anchors is not anc or self.inside is not ins:
                         fallback = True
                         break
                 if slot == B:
@@ -178,19 +180,14 @@ class BurstMixin:
                 if c:
                     st[key] = st.get(key, 0) + c
         if fallback:
-            # the actuator replaced an array the kernel reads: this step on the numpy path, as step_implicit
+            # the actuator replaced an array the kernel reads or writes: this step on the numpy path, as
+            # step_implicit (its actuation is set: _apply_actuation's booking, with the kernel's saved old one)
             old = (k.th_old.copy(), k.ra_old.reshape(-1, 2).copy(), k.rb_old.reshape(-1, 2).copy())
             same = (np.array_equal(old[0], s.theta0) and np.array_equal(old[1], s.ra)
                     and np.array_equal(old[2], s.rb))
-            self._act_old = None if same else old
-            if not same:
-                self.ledger["actuator_work_J"] += 0.5 * self._actuation_jump(self.q, old)
+            self._book_actuation(None if same else old)
             self._implicit_solve(dt)
             n += 1
             st["steps"] += 1
-            x = float(self._com_w @ self.q[:, 0])
-            if x < st["com_x_min_m"]:
-                st["com_x_min_m"] = x
-            elif x > st["com_x_max_m"]:
-                st["com_x_max_m"] = x
+            self._track_com()
         return n

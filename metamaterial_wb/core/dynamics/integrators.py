@@ -122,6 +122,17 @@ class Simulator(BurstMixin, EnergyLedger):
                 self.stats["max_penetration_mm"] = pen
         self.inside = inside
 
+    def _track_com(self):
+        """After a step: widen the centre of mass's x extremes (``stats["com_x_min_m"]`` / ``["com_x_max_m"]``,
+        started by ``run``, with its weights ``_com_w``) to the current position (run's step by step path and the
+        burst's numpy fallback step; ``mm_step`` does the same in C)."""
+        x = float(self._com_w @ self.q[:, 0])
+        st = self.stats
+        if x < st["com_x_min_m"]:
+            st["com_x_min_m"] = x
+        elif x > st["com_x_max_m"]:
+            st["com_x_max_m"] = x
+
     # -- single steps -------------------------------------------------------------------------
     def step_symplectic(self, dt):
         """One semi-implicit Euler step, ``v += dt M^-1 Q(q, v); q += dt v``, with the actuation of the step's
@@ -522,11 +533,7 @@ class Simulator(BurstMixin, EnergyLedger):
                     self.step_implicit(h)
                 if last:
                     self.t = t_end
-                x = float(w @ self.q[:, 0])
-                if x < self.stats["com_x_min_m"]:
-                    self.stats["com_x_min_m"] = x
-                elif x > self.stats["com_x_max_m"]:
-                    self.stats["com_x_max_m"] = x
+                self._track_com()
                 self.stats["steps"] += 1
                 since += 1
             if self.stats["steps"] > max_steps:

@@ -50,7 +50,13 @@ class EnergyLedger:
         ledger) also counts ``k (da)^2 / 2`` per step, which the integrator then dissipates again: an O(dt)
         error that landed in both "actuator work" and "numerical" (most of both on the worm's stiff pins
         at 1 ms)."""
-        self._act_old = old = self._set_actuation(t)
+        self._book_actuation(self._set_actuation(t))
+
+    def _book_actuation(self, old):
+        """Implicit step whose actuation of the step's end is set: keep ``old`` (the former (theta0, ra, rb), or
+        None when unchanged) for ``_book_actuation_end`` and book the first half of the trapezoid, at the step's
+        start positions (``_apply_actuation``; the compiled burst's numpy fallback step, burst.py)."""
+        self._act_old = old
         if old is not None:
             self.ledger["actuator_work_J"] += 0.5 * self._actuation_jump(self.q, old)
 
