@@ -311,3 +311,81 @@ def test_a_separator_that_is_no_grouping_stays_a_decimal_point_the_box_does_not_
         in text and f"kept {kept}" in text, text
     assert not press_ok() and _scenes(doc) == []
     p.reject()
+
+
+# ---- a blank typed between digits (session 32) --------------------------------------------------------------------
+# Probed on 0.20 (Qt 5.15) and 1.1 (Qt 6), cell box [1, 1000] mm, key by key: the box drops every blank typed (a
+# space, U+00A0, U+202F) in every locale, so "1 5" became 15 without a word (fr_FR, whose group separator is U+202F
+# on both, as in en_US). Qt itself reads a blank as a group separator only in a locale that groups with one (fr_FR
+# U+202F, nb_NO U+00A0: validate("1 000") is Acceptable there, Invalid in en_US / de_CH). A number grouped by blanks
+# in threes is taken in every locale (any of the three blanks: they look alike, the SI way of grouping, and the box
+# holds what they group); any other blank between digits is refused in words naming the text typed and how the box
+# writes a thousand.
+BLANKS = (" ", "\u00a0", "\u202f")
+
+
+@pytest.mark.parametrize("locale", ["fr_FR", "nb_NO", "en_US", "de_DE"])
+@pytest.mark.parametrize("typed", ["1 000", "1{g}000", "1\u00a0000", "1\u202f000", "1 000{p}00", " 1000", "1000 "])
+def test_a_number_grouped_by_blanks_in_threes_is_taken(doc, locale_default, locale, typed):
+    """Grouped by blanks in threes (the SI way, French's own): taken in every locale, as the box holds 1000."""
+    loc = locale_default(locale)
+    p = run_panel("MM_NewStructure")
+    spin = p.cell
+    spin.setLocale(loc)
+    typed = typed.format(g=loc.groupSeparator(), p=loc.decimalPoint())
+    keys(spin, typed)
+    assert not refused(spin), refused(spin)
+    leave(spin)
+    assert spin.value() == 1000 and not refused(spin), (spin.lineEdit().text(), spin.value(), refused(spin))
+    assert press_ok(), p.error.text()
+    scenes = _scenes(doc)
+    assert len(scenes) == 1 and json.loads(scenes[0].SceneJSON)["cell_size_mm"] == 1000, scenes
+
+
+@pytest.mark.parametrize("locale, typed, kept", [("fr_FR", "1 5", "15"), ("fr_FR", "12 5", "125"),
+                                                 ("fr_FR", "1{g}5", "15"), ("fr_FR", "1 00", "100"),
+                                                 ("fr_FR", "1 0 0 0", "1000"), ("fr_FR", "1 5{p}0", "15"),
+                                                 ("nb_NO", "1 5", "15"), ("en_US", "1 5", "15"),
+                                                 ("en_US", "1 00", "100"), ("de_DE", "1 5", "15")])
+def test_a_blank_that_is_no_grouping_is_refused_naming_how_the_box_groups(doc, locale_default, locale, typed, kept):
+    """Qt drops the blank (1 5 -> 15): OK must not take 15 for what was typed."""
+    loc = locale_default(locale)
+    typed = typed.format(g=loc.groupSeparator(), p=loc.decimalPoint())
+    p, spin, loc, text = _typed_in_cell(locale_default, locale, typed)
+    thousand = loc.toString(1000)
+    if loc.groupSeparator() not in BLANKS:
+        thousand = f"1 000 or {thousand}"
+    how = f"this box reads a space only between groups of three digits (a thousand is {thousand})"
+    assert f"cell_size_mm: {typed} was not taken: {how}; the box kept {kept}" in text, text
+    assert not press_ok(), f"OK took {spin.value()} for the {typed} typed"
+    assert _scenes(doc) == []
+    keys(spin, "15")                                       # typed again without the blank: taken
+    leave(spin)
+    assert spin.value() == 15 and not refused(spin), (spin.value(), refused(spin))
+    p.reject()
+
+
+@pytest.mark.parametrize("typed, kept", [("2 000", "200"), ("1 000{p}5", "1000"), ("1 000 000", "1000")])
+def test_a_blank_grouped_number_above_the_maximum_is_refused_as_outside_the_range(doc, locale_default, typed, kept):
+    loc = locale_default("fr_FR")
+    typed = typed.format(p=loc.decimalPoint())
+    p, spin, loc, text = _typed_in_cell(locale_default, "fr_FR", typed)
+    assert f"cell_size_mm: {typed} is outside the allowed range [1, 1000]; the box kept {kept}" in text, text
+    assert not press_ok() and _scenes(doc) == []
+    p.reject()
+
+
+def test_a_blank_in_a_whole_number_box_is_refused_too(doc, locale_default):
+    """The integer Rows box (QSpinBox) drops the blank the same way: 1 2 would be 12."""
+    loc = locale_default("fr_FR")
+    p = run_panel("MM_NewStructure")
+    spin = p.rows
+    spin.setLocale(loc)
+    spin.setValue(1)
+    process()
+    keys(spin, "1 2")
+    leave(spin)
+    text = refused(spin)
+    assert "Rows: 1 2 was not taken: this box reads a space only between groups of three digits" in text, text
+    assert not press_ok() and _scenes(doc) == []
+    p.reject()

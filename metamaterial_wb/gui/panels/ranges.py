@@ -71,25 +71,49 @@ REFUSED = "refused_input"    # the spin box property holding the message of a ke
 # A point typed is kept in the intended text, whichever the box reads: a point the box drops ('.' in an Arabic
 # locale) or reads as a group separator (',' in English: 1,5 -> 15) is then said, not taken for another number
 POINTS = ".,\u066b"
-# what a number typed key by key can be on its way. ``\d`` is any script's decimal digit on purpose: a digit the
-# box does not read (Arabic-Indic U+0663, full-width U+FF13 in a C/English locale) is dropped by Qt, and kept in
-# the intended text it makes the drop seen and said as such (``_RefusedKeys.foreign``), not taken for a letter
-_NUMBER = re.compile(r"^[+-]?\d*(?:[" + POINTS + r"]\d*)?$")
-# the same with the box's group separator G between digits ("1,000.5" in English, "1.000,5" in German, "1'000" in
-# de_CH on Qt 6): the box takes it (Qt reads any G as a group separator: "1,5" as 15), so it is kept in the intended
-# text and judged once typed (``_RefusedKeys.grouped``). A blank G (U+202F in French) is dropped by the box as typed
+# what a number typed key by key can be on its way, with separators G between digits (blanks, the box's group
+# separator: "1,000.5" in English, "1.000,5" in German, "1'000" in de_CH on Qt 6; the box takes its G, Qt reading
+# any as a group separator: "1,5" as 15), kept in the intended text and judged once typed (``_RefusedKeys.grouped``).
+# ``\d`` is any script's decimal digit on purpose: a digit the box does not read (Arabic-Indic U+0663, full-width
+# U+FF13 in a C/English locale) is dropped by Qt, and kept in the intended text it makes the drop seen and said as
+# such (``_RefusedKeys.foreign``), not taken for a letter
 _GROUPED_NUMBER = r"^[+-]?\d*(?:{g}\d*)*(?:[" + POINTS + r"]\d*)?$"
+# the blanks a user types between digits (a space; U+00A0, the group separator of nb_NO; U+202F, fr_FR's). The box
+# drops each as typed, in every locale ("1 5" -> 15): kept in the intended text, they are judged once typed, a
+# number grouped by them in threes taken in every locale (the SI way; Qt reads "1 000" so in French, and every box
+# holds 1000 once it dropped them), any other blank between digits refused ("1 5")
+BLANKS = " \u00a0\u202f"
+_BLANK = "[" + BLANKS + "]"
 # the marks Qt 6 writes around a locale's minus sign (U+061C before '-' in Arabic, U+200E in Persian) and the
 # minus sign U+2212 of some locales: read as the ASCII '-'
 _SIGN_MARKS = {0x061C: None, 0x200E: None, 0x200F: None, 0x2212: "-"}
 ASCII_DIGITS = "0123456789"
 
 
+def _char(c):
+    """A QChar (PySide2 may give one) as a str."""
+    return c if isinstance(c, str) else str(c)
+
+
+def _plain(text):
+    """``text`` stripped, the marks around a minus sign dropped."""
+    return text.strip().translate(_SIGN_MARKS)
+
+
+def _float(text, points):
+    """``text`` as a float, each of ``points`` read as the decimal point; None when it is no number."""
+    for p in points:
+        text = text.replace(p, ".")
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
 def box_digits(locale):
     """The digits a spin box with ``locale`` reads: the ASCII 0-9 (Qt reads them in every locale) and the
     locale's own ten (Arabic-Indic in an Arabic locale)."""
-    zero = locale.zeroDigit()
-    zero = zero if isinstance(zero, str) else str(zero)
+    zero = _char(locale.zeroDigit())
     if len(zero) == 1 and zero != "0":
         return ASCII_DIGITS + "".join(chr(ord(zero) + i) for i in range(10))
     return ASCII_DIGITS
@@ -189,33 +213,37 @@ class _RefusedKeys(QtCore.QObject):
 
     def point(self):
         """The box's decimal point ('.', ',' or '٫')."""
-        dp = self.spin.locale().decimalPoint()
-        return dp if isinstance(dp, str) else str(dp)
+        return _char(self.spin.locale().decimalPoint())
 
     def group(self):
         """The box's group separator (',' in English, '.' in German, U+202F in French), "" when it has none."""
-        g = self.spin.locale().groupSeparator()
-        g = g if isinstance(g, str) else str(g)
+        g = _char(self.spin.locale().groupSeparator())
         return "" if g == self.point() else g
 
     def shape(self, text):
-        """Whether ``text`` is a number on its way (any point of ``POINTS``, the box's group separator)."""
+        """Whether ``text`` is a number on its way (any point of ``POINTS``, blanks, the box's group separator)."""
         g = self.group()
-        if not g or g.isspace() or g.isdecimal() or g in "+-":
-            return bool(_NUMBER.match(text))
-        return bool(re.match(_GROUPED_NUMBER.format(g=re.escape(g)), text))
+        own = "" if not g or g.isspace() or g.isdecimal() or g in "+-" else re.escape(g)
+        return bool(re.match(_GROUPED_NUMBER.format(g="[" + BLANKS + own + "]"), text))
 
     def grouped(self, text):
         """``text`` without its group separators when it is a number grouped the box's way, as Qt reads it
-        ("1,000" and "1,000.5" in English, "1.000" in German: 1000 and 1000.5), else None ("1,5" in English is no
-        grouping: a decimal point the box does not read, which Qt takes for a group separator: 15)."""
-        g, dp = self.group(), self.point()
-        if not g:
-            return None
-        text = text.strip().translate(_SIGN_MARKS)
-        if re.match(r"^[+-]?\d{1,3}(?:" + re.escape(g) + r"\d{3})+(?:" + re.escape(dp) + r"\d*)?$", text):
-            return text.replace(g, "")
+        ("1,000" and "1,000.5" in English, "1.000" in German, "1 000" in every locale: 1000 and 1000.5), else None
+        ("1,5" in English is no grouping: a decimal point the box does not read, which Qt takes for a group separator)."""
+        return self._ungroup(_plain(text))
+
+    def _ungroup(self, plain):
+        tail = r"\d{3})+(?:" + re.escape(self.point()) + r"\d*)?$"
+        if re.match(r"^[+-]?\d{1,3}(?:" + _BLANK + tail, plain):
+            return re.sub(_BLANK, "", plain)  # blanks grouping by three (SI, and the box's G in French): every box
+        g = self.group()                      # drops them as typed, so it holds the number they group
+        if g and not g.isspace() and re.match(r"^[+-]?\d{1,3}(?:" + re.escape(g) + tail, plain):
+            return plain.replace(g, "")
         return None
+
+    def stray_blanks(self, text):
+        """Whether ``text`` has a blank between digits that is no grouping by three ("1 5", "1 00")."""
+        return bool(re.search(r"\d" + _BLANK + r"+\d", text)) and self.grouped(text) is None
 
     def wrong_points(self, text):
         """The decimal points in ``text`` that are not the box's (a '.' in an Arabic box, a ',' in an English one;
@@ -228,27 +256,15 @@ class _RefusedKeys(QtCore.QObject):
     def read(self, text):
         """The box's own ``text`` as the box reads it: its group separators dropped (Qt reads "1,5" in English as
         15, "2,00" as 200), its point; None when it is no number yet."""
-        g, dp = self.group(), self.point()
-        text = text.strip().translate(_SIGN_MARKS)
-        if g:
-            text = text.replace(g, "")
-        try:
-            return float(text.replace(dp, "."))
-        except ValueError:
-            return None
+        g, text = self.group(), _plain(text)
+        return _float(text.replace(g, "") if g else text, self.point())
 
     def number(self, text):
         """``text`` as a number, its point being any of ``POINTS`` (the box's own or one it does not read: what
         the user meant, compared with what the box shows), its digits any script's, a number grouped the box's
         way read as Qt reads it ("1,000" in English: 1000); None when it is no number."""
-        ungrouped = self.grouped(text)
-        text = (text if ungrouped is None else ungrouped).strip().translate(_SIGN_MARKS)
-        for p in POINTS + self.point():
-            text = text.replace(p, ".")
-        try:
-            return float(text)
-        except ValueError:
-            return None
+        plain = _plain(text)
+        return _float(self._ungroup(plain) or plain, POINTS + self.point())
 
     def kept(self):
         """What the box shows (its value lags behind the text while a box without keyboard tracking is edited)."""
@@ -321,8 +337,8 @@ class _RefusedKeys(QtCore.QObject):
         if k in self.remove_keys or ev.matches(std.Cut):
             self.clear()                      # text removed: what stays is what the user sees
             self.intended, self.follow = None, True
-        elif ev.text() and ev.text().isprintable() and \
-                not _ctrl(ev):
+        elif ev.text() and (ev.text().isprintable() or ev.text() in BLANKS) and \
+                not _ctrl(ev):                # (U+00A0, U+202F are no printable str for Python)
             self.typed(ev.text())
         elif k in self.move_keys or _ctrl(ev) or any(ev.matches(getattr(std, n)) for n in ("Paste", "Undo", "Redo")):
             self.intended = None              # the cursor moves, select all, paste (also Shift+Insert), undo: follow
@@ -385,6 +401,10 @@ class _RefusedKeys(QtCore.QObject):
             if text != self.intended and self.foreign(self.intended):    # a digit the box dropped: not a
                 self.set(self.refusal(self.intended.strip()), hard=True)      # number the box could show
                 return
+            if not final and re.search(r"\d" + _BLANK, self.intended) and text == re.sub(_BLANK, "", self.intended):
+                if self.msg and not self.hard:    # only blanks dropped, maybe on the way to a grouping
+                    self.clear()                  # ("1 000" in French): judged once typed
+                return
             want = self.number(self.intended)
             same = want is not None and self.read(text) == want and \
                 (final or not self.intended.rstrip().endswith(tuple(POINTS)))    # a point dropped: 3.5 -> 35
@@ -400,9 +420,10 @@ class _RefusedKeys(QtCore.QObject):
                     self.clear()
                 return
             if want is None:                  # not a number yet ("-" the box did not take): judged with the
-                if final and self.wrong_points(self.intended) and self.read(text) is not None:
-                    # separators that are no grouping ("1,0,0,0" in English): Qt read a number (1000), no
-                    # number the user could have meant
+                if final and (self.wrong_points(self.intended) or self.stray_blanks(self.intended)) and \
+                        self.read(text) is not None:
+                    # separators that are no grouping ("1,0,0,0" in English, "1 5"): Qt read a number (1000, 15),
+                    # no number the user could have meant
                     self.set(self.refusal(self.intended.strip()), hard=True)
                     return
                 if final:                     # next key ("-5" in a box from 1), or forgotten when editing ends
@@ -430,11 +451,16 @@ class _RefusedKeys(QtCore.QObject):
         if wrong:                             # dropped (3.5 -> 35) or read as a group separator (1,5 -> 15)
             return translate("Metamaterial", "{0} was not taken: the decimal point of this box is {1}, not {2}{3}"
                              ).format(head, self.point(), " ".join(wrong), kept)
+        if self.stray_blanks(typed):          # dropped by the box (1 5 -> 15)
+            thousand = self.spin.locale().toString(1000)
+            if not self.group().isspace():    # the locale's own way, and the SI one the box also reads
+                thousand = translate("Metamaterial", "1 000 or {0}").format(thousand)
+            return translate("Metamaterial", "{0} was not taken: this box reads a space only between groups of "
+                             "three digits (a thousand is {1}){2}").format(head, thousand, kept)
         if value is not None and not lo <= value <= hi:
             return translate("Metamaterial", "{0} is outside the allowed range {1}{2}").format(
                 head, self.bounds(), kept)
-        plain = self.grouped(typed)
-        plain = typed if plain is None else plain
+        plain = self.grouped(typed) or typed
         digits = "".join("." if c in POINTS else c for c in plain).partition(".")[2]
         n = self.decimals()
         if len(digits) > n:
