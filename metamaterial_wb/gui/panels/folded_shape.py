@@ -7,8 +7,13 @@ one, or the printable one with "Limit to printable") is shown in red next to its
 refused. Every maximum is shown rounded toward zero (to the spin box's 3 decimals) and a slider ends on its
 last 0.1 deg step within the maximum in force, so every value a slider or a stated range offers is allowed.
 A fold beyond the slider's end (after ticking "Limit to printable") keeps its value in the spin box while the
-slider sits at its end. Each axis takes two lines (name and spin box, then the slider across the panel) so a slider
-keeps a width a hand can drag (>= SLIDER_MIN_WIDTH) in a narrow task dock.
+slider sits at its end, until the user acts on that slider: End / Home, an arrow, PageUp / PageDown or the wheel
+pushing toward that end, a click there or a drag of the handle to it put a refused fold on the slider's end (the
+largest fold it offers), and a key pushing toward the end lifts a fold just short of it onto it; an allowed fold
+typed past the last 0.1 deg step stays (a push forward never pulls it back). Keys away from the end step from it.
+A focused slider keeps its keys from the main window's shortcuts (FreeCAD binds Home to its home view).
+Each axis takes two lines (name and spin box, then the slider across the panel) so a slider keeps a width
+a hand can drag (>= SLIDER_MIN_WIDTH) in a narrow task dock.
 **OK = Confirm** runs the joint configuration and stores the folds and hinge tilts.
 """
 import math
@@ -93,6 +98,25 @@ class ElidedLabel(QtGui.QLabel):
             self.setText(shown)
 
 
+SLIDER_KEYS = ("Key_Left", "Key_Right", "Key_Up", "Key_Down", "Key_PageUp", "Key_PageDown", "Key_Home", "Key_End")
+
+
+class SliderKeys(QtCore.QObject):
+    """Event filter for a slider: while it has the focus its own keys (arrows, PageUp / PageDown, Home / End, without
+    Ctrl / Alt / Shift) reach it instead of the main window's shortcuts (FreeCAD binds Home to its home view), as a
+    text field keeps its editing keys."""
+
+    KEYS = tuple(getattr(QtCore.Qt.Key, n) for n in SLIDER_KEYS)
+    PLAIN = (QtCore.Qt.KeyboardModifier.NoModifier, QtCore.Qt.KeyboardModifier.KeypadModifier)
+
+    def eventFilter(self, obj, ev):
+        if ev.type() == QtCore.QEvent.Type.ShortcutOverride and hasattr(ev, "key") \
+                and ev.key() in self.KEYS and ev.modifiers() in self.PLAIN:
+            ev.accept()
+            return True
+        return False
+
+
 class FoldedShapePanel(BasePanel):
     TITLE = "Folded shape"
     ICON = "MM_FoldedShape.svg"
@@ -104,6 +128,7 @@ class FoldedShapePanel(BasePanel):
         self.scene = structure.compose_scene(scene_obj)
         self.limits = axis_limits(unconfigured(self.scene)) if self.scene.axes else []
         self.spins, self.sliders, self.limit_labels = [], [], []
+        self._slider_keys = SliderKeys()
         if not self.scene.axes:
             self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "No rotary axes yet: use 'Rotary axes' first.")))
         self.printable = QtGui.QCheckBox(translate("Metamaterial", "Limit to printable folds"))
@@ -141,6 +166,9 @@ class FoldedShapePanel(BasePanel):
             self.sliders.append((s, mx))
             self.limit_labels.append(lim)
             s.valueChanged.connect(lambda v, k=k: self._slider_moved(k, v))
+            s.actionTriggered.connect(lambda _a, k=k: self._slider_action(k))
+            s.sliderReleased.connect(lambda k=k: self._slider_released(k))
+            s.installEventFilter(self._slider_keys)
             spin.valueChanged.connect(lambda v, k=k: self._spin_changed(k, v))
             spin.editingFinished.connect(lambda k=k: self._spin_changed(k, self.spins[k].value()))
         grid.setColumnStretch(0, 1)
@@ -149,6 +177,7 @@ class FoldedShapePanel(BasePanel):
         gl = QtGui.QGridLayout()                       # the same two lines: name and value, then the slider
         self.global_slider = _slider(-100, 100, 100)
         self.global_slider.setMinimumWidth(SLIDER_MIN_WIDTH)
+        self.global_slider.installEventFilter(self._slider_keys)
         self.global_label = QtGui.QLabel(translate("Metamaterial", "1.00"))
         gl.addWidget(ElidedLabel(translate("Metamaterial", "Global deformation")), 0, 0)
         gl.addWidget(self.global_label, 0, 1)
@@ -224,6 +253,48 @@ class FoldedShapePanel(BasePanel):
         spin.blockSignals(False)
         self._validate()
         self._preview_timer.start()
+
+    def _at_end(self, k, pos):
+        """+1 / -1 when slider ``k``'s position ``pos`` is its right / left end, else 0."""
+        s = self.sliders[k][0]
+        return 1 if pos == s.maximum() else -1 if pos == s.minimum() else 0
+
+    def _to_slider_end(self, k, pos):
+        spin = self.spins[k]
+        spin.blockSignals(True)
+        spin.setValue(pos * STEP)
+        spin.blockSignals(False)
+        self._validate()
+        self._preview_timer.start()
+
+    def _slider_action(self, k):
+        """A key, a click on the groove or the wheel on slider ``k`` (Qt has moved its position, not yet its value).
+        When the slider stays at an end (it was there: no valueChanged follows) the push went toward that end: a fold
+        beyond the maximum in force, or one short of the end (the slider shows it there), goes to the end; an allowed
+        fold already past the end stays."""
+        if self._closed:
+            return
+        s = self.sliders[k][0]
+        pos = s.sliderPosition()
+        side = self._at_end(k, pos)
+        if not side or pos != s.value():
+            return                                  # the slider moves: valueChanged sets the fold
+        f, end, lim = self.spins[k].value(), pos * STEP, self.limit_deg(k)
+        refused = lim is not None and abs(f) > lim + TOL
+        if refused or side * (end - f) > TOL:
+            self._to_slider_end(k, pos)
+
+    def _slider_released(self, k):
+        """The handle of slider ``k`` let go (a drag, or a click on it): at an end with a refused fold beyond that end
+        (the handle could not move further), the fold is the slider's end."""
+        if self._closed:
+            return
+        s = self.sliders[k][0]
+        pos = s.value()
+        side = self._at_end(k, pos)
+        f, lim = self.spins[k].value(), self.limit_deg(k)
+        if side and lim is not None and abs(f) > lim + TOL and side * (f - pos * STEP) > TOL:
+            self._to_slider_end(k, pos)
 
     def _spin_changed(self, k, v):
         if self._closed:                    # the closing form's spin box emits editingFinished after cleanup()
