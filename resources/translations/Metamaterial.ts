@@ -4,8 +4,13 @@
 <context>
     <name>Metamaterial</name>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="200"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="229"/>
         <source> (slider +-{0:.1f})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="177"/>
+        <source> (the first {0:g} s of the {1:g} s timeline compared)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -24,7 +29,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="152"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="457"/>
+        <source>1 000 or {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="181"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -39,18 +49,23 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="167"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="181"/>
         <source>; no speed down to {0:g}x follows it: slow the motion down</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="367"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="441"/>
         <source>; the box kept {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="169"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="186"/>
         <source>; {0:g}x follows it</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="184"/>
+        <source>; {0:g}x follows its first {1:g} s (Connect compares the whole timeline)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -147,7 +162,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="145"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="558"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="562"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -162,7 +177,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="550"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="554"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -193,7 +208,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="153"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="182"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
     </message>
@@ -208,7 +223,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="135"/>
         <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -250,7 +265,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
         <source>Limit to printable folds</source>
         <translation type="unfinished"></translation>
     </message>
@@ -312,7 +327,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="133"/>
         <source>No rotary axes yet: use 'Rotary axes' first.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -332,7 +347,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="174"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="185"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -343,8 +358,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="119"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="568"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="572"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="190"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
@@ -455,7 +470,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="187"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -506,7 +521,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="161"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="172"/>
         <source>at {0:g}x the link's {1:g} frames a second cannot follow the motion: {2}, moving straight from frame to frame, would be {3:.1f} deg off it at t = {4:.2f} s (at most {5:g} deg, as the stream command allows)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -536,7 +551,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="541"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="545"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -610,12 +625,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="223"/>
         <source>kinematic +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="195"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="224"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -662,6 +677,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="117"/>
         <source>not picked: {0} {1} ({2})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="193"/>
+        <source>note: at {0:g}x the link's frames follow the first {1:g} s of the {2:g} s timeline; the rest is compared at Connect only (it takes seconds): Disconnect and Connect to compare all of it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -727,12 +747,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="225"/>
         <source>printable +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="197"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="226"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -787,7 +807,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="560"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="564"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -852,7 +872,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="108"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
@@ -883,12 +903,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="175"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="265"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="336"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -923,17 +943,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="388"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="469"/>
         <source>{0} has more decimals than the box takes (at most {1} decimals){2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="387"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="468"/>
         <source>{0} is not a whole number (at most 0 decimals){1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="381"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="461"/>
         <source>{0} is outside the allowed range {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -948,27 +968,32 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="390"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="471"/>
         <source>{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="372"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="446"/>
         <source>{0} was not taken: the box reads only the ASCII digits 0-9, not {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="374"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="448"/>
         <source>{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="378"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="452"/>
         <source>{0} was not taken: the decimal point of this box is {1}, not {2}{3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="198"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="458"/>
+        <source>{0} was not taken: this box reads a space only between groups of three digits (a thousand is {1}){2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="227"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -993,7 +1018,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="159"/>
         <source>{0}{1} {2}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -533,7 +533,11 @@ class AnimatePanel(PlaybackClock, BasePanel):
         try:
             if not self.shown_values:
                 self.show_time(self.t)
-            problem = self.stream.follow_problem(self.preview_scene, self.duration.value(), self.speed.value())
+            QtGui.QApplication.setOverrideCursor(QtCore.Qt.CursorShape.WaitCursor)   # the whole timeline: up to
+            try:                                                                    # seconds on a long one
+                problem = self.stream.follow_problem(self.preview_scene, self.duration.value(), self.speed.value())
+            finally:
+                QtGui.QApplication.restoreOverrideCursor()
             if problem:
                 raise MetamaterialError(problem)
             self.stream.connect(port, self.preview_scene)

@@ -95,18 +95,29 @@ class PlaybackClock:
 
     def _warn_follow(self):
         """While streaming: say so when the link's frames can no longer follow the motion (a faster speed, an
-        edited profile); Connect refuses such a state (``StreamController.follow_problem``)."""
+        edited profile); Connect refuses such a state (``StreamController.follow_problem``). Per edit only the first
+        ``FOLLOW_SPAN_S`` of the timeline is compared (Connect compares all of it); a longer timeline is said so."""
         if not self.stream.connected or self.preview_scene is None:
             return
+        dur, speed, span = self.duration.value(), self.speed.value(), self.stream.FOLLOW_SPAN_S
         try:
-            problem = self.stream.follow_problem(self.preview_scene, self.duration.value(), self.speed.value())
+            problem = self.stream.follow_problem(self.preview_scene, dur, speed, span_s=span)
         except MetamaterialError as exc:
             problem = str(exc)
         if problem:
-            self.show_error(translate("Metamaterial", "warning: {0}").format(problem))
+            text = translate("Metamaterial", "warning: {0}").format(problem)
+        else:
+            text = self.stream.follow_span_note(dur, speed, span) or ""
+        if text:
+            if text != self.error.text():
+                self.show_error(text)
+        elif self.error.text() and self.error.text() == getattr(self, "_follow_said", None):
+            self.clear_error()              # its own earlier warning or note no longer holds (another stays)
+        self._follow_said = text
 
     def _duration_changed(self, *_):
         self._duration = self.duration.value()
+        self._warn_follow()                 # a longer timeline while streaming: its first span compared, said
 
     def _loop_toggled(self, on):
         self._loop = bool(on)

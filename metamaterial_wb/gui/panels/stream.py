@@ -4,8 +4,9 @@ The :class:`~metamaterial_wb.hardware.Streamer` thread asks for values at 50 Hz;
 with ``values_at(clock())``: the values for *now* on the animation clock (which follows wall time), not
 the last frame the view managed to draw, so real servos move in real time even when rendering drops
 frames. Errors from the streaming thread are kept and reported by the panel in the GUI thread. Connect is
-refused when those frames, at the animation's speed, cannot follow the motion (``follow_problem``: the stream
-command's rate check).
+refused when those frames, at the animation's speed, cannot follow the motion over the whole timeline
+(``follow_problem``: the stream command's rate check); while streaming, each edit compares the first
+``FOLLOW_SPAN_S`` and the panel says so for a longer timeline.
 """
 from metamaterial_wb.gui.i18n import translate
 
@@ -142,19 +143,29 @@ class StreamController:
         return vals
 
     RATE_HZ = 50.0                    # the link's frames per wall second (Streamer's default)
-    FOLLOW_SPAN_S = 60.0              # the motion compared (a longer timeline: its first minute; it runs per edit)
+    # The span the per-edit warning compares while streaming (``follow_problem(..., span_s=FOLLOW_SPAN_S)``):
+    # rate_deviation samples the motion at 1 kHz, so the whole of a 10 min timeline takes ~0.2 s per moving
+    # actuator and speed (~0.4 s for the fish's two, ~1 s for four; a refusal with its speed suggestion
+    # compares up to 12 speeds: 1.4 / 4.4 s), too slow for every keystroke in a spin box while the link
+    # streams. Connect compares the whole timeline; a shorter span is said in the message (and by the panel).
+    FOLLOW_SPAN_S = 60.0
     SPEEDS = (5.0, 4.0, 3.0, 2.0, 1.5, 1.0, 0.75, 0.5, 0.25, 0.1, 0.05)   # offered when a speed is too fast
 
-    def follow_problem(self, scene, duration_s, speed):
+    def follow_problem(self, scene, duration_s, speed, span_s=None):
         """None when the link's frames (``RATE_HZ`` a wall second, so ``RATE_HZ / speed`` per second of motion)
         follow the motion of ``scene`` over ``duration_s`` within the stream command's tolerance
-        (``mapping.check_rate``); else the message, with the fastest of ``SPEEDS`` below ``speed`` that does."""
+        (``mapping.check_rate``, which the ``stream`` command runs over the whole duration); else the message,
+        with the fastest of ``SPEEDS`` below ``speed`` that does.
+
+        ``span_s`` (the per-edit warning while streaming): compare only the first ``span_s`` seconds of a longer
+        timeline; a message then names the span compared, and a speed it suggests is said to follow that span
+        (``follow_span_note`` is the panel's line when nothing is found there)."""
         from metamaterial_wb.hardware.mapping import RATE_TOLERANCE_DEG, channel_map, rate_deviation
         channels = channel_map(scene)
-        duration_s = min(duration_s, self.FOLLOW_SPAN_S)
+        span = duration_s if span_s is None or span_s >= duration_s else float(span_s)
 
         def dev(s):
-            return rate_deviation(scene, channels, duration_s, self.RATE_HZ / s)
+            return rate_deviation(scene, channels, span, self.RATE_HZ / s)
         d = dev(speed)
         if d.deg <= RATE_TOLERANCE_DEG:
             return None
@@ -162,11 +173,26 @@ class StreamController:
                         "moving straight from frame to frame, would be {3:.1f} deg off it at t = {4:.2f} s (at most "
                         "{5:g} deg, as the stream command allows)").format(speed, self.RATE_HZ, d.name, d.deg, d.t,
                                                                            RATE_TOLERANCE_DEG)
+        if span < duration_s:
+            msg += translate("Metamaterial", " (the first {0:g} s of the {1:g} s timeline compared)").format(
+                span, duration_s)
         ok = next((s for s in self.SPEEDS if s < speed and dev(s).deg <= RATE_TOLERANCE_DEG), None)
-        if ok is None:
+        if ok is None:     # none follows the span: none follows the whole timeline either
             return msg + translate("Metamaterial", "; no speed down to {0:g}x follows it: slow the motion "
                                    "down").format(self.SPEEDS[-1])
+        if span < duration_s:
+            return msg + translate("Metamaterial", "; {0:g}x follows its first {1:g} s (Connect compares the whole "
+                                   "timeline)").format(ok, span)
         return msg + translate("Metamaterial", "; {0:g}x follows it").format(ok)
+
+    def follow_span_note(self, duration_s, speed, span_s):
+        """The panel's line when ``follow_problem(..., span_s=span_s)`` found nothing in a timeline longer than
+        ``span_s``: the rest was not compared (None when the whole timeline was)."""
+        if span_s >= duration_s:
+            return None
+        return translate("Metamaterial", "note: at {0:g}x the link's frames follow the first {1:g} s of the {2:g} s "
+                         "timeline; the rest is compared at Connect only (it takes seconds): Disconnect and Connect "
+                         "to compare all of it").format(speed, span_s, duration_s)
 
     def connect(self, port, scene):
         """Open ``port`` (``loop://`` = dry run), hand-shake, ARM and start streaming. Raises on failure
