@@ -1,7 +1,8 @@
-"""Ctrl+Z then Ctrl+Y (Std_Undo, Std_Redo) of "Place motor" while Simulate or Animate is open (session 31).
+"""Undo then Redo (Std_Undo, Std_Redo: Ctrl+Z, then Ctrl+Shift+Z on Linux / Ctrl+Y on Windows) of "Place motor"
+while Simulate or Animate is open (session 31).
 
 Ctrl+Z of the Place motor takes the motor away under the open panel: the panel names it as deleted and refuses OK
-(as designed, ``BasePanel.check_items``). Ctrl+Y brings it back: the red line must go and OK be taken again, as
+(as designed, ``BasePanel.check_items``). Redo brings it back: the red line must go and OK be taken again, as
 after Ctrl+Z of a Delete (``test_gui_sim_animate_details.test_a_deleted_motor_brought_back_by_undo_clears_the_line``)."""
 
 import pytest
@@ -45,7 +46,7 @@ def test_redo_of_place_motor_while_the_panel_is_open_clears_the_line(doc, traceb
     assert repr(NEW) in text and "deleted" in text, text
     assert p.problem_label("items").isVisible()
     assert press_ok() is False, "OK taken for a motor that is gone"
-    FreeCADGui.runCommand("Std_Redo")              # Ctrl+Y: it comes back
+    FreeCADGui.runCommand("Std_Redo")              # Redo: it comes back
     process(100)
     assert NEW in items(sc), sorted(items(sc))
     assert "items" not in p.problems, p.problems
