@@ -131,7 +131,7 @@ def run(args):
         raise SceneError("constraints", "the test piece has no angular constraint or actuator; the fit needs the "
                                         "deformation you imposed")
     idx, ang = C.read_angles_csv(args.angles, scene)
-    fit = C.fit_measured(scene, idx, ang)
+    fit = C.fit_measured(scene, idx, ang, source=args.angles)
     ratio = fit["k2_ratio"]
     print(f"k1 = {fit['k1']:.6f}" + (f", k2 ratio (width {fit['other_width_mm']} / {fit['base_width_mm']} mm) = "
                                       f"{ratio:.4g}" if ratio is not None else ""))

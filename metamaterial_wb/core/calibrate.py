@@ -403,7 +403,7 @@ def check_piece_sizes(scene):
                                        f"{use}")
 
 
-def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
+def fit_measured(scene, node_idx, angles_rad, fit_k2=None, source="angles"):
     """Fit k1 (and, for a piece with two hinge widths, the k2 ratio) to measured node angles.
 
     Only the measured nodes enter the residual. Returns a dict with k1, the k2 ratio
@@ -413,7 +413,9 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
     residuals (D units and degrees) and per-node residuals.
 
     Raises a SceneError when the fit is not finite or ends on its search bound (k1 in [0, 1], log10 of the k2
-    ratio in [-4, 4]): the measured angles then do not determine the value, and it must not enter a table.
+    ratio in [-4, 4]): the measured angles then do not determine the value, and it must not enter a table; and,
+    at ``source`` (the CSV's name), when fewer than 2 measured nodes are left after dropping those a constraint
+    holds (naming them and the constraint), as :func:`read_angles_csv` refuses fewer than 2 measured nodes.
     """
     topo = scene.topology
     check_piece_stiffness(scene)
@@ -427,8 +429,16 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None):
     fitter = _Fitter(scene, phi_ref, jg)
     fixed_nodes = set(range(topo.n_nodes)) - set(int(k) for k in fitter.free)
     use = np.array([k for k in node_idx if int(k) not in fixed_nodes], dtype=np.int64)
-    if use.size < 1:
-        raise SceneError("angles", "every measured node is held by a constraint; measure free nodes")
+    if use.size < 2:                # one free node is fitted exactly by the rigid rotation: no information on k1
+        holder = {}
+        for (kind, it), (_, nodes) in zip(scene.fixed_items(), fitter.groups):
+            for n in nodes:
+                holder.setdefault(int(n), f"the {kind} {it.name!r} on {it.joint}")
+        held = [f"N{topo.nodes[k][0]},{topo.nodes[k][1]} held by {holder.get(int(k), 'a constraint')}"
+                for k in node_idx if int(k) in fixed_nodes]
+        raise SceneError(str(source), f"{use.size} measured node(s) left after dropping {'; '.join(held)} (a plate "
+                                      f"held by a constraint or actuator does not follow k1 and is not used); at "
+                                      f"least 2 are needed for a fit: measure free plates")
     fitter.free = use
     if two:
         best = None

@@ -285,7 +285,7 @@ def _sheet_bbox(scene):
     return p.min(axis=0) - h, p.max(axis=0) + h
 
 
-def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
+def _parse_surface(scene, spec, base_dir, where, mesh_loader=None, check_scale=True):
     if isinstance(spec, str):
         spec = {"file": spec}
     if isinstance(spec, dict):
@@ -321,8 +321,10 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
         idx = np.array(list(seen), dtype=np.int64)
     if idx.size == 0:
         raise TargetError(f"{where}.nodes", "empty: no node to match to the surface")
-    lo, hi = _sheet_bbox(scene)
     slo, shi = surf.bbox
+    if check_scale:
+        _check_surface_units(scene, idx, slo, shi, src, where)
+    lo, hi = _sheet_bbox(scene)
     gap = float(np.linalg.norm(np.maximum(0.0, np.maximum(slo - hi, lo - shi))))
     diag = float(np.linalg.norm(hi - lo))
     if gap > 0.5 * diag:
@@ -334,6 +336,31 @@ def _parse_surface(scene, spec, base_dir, where, mesh_loader=None):
 
 
 NODE_SCALE_RANGE = (0.2, 5.0)   # target / flat distance of neighbouring nodes (cells do not stretch; about 0.9-1.4)
+SURFACE_SCALE_RANGE = (0.05, 200.0)   # surface / flat extent of its nodes (bounding-box diagonals; metres give 0.001)
+
+
+def _check_surface_units(scene, idx, slo, shi, src, where):
+    """Refuse a surface in other units than mm, as node positions are (``_check_node_units``): the diagonal of the
+    surface's bounding box against that of the flat plates of the nodes matched to it (``idx``) must be within
+    ``SURFACE_SCALE_RANGE``. A folding sheet can wrap a surface smaller than its flat self (a strip rolled on a
+    rod) and lie on a far larger one (a floor), hence a wider range than the nodes'; metres give 0.001, inches
+    0.04, micrometres 1000."""
+    from metamaterial_wb.core.kinematics import flat_positions_mm
+    p = flat_positions_mm(scene)[np.asarray(idx, dtype=np.int64)]
+    h = 0.5 * scene.cell_size_mm
+    d_nodes = float(np.linalg.norm((p.max(axis=0) + h) - (p.min(axis=0) - h)))
+    d_surf = float(np.linalg.norm(np.asarray(shi, dtype=float) - np.asarray(slo, dtype=float)))
+    if not d_nodes > 0:
+        return
+    ratio = d_surf / d_nodes
+    lo, hi = SURFACE_SCALE_RANGE
+    if not lo <= ratio <= hi:
+        raise TargetError(where, f"the surface {src!r} is {_g(d_surf)} mm across (bounding-box diagonal): "
+                                 f"{ratio:.3g} times the {idx.size} sheet node(s) matched to it ({_g(d_nodes)} mm "
+                                 f"across on the flat sheet, plates included); allowed: {lo:g} to {hi:g} times: "
+                                 f"give the surface in mm (metres? give mm: scale the file by 1000; a surface "
+                                 f"that small or large is taken for a mistake: units other than mm), or align: "
+                                 f"similarity to fit the scale")
 
 
 def _check_node_units(scene, nodes, where):
@@ -412,7 +439,8 @@ def parse_frame(scene, d, base_dir=None, where="", mesh_loader=None):
     if "folds" in d:
         fr.folds = _parse_folds(scene, d["folds"], wf, f"{pre}folds")
     if "surface" in d:
-        fr.surface = _parse_surface(scene, d["surface"], base_dir, f"{pre}surface", mesh_loader)
+        fr.surface = _parse_surface(scene, d["surface"], base_dir, f"{pre}surface", mesh_loader,
+                                    check_scale=align != "similarity")     # as the nodes' units
     if fr.nodes is None and fr.folds is None and fr.surface is None:
         raise TargetError(where or "target", "empty: give nodes, folds or surface (or keyframes of them)")
     return fr
