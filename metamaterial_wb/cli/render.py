@@ -22,7 +22,9 @@ def add_arguments(p):
                    help="camera angles in degrees, elevation in [-90, 90], azimuth in [-360, 360] (default 28,-62; "
                         "a negative elevation needs the = form: --view=-10,30)")
     p.add_argument("--size", default="1200x800", metavar="WxH", help="picture size in pixels")
-    p.add_argument("--title", default=None, help="title (default: scene name and state)")
+    p.add_argument("--title", default=None,
+                   help="title, drawn as typed (a newline starts a line); one that does not fit the picture is "
+                        "refused (default: the scene name, shortened with a warning if too long, and the state)")
 
 
 def _size(text):
@@ -41,7 +43,7 @@ def run(args):
     from metamaterial_wb.cli.solve import chosen_global, parse_sets
     from metamaterial_wb.core import kinematics
     from metamaterial_wb.core.design import ensure_configured, global_D, kinematics_for
-    from metamaterial_wb.core.render import render_png, state_title, view_angles
+    from metamaterial_wb.core.render import check_title, render_png, state_title_parts, view_angles
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.core.solver import solve_scene
 
@@ -51,6 +53,7 @@ def run(args):
         from metamaterial_wb.core.errors import SceneError
         raise SceneError("--out", f"{args.out}: render writes a PNG picture; give a name ending in .png")
     size = _size(args.size)         # before any work
+    check_title(args.title, size)   # a --title that does not fit: refused now, not after solving
     scene = Scene.load(args.scene)
     sets = parse_sets(args.set)
     for name, v in sets:
@@ -65,9 +68,16 @@ def run(args):
     else:
         D, _m, warnings, _t = solve_scene(scene)
     pos, R, _phi = kinematics.node_poses(scene, D, kin=kinematics_for(scene))
-    title = args.title if args.title is not None else state_title(
-        scene, g, None if g is not None else {it.name: it.value for _, it in scene.fixed_items()})
-    render_png(scene, pos, R, D, args.out, title=title, elev=elev, azim=azim, size_px=size)
+    if args.title is not None:      # as typed: refused above if it does not fit
+        head, tail, field = args.title, "", "--title"
+    else:                           # the scene name (up to 100 000 characters) is shortened to fit, and said
+        (head, tail), field = state_title_parts(
+            scene, g, None if g is not None else {it.name: it.value for _, it in scene.fixed_items()}), None
+    notes = []
+    render_png(scene, pos, R, D, args.out, title=head, title_tail=tail, title_field=field, elev=elev, azim=azim,
+               size_px=size, notes=notes)
+    for w in notes:
+        print(f"warning: {w}", file=sys.stderr)
     for w in warnings:
         print(f"warning: {w}", file=sys.stderr)
     return 0

@@ -8,7 +8,10 @@ import numpy as np
 from metamaterial_wb.core.render import plate_corners
 
 
-def answer_png(problem, scene, evaluation, title="", size=None, max_frames=4):
+def answer_png(problem, scene, evaluation, title="", size=None, max_frames=4, title_tail="", notes=None):
+    """PNG bytes. The title is ``title + title_tail``; ``title`` (the scene name) is shortened to fit the picture
+    if need be, drawn literally, and anything that could not be drawn as given is said in ``notes`` (one-line
+    warnings; see :func:`metamaterial_wb.core.render.fit_title`)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -84,9 +87,23 @@ def answer_png(problem, scene, evaluation, title="", size=None, max_frames=4):
         ax.set_title(lab + "; ".join(txt), fontsize=8)
     sm = plt.cm.ScalarMappable(cmap=cmap, norm=matplotlib.colors.Normalize(0, vmax))
     fig.colorbar(sm, ax=fig.axes, shrink=0.6, label="distance to target (mm)")
-    if title:
-        fig.suptitle(title)
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
+    import warnings
+
+    from metamaterial_wb.core.render import drawing_notes, fit_title
+    notes = [] if notes is None else notes
+    text = ""
+    with warnings.catch_warnings(record=True) as caught:     # said as one-line notes, not raw library warnings
+        warnings.simplefilter("always")
+        try:
+            from matplotlib.font_manager import FontProperties
+            pt = FontProperties(size=plt.rcParams["figure.titlesize"]).get_size_in_points()
+            text = fit_title(fig, title, title_tail, notes=notes, fontsize=pt,
+                             advice="only the picture's title is shortened, the scene keeps its name") if title else ""
+            if text:
+                fig.suptitle(text, fontsize=pt, parse_math=False)
+            buf = io.BytesIO()
+            fig.savefig(buf, format="png")
+        finally:
+            plt.close(fig)
+    notes.extend(drawing_notes(caught, size, text, field_size="the picture size"))
     return buf.getvalue()
