@@ -54,6 +54,10 @@ NEUTRAL_CURVATURE = 1e-12
 # Its residual's round-off floor, in tolerances: measured 1.16-1.27 (numpy of FreeCAD 1.1 and 0.20) on that branch,
 # where no energy is released along the mode; well inside the path's force resolution (FORCE_NOISE_FACTOR).
 NEUTRAL_RESIDUAL = 10.0
+# A shallow saddle's shortened step (``SleeveModel._shallow_saddle_step``) is tried while the energy it should release
+# (the tangent's prediction) exceeds this fraction of the energy: the energy's round-off measured ~5e-16 of it (a
+# two-cell perfect ring at d/L 0.93).
+SADDLE_ENERGY_FLOOR = 1e-14
 
 
 def modulus(plane="strain"):
@@ -482,6 +486,13 @@ class SleeveModel(TangentSolver):
                 # step's decrement is at the energy's round-off level (the criterion of the definite case)
                 if neutral and abs(float(g @ step)) < 1e-16 * max(abs(e), 1e-30):
                     return q + step, F, it
+                # a saddle converged to its round-off (the shifted step's decrement too), the first trial along v
+                # too long: a shallow saddle next to its bifurcation, to be left by a shorter step
+                if not neutral and abs(float(g @ step)) < 1e-16 * max(abs(e), 1e-30):
+                    a = self._shallow_saddle_step(q, d, e, v)
+                    if a > 0:
+                        q = q + a * v
+                        continue
             # backtracking on the energy (full step accepted when it does not raise the energy)
             a = 1.0
             smax = np.abs(step).max()
@@ -494,6 +505,23 @@ class SleeveModel(TangentSolver):
                 a *= 0.5
             q = q + a * step
         raise _NoConvergence()
+
+    def _shallow_saddle_step(self, q, d, e, v):
+        """A step along the negative-curvature direction ``v`` shorter than the first trial (1e-3), or 0.
+
+        Just past a symmetry-breaking bifurcation of a perfect ring (``model.imperfection`` 0; a two-cell ring's
+        twist near full stretch) the symmetric state is a shallow saddle: the branch it falls to lies closer than
+        1e-3, where the quartic terms already raise the energy. Halving the trial until the energy falls by at least
+        half the tangent's prediction (``0.5 lambda a^2 |v|^2``; docs/sleeves.md, "A perfect ring"), while that
+        prediction stays above the energy's round-off."""
+        curv = 0.5 * self._last_min_eig * float(v @ v)
+        floor = SADDLE_ENERGY_FLOOR * max(abs(e), 1e-30)
+        a = 0.5e-3
+        while -curv * a * a > floor:
+            if self._energy(q + a * v, d) - e <= 0.5 * curv * a * a:
+                return a
+            a *= 0.5
+        return 0.0
 
     def _energy(self, q, d):
         return self.mesh.evaluate(self.full(q, d), False)[0] - float(self.bias @ q)
