@@ -84,7 +84,8 @@ def run(args):
         raise SceneError(f"--fold {given[idx][0]} ({exc.field})", exc.message) from None
     outputs = [(args.out, scene.to_json())]          # both serialised before anything is written
     if args.report:
-        outputs.append((args.report, json.dumps(report, indent=1, allow_nan=False) + "\n"))
+        marked = {"format": "metamaterial-design-report", "version": 1, **report}   # named if read as a scene
+        outputs.append((args.report, json.dumps(marked, indent=1, allow_nan=False) + "\n"))
     write_together(outputs)
     for line in format_report(report):      # --quiet hides the report, never a warning
         if line.startswith("warning"):

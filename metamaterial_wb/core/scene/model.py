@@ -90,7 +90,7 @@ class Scene:
 
     @classmethod
     def load(cls, path):
-        """Read a scene file; every failure is one SceneError line ending in ``(in PATH)``.
+        """Read a scene file; every failure is one SceneError line naming PATH (mostly ending in ``(in PATH)``).
 
         Parameters
         ----------
@@ -108,7 +108,10 @@ class Scene:
         """
         from metamaterial_wb.core.inputfile import read_json
 
+        from metamaterial_wb.core.scene.sections import check_is_scene
+
         data = read_json(path, "scene")
+        check_is_scene(data, path)          # names the file itself: no "(in PATH)" below
         try:
             return cls.from_dict(data, _fresh=True)
         except SceneError as exc:

@@ -4,6 +4,7 @@ Each ``parse_X(scene, data)`` reads ``data["X"]`` (the whole scene dict, already
 :func:`metamaterial_wb.core.inputfile.check_tree`: finite numbers, sane depth, valid unicode), validates
 it and stores it on ``scene``; an error is a :class:`SceneError` naming the field.
 """
+import difflib
 import math
 
 from metamaterial_wb.core.errors import SceneError, check_number
@@ -27,6 +28,22 @@ MAX_TEXT = 100_000      # characters of name / description
 MATERIAL_FIELDS = {"hinge_strain_limit": (0.5, 0, 5, True, False, ""),
                    "hinge_modulus_MPa": (26.0, 0, 1_000_000, True, False, "MPa"),
                    "hinge_poisson_ratio": (0.45, 0, 0.5, False, True, "")}
+# the fields an actuator / constraint reads (docs/scene-format.md); any other field is the user's and kept, unless
+# it is a near miss of one of these (NEAR_MISS_CUTOFF): "vlaue", "Value", "profil" silently became value 0 / no motion
+ITEM_FIELDS = {"actuators": ("name", "joint", "value", "profile", "servo"),
+               "constraints": ("name", "joint", "value")}
+NEAR_MISS_CUTOFF = 0.8    # difflib ratio: "vlaue", "jiont", "sevro" are 0.8; "servo_type", "value_deg", "scale" below
+# the "format" of the other documents this program reads or writes: reading one as a scene says what it is
+OTHER_DOCUMENTS = {"metamaterial-result": "a result of solve", "metamaterial-result-npz": "a result of solve --npz",
+                   "metamaterial-stream-report": "a stream --report file",
+                   "metamaterial-design-report": "a design --report file",
+                   "metamaterial-inverse-report": "an inverse report (report.json)",
+                   "metamaterial-target": "an inverse target", "metamaterial-simulation": "a simulate summary.json",
+                   "metamaterial-trajectory": "a simulate trajectory.json",
+                   "metamaterial-build-manifest": "a build manifest.json",
+                   "metamaterial-sleeve": "a sleeve spec (read by the sleeve command)",
+                   "metamaterial-sleeve-summary": "a sleeve summary.json",
+                   "metamaterial-calibration": "a calibration table", "metamaterial-fidelity": "a bench fidelity file"}
 
 
 def module_name_error(field, name):
@@ -59,10 +76,27 @@ def _list(data, key, what):
     return v
 
 
+def check_is_scene(data, path):
+    """A scene file names its format or at least its layout (docs/scene-format.md); any other JSON object (a
+    ``--channels`` file, an older report without "format", ``{}``) was read as a 1 x 1 default scene."""
+    if not isinstance(data, dict) or "format" in data or "layout" in data:
+        return
+    if data:
+        keys = [_short(k, 40) for k in list(data)[:8]]
+        what = f"a JSON object with the keys {', '.join(keys)}" + (f" and {len(data) - 8} more" if len(data) > 8
+                                                                       else "")
+    else:
+        what = "an empty JSON object"
+    raise SceneError("format", f"missing, and so is \"layout\": {path} is not a scene ({what}); a scene file has "
+                               f"\"format\": \"{FORMAT}\" and a \"layout\" (docs/scene-format.md)")
+
+
 def parse_header(s, data):
     fmt = data.get("format", FORMAT)
     if fmt != FORMAT:
-        raise SceneError("format", f"{_short(fmt)} is not a scene; expected \"{FORMAT}\"")
+        what = OTHER_DOCUMENTS.get(fmt) if isinstance(fmt, str) else None
+        raise SceneError("format", f"{_short(fmt)} is not a scene" + (f" (it is {what})" if what else "")
+                         + f"; expected \"{FORMAT}\"")
     ver = data.get("version", VERSION)
     if type(ver) is float and ver == VERSION:          # 1.0: the format's version is a whole number
         raise SceneError("version", f"{_short(ver)} is a decimal number; allowed: the whole number {VERSION} "
@@ -196,6 +230,7 @@ def parse_fixed(s, data):
             f = f"{listname}[{k}]"
             if not isinstance(item, dict):
                 raise SceneError(f, f"expected an object with name, joint, value; got {_short(item)}")
+            _check_near_misses(item, f, listname)
             if "joint" not in item:
                 raise SceneError(f"{f}.joint", "missing: every actuator and constraint sits on a joint")
             joint = s._joint(item["joint"], f"{f}.joint")
@@ -225,6 +260,36 @@ def parse_fixed(s, data):
             else:
                 extra = {kk: vv for kk, vv in item.items() if kk not in ("name", "joint", "value")}
                 s.constraints.append(Constraint(name, joint, value, extra))
+
+
+def near_miss(key, known):
+    """The field of ``known`` that ``key`` (not itself one) looks like: the same but for letter case or surrounding
+    spaces, or a close difflib match (ratio >= NEAR_MISS_CUTOFF: one swapped, missing or extra letter); else None."""
+    if not isinstance(key, str) or key in known:
+        return None
+    folded = key.strip().lower()
+    if folded in known:
+        return folded
+    close = difflib.get_close_matches(folded, known, n=1, cutoff=NEAR_MISS_CUTOFF)
+    return close[0] if close else None
+
+
+def _check_near_misses(item, f, listname):
+    """An actuator's / constraint's own fields are kept (user metadata, docs/scene-format.md), but one that looks
+    like a field the item reads is a misspelling: kept, the item silently lost its value (0) or its motion."""
+    allowed = ITEM_FIELDS[listname]
+    # a constraint's "profil" is a near miss too (of a field constraints refuse: said so below)
+    candidates = allowed + (("profile",) if listname == "constraints" else ())
+    for key in item:
+        like = near_miss(key, candidates)
+        if like is None:
+            continue
+        note = (" (a constraint holds its one value: only actuators take a profile)"
+                if listname == "constraints" and like == "profile" else "")
+        shown = key if key.isprintable() and len(key) <= 40 else _short(key, 40)   # one line: "value\n" is one too
+        raise SceneError(f"{f}.{shown}",
+                         f"unknown field; it looks like \"{like}\" (letter case or a misspelling){note}; allowed: "
+                         f"{', '.join(allowed)}, and fields of your own whose names resemble none of these")
 
 
 def parse_modules(s, data):
