@@ -213,6 +213,15 @@ def _list_option(flag, text, what, example):
     return items
 
 
+def _no_repeats(flag, text, items, what, why="each is run, or read, once"):
+    """Refuse an item of a comma-separated list given twice, as ``--amplitudes`` does (it would be run once)."""
+    from metamaterial_wb.core.errors import SceneError
+    for i, x in enumerate(items, 1):
+        if x in items[:i - 1]:
+            raise SceneError(flag, f"{x!r} is given more than once (items {items.index(x) + 1} and {i} of {text!r}); "
+                                   f"give each {what} once ({why})")
+
+
 def _command(args, amps, keys, parts):
     """The command line the report credits: every option that changes what it shows."""
     import shlex
@@ -297,6 +306,7 @@ def run(args):
         for k in keys:
             if k not in known:
                 raise SceneError("--scenes", f"{k!r} is not a standard scene; known: {', '.join(known)}")
+        _no_repeats("--scenes", args.scenes, keys, "scene")
     _fe_only_flags(args)
     parts = [x.strip() for x in args.fe_parts.split(",") if x.strip()]
     if not parts:
@@ -306,6 +316,7 @@ def run(args):
         if x not in FE_PARTS:
             raise SceneError("--fe-parts", f"{x!r} is not an FE study; allowed: one or more of hinge, patch, sleeve, "
                                            "comma-separated")
+    _no_repeats("--fe-parts", args.fe_parts, parts, "FE study", "each is run once")
     fe_in = args.fe_json or (None if args.fe or not os.path.exists(STORED_FE) else STORED_FE)
     inputs = [("--from-json file", args.from_json), ("--fe-json file", fe_in)]
     outputs = [("--out", args.out), ("--img", args.img), ("--json", args.json)]

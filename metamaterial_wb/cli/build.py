@@ -44,7 +44,8 @@ def add_arguments(p):
     p.add_argument("--layout", choices=("prusa", "components", "both"), default=None,
                    help="3MF layout(s) of the sheet (default both; not with --step alone)")
     p.add_argument("--tolerance", type=number, default=None, metavar="MM",
-                   help="3MF tessellation tolerance in mm (default: fabrication.tolerance_mm, 0.05)")
+                   help="3MF tessellation tolerance in mm (default: fabrication.tolerance_mm, 0.05; not with --step "
+                        "alone)")
     p.add_argument("--no-sockets", action="store_true", help="plain nodes without snap-fit sockets")
     p.add_argument("--clearance", type=number, default=None, metavar="MM",
                    help="socket / plug clearance in mm (default: fabrication.clearance_mm, 0.2)")
@@ -71,6 +72,9 @@ def run(args):
     if args.layout is not None and args.step and not args.threemf:
         raise SceneError("--layout", f"{args.layout!r} chooses a 3MF layout, but only --step is written: add --3mf "
                                      f"or drop --layout")
+    if args.tolerance is not None and args.step and not args.threemf:
+        raise SceneError("--tolerance", f"{args.tolerance:g} mm sets the 3MF tessellation, but only --step is written "
+                                        f"(STEP keeps the exact solids): add --3mf or drop --tolerance")
     t0 = time.perf_counter()
     scene = Scene.load(args.scene)
     step = args.step or not args.threemf

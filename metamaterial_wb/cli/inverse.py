@@ -105,7 +105,7 @@ def _check_flags(args):
     if args.screen is not None and args.values_only:
         raise SceneError("--screen", f"{args.screen} with --values-only; allowed: only without --values-only (it sets "
                                      f"how many placements the search fits fully; a values-only fit searches none)")
-    forbidden = pipeline.parse_joint_list(args.forbid, "--forbid") if args.forbid else []
+    forbidden = pipeline.parse_joint_list(args.forbid, "--forbid", unique=True) if args.forbid else []
     if forbidden and args.values_only:
         raise SceneError("--forbid", f"{', '.join(forbidden)} with --values-only; allowed: only without "
                                      f"--values-only (the placement is the scene's)")
@@ -190,8 +190,11 @@ def run(args):
     first = next((m for m in (args.model, "quadratic") if m in run_.errors and "per_frame" in run_.errors[m]), None)
     if not args.no_picture and first:
         from metamaterial_wb.core.inverse.picture import answer_png
-        picture = answer_png(run_.problem, run_.scene, run_.errors[first],
-                             title=f"{scene.name or 'scene'}: answer ({first} model) vs target")
+        notes = []
+        picture = answer_png(run_.problem, run_.scene, run_.errors[first], title=scene.name or "scene",
+                             title_tail=f": answer ({first} model) vs target", notes=notes)
+        for w in notes:             # e.g. a long scene name shortened in the picture's title: said once
+            _progress(f"warning: result.png: {w}")
     report = pipeline.report_dict(
         run_, scene=os.path.abspath(args.scene), target=os.path.abspath(args.target),
         values_only=bool(args.values_only), fit_model=args.model, forbidden=forbidden, workers=nworkers,

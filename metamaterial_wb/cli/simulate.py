@@ -186,12 +186,22 @@ def run(args):
     if model.kind == "sheet":
         model.scene_nodes = scene.topology.nodes
     from metamaterial_wb.core.dynamics.integrators import StepBudgetError
+    from metamaterial_wb.core.dynamics.system import DynamicsError
     try:
         summary, traj, model, sim = simulate(scene, seconds, method=args.method, dt=args.dt, record_dt=1.0 / fps,
                                              cfg=cfg, model=model, dt_check=args.dt_check, max_steps=MAX_STEPS)
     except StepBudgetError as exc:      # the step the integrator chose (automatic, or the symplectic guard)
         raise SceneError("--seconds", f"{exc} (the size budget): shorten --seconds or give a larger --dt "
                                       f"with --method implicit") from None
+    except DynamicsError as exc:       # the settling on a slope: name the incline the user gave
+        incline = cfg.get("incline_deg") or 0.0
+        if not str(exc).startswith("no static equilibrium") or (args.incline is None and not incline):
+            raise
+        lo, hi = INCLINE_RANGE_DEG
+        flag, where = (("--incline", "") if args.incline is not None else
+                       ("dynamics.incline_deg", f" (in {args.scene})"))
+        raise SceneError(flag, f"{incline:g} deg (allowed [{lo:g}, {hi:g}] deg): {exc}, or give a gentler "
+                               f"{flag}{where}") from None
     with OutputSet(args.out, "tmp-simulate") as tmp:
         write_json(os.path.join(tmp, "trajectory.json"), trajectory_dict(model, traj), indent=None)
         if args.frames:

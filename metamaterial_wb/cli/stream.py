@@ -6,6 +6,11 @@ per run of adjacent channels with each actuated joint's simulated rotation (hard
 ``servo.scale_deg`` for a linear ``value * scale`` instead). Before the port is opened the motion is checked:
 the limits, the servos' reach, and whether the frames at ``--rate`` follow it (``--rate-tolerance``).
 ``--dry-run`` runs everything over pyserial's ``loop://`` without hardware.
+
+Ctrl+C (or SIGTERM / SIGHUP) while streaming ends the stream at its next tick, as its end would: ``--disarm``
+disarms, else the firmware's watchdog holds, parks, releases. The summary line and ``--report`` (written whole,
+atomically) then say ``interrupted`` with the duration and counts of what ran, and the exit status is 130 (128 +
+the signal's number). A second signal stops at once, writing nothing.
 """
 import json
 import sys
@@ -106,9 +111,11 @@ def run(args):
 
     port = "loop://" if args.dry_run and not args.port else args.port
     link = Link.open(port, baud=args.baud, dry_run=args.dry_run)
+    intr = None
     try:
         streamer = Streamer(link, channels, rate_hz=args.rate, clamp=args.clamp)
         streamer.prepare(args.watchdog_ms, args.park_after_ms, args.release_after_ms)
+        intr = _Interrupt(streamer.stop).install()  # from here a signal ends the stream as its end would
         info = link.info
         print(f"{link.name}: servolink {info.proto_major}.{info.proto_minor}, firmware "
               f"{'.'.join(map(str, info.fw_version))}, {info.n_channels} channels"
@@ -118,7 +125,7 @@ def run(args):
               + f" for {args.seconds:g} s" + ("" if args.mode == "osc" else f" at {args.rate:g} Hz"),
               file=sys.stderr)
         if args.mode == "osc":
-            return _run_osc(args, scene, channels, link)
+            return _run_osc(args, scene, channels, link, intr)
         sent = []  # (t, {name: angle_deg}) per frame: --report lists what each channel was told
         wanted = {}  # t -> {name: the motion's angle} where the host clamped it (--clamp)
         if args.report:
@@ -126,17 +133,19 @@ def run(args):
             streamer.on_clamp = lambda t, angles: wanted.setdefault(round(t, 9), {}).update(angles)
         try:
             stats = streamer.run(scene, args.seconds)
-        except KeyboardInterrupt:
-            streamer.stop()
-            stats = streamer.stats
-        if args.disarm:
+        finally:
+            intr.restore()  # a signal from here on: KeyboardInterrupt, nothing written
+        if args.disarm:  # on Ctrl+C too: the servos end as at the stream's end
             link.disarm()
     finally:
+        if intr is not None:
+            intr.restore()
         link.close()
     s = stats.summary()
     s["port"] = link.name
     s["dry_run"] = bool(args.dry_run)
     s["channels"] = [c.to_dict() for c in channels]
+    s["interrupted"] = intr.name  # "SIGINT" (Ctrl+C) / "SIGTERM" / "SIGHUP" when a signal ended the stream early
     if args.report:
         by_ch = {c.name: c.channel for c in channels}
         merged = {}
@@ -150,12 +159,13 @@ def run(args):
                                  **({"wanted_deg": by_channel(wanted[t])} if t in wanted else {}))
                             for t, angles in merged.items()]
         s["frames_sent_columns"] = {str(c.channel): c.name for c in channels}
-        write_json(args.report, s)
+        write_json(args.report, {"format": "metamaterial-stream-report", "version": 1, **s})
     rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
            if s["rtt_ms_median"] is not None else "no replies")
     per_tick = (f" ({s['frames_per_tick']} a tick: one per run of adjacent channels)" if s["frames_per_tick"] > 1
                 else "")
-    print(f"{s['ticks']} ticks in {s['duration_s']:.2f} s ({s['rate_hz']:.1f} Hz), {s['frames']} frames{per_tick}: "
+    print(("" if intr.signum is None else f"interrupted ({intr.name}): ") +
+          f"{s['ticks']} ticks in {s['duration_s']:.2f} s ({s['rate_hz']:.1f} Hz), {s['frames']} frames{per_tick}: "
           f"{s['acked']} acked, "
           f"{s['naked']} NAKed{' ' + json.dumps(s['nak_reasons']) if s['nak_reasons'] else ''}, {s['lost']} lost, "
           f"{s['skipped']} skipped; {s['nak_unreadable']} unreadable-frame NAKs"
@@ -164,6 +174,7 @@ def run(args):
           f"firmware {s['firmware_clamped_frames']}{_per_actuator(s, 'firmware')})")
     if stats.error:
         raise MetamaterialError(f"stream stopped: {stats.error}")
+    intr.raise_if_signalled()  # exit 130 (Ctrl+C) / 128 + the signal, the report written and marked
     status = 0
     if s["lost"] > args.max_lost or s["naked"]:
         print(f"error: {s['lost']} frames lost (--max-lost {args.max_lost}) and {s['naked']} refused out of "
@@ -195,9 +206,10 @@ def _check_bandwidth(baud, rate, channels):
                                    f"needed (the firmware speaks 115200)")
 
 
-def _run_osc(args, scene, channels, link):
+def _run_osc(args, scene, channels, link, intr):
     """--mode osc: the firmware generates the sine profiles; the host only keeps the link alive."""
     import statistics
+    import time
 
     from metamaterial_wb.core.fileio import write_json
     from metamaterial_wb.hardware.onboard import osc_params, run_oscillators
@@ -215,18 +227,76 @@ def _run_osc(args, scene, channels, link):
                     f"deg), joint angle {p.angle_range_deg[0]:.2f}..{p.angle_range_deg[1]:.2f} deg")
         print(f"  {p.name} -> ch{p.channel}: {wave}" + (f", frequency off by {p.frequency_error:+.2%}"
                                                           if abs(p.frequency_error) > 1e-4 else ""), file=sys.stderr)
-    try:
-        res = run_oscillators(link, params, args.seconds)
-    except KeyboardInterrupt:
-        res = {"pings": 0, "rtt_ms": [], "t_start_ms": None}
-    if args.disarm:
+    t0 = time.perf_counter()
+    try:  # a signal (Ctrl+C) ends the keep-alive loop at its next check, as its end would
+        res = run_oscillators(link, params, args.seconds, stop=lambda: intr.signum is not None)
+    finally:
+        intr.restore()
+    duration = time.perf_counter() - t0
+    if args.disarm:  # on Ctrl+C too
         link.disarm()
+    # seconds: --seconds; duration_s: how long the host kept the link alive (shorter when interrupted)
     s = {"mode": "osc", "port": link.name, "dry_run": bool(args.dry_run), "seconds": args.seconds,
+         "duration_s": round(duration, 4), "interrupted": intr.name,
          "pings": res["pings"], "firmware_start_ms": res["t_start_ms"],
          "ping_rtt_ms_median": round(statistics.median(res["rtt_ms"]), 3) if res["rtt_ms"] else None,
          "oscillators": [vars(p) for p in params], "channels": [c.to_dict() for c in channels]}
     if args.report:
-        write_json(args.report, s)
-    print(f"on-board oscillators ran {args.seconds:g} s; {s['pings']} keep-alive pings, round trip median "
+        write_json(args.report, {"format": "metamaterial-stream-report", "version": 1, **s})
+    ran = (f"{args.seconds:g} s" if intr.signum is None else
+           f"{duration:.2f} s of --seconds {args.seconds:g}, interrupted ({intr.name})")
+    print(f"on-board oscillators ran {ran}; {s['pings']} keep-alive pings, round trip median "
           f"{s['ping_rtt_ms_median']} ms")
+    intr.raise_if_signalled()
     return 0
+
+
+class _Interrupt:
+    """Ctrl+C (SIGINT), SIGTERM and SIGHUP while streaming: the first calls ``stop()`` (the stream ends at its next
+    tick, as at its end) and is remembered; a second one raises at once (KeyboardInterrupt: nothing written).
+    ``raise_if_signalled()`` then exits as the CLI does for that signal (130 / 128 + its number). Only in the main
+    thread (signal handlers); a signal the process ignores stays ignored."""
+
+    def __init__(self, stop):
+        self._stop = stop
+        self._old = {}
+        self.signum = None
+
+    @property
+    def name(self):
+        import signal
+        return None if self.signum is None else signal.Signals(self.signum).name
+
+    def install(self):
+        import signal
+        import threading
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)):
+                if sig is not None and signal.getsignal(sig) is not signal.SIG_IGN:
+                    self._old[sig] = signal.signal(sig, self._handler)
+        return self
+
+    def restore(self):
+        import signal
+        old, self._old = self._old, {}
+        for sig, h in old.items():
+            signal.signal(sig, h)
+
+    def _handler(self, signum, frame):
+        if self.signum is not None:  # the second signal: stop waiting for the stream's end
+            self.restore()
+            self._raise(signum)
+        self.signum = signum
+        self._stop()
+
+    def raise_if_signalled(self):
+        if self.signum is not None:
+            self._raise(self.signum)
+
+    @staticmethod
+    def _raise(signum):
+        import signal
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        from metamaterial_wb.cli import _Signalled
+        raise _Signalled(signum)

@@ -92,22 +92,28 @@ class Calibration:
         path = path or _DEFAULT_PATH
         return cls(read_json(path, "calibration table"), path=path)
 
-    def k1(self, length_mm, where="hinge"):
+    def k1(self, length_mm, where="hinge", joint=None):
+        """k1 of a hinge ``length_mm`` long; out of the table: SceneError at ``WHERE.length_mm`` (`` (JOINT)``)."""
         lo, hi = self.len_mm[0], self.len_mm[-1]
         if not (lo <= length_mm <= hi):
-            raise SceneError(f"{where}.length_mm", range_message(length_mm, lo, hi, "mm") +
+            raise SceneError(_field(where, "length_mm", joint), range_message(length_mm, lo, hi, "mm") +
                              " of the calibration table (set k1 directly for other lengths: "
                              "a \"k1\" per joint in \"joints\", docs/scene-format.md)")
         return float(np.interp(length_mm, self.len_mm, self.k1_tab))
 
-    def k2(self, width_mm, thickness_mm, where="hinge"):
+    def k2(self, width_mm, thickness_mm, where="hinge", joint=None):
         lo, hi = self.w_mm[0], self.w_mm[-1]
         if not (lo <= width_mm <= hi):
-            raise SceneError(f"{where}.width_mm", range_message(width_mm, lo, hi, "mm") +
+            raise SceneError(_field(where, "width_mm", joint), range_message(width_mm, lo, hi, "mm") +
                              " of the calibration table (set k2 directly for other widths: "
                              "a \"k2\" per joint in \"joints\", docs/scene-format.md)")
         fac = np.exp(np.interp(np.log(width_mm), np.log(self.w_mm), np.log(self.w_fac)))
         return float(fac * thickness_mm / self.t_ref)
+
+
+def _field(where, key, joint):
+    """``hinge.length_mm``, or for an override ``joints[0].length_mm (H0,1)`` as the scene's own checks write it."""
+    return f"{where}.{key}" + (f" ({joint})" if joint else "")
 
 
 _DEFAULT = None
@@ -130,7 +136,7 @@ def joint_stiffness(scene, calibration=None):
     try:
         return _joint_stiffness(scene, cal)
     except SceneError as exc:
-        hint = _belt_hint(scene) if exc.field.endswith((".length_mm", ".width_mm")) else None
+        hint = _belt_hint(scene) if (".length_mm" in exc.field or ".width_mm" in exc.field) else None
         if hint is None:
             raise
         raise SceneError(exc.field, f"{exc.message}; {hint}") from None
@@ -164,10 +170,10 @@ def _joint_stiffness(scene, cal):
     ov_k2 = sum(1 for ov in scene.joint_overrides.values() if "k2" in ov)
     k1 = np.full(n, cal.k1(h["length_mm"], "hinge") if ov_k1 < n else np.nan)
     k2 = np.full(n, cal.k2(h["width_mm"], h["thickness_mm"], "hinge") if ov_k2 < n else np.nan)
-    for name, ov in scene.joint_overrides.items():
+    for k, (name, ov) in enumerate(scene.joint_overrides.items()):  # in the order of the scene's "joints"
         idx = topo.joint_id(*parse_joint(name))
         hh = scene.joint_hinge(name)
-        where = f"joints.{name}"
-        k1[idx] = ov["k1"] if "k1" in ov else cal.k1(hh["length_mm"], where)
-        k2[idx] = ov["k2"] if "k2" in ov else cal.k2(hh["width_mm"], hh["thickness_mm"], where)
+        where = f"joints[{k}]"
+        k1[idx] = ov["k1"] if "k1" in ov else cal.k1(hh["length_mm"], where, name)
+        k2[idx] = ov["k2"] if "k2" in ov else cal.k2(hh["width_mm"], hh["thickness_mm"], where, name)
     return k1, k2

@@ -48,8 +48,9 @@ def _quiet(msg):
     pass
 
 
-def parse_joint_list(items, field="--forbid"):
-    """Joint names from the strings ``items`` (one per ``--forbid``), in order, repeats dropped.
+def parse_joint_list(items, field="--forbid", unique=False):
+    """Joint names from the strings ``items`` (one per ``--forbid``), in order, repeats dropped (``unique``: a
+    joint named twice, in any spelling, is refused, as the command line refuses repeated list items).
 
     A joint name holds a comma (``V0,1``), so a string may hold several names separated by spaces,
     semicolons or commas between whole names: ``"V0,1 H2,3"``, ``"V0,1; H2,3"``, ``"V0,1, H2,3"`` (the
@@ -79,6 +80,10 @@ def parse_joint_list(items, field="--forbid"):
             name = f"{m.group(1).upper()}{int(m.group(2))},{int(m.group(3))}"
             if name not in out:
                 out.append(name)
+            elif unique:
+                given = " ".join(repr(str(x)) for x in items)
+                raise SceneError(field, f"{name} is given more than once (joints {out.index(name) + 1} and "
+                                        f"{len(out) + 1} of {given}); give each joint once")
             pos = m.end()
     return out
 
