@@ -77,3 +77,14 @@ def test_no_equilibrium_on_an_incline_names_the_flag_and_its_value(tmp_path):
         r.stderr
     assert "a gentler --incline" in r.stderr, r.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_inverse_refuses_a_model_evaluated_twice():
+    """--evaluate dropped a repeated model without a word (found by the review of the audit's fixes)."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.inverse.pipeline import parse_models
+    assert parse_models("quadratic, linear") == ["quadratic", "linear"]
+    with pytest.raises(SceneError) as e:
+        parse_models("quadratic,linear,quadratic", "--evaluate")
+    assert "--evaluate" in str(e.value) and "'quadratic' is given more than once (items 1 and 3 of " \
+        "'quadratic,linear,quadratic'); give each model once" in str(e.value), str(e.value)

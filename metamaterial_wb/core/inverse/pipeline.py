@@ -89,12 +89,13 @@ def parse_joint_list(items, field="--forbid", unique=False):
 
 
 def parse_models(text, field="--evaluate"):
-    """The model names of a comma-separated list (repeats dropped); at least one, each of ``evaluate.MODELS``.
+    """The model names of a comma-separated list; at least one, each of ``evaluate.MODELS``, each once.
 
     Raises
     ------
     SceneError
-        At ``field`` for an empty list or an unknown model.
+        At ``field`` for an empty list, an unknown model or a model given twice (as the command line refuses
+        repeated list items).
     """
     allowed = ", ".join(ev.MODELS)
     models = []
@@ -102,7 +103,10 @@ def parse_models(text, field="--evaluate"):
         m = m.strip()
         if m and m not in ev.MODELS:
             raise SceneError(field, f"{m!r}; allowed: {allowed} (comma-separated)")
-        if m and m not in models:
+        if m in models:
+            raise SceneError(field, f"{m!r} is given more than once (items {models.index(m) + 1} and "
+                                    f"{len(models) + 1} of {text!r}); give each model once")
+        if m:
             models.append(m)
     if not models:
         raise SceneError(field, f"{text!r} names no model; allowed: one or more of {allowed} (comma-separated)")
