@@ -117,6 +117,48 @@ def object_triangles(obj):
     return v[np.array(faces)]
 
 
+class _WrapCheck(QtGui.QCheckBox):
+    """The box of ``wrapped_check``: its label follows its enabled state."""
+    label = None
+
+    def changeEvent(self, ev):
+        super().changeEvent(ev)
+        if ev.type() == QtCore.QEvent.Type.EnabledChange and self.label is not None:
+            self.label.setEnabled(self.isEnabled())
+
+
+class _CheckLabel(QtGui.QLabel):
+    """The text of ``wrapped_check``: word-wrapped; a click on it toggles its box, as a click on a check box's text does."""
+
+    def __init__(self, text, check):
+        super().__init__(text)
+        self.check = check
+        self.setWordWrap(True)
+        self.setBuddy(check)
+
+    def mouseReleaseEvent(self, ev):
+        super().mouseReleaseEvent(ev)
+        if ev.button() == QtCore.Qt.MouseButton.LeftButton and self.check.isEnabled() \
+                and self.rect().contains(ev.pos()):
+            self.check.click()
+
+
+def wrapped_check(text):
+    """``(check box, row)``: a check box whose text wraps in a narrow task dock (a QCheckBox never wraps its own
+    text): the box, named by ``text`` (its accessible name; the label is its buddy), and the word-wrapped text beside
+    it, which toggles it when clicked. Put ``row`` in the layout. (Sleeve uses it too; a candidate for base.py.)"""
+    check = _WrapCheck()
+    check.setAccessibleName(text)
+    lab = _CheckLabel(text, check)
+    check.label = lab
+    row = QtGui.QWidget()
+    h = QtGui.QHBoxLayout(row)
+    h.setContentsMargins(0, 0, 0, 0)
+    h.addWidget(check, 0, QtCore.Qt.AlignmentFlag.AlignTop)
+    h.addWidget(lab, 1)
+    return check, row
+
+
 class FitTargetPanel(base.BasePanel):
     VIEW_ATTRS = ("preview",)
     TITLE = "Fit to target"
@@ -127,7 +169,10 @@ class FitTargetPanel(base.BasePanel):
         self.obj = scene_obj
         self.doc = scene_obj.Document
         self.scene = structure.compose_scene(scene_obj)
+        # a narrow task dock (the combo view, ~300 px): a field that does not fit beside its label goes below it,
+        # the check boxes' texts wrap, the object list takes the width it gets (long names in its popup)
         f = QtGui.QFormLayout()
+        f.setRowWrapPolicy(QtGui.QFormLayout.RowWrapPolicy.WrapLongRows)
         row = QtGui.QHBoxLayout()
         self.path = QtGui.QLineEdit("")
         self.path.setPlaceholderText(translate("Metamaterial", "target JSON, solve result, .stl / .obj / .step"))
@@ -137,6 +182,8 @@ class FitTargetPanel(base.BasePanel):
         row.addWidget(browse)
         f.addRow(translate("Metamaterial", "Target file"), row)
         self.target_obj = QtGui.QComboBox()
+        self.target_obj.setSizeAdjustPolicy(QtGui.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.target_obj.setMinimumContentsLength(12)
         self.target_obj.addItem("(use the file)")
         own = {o.Name for o in [scene_obj] + list(getattr(scene_obj, "OutList", []))}
         for o in self.doc.Objects:
@@ -153,8 +200,8 @@ class FitTargetPanel(base.BasePanel):
         self.forbid = QtGui.QLineEdit("")
         self.forbid.setPlaceholderText(translate("Metamaterial", "e.g. H0,0, V1,2 (or click hinges)"))
         f.addRow(translate("Metamaterial", "Forbidden joints"), self.forbid)
-        self.values_only = QtGui.QCheckBox(translate("Metamaterial", "Keep the motors, fit their values only"))
-        f.addRow("", self.values_only)
+        self.values_only, row = wrapped_check(translate("Metamaterial", "Keep the motors, fit their values only"))
+        f.addRow(row)
         self.workers = QtGui.QSpinBox()
         self.workers.setRange(1, 64)
         ranges.ui_only(self.workers, "a run setting (local worker processes), not a scene quantity")
@@ -164,9 +211,9 @@ class FitTargetPanel(base.BasePanel):
         self.scheduler = QtGui.QLineEdit("")
         self.scheduler.setPlaceholderText(translate("Metamaterial", "optional: tcp://HOST:PORT of a Dask scheduler"))
         f.addRow(translate("Metamaterial", "Dask scheduler"), self.scheduler)
-        self.geometry_checks = QtGui.QCheckBox(translate("Metamaterial", "Run build's geometry checks on the answer (a child process)"))
+        self.geometry_checks, row = wrapped_check(translate("Metamaterial", "Run build's geometry checks on the answer (a child process)"))
         self.geometry_checks.setChecked(True)
-        f.addRow("", self.geometry_checks)
+        f.addRow(row)
         self.layout.addLayout(f)
         self.run_btn = QtGui.QPushButton(translate("Metamaterial", "Run"))
         self.run_btn.clicked.connect(self.run)

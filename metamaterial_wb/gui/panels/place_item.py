@@ -24,20 +24,23 @@ class PlaceItemPanel(BasePanel):
         while f"{prefix}{k}" in used:
             k += 1
         f = QtGui.QFormLayout()
+        # a narrow task dock (the combo view, ~300 px): a field that does not fit beside its label goes below it
+        f.setRowWrapPolicy(QtGui.QFormLayout.RowWrapPolicy.WrapLongRows)
         self.name = QtGui.QLineEdit(f"{prefix}{k}")
         self.joint = QtGui.QComboBox()
+        self.joint.setSizeAdjustPolicy(QtGui.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.joint.setMinimumContentsLength(8)
         self.joint.addItems(self.scene.topology.joint_names)
         self.value = QtGui.QDoubleSpinBox()
         self.value.setDecimals(3)
         ranges.bind(self.value, "value")
         self.value.setSingleStep(0.05)
-        self.value_deg = QtGui.QLabel("")
-        vrow = QtGui.QHBoxLayout()
-        vrow.addWidget(self.value)
-        vrow.addWidget(self.value_deg)
+        self.value_deg = QtGui.QLabel("")          # the joint's rotation, under the value (wraps in a narrow dock)
+        self.value_deg.setWordWrap(True)
         f.addRow(translate("Metamaterial", "Name"), self.name)
         f.addRow(translate("Metamaterial", "Joint (or click a hinge)"), self.joint)
-        f.addRow(translate("Metamaterial", "Value D (-1..1)"), vrow)
+        f.addRow(translate("Metamaterial", "Value D (-1..1)"), self.value)
+        f.addRow(self.value_deg)
         if kind == "actuator":
             self.amp = QtGui.QDoubleSpinBox()
             ranges.bind(self.amp, "profile.amplitude")

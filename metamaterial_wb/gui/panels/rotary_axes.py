@@ -9,6 +9,9 @@ from metamaterial_wb.gui.panels.overlays import AxisOverlay, axis_segment
 from metamaterial_wb.gui.i18n import translate
 
 
+BUTTONS_PER_ROW = 6       # grid-line buttons (30 px) per row: they fit a ~300 px task dock
+
+
 class RotaryAxesPanel(BasePanel):
     VIEW_ATTRS = ("overlay",)
     TITLE = "Rotary axes"
@@ -21,22 +24,24 @@ class RotaryAxesPanel(BasePanel):
         self.old = {(a.direction, a.line): a.to_dict() for a in self.scene.axes}
         lines = design_adapter.candidate_lines(self.scene)
         self.buttons = {}
-        self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "Click grid lines here, or click a hinge in the 3D view.\n"
-                                           "Vertical axes run down a cell column and cross its H joints;\n"
-                                           "horizontal axes run along a cell row and cross its V joints.")))
+        intro = QtGui.QLabel(translate("Metamaterial", "Click grid lines here, or click a hinge in the 3D view.\n"
+                                       "Vertical axes run down a cell column and cross its H joints;\n"
+                                       "horizontal axes run along a cell row and cross its V joints."))
+        intro.setWordWrap(True)                 # a narrow task dock (the combo view, ~300 px): the lines wrap
+        self.layout.addWidget(intro)
         for d in ("vertical", "horizontal"):
             box = QtGui.QGroupBox(translate("Metamaterial", "{0} axes ({1})").format(d.capitalize(), 'columns' if d == 'vertical' else 'rows'))
-            lay = QtGui.QHBoxLayout(box)
-            for line in lines[d]:
+            lay = QtGui.QGridLayout(box)        # BUTTONS_PER_ROW a row: a wide sheet's buttons wrap, never widen
+            for k, line in enumerate(lines[d]):
                 b = QtGui.QPushButton(str(line))
                 b.setCheckable(True)
                 b.setFixedWidth(30)
                 b.setStyleSheet("QPushButton:checked { background-color: #e07a00; }")
                 b.setChecked((d, line) in self.old)
                 b.toggled.connect(self._changed)
-                lay.addWidget(b)
+                lay.addWidget(b, k // BUTTONS_PER_ROW, k % BUTTONS_PER_ROW)
                 self.buttons[(d, line)] = b
-            lay.addStretch(1)
+            lay.setColumnStretch(BUTTONS_PER_ROW, 1)
             self.layout.addWidget(box)
         self.violations = self.problem_label("axes")
         self.violations.setWordWrap(True)

@@ -7,6 +7,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
 from metamaterial_wb.objects.common import assign
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
+from metamaterial_wb.gui.panels.folded_shape import ElidedLabel, SLIDER_MIN_WIDTH
 from metamaterial_wb.gui.i18n import translate
 
 
@@ -23,22 +24,33 @@ class SimulatePanel(BasePanel):
         from metamaterial_wb.gui.panels.stream import ServoAngles
         self.angles = ServoAngles(self.scene)     # the angle stream sends for a value, per motor
         self.initial = {}
+        # laid out for a narrow task dock (the combo view, ~300 px): the global deformation and every motor take two
+        # lines (its name and value, then its slider across the panel), long names are elided (in full in their
+        # tooltip) and the statistics wrap, so every slider keeps SLIDER_MIN_WIDTH and nothing runs off the right
         f = QtGui.QFormLayout()
+        f.setRowWrapPolicy(QtGui.QFormLayout.RowWrapPolicy.WrapLongRows)
         self.model = QtGui.QComboBox()
+        self.model.setSizeAdjustPolicy(QtGui.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.model.setMinimumContentsLength(10)
         self.model.addItems(list(scene_obj.getEnumerationsOfProperty("Model")))
         self.model.setCurrentText(scene_obj.Model)
         f.addRow(translate("Metamaterial", "Model"), self.model)
         self.layout.addLayout(f)
-        gbox = QtGui.QGroupBox(translate("Metamaterial", "Global deformation (perfect propagation)"))
-        gl = QtGui.QHBoxLayout(gbox)
-        self.use_global = QtGui.QCheckBox("")
+        gbox = QtGui.QGroupBox(translate("Metamaterial", "Global deformation"))     # a title never wraps: short
+        gl = QtGui.QGridLayout(gbox)
+        self.use_global = QtGui.QCheckBox(translate("Metamaterial", "Use global deformation"))
+        self.use_global.setToolTip(translate("Metamaterial", "Perfect propagation: every joint follows the global "
+                                             "deformation; the motors' sliders are off while it is ticked"))
+        gbox.setToolTip(self.use_global.toolTip())
         self.use_global.setChecked(bool(scene_obj.UseGlobal))
         self.global_slider = _slider(-1000, 1000, int(round(1000 * scene_obj.GlobalDeformation)))
+        self.global_slider.setMinimumWidth(SLIDER_MIN_WIDTH)
         self.initial_global = (self.global_slider.value(), float(scene_obj.GlobalDeformation))
         self.global_label = QtGui.QLabel("")
-        gl.addWidget(self.use_global)
-        gl.addWidget(self.global_slider, 1)
-        gl.addWidget(self.global_label)
+        gl.addWidget(self.use_global, 0, 0)
+        gl.addWidget(self.global_label, 0, 1)
+        gl.addWidget(self.global_slider, 1, 0, 1, 2)
+        gl.setColumnStretch(0, 1)
         self.layout.addWidget(gbox)
         ibox = QtGui.QGroupBox(translate("Metamaterial", "Motors and constraints"))
         il = QtGui.QGridLayout(ibox)
@@ -46,22 +58,28 @@ class SimulatePanel(BasePanel):
         self.labels = {}
         self.kinds = {}
         for r, (kind, it) in enumerate(self.scene.fixed_items()):
-            il.addWidget(QtGui.QLabel((translate("Metamaterial", "motor {0} ({1})") if kind == "actuator" else
-                                       translate("Metamaterial", "clip {0} ({1})")).format(it.name, it.joint)), r, 0)
+            il.addWidget(ElidedLabel((translate("Metamaterial", "motor {0} ({1})") if kind == "actuator" else
+                                      translate("Metamaterial", "clip {0} ({1})")).format(it.name, it.joint)),
+                         2 * r, 0)
             s = _slider(-1000, 1000, int(round(1000 * it.value)))
+            s.setMinimumWidth(SLIDER_MIN_WIDTH)
             self.initial[it.name] = (s.value(), float(it.value))
             lab = QtGui.QLabel("")
-            il.addWidget(s, r, 1)
-            il.addWidget(lab, r, 2)
+            il.addWidget(lab, 2 * r, 1)
+            il.addWidget(s, 2 * r + 1, 0, 1, 2)
             self.sliders[it.name] = s
             self.labels[it.name] = lab
             self.kinds[it.name] = kind
             self._label(it.name, float(it.value))
             s.valueChanged.connect(lambda v, n=it.name: self._item_moved(n))
+        il.setColumnStretch(0, 1)
         if not self.sliders:
-            il.addWidget(QtGui.QLabel(translate("Metamaterial", "No motors yet: use 'Place motor'.")), 0, 0)
+            none = QtGui.QLabel(translate("Metamaterial", "No motors yet: use 'Place motor'."))
+            none.setWordWrap(True)
+            il.addWidget(none, 0, 0)
         self.layout.addWidget(ibox)
         self.stats = QtGui.QLabel("")
+        self.stats.setWordWrap(True)
         self.layout.addWidget(self.stats)
         self.warn = QtGui.QLabel("")
         self.warn.setWordWrap(True)

@@ -9,6 +9,7 @@ import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.panels.base import BasePanel, button_row, transaction, _fit
 from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob, ThreadJob
+from metamaterial_wb.gui.panels.fit_target import wrapped_check
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
 from metamaterial_wb.core.sleeve import spec as sleeve_spec
@@ -63,7 +64,10 @@ class SleevePanel(BasePanel):
         fl.addWidget(self.path)
         fl.addWidget(self.open_btn)
         self.layout.addLayout(fl)
+        # a narrow task dock (the combo view, ~300 px): a field that does not fit beside its label goes below it, the
+        # table's two columns share the width it gets, long check box texts wrap
         f = QtGui.QFormLayout()
+        f.setRowWrapPolicy(QtGui.QFormLayout.RowWrapPolicy.WrapLongRows)
         self.name = QtGui.QLineEdit("sleeve")
         f.addRow(translate("Metamaterial", "Name"), self.name)
         self.dims = {}
@@ -98,13 +102,17 @@ class SleevePanel(BasePanel):
         self.types = QtGui.QTableWidget(0, 2)
         self.types.setHorizontalHeaderLabels(["t (mm)", "h (mm)"])
         self.types.setMaximumHeight(130)
+        self.types.horizontalHeader().setSectionResizeMode(QtGui.QHeaderView.ResizeMode.Stretch)
+        self.types.setTabKeyNavigation(False)     # Tab goes from box to box (``_tab_order``), not from cell to cell
         self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "Cell types (row = type index)")))
         self.layout.addWidget(self.types)
         bl, (add, rem) = button_row("Add type", "Remove last")
+        self.add_btn = add
         add.clicked.connect(lambda: self.add_type(1.0, 7.0))
         rem.clicked.connect(self.remove_type)
         self.layout.addLayout(bl)
         f2 = QtGui.QFormLayout()
+        f2.setRowWrapPolicy(QtGui.QFormLayout.RowWrapPolicy.WrapLongRows)
         self.ring = QtGui.QLineEdit("0, 0, 1, 1")
         self.ring.setToolTip(translate("Metamaterial", "cell type index of each cell around the circumference"))
         self.rings = QtGui.QSpinBox()
@@ -112,14 +120,16 @@ class SleevePanel(BasePanel):
         f2.addRow(translate("Metamaterial", "Ring pattern"), self.ring)
         f2.addRow(translate("Metamaterial", "Rings"), self.rings)
         f2.addRow("", self.problem_label("spec"))     # the whole spec checked on every edit (``check_spec``)
-        self.frame_nl = QtGui.QCheckBox(translate("Metamaterial", "Check on a 3-D frame: first peaks and sequence"))
-        self.frame_nl.setToolTip(translate("Metamaterial", "model.frame_nonlinear: the same beams as a nonlinear 3-D "
+        self.frame_nl, frame_row = wrapped_check(
+            translate("Metamaterial", "Check on a 3-D frame: first peaks and sequence"))
+        frame_row.setToolTip(translate("Metamaterial", "model.frame_nonlinear: the same beams as a nonlinear 3-D "
                                            "frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out "
                                            "of it as the printed sleeve does: each uniform ring's first peak (under a "
                                            "second per cell type) and the sleeve's snapping sequence and lean (about "
                                            "10 s per ring; stacked rings with the plates between them "
                                            "free). Needs the curved single-layout ring"))
-        f2.addRow("", self.frame_nl)
+        self.frame_nl.setToolTip(frame_row.toolTip())
+        f2.addRow(frame_row)
         self.layout.addLayout(f2)
         pl = QtGui.QHBoxLayout()
         self.predict_btn = QtGui.QPushButton(translate("Metamaterial", "Predict"))
@@ -225,7 +235,20 @@ class SleevePanel(BasePanel):
             self._track_edits(w)
             w.valueChanged.connect(self.check_spec)     # after _track_edits: the check reads the edited value
             self.types.setCellWidget(r, c, w)
+        self._tab_order()
         self.check_spec()              # the pattern may name the type just added
+
+    def _tab_order(self):
+        """Tab follows the panel's lines: the table's t / h boxes (made after the rest of the panel, so last in Qt's
+        focus chain) come right after the table, row by row, before the buttons under it."""
+        prev = self.types
+        for r in range(self.types.rowCount()):
+            for c in range(2):
+                w = self.types.cellWidget(r, c)
+                if w is not None:
+                    QtGui.QWidget.setTabOrder(prev, w)
+                    prev = w
+        QtGui.QWidget.setTabOrder(prev, self.add_btn)
 
     def _track_edits(self, w):
         """A spin box the user changes gives its own (shown) value from then on."""
