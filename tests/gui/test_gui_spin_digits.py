@@ -100,12 +100,14 @@ def test_a_foreign_digit_after_an_ascii_one_is_refused_in_words(doc, box, name, 
     p.reject()
 
 
-def test_a_letter_is_still_dropped_without_a_word(doc):
-    """A letter is no digit of any script: the box drops it and nothing is said (as before)."""
+def test_a_letter_is_refused_as_no_number(doc):
+    """A letter is no digit of any script: the box drops it, and (since session 32) it is said as no number, not
+    taken for a digit the box does not read (``test_gui_spin_exponent.py``)."""
     p = run_panel("MM_NewStructure")
     keys(p.cell, "a")
     leave(p.cell)
-    assert not refused(p.cell), refused(p.cell)
+    assert "cell_size_mm: a is not a number" in refused(p.cell), refused(p.cell)
+    assert "ASCII" not in refused(p.cell), refused(p.cell)
     p.reject()
 
 

@@ -24,6 +24,7 @@ from PySide import QtCore, QtGui
 import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.panels import ranges
 
 ACTIVE = None
 RED = "color: #c00000;"
@@ -276,6 +277,61 @@ def button_row(*labels):
     return row, buttons
 
 
+def spin_refused(spin, key, text):
+    """The key watcher of ``ranges`` refused a value typed into ``spin`` (``text``; "" once cleared, ``spin`` None
+    when the box is gone): the panel showing the box makes it a problem of that field under ``key``."""
+    p = ACTIVE
+    if p is None:
+        return
+    if not text:
+        if key in getattr(p, "problems", {}):
+            p.refused_problem(spin, key, "")
+        return
+    try:
+        form = p.form
+        if form is None or spin is None or not form.isAncestorOf(spin):
+            return
+    except RuntimeError:           # the form is gone
+        return
+    p.refused_problem(spin, key, text)
+
+
+ranges.REFUSAL_LISTENER = spin_refused
+
+
+def _layout_path(layout, widget):
+    """``[(layout, index), ...]`` from the innermost layout holding ``widget`` (or the widget that holds it: a
+    table, a group box) out to ``layout``; [] when ``layout`` does not hold it. Walked down from the
+    panel's own layouts (no wrapper is made for an ancestor, see ``task_buttons``)."""
+    for i in range(layout.count()):
+        item = layout.itemAt(i)
+        w = item.widget()
+        if w is not None and (w is widget or w.isAncestorOf(widget)):
+            inner = w.layout() if w is not widget else None
+            return (_layout_path(inner, widget) if inner is not None else []) + [(layout, i)]
+        sub = item.layout()
+        if sub is not None:
+            path = _layout_path(sub, widget)
+            if path:
+                return path + [(layout, i)]
+    return []
+
+
+def place_under(layout, label, widget):
+    """Put ``label`` on the line under ``widget``: a row of the nearest form layout, or the next place in the
+    nearest vertical box (under a grid or a table that holds it). False when ``layout`` does not hold it."""
+    vertical = (QtGui.QBoxLayout.Direction.TopToBottom, QtGui.QBoxLayout.Direction.BottomToTop)
+    for lay, i in _layout_path(layout, widget):
+        if isinstance(lay, QtGui.QFormLayout):
+            row = lay.getItemPosition(i)[0]
+            lay.insertRow(row + 1, label)
+            return True
+        if isinstance(lay, QtGui.QBoxLayout) and lay.direction() in vertical:
+            lay.insertWidget(i + 1, label)
+            return True
+    return False
+
+
 def red_label(text=""):
     lab = QtGui.QLabel(text)
     lab.setWordWrap(True)
@@ -336,6 +392,21 @@ class BasePanel:
         else:
             self.problems.pop(key, None)
         self.update_ok()
+
+    def refused_problem(self, spin, key, text):
+        """A value typed into ``spin`` that the box refused (``ranges``; ``text`` "" once cleared): a problem of the
+        field, its red line put under the box the first time, and said in the panel-wide line too (OK is disabled,
+        so its "not applied" never comes) until it is cleared."""
+        lab = self.problem_label(key)
+        before = self.problems.get(key)
+        if text and lab.parent() is None and not place_under(self.layout, lab, spin):
+            k = self.layout.indexOf(self.error)
+            self.layout.insertWidget(k if k >= 0 else self.layout.count(), lab)
+        self.set_problem(key, text)
+        if text:
+            self.error.setText(text)
+        elif before and self.error.text() == before:
+            self.clear_error()
 
     def problem_text(self):
         return "; ".join(self.problems.values())
@@ -479,7 +550,7 @@ class BasePanel:
         if self.problems:
             self.show_error("not applied: " + self.problem_text())
             return False
-        from metamaterial_wb.gui.panels.ranges import REFUSED
+        REFUSED = ranges.REFUSED
         refused = [w.property(REFUSED) for w in self.form.findChildren(QtGui.QAbstractSpinBox) if w.property(REFUSED)]
         if refused:                                   # a value typed past a box's range: never clamped in silence
             self.show_error("not applied: " + refused[0])

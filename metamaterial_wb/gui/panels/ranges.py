@@ -7,7 +7,9 @@ cell, a cell type's t below a quarter of L) is given its widest value here and c
 validator when the panel applies. Spin boxes that edit no validated quantity (playback speed, the
 number of servos a fit searches) are tagged with ``ui_only(spin, reason)``.
 """
+import math
 import re
+from decimal import Decimal, InvalidOperation
 
 from PySide import QtCore, QtGui
 
@@ -77,7 +79,10 @@ POINTS = ".,\u066b"
 # ``\d`` is any script's decimal digit on purpose: a digit the box does not read (Arabic-Indic U+0663, full-width
 # U+FF13 in a C/English locale) is dropped by Qt, and kept in the intended text it makes the drop seen and said as
 # such (``_RefusedKeys.foreign``), not taken for a letter
-_GROUPED_NUMBER = r"^[+-]?\d*(?:{g}\d*)*(?:[" + POINTS + r"]\d*)?$"
+# An exponent ("2e-1", "5E3") is kept too: Qt drops 'e' and the sign after it (0.5e-3 -> 0.53), the watcher reads
+# the number the user wrote once typed (``_RefusedKeys.take``, or a refusal quoting it)
+_GROUPED_NUMBER = r"^[+-]?\d*(?:{g}\d*)*(?:[" + POINTS + r"]\d*)?(?:[eE][+-]?\d*)?$"
+_EXPONENT = re.compile(r"[eE]")
 # the blanks a user types between digits (a space; U+00A0, the group separator of nb_NO; U+202F, fr_FR's). The box
 # drops each as typed, in every locale ("1 5" -> 15): kept in the intended text, they are judged once typed, a
 # number grouped by them in threes taken in every locale (the SI way; Qt reads "1 000" so in French, and every box
@@ -105,9 +110,10 @@ def _float(text, points):
     for p in points:
         text = text.replace(p, ".")
     try:
-        return float(text)
+        v = float(text)
     except ValueError:
         return None
+    return v if math.isfinite(v) else None    # "nan", "inf" are letters to a spin box
 
 
 def box_digits(locale):
@@ -128,11 +134,34 @@ def _watch_refused_keys(spin, field):
         return
     spin.setProperty("refused_watch", True)
     watcher = _RefusedKeys(spin, field)
+    spin.destroyed.connect(lambda *_a, key=watcher.problem_key: _report(None, key, ""))    # (a table row removed)
     spin.installEventFilter(watcher)
     spin.lineEdit().installEventFilter(watcher)
     spin.valueChanged.connect(watcher.value_changed)
     spin.editingFinished.connect(watcher.editing_finished)
     spin._mm_refused_watcher = watcher    # (kept alive with the box)
+
+
+# told of every refusal set or cleared: ``(spin, key, text)``, set by ``panels.base`` (``spin_refused``)
+REFUSAL_LISTENER = None
+
+
+def _report(spin, key, text):
+    """The panel showing ``spin`` learns its refusal (``text``, "" when cleared; ``spin`` None once the box is gone):
+    a problem of the field, shown in red next to it, OK disabled while it stands (``BasePanel.refused_problem``)."""
+    if REFUSAL_LISTENER is not None:
+        REFUSAL_LISTENER(spin, key, text)
+
+
+def _needed_decimals(text):
+    """How many decimals the number ``text`` (a '.' point, maybe an exponent) needs to be written exactly."""
+    try:
+        d = Decimal(text.strip())
+    except (InvalidOperation, ValueError):
+        return None
+    if not d.is_finite():
+        return None
+    return max(0, -d.normalize().as_tuple().exponent) if d else 0
 
 
 def _fmt(v, decimals):
@@ -162,6 +191,7 @@ class _RefusedKeys(QtCore.QObject):
     def __init__(self, spin, field):
         super().__init__(spin)
         self.spin, self.field = spin, field
+        self.problem_key = f"refused:{field or ''}:{id(self):x}"    # the panel's problem key of this box's refusal
         self.intended = None          # the text (core) the user's keys would have made, or None: follow the box
         self.cursor = 0               # where the next key goes in ``intended``
         self.msg = ""                 # the message this watcher set (REFUSED), "" when none
@@ -172,6 +202,7 @@ class _RefusedKeys(QtCore.QObject):
         self.follow = False           # after a deletion: take the box's text as what the user means
         self.pending = False          # a settle() is queued
         self.sel = None               # the selection the last key was typed over
+        self.reported = ""            # the refusal the panel was told of
         keys = QtCore.Qt.Key
         self.step_keys = {getattr(keys, k) for k in self.STEP_KEYS}
         self.move_keys = {getattr(keys, k) for k in self.MOVE_KEYS}
@@ -253,6 +284,42 @@ class _RefusedKeys(QtCore.QObject):
             return ""
         return "".join(dict.fromkeys(c for c in text if c in POINTS and c != dp))
 
+    def letters(self, text):
+        """The letters in ``text`` that make it no number ("abc", "1e5e"), "" when none: an exponent ("2e-1") is no
+        letter, nor the box's own unit typed after the number ("5 mm" in a box with the suffix " mm")."""
+        t = _plain(text).rstrip(self.spin.suffix()).lstrip(self.spin.prefix())    # (their characters, as typed)
+        if self.shape(t.strip()):
+            return ""
+        return "".join(dict.fromkeys(c for c in t if c.isalpha()))
+
+    def exponent(self, text):
+        """Whether ``text`` is a number written with an exponent (Qt drops the 'e' and its sign)."""
+        return bool(_EXPONENT.search(text)) and not self.letters(text)
+
+    def needed(self, text):
+        """How many decimals ``text`` (a number, any point of ``POINTS``, maybe an exponent) needs, None if no number."""
+        plain = self.grouped(text) or _plain(text)
+        return _needed_decimals("".join("." if c in POINTS else c for c in plain))
+
+    def typed_decimals(self, text):
+        """How many digits ``text`` has after its point, as typed ("0.000": 3)."""
+        plain = self.grouped(text) or _plain(text)
+        return len("".join("." if c in POINTS else c for c in plain).partition(".")[2])
+
+    def holds(self, text):
+        """Whether the box holds the number ``text`` exactly (in its range, within its decimals)."""
+        v, n = self.number(text), self.needed(text)
+        return v is not None and n is not None and n <= self.decimals() and \
+            self.spin.minimum() <= v <= self.spin.maximum()
+
+    def take(self, text):
+        """Set the box to the number ``text`` writes (an exponent the box holds exactly: 2e-1 -> 0.2)."""
+        v = self.number(text)
+        self.clear()
+        self.intended = None
+        self.spin.setValue(v if hasattr(self.spin, "decimals") else int(round(v)))
+        self.shown = self.core(self.spin.lineEdit().text())
+
     def read(self, text):
         """The box's own ``text`` as the box reads it: its group separators dropped (Qt reads "1,5" in English as
         15, "2,00" as 200), its point; None when it is no number yet."""
@@ -295,6 +362,11 @@ class _RefusedKeys(QtCore.QObject):
                 self.intended = None
             elif t == QtCore.QEvent.Type.FocusOut:
                 self.busy()                   # the box reads its text now (a value typed, not set)
+            elif t == QtCore.QEvent.Type.DynamicPropertyChange and obj is self.spin:
+                text = self.spin.property(REFUSED) or ""        # set here, or cleared by the panel
+                if text != self.reported:
+                    self.reported = text
+                    _report(self.spin, self.problem_key, text)
             elif t == QtCore.QEvent.Type.Paint and self.msg and not (self.typing or self.pending):
                 if self.core(self.spin.lineEdit().text()) != self.shown:    # set by the program (signals
                     self.clear()                                             # blocked, or the same value)
@@ -362,9 +434,9 @@ class _RefusedKeys(QtCore.QObject):
             base, cur = self.core(text, line.cursorPosition())
         self.sel = sel
         new = base[:cur] + ch + base[cur:]
-        if self.shape(new.strip()):
+        if self.shape(new.strip()) or self.letters(new):    # a letter is kept to be said ("abc": no number)
             self.intended, self.cursor = new, cur + 1
-        else:                                 # a letter, a second point: no number the user meant
+        else:                                 # a second point: no number the user meant
             self.intended, self.cursor = base, cur
 
     def value_changed(self, *_a):
@@ -405,11 +477,24 @@ class _RefusedKeys(QtCore.QObject):
                 if self.msg and not self.hard:    # only blanks dropped, maybe on the way to a grouping
                     self.clear()                  # ("1 000" in French): judged once typed
                 return
+            if self.letters(self.intended):   # "abc", "1e5e": no number, whatever the box kept
+                self.set(self.refusal(self.intended.strip()), hard=True)
+                return
             want = self.number(self.intended)
+            if self.exponent(self.intended):  # 'e' and its sign dropped by the box (2e-1 -> 21): judged once typed
+                if final and self.holds(self.intended):
+                    self.take(self.intended)  # read as the number it writes
+                elif final or (want is not None and not self.holds(self.intended)):
+                    self.set(self.refusal(self.intended.strip()), hard=final or self.hard)
+                elif self.msg:
+                    self.clear()              # ("2e-" on its way to 2e-1)
+                return
             same = want is not None and self.read(text) == want and \
                 (final or not self.intended.rstrip().endswith(tuple(POINTS)))    # a point dropped: 3.5 -> 35
             if text == self.intended or same:
-                if text != self.intended:     # the same number written the box's way (1.50 -> 1.5, 19. -> 19)
+                if text != self.intended and (final or self.typed_decimals(self.intended) <= self.decimals()):
+                    # the same number written the box's way (1.50 -> 1.5, 19. -> 19); while typing, a decimal the box
+                    # dropped is kept ("0.000" in a 2-decimal box shows 0.00: "0.0001" is what was typed, not 0.001)
                     self.intended, self.cursor = text, len(text)
                 if self.hard:
                     return
@@ -439,6 +524,9 @@ class _RefusedKeys(QtCore.QObject):
         lo, hi = self.spin.minimum(), self.spin.maximum()
         head = f"{self.name()}: {typed}"
         kept = translate("Metamaterial", "; the box kept {0}").format(self.kept())
+        letters = self.letters(typed)
+        if letters or (value is None and self.exponent(typed)):     # "abc", "1e": Qt drops the letters
+            return translate("Metamaterial", "{0} is not a number{1}").format(head, kept)
         bad = self.foreign(typed)
         if bad:
             own = box_digits(self.spin.locale())
@@ -460,10 +548,9 @@ class _RefusedKeys(QtCore.QObject):
         if value is not None and not lo <= value <= hi:
             return translate("Metamaterial", "{0} is outside the allowed range {1}{2}").format(
                 head, self.bounds(), kept)
-        plain = self.grouped(typed) or typed
-        digits = "".join("." if c in POINTS else c for c in plain).partition(".")[2]
         n = self.decimals()
-        if len(digits) > n:
+        need = self.needed(typed) if self.exponent(typed) else self.typed_decimals(typed)    # 0.5e-3: 4 decimals
+        if need is not None and need > n:
             if n == 0:
                 return translate("Metamaterial", "{0} is not a whole number (at most 0 decimals){1}").format(head, kept)
             return translate("Metamaterial", "{0} has more decimals than the box takes (at most {1} decimals){2}"
