@@ -20,6 +20,7 @@ from PySide import QtCore, QtGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.i18n import translate
 from metamaterial_wb.gui.panels import base, jobs, ranges
+from metamaterial_wb.gui.panels.widgets import wrapped_check
 from metamaterial_wb.objects import structure
 
 PREVIEW_LABEL = "FitTargetPreview"
@@ -115,48 +116,6 @@ def object_triangles(obj):
         raise MetamaterialError(f"target object {obj.Label}: it has no faces")
     v = np.array([[p.x, p.y, p.z] for p in pts])
     return v[np.array(faces)]
-
-
-class _WrapCheck(QtGui.QCheckBox):
-    """The box of ``wrapped_check``: its label follows its enabled state."""
-    label = None
-
-    def changeEvent(self, ev):
-        super().changeEvent(ev)
-        if ev.type() == QtCore.QEvent.Type.EnabledChange and self.label is not None:
-            self.label.setEnabled(self.isEnabled())
-
-
-class _CheckLabel(QtGui.QLabel):
-    """The text of ``wrapped_check``: word-wrapped; a click on it toggles its box, as a click on a check box's text does."""
-
-    def __init__(self, text, check):
-        super().__init__(text)
-        self.check = check
-        self.setWordWrap(True)
-        self.setBuddy(check)
-
-    def mouseReleaseEvent(self, ev):
-        super().mouseReleaseEvent(ev)
-        if ev.button() == QtCore.Qt.MouseButton.LeftButton and self.check.isEnabled() \
-                and self.rect().contains(ev.pos()):
-            self.check.click()
-
-
-def wrapped_check(text):
-    """``(check box, row)``: a check box whose text wraps in a narrow task dock (a QCheckBox never wraps its own
-    text): the box, named by ``text`` (its accessible name; the label is its buddy), and the word-wrapped text beside
-    it, which toggles it when clicked. Put ``row`` in the layout. (Sleeve uses it too; a candidate for base.py.)"""
-    check = _WrapCheck()
-    check.setAccessibleName(text)
-    lab = _CheckLabel(text, check)
-    check.label = lab
-    row = QtGui.QWidget()
-    h = QtGui.QHBoxLayout(row)
-    h.setContentsMargins(0, 0, 0, 0)
-    h.addWidget(check, 0, QtCore.Qt.AlignmentFlag.AlignTop)
-    h.addWidget(lab, 1)
-    return check, row
 
 
 class FitTargetPanel(base.BasePanel):

@@ -23,6 +23,7 @@ from PySide import QtCore, QtGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
+from metamaterial_wb.gui.panels.widgets import ElidedLabel  # noqa: F401 - also imported from here
 from metamaterial_wb.gui.panels.checks import unconfigured
 from metamaterial_wb.objects import design_adapter, structure
 from metamaterial_wb.gui.panels import ranges
@@ -64,38 +65,6 @@ def axis_limits(scene):
         raise
     except Exception:  # pragma: no cover - design package missing
         return [(design_adapter.max_fold_deg(scene, k), "", None) for k in range(len(scene.axes))]
-
-
-class ElidedLabel(QtGui.QLabel):
-    """A one-line label that never widens the panel: cut with "..." to the width it gets, in full in its tooltip."""
-
-    def __init__(self, text=""):
-        super().__init__()
-        self._full = ""
-        self.setMinimumWidth(1)
-        self.setSizePolicy(QtGui.QSizePolicy.Policy.Ignored, QtGui.QSizePolicy.Policy.Preferred)
-        self.setFullText(text)
-
-    def setFullText(self, text):
-        self._full = text
-        self.setToolTip(text)
-        self._elide()
-
-    def fullText(self):
-        return self._full
-
-    def sizeHint(self):
-        return self.fontMetrics().size(0, self._full) + QtCore.QSize(2 * self.margin(), 2 * self.margin())
-
-    def resizeEvent(self, ev):
-        super().resizeEvent(ev)
-        self._elide()
-
-    def _elide(self):
-        shown = self.fontMetrics().elidedText(self._full, QtCore.Qt.TextElideMode.ElideRight,
-                                              max(1, self.width() - 2 * self.margin()))
-        if shown != self.text():
-            self.setText(shown)
 
 
 SLIDER_KEYS = ("Key_Left", "Key_Right", "Key_Up", "Key_Down", "Key_PageUp", "Key_PageDown", "Key_Home", "Key_End")

@@ -7,7 +7,8 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
 from metamaterial_wb.objects.common import assign
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
-from metamaterial_wb.gui.panels.folded_shape import ElidedLabel, SLIDER_MIN_WIDTH
+from metamaterial_wb.gui.panels.folded_shape import SLIDER_MIN_WIDTH
+from metamaterial_wb.gui.panels.widgets import ElidedLabel
 from metamaterial_wb.gui.i18n import translate
 
 

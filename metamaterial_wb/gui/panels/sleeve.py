@@ -9,7 +9,7 @@ import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.panels.base import BasePanel, button_row, transaction, _fit
 from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob, ThreadJob
-from metamaterial_wb.gui.panels.fit_target import wrapped_check
+from metamaterial_wb.gui.panels.widgets import wrapped_check
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
 from metamaterial_wb.core.sleeve import spec as sleeve_spec
