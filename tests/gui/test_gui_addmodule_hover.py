@@ -25,6 +25,7 @@ def test_hover_marker_lights_only_targets_of_the_module_kind(doc):
     p = run_panel("MM_AddModule")
     p.set_type("friction_pad")                   # goes on a node
     process()
+    p.target.setCurrentText("N0,0")              # the user chooses the target (the panel opens with none)
     hinge = screen_point(hinge_mid(sc, "H0,2"))
     node = screen_point(node_point(sc, "N0,3"))
     hover_view(node)
@@ -38,6 +39,7 @@ def test_hover_marker_lights_only_targets_of_the_module_kind(doc):
     # the cursor rests on the hinge; the module becomes a joint module: the hinge is a target now
     p.set_type("servo_housing")
     process()
+    p.target.setCurrentText("H0,0")
     assert lit(p), "after choosing a servo housing the hinge under the cursor is a target"
     hover_view(node)
     assert p.pick_label.text().startswith("under the cursor: node N0,3 (not a target"), p.pick_label.text()

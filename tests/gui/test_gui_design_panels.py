@@ -136,6 +136,7 @@ def test_add_module_picks_only_targets_of_its_kind(doc):
     p = run_panel("MM_AddModule")
     p.set_type("friction_pad")
     process()
+    p.target.setCurrentText("N0,0")              # the user chooses the target (the panel opens with none)
     assert p.target.currentText() == "N0,0"
     hinge = screen_point(hinge_mid(sc, "H0,2"))
     click_view(hinge)
@@ -156,6 +157,7 @@ def test_add_module_picks_only_targets_of_its_kind(doc):
     # the reverse: a joint module and a click on a node
     p.set_type("servo_housing")
     process()
+    p.target.setCurrentText("H0,0")
     assert p.target.currentText() == "H0,0"
     click_view(node)
     assert p.target.currentText() == "H0,0"

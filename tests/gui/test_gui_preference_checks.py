@@ -51,5 +51,6 @@ def test_an_unknown_servo_is_shown_in_the_add_module_panel(doc, stored):
     assert "Default servo: 'XYZ' is not a known servo" in text and "MG996R" in text, text
     assert not dialog_button("Ok").isEnabled()
     p.set_type("friction_pad")                      # a pad needs no servo
+    p.target.setCurrentText("N0,0")                 # the user chooses the target (the panel opens with none)
     assert p.problem_label("preferences").text() == "" and dialog_button("Ok").isEnabled()
     p.reject()

@@ -5,8 +5,14 @@ or node is refused in the panel, naming the module already there (checked while 
 Only a target of the chosen module's kind is picked in the 3D view: a click on a hinge for a node module
 (or on a node for a joint module) picks nothing, keeps the target and says what the module goes on; the
 hover marker lights only targets of the chosen kind (the other kind is named as no target, unlit).
+The panel opens with no target (a placeholder entry; a red line says what is missing and OK waits) unless the
+user selected a hinge / node before opening it: that selection counts as chosen. A target the user chose is
+kept per kind (hinge / node) while the module changes. The panel fits a narrow task dock (~300 px): labels
+above their fields, the combo boxes elide their names (in full in their tooltips).
 """
-from PySide import QtGui
+from PySide import QtCore, QtGui
+
+import FreeCADGui
 
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
@@ -29,13 +35,26 @@ class AddModulePanel(BasePanel):
         super().__init__()
         self.obj = scene_obj
         self.scene = structure.compose_scene(scene_obj)
+        self._chosen = {"joint": None, "node": None}   # the target the user chose, per kind (None: not yet)
+        self._filling = False
         f = QtGui.QFormLayout()
+        f.setRowWrapPolicy(QtGui.QFormLayout.RowWrapPolicy.WrapAllRows)   # labels above: fits a narrow dock
         self.type = QtGui.QComboBox()
         for t in structure.MODULE_TYPES:
             self.type.addItem(self.LABELS[t], t)
+            self.type.setItemData(self.type.count() - 1, self.type.itemText(self.type.count() - 1),
+                                  QtCore.Qt.ItemDataRole.ToolTipRole)
         self.target = QtGui.QComboBox()
-        f.addRow(translate("Metamaterial", "Module"), self.type)
-        f.addRow(translate("Metamaterial", "On (or click in the 3D view)"), self.target)
+        for combo in (self.type, self.target):
+            combo.setSizeAdjustPolicy(QtGui.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            combo.setMinimumContentsLength(12)
+            combo.currentTextChanged.connect(combo.setToolTip)     # the name in full when the combo cuts it
+        for text, field in ((translate("Metamaterial", "Module"), self.type),
+                            (translate("Metamaterial", "On (or click in the 3D view)"), self.target)):
+            lab = QtGui.QLabel(text)
+            lab.setWordWrap(True)
+            f.addRow(lab, field)
+        f.addRow(self.problem_label("choose"))
         f.addRow(self.problem_label("target"))
         f.addRow(self.problem_label("pick"))
         f.addRow(self.problem_label("preferences"))     # a module material or servo the fabrication does not know
@@ -46,7 +65,9 @@ class AddModulePanel(BasePanel):
         self.target.activated.connect(self._target_chosen)
         # both kinds are watched so that a click on the wrong kind is told apart from a click on nothing
         self.watch_selection(scene_obj, on_joint=self._pick_joint, on_node=self._pick_node)
+        self._preselection(scene_obj)
         self._targets()
+        self.type.setToolTip(self.type.currentText())
 
     def module_type(self):
         return self.type.itemData(self.type.currentIndex())
@@ -58,12 +79,51 @@ class AddModulePanel(BasePanel):
         """True when the chosen module goes across a joint (its targets are hinges), False for a node."""
         return self.module_type() in self.ON_JOINT
 
+    def kind(self):
+        """``"joint"`` or ``"node"``: what the chosen module goes on."""
+        return "joint" if self.on_joint() else "node"
+
+    def target_name(self):
+        """The chosen target (``"H0,1"`` / ``"N2,3"``), or None while the placeholder entry is shown."""
+        return self.target.itemData(self.target.currentIndex()) or None
+
+    def placeholder(self):
+        return (translate("Metamaterial", "(click a hinge or choose)") if self.on_joint()
+                else translate("Metamaterial", "(click a node or choose)"))
+
+    def _preselection(self, scene_obj):
+        """A hinge / node the user selected before opening the panel counts as chosen (the selection observer
+        only sees selections made while the panel is open)."""
+        try:
+            sel = FreeCADGui.Selection.getSelectionEx("", 0)    # unresolved: keeps "Hinges.12.Face3" paths
+        except Exception:  # pragma: no cover - no GUI selection
+            return
+        for s in sel:
+            for sub in (list(s.SubElementNames) or [""]):
+                try:
+                    self._selected(scene_obj, s.ObjectName, sub, lambda n: self._remember("joint", n),
+                                   lambda n: self._remember("node", n))
+                except Exception:  # pragma: no cover - an unrelated selection
+                    pass
+
+    def _remember(self, kind, name):
+        self._chosen[kind] = name
+
     def _targets(self, *_):
-        self.target.clear()
-        if self.on_joint():
-            self.target.addItems(self.scene.topology.joint_names)
-        else:
-            self.target.addItems([f"N{i},{j}" for i, j in self.scene.topology.nodes])
+        self._filling = True
+        try:
+            self.target.clear()
+            self.target.addItem(self.placeholder(), None)
+            names = (list(self.scene.topology.joint_names) if self.on_joint()
+                     else [f"N{i},{j}" for i, j in self.scene.topology.nodes])
+            for n in names:
+                self.target.addItem(n, n)
+            i = self.target.findData(self._chosen[self.kind()]) if self._chosen[self.kind()] else -1
+            self.target.setCurrentIndex(max(i, 0))
+        finally:
+            self._filling = False
+        self.target.setToolTip(self.target.currentText())
+        self._check()
         self.set_problem("pick", "")
         if getattr(self, "picker", None) is not None:
             self.picker.refresh()             # the candidate under the cursor may have become (no) target
@@ -85,10 +145,18 @@ class AddModulePanel(BasePanel):
         return (kind == "joint") == self.on_joint()
 
     def _check(self, *_):
-        target = self.target.currentText()
+        if self._filling:
+            return
+        target = self.target_name()
+        kind = self.kind()
+        if target:
+            self._chosen[kind] = target
+        self.set_problem("choose", "" if target else (
+            translate("Metamaterial", "On: no hinge chosen yet; click one in the 3D view or choose it in the list")
+            if kind == "joint" else
+            translate("Metamaterial", "On: no node chosen yet; click one in the 3D view or choose it in the list")))
         self.set_problem("pick", "")          # a target chosen (in the list or by a pick) answers a refused click
         who = self.occupant(target) if target else None
-        kind = "joint" if self.on_joint() else "node"
         self.set_problem("target", f"{kind} {target} already carries the module {who!r}: one module per "
                                    f"{'joint' if kind == 'joint' else 'node socket'}; choose another {kind} "
                                    f"or delete {who!r} first" if who else "")
@@ -121,7 +189,7 @@ class AddModulePanel(BasePanel):
         what, want = ("hinge", "node") if kind == "joint" else ("node", "hinge")
         self.set_problem("pick", translate(
             "Metamaterial", "{0}; {1} is a {2}: click a {3} or choose one in the list (the target is still {4})")
-            .format(self.goes_on(), name, what, want, self.target.currentText() or "none"))
+            .format(self.goes_on(), name, what, want, self.target_name() or "none"))
 
     def _pick_joint(self, name):
         if self.on_joint():
@@ -139,16 +207,16 @@ class AddModulePanel(BasePanel):
         self.set_problem("pick", "")
 
     def _pick(self, name):
-        i = self.target.findText(name)
+        i = self.target.findData(name)
         if i >= 0:
             self.target.setCurrentIndex(i)
             self.set_problem("pick", "")
 
     def apply(self):
         t = self.module_type()
-        target = self.target.currentText()
+        target = self.target_name()
         if not target:
-            raise MetamaterialError("choose a node or joint for the module")
+            raise MetamaterialError(self.problems.get("choose") or "choose a node or joint for the module")
         self._check()
         if self.problems:
             raise MetamaterialError(self.problem_text())

@@ -162,7 +162,15 @@ class NewStructurePanel(BasePanel):
             for c in range(self.BUTTONS_MAX + 2):   # keep the toggle buttons packed to the left
                 self.grid.setColumnStretch(c, 1 if c == cols + 1 else 0)
         self.grid_widget.setVisible(not self.big())
+        self._tab_order()
         self._changed()
+
+    def _tab_order(self):
+        """Tab follows the panel's visual order: the presets, the cell toggles row by row (they are made after
+        the file field and would come last), then the file field and its button."""
+        chain = [self.clear_btn] + [self.buttons[k] for k in sorted(self.buttons)] + [self.file, self.browse]
+        for a, b in zip(chain, chain[1:]):
+            QtGui.QWidget.setTabOrder(a, b)
 
     def _drop(self, w):
         self.grid.removeWidget(w)
