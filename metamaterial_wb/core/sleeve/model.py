@@ -58,6 +58,9 @@ NEUTRAL_RESIDUAL = 10.0
 # (the tangent's prediction) exceeds this fraction of the energy: the energy's round-off measured ~5e-16 of it (a
 # two-cell perfect ring at d/L 0.93).
 SADDLE_ENERGY_FLOOR = 1e-14
+# A ring-curvature end spring (the soft axial link of ``add_row_single``) shorter than this fraction of its length: past
+# the linear springs' range; its link degenerates as its length nears zero (a mixed two-cell ring at d/L 0.94: 1.7%).
+SPRING_COLLAPSE = 0.1
 
 
 def modulus(plane="strain"):
@@ -79,6 +82,7 @@ class _MeshBuilder:
         self.slaves = []     # (node, master node, plate, x, coef): node = master shifted by coef * tilt
         self.states = []     # (outer node, inner node or None, cell number): one per snapping beam part
         self.units = []      # per state: the hysteron (rigid body) it belongs to
+        self.springs = []    # (element, cell number, pillar): the ring-curvature end springs
 
     def node(self, x, y):
         self.X.append(np.array([x, y], dtype=float))
@@ -246,6 +250,9 @@ def add_row_single(mb, row, cells, n_el, E, plate_lo, plate_hi, x_of, cell_no, p
             # the left end of cell 0 joins the last edge pillar's periodic image
             shift = (0.0, 0.0) if side > 0 or k > 0 else (periodic_width, 0.0)
             mb.link(ea, idx[-1], EA_b, shift, k_axial=k_e)
+            if radius is not None:
+                n_el_all = len(mb.conn)
+                mb.springs += [(n_el_all - 2, cell_no + k, "central"), (n_el_all - 1, cell_no + k, "edge")]
             mb.states.append((idx[-1], idx[0], cell_no + k))
             mb.units.append(("pillar", plate_hi, k if side > 0 else (k - 1) % n))
 
@@ -309,6 +316,7 @@ class SleeveModel(TangentSolver):
         # one "state" per snapping beam part: the rise of its outer end over its inner end (double
         # layout: of the central pillar), / L; snapped when it exceeds h / L
         self.state_nodes = [(a_, b_) for a_, b_, _ in mb.states]
+        self.springs = list(mb.springs)
         self.state_cells = [ci for _, _, ci in mb.states]
         uids = sorted(set(mb.units), key=mb.units.index)
         self.state_units = [uids.index(u) for u in mb.units]
@@ -582,7 +590,28 @@ class SleeveModel(TangentSolver):
             qm, _, it1 = self._solve_step(q, q, dm, d_old, tol, depth + 1)
             qn, F, it2 = self._solve_step(qm, qm, d, dm, tol, depth + 1)
             return qn, F, it1 + it2
-        raise MetamaterialError(f"sleeve model: no equilibrium found at d/L = {d:.4g}")
+        raise MetamaterialError(f"sleeve model: no equilibrium found at d/L = {d:.4g}" + self._collapsed_spring(q, d_old))
+
+    def _collapsed_spring(self, q, d):
+        """Why the path stops, when a ring-curvature end spring has collapsed at the last equilibrium (``q``, ``d``):
+        a mixed two-cell ring's beam slides along its pillar's tip past the spring's length (docs/sleeves.md, "A perfect
+        ring"); else ''."""
+        if not self.springs:
+            return ""
+        el = np.array([k for k, _, _ in self.springs])
+        u = self.full(q, d).reshape(-1, 3)
+        i, j = self.mesh.conn[el, 0], self.mesh.conn[el, 1]
+        chord = self.mesh.d0[el] + u[j, :2] - u[i, :2]
+        ratio = np.hypot(chord[:, 0], chord[:, 1]) / self.mesh.L0[el]
+        k = int(np.argmin(ratio))
+        if ratio[k] >= SPRING_COLLAPSE:
+            return ""
+        _, cell, pillar = self.springs[k]
+        return (f": the ring-curvature end spring between cell {cell}'s beam and its {pillar} pillar is compressed to "
+                f"{ratio[k]:.2g} of its length at d/L = {d:.4g} (the beam's end has slid onto the pillar's tip), past the "
+                f"range of the beam model's linear curvature springs (soft on a ring of {self.N} cells, mid radius "
+                f"{self.radius:.3g} L): the path ends there in this model; trace a shorter stroke (below d/L {d:.4g}), "
+                f"more cells around the ring, or model.ring_curvature false")
 
 
 class _NoConvergence(Exception):
