@@ -228,14 +228,6 @@ class FoldedShapePanel(BasePanel):
         s = self.sliders[k][0]
         return 1 if pos == s.maximum() else -1 if pos == s.minimum() else 0
 
-    def _to_slider_end(self, k, pos):
-        spin = self.spins[k]
-        spin.blockSignals(True)
-        spin.setValue(pos * STEP)
-        spin.blockSignals(False)
-        self._validate()
-        self._preview_timer.start()
-
     def _slider_action(self, k):
         """A key, a click on the groove or the wheel on slider ``k`` (Qt has moved its position, not yet its value).
         When the slider stays at an end (it was there: no valueChanged follows) the push went toward that end: a fold
@@ -251,7 +243,7 @@ class FoldedShapePanel(BasePanel):
         f, end, lim = self.spins[k].value(), pos * STEP, self.limit_deg(k)
         refused = lim is not None and abs(f) > lim + TOL
         if refused or side * (end - f) > TOL:
-            self._to_slider_end(k, pos)
+            self._slider_moved(k, pos)          # the fold to the slider's end
 
     def _slider_released(self, k):
         """The handle of slider ``k`` let go (a drag, or a click on it): at an end with a refused fold beyond that end
@@ -263,7 +255,7 @@ class FoldedShapePanel(BasePanel):
         side = self._at_end(k, pos)
         f, lim = self.spins[k].value(), self.limit_deg(k)
         if side and lim is not None and abs(f) > lim + TOL and side * (f - pos * STEP) > TOL:
-            self._to_slider_end(k, pos)
+            self._slider_moved(k, pos)          # the fold to the slider's end
 
     def _spin_changed(self, k, v):
         if self._closed:                    # the closing form's spin box emits editingFinished after cleanup()
