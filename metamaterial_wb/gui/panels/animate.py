@@ -24,11 +24,36 @@ from metamaterial_wb.gui.panels.animate_clock import PlaybackClock
 from metamaterial_wb.gui.panels.base import BasePanel, _slider, np_zeros
 from metamaterial_wb.gui.panels.jobs import JobBox, ThreadJob
 from metamaterial_wb.gui.panels.overlays import FloorOverlay
-from metamaterial_wb.gui.panels.profiles import (ONCE, SHAPES, WAVE_DECIMALS, KeyframeTable, keyframes_profile,
+from metamaterial_wb.gui.panels.widgets import ElidedLabel
+from metamaterial_wb.gui.panels.profiles import (NONE, ONCE, SHAPES, WAVE_DECIMALS, KeyframeTable, keyframes_profile,
                                                  profile_value_range, square_fields, wave_profile)
 from metamaterial_wb.gui.panels.stream import ServoAngles, StreamController, hardware_available
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
+
+
+GRID = 2        # px a table cell's widget loses to the grid lines
+
+
+class OnResize(QtCore.QObject):
+    """Event filter calling ``callback`` when the widget it watches is resized."""
+
+    def __init__(self, callback):
+        super().__init__()
+        self.callback = callback
+
+    def eventFilter(self, obj, ev):
+        if ev.type() == QtCore.QEvent.Type.Resize:
+            self.callback()
+        return False
+
+
+def set_profile(actuator, profile):
+    """Put a motor's profile into its scene dict; None (a motor without one) leaves it without."""
+    if profile is None:
+        actuator.pop("profile", None)
+    else:
+        actuator["profile"] = profile
 
 
 class AnimatePanel(PlaybackClock, BasePanel):
@@ -46,34 +71,46 @@ class AnimatePanel(PlaybackClock, BasePanel):
         self.scene = structure.compose_scene(scene_obj)
         self.solver = structure.solver_for(scene_obj, self.scene)
         self.angles = ServoAngles(self.scene)    # the angle stream sends for a value, per motor
+        heads = [translate("Metamaterial", "motor"), translate("Metamaterial", "shape"),
+                 translate("Metamaterial", "amplitude"), translate("Metamaterial", "freq (Hz)"),
+                 translate("Metamaterial", "phase (deg)"), translate("Metamaterial", "servo angle range")]
+        range_tip = translate("Metamaterial", "Lowest .. highest angle sent to the servo over the profile's swing "
+                              "(closing and opening differ, the sign is the servo's)")
         self.table = QtGui.QTableWidget(len(self.scene.actuators), 6)
-        self.table.setHorizontalHeaderLabels([translate("Metamaterial", "motor"), translate("Metamaterial", "shape"),
-                                              translate("Metamaterial", "amplitude"),
-                                              translate("Metamaterial", "freq (Hz)"),
-                                              translate("Metamaterial", "phase (deg)"),
-                                              translate("Metamaterial", "servo angle range")])
-        self.table.horizontalHeaderItem(5).setToolTip(translate(
-            "Metamaterial", "Lowest .. highest angle sent to the servo over the profile's swing (closing and "
-            "opening differ, the sign is the servo's)"))
+        self.table.setHorizontalHeaderLabels(heads)
+        self.table.horizontalHeaderItem(5).setToolTip(range_tip)
+        # the same widgets as a form, one motor under the other, where the table would scroll sideways (a narrow
+        # task dock): the row's widgets move between the table's cells and this form (_fit_profiles)
+        self.motor_form = QtGui.QWidget()
+        self.motor_grid = QtGui.QGridLayout(self.motor_form)
+        self.motor_grid.setContentsMargins(0, 0, 0, 0)
+        self.motor_grid.setColumnStretch(1, 1)
+        self.cells = {}           # motor -> [(widget, its table cell's holder, its (row, column) in the form)]
+        self.as_form = False
         self.spins, self.shapes, self.amp_deg, self.keys, self.stored = {}, {}, {}, {}, {}
         # a keyframes profile's period, fixed once (the stored one, or when a row becomes keyframes): never the
         # timeline length shown, which is not stored
         self.key_periods = {}
         self.spin_tips = {}
         for r, a in enumerate(self.scene.actuators):
-            p = a.profile or {"shape": "sine", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
+            # a motor without a profile shows "none" and keeps its value until another shape is chosen; its
+            # boxes then start from a still sine
+            p = a.profile or {"shape": "none", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
             self.table.setItem(r, 0, QtGui.QTableWidgetItem(a.name))
             shape = p.get("shape", "sine")
             # a square the panel wrote (stored as steps) shows as a square again, its boxes editable
             square = square_fields(p) if shape == "steps" else None
             wave = dict(zip(("amplitude", "frequency_hz", "phase_deg"), square)) if square else \
-                (p if shape == "sine" else {})
+                (p if shape in ("sine", "none") else {})
             combo = QtGui.QComboBox()
             combo.addItems(SHAPES)
             if square:
                 combo.setCurrentText("square")
             elif shape in ("sine", "keyframes"):
                 combo.setCurrentText(shape)
+            elif shape == "none":
+                combo.insertItem(0, NONE)
+                combo.setCurrentIndex(0)
             else:                                  # steps / constant from a file: kept as stored until changed
                 self.stored[a.name] = dict(p)
                 combo.insertItem(0, f"stored {shape}")
@@ -81,7 +118,6 @@ class AnimatePanel(PlaybackClock, BasePanel):
             self.keys[a.name] = list(zip(p.get("times_s", [0.0, 0.5]), p.get("values", [0.0, 0.5])))
             if shape == "keyframes":              # stored without a period: it plays once and stays so
                 self.key_periods[a.name] = float(p["period_s"]) if p.get("period_s") else ONCE
-            self.table.setCellWidget(r, 1, combo)
             self.shapes[a.name] = combo
             sp = []
             for c, (key, default) in enumerate((("amplitude", 0.5), ("frequency_hz", 0.5), ("phase_deg", 0.0)), start=2):
@@ -92,17 +128,36 @@ class AnimatePanel(PlaybackClock, BasePanel):
                 w.setValue(float(wave.get(key, default)))
                 w.valueChanged.connect(self._profiles_changed)
                 self.spin_tips[w] = w.toolTip()
-                self.table.setCellWidget(r, c, w)
                 sp.append(w)
             self.spins[a.name] = sp
             lab = QtGui.QLabel("")
             lab.setToolTip(self.angles.tooltip([a.name]))
-            self.table.setCellWidget(r, 5, lab)
             self.amp_deg[a.name] = lab
+            base = 6 * r
+            name = ElidedLabel(a.name)
+            font = name.font()
+            font.setBold(True)
+            name.setFont(font)
+            self.motor_grid.addWidget(name, base, 0, 1, 2)
+            self.cells[a.name] = []
+            for c, w in enumerate([combo, *sp, lab], start=1):
+                head = QtGui.QLabel(heads[c])
+                if c == 5:
+                    head.setToolTip(range_tip)
+                self.motor_grid.addWidget(head, base + c, 0)
+                holder = QtGui.QWidget()
+                lay = QtGui.QHBoxLayout(holder)
+                lay.setContentsMargins(0, 0, 0, 0)
+                lay.addWidget(w)
+                self.table.setCellWidget(r, c, holder)
+                self.cells[a.name].append((w, holder, (base + c, 1)))
             combo.currentTextChanged.connect(lambda _t, n=a.name: self._shape_changed(n))
+        self.motor_form.setVisible(False)
         self.table.setMaximumHeight(40 + 30 * max(1, len(self.scene.actuators)))
         self.table.horizontalHeader().setStretchLastSection(True)
+        self.table.resizeColumnsToContents()
         self.layout.addWidget(self.table)
+        self.layout.addWidget(self.motor_form)
         self.keyframes = KeyframeTable(self._keys_edited)
         self.keyframes.setVisible(False)
         self.key_motor = None
@@ -115,7 +170,7 @@ class AnimatePanel(PlaybackClock, BasePanel):
             self._shape_ui(a.name)
         self.untouched = {a.name: self._row_state(a.name) for a in self.scene.actuators}
         self.layout.addWidget(self.problem_label("profiles"))
-        tl = QtGui.QHBoxLayout()
+        tl = QtGui.QGridLayout()
         self.play_btn = QtGui.QPushButton(translate("Metamaterial", "Play"))
         self.play_btn.setCheckable(True)
         self.loop = QtGui.QCheckBox(translate("Metamaterial", "Loop"))
@@ -130,12 +185,13 @@ class AnimatePanel(PlaybackClock, BasePanel):
         ranges.ui_only(self.duration, "timeline length shown (not stored)")
         self.duration.setValue(self.default_duration())
         self.duration.setSuffix(" s")
-        tl.addWidget(self.play_btn)
-        tl.addWidget(self.loop)
-        tl.addWidget(QtGui.QLabel(translate("Metamaterial", "speed")))
-        tl.addWidget(self.speed)
-        tl.addWidget(QtGui.QLabel(translate("Metamaterial", "length")))
-        tl.addWidget(self.duration)
+        tl.addWidget(self.play_btn, 0, 0)        # two by two: the panel fits a narrow task dock
+        tl.addWidget(QtGui.QLabel(translate("Metamaterial", "speed")), 0, 1)
+        tl.addWidget(self.speed, 0, 2)
+        tl.addWidget(self.loop, 1, 0)
+        tl.addWidget(QtGui.QLabel(translate("Metamaterial", "length")), 1, 1)
+        tl.addWidget(self.duration, 1, 2)
+        tl.setColumnStretch(2, 1)
         self.layout.addLayout(tl)
         self.timeline = _slider(0, 1000, 0)
         self.time_label = QtGui.QLabel(translate("Metamaterial", "t = 0.00 s"))
@@ -164,9 +220,13 @@ class AnimatePanel(PlaybackClock, BasePanel):
             self.connect_btn.setToolTip(translate("Metamaterial", "Stream the values shown to the servo firmware at 50 Hz "
                                         "(port loop:// = dry run without hardware)"))
         # simulated trajectory (core.dynamics): load DIR/trajectory.json or simulate in the background
-        tg = QtGui.QGroupBox(translate("Metamaterial", "Simulated trajectory (dynamics: gravity, floor contact, friction)"))
+        tg = QtGui.QGroupBox(translate("Metamaterial", "Simulated trajectory"))   # a title never wraps: short
         tv = QtGui.QVBoxLayout(tg)
+        what = QtGui.QLabel(translate("Metamaterial", "dynamics: gravity, floor contact, friction"))
+        what.setWordWrap(True)
+        tv.addWidget(what)
         th = QtGui.QHBoxLayout()
+        th2 = QtGui.QHBoxLayout()
         self.traj_load_btn = QtGui.QPushButton(translate("Metamaterial", "Load..."))
         self.traj_load_btn.setToolTip(translate("Metamaterial", "Play DIR/trajectory.json written by "
                                       "'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'"))
@@ -180,11 +240,12 @@ class AnimatePanel(PlaybackClock, BasePanel):
         self.traj_off_btn = QtGui.QPushButton(translate("Metamaterial", "Motors"))
         self.traj_off_btn.setToolTip(translate("Metamaterial", "Back to the motion profiles (quadratic model)"))
         self.traj_off_btn.setEnabled(False)
-        th.addWidget(self.traj_load_btn)
-        th.addWidget(self.traj_seconds)
-        th.addWidget(self.traj_sim_btn)
-        th.addWidget(self.traj_off_btn)
+        th.addWidget(self.traj_seconds, 1)      # two lines: the panel fits a narrow task dock
+        th.addWidget(self.traj_sim_btn, 1)
+        th2.addWidget(self.traj_load_btn, 1)
+        th2.addWidget(self.traj_off_btn, 1)
         tv.addLayout(th)
+        tv.addLayout(th2)
         self.sim_box = JobBox()
         self.traj_progress = self.sim_box.progress
         tv.addWidget(self.sim_box)
@@ -193,16 +254,21 @@ class AnimatePanel(PlaybackClock, BasePanel):
         tv.addWidget(self.traj_label)
         self.layout.addWidget(tg)
         self.values_label = QtGui.QLabel("")
+        self.values_label.setWordWrap(True)       # these lines wrap in a narrow task dock
         self.values_label.setToolTip("\n".join([translate(
             "Metamaterial", "motor values now: the angle sent to each servo (value in -1..1)"), self.angles.tooltip()]))
         self.layout.addWidget(self.values_label)
         self.rate_label = QtGui.QLabel("")
+        self.rate_label.setWordWrap(True)
         self.rate_label.setToolTip(translate("Metamaterial", "achieved frame rate while playing and the real-time factor (animation "
                                    "seconds per wall second, over the speed): 1.00 = real time"))
         self.layout.addWidget(self.rate_label)
         self.stats = QtGui.QLabel("")
+        self.stats.setWordWrap(True)
         self.layout.addWidget(self.stats)
         self.finish_layout()
+        self._resized = OnResize(self._fit_profiles)   # a resize shows the profiles as a table or as a form
+        self.form.installEventFilter(self._resized)
         self.trajectory = None
         self.trajectory_data = None
         self.floor = None
@@ -253,8 +319,8 @@ class AnimatePanel(PlaybackClock, BasePanel):
         return (self.shapes[name].currentText(), tuple(w.value() for w in self.spins[name]), tuple(self.keys[name]))
 
     def profiles(self):
-        """The motors' profiles; a row the user did not touch keeps its stored profile exactly (the spin boxes
-        round 0.1234 to 0.123, and an OK that changed nothing writes nothing)."""
+        """The motors' profiles (None: the motor has none); a row the user did not touch keeps its stored profile
+        exactly (the spin boxes round 0.1234 to 0.123, and an OK that changed nothing writes nothing)."""
         out = {}
         for a in self.scene.actuators:
             shape = self.shapes[a.name].currentText()
@@ -263,6 +329,9 @@ class AnimatePanel(PlaybackClock, BasePanel):
                 continue
             if shape.startswith("stored"):
                 out[a.name] = dict(self.stored[a.name])
+                continue
+            if shape == NONE:                 # a motor without a profile keeps none (it holds its value)
+                out[a.name] = None
                 continue
             if shape == "keyframes":
                 out[a.name] = keyframes_profile(self.keys[a.name], self.key_period(a.name))
@@ -341,6 +410,9 @@ class AnimatePanel(PlaybackClock, BasePanel):
         if shape.startswith("stored"):
             tip = translate("Metamaterial", "{0} keeps its {1} profile as stored: these boxes do not apply to it. "
                                             "Choose another shape to replace it.").format(name, shape[len("stored "):])
+        elif shape == NONE:
+            tip = translate("Metamaterial", "{0} has no motion profile: it holds its value, these boxes do not "
+                                            "apply to it. Choose a shape to give it one.").format(name)
         elif shape == "keyframes":
             tip = translate("Metamaterial", "a keyframes profile is edited in its time / value table below")
         else:
@@ -349,7 +421,7 @@ class AnimatePanel(PlaybackClock, BasePanel):
             w.setEnabled(wave)
             base = self.spin_tips.get(w, "")
             w.setToolTip(tip if not base else (base if not tip else tip + "\n" + base))
-        self.shapes[name].setToolTip(tip if shape.startswith("stored") else "")
+        self.shapes[name].setToolTip(tip if shape.startswith("stored") or shape == NONE else "")
         if shape == "keyframes":
             if name not in self.key_periods:
                 self._fix_key_period(name)
@@ -378,6 +450,49 @@ class AnimatePanel(PlaybackClock, BasePanel):
             if v is not None:
                 spin.setValue(v)
 
+    # the profile rows: a table where it fits, else a form, one motor under the other -------------------
+    def table_width(self):
+        """The width the profile table needs to show every column whole (no sideways scroll)."""
+        t = self.table
+        need = t.verticalHeader().sizeHint().width() + 2 * t.frameWidth() + 4
+        return need + sum(self._column_width(c) for c in range(6))
+
+    def _column_width(self, c):
+        """Column c's width that shows its header and every cell's widget whole (+ the grid line)."""
+        cells = [ws[c - 1][0].sizeHint().width() + GRID for ws in self.cells.values()] if c else \
+            [self.table.sizeHintForColumn(0)]
+        return max([self.table.horizontalHeader().sectionSizeHint(c)] + cells)
+
+    def _fit_profiles(self):
+        """Show the profile rows as the table when it fits the panel's width, else as the per-motor form (a
+        narrow task dock); the same widgets move between the two."""
+        if not hasattr(self, "cells") or not hasattr(self, "stats"):     # still being built
+            return
+        m = self.layout.contentsMargins()
+        room = self.form.width() - m.left() - m.right()
+        as_form = self.table_width() > room
+        if as_form == self.as_form:
+            if not as_form:
+                self._size_columns()
+            return
+        self.as_form = as_form
+        for ws in self.cells.values():
+            for w, holder, (row, col) in ws:
+                if as_form:
+                    holder.layout().removeWidget(w)
+                    self.motor_grid.addWidget(w, row, col)
+                else:
+                    self.motor_grid.removeWidget(w)
+                    holder.layout().addWidget(w)
+        self.table.setVisible(not as_form)
+        self.motor_form.setVisible(as_form)
+        if not as_form:
+            self._size_columns()
+
+    def _size_columns(self):
+        for c in range(5):                      # the last one stretches
+            self.table.horizontalHeader().resizeSection(c, self._column_width(c))
+
     def _profiles_changed(self, *_):
         d = self.scene.to_dict()
         try:
@@ -386,13 +501,14 @@ class AnimatePanel(PlaybackClock, BasePanel):
             self.set_problem("profiles", str(exc))
             return
         for a in d["actuators"]:
-            a["profile"] = prof[a["name"]]
+            set_profile(a, prof[a["name"]])
         self._update_period_note()
         for a in self.scene.actuators:
             if a.name in self.amp_deg:
                 span = self.angles.span(a.name, *profile_value_range(prof[a.name], a.value))
                 self.amp_deg[a.name].setText(translate("Metamaterial", "? deg") if span is None else
                                              translate("Metamaterial", "{0:+.1f} .. {1:+.1f} deg").format(*span))
+        self._fit_profiles()
         try:
             self.preview_scene = Scene.from_dict(d)
             self.set_problem("profiles", "")
@@ -441,6 +557,7 @@ class AnimatePanel(PlaybackClock, BasePanel):
             FreeCAD.Console.PrintWarning(f"Metamaterial: no floor shown ({exc})\n")
         self.duration.setValue(max(0.1, round(player.duration, 3)))
         self.table.setEnabled(False)
+        self.motor_form.setEnabled(False)
         self.traj_off_btn.setEnabled(True)
         self.traj_label.setText(translate("Metamaterial", "playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)").format(label, player.times.size, player.duration, math.degrees(player.incline)))
         self.error.setText("")
@@ -457,6 +574,7 @@ class AnimatePanel(PlaybackClock, BasePanel):
         self._remove_floor()
         self.trajectory = self.trajectory_data = None
         self.table.setEnabled(True)
+        self.motor_form.setEnabled(True)
         self.traj_off_btn.setEnabled(False)
         self.traj_label.setText(translate("Metamaterial", "playing: the motors' profiles"))
         self.duration.setValue(self.default_duration())
@@ -478,7 +596,7 @@ class AnimatePanel(PlaybackClock, BasePanel):
         d = scene.to_dict()
         prof = self.profiles()
         for a in d["actuators"]:
-            a["profile"] = prof[a["name"]]
+            set_profile(a, prof[a["name"]])
         scene = Scene.from_dict(d)
         fps = 1.0 / self.dt
         try:                           # at once, before the background thread: over the budget, a belt scene
@@ -581,6 +699,10 @@ class AnimatePanel(PlaybackClock, BasePanel):
         super().target_lost()
 
     def cleanup(self):
+        try:
+            self.form.removeEventFilter(self._resized)
+        except RuntimeError:  # pragma: no cover - the form is gone already
+            pass
         self._stop_timer()
         self.sim.stop()               # the daemon thread stops at its next progress report
         self._remove_floor()

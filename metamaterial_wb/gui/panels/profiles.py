@@ -18,6 +18,8 @@ from metamaterial_wb.gui.panels.base import button_row
 from metamaterial_wb.gui.i18n import translate
 
 SHAPES = ["sine", "square", "triangle", "keyframes"]
+# the shape a motor without a motion profile shows: it holds its value, kept so until another shape is chosen
+NONE = "none"
 # decimals of the Animate panel's amplitude, frequency (Hz) and phase (deg) boxes
 WAVE_DECIMALS = (3, 3, 1)
 
@@ -161,6 +163,7 @@ class KeyframeTable(QtGui.QWidget):
         lay = QtGui.QVBoxLayout(self)
         lay.setContentsMargins(0, 0, 0, 0)
         self.title = QtGui.QLabel(translate("Metamaterial", "Keyframes"))
+        self.title.setWordWrap(True)          # a long motor name wraps in a narrow task dock
         lay.addWidget(self.title)
         self.table = QtGui.QTableWidget(0, 2)
         self.table.setHorizontalHeaderLabels([translate("Metamaterial", "time (s)"),
