@@ -2,7 +2,7 @@
 import FreeCAD
 import FreeCADGui
 import pytest
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 from metamaterial_wb.gui import panels
 
@@ -256,3 +256,97 @@ def hinge_mid(sc, joint):
     shown = shown_placements(sc.NodeArray)
     pa, pb = (g.multVec(shown[k].Base) for k in (a, b))
     return FreeCAD.Vector((pa.x + pb.x) / 2, (pa.y + pb.y) / 2, (pa.z + pb.z) / 2)
+
+
+# ---- a narrow task dock (the combo view at its usual width) ----------------------------------------------------
+def dock_of(widget):
+    """The QDockWidget holding ``widget`` (None when it is in none)."""
+    w = widget
+    while w is not None and not isinstance(w, QtGui.QDockWidget):
+        w = w.parentWidget()
+    return w
+
+
+def scroll_of(widget):
+    """The innermost QScrollArea above ``widget`` (the task view's, for a panel's form)."""
+    w = widget.parentWidget()
+    while w is not None and not isinstance(w, QtGui.QScrollArea):
+        w = w.parentWidget()
+    return w
+
+
+def overlay_of(dock):
+    """FreeCAD 1.1's overlay panel holding ``dock`` over the 3D view, else None."""
+    w = dock.parentWidget()
+    while w is not None and not w.isWindow():
+        if w.objectName().startswith("Overlay") and isinstance(w, QtGui.QTabWidget):
+            return w
+        w = w.parentWidget()
+    return None
+
+
+def narrowing(width, slack=40, require=True):
+    """The body of a ``narrow`` fixture (``yield from narrowing(320)``): yields ``apply(panel, width=None)``, which
+    asks for a task dock (the combo view / task view dock holding the panel) ``width`` px wide and returns the dock;
+    with ``require`` it asserts the dock got within ``slack`` px (a panel wider than that makes it grow). The main
+    window's state, size and overlays are put back after the test."""
+    mw = FreeCADGui.getMainWindow()
+    state = mw.saveState()
+    size = mw.size()
+    overlays = []                                # (overlay panel, its geometry before)
+    if mw.width() < 1200:
+        mw.resize(1280, max(mw.height(), 900))
+    default = width
+
+    def apply(p, width=None):
+        width = default if width is None else width
+        process(50)
+        dock = dock_of(p.form)
+        assert dock is not None, "the panel is not in a dock"
+        overlay = overlay_of(dock)
+        if overlay is not None:
+            overlays.append((overlay, overlay.geometry()))
+        for _attempt in range(20):               # FreeCAD may re-lay its docks out once more after a panel opens
+            if overlay is not None:              # FreeCAD 1.1: the task view sits in an overlay panel over the 3D view
+                g = overlay.geometry()
+                w = width + overlay.width() - dock.width()
+                overlay.setGeometry(g.x() + g.width() - w, g.y(), w, g.height())
+            elif dock.isFloating():
+                dock.resize(width, max(dock.height(), 800))
+            else:
+                area = mw.dockWidgetArea(dock)   # the docks sharing its column (the model view above it) too
+                same = [d for d in mw.findChildren(QtGui.QDockWidget)
+                        if d.isVisible() and not d.isFloating() and mw.dockWidgetArea(d) == area]
+                mw.resizeDocks(same, [width] * len(same), QtCore.Qt.Orientation.Horizontal)
+            process(100)
+            if abs(dock.width() - width) <= slack:
+                process(100)
+                if abs(dock.width() - width) <= slack:
+                    break
+        if require:
+            assert abs(dock.width() - width) <= slack, (dock.objectName(), dock.width(),
+                                                         dock.minimumSizeHint().width(), overlay is not None)
+        process(100)
+        return dock
+    yield apply
+    for overlay, g in reversed(overlays):
+        overlay.setGeometry(g)
+    mw.restoreState(state)
+    mw.resize(size)
+    process()
+
+
+def tab_chain(start, n):
+    """Give ``start`` the focus and press Tab ``n`` times on whatever has it: ``[the widget with the focus first,
+    then after each Tab]`` (n + 1 widgets)."""
+    app = QtGui.QApplication.instance()
+    start.setFocus()
+    process()
+    w = app.focusWidget()
+    chain = [w]
+    for _ in range(n):
+        qtest().keyClick(w, QtCore.Qt.Key.Key_Tab)
+        process()
+        w = app.focusWidget()
+        chain.append(w)
+    return chain

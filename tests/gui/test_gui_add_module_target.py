@@ -15,7 +15,6 @@ from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import (click_view, dialog_button, doc, hinge_mid, process, press_cancel, press_ok,  # noqa: E402,F401
                         run_panel, screen_point, workbench)
 from test_gui_panel_details import open_example  # noqa: E402
-import test_gui_folded_narrow  # noqa: E402
 from test_gui_folded_narrow import narrow  # noqa: E402,F401
 
 NARROW = 300
@@ -79,15 +78,14 @@ def test_a_hinge_selected_before_opening_counts_as_chosen(doc):
     assert sc.Modules[-1].Target == "V0,1" and sc.Modules[-1].ModuleType == "servo_housing"
 
 
-def test_add_module_fits_a_narrow_task_dock(doc, narrow, monkeypatch):
-    monkeypatch.setattr(test_gui_folded_narrow, "DOCK_WIDTH", NARROW)
+def test_add_module_fits_a_narrow_task_dock(doc, narrow):
     open_example("fish")
     FreeCADGui.Selection.clearSelection()
     p = run_panel("MM_AddModule")
     for t in ("constraint_clip", "stable_hub"):                 # the longest module names
         p.set_type(t)
     process()
-    dock = narrow(p)                                            # fails when the panel makes the dock grow
+    dock = narrow(p, NARROW)                                    # fails when the panel makes the dock grow
     process(100)
     cut = [(lab.text(), lab.width(), lab.sizeHint().width()) for lab in p.form.findChildren(QtGui.QLabel)
            if lab.isVisible() and not lab.wordWrap() and lab.text() and lab.width() < lab.sizeHint().width()]

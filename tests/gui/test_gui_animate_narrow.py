@@ -10,15 +10,13 @@ if not getattr(FreeCAD, "GuiUp", False):
 
 from PySide import QtCore, QtGui  # noqa: E402
 
-import test_gui_folded_narrow as folded_narrow  # noqa: E402
 from test_gui_folded_narrow import narrow  # noqa: E402,F401  (the fixture that narrows the task dock)
-from guihelpers import doc, process, press_cancel, qtest, run_panel, type_into, workbench  # noqa: E402,F401
+from guihelpers import doc, process, press_cancel, run_panel, type_into, workbench  # noqa: E402,F401
 from test_gui_panel_details import open_example  # noqa: E402
 
 
 @pytest.fixture(params=[300, 600], ids=["narrow", "normal"])
-def dock_width(request, monkeypatch):
-    monkeypatch.setattr(folded_narrow, "DOCK_WIDTH", request.param)
+def dock_width(request):
     return request.param
 
 
@@ -67,7 +65,7 @@ def _measure(p, dock):
 def test_animate_fits_the_dock_and_every_value_stays_editable(doc, narrow, dock_width, example):
     open_example(example)
     p = run_panel("MM_Animate")
-    dock = narrow(p)
+    dock = narrow(p, dock_width)
     process(100)
     m = _measure(p, dock)
     print(f"animate at {dock_width} px:", m)

@@ -10,77 +10,25 @@ FreeCAD = pytest.importorskip("FreeCAD")
 if not getattr(FreeCAD, "GuiUp", False):
     pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
 
-import FreeCADGui  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 from metamaterial_wb.gui.panels import folded_shape  # noqa: E402
-from guihelpers import (click, dialog_button, doc, drag_slider, process, press_ok, qtest, run_panel,  # noqa: E402,F401
-                        type_into, workbench)
+from guihelpers import (click, dialog_button, doc, drag_slider, narrowing, process, press_ok, qtest,  # noqa: E402,F401
+                        run_panel, type_into, workbench)
 from test_gui_panel_details import open_example  # noqa: E402
 
 DOCK_WIDTH = 320
 MIN_SLIDER = 120
 
 
-def _dock_of(widget):
-    w = widget
-    while w is not None and not isinstance(w, QtGui.QDockWidget):
-        w = w.parentWidget()
-    return w
 
 
-def _overlay_of(dock):
-    w = dock.parentWidget()
-    while w is not None and not w.isWindow():
-        if w.objectName().startswith("Overlay") and isinstance(w, QtGui.QTabWidget):
-            return w
-        w = w.parentWidget()
-    return None
 
 
 @pytest.fixture
 def narrow():
     """Make the task dock (the combo view / task view dock holding the panel) DOCK_WIDTH px wide; put it back."""
-    mw = FreeCADGui.getMainWindow()
-    state = mw.saveState()
-    size = mw.size()
-    overlays = []                                # (overlay panel, its geometry before)
-    if mw.width() < 1200:
-        mw.resize(1280, max(mw.height(), 900))
-
-    def apply(p):
-        process(50)
-        dock = _dock_of(p.form)
-        assert dock is not None, "the panel is not in a dock"
-        overlay = _overlay_of(dock)
-        if overlay is not None:
-            overlays.append((overlay, overlay.geometry()))
-        for _attempt in range(20):               # FreeCAD may re-lay its docks out once more after a panel opens
-            if overlay is not None:              # FreeCAD 1.1: the task view sits in an overlay panel over the 3D view
-                g = overlay.geometry()
-                w = DOCK_WIDTH + overlay.width() - dock.width()
-                overlay.setGeometry(g.x() + g.width() - w, g.y(), w, g.height())
-            elif dock.isFloating():
-                dock.resize(DOCK_WIDTH, max(dock.height(), 800))
-            else:
-                area = mw.dockWidgetArea(dock)   # the docks sharing its column (the model view above it) too
-                same = [d for d in mw.findChildren(QtGui.QDockWidget)
-                        if d.isVisible() and not d.isFloating() and mw.dockWidgetArea(d) == area]
-                mw.resizeDocks(same, [DOCK_WIDTH] * len(same), QtCore.Qt.Orientation.Horizontal)
-            process(100)
-            if abs(dock.width() - DOCK_WIDTH) <= 40:
-                process(100)
-                if abs(dock.width() - DOCK_WIDTH) <= 40:
-                    break
-        assert abs(dock.width() - DOCK_WIDTH) <= 40, (dock.objectName(), dock.width(), dock.minimumSizeHint().width(),
-                                                     overlay is not None)
-        return dock
-    yield apply
-    for overlay, g in reversed(overlays):
-        overlay.setGeometry(g)
-    mw.restoreState(state)
-    mw.resize(size)
-    process()
+    yield from narrowing(DOCK_WIDTH)
 
 
 def _measure(p, dock):

@@ -11,11 +11,10 @@ FreeCAD = pytest.importorskip("FreeCAD")
 if not getattr(FreeCAD, "GuiUp", False):
     pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
 
-import FreeCADGui  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 from metamaterial_wb.gui.panels.folded_shape import SLIDER_MIN_WIDTH  # noqa: E402
-from guihelpers import doc, process, qtest, run_panel, workbench  # noqa: E402,F401
+from guihelpers import doc, narrowing, process, run_panel, scroll_of, tab_chain, workbench  # noqa: E402,F401
 from test_gui_panel_details import open_example  # noqa: E402
 
 DOCK_WIDTH = 300
@@ -25,73 +24,17 @@ PANELS = [("MM_Simulate", "fish_axes"), ("MM_FitTarget", "fish"), ("MM_Sleeve", 
           ("MM_RotaryAxes", "fish")]
 
 
-def _dock_of(widget):
-    w = widget
-    while w is not None and not isinstance(w, QtGui.QDockWidget):
-        w = w.parentWidget()
-    return w
 
 
-def _scroll_of(widget):
-    """The task view's scroll area holding the panel (the innermost QScrollArea above the form)."""
-    w = widget.parentWidget()
-    while w is not None and not isinstance(w, QtGui.QScrollArea):
-        w = w.parentWidget()
-    return w
 
 
-def _overlay_of(dock):
-    w = dock.parentWidget()
-    while w is not None and not w.isWindow():
-        if w.objectName().startswith("Overlay") and isinstance(w, QtGui.QTabWidget):
-            return w
-        w = w.parentWidget()
-    return None
 
 
 @pytest.fixture
 def narrow():
-    """Ask for a DOCK_WIDTH px task dock (the combo view / task view dock holding the panel); put it back after.
-    Returns the dock: its width is what FreeCAD made of the request (a panel wider than it makes it grow)."""
-    mw = FreeCADGui.getMainWindow()
-    state = mw.saveState()
-    size = mw.size()
-    overlays = []
-    if mw.width() < 1200:
-        mw.resize(1280, max(mw.height(), 900))
-
-    def apply(p):
-        process(50)
-        dock = _dock_of(p.form)
-        assert dock is not None, "the panel is not in a dock"
-        overlay = _overlay_of(dock)
-        if overlay is not None:
-            overlays.append((overlay, overlay.geometry()))
-        for _attempt in range(20):               # FreeCAD may re-lay its docks out once more after a panel opens
-            if overlay is not None:              # FreeCAD 1.1: the task view sits in an overlay panel over the 3D view
-                g = overlay.geometry()
-                w = DOCK_WIDTH + overlay.width() - dock.width()
-                overlay.setGeometry(g.x() + g.width() - w, g.y(), w, g.height())
-            elif dock.isFloating():
-                dock.resize(DOCK_WIDTH, max(dock.height(), 800))
-            else:
-                area = mw.dockWidgetArea(dock)
-                same = [d for d in mw.findChildren(QtGui.QDockWidget)
-                        if d.isVisible() and not d.isFloating() and mw.dockWidgetArea(d) == area]
-                mw.resizeDocks(same, [DOCK_WIDTH] * len(same), QtCore.Qt.Orientation.Horizontal)
-            process(100)
-            if abs(dock.width() - DOCK_WIDTH) <= SLACK:
-                process(100)
-                if abs(dock.width() - DOCK_WIDTH) <= SLACK:
-                    break
-        process(100)
-        return dock
-    yield apply
-    for overlay, g in reversed(overlays):
-        overlay.setGeometry(g)
-    mw.restoreState(state)
-    mw.resize(size)
-    process()
+    """Ask for a DOCK_WIDTH px task dock; put it back after. Returns the dock: its width is what FreeCAD made of
+    the request (a panel wider than it makes it grow; the tests measure by how much)."""
+    yield from narrowing(DOCK_WIDTH, SLACK, require=False)
 
 
 def _inside_inner_view(w, form):
@@ -115,7 +58,7 @@ def _elided(lab):
 
 def measure(p, dock):
     form = p.form
-    scroll = _scroll_of(form)
+    scroll = scroll_of(form)
     assert scroll is not None, "the panel is not in a scroll area"
     vp = scroll.viewport()
     out, cut, small, scrolled = [], [], [], []
@@ -166,18 +109,6 @@ def test_the_panel_fits_a_narrow_task_dock(doc, narrow, cmd, example):
     p.reject()
 
 
-def _tab_chain(start, n):
-    app = QtGui.QApplication.instance()
-    start.setFocus()
-    process()
-    w = app.focusWidget()
-    chain = [w]
-    for _ in range(n):
-        qtest().keyClick(w, QtCore.Qt.Key.Key_Tab)
-        process()
-        w = app.focusWidget()
-        chain.append(w)
-    return chain
 
 
 def _is(w, target):
@@ -189,7 +120,7 @@ def test_sleeve_tab_visits_the_cell_type_boxes_where_the_table_is(doc):
     rows = p.types.rowCount()
     assert rows >= 2
     boxes = [p.types.cellWidget(r, c) for r in range(rows) for c in range(2)]
-    chain = _tab_chain(p.name, 40)
+    chain = tab_chain(p.name, 40)
     names = [_name(w) if w is not None else None for w in chain]
 
     def where(target):
@@ -205,7 +136,7 @@ def test_sleeve_tab_visits_the_cell_type_boxes_where_the_table_is(doc):
     # a type added by the button is reached where it is shown too
     p.add_type(1.0, 7.0)
     process()
-    chain = _tab_chain(p.name, 40)
+    chain = tab_chain(p.name, 40)
     names = [_name(w) if w is not None else None for w in chain]
     new = [where(p.types.cellWidget(rows, c)) for c in range(2)]
     ring = where(p.ring)

@@ -7,23 +7,10 @@ FreeCAD = pytest.importorskip("FreeCAD")
 if not getattr(FreeCAD, "GuiUp", False):
     pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
 
-from PySide import QtCore, QtGui  # noqa: E402
 
-from guihelpers import doc, process, qtest, run_panel, type_into, workbench  # noqa: E402,F401
+from guihelpers import doc, run_panel, tab_chain, type_into, workbench  # noqa: E402,F401
 
 
-def _tab_walk(start, n):
-    app = QtGui.QApplication.instance()
-    start.setFocus()
-    process()
-    w = app.focusWidget()
-    out = []
-    for _ in range(n):
-        qtest().keyClick(w, QtCore.Qt.Key.Key_Tab)
-        process()
-        w = app.focusWidget()
-        out.append(w)
-    return out
 
 
 def _name(p, w):
@@ -45,11 +32,11 @@ def _expected(p):
 def test_tab_follows_the_visual_order(doc):
     p = run_panel("MM_NewStructure")
     want = _expected(p)
-    got = [_name(p, w) for w in _tab_walk(p.name, len(want))]
+    got = [_name(p, w) for w in tab_chain(p.name, len(want))[1:]]
     assert got == want, got
     type_into(p.rows, "3")                                      # one more row: its toggles come before the file field
     assert len(p.buttons) == 18
     want = _expected(p)
-    got = [_name(p, w) for w in _tab_walk(p.name, len(want))]
+    got = [_name(p, w) for w in tab_chain(p.name, len(want))[1:]]
     assert got == want, got
     p.reject()
