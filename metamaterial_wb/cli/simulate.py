@@ -195,7 +195,7 @@ def run(args):
                                       f"with --method implicit") from None
     except DynamicsError as exc:       # the settling on a slope: name the incline the user gave
         incline = cfg.get("incline_deg") or 0.0
-        if not str(exc).startswith("no static equilibrium") or (args.incline is None and not incline):
+        if not str(exc).startswith("no static equilibrium") or not incline:     # level ground: no slope to blame
             raise
         lo, hi = INCLINE_RANGE_DEG
         flag, where = (("--incline", "") if args.incline is not None else

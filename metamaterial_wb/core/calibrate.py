@@ -436,6 +436,8 @@ def fit_measured(scene, node_idx, angles_rad, fit_k2=None, source="angles"):
                 holder.setdefault(int(n), f"the {kind} {it.name!r} on {it.joint}")
         held = [f"N{topo.nodes[k][0]},{topo.nodes[k][1]} held by {holder.get(int(k), 'a constraint')}"
                 for k in node_idx if int(k) in fixed_nodes]
+        if not held:
+            raise SceneError(str(source), f"{use.size} measured node(s); at least 2 are needed for a fit")
         raise SceneError(str(source), f"{use.size} measured node(s) left after dropping {'; '.join(held)} (a plate "
                                       f"held by a constraint or actuator does not follow k1 and is not used); at "
                                       f"least 2 are needed for a fit: measure free plates")

@@ -98,3 +98,32 @@ def test_the_box_unit_typed_after_the_number_is_no_letter(doc):
     type_into(p.freq, "2 Hz")
     assert not refused(p.freq), refused(p.freq)
     assert p.freq.value() == 2.0, p.freq.value()
+
+
+
+# ---- review of the above (session 32) ---------------------------------------------------------------------------
+@pytest.mark.parametrize("typed", ["2,5e-1", "0,5e0"])
+def test_an_exponent_with_a_point_the_box_does_not_read_is_refused(doc, typed):
+    """In an English box ',' is no decimal point: "2,5e-1" was taken as 0.25 without a word (plain "2,5" is refused)."""
+    p = _motor_panel()
+    type_into(p.value, typed)
+    text = refused(p.value)
+    assert f"value: {typed} was not taken: the decimal point of this box is ., not ," in text, (typed, text)
+    assert not press_ok()
+
+
+@pytest.mark.parametrize("box, typed", [("freq", "zz"), ("freq", "Hz"), ("phase", "dg"), ("phase", "ddd")])
+def test_letters_of_the_box_unit_alone_are_refused(doc, box, typed):
+    """The unit's letters were stripped one by one ("dg" in a ' deg' box vanished): only the whole unit after a
+    number is no letter."""
+    p = _motor_panel()
+    spin = getattr(p, box)
+    type_into(spin, typed)
+    assert f": {typed} is not a number" in refused(spin), (typed, refused(spin))
+    assert not press_ok()
+
+
+def test_a_huge_exponent_is_outside_the_range_not_no_number(doc):
+    p = _motor_panel()
+    type_into(p.value, "1e400")
+    assert "value: 1e400 is outside the allowed range" in refused(p.value), refused(p.value)

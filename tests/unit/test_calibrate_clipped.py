@@ -27,3 +27,16 @@ def test_held_plates_do_not_count_towards_the_two_needed(tmp_path, rows, left):
     assert f"{left} measured node(s) left" in r.stderr and "at least 2 are needed" in r.stderr, r.stderr
     assert "N1,1 held by the constraint 'clip' on H1,1" in r.stderr, r.stderr
     assert "search bound" not in r.stderr and not out.exists()
+
+
+def test_one_free_node_without_held_ones_is_refused_plainly():
+    """Called directly with one measured node and none held (the CLI's CSV reader refuses that first), the message
+    named an empty list of dropped plates ("left after dropping  (a plate ..."); review of the above."""
+    from metamaterial_wb.core.calibrate import fit_measured
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.scene import Scene
+    scene = Scene.from_dict(PIECE)
+    with pytest.raises(SceneError) as e:
+        fit_measured(scene, [0], [0.02], source="angles.csv")
+    assert str(e.value).startswith("angles.csv: 1 measured node(s); at least 2 are needed for a fit"), str(e.value)
+    assert "dropping" not in str(e.value)

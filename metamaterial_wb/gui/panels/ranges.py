@@ -113,6 +113,8 @@ def _float(text, points):
         v = float(text)
     except ValueError:
         return None
+    if math.isinf(v) and any(c.isdigit() for c in text):
+        return v                              # "1e400": a number, too large for any box (outside its range)
     return v if math.isfinite(v) else None    # "nan", "inf" are letters to a spin box
 
 
@@ -287,7 +289,13 @@ class _RefusedKeys(QtCore.QObject):
     def letters(self, text):
         """The letters in ``text`` that make it no number ("abc", "1e5e"), "" when none: an exponent ("2e-1") is no
         letter, nor the box's own unit typed after the number ("5 mm" in a box with the suffix " mm")."""
-        t = _plain(text).rstrip(self.spin.suffix()).lstrip(self.spin.prefix())    # (their characters, as typed)
+        t = _plain(text)
+        r = t.rstrip(self.spin.suffix())      # the unit's letters after a number ("5 mm"; "2 z" on the way to "2 Hz"
+        if r != t and any(c.isdigit() for c in r):    # as Qt 6 reports it), not its letters alone ("mm", "dg")
+            t = r
+        r = t.lstrip(self.spin.prefix())
+        if r != t and any(c.isdigit() for c in r):
+            t = r
         if self.shape(t.strip()):
             return ""
         return "".join(dict.fromkeys(c for c in t if c.isalpha()))
@@ -307,7 +315,11 @@ class _RefusedKeys(QtCore.QObject):
         return len("".join("." if c in POINTS else c for c in plain).partition(".")[2])
 
     def holds(self, text):
-        """Whether the box holds the number ``text`` exactly (in its range, within its decimals)."""
+        """Whether the box holds the number ``text`` exactly (in its range, within its decimals), written with the
+        box's own decimal point and no grouping ("1,000e3" and "2,5e-1" in English are no number the box holds)."""
+        g = self.group()
+        if self.wrong_points(text) or (g and g in text) or re.search(_BLANK, text.strip()):
+            return False
         v, n = self.number(text), self.needed(text)
         return v is not None and n is not None and n <= self.decimals() and \
             self.spin.minimum() <= v <= self.spin.maximum()
