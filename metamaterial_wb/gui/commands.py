@@ -3,6 +3,7 @@ import FreeCAD
 import FreeCADGui
 
 import metamaterial_wb
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 from metamaterial_wb.objects import structure
 
 
@@ -49,7 +50,12 @@ class _Command:
     NEEDS_SCENE = True
 
     def GetResources(self):
-        return {"Pixmap": metamaterial_wb.icon_path(self.ICON), "MenuText": self.MENU, "ToolTip": self.TIP}
+        # MENU / TIP are marked QT_TRANSLATE_NOOP("Metamaterial", ...) in COMMANDS (so ts_extract / lupdate list them)
+        # and translated here, when FreeCAD reads them (addCommand): FreeCAD's own lookup of a Python command's texts
+        # uses the command's name as context (Gui::PythonCommand::applyCommandData), which finds nothing and keeps
+        # these translated texts
+        return {"Pixmap": metamaterial_wb.icon_path(self.ICON), "MenuText": translate("Metamaterial", self.MENU),
+                "ToolTip": translate("Metamaterial", self.TIP)}
 
     def IsActive(self):
         from metamaterial_wb.gui.panels import base
@@ -106,44 +112,51 @@ def _panels():
 
 
 COMMANDS = [
-    ("MM_NewStructure", "MM_NewStructure.svg", "New structure",
-     "Lay out a new metamaterial sheet: toggle cells on a grid, chain / grid presets, or load a scene file",
+    ("MM_NewStructure", "MM_NewStructure.svg", QT_TRANSLATE_NOOP("Metamaterial", "New structure"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Lay out a new metamaterial sheet: toggle cells on a grid, chain / grid presets, "
+                                       "or load a scene file"),
      lambda doc: _panels().NewStructurePanel(doc), False),
-    ("MM_OpenExample", "MM_OpenExample.svg", "Open example",
-     "Open one of the bundled examples (fish, worm, ...)", lambda doc: _panels().OpenExamplePanel(doc), False),
-    ("MM_RotaryAxes", "MM_RotaryAxes.svg", "Rotary axes",
-     "Pick the grid lines the structure folds about; rule violations are listed",
+    ("MM_OpenExample", "MM_OpenExample.svg", QT_TRANSLATE_NOOP("Metamaterial", "Open example"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Open one of the bundled examples (fish, worm, ...)"),
+     lambda doc: _panels().OpenExamplePanel(doc), False),
+    ("MM_RotaryAxes", "MM_RotaryAxes.svg", QT_TRANSLATE_NOOP("Metamaterial", "Rotary axes"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Pick the grid lines the structure folds about; rule violations are listed"),
      lambda sc: _panels().RotaryAxesPanel(sc), True),
-    ("MM_FoldedShape", "MM_FoldedShape.svg", "Folded shape",
-     "One slider per axis (with its maximum); Confirm runs the joint configuration",
+    ("MM_FoldedShape", "MM_FoldedShape.svg", QT_TRANSLATE_NOOP("Metamaterial", "Folded shape"),
+     QT_TRANSLATE_NOOP("Metamaterial", "One slider per axis (with its maximum); Confirm runs the joint configuration"),
      lambda sc: _panels().FoldedShapePanel(sc), True),
-    ("MM_Flexibility", "MM_Flexibility.svg", "Flexibility",
-     "Global and per-joint hinge sizes, with the resulting k1 / k2", lambda sc: _panels().FlexibilityPanel(sc), True),
-    ("MM_PlaceMotor", "MM_PlaceMotor.svg", "Place motor",
-     "Put a servo on a joint (click a hinge); shown as a red sphere",
+    ("MM_Flexibility", "MM_Flexibility.svg", QT_TRANSLATE_NOOP("Metamaterial", "Flexibility"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Global and per-joint hinge sizes, with the resulting k1 / k2"),
+     lambda sc: _panels().FlexibilityPanel(sc), True),
+    ("MM_PlaceMotor", "MM_PlaceMotor.svg", QT_TRANSLATE_NOOP("Metamaterial", "Place motor"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Put a servo on a joint (click a hinge); shown as a red sphere"),
      lambda sc: _panels().PlaceItemPanel(sc, "actuator"), True),
-    ("MM_PlaceConstraint", "MM_PlaceConstraint.svg", "Angular constraint",
-     "Hold a joint at a fixed deformation (clip); shown as a blue disc",
+    ("MM_PlaceConstraint", "MM_PlaceConstraint.svg", QT_TRANSLATE_NOOP("Metamaterial", "Angular constraint"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Hold a joint at a fixed deformation (clip); shown as a blue disc"),
      lambda sc: _panels().PlaceItemPanel(sc, "constraint"), True),
-    ("MM_AddModule", "MM_AddModule.svg", "Add module",
-     "Servo housing, connection hubs, friction pad or clip on a node or joint",
+    ("MM_AddModule", "MM_AddModule.svg", QT_TRANSLATE_NOOP("Metamaterial", "Add module"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Servo housing, connection hubs, friction pad or clip on a node or joint"),
      lambda sc: _panels().AddModulePanel(sc), True),
-    ("MM_Simulate", "MM_Simulate.svg", "Simulate",
-     "Global-deformation slider and one slider per motor and constraint, solved live",
+    ("MM_Simulate", "MM_Simulate.svg", QT_TRANSLATE_NOOP("Metamaterial", "Simulate"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Global-deformation slider and one slider per motor and constraint, "
+                                       "solved live"),
      lambda sc: _panels().SimulatePanel(sc), True),
-    ("MM_Animate", "MM_Animate.svg", "Animate",
-     "Play the motors' motion profiles (sine amplitude, frequency, phase); stream to hardware",
+    ("MM_Animate", "MM_Animate.svg", QT_TRANSLATE_NOOP("Metamaterial", "Animate"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Play the motors' motion profiles (sine amplitude, frequency, phase); "
+                                       "stream to hardware"),
      lambda sc: _panels().AnimatePanel(sc), True),
-    ("MM_Export", "MM_Export.svg", "Export STEP / 3MF",
-     "Write STEP (named bodies) and 3MF (per-part materials) for dual-extruder printers",
+    ("MM_Export", "MM_Export.svg", QT_TRANSLATE_NOOP("Metamaterial", "Export STEP / 3MF"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Write STEP (named bodies) and 3MF (per-part materials) for dual-extruder "
+                                       "printers"),
      lambda sc: _panels().ExportPanel(sc), True),
-    ("MM_Sleeve", "MM_Sleeve.svg", "Sleeve actuator",
-     "Design a metamaterial sleeve actuator (curved-beam cells around a cylinder) from a spec file or "
-     "parameters, build it, predict its force-displacement peaks and snapping sequence",
+    ("MM_Sleeve", "MM_Sleeve.svg", QT_TRANSLATE_NOOP("Metamaterial", "Sleeve actuator"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Design a metamaterial sleeve actuator (curved-beam cells around a cylinder) "
+                       "from a spec file or parameters, build it, predict its force-displacement peaks and snapping "
+                       "sequence"),
      lambda doc: _panels().SleevePanel(doc), False),
-    ("MM_FitTarget", "MM_FitTarget.svg", "Fit to target",
-     "Inverse design: place N servos and find their values so the structure best reaches a target shape "
-     "(file or document object); runs in the background",
+    ("MM_FitTarget", "MM_FitTarget.svg", QT_TRANSLATE_NOOP("Metamaterial", "Fit to target"),
+     QT_TRANSLATE_NOOP("Metamaterial", "Inverse design: place N servos and find their values so the structure best "
+                       "reaches a target shape (file or document object); runs in the background"),
      lambda sc: __import__("metamaterial_wb.gui.panels.fit_target", fromlist=["x"]).FitTargetPanel(sc), True),
 ]
 

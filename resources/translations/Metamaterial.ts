@@ -4,37 +4,47 @@
 <context>
     <name>Metamaterial</name>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="229"/>
-        <source> (slider +-{0:.1f})</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="177"/>
         <source> (the first {0:g} s of the {1:g} s timeline compared)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="123"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="124"/>
         <source> ({0} set directly for this joint: the sizes do not change it)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="317"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="96"/>
+        <source>(click a hinge or choose)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="97"/>
+        <source>(click a node or choose)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="146"/>
+        <source>(use the file)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="323"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="138"/>
         <source>...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="457"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="557"/>
         <source>1 000 or {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="152"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -44,7 +54,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="501"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="297"/>
         <source>; centre of mass moved {0:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -54,7 +64,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="441"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="538"/>
         <source>; the box kept {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -69,18 +79,29 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="69"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="73"/>
         <source>= {0} joint rotation</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="394"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="350"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="126"/>
         <source>? deg ({0:+.3f})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="24"/>
+        <source>Add module</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="112"/>
+        <source>Add type</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -89,7 +110,23 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="17"/>
+        <source>Angular constraint</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="31"/>
+        <source>Angular-constraint clip (joint)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="144"/>
+        <source>Animate</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="122"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -104,7 +141,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="103"/>
         <source>Cap diameter (core_diameter_mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -114,7 +151,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="101"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="110"/>
         <source>Cell types (row = type index)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -124,7 +161,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="115"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="128"/>
         <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
@@ -134,12 +171,14 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="71"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="136"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="587"/>
         <source>Click a hinge in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="72"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="588"/>
         <source>Click a node in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
@@ -149,7 +188,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="24"/>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="27"/>
         <source>Click grid lines here, or click a hinge in the 3D view.
 Vertical axes run down a cell column and cross its H joints;
 horizontal axes run along a cell row and cross its V joints.</source>
@@ -161,34 +200,68 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="145"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="562"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="82"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="358"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="28"/>
+        <source>Connection hub (node)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="132"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="166"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="172"/>
         <source>Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="554"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="153"/>
+        <source>Design a metamaterial sleeve actuator (curved-beam cells around a cylinder) from a spec file or parameters, build it, predict its force-displacement peaks and snapping sequence</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="350"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="25"/>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="53"/>
         <source>Export</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="139"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="153"/>
         <source>Export STEP + 3MF</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="148"/>
+        <source>Export STEP / 3MF</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="157"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="123"/>
+        <source>Fit to target</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="20"/>
+        <source>Flexibility</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="125"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
+        <source>Folded shape</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -197,24 +270,40 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="155"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="300"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="161"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="58"/>
         <source>Frequency</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="182"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="30"/>
+        <source>Friction pad (node)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="78"/>
+        <source>G (shear modulus)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="129"/>
+        <source>Global and per-joint hinge sizes, with the resulting k1 / k2</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="153"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="45"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="32"/>
-        <source>Global deformation (perfect propagation)</source>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="141"/>
+        <source>Global-deformation slider and one slider per motor and constraint, solved live</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -223,13 +312,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="135"/>
+        <source>Hold a joint at a fixed deformation (clip); shown as a blue disc</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="104"/>
         <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="70"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="74"/>
         <source>How far the joint turns for this value (plate B relative to plate A, the servo's sign): the angle a servo on it is sent; closing and opening differ. A servo with scale_deg in the scene is sent value x scale_deg instead.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="158"/>
+        <source>Inverse design: place N servos and find their values so the structure best reaches a target shape (file or document object); runs in the background</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -238,24 +337,34 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="39"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="42"/>
         <source>Joint (or click a hinge)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="156"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="298"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="304"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="163"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="165"/>
         <source>Keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="205"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="208"/>
         <source>Keyframes of {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="74"/>
+        <source>L (beam span)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="116"/>
+        <source>Lay out a new metamaterial sheet: toggle cells on a grid, chain / grid presets, or load a scene file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -265,7 +374,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="103"/>
         <source>Limit to printable folds</source>
         <translation type="unfinished"></translation>
     </message>
@@ -275,27 +384,32 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="170"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="111"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="121"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="57"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="55"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="62"/>
         <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="30"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="345"/>
+        <source>Metamaterial</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="43"/>
         <source>Model</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="57"/>
         <source>Module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -305,35 +419,55 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="180"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="121"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="43"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="61"/>
         <source>Motors and constraints</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="67"/>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="38"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="41"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="72"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="62"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="36"/>
+        <source>New metamaterial structure</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="115"/>
+        <source>New structure</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="83"/>
         <source>No motors yet: use 'Place motor'.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="133"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="102"/>
         <source>No rotary axes yet: use 'Rotary axes' first.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="38"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="58"/>
         <source>On (or click in the 3D view)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="160"/>
+        <source>On: no hinge chosen yet; click one in the 3D view or choose it in the list</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="162"/>
+        <source>On: no node chosen yet; click one in the 3D view or choose it in the list</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -342,7 +476,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="61"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="126"/>
+        <source>One slider per axis (with its maximum); Confirm runs the joint configuration</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="119"/>
+        <location filename="../../metamaterial_wb/gui/panels/open_example.py" line="33"/>
+        <source>Open example</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="120"/>
+        <source>Open one of the bundled examples (fish, worm, ...)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="62"/>
         <source>Open...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -352,40 +502,77 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="55"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
+        <source>Perfect propagation: every joint follows the global deformation; the motors' sliders are off while it is ticked</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="59"/>
         <source>Phase offset</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="119"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="572"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="123"/>
+        <source>Pick the grid lines the structure folds about; rule violations are listed</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="131"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="16"/>
+        <source>Place motor</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="55"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="190"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="171"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="149"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="145"/>
+        <source>Play the motors' motion profiles (sine amplitude, frequency, phase); stream to hardware</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="86"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="125"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="139"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="112"/>
-        <source>Ring pattern</source>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="132"/>
+        <source>Put a servo on a joint (click a hinge); shown as a red sphere</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="113"/>
+        <source>Remove last</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="124"/>
+        <source>Ring pattern</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="125"/>
         <source>Rings</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="122"/>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="17"/>
+        <source>Rotary axes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -394,17 +581,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="171"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="177"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="167"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="173"/>
         <source>Run build's geometry checks on the answer (a child process)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="120"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -414,24 +601,47 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="152"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="299"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="305"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="178"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="27"/>
+        <source>Servo housing (across a joint)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="138"/>
+        <source>Servo housing, connection hubs, friction pad or clip on a node or joint</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="56"/>
+        <source>Set for this joint</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="119"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="17"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="167"/>
-        <source>Simulated trajectory (dynamics: gravity, floor contact, friction)</source>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="104"/>
+        <source>Simulated trajectory</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="57"/>
         <source>Sine amplitude</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="152"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="48"/>
+        <source>Sleeve actuator</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -440,8 +650,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="62"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="63"/>
         <source>Spec</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="29"/>
+        <source>Stable connection hub (across a joint)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -450,17 +665,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="101"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="77"/>
+        <source>T (wall thickness)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="142"/>
         <source>Target file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="128"/>
         <source>The angle sent to the servo for this value (closing and opening differ); the firmware's invert and trim come after</source>
         <translation type="unfinished"></translation>
     </message>
@@ -470,7 +690,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="187"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="158"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -480,12 +700,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="126"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="140"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="40"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
+        <source>Use global deformation</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="57"/>
+        <source>Use global size</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="43"/>
         <source>Value D (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -496,28 +726,58 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="163"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="169"/>
         <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="345"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="149"/>
+        <source>Write STEP (named bodies) and 3MF (per-part materials) for dual-extruder printers</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="34"/>
+        <source>a connection hub</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="36"/>
+        <source>a friction pad</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="258"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="200"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="33"/>
+        <source>a servo housing</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="35"/>
+        <source>a stable connection hub</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
         <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="207"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="221"/>
         <source>actuator.core_diameter_mm: the cap the inner membrane pushes on; at most the sleeve's inner diameter N (L + c) / pi - T</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="60"/>
         <source>amplitude</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="37"/>
+        <source>an angular-constraint clip</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -526,32 +786,43 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="88"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="95"/>
         <source>automatic</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="197"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="211"/>
         <source>automatic: the default cap, {0:g} mm</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="208"/>
         <source>automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="418"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="127"/>
+        <source>building the sheet ...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="445"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="438"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="75"/>
+        <source>c (pillar width)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="150"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="465"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="545"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="341"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -561,44 +832,64 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="121"/>
         <source>cell type index of each cell around the circumference</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="76"/>
+        <source>choose STEP, 3MF or both</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="234"/>
+        <source>choose a node or joint for the module</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="68"/>
         <source>clip {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="154"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="76"/>
+        <source>delta (gap)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="106"/>
+        <source>dynamics: gravity, floor contact, friction</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="160"/>
         <source>e.g. H0,0, V1,2 (or click hinges)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="179"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="460"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="182"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="487"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="391"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="418"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="397"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="424"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="394"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="421"/>
         <source>export: the prediction is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="455"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="412"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="482"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="439"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -608,13 +899,33 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="60"/>
         <source>freq (Hz)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="120"/>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="80"/>
+        <source>give an output folder</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="106"/>
+        <source>h (mm)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
+        <source>horizontal {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="168"/>
+        <source>joint {0} already carries the module {1}: one module per joint; choose another joint or delete {1} first</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="121"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="96"/>
         <source>k1 = {0:.3f}, k2 = {1:.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -625,58 +936,111 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="223"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="194"/>
         <source>kinematic +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="224"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="126"/>
+        <source>kinematic maximum bound by {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="195"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="73"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="19"/>
+        <source>linear</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="168"/>
         <source>local worker processes for the candidate evaluations (inverse --workers)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="172"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="196"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="116"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="129"/>
         <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (under a second per cell type) and the sleeve's snapping sequence and lean (about 10 s per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="59"/>
         <source>motor</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="139"/>
         <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="49"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="67"/>
         <source>motor {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="487"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="171"/>
+        <source>node {0} already carries the module {1}: one module per node socket; choose another node or delete {1} first</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="206"/>
+        <source>none</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="21"/>
+        <source>nonlinear</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="559"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="117"/>
-        <source>not picked: {0} {1} ({2})</source>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="552"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="557"/>
+        <source>not applied: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="122"/>
+        <source>not exported: cannot write in {0}: {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="100"/>
+        <source>not exported: the structure this panel exports was deleted (press Cancel)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="175"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="106"/>
+        <source>not exported: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="194"/>
+        <source>not picked: hinge {0} ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="197"/>
+        <source>not picked: node {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -685,7 +1049,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="165"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="171"/>
         <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -695,124 +1059,149 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="146"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="152"/>
         <source>or target object</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="98"/>
         <source>out of the calibrated range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="138"/>
         <source>overridden by Global deformation (untick it to use the motors)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="61"/>
         <source>phase (deg)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="563"/>
-        <source>picked {0} {1}</source>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="634"/>
+        <source>picked hinge {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="191"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="461"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="510"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="637"/>
+        <source>picked node {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="133"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="257"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="306"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="445"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="240"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="347"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="374"/>
         <source>predict: the export is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="356"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="383"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="378"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="405"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="225"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="196"/>
         <source>printable +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="226"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="197"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="447"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="20"/>
+        <source>quadratic</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="62"/>
+        <source>recompute failed</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="474"/>
         <source>removed the earlier export's {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="312"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
+        <source>removed {0} file(s) of the earlier export that this one does not write: {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="320"/>
         <source>scene {0}: {1} cells, {2} motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="61"/>
         <source>servo angle range</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="59"/>
         <source>shape</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="490"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="286"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="514"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="310"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="509"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="305"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="504"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="300"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="154"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders; sleeve_plate1.3mf, sleeve_plate2.3mf, ... when the parts need more than one bed, and an earlier export's plates this one does not write are removed), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="70"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="564"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="360"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="141"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="106"/>
+        <source>t (mm)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="78"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -822,83 +1211,114 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="133"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="137"/>
         <source>target JSON, solve result, .stl / .obj / .step</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="89"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
         <source>the default cap, {0:g} mm, or the sleeve's inner diameter N (L + c) / pi - T when that is smaller; untick to give your own (kept as typed, refused when it does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="156"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="93"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="445"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="517"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="203"/>
         <source>the {0} solve did not converge: the pose shown is its last iterate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="295"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="181"/>
+        <source>this module</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="322"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="166"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="169"/>
         <source>time (s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="561"/>
-        <source>under the cursor: {0} {1} (click to pick it)</source>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="633"/>
+        <source>under the cursor: hinge {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="114"/>
-        <source>under the cursor: {0} {1} (not a target: {2})</source>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="193"/>
+        <source>under the cursor: hinge {0} (not a target: {1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="167"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="636"/>
+        <source>under the cursor: node {0} (click to pick it)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="196"/>
+        <source>under the cursor: node {0} (not a target: {1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="170"/>
         <source>value (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
+        <source>vertical {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="108"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="162"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="321"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="445"/>
+        <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="211"/>
+        <source>with these sizes: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="472"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="448"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="156"/>
+        <source>wrote {0} file(s) to {1} in {2:.1f} s:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="475"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="395"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="351"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="127"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="150"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="174"/>
         <source>{0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -908,118 +1328,153 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="336"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="301"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="28"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="215"/>
+        <source>{0:g} deg is beyond the kinematic maximum of this axis: allowed range [-{1}, {1}] deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="212"/>
+        <source>{0:g} deg is beyond the printable maximum of this axis: allowed range [-{1}, {1}] deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="200"/>
+        <source>{0} (slider +-{1:.1f})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="33"/>
         <source>{0} axes ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="265"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="273"/>
         <source>{0} cells: a valid layout</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="264"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="272"/>
         <source>{0} cells: a valid layout (the full grid)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="105"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="82"/>
+        <source>{0} exists and is not a folder</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="185"/>
         <source>{0} goes across a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="183"/>
         <source>{0} goes on a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="186"/>
         <source>{0} goes on a node</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="469"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="568"/>
         <source>{0} has more decimals than the box takes (at most {1} decimals){2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="468"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="255"/>
+        <source>{0} has no motion profile: it holds its value, these boxes do not apply to it. Choose a shape to give it one.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="541"/>
+        <source>{0} is not a number{1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="567"/>
         <source>{0} is not a whole number (at most 0 decimals){1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="461"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="561"/>
         <source>{0} is outside the allowed range {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="342"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="252"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="422"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="494"/>
         <source>{0} this panel shows was deleted from the structure (press Cancel and open the panel again)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="471"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="570"/>
         <source>{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="446"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="546"/>
         <source>{0} was not taken: the box reads only the ASCII digits 0-9, not {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="448"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="548"/>
         <source>{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="452"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="552"/>
         <source>{0} was not taken: the decimal point of this box is {1}, not {2}{3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="458"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="558"/>
         <source>{0} was not taken: this box reads a space only between groups of three digits (a thousand is {1}){2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="227"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="198"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="329"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="239"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="325"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="235"/>
         <source>{0}: keyframes play once (stored without a period) and hold the last value</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="333"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="243"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="122"/>
-        <source>{0}; {1} is a {2}: click a {3} or choose one in the list (the target is still {4})</source>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
+        <source>{0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="159"/>
-        <source>{0}{1} {2}</source>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="201"/>
+        <source>{0}; {1} is a hinge: click a node or choose one in the list (the target is still {2})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="203"/>
+        <source>{0}; {1} is a node: click a hinge or choose one in the list (the target is still {2})</source>
         <translation type="unfinished"></translation>
     </message>
 </context>

@@ -17,19 +17,24 @@ import FreeCADGui
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 class AddModulePanel(BasePanel):
-    TITLE = "Add module"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Add module")
     ICON = "MM_AddModule.svg"
-    LABELS = {"servo_housing": "Servo housing (across a joint)", "connection_hub": "Connection hub (node)",
-              "stable_hub": "Stable connection hub (across a joint)", "friction_pad": "Friction pad (node)",
-              "constraint_clip": "Angular-constraint clip (joint)"}
+    # English here (marked for ts_extract / lupdate), translated where shown
+    LABELS = {"servo_housing": QT_TRANSLATE_NOOP("Metamaterial", "Servo housing (across a joint)"),
+              "connection_hub": QT_TRANSLATE_NOOP("Metamaterial", "Connection hub (node)"),
+              "stable_hub": QT_TRANSLATE_NOOP("Metamaterial", "Stable connection hub (across a joint)"),
+              "friction_pad": QT_TRANSLATE_NOOP("Metamaterial", "Friction pad (node)"),
+              "constraint_clip": QT_TRANSLATE_NOOP("Metamaterial", "Angular-constraint clip (joint)")}
     ON_JOINT = structure.JOINT_MODULES
-    NOUNS = {"servo_housing": "a servo housing", "connection_hub": "a connection hub",
-             "stable_hub": "a stable connection hub", "friction_pad": "a friction pad",
-             "constraint_clip": "an angular-constraint clip"}
+    NOUNS = {"servo_housing": QT_TRANSLATE_NOOP("Metamaterial", "a servo housing"),
+             "connection_hub": QT_TRANSLATE_NOOP("Metamaterial", "a connection hub"),
+             "stable_hub": QT_TRANSLATE_NOOP("Metamaterial", "a stable connection hub"),
+             "friction_pad": QT_TRANSLATE_NOOP("Metamaterial", "a friction pad"),
+             "constraint_clip": QT_TRANSLATE_NOOP("Metamaterial", "an angular-constraint clip")}
 
     def __init__(self, scene_obj):
         super().__init__()
@@ -41,7 +46,7 @@ class AddModulePanel(BasePanel):
         f.setRowWrapPolicy(QtGui.QFormLayout.RowWrapPolicy.WrapAllRows)   # labels above: fits a narrow dock
         self.type = QtGui.QComboBox()
         for t in structure.MODULE_TYPES:
-            self.type.addItem(self.LABELS[t], t)
+            self.type.addItem(translate("Metamaterial", self.LABELS[t]), t)
             self.type.setItemData(self.type.count() - 1, self.type.itemText(self.type.count() - 1),
                                   QtCore.Qt.ItemDataRole.ToolTipRole)
         self.target = QtGui.QComboBox()
@@ -149,24 +154,30 @@ class AddModulePanel(BasePanel):
             return
         target = self.target_name()
         kind = self.kind()
-        if target:
-            self._chosen[kind] = target
+        self._chosen[kind] = target           # also None: the placeholder chosen again clears the choice
         self.set_problem("choose", "" if target else (
             translate("Metamaterial", "On: no hinge chosen yet; click one in the 3D view or choose it in the list")
             if kind == "joint" else
             translate("Metamaterial", "On: no node chosen yet; click one in the 3D view or choose it in the list")))
         self.set_problem("pick", "")          # a target chosen (in the list or by a pick) answers a refused click
         who = self.occupant(target) if target else None
-        self.set_problem("target", f"{kind} {target} already carries the module {who!r}: one module per "
-                                   f"{'joint' if kind == 'joint' else 'node socket'}; choose another {kind} "
-                                   f"or delete {who!r} first" if who else "")
+        if not who:
+            taken = ""
+        elif kind == "joint":
+            taken = translate("Metamaterial", "joint {0} already carries the module {1}: one module per joint; "
+                                              "choose another joint or delete {1} first").format(target, repr(who))
+        else:
+            taken = translate("Metamaterial", "node {0} already carries the module {1}: one module per node socket; "
+                                              "choose another node or delete {1} first").format(target, repr(who))
+        self.set_problem("target", taken)
         from metamaterial_wb.gui.panels.checks import preference_problem
         keys = ["ModuleMaterial"] + (["DefaultServo"] if self.module_type() == "servo_housing" else [])
         self.set_problem("preferences", preference_problem(keys))
 
     def goes_on(self):
         """``"a friction pad goes on a node"`` / ``"a servo housing goes across a joint"``."""
-        noun = self.NOUNS.get(self.module_type(), "this module")
+        noun = translate("Metamaterial", self.NOUNS.get(self.module_type(),
+                                                        QT_TRANSLATE_NOOP("Metamaterial", "this module")))
         if self.module_type() == "constraint_clip":
             return translate("Metamaterial", "{0} goes on a joint").format(noun)
         if self.on_joint():
@@ -177,19 +188,21 @@ class AddModulePanel(BasePanel):
         """A hinge / node under the cursor or clicked: a pick when it fits the module, else the reason why not."""
         if self.is_target(kind):
             return super().picked(kind, name, hover)
-        what = "hinge" if kind == "joint" else "node"
-        if hover:
-            self.pick_label.setText(translate("Metamaterial", "under the cursor: {0} {1} (not a target: {2})")
-                                    .format(what, name, self.goes_on()))
+        if kind == "joint":
+            text = translate("Metamaterial", "under the cursor: hinge {0} (not a target: {1})") if hover else \
+                translate("Metamaterial", "not picked: hinge {0} ({1})")
         else:
-            self.pick_label.setText(translate("Metamaterial", "not picked: {0} {1} ({2})")
-                                    .format(what, name, self.goes_on()))
+            text = translate("Metamaterial", "under the cursor: node {0} (not a target: {1})") if hover else \
+                translate("Metamaterial", "not picked: node {0} ({1})")
+        self.pick_label.setText(text.format(name, self.goes_on()))
 
     def _wrong_kind(self, kind, name):
-        what, want = ("hinge", "node") if kind == "joint" else ("node", "hinge")
-        self.set_problem("pick", translate(
-            "Metamaterial", "{0}; {1} is a {2}: click a {3} or choose one in the list (the target is still {4})")
-            .format(self.goes_on(), name, what, want, self.target_name() or "none"))
+        text = translate("Metamaterial", "{0}; {1} is a hinge: click a node or choose one in the list (the target is "
+                                         "still {2})") if kind == "joint" else \
+            translate("Metamaterial", "{0}; {1} is a node: click a hinge or choose one in the list (the target is "
+                                      "still {2})")
+        self.set_problem("pick", text.format(self.goes_on(), name,
+                                             self.target_name() or translate("Metamaterial", "none")))
 
     def _pick_joint(self, name):
         if self.on_joint():
@@ -216,7 +229,8 @@ class AddModulePanel(BasePanel):
         t = self.module_type()
         target = self.target_name()
         if not target:
-            raise MetamaterialError(self.problems.get("choose") or "choose a node or joint for the module")
+            raise MetamaterialError(self.problems.get("choose")
+                                   or translate("Metamaterial", "choose a node or joint for the module"))
         self._check()
         if self.problems:
             raise MetamaterialError(self.problem_text())

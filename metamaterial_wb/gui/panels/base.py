@@ -23,7 +23,7 @@ from PySide import QtCore, QtGui
 
 import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 from metamaterial_wb.gui.panels import ranges
 
 ACTIVE = None
@@ -59,7 +59,7 @@ def invalid_objects(doc):
                 msg = o.getStatusString()
             except Exception:  # pragma: no cover - older FreeCAD
                 pass
-            out.append((o.Label, msg or "recompute failed"))
+            out.append((o.Label, msg or translate("Metamaterial", "recompute failed")))
     return out
 
 
@@ -269,9 +269,10 @@ def task_buttons(panel=None):
 
 
 def button_row(*labels):
-    """``(layout, [buttons])``: push buttons with these labels side by side in one row."""
+    """``(layout, [buttons])``: push buttons with these labels side by side in one row. The labels are translated
+    here: callers mark them with ``QT_TRANSLATE_NOOP("Metamaterial", ...)`` so that ts_extract / lupdate list them."""
     row = QtGui.QHBoxLayout()
-    buttons = [QtGui.QPushButton(label) for label in labels]
+    buttons = [QtGui.QPushButton(translate("Metamaterial", label)) for label in labels]
     for b in buttons:
         row.addWidget(b)
     return row, buttons
@@ -341,14 +342,14 @@ def red_label(text=""):
 
 
 class BasePanel:
-    TITLE = "Metamaterial"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Metamaterial")   # subclasses: their own, marked the same way
     ICON = "Metamaterial_Workbench.svg"
     VIEW_ATTRS = ()        # attributes holding the panel's own Coin nodes or preview objects (``forget_view``)
     ITEM_ROWS = False      # a slider / row per motor or constraint: a deleted one is named, OK refused (check_items)
 
     def __init__(self):
         self.form = QtGui.QWidget()
-        self.form.setWindowTitle(self.TITLE)
+        self.form.setWindowTitle(translate("Metamaterial", self.TITLE))
         self.form.setWindowIcon(QtGui.QIcon(metamaterial_wb.icon_path(self.ICON)))
         self.layout = QtGui.QVBoxLayout(self.form)
         self.error = QtGui.QLabel("")
@@ -548,12 +549,12 @@ class BasePanel:
 
     def accept(self):
         if self.problems:
-            self.show_error("not applied: " + self.problem_text())
+            self.show_error(translate("Metamaterial", "not applied: {0}").format(self.problem_text()))
             return False
         REFUSED = ranges.REFUSED
         refused = [w.property(REFUSED) for w in self.form.findChildren(QtGui.QAbstractSpinBox) if w.property(REFUSED)]
         if refused:                                   # a value typed past a box's range: never clamped in silence
-            self.show_error("not applied: " + refused[0])
+            self.show_error(translate("Metamaterial", "not applied: {0}").format(refused[0]))
             return False
         gone = translate("Metamaterial", "not applied: the structure this panel edits was deleted (press Cancel)")
         if self.target_gone():
@@ -583,7 +584,8 @@ class BasePanel:
         """Pick joints / nodes in the 3D view: the one nearest to the click ray (any hinge size), with
         the one under the cursor highlighted before the click (``picking.Picker``)."""
         from metamaterial_wb.gui.panels.picking import Picker
-        self.pick_label = QtGui.QLabel("Click a hinge in the 3D view" if on_joint else "Click a node in the 3D view")
+        self.pick_label = QtGui.QLabel(translate("Metamaterial", "Click a hinge in the 3D view") if on_joint
+                                       else translate("Metamaterial", "Click a node in the 3D view"))
         self.pick_label.setWordWrap(True)
         self.layout.insertWidget(max(0, self.layout.count() - 2), self.pick_label)
         try:
@@ -627,11 +629,13 @@ class BasePanel:
 
     def picked(self, kind, name, hover=False):
         """The picker's report: say in the panel what is under the cursor / what was picked."""
-        what = "hinge" if kind == "joint" else "node"
-        if hover:
-            self.pick_label.setText(translate("Metamaterial", "under the cursor: {0} {1} (click to pick it)").format(what, name))
+        if kind == "joint":
+            text = translate("Metamaterial", "under the cursor: hinge {0} (click to pick it)") if hover else \
+                translate("Metamaterial", "picked hinge {0}")
         else:
-            self.pick_label.setText(translate("Metamaterial", "picked {0} {1}").format(what, name))
+            text = translate("Metamaterial", "under the cursor: node {0} (click to pick it)") if hover else \
+                translate("Metamaterial", "picked node {0}")
+        self.pick_label.setText(text.format(name))
 
 
 def pick_index(sub):

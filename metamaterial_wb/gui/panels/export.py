@@ -18,11 +18,11 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.panels.base import GREEN, BasePanel, _close
 from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 class ExportPanel(BasePanel):
-    TITLE = "Export"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Export")
     ICON = "MM_Export.svg"
 
     def __init__(self, scene_obj):
@@ -73,13 +73,13 @@ class ExportPanel(BasePanel):
 
     def _check(self, *_):
         self.set_problem("format", "" if (self.step.isChecked() or self.threemf.isChecked())
-                         else "choose STEP, 3MF or both")
+                         else translate("Metamaterial", "choose STEP, 3MF or both"))
         out = self.path.text().strip()
         msg = ""
         if not out:
-            msg = "give an output folder"
+            msg = translate("Metamaterial", "give an output folder")
         elif os.path.exists(out) and not os.path.isdir(out):
-            msg = f"{out!r} exists and is not a folder"
+            msg = translate("Metamaterial", "{0} exists and is not a folder").format(repr(out))
         self.set_problem("path", msg)
         from metamaterial_wb.gui.panels.checks import preference_problem
         keys = ["RigidMaterial", "FlexibleMaterial"] + (["ModuleMaterial"] if self.modules.isChecked() else [])
@@ -92,17 +92,18 @@ class ExportPanel(BasePanel):
         from metamaterial_wb.gui import exporting
         self.clear_error()
         if self.problems:
-            self.show_error("not exported: " + self.problem_text())
+            self.show_error(translate("Metamaterial", "not exported: {0}").format(self.problem_text()))
             return False
         if self.job.running:
             return False
         if self.target_gone():
-            self.show_error("not exported: the structure this panel exports was deleted (press Cancel)")
+            self.show_error(translate("Metamaterial", "not exported: the structure this panel exports was deleted "
+                                                      "(press Cancel)"))
             return False
         try:
             scene = structure.compose_scene(self.obj)
         except MetamaterialError as exc:
-            self.show_error(f"not exported: {exc}")
+            self.show_error(translate("Metamaterial", "not exported: {0}").format(exc))
             return False
         out = os.path.abspath(os.path.expanduser(self.path.text().strip()))   # ~ is the home folder
         job = {"scene": scene.to_dict(), "out_dir": None, "step": self.step.isChecked(),
@@ -118,11 +119,12 @@ class ExportPanel(BasePanel):
                 json.dump(job, f)
         except OSError as exc:
             self._discard_staging(created=True)
-            self.show_error(f"not exported: cannot write in {out}: {exc}")
+            self.show_error(translate("Metamaterial", "not exported: cannot write in {0}: {1}").format(out, exc))
             return False
         self.target = out
         self.export_btn.setEnabled(False)
-        self.job.start("metamaterial_wb.gui.export_job", [jpath], text="building the sheet ...")
+        self.job.start("metamaterial_wb.gui.export_job", [jpath],
+                       text=translate("Metamaterial", "building the sheet ..."))
         return True
 
     def _discard_staging(self, created=False):
@@ -145,18 +147,19 @@ class ExportPanel(BasePanel):
             written = [os.path.join(self.target, os.path.basename(p)) for p in files]
             gone = remove_outputs(self.target, stale)
         except (OSError, MetamaterialError) as exc:   # a user's folder where a file goes is refused
-            self._failed(f"cannot move the files into {self.target}: {exc}")
+            self._failed(translate("Metamaterial", "cannot move the files into {0}: {1}").format(self.target, exc))
             return
         finally:
             self._discard_staging()     # after _failed (which also removed the folders it made): nothing left
         self.written, self.warnings = written, list(result.get("warnings", []))
         self._keep_active()
-        lines = [f"wrote {len(written)} file(s) to {self.target} in {result.get('seconds', 0.0):.1f} s:"]
+        lines = [translate("Metamaterial", "wrote {0} file(s) to {1} in {2:.1f} s:").format(
+            len(written), self.target, result.get("seconds", 0.0))]
         lines += ["  " + os.path.basename(p) for p in written]
         if gone:
-            lines.append(f"removed {len(gone)} file(s) of the earlier export that this one does not write: "
-                         + ", ".join(gone))
-        lines += [f"warning: {w}" for w in self.warnings]
+            lines.append(translate("Metamaterial", "removed {0} file(s) of the earlier export that this one does not "
+                                                   "write: {1}").format(len(gone), ", ".join(gone)))
+        lines += [translate("Metamaterial", "warning: {0}").format(w) for w in self.warnings]
         self.jobbox.summary.setStyleSheet(GREEN if not self.warnings else "color: #a05a00;")
         self.jobbox.summary.setText("\n".join(lines))
         FreeCAD.Console.PrintMessage("Metamaterial export: " + ", ".join(written) + "\n")
@@ -169,7 +172,7 @@ class ExportPanel(BasePanel):
         self._discard_staging(created=True)
         self._keep_active()
         self.written = []
-        self.show_error(f"not exported: {message}")
+        self.show_error(translate("Metamaterial", "not exported: {0}").format(message))
         self._check()
 
     def _cancelled(self):

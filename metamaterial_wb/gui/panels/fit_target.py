@@ -18,7 +18,7 @@ import FreeCADGui
 from PySide import QtCore, QtGui
 
 from metamaterial_wb.core.errors import MetamaterialError
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 from metamaterial_wb.gui.panels import base, jobs, ranges
 from metamaterial_wb.gui.panels.widgets import wrapped_check
 from metamaterial_wb.objects import structure
@@ -120,7 +120,7 @@ def object_triangles(obj):
 
 class FitTargetPanel(base.BasePanel):
     VIEW_ATTRS = ("preview",)
-    TITLE = "Fit to target"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Fit to target")
     ICON = "MM_FitTarget.svg"
 
     def __init__(self, scene_obj):
@@ -143,7 +143,7 @@ class FitTargetPanel(base.BasePanel):
         self.target_obj = QtGui.QComboBox()
         self.target_obj.setSizeAdjustPolicy(QtGui.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.target_obj.setMinimumContentsLength(12)
-        self.target_obj.addItem("(use the file)")
+        self.target_obj.addItem(translate("Metamaterial", "(use the file)"))
         own = {o.Name for o in [scene_obj] + list(getattr(scene_obj, "OutList", []))}
         for o in self.doc.Objects:
             if o.Name not in own and (hasattr(o, "Mesh") or (hasattr(o, "Shape") and o.TypeId.startswith("Part::")

@@ -13,11 +13,11 @@ from metamaterial_wb.objects.common import assign
 from metamaterial_wb.gui.panels.base import BasePanel, button_row
 from metamaterial_wb.gui.panels.checks import design_problem
 from metamaterial_wb.gui.panels import ranges
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 class FlexibilityPanel(BasePanel):
-    TITLE = "Flexibility"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Flexibility")
     ICON = "MM_Flexibility.svg"
 
     def __init__(self, scene_obj):
@@ -53,7 +53,8 @@ class FlexibilityPanel(BasePanel):
         pf.addRow(translate("Metamaterial", "Length"), self.j_length)
         pf.addRow(translate("Metamaterial", "Width"), self.j_width)
         pf.addRow(translate("Metamaterial", "k1, k2"), self.jk_label)
-        bl, (self.set_btn, self.del_btn) = button_row("Set for this joint", "Use global size")
+        bl, (self.set_btn, self.del_btn) = button_row(QT_TRANSLATE_NOOP("Metamaterial", "Set for this joint"),
+                                                        QT_TRANSLATE_NOOP("Metamaterial", "Use global size"))
         pf.addRow(bl)
         self.ov_list = QtGui.QListWidget()
         pf.addRow(self.ov_list)
@@ -207,7 +208,7 @@ class FlexibilityPanel(BasePanel):
         else:
             problem = design_problem(sc)
             if problem:
-                hinge = f"with these sizes: {problem}"
+                hinge = translate("Metamaterial", "with these sizes: {0}").format(problem)
         self.set_problem("hinge", hinge)
         self.set_problem("joints", joints)
         return not (hinge or joints)

@@ -27,7 +27,7 @@ from metamaterial_wb.gui.panels.widgets import ElidedLabel  # noqa: F401 - also 
 from metamaterial_wb.gui.panels.checks import unconfigured
 from metamaterial_wb.objects import design_adapter, structure
 from metamaterial_wb.gui.panels import ranges
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 FOLD_RANGE = ranges.FIELDS["axes.fold_deg"][:2]     # the scene validator's range of axes[k].fold_deg
 FOLD_DECIMALS = 3
@@ -87,7 +87,7 @@ class SliderKeys(QtCore.QObject):
 
 
 class FoldedShapePanel(BasePanel):
-    TITLE = "Folded shape"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Folded shape")
     ICON = "MM_FoldedShape.svg"
 
     def __init__(self, scene_obj):
@@ -123,10 +123,12 @@ class FoldedShapePanel(BasePanel):
             s.setMinimumWidth(SLIDER_MIN_WIDTH)
             lim = QtGui.QLabel("")
             lim.setWordWrap(True)
-            lim.setToolTip(f"kinematic maximum bound by {why}" if why else "")
+            lim.setToolTip(translate("Metamaterial", "kinematic maximum bound by {0}").format(why) if why else "")
             r = ROWS_PER_AXIS * k
-            grid.addWidget(ElidedLabel(translate("Metamaterial", "{0}{1} {2}").format(
-                name + ': ' if name else '', a.direction, a.line)), r, 0)
+            line = (translate("Metamaterial", "vertical {0}") if a.direction == "vertical" else
+                    translate("Metamaterial", "horizontal {0}")).format(a.line)
+            text = translate("Metamaterial", "{0}: {1}").format(name, line) if name else line
+            grid.addWidget(ElidedLabel(text), r, 0)
             grid.addWidget(spin, r, 1)
             grid.addWidget(s, r + 1, 0, 1, 2)
             grid.addWidget(lim, r + 2, 0, 1, 2)
@@ -195,7 +197,7 @@ class FoldedShapePanel(BasePanel):
                 translate("Metamaterial", "printable: n/a")
             text = translate("Metamaterial", "{0}, {1}").format(kin, pr)
             if lim is not None:
-                text += translate("Metamaterial", " (slider +-{0:.1f})").format(span / STEPS_PER_DEG)
+                text = translate("Metamaterial", "{0} (slider +-{1:.1f})").format(text, span / STEPS_PER_DEG)
             self.limit_labels[k].setText(text)
         self._validate()
         self._preview_timer.start()
@@ -206,10 +208,12 @@ class FoldedShapePanel(BasePanel):
             lim = self.limit_deg(k)
             msg = ""
             if lim is not None and abs(f) > lim + TOL:
-                kind = "printable" if self.printable.isChecked() and self.limits[k][2] is not None else "kinematic"
-                b = toward_zero(lim)
-                msg = (f"{f:g} deg is beyond the {kind} maximum of this axis: allowed range "
-                       f"[-{b:.{FOLD_DECIMALS}f}, {b:.{FOLD_DECIMALS}f}] deg")
+                b = f"{toward_zero(lim):.{FOLD_DECIMALS}f}"
+                msg = (translate("Metamaterial", "{0:g} deg is beyond the printable maximum of this axis: "
+                                                 "allowed range [-{1}, {1}] deg")
+                       if self.printable.isChecked() and self.limits[k][2] is not None else
+                       translate("Metamaterial", "{0:g} deg is beyond the kinematic maximum of this axis: "
+                                                 "allowed range [-{1}, {1}] deg")).format(f, b)
             self.set_problem(f"axis{k}", msg)
 
     # edits ------------------------------------------------------------------------------

@@ -18,7 +18,7 @@ from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import GREEN, BasePanel, _fit
 from metamaterial_wb.gui.panels.checks import design_problem
 from metamaterial_wb.gui.panels import ranges
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 def _check_full_grid(rows, cols):
@@ -33,7 +33,7 @@ def _check_full_grid(rows, cols):
 class NewStructurePanel(BasePanel):
     """Rows / columns and the toggle-button grid (cells named [row, col], as the rule messages name
     them), presets, or a scene file (typed or browsed; checked as the structure would be built)."""
-    TITLE = "New metamaterial structure"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "New metamaterial structure")
     ICON = "MM_NewStructure.svg"
     BUTTONS_MAX = 32          # beyond 32 x 32 the layout is the full grid (too many buttons to click)
     GRID_MAX = 2000           # the scene validator allows at most 1,000,000 cells (it says so in words)

@@ -9,6 +9,7 @@ import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP
 from metamaterial_wb.gui.panels.base import BasePanel, _fit
 
 
@@ -29,7 +30,7 @@ def example_files():
 
 
 class OpenExamplePanel(BasePanel):
-    TITLE = "Open example"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Open example")
     ICON = "MM_OpenExample.svg"
 
     def __init__(self, doc=None):

@@ -7,13 +7,14 @@ from metamaterial_wb.objects import structure
 from metamaterial_wb.gui.panels.base import BasePanel
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.panels.stream import joint_angle_text
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 class PlaceItemPanel(BasePanel):
     def __init__(self, scene_obj, kind="actuator"):
         self.kind = kind
-        self.TITLE = "Place motor" if kind == "actuator" else "Angular constraint"
+        self.TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Place motor") if kind == "actuator" else \
+            QT_TRANSLATE_NOOP("Metamaterial", "Angular constraint")
         self.ICON = "MM_PlaceMotor.svg" if kind == "actuator" else "MM_PlaceConstraint.svg"
         super().__init__()
         self.obj = scene_obj

@@ -6,7 +6,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.objects import design_adapter, structure
 from metamaterial_wb.gui.panels.base import BasePanel
 from metamaterial_wb.gui.panels.overlays import AxisOverlay, axis_segment
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 BUTTONS_PER_ROW = 6       # grid-line buttons (30 px) per row: they fit a ~300 px task dock
@@ -14,7 +14,7 @@ BUTTONS_PER_ROW = 6       # grid-line buttons (30 px) per row: they fit a ~300 p
 
 class RotaryAxesPanel(BasePanel):
     VIEW_ATTRS = ("overlay",)
-    TITLE = "Rotary axes"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Rotary axes")
     ICON = "MM_RotaryAxes.svg"
 
     def __init__(self, scene_obj):

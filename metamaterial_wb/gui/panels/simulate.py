@@ -9,12 +9,16 @@ from metamaterial_wb.objects.common import assign
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
 from metamaterial_wb.gui.panels.folded_shape import SLIDER_MIN_WIDTH
 from metamaterial_wb.gui.panels.widgets import ElidedLabel
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 class SimulatePanel(BasePanel):
     """Global-deformation slider and one slider per motor and constraint, solved live."""
-    TITLE = "Simulate"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Simulate")
+    # the Model property's values (the combo's item data), shown translated
+    MODELS = {"linear": QT_TRANSLATE_NOOP("Metamaterial", "linear"),
+              "quadratic": QT_TRANSLATE_NOOP("Metamaterial", "quadratic"),
+              "nonlinear": QT_TRANSLATE_NOOP("Metamaterial", "nonlinear")}
     ICON = "MM_Simulate.svg"
     ITEM_ROWS = True
 
@@ -33,8 +37,9 @@ class SimulatePanel(BasePanel):
         self.model = QtGui.QComboBox()
         self.model.setSizeAdjustPolicy(QtGui.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.model.setMinimumContentsLength(10)
-        self.model.addItems(list(scene_obj.getEnumerationsOfProperty("Model")))
-        self.model.setCurrentText(scene_obj.Model)
+        for m in scene_obj.getEnumerationsOfProperty("Model"):
+            self.model.addItem(translate("Metamaterial", self.MODELS.get(m, m)), m)
+        self.model.setCurrentIndex(max(0, self.model.findData(scene_obj.Model)))
         f.addRow(translate("Metamaterial", "Model"), self.model)
         self.layout.addLayout(f)
         gbox = QtGui.QGroupBox(translate("Metamaterial", "Global deformation"))     # a title never wraps: short
@@ -92,11 +97,11 @@ class SimulatePanel(BasePanel):
         self.frames = 0
         self.update_ms = None
         self.update_times = []
-        self.model.currentTextChanged.connect(self._model_changed)
+        self.model.currentIndexChanged.connect(lambda *_: self._model_changed(self.model.currentData()))
         self.global_slider.valueChanged.connect(self._global_moved)
         self.use_global.toggled.connect(self._global_toggled)
         self._global_toggled(self.use_global.isChecked(), update=False)
-        self._model_changed(self.model.currentText())
+        self._model_changed(self.model.currentData())
 
     def _model_changed(self, name):
         if self.check_target():
@@ -211,7 +216,7 @@ class SimulatePanel(BasePanel):
                     assign(it, "Value", vals[it.ItemName])
             assign(self.obj, "UseGlobal", self.use_global.isChecked())
             assign(self.obj, "GlobalDeformation", self.global_value())   # untouched: the stored value exactly
-            assign(self.obj, "Model", self.model.currentText())
+            assign(self.obj, "Model", self.model.currentData())
         self.commit(doc, "Simulate", change)
 
 

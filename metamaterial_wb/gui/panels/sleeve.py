@@ -11,7 +11,7 @@ from metamaterial_wb.gui.panels.base import BasePanel, button_row, transaction, 
 from metamaterial_wb.gui.panels.jobs import JobBox, ProcessJob, ThreadJob
 from metamaterial_wb.gui.panels.widgets import wrapped_check
 from metamaterial_wb.gui.panels import ranges
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 from metamaterial_wb.core.sleeve import spec as sleeve_spec
 
 # The cap the inner membrane pushes on (``actuator.core_diameter_mm``): the validator allows (0, BED_MM] and at most
@@ -45,7 +45,7 @@ def sleeve_summary_text(summary):
 class SleevePanel(BasePanel):
     """Open a ``metamaterial-sleeve`` spec, edit its main parameters, build the sleeve (OK, one undo
     step) and optionally run the prediction (core.sleeve.pipeline.analyse) in the background."""
-    TITLE = "Sleeve actuator"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Sleeve actuator")
     ICON = "MM_Sleeve.svg"
     DEFAULT = os.path.join(metamaterial_wb.EXAMPLES_DIR, "sleeve.json")
 
@@ -71,8 +71,11 @@ class SleevePanel(BasePanel):
         self.name = QtGui.QLineEdit("sleeve")
         f.addRow(translate("Metamaterial", "Name"), self.name)
         self.dims = {}
-        for key, label in (("L_mm", "L (beam span)"), ("c_mm", "c (pillar width)"), ("delta_mm", "delta (gap)"),
-                           ("T_mm", "T (wall thickness)"), ("shear_modulus_MPa", "G (shear modulus)")):
+        for key, label in (("L_mm", translate("Metamaterial", "L (beam span)")),
+                           ("c_mm", translate("Metamaterial", "c (pillar width)")),
+                           ("delta_mm", translate("Metamaterial", "delta (gap)")),
+                           ("T_mm", translate("Metamaterial", "T (wall thickness)")),
+                           ("shear_modulus_MPa", translate("Metamaterial", "G (shear modulus)"))):
             w = QtGui.QDoubleSpinBox()
             w.setDecimals(3)
             ranges.bind(w, "sleeve." + key)        # the spec validator's range (L up to 1000 mm)
@@ -100,13 +103,14 @@ class SleevePanel(BasePanel):
         f.addRow(translate("Metamaterial", "Cap diameter (core_diameter_mm)"), cl)
         self.layout.addLayout(f)
         self.types = QtGui.QTableWidget(0, 2)
-        self.types.setHorizontalHeaderLabels(["t (mm)", "h (mm)"])
+        self.types.setHorizontalHeaderLabels([translate("Metamaterial", "t (mm)"), translate("Metamaterial", "h (mm)")])
         self.types.setMaximumHeight(130)
         self.types.horizontalHeader().setSectionResizeMode(QtGui.QHeaderView.ResizeMode.Stretch)
         self.types.setTabKeyNavigation(False)     # Tab goes from box to box (``_tab_order``), not from cell to cell
         self.layout.addWidget(QtGui.QLabel(translate("Metamaterial", "Cell types (row = type index)")))
         self.layout.addWidget(self.types)
-        bl, (add, rem) = button_row("Add type", "Remove last")
+        bl, (add, rem) = button_row(QT_TRANSLATE_NOOP("Metamaterial", "Add type"),
+                                   QT_TRANSLATE_NOOP("Metamaterial", "Remove last"))
         self.add_btn = add
         add.clicked.connect(lambda: self.add_type(1.0, 7.0))
         rem.clicked.connect(self.remove_type)
