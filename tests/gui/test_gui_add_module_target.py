@@ -99,3 +99,22 @@ def test_add_module_fits_a_narrow_task_dock(doc, narrow):
         assert combo.width() >= combo.minimumSizeHint().width(), m
         assert combo.toolTip() == combo.currentText(), (combo.toolTip(), combo.currentText())
     assert press_cancel()
+
+
+def test_a_target_cleared_by_the_user_stays_cleared_across_a_type_change(doc):
+    """Choosing the placeholder again did not forget the earlier choice: switching the module type away and back
+    brought back the target the user had cleared (review of the above)."""
+    open_example("fish")
+    FreeCADGui.Selection.clearSelection()
+    p = run_panel("MM_AddModule")
+    p.set_type("servo_housing")
+    p.target.setCurrentText("H0,2")
+    assert dialog_button("Ok").isEnabled()
+    p.target.setCurrentIndex(0)                                 # the placeholder: no hinge
+    assert not dialog_button("Ok").isEnabled()
+    p.set_type("friction_pad")
+    p.set_type("servo_housing")
+    process()
+    assert p.target.currentText().startswith("(click a hinge"), p.target.currentText()
+    assert not dialog_button("Ok").isEnabled()
+    p.reject()
