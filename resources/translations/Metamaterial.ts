@@ -171,14 +171,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="136"/>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="587"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="586"/>
         <source>Click a hinge in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="137"/>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="588"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="587"/>
         <source>Click a node in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
@@ -461,12 +459,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="160"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="158"/>
         <source>On: no hinge chosen yet; click one in the 3D view or choose it in the list</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="162"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="160"/>
         <source>On: no node chosen yet; click one in the 3D view or choose it in the list</source>
         <translation type="unfinished"></translation>
     </message>
@@ -842,7 +840,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="234"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="232"/>
         <source>choose a node or joint for the module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -919,7 +917,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="168"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="166"/>
         <source>joint {0} already carries the module {1}: one module per joint; choose another joint or delete {1} first</source>
         <translation type="unfinished"></translation>
     </message>
@@ -991,12 +989,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="171"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="169"/>
         <source>node {0} already carries the module {1}: one module per node socket; choose another node or delete {1} first</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="206"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="204"/>
         <source>none</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1034,12 +1032,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="192"/>
         <source>not picked: hinge {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="197"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="195"/>
         <source>not picked: node {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1079,12 +1077,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="634"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="639"/>
         <source>picked hinge {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="637"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="642"/>
         <source>picked node {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1236,7 +1234,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="179"/>
         <source>this module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1251,22 +1249,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="633"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="638"/>
         <source>under the cursor: hinge {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="193"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="191"/>
         <source>under the cursor: hinge {0} (not a target: {1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="636"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="641"/>
         <source>under the cursor: node {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="194"/>
         <source>under the cursor: node {0} (not a target: {1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1368,17 +1366,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="185"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="183"/>
         <source>{0} goes across a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="183"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="181"/>
         <source>{0} goes on a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="186"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="184"/>
         <source>{0} goes on a node</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1468,12 +1466,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="201"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="199"/>
         <source>{0}; {1} is a hinge: click a node or choose one in the list (the target is still {2})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="203"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="201"/>
         <source>{0}; {1} is a node: click a hinge or choose one in the list (the target is still {2})</source>
         <translation type="unfinished"></translation>
     </message>

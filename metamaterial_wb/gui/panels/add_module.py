@@ -133,8 +133,7 @@ class AddModulePanel(BasePanel):
         if getattr(self, "picker", None) is not None:
             self.picker.refresh()             # the candidate under the cursor may have become (no) target
         if getattr(self, "pick_label", None) is not None:
-            self.pick_label.setText(translate("Metamaterial", "Click a hinge in the 3D view") if self.on_joint()
-                                    else translate("Metamaterial", "Click a node in the 3D view"))
+            self.pick_label.setText(self.pick_hint(self.on_joint()))
 
     def occupant(self, target):
         """The module already on joint / node ``target`` (its name), or None."""

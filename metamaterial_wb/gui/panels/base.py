@@ -580,12 +580,17 @@ class BasePanel:
         return True
 
     # 3D-view picking --------------------------------------------------------------------
+    @staticmethod
+    def pick_hint(on_joint):
+        """The line that says what a click in the 3D view picks (a hinge, else a node)."""
+        return translate("Metamaterial", "Click a hinge in the 3D view") if on_joint else \
+            translate("Metamaterial", "Click a node in the 3D view")
+
     def watch_selection(self, scene_obj, on_joint=None, on_node=None):
         """Pick joints / nodes in the 3D view: the one nearest to the click ray (any hinge size), with
         the one under the cursor highlighted before the click (``picking.Picker``)."""
         from metamaterial_wb.gui.panels.picking import Picker
-        self.pick_label = QtGui.QLabel(translate("Metamaterial", "Click a hinge in the 3D view") if on_joint
-                                       else translate("Metamaterial", "Click a node in the 3D view"))
+        self.pick_label = QtGui.QLabel(self.pick_hint(bool(on_joint)))
         self.pick_label.setWordWrap(True)
         self.layout.insertWidget(max(0, self.layout.count() - 2), self.pick_label)
         try:
