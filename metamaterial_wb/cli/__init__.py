@@ -14,10 +14,16 @@ SIGHUP are turned into KeyboardInterrupt so every ``finally`` removes its tempor
 import argparse
 import importlib
 import pkgutil
+import re
 import sys
 
 from metamaterial_wb import __version__
-from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.core.errors import MetamaterialError, SceneError
+
+# the scene fields checked after the scene was read, by the model that uses them: a hinge size outside the
+# calibration table (core/calibration.py: ``hinge.length_mm``, ``joints[1].length_mm (H0,0)``); Scene.load names
+# the file in its own errors ("(in PATH)"), the scene object keeps no path, so main() adds it to these
+_LATE_SCENE_FIELD = re.compile(r"(hinge|joints\[[0-9]+\])\.")
 
 
 def _command_modules():
@@ -113,6 +119,17 @@ def _one_line(text, limit=500):
     return text if len(text) <= limit else text[:limit] + " ..."
 
 
+def _in_scene_file(exc, args):
+    """``exc`` with `` (in SCENE)`` added when it names a field of the command's scene file (``args.scene``, or
+    calibrate's ``args.piece``) that is checked after loading (:data:`_LATE_SCENE_FIELD`), as the scene's own
+    errors end; any other error as it is."""
+    path = getattr(args, "scene", None) or getattr(args, "piece", None)
+    if not (isinstance(exc, SceneError) and isinstance(path, str) and isinstance(exc.field, str)
+            and _LATE_SCENE_FIELD.match(exc.field) and f"(in {path})" not in exc.message):
+        return exc
+    return SceneError(exc.field, f"{exc.message} (in {path})")
+
+
 def main(argv=None):
     import signal
 
@@ -122,7 +139,7 @@ def main(argv=None):
     try:
         return int(args._run(args) or 0)
     except MetamaterialError as exc:
-        print(f"error: {_one_line(exc)}", file=sys.stderr)
+        print(f"error: {_one_line(_in_scene_file(exc, args))}", file=sys.stderr)
         return 2
     except OSError as exc:
         where = exc.filename if exc.filename is not None else ""

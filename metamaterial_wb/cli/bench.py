@@ -66,6 +66,9 @@ def add_arguments(p):
 
 
 FE_NAN_PATHS = "nan_paths"      # --fe-json-out: where the study held NaN (written as null; read back as NaN)
+# --fe-json-out marks its file, as every JSON report written is marked (named if read as a scene, or as an FE study
+# when it is another document); --fe-json reads a file with this marker or, written before it, none
+FE_FORMAT, FE_VERSION = "metamaterial-fe-study", 1
 
 
 def _nan_to_null(obj, path=(), found=None):
@@ -123,6 +126,7 @@ def _read_study(path, hint=""):
     if not isinstance(study, dict):
         raise SceneError("--fe-json", f"{path!r}: the FE study is a JSON {type(study).__name__}, expected an object "
                                       f"(as written by --fe-json-out){hint}")
+    _check_fe_marker(study, path, hint)
     if FE_NAN_PATHS in study:
         _null_to_nan(study, study.pop(FE_NAN_PATHS), repr(path))
     try:
@@ -131,6 +135,27 @@ def _read_study(path, hint=""):
         raise SceneError("--fe-json", f"{path!r}: the FE study is incomplete or malformed "
                                       f"({type(exc).__name__}: {exc}){hint}") from None
     return study
+
+
+def _check_fe_marker(study, path, hint):
+    """Take the marker of a file written by ``--fe-json-out`` off ``study`` (``"format": FE_FORMAT``, ``"version":
+    FE_VERSION``); refuse another document's format, naming it, or another version. A file without "format" (one
+    written before the marker, like a stored study) is read as it is, as scenes and targets without one are."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.scene.names import FORMAT as SCENE_FORMAT
+    from metamaterial_wb.core.scene.sections import OTHER_DOCUMENTS
+    if "format" not in study:
+        return
+    fmt = study["format"]
+    if fmt != FE_FORMAT:
+        what = {SCENE_FORMAT: "a scene", **OTHER_DOCUMENTS}.get(fmt) if isinstance(fmt, str) else None
+        raise SceneError("--fe-json", f"{path!r}: its format is {fmt!r}" + (f" ({what})" if what else "")
+                         + f", not an FE study; expected {FE_FORMAT!r} (a file written by --fe-json-out){hint}")
+    ver = study.get("version")
+    if type(ver) is not int or ver != FE_VERSION:          # type(): True and 1.0 are no version 1
+        raise SceneError("--fe-json", f"{path!r}: version {ver!r} of {FE_FORMAT!r} is not supported; this program "
+                                      f"reads version {FE_VERSION} (the whole number){hint}")
+    del study["format"], study["version"]
 
 
 def _read_results(path):
@@ -409,6 +434,7 @@ def run(args):
         # not-reached figures (NaN) as null, listed in nan_paths so that --fe-json reads them back as NaN
         if args.fe and fe_study is not None and args.fe_json_out:
             copy, nan_paths = _nan_to_null(fe_study)
+            copy = {"format": FE_FORMAT, "version": FE_VERSION, **copy}     # named when read as something else
             if nan_paths:
                 copy[FE_NAN_PATHS] = nan_paths
             try:

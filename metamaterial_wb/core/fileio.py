@@ -1,7 +1,8 @@
 """Files out, safely (issue 19); inputs are read by :mod:`metamaterial_wb.core.inputfile`.
 
 * :func:`check_output` checks an output path before any work is done.
-* :func:`write_atomic` / :func:`write_json` write one file through a temporary file and a rename;
+* :func:`write_atomic` / :func:`write_json` write one file through a temporary file and a rename; a path that
+  is a symbolic link is written through to the file it points to (:func:`write_target`), as ``cp`` does;
   :class:`OutputSet` moves a whole set of files into a folder, rolling back if any move fails.
 * Temporary names carry the writer's process id (``.tmp-<pid>-...``); :func:`sweep_stale` removes
   those of processes that no longer run (a ``kill -9`` leaves them), and is called on every write
@@ -82,15 +83,20 @@ def check_output(path, kind="file", option="--out", inputs=()):
         st = None
     except OSError as exc:
         raise SceneError(option, f"{path}: {os_reason(exc)}") from None
+    target = ab
     if st is None and os.path.islink(ab):
-        raise SceneError(option, f"{path} is a dangling symbolic link")
+        if kind != "file":
+            raise SceneError(option, f"{path} is a dangling symbolic link")
+        target = write_target(ab, option)       # written through to its target, if that one's folder exists
     if st is not None:
         if kind == "dir" and not stat.S_ISDIR(st.st_mode):
             what = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
             raise SceneError(option, f"{path} exists and is {what}, not a folder")
         if kind == "file" and not stat.S_ISREG(st.st_mode):
             raise SceneError(option, f"{path} exists and is {file_kind(st.st_mode)}, not a file; it is not replaced")
-    anc = ab if (st is not None and kind == "dir") else os.path.dirname(ab)
+    if st is not None and kind == "file":
+        target = write_target(ab, option)       # a link: the file it points to is written, in its own folder
+    anc = ab if (st is not None and kind == "dir") else os.path.dirname(target)
     while True:
         try:
             ast = os.stat(anc)
@@ -197,6 +203,42 @@ def make_temp_dir(parent, kind="tmp"):
     return tempfile.mkdtemp(dir=parent, prefix=temp_prefix(kind))
 
 
+def write_target(path, option="--out"):
+    """The file a write of ``path`` replaces: ``path`` itself, or, when it is a symbolic link, the file the link
+    points to (``os.path.realpath``), as ``cp`` and editors write through a link (the atomic rename would replace
+    the link itself by a regular file). A dangling link gives its target when the target's folder exists.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output path as given (absolute or relative).
+    option : str, optional
+        The option name used in error messages.
+
+    Returns
+    -------
+    str
+        ``path``, or the absolute path of the link's target.
+
+    Raises
+    ------
+    SceneError
+        ``path`` is a dangling link whose target's folder does not exist, or a link loop (naming the link and
+        its target, under ``option``).
+    """
+    path = os.fspath(path)
+    if not os.path.islink(path):
+        return path
+    target = os.path.realpath(path)
+    if os.path.islink(target):              # realpath stops at a loop: the link it ends on is no file to write
+        raise SceneError(option, f"{path} is a symbolic link loop ({target}); it is not replaced")
+    folder = os.path.dirname(target)
+    if not os.path.isdir(folder):
+        raise SceneError(option, f"{path} is a symbolic link to {os.readlink(path)}, whose folder {folder} is not an "
+                                 f"existing folder; create it, or write elsewhere")
+    return target
+
+
 def _mkdirs(folder):
     try:
         os.makedirs(folder, exist_ok=True)
@@ -206,7 +248,8 @@ def _mkdirs(folder):
 
 def write_atomic(path, data, mode="w"):
     """Write ``data`` (str or bytes, or a callable that writes to the open file) to ``path`` through a
-    temporary file and a rename; the file gets the usual permissions (0666 less the umask).
+    temporary file and a rename; the file gets the usual permissions (0666 less the umask). A ``path`` that is a
+    symbolic link is written through: the file it points to is replaced, the link stays (:func:`write_target`).
 
     Parameters
     ----------
@@ -219,9 +262,11 @@ def write_atomic(path, data, mode="w"):
     ------
     OSError
         If writing fails (the temporary file is removed; ``path`` is untouched).
+    SceneError
+        ``path`` is a link that cannot be written through (:func:`write_target`).
     """
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
+    path = write_target(os.path.abspath(os.fspath(path)))
+    folder = os.path.dirname(path)
     _mkdirs(folder)
     sweep_stale(folder)
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=temp_prefix(), suffix="-" + os.path.basename(path)[-40:])
@@ -361,7 +406,8 @@ def write_together(outputs):
 
     Every text goes to a temporary folder beside its file first; then each file is moved into place, the one it
     replaces kept aside; if a write or a move fails, the files already moved are taken back, the earlier ones
-    restored and the folders this call created removed, then the error is raised (``design --out --report``).
+    restored and the folders this call created removed, then the error is raised (``design --out --report``). A
+    path that is a symbolic link is written through to the file it points to (:func:`write_target`).
 
     Parameters
     ----------
@@ -374,9 +420,10 @@ def write_together(outputs):
         The first failed write or move (after rolling back).
     """
     made, staged, moved = [], [], []
+    outputs = [(write_target(os.path.abspath(os.fspath(path))), text) for path, text in outputs]   # before any write
     try:
         for path, text in outputs:
-            folder = os.path.dirname(os.path.abspath(path))
+            folder = os.path.dirname(path)
             missing, f = [], folder
             while not os.path.lexists(f):
                 missing.append(f)
@@ -386,7 +433,7 @@ def write_together(outputs):
             finally:
                 made += [m for m in missing if os.path.isdir(m)]
             tmp = make_temp_dir(folder, "tmp")  # swept if this process dies
-            staged.append((os.path.abspath(path), tmp))
+            staged.append((path, tmp))
             write_atomic(os.path.join(tmp, "new"), text)
         for path, tmp in staged:
             had_old = os.path.lexists(path)

@@ -28,10 +28,11 @@ MAX_TEXT = 100_000      # characters of name / description
 MATERIAL_FIELDS = {"hinge_strain_limit": (0.5, 0, 5, True, False, ""),
                    "hinge_modulus_MPa": (26.0, 0, 1_000_000, True, False, "MPa"),
                    "hinge_poisson_ratio": (0.45, 0, 0.5, False, True, "")}
-# the fields an actuator / constraint reads (docs/scene-format.md); any other field is the user's and kept, unless
+# the fields an actuator / constraint / axis reads (docs/scene-format.md); any other field is the user's and kept, unless
 # it is a near miss of one of these (NEAR_MISS_CUTOFF): "vlaue", "Value", "profil" silently became value 0 / no motion
 ITEM_FIELDS = {"actuators": ("name", "joint", "value", "profile", "servo"),
-               "constraints": ("name", "joint", "value")}
+               "constraints": ("name", "joint", "value"),
+               "axes": ("direction", "line", "fold_deg", "name", "from", "to")}
 NEAR_MISS_CUTOFF = 0.8    # difflib ratio: "vlaue", "jiont", "sevro" are 0.8; "servo_type", "value_deg", "scale" below
 # the "format" of the other documents this program reads or writes: reading one as a scene says what it is
 OTHER_DOCUMENTS = {"metamaterial-result": "a result of solve", "metamaterial-result-npz": "a result of solve --npz",
@@ -43,7 +44,8 @@ OTHER_DOCUMENTS = {"metamaterial-result": "a result of solve", "metamaterial-res
                    "metamaterial-build-manifest": "a build manifest.json",
                    "metamaterial-sleeve": "a sleeve spec (read by the sleeve command)",
                    "metamaterial-sleeve-summary": "a sleeve summary.json",
-                   "metamaterial-calibration": "a calibration table", "metamaterial-fidelity": "a bench fidelity file"}
+                   "metamaterial-calibration": "a calibration table", "metamaterial-fidelity": "a bench fidelity file",
+                   "metamaterial-fe-study": "a bench --fe-json-out FE study"}
 
 
 def module_name_error(field, name):
@@ -168,6 +170,7 @@ def parse_axes(s, data):
         f = f"axes[{k}]"
         if not isinstance(a, dict):
             raise SceneError(f, f"expected an object with direction, line, fold_deg; got {_short(a)}")
+        _check_near_misses(a, f, "axes")       # "fold_dge" was kept and the axis silently folded by 0
         direction = a.get("direction")
         if direction not in ("vertical", "horizontal"):
             raise SceneError(f"{f}.direction", f"{_short(direction)}; allowed: \"vertical\" or \"horizontal\"")
@@ -275,8 +278,9 @@ def near_miss(key, known):
 
 
 def _check_near_misses(item, f, listname):
-    """An actuator's / constraint's own fields are kept (user metadata, docs/scene-format.md), but one that looks
-    like a field the item reads is a misspelling: kept, the item silently lost its value (0) or its motion."""
+    """An actuator's / constraint's / axis' own fields are kept (user metadata, docs/scene-format.md), but one that
+    looks like a field the item reads is a misspelling: kept, the item silently lost its value (0), its motion or
+    its fold (0)."""
     allowed = ITEM_FIELDS[listname]
     # a constraint's "profil" is a near miss too (of a field constraints refuse: said so below)
     candidates = allowed + (("profile",) if listname == "constraints" else ())
