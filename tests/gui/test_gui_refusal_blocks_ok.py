@@ -55,8 +55,8 @@ def test_the_refusal_line_sits_next_to_its_field(doc):
     p = run_panel("MM_NewStructure")
     type_into(p.cell, "0")
     labs = [lab for lab in p.form.findChildren(QtGui.QLabel)
-            if lab.isVisible() and refused(p.cell) == lab.text() and lab is not p.error]   # (also said panel-wide)
-    assert labs, red_lines(p)
+            if lab.isVisible() and refused(p.cell) == lab.text()]
+    assert len(labs) == 1 and labs[0] is not p.error, red_lines(p)     # said once, under the box
     lab = labs[0]
     gap = abs(lab.mapTo(p.form, lab.rect().topLeft()).y() - p.cell.mapTo(p.form, p.cell.rect().bottomLeft()).y())
     assert gap < 3 * p.cell.height(), gap                  # under the box, not at the panel's end

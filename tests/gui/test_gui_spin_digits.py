@@ -69,7 +69,8 @@ def test_a_fold_typed_in_arabic_indic_digits_is_said_as_digits_the_box_does_not_
     assert "fold_deg" in text and ARABIC_3 + ARABIC_0 + ARABIC_0 in text and "only the ASCII digits 0-9" in text, text
     assert "outside the allowed range" not in text, text  # 300 was never in the box
     assert not press_ok(), "OK took a fold the keys did not make"
-    assert "only the ASCII digits 0-9" in p.error.text(), p.error.text()
+    said = [lab.text() for lab in p.form.findChildren(QtGui.QLabel) if lab.isVisible() and text in lab.text()]
+    assert said == [text] and text not in p.error.text(), said        # said once, under the box
     assert _folds(sc) == before
     keys(spin, "30")                                       # ASCII digits over the whole text are taken
     leave(spin)

@@ -9,6 +9,7 @@ FreeCAD = pytest.importorskip("FreeCAD")
 if not getattr(FreeCAD, "GuiUp", False):
     pytest.skip("needs the FreeCAD GUI (run tests/run_gui_pytest.py under xvfb-run)", allow_module_level=True)
 
+from metamaterial_wb.gui.panels import ranges  # noqa: E402
 from metamaterial_wb.objects import structure  # noqa: E402
 from guihelpers import doc, press_ok, process, qtest, run_panel, type_into, workbench  # noqa: E402,F401
 from test_gui_panel_details import open_example  # noqa: E402
@@ -152,8 +153,9 @@ def test_a_value_typed_past_a_boxs_range_is_refused_not_clamped(doc):
     type_into(spin, "200")
     assert spin.value() == 20.0                                    # (what Qt leaves in the box)
     assert not press_ok()
-    text = p.error.text()
+    text = spin.property(ranges.REFUSED) or ""
     assert "200" in text and "allowed range [-180, 180]" in text and "fold_deg" in text, text
+    assert [lab.text() for lab in p.problem_labels.values() if lab.isVisible()] == [text]    # said under the box
     type_into(spin, "12")
     assert press_ok()
 

@@ -396,18 +396,13 @@ class BasePanel:
 
     def refused_problem(self, spin, key, text):
         """A value typed into ``spin`` that the box refused (``ranges``; ``text`` "" once cleared): a problem of the
-        field, its red line put under the box the first time, and said in the panel-wide line too (OK is disabled,
-        so its "not applied" never comes) until it is cleared."""
+        field, said once, in its red line put under the box the first time (OK is disabled while it stands). The
+        panel-wide line is left to the problems of no single field: a refusal neither repeats nor hides them."""
         lab = self.problem_label(key)
-        before = self.problems.get(key)
         if text and lab.parent() is None and not place_under(self.layout, lab, spin):
             k = self.layout.indexOf(self.error)
             self.layout.insertWidget(k if k >= 0 else self.layout.count(), lab)
         self.set_problem(key, text)
-        if text:
-            self.error.setText(text)
-        elif before and self.error.text() == before:
-            self.clear_error()
 
     def problem_text(self):
         return "; ".join(self.problems.values())
