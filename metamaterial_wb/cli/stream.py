@@ -4,8 +4,10 @@ Streams the scene's actuator motion profiles to the servolink firmware (firmware
 50 Hz: handshake, channel configuration, watchdog timing, ARM, then every 20 ms (a tick) one SET_ANGLES frame
 per run of adjacent channels with each actuated joint's simulated rotation (hardware/joint_angle.py;
 ``servo.scale_deg`` for a linear ``value * scale`` instead). Before the port is opened the motion is checked:
-the limits, the servos' reach, and whether the frames at ``--rate`` follow it (``--rate-tolerance``).
-``--dry-run`` runs everything over pyserial's ``loop://`` without hardware.
+the limits, the servos' reach, and whether the frames at ``--rate`` follow it (``--rate-tolerance``; with
+``--mode osc`` whether the on-board sine, which a servo gets as a pulse every 20 ms, does).
+``--dry-run`` runs everything over pyserial's ``loop://`` without hardware (refused with ``--port``: a dry run
+never drives a board).
 
 Ctrl+C (or SIGTERM / SIGHUP) while streaming ends the stream at its next tick, as its end would: ``--disarm``
 disarms, else the firmware's watchdog holds, parks, releases. The summary line and ``--report`` (written whole,
@@ -25,7 +27,8 @@ def add_arguments(p):
     p.add_argument("scene", help="scene file (JSON, docs/scene-format.md)")
     p.add_argument("--port", help="serial port (/dev/ttyUSB0, /dev/ttyACM0, an emulator pty) or a pyserial URL")
     p.add_argument("--seconds", type=number, default=10.0, help="how long to stream (default 10 s)")
-    p.add_argument("--dry-run", action="store_true", help="no hardware: stream over pyserial's loop://")
+    p.add_argument("--dry-run", action="store_true",
+                   help="no hardware: stream over pyserial's loop:// (not with --port)")
     p.add_argument("--mode", choices=("stream", "osc"), default="stream",
                    help="stream: send a frame every 1/rate s (any profile); osc: send sine profiles once and let "
                         "the firmware generate them (no host timing jitter), keeping the link alive with PINGs")
@@ -38,7 +41,7 @@ def add_arguments(p):
     p.add_argument("--rate-tolerance", type=number, default=None, metavar="DEG",
                    help="how far (deg) the servos, moving linearly from frame to frame, may stray from the motion "
                         "sampled at 1 kHz before --rate is refused (default 3, allowed (0, 180]; 180 lets any rate "
-                        "through); not with --mode osc")
+                        "through); with --mode osc the same for the on-board sine, which the servo gets every 20 ms")
     p.add_argument("--map", default="", metavar="NAME=CH,...",
                    help="actuator -> channel, e.g. head=0,tail=3 (default: the scene's servo.channel, else order)")
     p.add_argument("--channels", metavar="FILE",
@@ -75,11 +78,14 @@ def run(args):
                                                                                       args.channels)])
     if not args.port and not args.dry_run:
         raise SceneError("--port", "a serial port is required (or --dry-run to stream over loop://)")
+    if args.port and args.dry_run:  # a dry run never drives hardware: it would have streamed to PORT
+        raise SceneError("--dry-run", f"not used with --port ({args.port}): a dry run streams over pyserial's "
+                                      f"loop:// and never opens a port; leave out --port for a dry run, or "
+                                      f"--dry-run to stream to {args.port}")
     if args.mode == "osc":  # the firmware generates the motion: no frames, no rate, nothing to clamp or lose
         for flag, given, why in (("--clamp", args.clamp, "the on-board oscillators are refused, never clamped, "
                                                          "when they leave a channel's limits"),
                                  ("--rate", args.rate is not None, "the firmware generates the motion"),
-                                 ("--rate-tolerance", args.rate_tolerance is not None, "no frames are streamed"),
                                  ("--max-lost", args.max_lost is not None, "no frames are streamed")):
             if given:
                 raise SceneError(flag, f"not used with --mode osc ({why}); leave it out, or use --mode stream")
@@ -101,7 +107,8 @@ def run(args):
     channels = channel_map(scene, parse_map(args.map), overrides)
     if args.mode == "osc":
         from metamaterial_wb.hardware.onboard import osc_params
-        osc_params(scene, channels)  # refuse a scene the generator cannot run before opening the port
+        # refuse a scene the generator cannot run, or the chip cannot render, before opening the port
+        osc_params(scene, channels, tolerance_deg=args.rate_tolerance)
     else:  # the limits (unless --clamp) and, on the angles as sent, the servo's reach (+-angle + trim) and
         # whether the frames at --rate follow the motion (within --rate-tolerance)
         check_motion(scene, channels, args.seconds, args.rate, clamp=args.clamp,
@@ -109,8 +116,7 @@ def run(args):
     if args.mode == "stream":
         _check_bandwidth(args.baud, args.rate, channels)
 
-    port = "loop://" if args.dry_run and not args.port else args.port
-    link = Link.open(port, baud=args.baud, dry_run=args.dry_run)
+    link = Link.open("loop://" if args.dry_run else args.port, baud=args.baud, dry_run=args.dry_run)
     intr = None
     try:
         streamer = Streamer(link, channels, rate_hz=args.rate, clamp=args.clamp)
@@ -214,7 +220,7 @@ def _run_osc(args, scene, channels, link, intr):
     from metamaterial_wb.core.fileio import write_json
     from metamaterial_wb.hardware.onboard import osc_params, run_oscillators
 
-    params = osc_params(scene, channels)
+    params = osc_params(scene, channels, tolerance_deg=args.rate_tolerance)
     for p in params:
         f = f"{1000.0 / p.period_ms:.4g} Hz" if p.period_ms else "constant"
         if not p.period_ms or not p.amp_cdeg:  # a constant channel: no sine to print

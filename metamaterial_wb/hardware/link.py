@@ -68,6 +68,12 @@ class Link:
     # -------------------------------------------------------------------------------------------
     @classmethod
     def open(cls, port, baud=115200, dry_run=False):
+        """Open ``port`` (a device, an emulator pty or a pyserial URL). ``dry_run``: no hardware, over ``loop://``
+        (``port`` empty, or a ``loop://`` URL); a dry run on any other port is refused (LinkError): the link would
+        drive that board while answering for it itself."""
+        if dry_run and port and not str(port).startswith("loop://"):
+            raise LinkError(f"port {port}: a dry run streams over pyserial's loop:// and never drives a port; open "
+                            f"{port} without dry run, or leave the port out (or give loop://) for a dry run")
         try:
             import serial
         except ImportError:

@@ -142,23 +142,41 @@ def _check_servo(field_name, spec, n_channels):
     return out
 
 
-def _finish(cfg: ChannelConfig, origin):
-    """Checks across fields; ``origin``: ``{field: where it was given}`` (the scene's servo object or --channels),
-    so that the error names the place to fix."""
-    if cfg.min_us >= cfg.max_us:
-        raise SceneError(f"{origin['min_us']}.min_us", f"{cfg.min_us} us must be below max_us {cfg.max_us} us"
-                         + (f" (max_us from {origin['max_us']})" if origin["max_us"] != origin["min_us"] else ""))
+def _finish(cfg: ChannelConfig, origin, given, where, set_in):
+    """Checks across fields; ``origin``: ``{field: where it was given}`` (the scene's servo object or --channels;
+    for a default, where it comes from); ``given``: the fields someone gave, so that the error names the place to
+    fix and never a default as if given; ``where``: the actuator (``actuators[k] (name)``), named for a default;
+    ``set_in(field)``: where that field can be set."""
+    def note(f, other, value):  # the other field of a clash: where it came from, or that it is the default
+        if f in given:
+            return f" ({f} from {origin[f]})" if origin[f] != origin[other] else ""
+        return f" ({f}: the default {value}, not given)"
+    if cfg.min_us >= cfg.max_us:   # the defaults 500 < 2500 never clash: one of them was given
+        if "min_us" in given:
+            raise SceneError(f"{origin['min_us']}.min_us", f"{cfg.min_us} us must be below max_us {cfg.max_us} us"
+                             + note("max_us", "min_us", f"{cfg.max_us} us"))
+        raise SceneError(f"{origin['max_us']}.max_us", f"{cfg.max_us} us must be above min_us {cfg.min_us} us"
+                         + note("min_us", "max_us", f"{cfg.min_us} us"))
     lo, hi = cfg.limits_deg
+    lim = (f" (limits_deg from {origin['limits_deg']})"
+           if "limits_deg" not in given or "park_deg" not in given or origin["limits_deg"] != origin["park_deg"]
+           else "")
     if not lo <= cfg.park_deg <= hi:
+        if "park_deg" not in given:
+            raise SceneError(where, f"the default park angle {cfg.park_deg:g} deg (no park_deg given) is outside the "
+                                    f"limits [{lo:g}, {hi:g}] deg{lim}; allowed: a park angle within [{lo:g}, "
+                                    f"{hi:g}] deg: set {set_in('park_deg')}")
         raise SceneError(f"{origin['park_deg']}.park_deg", f"{cfg.park_deg} deg is outside the limits [{lo}, {hi}] "
-                                                           f"deg" + (f" (limits_deg from {origin['limits_deg']})"
-                                                                     if origin["limits_deg"] != origin["park_deg"]
-                                                                     else ""))
+                                                           f"deg" + lim)
     servo = float(servo_cdeg(cfg, cfg.park_deg)[0][0])
     if abs(servo) > SERVO_RANGE_CDEG:   # the firmware parks at +-park + trim: past +-90 the pulse stops short
-        raise SceneError(f"{origin['park_deg']}.park_deg",
+        park = origin["park_deg"]
+        field_name = f"{park}.park_deg" if "park_deg" in given else where
+        frm = {f: (f" from {origin[f]}" if f in given and origin[f] != park else "") for f in ("invert", "trim_deg")}
+        raise SceneError(field_name,
                          f"{cfg.park_deg:g} deg: the servo would park at {servo / 100:.2f} deg ("
-                         + ("inverted, " if cfg.invert else "") + f"+ trim_deg {cfg.trim_deg:g}); allowed: a servo "
+                         + (f"inverted{frm['invert']}, " if cfg.invert else "")
+                         + f"+ trim_deg {cfg.trim_deg:g}{frm['trim_deg']}); allowed: a servo "
                          f"angle within [-90, 90] deg (min_us {cfg.min_us} .. max_us {cfg.max_us} us)")
     return cfg
 
@@ -208,32 +226,48 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
         for k in src:
             if k not in names:
                 raise SceneError(f"{label} {k}", f"no actuator named {k!r}; actuators: {', '.join(names)}")
-    out = []
+    out, channel_from = [], {}
     for k, a in enumerate(scene.actuators):
         fname = f"actuators[{k}].servo"
         spec = dict(_check_servo(fname, a.extra.get("servo", {}), n_channels))
-        origin = dict.fromkeys(("min_us", "max_us", "park_deg", "limits_deg"), fname)
+        given = set(spec)
+        origin = dict.fromkeys(SERVO_KEYS, fname)
+        origin["channel"] = f"{fname}.channel" if "channel" in spec else "default, its position in the scene"
         if mapping and a.name in mapping:
             spec.update(_check_servo(f"--map {a.name}", {"channel": mapping[a.name]}, n_channels))
+            given.add("channel")
+            origin["channel"] = f"--map {a.name}={mapping[a.name]}"
         if overrides and a.name in overrides:
-            given = _check_servo(f"--channels {a.name}", overrides[a.name], n_channels)
-            spec.update(given)
-            origin.update({k: f"--channels {a.name}" for k in given if k in origin})
+            more = _check_servo(f"--channels {a.name}", overrides[a.name], n_channels)
+            spec.update(more)
+            given.update(more)
+            origin.update({f: f"--channels {a.name}" for f in more})
+            if "channel" in more:
+                origin["channel"] = f"--channels {a.name}.channel"
         spec.setdefault("channel", k)
+        channel_from[a.name] = origin["channel"]
         rot = joint_rotation(scene, a.joint, f"actuators[{k}].joint")
         if "limits_deg" not in spec:
-            origin["limits_deg"] = ("the default limits" if "scale_deg" in spec
+            origin["limits_deg"] = ("the default [-90, 90] deg" if "scale_deg" in spec
                                     else f"actuators[{k}].joint's kinematic range")
         if "limits_deg" not in spec and "scale_deg" not in spec:  # the joint's kinematic range, outward to 0.01 deg
             lo, hi = rot.range_deg()
             spec["limits_deg"] = (max(-90.0, math.floor(lo * 100 - 1e-6) / 100),
                                   min(90.0, math.ceil(hi * 100 + 1e-6) / 100))
         spec["rotation"] = rot
-        out.append(_finish(ChannelConfig(a.name, **spec), origin))
+
+        def set_in(f, k=k, name=a.name):  # where a field can be set (--channels only when the caller takes it)
+            return (f"{f} in " + (f"--channels for {name}, or " if overrides is not None else "")
+                    + f"the scene's actuators[{k}].servo.{f}")
+        out.append(_finish(ChannelConfig(a.name, **spec), origin, given, f"actuators[{k}] ({a.name})", set_in))
     seen = {}
     for c in out:
         if c.channel in seen:
-            raise SceneError("channels", f"actuators {seen[c.channel]!r} and {c.name!r} both use channel {c.channel}")
+            first = seen[c.channel]
+            free = ", ".join(str(ch) for ch in range(n_channels) if ch not in {x.channel for x in out})
+            raise SceneError("channels", f"actuators {first!r} and {c.name!r} both use channel {c.channel} ({first}: "
+                                         f"{channel_from[first]}; {c.name}: {channel_from[c.name]}); free channels: "
+                                         f"{free} (allowed: 0..{n_channels - 1}, one actuator each)")
         seen[c.channel] = c.name
     return out
 
@@ -469,6 +503,65 @@ def check_rate(scene, channels, duration_s, rate_hz, clamp=False, tolerance_deg=
             msg += (f"; the lowest whole rate that passes{over} is {ok[0]} Hz, and every whole rate from {every} "
                     f"to {MAX_RATE_HZ} Hz does (some in between do not)")
     raise SceneError("--rate", msg)
+
+
+@dataclass
+class WrapJump:
+    """The step a channel is sent when a looping timeline wraps from its end back to its start, in the whole
+    centidegrees of the frames (commanded joint angles, before the firmware's invert / trim)."""
+    name: str                 # actuator
+    channel: int
+    end_cdeg: int             # the angle sent at t = duration_s
+    start_cdeg: int           # the angle sent at t = 0
+
+    @property
+    def end_deg(self):
+        return self.end_cdeg / 100
+
+    @property
+    def start_deg(self):
+        return self.start_cdeg / 100
+
+    @property
+    def deg(self):
+        """The size of the jump (degrees, >= 0)."""
+        return abs(self.end_cdeg - self.start_cdeg) / 100
+
+
+def wrap_jumps(scene, channels, duration_s, clamp=False):
+    """The jump each channel's servo is sent when a timeline of ``duration_s`` that loops (the Animate panel's
+    Loop) wraps from its end back to its start: the frames go from the angle at t = ``duration_s`` to the one at
+    t = 0 (the clock wraps its time with ``fmod``), a step no servo follows unless the motion ends where it
+    starts (a sine over a whole number of its periods, keyframes that end at their first value, ...). The
+    frames around the wrap also carry up to a frame period of ordinary motion, which ``rate_deviation`` covers.
+
+    Angles as the Streamer sends them: whole centidegrees of ``ChannelConfig.angle_deg`` (with ``clamp``,
+    clamped to the channel's limits first). A periodic profile (``period_s``) at a whole number of its periods
+    counts as at its start (floating-point ``mod`` would put a ``steps`` profile on its last level there).
+    ``rate_deviation`` / ``check_rate`` compare the motion over [0, duration_s] only: this is the wrap's part.
+
+    Returns a ``WrapJump`` per channel, in the order of ``channels`` (``deg`` 0 where nothing jumps)."""
+    from metamaterial_wb.core.motion import profile_value
+
+    dur = check_number("duration_s", duration_s, 0.0, None, "s", low_open=True)
+    by_name = {a.name: a for a in scene.actuators}
+    out = []
+    for c in channels:
+        a = by_name[c.name]
+        t_end = dur
+        period = (a.profile or {}).get("period_s")
+        if period:
+            cycles = dur / float(period)
+            if abs(cycles - round(cycles)) <= 1e-9 * max(1.0, cycles):
+                t_end = 0.0
+
+        def sent(t, a=a, c=c):
+            ang = float(c.angle_deg(float(profile_value(a.profile, t, a.value))))
+            if clamp and not c.within_limits(ang):
+                ang = min(max(ang, c.limits_deg[0]), c.limits_deg[1])
+            return int(round(ang * 100))   # as Streamer.frame_payloads: the wire carries whole centidegrees
+        out.append(WrapJump(c.name, c.channel, sent(t_end), sent(0.0)))
+    return out
 
 
 def expected_pulse_us(cfg: ChannelConfig, angle_deg: float) -> float:

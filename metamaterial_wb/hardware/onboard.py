@@ -12,10 +12,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.errors import SceneError, check_number
 
 from . import protocol as P
-from .mapping import check_servo_reach
+from .mapping import RATE_TOLERANCE_DEG, check_servo_reach
+
+# How the chip renders an oscillator: sl_link_tick (firmware/src/core/link.c) evaluates it every SL_SLEW_PERIOD_MS
+# (10 ms, link.h) and the servo back end starts a pulse every 20 ms (avr/servo_isr.c FRAME_TICKS; the PCA9685
+# runs at 50 Hz too), carrying the latest value: the servo sees the sine sampled at 50 Hz, at a phase not locked
+# to the sine's start. Streamed frames reach the pins the same way.
+OSC_STEP_MS = 10
+SERVO_FRAME_MS = 20
+OSC_RENDER_HZ = 1000.0 / SERVO_FRAME_MS
+_PHASES = 720   # sample phases compared over a period of the sine (0.5 deg apart)
+_SUB = 41       # points compared between two samples (0.5 ms apart at 50 Hz; stream mode compares at 1 kHz)
 
 
 @dataclass
@@ -31,15 +41,21 @@ class OscParams:
     gain_neg: int = None
     angle_range_deg: tuple = None  # the joint angles the swing reaches (after the gains)
     gain_error_deg: float = 0.0    # largest difference between the on-board angle and the simulated one
+    render_deviation_deg: float = 0.0  # worst distance of the servo (the sine sampled at 50 Hz) from the motion
 
     def payload(self):
         return P.osc_set_payload(self.channel, self.amp_cdeg, self.offset_cdeg, self.period_ms, self.phase_cdeg,
                                  self.gain_pos, self.gain_neg)
 
 
-def osc_params(scene, channels):
+def osc_params(scene, channels, tolerance_deg=None):
     """Oscillator parameters of every channel from its actuator's profile (sine or constant, or none = the
-    actuator's value). Raises SceneError for other profile shapes or frequencies the firmware cannot run."""
+    actuator's value). Raises SceneError for other profile shapes, frequencies the firmware cannot run, and sines
+    the chip cannot render: the servo sees the sine sampled at 50 Hz (OSC_RENDER_HZ) and moves linearly between
+    the samples (stream mode's model, mapping.rate_deviation); refused when that path strays from the motion by
+    more than ``tolerance_deg`` (None: RATE_TOLERANCE_DEG, stream's --rate-tolerance) at any phase."""
+    tol = RATE_TOLERANCE_DEG if tolerance_deg is None else check_number("rate_tolerance_deg", tolerance_deg, 0, 180,
+                                                                        "deg", low_open=True)
     by_name = {a.name: (k, a) for k, a in enumerate(scene.actuators)}
     out = []
     for c in channels:
@@ -75,8 +91,15 @@ def osc_params(scene, channels):
                 raise SceneError(field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg; "
                                         f"channel {c.channel} allows [{lo:g}, {hi:g}] deg")
             check_servo_reach(c, c.angle_deg(v_swing), f"actuators[{k}] ({a.name})", t_swing)
+            def exact(v, c=c):
+                return np.asarray(c.angle_deg(v), dtype=float)
+
+            def board(v, c=c):  # the chip runs the angle in whole centidegrees
+                return np.round(np.asarray(c.angle_deg(v), dtype=float) * 100.0) / 100.0
+            dev = _check_render(f"{field}.frequency_hz", a.name, exact, board, amp, off, f, period, tol)
             out.append(OscParams(c.name, c.channel, int(round(amp_deg * 100)), int(round(off_deg * 100)), period,
-                                 phase_cdeg, ferr, angle_range_deg=(off_deg - amp_deg, off_deg + amp_deg)))
+                                 phase_cdeg, ferr, angle_range_deg=(off_deg - amp_deg, off_deg + amp_deg),
+                                 render_deviation_deg=dev))
             continue
         # the simulated joint rotation: the sine runs in units of v (9000 = 1) and the firmware maps it with one
         # gain per sign of v (closing and opening differ); exact for untilted joints, checked for tilted ones
@@ -99,9 +122,85 @@ def osc_params(scene, channels):
                                     f"{c.channel} allows [{lo:g}, {hi:g}] deg")
         for angles in (c.angle_deg(v_swing), v_swing * 90.0 * np.where(v_swing >= 0, g_pos, g_neg) / P.GAIN_ONE):
             check_servo_reach(c, angles, f"actuators[{k}] ({a.name})", t_swing)  # the simulated and the chip's
+
+        def exact(v, c=c):
+            return np.asarray(c.angle_deg(v), dtype=float)
+
+        def board(v, g_pos=g_pos, g_neg=g_neg):  # v in units of 1/9000, the gains in Q14, whole centidegrees
+            vq = np.round(np.asarray(v, dtype=float) * 9000.0) / 9000.0
+            return np.round(vq * 9000.0 * np.where(vq >= 0, g_pos, g_neg) / P.GAIN_ONE) / 100.0
+        dev = _check_render(f"{field}.frequency_hz", a.name, exact, board, amp, off, f, period, tol)
         out.append(OscParams(c.name, c.channel, int(round(amp * 9000)), int(round(off * 9000)), period, phase_cdeg,
-                             ferr, g_pos, g_neg, (a_lo, a_hi), err))
+                             ferr, g_pos, g_neg, (a_lo, a_hi), err, dev))
     return out
+
+
+def render_deviation(exact, board, amp, off, freq_hz, rate_hz=OSC_RENDER_HZ):
+    """How far a servo strays (deg) from the motion ``exact(off + amp sin(2 pi freq_hz t + phi))`` when it gets
+    the chip's angles ``board(v)`` of that sine ``rate_hz`` times a second and moves linearly from one to the next
+    (the model of stream mode, mapping.rate_deviation). The samples' phase against the sine is not controlled (the
+    chip's servo frames run from its power-up), so the worst over every phase (_PHASES of them), compared at _SUB
+    points between two samples. 0 for a constant."""
+    if not amp or not freq_hz:
+        return 0.0
+    step = 2.0 * math.pi * freq_hz / rate_hz  # the sine's phase from one sample to the next
+    phi = np.linspace(0.0, 2.0 * math.pi, _PHASES, endpoint=False)[:, None]
+    sub = np.linspace(0.0, 1.0, max(_SUB, int(math.ceil(step / (2.0 * math.pi) * 64)) + 1))[None, :]
+    # plus, between each pair of samples, where the sine peaks and where v crosses 0 (a joint's corner from closing
+    # to opening): the worst places
+    marks = [math.pi / 2, 3 * math.pi / 2]
+    if abs(off) < abs(amp):
+        marks += [math.asin(-off / amp), math.pi - math.asin(-off / amp)]
+    at = np.mod(np.asarray(marks)[None, :] - phi, 2.0 * math.pi) / step
+    sub = np.hstack([np.broadcast_to(sub, (_PHASES, sub.shape[1])), np.where(at <= 1.0, at, 0.0)])
+    y0 = board(off + amp * np.sin(phi))
+    y1 = board(off + amp * np.sin(phi + step))
+    motion = exact(off + amp * np.sin(phi + step * sub))
+    return float(np.max(np.abs(y0 + (y1 - y0) * sub - motion)))
+
+
+def _check_render(field, name, exact, board, amp, off, freq_hz, period_ms, tol):
+    """render_deviation of the sine the chip runs (its period in whole ms); SceneError naming ``field`` when it
+    exceeds ``tol``, with the highest frequency of this swing that passes. Returns the deviation."""
+    if not amp or not period_ms:
+        return 0.0
+    f_chip = 1000.0 / period_ms
+    dev = render_deviation(exact, board, amp, off, f_chip)
+    if dev <= tol:
+        return dev
+    nyq = OSC_RENDER_HZ / 2.0
+    msg = (f"{freq_hz:g} Hz: the chip steps its sine every {OSC_STEP_MS} ms and gives the servo a pulse every "
+           f"{SERVO_FRAME_MS} ms, so {name}'s servo sees it sampled at {OSC_RENDER_HZ:g} Hz; moving linearly from "
+           f"pulse to pulse it would be {dev:.2f} deg off the motion; allowed: at most {tol:g} deg (--rate-tolerance)")
+    if f_chip >= nyq:
+        msg += f"; {freq_hz:g} Hz is not below {nyq:g} Hz, half of {OSC_RENDER_HZ:g} Hz (Nyquist): the pins alias it"
+    f_ok = _highest_passing(exact, board, amp, off, min(f_chip, nyq), tol)
+    if f_ok is None:
+        msg += ("; no frequency passes: even a slow swing is off by more (the chip's joint gains, whole "
+                "centidegrees); allow more with --rate-tolerance")
+    else:
+        msg += (f"; the highest frequency of this swing that passes is {f_ok:g} Hz: slow it down, lower its "
+                f"amplitude, or allow more with --rate-tolerance")
+    raise SceneError(field, msg)
+
+
+def _highest_passing(exact, board, amp, off, f_hi, tol):
+    """The highest frequency in (0, f_hi] (3 significant digits, rounded down) whose render_deviation, at the
+    frequency the chip runs (its period in whole ms), is within ``tol`` (it grows with the frequency up to the
+    Nyquist rate), or None when even a slow swing is not."""
+    def ok(f):
+        return render_deviation(exact, board, amp, off, 1000.0 / min(65535, max(1, round(1000.0 / f)))) <= tol
+    if ok(f_hi):
+        return f_hi
+    lo, hi = f_hi * 1e-4, f_hi
+    if not ok(lo):
+        return None
+    while hi - lo > 1e-4 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+    e = math.floor(math.log10(lo)) - 2
+    f = math.floor(lo / 10.0 ** e) * 10.0 ** e
+    return float(f"{f:.3g}") if ok(float(f"{f:.3g}")) else lo
 
 
 def _one_period(amp, off, freq_hz, phase_deg):

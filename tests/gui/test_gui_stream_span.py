@@ -92,6 +92,8 @@ def test_a_timeline_lengthened_while_streaming_is_compared_and_said(doc):
     span is compared at once and the panel says the rest is not; shortened again, the note goes."""
     p = open_fish_with_a_late_jump(doc)
     span = p.stream.FOLLOW_SPAN_S
+    click(p.loop)                      # the tail ends at 0.9 on 40 / 50 s, starts at 0: a wrap jump (stream_wrap)
+    assert not p.loop.isChecked()
     type_into(p.duration, "50")        # the jump at 70 s is beyond the timeline: 1x follows all of it
     click(p.connect_btn)
     process()

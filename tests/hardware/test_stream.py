@@ -229,7 +229,8 @@ def test_osc_params_from_profiles_and_refusals():
         osc_params(s, channel_map(s))
     d = json.load(open(FISH))
     d["actuators"][1]["profile"]["frequency_hz"] = 3.0  # period 333 ms: frequency off by 0.1 %
-    p = osc_params(Scene.from_dict(d), channel_map(Scene.from_dict(d)))[1]
+    # (3 Hz at amplitude 0.9 is 5.5 deg off as the servo gets it every 20 ms: the render bound is lifted here)
+    p = osc_params(Scene.from_dict(d), channel_map(Scene.from_dict(d)), tolerance_deg=180)[1]
     assert p.period_ms == 333 and p.frequency_error == pytest.approx(1000 / 333 / 3 - 1)
 
 

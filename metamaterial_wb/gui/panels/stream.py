@@ -6,7 +6,9 @@ the last frame the view managed to draw, so real servos move in real time even w
 frames. Errors from the streaming thread are kept and reported by the panel in the GUI thread. Connect is
 refused when those frames, at the animation's speed, cannot follow the motion over the whole timeline
 (``follow_problem``: the stream command's rate check); while streaming, each edit compares the first
-``FOLLOW_SPAN_S`` and the panel says so for a longer timeline.
+``FOLLOW_SPAN_S`` and the panel says so for a longer timeline. With Loop ticked the timeline wraps from its end
+back to its start: a jump there larger than the rate tolerance (``mapping.wrap_jumps``) is treated the same way
+(Connect refused; while streaming, ticking Loop, a new length or an edit is warned of).
 """
 from metamaterial_wb.gui.i18n import translate
 
@@ -125,9 +127,12 @@ class StreamController:
     """Open / close the link and run the streamer. ``values_at(t)`` -> {actuator: value};
     ``clock()`` -> the animation time now."""
 
-    def __init__(self, values_at, clock):
+    def __init__(self, values_at, clock, looping=None):
         self.values_at = values_at
         self.clock = clock
+        # whether the timeline wraps (the panel's Loop): ``looping()``; by default the copy ``_loop`` that the
+        # Animate panel's PlaybackClock keeps beside ``clock`` (a plain clock function: never wraps)
+        self.looping = looping or (lambda: bool(getattr(getattr(clock, "__self__", None), "_loop", False)))
         self.link = None
         self.streamer = None
         self.error = None
@@ -151,17 +156,43 @@ class StreamController:
     FOLLOW_SPAN_S = 60.0
     SPEEDS = (5.0, 4.0, 3.0, 2.0, 1.5, 1.0, 0.75, 0.5, 0.25, 0.1, 0.05)   # offered when a speed is too fast
 
-    def follow_problem(self, scene, duration_s, speed, span_s=None):
+    def follow_problem(self, scene, duration_s, speed, span_s=None, loop=None):
         """None when the link's frames (``RATE_HZ`` a wall second, so ``RATE_HZ / speed`` per second of motion)
         follow the motion of ``scene`` over ``duration_s`` within the stream command's tolerance
-        (``mapping.check_rate``, which the ``stream`` command runs over the whole duration); else the message,
-        with the fastest of ``SPEEDS`` below ``speed`` that does.
+        (``mapping.check_rate``, which the ``stream`` command runs over the whole duration) and, when the timeline
+        loops (``loop``; None: ``looping()``), no servo jumps by more than that tolerance where it wraps
+        (``wrap_problem``); else the message(s), the first with the fastest of ``SPEEDS`` below ``speed`` that
+        follows the motion.
 
         ``span_s`` (the per-edit warning while streaming): compare only the first ``span_s`` seconds of a longer
         timeline; a message then names the span compared, and a speed it suggests is said to follow that span
-        (``follow_span_note`` is the panel's line when nothing is found there)."""
-        from metamaterial_wb.hardware.mapping import RATE_TOLERANCE_DEG, channel_map, rate_deviation
+        (``follow_span_note`` is the panel's line when nothing is found there). The wrap is always compared."""
+        from metamaterial_wb.hardware.mapping import channel_map
         channels = channel_map(scene)
+        rate = self._rate_problem(scene, channels, duration_s, speed, span_s)
+        looping = self.looping() if loop is None else loop
+        wrap = self.wrap_problem(scene, channels, duration_s) if looping else None
+        return "\n".join(m for m in (rate, wrap) if m) or None
+
+    def wrap_problem(self, scene, channels, duration_s):
+        """None when, at the wrap of a looping timeline of ``duration_s``, every servo is sent a jump of at most
+        ``RATE_TOLERANCE_DEG`` (``mapping.wrap_jumps``: from the angle at its end to the one at its start);
+        else the message naming each motor that jumps more, its channel, the end and the start angle. The
+        same tolerance as the servos' distance from the motion: a jump is a distance no servo covers in a frame."""
+        from metamaterial_wb.hardware.mapping import RATE_TOLERANCE_DEG, wrap_jumps
+        big = [j for j in wrap_jumps(scene, channels, duration_s) if j.deg > RATE_TOLERANCE_DEG]
+        if not big:
+            return None
+        each = ", ".join(translate("Metamaterial", "{0} (channel {1}) by {2:.2f} deg, from {3:+.2f} deg to {4:+.2f} "
+                                   "deg").format(j.name, j.channel, j.deg, j.end_deg, j.start_deg) for j in big)
+        return translate("Metamaterial", "Loop: where the {0:g} s timeline wraps from its end back to its start the "
+                         "servos are sent a jump no servo follows: {1} (at most {2:g} deg, the stream command's "
+                         "rate tolerance); untick Loop, or set a length at which the motion ends where it "
+                         "starts").format(duration_s, each, RATE_TOLERANCE_DEG)
+
+    def _rate_problem(self, scene, channels, duration_s, speed, span_s):
+        """The rate part of ``follow_problem`` (None when the frames follow the motion)."""
+        from metamaterial_wb.hardware.mapping import RATE_TOLERANCE_DEG, rate_deviation
         span = duration_s if span_s is None or span_s >= duration_s else float(span_s)
 
         def dev(s):
