@@ -10,6 +10,7 @@ ccx run fails is recorded in the summary's notes with a warning, the rest writte
 to a temporary folder first and moved into ``DIR`` at the end, so a failure leaves nothing half-written.
 """
 import os
+import re
 import shutil
 import sys
 
@@ -60,6 +61,7 @@ def run(args):
     from metamaterial_wb.core.threads import blas_threads
 
     out = check_output(args.out, "dir", "--out")
+    check_spec_not_output(args.spec, out)                  # before any work: the run would replace the spec
     if args.no_plots and args.render:
         from metamaterial_wb.core.errors import SceneError
         raise SceneError("--render", "writes sleeve.png, but --no-plots asks for summary.json only: give one of them")
@@ -116,17 +118,38 @@ def run(args):
     for u in summary["unit_cells"] + summary["uniform_rings"]:
         if u.get("note"):
             log(f"note: {'unit cell' if 'peak_force' in u else 'uniform ring'} of type {u['type']}: {u['note']}")
-    for note in (([seq["note"]] if seq.get("note") else []) + summary["pv"].get("notes", [])
-                 + summary.get("walker", {}).get("notes", []) + summary.get("design_map", {}).get("notes", [])):
+    frame_note = seq.get("frame3d_nl", {}).get("note")         # the frame's cycle's own (model.frame_nonlinear)
+    for note in (([seq["note"]] if seq.get("note") else [])
+                 + ([f"sequence on the nonlinear frame: {frame_note}"] if frame_note else [])
+                 + summary["pv"].get("notes", []) + summary.get("walker", {}).get("notes", [])
+                 + summary.get("design_map", {}).get("notes", [])):
         log(f"note: {note}")
     for note in summary["accuracy"]["notes"]:
         log(f"accuracy: {note}")
     return 0
 
 
+# every name a sleeve run writes into --out, with or without --no-plots, --step, --3mf, --render (a later run removes
+# an earlier one's that it does not write, so the spec may be none of them); the 3MF plates: OUTPUT_PLATE
+OUTPUT_FILES = ("summary.json", "fd_cells.png", "fd_ring.png", "pv.png", "design_map.png", "walker.png", "sleeve.png",
+                "sleeve.step", "sleeve.3mf")
+OUTPUT_PLATE = re.compile(r"sleeve_plate[1-9][0-9]*\.3mf", re.IGNORECASE)     # export.sleeve.PLATE_NAME's plates
+
+
+def check_spec_not_output(spec, out):
+    """Refuse, before any work, a spec that is one of the files a sleeve run writes into (or removes from) ``out``
+    (``DIR/summary.json`` given to ``sleeve --out DIR``; also through a link): it would be overwritten."""
+    from metamaterial_wb.core.fileio import check_scene_not_output
+    base = os.path.basename(spec)
+    plates = [base.lower()] if OUTPUT_PLATE.fullmatch(base) else []
+    check_scene_not_output(out, list(OUTPUT_FILES) + plates, spec, writer="the sleeve run")
+
+
 def symmetry_word(seq):
-    """``symmetric`` / ``asymmetric`` of a snapping sequence, or ``nothing snapped`` (``symmetric`` null)."""
-    return "nothing snapped" if seq["symmetric"] is None else ("symmetric" if seq["symmetric"] else "asymmetric")
+    """``symmetric`` / ``asymmetric`` of a snapping sequence, or, ``symmetric`` null, ``nothing snapped`` or
+    ``undetermined`` (an incomplete order: ``analysis.symmetry_word``)."""
+    from metamaterial_wb.core.sleeve.analysis import symmetry_word as word
+    return word(seq)
 
 
 def _fe_check(spec, kind, log):

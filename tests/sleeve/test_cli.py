@@ -7,6 +7,8 @@ import sys
 import numpy as np
 import pytest
 
+from clihelpers import run_cli
+
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPEC = {"format": "metamaterial-sleeve", "version": 1, "L_mm": 18, "c_mm": 4, "delta_mm": 0.5, "T_mm": 1.8,
         "shear_modulus_MPa": 28, "cell_types": [{"t_mm": 1.0, "h_mm": 6.7}, {"t_mm": 1.1, "h_mm": 7.5}],
@@ -222,3 +224,34 @@ def test_a_second_run_into_a_folder_leaves_no_plots_of_the_first(tmp_path):
     assert r.returncode == 0, r.stderr
     assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
     assert json.loads((out / "summary.json").read_text())["files"] == ["summary.json"]
+
+
+# --- the spec is one of the run's outputs (audit) ----------------------------------------------------------------
+SMALL = dict(SPEC, model={"elements_cell": 3, "elements_ring": 3, "steps": 20})
+SMALL.pop("walker")
+
+
+@pytest.mark.parametrize("name", ["summary.json", "fd_ring.png", "sleeve.step", "sleeve_plate2.3mf"])
+def test_a_spec_named_like_an_output_is_refused_before_any_work(tmp_path, name):
+    """``cp examples/sleeve.json DIR/summary.json; sleeve DIR/summary.json --out DIR`` replaced the spec by the
+    summary (exit 0); the plots and the geometry (written, or an earlier run's removed) would do the same."""
+    spec = tmp_path / name
+    spec.write_text(json.dumps(SMALL), encoding="utf-8")
+    before = spec.read_bytes()
+    r = run_cli("sleeve", spec, "--out", tmp_path, "--no-plots")
+    assert r.returncode == 2, (r.stdout, r.stderr)
+    assert r.stderr.startswith("error: --out: ") and r.stderr.strip().count("\n") == 0, r.stderr
+    assert f"{spec} is the scene this command reads" in r.stderr and "the sleeve run writes" in r.stderr
+    assert spec.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]
+
+
+def test_a_spec_reached_through_a_link_from_the_output_folder_is_refused(tmp_path):
+    spec = tmp_path / "spec.json"
+    spec.write_text(json.dumps(SMALL), encoding="utf-8")
+    out = tmp_path / "out"
+    out.mkdir()
+    os.symlink(spec, out / "summary.json")
+    r = run_cli("sleeve", out / "summary.json", "--out", out, "--quiet")
+    assert r.returncode == 2 and r.stderr.startswith("error: --out: "), r.stderr
+    assert json.loads(spec.read_text(encoding="utf-8")) == SMALL

@@ -65,7 +65,8 @@ def test_a_nanometre_stroke_through_the_pipeline():
     assert s["uniform_rings"][0]["P1"] is None
     assert s["ring"]["peaks"] == [] and s["ring"]["valleys"] == []
     assert s["pv"]["needs_vacuum_to_reset"] is False
-    # a real stroke still finds the seed cell's peak, valley and three zero crossings ... (bistable)
+    # a real stroke still finds the seed cell's peak, valley and its two sign changes (down past the peak, up past
+    # the valley; the start at zero is none): bistable
     res, _, _ = unit_cell_result(CellGeometry(), 8, 60)
     assert res["peak_force"] > 0 > res["valley_force"] and res["bistable"] and res["zero_crossings"] == 2
 

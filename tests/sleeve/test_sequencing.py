@@ -121,3 +121,131 @@ def test_walker_geometry():
     R = 30.0 / psi
     assert tip[0, 0] == pytest.approx(R * (1 - np.cos(psi)))
     assert tip[0, 1] == pytest.approx(R * np.sin(psi))
+
+
+# --- an incomplete order is neither symmetric nor asymmetric (audit) -----------------------------------------------
+# A synthetic single-layout ring of four cells: beam halves 2k, 2k + 1 of cell k; edge pillar k (a hysteron) carries
+# half 2k + 1 and half 2k + 2 (mod 8). Rises over h (/ L) below zero before a hysteron snaps, above after.
+SYN_H = 0.4
+
+
+def _syn_ring(pattern):
+    from types import SimpleNamespace
+    types = [pattern[j // 2] for j in range(8)]
+    units = [(j - 1) % 8 // 2 for j in range(8)]                  # half 1, 2 -> pillar 0; ... half 7, 0 -> pillar 3
+    g = SimpleNamespace(h=SYN_H, L=1.0)
+    return SimpleNamespace(state_types=types, state_geoms=[g] * 8, state_units=units, N=4,
+                           cell_index=[(0, k, t) for k, t in enumerate(pattern)])
+
+
+def _syn_path(groups, units, loading=True, drop=True):
+    """A path of 7 states on which the hysterons of ``groups[0]`` change state at the 3rd, ``groups[1]`` at the 5th
+    (all snapped at the end of loading, none at the end of unloading); its force has a peak (``drop``) or rises
+    monotonically along d."""
+    from types import SimpleNamespace
+    n = 7
+    d = np.linspace(0.0, 1.0, n)
+    rises = np.full((n, 8), SYN_H - 0.1)
+    for k0, grp in zip((2, 4), groups):
+        for j, u in enumerate(units):
+            if u in grp:
+                rises[k0:, j] = SYN_H + 0.1
+    F = np.array([0.0, 1.0, 2.0, 1.0, 0.5, 1.5, 3.0]) if drop else d.copy()
+    if not loading:                         # traced from d_max back to 0: the states' order runs the other way
+        d, F, rises = d[::-1], F[::-1], rises[::-1]
+    return SimpleNamespace(d=d, F=F, states=rises, jumps=[], noise=0.0, tilt=np.full((n, 2), 1e-3))
+
+
+def _syn_sequence(pattern, load_groups, unload_groups, unload_drop=True):
+    """``simulated_sequence`` of the synthetic ring: the hysterons of ``load_groups`` snap in that order on loading,
+    those of ``unload_groups`` snap back in that order on unloading."""
+    m = _syn_ring(pattern)
+    up = _syn_path(load_groups, m.state_units)
+    # unloading traced from d_max down: the group that snaps back first changes at the path's start
+    down = _syn_path(unload_groups[::-1], m.state_units, loading=False, drop=unload_drop)
+    return simulated_sequence(m, up, down)
+
+
+def test_complete_orders_keep_their_verdict():
+    """[0, 0, 1, 1]: pillar 0 is type 0's, pillar 2 type 1's; the order is read from them (the mixed pillars 1
+    and 3 go with either group). Unloading that reverses loading is symmetric, one that repeats it asymmetric."""
+    sim = _syn_sequence([0, 0, 1, 1], [{0, 1}, {2, 3}], [{2, 3}, {0, 1}])
+    assert sim["loading"] == [0, 1] and sim["unloading"] == [1, 0] and sim["symmetric"] is True
+    assert not sim.get("note")
+    sim = _syn_sequence([0, 0, 1, 1], [{2, 3}, {0, 1}], [{2, 3}, {0, 1}])
+    assert sim["loading"] == [1, 0] and sim["unloading"] == [1, 0] and sim["symmetric"] is False
+    assert not sim.get("note")
+
+
+def test_a_type_without_a_pillar_of_its_own_leaves_the_symmetry_undetermined():
+    """The audit's ring [0, 0, 0, 1]: pillars 0 and 1 sit between type-0 cells, 2 and 3 between the types, so type
+    1 has no pillar to be read from; the order was [0] | [0] and called symmetric although the first pillars to snap
+    (2, 3 here) were the first to snap back. Now symmetric is None with a note naming type 1 and why."""
+    sim = _syn_sequence([0, 0, 0, 1], [{2, 3}, {0, 1}], [{2, 3}, {0, 1}])
+    assert sim["loading"] == [0] and sim["unloading"] == [0]
+    assert sim["events_loading"] and sim["events_unloading"]
+    assert sim["symmetric"] is None
+    assert "type 1 has no pillar between two cells of its own type" in sim["note"]
+    assert "type 0" not in sim["note"]
+
+
+def test_a_ring_of_mixed_pillars_only_has_no_order():
+    """[0, 1, 0, 1]: every pillar sits between the two types; the order used to fall back to all pillars, whose
+    types come out sorted ([0, 1] | [0, 1], "asymmetric", whatever the path did)."""
+    from metamaterial_wb.core.sleeve.analysis import snap_order
+    m = _syn_ring([0, 1, 0, 1])
+    up = _syn_path([{2, 3}, {0, 1}], m.state_units)
+    order, events = snap_order(up, m.state_types, m.state_geoms, m.state_units)
+    assert order == [] and [e[2] for e in events] == [[2, 3], [0, 1]]
+    sim = _syn_sequence([0, 1, 0, 1], [{2, 3}, {0, 1}], [{0, 1}, {2, 3}])
+    assert sim["symmetric"] is None
+    assert "type 0 has no pillar" in sim["note"] and "type 1 has no pillar" in sim["note"]
+
+
+def test_a_path_without_a_snap_leaves_the_symmetry_undetermined():
+    """The frame's 40-step cycle: loading [0, 1], unloading [] (no force drop on the coarse unloading path) was
+    called asymmetric."""
+    sim = _syn_sequence([0, 0, 1, 1], [{0, 1}, {2, 3}], [{2, 3}, {0, 1}], unload_drop=False)
+    assert sim["loading"] == [0, 1] and sim["unloading"] == [] and sim["events_unloading"] == []
+    assert sim["symmetric"] is None
+    assert "the unloading path showed no snap" in sim["note"] and "model.steps" in sim["note"]
+
+
+def test_a_type_that_does_not_snap_on_a_path_leaves_the_symmetry_undetermined():
+    """Type 1's pillars never change on loading (the stroke ends first): [0] | [0] is no evidence of symmetry."""
+    sim = _syn_sequence([0, 0, 1, 1], [{0}, set()], [set(), {0}])
+    assert sim["loading"] == [0] and sim["unloading"] == [0]
+    assert sim["symmetric"] is None
+    assert "on the loading path no pillar of type 1 changed state" in sim["note"]
+    assert "on the unloading path no pillar of type 1 changed state" in sim["note"]
+
+
+def test_the_words_for_a_sequence():
+    """stdout and the plot's title: "undetermined" for an incomplete order, "nothing snapped" without events."""
+    from metamaterial_wb.cli.sleeve import symmetry_word
+    ev = [{"d": 0.2, "cells": [0], "snapped": True}]
+    assert symmetry_word({"symmetric": None, "events_loading": ev, "events_unloading": []}) == "undetermined"
+    assert symmetry_word({"symmetric": None, "events_loading": [], "events_unloading": []}) == "nothing snapped"
+    assert symmetry_word({"symmetric": True, "events_loading": ev, "events_unloading": ev}) == "symmetric"
+    assert symmetry_word({"symmetric": False, "events_loading": ev, "events_unloading": ev}) == "asymmetric"
+
+
+def test_the_frames_cycle_reads_the_order_the_same_way():
+    """``frame3d_sequence.sequence`` (``model.frame_nonlinear``): the same verdict and note on the frame's paths."""
+    from types import SimpleNamespace
+    from metamaterial_wb.core.sleeve.frame3d_sequence import sequence
+    m = _syn_ring([0, 0, 0, 1])
+    ring = SimpleNamespace(cells=m.state_geoms[:2], state_types=m.state_types, units=m.state_units, rings=1)
+    up = _syn_path([{2, 3}, {0, 1}], m.state_units)
+    down = _syn_path([{0, 1}, {2, 3}], m.state_units, loading=False)
+
+    def as_frame(p):
+        return {"d": p.d, "F": p.F, "rises": p.states, "tilt": np.column_stack([p.tilt, np.zeros(len(p.d))])}
+    s = sequence(ring, as_frame(up), as_frame(down))
+    assert s["loading"] == [0] and s["unloading"] == [0] and s["symmetric"] is None
+    assert "type 1 has no pillar between two cells of its own type" in s["note"]
+    ring.state_types = [[0, 0, 1, 1][j // 2] for j in range(8)]
+    ring.cells = m.state_geoms[:2]
+    s = sequence(ring, as_frame(up), as_frame(_syn_path([{0, 1}, {2, 3}], m.state_units, loading=False, drop=False)))
+    assert s["loading"] == [1, 0] and s["unloading"] == [] and s["symmetric"] is None
+    assert "the unloading path showed no snap" in s["note"]

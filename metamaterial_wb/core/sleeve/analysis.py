@@ -80,6 +80,15 @@ def units_snapped(rises, snap_height, units):
     return np.stack([over[:, units == u].mean(axis=1) > 0 for u in range(int(units.max()) + 1)], axis=1)
 
 
+def hysteron_types(cell_types, units=None):
+    """The cell types of each hysteron: ``units`` (per column of ``cell_types``, as :func:`snap_order`'s; None: one
+    hysteron per column) numbered 0 .. n - 1; returns n sorted lists. A hysteron of one type (an edge pillar between
+    two cells of that type) can be attributed to it, one of two types (a pillar between them) to neither."""
+    if units is None:
+        units = list(range(len(cell_types)))
+    return [sorted({int(cell_types[j]) for j, u in enumerate(units) if u == uid}) for uid in sorted(set(units))]
+
+
 def snap_order(path, cell_types, geoms_of_cells, units=None):
     """Order in which cell *types* change state along a path, from the snapped flags.
 
@@ -87,10 +96,11 @@ def snap_order(path, cell_types, geoms_of_cells, units=None):
     per column). ``units`` (optional, per column): the hysteron the part belongs to - in the
     single-beam layout the edge pillar that carries two beam halves, which snap together; a unit
     is snapped when the mean of its parts' rises exceeds their mean h. Types are ordered by the
-    first change of a unit made of one type only (a pillar between two types cannot be attributed
-    to either); if there is none, by all units. A state change is a snap only on a path that has a force drop
-    (:func:`has_force_drop`; ``pipeline.simulated_sequence`` asks first): on a monostable path the cells pass h
-    continuously.
+    first change of a unit made of one type only (:func:`hysteron_types`): a pillar between two types cannot be
+    attributed to either, so a type without a pillar of its own, or whose pillars did not change on the path, is
+    missing from the order (:func:`sequence_symmetry` says so). A state change is a snap only on a path that has a
+    force drop (:func:`has_force_drop`; ``pipeline.simulated_sequence`` asks first): on a monostable path the cells
+    pass h continuously.
 
     Returns (order_of_types, events) where events are (index, d, [units], state_after).
     """
@@ -101,23 +111,65 @@ def snap_order(path, cell_types, geoms_of_cells, units=None):
     ids = sorted(set(units))
     cols = [[j for j, u in enumerate(units) if u == uid] for uid in ids]
     s = np.stack([np.mean(states[:, c] - h[None, c], axis=1) > 0 for c in cols], axis=1)
-    utypes = [sorted({int(cell_types[j]) for j in c}) for c in cols]
-    pure = [len(t) == 1 for t in utypes]
+    utypes = hysteron_types(cell_types, units)
     events = []
     for i in range(1, len(s)):
         changed = np.nonzero(s[i] != s[i - 1])[0]
         if len(changed):
             events.append((i, float(path.d[i]), [int(c) for c in changed], bool(s[i][changed[0]])))
     order = []
-    use_pure = any(pure)
     for _, _, us, _ in events:
         for u in us:
-            if use_pure and not pure[u]:
-                continue
-            for t in utypes[u]:
-                if t not in order:
-                    order.append(t)
+            if len(utypes[u]) == 1 and utypes[u][0] not in order:
+                order.append(utypes[u][0])
     return order, events
+
+
+def sequence_symmetry(cell_types, units, paths):
+    """Whether unloading reverses loading, from complete orders only: ``(symmetric, note)``.
+
+    ``cell_types``, ``units``: :func:`snap_order`'s; ``paths``: ``[(name, order, events, drops, d_end), ...]``, the
+    loading path's first, then the unloading path's (``order`` and ``events`` from :func:`snap_order`, ``drops``
+    :func:`has_force_drop`, ``d_end`` the path's last d / L: the stroke on loading, where unloading ends).
+    ``symmetric`` is True when the unloading order is the loading order reversed, False when not - only when both
+    orders hold every type of the ring. It is None with a ``note`` when nothing snapped on either path ("nothing
+    snapped"), or when a type could not be ordered: it has no pillar between two cells of its own type, or a path
+    showed no snap of it; the note says which type and why. One-element lists such as [0] | [0] from a two-type
+    ring are no evidence of either; ``note`` is "" for a complete order."""
+    if not any(p[2] for p in paths):
+        return None, (f"nothing snapped within the stroke (to d/L {paths[0][4]:.4g}): no snapping "
+                      "sequence, neither symmetric nor asymmetric")
+    types = sorted({int(t) for t in cell_types})
+    own = {u[0] for u in hysteron_types(cell_types, units) if len(u) == 1}
+    why = [f"type {t} has no pillar between two cells of its own type (a pillar between two types cannot be "
+           "attributed to either)" for t in types if t not in own]
+    for name, order, events, drops, d_end in paths:
+        missing = [t for t in types if t in own and t not in order]
+        if not missing:
+            continue
+        which = f"type {missing[0]}" if len(missing) == 1 else f"types {missing}"
+        if not drops:
+            why.append(f"the {name} path showed no snap (no force drop and no jump on it, analysis.has_force_drop), "
+                       f"so {which} could not be ordered on it: a finer path (more model.steps) may resolve one")
+        elif name == "loading":
+            why.append(f"on the loading path no pillar of {which} changed state (up to d/L {d_end:.4g}): the stroke "
+                       "may end before it snaps, or the path is too coarse (more model.steps)")
+        else:
+            why.append(f"on the {name} path no pillar of {which} changed state (back to d/L {d_end:.4g}): it may "
+                       "stay snapped, or the path is too coarse (more model.steps)")
+    if why:
+        return None, ("snapping order incomplete, symmetry undetermined (neither symmetric nor asymmetric): "
+                      + "; ".join(why))
+    return bool(paths[0][1][::-1] == paths[1][1]), ""
+
+
+def symmetry_word(seq):
+    """A sequence's verdict in words: ``symmetric`` / ``asymmetric``, or for ``symmetric`` null ``nothing snapped``
+    (no snapping events on either path) or ``undetermined`` (events, but an incomplete order:
+    :func:`sequence_symmetry`)."""
+    if seq.get("symmetric") is None:
+        return "undetermined" if seq.get("events_loading") or seq.get("events_unloading") else "nothing snapped"
+    return "symmetric" if seq["symmetric"] else "asymmetric"
 
 
 def two_hysteron_sequence(thresholds):

@@ -15,7 +15,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from metamaterial_wb.core.sleeve.analysis import has_force_drop, lean_direction, snap_order
+from metamaterial_wb.core.sleeve.analysis import has_force_drop, lean_direction, sequence_symmetry, snap_order
 from metamaterial_wb.core.sleeve.frame3d import RingFrame
 from metamaterial_wb.core.sleeve.frame3d_nl import trace_ring
 
@@ -41,17 +41,19 @@ def frame_cycle(cells, pattern, d_max, steps=120, n_el=12, root_extension=0.63, 
 
 def sequence(ring, up, down):
     """The snapping order of the cell types on loading and unloading (``analysis.snap_order`` on the frame's
-    rises), whether unloading reverses loading (symmetric), the events, and the plate's largest lean on each
-    path with its direction (deg, ``analysis.lean_direction``) and whether the lean reverses between them."""
+    rises), whether unloading reverses loading (symmetric: null, with a ``note``, when nothing snapped or a type
+    could not be ordered on a path, ``analysis.sequence_symmetry``), the events, and the plate's largest lean on
+    each path with its direction (deg, ``analysis.lean_direction``) and whether the lean reverses between them."""
     geoms = [ring.cells[t] for t in ring.state_types]
     out = {}
-    leans = []
+    leans, paths = [], []
     for name, r in (("loading", up), ("unloading", down)):
         path = SimpleNamespace(d=r["d"], F=r.get("F"), states=r["rises"], jumps=[])
         # a snap needs a force drop, as on the beam model's paths (pipeline.simulated_sequence); a path without
         # forces (a stored solid run, read off its beams' ends by bench/fe_ring3d_combinations) is read as it is
         drops = path.F is None or has_force_drop(path)
         order, events = snap_order(path, ring.state_types, geoms, ring.units) if drops else ([], [])
+        paths.append((name, order, events, drops, float(np.asarray(r["d"])[-1])))
         tilt = r["tilt"][:, :2]
         k = int(np.argmax(np.hypot(tilt[:, 0], tilt[:, 1])))
         lean = lean_direction(plate_tilt(tilt[k]))
@@ -60,9 +62,10 @@ def sequence(ring, up, down):
         out[f"events_{name}"] = [{"d": float(e[1]), "units": e[2], "snapped": e[3]} for e in events]
         out[f"max_tilt_{name}_deg"] = float(math.degrees(np.hypot(*tilt[k])))
         out[f"lean_{name}_deg"] = float(math.degrees(math.atan2(lean[1], lean[0]))) if np.any(lean) else None
-    # nothing snapped on either path: neither symmetric nor asymmetric
-    out["symmetric"] = (bool(out["loading"][::-1] == out["unloading"]) if out["loading"] or out["unloading"]
-                        else None)
+    # from complete orders only: nothing snapped, or a type not ordered on a path, is neither symmetric nor asymmetric
+    out["symmetric"], note = sequence_symmetry(ring.state_types, ring.units, paths)
+    if note:
+        out["note"] = note
     out["rings"] = ring.rings
     out["lean_reverses"] = bool(np.dot(leans[0], leans[1]) < 0)
     return out

@@ -11,8 +11,8 @@ from metamaterial_wb.core.sleeve.frame3d import curvature_check
 from metamaterial_wb.core.sleeve.frame3d_nl import first_peak
 from metamaterial_wb.core.sleeve.frame3d_sequence import frame_sequence
 from metamaterial_wb.core.sleeve.analysis import (extrema, has_force_drop, lean_direction, peaks_valleys,
-                                                  pressure_control, pv_curve, snap_order, two_hysteron_sequence,
-                                                  zero_crossings)
+                                                  pressure_control, pv_curve, sequence_symmetry, snap_order,
+                                                  two_hysteron_sequence, zero_crossings)
 from metamaterial_wb.core.sleeve.cell import CellGeometry
 from metamaterial_wb.core.sleeve.model import SleeveModel, default_stroke
 from metamaterial_wb.core.sleeve.spec import MIN_FEATURE_MM
@@ -108,12 +108,17 @@ def design_axis(model):
 
 
 def simulated_sequence(model, up, down):
-    """Snapping order of the cell types along the traced loading and unloading paths, and tilts."""
+    """Snapping order of the cell types along the traced loading and unloading paths, and tilts. ``symmetric`` is
+    null, with a ``note`` saying why (``analysis.sequence_symmetry``), when nothing snapped or when a type could not
+    be ordered on a path (no pillar of its own type, no snap of it on that path); ``note`` is "" otherwise."""
     types, geoms, units = model.state_types, model.state_geoms, model.state_units
     # a snap needs a force drop: on a path without one (a monostable sleeve) the cells pass their chord as springs
-    lo, ev_up = snap_order(up, types, geoms, units) if has_force_drop(up) else ([], [])
-    un, ev_dn = snap_order(down, types, geoms, units) if has_force_drop(down) else ([], [])
-    sym = (lo[::-1] == un) if (lo or un) else None        # nothing snapped: neither symmetric nor asymmetric
+    drop_up, drop_dn = has_force_drop(up), has_force_drop(down)
+    lo, ev_up = snap_order(up, types, geoms, units) if drop_up else ([], [])
+    un, ev_dn = snap_order(down, types, geoms, units) if drop_dn else ([], [])
+    # symmetric or not from complete orders only: nothing snapped, or a type not ordered on a path, is neither
+    sym, note = sequence_symmetry(types, units, [("loading", lo, ev_up, drop_up, float(up.d[-1])),
+                                                 ("unloading", un, ev_dn, drop_dn, float(down.d[-1]))])
     ti_up = up.tilt[np.argmax(np.linalg.norm(up.tilt, axis=1))]
     ti_dn = down.tilt[np.argmax(np.linalg.norm(down.tilt, axis=1))]
     lu, ld = lean_direction(ti_up), lean_direction(ti_dn)
@@ -125,7 +130,7 @@ def simulated_sequence(model, up, down):
         reverses = bool(np.dot(lu, axis) * np.dot(ld, axis) < 0)
     else:
         reverses = bool(np.dot(lu, ld) < 0)
-    return {"loading": lo, "unloading": un, "symmetric": None if sym is None else bool(sym),
+    return {"loading": lo, "unloading": un, "symmetric": sym, "note": note,
             "max_tilt_loading_deg": float(math.degrees(np.linalg.norm(ti_up))),
             "max_tilt_unloading_deg": float(math.degrees(np.linalg.norm(ti_dn))),
             "lean_loading_deg": float(math.degrees(math.atan2(lu[1], lu[0]))) if np.any(lu) else None,
@@ -262,9 +267,8 @@ def analyse(spec, progress=None, log=None):
            "agrees_with_two_hysteron": (None if rule["loading"] is None or sim["symmetric"] is None else
                                         bool(sim["loading"] == rule["loading"]
                                              and sim["unloading"] == rule["unloading"]))}
-    if sim["symmetric"] is None:
-        seq["note"] = (f"nothing snapped within the stroke (to d/L {float(up.d[-1]):.4g}): no snapping sequence, "
-                       "neither symmetric nor asymmetric")
+    if sim["note"]:                   # nothing snapped, or an incomplete order: neither symmetric nor asymmetric
+        seq["note"] = sim["note"]
     frame_paths = None
     if spec.frame_nonlinear:
         say("sleeve: loading and unloading cycle on the nonlinear 3-D frame")
