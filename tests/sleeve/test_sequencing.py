@@ -249,3 +249,18 @@ def test_the_frames_cycle_reads_the_order_the_same_way():
     s = sequence(ring, as_frame(up), as_frame(_syn_path([{0, 1}, {2, 3}], m.state_units, loading=False, drop=False)))
     assert s["loading"] == [1, 0] and s["unloading"] == [] and s["symmetric"] is None
     assert "the unloading path showed no snap" in s["note"]
+
+
+def test_accuracy_note_calls_an_incomplete_frame_order_undetermined():
+    """The accuracy line on the nonlinear frame's sequence: a path without its snap (events on the other path) is
+    an incomplete order, not 'nothing snapped' (before: 'unloading [] (nothing snapped)' for a 40-step frame)."""
+    from metamaterial_wb.core.sleeve.accuracy import frame_sequence_note
+    fs = {"elements": 6, "seconds": 3.0, "loading": [0, 1], "unloading": [], "symmetric": None,
+          "events_loading": [{"d": 0.1, "units": [0], "snapped": True}], "events_unloading": [],
+          "max_tilt_loading_deg": 2.0, "max_tilt_unloading_deg": 1.0, "lean_reverses": False,
+          "agrees_with_model": False}
+    beam = {"loading": [0, 1], "unloading": [1, 0], "symmetric": True, "frame3d_nl": fs}
+    note = frame_sequence_note(beam)
+    assert "unloading [] (undetermined)" in note and "nothing snapped" not in note, note
+    fs.update(events_loading=[], loading=[])
+    assert "loading [], unloading [] (nothing snapped)" in frame_sequence_note(beam)

@@ -10,6 +10,7 @@ measured, and the summary says so instead of extrapolating.
 import math
 
 from metamaterial_wb.core.sleeve.model import PILLAR_TIP, pillar_tip_coefficient
+from metamaterial_wb.core.sleeve.analysis import symmetry_word
 
 # the seed's cell, mm (t, h, L, c, delta, T): the only one the ratios were measured for
 SEED_CELL = {"t": 1.0, "h": 7.5, "L": 18.0, "c": 4.0, "delta": 0.5, "T": 1.8}
@@ -200,8 +201,7 @@ def frame_sequence_note(seq):
     if "error" in fs:
         return f"sequence on the nonlinear frame: none ({fs['error']})"
 
-    def word(s):
-        return "nothing snapped" if s["symmetric"] is None else ("symmetric" if s["symmetric"] else "asymmetric")
+    word = symmetry_word       # "undetermined" for an incomplete order, "nothing snapped" for no snap at all
     lean = (f"the plate leaning up to {fs['max_tilt_loading_deg']:.1f} deg on loading and "
             f"{fs['max_tilt_unloading_deg']:.1f} deg on unloading, " +
             ("the other way" if fs["lean_reverses"] else "the same way"))
