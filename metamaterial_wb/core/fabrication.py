@@ -291,7 +291,8 @@ def max_fabricable_tilt_deg(scene, width_mm, ignore_switch=False, **overrides):
 
 
 def _edge_room_mm(p):
-    """Room along a plate edge, from the corner, for a hinge anchor (clear of the side's socket)."""
+    """Room along a plate edge, from the corner, for a hinge anchor: half the side less the side's socket
+    ledge and a wall, or without sockets less a wall (two nozzle widths) only."""
     w = p.min_wall_mm
     return 0.5 * p.plate_side_mm_global - ((p.counterbore_radius_mm + w) if p.sockets else w)
 
@@ -467,6 +468,9 @@ def _check_fit(p, scene=None):
         reach = wa + shift
         room_edge = _edge_room_mm(p)
         if reach > room_edge:
+            has = (f"the plate (side {s:.3g} mm) has {room_edge:.3g} mm before the socket" if p.sockets else
+                   f"the plate (side {s:.3g} mm, no sockets) has {room_edge:.3g} mm: half its side less a "
+                   f"{W:.3g} mm wall (two nozzle widths)")
             t_max = _max_tilt_deg(p, h.width_mm)
             if h.tilt_deg and t_max >= 0:
                 fold = _printable_fold_deg(scene, p, t_max) if scene is not None else None
@@ -474,14 +478,12 @@ def _check_fit(p, scene=None):
                             f"joint)") if fold is not None else ""
                 raise SceneError(f"{f}.tilt_deg",
                                  f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} "
-                                 f"mm along the plate edge but the plate (side {s:.3g} mm) has {room_edge:.3g} mm "
-                                 f"before the socket; allowed tilt range [-{t_max:.3g}, {t_max:.3g}] deg for this "
-                                 f"hinge{fold_txt}; fold less, or use longer hinges, larger cells, a thinner sheet or a smaller "
+                                 f"mm along the plate edge but {has}; allowed tilt range [-{t_max:.3g}, "
+                                 f"{t_max:.3g}] deg for this hinge{fold_txt}; fold less, or use longer hinges, larger cells, a thinner sheet or a smaller "
                                  f"fabrication.anchor_margin_mm (now {p.anchor_margin_mm} mm)")
             raise SceneError(field("width_mm"),
                              f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} mm "
-                             f"along the plate edge but the plate (side {s:.3g} mm) has {room_edge:.3g} mm before "
-                             f"the socket; reduce the width, the tilt or the anchor margin")
+                             f"along the plate edge but {has}; reduce the width, the tilt or the anchor margin")
 
 
 def _check_anchor_depth(p, W):

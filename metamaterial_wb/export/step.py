@@ -192,14 +192,16 @@ def result_bodies(result, parts):
 # instanced assembly: each unique shape once, every part a named product that maps it into place
 # ------------------------------------------------------------------------------------------------
 def _entities(data):
-    """``[(id, type, body)]`` of a STEP DATA section (entity bodies without ';': ours never hold one)."""
+    """``[(id, type, body)]`` of a STEP DATA section (entity bodies without ';': ours never hold one). A
+    complex entity ``#n = ( A(...) B(...) )`` has the type ``""`` and its body keeps the outer brackets
+    (ISO 10303-21 requires them; without, OCCT's reader reports "Incorrect Syntax")."""
     out = []
     for chunk in data.split(";"):
         chunk = chunk.strip()
         if not chunk:
             continue
         m = _ENTITY.match(chunk)
-        if m:
+        if m and m.group(2):                    # (_ENTITY also matches "( ... )" with an empty type)
             out.append((int(m.group(1)), m.group(2), m.group(3)))
         else:                                   # complex entity: #n = ( A(...) B(...) )
             m2 = re.match(r"#(\d+)\s*=\s*(\(.*\))\s*$", chunk, re.S)

@@ -181,6 +181,121 @@ def test_step_has_one_colour_per_body(fc, chain_result, tmp_path):
     assert styled == solids and len(solids) == len(r.parts)
 
 
+def step_records(text):
+    """``{id: record}`` of a STEP file's DATA section, each record ``#n = ...`` up to (without) its ';',
+    whitespace runs folded to one space; strings ('...' with '' inside) may hold any character."""
+    data = text[text.index("DATA;") + 5:text.rindex("ENDSEC;")]
+    recs, cur, quoted = {}, [], False
+    for ch in data:
+        if ch == "'":
+            quoted = not quoted                 # '' inside a string toggles twice
+        if ch == ";" and not quoted:
+            rec = re.sub(r"\s+", " ", "".join(cur)).strip()
+            cur = []
+            if rec:
+                m = re.match(r"#(\d+) = (.*)$", rec)
+                assert m, f"not an entity record: {rec[:80]!r}"
+                recs[int(m.group(1))] = m.group(2)
+            continue
+        cur.append(ch)
+    assert not quoted and not "".join(cur).strip(), "the DATA section ends inside a record"
+    return recs
+
+
+def _instances_ok(body):
+    """``body`` (an entity record without ``#n = ``) is ``TYPE(...)`` or a complex entity ``( A(...) B(...) )``:
+    parentheses balanced outside strings, nothing after the last one."""
+    def groups(t):                            # split t into its top-level "NAME(...)" items; None if malformed
+        items, depth, quoted, start = [], 0, False, 0
+        for k, ch in enumerate(t):
+            if ch == "'":
+                quoted = not quoted
+            if quoted:
+                continue
+            if ch == "(":
+                depth += 1
+            elif ch == ")":
+                depth -= 1
+                if depth < 0:
+                    return None
+                if depth == 0:
+                    items.append(t[start:k + 1].strip())
+                    start = k + 1
+        if depth or quoted or t[start:].strip():
+            return None
+        return items
+    b = body.strip()
+    if b.startswith("("):
+        outer = groups(b)
+        if outer != [b]:
+            return False
+        inner = groups(b[1:-1])
+        return bool(inner) and all(re.fullmatch(r"[A-Z][A-Z0-9_]*\s*\(.*\)", i, re.S) for i in inner)
+    return re.fullmatch(r"[A-Z][A-Z0-9_]*\(.*\)", b, re.S) is not None and groups(b) == [b]
+
+
+def test_step_complex_entities_keep_their_brackets(fc, chain_result, tmp_path):
+    """Every record of the written STEP is ``TYPE(...)`` or a bracketed complex entity ``( A(...) B(...) )``
+    (ISO 10303-21; the instancing once wrote ``#20 = LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(...);``, which
+    OCCT's reader counts as "Incorrect Syntax"), and the 3D context's length unit is the millimetre."""
+    path = tmp_path / "c.step"
+    _write_instanced(chain_result, path, "c")
+    recs = step_records(path.read_text(encoding="utf-8"))
+    bad = {k: v[:70] for k, v in recs.items() if not _instances_ok(v)}
+    assert bad == {}, f"{len(bad)} malformed records, e.g. {list(bad.items())[:3]}"
+    ctx = [v for v in recs.values() if v.startswith("( GEOMETRIC_REPRESENTATION_CONTEXT(3) ")]
+    assert ctx, "no bracketed 3D representation context"
+    for c in ctx:
+        units = re.search(r"GLOBAL_UNIT_ASSIGNED_CONTEXT\( ?\((#\d+),", c).group(1)
+        assert recs[int(units[1:])] == "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )"
+    assert sum(v.startswith("( ") for v in recs.values()) >= 5          # units, contexts, placements
+
+
+STEP_READER = """import json, os, Part
+s = Part.read(os.environ["MMWB_STEP"])
+print("MMWB-READ " + json.dumps(sorted(round(x.Volume, 6) for x in s.Solids)))
+"""
+
+
+def _occt_read(path):
+    """Read ``path`` with ``Part.read`` (OCCT's STEP reader) in ``freecadcmd``: ``(solid volumes sorted,
+    everything it printed)``. OCCT prints its reader's syntax errors ("ERR StepFile : Incorrect Syntax")
+    on stdout in FreeCAD's command-line application (a plain ``import FreeCAD`` keeps them silent)."""
+    import shutil
+    exe = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
+    if exe is None:
+        pytest.skip("needs FreeCAD's command-line application (freecadcmd)")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["MMWB_STEP"] = str(path)
+    p = subprocess.run([exe, "-c", STEP_READER], env=env, capture_output=True, encoding="utf-8",
+                       errors="replace", timeout=300)
+    out = p.stdout + p.stderr
+    assert p.returncode == 0, out[-2000:]
+    vols = [json.loads(line[10:]) for line in p.stdout.splitlines() if line.startswith("MMWB-READ ")]
+    assert len(vols) == 1, out[-2000:]
+    return vols[0], out
+
+
+def test_step_reads_without_syntax_errors_in_occt(fc, chain_result, tmp_path):
+    """OCCT's STEP reader (FreeCAD's Part.read) reads the instanced STEP without "Incorrect Syntax" and
+    finds one solid per part with the built volumes. Control: the same file with the brackets of one
+    complex entity removed makes the reader report the error (so its silence means something)."""
+    r = chain_result
+    path = tmp_path / "c.step"
+    _write_instanced(r, path, "c")
+    vols, out = _occt_read(path)
+    assert "Incorrect Syntax" not in out and "ERR StepFile" not in out, out[-2000:]
+    want = sorted(r.placed_shape(q).Volume for q in r.parts)
+    assert vols == pytest.approx(want, rel=1e-6)
+    text = path.read_text(encoding="utf-8")
+    unit = "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )"
+    assert unit in text
+    broken = tmp_path / "broken.step"
+    broken.write_text(text.replace(unit, unit[1:-1], 1), encoding="utf-8")
+    _, out = _occt_read(broken)
+    assert "Incorrect Syntax" in out, out[-2000:]
+
+
 # ------------------------------------------------------------------------------------------------
 # 3MF
 # ------------------------------------------------------------------------------------------------

@@ -112,6 +112,32 @@ def test_unprintable_fold_error_gives_the_allowed_range():
     assert f"fold of at most {fold:.3g} deg" in msg
 
 
+def _edge_fit_error(**kw):
+    """The edge-fit error of an 18 mm plate (20 mm cell, 2 mm hinges, 7 mm sheet) whose hinge V0,1 has
+    the width and tilt given in ``kw`` (other keywords: fabrication overrides)."""
+    h = {k: kw.pop(k) for k in ("width_mm", "tilt_deg")}
+    sc = make_scene({"chain": 2}, cell_size_mm=20, hinge={"length_mm": 2, "width_mm": 0.8, "thickness_mm": 7},
+                    joints=[{"joint": "V0,1", **h}])
+    with pytest.raises(SceneError) as e:
+        _params_and_modules(sc, **kw)
+    return e.value
+
+
+@pytest.mark.parametrize("bad", [{"width_mm": 0.8, "tilt_deg": 40.5},
+                                 {"width_mm": 4.5, "tilt_deg": 0.0, "anchor_margin_mm": 4.0}])
+def test_edge_fit_error_without_sockets_names_the_wall_not_a_socket(bad):
+    """Without sockets (``build --no-sockets``) the anchor may reach along its plate edge up to half the side
+    less a wall of two nozzle widths (18 / 2 - 0.8 = 8.2 mm): the error says so and names no socket; with
+    sockets the room ends before the socket's ledge (9 - (2.1 + 0.8) = 6.1 mm)."""
+    e = _edge_fit_error(sockets=False, **bad)
+    msg = str(e)
+    assert e.field == ("joints V0,1.tilt_deg" if bad["tilt_deg"] else "joints V0,1.width_mm"), msg
+    assert "before the socket" not in msg and "no sockets" in msg, msg
+    assert "has 8.2 mm" in msg and "half its side" in msg and "0.8 mm wall (two nozzle widths)" in msg, msg
+    msg = str(_edge_fit_error(**bad))
+    assert "has 6.1 mm before the socket" in msg, msg
+
+
 def test_gripper_thinnest_wall_is_two_nozzle_widths(fc):
     """Measured on the built solids: every tilted hinge of the gripper stays >= 0.8 mm from its nodes'
     socket counterbores (was 0.58 mm)."""
