@@ -5,6 +5,7 @@
     /usr/bin/python3 benchmarks/bench_dynamics.py worm             # worm displacement per cycle vs phase offset
     /usr/bin/python3 benchmarks/bench_dynamics.py fidelity         # integrators on the 1000-cell belt
     /usr/bin/python3 benchmarks/bench_dynamics.py dtstudy          # belt8's 10 s travel at dt = 4, 2, 1, 0.5, 0.25 ms
+    /usr/bin/python3 benchmarks/bench_dynamics.py auto [--costs]   # what simulate's default ("auto") runs on the fish
 
 Figures go to docs/img/dyn-*.png, raw numbers to benchmarks/results/dyn-*.json.
 Timings are wall clock on a shared 2-core machine; ``speed`` compares the compiled kernel
@@ -376,6 +377,89 @@ def dt_study_rows(travel_of_dt, dts=DT_STUDY_STEPS):
     return {"rows": rows, "extrapolated_mm": ext, "error_mm": err, "order": order}
 
 
+AUTO_COST_SCENES = "fish,grid_fold,worm_crawl,butterfly_wing,gripper,strip_fold,umbrella_holder,belt8"
+
+
+def _per_step_s(d, T, method, kernel="auto", burst=True, repeat=1):
+    """Best wall time per step of ``T`` s of the scene dict ``d`` from its own start (as ``simulate``), with the
+    kernel / burst switches set; the explicit integrator at its guard, the implicit one at the scene's step."""
+    from metamaterial_wb.core.dynamics.simulate import _start
+
+    sc = Scene.from_dict(d)
+    cfg = dynamics_config(sc)
+    best = None
+    for _ in range(repeat):
+        model = build(sc, cfg)
+        sim, _ = _start(sc, cfg, model, True)
+        sim.kernel, sim.burst = kernel, burst
+        sim.run(T, method=method, dt=None if method == "symplectic" else cfg["integrator"]["dt_s"])
+        per = sim.stats["wall_s"] / sim.stats["steps"]
+        best = per if best is None else min(best, per)
+    return best, sim.stats.get("kernel"), 3 * model.system.n
+
+
+def run_auto(args):
+    """simulate's default on a sheet scene without dynamics.integrator ("auto", the fish): the integration's wall time
+    of auto, of the implicit integrator and of the explicit one (the former auto choice), in the same run; with
+    --costs the per-step cost of each implicit path in explicit steps (what core/dynamics/autochoice.py models)."""
+    from metamaterial_wb.core.dynamics.autochoice import implicit_step_cost
+
+    print(f"shared machine, load {os.getloadavg()[0]:.2f} at start; best of {args.repeat}", flush=True)
+    out = {"load_avg": os.getloadavg()[0], "seconds": args.seconds, "scenes": [], "costs": []}
+    for name in args.scenes.split(","):
+        sc = Scene.load(os.path.join(ROOT, "examples", name + ".json"))
+        runs = {}
+        # auto and implicit alternate (a load peak or the first run's warm-up does not fall on one of them only);
+        # the explicit integrator once, it takes 40-200 times as long
+        for method in ["auto", "implicit"] * args.repeat + ["symplectic"]:
+            s, *_ = simulate(sc, args.seconds, method=None if method == "auto" else method)
+            if method not in runs or s["integrator"]["wall_s"] < runs[method]["integrator"]["wall_s"]:
+                runs[method] = s
+        a, i, e = (runs[m]["integrator"] for m in ("auto", "implicit", "symplectic"))
+        choice = a.get("auto_choice") or {}          # (none when the scene names its integrator)
+        former = "symplectic" if 6.0 * e["dt_guard_s"] >= i["dt_s"] else "implicit"   # the rule before 2026-12
+        row = {"scene": name, "auto_choice": choice, "method": a["method"], "kernel": a.get("kernel"),
+               "former_auto_method": former,
+               **{f"{m}_{k}": runs[m]["integrator"][k] for m in runs for k in ("wall_s", "steps", "dt_s")},
+               **{f"{m}_displacement_mm": runs[m]["displacement_mm"] for m in runs},
+               "ratio_auto_to_implicit": a["wall_s"] / i["wall_s"],
+               "ratio_symplectic_to_implicit": e["wall_s"] / i["wall_s"]}
+        out["scenes"].append(row)
+        print(f"{name}, {args.seconds:g} s: auto chose {a['method']} ({a.get('kernel')}; modelled cost ratio "
+              f"implicit/symplectic {choice.get('cost_ratio_implicit_to_symplectic', float('nan')):.3f}; "
+              f"the former rule chose {former})")
+        for m, it in (("auto", a), ("implicit", i), ("explicit", e)):
+            print(f"    {m:9s} {it['steps']:6d} steps  dt {it['dt_s']:.3g} s  {it['wall_s']:.3f} s  "
+                  f"{runs['symplectic' if m == 'explicit' else m]['displacement_mm']:+.4f} mm")
+        print(f"    ratio auto / implicit {row['ratio_auto_to_implicit']:.2f}, explicit / implicit "
+              f"{row['ratio_symplectic_to_implicit']:.1f}", flush=True)
+    if args.costs:
+        print("per-step cost of each implicit path, in explicit (numpy) steps; model: core/dynamics/autochoice.py")
+        cases = [(n, load(n + ".json")) for n in args.cost_scenes.split(",") if n]
+        for cells in (int(c) for c in args.cost_belts.split(",") if c):
+            d = copy.deepcopy(load("belt1000.json"))
+            d["layout"]["chain"] = cells
+            d["dynamics"]["gait"]["n2"] = max(1, min(20, cells // 4))
+            cases.append((f"belt, {cells} cells", d))
+        for label, d in cases:
+            T = args.cost_seconds
+            sym, _, dofs = _per_step_s(d, T / 20 if "cells" in label else T, "symplectic", repeat=args.repeat)
+            row = {"case": label, "dofs": dofs, "symplectic_ms": sym * 1e3}
+            for path, kernel, burst in (("compiled", "c", True), ("compiled_per_step", "c", False),
+                                        ("numpy", "numpy", True)):
+                T_np = 0.04 if path == "numpy" and dofs > 1000 else T      # the 1000-cell belt's numpy path: 20 steps
+                per, _kern, _ = _per_step_s(d, T_np, "implicit", kernel, burst, repeat=args.repeat)
+                row[path] = per / sym
+                row[path + "_model"] = implicit_step_cost(path, dofs)
+            out["costs"].append(row)
+            print(f"    {label:24s} {dofs:5d} dofs  explicit {sym * 1e3:.3f} ms/step | compiled {row['compiled']:.3f} "
+                  f"(model {row['compiled_model']:.2f}) | per step {row['compiled_per_step']:.3f} "
+                  f"(model {row['compiled_per_step_model']:.2f}) | numpy {row['numpy']:.2f} "
+                  f"(model {row['numpy_model']:.2f})", flush=True)
+    save("dyn-auto.json", out)
+    return 0
+
+
 def run_dtstudy(args):
     """Long-horizon travel (centre-of-mass displacement) of a scene, by default the 8-cell closed-loop belt on the
     flat floor, at dt, dt/2, dt/4, ... (BDF2, ``simulate`` from the scene's own start): the reference error of
@@ -464,8 +548,16 @@ def main():
     pd.add_argument("--seconds", type=float, default=10.0)
     pd.add_argument("--incline", type=float, default=None, help="override dynamics.incline_deg (degrees)")
     pd.add_argument("--dts", default="4,2,1,0.5,0.25", help="steps in ms, coarse to fine, each half the one before")
+    pa = sub.add_parser("auto", help="simulate's default integrator (auto) against the implicit and explicit ones")
+    pa.add_argument("--scenes", default="fish", help="examples/ scenes without dynamics.integrator, comma-separated")
+    pa.add_argument("--seconds", type=float, default=0.5)
+    pa.add_argument("--repeat", type=int, default=2, help="runs of auto and implicit (best counts)")
+    pa.add_argument("--costs", action="store_true", help="also the per-step cost of each implicit path")
+    pa.add_argument("--cost-scenes", default=AUTO_COST_SCENES)
+    pa.add_argument("--cost-belts", default="30,100,300,1000", help="belt1000.json with this many cells")
+    pa.add_argument("--cost-seconds", type=float, default=0.2)
     args = p.parse_args()
-    return {"speed": run_speed, "incline": run_incline, "worm": run_worm, "fidelity": run_fidelity,
+    return {"auto": run_auto, "speed": run_speed, "incline": run_incline, "worm": run_worm, "fidelity": run_fidelity,
             "dtstudy": run_dtstudy}[args.what](args)
 
 

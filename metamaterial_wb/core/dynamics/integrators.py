@@ -32,6 +32,7 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgbtrf as _gbtrf, dgbtrs as _gbtrs
 
+from .autochoice import auto_method, implicit_path, implicit_step_cost
 from .burst import BurstMixin
 from .ledger import EnergyLedger
 from .system import DynamicsError, PlanarSystem
@@ -447,17 +448,28 @@ class Simulator(BurstMixin, EnergyLedger):
 
     # -- driver ------------------------------------------------------------------------------
     def choose(self, method, dt, t_end):
-        """Resolve ``method`` ("auto" picks the cheaper one) and the step size. Returns (method, dt, note)."""
+        """Resolve ``method`` ("auto" picks the cheaper one for the path that will run, ``auto_method``) and the
+        step size. Returns (method, dt, note); for "auto" the comparison is in ``stats["auto_choice"]``."""
         if method not in METHODS:
             raise DynamicsError(f"integrator {method!r}; allowed: {', '.join(METHODS)}")
         note = None
         if method == "auto":
-            # implicit steps cost ~4-8 explicit steps; take the explicit one when its guard step is
-            # not much smaller than the implicit default step, and never for a requested step beyond its
-            # stability limit (it would run at its guard instead of the step asked for)
+            # each integrator at the step it is trusted at: the explicit one at its stability guard (stiffness,
+            # damping and every contact touching and sticking), or at a requested step within its limit; the
+            # implicit one at the requested step, else the scene's converged default. Never the explicit one for a
+            # requested step beyond its stability limit (it would run at its guard instead of the step asked for)
             dt_imp = dt if dt is not None else self.default_implicit_dt
-            method = ("symplectic" if self.dt_guard * 6.0 >= dt_imp and (dt is None or dt <= self.dt_limit)
-                      else "implicit")
+            if dt is not None and dt > self.dt_limit:
+                method, choice = "implicit", {"reason": "requested step beyond the explicit stability limit"}
+            else:
+                dt_sym = self.dt_guard if dt is None else dt
+                path = implicit_path(self)
+                cost = implicit_step_cost(path, 3 * self.sys.n)
+                method = auto_method(dt_sym, dt_imp, cost)
+                choice = {"symplectic_dt_s": dt_sym, "implicit_dt_s": dt_imp, "implicit_path": path,
+                          "implicit_step_cost": cost,
+                          "cost_ratio_implicit_to_symplectic": cost * dt_sym / dt_imp}
+            self.stats["auto_choice"] = dict(choice, chose=method)
         if method == "symplectic":
             if dt is None:
                 dt = self.dt_guard
