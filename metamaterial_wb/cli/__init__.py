@@ -20,10 +20,12 @@ import sys
 from metamaterial_wb import __version__
 from metamaterial_wb.core.errors import MetamaterialError, SceneError
 
-# the scene fields checked after the scene was read, by the model that uses them: a hinge size outside the
-# calibration table (core/calibration.py: ``hinge.length_mm``, ``joints[1].length_mm (H0,0)``); Scene.load names
-# the file in its own errors ("(in PATH)"), the scene object keeps no path, so main() adds it to these
-_LATE_SCENE_FIELD = re.compile(r"(hinge|joints\[[0-9]+\])\.")
+# the fields of the command's input file (a scene, calibrate's test piece, the sleeve spec) checked after it was read,
+# by the model that uses them: a hinge size outside the calibration table (``joints[1].length_mm (H0,0)``),
+# ``dynamics.friction`` (the dynamics model), ``fabrication.*`` and ``modules[k].*`` (the build), ``ring`` (the
+# sleeve's end pieces), ...: the loaders name the file in their own errors ("(in PATH)"), the objects keep no path,
+# so main() adds it to an error whose field starts with a top-level field of that file (:func:`_in_scene_file`)
+_FIELD_ROOT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?=$|[.\[ ])")
 
 
 def _command_modules():
@@ -119,15 +121,44 @@ def _one_line(text, limit=500):
     return text if len(text) <= limit else text[:limit] + " ..."
 
 
+def _input_file(args):
+    """``(path, top-level fields)`` of the command's own input file (``args.scene``, calibrate's ``args.piece``, the
+    sleeve command's ``args.spec``), or ``(None, ())``."""
+    for attr in ("scene", "piece"):
+        if isinstance(getattr(args, attr, None), str):
+            from metamaterial_wb.core.scene.names import KNOWN_KEYS
+            return getattr(args, attr), KNOWN_KEYS | {"dynamics", "fabrication"}
+    if isinstance(getattr(args, "spec", None), str):
+        from metamaterial_wb.core.sleeve.spec import FIELDS
+        return args.spec, set(FIELDS[""])
+    return None, ()
+
+
 def _in_scene_file(exc, args):
-    """``exc`` with `` (in SCENE)`` added when it names a field of the command's scene file (``args.scene``, or
-    calibrate's ``args.piece``) that is checked after loading (:data:`_LATE_SCENE_FIELD`), as the scene's own
-    errors end; any other error as it is."""
-    path = getattr(args, "scene", None) or getattr(args, "piece", None)
-    if not (isinstance(exc, SceneError) and isinstance(path, str) and isinstance(exc.field, str)
-            and _LATE_SCENE_FIELD.match(exc.field) and f"(in {path})" not in exc.message):
+    """``exc`` with `` (in FILE)`` added when it names a field of the command's input file (:func:`_input_file`)
+    that is checked after loading (:data:`_FIELD_ROOT`), as the loaders' own errors end; any other error as it is:
+    one that names the file already, or another input (``--channels FILE``, calibrate's ``ANGLES.csv:LINE``), or a
+    flag."""
+    path, roots = _input_file(args)
+    if not (isinstance(exc, SceneError) and path and isinstance(exc.field, str)):
+        return exc
+    root = _FIELD_ROOT.match(exc.field)
+    other = [v for k, v in vars(args).items() if isinstance(v, str) and v and not k.startswith("_")]
+    if (root is None or root.group(0) not in roots or path in str(exc)
+            or any(exc.field == v or exc.field.startswith((v + ":", v + " ")) for v in other)):
         return exc
     return SceneError(exc.field, f"{exc.message} (in {path})")
+
+
+def _os_message(exc):
+    """``FILE: REASON`` of an OSError (the writers of core/fileio.py name the file also where the system does not,
+    e.g. a write that fills the disk), with what to do when the disk or the quota is full."""
+    import errno
+
+    where = f"{exc.filename}: " if exc.filename is not None else ""
+    full = exc.errno in (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC))
+    return (f"{where}{exc.strerror or exc}" + ("; free space there (or ask for a larger quota), or write to a folder "
+                                              "on another disk, and run the command again" if full else ""))
 
 
 def main(argv=None):
@@ -142,8 +173,7 @@ def main(argv=None):
         print(f"error: {_one_line(_in_scene_file(exc, args))}", file=sys.stderr)
         return 2
     except OSError as exc:
-        where = exc.filename if exc.filename is not None else ""
-        print(f"error: {where}{': ' if where else ''}{exc.strerror or exc}", file=sys.stderr)
+        print(f"error: {_one_line(_os_message(exc))}", file=sys.stderr)
         return 2
     except MemoryError:
         print("error: out of memory; the scene is too large for this machine (docs/scene-format.md, size "

@@ -60,7 +60,8 @@ def add_arguments(p):
     p.add_argument("--sleeves-img", default=None,
                    help="with --fe and the sleeve part: its plot (PNG; default docs/img/sleeve-fe-check.png)")
     p.add_argument("--from-json", default=None,
-                   help="render the report and plot from the raw figures of a previous run (its --json file) "
+                   help="render the report and plot from the raw figures of a previous run (its --json file, "
+                        "format metamaterial-fidelity: another format is refused) "
                         "instead of running the models again; --scenes / --amplitudes select among its results "
                         "(each must be in the file); the report keeps the run's recorded date and machine")
 
@@ -69,6 +70,7 @@ FE_NAN_PATHS = "nan_paths"      # --fe-json-out: where the study held NaN (writt
 # --fe-json-out marks its file, as every JSON report written is marked (named if read as a scene, or as an FE study
 # when it is another document); --fe-json reads a file with this marker or, written before it, none
 FE_FORMAT, FE_VERSION = "metamaterial-fe-study", 1
+RAW_FORMAT, RAW_VERSION = "metamaterial-fidelity", 1      # --json's raw figures, read back by --from-json
 
 
 def _nan_to_null(obj, path=(), found=None):
@@ -126,7 +128,8 @@ def _read_study(path, hint=""):
     if not isinstance(study, dict):
         raise SceneError("--fe-json", f"{path!r}: the FE study is a JSON {type(study).__name__}, expected an object "
                                       f"(as written by --fe-json-out){hint}")
-    _check_fe_marker(study, path, hint)
+    if _check_marker(study, path, "--fe-json", FE_FORMAT, FE_VERSION, "an FE study", "--fe-json-out", hint):
+        del study["format"], study["version"]
     if FE_NAN_PATHS in study:
         _null_to_nan(study, study.pop(FE_NAN_PATHS), repr(path))
     try:
@@ -137,25 +140,26 @@ def _read_study(path, hint=""):
     return study
 
 
-def _check_fe_marker(study, path, hint):
-    """Take the marker of a file written by ``--fe-json-out`` off ``study`` (``"format": FE_FORMAT``, ``"version":
-    FE_VERSION``); refuse another document's format, naming it, or another version. A file without "format" (one
-    written before the marker, like a stored study) is read as it is, as scenes and targets without one are."""
+def _check_marker(doc, path, option, fmt_wanted, version, what_wanted, writer, hint=""):
+    """Check the marker of a file written by ``writer`` (``--fe-json-out``: ``"format": FE_FORMAT``, ``--json``:
+    RAW_FORMAT; ``"version"``), read by ``option``; refuse another document's format, naming it, or another version
+    (a SceneError under ``option``). A file without "format" (one written before the marker, like a stored study)
+    is read as it is, as scenes and targets without one are. Returns True when the file carries the marker."""
     from metamaterial_wb.core.errors import SceneError
     from metamaterial_wb.core.scene.names import FORMAT as SCENE_FORMAT
     from metamaterial_wb.core.scene.sections import OTHER_DOCUMENTS
-    if "format" not in study:
-        return
-    fmt = study["format"]
-    if fmt != FE_FORMAT:
+    if "format" not in doc:
+        return False
+    fmt = doc["format"]
+    if fmt != fmt_wanted:
         what = {SCENE_FORMAT: "a scene", **OTHER_DOCUMENTS}.get(fmt) if isinstance(fmt, str) else None
-        raise SceneError("--fe-json", f"{path!r}: its format is {fmt!r}" + (f" ({what})" if what else "")
-                         + f", not an FE study; expected {FE_FORMAT!r} (a file written by --fe-json-out){hint}")
-    ver = study.get("version")
-    if type(ver) is not int or ver != FE_VERSION:          # type(): True and 1.0 are no version 1
-        raise SceneError("--fe-json", f"{path!r}: version {ver!r} of {FE_FORMAT!r} is not supported; this program "
-                                      f"reads version {FE_VERSION} (the whole number){hint}")
-    del study["format"], study["version"]
+        raise SceneError(option, f"{path!r}: its format is {fmt!r}" + (f" ({what})" if what else "")
+                         + f", not {what_wanted}; expected {fmt_wanted!r} (a file written by {writer}){hint}")
+    ver = doc.get("version")
+    if type(ver) is not int or ver != version:          # type(): True and 1.0 are no version 1
+        raise SceneError(option, f"{path!r}: version {ver!r} of {fmt_wanted!r} is not supported; this program "
+                                 f"reads version {version} (the whole number){hint}")
+    return True
 
 
 def _read_results(path):
@@ -166,6 +170,8 @@ def _read_results(path):
             data = json.load(f)
     except (OSError, ValueError) as exc:
         raise SceneError("--from-json", f"{path!r}: cannot read the raw figures ({exc})") from None
+    if isinstance(data, dict):     # another document (an FE study, a scene) is named before its missing 'results'
+        _check_marker(data, path, "--from-json", RAW_FORMAT, RAW_VERSION, "raw figures", "--json")
     if not isinstance(data, dict) or not isinstance(data.get("results"), list):
         got = (_what(data) if not isinstance(data, dict) else "an object without 'results'" if "results" not in data
                else f"an object whose 'results' is {_what(data['results'])}")
@@ -541,7 +547,7 @@ def _render(args, fidelity, results, measured, command, fe_study, fe_note, with_
     raw = None
     if args.json:
         try:
-            raw = json.dumps({"format": "metamaterial-fidelity", "version": 1, "measured": measured,
+            raw = json.dumps({"format": RAW_FORMAT, "version": RAW_VERSION, "measured": measured,
                               "results": results}, indent=1, allow_nan=False) + "\n"
         except ValueError as exc:
             raise SceneError("--json", f"{args.json}: the figures cannot be written as JSON ({exc}); nothing "

@@ -200,7 +200,10 @@ def make_temp_dir(parent, kind="tmp"):
         The new folder's path.
     """
     sweep_stale(parent)
-    return tempfile.mkdtemp(dir=parent, prefix=temp_prefix(kind))
+    try:
+        return tempfile.mkdtemp(dir=parent, prefix=temp_prefix(kind))
+    except OSError as exc:
+        raise _named_error(exc, parent) from exc
 
 
 def write_target(path, option="--out"):
@@ -239,6 +242,20 @@ def write_target(path, option="--out"):
     return target
 
 
+def _shown_path(path):
+    """``path`` as the user knows it: this process's temporary folders in it (``.KIND-<pid>-...``, where a set is
+    written before it is moved in) left out, so ``OUT/.build-123-x/a.step`` is ``OUT/a.step``."""
+    own = tuple(f"{p}{os.getpid()}-" for p in TEMP_PREFIXES)
+    return os.sep.join(p for p in os.fspath(path).split(os.sep) if not p.startswith(own)) or os.sep
+
+
+def _named_error(exc, path):
+    """The OSError ``exc`` of writing ``path`` as one of the same errno (so of the same subclass) naming the file
+    (:func:`_shown_path`): a write that fills the disk raises ``No space left on device`` with no file name, and the
+    CLI prints the name an OSError carries."""
+    return OSError(exc.errno, exc.strerror or str(exc), _shown_path(path))
+
+
 def _mkdirs(folder):
     try:
         os.makedirs(folder, exist_ok=True)
@@ -261,7 +278,8 @@ def write_atomic(path, data, mode="w"):
     Raises
     ------
     OSError
-        If writing fails (the temporary file is removed; ``path`` is untouched).
+        If writing fails (the temporary file is removed; ``path`` is untouched), naming ``path`` as the user knows
+        it (:func:`_named_error`; ``f.write`` on a full disk names no file).
     SceneError
         ``path`` is a link that cannot be written through (:func:`write_target`).
     """
@@ -269,7 +287,10 @@ def write_atomic(path, data, mode="w"):
     folder = os.path.dirname(path)
     _mkdirs(folder)
     sweep_stale(folder)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=temp_prefix(), suffix="-" + os.path.basename(path)[-40:])
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=temp_prefix(), suffix="-" + os.path.basename(path)[-40:])
+    except OSError as exc:
+        raise _named_error(exc, path) from exc
     try:
         with os.fdopen(fd, mode, **({"encoding": "utf-8"} if "b" not in mode else {})) as f:
             if callable(data):
@@ -280,9 +301,11 @@ def write_atomic(path, data, mode="w"):
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file normal permissions
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         if os.path.lexists(tmp):
             os.unlink(tmp)
+        if isinstance(exc, OSError) and exc.filename in (None, tmp, path):   # not an error of another file's
+            raise _named_error(exc, path) from exc
         raise
 
 
@@ -343,6 +366,11 @@ def commit_set(tmp, out_dir, names):
     """Move ``names`` from folder ``tmp`` into ``out_dir`` all together: if one move fails, the ones
     already moved are taken back and the files they replaced restored, then the error is raised.
 
+    A new file whose destination is a symbolic link to a file (or a dangling one) is written through, as
+    :func:`write_atomic` writes: the file the link points to is replaced and the link stays; one in another folder
+    is first moved beside it (into a temporary folder there, so that the moves stay renames on one file system). A
+    link to a folder, or one where a folder goes, is replaced as any entry is.
+
     Parameters
     ----------
     tmp : str
@@ -358,9 +386,10 @@ def commit_set(tmp, out_dir, names):
         An entry of ``out_dir`` is of another kind than the new one (a folder where a file goes, or a file
         where a folder goes), or ``names`` holds one name twice (also in another letter case: one file on
         Windows and macOS; the second move would save the first one's new file as the "earlier" one, and a
-        rollback would restore it): nothing is moved.
+        rollback would restore it), or two names are one file through a link, or a link cannot be written through
+        (:func:`write_target`): nothing is moved.
     OSError
-        The first failed move (after rolling back).
+        The first failed move (after rolling back), naming its file (:func:`_named_error`).
     """
     seen = {}
     for n in names:
@@ -368,6 +397,7 @@ def commit_set(tmp, out_dir, names):
             raise SceneError("--out", f"this run would write {n} twice ({seen[n.casefold()]} and {n}); nothing was "
                                       f"moved into {out_dir}")
         seen[n.casefold()] = n
+    dests, real = {}, {}
     for n in names:     # before any move: an entry of another kind is the user's, never ours to replace
         dst = os.path.join(out_dir, n)
         new_dir = os.path.isdir(os.path.join(tmp, n))
@@ -376,29 +406,46 @@ def commit_set(tmp, out_dir, names):
             raise SceneError("--out", f"{dst} exists and is {what}; it is not replaced (this run writes "
                                       f"{'a folder' if new_dir else 'a file'} of that name): move it or choose "
                                       f"another output folder")
-    backup = os.path.join(tmp, ".old")
-    os.makedirs(backup, exist_ok=True)
-    moved, saved = [], []
+        if os.path.islink(dst) and not new_dir and (os.path.isfile(dst) or not os.path.exists(dst)):
+            dst = write_target(dst)             # a file over a link: the file it points to
+        key = os.path.realpath(dst)
+        if key in real:
+            raise SceneError("--out", f"{os.path.join(out_dir, real[key])} and {n} in {out_dir} are one file "
+                                      f"({key}) through a symbolic link, and this run writes both: nothing was moved")
+        real[key], dests[n] = n, dst
+    src = {n: os.path.join(tmp, n) for n in names}
+    old = {n: os.path.join(tmp, ".old", n) for n in names}
+    stages, moved, saved, n = [], [], [], None
     try:
+        os.makedirs(os.path.join(tmp, ".old"), exist_ok=True)
+        for n in names:     # written through a link into another folder: first beside its target (one file system)
+            if not os.path.samefile(os.path.dirname(dests[n]), out_dir):
+                stages.append(make_temp_dir(os.path.dirname(dests[n])))
+                shutil.move(src[n], os.path.join(stages[-1], "new"))
+                src[n], old[n] = os.path.join(stages[-1], "new"), os.path.join(stages[-1], "old")
         for n in names:
-            dst = os.path.join(out_dir, n)
-            if os.path.lexists(dst):
-                os.replace(dst, os.path.join(backup, n))
+            if os.path.lexists(dests[n]):
+                os.replace(dests[n], old[n])
                 saved.append(n)
-            os.replace(os.path.join(tmp, n), dst)
+            os.replace(src[n], dests[n])
             moved.append(n)
-    except BaseException:
-        for n in moved:
+    except BaseException as exc:
+        for m in moved:
             try:
-                os.replace(os.path.join(out_dir, n), os.path.join(tmp, n))
+                os.replace(dests[m], src[m])
             except OSError:
                 pass
-        for n in saved:
+        for m in saved:
             try:
-                os.replace(os.path.join(backup, n), os.path.join(out_dir, n))
+                os.replace(old[m], dests[m])
             except OSError:
                 pass
+        if isinstance(exc, OSError):
+            raise _named_error(exc, out_dir if n is None else dests[n]) from exc
         raise
+    finally:
+        for stage in stages:        # the earlier file of a link's target (or, after a failure, the new one)
+            shutil.rmtree(stage, ignore_errors=True)
 
 
 def write_together(outputs):
@@ -417,9 +464,9 @@ def write_together(outputs):
     Raises
     ------
     OSError
-        The first failed write or move (after rolling back).
+        The first failed write or move (after rolling back), naming its file (:func:`_named_error`).
     """
-    made, staged, moved = [], [], []
+    made, staged, moved, path = [], [], [], None
     outputs = [(write_target(os.path.abspath(os.fspath(path))), text) for path, text in outputs]   # before any write
     try:
         for path, text in outputs:
@@ -441,7 +488,8 @@ def write_together(outputs):
                 os.replace(path, os.path.join(tmp, "old"))
             moved.append((path, tmp, had_old))
             os.replace(os.path.join(tmp, "new"), path)
-    except BaseException:
+    except BaseException as exc:
+        failed = path
         for path, tmp, had_old in reversed(moved):
             try:
                 if os.path.lexists(os.path.join(tmp, "new")):
@@ -459,6 +507,8 @@ def write_together(outputs):
                 os.rmdir(m)
             except OSError:
                 pass
+        if isinstance(exc, OSError) and failed is not None:
+            raise _named_error(exc, failed) from exc
         raise
     for path, tmp in staged:
         shutil.rmtree(tmp, ignore_errors=True)
