@@ -376,6 +376,34 @@ MAX_RATE_HZ = 100         # the streamer's allowed rates: 1..100 Hz
 _DENSE_S = 1e-3           # the motion is compared at 1 kHz (as check_motion samples it)
 _WINDOW = 100_000         # dense samples per block (long streams are compared block by block)
 _SUGGEST_SPAN_S = 600.0   # the whole rates suggested after a refusal are compared over at most this much motion
+# The firmware starts a servo pulse every 20 ms (avr/servo_isr.c FRAME_TICKS; the PCA9685 runs at 50 Hz too) with
+# the latest angle: above 50 Hz a servo gets only some of the frames, 20 ms apart (at a phase not tied to them).
+SERVO_FRAME_MS = 20
+SLEW_PERIOD_MS = 10       # the firmware's slew step (link.h SL_SLEW_PERIOD_MS): max_slew_dps cdeg per 10 ms
+
+
+def servo_gaps(rate_hz, pulse_hz=None):
+    """How many frame periods apart the frames a servo gets are (a pulse ``pulse_hz`` times a second of motion,
+    None: every SERVO_FRAME_MS, each with the latest frame): (1,) up to 50 Hz, else floor and ceil of
+    rate_hz * 20 ms (either one at some phase)."""
+    q = rate_hz / (1000.0 / SERVO_FRAME_MS if pulse_hz is None else pulse_hz)
+    return (1,) if q <= 1 + 1e-9 else tuple(sorted({int(math.floor(q + 1e-9)), int(math.ceil(q - 1e-9))}))
+
+
+def slew_ticks(target_deg, max_slew_dps, start_deg=None):
+    """The firmware's slew (servo.c sl_slew, every SLEW_PERIOD_MS): the angle moves towards each tick's target
+    (``target_deg[..., i]``) by at most max_slew_dps centidegrees (max_slew_dps deg/s); 0: none. Vectorised over
+    the leading axes; starts at ``start_deg`` (default the first target)."""
+    y = np.asarray(target_deg, dtype=float)
+    if not max_slew_dps:
+        return y.copy()
+    step = max_slew_dps * SLEW_PERIOD_MS / 1000.0
+    out = np.empty_like(y)
+    cur = y[..., 0].copy() if start_deg is None else np.broadcast_to(np.asarray(start_deg, float), y[..., 0].shape)
+    for i in range(y.shape[-1]):
+        cur = cur + np.clip(y[..., i] - cur, -step, step)
+        out[..., i] = cur
+    return out
 
 
 @dataclass
@@ -416,7 +444,7 @@ def _rate_tracks(scene, channels, clamp):
     return out
 
 
-def _deviations(tracks, duration_s, rates, stop_above=None):
+def _deviations(tracks, duration_s, rates, stop_above=None, pulse_hz=None):
     """``{rate: RateDeviation}``: the worst deviation of each rate over [0, duration_s]. With ``stop_above``, a
     rate is dropped (its entry kept) as soon as it exceeds it."""
     worst = {r: RateDeviation(0.0) for r in rates}
@@ -429,23 +457,26 @@ def _deviations(tracks, duration_s, rates, stop_above=None):
         for c, angles, steps in tracks:
             m = angles(td)
             for r in alive:
-                # the frames around the block: t = k / r (the one after the last sent one included)
-                k0 = int(math.floor(td[0] * r - 1e-9))
-                k1 = max(k0 + 1, int(math.ceil(td[-1] * r + 1e-9)))
-                tf = np.arange(max(k0, 0), k1 + 1) / r
-                f = np.round(angles(tf) * 100.0) / 100.0    # in the whole centidegrees sent
-                path = np.interp(td, tf, f)
-                dev = np.abs(m - path)
-                if steps:  # no servo follows a jump: the nearer of the two frames around t counts
-                    j = np.clip(np.searchsorted(tf, td, side="right") - 1, 0, len(tf) - 2)
-                    cand = np.stack([path, f[j], f[j + 1]])
-                    pick = np.argmin(np.abs(cand - m), axis=0)
-                    path = cand[pick, np.arange(td.size)]
-                    dev = np.abs(m - path)
-                i = int(np.argmax(dev >= dev.max() - 1e-6))   # the earliest place of the worst (ties in rounding)
-                if dev[i] > worst[r].deg + 1e-6:
-                    worst[r] = RateDeviation(float(dev[i]), c.name, c.channel, float(td[i]), float(path[i]),
-                                             float(m[i]))
+                # the frames around the block: t = k / r (the one after the last sent one included), and of them
+                # the ones a servo gets: every g-th (servo_gaps), frame 0 included, for each offset o
+                for g in servo_gaps(r, pulse_hz):
+                    k0 = int(math.floor(td[0] * r - 1e-9)) - g
+                    k1 = max(k0 + 1, int(math.ceil(td[-1] * r + 1e-9))) + g
+                    for o in range(g):
+                        k = np.arange(max(k0, 0), k1 + 1)
+                        k = k[((k - o) % g == 0) | (k == 0)]
+                        tf = k / r
+                        f = np.round(angles(tf) * 100.0) / 100.0    # in the whole centidegrees sent
+                        path = np.interp(td, tf, f)
+                        if steps:  # no servo follows a jump: the nearer of the two frames around t counts
+                            j = np.clip(np.searchsorted(tf, td, side="right") - 1, 0, len(tf) - 2)
+                            cand = np.stack([path, f[j], f[j + 1]])
+                            path = cand[np.argmin(np.abs(cand - m), axis=0), np.arange(td.size)]
+                        dev = np.abs(m - path)
+                        i = int(np.argmax(dev >= dev.max() - 1e-6))   # the earliest place of the worst (rounding)
+                        if dev[i] > worst[r].deg + 1e-6:
+                            worst[r] = RateDeviation(float(dev[i]), c.name, c.channel, float(td[i]),
+                                                     float(path[i]), float(m[i]))
         if stop_above is not None:
             alive = [r for r in alive if worst[r].deg <= stop_above]
             if not alive:
@@ -453,15 +484,19 @@ def _deviations(tracks, duration_s, rates, stop_above=None):
     return worst
 
 
-def rate_deviation(scene, channels, duration_s, rate_hz, clamp=False):
+def rate_deviation(scene, channels, duration_s, rate_hz, clamp=False, pulse_hz=None):
     """How far the servos stray from the scene's motion when it is streamed at ``rate_hz``.
 
-    The frames go out at t = k / rate_hz (in whole centidegrees; with ``clamp`` clamped to the limits) and a servo
-    moves linearly from one frame's angle to the next; the motion is sampled at 1 kHz over [0, duration_s]. For
+    The frames go out at t = k / rate_hz (in whole centidegrees; with ``clamp`` clamped to the limits); the
+    firmware gives the servo a pulse ``pulse_hz`` times a second of motion (None: 50, every SERVO_FRAME_MS of
+    wall time; a player at speed s sending 50 frames a wall second passes 50 / s, so that every frame counts) with
+    the latest frame, so above that rate a servo gets only some of them (servo_gaps, the worst phase), and it
+    moves linearly from one frame's angle it gets to the next; the motion is sampled at 1 kHz over [0, duration_s]
+    (the frames' age at a pulse is a timing jitter, not counted, as for the chip's oscillators). For
     a ``steps`` profile, whose jumps no servo follows, the distance at t is to the nearer of the two frames around
     t (a level shorter than a frame period that falls between two frames counts). Returns the worst
     RateDeviation (``deg`` 0 when nothing moves)."""
-    return _deviations(_rate_tracks(scene, channels, clamp), duration_s, [rate_hz])[rate_hz]
+    return _deviations(_rate_tracks(scene, channels, clamp), duration_s, [rate_hz], pulse_hz=pulse_hz)[rate_hz]
 
 
 def check_rate(scene, channels, duration_s, rate_hz, clamp=False, tolerance_deg=None):
@@ -472,9 +507,15 @@ def check_rate(scene, channels, duration_s, rate_hz, clamp=False, tolerance_deg=
     tracks = _rate_tracks(scene, channels, clamp)
     d = _deviations(tracks, duration_s, [rate_hz])[rate_hz]
     if d.deg <= tol:
+        for c, angles, _ in tracks:
+            _check_slew(c, angles, duration_s, rate_hz, tol)
         return d
+    gaps = servo_gaps(rate_hz)
+    apart = " or ".join(f"{1000.0 * g / rate_hz:.4g}" for g in gaps)
+    pulse = ("" if gaps == (1,) else f" (its servo gets a pulse every {SERVO_FRAME_MS} ms with the latest of the "
+                                     f"frames sent {1000.0 / rate_hz:.4g} ms apart)")
     msg = (f"{rate_hz:g} Hz cannot follow the motion: {d.name} (channel {d.channel}), moving linearly between "
-           f"frames {1000.0 / rate_hz:g} ms apart, would be {d.deg:.2f} deg off it at t = {d.t:.3f} s (at "
+           f"frames {apart} ms apart{pulse}, would be {d.deg:.2f} deg off it at t = {d.t:.3f} s (at "
            f"{d.servo_deg:.2f} deg where the motion is at {d.motion_deg:.2f} deg); allowed: at most {tol:g} deg "
            f"(--rate-tolerance)")
     sines = [(float(a.profile.get("frequency_hz", 1.0)), a.name) for a in scene.actuators
@@ -484,6 +525,9 @@ def check_rate(scene, channels, duration_s, rate_hz, clamp=False, tolerance_deg=
         f, name = max(sines)
         if rate_hz <= 2 * f:
             msg += f"; {rate_hz:g} Hz is not above {2 * f:g} Hz, twice the {f:g} Hz of {name}'s sine (Nyquist)"
+        elif gaps != (1,) and 1000.0 / SERVO_FRAME_MS <= 2 * f:
+            msg += (f"; the servo gets a pulse every {SERVO_FRAME_MS} ms: {1000.0 / SERVO_FRAME_MS:g} Hz is not above "
+                    f"{2 * f:g} Hz, twice the {f:g} Hz of {name}'s sine (Nyquist)")
     # the whole rates that pass (over at most _SUGGEST_SPAN_S of motion: 100 rates over a day would take minutes;
     # the rate then chosen is checked over the whole stream like any other)
     span = min(duration_s, _SUGGEST_SPAN_S)
@@ -503,6 +547,32 @@ def check_rate(scene, channels, duration_s, rate_hz, clamp=False, tolerance_deg=
             msg += (f"; the lowest whole rate that passes{over} is {ok[0]} Hz, and every whole rate from {every} "
                     f"to {MAX_RATE_HZ} Hz does (some in between do not)")
     raise SceneError("--rate", msg)
+
+
+def _check_slew(c, angles, duration_s, rate_hz, tol):
+    """SceneError naming ``c``'s max_slew_dps when the firmware's slew (slew_ticks, its targets the servo's path
+    through the frames) holds the servo more than ``tol`` off the motion; nothing when the path never outruns it."""
+    if not c.max_slew_dps:
+        return
+    cur, peak = None, 0.0
+    n = int(math.floor(duration_s / _DENSE_S + 1e-9)) + 1
+    for i0 in range(0, n, _WINDOW):   # ticks every 10 ms from t = 0, the motion at 1 kHz for its peak speed
+        td = np.arange(i0, min(n, i0 + _WINDOW)) * _DENSE_S
+        peak = max(peak, float(np.max(np.abs(np.diff(angles(np.append(td, td[-1] + _DENSE_S)))))) / _DENSE_S)
+        tt = td[(np.round(td / _DENSE_S).astype(int) % SLEW_PERIOD_MS) == 0]
+        k = np.arange(max(0, int(math.floor(tt[0] * rate_hz)) - 1), int(math.ceil(tt[-1] * rate_hz)) + 2)
+        path = np.interp(tt, k / rate_hz, np.round(angles(k / rate_hz) * 100.0) / 100.0)
+        slewed = slew_ticks(path, c.max_slew_dps, cur)
+        cur = slewed[-1]
+        dev = np.abs(slewed - angles(tt))
+        i = int(np.argmax(dev))
+        if dev[i] > tol:
+            raise SceneError(f"channel {c.channel} ({c.name}).max_slew_dps",
+                             f"{c.max_slew_dps} deg/s: the firmware turns {c.name}'s servo at most {c.max_slew_dps} "
+                             f"deg/s, but the motion moves at up to {peak:.0f} deg/s: the servo would be "
+                             f"{dev[i]:.2f} deg off it at t = {tt[i]:.3f} s (at {slewed[i]:.2f} deg where the "
+                             f"motion is at {float(angles(tt[i:i + 1])[0]):.2f} deg); allowed: at most {tol:g} deg "
+                             f"(--rate-tolerance); raise max_slew_dps (at most 3600) or slow the motion down")
 
 
 @dataclass

@@ -15,14 +15,13 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError, check_number
 
 from . import protocol as P
-from .mapping import RATE_TOLERANCE_DEG, check_servo_reach
+from .mapping import RATE_TOLERANCE_DEG, SERVO_FRAME_MS, SLEW_PERIOD_MS, check_servo_reach, slew_ticks
 
 # How the chip renders an oscillator: sl_link_tick (firmware/src/core/link.c) evaluates it every SL_SLEW_PERIOD_MS
 # (10 ms, link.h) and the servo back end starts a pulse every 20 ms (avr/servo_isr.c FRAME_TICKS; the PCA9685
 # runs at 50 Hz too), carrying the latest value: the servo sees the sine sampled at 50 Hz, at a phase not locked
 # to the sine's start. Streamed frames reach the pins the same way.
-OSC_STEP_MS = 10
-SERVO_FRAME_MS = 20
+OSC_STEP_MS = SLEW_PERIOD_MS
 OSC_RENDER_HZ = 1000.0 / SERVO_FRAME_MS
 _PHASES = 720   # sample phases compared over a period of the sine (0.5 deg apart)
 _SUB = 41       # points compared between two samples (0.5 ms apart at 50 Hz; stream mode compares at 1 kHz)
@@ -97,6 +96,7 @@ def osc_params(scene, channels, tolerance_deg=None):
             def board(v, c=c):  # the chip runs the angle in whole centidegrees
                 return np.round(np.asarray(c.angle_deg(v), dtype=float) * 100.0) / 100.0
             dev = _check_render(f"{field}.frequency_hz", a.name, exact, board, amp, off, f, period, tol)
+            _check_slew(c, f"actuators[{k}] ({a.name})", exact, board, amp, off, period, tol)
             out.append(OscParams(c.name, c.channel, int(round(amp_deg * 100)), int(round(off_deg * 100)), period,
                                  phase_cdeg, ferr, angle_range_deg=(off_deg - amp_deg, off_deg + amp_deg),
                                  render_deviation_deg=dev))
@@ -130,6 +130,7 @@ def osc_params(scene, channels, tolerance_deg=None):
             vq = np.round(np.asarray(v, dtype=float) * 9000.0) / 9000.0
             return np.round(vq * 9000.0 * np.where(vq >= 0, g_pos, g_neg) / P.GAIN_ONE) / 100.0
         dev = _check_render(f"{field}.frequency_hz", a.name, exact, board, amp, off, f, period, tol)
+        _check_slew(c, f"actuators[{k}] ({a.name})", exact, board, amp, off, period, tol)
         out.append(OscParams(c.name, c.channel, int(round(amp * 9000)), int(round(off * 9000)), period, phase_cdeg,
                              ferr, g_pos, g_neg, (a_lo, a_hi), err, dev))
     return out
@@ -157,6 +158,33 @@ def render_deviation(exact, board, amp, off, freq_hz, rate_hz=OSC_RENDER_HZ):
     y1 = board(off + amp * np.sin(phi + step))
     motion = exact(off + amp * np.sin(phi + step * sub))
     return float(np.max(np.abs(y0 + (y1 - y0) * sub - motion)))
+
+
+def slew_deviation(exact, board, amp, off, period_ms, max_slew_dps, phases=10):
+    """(deg, peak deg/s): how far the chip's slew (mapping.slew_ticks: towards the oscillator's value ``board(v)``
+    of each 10 ms step by at most ``max_slew_dps`` deg/s) holds the servo from the motion ``exact(v)`` once settled
+    (the third period), the worst over ``phases`` offsets of the steps in the sine; and the motion's peak speed."""
+    if not amp or not period_ms:
+        return 0.0, 0.0
+    n = int(math.ceil(period_ms / OSC_STEP_MS))
+    t = (np.arange(3 * n)[None, :] * OSC_STEP_MS + np.linspace(0, OSC_STEP_MS, phases, endpoint=False)[:, None])
+    v = off + amp * np.sin(2.0 * math.pi * t / period_ms)
+    dense = exact(off + amp * np.sin(2.0 * math.pi * np.arange(period_ms + 1) / period_ms))
+    peak = float(np.max(np.abs(np.diff(dense)))) * 1000.0
+    if not max_slew_dps or peak <= max_slew_dps:
+        return 0.0, peak
+    dev = np.abs(slew_ticks(board(v), max_slew_dps) - exact(v))[:, 2 * n:]
+    return float(np.max(dev)), peak
+
+
+def _check_slew(c, where, exact, board, amp, off, period_ms, tol):
+    dev, peak = slew_deviation(exact, board, amp, off, period_ms, c.max_slew_dps)
+    if dev > tol:
+        raise SceneError(f"channel {c.channel} ({c.name}).max_slew_dps",
+                         f"{c.max_slew_dps} deg/s: the chip turns the servo of {where} at most {c.max_slew_dps} "
+                         f"deg/s, but its sine moves at up to {peak:.0f} deg/s: the servo would be {dev:.2f} deg off "
+                         f"the motion; allowed: at most {tol:g} deg (--rate-tolerance); raise max_slew_dps (at most "
+                         f"3600) or slow the sine down")
 
 
 def _check_render(field, name, exact, board, amp, off, freq_hz, period_ms, tol):

@@ -51,7 +51,9 @@ def test_connect_compares_the_whole_timeline(doc):
     assert follows < 1.0, text
     from metamaterial_wb.hardware.mapping import channel_map, rate_deviation, RATE_TOLERANCE_DEG
     scene = p.preview_scene
-    assert rate_deviation(scene, channel_map(scene), 120.0, 50.0 / follows).deg <= RATE_TOLERANCE_DEG
+    # (at that speed both the frames and the servos' 20 ms pulses come 50 / follows times a second of motion)
+    assert rate_deviation(scene, channel_map(scene), 120.0, 50.0 / follows, pulse_hz=50.0 / follows).deg \
+        <= RATE_TOLERANCE_DEG
     type_into(p.speed, f"{follows:g}")
     click(p.connect_btn)
     process()

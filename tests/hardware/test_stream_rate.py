@@ -159,7 +159,15 @@ def test_a_step_is_followed_but_a_step_shorter_than_a_frame_is_not():
     with pytest.raises(SceneError, match=r"--rate: 50 Hz cannot follow the motion: tail \(channel 1\).* would be "
                                          r"12\.15 deg off it at t = 0\.505 s"):
         check_motion(s, channel_map(s), 3.0, 50)
-    check_motion(s, channel_map(s), 3.0, 100)   # frames at 0.50, 0.51, 0.52 s: the 10 ms level is sent
+    # at 100 Hz the level is sent (frames at 0.50, 0.51, 0.52 s) but the servo gets a pulse every 20 ms with the
+    # latest frame: at some phases every pulse misses the 0.51 s one
+    with pytest.raises(SceneError, match=r"--rate: 100 Hz cannot follow the motion: tail \(channel 1\), moving "
+                                         r"linearly between frames 20 ms apart \(its servo gets a pulse every 20 ms "
+                                         r"with the latest of the frames sent 10 ms apart\), would be 12\.15 deg"):
+        check_motion(s, channel_map(s), 3.0, 100)
+    longer = {"shape": "steps", "times_s": [0, 0.505, 0.535], "values": [0, 0.5, 0], "period_s": 1.0}
+    s = Scene.from_dict(fish_with(head=still, tail=longer))
+    check_motion(s, channel_map(s), 3.0, 100)   # a 30 ms level reaches a pulse at every phase
 
 
 def test_with_clamp_the_clamped_motion_is_compared():

@@ -192,11 +192,12 @@ class StreamController:
 
     def _rate_problem(self, scene, channels, duration_s, speed, span_s):
         """The rate part of ``follow_problem`` (None when the frames follow the motion)."""
-        from metamaterial_wb.hardware.mapping import RATE_TOLERANCE_DEG, rate_deviation
+        from metamaterial_wb.hardware.mapping import RATE_TOLERANCE_DEG, SERVO_FRAME_MS, rate_deviation
         span = duration_s if span_s is None or span_s >= duration_s else float(span_s)
 
         def dev(s):
-            return rate_deviation(scene, channels, span, self.RATE_HZ / s)
+            # frames and servo pulses both come at wall-clock rates: per second of motion, divided by the speed
+            return rate_deviation(scene, channels, span, self.RATE_HZ / s, pulse_hz=(1000.0 / SERVO_FRAME_MS) / s)
         d = dev(speed)
         if d.deg <= RATE_TOLERANCE_DEG:
             return None
