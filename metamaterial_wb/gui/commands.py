@@ -73,29 +73,31 @@ class _Command:
     def Activated(self):
         from metamaterial_wb.core.errors import MetamaterialError
         from metamaterial_wb.gui import panels
+        menu = translate("Metamaterial", self.MENU)
         if panels.base.foreign_dialog_open():
-            FreeCAD.Console.PrintError(f"{self.MENU}: another tool's task dialog is open; "
-                                       "finish it with OK or Cancel first\n")
-            self.last_error = "another task dialog is open"
+            FreeCAD.Console.PrintError(translate("Metamaterial", "{0}: another tool's task dialog is open; finish it "
+                                                 "with OK or Cancel first").format(menu) + "\n")
+            self.last_error = translate("Metamaterial", "another task dialog is open")
             return
         try:
             if self.NEEDS_SCENE:
                 sc = current_scene()
                 if sc is None:
-                    FreeCAD.Console.PrintError(f"{self.MENU}: no metamaterial structure in the active document\n")
+                    FreeCAD.Console.PrintError(translate("Metamaterial", "{0}: no metamaterial structure in the active "
+                                                         "document").format(menu) + "\n")
                     return
                 if is_invalid(sc) and selected_scene() is None:   # only invalid ones: say why
-                    msg = sc.getStatusString() or "recompute failed"
-                    why = (f"{sc.Label} is invalid: {msg} (to open {self.MENU} on it anyway, to mend it, "
-                           f"select it in the tree first)")
-                    FreeCAD.Console.PrintError(f"{self.MENU}: {why}\n")
+                    msg = sc.getStatusString() or translate("Metamaterial", "recompute failed")
+                    why = translate("Metamaterial", "{0} is invalid: {1} (to open {2} on it anyway, to mend it, select "
+                                    "it in the tree first)").format(sc.Label, msg, menu)
+                    FreeCAD.Console.PrintError(f"{menu}: {why}\n")
                     self.last_error = why
                     return
                 panels.show(self.panel(sc))
             else:
                 panels.show(self.panel(FreeCAD.ActiveDocument))
         except MetamaterialError as exc:   # e.g. the structure is invalid: say why, open nothing
-            FreeCAD.Console.PrintError(f"{self.MENU}: {exc}\n")
+            FreeCAD.Console.PrintError(f"{menu}: {exc}\n")
             self.last_error = str(exc)
 
 

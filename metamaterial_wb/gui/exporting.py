@@ -4,11 +4,13 @@
 PLA / TPU materials with per-part extruders, modules as separate files. The Export panel runs it in a
 child process (``python -m metamaterial_wb.gui.export_job``, see ``gui/panels/jobs.py``) so the GUI
 stays live and Cancel can stop it; scripts call :func:`export_structure` in-process. The stored preferences
-(clearance, materials) are passed as fabrication parameters.
+(clearance, materials) are passed as fabrication parameters. Its messages go through ``translate`` (in the child
+process, which loads no translation, they stay English).
 """
 import os
 
 from metamaterial_wb.core.errors import MetamaterialError
+from metamaterial_wb.gui.i18n import translate
 
 
 def stem_of(name, label=""):
@@ -27,9 +29,10 @@ def preference_overrides():
 
 def check_out_dir(out_dir):
     if not out_dir:
-        raise MetamaterialError("export: give an output folder")
+        raise MetamaterialError(translate("Metamaterial", "export: give an output folder"))
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
-        raise MetamaterialError(f"export: {out_dir!r} exists and is not a folder")
+        raise MetamaterialError(translate("Metamaterial", "export: {0} exists and is not a folder").format(
+            repr(out_dir)))
 
 
 def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=True, overrides=None, stem=None,
@@ -58,10 +61,11 @@ def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=
         try:
             parse_modules(scene, params)
         except (MetamaterialError, NotImplementedError) as exc:
-            raise MetamaterialError(f"modules cannot be built ({exc}); nothing written - fix them or export "
-                                    "without modules") from None
+            raise MetamaterialError(translate("Metamaterial", "modules cannot be built ({0}); nothing written - fix "
+                                              "them or export without modules").format(exc)) from None
     elif modules is False and scene.modules:
-        warnings.append(f"{len(scene.modules)} module(s) not exported (Modules unchecked)")
+        warnings.append(translate("Metamaterial", "{0} module(s) not exported (Modules unchecked)").format(
+            len(scene.modules)))
     result = build_scene(scene, modules=with_modules, progress=progress, params=params)
     return export_result(result, out_dir, step=step, threemf=threemf, progress=progress,
                          stem=stem or stem_of(scene.name))

@@ -2,6 +2,7 @@
 import os
 
 import metamaterial_wb
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP
 
 
 def initialize(workbench):
@@ -11,12 +12,14 @@ def initialize(workbench):
     from metamaterial_wb.gui import commands
 
     commands.register()
-    workbench.appendToolbar("Metamaterial design", commands.DESIGN)
-    workbench.appendToolbar("Metamaterial simulation", commands.SIMULATE)
-    workbench.appendToolbar("Metamaterial fabrication", commands.FABRICATE)
-    workbench.appendToolbar("Metamaterial sleeve", commands.SLEEVE)
-    workbench.appendToolbar("Metamaterial inverse design", commands.INVERSE)
-    workbench.appendMenu("Metamaterial", commands.DESIGN + ["Separator"] + commands.SIMULATE + ["Separator"]
+    # toolbar and menu names are kept in English (FreeCAD stores the user's toolbar choices by them) and shown
+    # translated by FreeCAD in the "Workbench" context: marked so that ts_extract / lupdate list them
+    workbench.appendToolbar(QT_TRANSLATE_NOOP("Workbench", "Metamaterial design"), commands.DESIGN)
+    workbench.appendToolbar(QT_TRANSLATE_NOOP("Workbench", "Metamaterial simulation"), commands.SIMULATE)
+    workbench.appendToolbar(QT_TRANSLATE_NOOP("Workbench", "Metamaterial fabrication"), commands.FABRICATE)
+    workbench.appendToolbar(QT_TRANSLATE_NOOP("Workbench", "Metamaterial sleeve"), commands.SLEEVE)
+    workbench.appendToolbar(QT_TRANSLATE_NOOP("Workbench", "Metamaterial inverse design"), commands.INVERSE)
+    workbench.appendMenu(QT_TRANSLATE_NOOP("Workbench", "Metamaterial"), commands.DESIGN + ["Separator"] + commands.SIMULATE + ["Separator"]
                          + commands.FABRICATE + ["Separator"] + commands.SLEEVE + ["Separator"] + commands.INVERSE)
     FreeCADGui.addIconPath(os.path.join(metamaterial_wb.RESOURCES_DIR, "icons"))
     ui = os.path.join(metamaterial_wb.RESOURCES_DIR, "ui", "preferences.ui")

@@ -29,13 +29,13 @@ from metamaterial_wb.gui.panels.overlays import FloorOverlay
 from metamaterial_wb.gui.panels.profiles import KeyframeTable
 from metamaterial_wb.gui.panels.stream import ServoAngles, StreamController, hardware_available
 from metamaterial_wb.gui.panels import ranges
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
 class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
     """Timeline from the motors' motion profiles: play / pause / loop / speed, optional streaming."""
     VIEW_ATTRS = ("floor",)
-    TITLE = "Animate"
+    TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Animate")
     ICON = "MM_Animate.svg"
     ITEM_ROWS = True
 
@@ -161,7 +161,7 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.frames = 0
         self.frame_ms = None
         self.frame_times = []
-        self.stream = StreamController(self.values_at, self.clock)
+        self.stream = StreamController(self.values_at, self.clock, looping=lambda: self._loop)
         self.shown_values = {}
         # (wall time, animation time, speed) of the last start / scrub / speed change / wrap: one tuple, replaced
         # whole on the GUI thread; clock() (also called by the streaming thread) reads it under _clock_lock
@@ -201,7 +201,8 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
 
     # simulated trajectory ---------------------------------------------------------------------
     def _browse_trajectory(self):  # pragma: no cover - modal file dialog, tests call load_trajectory
-        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Trajectory", "", "Trajectory (*.json)")
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, translate("Metamaterial", "Trajectory"), "",
+                                                    translate("Metamaterial", "Trajectory (*.json)"))
         if path:
             self.load_trajectory(path)
 
@@ -211,7 +212,7 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         from metamaterial_wb.core.playback import TrajectoryPlayer
         try:
             if isinstance(source, dict):
-                data, label = source, "simulated here"
+                data, label = source, translate("Metamaterial", "simulated here")
             else:
                 if os.path.isdir(source):                  # the simulate --out folder
                     source = os.path.join(source, "trajectory.json")
@@ -219,7 +220,8 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
                     with open(source) as f:
                         data = json.load(f)
                 except (OSError, ValueError) as exc:
-                    raise MetamaterialError(f"trajectory {source}: cannot read it ({exc})") from None
+                    raise MetamaterialError(translate("Metamaterial", "trajectory {0}: cannot read it ({1})").format(
+                        source, exc)) from None
                 label = os.path.basename(os.path.dirname(os.path.abspath(source))) + "/" + os.path.basename(source)
             flat, _R = self.solver.poses(np_zeros(self.scene.topology.n_nodes))
             player = TrajectoryPlayer(data, self.scene, flat)
@@ -268,7 +270,7 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         when done."""
         from metamaterial_wb.core.playback import check_run_dynamics, run_dynamics
         if self.sim.running:
-            self.show_error("a simulation is already running")
+            self.show_error(translate("Metamaterial", "a simulation is already running"))
             return False
         scene = structure.compose_scene(self.obj)
         d = scene.to_dict()
@@ -287,15 +289,15 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.clear_error()
         return self.sim.start(lambda report: run_dynamics(scene, float(seconds), fps=fps,
                                                           progress=lambda f: report(f)),
-                              text=f"simulating {seconds:g} s of dynamics ...")
+                              text=translate("Metamaterial", "simulating {0:g} s of dynamics ...").format(seconds))
 
     def _simulated(self, result):
         self.traj_sim_btn.setEnabled(True)
         data, summary = result
         self.last_simulation = summary
         if self.load_trajectory(data):
-            self.traj_label.setText(self.traj_label.text() + translate(
-                "Metamaterial", "; centre of mass moved {0:+.2f} mm").format(summary["displacement_mm"]))
+            self.traj_label.setText(translate("Metamaterial", "{0}; centre of mass moved {1:+.2f} mm").format(
+                self.traj_label.text(), summary["displacement_mm"]))
             if summary.get("warnings"):   # what simulate prints (energy ledger, Newton, fallbacks): never hidden
                 self.show_error(translate("Metamaterial", "simulation warning: {0}").format(
                     "\n".join(summary["warnings"])))

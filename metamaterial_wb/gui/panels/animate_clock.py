@@ -47,11 +47,12 @@ class PlaybackClock:
         self.timeline.blockSignals(False)
         self.time_label.setText(translate("Metamaterial", "t = {0:.2f} s").format(t))
         self.shown_values = {a.name: float(vals[a.name]) for a in self.scene.actuators}
-        self.values_label.setText("  ".join(f"{n} {self.angles.text(n, v)} ({v:+.2f})"
-                                            for n, v in self.shown_values.items()))
+        # one entry per motor: its name, the servo angle sent, its value
+        self.values_label.setText("  ".join(translate("Metamaterial", "{0} {1} ({2:+.2f})").format(
+            n, self.angles.text(n, v), v) for n, v in self.shown_values.items()))
         err = self.stream.take_error()
         if err:
-            self.show_error(f"streaming stopped: {err}")
+            self.show_error(translate("Metamaterial", "streaming stopped: {0}").format(err))
             self.connect_btn.setChecked(False)
         # the panel's own frame timer (values, solve, preview written, labels; the render follows)
         self.frame_ms = 1000 * (time.perf_counter() - t0)
@@ -121,6 +122,7 @@ class PlaybackClock:
 
     def _loop_toggled(self, on):
         self._loop = bool(on)
+        self._warn_follow()                 # while streaming: a jump where the timeline now wraps, said
 
     def _clock_at(self, now, anchor):
         wall0, t0, speed = anchor

@@ -19,7 +19,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.gui.panels.widgets import ElidedLabel
 from metamaterial_wb.gui.panels.profiles import (NONE, ONCE, SHAPES, WAVE_DECIMALS, keyframes_profile,
-                                                 profile_value_range, square_fields, wave_profile)
+                                                 profile_value_range, shape_label, square_fields, wave_profile)
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
 
@@ -87,18 +87,19 @@ class ProfileRows:
             square = square_fields(p) if shape == "steps" else None
             wave = dict(zip(("amplitude", "frequency_hz", "phase_deg"), square)) if square else \
                 (p if shape in ("sine", "none") else {})
-            combo = QtGui.QComboBox()
-            combo.addItems(SHAPES)
+            combo = QtGui.QComboBox()              # the shapes as item data, shown translated
+            for s in SHAPES:
+                combo.addItem(shape_label(s), s)
             if square:
-                combo.setCurrentText("square")
+                combo.setCurrentIndex(combo.findData("square"))
             elif shape in ("sine", "keyframes"):
-                combo.setCurrentText(shape)
+                combo.setCurrentIndex(combo.findData(shape))
             elif shape == "none":
-                combo.insertItem(0, NONE)
+                combo.insertItem(0, shape_label(NONE), NONE)
                 combo.setCurrentIndex(0)
             else:                                  # steps / constant from a file: kept as stored until changed
                 self.stored[a.name] = dict(p)
-                combo.insertItem(0, f"stored {shape}")
+                combo.insertItem(0, shape_label(f"stored {shape}"), f"stored {shape}")
                 combo.setCurrentIndex(0)
             self.keys[a.name] = list(zip(p.get("times_s", [0.0, 0.5]), p.get("values", [0.0, 0.5])))
             if shape == "keyframes":              # stored without a period: it plays once and stays so
@@ -136,7 +137,7 @@ class ProfileRows:
                 lay.addWidget(w)
                 self.table.setCellWidget(r, c, holder)
                 self.cells[a.name].append((w, holder, (base + c, 1)))
-            combo.currentTextChanged.connect(lambda _t, n=a.name: self._shape_changed(n))
+            combo.currentIndexChanged.connect(lambda *_, n=a.name: self._shape_changed(n))
         self.motor_form.setVisible(False)
         self.table.setMaximumHeight(40 + 30 * max(1, len(self.scene.actuators)))
         self.table.horizontalHeader().setStretchLastSection(True)
@@ -155,16 +156,20 @@ class ProfileRows:
             self._shape_ui(a.name)
         self.untouched = {a.name: self._row_state(a.name) for a in self.scene.actuators}
 
+    def shape_of(self, name):
+        """The shape a motor's row shows (the combo's item data: "sine", ..., "none", "stored steps")."""
+        return self.shapes[name].currentData()
+
     def _row_state(self, name):
         """What a motor's row shows: its shape, its three spin boxes and its keyframes."""
-        return (self.shapes[name].currentText(), tuple(w.value() for w in self.spins[name]), tuple(self.keys[name]))
+        return (self.shape_of(name), tuple(w.value() for w in self.spins[name]), tuple(self.keys[name]))
 
     def profiles(self):
         """The motors' profiles (None: the motor has none); a row the user did not touch keeps its stored profile
         exactly (the spin boxes round 0.1234 to 0.123, and an OK that changed nothing writes nothing)."""
         out = {}
         for a in self.scene.actuators:
-            shape = self.shapes[a.name].currentText()
+            shape = self.shape_of(a.name)
             if a.profile and self._row_state(a.name) == getattr(self, "untouched", {}).get(a.name):
                 out[a.name] = dict(a.profile)
                 continue
@@ -223,8 +228,8 @@ class ProfileRows:
 
     def _update_period_note(self):
         notes = []
-        for name, combo in self.shapes.items():
-            if combo.currentText() != "keyframes":
+        for name in self.shapes:
+            if self.shape_of(name) != "keyframes":
                 continue
             fixed = self.key_periods.get(name)
             if fixed is None:
@@ -246,11 +251,12 @@ class ProfileRows:
     def _shape_ui(self, name):
         """Show the fields of the row's shape: the wave boxes for sine / square / triangle, the keyframe table
         for keyframes; a stored steps / constant profile is kept as it is (its boxes disabled)."""
-        shape = self.shapes[name].currentText()
+        shape = self.shape_of(name)
         wave = shape in ("sine", "square", "triangle")
         if shape.startswith("stored"):
             tip = translate("Metamaterial", "{0} keeps its {1} profile as stored: these boxes do not apply to it. "
-                                            "Choose another shape to replace it.").format(name, shape[len("stored "):])
+                                            "Choose another shape to replace it.").format(
+                name, shape_label(shape[len("stored "):]))
         elif shape == NONE:
             tip = translate("Metamaterial", "{0} has no motion profile: it holds its value, these boxes do not "
                                             "apply to it. Choose a shape to give it one.").format(name)
@@ -283,7 +289,11 @@ class ProfileRows:
         self._profiles_changed()
 
     def set_shape(self, name, shape):
-        self.shapes[name].setCurrentText(shape)
+        """Choose ``shape`` ("sine", "square", ...) in a motor's row; an unknown one changes nothing."""
+        combo = self.shapes[name]
+        k = combo.findData(shape)
+        if k >= 0:
+            combo.setCurrentIndex(k)
 
     def set_profile(self, name, amplitude=None, frequency_hz=None, phase_deg=None):
         w = self.spins[name]

@@ -111,9 +111,10 @@ def object_triangles(obj):
     elif hasattr(obj, "Shape") and not obj.Shape.isNull():
         pts, faces = obj.Shape.tessellate(0.1)
     else:
-        raise MetamaterialError(f"target object {obj.Label}: neither a mesh nor a shape")
+        raise MetamaterialError(translate("Metamaterial", "target object {0}: neither a mesh nor a shape").format(
+            obj.Label))
     if not faces:
-        raise MetamaterialError(f"target object {obj.Label}: it has no faces")
+        raise MetamaterialError(translate("Metamaterial", "target object {0}: it has no faces").format(obj.Label))
     v = np.array([[p.x, p.y, p.z] for p in pts])
     return v[np.array(faces)]
 
@@ -193,7 +194,8 @@ class FitTargetPanel(base.BasePanel):
 
     # -- inputs -------------------------------------------------------------------------------
     def browse(self):  # pragma: no cover - interactive
-        fn, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Target", "", "Targets (*.json *.stl *.obj *.step *.stp)")
+        fn, _ = QtGui.QFileDialog.getOpenFileName(self.form, translate("Metamaterial", "Target"), "",
+                                                  translate("Metamaterial", "Targets (*.json *.stl *.obj *.step *.stp)"))
         if fn:
             self.path.setText(fn)
 
@@ -220,14 +222,14 @@ class FitTargetPanel(base.BasePanel):
             return parse_target(self.scene, {"surface": {"triangles": tri.tolist()}})
         path = self.path.text().strip()
         if not path:
-            raise MetamaterialError("give a target file or pick a target object")
+            raise MetamaterialError(translate("Metamaterial", "give a target file or pick a target object"))
         from metamaterial_wb.geometry.surface import load_surface_mesh
         return load_target(self.scene, path, mesh_loader=load_surface_mesh)
 
     # -- the background run -------------------------------------------------------------------
     def run(self):
         if self.job.running:
-            self.show_error("a fit is already running")
+            self.show_error(translate("Metamaterial", "a fit is already running"))
             return False
         self.show_error("")
         try:
@@ -249,7 +251,7 @@ class FitTargetPanel(base.BasePanel):
         self.remove_preview()
         self.run_btn.setEnabled(False)
         return self.job.start(lambda report: self._compute(scene, target, opts, workers, sched, geometry, report),
-                              "starting the fit")
+                              translate("Metamaterial", "starting the fit"))
 
     @staticmethod
     def _compute(scene, target, opts, workers, sched, geometry, report):
@@ -296,7 +298,7 @@ class FitTargetPanel(base.BasePanel):
     def _failed(self, msg):
         self.run_btn.setEnabled(True)
         self.status.setText("")
-        self.show_error(f"fit: {self.in_panel_words(msg)}")
+        self.show_error(translate("Metamaterial", "fit: {0}").format(self.in_panel_words(msg)))
 
     @staticmethod
     def in_panel_words(msg):
@@ -310,13 +312,15 @@ class FitTargetPanel(base.BasePanel):
     def _cancelled(self):
         self.run_btn.setEnabled(True)
         self.status.setText("")
-        self.show_error("fit cancelled: nothing changed")
+        self.show_error(translate("Metamaterial", "fit cancelled: nothing changed"))
 
     def _done(self, run):
         self.run_btn.setEnabled(True)
         self.result = run
         from metamaterial_wb.core.inverse.pipeline import summary_lines
-        parts = [f"{a.name} on {a.joint}: {', '.join(f'{v:+.3f}' for v in run.values[:, k])}"
+        # per motor: its name, its joint, its values (one per target frame)
+        parts = [translate("Metamaterial", "{0} on {1}: {2}").format(a.name, a.joint,
+                                                                     ", ".join(f"{v:+.3f}" for v in run.values[:, k]))
                  for k, a in enumerate(run.scene.actuators)]
         notes = [translate("Metamaterial", "warning: {0}").format(w) for w in run.info.get("warnings", [])]
         self.status.setText("; ".join(parts) + "\n" + "\n".join(summary_lines(run) + notes) + "\n" +
@@ -364,9 +368,9 @@ class FitTargetPanel(base.BasePanel):
     # -- apply / close ------------------------------------------------------------------------
     def apply(self):
         if self.job.running:
-            raise MetamaterialError("the fit is still running: wait or cancel it")
+            raise MetamaterialError(translate("Metamaterial", "the fit is still running: wait or cancel it"))
         if self.result is None:
-            raise MetamaterialError("run the fit first")
+            raise MetamaterialError(translate("Metamaterial", "run the fit first"))
         self.remove_preview()
         scene = self.result.scene
         from metamaterial_wb.core.scene import Scene

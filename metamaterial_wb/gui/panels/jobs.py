@@ -132,9 +132,11 @@ class ThreadJob(_Job):
         self.timer.timeout.connect(self._poll)
         self._state = None
 
-    def start(self, work, text="working ..."):
+    def start(self, work, text=None):
         if self.running or (self.box is not None and self.box.busy_for(self)):
             return False
+        if text is None:
+            text = translate("Metamaterial", "working ...")
         state = {"fraction": 0.0, "text": text, "done": False, "result": None, "error": None}
         self._state = state
 
@@ -231,9 +233,11 @@ class ProcessJob(_Job):
         self.stderr_lines = []
         self._buf = ""
 
-    def start(self, module, args, text="working ..."):
+    def start(self, module, args, text=None):
         if self.running or (self.box is not None and self.box.busy_for(self)):
             return False
+        if text is None:
+            text = translate("Metamaterial", "working ...")
         self.stdout, self.stderr_lines, self._buf = "", [], ""
         proc = QtCore.QProcess()
         proc.setProcessEnvironment(child_environment())
@@ -278,14 +282,14 @@ class ProcessJob(_Job):
             except ValueError:
                 pass
         errs = [ln for ln in self.stderr_lines if ln.startswith("error:")] or self.stderr_lines or \
-            [f"the export process ended with status {code}"]
+            [translate("Metamaterial", "the export process ended with status {0}").format(code)]
         self._end("error", errs[-1][6:].strip() if errs[-1].startswith("error:") else errs[-1])
 
     def _failed(self, err):
         if self.proc is not None and self.proc.state() == QtCore.QProcess.ProcessState.NotRunning and self.running \
                 and not self.cancelled:
             self.proc = None
-            self._end("error", f"cannot start {child_python()}: {err}")
+            self._end("error", translate("Metamaterial", "cannot start {0}: {1}").format(child_python(), err))
 
     def cancel(self):
         if not self.running:

@@ -286,8 +286,9 @@ class NewStructurePanel(BasePanel):
             self._use_file(self.file_mode())
 
     def _browse(self):  # pragma: no cover - modal file dialog, tests type the path
-        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Scene file", metamaterial_wb.EXAMPLES_DIR,
-                                                    "Scenes (*.json)")
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, translate("Metamaterial", "Scene file"),
+                                                    metamaterial_wb.EXAMPLES_DIR,
+                                                    translate("Metamaterial", "Scenes (*.json)"))
         if path:
             self.file.setText(path)
             self.load_file(path)
@@ -298,13 +299,14 @@ class NewStructurePanel(BasePanel):
         self.loaded_scene, self.loaded_path = None, path
         try:
             if not path:
-                raise MetamaterialError("type the path of a scene file")
+                raise MetamaterialError(translate("Metamaterial", "type the path of a scene file"))
             scene = Scene.load(path)
             problem = design_problem(scene)
             if problem:
                 raise MetamaterialError(problem)
         except (MetamaterialError, OSError) as exc:
-            self.set_problem("file", f"{os.path.basename(path) or 'scene file'}: {exc}")
+            self.set_problem("file", translate("Metamaterial", "{0}: {1}").format(
+                os.path.basename(path) or translate("Metamaterial", "scene file"), exc))
             self.status.setText("")
             return None
         self.loaded_scene = scene

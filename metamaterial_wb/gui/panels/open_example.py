@@ -9,7 +9,7 @@ import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.objects import structure
-from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 from metamaterial_wb.gui.panels.base import BasePanel, _fit
 
 
@@ -59,13 +59,14 @@ class OpenExamplePanel(BasePanel):
     def select(self, name):
         items = self.list.findItems(name, QtCore.Qt.MatchFlag.MatchExactly)
         if not items:
-            raise MetamaterialError(f"no example called {name!r}; have {example_files()}")
+            raise MetamaterialError(translate("Metamaterial", "no example called {0}; have {1}").format(
+                repr(name), example_files()))
         self.list.setCurrentItem(items[0])
 
     def apply(self):
         item = self.list.currentItem()
         if item is None:
-            raise MetamaterialError("choose an example")
+            raise MetamaterialError(translate("Metamaterial", "choose an example"))
         scene = Scene.load(metamaterial_wb.example_path(item.text()))
         doc = self.doc or FreeCAD.ActiveDocument or FreeCAD.newDocument(scene.name or "Metamaterial")
         self.commit(doc, "Open example", lambda: setattr(self, "result", structure.make_structure(doc, scene)))

@@ -15,11 +15,29 @@ from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.motion import PROFILE_RANGES
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.panels.base import button_row
-from metamaterial_wb.gui.i18n import translate
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 SHAPES = ["sine", "square", "triangle", "keyframes"]
 # the shape a motor without a motion profile shows: it holds its value, kept so until another shape is chosen
 NONE = "none"
+# what the shape combo shows (translated) for each shape it holds as its item data; a stored steps / constant
+# profile shows as "stored steps" / "stored constant"
+SHAPE_LABELS = {"sine": QT_TRANSLATE_NOOP("Metamaterial", "sine"),
+                "square": QT_TRANSLATE_NOOP("Metamaterial", "square"),
+                "triangle": QT_TRANSLATE_NOOP("Metamaterial", "triangle"),
+                "keyframes": QT_TRANSLATE_NOOP("Metamaterial", "keyframes"),
+                NONE: QT_TRANSLATE_NOOP("Metamaterial", "none"),
+                "stored steps": QT_TRANSLATE_NOOP("Metamaterial", "stored steps"),
+                "stored constant": QT_TRANSLATE_NOOP("Metamaterial", "stored constant")}
+
+
+def shape_label(shape):
+    """The translated text the shape combo shows for ``shape`` (its item data)."""
+    if shape in SHAPE_LABELS:
+        return translate("Metamaterial", SHAPE_LABELS[shape])
+    if shape.startswith("stored "):
+        return translate("Metamaterial", "stored {0}").format(shape[len("stored "):])
+    return shape
 # decimals of the Animate panel's amplitude, frequency (Hz) and phase (deg) boxes
 WAVE_DECIMALS = (3, 3, 1)
 
@@ -61,9 +79,10 @@ def wave_profile(shape, amplitude, frequency_hz, phase_deg, motor=None):
     """
     if shape in ("square", "triangle") and not frequency_hz > 0:
         high = PROFILE_RANGES["frequency_hz"][1]
-        raise SceneError(f"motor {motor}" if motor else "",
-                         f"a {shape} wave needs a frequency > 0 Hz (its period is 1 / f); "
-                         f"got {float(frequency_hz):g} Hz, allowed (0, {high:g}] Hz")
+        raise SceneError(translate("Metamaterial", "motor {0}").format(motor) if motor else "",
+                         translate("Metamaterial", "a {0} wave needs a frequency > 0 Hz (its period is 1 / f); "
+                                   "got {1:g} Hz, allowed (0, {2:g}] Hz").format(shape_label(shape), float(frequency_hz),
+                                                                                 high))
     if shape == "sine":
         return {"shape": "sine", "amplitude": float(amplitude), "frequency_hz": float(frequency_hz),
                 "phase_deg": float(phase_deg)}
@@ -171,7 +190,8 @@ class KeyframeTable(QtGui.QWidget):
         self.table.setMaximumHeight(150)
         self.table.horizontalHeader().setStretchLastSection(True)
         lay.addWidget(self.table)
-        row, (self.add_btn, self.del_btn) = button_row("Add key", "Remove last")
+        row, (self.add_btn, self.del_btn) = button_row(QT_TRANSLATE_NOOP("Metamaterial", "Add key"),
+                                                       QT_TRANSLATE_NOOP("Metamaterial", "Remove last"))
         lay.addLayout(row)
         self.add_btn.clicked.connect(lambda: self.add_key(self._next_time(), 0.0))
         self.del_btn.clicked.connect(self.remove_key)

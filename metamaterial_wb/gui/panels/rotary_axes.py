@@ -30,7 +30,8 @@ class RotaryAxesPanel(BasePanel):
         intro.setWordWrap(True)                 # a narrow task dock (the combo view, ~300 px): the lines wrap
         self.layout.addWidget(intro)
         for d in ("vertical", "horizontal"):
-            box = QtGui.QGroupBox(translate("Metamaterial", "{0} axes ({1})").format(d.capitalize(), 'columns' if d == 'vertical' else 'rows'))
+            box = QtGui.QGroupBox(translate("Metamaterial", "Vertical axes (columns)") if d == "vertical" else
+                                  translate("Metamaterial", "Horizontal axes (rows)"))
             lay = QtGui.QGridLayout(box)        # BUTTONS_PER_ROW a row: a wide sheet's buttons wrap, never widen
             for k, line in enumerate(lines[d]):
                 b = QtGui.QPushButton(str(line))
@@ -104,7 +105,7 @@ class RotaryAxesPanel(BasePanel):
     def apply(self):
         v = self.current_violations()
         if v:
-            raise MetamaterialError("the axes break the rules: " + "; ".join(v))
+            raise MetamaterialError(translate("Metamaterial", "the axes break the rules: {0}").format("; ".join(v)))
         doc = self.obj.Document
 
         def key(a):

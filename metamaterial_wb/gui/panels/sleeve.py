@@ -20,25 +20,31 @@ CAP_FIELD = "sleeve.actuator.core_diameter_mm"
 
 
 def sleeve_summary_text(summary):
-    """The panel's short report of a ``core.sleeve.pipeline.analyse`` summary (plain text lines)."""
+    """The panel's short report of a ``core.sleeve.pipeline.analyse`` summary (plain text lines, translated; the
+    core's notes are shown as they come)."""
     lines = []
-    num = lambda x: "none" if x is None else f"{x:.4g}"  # noqa: E731  (null: not within the stroke)
+    none = translate("Metamaterial", "none")        # a peak / valley not within the stroke (null), no peaks at all
+    num = lambda x: none if x is None else f"{x:.4g}"  # noqa: E731
     for uc in summary["unit_cells"]:
-        lines.append(f"cell type {uc['type']}: peak {num(uc['peak_force'])}, valley {num(uc['valley_force'])} "
-                     f"(F / G L^2)" + (f"; {uc['note']}" if uc.get("note") else ""))
+        if uc.get("note"):
+            line = translate("Metamaterial", "cell type {0}: peak {1}, valley {2} (F / G L^2); {3}")
+        else:
+            line = translate("Metamaterial", "cell type {0}: peak {1}, valley {2} (F / G L^2)")
+        lines.append(line.format(uc["type"], num(uc["peak_force"]), num(uc["valley_force"]), uc.get("note")))
     ring = summary["ring"]
-    fmt = lambda xs: ", ".join(f"{x:.4g}" for x in xs) or "none"  # noqa: E731
-    lines.append(f"sleeve ({ring['rings']} x {ring['cells']} cells): peaks {fmt(ring['peaks'])}; "
-                 f"valleys {fmt(ring['valleys'])}")
+    fmt = lambda xs: ", ".join(f"{x:.4g}" for x in xs) or none  # noqa: E731
+    lines.append(translate("Metamaterial", "sleeve ({0} x {1} cells): peaks {2}; valleys {3}").format(
+        ring["rings"], ring["cells"], fmt(ring["peaks"]), fmt(ring["valleys"])))
     seq = summary["sequence"]
-    lines.append(f"sequence: loading {seq['loading']}, unloading {seq['unloading']} -> "
-                 + ("nothing snapped" if seq["symmetric"] is None else
-                    "symmetric" if seq["symmetric"] else "asymmetric"))
+    order = (translate("Metamaterial", "nothing snapped") if seq["symmetric"] is None else
+             translate("Metamaterial", "symmetric") if seq["symmetric"] else translate("Metamaterial", "asymmetric"))
+    lines.append(translate("Metamaterial", "sequence: loading {0}, unloading {1} -> {2}").format(
+        seq["loading"], seq["unloading"], order))
     pv = summary.get("pv", {})
     if pv.get("peaks_kPa"):
-        lines.append(f"pressure peaks {fmt(pv['peaks_kPa'])} kPa")
+        lines.append(translate("Metamaterial", "pressure peaks {0} kPa").format(fmt(pv["peaks_kPa"])))
     for note in summary.get("accuracy", {}).get("notes", []):      # the model's measured error (core/sleeve/accuracy)
-        lines.append(f"accuracy: {note}")
+        lines.append(translate("Metamaterial", "accuracy: {0}").format(note))
     return lines
 
 
@@ -223,7 +229,8 @@ class SleevePanel(BasePanel):
         self.check_spec()
 
     def _browse(self):  # pragma: no cover - modal file dialog, tests call load_spec
-        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, "Sleeve spec", "", "Sleeve spec (*.json)")
+        path, _ = QtGui.QFileDialog.getOpenFileName(self.form, translate("Metamaterial", "Sleeve spec"), "",
+                                                    translate("Metamaterial", "Sleeve spec (*.json)"))
         if path:
             self.load_spec(path)
 
@@ -278,7 +285,7 @@ class SleevePanel(BasePanel):
         try:
             spec = SleeveSpec.load(path)
         except (OSError, MetamaterialError) as exc:
-            self.show_error(f"{path}: {exc}")
+            self.show_error(translate("Metamaterial", "{0}: {1}").format(path, exc))
             return False
         self.path.setText(str(path))
         self.set_spec(spec)
@@ -335,8 +342,9 @@ class SleevePanel(BasePanel):
             try:
                 d["ring"] = [int(x) for x in self.ring.text().replace(";", ",").split(",") if x.strip()]
             except ValueError:
-                raise MetamaterialError(f"ring pattern {self.ring.text()!r}: expected cell type indices "
-                                        "separated by commas, e.g. 0, 0, 1, 1") from None
+                raise MetamaterialError(translate("Metamaterial", "ring pattern {0}: expected cell type indices "
+                                                  "separated by commas, e.g. 0, 0, 1, 1").format(
+                    repr(self.ring.text()))) from None
             d["rings"] = int(self.rings.value())
             d.pop("pattern", None)
         actuator = dict(d.get("actuator", {}))
@@ -382,13 +390,14 @@ class SleevePanel(BasePanel):
         self.predict_btn.setEnabled(False)
         self.result.setText(translate("Metamaterial", "predicting ..."))
         stages = []
+        step = translate("Metamaterial", "predicting: {0}")     # here: the work runs in another thread
 
         def work(report):
             def log(stage):
                 stages.append(stage)
-                report(min(0.95, 0.1 * len(stages)), f"predicting: {stage}")
+                report(min(0.95, 0.1 * len(stages)), step.format(stage))
             return analyse(spec, log=log)[0]
-        return self.prediction.start(work, text="predicting ...")
+        return self.prediction.start(work, text=translate("Metamaterial", "predicting ..."))
 
     def _predicted(self, summary):
         self.predict_btn.setEnabled(True)
@@ -398,7 +407,7 @@ class SleevePanel(BasePanel):
     def _prediction_failed(self, message):
         self.predict_btn.setEnabled(True)
         self.result.setText("")
-        self.show_error(f"prediction failed: {message}")
+        self.show_error(translate("Metamaterial", "prediction failed: {0}").format(message))
 
     def _prediction_cancelled(self):
         self.predict_btn.setEnabled(True)
