@@ -229,6 +229,7 @@ class ProcessJob(_Job):
     def __init__(self, box, on_done, on_error=None, on_cancel=None):
         super().__init__(box, on_done, on_error, on_cancel)
         self.proc = None
+        self._retired = None        # a process that failed to start, kept until its signal is over
         self.stdout = ""
         self.stderr_lines = []
         self._buf = ""
@@ -288,7 +289,9 @@ class ProcessJob(_Job):
     def _failed(self, err):
         if self.proc is not None and self.proc.state() == QtCore.QProcess.ProcessState.NotRunning and self.running \
                 and not self.cancelled:
-            self.proc = None
+            # keep the QProcess alive until its own signal has returned (dropping the last reference here deleted
+            # it under errorOccurred: a crash); a later start or failure lets it go
+            self._retired, self.proc = self.proc, None
             self._end("error", translate("Metamaterial", "cannot start {0}: {1}").format(child_python(), err))
 
     def cancel(self):

@@ -36,10 +36,15 @@ def sleeve_summary_text(summary):
     lines.append(translate("Metamaterial", "sleeve ({0} x {1} cells): peaks {2}; valleys {3}").format(
         ring["rings"], ring["cells"], fmt(ring["peaks"]), fmt(ring["valleys"])))
     seq = summary["sequence"]
-    order = (translate("Metamaterial", "nothing snapped") if seq["symmetric"] is None else
-             translate("Metamaterial", "symmetric") if seq["symmetric"] else translate("Metamaterial", "asymmetric"))
+    from metamaterial_wb.core.sleeve.analysis import symmetry_word
+    order = {"nothing snapped": translate("Metamaterial", "nothing snapped"),
+             "undetermined": translate("Metamaterial", "undetermined"),    # snaps, but a type could not be ordered
+             "symmetric": translate("Metamaterial", "symmetric"),
+             "asymmetric": translate("Metamaterial", "asymmetric")}[symmetry_word(seq)]
     lines.append(translate("Metamaterial", "sequence: loading {0}, unloading {1} -> {2}").format(
         seq["loading"], seq["unloading"], order))
+    if seq["symmetric"] is None and seq.get("note"):              # why the order is incomplete (core's words)
+        lines.append(translate("Metamaterial", "sequence: {0}").format(seq["note"]))
     pv = summary.get("pv", {})
     if pv.get("peaks_kPa"):
         lines.append(translate("Metamaterial", "pressure peaks {0} kPa").format(fmt(pv["peaks_kPa"])))
