@@ -44,12 +44,13 @@ class ServoAngles:
             from metamaterial_wb.core.errors import SceneError
             from metamaterial_wb.hardware.mapping import channel_map
         except ImportError as exc:     # a checkout without the hardware package: say so, show no angle
-            self.errors = {a.name: f"no servo mapping (metamaterial_wb.hardware: {exc})" for a in scene.actuators}
+            why = translate("Metamaterial", "no servo mapping (metamaterial_wb.hardware: {0})").format(exc)
+            self.errors = {a.name: why for a in scene.actuators}
             return
         try:
             self.channels = {c.name: c for c in channel_map(scene)}
         except SceneError as exc:
-            self.note = f"channel map: {exc}; each motor's angle is its own joint's"
+            self.note = translate("Metamaterial", "channel map: {0}; each motor's angle is its own joint's").format(exc)
             for k, a in enumerate(scene.actuators):
                 try:
                     self.channels[a.name] = _channel_alone(scene, k, a)
@@ -65,7 +66,7 @@ class ServoAngles:
     def text(self, name, value):
         """``"+7.3 deg"`` (``"? deg"`` without an angle)."""
         d = self.deg(name, value)
-        return "? deg" if d is None else f"{d:+.1f} deg"
+        return translate("Metamaterial", "? deg") if d is None else translate("Metamaterial", "{0:+.1f} deg").format(d)
 
     def span(self, name, lo, hi, samples=201):
         """(lowest, highest) angle over the values ``lo..hi`` (the mapping is not symmetric: closing and opening
@@ -80,11 +81,11 @@ class ServoAngles:
     def describe(self, name):
         """How the angle of ``name`` is computed, or why there is none (for tooltips)."""
         if name in self.errors:
-            return f"{name}: no servo angle: {self.errors[name]}"
+            return translate("Metamaterial", "{0}: no servo angle: {1}").format(name, self.errors[name])
         c = self.channels.get(name)
         if c is None:
-            return f"{name}: not an actuator"
-        return f"{name}: {c.source}"
+            return translate("Metamaterial", "{0}: not an actuator").format(name)
+        return translate("Metamaterial", "{0}: {1}").format(name, c.source)
 
     def tooltip(self, names=None):
         """One line per actuator (``describe``), then ``note``."""
@@ -99,12 +100,14 @@ def joint_angle_text(scene, joint, value):
     try:
         from metamaterial_wb.hardware.joint_angle import joint_rotation
     except ImportError as exc:
-        return "? deg", f"no servo mapping (metamaterial_wb.hardware: {exc})"
+        return (translate("Metamaterial", "? deg"),
+                translate("Metamaterial", "no servo mapping (metamaterial_wb.hardware: {0})").format(exc))
     try:
         rot = joint_rotation(scene, joint)
     except SceneError as exc:
-        return "? deg", str(exc)
-    return f"{rot.angle_deg(value):+.1f} deg", f"simulated rotation of joint {rot.joint}"
+        return translate("Metamaterial", "? deg"), str(exc)
+    return (translate("Metamaterial", "{0:+.1f} deg").format(rot.angle_deg(value)),
+            translate("Metamaterial", "simulated rotation of joint {0}").format(rot.joint))
 
 
 def _channel_alone(scene, k, actuator):
