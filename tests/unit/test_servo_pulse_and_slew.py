@@ -111,3 +111,31 @@ def test_a_player_slowed_down_passes_its_pulse_rate_so_that_every_frame_counts()
     assert m.servo_gaps(100, pulse_hz=100) == (1,)
     every = m.rate_deviation(s, ch, 3.0, 100, pulse_hz=100).deg
     assert every == pytest.approx(2.23, abs=0.01) and m.rate_deviation(s, ch, 3.0, 100).deg > every + 3
+
+
+def steps_fish(slew=None, values=(0, 0.3)):
+    with open(os.path.join(REPO, "examples", "fish.json"), encoding="utf-8") as f:
+        d = json.load(f)
+    d["actuators"][1]["profile"] = {"shape": "steps", "times_s": [0, 1], "values": list(values), "period_s": 2}
+    if slew is not None:
+        d["actuators"][1]["servo"] = {"max_slew_dps": slew}
+    return Scene.from_dict(d)
+
+
+@pytest.mark.parametrize("slew", [3600, 600])
+def test_a_slew_limit_the_steps_never_reach_changes_nothing(slew):
+    """Review: a steps profile's jump (7.29 deg between two frames, 364 deg/s) was counted against the slew limit
+    as the straight line between the frames' corners, and refused with 3.65 deg at any limit (also 3600, the
+    maximum); the rate check forgives that jump (the nearer frame counts) and the limit never acts on it."""
+    s = steps_fish(slew)
+    check_motion(s, channel_map(s), 4.0, 50)
+    s = steps_fish()
+    check_motion(s, channel_map(s), 4.0, 50)
+
+
+def test_a_slew_limit_that_slows_a_jump_of_steps_is_refused():
+    """A limit that holds the servo on its way to a new level for longer than the tolerance allows is said: at
+    100 deg/s the 7.29 deg jump takes 73 ms, more than 3 deg behind the frames for most of it."""
+    s = steps_fish(100)
+    with pytest.raises(SceneError, match=r"^channel 1 \(tail\)\.max_slew_dps: 100 deg/s"):
+        check_motion(s, channel_map(s), 4.0, 50)
