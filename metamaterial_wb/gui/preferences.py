@@ -2,13 +2,14 @@
 import FreeCAD
 
 from metamaterial_wb import PREFS_PATH as PATH  # noqa: F401 - one definition (package root)
+from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 DEFAULTS = {"PrinterClearance": 0.2, "RigidMaterial": "PLA", "FlexibleMaterial": "TPU",
             "ModuleMaterial": "ABS", "DefaultServo": "SG90", "SerialPort": "/dev/ttyACM0", "AnimationFps": 30}
 
 # the integer preferences' allowed range (the preference page's spin box: resources/ui/preferences.ui) and label
 RANGES = {"AnimationFps": (1, 120)}
-LABELS = {"AnimationFps": "Animation frame rate (1/s)"}
+LABELS = {"AnimationFps": QT_TRANSLATE_NOOP("Metamaterial", "Animation frame rate (1/s)")}
 
 
 def params():
@@ -52,6 +53,7 @@ def checked(name):
     v = get(name)
     lo, hi = RANGES[name]
     if not lo <= v <= hi:
-        raise MetamaterialError(f"Edit > Preferences > Metamaterial > {LABELS[name]} ({name}): {v} is outside "
-                                f"the allowed range {lo}..{hi}; set it there")
+        raise MetamaterialError(translate("Metamaterial", "Edit > Preferences > Metamaterial > {0} ({1}): {2} is "
+                                          "outside the allowed range {3}..{4}; set it there").format(
+            translate("Metamaterial", LABELS[name]), name, v, lo, hi))
     return v

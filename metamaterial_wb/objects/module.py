@@ -67,6 +67,8 @@ class ModuleProxy(ProxyBase):
     def onDocumentRestored(self, obj):
         self._ensure_properties(obj)
         tag_proxy(obj, self)   # files saved before the split name objects.structure (still importable)
+        if obj.BuiltFor and _built_for_other_preferences(obj):   # saved under other preferences: Recompute rebuilds
+            obj.touch()
 
     def execute(self, obj):
         count_execute(obj)
@@ -125,7 +127,12 @@ PREFERENCE_PARAMS = {"PrinterClearance": "clearance_mm", "RigidMaterial": "rigid
                      "FlexibleMaterial": "flexible_material", "ModuleMaterial": "module_material"}
 
 
-def fabrication_overrides(prefs=("PrinterClearance", "ModuleMaterial")):
+# the preferences that shape the modules' solids (``module_build_key``); the page's label of the clearance
+MODULE_PREFS = ("PrinterClearance", "ModuleMaterial")
+CLEARANCE_PREFERENCE = "Edit > Preferences > Metamaterial > Snap-fit clearance (mm)"
+
+
+def fabrication_overrides(prefs=MODULE_PREFS):
     """The fabrication parameters the user chose in the workbench preferences ``prefs`` (the modules' solids:
     clearance and module material; Export: all four, ``gui.exporting.preference_overrides``). Chosen: stored in the
     group and not the fabrication default (OK on the preferences page stores every field it shows, so a default
@@ -153,6 +160,7 @@ def prepare_module(obj, scene):
     from metamaterial_wb.geometry.modules import parse_modules
     try:
         one, p = _fabricated(scene, [module_to_dict(obj)])
+        check_clearance_preference(p)
         spec = parse_modules(one, p)[0]
     except SceneError as exc:
         sheet = sheet_error(scene)
@@ -160,6 +168,17 @@ def prepare_module(obj, scene):
             return SheetNotBuilt(sheet)
         raise _module_error(obj, exc) from None
     return one, p, spec
+
+
+def check_clearance_preference(p):
+    """Refuse a clearance preference (not the scene's own) that leaves the modules' snap pins no barb: it must stay
+    below the socket lip ``p.socket_lip_mm`` (``geometry.snapfit``). Raises a SceneError naming the preference."""
+    clr = fabrication_overrides(("PrinterClearance",)).get("clearance_mm")
+    if clr is not None and not clr < p.socket_lip_mm:
+        raise SceneError(f"{CLEARANCE_PREFERENCE} (PrinterClearance)",
+                         f"{clr:g} mm is not below the {p.socket_lip_mm:g} mm socket lip (fabrication.socket_lip_mm): "
+                         f"the snap pins' barbs would have nothing to latch on; allowed range [0, "
+                         f"{p.socket_lip_mm:g}) mm; set it there")
 
 
 class SheetNotBuilt:
@@ -270,3 +289,50 @@ def build_module_shape(obj, scene, prepared=None):
     if typ == "stable_hub":
         return Part.makeBox(0.6 * cell, 0.6 * cell, 6.0, V(-0.3 * cell, -0.3 * cell, t)), src
     return Part.makeCylinder(0.3 * side, 3.0, V(0, 0, t)), src
+
+
+def _built_for_other_preferences(obj):
+    """Whether the module ``obj`` holds no valid solid for the current preferences ``MODULE_PREFS``: invalid (its
+    error may come from a preference), never built, or built with other preference values (``BuiltFor``)."""
+    if not obj.isValid() or not obj.BuiltFor:
+        return True
+    try:
+        return json.loads(obj.BuiltFor).get("_fab") != fabrication_overrides()
+    except ValueError:
+        return True
+
+
+def touch_stale_modules():
+    """Mark for recompute every module of every open document whose solid is not the one the current preferences
+    give (Recompute then rebuilds it, as Export would build it). Returns the touched modules."""
+    touched = []
+    for doc in FreeCAD.listDocuments().values():
+        for o in doc.Objects:
+            if getattr(getattr(o, "Proxy", None), "Type", "") == ModuleProxy.Type and hasattr(o, "BuiltFor") \
+                    and _built_for_other_preferences(o):
+                o.touch()
+                touched.append(o)
+    return touched
+
+
+class _PreferenceObserver:
+    """Watches the workbench's parameter group (the preferences page's OK, a macro, the parameter editor): a change
+    of a preference that shapes the modules' solids touches the stale ones."""
+
+    def onChange(self, grp, name):     # FreeCAD 0.20 - 1.1 call ``onChange(group, name)``
+        if name in MODULE_PREFS:
+            touch_stale_modules()
+
+
+_OBSERVER = []   # (group, observer) attached once per session: both kept alive (a group's Python wrapper
+#                  detaches its observers when it is freed)
+
+
+def watch_preferences():
+    """Attach the preference observer to the workbench's parameter group (once)."""
+    if not _OBSERVER:
+        _OBSERVER.append((FreeCAD.ParamGet(PREFS_PATH), _PreferenceObserver()))
+        _OBSERVER[0][0].Attach(_OBSERVER[0][1])
+
+
+watch_preferences()

@@ -34,7 +34,7 @@ def test_an_unknown_material_is_shown_in_the_export_panel(doc, stored):
     stored("RigidMaterial", "Wood")
     p = run_panel("MM_Export")
     text = p.problem_label("preferences").text()
-    assert "Preferences > Metamaterial > Rigid material: 'Wood' is not a known material" in text, text
+    assert "Preferences > Metamaterial > Rigid material (nodes): 'Wood' is not a known material" in text, text
     assert "PLA" in text and not p.export_btn.isEnabled()
     stored("RigidMaterial", "petg")                 # the fabrication upper-cases it
     p._check()

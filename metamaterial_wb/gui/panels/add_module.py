@@ -171,7 +171,7 @@ class AddModulePanel(BasePanel):
         self.set_problem("target", taken)
         from metamaterial_wb.gui.panels.checks import preference_problem
         keys = ["ModuleMaterial"] + (["DefaultServo"] if self.module_type() == "servo_housing" else [])
-        self.set_problem("preferences", preference_problem(keys))
+        self.set_problem("preferences", preference_problem(keys, self.scene))   # (its socket lip, if it sets one)
 
     def goes_on(self):
         """``"a friction pad goes on a node"`` / ``"a servo housing goes across a joint"``."""
