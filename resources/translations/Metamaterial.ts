@@ -4,7 +4,7 @@
 <context>
     <name>Metamaterial</name>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="177"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="212"/>
         <source> (the first {0:g} s of the {1:g} s timeline compared)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -24,17 +24,17 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="146"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="147"/>
         <source>(use the file)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="323"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="327"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="139"/>
         <source>...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -54,12 +54,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="297"/>
-        <source>; centre of mass moved {0:+.2f} mm</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="216"/>
         <source>; no speed down to {0:g}x follows it: slow the motion down</source>
         <translation type="unfinished"></translation>
     </message>
@@ -69,12 +64,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="186"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="221"/>
         <source>; {0:g}x follows it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="184"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="219"/>
         <source>; {0:g}x follows its first {1:g} s (Connect compares the whole timeline)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -84,7 +79,10 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="350"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="360"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="69"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="108"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -94,13 +92,18 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="193"/>
+        <source>Add key</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="139"/>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="24"/>
         <source>Add module</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="112"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="123"/>
         <source>Add type</source>
         <translation type="unfinished"></translation>
     </message>
@@ -110,7 +113,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="136"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="17"/>
         <source>Angular constraint</source>
         <translation type="unfinished"></translation>
@@ -121,8 +124,14 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="144"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="146"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="38"/>
         <source>Animate</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/preferences.py" line="12"/>
+        <source>Animation frame rate (1/s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -141,7 +150,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="114"/>
         <source>Cap diameter (core_diameter_mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -151,7 +160,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="121"/>
         <source>Cell types (row = type index)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -161,7 +170,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="139"/>
         <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
@@ -171,12 +180,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="586"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="536"/>
         <source>Click a hinge in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="587"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="537"/>
         <source>Click a node in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
@@ -199,7 +208,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="82"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="358"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="360"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -214,18 +223,43 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="172"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="173"/>
         <source>Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="153"/>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="35"/>
+        <source>Default servo</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="155"/>
         <source>Design a metamaterial sleeve actuator (curved-beam cells around a cylinder) from a spec file or parameters, build it, predict its force-displacement peaks and snapping sequence</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="350"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="352"/>
         <source>Disconnect</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/preferences.py" line="56"/>
+        <source>Edit &gt; Preferences &gt; Metamaterial &gt; {0} ({1}): {2} is outside the allowed range {3}..{4}; set it there</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="76"/>
+        <source>Edit &gt; Preferences &gt; Metamaterial &gt; {0}: {1} is not a known material; allowed: {2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="74"/>
+        <source>Edit &gt; Preferences &gt; Metamaterial &gt; {0}: {1} is not a known servo; allowed: {2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="50"/>
+        <source>Edit &gt; Preferences &gt; Metamaterial &gt; {0}: {1} mm is not below the {2} mm socket lip, so the modules' snap pins have nothing to latch on; allowed range [0, {2}) mm</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -235,29 +269,34 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="153"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="164"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="148"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="150"/>
         <source>Export STEP / 3MF</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="157"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="123"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="159"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="124"/>
         <source>Fit to target</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="130"/>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="20"/>
         <source>Flexibility</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="125"/>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="33"/>
+        <source>Flexible material (hinges)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="127"/>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
         <source>Folded shape</source>
         <translation type="unfinished"></translation>
@@ -268,8 +307,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="161"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="308"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -284,12 +323,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="78"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="89"/>
         <source>G (shear modulus)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="131"/>
         <source>Global and per-joint hinge sizes, with the resulting k1 / k2</source>
         <translation type="unfinished"></translation>
     </message>
@@ -300,7 +339,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="141"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="143"/>
         <source>Global-deformation slider and one slider per motor and constraint, solved live</source>
         <translation type="unfinished"></translation>
     </message>
@@ -310,7 +349,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="137"/>
         <source>Hold a joint at a fixed deformation (clip); shown as a blue disc</source>
         <translation type="unfinished"></translation>
     </message>
@@ -320,12 +359,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="34"/>
+        <source>Horizontal axes (rows)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="74"/>
         <source>How far the joint turns for this value (plate B relative to plate A, the servo's sign): the angle a servo on it is sent; closing and opening differ. A servo with scale_deg in the scene is sent value x scale_deg instead.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="160"/>
         <source>Inverse design: place N servos and find their values so the structure best reaches a target shape (file or document object); runs in the background</source>
         <translation type="unfinished"></translation>
     </message>
@@ -340,28 +384,28 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="304"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="163"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="165"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="184"/>
         <source>Keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="208"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="228"/>
         <source>Keyframes of {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="74"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="85"/>
         <source>L (beam span)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="116"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="118"/>
         <source>Lay out a new metamaterial sheet: toggle cells on a grid, chain / grid presets, or load a scene file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -392,12 +436,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="191"/>
+        <source>Loop: where the {0:g} s timeline wraps from its end back to its start the servos are sent a jump no servo follows: {1} (at most {2:g} deg, the stream command's rate tolerance); untick Loop, or set a length at which the motion ends where it starts</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="62"/>
         <source>Lowest .. highest angle sent to the servo over the profile's swing (closing and opening differ, the sign is the servo's)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="345"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="292"/>
         <source>Metamaterial</source>
         <translation type="unfinished"></translation>
     </message>
@@ -409,6 +458,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="57"/>
         <source>Module</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="34"/>
+        <source>Module material</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -429,7 +483,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="67"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="41"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="72"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="83"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
@@ -439,7 +493,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="115"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="117"/>
         <source>New structure</source>
         <translation type="unfinished"></translation>
     </message>
@@ -474,28 +528,28 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="126"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="128"/>
         <source>One slider per axis (with its maximum); Confirm runs the joint configuration</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="119"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="121"/>
         <location filename="../../metamaterial_wb/gui/panels/open_example.py" line="33"/>
         <source>Open example</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="120"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="122"/>
         <source>Open one of the bundled examples (fish, worm, ...)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="62"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="73"/>
         <source>Open...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="185"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="187"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
@@ -510,20 +564,20 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="123"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="125"/>
         <source>Pick the grid lines the structure folds about; rule violations are listed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="131"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="133"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="16"/>
         <source>Place motor</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="55"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="190"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="370"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="192"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
@@ -533,7 +587,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="145"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="147"/>
         <source>Play the motors' motion profiles (sine amplitude, frequency, phase); stream to hardware</source>
         <translation type="unfinished"></translation>
     </message>
@@ -543,32 +597,38 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="139"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="150"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="134"/>
         <source>Put a servo on a joint (click a hinge); shown as a red sphere</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="113"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="124"/>
         <source>Remove last</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="124"/>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="32"/>
+        <source>Rigid material (nodes)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="135"/>
         <source>Ring pattern</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="125"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="136"/>
         <source>Rings</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="122"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="124"/>
         <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="17"/>
         <source>Rotary axes</source>
         <translation type="unfinished"></translation>
@@ -579,12 +639,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="177"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="178"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="173"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="174"/>
         <source>Run build's geometry checks on the answer (a child process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -599,8 +659,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="158"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="305"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="289"/>
+        <source>Scene file</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="291"/>
+        <source>Scenes (*.json)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="159"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="307"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
@@ -610,7 +680,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="140"/>
         <source>Servo housing, connection hubs, friction pad or clip on a node or joint</source>
         <translation type="unfinished"></translation>
     </message>
@@ -620,7 +690,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="142"/>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="119"/>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="17"/>
         <source>Simulate</source>
@@ -637,9 +707,24 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="152"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="154"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="59"/>
         <source>Sleeve actuator</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="237"/>
+        <source>Sleeve spec</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="238"/>
+        <source>Sleeve spec (*.json)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="31"/>
+        <source>Snap-fit clearance (mm)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -648,7 +733,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="63"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="74"/>
         <source>Spec</source>
         <translation type="unfinished"></translation>
     </message>
@@ -668,13 +753,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="77"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="88"/>
         <source>T (wall thickness)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="142"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="197"/>
+        <source>Target</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="143"/>
         <source>Target file</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="198"/>
+        <source>Targets (*.json *.stl *.obj *.step *.stp)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -698,7 +793,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="204"/>
+        <source>Trajectory</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="205"/>
+        <source>Trajectory (*.json)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="151"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -718,18 +823,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="33"/>
+        <source>Vertical axes (columns)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="38"/>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="54"/>
         <source>Width</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="169"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="170"/>
         <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/commands.py" line="149"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="151"/>
         <source>Write STEP (named bodies) and 3MF (per-part materials) for dual-extruder printers</source>
         <translation type="unfinished"></translation>
     </message>
@@ -739,12 +849,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="232"/>
+        <source>a fit is already running</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="36"/>
         <source>a friction pad</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="258"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="264"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
@@ -754,8 +869,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="273"/>
+        <source>a simulation is already running</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="35"/>
         <source>a stable connection hub</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="83"/>
+        <source>a {0} wave needs a frequency &gt; 0 Hz (its period is 1 / f); got {1:g} Hz, allowed (0, {2:g}] Hz</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="52"/>
+        <source>accuracy: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -764,7 +894,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="221"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="232"/>
         <source>actuator.core_diameter_mm: the cap the inner membrane pushes on; at most the sleeve's inner diameter N (L + c) / pi - T</source>
         <translation type="unfinished"></translation>
     </message>
@@ -779,22 +909,32 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="172"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="80"/>
+        <source>another task dialog is open</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="43"/>
+        <source>asymmetric</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="207"/>
         <source>at {0:g}x the link's {1:g} frames a second cannot follow the motion: {2}, moving straight from frame to frame, would be {3:.1f} deg off it at t = {4:.2f} s (at most {5:g} deg, as the stream command allows)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="95"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="106"/>
         <source>automatic</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="211"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="222"/>
         <source>automatic: the default cap, {0:g} mm</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="208"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="219"/>
         <source>automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -804,23 +944,28 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="445"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="459"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="75"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
         <source>c (pillar width)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="150"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="465"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="479"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="341"/>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="295"/>
+        <source>cannot start {0}: {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="343"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -830,8 +975,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="121"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="132"/>
         <source>cell type index of each cell around the circumference</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="32"/>
+        <source>cell type {0}: peak {1}, valley {2} (F / G L^2)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="30"/>
+        <source>cell type {0}: peak {1}, valley {2} (F / G L^2); {3}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="53"/>
+        <source>channel map: {0}; each motor's angle is its own joint's</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -845,12 +1005,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/open_example.py" line="69"/>
+        <source>choose an example</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="68"/>
         <source>clip {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="76"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="87"/>
         <source>delta (gap)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -860,39 +1025,59 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="160"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="161"/>
         <source>e.g. H0,0, V1,2 (or click hinges)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="182"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="487"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="501"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="418"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="432"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="424"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="438"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="421"/>
+        <location filename="../../metamaterial_wb/gui/exporting.py" line="32"/>
+        <source>export: give an output folder</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="435"/>
         <source>export: the prediction is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="482"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="439"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="496"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="453"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="60"/>
+        <location filename="../../metamaterial_wb/gui/exporting.py" line="34"/>
+        <source>export: {0} exists and is not a folder</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
+        <source>fit cancelled: nothing changed</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="301"/>
+        <source>fit: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="61"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -902,12 +1087,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="225"/>
+        <source>give a target file or pick a target object</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="80"/>
         <source>give an output folder</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
         <source>h (mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -931,6 +1121,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="41"/>
         <location filename="../../metamaterial_wb/gui/panels/flexibility.py" line="55"/>
         <source>k1, k2</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="28"/>
+        <source>keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -959,7 +1154,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="168"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="169"/>
         <source>local worker processes for the candidate evaluations (inverse --workers)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -969,8 +1164,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="140"/>
         <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (under a second per cell type) and the sleeve's snapping sequence and lean (about 10 s per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/exporting.py" line="64"/>
+        <source>modules cannot be built ({0}); nothing written - fix them or export without modules</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -984,8 +1184,24 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="82"/>
+        <source>motor {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="67"/>
         <source>motor {0} ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/open_example.py" line="62"/>
+        <source>no example called {0}; have {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="104"/>
+        <source>no servo mapping (metamaterial_wb.hardware: {0})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -995,6 +1211,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="204"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="29"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="26"/>
         <source>none</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1004,13 +1222,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="559"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="509"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="552"/>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="557"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="502"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="507"/>
         <source>not applied: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1042,12 +1260,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="193"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="228"/>
         <source>note: at {0:g}x the link's frames follow the first {1:g} s of the {2:g} s timeline; the rest is compared at Connect only (it takes seconds): Disconnect and Connect to compare all of it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="171"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="40"/>
+        <source>nothing snapped</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="172"/>
         <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1057,7 +1280,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="152"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="153"/>
         <source>or target object</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1077,40 +1300,56 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="639"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="589"/>
         <source>picked hinge {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="642"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="592"/>
         <source>picked node {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="133"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="257"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="259"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="308"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="240"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="242"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="374"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="387"/>
         <source>predict: the export is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="383"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="396"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="405"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="405"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="398"/>
+        <source>predicting: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="419"/>
         <source>prediction cancelled</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="415"/>
+        <source>prediction failed: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="50"/>
+        <source>pressure peaks {0} kPa</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1129,12 +1368,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="62"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="90"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="67"/>
         <source>recompute failed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="474"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="488"/>
         <source>removed the earlier export's {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1144,8 +1384,33 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="320"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="350"/>
+        <source>ring pattern {0}: expected cell type indices separated by commas, e.g. 0, 0, 1, 1</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="373"/>
+        <source>run the fit first</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="309"/>
+        <source>scene file</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="322"/>
         <source>scene {0}: {1} cells, {2} motors</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="44"/>
+        <source>sequence: loading {0}, unloading {1} -&gt; {2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="47"/>
+        <source>sequence: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1159,27 +1424,52 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="286"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="215"/>
+        <source>simulated here</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="110"/>
+        <source>simulated rotation of joint {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="288"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="310"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="292"/>
+        <source>simulating {0:g} s of dynamics ...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="312"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="305"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="307"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="300"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="302"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="154"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="25"/>
+        <source>sine</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="36"/>
+        <source>sleeve ({0} x {1} cells): peaks {2}; valleys {3}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="165"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders; sleeve_plate1.3mf, sleeve_plate2.3mf, ... when the parts need more than one bed, and an earlier export's plates this one does not write are removed), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1189,12 +1479,47 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="360"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="26"/>
+        <source>square</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="254"/>
+        <source>starting the fit</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="31"/>
+        <source>stored constant</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="30"/>
+        <source>stored steps</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="39"/>
+        <source>stored {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="362"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="55"/>
+        <source>streaming stopped: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="42"/>
+        <source>symmetric</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
         <source>t (mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1209,13 +1534,43 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="138"/>
         <source>target JSON, solve result, .stl / .obj / .step</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="117"/>
+        <source>target object {0}: it has no faces</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="114"/>
+        <source>target object {0}: neither a mesh nor a shape</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="108"/>
+        <source>the axes break the rules: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="107"/>
         <source>the default cap, {0:g} mm, or the sleeve's inner diameter N (L + c) / pi - T when that is smaller; untick to give your own (kept as typed, refused when it does not fit)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/docwatch.py" line="173"/>
+        <source>the document changed under this panel (Undo / Redo): the values shown are not the stored ones any more; press Cancel and open the panel again to edit the current state (or Undo / Redo back)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="286"/>
+        <source>the export process ended with status {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="371"/>
+        <source>the fit is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1224,7 +1579,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="517"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="467"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1239,17 +1594,32 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="322"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="334"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="169"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="188"/>
         <source>time (s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="638"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="223"/>
+        <source>trajectory {0}: cannot read it ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="27"/>
+        <source>triangle</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="302"/>
+        <source>type the path of a scene file</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="588"/>
         <source>under the cursor: hinge {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1259,7 +1629,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="641"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="591"/>
         <source>under the cursor: node {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1269,7 +1639,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="170"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="41"/>
+        <source>undetermined</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="189"/>
         <source>value (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1279,9 +1654,9 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="109"/>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="162"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="321"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="325"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1291,7 +1666,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="472"/>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="139"/>
+        <location filename="../../metamaterial_wb/gui/panels/jobs.py" line="241"/>
+        <source>working ...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="486"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1301,13 +1682,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="475"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="489"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="351"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="361"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="69"/>
+        <source>{0:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1321,7 +1708,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="175"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="177"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1341,13 +1728,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="200"/>
-        <source>{0} (slider +-{1:.1f})</source>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="189"/>
+        <source>{0} (channel {1}) by {2:.2f} deg, from {3:+.2f} deg to {4:+.2f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/rotary_axes.py" line="33"/>
-        <source>{0} axes ({1})</source>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="200"/>
+        <source>{0} (slider +-{1:.1f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1386,8 +1773,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="255"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="261"/>
         <source>{0} has no motion profile: it holds its value, these boxes do not apply to it. Choose a shape to give it one.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="91"/>
+        <source>{0} is invalid: {1} (to open {2} on it anyway, to mend it, select it in the tree first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1406,12 +1798,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="252"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="257"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="494"/>
+        <location filename="../../metamaterial_wb/gui/exporting.py" line="67"/>
+        <source>{0} module(s) not exported (Modules unchecked)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="322"/>
+        <source>{0} on {1}: {2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="444"/>
         <source>{0} this panel shows was deleted from the structure (press Cancel and open the panel again)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1441,28 +1843,61 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="51"/>
+        <source>{0} {1} ({2:+.2f})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="198"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="239"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="244"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="235"/>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="78"/>
+        <source>{0}: another tool's task dialog is open; finish it with OK or Cancel first</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="240"/>
         <source>{0}: keyframes play once (stored without a period) and hold the last value</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="243"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="248"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/commands.py" line="86"/>
+        <source>{0}: no metamaterial structure in the active document</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="84"/>
+        <source>{0}: no servo angle: {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="87"/>
+        <source>{0}: not an actuator</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
+        <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="308"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="293"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="88"/>
         <source>{0}: {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="299"/>
+        <source>{0}; centre of mass moved {1:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1473,6 +1908,39 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="201"/>
         <source>{0}; {1} is a node: click a hinge or choose one in the list (the target is still {2})</source>
+        <translation type="unfinished"></translation>
+    </message>
+</context>
+<context>
+    <name>Workbench</name>
+    <message>
+        <location filename="../../metamaterial_wb/gui/workbench.py" line="22"/>
+        <source>Metamaterial</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/workbench.py" line="17"/>
+        <source>Metamaterial design</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/workbench.py" line="19"/>
+        <source>Metamaterial fabrication</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/workbench.py" line="21"/>
+        <source>Metamaterial inverse design</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/workbench.py" line="18"/>
+        <source>Metamaterial simulation</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/workbench.py" line="20"/>
+        <source>Metamaterial sleeve</source>
         <translation type="unfinished"></translation>
     </message>
 </context>

@@ -11,11 +11,15 @@ Rules kept by every panel:
 * every error is shown in the panel in words, next to the field it is about (``set_problem``), never as
   a modal dialog, never only in the Report view; a message disappears as soon as its cause is fixed;
 * OK is refused (and the OK button disabled) while the panel knows of a problem, and an OK whose
-  recompute leaves an object invalid is undone with the object's own error shown.
+  recompute leaves an object invalid is undone with the object's own error shown;
+* a panel never writes values older than the document's: an Undo / Redo that changes its structure while it is
+  open makes it stale (``BasePanel.undo_moved``) until the document is back where the panel opened it.
 
-``ACTIVE`` is the panel being shown (the GUI tests drive it through its widgets).
+``ACTIVE`` is the panel being shown (the GUI tests drive it through its widgets); the document observer and the
+Undo / Redo watch are in :mod:`~metamaterial_wb.gui.panels.docwatch`.
 """
 import contextlib
+import sys
 
 import FreeCAD
 import FreeCADGui
@@ -25,6 +29,7 @@ import metamaterial_wb
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.panels.docwatch import UndoWatch, _watch_documents
 
 ACTIVE = None
 RED = "color: #c00000;"
@@ -104,7 +109,7 @@ def show(panel):
     """Open ``panel`` in the task view, replacing one of our own panels; refused (message in the Report
     view, nothing opened, None returned) while another tool's task dialog is open."""
     global ACTIVE
-    _watch_documents()
+    _watch_documents(sys.modules[__name__])
     if foreign_dialog_open():
         _retire(panel)
         FreeCAD.Console.PrintError(
@@ -153,64 +158,6 @@ def _close():
     global ACTIVE
     ACTIVE = None
     FreeCADGui.Control.closeDialog()
-
-
-class _DocumentWatch:
-    """Closes the open panel when the document it works on is closed (its timers and preview go with it)."""
-
-    def slotDeletedDocument(self, doc):
-        p = ACTIVE
-        if p is not None and getattr(p, "doc_name", None) == doc.Name:
-            p.forget_view()         # its Coin nodes and preview objects go with the document: never touched now
-            _retire(p)              # timers, threads, jobs, the selection observer
-
-            def close():
-                if ACTIVE is p:
-                    _close()
-            QtCore.QTimer.singleShot(0, close)
-
-    def slotDeletedObject(self, obj):
-        """An object is going (Delete, Ctrl+Z of its creation): once it is gone, the open panel checks whether
-        it was its structure (``BasePanel.check_target``: playback stops, the preview goes, the panel says so)."""
-        self._check_later(obj, ACTIVE)
-
-    def slotCreatedObject(self, obj):
-        """An object comes (back): Ctrl+Z of a Delete, Ctrl+Y of Place motor. A motor the open panel named as
-        deleted may be back, so it checks its items again (``BasePanel.check_items`` clears the red line)."""
-        p = ACTIVE
-        if p is not None and p.ITEM_ROWS and "items" in getattr(p, "problems", {}):
-            self._check_later(obj, p)
-
-    def slotChangedObject(self, obj, prop):
-        if prop == "Items":
-            self.slotCreatedObject(obj)
-
-    @staticmethod
-    def _check_later(obj, p):
-        """Once the document's change is done, the panel ``p`` checks its structure and items (if ``obj`` is in its
-        document)."""
-        if p is None or getattr(p, "obj", None) is None:
-            return
-        try:
-            if obj.Document.Name != getattr(p, "doc_name", None):
-                return
-        except Exception:  # pragma: no cover - an object without a document: check anyway
-            pass
-
-        def check():
-            if ACTIVE is p and not p.check_target():
-                p.check_items()
-        QtCore.QTimer.singleShot(0, check)
-
-
-_WATCH = None
-
-
-def _watch_documents():
-    global _WATCH
-    if _WATCH is None:
-        _WATCH = _DocumentWatch()
-        FreeCAD.addDocumentObserver(_WATCH)
 
 
 def _deleted(exc):
@@ -341,7 +288,7 @@ def red_label(text=""):
     return lab
 
 
-class BasePanel:
+class BasePanel(UndoWatch):
     TITLE = QT_TRANSLATE_NOOP("Metamaterial", "Metamaterial")   # subclasses: their own, marked the same way
     ICON = "Metamaterial_Workbench.svg"
     VIEW_ATTRS = ()        # attributes holding the panel's own Coin nodes or preview objects (``forget_view``)
@@ -362,6 +309,9 @@ class BasePanel:
         self.live_preview = None     # gui.preview.Preview while the panel previews frames
         self._preview_scene = None
         self.doc_name = FreeCAD.ActiveDocument.Name if FreeCAD.ActiveDocument is not None else None
+        # where the document is on its undo stack since the panel opened (``undo_moved``)
+        self._undo = {"pos": 0, "branched": False, "touched": False, "names": set()}
+        self._own_change = False     # True while the panel's own OK writes (its transaction, its abort)
 
     def finish_layout(self):
         self.layout.addWidget(self.error)
@@ -427,6 +377,9 @@ class BasePanel:
     def commit(self, doc, title, change):
         """``change()`` then a checked recompute, as one undo step; an invalid result is undone (and
         recomputed back) and its error raised."""
+        if any("Touched" in getattr(o, "State", ()) for o in doc.Objects):
+            doc.recompute()     # what an Undo left to recompute, outside the step: a change of nothing records none
+        self._own_change = True
         try:
             with transaction(doc, title):
                 change()
@@ -434,6 +387,8 @@ class BasePanel:
         except MetamaterialError:
             doc.recompute()
             raise
+        finally:
+            self._own_change = False
 
     # live preview ---------------------------------------------------------------------
     def preview_frame(self, scene_obj, solver, frame):
