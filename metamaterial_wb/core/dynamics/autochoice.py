@@ -46,9 +46,7 @@ def implicit_path(sim):
     (no compiler, a failed build, ``sim.kernel = "numpy"`` or ``METAMATERIAL_DYNAMICS_KERNEL=numpy``, a layout
     without band structure, a non-default Newton option). Builds the kernel as the first implicit step would
     (compiling it at its first use); ``sim.stats`` is left as it was."""
-    s = sim.sys
-    dense = 3 * s.n <= 300
-    banded = not dense and sim.use_band and s.band_layout() is not None
+    dense, banded = sim._layout()    # as the implicit step solves
     keep = {k: sim.stats[k] for k in ("kernel", "kernel_note") if k in sim.stats}
     try:
         k = sim._kernel_for(dense, banded)

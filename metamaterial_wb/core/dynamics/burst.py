@@ -23,6 +23,12 @@ class BurstMixin:
     _kern = None
     _kern_used = False
 
+    def _layout(self):
+        """``(dense, banded)``: how the implicit step solves its Newton systems: dense LU up to 300 degrees of
+        freedom, else the band solver when it is on and the system has a band layout (else sparse SuperLU)."""
+        dense = 3 * self.sys.n <= 300
+        return dense, (not dense and self.use_band and self.sys.band_layout() is not None)
+
     def _kernel_for(self, dense, banded):
         """The compiled kernel for this step, or None (numpy path). Only the default Newton options
         are compiled; the experimental ones (freezing, lagging, linearised first step) and the

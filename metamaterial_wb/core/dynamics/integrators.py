@@ -262,7 +262,7 @@ class Simulator(BurstMixin, EnergyLedger):
             qh = self.q
             vh = self.v.ravel()
             v1 = vh.copy()
-        dense = 3 * s.n <= 300
+        dense, banded = self._layout()
         Mf = s.M.ravel()
         damp_power = None
         prev = None
@@ -270,7 +270,6 @@ class Simulator(BurstMixin, EnergyLedger):
         refresh = False
         converged = False
         st0 = None
-        banded = not dense and self.use_band and s.band_layout() is not None
         kern = self._kernel_for(dense, banded)
         self._kern_used = kern is not None
         if kern is not None:
@@ -521,8 +520,7 @@ class Simulator(BurstMixin, EnergyLedger):
         since = 0
         retries = 0
         eps = ROUNDOFF_STEPS * dt
-        dense = 3 * self.sys.n <= 300
-        banded = not dense and self.use_band and self.sys.band_layout() is not None
+        dense, banded = self._layout()
         while self.t < t_end - eps:
             nb = 0
             if method == "implicit" and self.burst:
