@@ -74,9 +74,10 @@ class ChannelConfig:
 
     def config_payload(self) -> bytes:
         lo, hi = self.limits_deg
-        if self.max_slew_dps != int(self.max_slew_dps) or not 0 <= self.max_slew_dps <= 3600:  # never rounded to 0
+        slew = self.max_slew_dps
+        if slew != int(slew) or not 0 <= slew <= MAX_SLEW_DPS:  # never rounded to 0
             raise SceneError(f"channel {self.channel} ({self.name}).max_slew_dps",
-                             f"{self.max_slew_dps!r} deg/s; allowed: a whole number 0..3600 deg/s (0: no limit)")
+                             f"{slew!r} deg/s; allowed: a whole number 0..{MAX_SLEW_DPS} deg/s (0: no limit)")
         return P.config_ch_payload(self.channel, int(self.min_us), int(self.max_us), int(round(self.trim_deg * 100)),
                                    self.invert, int(round(lo * 100)), int(round(hi * 100)),
                                    int(round(self.park_deg * 100)), int(self.max_slew_dps))
@@ -137,7 +138,7 @@ def _check_servo(field_name, spec, n_channels):
     if "park_deg" in spec:
         out["park_deg"] = check_number(f"{field_name}.park_deg", spec["park_deg"], -90.0, 90.0, "deg")
     if "max_slew_dps" in spec:  # the protocol's u16: 2.5 would be sent as 2, 0.4 as 0 = no limit at all
-        out["max_slew_dps"] = _check_whole(f"{field_name}.max_slew_dps", spec["max_slew_dps"], 0, 3600, "deg/s",
+        out["max_slew_dps"] = _check_whole(f"{field_name}.max_slew_dps", spec["max_slew_dps"], 0, MAX_SLEW_DPS, "deg/s",
                                            " (0: no limit)")
     return out
 
@@ -380,6 +381,13 @@ _SUGGEST_SPAN_S = 600.0   # the whole rates suggested after a refusal are compar
 # the latest angle: above 50 Hz a servo gets only some of the frames, 20 ms apart (at a phase not tied to them).
 SERVO_FRAME_MS = 20
 SLEW_PERIOD_MS = 10       # the firmware's slew step (link.h SL_SLEW_PERIOD_MS): max_slew_dps cdeg per 10 ms
+MAX_SLEW_DPS = 3600       # the highest slew limit a channel takes (0: none)
+
+
+def slew_advice(max_slew_dps, what):
+    """What to do when a channel's slew limit holds its servo too far from ``what`` (the motion, the sine)."""
+    raise_it = f"raise max_slew_dps (at most {MAX_SLEW_DPS}) or " if max_slew_dps < MAX_SLEW_DPS else ""
+    return f"{raise_it}slow {what} down"
 
 
 def servo_gaps(rate_hz, pulse_hz=None):
@@ -575,8 +583,7 @@ def _check_slew(c, angles, duration_s, rate_hz, tol, steps=False):
                              f"deg/s, but the motion moves at up to {peak:.0f} deg/s: the servo would be "
                              f"{dev[i]:.2f} deg off it at t = {tt[i]:.3f} s (at {slewed[i]:.2f} deg where the "
                              f"motion is at {float(angles(tt[i:i + 1])[0]):.2f} deg); allowed: at most {tol:g} deg "
-                             f"(--rate-tolerance); " + ("raise max_slew_dps (at most 3600) or slow the motion down"
-                                                         if c.max_slew_dps < 3600 else "slow the motion down"))
+                             f"(--rate-tolerance); " + slew_advice(c.max_slew_dps, "the motion"))
 
 
 @dataclass

@@ -15,7 +15,7 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError, check_number
 
 from . import protocol as P
-from .mapping import RATE_TOLERANCE_DEG, SERVO_FRAME_MS, SLEW_PERIOD_MS, check_servo_reach, slew_ticks
+from .mapping import RATE_TOLERANCE_DEG, SERVO_FRAME_MS, SLEW_PERIOD_MS, check_servo_reach, slew_advice, slew_ticks
 
 # How the chip renders an oscillator: sl_link_tick (firmware/src/core/link.c) evaluates it every SL_SLEW_PERIOD_MS
 # (10 ms, link.h) and the servo back end starts a pulse every 20 ms (avr/servo_isr.c FRAME_TICKS; the PCA9685
@@ -84,19 +84,20 @@ def osc_params(scene, channels, tolerance_deg=None):
         lo, hi = c.limits_deg
         phase_cdeg = int(round((phase % 360.0) * 100)) % 36000
         t_swing, v_swing = _one_period(amp, off, f, phase)  # for the servo's reach (+-angle + trim), once in limits
+        where = f"actuators[{k}] ({a.name})"
+
+        def joint_deg(v, c=c):  # the simulated angle of a value (the motion the chip's servo is compared with)
+            return np.asarray(c.angle_deg(v), dtype=float)
         if c.scale_deg is not None or c.rotation is None:  # linear: amplitude and offset are angles
             amp_deg, off_deg = c.angle_deg(amp), c.angle_deg(off)
             if off_deg - amp_deg < lo - 1e-9 or off_deg + amp_deg > hi + 1e-9:
                 raise SceneError(field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg; "
                                         f"channel {c.channel} allows [{lo:g}, {hi:g}] deg")
-            check_servo_reach(c, c.angle_deg(v_swing), f"actuators[{k}] ({a.name})", t_swing)
-            def exact(v, c=c):
-                return np.asarray(c.angle_deg(v), dtype=float)
+            check_servo_reach(c, c.angle_deg(v_swing), where, t_swing)
 
-            def board(v, c=c):  # the chip runs the angle in whole centidegrees
-                return np.round(np.asarray(c.angle_deg(v), dtype=float) * 100.0) / 100.0
-            dev = _check_render(f"{field}.frequency_hz", a.name, exact, board, amp, off, f, period, tol)
-            _check_slew(c, f"actuators[{k}] ({a.name})", exact, board, amp, off, period, tol)
+            def board(v):  # the chip runs the angle in whole centidegrees
+                return np.round(joint_deg(v) * 100.0) / 100.0
+            dev = _check_chip(c, where, joint_deg, board, amp, off, f, period, tol)
             out.append(OscParams(c.name, c.channel, int(round(amp_deg * 100)), int(round(off_deg * 100)), period,
                                  phase_cdeg, ferr, angle_range_deg=(off_deg - amp_deg, off_deg + amp_deg),
                                  render_deviation_deg=dev))
@@ -121,16 +122,12 @@ def osc_params(scene, channels, tolerance_deg=None):
             raise SceneError(field, f"swings over [{a_lo:.2f}, {a_hi:.2f}] deg of joint rotation; channel "
                                     f"{c.channel} allows [{lo:g}, {hi:g}] deg")
         for angles in (c.angle_deg(v_swing), v_swing * 90.0 * np.where(v_swing >= 0, g_pos, g_neg) / P.GAIN_ONE):
-            check_servo_reach(c, angles, f"actuators[{k}] ({a.name})", t_swing)  # the simulated and the chip's
-
-        def exact(v, c=c):
-            return np.asarray(c.angle_deg(v), dtype=float)
+            check_servo_reach(c, angles, where, t_swing)  # the simulated and the chip's
 
         def board(v, g_pos=g_pos, g_neg=g_neg):  # v in units of 1/9000, the gains in Q14, whole centidegrees
             vq = np.round(np.asarray(v, dtype=float) * 9000.0) / 9000.0
             return np.round(vq * 9000.0 * np.where(vq >= 0, g_pos, g_neg) / P.GAIN_ONE) / 100.0
-        dev = _check_render(f"{field}.frequency_hz", a.name, exact, board, amp, off, f, period, tol)
-        _check_slew(c, f"actuators[{k}] ({a.name})", exact, board, amp, off, period, tol)
+        dev = _check_chip(c, where, joint_deg, board, amp, off, f, period, tol)
         out.append(OscParams(c.name, c.channel, int(round(amp * 9000)), int(round(off * 9000)), period, phase_cdeg,
                              ferr, g_pos, g_neg, (a_lo, a_hi), err, dev))
     return out
@@ -177,14 +174,23 @@ def slew_deviation(exact, board, amp, off, period_ms, max_slew_dps, phases=10):
     return float(np.max(dev)), peak
 
 
+def _check_chip(c, where, exact, board, amp, off, freq_hz, period_ms, tol):
+    """The sine of ``where`` as the chip runs it (``board``) against the motion (``exact``): how its servo renders it
+    (_check_render, naming the profile's frequency) and its channel's slew limit (_check_slew); SceneError beyond
+    ``tol``. Returns the render deviation."""
+    dev = _check_render(f"{where}.profile.frequency_hz", c.name, exact, board, amp, off, freq_hz, period_ms, tol)
+    _check_slew(c, where, exact, board, amp, off, period_ms, tol)
+    return dev
+
+
 def _check_slew(c, where, exact, board, amp, off, period_ms, tol):
     dev, peak = slew_deviation(exact, board, amp, off, period_ms, c.max_slew_dps)
     if dev > tol:
         raise SceneError(f"channel {c.channel} ({c.name}).max_slew_dps",
                          f"{c.max_slew_dps} deg/s: the chip turns the servo of {where} at most {c.max_slew_dps} "
                          f"deg/s, but its sine moves at up to {peak:.0f} deg/s: the servo would be {dev:.2f} deg off "
-                         f"the motion; allowed: at most {tol:g} deg (--rate-tolerance); raise max_slew_dps (at most "
-                         f"3600) or slow the sine down")
+                         f"the motion; allowed: at most {tol:g} deg (--rate-tolerance); "
+                         + slew_advice(c.max_slew_dps, "the sine"))
 
 
 def _check_render(field, name, exact, board, amp, off, freq_hz, period_ms, tol):
