@@ -83,19 +83,17 @@ def check_output(path, kind="file", option="--out", inputs=()):
         st = None
     except OSError as exc:
         raise SceneError(option, f"{path}: {os_reason(exc)}") from None
-    target = ab
-    if st is None and os.path.islink(ab):
-        if kind != "file":
-            raise SceneError(option, f"{path} is a dangling symbolic link")
-        target = write_target(ab, option)       # written through to its target, if that one's folder exists
+    if st is None and kind != "file" and os.path.islink(ab):
+        raise SceneError(option, f"{path} is a dangling symbolic link")
     if st is not None:
         if kind == "dir" and not stat.S_ISDIR(st.st_mode):
             what = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
             raise SceneError(option, f"{path} exists and is {what}, not a folder")
         if kind == "file" and not stat.S_ISREG(st.st_mode):
             raise SceneError(option, f"{path} exists and is {file_kind(st.st_mode)}, not a file; it is not replaced")
-    if st is not None and kind == "file":
-        target = write_target(ab, option)       # a link: the file it points to is written, in its own folder
+    # a file through a link (a dangling one too, if its target's folder exists): the file it points to is written,
+    # in its own folder
+    target = write_target(ab, option) if kind == "file" else ab
     anc = ab if (st is not None and kind == "dir") else os.path.dirname(target)
     while True:
         try:
