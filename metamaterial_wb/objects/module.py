@@ -170,11 +170,18 @@ def prepare_module(obj, scene):
     return one, p, spec
 
 
-def check_clearance_preference(p):
-    """Refuse a clearance preference (not the scene's own) that leaves the modules' snap pins no barb: it must stay
-    below the socket lip ``p.socket_lip_mm`` (``geometry.snapfit``). Raises a SceneError naming the preference."""
+def clearance_preference_clash(lip_mm):
+    """The clearance preference (not the scene's own) when it is chosen and not below the socket lip ``lip_mm`` the
+    modules' snap pins latch on (``geometry.snapfit``), else None."""
     clr = fabrication_overrides(("PrinterClearance",)).get("clearance_mm")
-    if clr is not None and not clr < p.socket_lip_mm:
+    return None if clr is None or clr < lip_mm else clr
+
+
+def check_clearance_preference(p):
+    """Refuse a clearance preference that leaves the modules' snap pins no barb (:func:`clearance_preference_clash`
+    against ``p.socket_lip_mm``). Raises a SceneError naming the preference."""
+    clr = clearance_preference_clash(p.socket_lip_mm)
+    if clr is not None:
         raise SceneError(f"{CLEARANCE_PREFERENCE} (PrinterClearance)",
                          f"{clr:g} mm is not below the {p.socket_lip_mm:g} mm socket lip (fabrication.socket_lip_mm): "
                          f"the snap pins' barbs would have nothing to latch on; allowed range [0, "

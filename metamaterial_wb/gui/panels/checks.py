@@ -40,12 +40,12 @@ def clearance_problem(scene=None):
     the socket lip the modules' snap pins latch on (``scene``'s ``fabrication.socket_lip_mm``, else the default), as
     a message naming the preference, its value and allowed range; "" otherwise."""
     from metamaterial_wb.core.fabrication import FAB_DEFAULTS
-    from metamaterial_wb.objects.module import fabrication_overrides
-    clr = fabrication_overrides(("PrinterClearance",)).get("clearance_mm")
+    from metamaterial_wb.objects.module import clearance_preference_clash
     given = getattr(scene, "extra", {}).get("fabrication") if scene is not None else None
     lip = given.get("socket_lip_mm") if isinstance(given, dict) else None
     lip = lip if isinstance(lip, (int, float)) and not isinstance(lip, bool) else FAB_DEFAULTS["socket_lip_mm"]
-    if clr is None or clr < lip:   # (a scene's invalid socket_lip_mm is the fabrication's own error)
+    clr = clearance_preference_clash(lip)
+    if clr is None:   # (a scene's invalid socket_lip_mm is the fabrication's own error)
         return ""
     return translate("Metamaterial", "Edit > Preferences > Metamaterial > {0}: {1} mm is not below the {2} mm socket "
                      "lip, so the modules' snap pins have nothing to latch on; allowed range [0, {2}) mm").format(
