@@ -201,15 +201,15 @@ def frame_sequence_note(seq):
     if "error" in fs:
         return f"sequence on the nonlinear frame: none ({fs['error']})"
 
-    word = symmetry_word       # "undetermined" for an incomplete order, "nothing snapped" for no snap at all
     lean = (f"the plate leaning up to {fs['max_tilt_loading_deg']:.1f} deg on loading and "
             f"{fs['max_tilt_unloading_deg']:.1f} deg on unloading, " +
             ("the other way" if fs["lean_reverses"] else "the same way"))
     rings = fs.get("rings", 1)
     stack = f"{rings} stacked rings, the plates between them free to rise, tilt and twist, " if rings > 1 else ""
     return (f"sequence on the nonlinear frame ({fs['elements']} elements per beam half, {stack}the curved solid's "
-            f"free top plate; {fs['seconds']:.0f} s): loading {fs['loading']}, unloading {fs['unloading']} ({word(fs)}), "
-            f"{lean}; the beam model's: loading {seq['loading']}, unloading {seq['unloading']} ({word(seq)}) - "
+            f"free top plate; {fs['seconds']:.0f} s): loading {fs['loading']}, unloading {fs['unloading']} "
+            f"({symmetry_word(fs)}), {lean}; the beam model's: loading {seq['loading']}, unloading "
+            f"{seq['unloading']} ({symmetry_word(seq)}) - "
             + ("the same" if fs["agrees_with_model"] else "they differ, and the frame's curved ring is the closer "
                "to the curved solid (docs/sleeves.md)"))
 
