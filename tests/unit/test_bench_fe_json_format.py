@@ -13,20 +13,9 @@ import pytest
 
 from clihelpers import one_line_error, run_cli
 
-from metamaterial_wb.cli import main
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_bench_cli_flags import RAW  # noqa: E402
-
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-STORED_FE = os.path.join(REPO, "benchmarks", "results", "fe-study.json")
-
-
-def bench(capsys, *argv):
-    capsys.readouterr()
-    rc = main(["bench", "fidelity", "--quiet", *map(str, argv)])
-    out, err = capsys.readouterr()
-    return rc, out, err
+from test_bench_cli_flags import RAW, STORED_FE, bench  # noqa: E402
 
 
 @pytest.fixture
