@@ -78,11 +78,11 @@ class _DocumentWatch:
         """Notes an object created, deleted or changed by an Undo / Redo (the document is ``Transacting``) in the
         open panel's document, for the ``slotUndoDocument`` / ``slotRedoDocument`` that ends it."""
         p = _active()
-        if p is None or p._own_change or not p.edits_stored_state():
+        if p is None or p._own_change:
             return
-        try:
+        try:   # Transacting first: every property a preview writes comes here, and stops at it
             d = obj.Document
-            if d is not None and d.Name == p.doc_name and d.Transacting:
+            if d is not None and d.Transacting and d.Name == p.doc_name and p.edits_stored_state():
                 p._undo["names"].add(obj.Name)
         except Exception:  # pragma: no cover - an object without a document or name: not the panel's
             pass
