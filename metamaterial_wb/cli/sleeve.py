@@ -10,7 +10,6 @@ ccx run fails is recorded in the summary's notes with a warning, the rest writte
 to a temporary folder first and moved into ``DIR`` at the end, so a failure leaves nothing half-written.
 """
 import os
-import re
 import shutil
 import sys
 
@@ -130,18 +129,18 @@ def run(args):
 
 
 # every name a sleeve run writes into --out, with or without --no-plots, --step, --3mf, --render (a later run removes
-# an earlier one's that it does not write, so the spec may be none of them); the 3MF plates: OUTPUT_PLATE
+# an earlier one's that it does not write, so the spec may be none of them); the 3MF plates: export.sleeve.PLATE_NAME
 OUTPUT_FILES = ("summary.json", "fd_cells.png", "fd_ring.png", "pv.png", "design_map.png", "walker.png", "sleeve.png",
                 "sleeve.step", "sleeve.3mf")
-OUTPUT_PLATE = re.compile(r"sleeve_plate[1-9][0-9]*\.3mf", re.IGNORECASE)     # export.sleeve.PLATE_NAME's plates
 
 
 def check_spec_not_output(spec, out):
     """Refuse, before any work, a spec that is one of the files a sleeve run writes into (or removes from) ``out``
     (``DIR/summary.json`` given to ``sleeve --out DIR``; also through a link): it would be overwritten."""
     from metamaterial_wb.core.fileio import check_scene_not_output
-    base = os.path.basename(spec)
-    plates = [base.lower()] if OUTPUT_PLATE.fullmatch(base) else []
+    from metamaterial_wb.export.sleeve import PLATE_NAME
+    base = os.path.basename(spec).lower()      # (in any letter case: one file on Windows and macOS)
+    plates = [base] if PLATE_NAME.fullmatch(base) else []
     check_scene_not_output(out, list(OUTPUT_FILES) + plates, spec, writer="the sleeve run")
 
 
