@@ -133,9 +133,7 @@ class StreamController:
     def __init__(self, values_at, clock, looping=None):
         self.values_at = values_at
         self.clock = clock
-        # whether the timeline wraps (the panel's Loop): ``looping()``; by default the copy ``_loop`` that the
-        # Animate panel's PlaybackClock keeps beside ``clock`` (a plain clock function: never wraps)
-        self.looping = looping or (lambda: bool(getattr(getattr(clock, "__self__", None), "_loop", False)))
+        self.looping = looping or (lambda: False)    # whether the timeline wraps (the Animate panel's Loop)
         self.link = None
         self.streamer = None
         self.error = None
