@@ -432,7 +432,7 @@ class BasePanel(UndoWatch):
     def check_items(self):
         """An actuator or constraint the panel shows (``self.scene``, composed when it opened) was deleted from
         the structure (Delete, Ctrl+Z of Place motor): OK is refused and the panel names it (its slider or row would
-        keep acting on a motor that is gone); the red line stays at the top of the panel."""
+        keep acting on a motor that is gone); the red line stays at the top of the panel (``set_top_problem``)."""
         scene = getattr(self, "scene", None)
         if not self.ITEM_ROWS or scene is None or not hasattr(scene, "fixed_items") or self.target_gone():
             return
@@ -444,15 +444,7 @@ class BasePanel(UndoWatch):
         text = translate("Metamaterial", "{0} this panel shows was deleted from the structure (press Cancel and "
                                          "open the panel again)").format(", ".join(repr(n) for n in gone)) if gone \
             else ""
-        lab = self.problem_label("items")
-        if text and lab.parent() is None:
-            self.layout.insertWidget(0, lab)          # shown above everything (a preview clears the error line)
-        before = self.problems.get("items")
-        self.set_problem("items", text)
-        if text:
-            self.show_error(text)
-        elif before and self.error.text() == before:  # the motor is back (Ctrl+Z of the Delete, Ctrl+Y)
-            self.clear_error()
+        self.set_top_problem("items", text)           # "" once the motor is back (Ctrl+Z of the Delete, Ctrl+Y)
 
     def target_lost(self):
         """The structure is gone: the preview goes, OK is refused and the panel says so (once). Panels with a

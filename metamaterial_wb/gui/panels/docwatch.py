@@ -164,7 +164,7 @@ class UndoWatch:
     def check_stale(self):
         """OK refused, with a line at the top of the panel, while an Undo / Redo has moved the panel's structure
         away from the state the panel shows (``undo_moved``); cleared once the document is back there. A structure
-        that is gone is left to ``target_lost``."""
+        that is gone is left to ``target_lost``. Said once: that line, never repeated in the panel's error line."""
         u = self._undo
         if self.target_gone():
             return
@@ -173,12 +173,13 @@ class UndoWatch:
         text = translate("Metamaterial", "the document changed under this panel (Undo / Redo): the values shown "
                                          "are not the stored ones any more; press Cancel and open the panel again "
                                          "to edit the current state (or Undo / Redo back)") if u["touched"] else ""
-        lab = self.problem_label("stale")
+        self.set_top_problem("stale", text)
+
+    def set_top_problem(self, key, text):
+        """Show (``text``) or clear (``""``) the problem ``key`` of the whole panel in its red line at the top of
+        the panel (put there the first time; a preview clears the error line, not this one); OK follows. Said
+        there only: the panel's error line does not repeat it."""
+        lab = self.problem_label(key)
         if text and lab.parent() is None:
-            self.layout.insertWidget(0, lab)          # shown above everything (a preview clears the error line)
-        before = self.problems.get("stale")
-        self.set_problem("stale", text)
-        if text and not before:
-            self.show_error(text)
-        elif before and not text and self.error.text() == before:
-            self.clear_error()
+            self.layout.insertWidget(0, lab)
+        self.set_problem(key, text)
