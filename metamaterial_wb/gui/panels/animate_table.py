@@ -19,7 +19,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.gui.panels.widgets import ElidedLabel
 from metamaterial_wb.gui.panels.profiles import (NONE, ONCE, SHAPES, WAVE_DECIMALS, keyframes_profile,
-                                                 profile_value_range, shape_label, square_fields, wave_profile)
+                                                 profile_value_range, shape_label, stored_wave, wave_profile)
 from metamaterial_wb.gui.panels import ranges
 from metamaterial_wb.gui.i18n import translate
 
@@ -83,15 +83,16 @@ class ProfileRows:
             p = a.profile or {"shape": "none", "amplitude": 0.0, "frequency_hz": 0.5, "phase_deg": 0.0}
             self.table.setItem(r, 0, QtGui.QTableWidgetItem(a.name))
             shape = p.get("shape", "sine")
-            # a square the panel wrote (stored as steps) shows as a square again, its boxes editable
-            square = square_fields(p) if shape == "steps" else None
-            wave = dict(zip(("amplitude", "frequency_hz", "phase_deg"), square)) if square else \
+            # a square / triangle the panel wrote (stored as steps / keyframes) shows as such again, its boxes
+            # editable
+            known = stored_wave(p)
+            wave = dict(zip(("amplitude", "frequency_hz", "phase_deg"), known[1])) if known else \
                 (p if shape in ("sine", "none") else {})
             combo = QtGui.QComboBox()              # the shapes as item data, shown translated
             for s in SHAPES:
                 combo.addItem(shape_label(s), s)
-            if square:
-                combo.setCurrentIndex(combo.findData("square"))
+            if known:
+                combo.setCurrentIndex(combo.findData(known[0]))
             elif shape in ("sine", "keyframes"):
                 combo.setCurrentIndex(combo.findData(shape))
             elif shape == "none":

@@ -4,8 +4,9 @@ Square and triangle waves are written as the scene format's ``steps`` and ``keyf
 (docs/scene-format.md), with the same amplitude / frequency / phase (deg) meaning as the sine: the
 square is ``A sign(sin(2 pi f t + phase))``, the triangle has its peaks where the sine has them. A
 ``keyframes`` profile is a small time / value table, linear in between, repeating every period.
-A stored ``steps`` profile that is exactly such a square (``square_fields``: the encoding ``wave_profile`` writes
-for amplitude / frequency / phase the panel's boxes can hold) is shown as a square again.
+A stored ``steps`` / ``keyframes`` profile that is exactly such a square / triangle (``wave_fields``: the encoding
+``wave_profile`` writes for amplitude / frequency / phase the panel's boxes can hold) is shown as a square / triangle
+again; any other one stays "stored steps" / "keyframes".
 """
 import math
 
@@ -114,32 +115,55 @@ def _same_numbers(a, b):
             and all(x == y and math.copysign(1.0, x) == math.copysign(1.0, y) for x, y in zip(a, b)))
 
 
+# the scene shape a square / triangle wave is stored as, and the angle (deg) of 2 pi f t + phase at which the wave
+# has its +A key and its -A key: the square steps up at 0 and down at 180, the triangle peaks at 90 and -90
+WAVE_STORED = {"square": ("steps", 0.0, 180.0), "triangle": ("keyframes", 90.0, -90.0)}
+
+
 def square_fields(profile):
     """``(amplitude, frequency_hz, phase_deg)`` of a ``steps`` profile that is exactly the square wave
-    ``wave_profile("square", ...)`` writes for values the panel's boxes hold (``WAVE_DECIMALS``), else None.
+    ``wave_profile("square", ...)`` writes, else None (``wave_fields``)."""
+    return wave_fields(profile, "square")
 
-    The phase is given in (-180, 180] deg (a square stored with 270 deg shows -90 deg: the stored profile
-    is the same). Any other steps profile (other values, times or fields, a hair off) gives None."""
-    if not isinstance(profile, dict) or profile.get("shape") != "steps" or \
+
+def stored_wave(profile):
+    """``(shape, (amplitude, frequency_hz, phase_deg))`` of a stored profile that is exactly a square or triangle
+    wave ``wave_profile`` writes (``wave_fields``), else None."""
+    for shape in WAVE_STORED:
+        fields = wave_fields(profile, shape)
+        if fields is not None:
+            return shape, fields
+    return None
+
+
+def wave_fields(profile, shape):
+    """``(amplitude, frequency_hz, phase_deg)`` of a stored profile that is exactly the ``shape`` ("square": a
+    ``steps`` profile, "triangle": a ``keyframes`` one) ``wave_profile(shape, ...)`` writes for values the panel's
+    boxes hold (``WAVE_DECIMALS``), else None.
+
+    The phase is given in (-180, 180] deg (a wave stored with 270 deg shows -90 deg: the stored profile
+    is the same). Any other profile (other values, times or fields, a hair off, no period) gives None."""
+    stored, up, down = WAVE_STORED[shape]
+    if not isinstance(profile, dict) or profile.get("shape") != stored or \
             set(profile) != {"shape", "times_s", "values", "period_s"}:
         return None
     times, values, period = profile["times_s"], profile["values"], profile["period_s"]
     if not (isinstance(times, list) and isinstance(values, list) and 1 <= len(times) == len(values) <= 3
             and all(_number(x) for x in times + values) and _number(period) and period > 0):
         return None
-    amp = round(abs(float(values[0])), WAVE_DECIMALS[0])
+    amp = round(max(abs(float(v)) for v in values), WAVE_DECIMALS[0])
     freq = round(1.0 / float(period), WAVE_DECIMALS[1])
     lo, hi = PROFILE_RANGES["frequency_hz"]
     if not (PROFILE_RANGES["amplitude"][0] <= amp <= PROFILE_RANGES["amplitude"][1] and lo < freq <= hi):
         return None
-    # each key gives a phase: a +A key at t starts where 2 pi f t + phase = 0, a -A key where it is pi (a key a
+    # each key gives a phase: a +A key at t lies where 2 pi f t + phase = up, a -A key where it is down (a key a
     # hair before the period end, from the wrap, is tried too); the phase in (-180, 180] first, then one or more
     # turns away (those can differ in the last digit of a wrapped time), nearest to 0 first
     low, high = PROFILE_RANGES["phase_deg"]
     turns = sorted(range(-int(high // 360) - 1, int(high // 360) + 2), key=lambda k: (abs(k), k))
     firsts = []
     for t, v in zip(times, values):
-        turn = round(math.fmod((0.0 if math.copysign(1.0, v) > 0 else 180.0) - 360.0 * float(t) / float(period),
+        turn = round(math.fmod((up if math.copysign(1.0, v) > 0 else down) - 360.0 * float(t) / float(period),
                                360.0), WAVE_DECIMALS[2])
         turn = turn + 360.0 if turn <= -180.0 else (turn - 360.0 if turn > 180.0 else turn)
         if turn not in firsts:
@@ -149,14 +173,15 @@ def square_fields(profile):
         if not low <= phase <= high or phase in tried:
             continue
         tried.add(phase)
-        phase = 0.0 if phase == 0 else phase
-        try:
-            want = wave_profile("square", amp, freq, phase)
-        except (SceneError, ValueError, ZeroDivisionError):  # pragma: no cover - freq > 0 checked
-            return None
-        if _same_numbers(times, want["times_s"]) and _same_numbers(values, want["values"]) and \
-                float(period) == want["period_s"]:
-            return amp, freq, phase
+        # a phase of -0 deg gives a triangle starting at -0.0 (its sign kept apart): shown as 0 deg
+        for ph in ((0.0, -0.0) if phase == 0 else (phase,)):
+            try:
+                want = wave_profile(shape, amp, freq, ph)
+            except (SceneError, ValueError, ZeroDivisionError):  # pragma: no cover - freq > 0 checked
+                return None
+            if _same_numbers(times, want["times_s"]) and _same_numbers(values, want["values"]) and \
+                    float(period) == want["period_s"]:
+                return amp, freq, 0.0 if ph == 0 else ph
     return None
 
 
