@@ -534,7 +534,7 @@ def combinations_sentence(c):
     return (f" The seed's combination 2's two cell types, each a uniform four-cell solid ring on three meshes, differ "
             f"by {dp[0]:+.2f} +- {dp[1]:.2f} % on the first peak and {dv[0]:+.2f} +- {dv[1]:.2f} % on the valley: "
             f"by the two-hysteron rule two such rings stacked snap loading {order['loading']}, unloading "
-            f"{order['unloading']} ({'symmetric' if order['symmetric'] else 'asymmetric'}), the seed's order; the "
+            f"{order['unloading']} ({fc.symmetry_text(order)}), the seed's order; the "
             "frame's thresholds against them are in sleeves.md, and a `sleeve` summary of these types quotes the "
             "solid's order beside the planar model's.")
 

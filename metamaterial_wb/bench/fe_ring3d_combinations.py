@@ -51,9 +51,19 @@ def seed_order(key):
     return {"loading": load, "unloading": unload, "symmetric": load[::-1] == unload}
 
 
+def symmetry_text(s):
+    """``symmetric`` / ``asymmetric`` of a sequence, or, its ``symmetric`` null, ``undetermined`` / ``nothing
+    snapped`` (``analysis.symmetry_word``, from its events); a record stored without its events (the frame's
+    ``model`` entries) is ``undetermined``: null is neither symmetric nor asymmetric."""
+    from metamaterial_wb.core.sleeve.analysis import symmetry_word
+    if s.get("symmetric") is None and "events_loading" not in s and "events_unloading" not in s:
+        return "undetermined"
+    return symmetry_word(s)
+
+
 def order_text(s):
-    """A sequence in the docs' words: ``[0, 1] \\| [1, 0] (symmetric)``."""
-    return f"{s['loading']} \\| {s['unloading']} ({'symmetric' if s['symmetric'] else 'asymmetric'})"
+    """A sequence in the docs' words: ``[0, 1] \\| [1, 0] (symmetric)`` (:func:`symmetry_text`)."""
+    return f"{s['loading']} \\| {s['unloading']} ({symmetry_text(s)})"
 
 
 MESH_R = {"r1": 1, "r2": 2, "r3": 3}

@@ -7,7 +7,8 @@ plots ``DIR/fd_cells.png``, ``DIR/fd_ring.png``, ``DIR/pv.png`` (+ ``design_map.
 (FreeCAD needed); ``--fe-check`` compares the beam model with the curved CalculiX solid of every
 cell type's uniform ring (``fe/sleeve_check.py``; needs ccx: refused before any work without it; a check whose
 ccx run fails is recorded in the summary's notes with a warning, the rest written, exit 0). Everything is written
-to a temporary folder first and moved into ``DIR`` at the end, so a failure leaves nothing half-written.
+to a temporary folder first and moved into ``DIR`` at the end, so a failure leaves nothing half-written (and the
+folders the run created, ``DIR`` and its parents, are removed again).
 """
 import os
 import shutil
@@ -53,8 +54,8 @@ def _progress(quiet):
 
 
 def run(args):
-    from metamaterial_wb.core.fileio import (check_output, commit_set, earlier_outputs, make_temp_dir, remove_outputs,
-                                             write_json)
+    from metamaterial_wb.core.fileio import (check_output, commit_set, earlier_outputs, make_dirs, make_temp_dir,
+                                             missing_dirs, remove_new_dirs, remove_outputs, write_json)
     from metamaterial_wb.core.sleeve.pipeline import analyse
     from metamaterial_wb.core.sleeve.spec import SleeveSpec
     from metamaterial_wb.core.threads import blas_threads
@@ -90,9 +91,10 @@ def run(args):
             summary["accuracy"]["fe_check"], fe_notes = _fe_check(spec, fe_check, log)
             summary["accuracy"]["notes"] += fe_notes
     parent = os.path.dirname(out)
-    os.makedirs(parent, exist_ok=True)
-    tmp = make_temp_dir(parent, "sleeve")
+    made, tmp, done = missing_dirs(out), None, False      # the folders this run creates: removed if it fails
     try:
+        make_dirs(parent)
+        tmp = make_temp_dir(parent, "sleeve")
         files = []
         if not args.no_plots:
             files += write_plots(spec, summary, curves, tmp)
@@ -105,11 +107,15 @@ def run(args):
         os.makedirs(out, exist_ok=True)
         stale = earlier_outputs(out, "summary.json", summary["format"], summary["files"])
         commit_set(tmp, out, sorted(os.listdir(tmp)))          # all together or none
+        done = True
         gone = remove_outputs(out, stale)      # an earlier run's plots or geometry this one does not write
         if gone:
             log(f"removed {len(gone)} file(s) of the earlier run that this one does not write: {', '.join(gone)}")
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+        if not done:                           # failed or stopped (SIGTERM): no empty folder of ours left
+            remove_new_dirs(made)
     seq = summary["sequence"]
     log(f"ring peaks {['%.3g' % p for p in summary['ring']['peaks']]}, valleys "
         f"{['%.3g' % v for v in summary['ring']['valleys']]} (F/GL^2); sequence {seq['loading']}|{seq['unloading']} "
@@ -141,7 +147,8 @@ def check_spec_not_output(spec, out):
     from metamaterial_wb.export.sleeve import PLATE_NAME
     base = os.path.basename(spec).lower()      # (in any letter case: one file on Windows and macOS)
     plates = [base] if PLATE_NAME.fullmatch(base) else []
-    check_scene_not_output(out, list(OUTPUT_FILES) + plates, spec, writer="the sleeve run")
+    check_scene_not_output(out, list(OUTPUT_FILES) + plates, spec, writer="the sleeve run",
+                           what_input="the sleeve spec")
 
 
 def symmetry_word(seq):

@@ -3,7 +3,9 @@
 * :func:`check_output` checks an output path before any work is done.
 * :func:`write_atomic` / :func:`write_json` write one file through a temporary file and a rename; a path that
   is a symbolic link is written through to the file it points to (:func:`write_target`), as ``cp`` does;
-  :class:`OutputSet` moves a whole set of files into a folder, rolling back if any move fails.
+  :class:`OutputSet` moves a whole set of files into a folder, rolling back if any move fails. The folders a
+  failed write created are removed again (:mod:`metamaterial_wb.core.outdir`, re-exported here, with the helpers
+  for an output folder's earlier files).
 * Temporary names carry the writer's process id (``.tmp-<pid>-...``); :func:`sweep_stale` removes
   those of processes that no longer run (a ``kill -9`` leaves them), and is called on every write
   (and by the STEP writer on the system temporary folder, for its ``.mmwb-<pid>-*.step`` files).
@@ -17,6 +19,8 @@ import tempfile
 
 from metamaterial_wb.core.errors import SceneError
 from metamaterial_wb.core.inputfile import file_kind, os_reason
+from metamaterial_wb.core.outdir import (_same_file, check_scene_not_output, earlier_outputs,  # noqa: F401 (re-exported)
+                                         make_dirs, missing_dirs, remove_new_dirs, remove_outputs)
 
 # Every kind of temporary name (``.KIND-<pid>-...``) a writer may use: :func:`temp_prefix` refuses any other, so
 # :func:`sweep_stale` (whose pattern is made from this list) knows every folder / file a killed writer can leave.
@@ -117,15 +121,6 @@ def check_output(path, kind="file", option="--out", inputs=()):
                 raise SceneError(option, f"{path} is the {what} this command reads{where}; it would be overwritten: "
                                          f"choose another file")
     return ab
-
-
-def _same_file(path, other):
-    """``path`` and ``other`` are one file (also through a link or another letter case); False when either is not
-    there yet, or ``other`` is None or not a path."""
-    try:
-        return other is not None and os.path.samefile(path, other)
-    except (OSError, ValueError, TypeError):
-        return False
 
 
 def _pid_alive(pid):
@@ -255,10 +250,45 @@ def _named_error(exc, path):
 
 
 def _mkdirs(folder):
-    try:
-        os.makedirs(folder, exist_ok=True)
-    except OSError as exc:
-        raise SceneError("--out", f"cannot create folder {folder}: {os_reason(exc)}") from None
+    """``folder`` created with its parents; returns those created, innermost first (:func:`outdir.make_dirs`)."""
+    return make_dirs(folder, "--out")
+
+
+class _Sink:
+    """The file a callable writer of :func:`write_atomic` gets: the open file, until the writer fails (:meth:`drop`);
+    from then on writes, seeks and flushes go nowhere (only a position is kept). What the writer left open on the
+    failed file (``np.savez``'s ZipFile, whose ``__del__`` writes a zip's directory to the file after it was closed)
+    ends quietly: no traceback ``Exception ignored in ... ZipFile.__del__`` after the error."""
+
+    def __init__(self, f):
+        self._f, self._pos = f, None
+
+    def drop(self):
+        self._pos = 0
+
+    def __getattr__(self, name):
+        return getattr(self._f, name)
+
+    def write(self, data):
+        if self._pos is None:
+            return self._f.write(data)
+        self._pos += len(data)
+        return len(data)
+
+    def seek(self, offset, whence=0):
+        if self._pos is None:
+            return self._f.seek(offset, whence)
+        self._pos = max(0, offset + (self._pos if whence == 1 else 0))
+        return self._pos
+
+    def tell(self):
+        return self._f.tell() if self._pos is None else self._pos
+
+    def flush(self):
+        return self._f.flush() if self._pos is None else None
+
+    def truncate(self, size=None):
+        return self._f.truncate(size) if self._pos is None else self._pos
 
 
 def write_atomic(path, data, mode="w"):
@@ -283,16 +313,19 @@ def write_atomic(path, data, mode="w"):
     """
     path = write_target(os.path.abspath(os.fspath(path)))
     folder = os.path.dirname(path)
-    _mkdirs(folder)
-    sweep_stale(folder)
+    made = _mkdirs(folder)          # removed again (if still empty) when the write fails
+    tmp = None
     try:
+        sweep_stale(folder)
         fd, tmp = tempfile.mkstemp(dir=folder, prefix=temp_prefix(), suffix="-" + os.path.basename(path)[-40:])
-    except OSError as exc:
-        raise _named_error(exc, path) from exc
-    try:
         with os.fdopen(fd, mode, **({"encoding": "utf-8"} if "b" not in mode else {})) as f:
             if callable(data):
-                data(f)
+                sink = _Sink(f)
+                try:
+                    data(sink)
+                except BaseException:
+                    sink.drop()
+                    raise
             else:
                 f.write(data)
         umask = os.umask(0)
@@ -300,9 +333,10 @@ def write_atomic(path, data, mode="w"):
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file normal permissions
         os.replace(tmp, path)
     except BaseException as exc:
-        if os.path.lexists(tmp):
+        if tmp is not None and os.path.lexists(tmp):
             os.unlink(tmp)
-        if isinstance(exc, OSError) and exc.filename in (None, tmp, path):   # not an error of another file's
+        remove_new_dirs(made)
+        if isinstance(exc, OSError) and (tmp is None or exc.filename in (None, tmp, path)):  # not another file's
             raise _named_error(exc, path) from exc
         raise
 
@@ -332,7 +366,8 @@ class OutputSet:
     ``with OutputSet(out_dir, kind) as tmp:`` gives a temporary folder inside ``out_dir``; write the
     files there. On a clean exit every entry is moved into ``out_dir`` (replacing older ones); if a
     move fails the entries already moved are put back and the older ones restored. On any exception
-    (also KeyboardInterrupt / SIGTERM through the CLI) the temporary folder is removed.
+    (also KeyboardInterrupt / SIGTERM through the CLI) the temporary folder is removed, and so are the folders
+    ``__enter__`` created (``out_dir`` and its parents) when they are empty.
     """
 
     def __init__(self, out_dir, kind="tmp"):
@@ -340,18 +375,27 @@ class OutputSet:
         self.kind = kind
         self.tmp = None
         self.names = []
+        self.made = []
 
     def __enter__(self):
-        _mkdirs(self.out_dir)
-        self.tmp = make_temp_dir(self.out_dir, self.kind)
+        self.made = _mkdirs(self.out_dir)
+        try:
+            self.tmp = make_temp_dir(self.out_dir, self.kind)
+        except BaseException:
+            remove_new_dirs(self.made)
+            raise
         return self.tmp
 
     def __exit__(self, et, ev, tb):
+        done = False
         try:
             if et is None:
                 self.names = self._commit()
+                done = True
         finally:
             shutil.rmtree(self.tmp, ignore_errors=True)
+            if not done:
+                remove_new_dirs(self.made)
         return False
 
     def _commit(self):
@@ -510,101 +554,3 @@ def write_together(outputs):
         raise
     for path, tmp in staged:
         shutil.rmtree(tmp, ignore_errors=True)
-
-
-def check_scene_not_output(out_dir, names, scene, option="--out", writer="the run"):
-    """Refuse, before any work, an output ``out_dir/NAME`` that is the input file ``scene`` (the same file, also
-    through a link or another letter case): the run would overwrite or remove what it reads (``DIR/manifest.json``
-    given to ``build --out DIR``, ``DIR/summary.json`` to ``simulate --out DIR``).
-
-    Parameters
-    ----------
-    out_dir : str
-        The output folder.
-    names : sequence
-        The outputs' names in it: plain names, or ``(name, field, what)`` triples (``what``: the output's words).
-    scene : str
-        The input file.
-    option : str, optional
-        The option the error names.
-    writer : str, optional
-        Who writes the outputs, for the message ("the build").
-
-    Raises
-    ------
-    SceneError
-        One of the outputs is ``scene``.
-    """
-    for item in names:
-        n, what = (item, item) if isinstance(item, str) else (item[0], item[2])
-        path = os.path.join(out_dir, n)
-        if _same_file(path, scene):
-            where = "" if os.path.abspath(scene) == os.path.abspath(path) else f" ({scene})"
-            raise SceneError(option, f"{path} is the scene this command reads{where}; {writer} writes {what} there "
-                                     f"and it would be overwritten: choose another output folder or move the scene")
-
-
-def earlier_outputs(out_dir, listing, fmt, names, key="files"):
-    """The outputs an earlier run listed in ``out_dir/listing`` (a JSON file of format ``fmt`` with the list
-    ``key``) that the new set ``names`` does not write: left in place they would sit beside a listing that no
-    longer names them. Only plain names that the earlier listing holds and that exist now; anything else in the
-    folder is the user's and is never touched. Take them before the new set is moved in.
-
-    Parameters
-    ----------
-    out_dir : str
-        The output folder.
-    listing : str
-        The earlier run's listing in it (``manifest.json``, ``summary.json``).
-    fmt : str
-        The listing's ``"format"``; another format (or none) lists nothing.
-    names : sequence of str
-        What the new run writes.
-    key : str, optional
-        The listing's key of the file names.
-
-    Returns
-    -------
-    list of str
-        Sorted names to remove once the new set is in place.
-    """
-    try:
-        with open(os.path.join(out_dir, listing), encoding="utf-8") as f:
-            old = json.load(f)
-    except (OSError, ValueError):
-        return []
-    if not isinstance(old, dict) or old.get("format") != fmt or not isinstance(old.get(key), list):
-        return []
-    keep = set(names)
-    return sorted({n for n in old[key] if isinstance(n, str) and n not in keep and n == os.path.basename(n)
-                   and n not in ("", ".", "..") and os.path.lexists(os.path.join(out_dir, n))
-                   and not os.path.islink(os.path.join(out_dir, n))})
-
-
-def remove_outputs(out_dir, stale):
-    """Remove ``stale`` (from :func:`earlier_outputs`; a folder with its contents).
-
-    Parameters
-    ----------
-    out_dir : str
-        The output folder.
-    stale : sequence of str
-        Names inside it.
-
-    Returns
-    -------
-    list of str
-        The names removed (one that cannot be removed is skipped).
-    """
-    gone = []
-    for n in stale:
-        p = os.path.join(out_dir, n)
-        try:
-            if os.path.isdir(p):
-                shutil.rmtree(p)
-            else:
-                os.remove(p)
-            gone.append(n)
-        except OSError:
-            pass
-    return gone

@@ -241,7 +241,7 @@ def test_a_spec_named_like_an_output_is_refused_before_any_work(tmp_path, name):
     r = run_cli("sleeve", spec, "--out", tmp_path, "--no-plots")
     assert r.returncode == 2, (r.stdout, r.stderr)
     assert r.stderr.startswith("error: --out: ") and r.stderr.strip().count("\n") == 0, r.stderr
-    assert f"{spec} is the scene this command reads" in r.stderr and "the sleeve run writes" in r.stderr
+    assert f"{spec} is the sleeve spec this command reads" in r.stderr and "the sleeve run writes" in r.stderr
     assert spec.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == [name]
 
