@@ -10,9 +10,14 @@ the limits, the servos' reach, and whether the frames at ``--rate`` follow it (`
 never drives a board).
 
 Ctrl+C (or SIGTERM / SIGHUP) while streaming ends the stream at its next tick, as its end would: ``--disarm``
-disarms, else the firmware's watchdog holds, parks, releases. The summary line and ``--report`` (written whole,
-atomically) then say ``interrupted`` with the duration and counts of what ran, and the exit status is 130 (128 +
-the signal's number). A second signal stops at once, writing nothing.
+disarms, else the firmware's watchdog holds, parks, releases. The summary line and ``--report`` then say
+``interrupted`` with the duration and counts of what ran, and the exit status is 130 (128 + the signal's number).
+A second signal stops at once, writing nothing.
+
+``--report`` is written as the stream runs (hardware/report.py): each tick's angles go to a temporary file beside
+it, the statistics after them, and a rename at the end makes the report appear whole; memory does not grow with
+``--seconds``. A stream that fails, a second signal or a full disk (which stops the stream) leave no report and
+no temporary; an earlier file at the path stays as it was.
 """
 import json
 import sys
@@ -62,14 +67,15 @@ def add_arguments(p):
                         "before the command fails with exit 1 (default 0); not with --mode osc")
     p.add_argument("--report", metavar="FILE",
                    help="write the statistics as JSON, with the angle sent per frame and channel (frames_sent; "
-                        "wanted_deg: the motion's angle where the host clamped it)")
+                        "wanted_deg: the motion's angle where the host clamped it), written as the stream runs "
+                        "and renamed into place at its end")
 
 
 def run(args):
     from metamaterial_wb.core.errors import MetamaterialError, SceneError, check_integer, check_number
-    from metamaterial_wb.core.fileio import write_json
     from metamaterial_wb.core.scene import Scene
     from metamaterial_wb.hardware import Link, Streamer, channel_map, check_motion, parse_map
+    from metamaterial_wb.hardware.report import StreamReport
     from metamaterial_wb.hardware.mapping import load_channel_file
 
     from metamaterial_wb.core.fileio import check_output
@@ -116,9 +122,14 @@ def run(args):
     if args.mode == "stream":
         _check_bandwidth(args.baud, args.rate, channels)
 
+    # --report (streamed): the frames go to a temporary file beside it as they are sent, the statistics after them,
+    # then the rename; memory does not grow with --seconds (hardware/report.py). Not a frame of a stream that never ran.
+    report = StreamReport(args.report, channels) if args.report and args.mode == "stream" else None
     link = Link.open("loop://" if args.dry_run else args.port, baud=args.baud, dry_run=args.dry_run)
     intr = None
     try:
+        if report is not None:
+            report.open()
         streamer = Streamer(link, channels, rate_hz=args.rate, clamp=args.clamp)
         streamer.prepare(args.watchdog_ms, args.park_after_ms, args.release_after_ms)
         intr = _Interrupt(streamer.stop).install()  # from here a signal ends the stream as its end would
@@ -132,40 +143,35 @@ def run(args):
               file=sys.stderr)
         if args.mode == "osc":
             return _run_osc(args, scene, channels, link, intr)
-        sent = []  # (t, {name: angle_deg}) per frame: --report lists what each channel was told
-        wanted = {}  # t -> {name: the motion's angle} where the host clamped it (--clamp)
-        if args.report:
-            streamer.on_frame = lambda t, angles: sent.append((t, angles))
-            streamer.on_clamp = lambda t, angles: wanted.setdefault(round(t, 9), {}).update(angles)
+        if report is not None:  # --report lists what each channel was told, per frame (and wanted, if clamped)
+            streamer.on_frame = report.frame
+            streamer.on_clamp = report.clamp
+            report.on_error = lambda exc: streamer.stop()  # a full disk: the report cannot be had; stop
         try:
             stats = streamer.run(scene, args.seconds)
         finally:
             intr.restore()  # a signal from here on: KeyboardInterrupt, nothing written
         if args.disarm:  # on Ctrl+C too: the servos end as at the stream's end
             link.disarm()
+    except BaseException:
+        if report is not None:
+            report.discard()
+        raise
     finally:
         if intr is not None:
             intr.restore()
         link.close()
+    if report is not None and report.error is not None:
+        print(f"stream stopped after {stats.ticks} ticks ({stats.duration_s:.2f} s): --report could not be written",
+              file=sys.stderr)
+        raise report.error
     s = stats.summary()
     s["port"] = link.name
     s["dry_run"] = bool(args.dry_run)
     s["channels"] = [c.to_dict() for c in channels]
     s["interrupted"] = intr.name  # "SIGINT" (Ctrl+C) / "SIGTERM" / "SIGHUP" when a signal ended the stream early
-    if args.report:
-        by_ch = {c.name: c.channel for c in channels}
-        merged = {}
-        for t, angles in sent:  # one entry per frame time (a frame per contiguous channel run)
-            merged.setdefault(round(t, 9), {}).update(angles)
-        def by_channel(angles):
-            return {str(by_ch[n]): round(a, 4) + 0.0  # + 0.0: never -0.0
-                    for n, a in sorted(angles.items(), key=lambda kv: by_ch[kv[0]])}
-        # angles_deg: what each channel was sent; wanted_deg (only where the host clamped): the motion's angle
-        s["frames_sent"] = [dict({"t": t, "angles_deg": by_channel(angles)},
-                                 **({"wanted_deg": by_channel(wanted[t])} if t in wanted else {}))
-                            for t, angles in merged.items()]
-        s["frames_sent_columns"] = {str(c.channel): c.name for c in channels}
-        write_json(args.report, {"format": "metamaterial-stream-report", "version": 1, **s})
+    if report is not None:
+        report.finish(s)  # after frames_sent_columns and frames_sent; the rename makes the report appear whole
     rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
            if s["rtt_ms_median"] is not None else "no replies")
     per_tick = (f" ({s['frames_per_tick']} a tick: one per run of adjacent channels)" if s["frames_per_tick"] > 1

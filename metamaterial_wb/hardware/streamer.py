@@ -17,7 +17,6 @@ not). The GUI calls ``start``/``stop`` from its thread; the sending happens here
 """
 from __future__ import annotations
 
-import statistics
 import threading
 import time
 from dataclasses import dataclass, field
@@ -49,16 +48,19 @@ class StreamStats:
     clamped_by_actuator: dict = field(default_factory=dict)  # {name: {"host": frames, "firmware": frames}}
     nak_reasons: dict = field(default_factory=dict)
     unreadable_reasons: dict = field(default_factory=dict)
-    rtt_ms: list = field(default_factory=list)
+    # round-trip times: {ms, rtt_key-rounded: ACKs}, so a day's stream keeps a bounded table, not a list per frame
+    rtt_counts: dict = field(default_factory=dict)
     duration_s: float = 0.0
     last_t: float = None      # motion time of the last frame sent (s)
     events: list = field(default_factory=list)
     error: str = ""
 
+    def add_rtt(self, ms):
+        k = rtt_key(ms)
+        self.rtt_counts[k] = self.rtt_counts.get(k, 0) + 1
+
     def summary(self):
-        r = sorted(self.rtt_ms)
-        def pct(q):
-            return r[min(len(r) - 1, int(q * len(r)))] if r else float("nan")
+        med, p99, top = _rtt_stats(self.rtt_counts)
         return {"ticks": self.ticks, "frames": self.frames, "frames_per_tick": self.frames_per_tick,
                 "acked": self.acked, "naked": self.naked, "lost": self.lost,
                 "nak_unreadable": self.nak_unreadable, "unreadable_reasons": self.unreadable_reasons,
@@ -71,10 +73,34 @@ class StreamStats:
                 "duration_s": round(self.duration_s, 4), "last_t": self.last_t,
                 # ticks per second (the --rate achieved), not frames: a tick sends a frame per channel run
                 "rate_hz": round(self.ticks / self.duration_s, 3) if self.duration_s > 0 else 0.0,
-                "rtt_ms_median": round(statistics.median(r), 3) if r else None,
-                "rtt_ms_p99": round(pct(0.99), 3) if r else None,
-                "rtt_ms_max": round(r[-1], 3) if r else None,
+                "rtt_ms_median": None if med is None else round(med, 3),
+                "rtt_ms_p99": None if p99 is None else round(p99, 3),
+                "rtt_ms_max": None if top is None else round(top, 3),
                 "events": self.events, "error": self.error}
+
+
+def rtt_key(ms):
+    """A round trip (ms) as kept in StreamStats.rtt_counts: to the microsecond (the summary's precision) below
+    10 ms, to 4 significant digits above (10 us up to 100 ms, ...), so the table stays small however long the
+    stream runs (a reply waits for at most 254 frames before its seq is reused)."""
+    return round(ms, 3) if ms < 10.0 else float(f"{ms:.4g}")
+
+
+def _rtt_stats(counts):
+    """(median, 99th percentile, max) of the round trips counted in ``counts`` ({ms: n}), as
+    ``statistics.median`` and ``sorted(r)[min(n - 1, int(0.99 n))]`` of the list they stand for; Nones if empty."""
+    n = sum(counts.values())
+    if not n:
+        return None, None, None
+    want = sorted({(n - 1) // 2, n // 2, min(n - 1, int(0.99 * n))})
+    at, seen = {}, 0
+    for ms in sorted(counts):
+        seen += counts[ms]
+        while want and want[0] < seen:  # the sorted list's items [seen - counts[ms], seen) are all ms
+            at[want.pop(0)] = ms
+        if not want:
+            break
+    return (at[(n - 1) // 2] + at[n // 2]) / 2, at[min(n - 1, int(0.99 * n))], max(counts)
 
 
 def check_servo_driver(link, settle_s=0.05):
@@ -185,7 +211,7 @@ class Streamer:
             sent, host_clamped = self._outstanding.pop(seq)
             if r.kind == "ACK":
                 self.stats.acked += 1
-                self.stats.rtt_ms.append((getattr(r, "time", time.perf_counter()) - sent) * 1000.0)
+                self.stats.add_rtt((getattr(r, "time", time.perf_counter()) - sent) * 1000.0)
                 if r.clamp_mask:
                     self.stats.firmware_clamped_frames += 1
                     self.stats.clamped_frames += 0 if host_clamped else 1
