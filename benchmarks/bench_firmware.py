@@ -13,6 +13,14 @@ Baselines measured in the same run:
   board cannot beat;
 * the emulator free-running (not paced), to show how much of the round trip is simulated UART time.
 Targets: median round trip <= 5 ms, 0 frames lost in 1000.
+
+    /usr/bin/python3 benchmarks/bench_firmware.py --stream-check [--seconds 600] [--doc]
+
+The host side only (no build, no emulator): the ``stream`` command's check of a long stream (check_motion: the
+limits, the servo reach, the rate and the firmware's slew limit) on the fish with a slew limit on its tail that
+follows the motion, so that every tick is compared. The slew part (rates._check_slew) with its vectorised
+slew_ticks against the Python loop per 10 ms tick it replaced (kept here as the baseline); ratios only, best of
+three. ``--doc`` writes the table into docs/benchmarks.md (section stream-check).
 """
 import argparse
 import json
@@ -127,12 +135,93 @@ def plot_fish(paths, png):
     print(f"plot: {png}")
 
 
+def tick_loop_slew(target_deg, max_slew_dps, start_deg=None):
+    """The baseline: slew_ticks as it was, a Python loop over the 10 ms ticks."""
+    import numpy as np
+    from metamaterial_wb.hardware import rates
+    y = np.asarray(target_deg, dtype=float)
+    if not max_slew_dps:
+        return y.copy()
+    step = max_slew_dps * rates.SLEW_PERIOD_MS / 1000.0
+    out = np.empty_like(y)
+    cur = y[..., 0].copy() if start_deg is None else np.broadcast_to(np.asarray(start_deg, float), y[..., 0].shape)
+    for i in range(y.shape[-1]):
+        cur = cur + np.clip(y[..., i] - cur, -step, step)
+        out[..., i] = cur
+    return out
+
+
+def stream_check(seconds, doc=False):
+    """Time the stream command's check of ``seconds`` of the fish (tail max_slew_dps 480: the limit acts near the
+    steepest places, within the tolerance): the whole check, and its slew part vectorised and as the tick loop."""
+    import json as _json
+
+    from benchmarks._report import best_of, machine_line, update_section
+
+    from metamaterial_wb.core.scene import Scene
+    from metamaterial_wb.hardware import channel_map, check_motion, rates
+
+    with open(os.path.join(REPO, "examples", "fish.json"), encoding="utf-8") as f:
+        d = _json.load(f)
+    d["actuators"][1]["servo"] = {"max_slew_dps": 480}
+    scene = Scene.from_dict(d)
+    ch = channel_map(scene)
+    tracks = rates._rate_tracks(scene, ch, False)
+
+    def slew_part():
+        for c, angles, steps in tracks:
+            rates._check_slew(c, angles, seconds, 50.0, rates.RATE_TOLERANCE_DEG, steps)
+    t_all, _ = best_of(lambda: check_motion(scene, ch, seconds, 50.0), 3)
+    t_vec, _ = best_of(slew_part, 3)
+    vectorised = rates.slew_ticks
+    rates.slew_ticks = tick_loop_slew
+    try:
+        t_loop, _ = best_of(slew_part, 3)
+    finally:
+        rates.slew_ticks = vectorised
+    rest = t_all - t_vec
+    rows = [("check_motion, whole (vectorised slew)", t_all), ("  of it: slew check (rates._check_slew)", t_vec),
+            ("  the rest (limits, reach, rate)", rest), ("slew check with the tick loop (before)", t_loop)]
+    print(f"stream check of {seconds:g} s of the fish at 50 Hz (tail max_slew_dps 480, {int(seconds * 100)} ticks)")
+    for name, t in rows:
+        print(f"{name:42s} {t * 1000:9.1f} ms")
+    print(f"slew check: tick loop / vectorised = x{t_loop / t_vec:.1f}; slew / rest of the check: before "
+          f"{t_loop / rest:.2f}, now {t_vec / rest:.2f}")
+    if doc:
+        body = "\n".join([
+            "## Stream check: the slew limit, vectorised",
+            "",
+            f"`/usr/bin/python3 benchmarks/bench_firmware.py --stream-check --seconds {seconds:g} --doc`: the `stream` "
+            "command's check of a long stream (`check_motion`: limits, servo reach, rate, slew limit) on the fish "
+            "with `max_slew_dps` 480 on its tail (its motion peaks at 509 deg/s: the limit acts near the steepest "
+            "places, within the tolerance, so the whole stream is compared). The slew part with `slew_ticks` "
+            "vectorised (one numpy pass per phase of the limit) against the Python loop per 10 ms tick it replaced. "
+            "Best of three; ratios only matter (shared machine).",
+            "",
+            machine_line(),
+            "",
+            "| case | time |",
+            "|---|---|",
+            *[f"| {name.strip()} | {t * 1000:.0f} ms |" for name, t in rows],
+            "",
+            f"Slew check: the tick loop / vectorised = **x{t_loop / t_vec:.1f}**; the slew check / the rest of the "
+            f"check: {t_loop / rest:.2f} before, {t_vec / rest:.2f} now.",
+        ])
+        update_section("stream-check", body)
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--frames", type=int, default=1000)
     ap.add_argument("--json", help="write the results as JSON")
     ap.add_argument("--plot", metavar="PNG", help="also stream the fish for 4 s and plot sent angles vs pin pulses")
+    ap.add_argument("--stream-check", action="store_true", help="time the host's stream check instead (no build)")
+    ap.add_argument("--seconds", type=float, default=600.0, help="--stream-check: seconds of motion (600)")
+    ap.add_argument("--doc", action="store_true", help="--stream-check: write docs/benchmarks.md's section")
     args = ap.parse_args()
+    if args.stream_check:
+        return stream_check(args.seconds, args.doc)
     reason = simrun.tools_missing()
     if reason:
         sys.exit(f"cannot run: {reason}")

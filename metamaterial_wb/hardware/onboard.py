@@ -219,22 +219,38 @@ def _check_render(field, name, exact, board, amp, off, freq_hz, period_ms, tol):
 
 
 def _highest_passing(exact, board, amp, off, f_hi, tol):
-    """The highest frequency in (0, f_hi] (3 significant digits, rounded down) whose render_deviation, at the
-    frequency the chip runs (its period in whole ms), is within ``tol`` (it grows with the frequency up to the
-    Nyquist rate), or None when even a slow swing is not."""
+    """The highest frequency in (0, f_hi] whose render_deviation, at the frequency the chip runs (its period in
+    whole ms), is within ``tol`` (it grows with the frequency up to the Nyquist rate), rounded down to 3
+    significant digits, or None when even a slow swing is not. The number returned is the one the message shows
+    (``{:g}``) and passes itself: typed back as the profile's frequency it is accepted. The deviation is not quite
+    monotone in the period (whole centidegrees, the joint gains): where the frequency found, rounded down, fails,
+    the next lower 3-digit frequencies are tried until one passes."""
     def ok(f):
         return render_deviation(exact, board, amp, off, 1000.0 / min(65535, max(1, round(1000.0 / f)))) <= tol
-    if ok(f_hi):
-        return f_hi
     lo, hi = f_hi * 1e-4, f_hi
-    if not ok(lo):
+    if ok(f_hi):
+        lo = f_hi
+    elif not ok(lo):
         return None
     while hi - lo > 1e-4 * hi:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if ok(mid) else (lo, mid)
-    e = math.floor(math.log10(lo)) - 2
-    f = math.floor(lo / 10.0 ** e) * 10.0 ** e
-    return float(f"{f:.3g}") if ok(float(f"{f:.3g}")) else lo
+    m, e = _down3(lo)
+    for _ in range(1000):               # 3-digit frequencies from lo down (lo itself, not one of them, passes)
+        f = float(f"{m}e{e}")           # the decimal m * 10**e, as the message prints it and as it is typed back
+        if ok(f):
+            return f
+        m, e = (m - 1, e) if m > 100 else (999, e - 1)
+    return None
+
+
+def _down3(x):
+    """``(m, e)``: the largest decimal ``m * 10**e`` <= ``x`` with 3 significant digits (m in 100..999)."""
+    e = math.floor(math.log10(x)) - 2
+    m = min(999, math.floor(x / 10.0 ** e))
+    while float(f"{m}e{e}") > x:        # 10**e is not exact in binary: never above x
+        m, e = (m - 1, e) if m > 100 else (999, e - 1)
+    return m, e
 
 
 def _one_period(amp, off, freq_hz, phase_deg):

@@ -4,6 +4,7 @@
 <context>
     <name>Metamaterial</name>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="233"/>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="212"/>
         <source> (the first {0:g} s of the {1:g} s timeline compared)</source>
         <translation type="unfinished"></translation>
@@ -54,7 +55,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="216"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="237"/>
         <source>; no speed down to {0:g}x follows it: slow the motion down</source>
         <translation type="unfinished"></translation>
     </message>
@@ -64,12 +65,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="221"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="242"/>
         <source>; {0:g}x follows it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="219"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="240"/>
         <source>; {0:g}x follows its first {1:g} s (Connect compares the whole timeline)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -79,10 +80,10 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="360"/>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="69"/>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="103"/>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="108"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="361"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="70"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="109"/>
         <source>? deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -92,7 +93,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="193"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="218"/>
         <source>Add key</source>
         <translation type="unfinished"></translation>
     </message>
@@ -180,12 +181,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="536"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="528"/>
         <source>Click a hinge in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="537"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="529"/>
         <source>Click a node in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
@@ -390,12 +391,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="184"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="209"/>
         <source>Keyframes</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="228"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="253"/>
         <source>Keyframes of {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -436,7 +437,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="191"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="193"/>
         <source>Loop: where the {0:g} s timeline wraps from its end back to its start the servos are sent a jump no servo follows: {1} (at most {2:g} deg, the stream command's rate tolerance); untick Loop, or set a length at which the motion ends where it starts</source>
         <translation type="unfinished"></translation>
     </message>
@@ -607,7 +608,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="219"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="124"/>
         <source>Remove last</source>
         <translation type="unfinished"></translation>
@@ -859,7 +860,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="264"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="265"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
@@ -879,7 +880,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="83"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="84"/>
         <source>a {0} wave needs a frequency &gt; 0 Hz (its period is 1 / f); got {1:g} Hz, allowed (0, {2:g}] Hz</source>
         <translation type="unfinished"></translation>
     </message>
@@ -919,8 +920,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="207"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="228"/>
         <source>at {0:g}x the link's {1:g} frames a second cannot follow the motion: {2}, moving straight from frame to frame, would be {3:.1f} deg off it at t = {4:.2f} s (at most {5:g} deg, as the stream command allows)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="210"/>
+        <source>at {0:g}x: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -939,7 +945,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="127"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="137"/>
         <source>building the sheet ...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -954,7 +960,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="150"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="479"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
@@ -990,7 +996,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="54"/>
         <source>channel map: {0}; each motor's angle is its own joint's</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1030,7 +1036,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="182"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="192"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="501"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
@@ -1124,7 +1130,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="28"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="29"/>
         <source>keyframes</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1184,7 +1190,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="82"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="83"/>
         <source>motor {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1199,8 +1205,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="47"/>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="105"/>
         <source>no servo mapping (metamaterial_wb.hardware: {0})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1211,7 +1217,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="204"/>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="29"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="30"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="26"/>
         <source>none</source>
         <translation type="unfinished"></translation>
@@ -1222,30 +1228,30 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="509"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="501"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="502"/>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="507"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="494"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="499"/>
         <source>not applied: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="122"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="132"/>
         <source>not exported: cannot write in {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="100"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="110"/>
         <source>not exported: the structure this panel exports was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="175"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="95"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="185"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="105"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="116"/>
         <source>not exported: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1260,7 +1266,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="228"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="249"/>
         <source>note: at {0:g}x the link's frames follow the first {1:g} s of the {2:g} s timeline; the rest is compared at Connect only (it takes seconds): Disconnect and Connect to compare all of it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1300,12 +1306,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="589"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="581"/>
         <source>picked hinge {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="592"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="584"/>
         <source>picked node {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1379,7 +1385,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="170"/>
         <source>removed {0} file(s) of the earlier export that this one does not write: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1429,7 +1435,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="111"/>
         <source>simulated rotation of joint {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1459,7 +1465,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="25"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="26"/>
         <source>sine</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1479,7 +1485,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="26"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="27"/>
         <source>square</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1489,17 +1495,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="31"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="32"/>
         <source>stored constant</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="30"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="31"/>
         <source>stored steps</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="39"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="40"/>
         <source>stored {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1579,7 +1585,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="467"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="459"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1599,7 +1605,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="188"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="213"/>
         <source>time (s)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1609,7 +1615,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="27"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="28"/>
         <source>triangle</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1619,7 +1625,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="588"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="580"/>
         <source>under the cursor: hinge {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1629,7 +1635,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="591"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="583"/>
         <source>under the cursor: node {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1644,7 +1650,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="189"/>
+        <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="214"/>
         <source>value (-1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1655,7 +1661,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="109"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="162"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="172"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="325"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
@@ -1677,7 +1683,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="156"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="166"/>
         <source>wrote {0} file(s) to {1} in {2:.1f} s:</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1687,13 +1693,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="361"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="362"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="109"/>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="69"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="70"/>
         <source>{0:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1728,7 +1734,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="189"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="191"/>
         <source>{0} (channel {1}) by {2:.2f} deg, from {3:+.2f} deg to {4:+.2f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1773,7 +1779,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="261"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="262"/>
         <source>{0} has no motion profile: it holds its value, these boxes do not apply to it. Choose a shape to give it one.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1798,7 +1804,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="257"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="258"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1853,7 +1859,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="244"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="245"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1863,12 +1869,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="240"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="241"/>
         <source>{0}: keyframes play once (stored without a period) and hold the last value</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="248"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="249"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1878,12 +1884,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="84"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="85"/>
         <source>{0}: no servo angle: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="87"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="88"/>
         <source>{0}: not an actuator</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1891,7 +1897,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="308"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="293"/>
-        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="88"/>
+        <location filename="../../metamaterial_wb/gui/panels/stream.py" line="89"/>
         <source>{0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>

@@ -4,8 +4,9 @@ The :class:`~metamaterial_wb.hardware.Streamer` thread asks for values at 50 Hz;
 with ``values_at(clock())``: the values for *now* on the animation clock (which follows wall time), not
 the last frame the view managed to draw, so real servos move in real time even when rendering drops
 frames. Errors from the streaming thread are kept and reported by the panel in the GUI thread. Connect is
-refused when those frames, at the animation's speed, cannot follow the motion over the whole timeline
-(``follow_problem``: the stream command's rate check); while streaming, each edit compares the first
+refused when those frames, at the animation's speed, cannot follow the motion over the whole timeline, or when a
+channel's firmware slew limit (``max_slew_dps``) holds its servo too far off it (``follow_problem``: the stream
+command's rate and slew checks, with its message); while streaming, each edit compares the first
 ``FOLLOW_SPAN_S`` and the panel says so for a longer timeline. With Loop ticked the timeline wraps from its end
 back to its start: a jump there larger than the rate tolerance (``mapping.wrap_jumps``) is treated the same way
 (Connect refused; while streaming, ticking Loop, a new length or an edit is warned of).
@@ -160,9 +161,10 @@ class StreamController:
     def follow_problem(self, scene, duration_s, speed, span_s=None, loop=None):
         """None when the link's frames (``RATE_HZ`` a wall second, so ``RATE_HZ / speed`` per second of motion)
         follow the motion of ``scene`` over ``duration_s`` within the stream command's tolerance
-        (``mapping.check_rate``, which the ``stream`` command runs over the whole duration) and, when the timeline
+        (``mapping.check_rate``, which the ``stream`` command runs over the whole duration), no channel's slew limit
+        holds its servo further off (``slew_problem``, the same check's second part), and, when the timeline
         loops (``loop``; None: ``looping()``), no servo jumps by more than that tolerance where it wraps
-        (``wrap_problem``); else the message(s), the first with the fastest of ``SPEEDS`` below ``speed`` that
+        (``wrap_problem``); else the message(s), a rate one with the fastest of ``SPEEDS`` below ``speed`` that
         follows the motion.
 
         ``span_s`` (the per-edit warning while streaming): compare only the first ``span_s`` seconds of a longer
@@ -171,6 +173,8 @@ class StreamController:
         from metamaterial_wb.hardware.mapping import channel_map
         channels = channel_map(scene)
         rate = self._rate_problem(scene, channels, duration_s, speed, span_s)
+        if rate is None:     # as check_rate: the slew limits once the frames follow the motion
+            rate = self.slew_problem(scene, channels, duration_s, speed, span_s)
         looping = self.looping() if loop is None else loop
         wrap = self.wrap_problem(scene, channels, duration_s) if looping else None
         return "\n".join(m for m in (rate, wrap) if m) or None
@@ -190,6 +194,25 @@ class StreamController:
                          "servos are sent a jump no servo follows: {1} (at most {2:g} deg, the stream command's "
                          "rate tolerance); untick Loop, or set a length at which the motion ends where it "
                          "starts").format(duration_s, each, RATE_TOLERANCE_DEG)
+
+    def slew_problem(self, scene, channels, duration_s, speed, span_s=None):
+        """None when no channel's firmware slew limit (``max_slew_dps``: the servo turns at most that many deg per
+        wall second, every 10 ms) holds its servo more than the stream command's tolerance off the motion played at
+        ``speed`` (``mapping.check_slew``, the check the ``stream`` command runs once the rate passes); else that
+        command's message (naming ``channel N (name).max_slew_dps``), said at which speed when not 1x, and the span
+        compared when ``span_s`` is shorter than the timeline."""
+        from metamaterial_wb.core.errors import SceneError
+        from metamaterial_wb.hardware.mapping import check_slew
+        span = duration_s if span_s is None or span_s >= duration_s else float(span_s)
+        try:
+            check_slew(scene, channels, span, self.RATE_HZ / speed, speed=speed)
+        except SceneError as exc:
+            msg = str(exc) if speed == 1.0 else translate("Metamaterial", "at {0:g}x: {1}").format(speed, exc)
+            if span < duration_s:
+                msg += translate("Metamaterial", " (the first {0:g} s of the {1:g} s timeline compared)").format(
+                    span, duration_s)
+            return msg
+        return None
 
     def _rate_problem(self, scene, channels, duration_s, speed, span_s):
         """The rate part of ``follow_problem`` (None when the frames follow the motion)."""
