@@ -130,6 +130,7 @@ PREFERENCE_PARAMS = {"PrinterClearance": "clearance_mm", "RigidMaterial": "rigid
 # the preferences that shape the modules' solids (``module_build_key``); the page's label of the clearance
 MODULE_PREFS = ("PrinterClearance", "ModuleMaterial")
 CLEARANCE_PREFERENCE = "Edit > Preferences > Metamaterial > Snap-fit clearance (mm)"
+CLEARANCE_FIELD = f"{CLEARANCE_PREFERENCE} (PrinterClearance)"   # the field of its errors
 
 
 def fabrication_overrides(prefs=MODULE_PREFS):
@@ -179,13 +180,10 @@ def clearance_preference_clash(lip_mm):
 
 def check_clearance_preference(p):
     """Refuse a clearance preference that leaves the modules' snap pins no barb (:func:`clearance_preference_clash`
-    against ``p.socket_lip_mm``). Raises a SceneError naming the preference."""
-    clr = clearance_preference_clash(p.socket_lip_mm)
-    if clr is not None:
-        raise SceneError(f"{CLEARANCE_PREFERENCE} (PrinterClearance)",
-                         f"{clr:g} mm is not below the {p.socket_lip_mm:g} mm socket lip (fabrication.socket_lip_mm): "
-                         f"the snap pins' barbs would have nothing to latch on; allowed range [0, "
-                         f"{p.socket_lip_mm:g}) mm; set it there")
+    against ``p.socket_lip_mm``; ``p`` from :func:`_fabricated`). Raises a SceneError naming the preference."""
+    from metamaterial_wb.geometry.snapfit import no_latch_error
+    if clearance_preference_clash(p.socket_lip_mm) is not None:
+        raise no_latch_error(p)
 
 
 class SheetNotBuilt:
@@ -206,7 +204,11 @@ def _fabricated(scene, modules):
     d = scene.to_dict()
     d["modules"] = modules
     one = _Scene.from_dict(d)
-    return one, fabrication_params(one, effective_tilts_deg(one), **fabrication_overrides())
+    over = fabrication_overrides()
+    p = fabrication_params(one, effective_tilts_deg(one), **over)
+    if "clearance_mm" in over:     # the snap pins' errors name the preference, not the scene (geometry.snapfit)
+        p.clearance_origin = CLEARANCE_FIELD
+    return one, p
 
 
 def sheet_error(scene):

@@ -123,7 +123,7 @@ class SceneProxy(ProxyBase):
         except Exception:
             pass
         obj.Deformation = [float(x) for x in frame.D]
-        module_warnings = []
+        failed = []     # (label, error) of the modules that stay invalid
         for m in obj.Modules:
             if getattr(getattr(m, "Proxy", None), "Type", "") != "MetamaterialModule":
                 continue
@@ -141,7 +141,8 @@ class SceneProxy(ProxyBase):
             with run_by_scene(m):
                 m.recompute()
             if not m.isValid():
-                module_warnings.append(error or m.getStatusString())
+                failed.append((m.Label, error or m.getStatusString()))
+        module_warnings = modules_failed(failed)
         stand_ins = [m.Label for m in obj.Modules if getattr(m, "GeometrySource", "").startswith("stand-in (")]
         if stand_ins:      # the sheet itself cannot be built: say why once (not every module's fault)
             module_warnings.append(f"modules {', '.join(stand_ins)} show stand-ins: Export refuses the sheet itself: "
@@ -154,6 +155,26 @@ class SceneProxy(ProxyBase):
     def scene(self, obj):
         """The composed :class:`Scene` of ``obj`` (what modules ask their hidden-linked Scene for)."""
         return compose_scene(obj)
+
+
+def modules_failed(failed, shown=6):
+    """SolveWarnings lines of the failed modules ``failed`` ((label, error) pairs, an error naming its module as
+    ``module <label>: ...``): one line per cause, so that a cause several modules share (the snap-fit clearance
+    preference at or above the socket lip: every module) is said once, with how many modules and which (the first
+    ``shown``); a module failing for its own reason keeps its own line."""
+    causes = {}     # cause -> [(label, error)], in the modules' order
+    for label, text in failed:
+        own = f"module {label}: "
+        causes.setdefault(text[len(own):] if text.startswith(own) else text, []).append((label, text))
+    lines = []
+    for cause, mods in causes.items():
+        if len(mods) == 1:
+            lines.append(mods[0][1])
+            continue
+        labels = [label for label, _ in mods]
+        names = ", ".join(labels[:shown]) + (f" and {len(labels) - shown} more" if len(labels) > shown else "")
+        lines.append(f"{len(labels)} modules ({names}): {cause}")
+    return lines
 
 
 def scene_object_of(obj):

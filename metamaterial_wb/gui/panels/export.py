@@ -83,8 +83,18 @@ class ExportPanel(BasePanel):
         self.set_problem("path", msg)
         from metamaterial_wb.gui.panels.checks import preference_problem
         keys = ["RigidMaterial", "FlexibleMaterial"] + (["ModuleMaterial"] if self.modules.isChecked() else [])
-        self.set_problem("preferences", preference_problem(keys))
+        self.set_problem("preferences", preference_problem(keys, self._scene()))   # its socket lip, as Add module
         self.export_btn.setEnabled(not self.problems and not self.job.running)
+
+    def _scene(self):
+        """The structure's scene as it is now (the clearance is checked against its own socket lip), or None when
+        it cannot be composed or is gone (the default lip; Export then says why it cannot start)."""
+        if self.target_gone():
+            return None
+        try:
+            return structure.compose_scene(self.obj)
+        except MetamaterialError:
+            return None
 
     # the job ----------------------------------------------------------------------------
     def start_export(self):
