@@ -30,7 +30,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="327"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="440"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -45,7 +45,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="152"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -88,7 +88,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="126"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="129"/>
         <source>? deg ({0:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -126,7 +126,7 @@
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="146"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="38"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="39"/>
         <source>Animate</source>
         <translation type="unfinished"></translation>
     </message>
@@ -136,7 +136,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="122"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="125"/>
         <source>Back to the motion profiles (quadratic model)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -208,8 +208,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="82"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="360"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="85"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="364"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -219,13 +219,20 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="135"/>
         <source>D {0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="173"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="421"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="355"/>
         <source>Dask scheduler</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="312"/>
+        <source>Dask scheduler {0} (a values-only fit runs in this process)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -239,7 +246,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="352"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="356"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -249,17 +256,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="76"/>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="80"/>
         <source>Edit &gt; Preferences &gt; Metamaterial &gt; {0}: {1} is not a known material; allowed: {2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="74"/>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="78"/>
         <source>Edit &gt; Preferences &gt; Metamaterial &gt; {0}: {1} is not a known servo; allowed: {2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/checks.py" line="53"/>
         <source>Edit &gt; Preferences &gt; Metamaterial &gt; {0}: {1} mm is not below the {2} mm socket lip, so the modules' snap pins have nothing to latch on; allowed range [0, {2}) mm</source>
         <translation type="unfinished"></translation>
     </message>
@@ -298,7 +305,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="127"/>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="90"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="72"/>
         <source>Folded shape</source>
         <translation type="unfinished"></translation>
     </message>
@@ -309,8 +316,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="308"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="420"/>
         <source>Forbidden joints</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
+        <source>Forbidden joints {0} (the placement is the structure's)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -334,8 +346,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="153"/>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="45"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="46"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
     </message>
@@ -355,7 +367,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="86"/>
         <source>Hold every fold within what the printed hinges fit in their node plates (otherwise the kinematic maximum applies and Export may refuse the design)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -385,8 +397,9 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="231"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="163"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="418"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
@@ -417,7 +430,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="103"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="85"/>
         <source>Limit to printable folds</source>
         <translation type="unfinished"></translation>
     </message>
@@ -427,12 +440,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="111"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="114"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="57"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="58"/>
         <source>Loop</source>
         <translation type="unfinished"></translation>
     </message>
@@ -452,7 +465,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="43"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="44"/>
         <source>Model</source>
         <translation type="unfinished"></translation>
     </message>
@@ -472,12 +485,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="121"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="124"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="61"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="63"/>
         <source>Motors and constraints</source>
         <translation type="unfinished"></translation>
     </message>
@@ -499,12 +512,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="83"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="86"/>
         <source>No motors yet: use 'Place motor'.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="102"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="84"/>
         <source>No rotary axes yet: use 'Rotary axes' first.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -550,12 +563,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="187"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="201"/>
         <source>Pause</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="49"/>
         <source>Perfect propagation: every joint follows the global deformation; the motors' sliders are off while it is ticked</source>
         <translation type="unfinished"></translation>
     </message>
@@ -576,14 +589,14 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="55"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="370"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="192"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="56"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="374"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="206"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="112"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="115"/>
         <source>Play DIR/trajectory.json written by 'python3 -m metamaterial_wb simulate SCENE --seconds S --out DIR'</source>
         <translation type="unfinished"></translation>
     </message>
@@ -593,7 +606,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="89"/>
         <source>Port</source>
         <translation type="unfinished"></translation>
     </message>
@@ -640,7 +653,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="178"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="187"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
@@ -650,7 +663,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="120"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="123"/>
         <source>Run the dynamics model on this structure in the background, then play it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -671,8 +684,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="159"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="307"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="419"/>
         <source>Servo budget</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="303"/>
+        <source>Servo budget {0} (the fit keeps the structure's {1} motors)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -692,13 +710,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="142"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="119"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="122"/>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="17"/>
         <source>Simulate</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="104"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="107"/>
         <source>Simulated trajectory</source>
         <translation type="unfinished"></translation>
     </message>
@@ -714,12 +732,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="237"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="281"/>
         <source>Sleeve spec</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="238"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="282"/>
         <source>Sleeve spec (*.json)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -749,7 +767,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="101"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="104"/>
         <source>Stream the values shown to the servo firmware at 50 Hz (port loop:// = dry run without hardware)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -759,7 +777,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="197"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="207"/>
         <source>Target</source>
         <translation type="unfinished"></translation>
     </message>
@@ -769,12 +787,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="198"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="208"/>
         <source>Targets (*.json *.stl *.obj *.step *.stp)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="131"/>
         <source>The angle sent to the servo for this value (closing and opening differ); the firmware's invert and trim come after</source>
         <translation type="unfinished"></translation>
     </message>
@@ -784,7 +802,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="140"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -794,12 +812,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="204"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="208"/>
         <source>Trajectory</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="205"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
         <source>Trajectory (*.json)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -809,7 +827,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="48"/>
         <source>Use global deformation</source>
         <translation type="unfinished"></translation>
     </message>
@@ -840,6 +858,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="309"/>
+        <source>Workers {0} (a values-only fit runs in this process)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="151"/>
         <source>Write STEP (named bodies) and 3MF (per-part materials) for dual-extruder printers</source>
         <translation type="unfinished"></translation>
@@ -850,7 +873,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="232"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="331"/>
         <source>a fit is already running</source>
         <translation type="unfinished"></translation>
     </message>
@@ -870,7 +893,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="273"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="277"/>
         <source>a simulation is already running</source>
         <translation type="unfinished"></translation>
     </message>
@@ -890,12 +913,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="144"/>
-        <source>achieved frame rate while playing and the real-time factor (animation seconds per wall second, over the speed): 1.00 = real time</source>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="147"/>
+        <source>achieved frame rate while playing and the real-time factor (timeline seconds played per wall second): 1.00 = real time, 2.00 at speed 2</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="232"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="276"/>
         <source>actuator.core_diameter_mm: the cap the inner membrane pushes on; at most the sleeve's inner diameter N (L + c) / pi - T</source>
         <translation type="unfinished"></translation>
     </message>
@@ -935,22 +958,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="222"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="266"/>
         <source>automatic: the default cap, {0:g} mm</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="219"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="263"/>
         <source>automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="137"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="141"/>
         <source>building the sheet ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="459"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="510"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -960,8 +983,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="160"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="479"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="530"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -971,7 +994,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="343"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="347"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1016,7 +1039,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="68"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="70"/>
         <source>clip {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1026,7 +1049,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="109"/>
         <source>dynamics: gravity, floor contact, friction</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1036,18 +1059,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="192"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="501"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="552"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="432"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="483"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="438"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="489"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1057,13 +1080,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="435"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="486"/>
         <source>export: the prediction is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="496"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="453"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="547"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="504"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1073,17 +1096,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="315"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="428"/>
         <source>fit cancelled: nothing changed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="301"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="413"/>
         <source>fit: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="61"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="63"/>
         <source>frame {0}: {1:.1f} ms (no recompute)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1093,7 +1116,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="225"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="324"/>
         <source>give a target file or pick a target object</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1108,7 +1131,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="111"/>
         <source>horizontal {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1135,22 +1158,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="176"/>
         <source>kinematic +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="126"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="108"/>
         <source>kinematic maximum bound by {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="195"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="177"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="73"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="74"/>
         <source>length</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1165,7 +1188,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="199"/>
         <source>max |D| = {0:.3f}; update {1:.1f} ms (solve {2:.1f}, preview {3:.1f}; no recompute, nothing written)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1175,7 +1198,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/exporting.py" line="64"/>
+        <location filename="../../metamaterial_wb/gui/exporting.py" line="68"/>
         <source>modules cannot be built ({0}); nothing written - fix them or export without modules</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1185,7 +1208,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="139"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="142"/>
         <source>motor values now: the angle sent to each servo (value in -1..1)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1195,7 +1218,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="67"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="69"/>
         <source>motor {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1239,19 +1262,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="136"/>
         <source>not exported: cannot write in {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="110"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="114"/>
         <source>not exported: the structure this panel exports was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="185"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="105"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="116"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="189"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="109"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="120"/>
         <source>not exported: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1263,6 +1286,31 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="195"/>
         <source>not picked: node {0} ({1})</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="257"/>
+        <source>not used while '{0}' is ticked: a values-only fit runs in this process (only the placement search runs in parallel)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="259"/>
+        <source>not used while '{0}' is ticked: the fit keeps the structure's {1} motors</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="261"/>
+        <source>not used while '{0}' is ticked: the placement is the structure's</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="284"/>
+        <source>not used while a Dask scheduler is given: its workers run the search (clear the Dask scheduler to use local workers)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="290"/>
+        <source>not used while a target object is picked: pick '{0}' to use the file</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1296,7 +1344,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="138"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="141"/>
         <source>overridden by Global deformation (untick it to use the motors)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1316,41 +1364,52 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="133"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="259"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="308"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="136"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="263"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="312"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="242"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="246"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="387"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="432"/>
         <source>predict: the export is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="396"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="405"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="444"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="453"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="236"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="398"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="234"/>
+        <source>predicting the values from when Predict was pressed (edited since) ...</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="446"/>
         <source>predicting: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="419"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="470"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="415"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="465"/>
         <source>prediction failed: {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="249"/>
+        <source>prediction for the earlier values (edited since; press Predict for the values shown):</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1359,12 +1418,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="178"/>
         <source>printable +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="197"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="179"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1380,22 +1439,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="488"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="539"/>
         <source>removed the earlier export's {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="170"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="174"/>
         <source>removed {0} file(s) of the earlier export that this one does not write: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="350"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="395"/>
         <source>ring pattern {0}: expected cell type indices separated by commas, e.g. 0, 0, 1, 1</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="373"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="486"/>
         <source>run the fit first</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1430,7 +1489,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="215"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="219"/>
         <source>simulated here</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1440,27 +1499,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="288"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="292"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="292"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="296"/>
         <source>simulating {0:g} s of dynamics ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="312"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="316"/>
         <source>simulation cancelled; playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="307"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="311"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="302"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="306"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1480,7 +1539,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="70"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="71"/>
         <source>speed</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1490,7 +1549,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="254"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="366"/>
         <source>starting the fit</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1510,12 +1569,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="362"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="366"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="55"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="57"/>
         <source>streaming stopped: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1530,12 +1589,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="78"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="81"/>
         <source>t = 0.00 s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="48"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="50"/>
         <source>t = {0:.2f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1575,12 +1634,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="371"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="484"/>
         <source>the fit is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="93"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="96"/>
         <source>the hardware package (metamaterial_wb.hardware) is not available</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1590,7 +1649,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="203"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="206"/>
         <source>the {0} solve did not converge: the pose shown is its last iterate</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1600,7 +1659,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="334"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="379"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1610,7 +1669,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="223"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="227"/>
         <source>trajectory {0}: cannot read it ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1655,14 +1714,14 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="128"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="110"/>
         <source>vertical {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="109"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="172"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="325"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="117"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="176"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="438"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1678,17 +1737,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="486"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="537"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="166"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="170"/>
         <source>wrote {0} file(s) to {1} in {2:.1f} s:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="489"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="540"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1704,32 +1763,32 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="127"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="130"/>
         <source>{0:+.1f} deg ({1:+.3f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="174"/>
+        <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="177"/>
         <source>{0:+.3f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="177"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="191"/>
         <source>{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="301"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="283"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="215"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="197"/>
         <source>{0:g} deg is beyond the kinematic maximum of this axis: allowed range [-{1}, {1}] deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="212"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="194"/>
         <source>{0:g} deg is beyond the printable maximum of this axis: allowed range [-{1}, {1}] deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1739,7 +1798,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="200"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="182"/>
         <source>{0} (slider +-{1:.1f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1809,12 +1868,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/exporting.py" line="67"/>
+        <location filename="../../metamaterial_wb/gui/exporting.py" line="71"/>
         <source>{0} module(s) not exported (Modules unchecked)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="322"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="435"/>
         <source>{0} on {1}: {2}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1849,12 +1908,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="51"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="336"/>
+        <source>{0} with '{1}'; allowed: only without it (untick it to use them; ticked, it sets them itself)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="53"/>
         <source>{0} {1} ({2:+.2f})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="198"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="180"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1894,15 +1958,15 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="130"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="112"/>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="308"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="293"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="337"/>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="89"/>
         <source>{0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="299"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="303"/>
         <source>{0}; centre of mass moved {1:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>

@@ -13,7 +13,8 @@ Rules kept by every panel:
 * OK is refused (and the OK button disabled) while the panel knows of a problem, and an OK whose
   recompute leaves an object invalid is undone with the object's own error shown;
 * a panel never writes values older than the document's: an Undo / Redo that changes its structure while it is
-  open makes it stale (``BasePanel.undo_moved``) until the document is back where the panel opened it.
+  open, or another command or a script changing what it writes back, makes it stale (``BasePanel.undo_moved``,
+  ``changed_outside``) until the document is back where the panel opened it.
 
 ``ACTIVE`` is the panel being shown (the GUI tests drive it through its widgets); the document observer and the
 Undo / Redo watch are in :mod:`~metamaterial_wb.gui.panels.docwatch`.
@@ -122,6 +123,7 @@ def show(panel):
             _retire(old)            # first: closing the dialog deletes the old panel's widgets
         FreeCADGui.Control.closeDialog()
     ACTIVE = panel
+    panel.remember_state()          # what its OK writes back, as stored now (a change by a script makes it stale)
     FreeCADGui.Control.showDialog(panel)
     reveal(panel.form)
     panel.dialog_shown()
@@ -310,8 +312,8 @@ class BasePanel(UndoWatch):
         self._preview_scene = None
         self.doc_name = FreeCAD.ActiveDocument.Name if FreeCAD.ActiveDocument is not None else None
         # where the document is on its undo stack since the panel opened (``undo_moved``)
-        self._undo = {"pos": 0, "branched": False, "touched": False, "names": set()}
-        self._own_change = False     # True while the panel's own OK writes (its transaction, its abort)
+        self._undo = {"pos": 0, "branched": False, "touched": False, "names": set(), "state": {}, "dirty": set()}
+        self._own_change = False     # True while the panel's own OK writes (its recompute, transaction, abort)
 
     def finish_layout(self):
         self.layout.addWidget(self.error)
@@ -377,10 +379,10 @@ class BasePanel(UndoWatch):
     def commit(self, doc, title, change):
         """``change()`` then a checked recompute, as one undo step; an invalid result is undone (and
         recomputed back) and its error raised."""
-        if any("Touched" in getattr(o, "State", ()) for o in doc.Objects):
-            doc.recompute()     # what an Undo left to recompute, outside the step: a change of nothing records none
         self._own_change = True
         try:
+            if any("Touched" in getattr(o, "State", ()) for o in doc.Objects):
+                doc.recompute()     # what an Undo left to recompute, outside the step: a change of nothing records none
             with transaction(doc, title):
                 change()
                 recompute_checked(doc)

@@ -4,11 +4,14 @@
 it closes the panel whose document is closed, has the panel check its structure and items when objects are
 deleted or come back, and follows the Undo / Redo steps of the panel's document. :class:`UndoWatch` (a mixin of
 :class:`~metamaterial_wb.gui.panels.base.BasePanel`) turns those steps into the panel's stale state: OK refused
-while an Undo / Redo has moved its structure away from the values it shows.
+while an Undo / Redo has moved its structure away from the values it shows, or while another command or a script
+(the Python console, the property editor) has changed what the panel writes back on OK (``EDITS``).
 
 The open panel is ``base.ACTIVE``, read at call time from the module ``_watch_documents`` is given (``base``
 imports this module, so this one never imports ``base``: no import cycle).
 """
+import json
+
 import FreeCAD
 from PySide import QtCore, QtGui
 
@@ -56,6 +59,7 @@ class _DocumentWatch:
             self.slotCreatedObject(obj)
         else:
             self._moved(obj)
+        self._outside(obj, prop)
 
     # Undo / Redo under the open panel (the slots fire on FreeCAD 0.20, 1.0 and 1.1; an aborted transaction, as
     # when a panel's own OK fails, fires slotAbortTransaction only) -------------------------------------------
@@ -84,6 +88,20 @@ class _DocumentWatch:
             d = obj.Document
             if d is not None and d.Transacting and d.Name == p.doc_name and p.edits_stored_state():
                 p._undo["names"].add(obj.Name)
+        except Exception:  # pragma: no cover - an object without a document or name: not the panel's
+            pass
+
+    @staticmethod
+    def _outside(obj, prop):
+        """A property changed neither by an Undo / Redo (``Transacting``) nor by the open panel's own OK: another
+        command or a script changed it (a panel's preview writes no property)."""
+        p = _active()
+        if p is None or p._own_change or not p._undo["state"]:
+            return
+        try:
+            d = obj.Document
+            if d is not None and not d.Transacting and d.Name == p.doc_name:
+                p.changed_outside(obj.Name, prop)
         except Exception:  # pragma: no cover - an object without a document or name: not the panel's
             pass
 
@@ -127,9 +145,76 @@ def _watch_documents(host):
         FreeCAD.addDocumentObserver(_WATCH)
 
 
+# What the OK of each panel writes back (and what its rows stand for). A change made by another command or a script
+# to one of these while the panel is open makes it stale, as an Undo does: its OK would write the older value over
+# it. Any other change (a label, a property the panel does not write, another object, a motor added, a recompute
+# that leaves them equal) keeps it usable: the OK leaves that change as it is. "scene": properties of the structure;
+# "json": top-level fields of its SceneJSON; "item" / "module": properties of its motors and constraints / modules.
+# Add module and Place motor add to what is stored when OK is pressed; a panel not named here that writes back on OK
+# (``edits_stored_state``: Fit to target) watches everything it could be computed from (``_ALL``).
+_ROW = ("ItemName", "Kind", "Joint")            # what a Simulate / Animate row stands for
+_ALL = {"scene": ("CellSize", "Layout", "HingeLength", "HingeWidth", "HingeThickness", "Model", "UseGlobal",
+                  "GlobalDeformation", "Items", "Modules"),
+        "json": ("axes", "joint_config", "joints"),
+        "item": _ROW + ("Value", "ProfileShape", "Amplitude", "FrequencyHz", "PhaseDeg", "Offset", "ProfileData",
+                        "ExtraJSON"),
+        "module": ("ModuleType", "TargetKind", "Target", "ModuleData")}
+EDITS = {
+    "SimulatePanel": {"scene": ("UseGlobal", "GlobalDeformation", "Model"), "item": _ROW + ("Value",)},
+    "AnimatePanel": {"item": _ROW + ("ProfileShape", "Amplitude", "FrequencyHz", "PhaseDeg", "ProfileData")},
+    "FoldedShapePanel": {"scene": ("Layout",), "json": ("axes", "joint_config")},
+    "RotaryAxesPanel": {"scene": ("Layout",), "json": ("axes", "joint_config")},
+    "FlexibilityPanel": {"scene": ("Layout", "HingeLength", "HingeWidth", "HingeThickness"), "json": ("joints",)},
+    "AddModulePanel": {},
+    "PlaceItemPanel": {},
+}
+
+
+def _value(o, prop, fields):
+    """``o.prop`` as compared: SceneJSON as its ``fields`` (parsed: layout and key order do not count), lengths
+    as floats, links as object names."""
+    v = getattr(o, prop)
+    if prop == "SceneJSON":
+        try:
+            data = json.loads(v or "{}")
+        except ValueError:
+            return v
+        return tuple(_field(data, f) for f in fields) if isinstance(data, dict) else v
+    if isinstance(v, (list, tuple)):
+        return tuple(getattr(x, "Name", x) for x in v)
+    if isinstance(v, FreeCAD.DocumentObject):
+        return v.Name
+    return float(v.Value) if hasattr(v, "Value") and hasattr(v, "Unit") else v
+
+
+def _field(data, f):
+    """A SceneJSON field as compared. Of ``joint_config`` only the hand-written entries: those ``design`` derived
+    (with ``"axis"``) follow the axes and the hinge sizes, and every recompute derives them again."""
+    v = data.get(f)
+    if f == "joint_config" and isinstance(v, dict):
+        v = {k: e for k, e in v.items() if not (isinstance(e, dict) and "axis" in e)} or None
+    return json.dumps(v, sort_keys=True)
+
+
+def _stored(obj, spec):
+    """``{(object name, property): value}`` of what a panel with ``spec`` (``EDITS``) writes back."""
+    out = {}
+    for prop in spec.get("scene", ()):
+        out[(obj.Name, prop)] = _value(obj, prop, ())
+    if spec.get("json"):
+        out[(obj.Name, "SceneJSON")] = _value(obj, "SceneJSON", spec["json"])
+    for kind, objs in (("item", obj.Items), ("module", obj.Modules)):
+        for o in objs:
+            for prop in spec.get(kind, ()):
+                if prop in o.PropertiesList:
+                    out[(o.Name, prop)] = _value(o, prop, ())
+    return out
+
+
 class UndoWatch:
     """The panel's side of the Undo / Redo watch: where the document is on its undo stack since the panel opened,
-    and the stale line that refuses OK (a mixin of ``BasePanel``, which sets ``_undo`` and ``_own_change``)."""
+    what another command or a script changed of what it writes back, and the stale line that refuses OK (a mixin
+    of ``BasePanel``, which sets ``_undo`` and ``_own_change``)."""
 
     def edits_stored_state(self):
         """True for a panel that writes back on OK what it copied from its structure when it opened (it has a
@@ -161,18 +246,75 @@ class UndoWatch:
             u["touched"] = True
         QtCore.QTimer.singleShot(0, lambda: _active() is self and self.check_stale())
 
+    def remember_state(self):
+        """What the panel's OK writes back (``EDITS``), as stored when the panel opens (``base.show``)."""
+        self._undo["state"] = {}
+        if self.edits_stored_state():
+            try:
+                self._undo["state"] = _stored(self.obj, EDITS.get(type(self).__name__, _ALL))
+            except Exception:  # pragma: no cover - a structure that cannot be read: check_target says why
+                pass
+
+    def changed_outside(self, name, prop):
+        """Another command or a script changed ``prop`` of the object ``name`` (``_DocumentWatch._outside``): if the
+        panel writes it back, it checks once the change is done whether it is still the stored value."""
+        u = self._undo
+        if (name, prop) not in u["state"]:
+            return
+        u["dirty"].add((name, prop))
+        if not u.get("pending"):
+            u["pending"] = True
+
+            def check():
+                u["pending"] = False
+                if _active() is self:
+                    self.check_stale()
+            QtCore.QTimer.singleShot(0, check)
+
+    def changed_since(self):
+        """``["Label.Property", ...]`` of what another command or a script changed of what the panel writes back
+        and is not back at the value the panel opened with. A motor that is gone is left to ``check_items``."""
+        out = []
+        doc = FreeCAD.getDocument(self.doc_name)
+        spec = EDITS.get(type(self).__name__, _ALL)
+        for name, prop in sorted(self._undo["dirty"]):
+            o = doc.getObject(name)
+            if o is None:
+                continue                    # gone: check_items / target_lost say so
+            was, now = self._undo["state"][(name, prop)], _value(o, prop, spec.get("json", ()))
+            if now == was:
+                continue                    # back at the value the panel opened with
+            if prop == "SceneJSON" and isinstance(was, tuple) and isinstance(now, tuple):
+                out += [f"{o.Label}.SceneJSON[{f!r}]" for f, a, b in zip(spec["json"], was, now) if a != b]
+            else:
+                out.append(f"{o.Label}.{prop}")
+        return out
+
     def check_stale(self):
         """OK refused, with a line at the top of the panel, while an Undo / Redo has moved the panel's structure
-        away from the state the panel shows (``undo_moved``); cleared once the document is back there. A structure
-        that is gone is left to ``target_lost``. Said once: that line, never repeated in the panel's error line."""
+        away from the state the panel shows (``undo_moved``) or another command or a script has changed what the
+        panel writes back (``changed_outside``); cleared once the document is back there. A structure that is gone
+        is left to ``target_lost``. Said once: that line, never repeated in the panel's error line."""
         u = self._undo
         if self.target_gone():
             return
         if u["pos"] == 0 and not u["branched"]:
             u["touched"] = False
-        text = translate("Metamaterial", "the document changed under this panel (Undo / Redo): the values shown "
-                                         "are not the stored ones any more; press Cancel and open the panel again "
-                                         "to edit the current state (or Undo / Redo back)") if u["touched"] else ""
+        try:
+            changed = self.changed_since()
+        except Exception:  # pragma: no cover - a document being closed
+            changed = []
+        if u["touched"]:
+            text = translate("Metamaterial", "the document changed under this panel (Undo / Redo): the values shown "
+                                             "are not the stored ones any more; press Cancel and open the panel again "
+                                             "to edit the current state (or Undo / Redo back)")
+        elif changed:
+            text = translate("Metamaterial", "{0} changed under this panel (another command or a script): OK would "
+                                             "write the older value shown here over it; press Cancel and open the "
+                                             "panel again to edit the current state (or change it back)"
+                             ).format(", ".join(changed))
+        else:
+            text = ""
         self.set_top_problem("stale", text)
 
     def set_top_problem(self, key, text):
