@@ -2,8 +2,8 @@
 
 The clock follows wall time: each timer tick shows the frame of *now* (start time + elapsed wall time
 x speed), so a frame that costs more than its slot makes the next ones skip ahead (frames are dropped,
-time is not). The panel shows the achieved frame rate and the real-time factor (animation seconds per
-wall second over speed; 1.00 = real time). The stream controller sends the values for the wall-clock
+time is not). The panel shows the achieved frame rate and the real-time factor (timeline seconds played
+per wall second, across the loop's wraps; 1.00 = real time, 2.00 at speed 2). The stream controller sends the values for the wall-clock
 time, whatever the view manages to draw: it calls ``clock()`` from its own thread, which reads only plain
 attributes (one anchor tuple replaced whole, and copies of the play / length / loop settings kept by the
 widgets' signals), never a Qt widget. Frames are drawn by the Coin preview (``gui/preview.py``), which
@@ -29,6 +29,7 @@ from metamaterial_wb.gui.panels.overlays import FloorOverlay
 from metamaterial_wb.gui.panels.profiles import KeyframeTable
 from metamaterial_wb.gui.panels.stream import ServoAngles, StreamController, hardware_available
 from metamaterial_wb.gui.panels import ranges
+from metamaterial_wb.gui.panels.widgets import SliderKeys
 from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
@@ -75,6 +76,8 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         tl.setColumnStretch(2, 1)
         self.layout.addLayout(tl)
         self.timeline = _slider(0, 1000, 0)
+        self._slider_keys = SliderKeys()          # Home / End / arrows / Page keys scrub (not FreeCAD's view Home)
+        self.timeline.installEventFilter(self._slider_keys)
         self.time_label = QtGui.QLabel(translate("Metamaterial", "t = 0.00 s"))
         self.layout.addWidget(self.timeline)
         self.layout.addWidget(self.time_label)
@@ -141,8 +144,8 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.layout.addWidget(self.values_label)
         self.rate_label = QtGui.QLabel("")
         self.rate_label.setWordWrap(True)
-        self.rate_label.setToolTip(translate("Metamaterial", "achieved frame rate while playing and the real-time factor (animation "
-                                   "seconds per wall second, over the speed): 1.00 = real time"))
+        self.rate_label.setToolTip(translate("Metamaterial", "achieved frame rate while playing and the real-time factor (timeline "
+                                   "seconds played per wall second): 1.00 = real time, 2.00 at speed 2"))
         self.layout.addWidget(self.rate_label)
         self.stats = QtGui.QLabel("")
         self.stats.setWordWrap(True)
@@ -171,7 +174,8 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self._playing = False
         self._duration = self.duration.value()
         self._loop = self.loop.isChecked()
-        self.rate_window = []         # (wall, animation time) of the frames shown while playing
+        self.rate_window = []         # (wall, timeline time played) of the frames shown while playing
+        self.played_before_anchor = 0.0   # timeline time played in this rate window up to the anchor (loop wraps)
         self.preview_scene = self.scene
         self.dt = 1.0 / fps
         self.timer = QtCore.QTimer()

@@ -6,6 +6,8 @@ so a frame that costs more than its slot makes the next ones skip ahead (frames 
 (the anchor tuple, replaced whole under ``_clock_lock``, and the copies ``_playing`` / ``_duration`` / ``_loop``
 the widgets' signals keep), never a widget. The panel provides the widgets (``timeline``, ``speed``,
 ``duration``, ``play_btn``, ``timer``, labels), the solver, the trajectory and the stream.
+The real-time factor shown is the timeline time played per wall second (1.00 = real time, 2.00 at speed 2), the
+loop's wraps unwrapped; a start, a scrub or a speed change begins a new measurement (a pause is not counted).
 """
 import math
 import time
@@ -81,7 +83,13 @@ class PlaybackClock:
         speed = self.speed.value()
         with self._clock_lock:
             self.anchor = (time.perf_counter(), self.t, speed)
+        self._restart_rate()
+
+    def _restart_rate(self):
+        """A new rate window: a start (Play, Resume), a scrub or a speed change is not time played at one speed,
+        so the factor is measured afresh from the next frame."""
         self.rate_window = []
+        self.played_before_anchor = 0.0     # timeline time played (wraps unwrapped) up to the anchor, this window
 
     def _speed_changed(self, *_):
         """Re-anchor at the clock's time now, reckoned at the old speed (the streaming thread has already sent
@@ -91,7 +99,7 @@ class PlaybackClock:
             now = time.perf_counter()
             t = self._clock_at(now, self.anchor) if self._playing and self.anchor is not None else self.t
             self.anchor = (now, t, speed)
-        self.rate_window = []
+        self._restart_rate()
         self._warn_follow()
 
     def _warn_follow(self):
@@ -157,22 +165,28 @@ class PlaybackClock:
         raw = t0 + (now - wall0) * speed
         wrapped = raw > self._duration and self._loop
         t = self._wrap(raw)
+        # timeline time played since the rate window began: a wrap's whole run counted, the end of an unlooped
+        # timeline where it stops (nothing negative when the length was cut below the anchor's time)
+        played = self.played_before_anchor + (raw - t0 if wrapped else max(0.0, t - t0))
         if wrapped:
             with self._clock_lock:
                 if self.anchor is anchor:
                     self.anchor = (now, t, speed)   # keep the clock exact across the wrap
+                    self.played_before_anchor = played
         self.show_time(t)
-        self._rate(now, raw)
+        self._rate(now, played)
 
-    def _rate(self, now, anim_t):
+    def _rate(self, now, played):
+        """The achieved frame rate and the real-time factor: timeline seconds played per wall second (wraps of
+        the loop unwrapped) over the last 2 s of frames since the last start / scrub / speed change."""
         w = self.rate_window
-        w.append((now, anim_t))
+        w.append((now, played))
         while len(w) > 2 and now - w[0][0] > 2.0:
             w.pop(0)
         if len(w) >= 2 and now > w[0][0]:
             span = now - w[0][0]
             fps = (len(w) - 1) / span
-            rtf = (w[-1][1] - w[0][1]) / span / max(self.speed.value(), 1e-9)
+            rtf = (w[-1][1] - w[0][1]) / span
             self.achieved_fps, self.real_time_factor = fps, rtf
             self.rate_label.setText(translate("Metamaterial", "{0:.1f} frames/s achieved (target {1:.0f}); real-time factor {2:.2f}").format(fps, 1.0 / self.dt, rtf))
 

@@ -24,6 +24,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.scene import Scene
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
 from metamaterial_wb.gui.panels.widgets import ElidedLabel  # noqa: F401 - also imported from here
+from metamaterial_wb.gui.panels.widgets import SliderKeys
 from metamaterial_wb.gui.panels.checks import unconfigured
 from metamaterial_wb.objects import design_adapter, structure
 from metamaterial_wb.gui.panels import ranges
@@ -65,25 +66,6 @@ def axis_limits(scene):
         raise
     except Exception:  # pragma: no cover - design package missing
         return [(design_adapter.max_fold_deg(scene, k), "", None) for k in range(len(scene.axes))]
-
-
-SLIDER_KEYS = ("Key_Left", "Key_Right", "Key_Up", "Key_Down", "Key_PageUp", "Key_PageDown", "Key_Home", "Key_End")
-
-
-class SliderKeys(QtCore.QObject):
-    """Event filter for a slider: while it has the focus its own keys (arrows, PageUp / PageDown, Home / End, without
-    Ctrl / Alt / Shift) reach it instead of the main window's shortcuts (FreeCAD binds Home to its home view), as a
-    text field keeps its editing keys."""
-
-    KEYS = tuple(getattr(QtCore.Qt.Key, n) for n in SLIDER_KEYS)
-    PLAIN = (QtCore.Qt.KeyboardModifier.NoModifier, QtCore.Qt.KeyboardModifier.KeypadModifier)
-
-    def eventFilter(self, obj, ev):
-        if ev.type() == QtCore.QEvent.Type.ShortcutOverride and hasattr(ev, "key") \
-                and ev.key() in self.KEYS and ev.modifiers() in self.PLAIN:
-            ev.accept()
-            return True
-        return False
 
 
 class FoldedShapePanel(BasePanel):

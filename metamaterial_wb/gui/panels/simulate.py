@@ -8,7 +8,7 @@ from metamaterial_wb.objects import structure
 from metamaterial_wb.objects.common import assign
 from metamaterial_wb.gui.panels.base import BasePanel, _slider
 from metamaterial_wb.gui.panels.folded_shape import SLIDER_MIN_WIDTH
-from metamaterial_wb.gui.panels.widgets import ElidedLabel
+from metamaterial_wb.gui.panels.widgets import ElidedLabel, SliderKeys
 from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 
 
@@ -29,6 +29,7 @@ class SimulatePanel(BasePanel):
         from metamaterial_wb.gui.panels.stream import ServoAngles
         self.angles = ServoAngles(self.scene)     # the angle stream sends for a value, per motor
         self.initial = {}
+        self._slider_keys = SliderKeys()   # a focused slider's Home / End / arrows / Page keys (not FreeCAD's view Home)
         # laid out for a narrow task dock (the combo view, ~300 px): the global deformation and every motor take two
         # lines (its name and value, then its slider across the panel), long names are elided (in full in their
         # tooltip) and the statistics wrap, so every slider keeps SLIDER_MIN_WIDTH and nothing runs off the right
@@ -51,6 +52,7 @@ class SimulatePanel(BasePanel):
         self.use_global.setChecked(bool(scene_obj.UseGlobal))
         self.global_slider = _slider(-1000, 1000, int(round(1000 * scene_obj.GlobalDeformation)))
         self.global_slider.setMinimumWidth(SLIDER_MIN_WIDTH)
+        self.global_slider.installEventFilter(self._slider_keys)
         self.initial_global = (self.global_slider.value(), float(scene_obj.GlobalDeformation))
         self.global_label = QtGui.QLabel("")
         gl.addWidget(self.use_global, 0, 0)
@@ -69,6 +71,7 @@ class SimulatePanel(BasePanel):
                          2 * r, 0)
             s = _slider(-1000, 1000, int(round(1000 * it.value)))
             s.setMinimumWidth(SLIDER_MIN_WIDTH)
+            s.installEventFilter(self._slider_keys)
             self.initial[it.name] = (s.value(), float(it.value))
             lab = QtGui.QLabel("")
             il.addWidget(lab, 2 * r, 1)

@@ -1,5 +1,6 @@
 """Small widgets the task panels share in a narrow task dock (the combo view, ~300 px): a label cut with "..." to
-the width it gets (``ElidedLabel``) and a check box whose text wraps (``wrapped_check``)."""
+the width it gets (``ElidedLabel``) and a check box whose text wraps (``wrapped_check``); and the event filter that
+keeps a focused slider's keys from FreeCAD's shortcuts (``SliderKeys``: Folded shape, Simulate, Animate's timeline)."""
 from PySide import QtCore, QtGui
 
 
@@ -33,6 +34,25 @@ class ElidedLabel(QtGui.QLabel):
                                               max(1, self.width() - 2 * self.margin()))
         if shown != self.text():
             self.setText(shown)
+
+
+SLIDER_KEYS = ("Key_Left", "Key_Right", "Key_Up", "Key_Down", "Key_PageUp", "Key_PageDown", "Key_Home", "Key_End")
+
+
+class SliderKeys(QtCore.QObject):
+    """Event filter for a slider: while it has the focus its own keys (arrows, PageUp / PageDown, Home / End, without
+    Ctrl / Alt / Shift) reach it instead of the main window's shortcuts (FreeCAD binds Home to its home view), as a
+    text field keeps its editing keys. One instance may serve all of a panel's sliders (keep a reference to it)."""
+
+    KEYS = tuple(getattr(QtCore.Qt.Key, n) for n in SLIDER_KEYS)
+    PLAIN = (QtCore.Qt.KeyboardModifier.NoModifier, QtCore.Qt.KeyboardModifier.KeypadModifier)
+
+    def eventFilter(self, obj, ev):
+        if ev.type() == QtCore.QEvent.Type.ShortcutOverride and hasattr(ev, "key") \
+                and ev.key() in self.KEYS and ev.modifiers() in self.PLAIN:
+            ev.accept()
+            return True
+        return False
 
 
 class _WrapCheck(QtGui.QCheckBox):
