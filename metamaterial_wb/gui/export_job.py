@@ -1,7 +1,9 @@
 """Child process of the Export panel: ``python -m metamaterial_wb.gui.export_job JOB.json``.
 
 JOB.json: ``{"scene": {...scene dict...}, "out_dir": DIR, "step": bool, "threemf": bool, "modules": bool,
-"sockets": bool, "overrides": {...}, "stem": NAME}``. Progress lines go to stderr; the last stdout line
+"sockets": bool, "overrides": {...}, "stem": NAME}``; ``overrides`` are the fabrication parameters the workbench
+preferences supply (``exporting.preference_overrides``: a clearance there is named as the preference in the snap pins'
+errors, ``exporting.export_scene``). Progress lines go to stderr; the last stdout line
 is ``{"files": [...], "warnings": [...], "seconds": s}``. A problem prints ``error: MESSAGE`` on stderr
 and exits with status 2 (nothing written). No Qt, no FreeCAD document.
 """

@@ -39,8 +39,11 @@ def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=
                  warnings=None, progress=False):
     """Write the files of ``scene`` into ``out_dir`` (atomically as a set); returns their paths.
 
-    A module the fabrication package cannot build (a conflict, an unknown servo) is an error naming it:
-    nothing is written; export without modules to get the sheet alone.
+    ``overrides``: the fabrication parameters the workbench preferences supply (:func:`preference_overrides`, also
+    the background job's): a clearance among them is named as the preference in the snap pins' errors
+    (``objects.module.mark_preference_clearance``, as the modules' solids). A module the fabrication package cannot
+    build (a conflict, an unknown servo) is an error naming it: nothing is written; export without modules to get
+    the sheet alone.
     """
     from metamaterial_wb.export.package import export_result
     from metamaterial_wb.geometry.build import build_scene
@@ -49,12 +52,13 @@ def export_scene(scene, out_dir, step=True, threemf=True, modules=True, sockets=
     from metamaterial_wb.core.fabrication import fabrication_params
 
     freecad()
+    from metamaterial_wb.objects.module import mark_preference_clearance   # (imports FreeCAD: after freecad())
     warnings = warnings if warnings is not None else []
     check_out_dir(out_dir)
     over = dict(overrides or {})
     if not sockets:
         over["sockets"] = False
-    params = fabrication_params(scene, effective_tilts_deg(scene), **over)
+    params = mark_preference_clearance(fabrication_params(scene, effective_tilts_deg(scene), **over), overrides)
     with_modules = bool(modules and scene.modules)
     if with_modules:
         from metamaterial_wb.geometry.modules import parse_modules

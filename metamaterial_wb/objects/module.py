@@ -171,19 +171,31 @@ def prepare_module(obj, scene):
     return one, p, spec
 
 
-def clearance_preference_clash(lip_mm):
+def clearance_preference_clash(lip_mm, snap_pins=True):
     """The clearance preference (not the scene's own) when it is chosen and not below the socket lip ``lip_mm`` the
-    modules' snap pins latch on (``geometry.snapfit``), else None."""
-    clr = fabrication_overrides(("PrinterClearance",)).get("clearance_mm")
+    modules' snap pins latch on (``geometry.snapfit``), else None; None too when no snap pin is designed
+    (``snap_pins`` False: no sockets, or no module exported), where nothing compares the clearance with the lip."""
+    clr = fabrication_overrides(("PrinterClearance",)).get("clearance_mm") if snap_pins else None
     return None if clr is None or clr < lip_mm else clr
 
 
 def check_clearance_preference(p):
     """Refuse a clearance preference that leaves the modules' snap pins no barb (:func:`clearance_preference_clash`
-    against ``p.socket_lip_mm``; ``p`` from :func:`_fabricated`). Raises a SceneError naming the preference."""
+    against ``p.socket_lip_mm``; ``p`` from :func:`_fabricated`). Raises a SceneError naming the preference. Without
+    sockets (``p.sockets``) no snap pin is designed: the modules are refused for that (``geometry.modules``)."""
     from metamaterial_wb.geometry.snapfit import no_latch_error
-    if clearance_preference_clash(p.socket_lip_mm) is not None:
+    if clearance_preference_clash(p.socket_lip_mm, p.sockets) is not None:
         raise no_latch_error(p)
+
+
+def mark_preference_clearance(p, overrides):
+    """``p`` (``FabParams``) made with the preferences' ``overrides`` (:func:`fabrication_overrides`), marked when
+    they supply the clearance: the snap pins' errors then name the preference, not the scene's fields
+    (``geometry.snapfit.clearance_origin``). The modules' solids here, Export's runs (``gui.exporting``). Returns
+    ``p``."""
+    if "clearance_mm" in (overrides or {}):
+        p.clearance_origin = CLEARANCE_FIELD
+    return p
 
 
 class SheetNotBuilt:
@@ -205,10 +217,7 @@ def _fabricated(scene, modules):
     d["modules"] = modules
     one = _Scene.from_dict(d)
     over = fabrication_overrides()
-    p = fabrication_params(one, effective_tilts_deg(one), **over)
-    if "clearance_mm" in over:     # the snap pins' errors name the preference, not the scene (geometry.snapfit)
-        p.clearance_origin = CLEARANCE_FIELD
-    return one, p
+    return one, mark_preference_clearance(fabrication_params(one, effective_tilts_deg(one), **over), over)
 
 
 def sheet_error(scene):

@@ -35,16 +35,19 @@ PREFERENCE_LABELS = {"PrinterClearance": QT_TRANSLATE_NOOP("Metamaterial", "Snap
                      "DefaultServo": QT_TRANSLATE_NOOP("Metamaterial", "Default servo")}
 
 
-def clearance_problem(scene=None):
+def clearance_problem(scene=None, snap_pins=True):
     """The snap-fit clearance preference, when it is chosen (``objects.module.fabrication_overrides``) and not below
     the socket lip the modules' snap pins latch on (``scene``'s ``fabrication.socket_lip_mm``, else the default), as
-    a message naming the preference, its value and allowed range; "" otherwise."""
+    a message naming the preference, its value and allowed range; "" otherwise, and "" where no snap pin is designed:
+    ``snap_pins`` False (Export: sockets unticked, or no module exported) or ``scene``'s ``fabrication.sockets``
+    false (its modules are refused for that, which the clearance does not change)."""
     from metamaterial_wb.core.fabrication import FAB_DEFAULTS
     from metamaterial_wb.objects.module import clearance_preference_clash
     given = getattr(scene, "extra", {}).get("fabrication") if scene is not None else None
-    lip = given.get("socket_lip_mm") if isinstance(given, dict) else None
+    given = given if isinstance(given, dict) else {}
+    lip = given.get("socket_lip_mm")
     lip = lip if isinstance(lip, (int, float)) and not isinstance(lip, bool) else FAB_DEFAULTS["socket_lip_mm"]
-    clr = clearance_preference_clash(lip)
+    clr = clearance_preference_clash(lip, snap_pins and given.get("sockets") is not False)
     if clr is None:   # (a scene's invalid socket_lip_mm is the fabrication's own error)
         return ""
     return translate("Metamaterial", "Edit > Preferences > Metamaterial > {0}: {1} mm is not below the {2} mm socket "
@@ -52,17 +55,18 @@ def clearance_problem(scene=None):
         translate("Metamaterial", PREFERENCE_LABELS["PrinterClearance"]), f"{clr:g}", f"{lip:g}")
 
 
-def preference_problem(keys, scene=None):
+def preference_problem(keys, scene=None, snap_pins=True):
     """The first of the workbench preferences ``keys`` whose value the fabrication refuses (a material not in
     ``core.materials.MATERIALS``, a servo not among the presets), as a message naming where to change it; "" when
     they are all known. The preferences page takes free text: without this the error came only after OK or in
     the background export, naming no preference. The snap-fit clearance is checked with the module material (both
-    shape the modules' snap pins): :func:`clearance_problem` for ``scene`` (None: the default socket lip)."""
+    shape the modules' snap pins): :func:`clearance_problem` for ``scene`` (None: the default socket lip) and
+    ``snap_pins`` (whether the snap pins are designed at all)."""
     from metamaterial_wb.core.materials import MATERIALS
     from metamaterial_wb.geometry.servo import SERVO_PRESETS
     from metamaterial_wb.gui import preferences
     if "ModuleMaterial" in keys or "PrinterClearance" in keys:
-        text = clearance_problem(scene)
+        text = clearance_problem(scene, snap_pins)
         if text:
             return text
     for key in keys:

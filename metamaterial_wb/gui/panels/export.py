@@ -63,7 +63,7 @@ class ExportPanel(BasePanel):
         self.close_when_done = False
         self.job = ProcessJob(self.jobbox, self._done, self._failed, self._cancelled)
         self.export_btn.clicked.connect(self.start_export)
-        for w in (self.step, self.threemf, self.modules):
+        for w in (self.step, self.threemf, self.modules, self.sockets):   # (sockets, modules: the clearance check)
             w.toggled.connect(self._check)
         self.path.textChanged.connect(self._check)
         self._check()
@@ -83,7 +83,11 @@ class ExportPanel(BasePanel):
         self.set_problem("path", msg)
         from metamaterial_wb.gui.panels.checks import preference_problem
         keys = ["RigidMaterial", "FlexibleMaterial"] + (["ModuleMaterial"] if self.modules.isChecked() else [])
-        self.set_problem("preferences", preference_problem(keys, self._scene()))   # its socket lip, as Add module
+        scene = self._scene()
+        # the clearance meets the socket lip only in the modules' snap pins: none without sockets (this box or the
+        # scene's fabrication.sockets) or without a module to export (the sheet alone builds with any clearance)
+        pins = self.sockets.isChecked() and self.modules.isChecked() and (scene is None or bool(scene.modules))
+        self.set_problem("preferences", preference_problem(keys, scene, pins))   # its socket lip, as Add module
         self.export_btn.setEnabled(not self.problems and not self.job.running)
 
     def _scene(self):
