@@ -33,7 +33,8 @@ from metamaterial_wb.geometry.fc import kernel_error
 from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
 from metamaterial_wb.geometry.snapfit import design_snap_fit
 from metamaterial_wb.geometry.solids import (  # noqa: F401
-    PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, adapter_pin_points, box, make_pin, rivet_parts, riveted)
+    PIN_OVERLAP_MM, _fc, _finish, _lateral_points, _pins_at, adapter_pin_points, box, clip_waiting_rivets, make_pin,
+    rivet_parts, riveted)
 from metamaterial_wb.geometry.servo import (  # noqa: F401  (re-exported: the servo housing lives in servo.py)
     CABLE_SLOT_MM, SERVO_KEYS, SERVO_OPTIONAL, SERVO_PRESETS, _check_servo_fit, _servo_dims, blind_rivet_problem,
     build_servo_housing, servo_layout)
@@ -516,7 +517,9 @@ def build_constraint_clip(spec, p, pivot):
     # separate rivet pins (geometry/rivet.py) through the plate, heads on its top face: the clip prints
     # flat on its underside, the rivets lying (their prongs bend along the layers)
     clip, rivets = riveted(p, _finish([half_a, half_b, bridge], [], spec.name), pts_a + pts_b, spec.snap, spec.name)
-    return [("clip", clip)] + rivet_parts("clip", rivets)
+    wait = clip_waiting_rivets(spec, p)         # node B's: in once the joint is bent, above their channels till then
+    return [(n, sh.transformed(App.Matrix(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, wait[n]), True) if n in wait else sh)
+            for n, sh in [("clip", clip)] + rivet_parts("clip", rivets)]     # a copy, moved in the geometry (riveted)
 
 
 def module_placement(spec, p):
@@ -594,5 +597,8 @@ def build_module(res, spec):
             info["mu"] = spec.mu
         if spec.type == "constraint_clip":
             info["angle_deg"] = spec.values["angle_deg"]
+            lift = clip_waiting_rivets(spec, p).get(n)          # above its seat (below it on the bottom face)
+            if lift:
+                info["lifted_mm"] = lift if spec.side == "top" else -lift
         res.parts.append(PlacedPart(f"{spec.name}_{n}", "module", spec.material, spec.extruder, key0 + (n,), pl,
                                     spec.name, info))

@@ -68,6 +68,23 @@ def adapter_pin_points(spec, p):
     pts = [(u, v) for u, v in _lateral_points(p, u_b) if not (sw and v * sw > 0)]
     return pts + ([(u_b + d, 0.0)] if sw else [])
 
+
+CLIP_RIVET_WAIT_MM = 1.0    # a clip's rivets for its second node wait this far off the clip's face (assembly)
+
+
+def clip_waiting_rivets(spec, p):
+    """``{part name: lift (mm)}`` of a constraint clip's rivets in node B's sockets (riveted after node A's
+    two). The clip is built holding its angle (its second plate and these rivets turned about the joint's
+    pivot), so they go in only once the joint is bent to that angle; on the flat sheet (the assembly, the
+    document) they wait on their channels' axes, their tips ``CLIP_RIVET_WAIT_MM`` above the clip's face
+    (``lift`` above their seats; mirrored with the clip on the bottom face). Empty for a clip that holds
+    0 deg: then every rivet seats in the flat sheet."""
+    if spec.values["angle_deg"] == 0.0:
+        return {}
+    lift = p.sheet_thickness_mm + spec.values["thickness_mm"] + CLIP_RIVET_WAIT_MM - p.clearance_mm
+    return {f"clip_rivet_{k}": lift for k in (3, 4)}
+
+
 def _finish(body_parts, cutters, what):
     """One fuse for all bodies, one cut for all cutters; returns a single valid solid."""
     base, rest = body_parts[0], body_parts[1:]

@@ -94,10 +94,34 @@ def _turn_about(gp, axis, deg):
     return App.Placement(gp, App.Rotation(axis, deg)).multiply(App.Placement(-gp, App.Rotation()))
 
 
+def _sheet_collisions(mq, ms, sheet_parts, turned, only_node=None):
+    """Collisions of module part ``mq`` (solid ``ms``) with the sheet; ``turned`` = (node B, rotation, joint) of a
+    clip (node B turned, the clip's own hinge skipped); ``only_node``: check that node only."""
+    out = []
+    for sq, ss in sheet_parts:
+        if only_node is not None and sq.info.get("node") != only_node:
+            continue
+        if turned is not None:
+            if sq.info.get("joint") == turned[2]:
+                continue
+            if sq.info.get("node") == turned[0]:
+                ss = ss.transformed(turned[1].toMatrix())
+        if not _bbox_hit(ms.BoundBox, ss.BoundBox):
+            continue
+        common = ms.common(ss)
+        if common.Volume > VOLUME_TOL_MM3:
+            what = sq.info.get("node") or f"hinge {sq.info.get('joint')}"
+            seated = " seated" if only_node is not None else ""
+            out.append(f"module {mq.group!r} (part {mq.name}{seated}) collides with the sheet's {what} "
+                       f"({sq.name}, {common.Volume:.4g} mm3)")
+    return out
+
+
 def check_modules(result, sweep_steps=8):
     """Modules share no volume with the sheet (rest state) nor with each other; a collision names both
     modules and where. A constraint clip is checked against its second node turned by the clip angle
-    about the joint's pivot (the state it holds), its own joint's hinge excluded (that hinge bends).
+    about the joint's pivot (the state it holds), its own joint's hinge excluded (that hinge bends); its rivets
+    that wait above node B's sockets on the flat sheet are checked there and, seated, against node B turned.
     A servo's horn adapter is turned about the shaft through the servo's design range against its
     housing (``sweep_steps`` angles each way)."""
     from metamaterial_wb.geometry.fc import freecad
@@ -115,19 +139,12 @@ def check_modules(result, sweep_steps=8):
             x, y, _ = spec.pivot.point_mm
             rot = _turn_about(V(x, y, 0.0), V(0, 0, 1), spec.values["angle_deg"])
             turned = (f"N{spec.b[0]},{spec.b[1]}", rot, spec.joint)
-        for sq, ss in sheet_parts:
-            if turned is not None:
-                if sq.info.get("joint") == turned[2]:
-                    continue
-                if sq.info.get("node") == turned[0]:
-                    ss = ss.transformed(turned[1].toMatrix())
-            if not _bbox_hit(ms.BoundBox, ss.BoundBox):
-                continue
-            common = ms.common(ss)
-            if common.Volume > VOLUME_TOL_MM3:
-                what = sq.info.get("node") or f"hinge {sq.info.get('joint')}"
-                problems.append(f"module {mq.group!r} (part {mq.name}) collides with the sheet's {what} "
-                                f"({sq.name}, {common.Volume:.4g} mm3)")
+        checks = [(ms, None)]
+        if turned is not None and mq.info.get("lifted_mm"):
+            # a rivet waiting above node B's socket (flat sheet): also seated, against node B turned (held state)
+            checks.append((ms.translated(V(0, 0, -mq.info["lifted_mm"])), turned[0]))
+        for shape, only_node in checks:
+            problems += _sheet_collisions(mq, shape, sheet_parts, turned, only_node)
     for k, (aq, a) in enumerate(mods):
         for bq, b in mods[k + 1:]:
             if aq.group == bq.group or not _bbox_hit(a.BoundBox, b.BoundBox):

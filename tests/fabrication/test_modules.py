@@ -43,12 +43,28 @@ def test_modules_clear_of_the_sheet_at_rest(mod_result):
 
 
 def test_clip_holds_its_angle(mod_result):
-    """At rest the clip's second half does not fit node N2,2: it fits N2,2 turned by angle_deg."""
+    """At rest the clip's second half does not fit node N2,2: it fits N2,2 turned by angle_deg. The two rivets
+    for N2,2 wait above their channels on the flat sheet (info lifted_mm); on their seats they would collide
+    with the flat node but pass through its sockets turned by the clip angle about the pivot."""
+    import FreeCAD
+    from metamaterial_wb.geometry.validity import _turn_about
+    V = FreeCAD.Vector
     r = mod_result
-    clip = _part(r, "clip_clip").fuse([r.placed_shape(q) for q in r.groups()["clip"] if q.info.get("rivet")])
+    rivets = [q for q in r.groups()["clip"] if q.info.get("rivet")]
+    lift = T + 3.0 + 1.0 - CLR                  # tips 1 mm above the 3 mm clip's face
+    assert [q.info.get("lifted_mm", 0.0) for q in rivets] == pytest.approx([0.0, 0.0, lift, lift])
+    seated = [r.placed_shape(q).transformed(FreeCAD.Matrix(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,
+                                                           -q.info.get("lifted_mm", 0.0)), True) for q in rivets]
+    clip = _part(r, "clip_clip").fuse(seated)
     node_b = _part(r, "node_2_2")
     assert clip.common(node_b).Volume > 1.0               # its rivets would collide in the flat state ...
     assert clip.common(_part(r, "node_2_1")).Volume < 1e-3     # ... but fit its first node
+    spec = [m for m in r.modules if m.name == "clip"][0]
+    x, y, _ = spec.pivot.point_mm
+    turned = node_b.transformed(_turn_about(V(x, y, 0.0), V(0, 0, 1), 6.0).toMatrix())
+    assert clip.common(turned).Volume < 1e-3                    # ... and its second node turned by the angle
+    waiting = _part(r, "clip_clip").fuse([r.placed_shape(q) for q in rivets])
+    assert waiting.common(node_b).Volume < 1e-3                 # as assembled (flat), they wait clear of it
 
 
 def test_servo_shaft_on_the_joint_pivot(mod_result):
@@ -84,7 +100,9 @@ def test_pins_reach_into_the_sockets(mod_result):
     for group, part in (("stable", "stable_hub"), ("clip", "clip_clip")):
         assert _part(r, part).BoundBox.ZMin == pytest.approx(T), part
         rivets = [q for q in r.groups()[group] if q.info.get("rivet")]
-        assert len(rivets) == 4 and all(r.placed_shape(q).BoundBox.ZMin == pytest.approx(CLR) for q in rivets)
+        # (the clip's two rivets for its second node wait above their seats until the joint is bent: lifted_mm)
+        assert len(rivets) == 4 and all(r.placed_shape(q).BoundBox.ZMin
+                                        == pytest.approx(CLR + q.info.get("lifted_mm", 0.0)) for q in rivets)
     pad = _part(r, "pad_pad").BoundBox                          # bottom side: mirrored
     assert (pad.ZMin, pad.ZMax) == pytest.approx((-3.0, 0.0))
     rivets = [q for q in r.groups()["pad"] if q.info.get("rivet")]
@@ -260,3 +278,20 @@ def test_a_module_name_ending_in_a_newline_is_refused():
     with pytest.raises(SceneError, match="not a valid module name"):     # refused when the scene loads now
         sc = make_scene({"chain": 3}, modules=[{"type": "connection_hub", "name": "h\n", "node": "N0,1"}])
         parse_modules(sc, fabrication_params(sc, effective_tilts_deg(sc)))
+
+
+def test_check_modules_seats_the_waiting_rivets(mod_result):
+    """check_modules checks the two rivets that wait above node B's sockets also seated, against node B turned
+    by the clip angle: a clip whose rivets would not go into node B held at its angle is a collision (here the
+    angle the check turns node B by is changed under the built clip, so the seated rivets miss the sockets)."""
+    from metamaterial_wb.geometry import validity
+    spec = [m for m in mod_result.modules if m.name == "clip"][0]
+    held = spec.values["angle_deg"]
+    try:
+        spec.values["angle_deg"] = held + 30.0
+        problems = validity.check_modules(mod_result)
+    finally:
+        spec.values["angle_deg"] = held
+    seated = [p for p in problems if "seated" in p and "node_2_2" in p]
+    assert seated and all("clip_rivet_3" in p or "clip_rivet_4" in p for p in seated), problems
+    assert validity.check_modules(mod_result) == []
