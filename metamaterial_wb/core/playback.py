@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.errors import SceneError, check_integer, check_number
 from metamaterial_wb.core.live import Frame, matrices_to_quaternions
 
 ONLY_SHEET = ("only the 'sheet' model maps onto a structure's nodes (the belt has no sheet nodes; use "
@@ -33,25 +33,44 @@ class TrajectoryPlayer:
     Between recorded frames the poses are interpolated linearly.
     """
 
-    def __init__(self, data, scene, flat_positions):
+    def __init__(self, data, scene, flat_positions, source=None):
+        """``data``: the parsed ``trajectory.json``; ``source``: its path, named in every refusal (``(in PATH)``).
+
+        Every field read is checked before anything is kept: a refusal is a :class:`SceneError` naming the field
+        (``trajectory.poses[3][2][1]``), the value and what is allowed; nothing is converted, rounded or clamped
+        (a body index 1.7 is no body, a NaN time is no time)."""
+        try:
+            self._read(data, scene, flat_positions)
+        except SceneError as exc:
+            if source:
+                raise SceneError(exc.field, f"{exc.message} (in {source})") from None
+            raise
+
+    def _read(self, data, scene, flat_positions):
         if not isinstance(data, dict) or data.get("format") != "metamaterial-trajectory":
-            raise SceneError("trajectory", f"format {data.get('format') if isinstance(data, dict) else data!r}; "
+            raise SceneError("trajectory", f"format {_short(data.get('format') if isinstance(data, dict) else data)}; "
                                            "expected 'metamaterial-trajectory' (simulate --out DIR writes "
                                            "DIR/trajectory.json)")
-        if data.get("model") != "sheet" or not data.get("body_of_node"):
+        if data.get("model") != "sheet":
             raise SceneError("trajectory.model", f"{data.get('model')!r}: {ONLY_SHEET}")
-        self.times = np.asarray(data.get("times_s", []), dtype=float)
-        poses = np.asarray(data.get("poses", []), dtype=float)
-        if self.times.size < 1 or poses.ndim != 3 or poses.shape[0] != self.times.size or poses.shape[2] != 3:
-            raise SceneError("trajectory.poses", f"shape {poses.shape} does not match {self.times.size} times "
-                                                 "x bodies x (x, y, angle)")
-        if np.any(np.diff(self.times) <= 0):
-            raise SceneError("trajectory.times_s", "times must increase")
-        self.poses = poses
-        self.incline = math.radians(float(data.get("incline_deg", 0.0)))
-        topo = scene.topology
-        body_of_node = data["body_of_node"]
+        self.times = _times(data.get("times_s"))
+        poses = _poses(data.get("poses"), self.times.size)
         nb = poses.shape[1]
+        if "bodies" in data and (type(data["bodies"]) is not int or data["bodies"] != nb):
+            raise SceneError("trajectory.bodies", f"{_short(data['bodies'])}; expected {nb}, the number of bodies "
+                                                  "in each frame of poses")
+        self.poses = poses
+        from metamaterial_wb.core.dynamics.builders import INCLINE_RANGE_DEG
+        incline = data.get("incline_deg", 0.0)
+        if not _is_number(incline):
+            raise SceneError("trajectory.incline_deg", f"{_short(incline)}; allowed: a number of degrees in "
+                                                       f"[{INCLINE_RANGE_DEG[0]:g}, {INCLINE_RANGE_DEG[1]:g}]")
+        self.incline = math.radians(check_number("trajectory.incline_deg", incline, *INCLINE_RANGE_DEG, "deg"))
+        topo = scene.topology
+        body_of_node = data.get("body_of_node")
+        if not isinstance(body_of_node, dict) or not body_of_node:
+            raise SceneError("trajectory.body_of_node", f"{_short(body_of_node)}; expected an object mapping each "
+                                                        "node (\"N0,3\") to its body index")
         self.node_body = np.zeros(topo.n_nodes, dtype=int)
         for k, (i, j) in enumerate(topo.nodes):
             key = f"N{i},{j}"
@@ -59,10 +78,8 @@ class TrajectoryPlayer:
                 raise SceneError("trajectory.body_of_node",
                                  f"node {key} of the structure is not in the trajectory (simulated from a "
                                  "different layout?)")
-            b = int(body_of_node[key])
-            if not 0 <= b < nb:
-                raise SceneError("trajectory.body_of_node", f"{key} -> body {b}; the trajectory has {nb} bodies")
-            self.node_body[k] = b
+            self.node_body[k] = check_integer(f"trajectory.body_of_node.{key}", body_of_node[key], 0, nb - 1,
+                                              f"a body of the trajectory, which has {nb}")
         if len(body_of_node) != topo.n_nodes:
             raise SceneError("trajectory.body_of_node", f"{len(body_of_node)} nodes; the structure has "
                                                         f"{topo.n_nodes} (simulated from a different layout?)")
@@ -166,6 +183,75 @@ class TrajectoryPlayer:
         hp, hq = solver.hinge_frames(pos, R, q)
         return Frame(D=None, positions=pos, rotations=R, quaternions=q, hinge_positions=hp, hinge_quaternions=hq,
                      timings={})
+
+
+def _short(value, n=60):
+    """``repr`` of a value in a message, cut to ``n`` characters (a whole list is not repeated)."""
+    r = repr(value)
+    return r if len(r) <= n else r[:n - 3] + "..."
+
+
+def _is_number(v):
+    return type(v) in (int, float) or (isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(
+        v, (bool, np.bool_)))
+
+
+def _as_floats(field, value, what):
+    """``value`` (numbers, checked) as a float array: a JSON integer too large for a float is refused."""
+    try:
+        return np.asarray(value, dtype=float)
+    except OverflowError:
+        raise SceneError(field, f"a number too large; allowed: {what}") from None
+
+
+def _times(value):
+    """``times_s``: at least one finite number of seconds, increasing strictly."""
+    field = "trajectory.times_s"
+    what = "finite numbers of seconds, increasing"
+    if not isinstance(value, (list, tuple, np.ndarray)) or len(value) == 0:
+        raise SceneError(field, f"{_short(value)}; expected a list of the recorded times ({what})")
+    for k, v in enumerate(value):
+        if not _is_number(v):
+            raise SceneError(f"{field}[{k}]", f"{_short(v)}; allowed: a finite number of seconds")
+    t = _as_floats(field, value, what)
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        k = int(bad[0])
+        raise SceneError(f"{field}[{k}]", f"{value[k]!r} is not a finite number; allowed: a finite number of seconds")
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if back.size:
+        k = int(back[0]) + 1
+        raise SceneError(f"{field}[{k}]", f"{value[k]!r} after {value[k - 1]!r}: times must increase")
+    return t
+
+
+def _poses(value, frames):
+    """``poses``: ``frames`` x bodies x (x mm, y mm, angle deg), finite numbers, the same bodies in every frame."""
+    field = "trajectory.poses"
+    num = "a finite number (x mm, y mm, angle deg)"
+    if not isinstance(value, (list, tuple, np.ndarray)) or len(value) != frames:
+        n = f"{len(value)} frames" if isinstance(value, (list, tuple, np.ndarray)) else _short(value)
+        raise SceneError(field, f"{n}; expected one frame per time of times_s ({frames}), each a list of the "
+                                "bodies' [x, y, angle]")
+    nb = None
+    for f, frame in enumerate(value):
+        if not isinstance(frame, (list, tuple, np.ndarray)) or len(frame) == 0 or (nb is not None and len(frame) != nb):
+            n = f"{len(frame)} bodies" if isinstance(frame, (list, tuple, np.ndarray)) else _short(frame)
+            want = f"the {nb} bodies of frame 0" if nb is not None else "at least one body"
+            raise SceneError(f"{field}[{f}]", f"{n}; expected a list of {want}, each [x, y, angle]")
+        nb = len(frame)
+        for b, pose in enumerate(frame):
+            if not isinstance(pose, (list, tuple, np.ndarray)) or len(pose) != 3:
+                raise SceneError(f"{field}[{f}][{b}]", f"{_short(pose)}; expected [x, y, angle] (3 numbers)")
+            for c, v in enumerate(pose):
+                if not _is_number(v):
+                    raise SceneError(f"{field}[{f}][{b}][{c}]", f"{_short(v)}; allowed: {num}")
+    p = _as_floats(field, value, num)
+    bad = np.argwhere(~np.isfinite(p))
+    if bad.size:
+        f, b, c = (int(x) for x in bad[0])
+        raise SceneError(f"{field}[{f}][{b}][{c}]", f"{value[f][b][c]!r} is not a finite number; allowed: {num}")
+    return p
 
 
 class _ProgressActuation:

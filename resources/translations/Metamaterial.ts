@@ -30,7 +30,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="440"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="450"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -181,12 +181,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="528"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="530"/>
         <source>Click a hinge in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="529"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="531"/>
         <source>Click a node in the 3D view</source>
         <translation type="unfinished"></translation>
     </message>
@@ -209,7 +209,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="85"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="364"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="376"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -224,14 +224,14 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="173"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="421"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="355"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="180"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="431"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="365"/>
         <source>Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="312"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="322"/>
         <source>Dask scheduler {0} (a values-only fit runs in this process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -246,7 +246,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="356"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -316,12 +316,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="420"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="430"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="316"/>
         <source>Forbidden joints {0} (the placement is the structure's)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -397,9 +397,9 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="231"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="238"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="163"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="418"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="428"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
@@ -460,7 +460,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="292"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="294"/>
         <source>Metamaterial</source>
         <translation type="unfinished"></translation>
     </message>
@@ -590,7 +590,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="56"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="374"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="386"/>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="206"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
@@ -653,12 +653,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="187"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="194"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="174"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="181"/>
         <source>Run build's geometry checks on the answer (a child process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -684,13 +684,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="159"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="419"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="429"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="303"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="313"/>
         <source>Servo budget {0} (the fit keeps the structure's {1} motors)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="165"/>
+        <source>Servo budget, Forbidden joints, Workers and Dask scheduler are not used: the fit keeps the structure's {0} motors on their joints and runs in this process (untick to use them again)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -777,7 +782,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="207"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="214"/>
         <source>Target</source>
         <translation type="unfinished"></translation>
     </message>
@@ -787,7 +792,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="208"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="215"/>
         <source>Targets (*.json *.stl *.obj *.step *.stp)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -812,12 +817,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="208"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
         <source>Trajectory</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="210"/>
         <source>Trajectory (*.json)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -853,12 +858,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="170"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="177"/>
         <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="309"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="319"/>
         <source>Workers {0} (a values-only fit runs in this process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -873,7 +878,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="331"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="341"/>
         <source>a fit is already running</source>
         <translation type="unfinished"></translation>
     </message>
@@ -893,7 +898,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="277"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="286"/>
         <source>a simulation is already running</source>
         <translation type="unfinished"></translation>
     </message>
@@ -994,7 +999,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="347"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="359"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1096,12 +1101,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="428"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="438"/>
         <source>fit cancelled: nothing changed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="413"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="423"/>
         <source>fit: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1116,7 +1121,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="324"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="334"/>
         <source>give a target file or pick a target object</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1183,7 +1188,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="169"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="176"/>
         <source>local worker processes for the candidate evaluations (inverse --workers)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1246,18 +1251,28 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="287"/>
+        <source>none: the structure's placement</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="289"/>
+        <source>none: this process</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="21"/>
         <source>nonlinear</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="501"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="503"/>
         <source>not applied: the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="494"/>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="499"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="496"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="501"/>
         <source>not applied: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1289,27 +1304,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="257"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="264"/>
         <source>not used while '{0}' is ticked: a values-only fit runs in this process (only the placement search runs in parallel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="259"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="266"/>
         <source>not used while '{0}' is ticked: the fit keeps the structure's {1} motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="261"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="268"/>
         <source>not used while '{0}' is ticked: the placement is the structure's</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="284"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="294"/>
         <source>not used while a Dask scheduler is given: its workers run the search (clear the Dask scheduler to use local workers)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="290"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="300"/>
         <source>not used while a target object is picked: pick '{0}' to use the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1324,7 +1339,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="172"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="179"/>
         <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1354,24 +1369,23 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="581"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="583"/>
         <source>picked hinge {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="584"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="586"/>
         <source>picked node {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="136"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="263"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="312"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="257"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="246"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="247"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1434,7 +1448,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="90"/>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="67"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="68"/>
         <source>recompute failed</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1454,7 +1468,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="486"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="496"/>
         <source>run the fit first</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1489,7 +1503,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="219"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="220"/>
         <source>simulated here</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1499,27 +1513,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="292"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="301"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="296"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="305"/>
         <source>simulating {0:g} s of dynamics ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="316"/>
-        <source>simulation cancelled; playing: the motors' profiles</source>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="328"/>
+        <source>simulation cancelled; {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="311"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="323"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="306"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="316"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1549,7 +1563,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="366"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="376"/>
         <source>starting the fit</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1569,7 +1583,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="366"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="378"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1624,7 +1638,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/docwatch.py" line="173"/>
+        <location filename="../../metamaterial_wb/gui/panels/docwatch.py" line="308"/>
         <source>the document changed under this panel (Undo / Redo): the values shown are not the stored ones any more; press Cancel and open the panel again to edit the current state (or Undo / Redo back)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1634,7 +1648,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="484"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="494"/>
         <source>the fit is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1644,7 +1658,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="459"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="461"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1669,7 +1683,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="227"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="228"/>
         <source>trajectory {0}: cannot read it ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1684,7 +1698,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="580"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="582"/>
         <source>under the cursor: hinge {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1694,7 +1708,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="583"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="585"/>
         <source>under the cursor: node {0} (click to pick it)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1721,7 +1735,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="117"/>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="176"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="438"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="448"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1813,6 +1827,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/docwatch.py" line="312"/>
+        <source>{0} changed under this panel (another command or a script): OK would write the older value shown here over it; press Cancel and open the panel again to edit the current state (or change it back)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="82"/>
         <source>{0} exists and is not a folder</source>
         <translation type="unfinished"></translation>
@@ -1873,12 +1892,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="435"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="445"/>
         <source>{0} on {1}: {2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/base.py" line="444"/>
+        <location filename="../../metamaterial_wb/gui/panels/base.py" line="446"/>
         <source>{0} this panel shows was deleted from the structure (press Cancel and open the panel again)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1908,7 +1927,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="336"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="346"/>
         <source>{0} with '{1}'; allowed: only without it (untick it to use them; ticked, it sets them itself)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1966,7 +1985,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="303"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="312"/>
         <source>{0}; centre of mass moved {1:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>

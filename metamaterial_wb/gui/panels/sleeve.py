@@ -171,7 +171,12 @@ class SleevePanel(BasePanel):
         el.addWidget(self.export_btn)
         self.layout.addLayout(el)
         self.finish_layout()
+        # ``summary``: the prediction of the spec the fields describe now (None when there is none, or the spec was
+        # edited since); ``predicted``: (spec key, summary) of the last finished prediction, shown marked as for the
+        # earlier values once the fields differ from them; ``_predicting``: the spec key of the running prediction
         self.summary = None
+        self.predicted = None
+        self._predicting = None
         self.created = []
         self.prediction = ThreadJob(self.jobbox, self._predicted, self._prediction_failed, self._prediction_cancelled)
         self.export_job = ProcessJob(self.jobbox, self._exported, self._export_failed, self._export_cancelled)
@@ -186,6 +191,7 @@ class SleevePanel(BasePanel):
         for w in list(self.dims.values()) + [self.cap]:
             w.valueChanged.connect(self.check_spec)
         self.cap_auto.toggled.connect(self._cap_mode)
+        self.frame_nl.toggled.connect(self.check_spec)  # the prediction depends on it: a shown one goes stale
         if os.path.exists(self.DEFAULT) and self.load_spec(self.DEFAULT):
             # the example is where the panel starts, not the user's choice: its cap, the seed's (the validator's
             # default), is automatic and follows the sleeve the user makes of it. A spec the user opens keeps its own
@@ -201,11 +207,49 @@ class SleevePanel(BasePanel):
             spec = self.spec()
         except (MetamaterialError, ValueError) as exc:
             self.set_problem("spec", str(exc))
+            self._show_prediction()
             return False
         self.set_problem("spec", "")
         if self.cap_auto.isChecked():
             self._show_cap(spec)
+        self._show_prediction()
         return True
+
+    def _spec_key(self):
+        """What a prediction depends on: the spec the fields describe, without its name (None: the fields give no
+        spec)."""
+        try:
+            d = self.spec_dict()
+        except (MetamaterialError, ValueError):
+            return None
+        d.pop("name", None)
+        return json.dumps(d, sort_keys=True)
+
+    def _show_prediction(self):
+        """The prediction shown is for the values in the fields, or says it is not: after an edit the last one is
+        kept, greyed, under a line saying it is for the earlier values (editing them back makes it current again),
+        and ``summary`` is None; a running one says when the fields were edited since Predict was pressed."""
+        if self.prediction.running:
+            edited = self._predicting is not None and self._spec_key() != self._predicting
+            self.result.setText(translate("Metamaterial", "predicting the values from when Predict was pressed "
+                                          "(edited since) ...") if edited
+                                else translate("Metamaterial", "predicting ..."))
+            return
+        if self.predicted is None:
+            return
+        key, summary = self.predicted
+        lines = sleeve_summary_text(summary)
+        if key is not None and key == self._spec_key():
+            self.summary = summary
+            self.result.setStyleSheet("")
+            text = "\n".join(lines)
+        else:
+            self.summary = None
+            self.result.setStyleSheet("QLabel { color: gray; }")
+            text = "\n".join([translate("Metamaterial", "prediction for the earlier values (edited since; press "
+                                         "Predict for the values shown):")] + lines)
+        if self.result.text() != text:
+            self.result.setText(text)
 
     def _show_cap(self, spec):
         """The automatic cap's diameter in its (disabled) box, kept exactly for when the user unticks automatic."""
@@ -327,7 +371,8 @@ class SleevePanel(BasePanel):
         self.cap_auto.blockSignals(False)
         self._cap_mode(not given)
         self._set_exact(self.cap, spec.core_diameter)
-        self.summary = None
+        self.summary = self.predicted = None        # a prediction still running is shown as for its own values
+        self.result.setStyleSheet("")
         self.result.setText("")
         self.error.setText("")
         if not uniform:
@@ -393,6 +438,9 @@ class SleevePanel(BasePanel):
             return False
         self.clear_error()
         self.predict_btn.setEnabled(False)
+        self.summary = self.predicted = None
+        self._predicting = self._spec_key()
+        self.result.setStyleSheet("")
         self.result.setText(translate("Metamaterial", "predicting ..."))
         stages = []
         step = translate("Metamaterial", "predicting: {0}")     # here: the work runs in another thread
@@ -406,16 +454,19 @@ class SleevePanel(BasePanel):
 
     def _predicted(self, summary):
         self.predict_btn.setEnabled(True)
-        self.summary = summary
-        self.result.setText("\n".join(sleeve_summary_text(summary)))
+        self.predicted, self._predicting = (self._predicting, summary), None
+        self.result.setText("")
+        self._show_prediction()          # for the values it ran on: marked as earlier if edited meanwhile
 
     def _prediction_failed(self, message):
         self.predict_btn.setEnabled(True)
+        self._predicting = None
         self.result.setText("")
         self.show_error(translate("Metamaterial", "prediction failed: {0}").format(message))
 
     def _prediction_cancelled(self):
         self.predict_btn.setEnabled(True)
+        self._predicting = None
         self.result.setText(translate("Metamaterial", "prediction cancelled"))
 
     def wait_prediction(self, timeout_s=120.0):
