@@ -136,7 +136,7 @@ class FitTargetPanel(base.BasePanel):
         row = QtGui.QHBoxLayout()
         self.path = QtGui.QLineEdit("")
         self.path.setPlaceholderText(translate("Metamaterial", "target JSON, solve result, .stl / .obj / .step"))
-        browse = QtGui.QPushButton(translate("Metamaterial", "..."))
+        self.browse_btn = browse = QtGui.QPushButton(translate("Metamaterial", "..."))
         browse.clicked.connect(self.browse)
         row.addWidget(self.path)
         row.addWidget(browse)
@@ -162,6 +162,13 @@ class FitTargetPanel(base.BasePanel):
         f.addRow(translate("Metamaterial", "Forbidden joints"), self.forbid)
         self.values_only, row = wrapped_check(translate("Metamaterial", "Keep the motors, fit their values only"))
         f.addRow(row)
+        self.values_only_hint = QtGui.QLabel(translate(
+            "Metamaterial", "Servo budget, Forbidden joints, Workers and Dask scheduler are not used: the fit keeps the "
+                            "structure's {0} motors on their joints and runs in this process (untick to use them "
+                            "again)").format(len(self.scene.actuators)))
+        self.values_only_hint.setWordWrap(True)
+        self.values_only_hint.hide()
+        f.addRow(self.values_only_hint)
         self.workers = QtGui.QSpinBox()
         self.workers.setRange(1, 64)
         ranges.ui_only(self.workers, "a run setting (local worker processes), not a scene quantity")
@@ -175,6 +182,15 @@ class FitTargetPanel(base.BasePanel):
         self.geometry_checks.setChecked(True)
         f.addRow(row)
         self.layout.addLayout(f)
+        self.form_layout = f
+        # the fields a values-only fit does not use (the command line's "not with --values-only"): greyed while the
+        # box is ticked, showing what the fit uses; what was typed is kept aside and given back when it is unticked
+        self.tips = {w: w.toolTip() for w in (self.servos, self.forbid, self.workers, self.scheduler, self.path)}
+        self.forbid_hint, self.sched_hint = self.forbid.placeholderText(), self.scheduler.placeholderText()
+        self.typed = None
+        self.values_only.toggled.connect(self._values_only_toggled)
+        self.scheduler.textChanged.connect(self._sync_fields)
+        self.target_obj.currentIndexChanged.connect(self._sync_fields)
         self.run_btn = QtGui.QPushButton(translate("Metamaterial", "Run"))
         self.run_btn.clicked.connect(self.run)
         self.layout.addWidget(self.run_btn)
@@ -191,6 +207,7 @@ class FitTargetPanel(base.BasePanel):
         self.result = None
         self.preview = None
         self.watch_selection(scene_obj, on_joint=self._add_forbidden)
+        self._sync_fields()
 
     # -- inputs -------------------------------------------------------------------------------
     def browse(self):  # pragma: no cover - interactive
@@ -205,6 +222,8 @@ class FitTargetPanel(base.BasePanel):
         return parse_joint_list([self.forbid.text()], "forbidden joints") if self.forbid.text().strip() else []
 
     def _add_forbidden(self, joint):
+        if self.values_only.isChecked():   # the field is greyed (the placement is the structure's): a click adds nothing
+            return
         try:
             cur = self._forbidden()
         except MetamaterialError:          # the user's half-typed text stays; the clicked joint goes after it
@@ -213,6 +232,96 @@ class FitTargetPanel(base.BasePanel):
         if joint not in cur:
             cur.append(joint)
         self.forbid.setText(", ".join(cur))
+
+    # -- the fields a values-only fit or a Dask scheduler does not use --------------------------
+    def _box(self):
+        return translate("Metamaterial", "Keep the motors, fit their values only")
+
+    def _values_only_toggled(self, on):
+        """Ticked: the servo budget, forbidden joints, workers and scheduler show what a values-only fit uses (the
+        structure's motors, no forbidden joint, this process) and are greyed; unticked: they get back what was typed."""
+        fields = (self.servos, self.forbid, self.workers, self.scheduler)
+        if on and self.typed is None:
+            self.typed = (self.servos.value(), self.forbid.text(), self.workers.value(), self.scheduler.text())
+            n = len(self.scene.actuators)
+            if self.servos.minimum() <= n <= self.servos.maximum():
+                self.servos.setValue(n)
+            self.forbid.setText("")
+            self.workers.setValue(1)
+            self.scheduler.setText("")
+        elif not on and self.typed is not None:
+            for w, v in zip(fields, self.typed):
+                if isinstance(w, QtGui.QSpinBox):
+                    w.setValue(v)
+                else:
+                    w.setText(v)
+            self.typed = None
+        self._sync_fields()
+
+    def _values_only_why(self):
+        """Per greyed field: why a values-only fit does not use it."""
+        box = self._box()
+        here = translate("Metamaterial", "not used while '{0}' is ticked: a values-only fit runs in this process (only "
+                                         "the placement search runs in parallel)").format(box)
+        return {self.servos: translate("Metamaterial", "not used while '{0}' is ticked: the fit keeps the structure's "
+                                                       "{1} motors").format(box, len(self.scene.actuators)),
+                self.forbid: translate("Metamaterial", "not used while '{0}' is ticked: the placement is the "
+                                                       "structure's").format(box),
+                self.workers: here, self.scheduler: here}
+
+    def _enable(self, w, on, tip):
+        w.setEnabled(on)
+        w.setToolTip(tip)
+        label = self.form_layout.labelForField(w)
+        if label is not None:
+            label.setEnabled(on)
+
+    def _sync_fields(self, *_):
+        """Grey the fields that are not used and say why in their tooltips: those of a values-only fit, the worker
+        count while a Dask scheduler is given (the command line: --workers or --scheduler), the target file while a
+        target object is picked."""
+        vo = self.values_only.isChecked()
+        why = self._values_only_why() if vo else {}
+        for w in (self.servos, self.forbid, self.scheduler):
+            self._enable(w, not vo, why.get(w, self.tips[w]))
+        self.forbid.setPlaceholderText(translate("Metamaterial", "none: the structure's placement") if vo
+                                       else self.forbid_hint)
+        self.scheduler.setPlaceholderText(translate("Metamaterial", "none: this process") if vo else self.sched_hint)
+        self.values_only_hint.setVisible(vo)
+        if vo:
+            self._enable(self.workers, False, why[self.workers])
+        elif self.scheduler.text().strip():
+            self._enable(self.workers, False, translate(
+                "Metamaterial", "not used while a Dask scheduler is given: its workers run the search (clear the Dask "
+                                "scheduler to use local workers)"))
+        else:
+            self._enable(self.workers, True, self.tips[self.workers])
+        obj = self.target_obj.currentIndex() > 0
+        self._enable(self.path, not obj, translate(
+            "Metamaterial", "not used while a target object is picked: pick '{0}' to use the file").format(
+                self.target_obj.itemText(0)) if obj else self.tips[self.path])
+        self.browse_btn.setEnabled(not obj)
+
+    def _combined(self):
+        """The command line's "not with --values-only" in the panel's words: with the box ticked, each field that
+        holds something else than what a values-only fit uses (a script, a restored state wrote it) as
+        ``field value (why)``; [] when there is none."""
+        if not self.values_only.isChecked():
+            return []
+        n, out = len(self.scene.actuators), []
+        if n and self.servos.minimum() <= n <= self.servos.maximum() and self.servos.value() != n:
+            out.append(translate("Metamaterial", "Servo budget {0} (the fit keeps the structure's {1} motors)").format(
+                self.servos.value(), n))
+        if self.forbid.text().strip():
+            out.append(translate("Metamaterial", "Forbidden joints {0} (the placement is the structure's)").format(
+                self.forbid.text().strip()))
+        if self.workers.value() != 1:
+            out.append(translate("Metamaterial", "Workers {0} (a values-only fit runs in this process)").format(
+                self.workers.value()))
+        if self.scheduler.text().strip():
+            out.append(translate("Metamaterial", "Dask scheduler {0} (a values-only fit runs in this process)").format(
+                self.scheduler.text().strip()))
+        return out
 
     def _target(self):
         from metamaterial_wb.core.inverse.targets import load_target, parse_target
@@ -232,6 +341,12 @@ class FitTargetPanel(base.BasePanel):
             self.show_error(translate("Metamaterial", "a fit is already running"))
             return False
         self.show_error("")
+        combined = self._combined()
+        if combined:         # refused as the command line does, before any work: nothing is dropped without a word
+            self.show_error(translate("Metamaterial", "{0} with '{1}'; allowed: only without it (untick it to use "
+                                                      "them; ticked, it sets them itself)").format(
+                "; ".join(combined), self._box()))
+            return False
         try:
             target = self._target()
             from metamaterial_wb.core.inverse.fit import Problem
@@ -244,6 +359,13 @@ class FitTargetPanel(base.BasePanel):
                 "values_only": self.values_only.isChecked(),
                 "forbidden": forbidden}
         workers, sched = int(self.workers.value()), self.scheduler.text().strip() or None
+        if sched is not None:
+            from metamaterial_wb.parallel import check_scheduler_address
+            try:
+                check_scheduler_address(sched, translate("Metamaterial", "Dask scheduler"))
+            except MetamaterialError as exc:
+                self.show_error(str(exc))
+                return False
         geometry = "subprocess" if self.geometry_checks.isChecked() else "off"
         scene = self.scene
         self.result = None
@@ -305,7 +427,8 @@ class FitTargetPanel(base.BasePanel):
         """A message of the fit (worded for the command line) with its flags as this panel's fields."""
         for flag, field in (("--values-only", translate("Metamaterial", "Keep the motors, fit their values only")),
                             ("--servos", translate("Metamaterial", "Servo budget")),
-                            ("--forbid", translate("Metamaterial", "Forbidden joints"))):
+                            ("--forbid", translate("Metamaterial", "Forbidden joints")),
+                            ("--scheduler", translate("Metamaterial", "Dask scheduler"))):
             msg = msg.replace(flag, f"'{field}'")
         return msg
 
