@@ -6,6 +6,7 @@ import shutil
 import sys
 import time
 
+from metamaterial_wb.core.outdir import missing_dirs
 from metamaterial_wb.geometry.parts import safe_stem  # noqa: F401  (re-exported: cli/build.py, the GUI)
 
 BED_MARGIN_MM = 10.0
@@ -114,19 +115,6 @@ def onto_bed(meshes, margin_mm=BED_MARGIN_MM):
     return [(n, V + off, T, m, e) for n, V, T, m, e in meshes], [round(float(c), 6) for c in off]
 
 
-def _missing_dirs(path):
-    """The folders of ``path`` (itself and its parents) that do not exist yet, innermost first."""
-    out = []
-    path = os.path.abspath(path)
-    while not os.path.lexists(path):
-        out.append(path)
-        parent = os.path.dirname(path)
-        if parent == path:
-            break
-        path = parent
-    return out
-
-
 def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "components"), progress=True,
                   stem="scene", stream=None, tolerance_mm=None, checks=None):
     """Check the output names (:func:`check_output_names`) and the geometry (:func:`run_checks`, ``checks=()`` to
@@ -141,7 +129,7 @@ def export_result(result, out_dir, step=True, threemf=True, layouts=("prusa", "c
     groups = result.groups()
     check_output_names(stem, [(index.get(g, "?"), g) for g in groups if g != "sheet"], step, threemf, layouts)
     result.checks_ran = run_checks(result, checks, progress, stream)
-    created = _missing_dirs(out_dir)
+    created = missing_dirs(out_dir)
     tmp = None
     try:
         os.makedirs(out_dir, exist_ok=True)

@@ -99,9 +99,9 @@ class Staging:
 
     def __init__(self, target, kind):
         from metamaterial_wb.core.fileio import make_temp_dir
-        from metamaterial_wb.export.package import _missing_dirs
+        from metamaterial_wb.core.outdir import missing_dirs
         self.target, self.path = target, None
-        self.created = _missing_dirs(target)
+        self.created = missing_dirs(target)
         try:
             os.makedirs(target, exist_ok=True)
             self.path = make_temp_dir(target, kind)
