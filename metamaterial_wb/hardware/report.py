@@ -19,6 +19,7 @@ import os
 import tempfile
 
 from metamaterial_wb.core.fileio import sweep_stale, temp_prefix, write_target
+from metamaterial_wb.core.outdir import missing_dirs, remove_new_dirs
 
 FORMAT = "metamaterial-stream-report"
 VERSION = 1
@@ -33,6 +34,7 @@ class StreamReport:
         self._columns = {str(c.channel): c.name for c in channels}
         self._f = None
         self._tmp = None
+        self._made = []          # the folders open() created (removed again by discard())
         self._t = None           # the tick being gathered (one frame per run of adjacent channels)
         self._angles = {}
         self._wanted = {}
@@ -45,6 +47,7 @@ class StreamReport:
         """Create the temporary file and write the head; an OSError naming the report if that fails."""
         folder = os.path.dirname(self.path)
         try:
+            self._made = missing_dirs(folder)
             os.makedirs(folder, exist_ok=True)
             sweep_stale(folder)
             fd, self._tmp = tempfile.mkstemp(dir=folder, prefix=temp_prefix(),
@@ -96,7 +99,8 @@ class StreamReport:
             raise
 
     def discard(self):
-        """Close and remove the temporary file (an earlier report at the path stays as it was); idempotent."""
+        """Close and remove the temporary file and the folders ``open`` created, if empty (an earlier report at the
+        path stays as it was); idempotent."""
         f, self._f = self._f, None
         if f is not None:
             try:
@@ -106,6 +110,8 @@ class StreamReport:
         tmp, self._tmp = self._tmp, None
         if tmp is not None and os.path.lexists(tmp):
             os.unlink(tmp)
+        made, self._made = self._made, []
+        remove_new_dirs(made)      # the folders open() created, if still empty
 
     # ------------------------------------------------------------------------------------------
     def _at(self, t):
