@@ -89,10 +89,12 @@ def test_load_of_a_bad_trajectory_says_why_in_the_panel(doc, tmp_path, monkeypat
     kept = p.trajectory
     d = good(scene)
     edit(d)
-    load_with_button(p, write(tmp_path, name, d), monkeypatch)
+    bad = write(tmp_path, name, d)
+    load_with_button(p, bad, monkeypatch)
     text = p.error.text()
     assert not tracebacks, tracebacks[-1]
     assert p.error.isVisible() and field in text and value in text, text
+    assert os.path.basename(os.path.dirname(str(bad))) in text and "(in " in text, text   # names the file
     assert p.trajectory is kept
     assert p.traj_label.text() == playing and p.duration.value() == pytest.approx(duration)
     p.reject()

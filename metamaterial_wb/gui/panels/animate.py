@@ -155,6 +155,7 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.form.installEventFilter(self._resized)
         self.trajectory = None
         self.trajectory_data = None
+        self.playing_text = ""            # the label's text for the loaded trajectory (show_playing)
         self.floor = None
         self.sim = ThreadJob(self.sim_box, self._simulated, self._simulation_failed, self._simulation_cancelled)
         self.traj_load_btn.clicked.connect(self._browse_trajectory)
@@ -221,14 +222,14 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
                 if os.path.isdir(source):                  # the simulate --out folder
                     source = os.path.join(source, "trajectory.json")
                 try:
-                    with open(source) as f:
+                    with open(source, encoding="utf-8") as f:
                         data = json.load(f)
                 except (OSError, ValueError) as exc:
                     raise MetamaterialError(translate("Metamaterial", "trajectory {0}: cannot read it ({1})").format(
                         source, exc)) from None
                 label = os.path.basename(os.path.dirname(os.path.abspath(source))) + "/" + os.path.basename(source)
             flat, _R = self.solver.poses(np_zeros(self.scene.topology.n_nodes))
-            player = TrajectoryPlayer(data, self.scene, flat)
+            player = TrajectoryPlayer(data, self.scene, flat, source=None if isinstance(source, dict) else source)
         except MetamaterialError as exc:
             self.show_error(str(exc))
             return False
@@ -243,10 +244,18 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.table.setEnabled(False)
         self.motor_form.setEnabled(False)
         self.traj_off_btn.setEnabled(True)
-        self.traj_label.setText(translate("Metamaterial", "playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)").format(label, player.times.size, player.duration, math.degrees(player.incline)))
+        self.playing_text = translate("Metamaterial", "playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)").format(label, player.times.size, player.duration, math.degrees(player.incline))
+        self.show_playing()
         self.error.setText("")
         self.show_time(0.0)
         return True
+
+    def show_playing(self, note=None):
+        """The trajectory label says what plays now: the loaded trajectory (its file / frames) or the motors'
+        profiles; ``note`` (a translated "...{0}" text) wraps it: a cancelled simulation keeps what was playing."""
+        text = (self.playing_text if self.trajectory is not None
+                else translate("Metamaterial", "playing: the motors' profiles"))
+        self.traj_label.setText(text if note is None else note.format(text))
 
     def _remove_floor(self):
         if getattr(self, "floor", None) is not None:
@@ -260,7 +269,7 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.table.setEnabled(True)
         self.motor_form.setEnabled(True)
         self.traj_off_btn.setEnabled(False)
-        self.traj_label.setText(translate("Metamaterial", "playing: the motors' profiles"))
+        self.show_playing()
         self.duration.setValue(self.default_duration())
         self.solver._last = None
         self.show_time(0.0)
@@ -300,20 +309,23 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         data, summary = result
         self.last_simulation = summary
         if self.load_trajectory(data):
-            self.traj_label.setText(translate("Metamaterial", "{0}; centre of mass moved {1:+.2f} mm").format(
-                self.traj_label.text(), summary["displacement_mm"]))
+            self.playing_text = translate("Metamaterial", "{0}; centre of mass moved {1:+.2f} mm").format(
+                self.playing_text, summary["displacement_mm"])
+            self.show_playing()
             if summary.get("warnings"):   # what simulate prints (energy ledger, Newton, fallbacks): never hidden
                 self.show_error(translate("Metamaterial", "simulation warning: {0}").format(
                     "\n".join(summary["warnings"])))
+        else:                             # refused (the red line says why): what played before still plays
+            self.show_playing()
 
     def _simulation_failed(self, message):
         self.traj_sim_btn.setEnabled(True)
         self.show_error(translate("Metamaterial", "simulation failed: {0}").format(message))
-        self.traj_label.setText(translate("Metamaterial", "playing: the motors' profiles"))
+        self.show_playing()
 
     def _simulation_cancelled(self):
         self.traj_sim_btn.setEnabled(True)
-        self.traj_label.setText(translate("Metamaterial", "simulation cancelled; playing: the motors' profiles"))
+        self.show_playing(translate("Metamaterial", "simulation cancelled; {0}"))
 
     def wait_simulation(self, timeout_s=60.0):
         """Block (processing events) until the background simulation is done (tests, scripts)."""
