@@ -29,6 +29,39 @@ from metamaterial_wb.core.errors import SceneError, check_number
 # ----------------------------------------------------------------------------------------------
 # limits
 # ----------------------------------------------------------------------------------------------
+SLACK_DEG = 1e-9       # a fold this far beyond a maximum is still accepted (the maximum is computed)
+
+
+def inward(x, decimals=2, up=False, slack=SLACK_DEG):
+    """``x`` as text with ``decimals`` places, rounded inwards: a maximum down (``up``: a minimum, or a need, up),
+    so that the printed value typed back lies on the allowed side of ``x`` (within ``slack``): a fold refused
+    beyond a maximum of 97.628 deg says 97.62, never 97.63 (which it refuses).
+
+    Parameters
+    ----------
+    x : float
+    decimals : int
+    up : bool
+        Round up (a minimum) instead of down (a maximum).
+    slack : float
+        The tolerance of the check the bound is used in.
+
+    Returns
+    -------
+    str
+    """
+    if up:
+        t = inward(-x, decimals, slack=slack)
+        return t[1:] if t.startswith("-") else ("-" + t if float(t) != 0.0 else t)
+    q = 10 ** decimals
+    k = math.floor(x * q)
+    while (k + 1) / q <= x + slack:      # x * q rounded below an integer it reaches
+        k += 1
+    while k / q > x + slack:             # ... or above one it does not
+        k -= 1
+    return f"{k / q:.{decimals}f}"
+
+
 def _fab_tilt(scene, widths, ignore_switch):
     """``(max printable tilt deg, width mm)`` of the narrowest-margin hinge among ``widths``."""
     from metamaterial_wb.core.fabrication import max_fabricable_tilt_deg
@@ -117,7 +150,7 @@ def axis_limits(scene, plan, phi_c=None):
              (float(g_strain[ks]), f"hinge strain {eps:g} at joint {names[ks]}"),
              (float(g_contact[kc]), f"plate contact across the fold 2 atan(lh/t) at joint {names[kc]}"),
              (g_fab, f"fabrication: a {fab[1]:g} mm wide hinge fits its node plate up to a tilt of "
-                     f"{max(fab[0], 0.0):.1f} deg (docs/fabrication.md)")]
+                     f"{inward(max(fab[0], 0.0), 1)} deg (docs/fabrication.md)")]
     val, why = min(cands, key=lambda c: c[0])
     return math.degrees(val), why
 
@@ -155,11 +188,11 @@ def compute_joint_config(scene, plans=None, strict=True):
     config, rows = {}, []
     for p in plans:
         mx, why = axis_limits(scene, p, phi_c)
-        if abs(p.fold_deg) > mx + 1e-9:
+        if abs(p.fold_deg) > mx + SLACK_DEG:
             if strict:
                 raise SceneError(f"axes[{p.index}].fold_deg",
                                  f"{p.fold_deg:g} deg on {p.label} is beyond the maximum achievable fold: "
-                                 f"allowed range [-{mx:.2f}, {mx:.2f}] deg (bound by {why})")
+                                 f"allowed range [-{inward(mx)}, {inward(mx)}] deg (bound by {why})")
         g = math.radians(p.fold_deg)
         tilts = np.degrees(kin.tilt_for_fold(g, par[p.joints] * phi_c))
         for j, t in zip(p.joints.tolist(), tilts.tolist()):
@@ -204,11 +237,14 @@ def configure(scene, strict=True):
             warnings.append(f"joint {name}: its override tilt_deg = {ov['tilt_deg']} wins over the configured "
                             f"{config[name]['tilt_deg']:.3f} deg of axis {config[name]['axis']}")
     for row in report["axes"]:
-        if abs(row["fold_deg"]) > row["printable_fold_deg"] + 1e-9:
+        if abs(row["fold_deg"]) > row["printable_fold_deg"] + SLACK_DEG:
+            # the need rounded up, the limits down: the text never reads "needs 32.5, fits 32.5"
             warnings.append(
-                f"axis {row['axis']}: fold {row['fold_deg']:g} deg needs hinge tilts up to {row['tilt_deg']:.1f} deg, "
+                f"axis {row['axis']}: fold {row['fold_deg']:g} deg needs hinge tilts up to "
+                f"{inward(row['tilt_deg'], 1, up=True, slack=0.0)} deg, "
                 f"but a {row['printable_width_mm']:g} mm wide hinge fits its node plate only up to "
-                f"{max(row['printable_tilt_deg'], 0.0):.1f} deg (printable fold <= {row['printable_fold_deg']:.2f} deg); "
+                f"{inward(max(row['printable_tilt_deg'], 0.0), 1)} deg "
+                f"(printable fold <= {inward(row['printable_fold_deg'])} deg); "
                 f"`build` will reject it: use longer or narrower hinges, a thinner sheet, or set "
                 f"fabrication.limit_design_tilt to make this a hard limit")
     scene.joint_config = config
@@ -379,8 +415,8 @@ def format_report(report):
     lines = []
     for r in report["axes"]:
         lines.append(f"axis {r['axis']} ({r['direction']} line {r['line']}): fold {r['fold_deg']:g} deg at D=+1 "
-                     f"(max +-{r['max_fold_deg']:.2f} deg, bound by {r['binding']}"
-                     + (f"; printable +-{r['printable_fold_deg']:.2f} deg" if "printable_fold_deg" in r else "")
+                     f"(max +-{inward(r['max_fold_deg'])} deg, bound by {r['binding']}"
+                     + (f"; printable +-{inward(r['printable_fold_deg'])} deg" if "printable_fold_deg" in r else "")
                      + f"); {r['joints']} joints tilted "
                      f"up to {r['tilt_deg']:.2f} deg; fold at D=-1: {r.get('fold_at_Dminus1_deg', 0.0):.2f} deg")
     lim = report.get("limits")
