@@ -7,7 +7,8 @@
   servos close it; the search places 2 servos whose values wrap the bar onto the cylinder;
 * worm gait: the worm's crawl (rear / front sines) at 4 keyframes as node targets; 2 servos.
 
-Usage: /usr/bin/python3 tools/make_inverse_examples.py [--workers 2]
+Usage: /usr/bin/python3 tools/make_inverse_examples.py [--workers 2] [--only fish|gripper|worm ...]
+(``--only``: regenerate those examples alone, repeatable; default all three).
 """
 import argparse
 import json
@@ -75,12 +76,38 @@ def run(scene_path, target_path, servos, out, workers, extra=()):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--workers", type=int, default=1)
+    ap.add_argument("--only", action="append", choices=("fish", "gripper", "worm"),
+                    help="regenerate this example only (repeatable; default: all)")
     args = ap.parse_args()
+    only = set(args.only or ("fish", "gripper", "worm"))
     tmp = tempfile.mkdtemp()
     jobs = []
+    if "fish" in only:
+        make_fish(tmp, jobs)
+    if "gripper" in only:
+        make_gripper(tmp, jobs)
+    if "worm" in only:
+        make_worm(tmp, jobs)
+    for name, scene_path, target, servos in jobs:
+        out = os.path.join(tmp, name + "_out")
+        run(scene_path, target, servos, out, args.workers)
+        shutil.copy(os.path.join(out, "scene.json"), os.path.join(EX, f"{name}_inverse_solved.json"))
+        with open(os.path.join(out, "report.json")) as f:
+            rep = json.load(f)
+        rep["scene"] = f"examples/{name}.json without its actuators"
+        rep["target"] = os.path.relpath(target, REPO)
+        with open(os.path.join(EX, f"{name}_inverse_report.json"), "w") as f:
+            json.dump(rep, f, indent=1)
+        shutil.copy(os.path.join(out, "result.png"), os.path.join(IMG, f"inverse_{name}.png"))
+    shutil.rmtree(tmp)
 
+
+TIMES = [0.0, 0.5, 1.0, 1.5]
+
+
+def make_fish(tmp, jobs):
+    times = TIMES
     fish = Scene.load(os.path.join(EX, "fish.json"))
-    times = [0.0, 0.5, 1.0, 1.5]
     with open(os.path.join(EX, "fish_tail_target.json"), "w") as f:
         json.dump({"format": "metamaterial-target", "version": 1,
                    "description": "the fish's tail curling left and right (its sine gait at 4 keyframes)",
@@ -89,6 +116,8 @@ def main():
         json.dump(bare(fish, "fish_tail_inverse", "the fish sheet without servos (placed by inverse design)"), f)
     jobs.append(("fish", os.path.join(tmp, "fish.json"), os.path.join(EX, "fish_tail_target.json"), 2))
 
+
+def make_gripper(tmp, jobs):
     grip = Scene.load(os.path.join(EX, "gripper.json"))
     design.ensure_configured(grip)
     closed = grip.copy()
@@ -112,6 +141,9 @@ def main():
         json.dump(bare(grip, "gripper_cylinder_inverse", "the gripper without servos (placed by inverse design)"), f)
     jobs.append(("gripper", os.path.join(tmp, "gripper.json"), os.path.join(EX, "gripper_cylinder_target.json"), 2))
 
+
+def make_worm(tmp, jobs):
+    times = TIMES
     worm = Scene.load(os.path.join(EX, "worm.json"))
     with open(os.path.join(EX, "worm_gait_target.json"), "w") as f:
         json.dump({"format": "metamaterial-target", "version": 1,
@@ -121,19 +153,6 @@ def main():
     with open(os.path.join(tmp, "worm.json"), "w") as f:
         json.dump(bare(worm, "worm_gait_inverse", "the worm chain without servos (placed by inverse design)"), f)
     jobs.append(("worm", os.path.join(tmp, "worm.json"), os.path.join(EX, "worm_gait_target.json"), 2))
-
-    for name, scene_path, target, servos in jobs:
-        out = os.path.join(tmp, name + "_out")
-        run(scene_path, target, servos, out, args.workers)
-        shutil.copy(os.path.join(out, "scene.json"), os.path.join(EX, f"{name}_inverse_solved.json"))
-        with open(os.path.join(out, "report.json")) as f:
-            rep = json.load(f)
-        rep["scene"] = f"examples/{name}.json without its actuators"
-        rep["target"] = os.path.relpath(target, REPO)
-        with open(os.path.join(EX, f"{name}_inverse_report.json"), "w") as f:
-            json.dump(rep, f, indent=1)
-        shutil.copy(os.path.join(out, "result.png"), os.path.join(IMG, f"inverse_{name}.png"))
-    shutil.rmtree(tmp)
 
 
 if __name__ == "__main__":

@@ -23,6 +23,10 @@ Round structure:
 2. **Swaps**: every (placed servo, other joint) exchange is screened and the best candidates fully
    fitted; the best improving swap is applied; repeat until no swap improves the cost by more than
    ``rel_tol``.
+3. **Finalists**: the search's fits are capped (40 evaluations), so they rank placements only roughly; the
+   ``finalists`` best placements of the linearised stage's full fits travel with the result
+   (``SearchResult.finalists``) and ``pipeline.converge`` fits them to convergence with the answer (the lowest
+   converged cost wins, :func:`converge_batch`).
 
 Compatibility: a servo fixes D of both nodes of its joint, so two servos (or a servo and an angular
 constraint) may not share a node; forbidden joints are never used.
@@ -62,6 +66,7 @@ def _chunks(items, n):
 # ----------------------------------------------------------------------------------------------
 SEARCH_TOL = 1e-7       # relative cost change that ends a candidate's fit (the final fit uses 1e-15)
 COST_FLOOR = 1e-9       # mm^2: costs below this are zero to the fits' round-off (positions to about 3e-5 mm)
+FINALISTS = 6           # placements of the linearised stage's full fits that are also fitted to convergence
 
 
 def below_bound(cost, bound):
@@ -85,6 +90,12 @@ def fit_batch(problem, batch):
         fr = problem.fit(joints, v0=v0, tol=SEARCH_TOL, max_nfev=40)
         out.append((fr.cost, fr.values, fr.nfev))
     return out
+
+
+def converge_batch(problem, batch):
+    """Fits to convergence. ``batch``: ``(max_nfev, [(joints, v0 (frames, servos))])`` -> list of FitResult."""
+    max_nfev, items = batch
+    return [problem.fit(joints, v0=v0, max_nfev=max_nfev) for joints, v0 in items]
 
 
 def screen_batch(problem, batch):
@@ -210,15 +221,19 @@ class SearchResult:
     seconds: float
     history: list = field(default_factory=list)
     info: dict = field(default_factory=dict)   # linearised placements evaluated, free-field bound (mm^2)
+    finalists: list = field(default_factory=list)   # [(joints, values)]: other placements to fit to convergence
 
 
 class PlacementSearch:
     def __init__(self, problem, n_servos, forbidden=(), candidates=None, screen=12, mapper=None, workers=1,
-                 progress=None, rel_tol=1e-9, max_swap_rounds=10, strategy="linearised", beam=8):
+                 progress=None, rel_tol=1e-9, max_swap_rounds=10, strategy="linearised", beam=8,
+                 finalists=FINALISTS):
         if strategy not in ("linearised", "greedy"):
             raise SceneError("strategy", f"{strategy!r}; allowed: linearised, greedy")
         self.strategy = strategy
         self.beam = max(1, int(beam))
+        self.n_finalists = max(0, int(finalists))
+        self.runners_up = []               # the linearised stage's best full fits: [(joints, values)]
         self.lin_evaluated = 0
         self.lin_seconds = 0.0
         self.lower_bound = None
@@ -397,8 +412,10 @@ class PlacementSearch:
             ranked = self.linearised_stage()[:max(1, self.screen or 1)]
             self.lin_seconds = time.perf_counter() - tl
             res = self._fit_many([(q, vq) for q, _c, vq in ranked])
-            k = min(range(len(ranked)), key=lambda i: (res[i][0], i))
+            order = sorted(range(len(ranked)), key=lambda i: (res[i][0], i))
+            k = order[0]
             placed, (cost, values, _n) = ranked[k][0], res[k]
+            self.runners_up = [(ranked[i][0], res[i][1]) for i in order[:self.n_finalists]]
             self.history.append({"step": "linearised", "joints": list(placed), "cost": cost})
             self.progress(f"best of {len(ranked)} linearised placements: {', '.join(placed)} (cost {cost:.6g} mm^2)")
         for step in range(self.n if self.strategy == "greedy" else 0):
@@ -442,8 +459,8 @@ class PlacementSearch:
             else:
                 self.progress(f"swap round {rnd + 1}: no improving swap")
                 break
-        order = sorted(range(len(placed)), key=lambda i: self.pb.topo.joint_names.index(placed[i]))
-        placed, values = tuple(placed[i] for i in order), values[:, order]
+        placed, values = self._in_scene_order(placed, values)
+        finalists = [self._in_scene_order(q, v) for q, v in self.runners_up if set(q) != set(placed)]
         fit = self.pb.fit(placed, v0=values, starts=(0.0, 0.5, -0.5))
         self.fits += 1
         if self.lower_bound is not None and below_bound(fit.cost, self.lower_bound):
@@ -452,7 +469,12 @@ class PlacementSearch:
             self.lower_bound = None
         return SearchResult(tuple(placed), fit, self.fits, self.screened, time.perf_counter() - t0, self.history,
                             {"linearised": self.lin_evaluated, "lower_bound": self.lower_bound,
-                             "linearised_s": self.lin_seconds})
+                             "linearised_s": self.lin_seconds}, finalists)
+
+    def _in_scene_order(self, placed, values):
+        """``(joints, values)`` with the joints in the scene's joint order (the values' columns with them)."""
+        order = sorted(range(len(placed)), key=lambda i: self.pb.topo.joint_names.index(placed[i]))
+        return tuple(placed[i] for i in order), np.asarray(values)[:, order]
 
     def _alignments(self, placed, values):
         """Per frame, the alignment parameters of the warm start (for the screen)."""
