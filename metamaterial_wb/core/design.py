@@ -24,42 +24,13 @@ import numpy as np
 from metamaterial_wb.core import kinematics as kin
 from metamaterial_wb.core.axes import AxisPlan, _runs, axis_label, plan_axes  # noqa: F401 - re-exported
 from metamaterial_wb.core.errors import SceneError, check_number
+from metamaterial_wb.core.numbers import inward  # noqa: F401 - re-exported (tests, callers of design.inward)
 
 
 # ----------------------------------------------------------------------------------------------
 # limits
 # ----------------------------------------------------------------------------------------------
 SLACK_DEG = 1e-9       # a fold this far beyond a maximum is still accepted (the maximum is computed)
-
-
-def inward(x, decimals=2, up=False, slack=SLACK_DEG):
-    """``x`` as text with ``decimals`` places, rounded inwards: a maximum down (``up``: a minimum, or a need, up),
-    so that the printed value typed back lies on the allowed side of ``x`` (within ``slack``): a fold refused
-    beyond a maximum of 97.628 deg says 97.62, never 97.63 (which it refuses).
-
-    Parameters
-    ----------
-    x : float
-    decimals : int
-    up : bool
-        Round up (a minimum) instead of down (a maximum).
-    slack : float
-        The tolerance of the check the bound is used in.
-
-    Returns
-    -------
-    str
-    """
-    if up:
-        t = inward(-x, decimals, slack=slack)
-        return t[1:] if t.startswith("-") else ("-" + t if float(t) != 0.0 else t)
-    q = 10 ** decimals
-    k = math.floor(x * q)
-    while (k + 1) / q <= x + slack:      # x * q rounded below an integer it reaches
-        k += 1
-    while k / q > x + slack:             # ... or above one it does not
-        k -= 1
-    return f"{k / q:.{decimals}f}"
 
 
 def _fab_tilt(scene, widths, ignore_switch):

@@ -21,9 +21,11 @@ import numpy as np
 
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number
 from metamaterial_wb.core.materials import MATERIALS  # noqa: F401 - the one table (core/materials.py)
+from metamaterial_wb.core.numbers import inward_g
 from metamaterial_wb.core.scene import parse_joint
 
 MIN_WALL_MM = 0.8        # default thinnest wall between two features: two nozzle widths (fabrication.nozzle_mm)
+NOISE_MM = 1e-10         # a printed bound (rounded inwards: inward_g) absorbs float noise this size; checks allow 1e-9
 
 
 FAB_DEFAULTS = {
@@ -177,7 +179,7 @@ def _lip(name, value, nozzle_mm, where):
         raise SceneError(f"fabrication.{name}",
                          f"{range_message(value, low, 50.0, 'mm')}: it is the lip of node material {where} "
                          f"(the hook that holds the hinge in its node), a wall of at least two nozzle widths "
-                         f"({low:.3g} mm for fabrication.nozzle_mm = {nozzle_mm:g})")
+                         f"({inward_g(low, up=True)} mm for fabrication.nozzle_mm = {nozzle_mm:g})")
     return v
 
 
@@ -409,24 +411,25 @@ def _check_fit(p, scene=None):
                          f"{p.rigid_extruder}, or the same material for both")
     _check_anchor_depth(p, W)
     if p.sockets:
-        if 2 * p.socket_lip_height_mm + W > T:
+        if 2 * p.socket_lip_height_mm + W > T + 1e-9:
+            lip_hi = inward_g((T - W) / 2, slack=NOISE_MM)     # printed bounds rounded inwards: they type back
             if p.sheet_from_hinge:
-                need = 2 * p.socket_lip_height_mm + W
+                need = inward_g(2 * p.socket_lip_height_mm + W, up=True)
                 raise SceneError("hinge.thickness_mm",
                                  f"the sheet is as thick as its thickest hinge, {T} mm, but the snap-fit sockets need "
-                                 f"at least {need:.3g} mm (a {p.socket_lip_height_mm} mm ledge on both faces and a "
-                                 f"{W:.3g} mm wall between them); allowed range [{need:.3g}, ...) mm, or set "
-                                 f"fabrication.sheet_thickness_mm (the plates) to at least {need:.3g} mm, "
-                                 f"fabrication.socket_lip_height_mm to at most {(T - W) / 2:.3g} mm, or "
+                                 f"at least {need} mm (a {p.socket_lip_height_mm} mm ledge on both faces and a "
+                                 f"{W:.3g} mm wall between them); allowed range [{need}, ...) mm, or set "
+                                 f"fabrication.sheet_thickness_mm (the plates) to at least {need} mm, "
+                                 f"fabrication.socket_lip_height_mm to at most {lip_hi} mm, or "
                                  f"fabrication.sockets to false")
             raise SceneError("fabrication.socket_lip_height_mm",
                              f"{p.socket_lip_height_mm} mm on both faces of a {T} mm sheet leaves less than "
                              f"{W:.3g} mm (two nozzle widths) of hole between the ledges; allowed range (0, "
-                             f"{(T - W) / 2:.3g}] mm")
+                             f"{lip_hi}] mm")
         if p.socket_diameter_mm <= 2 * p.clearance_mm + 0.4:
             raise SceneError("fabrication.socket_diameter_mm",
                              f"{p.socket_diameter_mm} mm leaves no plug after the clearance of {p.clearance_mm} mm "
-                             f"per side; use more than {2 * p.clearance_mm + 0.4:.3g} mm")
+                             f"per side; use more than {inward_g(2 * p.clearance_mm + 0.4, up=True)} mm")
         inset_lo = p.counterbore_radius_mm + W
         # the four sockets sit at the middles of the sides, d = side / 2 - inset from the centre: neighbours are
         # d sqrt(2) apart, and their ledges must leave a wall of two nozzle widths between them
@@ -435,10 +438,11 @@ def _check_fit(p, scene=None):
             where = ("closer than two nozzle widths to the plate edge" if p.socket_inset_mm < inset_lo else
                      f"so close to the plate's centre that neighbouring sockets are less than {W:.3g} mm (two nozzle "
                      f"widths) apart")
-            span = (f"allowed range [{inset_lo:.3g}, {inset_hi:.3g}] mm on a {p.plate_side_mm_global:.4g} mm node "
+            lo, hi = inward_g(inset_lo, up=True, slack=NOISE_MM), inward_g(inset_hi, slack=NOISE_MM)
+            span = (f"allowed range [{lo}, {hi}] mm on a {p.plate_side_mm_global:.4g} mm node "
                     f"plate" if inset_hi >= inset_lo else
-                    f"no inset fits on a {p.plate_side_mm_global:.4g} mm node plate (at least {inset_lo:.3g} mm "
-                    f"from the edge, at most {inset_hi:.3g} mm); use larger cells, a smaller socket_diameter_mm or "
+                    f"no inset fits on a {p.plate_side_mm_global:.4g} mm node plate (at least {lo} mm "
+                    f"from the edge, at most {hi} mm); use larger cells, a smaller socket_diameter_mm or "
                     f"sockets: false")
             raise SceneError("fabrication.socket_inset_mm",
                              f"{p.socket_inset_mm} mm puts the socket ledges (radius {p.counterbore_radius_mm:.3g} mm) "
@@ -453,10 +457,11 @@ def _check_fit(p, scene=None):
         s = p.plate_side_mm_global
         gap = p.cell_size_mm - p.plate_side_mm_global
         if h.length_mm > gap + 1e-9:
+            gap_txt = inward_g(gap, 4, slack=NOISE_MM)
             raise SceneError(field("length_mm"),
                              f"hinge {name} is {h.length_mm} mm long but the gap between the node plates is "
-                             f"{gap:.4g} mm (cell {p.cell_size_mm} mm - plate side {p.plate_side_mm_global:.4g} mm, "
-                             f"set by hinge.length_mm); allowed range (0, {gap:.4g}] mm (shorter hinges get rigid "
+                             f"{gap_txt} mm (cell {p.cell_size_mm} mm - plate side {p.plate_side_mm_global:.4g} mm, "
+                             f"set by hinge.length_mm); allowed range (0, {gap_txt}] mm (shorter hinges get rigid "
                              f"stubs)")
         if h.thickness_mm > T + 1e-9:
             raise SceneError(field("thickness_mm"), f"hinge thickness {h.thickness_mm} mm exceeds the sheet thickness "
@@ -468,21 +473,24 @@ def _check_fit(p, scene=None):
         reach = wa + shift
         room_edge = _edge_room_mm(p)
         if reach > room_edge:
-            has = (f"the plate (side {s:.3g} mm) has {room_edge:.3g} mm before the socket" if p.sockets else
-                   f"the plate (side {s:.3g} mm, no sockets) has {room_edge:.3g} mm: half its side less a "
+            # the need rounded up, the room and the limits down: never "needs 6.6 mm but has 6.6 mm"
+            room, needs = inward_g(room_edge), inward_g(reach, up=True)
+            has = (f"the plate (side {s:.3g} mm) has {room} mm before the socket" if p.sockets else
+                   f"the plate (side {s:.3g} mm, no sockets) has {room} mm: half its side less a "
                    f"{W:.3g} mm wall (two nozzle widths)")
             t_max = _max_tilt_deg(p, h.width_mm)
             if h.tilt_deg and t_max >= 0:
                 fold = _printable_fold_deg(scene, p, t_max) if scene is not None else None
-                fold_txt = (f" (at this sheet's full deformation that is a fold of at most {fold:.3g} deg per "
+                fold_txt = (f" (at this sheet's full deformation that is a fold of at most {inward_g(fold)} deg per "
                             f"joint)") if fold is not None else ""
                 raise SceneError(f"{f}.tilt_deg",
-                                 f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} "
-                                 f"mm along the plate edge but {has}; allowed tilt range [-{t_max:.3g}, "
-                                 f"{t_max:.3g}] deg for this hinge{fold_txt}; fold less, or use longer hinges, larger cells, a thinner sheet or a smaller "
+                                 f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {needs} "
+                                 f"mm along the plate edge but {has}; allowed tilt range [-{inward_g(t_max)}, "
+                                 f"{inward_g(t_max)}] deg for this hinge{fold_txt}; fold less, or use longer hinges, "
+                                 f"larger cells, a thinner sheet or a smaller "
                                  f"fabrication.anchor_margin_mm (now {p.anchor_margin_mm} mm)")
             raise SceneError(field("width_mm"),
-                             f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {reach:.3g} mm "
+                             f"hinge {name} (width {h.width_mm} mm, tilt {h.tilt_deg:.4g} deg) needs {needs} mm "
                              f"along the plate edge but {has}; reduce the width, the tilt or the anchor margin")
 
 
@@ -496,18 +504,21 @@ def _check_anchor_depth(p, W):
     if 2 * need <= s + 1e-9:
         return
     max_len = p.cell_size_mm - 2 * need
+    # the plate side needed rounded up, the one there and the printed limits down (they type back)
     why = (f"the anchors ({p.anchor_neck_mm:.3g} mm neck + {p.anchor_depth_mm:.3g} mm deep) and "
-           f"{'the sockets' if p.sockets else 'a wall'} need a plate side of at least {2 * need:.3g} mm")
+           f"{'the sockets' if p.sockets else 'a wall'} need a plate side of at least "
+           f"{inward_g(2 * need, up=True)} mm")
     if max_len > 0:
-        raise SceneError("hinge.length_mm", f"{p.cell_size_mm - s:.4g} mm leaves a plate side of {s:.3g} mm in a "
-                                            f"{p.cell_size_mm} mm cell; {why}, so the hinges may be at most "
-                                            f"{max_len:.3g} mm long: allowed range (0, {max_len:.3g}] mm, or use a "
+        len_hi = inward_g(max_len, slack=NOISE_MM)
+        raise SceneError("hinge.length_mm", f"{p.cell_size_mm - s:.4g} mm leaves a plate side of {inward_g(s)} mm "
+                                            f"in a {p.cell_size_mm} mm cell; {why}, so the hinges may be at most "
+                                            f"{len_hi} mm long: allowed range (0, {len_hi}] mm, or use a "
                                             f"smaller fabrication.anchor_depth_mm")
     depth_max = 0.5 * s - sock - p.anchor_neck_mm
-    span = (f"allowed range (0, {depth_max:.3g}] mm" if depth_max > 0 else
+    span = (f"allowed range (0, {inward_g(depth_max, slack=NOISE_MM)}] mm" if depth_max > 0 else
             "no anchor depth fits: use larger cells or a smaller fabrication.anchor_neck_mm")
     raise SceneError("fabrication.anchor_depth_mm", f"{p.anchor_depth_mm} mm: {why}, and the plate side is "
-                                                    f"{s:.3g} mm; {span}")
+                                                    f"{inward_g(s)} mm; {span}")
 
 
 def pin_slot_width_mm(p):

@@ -3,8 +3,10 @@
 Python's ``float()`` and ``int()`` accept more than a person means by a number: ``1_0`` is 10, Arabic-Indic or
 full-width digits are read as their ASCII values, ``inf`` / ``nan`` are numbers and ``5e-320`` is a subnormal the
 solvers cannot compute with. A scene file refuses all of these (:mod:`metamaterial_wb.core.inputfile`); the functions
-here refuse them in typed text too, naming what was typed and what is allowed.
+here refuse them in typed text too, naming what was typed and what is allowed. :func:`inward` and :func:`inward_g` write
+the other way round: a bound a message prints, rounded so that typed back it is accepted.
 """
+import math
 import re
 
 from metamaterial_wb.core.errors import SceneError
@@ -68,3 +70,61 @@ def parse_int(field, text):
         raise SceneError(field, f"{text!r} is not a whole number; expected ASCII digits such as 3 or -12 "
                                 f"(no '_', no decimals, at most 18 digits)")
     return int(t)
+
+
+# ----------------------------------------------------------------------------------------------
+# numbers printed for people to type back: a bound in a refusal or an advice, rounded inwards
+# ----------------------------------------------------------------------------------------------
+def inward(x, decimals=2, up=False, slack=1e-9):
+    """``x`` as text with ``decimals`` places, rounded inwards: a maximum down (``up``: a minimum, or a need, up),
+    so that the printed value typed back lies on the allowed side of ``x`` (within ``slack``): a fold refused
+    beyond a maximum of 97.628 deg says 97.62, never 97.63 (which it refuses).
+
+    Parameters
+    ----------
+    x : float
+    decimals : int
+    up : bool
+        Round up (a minimum) instead of down (a maximum).
+    slack : float
+        The tolerance of the check the bound is used in (0: a strict check).
+
+    Returns
+    -------
+    str
+    """
+    if up:
+        t = inward(-x, decimals, slack=slack)
+        return t[1:] if t.startswith("-") else ("-" + t if float(t) != 0.0 else t)
+    q = 10 ** decimals
+    k = math.floor(x * q)
+    while (k + 1) / q <= x + slack:      # x * q rounded below an integer it reaches
+        k += 1
+    while k / q > x + slack:             # ... or above one it does not
+        k -= 1
+    return f"{k / q:.{decimals}f}"
+
+
+def inward_g(x, digits=3, up=False, slack=0.0):
+    """``x`` as text with ``digits`` significant digits (as ``f"{x:.3g}"`` writes it, never in exponent form),
+    rounded inwards like :func:`inward`: a hinge that fits up to a tilt of 32.456 deg says 32.4, never 32.5.
+
+    Parameters
+    ----------
+    x : float
+    digits : int
+    up : bool
+        Round up (a minimum) instead of down (a maximum).
+    slack : float
+        The tolerance of the check the bound is used in (0: a strict check).
+
+    Returns
+    -------
+    str
+    """
+    if x == 0.0 or not math.isfinite(x):
+        return f"{x:g}"
+    t = inward(x, max(digits - 1 - math.floor(math.log10(abs(x))), 0), up=up, slack=slack)
+    if "." in t:
+        t = t.rstrip("0").rstrip(".")
+    return "0" if t == "-0" else t

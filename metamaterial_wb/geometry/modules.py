@@ -28,6 +28,7 @@ from dataclasses import dataclass, field, replace
 
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number, in_range, range_message
 from metamaterial_wb.core.fabrication import joint_pivot
+from metamaterial_wb.core.numbers import inward_g
 from metamaterial_wb.core.scene.sections import module_name_error
 from metamaterial_wb.geometry.fc import kernel_error
 from metamaterial_wb.geometry.rivet import BENDING as RIVET_BENDING, HEAD_HEIGHT_MM, HEAD_RIM_MM
@@ -43,8 +44,7 @@ MODULE_TYPES = ("servo_housing", "connection_hub", "stable_hub", "friction_pad",
 JOINT_MODULES = ("servo_housing", "stable_hub", "constraint_clip")
 NODE_MODULES = ("connection_hub", "friction_pad")
 # modules held by separate rivet pins that print lying (geometry/rivet.py, bending along the layers); the
-# servo housing too where blind rivets fit (servo.blind_rivet_problem; else it fuses upright pins):
-# :func:`is_riveted`
+# servo housing too where blind rivets fit (servo.blind_rivet_problem; else it fuses upright pins): :func:`is_riveted`
 RIVETED_TYPES = ("stable_hub", "friction_pad", "constraint_clip", "connection_hub")
 
 
@@ -208,9 +208,9 @@ def parse_modules(scene, p):
         spec.values = values
         for key in WALL_KEYS.get(typ, ()):
             if values[key] < p.min_wall_mm - 1e-9:
-                raise SceneError(f"{f}.{key} ({name})",
-                                 f"{values[key]} mm is thinner than two nozzle widths ({p.min_wall_mm:.3g} mm for "
-                                 f"fabrication.nozzle_mm = {p.nozzle_mm}); allowed range [{p.min_wall_mm:.3g}, 200] mm")
+                wall = inward_g(p.min_wall_mm, up=True)       # rounded up: typed back it is accepted
+                raise SceneError(f"{f}.{key} ({name})", f"{values[key]} mm is thinner than two nozzle widths ({wall} "
+                                 f"mm for fabrication.nozzle_mm = {p.nozzle_mm}); allowed range [{wall}, 200] mm")
         if typ in JOINT_MODULES:
             if "joint" not in item:
                 raise SceneError(f"{f}.joint", f"a {typ} sits on a joint; give \"joint\": \"H<i>,<j>\" or \"V<i>,<j>\"")
@@ -253,8 +253,8 @@ def parse_modules(scene, p):
             if half < p.min_wall_mm - 1e-9:
                 raise SceneError(f"{f}.thickness_mm ({name})",
                                  f"{spec.values['thickness_mm']} mm: the hub prints as two halves, each at least "
-                                 f"{p.min_wall_mm:.3g} mm (two nozzle widths) thick; allowed range "
-                                 f"[{2 * p.min_wall_mm:.3g}, 200] mm")
+                                 f"{inward_g(p.min_wall_mm, up=True)} mm (two nozzle widths) thick; allowed range "
+                                 f"[{inward_g(2 * p.min_wall_mm, up=True)}, 200] mm")
         elif typ == "friction_pad":
             if "mu" in item:
                 spec.mu = check_number(f"{f}.mu ({name})", item["mu"], 0.0, 10.0)
@@ -264,14 +264,14 @@ def parse_modules(scene, p):
                 raise SceneError(f"{f}.pocket_depth_mm ({name})",
                                  f"{v['pocket_depth_mm']} mm leaves less than {W:.3g} mm (two nozzle widths) above "
                                  f"the pins in a {v['thickness_mm']} mm pad; allowed range (0, "
-                                 f"{v['thickness_mm'] - PIN_OVERLAP_MM - W:.3g}] mm")
+                                 f"{inward_g(v['thickness_mm'] - PIN_OVERLAP_MM - W, slack=1e-10)}] mm")
             head = HEAD_HEIGHT_MM + 0.2          # the rivet heads sit recessed at least this deep
             if v["thickness_mm"] - max(v["pocket_depth_mm"], head) < W - 1e-9:
                 raise SceneError(f"{f}.thickness_mm ({name})",
                                  f"{v['thickness_mm']} mm leaves less than {W:.3g} mm (two nozzle widths) under the "
                                  f"rivet heads recessed {max(v['pocket_depth_mm'], head):.3g} mm (the pocket depth, "
                                  f"at least {head:.3g} mm); allowed range "
-                                 f"[{W + max(v['pocket_depth_mm'], head):.3g}, 200] mm")
+                                 f"[{inward_g(W + max(v['pocket_depth_mm'], head), up=True)}, 200] mm")
             if 2 * v["pocket_inset_mm"] >= p.plate_side_mm_global - 2.0:
                 raise SceneError(f"{f}.pocket_inset_mm ({name})", f"{v['pocket_inset_mm']} mm leaves no pocket")
         elif typ == "constraint_clip":

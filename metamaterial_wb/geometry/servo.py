@@ -5,6 +5,7 @@ pivot (core/joints.py). Parsed and placed by geometry/modules.py (scene format: 
 import math
 
 from metamaterial_wb.core.errors import SceneError, check_number, in_range, range_message
+from metamaterial_wb.core.numbers import inward_g
 
 # Servo presets (mm) from public datasheet drawings, bodies at the upper end of what the parts measure
 # (SG90s measure 22.2-23.0 x 11.8-12.5 mm): the cavity adds the fit clearance on every side. ``tab_z_mm``:
@@ -101,12 +102,13 @@ def _servo_dims(item, f, nm, p=None):
     # the tab screws' pilot holes (build_servo_housing): radius (screw - 0.3) / 2, at screw_inset_mm from the seat's
     # end, pilot_depth_mm deep. At least a nozzle width wide (a narrower hole does not print), two nozzle widths
     # of seat around it, as deep as the screw is wide (its thread needs that much to hold)
+    tab = inward_g(ext)         # rounded down: the bound typed back is accepted, a refused inset lies beyond it
     if not 0 < d["screw_inset_mm"] < ext:
         raise SceneError(f"{f}.dims.screw_inset_mm ({nm})", f"{d['screw_inset_mm']} mm puts the tab's screw outside "
-                                                           f"the {ext:.3g} mm tab; allowed range (0, {ext:.3g}) mm")
+                                                           f"the {tab} mm tab; allowed range (0, {tab}) mm")
     _dims_range(f"{f}.dims.screw_inset_mm ({nm})", d["screw_inset_mm"], 0.5 * nozzle + W, ext,
                 f"the narrowest pilot hole (a nozzle width, {nozzle:g} mm) needs two nozzle widths ({W:.3g} mm) of "
-                f"tab seat between it and the seat's end, and the screw must stay on the {ext:.3g} mm tab")
+                f"tab seat between it and the seat's end, and the screw must stay on the {tab} mm tab")
     _dims_range(f"{f}.dims.screw_diameter_mm ({nm})", d["screw_diameter_mm"], PILOT_UNDERSIZE_MM + nozzle,
                 2 * (d["screw_inset_mm"] - W) + PILOT_UNDERSIZE_MM,
                 f"the tab seat's pilot hole ({PILOT_UNDERSIZE_MM} mm narrower than the screw) must be at least "
@@ -193,7 +195,7 @@ def _check_servo_fit(spec, p, f):
         wall = math.floor(lo * 10.0 + 1e-6) / 10.0
         if wall >= p.min_wall_mm - 1e-9:
             tips.append(f"a thinner housing wall (wall_mm at most {wall:g} mm; at least two nozzle widths, "
-                        f"{p.min_wall_mm:.3g} mm)")
+                        f"{inward_g(p.min_wall_mm, up=True)} mm)")
     raise SceneError(f"{f}.servo ({spec.name})",
                      f"the horn adapter's column, outside {by}, needs {math.ceil(need * 100) / 100:.2f} mm from the "
                      f"shaft (its {lay['col_t']:g} mm width and a {FIT_MARGIN_MM} mm margin included) but node "
@@ -228,7 +230,7 @@ def blind_rivet_problem(spec, p):
                 f"each and two nozzle widths of roof)")
     if p.socket_inset_mm - 0.3 < cbr + W - 1e-9:
         return (f"sockets {p.socket_inset_mm} mm inside the plate edge leave less than two nozzle widths of wall "
-                f"around a blind rivet socket (socket_inset_mm at least {cbr + W + 0.3:.3g} mm)")
+                f"around a blind rivet socket (socket_inset_mm at least {inward_g(cbr + W + 0.3, up=True)} mm)")
     lay = servo_layout(spec, p)
     su, sv = v.get("shaft_u_mm", 0.0), v.get("shaft_v_mm", 0.0)
     for u, w in adapter_pin_points(spec, p):

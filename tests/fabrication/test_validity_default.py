@@ -11,6 +11,7 @@ import sys
 import pytest
 
 from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.numbers import inward_g
 
 from fabhelpers import EXAMPLES, REPO, make_scene
 
@@ -106,10 +107,10 @@ def test_unprintable_fold_error_gives_the_allowed_range():
         t_hi = t + 0.5 ** (_ + 1) * 90
         if 0.8 / math.cos(math.radians(t_hi)) + 1.2 + 7 * math.tan(math.radians(t_hi)) <= 4.6:
             t = t_hi
-    assert f"allowed tilt range [-{t:.3g}, {t:.3g}] deg" in msg
+    assert f"allowed tilt range [-{inward_g(t)}, {inward_g(t)}] deg" in msg
     closing, _ = rotation_limits(sc)
     fold = math.degrees(2 * math.atan(math.tan(math.radians(t)) * math.sin(closing)))
-    assert f"fold of at most {fold:.3g} deg" in msg
+    assert f"fold of at most {inward_g(fold)} deg" in msg
 
 
 def _edge_fit_error(**kw):

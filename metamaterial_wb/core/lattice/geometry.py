@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from metamaterial_wb.core.errors import SceneError
+from metamaterial_wb.core.numbers import inward_g
 from metamaterial_wb.core.scene.sections import MATERIAL_FIELDS, material_value
 
 DEFAULT_MODULUS_MPA = MATERIAL_FIELDS["hinge_modulus_MPa"][0]   # TPU 95A, tensile modulus (printed, datasheet)
@@ -238,8 +239,11 @@ def fe_hinge_factors(L, w, t):
     bad = (x < lo - 1e-9) | (x > hi + 1e-9)
     if np.any(bad):
         k = int(np.flatnonzero(bad)[0])
-        raise SceneError("--option hinge_law", f"fe: a hinge of length / width {math.exp(x[k]):.3g} is outside the "
-                                               f"FE-calibrated range [{math.exp(lo):.3g}, {math.exp(hi):.3g}]")
+        # the range rounded inwards (its ends type back), the refused ratio outwards (it prints outside the range)
+        r = inward_g(math.exp(x[k]), 6, up=bool(x[k] > hi))
+        raise SceneError("--option hinge_law", f"fe: a hinge of length / width {r} is outside the FE-calibrated range "
+                                               f"[{inward_g(math.exp(lo), up=True, slack=1e-10)}, "
+                                               f"{inward_g(math.exp(hi), slack=1e-10)}]")
     return np.column_stack([np.interp(x, a, F[:, d]) for d in range(6)])
 
 
