@@ -16,8 +16,12 @@ A second signal stops at once, writing nothing.
 
 ``--report`` is written as the stream runs (hardware/report.py): each tick's angles go to a temporary file beside
 it, the statistics after them, and a rename at the end makes the report appear whole; memory does not grow with
-``--seconds``. A stream that fails, a second signal or a full disk (which stops the stream) leave no report and
-no temporary; an earlier file at the path stays as it was.
+``--seconds``. A stream that fails part-way (a link error, a timeout, a watchdog trip, a second signal) still
+gets its report, marked ``"failed": true`` with the ``error`` and what ran up to it (``frames``, ``ticks``,
+``last_t``, ``duration_s`` and the ``frames_sent`` so far; ``--mode osc``: the ``pings``), and exits as it failed
+(2; 130 for a second Ctrl+C). A failure before anything was sent (no frame, or the oscillators not started) and a
+full disk (which stops the stream) leave no report, no temporary and no folder made for it; an earlier file at
+the path stays as it was.
 """
 import json
 import sys
@@ -126,7 +130,7 @@ def run(args):
     # then the rename; memory does not grow with --seconds (hardware/report.py). Not a frame of a stream that never ran.
     report = StreamReport(args.report, channels) if args.report and args.mode == "stream" else None
     link = Link.open("loop://" if args.dry_run else args.port, baud=args.baud, dry_run=args.dry_run)
-    intr = None
+    intr = streamer = None
     try:
         if report is not None:
             report.open()
@@ -150,12 +154,19 @@ def run(args):
         try:
             stats = streamer.run(scene, args.seconds)
         finally:
-            intr.restore()  # a signal from here on: KeyboardInterrupt, nothing written
+            intr.restore()  # a signal from here on: KeyboardInterrupt at once, the report marked failed
         if args.disarm:  # on Ctrl+C too: the servos end as at the stream's end
             link.disarm()
-    except BaseException:
-        if report is not None:
-            report.discard()
+    except BaseException as exc:
+        if report is not None:  # frames sent: the report of what ran, marked failed; none sent: nothing written
+            stats = streamer.stats if streamer is not None else None
+            if stats is None or not stats.frames or report.error is not None:
+                report.discard()
+            else:
+                s = _summary(stats, link, args, channels, intr, exc)
+                _written(lambda: report.finish(s), args.report,
+                         f"{s['ticks']} ticks ({s['frames']} frames, motion time {s['last_t']:g} s) in "
+                         f"{s['duration_s']:.2f} s")
         raise
     finally:
         if intr is not None:
@@ -165,11 +176,7 @@ def run(args):
         print(f"stream stopped after {stats.ticks} ticks ({stats.duration_s:.2f} s): --report could not be written",
               file=sys.stderr)
         raise report.error
-    s = stats.summary()
-    s["port"] = link.name
-    s["dry_run"] = bool(args.dry_run)
-    s["channels"] = [c.to_dict() for c in channels]
-    s["interrupted"] = intr.name  # "SIGINT" (Ctrl+C) / "SIGTERM" / "SIGHUP" when a signal ended the stream early
+    s = _summary(stats, link, args, channels, intr)
     if report is not None:
         report.finish(s)  # after frames_sent_columns and frames_sent; the rename makes the report appear whole
     rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
@@ -201,6 +208,42 @@ def run(args):
     return status
 
 
+def _summary(stats, link, args, channels, intr, exc=None):
+    """The statistics of the report and the summary line; ``exc``: the failure that ended the stream part-way."""
+    s = stats.summary()
+    s["port"] = link.name
+    s["dry_run"] = bool(args.dry_run)
+    s["channels"] = [c.to_dict() for c in channels]
+    # "SIGINT" (Ctrl+C) / "SIGTERM" / "SIGHUP" when a signal ended the stream early
+    s["interrupted"] = None if intr is None else intr.name
+    s.update(_failure(exc))
+    return s
+
+
+def _failure(exc):
+    """{"failed", "error"} of a report: ``exc`` (None: the stream ran to its end) as one line."""
+    if exc is None:
+        return {"failed": False, "error": ""}
+    if isinstance(exc, KeyboardInterrupt):  # a second signal (or one while no handler was installed)
+        import signal
+        name = signal.Signals(getattr(exc, "signum", signal.SIGINT)).name
+        why = f"KeyboardInterrupt: stopped at once by {name}"
+    else:
+        why = " ".join((str(exc) or type(exc).__name__).split())
+    return {"failed": True, "error": why}
+
+
+def _written(write, path, ran):
+    """Write the report of a stream that failed part-way (``write()``) and say so; a report that cannot be
+    written is said too, never raised (the stream's own failure is what the command exits with)."""
+    try:
+        write()
+    except Exception as exc:  # (the temporary is removed by the writer)
+        print(f"stream failed after {ran}; --report {path} could not be written: {exc}", file=sys.stderr)
+    else:
+        print(f"stream failed after {ran}; --report {path} written, marked failed", file=sys.stderr)
+
+
 def _per_actuator(s, by):
     """': tail 28, head 3' for the actuators that ``by`` ("host" / "firmware") clamped, else ''."""
     counts = [f"{name} {n[by]}" for name, n in s["clamped_by_actuator"].items() if n[by]]
@@ -220,11 +263,10 @@ def _check_bandwidth(baud, rate, channels):
 
 def _run_osc(args, scene, channels, link, intr):
     """--mode osc: the firmware generates the sine profiles; the host only keeps the link alive."""
-    import statistics
     import time
 
     from metamaterial_wb.core.fileio import write_json
-    from metamaterial_wb.hardware.onboard import osc_params, run_oscillators
+    from metamaterial_wb.hardware.onboard import osc_params, rtt_summary, run_oscillators
 
     params = osc_params(scene, channels, tolerance_deg=args.rate_tolerance)
     for p in params:
@@ -239,33 +281,47 @@ def _run_osc(args, scene, channels, link, intr):
                     f"deg), joint angle {p.angle_range_deg[0]:.2f}..{p.angle_range_deg[1]:.2f} deg")
         print(f"  {p.name} -> ch{p.channel}: {wave}" + (f", frequency off by {p.frequency_error:+.2%}"
                                                           if abs(p.frequency_error) > 1e-4 else ""), file=sys.stderr)
+    def summary(duration, exc=None):
+        # seconds: --seconds; duration_s: how long the host kept the link alive (shorter when interrupted or failed)
+        # ping_rtt_ms_median / _p99 / _max: from the bounded table run_oscillators keeps (as the streamed mode's)
+        return {"format": "metamaterial-stream-report", "version": 1,
+                "mode": "osc", "port": link.name, "dry_run": bool(args.dry_run), "seconds": args.seconds,
+                "duration_s": round(duration, 4), "interrupted": intr.name,
+                "pings": res["pings"], "firmware_start_ms": res["t_start_ms"],
+                **{"ping_" + k: v for k, v in rtt_summary(res["rtt_counts"]).items()}, **_failure(exc),
+                "oscillators": [vars(p) for p in params], "channels": [c.to_dict() for c in channels]}
+
+    res = {}
     t0 = time.perf_counter()
-    try:  # a signal (Ctrl+C) ends the keep-alive loop at its next check, as its end would
-        res = run_oscillators(link, params, args.seconds, stop=lambda: intr.signum is not None)
-    finally:
-        intr.restore()
-    duration = time.perf_counter() - t0
-    if args.disarm:  # on Ctrl+C too
-        link.disarm()
-    # seconds: --seconds; duration_s: how long the host kept the link alive (shorter when interrupted)
-    s = {"mode": "osc", "port": link.name, "dry_run": bool(args.dry_run), "seconds": args.seconds,
-         "duration_s": round(duration, 4), "interrupted": intr.name,
-         "pings": res["pings"], "firmware_start_ms": res["t_start_ms"],
-         "ping_rtt_ms_median": round(statistics.median(res["rtt_ms"]), 3) if res["rtt_ms"] else None,
-         "oscillators": [vars(p) for p in params], "channels": [c.to_dict() for c in channels]}
+    try:
+        try:  # a signal (Ctrl+C) ends the keep-alive loop at its next check, as its end would
+            run_oscillators(link, params, args.seconds, stop=lambda: intr.signum is not None, result=res)
+        finally:
+            intr.restore()
+        duration = time.perf_counter() - t0
+        if args.disarm:  # on Ctrl+C too
+            link.disarm()
+    except BaseException as exc:  # the oscillators started: the report of what ran, marked failed
+        if args.report and res.get("started"):
+            s = summary(time.perf_counter() - t0, exc)
+            _written(lambda: write_json(args.report, s), args.report,
+                     f"{s['pings']} keep-alive pings in {s['duration_s']:.2f} s")
+        raise
+    s = summary(duration)
     if args.report:
-        write_json(args.report, {"format": "metamaterial-stream-report", "version": 1, **s})
+        write_json(args.report, s)
     ran = (f"{args.seconds:g} s" if intr.signum is None else
            f"{duration:.2f} s of --seconds {args.seconds:g}, interrupted ({intr.name})")
-    print(f"on-board oscillators ran {ran}; {s['pings']} keep-alive pings, round trip median "
-          f"{s['ping_rtt_ms_median']} ms")
+    rtt = (f"round trip median {s['ping_rtt_ms_median']:.2f} ms, p99 {s['ping_rtt_ms_p99']:.2f} ms, max "
+           f"{s['ping_rtt_ms_max']:.2f} ms" if s["ping_rtt_ms_median"] is not None else "no replies")
+    print(f"on-board oscillators ran {ran}; {s['pings']} keep-alive pings, {rtt}")
     intr.raise_if_signalled()
     return 0
 
 
 class _Interrupt:
     """Ctrl+C (SIGINT), SIGTERM and SIGHUP while streaming: the first calls ``stop()`` (the stream ends at its next
-    tick, as at its end) and is remembered; a second one raises at once (KeyboardInterrupt: nothing written).
+    tick, as at its end) and is remembered; a second one raises at once (KeyboardInterrupt: a report marked failed).
     ``raise_if_signalled()`` then exits as the CLI does for that signal (130 / 128 + its number). Only in the main
     thread (signal handlers); a signal the process ignores stays ignored."""
 

@@ -295,24 +295,69 @@ def raise_on_trip(link, since, context="during on-board motion"):
     return len(link.events)
 
 
-def run_oscillators(link, params, seconds, keepalive_s=None, stop=None):
+def rtt_key(ms):
+    """A round trip (ms) as kept in a round-trip table (StreamStats.rtt_counts, run_oscillators' rtt_counts): to the
+    microsecond (the summary's precision) below 10 ms, to 4 significant digits above (10 us up to 100 ms, ...), so
+    the table stays small however long the stream runs (a reply waits for at most 254 frames before its seq is
+    reused)."""
+    return round(ms, 3) if ms < 10.0 else float(f"{ms:.4g}")
+
+
+def count_rtt(counts, ms):
+    """Count the round trip ``ms`` in the table ``counts`` ({rtt_key(ms): n}, changed in place)."""
+    k = rtt_key(ms)
+    counts[k] = counts.get(k, 0) + 1
+
+
+def rtt_stats(counts):
+    """(median, 99th percentile, max) of the round trips counted in ``counts`` ({ms: n}), as
+    ``statistics.median`` and ``sorted(r)[min(n - 1, int(0.99 n))]`` of the list they stand for; Nones if empty."""
+    n = sum(counts.values())
+    if not n:
+        return None, None, None
+    want = sorted({(n - 1) // 2, n // 2, min(n - 1, int(0.99 * n))})
+    at, seen = {}, 0
+    for ms in sorted(counts):
+        seen += counts[ms]
+        while want and want[0] < seen:  # the sorted list's items [seen - counts[ms], seen) are all ms
+            at[want.pop(0)] = ms
+        if not want:
+            break
+    return (at[(n - 1) // 2] + at[n // 2]) / 2, at[min(n - 1, int(0.99 * n))], max(counts)
+
+
+def rtt_summary(counts):
+    """{"rtt_ms_median", "rtt_ms_p99", "rtt_ms_max"} of a round-trip table, to the microsecond (None if empty)."""
+    return {f"rtt_ms_{k}": None if v is None else round(v, 3)
+            for k, v in zip(("median", "p99", "max"), rtt_stats(counts))}
+
+
+def run_oscillators(link, params, seconds, keepalive_s=None, stop=None, result=None):
     """Send the oscillators, switch to OSC mode, keep the link alive for ``seconds`` (or until ``stop()``
     returns true) with a PING every ``keepalive_s`` (default: ``keepalive_interval`` of the link's watchdog).
     Raises LinkError as soon as the firmware reports a watchdog trip.
-    Returns {"pings", "rtt_ms": [...], "t_start_ms": firmware time of the start}."""
+
+    Returns ``result`` (a new dict if None), filled in as it runs so that a caller has what ran when this raises:
+    "started" (the firmware switched to OSC mode), "t_start_ms" (its time then: the oscillators' origin),
+    "pings", "rtt_counts" (the PINGs' round trips as a bounded table, {rtt_key(ms): n}, as StreamStats keeps the
+    frames'; memory does not grow with ``seconds``) and, at the end, rtt_summary's "rtt_ms_median", "rtt_ms_p99",
+    "rtt_ms_max"."""
+    res = {} if result is None else result
+    res.update(started=False, t_start_ms=None, pings=0, rtt_counts={})
     if keepalive_s is None:
         keepalive_s = keepalive_interval(link_watchdog_ms(link))
     n_events = len(link.events)
     for p in params:
         link.request(P.OSC_SET, p.payload())
     r = link.request(P.SET_MODE, bytes([P.MODE_OSC]))
-    t_fw = int.from_bytes(r.data[:4], "little") if len(r.data) >= 4 else None  # the oscillators' time origin
-    rtts = []
+    # the oscillators' time origin
+    res.update(started=True, t_start_ms=int.from_bytes(r.data[:4], "little") if len(r.data) >= 4 else None)
     end = time.perf_counter() + seconds
     while time.perf_counter() < end and not (stop and stop()):
         t0 = time.perf_counter()
         link.request(P.PING)
-        rtts.append((time.perf_counter() - t0) * 1000.0)
+        count_rtt(res["rtt_counts"], (time.perf_counter() - t0) * 1000.0)
+        res["pings"] += 1
         raise_on_trip(link, n_events)
         while True:  # wait for the next PING, reading (events) meanwhile
             left = min(t0 + keepalive_s, end) - time.perf_counter()
@@ -321,7 +366,8 @@ def run_oscillators(link, params, seconds, keepalive_s=None, stop=None):
             link.poll(min(left, 0.01))
             raise_on_trip(link, n_events)
     raise_on_trip(link, n_events)
-    return {"pings": len(rtts), "rtt_ms": rtts, "t_start_ms": t_fw}
+    res.update(rtt_summary(res["rtt_counts"]))
+    return res
 
 
 class FirmwareGait:

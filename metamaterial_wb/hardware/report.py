@@ -4,7 +4,8 @@
     streamer.on_frame, streamer.on_clamp = report.frame, report.clamp
     ... streamer.run(...) ...
     report.finish(summary)      # the summary after the frames, then the rename: stats.json appears whole
-    # on any failure instead: report.discard()  (the temporary is removed; an earlier stats.json stays)
+    # a stream that fails after frames went out: report.finish(summary marked failed), the frames sent so far kept
+    # a failure before any frame: report.discard()  (the temporary is removed; an earlier stats.json stays)
 
 The file is one JSON object (``"format": "metamaterial-stream-report"``, ``"version": 1``), as it was when it was
 built in memory and written at the end: ``frames_sent_columns``, then ``frames_sent`` (one line per tick, written

@@ -26,7 +26,7 @@ from metamaterial_wb.core.errors import MetamaterialError
 from . import protocol as P
 from .link import LinkError
 from .mapping import check_servo_reach, runs
-from .onboard import keepalive_interval, link_watchdog_ms, raise_on_trip
+from .onboard import count_rtt, keepalive_interval, link_watchdog_ms, raise_on_trip, rtt_summary
 
 
 @dataclass
@@ -48,7 +48,8 @@ class StreamStats:
     clamped_by_actuator: dict = field(default_factory=dict)  # {name: {"host": frames, "firmware": frames}}
     nak_reasons: dict = field(default_factory=dict)
     unreadable_reasons: dict = field(default_factory=dict)
-    # round-trip times: {ms, rtt_key-rounded: ACKs}, so a day's stream keeps a bounded table, not a list per frame
+    # round-trip times: {ms, onboard.rtt_key-rounded: ACKs}, so a day's stream keeps a bounded table, not a list per
+    # frame (the --mode osc keep-alive PINGs are counted the same way: onboard.run_oscillators)
     rtt_counts: dict = field(default_factory=dict)
     duration_s: float = 0.0
     last_t: float = None      # motion time of the last frame sent (s)
@@ -56,11 +57,9 @@ class StreamStats:
     error: str = ""
 
     def add_rtt(self, ms):
-        k = rtt_key(ms)
-        self.rtt_counts[k] = self.rtt_counts.get(k, 0) + 1
+        count_rtt(self.rtt_counts, ms)
 
     def summary(self):
-        med, p99, top = _rtt_stats(self.rtt_counts)
         return {"ticks": self.ticks, "frames": self.frames, "frames_per_tick": self.frames_per_tick,
                 "acked": self.acked, "naked": self.naked, "lost": self.lost,
                 "nak_unreadable": self.nak_unreadable, "unreadable_reasons": self.unreadable_reasons,
@@ -73,34 +72,8 @@ class StreamStats:
                 "duration_s": round(self.duration_s, 4), "last_t": self.last_t,
                 # ticks per second (the --rate achieved), not frames: a tick sends a frame per channel run
                 "rate_hz": round(self.ticks / self.duration_s, 3) if self.duration_s > 0 else 0.0,
-                "rtt_ms_median": None if med is None else round(med, 3),
-                "rtt_ms_p99": None if p99 is None else round(p99, 3),
-                "rtt_ms_max": None if top is None else round(top, 3),
+                **rtt_summary(self.rtt_counts),   # rtt_ms_median, rtt_ms_p99, rtt_ms_max
                 "events": self.events, "error": self.error}
-
-
-def rtt_key(ms):
-    """A round trip (ms) as kept in StreamStats.rtt_counts: to the microsecond (the summary's precision) below
-    10 ms, to 4 significant digits above (10 us up to 100 ms, ...), so the table stays small however long the
-    stream runs (a reply waits for at most 254 frames before its seq is reused)."""
-    return round(ms, 3) if ms < 10.0 else float(f"{ms:.4g}")
-
-
-def _rtt_stats(counts):
-    """(median, 99th percentile, max) of the round trips counted in ``counts`` ({ms: n}), as
-    ``statistics.median`` and ``sorted(r)[min(n - 1, int(0.99 n))]`` of the list they stand for; Nones if empty."""
-    n = sum(counts.values())
-    if not n:
-        return None, None, None
-    want = sorted({(n - 1) // 2, n // 2, min(n - 1, int(0.99 * n))})
-    at, seen = {}, 0
-    for ms in sorted(counts):
-        seen += counts[ms]
-        while want and want[0] < seen:  # the sorted list's items [seen - counts[ms], seen) are all ms
-            at[want.pop(0)] = ms
-        if not want:
-            break
-    return (at[(n - 1) // 2] + at[n // 2]) / 2, at[min(n - 1, int(0.99 * n))], max(counts)
 
 
 def check_servo_driver(link, settle_s=0.05):

@@ -1,7 +1,8 @@
 """``stream --report FILE`` for long runs (session 34): the report held every frame in memory until the end and
 then wrote one JSON (a day at 50 Hz: hundreds of MB held, all lost to a crash). Now the frames go to the report
 as they are sent, through a temporary file renamed at the end (Ctrl+C: written and marked ``interrupted``; a
-second signal, an error or a full disk: no report, no temporary left), and memory does not grow with the run.
+second signal or an error after frames went out: written and marked ``failed`` (tests/hardware/
+test_stream_partial_report.py); a full disk: no report, no temporary left), and memory does not grow with the run.
 
 The CLI runs in this process over loop:// (--dry-run) with a virtual clock in hardware/streamer.py (each reading
 a fraction of a tick later), so a long stream takes seconds, not hours; the memory is Python's own count
@@ -156,17 +157,20 @@ def test_ctrl_c_writes_the_frames_sent_and_marks_the_report(fast, tmp_path, caps
     assert [p.name for p in tmp_path.iterdir()] == ["r.json"]
 
 
-def test_a_second_signal_or_an_error_mid_stream_leaves_the_old_report_and_no_temporary(fast, tmp_path, capsys):
+def test_a_second_signal_mid_stream_writes_the_frames_sent_marked_failed_and_no_temporary(fast, tmp_path, capsys):
     rep = tmp_path / "r.json"
     rep.write_text("old\n", encoding="utf-8")
 
     def second_signal(n):
         if n == 500:
-            raise KeyboardInterrupt  # as the second Ctrl+C does: stop at once, write nothing
+            raise KeyboardInterrupt  # as the second Ctrl+C does: stop at once
 
     _hook_frames(fast, second_signal)
     assert CLI.main(["stream", FISH, "--dry-run", "--seconds", "100", "--report", str(rep)]) == 130
-    assert rep.read_text(encoding="utf-8") == "old\n"
+    d = json.loads(rep.read_text(encoding="utf-8"))  # the old report replaced by the one of what ran, whole
+    assert d["failed"] is True and "KeyboardInterrupt" in d["error"]
+    # the 500th frame raised inside Link.send, before the streamer counted it: 499 frames sent and listed
+    assert d["frames"] == len(d["frames_sent"]) == 499
     assert [p.name for p in tmp_path.iterdir()] == ["r.json"]
 
 
