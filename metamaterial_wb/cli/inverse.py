@@ -15,9 +15,9 @@ import sys
 import time
 
 from metamaterial_wb.cli import integer
+from metamaterial_wb.core.inverse import WORKERS_RANGE   # one bound, also Fit to target's Workers box
 
 NAME = "inverse"
-WORKERS_RANGE = (1, 256)
 HELP = "inverse design: place N servos and find their values that best reach a target shape"
 
 
@@ -52,7 +52,8 @@ def add_arguments(p):
                         "not with --values-only)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--workers", type=integer, default=None,
-                   help="local worker processes of the placement search, 1..256 (default 1; not with --values-only)")
+                   help=f"local worker processes of the placement search, {WORKERS_RANGE[0]}..{WORKERS_RANGE[1]} (default 1; "
+                        f"not with --values-only)")
     g.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                    help="a Dask scheduler to run the placement search on: tcp://HOST:PORT or tls://HOST:PORT "
                         "(not with --values-only)")

@@ -30,7 +30,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="450"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="451"/>
         <source>({0:.1f} s, {1} fits). OK applies it.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -141,7 +141,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="54"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="55"/>
         <source>Build the sheet (and modules) and write the files in the background</source>
         <translation type="unfinished"></translation>
     </message>
@@ -209,7 +209,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="85"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="376"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="402"/>
         <source>Connect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -224,14 +224,14 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="180"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="431"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="365"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="432"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="366"/>
         <source>Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="322"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="323"/>
         <source>Dask scheduler {0} (a values-only fit runs in this process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -246,7 +246,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="368"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="394"/>
         <source>Disconnect</source>
         <translation type="unfinished"></translation>
     </message>
@@ -272,7 +272,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="25"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="53"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="54"/>
         <source>Export</source>
         <translation type="unfinished"></translation>
     </message>
@@ -316,12 +316,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="162"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="430"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="431"/>
         <source>Forbidden joints</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="316"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="317"/>
         <source>Forbidden joints {0} (the placement is the structure's)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -397,9 +397,9 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="238"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="239"/>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="163"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="428"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="429"/>
         <source>Keep the motors, fit their values only</source>
         <translation type="unfinished"></translation>
     </message>
@@ -441,6 +441,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="225"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="237"/>
         <source>Load...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -486,6 +488,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="124"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="288"/>
         <source>Motors</source>
         <translation type="unfinished"></translation>
     </message>
@@ -590,7 +593,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="56"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="386"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="412"/>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="206"/>
         <source>Play</source>
         <translation type="unfinished"></translation>
@@ -653,12 +656,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="195"/>
         <source>Run</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="182"/>
         <source>Run build's geometry checks on the answer (a child process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -684,12 +687,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="159"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="429"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="430"/>
         <source>Servo budget</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="313"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="314"/>
         <source>Servo budget {0} (the fit keeps the structure's {1} motors)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -782,7 +785,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="214"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="215"/>
         <source>Target</source>
         <translation type="unfinished"></translation>
     </message>
@@ -792,7 +795,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="215"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="216"/>
         <source>Targets (*.json *.stl *.obj *.step *.stp)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -817,12 +820,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="209"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="227"/>
         <source>Trajectory</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="210"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="228"/>
         <source>Trajectory (*.json)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -858,12 +861,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="177"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="178"/>
         <source>Workers</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="319"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="320"/>
         <source>Workers {0} (a values-only fit runs in this process)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -878,7 +881,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="341"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="342"/>
         <source>a fit is already running</source>
         <translation type="unfinished"></translation>
     </message>
@@ -898,7 +901,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="286"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="311"/>
         <source>a simulation is already running</source>
         <translation type="unfinished"></translation>
     </message>
@@ -973,7 +976,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="141"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="161"/>
         <source>building the sheet ...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -988,7 +991,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="184"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="530"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
@@ -999,7 +1002,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="359"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="385"/>
         <source>cannot stream to {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1029,7 +1032,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="76"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="77"/>
         <source>choose STEP, 3MF or both</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1064,7 +1067,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="216"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="552"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
@@ -1101,12 +1104,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="438"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="439"/>
         <source>fit cancelled: nothing changed</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="423"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="424"/>
         <source>fit: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1121,12 +1124,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="334"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="335"/>
         <source>give a target file or pick a target object</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="80"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="81"/>
         <source>give an output folder</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1188,7 +1191,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="176"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="177"/>
         <source>local worker processes for the candidate evaluations (inverse --workers)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1251,12 +1254,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="287"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="288"/>
         <source>none: the structure's placement</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="289"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="290"/>
         <source>none: this process</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1277,19 +1280,19 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="136"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="156"/>
         <source>not exported: cannot write in {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="134"/>
         <source>not exported: the structure this panel exports was deleted (press Cancel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="189"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="109"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="120"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="209"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="129"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="140"/>
         <source>not exported: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1304,27 +1307,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="264"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="265"/>
         <source>not used while '{0}' is ticked: a values-only fit runs in this process (only the placement search runs in parallel)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="266"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="267"/>
         <source>not used while '{0}' is ticked: the fit keeps the structure's {1} motors</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="268"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="269"/>
         <source>not used while '{0}' is ticked: the placement is the structure's</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="294"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="295"/>
         <source>not used while a Dask scheduler is given: its workers run the search (clear the Dask scheduler to use local workers)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="300"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="301"/>
         <source>not used while a target object is picked: pick '{0}' to use the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1339,7 +1342,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="180"/>
         <source>optional: tcp://HOST:PORT of a Dask scheduler</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1380,12 +1383,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate.py" line="136"/>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="257"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="278"/>
         <source>playing: the motors' profiles</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="247"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="268"/>
         <source>playing: {0}, {1} frames, {2:.2f} s, incline {3:g} deg (side view mapped onto the x-z plane: one rigid body per column)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1458,7 +1461,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="174"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="194"/>
         <source>removed {0} file(s) of the earlier export that this one does not write: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1468,7 +1471,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="496"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="497"/>
         <source>run the fit first</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1503,7 +1506,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="220"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="241"/>
         <source>simulated here</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1513,27 +1516,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="301"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="326"/>
         <source>simulating {0:g} s ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="305"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="330"/>
         <source>simulating {0:g} s of dynamics ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="328"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="354"/>
         <source>simulation cancelled; {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="323"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="348"/>
         <source>simulation failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="316"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="341"/>
         <source>simulation warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1563,7 +1566,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="376"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="377"/>
         <source>starting the fit</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1583,7 +1586,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="378"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="404"/>
         <source>streamed {0} frames, {1} acknowledged</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1648,7 +1651,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="494"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="495"/>
         <source>the fit is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1660,6 +1663,16 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/base.py" line="461"/>
         <source>the structure this panel edits was deleted (press Cancel)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="104"/>
+        <source>the structure's {0} module(s) plug into the node sockets, but its fabrication.sockets is false: untick '{1}' to export the sheet alone, or set fabrication.sockets to true in the structure</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="108"/>
+        <source>the structure's {0} module(s) plug into the node sockets: tick '{1}', or untick '{2}' to export the sheet alone</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1683,7 +1696,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="228"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="249"/>
         <source>trajectory {0}: cannot read it ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1734,8 +1747,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/animate_clock.py" line="117"/>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="176"/>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="448"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="196"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="449"/>
         <source>warning: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1756,7 +1769,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="170"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="190"/>
         <source>wrote {0} file(s) to {1} in {2:.1f} s:</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1832,7 +1845,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/export.py" line="82"/>
+        <location filename="../../metamaterial_wb/gui/panels/export.py" line="83"/>
         <source>{0} exists and is not a folder</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1892,8 +1905,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="445"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="446"/>
         <source>{0} on {1}: {2}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="214"/>
+        <source>{0} refused: a simulation is running; wait for it to end (its trajectory then plays) or press Cancel, then {0} again</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1927,7 +1945,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="346"/>
+        <location filename="../../metamaterial_wb/gui/panels/fit_target.py" line="347"/>
         <source>{0} with '{1}'; allowed: only without it (untick it to use them; ticked, it sets them itself)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1985,7 +2003,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="312"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate.py" line="337"/>
         <source>{0}; centre of mass moved {1:+.2f} mm</source>
         <translation type="unfinished"></translation>
     </message>

@@ -69,26 +69,28 @@ def test_the_sheet_without_sockets_exports_with_the_clearance(doc, clearance, tm
 
 def test_the_sockets_box_reruns_the_check(doc, clearance, tmp_path):
     """fish_modules: with sockets the preference at the lip is refused naming it; unticking the box clears the
-    refusal at once, ticking it again brings it back; Export without sockets then fails for the real reason (the
-    modules plug into the sockets), not the clearance, and writes nothing."""
+    refusal at once, ticking it again brings it back; without sockets Export is refused up front for the real reason
+    (the modules plug into the sockets: test_gui_export_upfront), not the clearance, and writes nothing."""
     opened(doc, clearance, "fish_modules", 0.6)
     p = run_panel("MM_Export")
     assert REFUSED in preferences_problem(p) and not p.export_btn.isEnabled(), preferences_problem(p)
     click(p.sockets)
-    assert preferences_problem(p) == "" and p.export_btn.isEnabled(), preferences_problem(p)
+    assert preferences_problem(p) == "", preferences_problem(p)
+    assert "plug into the node sockets" in p.problem_label("modules").text() and not p.export_btn.isEnabled()
     click(p.sockets)
     assert REFUSED in preferences_problem(p) and not p.export_btn.isEnabled(), preferences_problem(p)
+    assert p.problem_label("modules").text() == ""
     click(p.sockets)
     out = tmp_path / "out"
     assert export(p, out) == [] and not out.exists()
-    assert p.job.outcome == "error" and SOCKETS_OFF in p.error.text(), p.error.text()
-    assert "Snap-fit clearance" not in p.error.text(), p.error.text()
+    assert p.job.outcome is None and "plug into the node sockets" in p.problem_label("modules").text()
+    assert "Snap-fit clearance" not in p.problem_text(), p.problem_text()
     p.reject()
 
 
 def test_a_scene_without_sockets_is_not_refused_the_clearance(doc, clearance, tmp_path):
     """fish_modules with fabrication.sockets false (the box ticked): no clearance refusal; its modules fail for the
-    sockets, in the document and in the export; without the modules the sheet is written."""
+    sockets, in the document and in the Export panel (up front); without the modules the sheet is written."""
     sc = opened(doc, clearance, "fish_modules", 0.6, sockets=False)
     sc.touch()
     doc.recompute()
@@ -96,8 +98,10 @@ def test_a_scene_without_sockets_is_not_refused_the_clearance(doc, clearance, tm
     assert len(bad) == 4 and all(SOCKETS_OFF in t and PREF not in t for t in bad), bad
     p = run_panel("MM_Export")
     assert p.sockets.isChecked()
-    assert preferences_problem(p) == "" and p.export_btn.isEnabled(), preferences_problem(p)
+    assert preferences_problem(p) == "", preferences_problem(p)
+    assert "fabrication.sockets is false" in p.problem_label("modules").text() and not p.export_btn.isEnabled()
     click(p.modules)
+    assert p.problem_label("modules").text() == "" and p.export_btn.isEnabled(), p.problem_text()
     names = export(p, tmp_path / "out")
     assert p.job.outcome == "done" and any(n.endswith(".3mf") for n in names), (p.error.text(), names)
     p.reject()

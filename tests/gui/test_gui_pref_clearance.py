@@ -76,11 +76,14 @@ def test_ok_on_the_page_makes_recompute_rebuild_the_modules(doc, clearance):
     assert abs(m.Shape.Volume - fresh) < 1e-6 * fresh
 
 
-def test_the_page_keeps_the_clearance_below_the_socket_lip(doc, clearance):
+def test_the_page_takes_the_fabrications_clearance_range(doc, clearance):
+    """The page is global and scenes differ (a wider fabrication.socket_lip_mm takes a wider clearance: session 35):
+    it allows the fabrication's clearance_mm range, 0-2 mm; the scene's own lip is checked by Add module and Export
+    (test_a_clearance_at_the_socket_lip_is_named_before_ok, test_gui_export_upfront)."""
     open_example("fish_modules")
     seen = on_preferences_page("0.6")
-    assert seen["maximum"] < 0.5 and seen["value"] < 0.5, seen
-    assert clearance.GetFloat("PrinterClearance") < 0.5
+    assert seen["maximum"] == pytest.approx(2.0) and seen["value"] == pytest.approx(0.6), seen
+    assert clearance.GetFloat("PrinterClearance") == pytest.approx(0.6)
 
 
 def test_a_clearance_at_the_socket_lip_is_named_before_ok(doc, clearance):

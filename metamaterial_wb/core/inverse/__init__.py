@@ -12,3 +12,7 @@
 Pure numpy / scipy (matplotlib for the picture only); process pools and Dask live in
 ``metamaterial_wb.parallel``.
 """
+
+# local worker processes of the placement search: the command line's ``inverse --workers`` and the Fit to target
+# panel's Workers box (one bound; here, without numpy, as the command line imports it to build its options)
+WORKERS_RANGE = (1, 256)

@@ -48,6 +48,7 @@ class ExportPanel(BasePanel):
         f.addRow(self.threemf)
         f.addRow(self.problem_label("format"))
         f.addRow(self.modules)
+        f.addRow(self.problem_label("modules"))         # modules without the sockets they plug into
         f.addRow(self.problem_label("preferences"))     # a material the fabrication does not know
         self.layout.addLayout(f)
         self.export_btn = QtGui.QPushButton(translate("Metamaterial", "Export"))
@@ -87,8 +88,27 @@ class ExportPanel(BasePanel):
         # the clearance meets the socket lip only in the modules' snap pins: none without sockets (this box or the
         # scene's fabrication.sockets) or without a module to export (the sheet alone builds with any clearance)
         pins = self.sockets.isChecked() and self.modules.isChecked() and (scene is None or bool(scene.modules))
+        self.set_problem("modules", self._modules_problem(scene))
         self.set_problem("preferences", preference_problem(keys, scene, pins))   # its socket lip, as Add module
         self.export_btn.setEnabled(not self.problems and not self.job.running)
+
+    def _modules_problem(self, scene):
+        """Modules to export without the node sockets they plug into (the box unticked, or the scene's
+        ``fabrication.sockets`` false): the background export refuses them (``geometry.modules.parse_modules``),
+        so it is said here, naming both options, before anything starts; "" otherwise."""
+        if scene is None or not scene.modules or not self.modules.isChecked():
+            return ""
+        given = scene.extra.get("fabrication") if isinstance(getattr(scene, "extra", None), dict) else None
+        n = len(scene.modules)
+        if isinstance(given, dict) and given.get("sockets") is False:
+            return translate("Metamaterial", "the structure's {0} module(s) plug into the node sockets, but its "
+                             "fabrication.sockets is false: untick '{1}' to export the sheet alone, or set "
+                             "fabrication.sockets to true in the structure").format(n, self.modules.text())
+        if not self.sockets.isChecked():
+            return translate("Metamaterial", "the structure's {0} module(s) plug into the node sockets: tick '{1}', "
+                             "or untick '{2}' to export the sheet alone").format(
+                n, self.sockets.text(), self.modules.text())
+        return ""
 
     def _scene(self):
         """The structure's scene as it is now (the clearance is checked against its own socket lip), or None when

@@ -170,7 +170,8 @@ class FitTargetPanel(base.BasePanel):
         self.values_only_hint.hide()
         f.addRow(self.values_only_hint)
         self.workers = QtGui.QSpinBox()
-        self.workers.setRange(1, 64)
+        from metamaterial_wb.core.inverse import WORKERS_RANGE
+        self.workers.setRange(*WORKERS_RANGE)       # the command line's inverse --workers bound
         ranges.ui_only(self.workers, "a run setting (local worker processes), not a scene quantity")
         self.workers.setValue(min(2, os.cpu_count() or 1))
         self.workers.setToolTip(translate("Metamaterial", "local worker processes for the candidate evaluations (inverse --workers)"))
