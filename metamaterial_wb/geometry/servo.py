@@ -225,8 +225,9 @@ def blind_rivet_problem(spec, p):
     W, lip, cbr = p.min_wall_mm, p.socket_lip_height_mm, p.counterbore_radius_mm
     need, have = 2 * lip + W, v["pad_mm"] + p.clearance_mm + v["floor_mm"]
     if have < need - 1e-9:
+        need_t = inward_g(need, up=True, slack=1e-9)        # rounded up: feet and floor that thick are enough
         return (f"the housing's feet and floor under the servo (pad_mm + clearance + floor_mm = {have:.3g} mm) are "
-                f"thinner than a blind rivet socket ({need:.3g} mm: ledge and undercut of socket_lip_height_mm "
+                f"thinner than a blind rivet socket ({need_t} mm: ledge and undercut of socket_lip_height_mm "
                 f"each and two nozzle widths of roof)")
     if p.socket_inset_mm - 0.3 < cbr + W - 1e-9:
         return (f"sockets {p.socket_inset_mm} mm inside the plate edge leave less than two nozzle widths of wall "

@@ -18,7 +18,7 @@ SCENE = {"format": "metamaterial-scene", "version": 1, "name": "guide", "cell_si
                      {"type": "friction_pad", "name": "pad", "node": "N2,0"},
                      {"type": "connection_hub", "name": "hub", "node": "N0,4"},
                      {"type": "stable_hub", "name": "stable", "joint": "H2,2"},
-                     {"type": "constraint_clip", "name": "clip", "joint": "V1,4", "angle_deg": 8.0}]}
+                     {"type": "constraint_clip", "name": "clip", "joint": "V1,4", "angle_deg": 5.0}]}
 
 
 def servo_dummy(result, spec):
