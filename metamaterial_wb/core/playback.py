@@ -11,6 +11,7 @@ from metamaterial_wb.core.live import Frame, matrices_to_quaternions
 
 ONLY_SHEET = ("only the 'sheet' model maps onto a structure's nodes (the belt has no sheet nodes; use "
               "simulate --frames for its pictures)")
+START_TOL_S = 1e-6      # the first recorded time is 0 s within this (simulate writes times_s rounded to 6 decimals)
 
 
 class TrajectoryPlayer:
@@ -205,7 +206,7 @@ def _as_floats(field, value, what):
 
 
 def _times(value):
-    """``times_s``: at least one finite number of seconds, increasing strictly."""
+    """``times_s``: at least one finite number of seconds, increasing strictly, the first 0 (within ``START_TOL_S``)."""
     field = "trajectory.times_s"
     what = "finite numbers of seconds, increasing"
     if not isinstance(value, (list, tuple, np.ndarray)) or len(value) == 0:
@@ -222,6 +223,11 @@ def _times(value):
     if back.size:
         k = int(back[0]) + 1
         raise SceneError(f"{field}[{k}]", f"{value[k]!r} after {value[k - 1]!r}: times must increase")
+    if abs(t[0]) > START_TOL_S:
+        # simulate records its first frame at t = 0 (the initial state): a later start is a cut or edited file,
+        # and playing it would hold frame 0 from 0 s to its first time, silently
+        raise SceneError(f"{field}[0]", f"{value[0]!r} s; a trajectory starts at 0 s (allowed: 0 s within "
+                                        f"{START_TOL_S:g} s; simulate records its first frame at t = 0)")
     return t
 
 

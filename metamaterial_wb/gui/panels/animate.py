@@ -205,7 +205,25 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         return self.solver.values_with(scene_values_at(self.preview_scene, t))
 
     # simulated trajectory ---------------------------------------------------------------------
-    def _browse_trajectory(self):  # pragma: no cover - modal file dialog, tests call load_trajectory
+    def _busy_simulating(self, action):
+        """While the background simulation runs, Load... and Motors are refused (red line: why, what to do): the
+        label keeps saying "simulating ...", and the run's trajectory, which then plays as Simulate says, does not
+        replace what the user chose meanwhile. ``action`` is the translated button text. True when refused."""
+        if not self.sim.running:
+            return False
+        self._busy_said = translate("Metamaterial", "{0} refused: a simulation is running; wait for it to end (its "
+                                    "trajectory then plays) or press Cancel, then {0} again").format(action)
+        self.show_error(self._busy_said)
+        return True
+
+    def _clear_busy_note(self):
+        """The run ended: a refusal of Load... / Motors it caused no longer holds (another message stays)."""
+        if self.error.text() and self.error.text() == getattr(self, "_busy_said", None):
+            self.clear_error()
+
+    def _browse_trajectory(self):
+        if self._busy_simulating(translate("Metamaterial", "Load...")):   # before the file dialog opens
+            return
         path, _ = QtGui.QFileDialog.getOpenFileName(self.form, translate("Metamaterial", "Trajectory"), "",
                                                     translate("Metamaterial", "Trajectory (*.json)"))
         if path:
@@ -213,8 +231,11 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
 
     def load_trajectory(self, source):
         """Play a trajectory: a path to ``trajectory.json`` (or the ``simulate --out`` folder holding it) or
-        its parsed dict. Returns True on success (False with the reason shown in the panel)."""
+        its parsed dict. Returns True on success (False with the reason shown in the panel; also while the
+        background simulation runs)."""
         from metamaterial_wb.core.playback import TrajectoryPlayer
+        if self._busy_simulating(translate("Metamaterial", "Load...")):
+            return False
         try:
             if isinstance(source, dict):
                 data, label = source, translate("Metamaterial", "simulated here")
@@ -263,6 +284,9 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.floor = None
 
     def clear_trajectory(self):
+        """Motors: back to the motion profiles (refused while the background simulation runs). True when done."""
+        if self._busy_simulating(translate("Metamaterial", "Motors")):
+            return False
         self.pause()
         self._remove_floor()
         self.trajectory = self.trajectory_data = None
@@ -273,6 +297,7 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
         self.duration.setValue(self.default_duration())
         self.solver._last = None
         self.show_time(0.0)
+        return True
 
     @property
     def sim_job(self):
@@ -325,6 +350,7 @@ class AnimatePanel(ProfileRows, PlaybackClock, BasePanel):
 
     def _simulation_cancelled(self):
         self.traj_sim_btn.setEnabled(True)
+        self._clear_busy_note()
         self.show_playing(translate("Metamaterial", "simulation cancelled; {0}"))
 
     def wait_simulation(self, timeout_s=60.0):
