@@ -1,5 +1,10 @@
 """``bench fidelity [--out docs/fidelity.md] [--img docs/img/fidelity-work-precision.png]``.
 
+Image defaults: without ``--out`` the plot is docs/img/fidelity-work-precision.png (the docs' picture); with
+``--out`` and without ``--img`` it goes beside the report, ``<out stem>-work-precision.png`` (a redirected report
+never overwrites the docs' picture); likewise ``--sleeves-img`` follows ``--sleeves-out``
+(``<sleeves-out stem>-fe-check.png``, else docs/img/sleeve-fe-check.png). Every image name must end in .png.
+
 Runs every model of the fidelity ladder on the standard scenes (chain, 10 x 10 and 30 x 30 grids,
 bending strip, mixed hinge sizes; two actuator amplitudes) against the converged nonlinear reference (hinges
 of 1, 2, 4, 8 elements, extrapolated) and writes the report and its work-precision plot; ``--fe`` adds the
@@ -20,14 +25,21 @@ STORED_FE = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path
                          "results", "fe-study.json")
 FE_PARTS = {"hinge": "stiffness", "patch": "patch", "sleeve": "sleeve"}     # --fe-parts: the study's key in the JSON
 REPEATS, REPEATS_RANGE = 3, (1, 20)     # --repeats: default and allowed range
+OUT = os.path.join("docs", "fidelity.md")                           # --out's default
+IMG = os.path.join("docs", "img", "fidelity-work-precision.png")    # --img's default without --out
+IMG_SUFFIX = "-work-precision.png"                                  # --img's default with --out: <out stem> + this
+SLEEVES_OUT = os.path.join("docs", "sleeves.md")
+SLEEVES_IMG = os.path.join("docs", "img", "sleeve-fe-check.png")    # --sleeves-img's default without --sleeves-out
+SLEEVES_IMG_SUFFIX = "-fe-check.png"                                # with --sleeves-out: <sleeves-out stem> + this
 HELP = "benchmarks: 'bench fidelity' writes docs/fidelity.md and its work-precision plot (error vs run time)"
 
 
 def add_arguments(p):
     p.add_argument("what", choices=("fidelity",), help="which benchmark")
-    p.add_argument("--out", default=os.path.join("docs", "fidelity.md"), help="report (Markdown)")
-    p.add_argument("--img", default=os.path.join("docs", "img", "fidelity-work-precision.png"),
-                   help="work-precision plot (PNG)")
+    p.add_argument("--out", default=None, help=f"report (Markdown; default {OUT})")
+    p.add_argument("--img", default=None,
+                   help=f"work-precision plot (a name ending in .png; default: with --out, beside it as <out "
+                        f"stem>{IMG_SUFFIX}; without --out, {IMG})")
     p.add_argument("--json", default=None,
                    help="also write the raw figures as JSON, with the date, machine and command of the run")
     p.add_argument("--scenes", default=None,
@@ -58,7 +70,8 @@ def add_arguments(p):
                    help="with --fe and the sleeve part: the document whose marked FE section is rewritten (default "
                         "docs/sleeves.md)")
     p.add_argument("--sleeves-img", default=None,
-                   help="with --fe and the sleeve part: its plot (PNG; default docs/img/sleeve-fe-check.png)")
+                   help=f"with --fe and the sleeve part: its plot (a name ending in .png; default: with --sleeves-out, "
+                        f"beside it as <sleeves-out stem>{SLEEVES_IMG_SUFFIX}; without it, {SLEEVES_IMG})")
     p.add_argument("--from-json", default=None,
                    help="render the report and plot from the raw figures of a previous run (its --json file, "
                         "format metamaterial-fidelity: another format is refused) "
@@ -274,8 +287,17 @@ def _command(args, amps, keys, parts):
     return cmd
 
 
-SLEEVES_OUT = os.path.join("docs", "sleeves.md")
-SLEEVES_IMG = os.path.join("docs", "img", "sleeve-fe-check.png")
+def _beside(doc, suffix):
+    """The picture's default name beside the document ``doc``: its name without the extension, plus ``suffix``."""
+    return os.path.splitext(doc)[0] + suffix
+
+
+def _image_defaults(args):
+    """Fill in --out / --img (the plot follows a given --out: a redirected report never writes the docs' picture)."""
+    if args.img is None:
+        args.img = IMG if args.out is None else _beside(args.out, IMG_SUFFIX)
+    if args.out is None:
+        args.out = OUT
 
 
 def _fe_only_flags(args):
@@ -295,8 +317,9 @@ def _fe_only_flags(args):
             if flag != "--fe-parts":
                 raise SceneError(flag, f"{v} without the sleeve part of --fe-parts ({args.fe_parts!r}): only the "
                                        "sleeve study writes it; add sleeve to --fe-parts, or drop " + flag)
+    if args.sleeves_img is None:
+        args.sleeves_img = SLEEVES_IMG if args.sleeves_out is None else _beside(args.sleeves_out, SLEEVES_IMG_SUFFIX)
     args.sleeves_out = args.sleeves_out if args.sleeves_out is not None else SLEEVES_OUT
-    args.sleeves_img = args.sleeves_img if args.sleeves_img is not None else SLEEVES_IMG
 
 
 def run(args):
@@ -338,6 +361,7 @@ def run(args):
             if k not in known:
                 raise SceneError("--scenes", f"{k!r} is not a standard scene; known: {', '.join(known)}")
         _no_repeats("--scenes", args.scenes, keys, "scene")
+    _image_defaults(args)
     _fe_only_flags(args)
     parts = [x.strip() for x in args.fe_parts.split(",") if x.strip()]
     if not parts:
@@ -368,6 +392,9 @@ def run(args):
             raise SceneError(flag, f"{p} is also the {seen[real]} file; each output needs its own file (one would "
                                    f"overwrite the other)")
         seen[real] = flag
+    for flag, p in outputs:          # after the collisions: a plot named like the report is named as that
+        if flag in ("--img", "--sleeves-img") and not p.lower().endswith(".png"):
+            raise SceneError(flag, f"{p}: the plot is written as a PNG picture; give a name ending in .png")
 
     t0 = time.perf_counter()
 
@@ -467,7 +494,9 @@ def run(args):
     save_fe_json()
     for line in lines:
         print(line)
-    print(f"wrote {args.out} and {args.img} ({time.perf_counter() - t0:.1f} s)")
+    wrote = [args.out, args.img] + ([args.sleeves_out, args.sleeves_img] if sleeves else []) + (
+        [args.json] if raw is not None else [])
+    print(f"wrote {', '.join(wrote[:-1])} and {wrote[-1]} ({time.perf_counter() - t0:.1f} s)")
     return code
 
 

@@ -35,8 +35,10 @@ def add_arguments(p):
     p.add_argument("--method", default=None, choices=("auto", "symplectic", "implicit"),
                    help="integrator (default: the scene's dynamics.integrator.method, else auto)")
     p.add_argument("--dt", type=number, default=None,
-                   help="time step (s); default: the scene's dynamics.integrator.dt_s, else automatic "
-                        "(implicit: 2 ms for belts, 0.25 ms for sheets)")
+                   help="time step (s), at most --seconds; default: the scene's dynamics.integrator.dt_s, else "
+                        "automatic (implicit: 2 ms for belts, 0.25 ms for sheets); the explicit integrator reduces a "
+                        "step beyond its stability limit to its guard, and a default step longer than the run runs "
+                        "as one step of --seconds, each with a note on stderr")
     p.add_argument("--fps", type=number, default=30.0, help="trajectory / frame rate (default 30)")
     p.add_argument("--incline", type=number, default=None, metavar="DEG",
                    help="override dynamics.incline_deg")
@@ -165,6 +167,9 @@ def run(args):
     fps = check_number("--fps", args.fps, 0.0, 1000.0, "Hz", low_open=True)
     if args.dt is not None:
         check_number("--dt", args.dt, 0.0, 1.0, "s", low_open=True)
+        if args.dt > seconds:       # the integrator would shorten it to the run: one step, not the step asked for
+            raise SceneError("--dt", f"{args.dt:g} s is longer than --seconds {seconds:g} s (the run would be one "
+                                     f"step of {seconds:g} s); give --dt at most {seconds:g} s, or a longer --seconds")
     how = f"--seconds {seconds:g} x --fps {fps:g}"
     check_output_budget(seconds, fps, field="--fps", how=how)
     if args.dt is not None:

@@ -157,7 +157,7 @@ def test_design_map_skips_cells_the_validator_refuses_with_a_note():
 
 
 def test_design_map_cli_does_not_report_refused_cells(tmp_path):
-    spec = _with(SEED, c_mm=10, design_map={"t_over_L": [0.2, 0.25, 2], "h_over_L": [0.3, 0.4, 1], "elements": 4},
+    spec = _with(SEED, c_mm=10, design_map={"t_over_L": [0.2, 0.25, 2], "h_over_L": [0.3, 0.3, 1], "elements": 4},
                  model={"elements_cell": 4, "elements_ring": 4, "steps": 40})
     p = tmp_path / "s.json"
     p.write_text(json.dumps(spec))

@@ -55,7 +55,7 @@ AT_BOUND = [
     ("integral floats", {("model",): {"elements_cell": 16.0, "steps": 160.0}}),
     # the cap at most the sleeve's inner diameter N (L + c) / pi - T (26.21 mm for the base's four cells)
     ("actuator max", {("actuator",): {"core_diameter_mm": 4 * 22 / math.pi - 1.8, "membrane_kPa_per_mL": 10000}}),
-    ("design map bounds", {("design_map",): {"t_over_L": [0.01, 0.25, 40], "h_over_L": [0.01, 0.6, 1],
+    ("design map bounds", {("design_map",): {"t_over_L": [0.01, 0.25, 40], "h_over_L": [0.6, 0.6, 1],
                                              "elements": 80}}),
     ("walker bounds", {("walker",): {"foot_length_mm": 300, "body_length_mm": 1000, "contact_band_mm": 100}}),
     ("walker foot zero", {("walker",): {"foot_length_mm": 0}}),

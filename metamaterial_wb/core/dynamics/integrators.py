@@ -482,7 +482,10 @@ class Simulator(BurstMixin, EnergyLedger):
                 dt = self.default_implicit_dt
         if not (dt > 0 and math.isfinite(dt)):
             raise DynamicsError(f"time step {dt!r} s must be a positive finite number")
-        return method, min(dt, t_end) if t_end > 0 else dt, note
+        if 0 < t_end < dt:       # the whole run is one step, shortened to the run: said, never silently
+            note = "; ".join(filter(None, [note, f"the step {dt:g} s is longer than the run: one step of {t_end:g} s"]))
+            dt = t_end
+        return method, dt, note
 
     default_implicit_dt = 2e-3
     energy_scale = 0.0

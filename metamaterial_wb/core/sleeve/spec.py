@@ -300,10 +300,18 @@ def _integer(field, v, lo, hi):
 
 
 def _range3(field, v, lo, hi):
+    """``[min, max, count]`` of a design-map axis: count 1 is one value (min = max), a count of 2 to 40 spans
+    min to max (min < max); a count that does not fit min and max is refused, never one of them dropped."""
     if not (isinstance(v, list) and len(v) == 3):
         raise SceneError(field, f"{v!r}; expected [min, max, count]")
     a = check_number(f"{field}[0]", v[0], lo, hi, "", low_open=True)
     b = check_number(f"{field}[1]", v[1], a, hi, "")
     n = v[2]
     check_integer(f"{field}[2]", n, 1, 40, "the count")
+    if n == 1 and a != b:
+        raise SceneError(field, f"{v!r}: count 1 maps one value, but min {a:g} and max {b:g} differ; give "
+                                f"[{a:g}, {a:g}, 1] for one value, or a count of 2 to 40 to span {a:g} to {b:g}")
+    if n > 1 and a == b:
+        raise SceneError(field, f"{v!r}: count {n} spans min to max, but both are {a:g} (the same value {n} "
+                                f"times); give [{a:g}, {a:g}, 1] for one value, or a max above {a:g}")
     return (a, b, n)
