@@ -72,8 +72,11 @@ def run(args):
                                              f"is written as a file; give two files, neither inside the other")
     scene = Scene.load(args.scene)
     if not scene.axes:
-        raise SceneError("axes", f"{args.scene} has no rotary axes; add \"axes\": [{{\"direction\": \"vertical\", "
-                                 f"\"line\": 1, \"fold_deg\": 30}}] (docs/design.md)")
+        from metamaterial_wb.core.design import suggest_axis
+        axis = suggest_axis(scene)      # one this scene accepts (a 1x1 grid has no column 1)
+        raise SceneError("axes", f"{args.scene} has no rotary axes; "
+                                 + (f"add \"axes\": [{json.dumps(axis)}] (docs/design.md)" if axis else
+                                    "no line of its layout takes one (docs/design.md)"))
     given = _apply_folds(scene, args.fold)
     try:
         report = configure(scene)

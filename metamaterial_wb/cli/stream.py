@@ -114,7 +114,7 @@ def run(args):
     check_number("--max-lost", args.max_lost, 0, 10**9, "frames")
     scene = Scene.load(args.scene)
     overrides = load_channel_file(args.channels) if args.channels else None
-    channels = channel_map(scene, parse_map(args.map), overrides)
+    channels = channel_map(scene, parse_map(args.map), overrides, overrides_from=args.channels)
     if args.mode == "osc":
         from metamaterial_wb.hardware.onboard import osc_params
         # refuse a scene the generator cannot run, or the chip cannot render, before opening the port

@@ -416,6 +416,57 @@ def validate_axes(scene):
     return plan_axes(scene)
 
 
+def suggest_axis(scene, fold_deg=30.0, tries=40):
+    """An axis ``scene`` accepts, for a message to suggest (``{"direction", "line", "fold_deg"}``), or None.
+
+    The lines with cells are tried from the middle of the layout out (vertical first, then horizontal), each
+    checked as :func:`configure` checks it; the fold is ``fold_deg`` or, when the hinges cannot print that, the
+    largest whole degree they can (so ``build`` takes it too), else the largest whole degree ``configure`` takes.
+
+    Parameters
+    ----------
+    scene : Scene
+        Not changed (a copy is tried).
+    fold_deg : float, optional
+    tries : int, optional
+        At most this many lines are tried.
+
+    Returns
+    -------
+    dict or None
+    """
+    from metamaterial_wb.core.scene import Axis
+
+    ca = scene.topology.cell_array
+    if len(ca) == 0:
+        return None
+    cands = []
+    for direction, col in (("vertical", 1), ("horizontal", 0)):
+        lines = sorted(set(int(v) for v in ca[:, col]))
+        mid = (lines[0] + lines[-1]) / 2.0
+        cands += [(direction, v) for v in sorted(lines, key=lambda v: (abs(v - mid), v))]
+    for direction, line in cands[:tries]:
+        sc = scene.copy()
+        sc.axes = [Axis(direction, line, 0.0)]
+        try:
+            plan = plan_axes(sc)[0]
+            phi_c = planar_closing_rad(sc)
+            most = axis_limits(sc, plan, phi_c)[0]
+            printable = printable_fold_deg(sc, plan, phi_c)[0]
+        except SceneError:
+            continue
+        for fold, printed in ((fold_deg, True), (math.floor(printable), True), (math.floor(most), False)):
+            if not 1 <= fold <= min(fold_deg, most) or (printed and fold > printable):
+                continue
+            sc.axes = [Axis(direction, line, float(fold))]
+            try:
+                configure(sc)
+            except SceneError:
+                continue
+            return {"direction": direction, "line": line, "fold_deg": int(fold) if fold == int(fold) else fold}
+    return None
+
+
 def max_folds_deg(scene):
     """Maximum achievable fold (deg, at D = +1) of every axis, in scene order.
 

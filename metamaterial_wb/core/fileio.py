@@ -37,7 +37,8 @@ _KERNEL_FS = ("/proc", "/sys", "/dev")
 def check_output(path, kind="file", option="--out", inputs=()):
     """Check an output path before any work: ``kind`` is "file" or "dir". Returns the absolute path.
 
-    Refused: an empty name, a NUL, a path under /proc, /sys or /dev, a name longer than 255 bytes or a
+    Refused: an empty name, a NUL, a file name ending in a path separator or in ``.`` / ``..`` (it names a
+    folder), a path under /proc, /sys or /dev, a name longer than 255 bytes or a
     path longer than 4095, an existing entry of another kind (a directory for a file, a FIFO, a
     device, a symlink loop), a parent that is a file, a folder that cannot be written, and a file that is
     one of the command's ``inputs`` (the same file, also through a link: it would be overwritten).
@@ -66,6 +67,8 @@ def check_output(path, kind="file", option="--out", inputs=()):
         raise SceneError(option, "empty path; give a file or folder name")
     if "\x00" in path:
         raise SceneError(option, f"{path!r} contains a NUL character")
+    if kind == "file":
+        _check_file_name(path, option)
     ab = os.path.abspath(path)
     if len(os.fsencode(ab)) > 4095:
         raise SceneError(option, f"path of {len(os.fsencode(ab))} bytes is longer than the limit of 4095")
@@ -121,6 +124,20 @@ def check_output(path, kind="file", option="--out", inputs=()):
                 raise SceneError(option, f"{path} is the {what} this command reads{where}; it would be overwritten: "
                                          f"choose another file")
     return ab
+
+
+def _check_file_name(path, option):
+    """Refuse a file output whose last part names a folder: a trailing separator (``out/keep.txt/``, which
+    ``os.path.abspath`` would strip, replacing keep.txt) or a last part ``.`` / ``..``, as POSIX reads them."""
+    seps = tuple(s for s in (os.sep, os.altsep) if s)
+    if path.endswith(seps):
+        raise SceneError(option, f"{path} ends in {path[-1]!r}, so it names a folder; give a file name")
+    last = path
+    for s in seps[1:]:
+        last = last.replace(s, os.sep)
+    last = last.rsplit(os.sep, 1)[-1]
+    if last in (".", ".."):
+        raise SceneError(option, f"{path} ends in {last!r}, so it names a folder; give a file name")
 
 
 def _pid_alive(pid):

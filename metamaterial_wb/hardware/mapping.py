@@ -216,12 +216,13 @@ def load_channel_file(path):
     return data
 
 
-def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
+def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS, overrides_from=None):
     """The channel configuration of every actuator of ``scene``.
 
     ``mapping``: ``{name: channel}`` (from ``--map``); ``overrides``: ``{name: {servo fields}}`` (from
-    ``--channels FILE``). Order of precedence: overrides, mapping, the actuator's ``"servo"`` object, defaults
-    (channel = position of the actuator in the scene).
+    ``--channels FILE``, ``overrides_from`` its name for messages). Order of precedence: overrides, mapping, the
+    actuator's ``"servo"`` object, defaults (channel = position of the actuator in the scene); a ``--map`` channel
+    that an override's ``channel`` contradicts is refused (the same channel in both is accepted).
     """
     names = [a.name for a in scene.actuators]
     if not names:
@@ -247,6 +248,11 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS):
             origin["channel"] = f"--map {a.name}={mapping[a.name]}"
         if overrides and a.name in overrides:
             more = _check_servo(f"--channels {a.name}", overrides[a.name], n_channels)
+            if mapping and a.name in mapping and "channel" in more and more["channel"] != spec["channel"]:
+                src = f"--channels {overrides_from} " if overrides_from else "--channels "
+                raise SceneError(f"--map {a.name}", f"{mapping[a.name]} contradicts {src}{a.name}.channel "
+                                                    f"{more['channel']}; allowed: one of them, or the same "
+                                                    f"channel in both")
             spec.update(more)
             given.update(more)
             origin.update({f: f"--channels {a.name}" for f in more})

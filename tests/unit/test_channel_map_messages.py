@@ -97,10 +97,11 @@ def test_shared_channel_from_channels_file_and_scene():
     err = message(fish(head={"channel": 3}, tail={"channel": 3}))
     assert "(head: actuators[0].servo.channel; tail: actuators[1].servo.channel)" in err, err
     assert "free channels: 0, 1, 2, 4, 5, 6, 7" in err
-    # --map overrides the scene's channel; --channels overrides --map
+    # --map overrides the scene's channel; --channels may give the same channel as --map (a different one is
+    # refused: tests/hardware/test_map_channels_conflict.py), and is then named
     err = message(fish(tail={"channel": 6}), {"tail": 0})
     assert "(head: default, its position in the scene; tail: --map tail=0)" in err, err
-    err = message(fish(), {"tail": 4}, {"tail": {"channel": 0}})
+    err = message(fish(), {"tail": 0}, {"tail": {"channel": 0}})
     assert "tail: --channels tail.channel)" in err, err
     # a smaller board: the free channels are those it has
     err = message(fish(), {"head": 1}, n_channels=3)
