@@ -325,6 +325,10 @@ def read_angles_csv(path, scene):
             continue
         header_allowed, first = first, False
         col = len(row)                # the angle's column in the file (3 in the N,i,j form)
+        if len(row) == 3 and "," in row[0]:     # a quoted "N0,0" (it keeps its comma), its angle and a third cell
+            raise SceneError(f"{path}:{ln}", f"3 columns: the node {row[0]!r}, the angle {row[1]!r} and an extra "
+                                             f"cell {row[2]!r}; expected 2 columns 'node,angle_deg' (\"N1,2\",0.4) "
+                                             f"or 3 with the node unquoted (N1,2,0.4)")
         if len(row) == 3:             # N,i,j form: "N1,2" split by the CSV reader -> ["N1", "2", angle]
             row = [f"{row[0]},{row[1]}", row[2]]
         if len(row) != 2:

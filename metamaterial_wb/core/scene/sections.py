@@ -78,11 +78,50 @@ def _list(data, key, what):
     return v
 
 
+# the top-level keys some stage reads: KNOWN_KEYS, the sections other stages read from ``scene.extra`` and the two
+# refused at the top level (parse_rest); any other top-level key is the user's and kept, unless it is a near miss
+TOP_LEVEL_READ = tuple(sorted(KNOWN_KEYS)) + ("fabrication", "dynamics", "belt", "gait")
+_PLURALS = {"axis": "axes"}     # singular / plural pairs difflib does not see (ratio 0.75)
+
+
+def top_level_near_miss(key):
+    """The top-level key of :data:`TOP_LEVEL_READ` that ``key`` (not itself one) looks like: letter case, spaces,
+    a small misspelling (:func:`near_miss`) or singular / plural; else None."""
+    if not isinstance(key, str) or key in TOP_LEVEL_READ:
+        return None
+    like = near_miss(key, TOP_LEVEL_READ)
+    if like is None:
+        folded = key.strip().lower()
+        like = _PLURALS.get(folded) or next((k for k in TOP_LEVEL_READ if folded in (k + "s", k + "es", k[:-1])),
+                                            None)
+    return like
+
+
+def check_top_level(data):
+    """Refuse a top-level key that looks like one a stage reads ("Layout", "cell_size", "actuator", "dynamic"):
+    it was kept as the user's own key and the default used in its place (a 1 x 1 grid, no actuator, exit 0).
+    Runs before every section, so the error names the misspelling, not what it caused."""
+    for key in data:
+        like = top_level_near_miss(key)
+        if like is None:
+            continue
+        shown = key if key.isprintable() and len(key) <= 40 else _short(key, 40)
+        note = f" (it belongs inside 'dynamics': dynamics.{like})" if like in ("belt", "gait") else ""
+        raise SceneError(shown, f"unknown top-level key; it looks like \"{like}\" (letter case, a misspelling or "
+                                f"singular / plural){note}; kept as is it would be ignored and the default used; "
+                                f"allowed: the scene's keys (docs/scene-format.md) and keys of your own that "
+                                f"resemble none of them")
+
+
 def check_is_scene(data, path):
     """A scene file names its format or at least its layout (docs/scene-format.md); any other JSON object (a
     ``--channels`` file, an older report without "format", ``{}``) was read as a 1 x 1 default scene."""
     if not isinstance(data, dict) or "format" in data or "layout" in data:
         return
+    try:
+        check_top_level(data)           # {"Layout": ...}: the misspelling, not "not a scene"
+    except SceneError as exc:
+        raise SceneError(exc.field, f"{exc.message} (in {path})") from None
     if data:
         keys = [_short(k, 40) for k in list(data)[:8]]
         what = f"a JSON object with the keys {', '.join(keys)}" + (f" and {len(data) - 8} more" if len(data) > 8
@@ -94,6 +133,7 @@ def check_is_scene(data, path):
 
 
 def parse_header(s, data):
+    check_top_level(data)
     fmt = data.get("format", FORMAT)
     if fmt != FORMAT:
         what = OTHER_DOCUMENTS.get(fmt) if isinstance(fmt, str) else None
