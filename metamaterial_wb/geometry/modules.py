@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, replace
 
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number, in_range, range_message
 from metamaterial_wb.core.fabrication import joint_pivot
-from metamaterial_wb.core.numbers import inward_g
+from metamaterial_wb.core.numbers import inward, inward_g
 from metamaterial_wb.core.scene.sections import module_name_error
 from metamaterial_wb.geometry.fc import kernel_error
 from metamaterial_wb.geometry.module_shapes import (  # noqa: F401  (re-exported: the shapes live in module_shapes.py)
@@ -384,8 +384,11 @@ def _constraint_angle(scene, spec, f):
     for c in scene.constraints:
         if c.joint == spec.joint:
             return _clip_angle(scene, spec, c.value)
-    raise SceneError(f"{f}.angle_deg ({spec.name})", f"give the clip's angle (degrees, range [-60, 60]); the scene "
-                                                     f"has no constraint on joint {spec.joint} to take it from")
+    lo, hi = _clip_range(scene, spec)     # the angles the clip takes on this joint (bounds rounded inwards)
+    raise SceneError(f"{f}.angle_deg ({spec.name})",
+                     f"joint {spec.joint} has no constraint to take the clip's angle from: place a constraint on "
+                     f"{spec.joint} first, or give the clip's angle_deg (degrees, in [{inward(lo, up=True)}, "
+                     f"{inward(hi)}])")
 
 
 # ----------------------------------------------------------------------------------------------

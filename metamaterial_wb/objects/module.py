@@ -230,10 +230,14 @@ def sheet_error(scene):
 
 
 def _module_error(obj, exc):
-    """The SceneError ``exc`` of the one-module scene, named by the module: its field without the index of the
-    one-module scene (node, joint, thickness_mm), then the builder's message."""
-    field = (getattr(exc, "field", "") or "").replace("modules[0].", "").replace("modules[0]", "").strip()
+    """The SceneError ``exc`` of the one-module scene, named by the module (its label, once): its field without the
+    index and the internal name the one-module scene gives it (``angle_deg (constraint_clip_1)``: the user never
+    sees that name; node, joint, thickness_mm), then the builder's message."""
+    auto = f"{obj.ModuleType}_1"          # geometry.modules' name of an unnamed module, the first of the scene
+    field = (getattr(exc, "field", "") or "").replace("modules[0].", "").replace("modules[0]", "")
+    field = field.replace(f"({auto})", "").strip()
     msg = exc.message if hasattr(exc, "message") else str(exc)
+    msg = msg.replace(repr(auto), repr(obj.Label))
     return SceneError(f"module {obj.Label}", f"{field}: {msg}" if field else msg)
 
 

@@ -15,12 +15,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="96"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="98"/>
         <source>(click a hinge or choose)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="97"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="99"/>
         <source>(click a node or choose)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -40,12 +40,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="557"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="584"/>
         <source>1 000 or {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="134"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="135"/>
         <source>1.00</source>
         <translation type="unfinished"></translation>
     </message>
@@ -60,7 +60,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="538"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="565"/>
         <source>; the box kept {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -99,7 +99,7 @@
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="139"/>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="24"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="25"/>
         <source>Add module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -120,7 +120,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="31"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="32"/>
         <source>Angular-constraint clip (joint)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -214,7 +214,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="28"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="29"/>
         <source>Connection hub (node)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -304,6 +304,11 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="113"/>
+        <source>Fold of {0}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="127"/>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="72"/>
         <source>Folded shape</source>
@@ -331,7 +336,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="30"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="31"/>
         <source>Friction pad (node)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -346,7 +351,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="136"/>
         <location filename="../../metamaterial_wb/gui/panels/simulate.py" line="46"/>
         <source>Global deformation</source>
         <translation type="unfinished"></translation>
@@ -472,7 +477,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="57"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="58"/>
         <source>Module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -525,17 +530,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="58"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="59"/>
         <source>On (or click in the 3D view)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="158"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="160"/>
         <source>On: no hinge chosen yet; click one in the 3D view or choose it in the list</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="160"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="162"/>
         <source>On: no node chosen yet; click one in the 3D view or choose it in the list</source>
         <translation type="unfinished"></translation>
     </message>
@@ -702,7 +707,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="27"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="28"/>
         <source>Servo housing (across a joint)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -765,7 +770,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="29"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="30"/>
         <source>Stable connection hub (across a joint)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -810,7 +815,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="141"/>
         <source>The view follows the folds live; Confirm (OK) stores them with the joint configuration.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -876,7 +881,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="34"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="35"/>
         <source>a connection hub</source>
         <translation type="unfinished"></translation>
     </message>
@@ -886,7 +891,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="36"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="37"/>
         <source>a friction pad</source>
         <translation type="unfinished"></translation>
     </message>
@@ -896,7 +901,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="33"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="34"/>
         <source>a servo housing</source>
         <translation type="unfinished"></translation>
     </message>
@@ -906,7 +911,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="35"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="36"/>
         <source>a stable connection hub</source>
         <translation type="unfinished"></translation>
     </message>
@@ -936,7 +941,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="37"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="38"/>
         <source>an angular-constraint clip</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1037,7 +1042,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="232"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="244"/>
         <source>choose a node or joint for the module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1144,8 +1149,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="166"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="168"/>
         <source>joint {0} already carries the module {1}: one module per joint; choose another joint or delete {1} first</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="185"/>
+        <source>joint {0} has no angular constraint for the clip to hold: place one on {0} first (Angular constraint), then add the clip</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1166,7 +1176,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="176"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="177"/>
         <source>kinematic +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1176,7 +1186,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="177"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="178"/>
         <source>kinematic: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1242,12 +1252,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="169"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="171"/>
         <source>node {0} already carries the module {1}: one module per node socket; choose another node or delete {1} first</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="204"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="216"/>
         <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="30"/>
         <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="26"/>
         <source>none</source>
@@ -1297,12 +1307,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="192"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="204"/>
         <source>not picked: hinge {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="195"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="207"/>
         <source>not picked: node {0} ({1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1435,12 +1445,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="178"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="179"/>
         <source>printable +-{0:.3f} deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="180"/>
         <source>printable: n/a</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1681,7 +1691,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="179"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="191"/>
         <source>this module</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1716,7 +1726,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="191"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="203"/>
         <source>under the cursor: hinge {0} (not a target: {1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1726,7 +1736,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="206"/>
         <source>under the cursor: node {0} (not a target: {1})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1805,17 +1815,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="283"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="284"/>
         <source>{0:.2f}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="197"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="198"/>
         <source>{0:g} deg is beyond the kinematic maximum of this axis: allowed range [-{1}, {1}] deg</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="194"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="195"/>
         <source>{0:g} deg is beyond the printable maximum of this axis: allowed range [-{1}, {1}] deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1825,7 +1835,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="182"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="183"/>
         <source>{0} (slider +-{1:.1f})</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1850,22 +1860,22 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="183"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="195"/>
         <source>{0} goes across a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="181"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="193"/>
         <source>{0} goes on a joint</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="184"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="196"/>
         <source>{0} goes on a node</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="568"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="595"/>
         <source>{0} has more decimals than the box takes (at most {1} decimals){2}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1880,17 +1890,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="541"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="568"/>
         <source>{0} is not a number{1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="567"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="594"/>
         <source>{0} is not a whole number (at most 0 decimals){1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="561"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="588"/>
         <source>{0} is outside the allowed range {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1920,27 +1930,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="570"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="597"/>
         <source>{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="546"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="573"/>
         <source>{0} was not taken: the box reads only the ASCII digits 0-9, not {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="548"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="575"/>
         <source>{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="552"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="579"/>
         <source>{0} was not taken: the decimal point of this box is {1}, not {2}{3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="558"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="585"/>
         <source>{0} was not taken: this box reads a space only between groups of three digits (a thousand is {1}){2}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1955,7 +1965,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="180"/>
+        <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="181"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -2008,12 +2018,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="199"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="211"/>
         <source>{0}; {1} is a hinge: click a node or choose one in the list (the target is still {2})</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="201"/>
+        <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="213"/>
         <source>{0}; {1} is a node: click a hinge or choose one in the list (the target is still {2})</source>
         <translation type="unfinished"></translation>
     </message>

@@ -38,9 +38,12 @@ def test_a_second_module_on_a_joint_or_node_is_refused_in_the_panel(doc):
     assert not press_ok()
     p.target.setCurrentText("H0,2")
     assert not lab.isVisible()
-    # a clip needs an angle (a constraint on its joint): the recompute fails, the panel says why, nothing kept
+    # a clip holds the constraint on its joint: H0,2 has none, a red line says so before OK, nothing is kept
+    clip = p.problem_label("constraint")
+    assert clip.isVisible() and "H0,2" in clip.text() and "Angular constraint" in clip.text(), clip.text()
+    assert not dialog_button("Ok").isEnabled()
     assert not press_ok()
-    assert "clip's angle" in p.error.text() and len(sc.Modules) == n0 and sc.isValid()
+    assert len(sc.Modules) == n0 and sc.isValid()
     p.set_type("stable_hub")
     p.target.setCurrentText("H0,2")
     assert press_ok(), p.error.text()

@@ -1,7 +1,8 @@
 """Add module: housings, hubs and clips on joints, hubs and pads on nodes.
 
 A joint carries at most one module and a node socket at most one: a second module on the same joint
-or node is refused in the panel, naming the module already there (checked while choosing, before OK).
+or node is refused in the panel, naming the module already there (checked while choosing, before OK). An
+angular-constraint clip holds the scene's constraint on its joint: on a joint without one it is refused the same way.
 Only a target of the chosen module's kind is picked in the 3D view: a click on a hinge for a node module
 (or on a node for a joint module) picks nothing, keeps the target and says what the module goes on; the
 hover marker lights only targets of the chosen kind (the other kind is named as no target, unlit).
@@ -61,6 +62,7 @@ class AddModulePanel(BasePanel):
             f.addRow(lab, field)
         f.addRow(self.problem_label("choose"))
         f.addRow(self.problem_label("target"))
+        f.addRow(self.problem_label("constraint"))      # a clip on a joint without the constraint it holds
         f.addRow(self.problem_label("pick"))
         f.addRow(self.problem_label("preferences"))     # a module material or servo the fabrication does not know
         self.layout.addLayout(f)
@@ -169,9 +171,19 @@ class AddModulePanel(BasePanel):
             taken = translate("Metamaterial", "node {0} already carries the module {1}: one module per node socket; "
                                               "choose another node or delete {1} first").format(target, repr(who))
         self.set_problem("target", taken)
+        self.set_problem("constraint", self._clip_problem(target))
         from metamaterial_wb.gui.panels.checks import preference_problem
         keys = ["ModuleMaterial"] + (["DefaultServo"] if self.module_type() == "servo_housing" else [])
         self.set_problem("preferences", preference_problem(keys, self.scene))   # (its socket lip, if it sets one)
+
+    def _clip_problem(self, target):
+        """A clip holds the angle of the scene's constraint on its joint (the panel has no angle field): on a joint
+        without one it cannot be built (``geometry.modules``), said before OK, naming the joint and what to do."""
+        if self.module_type() != "constraint_clip" or not target or \
+                any(c.joint == target for c in self.scene.constraints):
+            return ""
+        return translate("Metamaterial", "joint {0} has no angular constraint for the clip to hold: place one on {0} "
+                                         "first (Angular constraint), then add the clip").format(target)
 
     def goes_on(self):
         """``"a friction pad goes on a node"`` / ``"a servo housing goes across a joint"``."""
