@@ -39,7 +39,9 @@ def add_arguments(p):
                         "automatic (implicit: 2 ms for belts, 0.25 ms for sheets); the explicit integrator reduces a "
                         "step beyond its stability limit to its guard, and a default step longer than the run runs "
                         "as one step of --seconds, each with a note on stderr")
-    p.add_argument("--fps", type=number, default=30.0, help="trajectory / frame rate (default 30)")
+    p.add_argument("--fps", type=number, default=30.0,
+                   help="trajectory / frame rate (default 30), at most one frame per time step (1 / --dt, else "
+                        "1 / the scene's dt_s); each frame is the state at the step nearest its instant k / fps")
     p.add_argument("--incline", type=number, default=None, metavar="DEG",
                    help="override dynamics.incline_deg")
     p.add_argument("--no-dt-check", dest="dt_check", action="store_false",
@@ -151,6 +153,18 @@ def check_frames_folder(out, frames):
                                   f"another output folder")
 
 
+def check_frame_rate(fps, dt, what):
+    """Refuse, before any work, more than one frame per time step: a frame is a state the integrator reaches, so
+    ``fps`` above ``1 / dt`` could only be recorded at a lower rate. ``what`` names where ``dt`` comes from."""
+    from metamaterial_wb.core.errors import SceneError
+    from metamaterial_wb.core.numbers import inward_g
+
+    if 1.0 / fps < dt * (1.0 - 1e-9):
+        raise SceneError("--fps", f"{fps:g} frames/s is more than one frame per time step ({what}: {dt:g} s); "
+                                  f"allowed (0, {inward_g(1.0 / dt, 5)}] frames/s (at most 1 / dt, each frame a state "
+                                  f"at a step): give a lower --fps or a smaller --dt")
+
+
 def run(args):
     import numpy as np  # noqa: F401
 
@@ -185,6 +199,10 @@ def run(args):
     if args.dt is None and isinstance(dt_scene, (int, float)) and dt_scene > 0:
         check_step_budget(seconds, dt_scene, field="dynamics.integrator.dt_s",
                           how=f"--seconds {seconds:g} / dt_s {dt_scene:g}")
+    if args.dt is not None:
+        check_frame_rate(fps, args.dt, "--dt")
+    elif isinstance(dt_scene, (int, float)) and dt_scene > 0:
+        check_frame_rate(fps, dt_scene, f"dynamics.integrator.dt_s of {args.scene}")
     model = build(scene, cfg)
     bodies = int(model.system.n)
     check_output_budget(seconds, fps, bodies, field="--fps", how=how)    # simulate() checks it too (the GUI's run)
@@ -207,14 +225,19 @@ def run(args):
                        ("dynamics.incline_deg", f" (in {args.scene})"))
         raise SceneError(flag, f"{incline:g} deg (allowed [{lo:g}, {hi:g}] deg): {exc}, or give a gentler "
                                f"{flag}{where}") from None
+    rec = summary["recording"] = summary["integrator"].pop("recording")    # what the frames are (frames.py)
+    doc = trajectory_dict(model, traj)
+    doc["recording"] = rec
     with OutputSet(args.out, "tmp-simulate") as tmp:
-        write_json(os.path.join(tmp, "trajectory.json"), trajectory_dict(model, traj), indent=None)
+        write_json(os.path.join(tmp, "trajectory.json"), doc, indent=None)
         if args.frames:
             names = write_frames(model, traj, os.path.join(tmp, "frames"))
             conv = shutil.which("convert")
             if conv and names:
                 import subprocess
-                delay = max(1, int(round(100.0 / fps)))
+                # the rate the frames were recorded at (every step where the step is longer than 1 / fps)
+                shown = fps if "every_step_from_s" not in rec else 1.0 / rec["step_s"]
+                delay = max(1, int(round(100.0 / shown)))
                 r = subprocess.run([conv, "-delay", str(delay), "-loop", "0"] + names
                                    + [os.path.join(tmp, "motion.gif")], capture_output=True, text=True)
                 summary["frames"] = {"count": len(names), "gif": r.returncode == 0}
@@ -240,6 +263,8 @@ def run(args):
         print(f"warning: at t = {fb['at_s']} s {fb['reason']}; {fb['action']}", file=sys.stderr)
     if it.get("note"):
         print(f"note: {it['note']}", file=sys.stderr)
+    if rec.get("note"):
+        print(f"note: {rec['note']}", file=sys.stderr)
     if summary.get("frames", {}).get("note"):
         print(f"note: {summary['frames']['note']}", file=sys.stderr)
     for w in summary.get("warnings", []):

@@ -344,7 +344,12 @@ def run_dynamics(scene, seconds, fps=30.0, progress=None):
     model.scene_nodes = scene.topology.nodes
     if progress is not None and model.actuate is not None:
         model.actuate = _ProgressActuation(model.actuate, seconds, progress)
-    summary, traj, model, _sim = simulate(scene, seconds, record_dt=1.0 / fps, cfg=cfg, model=model)
+    # frames are states at time steps (core.dynamics.frames): at most one per step of the scene's dt_s. The panel
+    # plays by times_s, interpolating between frames, so recording at the step rate below the timer's rate loses
+    # nothing; the summary's integrator.recording says what was recorded (the command line refuses --fps > 1 / dt)
+    dt = cfg["integrator"]["dt_s"]
+    record_dt = max(1.0 / fps, dt) if dt else 1.0 / fps
+    summary, traj, model, _sim = simulate(scene, seconds, record_dt=record_dt, cfg=cfg, model=model)
     if progress is not None:
         progress(1.0)
     return trajectory_dict(model, traj), summary

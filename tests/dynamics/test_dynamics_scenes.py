@@ -231,12 +231,13 @@ def test_the_step_budget_counts_the_step_the_integrator_takes(tmp_path):
 
 
 def test_frames_faster_than_the_step_are_recorded_once(tmp_path):
-    """--fps above 1 / dt recorded every state twice (times 0.002, 0.002, 0.004, 0.004, ...)."""
+    """--fps above 1 / dt recorded every state twice (times 0.002, 0.002, 0.004, 0.004, ...); it is now refused
+    (test_simulate_fps.py), and at one frame per step (1 / dt_s = 500) each state is one frame."""
     out = tmp_path / "run"
-    r = cli(os.path.join(EX, "belt8.json"), "--seconds", "0.2", "--no-dt-check", "--fps", "1000", "--out", str(out))
+    r = cli(os.path.join(EX, "belt8.json"), "--seconds", "0.2", "--no-dt-check", "--fps", "500", "--out", str(out))
     assert r.returncode == 0, r.stderr
     t = json.loads((out / "trajectory.json").read_text())["times_s"]
-    assert len(t) == len(set(t)) and t == sorted(t) and len(t) > 50
+    assert len(t) == len(set(t)) and t == sorted(t) and len(t) == 101
 
 
 def test_a_second_run_into_a_folder_leaves_no_files_of_the_first(tmp_path):

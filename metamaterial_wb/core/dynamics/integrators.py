@@ -34,6 +34,8 @@ from scipy.linalg.lapack import dgbtrf as _gbtrf, dgbtrs as _gbtrs
 
 from .autochoice import auto_method, implicit_path, implicit_step_cost
 from .burst import BurstMixin
+from .frames import FrameClock
+from .settle import SettleMixin
 from .ledger import EnergyLedger
 from .system import DynamicsError, PlanarSystem
 
@@ -47,7 +49,7 @@ class StepBudgetError(DynamicsError):
     """A run that would take more time steps than allowed, found before the first step."""
 
 
-class Simulator(BurstMixin, EnergyLedger):
+class Simulator(BurstMixin, SettleMixin, EnergyLedger):
     """State + integrators + energy ledger for one system.
 
     ``actuate(t, sim)``: optional callback that sets the system's actuation (theta0, anchors) for
@@ -391,60 +393,6 @@ class Simulator(BurstMixin, EnergyLedger):
         if self._kern is not None:
             self._kern.invalidate()
 
-    def settle(self, max_iter=300, tol=1e-9, h_max=0.1):
-        """Move the bodies to a static equilibrium under gravity, contacts and the actuation at the
-        current time (the profiles' first values), at rest: backward-Euler steps with the velocities
-        zeroed after each one (a proximal-point iteration on the static forces: each accepted step
-        lowers the potential energy) and a step growing from 1 ms to ``h_max`` while Newton converges
-        and the energy falls (a step that fails either is undone and retried 4x shorter). Time,
-        ledger and step statistics are left as they were; the initial energy is taken at the settled
-        state. Returns ``{"iterations", "moved_mm", "residual_m"}``; a :class:`DynamicsError` when
-        no equilibrium is found."""
-        act, self.actuate = self.actuate, None
-        ledger, stats = dict(self.ledger), dict(self.stats)
-        t, q_start = self.t, self.q.copy()
-        v0 = np.zeros_like(self.v)
-        h, step_max = 1e-3, math.inf
-        E = self.sys.energy(self.q, v0, self.anchors)["total_J"]
-        it = 0
-        try:
-            for it in range(1, max_iter + 1):
-                q_old, anc_old, ins_old = self.q.copy(), self.anchors.copy(), self.inside.copy()
-                bad_before = self.stats.get("newton_unconverged_steps", 0)
-                self._prev = None
-                self._fact = None
-                self.step_implicit(h)
-                self.t = t
-                self.v[:] = 0.0
-                E_new = self.sys.energy(self.q, v0, self.anchors)["total_J"] if np.all(np.isfinite(self.q)) else math.inf
-                unconverged = self.stats.get("newton_unconverged_steps", 0) > bad_before
-                if not math.isfinite(E_new) or E_new > E + 1e-9 * max(abs(E), 1e-6) or unconverged:
-                    self.q, self.anchors, self.inside = q_old, anc_old, ins_old
-                    h *= 0.25
-                    if h < 1e-7:
-                        break
-                    continue
-                E = E_new
-                step_max = float(np.max(np.abs(self.q - q_old))) if self.q.size else 0.0
-                if step_max < tol:
-                    break
-                h = min(h_max, 2.0 * h)
-        finally:
-            self._prev = None
-            self._fact = None
-            if self._kern is not None:
-                self._kern.invalidate()
-            self.actuate = act
-            self.ledger, self.stats = ledger, stats
-        if not step_max < tol:
-            raise DynamicsError(f"no static equilibrium found for the initial state after {it} relaxation steps "
-                                f"(last change {step_max:.3g} m); set dynamics.initial_state to \"as_built\"")
-        p = self.sys.contact_points(self.q) if self.sys.cb.size else np.zeros((0, 2))
-        self.inside = (p[:, 1] < 0) if p.size else np.zeros(0, bool)
-        self.E0 = self.sys.energy(self.q, self.v, self.anchors)["total_J"]
-        moved = float(np.max(np.linalg.norm(self.q[:, :2] - q_start[:, :2], axis=1))) * 1e3 if self.q.size else 0.0
-        return {"iterations": it, "moved_mm": moved, "residual_m": step_max}
-
     # -- driver ------------------------------------------------------------------------------
     def choose(self, method, dt, t_end):
         """Resolve ``method`` ("auto" picks the cheaper one for the path that will run, ``auto_method``) and the
@@ -492,9 +440,10 @@ class Simulator(BurstMixin, EnergyLedger):
 
     def run(self, t_end, method="auto", dt=None, record_dt=None, check_every=100, on_record=None,
             max_steps=50_000_000):
-        """Integrate to ``t_end`` (s). Records frames every ``record_dt`` (s) through ``on_record(sim)``,
-        and always the final state at ``t_end`` (the last frame may follow the one before it by less
-        than ``record_dt``)."""
+        """Integrate to ``t_end`` (s). Records frames through ``on_record(sim)``: the state at the step nearest each
+        instant ``k * record_dt`` (frames.py; every step when the step is longer than ``record_dt``), and always
+        the final state at ``t_end`` (the last frame may follow the one before it by less than ``record_dt``);
+        what was recorded is ``stats["recording"]``."""
         t0 = time.perf_counter()
         dt_requested = dt
         method, dt, note = self.choose(method, dt, t_end)
@@ -507,12 +456,14 @@ class Simulator(BurstMixin, EnergyLedger):
             self.stats["note"] = note
         if method == "symplectic":
             self.stats.setdefault("kernel", "numpy")      # the explicit integrator is numpy only
-        next_rec = 0.0
+        clock = None
         rec_t = None                  # the time of the last recorded frame
+        eps = ROUNDOFF_STEPS * dt
         if on_record is not None:
+            clock = FrameClock(record_dt)
             on_record(self)
             rec_t = self.t
-            next_rec = record_dt
+            clock.recorded(self.t, dt, eps)
         # the centre of mass's extremes over every step, not only the recorded frames (the summary's travel
         # extremes must not depend on the frame rate), as Model.com_x
         w = self._com_w = np.ascontiguousarray(self.sys.com_weights(), float)
@@ -522,7 +473,6 @@ class Simulator(BurstMixin, EnergyLedger):
         cp = self._checkpoint()
         since = 0
         retries = 0
-        eps = ROUNDOFF_STEPS * dt
         dense, banded = self._layout()
         while self.t < t_end - eps:
             nb = 0
@@ -531,7 +481,7 @@ class Simulator(BurstMixin, EnergyLedger):
                 if k is not None and self._kernel_for(dense, banded) is k:
                     # runs of steps with nothing for Python to do in between but the actuator: one C call each
                     nb = self._burst(k, dt, min(check_every - since, max_steps + 1 - self.stats["steps"]), t_end,
-                                     eps, next_rec - eps if on_record is not None else None,
+                                     eps, clock.rec_at(dt, eps) if clock is not None else None,
                                      self.newton_max_band if banded else self.newton_max)
             if nb:
                 since += nb              # (_burst counted its steps in stats["steps"])
@@ -551,7 +501,9 @@ class Simulator(BurstMixin, EnergyLedger):
                 since += 1
             if self.stats["steps"] > max_steps:
                 raise DynamicsError(f"more than {max_steps} steps; raise dt or use the implicit integrator")
-            crossed = on_record is not None and self.t >= next_rec - eps
+            # the next step: dt, or the shorter one that ends the run (nearest-step rule, frames.py)
+            h_next = t_end - self.t if t_end - self.t <= dt + eps else dt
+            crossed = clock is not None and clock.due(self.t, h_next, eps)
             if since >= check_every or crossed or self.t >= t_end - eps:
                 bad = self._health()
                 if bad is not None:
@@ -587,15 +539,17 @@ class Simulator(BurstMixin, EnergyLedger):
                     continue
                 cp = self._checkpoint()
                 since = 0
-                if crossed:                   # one frame per state, however many record times the step crossed
+                if crossed:                   # one frame per state, however many record times it is nearest to
                     on_record(self)
                     rec_t = self.t
-                    while self.t >= next_rec - eps:
-                        next_rec += record_dt
+                    clock.recorded(self.t, h_next, eps)
         if on_record is not None and rec_t != self.t:
             # the final state is always a frame (closer than record_dt to the one before it when t_end is
             # not a multiple of record_dt): the summary's travel and energy are both taken at t_end
             on_record(self)
+            clock.frames += 1
+        if clock is not None:
+            self.stats["recording"] = dict(clock.report(), step_s=dt)
         self.stats["dt_final_s"] = dt
         self.stats["wall_s"] = time.perf_counter() - t0
         return self
