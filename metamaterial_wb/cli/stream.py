@@ -16,12 +16,14 @@ A second signal stops at once, writing nothing.
 
 ``--report`` is written as the stream runs (hardware/report.py): each tick's angles go to a temporary file beside
 it, the statistics after them, and a rename at the end makes the report appear whole; memory does not grow with
-``--seconds``. A stream that fails part-way (a link error, a timeout, a watchdog trip, a second signal) still
+``--seconds``. A stream that fails part-way (a link error, a timeout, the board no longer answering for
+Streamer.silence_limit_s, a watchdog trip, a second signal) still
 gets its report, marked ``"failed": true`` with the ``error`` and what ran up to it (``frames``, ``ticks``,
 ``last_t``, ``duration_s`` and the ``frames_sent`` so far; ``--mode osc``: the ``pings``), and exits as it failed
 (2; 130 for a second Ctrl+C). A failure before anything was sent (no frame, or the oscillators not started) and a
 full disk (which stops the stream) leave no report, no temporary and no folder made for it; an earlier file at
-the path stays as it was.
+the path stays as it was. A stream that ran to its end but exits 1 (frames lost beyond ``--max-lost``, refused,
+clamped by the firmware) says so in its report too: ``"failed": true`` with the reason as ``error``.
 """
 import json
 import sys
@@ -177,6 +179,12 @@ def run(args):
               file=sys.stderr)
         raise report.error
     s = _summary(stats, link, args, channels, intr)
+    # what the stream found wrong once it ran (exit 1): on stderr after the summary line, and in the report
+    problems = [] if stats.error or intr.signum is not None else _problems(s, args.max_lost)
+    if stats.error:
+        s.update(_failure(MetamaterialError(f"stream stopped: {stats.error}")))
+    elif problems:
+        s.update(failed=True, error="; ".join(problems))
     if report is not None:
         report.finish(s)  # after frames_sent_columns and frames_sent; the rename makes the report appear whole
     rtt = (f"round trip median {s['rtt_ms_median']:.2f} ms, p99 {s['rtt_ms_p99']:.2f} ms, max {s['rtt_ms_max']:.2f} ms"
@@ -194,18 +202,21 @@ def run(args):
     if stats.error:
         raise MetamaterialError(f"stream stopped: {stats.error}")
     intr.raise_if_signalled()  # exit 130 (Ctrl+C) / 128 + the signal, the report written and marked
-    status = 0
-    if s["lost"] > args.max_lost or s["naked"]:
-        print(f"error: {s['lost']} frames lost (--max-lost {args.max_lost}) and {s['naked']} refused out of "
-              f"{s['frames']}", file=sys.stderr)
-        status = 1
+    for p in problems:
+        print(f"error: {p}", file=sys.stderr)
+    return 1 if problems else 0
+
+
+def _problems(s, max_lost):
+    """What makes a stream that ran to its end exit 1 (one line each; the report's ``error``, joined by '; ')."""
+    out = []
+    if s["lost"] > max_lost or s["naked"]:
+        out.append(f"{s['lost']} frames lost (--max-lost {max_lost}) and {s['naked']} refused out of {s['frames']}")
     if s["firmware_clamped_frames"]:  # the host checked every angle sent: the board should have clamped none
-        print(f"error: the firmware clamped {s['firmware_clamped_frames']} frames"
-              f" ({_per_actuator(s, 'firmware')[2:]}) that the host had checked against the channel limits and the "
-              f"servo range: the servos did not go where they were told; is the board configured by another "
-              f"program, or running other firmware?", file=sys.stderr)
-        status = 1
-    return status
+        out.append(f"the firmware clamped {s['firmware_clamped_frames']} frames ({_per_actuator(s, 'firmware')[2:]}) "
+                   f"that the host had checked against the channel limits and the servo range: the servos did not go "
+                   f"where they were told; is the board configured by another program, or running other firmware?")
+    return out
 
 
 def _summary(stats, link, args, channels, intr, exc=None):

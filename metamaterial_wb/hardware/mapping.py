@@ -56,6 +56,9 @@ class ChannelConfig:
     max_slew_dps: int = 0     # whole deg/s (the protocol's u16); 0: no limit
     extra: dict = field(default_factory=dict)
     rotation: JointRotation = None  # the actuated joint (channel_map sets it); None and no scale_deg: v * 90
+    # where limits_deg was given (``--channels FILE NAME.limits_deg``, ``actuators[k].servo.limits_deg``; None: a
+    # default), named when a motion leaves the limits (limits_source)
+    limits_from: str = field(default=None, compare=False, repr=False)
 
     @property
     def source(self):
@@ -98,6 +101,14 @@ class ChannelConfig:
             d["joint"] = self.rotation.joint
             d["joint_range_deg"] = [round(x, 4) for x in self.rotation.range_deg()]
         return d
+
+
+def limits_source(cfg: ChannelConfig):
+    """The field to name when a motion leaves ``cfg``'s limits and they were given on the command line (``--channels
+    FILE NAME.limits_deg``), else None: the error then names the scene's actuator (the limits are the scene's own
+    ``servo.limits_deg`` or a default), and the command adds the scene file."""
+    src = cfg.limits_from
+    return src if isinstance(src, str) and src.startswith("--channels") else None
 
 
 def _check_whole(field, value, low, high, unit, note=""):
@@ -239,6 +250,8 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS, ov
     for k, a in enumerate(scene.actuators):
         fname = f"actuators[{k}].servo"
         spec = dict(_check_servo(fname, a.extra.get("servo", {}), n_channels))
+        if "limits_deg" in spec:
+            spec["limits_from"] = f"{fname}.limits_deg"
         given = set(spec)
         origin = dict.fromkeys(SERVO_KEYS, fname)
         origin["channel"] = f"{fname}.channel" if "channel" in spec else "default, its position in the scene"
@@ -256,6 +269,9 @@ def channel_map(scene, mapping=None, overrides=None, n_channels=MAX_CHANNELS, ov
             spec.update(more)
             given.update(more)
             origin.update({f: f"--channels {a.name}" for f in more})
+            if "limits_deg" in more:
+                src = f"--channels {overrides_from} " if overrides_from else "--channels "
+                spec["limits_from"] = f"{src}{a.name}.limits_deg"
             if "channel" in more:
                 origin["channel"] = f"--channels {a.name}.channel"
         spec.setdefault("channel", k)
@@ -347,9 +363,14 @@ def check_motion(scene, channels, duration_s, rate_hz=50.0, clamp=False, rate_to
             bad = np.nonzero((ang < lo - 1e-9) | (ang > hi + 1e-9))[0]
             if bad.size:
                 i = bad[0]
-                raise SceneError(where, f"the motion reaches {ang[i]:.1f} deg at t = {t[i]:.3f} s; channel "
-                                        f"{c.channel} allows [{lo:g}, {hi:g}] deg; lower the profile, widen "
-                                        f"servo.limits_deg, or pass --clamp")
+                reach_at = f"reaches {ang[i]:.1f} deg at t = {t[i]:.3f} s"
+                src = limits_source(c)
+                if src:  # set by --channels: named there, not in the scene file
+                    raise SceneError(src, f"[{lo:g}, {hi:g}] deg: the motion of {where} {reach_at}, outside these "
+                                          f"limits of channel {c.channel}; widen them, lower the scene's "
+                                          f"profile, or pass --clamp")
+                raise SceneError(where, f"the motion {reach_at}; channel {c.channel} allows [{lo:g}, {hi:g}] deg; "
+                                        f"lower the profile, widen servo.limits_deg, or pass --clamp")
             if reach is None:
                 try:
                     check_servo_reach(c, ang, where, t)

@@ -15,7 +15,8 @@ import numpy as np
 from metamaterial_wb.core.errors import SceneError, check_number
 
 from . import protocol as P
-from .mapping import RATE_TOLERANCE_DEG, SERVO_FRAME_MS, SLEW_PERIOD_MS, check_servo_reach, slew_advice, slew_ticks
+from .mapping import (RATE_TOLERANCE_DEG, SERVO_FRAME_MS, SLEW_PERIOD_MS, check_servo_reach, limits_source, slew_advice,
+                      slew_ticks)
 
 # How the chip renders an oscillator: sl_link_tick (firmware/src/core/link.c) evaluates it every SL_SLEW_PERIOD_MS
 # (10 ms, link.h) and the servo back end starts a pulse every 20 ms (avr/servo_isr.c FRAME_TICKS; the PCA9685
@@ -91,8 +92,7 @@ def osc_params(scene, channels, tolerance_deg=None):
         if c.scale_deg is not None or c.rotation is None:  # linear: amplitude and offset are angles
             amp_deg, off_deg = c.angle_deg(amp), c.angle_deg(off)
             if off_deg - amp_deg < lo - 1e-9 or off_deg + amp_deg > hi + 1e-9:
-                raise SceneError(field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg; "
-                                        f"channel {c.channel} allows [{lo:g}, {hi:g}] deg")
+                raise _outside_limits(c, field, f"swings over [{off_deg - amp_deg:.1f}, {off_deg + amp_deg:.1f}] deg")
             check_servo_reach(c, c.angle_deg(v_swing), where, t_swing)
 
             def board(v):  # the chip runs the angle in whole centidegrees
@@ -119,8 +119,7 @@ def osc_params(scene, channels, tolerance_deg=None):
                                     f"(allowed 0.25); stream this scene instead (--mode stream)")
         a_lo, a_hi = float(np.min(exact)), float(np.max(exact))
         if a_lo < lo - 1e-9 or a_hi > hi + 1e-9:
-            raise SceneError(field, f"swings over [{a_lo:.2f}, {a_hi:.2f}] deg of joint rotation; channel "
-                                    f"{c.channel} allows [{lo:g}, {hi:g}] deg")
+            raise _outside_limits(c, field, f"swings over [{a_lo:.2f}, {a_hi:.2f}] deg of joint rotation")
         for angles in (c.angle_deg(v_swing), v_swing * 90.0 * np.where(v_swing >= 0, g_pos, g_neg) / P.GAIN_ONE):
             check_servo_reach(c, angles, where, t_swing)  # the simulated and the chip's
 
@@ -131,6 +130,18 @@ def osc_params(scene, channels, tolerance_deg=None):
         out.append(OscParams(c.name, c.channel, int(round(amp * 9000)), int(round(off * 9000)), period, phase_cdeg,
                              ferr, g_pos, g_neg, (a_lo, a_hi), err, dev))
     return out
+
+
+def _outside_limits(c, field, swing):
+    """SceneError: the sine of ``field`` (``actuators[k] (name).profile``) ``swing``s past channel ``c``'s limits,
+    named where they were given: ``--channels FILE NAME.limits_deg`` (mapping.limits_source), else the profile (in
+    the scene file)."""
+    lo, hi = c.limits_deg
+    src = limits_source(c)
+    if src:
+        return SceneError(src, f"[{lo:g}, {hi:g}] deg: {field} {swing}, outside these limits of channel "
+                               f"{c.channel}; widen them, or lower the scene's profile")
+    return SceneError(field, f"{swing}; channel {c.channel} allows [{lo:g}, {hi:g}] deg")
 
 
 def render_deviation(exact, board, amp, off, freq_hz, rate_hz=OSC_RENDER_HZ):

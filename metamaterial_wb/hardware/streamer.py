@@ -13,7 +13,11 @@ absolute angles: the latest wins, a lost frame is never retransmitted (the next 
 it). Deadlines are absolute (``next += period``), so the rate does not drift; a tick that would be more than
 one period late is skipped and counted (``catch_up=True`` sends it late instead). Whether the rate can follow a
 scene's motion is checked before streaming (mapping.check_motion / check_rate; the CLI does, this class does
-not). The GUI calls ``start``/``stop`` from its thread; the sending happens here, never in the Qt event loop.
+not). A board that stops answering (no ACK or NAK of a frame, no reply to a keep-alive PING) for longer than
+``silence_limit_s`` (the link watchdog + the reply timeout, at least the 0.75 s a request waits) ends the stream
+with a LinkError: by then a board that no longer hears the host holds its servos (and parks them after
+``park_after_ms``), so streaming on blind would only count lost frames. The GUI calls ``start``/``stop`` from
+its thread; the sending happens here, never in the Qt event loop.
 """
 from __future__ import annotations
 
@@ -27,6 +31,9 @@ from . import protocol as P
 from .link import LinkError
 from .mapping import check_servo_reach, runs
 from .onboard import count_rtt, keepalive_interval, link_watchdog_ms, raise_on_trip, rtt_summary
+
+# how long Link.request waits for a reply before it gives up: 3 tries of 250 ms (the floor of silence_limit_s)
+REQUEST_WAIT_S = 3 * 0.25
 
 
 @dataclass
@@ -136,6 +143,16 @@ class Streamer:
         self._pings = set()  # seqs of keep-alive PINGs not answered yet (their replies are only discarded)
         self._link_timing = (500, 500, 5000)
         self._events_seen = 0
+        self._silent_since = None  # when the first frame sent since the board's last answer went out (None: answered)
+        self._unanswered = 0       # frames sent since the board's last answer
+
+    @staticmethod
+    def silence_limit_s(watchdog_ms, reply_timeout_s):
+        """How long the board may leave every frame and PING unanswered before the stream fails: its link watchdog
+        (by then a board that does not hear the host holds the servos, then parks them) plus the reply timeout,
+        and never less than a request's 3 tries of 250 ms (Link.request), so that a stream is not stricter than a
+        handshake or a CONFIG."""
+        return round(max(REQUEST_WAIT_S, (watchdog_ms or 500) / 1000.0 + reply_timeout_s), 6)
 
     # ------------------------------------------------------------------------------------------
     def prepare(self, watchdog_ms=500, park_after_ms=500, release_after_ms=5000, handshake=True):
@@ -180,8 +197,10 @@ class Streamer:
         # taken under the link's read lock: another thread (e.g. a GUI ping) may be polling meanwhile
         for seq in self.link.take_replies(self._pings):
             self._pings.discard(seq)
+            self._answered()
         for seq, r in self.link.take_replies(self._outstanding).items():  # also replies read by another thread
             sent, host_clamped = self._outstanding.pop(seq)
+            self._answered()
             if r.kind == "ACK":
                 self.stats.acked += 1
                 self.stats.add_rtt((getattr(r, "time", time.perf_counter()) - sent) * 1000.0)
@@ -194,6 +213,21 @@ class Streamer:
             else:
                 self.stats.naked += 1
                 self.stats.nak_reasons[r.reason] = self.stats.nak_reasons.get(r.reason, 0) + 1
+
+    def _answered(self):
+        self._silent_since, self._unanswered = None, 0
+
+    def _check_silence(self, limit_s):
+        """LinkError when nothing the host sent has been answered for longer than ``limit_s`` (silence_limit_s)."""
+        if self._silent_since is None:
+            return
+        silent = time.perf_counter() - self._silent_since
+        if silent > limit_s:
+            raise LinkError(f"{self.link.name}: the board stopped answering: no reply to the last {self._unanswered} "
+                            f"frames in {silent:.2f} s (allowed: {limit_s:g} s, the link watchdog "
+                            f"{self._link_timing[0]} ms + the reply timeout {self.reply_timeout_s * 1000:.0f} ms, at "
+                            f"least {REQUEST_WAIT_S * 1000:.0f} ms); a board that does not hear the host holds its "
+                            f"servos, then parks them; check the cable and the board's power, then connect again")
 
     def _count_clamp(self, name, by):
         self.stats.clamped_by_actuator.setdefault(name, {"host": 0, "firmware": 0})[by] += 1
@@ -215,6 +249,8 @@ class Streamer:
         self.stats = StreamStats(clamped_by_actuator={c.name: {"host": 0, "firmware": 0} for c in self.channels},
                                  frames_per_tick=len(runs(self.channels)))
         self._outstanding = {}
+        self._answered()
+        silence_s = self.silence_limit_s(self._link_timing[0], self.reply_timeout_s)
         n_events = len(self.link.events)
         self._events_seen = 0
         unreadable0, reasons0 = self.link.unreadable_naks, dict(self.link.unreadable_reasons)
@@ -231,6 +267,7 @@ class Streamer:
                     self.stats.resets += 1
                     self._outstanding.clear()
                     self.prepare(*self._link_timing, handshake=False)
+                    self._answered()  # (it answered the re-configuration)
                 self._check_events(n_events)
                 t = t0 + k * period
                 if duration_s is not None and k * period >= duration_s - 1e-9:
@@ -242,6 +279,9 @@ class Streamer:
                     # a seq still outstanding 254 frames later was lost: it stays counted (lost = frames -
                     # acked - naked), only its entry is replaced
                     self._outstanding[seq] = (time.perf_counter(), bool(wanted))
+                    if self._silent_since is None:
+                        self._silent_since = last_tx
+                    self._unanswered += 1
                     self.stats.frames += 1
                     self.stats.last_t = t
                     if wanted:  # the host clamped (--clamp): counted here, the firmware's clamps from the ACKs
@@ -270,6 +310,8 @@ class Streamer:
                         last_tx = now
                     self._collect(min(left, 0.005, max(0.0, last_tx + keepalive_s - now)))
                     self._check_events(n_events)
+                    self._check_silence(silence_s)
+                self._check_silence(silence_s)  # (also when the loop above had no time left)
                 late = time.perf_counter() - deadline
                 if late > period and not self.catch_up:  # fell behind: skip the missed deadlines, keep the time base
                     missed = int(late // period)

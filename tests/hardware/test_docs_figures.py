@@ -32,12 +32,14 @@ def test_protocol_md_states_the_link_load_of_each_direction():
 
 
 def test_firmware_md_quotes_the_real_limit_error(tmp_path):
-    """Before: the quoted error said "reaches 81.0 deg at t = 0.000 s"; the command says 60.1 deg at 0.383 s."""
-    chans = tmp_path / "c.json"
-    chans.write_text(json.dumps({"tail": {"limits_deg": [-60, 60]}}))
+    """Before: the quoted error said "reaches 81.0 deg at t = 0.000 s"; the command says 60.1 deg at 0.383 s. The
+    limits come from the --channels file, which the error names (it used to blame the scene file)."""
+    chans = tmp_path / "lim.json"
+    chans.write_text(json.dumps({"tail": {"limits_deg": [-60, 60]}}), encoding="utf-8")
     pytest.importorskip("serial")
-    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "stream", "examples/fish.json", "--dry-run",
-                        "--channels", str(chans)], capture_output=True, text=True, cwd=REPO, timeout=60)
-    assert r.returncode == 2 and r.stderr.startswith("error: actuators[1] (tail)"), r.stderr
+    r = subprocess.run([sys.executable, "-m", "metamaterial_wb", "stream", os.path.join(REPO, "examples", "fish.json"),
+                        "--dry-run", "--channels", "lim.json"], capture_output=True, text=True, cwd=tmp_path,
+                       timeout=60, env=dict(os.environ, PYTHONPATH=REPO))
+    assert r.returncode == 2 and r.stderr.startswith("error: --channels lim.json tail.limits_deg"), r.stderr
     assert re.search(r"60\.1 deg at t = 0\.383 s", r.stderr)
     assert " ".join(r.stderr.split()) in words("docs/firmware.md")
