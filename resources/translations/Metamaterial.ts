@@ -40,7 +40,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="584"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="592"/>
         <source>1 000 or {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -60,7 +60,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="565"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="573"/>
         <source>; the box kept {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -80,7 +80,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="361"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="363"/>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="70"/>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="104"/>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="109"/>
@@ -896,7 +896,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="265"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="267"/>
         <source>a keyframes profile is edited in its time / value table below</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1789,7 +1789,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="362"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="364"/>
         <source>{0:+.1f} .. {1:+.1f} deg</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1875,12 +1875,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="595"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="603"/>
         <source>{0} has more decimals than the box takes (at most {1} decimals){2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="262"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="264"/>
         <source>{0} has no motion profile: it holds its value, these boxes do not apply to it. Choose a shape to give it one.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1890,28 +1890,33 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="568"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="576"/>
         <source>{0} is not a number{1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="594"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="602"/>
         <source>{0} is not a whole number (at most 0 decimals){1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="588"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="596"/>
         <source>{0} is outside the allowed range {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="258"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="260"/>
         <source>{0} keeps its {1} profile as stored: these boxes do not apply to it. Choose another shape to replace it.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/exporting.py" line="71"/>
         <source>{0} module(s) not exported (Modules unchecked)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="133"/>
+        <source>{0} of {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1930,27 +1935,27 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="597"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="605"/>
         <source>{0} was not taken as typed (allowed range {1}, at most {2} decimals){3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="573"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="581"/>
         <source>{0} was not taken: the box reads only the ASCII digits 0-9, not {1}{2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="575"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="583"/>
         <source>{0} was not taken: the box reads only the digits 0-9 and {1}-{2}, not {3}{4}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="579"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="587"/>
         <source>{0} was not taken: the decimal point of this box is {1}, not {2}{3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="585"/>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="593"/>
         <source>{0} was not taken: this box reads a space only between groups of three digits (a thousand is {1}){2}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1965,12 +1970,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
+        <location filename="../../metamaterial_wb/gui/panels/ranges.py" line="258"/>
+        <source>{0}, row {1}</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="181"/>
         <source>{0}, {1}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="245"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="247"/>
         <source>{0}: a key at {1:.3f} s lies beyond the period of {2:.3f} s: the period becomes {3:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1980,12 +1990,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="241"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="243"/>
         <source>{0}: keyframes play once (stored without a period) and hold the last value</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="249"/>
+        <location filename="../../metamaterial_wb/gui/panels/animate_table.py" line="251"/>
         <source>{0}: keyframes repeat every {1:.3f} s</source>
         <translation type="unfinished"></translation>
     </message>

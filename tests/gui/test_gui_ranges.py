@@ -204,7 +204,7 @@ def _scenes(d):
 
 @pytest.mark.parametrize("typed, words", [
     ("1500.5", ("cell_size_mm", "1500.5", "allowed range [1, 1000]", "kept 150.5")),
-    ("12.345", ("cell_size_mm", "12.345", "at most 2 decimals", "kept 12.34")),
+    ("12.3456", ("Cell size (cell_size_mm)", "12.3456", "at most 3 decimals", "kept 12.345")),
 ])
 def test_a_cell_size_the_box_cut_is_refused_and_no_structure_is_made(doc, typed, words):
     p = run_panel("MM_NewStructure")
@@ -250,17 +250,19 @@ def test_the_grid_boxes_say_a_refused_key(doc, box):
     assert (len(sc.Layout) if box == "rows" else len(sc.Layout[0])) == 3
 
 
-def test_a_motor_frequency_with_a_third_decimal_is_refused(doc):
-    """0.125 Hz in the 2-decimal frequency box became 0.12 Hz in silence."""
+def test_a_motor_frequency_with_more_decimals_than_its_box_is_refused(doc):
+    """0.125 Hz in the (then 2-decimal) frequency box became 0.12 Hz in silence; the box takes 4 decimals now
+    (``ranges.decimals``): a fifth is refused."""
     p = run_panel("MM_NewStructure")
     assert press_ok()
     sc = _scenes(doc)[0]
     items = list(sc.Items)
     p = run_panel("MM_PlaceMotor")
-    type_into(p.freq, "0.125")
-    assert not press_ok(), "OK placed a motor at 0.12 Hz for the 0.125 typed"
+    type_into(p.freq, "0.12345")
+    assert not press_ok(), "OK placed a motor at 0.1234 Hz for the 0.12345 typed"
     text = _refusal(p)
-    assert "frequency_hz" in text and "0.125" in text and "at most 2 decimals" in text and "kept 0.12" in text, text
+    assert "Frequency (profile.frequency_hz)" in text and "0.12345" in text and "at most 4 decimals" in text and \
+        "kept 0.1234" in text, text
     assert list(sc.Items) == items
     type_into(p.freq, "0.25")
     assert press_ok(), (_refusal(p), p.error.text())

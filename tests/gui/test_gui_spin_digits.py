@@ -107,7 +107,7 @@ def test_a_letter_is_refused_as_no_number(doc):
     p = run_panel("MM_NewStructure")
     keys(p.cell, "a")
     leave(p.cell)
-    assert "cell_size_mm: a is not a number" in refused(p.cell), refused(p.cell)
+    assert "Cell size (cell_size_mm): a is not a number" in refused(p.cell), refused(p.cell)
     assert "ASCII" not in refused(p.cell), refused(p.cell)
     p.reject()
 
@@ -194,12 +194,12 @@ def test_more_decimals_after_the_arabic_point_are_said_as_decimals(doc, locale_d
     p = run_panel("MM_NewStructure")
     spin = p.cell
     spin.setLocale(loc)
-    typed = "1" + ARABIC_POINT + "555"
+    typed = "1" + ARABIC_POINT + "5555"
     keys(spin, typed)
     leave(spin)
     text = refused(spin)
-    assert "cell_size_mm" in text and typed in text and "more decimals" in text and "at most 2" in text, text
-    assert "outside" not in text and "1555" not in text, text
+    assert "cell_size_mm" in text and typed in text and "more decimals" in text and "at most 3" in text, text
+    assert "outside" not in text and "15555" not in text, text
     assert not press_ok() and _scenes(doc) == []
 
 
@@ -301,7 +301,7 @@ def test_a_grouped_number_above_the_maximum_is_refused_as_outside_the_range(doc,
     """Qt drops the last key (2,000 > 1000 leaves "2,00", read as 200): the maximum is the cause, said with the
     whole text typed."""
     p, spin, loc, text = _typed_in_cell(locale_default, locale, typed)
-    assert f"cell_size_mm: {typed} is outside the allowed range [1, 1000]" in text, text
+    assert f"Cell size (cell_size_mm): {typed} is outside the allowed range [1, 1000]" in text, text
     assert "decimal point" not in text and f"kept {kept}" in text, text
     assert not press_ok(), f"OK took {spin.value()} for the {typed} typed"
     assert _scenes(doc) == []
@@ -315,7 +315,7 @@ def test_a_separator_that_is_no_grouping_stays_a_decimal_point_the_box_does_not_
                                                                                      typed, kept):
     p, spin, loc, text = _typed_in_cell(locale_default, locale, typed)
     wrong = "," if loc.decimalPoint() == "." else "."
-    assert f"cell_size_mm: {typed} was not taken: the decimal point of this box is {loc.decimalPoint()}, not {wrong}" \
+    assert f"Cell size (cell_size_mm): {typed} was not taken: the decimal point of this box is {loc.decimalPoint()}, not {wrong}" \
         in text and f"kept {kept}" in text, text
     assert not press_ok() and _scenes(doc) == []
     p.reject()
@@ -359,7 +359,7 @@ def test_a_blank_that_is_no_grouping_is_refused_naming_how_the_box_groups(doc, l
     if loc.groupSeparator() not in BLANKS:
         thousand = f"1 000 or {thousand}"
     how = f"this box reads a space only between groups of three digits (a thousand is {thousand})"
-    assert f"cell_size_mm: {typed} was not taken: {how}; the box kept {kept}" in text, text
+    assert f"Cell size (cell_size_mm): {typed} was not taken: {how}; the box kept {kept}" in text, text
     assert not press_ok(), f"OK took {spin.value()} for the {typed} typed"
     assert _scenes(doc) == []
     keys(spin, "15")                                       # typed again without the blank: taken
@@ -373,7 +373,7 @@ def test_a_blank_grouped_number_above_the_maximum_is_refused_as_outside_the_rang
     loc = locale_default("fr_FR")
     typed = typed.format(p=loc.decimalPoint())
     p, spin, loc, text = _typed_in_cell(locale_default, "fr_FR", typed)
-    assert f"cell_size_mm: {typed} is outside the allowed range [1, 1000]; the box kept {kept}" in text, text
+    assert f"Cell size (cell_size_mm): {typed} is outside the allowed range [1, 1000]; the box kept {kept}" in text, text
     assert not press_ok() and _scenes(doc) == []
     p.reject()
 

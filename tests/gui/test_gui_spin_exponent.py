@@ -2,7 +2,7 @@
 after it as it drops a letter: "0.5e-3" in Place motor's value box (3 decimals) became 0.530 without a word and OK
 took it, "5e-4" was refused as "54 is outside the allowed range" (a number never typed), Flexibility's hinge length
 took "2e-1" as 21 mm; letters typed over the whole text ("abc") left the old value without a word; "0.0001" in the
-2-decimal frequency box was refused quoting "0.001". Now an exponent is read as the number it writes when the box
+then 2-decimal frequency box was refused quoting "0.001" (the box has 4 decimals now: "0.00001", not "0.0001"). Now an exponent is read as the number it writes when the box
 holds that number exactly (2e-1 -> 0.2), else refused quoting what was typed and why (the box's decimals, its
 range); letters are refused as no number; every refusal quotes the text typed."""
 import pytest
@@ -58,7 +58,7 @@ def test_an_exponent_with_more_decimals_than_the_box_takes_is_refused_as_typed(d
     type_into(p.value, typed)
     text = refused(p.value)
     assert text, f"{typed} was taken as {p.value.value()} without a word"
-    assert f"value: {typed} " in text and "at most 3 decimals" in text, text
+    assert f"Value D (-1..1) (value): {typed} " in text and "at most 3 decimals" in text, text
     assert "54" not in text.split(";")[0] and "0.53" not in text.split(";")[0], text
     assert not dialog_button("Ok").isEnabled()
     assert not press_ok()
@@ -68,7 +68,7 @@ def test_an_exponent_outside_the_range_is_refused_as_typed(doc):
     p = _motor_panel()
     type_into(p.value, "5e3")
     text = refused(p.value)
-    assert "value: 5e3 is outside the allowed range" in text, text
+    assert "Value D (-1..1) (value): 5e3 is outside the allowed range" in text, text
     assert not press_ok()
 
 
@@ -78,7 +78,7 @@ def test_letters_are_refused_as_no_number(doc, typed):
     before = p.value.value()
     type_into(p.value, typed)
     text = refused(p.value)
-    assert f"value: {typed} is not a number" in text, (typed, text)
+    assert f"Value D (-1..1) (value): {typed} is not a number" in text, (typed, text)
     assert not press_ok()
     type_into(p.value, "0.25")
     assert not refused(p.value), refused(p.value)
@@ -87,9 +87,9 @@ def test_letters_are_refused_as_no_number(doc, typed):
 
 def test_more_decimals_quote_every_digit_typed(doc):
     p = _motor_panel()
-    type_into(p.freq, "0.0001")
+    type_into(p.freq, "0.00001")
     text = refused(p.freq)
-    assert "frequency_hz: 0.0001 " in text and "0.001 " not in text, text
+    assert "Frequency (profile.frequency_hz): 0.00001 " in text and "0.0001 " not in text, text
     assert not press_ok()
 
 
@@ -108,7 +108,7 @@ def test_an_exponent_with_a_point_the_box_does_not_read_is_refused(doc, typed):
     p = _motor_panel()
     type_into(p.value, typed)
     text = refused(p.value)
-    assert f"value: {typed} was not taken: the decimal point of this box is ., not ," in text, (typed, text)
+    assert f"Value D (-1..1) (value): {typed} was not taken: the decimal point of this box is ., not ," in text, (typed, text)
     assert not press_ok()
 
 
@@ -126,4 +126,4 @@ def test_letters_of_the_box_unit_alone_are_refused(doc, box, typed):
 def test_a_huge_exponent_is_outside_the_range_not_no_number(doc):
     p = _motor_panel()
     type_into(p.value, "1e400")
-    assert "value: 1e400 is outside the allowed range" in refused(p.value), refused(p.value)
+    assert "Value D (-1..1) (value): 1e400 is outside the allowed range" in refused(p.value), refused(p.value)

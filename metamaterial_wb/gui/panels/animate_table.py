@@ -129,6 +129,8 @@ class ProfileRows:
             self.cells[a.name] = []
             for c, w in enumerate([combo, *sp, lab], start=1):
                 head = QtGui.QLabel(heads[c])
+                if w in sp:                        # a refused key names the box ("amplitude of m1 (profile.amplitude)")
+                    w.setAccessibleName(translate("Metamaterial", "{0} of {1}").format(heads[c], a.name))
                 if c == 5:
                     head.setToolTip(range_tip)
                 self.motor_grid.addWidget(head, base + c, 0)

@@ -110,6 +110,7 @@ class FoldedShapePanel(BasePanel):
             line = (translate("Metamaterial", "vertical {0}") if a.direction == "vertical" else
                     translate("Metamaterial", "horizontal {0}")).format(a.line)
             text = translate("Metamaterial", "{0}: {1}").format(name, line) if name else line
+            spin.setAccessibleName(translate("Metamaterial", "Fold of {0}").format(text))    # (named so when refused)
             grid.addWidget(ElidedLabel(text), r, 0)
             grid.addWidget(spin, r, 1)
             grid.addWidget(s, r + 1, 0, 1, 2)

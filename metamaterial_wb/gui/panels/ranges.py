@@ -6,6 +6,10 @@ compare them with the validators. A bound that depends on other values (a hinge 
 cell, a cell type's t below a quarter of L) is given its widest value here and checked in words by the
 validator when the panel applies. Spin boxes that edit no validated quantity (playback speed, the
 number of servos a fit searches) are tagged with ``ui_only(spin, reason)``.
+
+A bound decimal box shows at least ``decimals(field)`` decimals (3, as the value, fold, hinge and sleeve boxes;
+a frequency 4: 1/3 Hz is 0.3333), as the scene format sets no resolution (Qt's default 2 refused an amplitude of
+0.125). A refused key names the box by its label, then the scene key ("Frequency (profile.frequency_hz): 60 ...").
 """
 import math
 import re
@@ -60,11 +64,22 @@ def spin_range(spin, field):
     return lo, hi
 
 
+BOUND_DECIMALS = 3
+FIELD_DECIMALS = {"profile.frequency_hz": 4}
+
+
+def decimals(field):
+    """The fewest decimals a decimal box bound to ``field`` shows."""
+    return FIELD_DECIMALS.get(field, BOUND_DECIMALS)
+
+
 def bind(spin, field):
+    if isinstance(spin, QtGui.QDoubleSpinBox) and spin.decimals() < decimals(field):
+        spin.setDecimals(decimals(field))     # (before the range: an open low bound is one step of the box)
     lo, hi = spin_range(spin, field)
     spin.setRange(lo, hi)
     spin.setProperty("validator_field", field)
-    _watch_refused_keys(spin, field)
+    _watch_refused_keys(spin, None, key=field)
     return spin
 
 
@@ -127,15 +142,16 @@ def box_digits(locale):
     return ASCII_DIGITS
 
 
-def _watch_refused_keys(spin, field):
+def _watch_refused_keys(spin, field, key=None):
     """A spin box drops a keystroke that would take it past its range (typing 200 in [-180, 180] leaves 20) or
     give it more decimals than it shows (12.345 in a 2-decimal box leaves 12.34): say so instead of cutting the
     value in silence. The message goes to the box's ``REFUSED`` property (``BasePanel.accept`` refuses OK while
-    one is set) and a tooltip. ``field`` names the quantity in the message (``None``: the box's form label)."""
+    one is set) and a tooltip. ``field`` names the quantity in the message (``None``: the box's label, then the
+    validator ``key`` of a bound box in parentheses: "Cell size (cell_size_mm)")."""
     if spin.property("refused_watch") or spin.lineEdit() is None:
         return
     spin.setProperty("refused_watch", True)
-    watcher = _RefusedKeys(spin, field)
+    watcher = _RefusedKeys(spin, field, key)
     spin.destroyed.connect(lambda *_a, key=watcher.problem_key: _report(None, key, ""))    # (a table row removed)
     spin.installEventFilter(watcher)
     spin.lineEdit().installEventFilter(watcher)
@@ -190,10 +206,10 @@ class _RefusedKeys(QtCore.QObject):
     MOVE_KEYS = ("Key_Left", "Key_Right", "Key_Home", "Key_End")
     REMOVE_KEYS = ("Key_Backspace", "Key_Delete")
 
-    def __init__(self, spin, field):
+    def __init__(self, spin, field, key=None):
         super().__init__(spin)
-        self.spin, self.field = spin, field
-        self.problem_key = f"refused:{field or ''}:{id(self):x}"    # the panel's problem key of this box's refusal
+        self.spin, self.field, self.vkey = spin, field, key    # (vkey: the validator key)
+        self.problem_key = f"refused:{field or key or ''}:{id(self):x}"    # the panel's problem key of this box's refusal
         self.intended = None          # the text (core) the user's keys would have made, or None: follow the box
         self.cursor = 0               # where the next key goes in ``intended``
         self.msg = ""                 # the message this watcher set (REFUSED), "" when none
@@ -212,16 +228,35 @@ class _RefusedKeys(QtCore.QObject):
 
     # -- names and numbers ---------------------------------------------------------------------------------
     def name(self):
+        """``field`` when given, else the box's label with a bound box's validator key after it in parentheses."""
         if self.field:
             return self.field
-        label = None
-        for lay in self.spin.window().findChildren(QtGui.QFormLayout):
-            label = lay.labelForField(self.spin)
-            if label is not None:
-                break
-        text = label.text() if label is not None and hasattr(label, "text") else ""
-        text = text or self.spin.accessibleName() or self.spin.objectName() or "this box"
+        label = self.label()
+        if self.vkey:
+            return f"{label} ({self.vkey})" if label else self.vkey
+        return label or self.spin.objectName() or "this box"
+
+    def label(self):
+        """Its accessible name, its form label, a label whose buddy it is, or a table cell's column and row."""
+        w = self.spin.window()
+        labels = [lay.labelForField(self.spin) for lay in w.findChildren(QtGui.QFormLayout)]
+        labels += [lab for lab in w.findChildren(QtGui.QLabel) if lab.buddy() is self.spin]
+        text = self.spin.accessibleName() or next((lab.text() for lab in labels if hasattr(lab, "text")), "") or \
+            self.cell_label()
         return text.replace("&", "").rstrip(": ")
+
+    def cell_label(self):
+        """A table's cell box: its column's header and its row ("t (mm), row 2"), else ""."""
+        table = self.spin.parent() and self.spin.parent().parent()
+        if not isinstance(table, QtGui.QTableWidget):
+            return ""
+        from metamaterial_wb.gui.i18n import translate
+        for r in range(table.rowCount()):
+            for c in range(table.columnCount()):
+                if table.cellWidget(r, c) is self.spin:
+                    head = table.horizontalHeaderItem(c)
+                    return translate("Metamaterial", "{0}, row {1}").format(head.text() if head else c + 1, r + 1)
+        return ""
 
     def decimals(self):
         return self.spin.decimals() if hasattr(self.spin, "decimals") else 0
