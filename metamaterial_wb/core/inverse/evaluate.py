@@ -87,22 +87,47 @@ def answer_scene(problem, joints, values, names=None, hinge_overrides=None, warn
 
 
 def _carry_servo_channels(acts, old, gone, warnings):
-    """Each new servo (not in ``old``) without a ``servo`` object takes the wiring (channel, trim, invert, ...) of
-    a replaced motor, in order: the servo moves to the new joint, its cable stays on its channel."""
-    wiring = [a for a in gone if isinstance(a.get("servo"), dict)]
-    for a in acts:
-        if not wiring:
+    """The wiring (``servo``: channel, trim, invert, ...) of replaced motors goes by joint: a new servo (not in
+    ``old``) without a ``servo`` object on the joint of a replaced motor keeps that motor's wiring (the cable is
+    already there); the wiring of a replaced motor whose joint gets no new servo goes to the new servos still
+    without one: motors in the scene's order, servos in the answer's order (s1, s2, ...), the rule the servo
+    housings follow. A moved cable gets a warning to check its invert and trim at the new joint."""
+    wired = [a for a in gone if isinstance(a.get("servo"), dict)]
+    new = [a for a in acts if (a.get("name"), a.get("joint")) not in old and "servo" not in a]
+    by_joint = {}
+    for src in wired:
+        by_joint.setdefault(_joint_key(src.get("joint")), src)
+    used = set()
+    for a in new:
+        src = by_joint.get(_joint_key(a.get("joint")))
+        if src is not None and id(src) not in used:
+            used.add(id(src))
+            a["servo"] = copy.deepcopy(src["servo"])
+            _wiring_note(warnings, a, src, moved=False)
+    servo_joints = {_joint_key(a.get("joint")) for a in acts}
+    free = [src for src in wired if id(src) not in used and _joint_key(src.get("joint")) not in servo_joints]
+    for a in new:
+        if not free:
             return
-        if (a.get("name"), a.get("joint")) in old or "servo" in a:
+        if "servo" in a:
             continue
-        src = wiring.pop(0)
+        src = free.pop(0)
         a["servo"] = copy.deepcopy(src["servo"])
-        if warnings is not None:
-            ch = src["servo"].get("channel")
-            warnings.append(f"actuator {a['name']!r} on {a['joint']} takes the servo wiring of the replaced "
-                            f"{src.get('name')!r} on {src.get('joint')}"
-                            + (f" (channel {ch})" if ch is not None else "")
-                            + ": check its invert and trim_deg at the new joint")
+        _wiring_note(warnings, a, src, moved=True)
+
+
+def _wiring_note(warnings, a, src, moved):
+    if warnings is None:
+        return
+    ch = src["servo"].get("channel")
+    chan = f" (channel {ch})" if ch is not None else ""
+    if moved:
+        warnings.append(f"actuator {a['name']!r} on {a['joint']} takes the servo wiring of the replaced "
+                        f"{src.get('name')!r} on {src.get('joint')}{chan}: check its invert and trim_deg at the new "
+                        f"joint")
+    else:
+        warnings.append(f"actuator {a['name']!r} on {a['joint']} keeps the servo wiring of the replaced "
+                        f"{src.get('name')!r} on the same joint{chan}")
 
 
 def _joint_key(text):

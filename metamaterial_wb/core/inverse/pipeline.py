@@ -318,9 +318,14 @@ def hinge_answer(pb, hr, joints, names, fit, hfit, sizes, warnings, progress=_qu
                             f"are re-derived from them ({fit2.cost:.6g} mm^2 against {fit.cost:.6g} mm^2 with the "
                             f"scene's hinges); the answer keeps the scene's hinges")
             return None
+        costs = (f"{fit2.cost:.6g} mm^2 with their own rotation limits against {fit.cost:.6g} mm^2 with the scene's "
+                 f"hinges")
         if first_error:
             warnings.append(f"--hinges: the fitted hinge sizes were refused ({first_error}); the answer moves the "
-                            f"sizes {t:g} of the way from the scene's to the fitted ones")
+                            f"sizes {t:g} of the way from the scene's to the fitted ones ({costs})")
+        else:
+            warnings.append(f"--hinges: the fitted hinge sizes are kept ({costs}); the answer's joints hold them "
+                            f"(the report's hinges)")
         warnings.extend(n for n in notes if n not in warnings)
         return pb2, fit2, p, ov
     warnings.append(f"--hinges: the fitted hinge sizes were refused ({first_error}), also moved back towards the "

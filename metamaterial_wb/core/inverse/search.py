@@ -212,6 +212,18 @@ def lin_batch(problem, batch):
     return out
 
 
+def joints_text(topo):
+    """The scene's joint names for a message: ``"32 joints, H0,0 .. H2,5, V0,0 .. V1,6"`` (per kind, the smallest
+    and largest row and column)."""
+    parts = [f"{topo.n_joints} joints"]
+    for kind in ("H", "V"):
+        ij = [tuple(int(x) for x in n[1:].split(",")) for n in topo.joint_names if n.startswith(kind)]
+        if ij:
+            i, j = zip(*ij)
+            parts.append(f"{kind}{min(i)},{min(j)} .. {kind}{max(i)},{max(j)}")
+    return ", ".join(parts)
+
+
 @dataclass
 class SearchResult:
     joints: tuple
@@ -243,11 +255,11 @@ class PlacementSearch:
         forbidden = set(forbidden or ())
         for f in forbidden:
             if not topo.has_joint(f):
-                raise SceneError("--forbid", f"joint {f!r} does not exist in this scene ({topo.n_joints} joints)")
+                raise SceneError("--forbid", f"joint {f!r} does not exist in this scene ({joints_text(topo)})")
         pool = list(topo.joint_names) if candidates is None else list(candidates)
         for c in pool:
             if not topo.has_joint(c):
-                raise SceneError("candidates", f"joint {c!r} does not exist in this scene")
+                raise SceneError("candidates", f"joint {c!r} does not exist in this scene ({joints_text(topo)})")
         self.nodes = {j: set(problem._joint_nodes(j)) for j in pool}
         self.allowed = [j for j in pool if j not in forbidden and not (self.nodes[j] & problem.fixed_nodes)]
         most = self._max_independent()      # the scene's real limit: joints without a shared node

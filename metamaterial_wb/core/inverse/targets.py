@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from metamaterial_wb.core.errors import SceneError, check_integer, check_number
+from metamaterial_wb.core.inverse.search import joints_text
 from metamaterial_wb.core.inverse.surface import Surface, TargetError, check_mesh, load_mesh
 from metamaterial_wb.core.scene import parse_joint
 from metamaterial_wb.core.scene.names import _short
@@ -251,7 +252,7 @@ def _parse_folds(scene, items, wf, where):
             jid = topo.joint_id(kind, i, j)
             if jid < 0:
                 raise TargetError(f"{f}.joint", f"joint {it['joint']!r} does not exist in this scene "
-                                                f"({topo.n_joints} joints)")
+                                                f"({joints_text(topo)})")
             row[jid] = 1.0
             label = str(it["joint"])
             rlo, rhi = lo[jid], hi[jid]
