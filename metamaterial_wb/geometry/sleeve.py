@@ -9,7 +9,8 @@ sleeve's inner and outer faces stay exact cylinders and the void walls are radia
 
 End pieces (after the seed's supplementary S1): a PLA ring glued inside each end of the sleeve
 (outer radius = sleeve inner radius, height = bar height c/2 + ``ring_extra_mm``), and a PLA cap
-(disc) closing each ring; the bottom cap has a hole for the supply tube.
+(disc of the actuator's cap diameter, ``actuator.core_diameter_mm``) closing each ring's opening, which is
+the cap's diameter; the bottom cap has a hole for the supply tube.
 """
 import math
 
@@ -18,7 +19,7 @@ import numpy as np
 from metamaterial_wb.core.errors import MetamaterialError
 from metamaterial_wb.core.materials import MATERIALS
 from metamaterial_wb.core.sleeve.cell import triangulate_polygon
-from metamaterial_wb.core.sleeve.spec import END_RING_WALL_MM, MIN_FEATURE_MM, TUBE_HOLE_MM
+from metamaterial_wb.core.sleeve.spec import MIN_FEATURE_MM, TUBE_HOLE_MM
 from metamaterial_wb.geometry.fc import freecad, set_shape_colour
 
 TPU = MATERIALS["TPU"]
@@ -112,26 +113,36 @@ def build_sleeve(spec, samples=16, progress=None):
     return solids[0]
 
 
-def build_end_pieces(spec, ring_extra_mm=4.0, ring_wall_mm=END_RING_WALL_MM, cap_mm=2.0, tube_hole_mm=TUBE_HOLE_MM):
-    """PLA end rings (inside the sleeve's end bars) and caps: ``{name: solid}``. The spec's
-    ``check_end_pieces`` (the default wall and hole) is checked first: the CLI checks it before the analysis."""
-    if ring_wall_mm == END_RING_WALL_MM and tube_hole_mm == TUBE_HOLE_MM:
+def build_end_pieces(spec, ring_extra_mm=4.0, cap_mm=2.0, tube_hole_mm=TUBE_HOLE_MM):
+    """PLA end rings (inside the sleeve's end bars) and caps: ``{name: solid}``.
+
+    The cap is the prediction's (``spec.core_diameter``, ``actuator.core_diameter_mm`` or its automatic default):
+    as in the seed's actuator (SI S1.1) it closes the inflatable core, whose membrane pushes on it with the pressure
+    times its area (``pv.cap_area_mm2``), and it sits in the ring's opening, flush with the ring's outer end. So the
+    ring's opening is the cap's diameter and its wall the rest of the sleeve's inside, at least ``MIN_FEATURE_MM``.
+    The spec's ``check_end_pieces`` (the default tube hole) is checked first: the CLI checks it before the analysis."""
+    if tube_hole_mm == TUBE_HOLE_MM:
         spec.check_end_pieces()
     App, Part = freecad()
     lay = sleeve_layout(spec)
     Ri, H = lay["inner_radius"], lay["height"]
+    rc = spec.core_diameter / 2
     hr = spec.c / 2 + ring_extra_mm
-    if ring_wall_mm + tube_hole_mm / 2 + MIN_FEATURE_MM > Ri:
-        raise MetamaterialError(f"end pieces: a {ring_wall_mm} mm ring wall and a {tube_hole_mm} mm tube hole need an "
-                                f"inner radius of at least {ring_wall_mm + tube_hole_mm / 2 + MIN_FEATURE_MM:g} mm; "
-                                f"the sleeve's is {Ri:.4g} mm")
+    if Ri - rc < MIN_FEATURE_MM - 1e-9:
+        raise MetamaterialError(f"end pieces: actuator.core_diameter_mm {2 * rc:.6g} mm leaves the end ring a wall of "
+                                f"{Ri - rc:.4g} mm inside the sleeve's inner diameter {2 * Ri:.6g} mm; allowed: a cap of "
+                                f"at most {2 * (Ri - MIN_FEATURE_MM):.6g} mm (a {MIN_FEATURE_MM:g} mm ring wall)")
+    if tube_hole_mm / 2 + MIN_FEATURE_MM > rc + 1e-9:
+        raise MetamaterialError(f"end pieces: a {tube_hole_mm:g} mm tube hole needs a cap of at least "
+                                f"{tube_hole_mm + 2 * MIN_FEATURE_MM:g} mm (actuator.core_diameter_mm); "
+                                f"the cap is {2 * rc:.6g} mm")
     out = {}
     for name, z in (("ring_bottom", -ring_extra_mm), ("ring_top", H - spec.c / 2)):
         out[name] = Part.makeCylinder(Ri, hr, App.Vector(0, 0, z)).cut(
-            Part.makeCylinder(Ri - ring_wall_mm, hr, App.Vector(0, 0, z)))
-    cap_b = Part.makeCylinder(Ri - ring_wall_mm, cap_mm, App.Vector(0, 0, -ring_extra_mm))
+            Part.makeCylinder(rc, hr, App.Vector(0, 0, z)))
+    cap_b = Part.makeCylinder(rc, cap_mm, App.Vector(0, 0, -ring_extra_mm))
     cap_b = cap_b.cut(Part.makeCylinder(tube_hole_mm / 2, cap_mm, App.Vector(0, 0, -ring_extra_mm)))
-    cap_t = Part.makeCylinder(Ri - ring_wall_mm, cap_mm, App.Vector(0, 0, H + ring_extra_mm - cap_mm))
+    cap_t = Part.makeCylinder(rc, cap_mm, App.Vector(0, 0, H + ring_extra_mm - cap_mm))
     out["cap_bottom"] = cap_b
     out["cap_top"] = cap_t
     return out

@@ -104,7 +104,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="123"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="125"/>
         <source>Add type</source>
         <translation type="unfinished"></translation>
     </message>
@@ -151,7 +151,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="114"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="116"/>
         <source>Cap diameter (core_diameter_mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -161,7 +161,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="121"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="123"/>
         <source>Cell types (row = type index)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -171,7 +171,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="139"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="141"/>
         <source>Check on a 3-D frame: first peaks and sequence</source>
         <translation type="unfinished"></translation>
     </message>
@@ -277,7 +277,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="164"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="166"/>
         <source>Export STEP + 3MF</source>
         <translation type="unfinished"></translation>
     </message>
@@ -341,7 +341,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="89"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="90"/>
         <source>G (shear modulus)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -419,7 +419,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="85"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
         <source>L (beam span)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -505,7 +505,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="67"/>
         <location filename="../../metamaterial_wb/gui/panels/place_item.py" line="41"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="83"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="84"/>
         <source>Name</source>
         <translation type="unfinished"></translation>
     </message>
@@ -566,7 +566,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="73"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="74"/>
         <source>Open...</source>
         <translation type="unfinished"></translation>
     </message>
@@ -619,7 +619,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="150"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="152"/>
         <source>Predict</source>
         <translation type="unfinished"></translation>
     </message>
@@ -630,7 +630,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="219"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="124"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="126"/>
         <source>Remove last</source>
         <translation type="unfinished"></translation>
     </message>
@@ -640,12 +640,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="135"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="137"/>
         <source>Ring pattern</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="136"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="138"/>
         <source>Rings</source>
         <translation type="unfinished"></translation>
     </message>
@@ -740,17 +740,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/commands.py" line="154"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="59"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="60"/>
         <source>Sleeve actuator</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="281"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="286"/>
         <source>Sleeve spec</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="282"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="287"/>
         <source>Sleeve spec (*.json)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -765,7 +765,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="74"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="75"/>
         <source>Spec</source>
         <translation type="unfinished"></translation>
     </message>
@@ -785,7 +785,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="88"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="89"/>
         <source>T (wall thickness)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -835,7 +835,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="151"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="153"/>
         <source>Unit-cell and sleeve force-displacement curves, snapping sequence (core.sleeve, about a second per curve)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -921,7 +921,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="52"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="53"/>
         <source>accuracy: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -931,8 +931,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="276"/>
-        <source>actuator.core_diameter_mm: the cap the inner membrane pushes on; at most the sleeve's inner diameter N (L + c) / pi - T</source>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="279"/>
+        <source>actuator.core_diameter_mm: the cap the inner membrane pushes on, in the opening of the end ring; at most the sleeve's inner diameter N (L + c) / pi - T less two {0:g} mm ring walls</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -951,7 +951,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="43"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="44"/>
         <source>asymmetric</source>
         <translation type="unfinished"></translation>
     </message>
@@ -966,18 +966,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="106"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="107"/>
         <source>automatic</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="266"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="269"/>
         <source>automatic: the default cap, {0:g} mm</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="263"/>
-        <source>automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm does not fit)</source>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="265"/>
+        <source>automatic: {0:.6g} mm, the widest cap the end rings ({1:g} mm walls) hold inside the sleeve's inner diameter (the default {2:g} mm does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -986,18 +986,18 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="510"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="515"/>
         <source>building the sleeve ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="86"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="87"/>
         <source>c (pillar width)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="184"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="530"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="535"/>
         <source>cannot move the files into {0}: {1}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1017,17 +1017,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="132"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="134"/>
         <source>cell type index of each cell around the circumference</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="32"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="33"/>
         <source>cell type {0}: peak {1}, valley {2} (F / G L^2)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="30"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="31"/>
         <source>cell type {0}: peak {1}, valley {2} (F / G L^2); {3}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1057,7 +1057,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="87"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="88"/>
         <source>delta (gap)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1073,17 +1073,17 @@ horizontal axes run along a cell row and cross its V joints.</source>
     </message>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/export.py" line="216"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="552"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="557"/>
         <source>export cancelled: nothing written</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="483"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="488"/>
         <source>export: an export is running (Cancel it first)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="489"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="494"/>
         <source>export: choose a folder</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1093,13 +1093,13 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="486"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="491"/>
         <source>export: the prediction is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="547"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="504"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="552"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="509"/>
         <source>export: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1139,7 +1139,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="119"/>
         <source>h (mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1211,7 +1211,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="140"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="142"/>
         <source>model.frame_nonlinear: the same beams as a nonlinear 3-D frame on the cylinder (core/sleeve/frame3d_nl.py), which bends the wall out of it as the printed sleeve does: each uniform ring's first peak (under a second per cell type) and the sleeve's snapping sequence and lean (about 10 s per ring; stacked rings with the plates between them free). Needs the curved single-layout ring</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1259,7 +1259,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/add_module.py" line="216"/>
         <location filename="../../metamaterial_wb/gui/panels/profiles.py" line="30"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="26"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="27"/>
         <source>none</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1347,7 +1347,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="40"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="41"/>
         <source>nothing snapped</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1403,44 +1403,44 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="432"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="437"/>
         <source>predict: the export is still running: wait or cancel it</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="444"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="453"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="236"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="449"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="458"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="238"/>
         <source>predicting ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="234"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="236"/>
         <source>predicting the values from when Predict was pressed (edited since) ...</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="446"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="451"/>
         <source>predicting: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="470"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="475"/>
         <source>prediction cancelled</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="465"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="470"/>
         <source>prediction failed: {0}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="249"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="251"/>
         <source>prediction for the earlier values (edited since; press Predict for the values shown):</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="50"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="51"/>
         <source>pressure peaks {0} kPa</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1466,7 +1466,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="539"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="544"/>
         <source>removed the earlier export's {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1476,7 +1476,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="395"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="400"/>
         <source>ring pattern {0}: expected cell type indices separated by commas, e.g. 0, 0, 1, 1</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1496,12 +1496,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="44"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="45"/>
         <source>sequence: loading {0}, unloading {1} -&gt; {2}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="47"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="48"/>
         <source>sequence: {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1556,12 +1556,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="36"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="37"/>
         <source>sleeve ({0} x {1} cells): peaks {2}; valleys {3}</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="165"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="167"/>
         <source>sleeve.step (named bodies) and sleeve.3mf (TPU sleeve, PLA rings and caps, per-part extruders; sleeve_plate1.3mf, sleeve_plate2.3mf, ... when the parts need more than one bed, and an earlier export's plates this one does not write are removed), as 'sleeve SPEC --step --3mf'</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1606,12 +1606,12 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="42"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="43"/>
         <source>symmetric</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="117"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="119"/>
         <source>t (mm)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1646,8 +1646,8 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="107"/>
-        <source>the default cap, {0:g} mm, or the sleeve's inner diameter N (L + c) / pi - T when that is smaller; untick to give your own (kept as typed, refused when it does not fit)</source>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="108"/>
+        <source>the default cap, {0:g} mm, or the widest cap the end rings hold, the sleeve's inner diameter N (L + c) / pi - T less two {1:g} mm ring walls, when that is smaller; untick to give your own (kept as typed, refused when it does not fit)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
@@ -1696,7 +1696,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="379"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="384"/>
         <source>this spec has a per-ring pattern; it is kept as in the file</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1741,7 +1741,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="41"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="42"/>
         <source>undetermined</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1774,7 +1774,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="537"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="542"/>
         <source>wrote {0}</source>
         <translation type="unfinished"></translation>
     </message>
@@ -1784,7 +1784,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="540"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="545"/>
         <source>wrote {0} file(s) to {1}: {2} ({3:.1f} s)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -2017,7 +2017,7 @@ horizontal axes run along a cell row and cross its V joints.</source>
     <message>
         <location filename="../../metamaterial_wb/gui/panels/folded_shape.py" line="112"/>
         <location filename="../../metamaterial_wb/gui/panels/new_structure.py" line="308"/>
-        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="337"/>
+        <location filename="../../metamaterial_wb/gui/panels/sleeve.py" line="342"/>
         <location filename="../../metamaterial_wb/gui/panels/stream.py" line="89"/>
         <source>{0}: {1}</source>
         <translation type="unfinished"></translation>

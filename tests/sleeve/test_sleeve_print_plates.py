@@ -187,9 +187,12 @@ def wide(tmp_path_factory):
 
 def test_a_wide_sleeves_3mf_files_are_plates_on_the_bed(wide):
     folder, files = wide
-    assert files == ["sleeve_plate1.3mf", "sleeve_plate2.3mf", "sleeve_plate3.3mf"]
+    # the caps are the core's (24.6 mm, held in the end rings' openings): the sleeve, a ring and both caps, the other ring
+    assert files == ["sleeve_plate1.3mf", "sleeve_plate2.3mf"]
     plates = [_read_3mf(folder / f) for f in files]
     assert plates[0][0][0] == "sleeve"
+    first = sorted(p[0] for p in plates[0])
+    assert len(first) == 4 and {"sleeve", "cap_bottom", "cap_top"} <= set(first), first
     _check_plates(plates, PARTS)
 
 

@@ -1,6 +1,7 @@
 """Spec checks found missing by an audit of the sleeve feature: the cap against the sleeve's inner diameter, the
 end pieces before the analysis, ``{}`` / non-boolean values of the optional sections, ``walker.body_length_mm``,
 ``--fe-check`` of the double layout and design-map cells the validator refuses."""
+import importlib
 import json
 import math
 import os
@@ -21,6 +22,11 @@ SEED = {"format": "metamaterial-sleeve", "version": 1, "cell_types": [{"t_mm": 1
 SMALL = {"format": "metamaterial-sleeve", "version": 1, "name": "small", "L_mm": 6, "c_mm": 1.2, "delta_mm": 0.3,
          "T_mm": 1.2, "cell_types": [{"t_mm": 0.4, "h_mm": 2.4}], "ring": [0, 0, 0, 0],
          "model": {"elements_cell": 6, "elements_ring": 6, "steps": 40}}
+# 6.1 mm across, 5.1 mm inside: too narrow for the end pieces (a cap of 4.8 mm around the 4 mm tube hole in a ring
+# of 0.4 mm wall need 5.6 mm inside)
+TINY = {"format": "metamaterial-sleeve", "version": 1, "name": "tiny", "L_mm": 4, "c_mm": 0.8, "delta_mm": 0.2,
+        "T_mm": 1.0, "cell_types": [{"t_mm": 0.4, "h_mm": 1.6}], "ring": [0, 0, 0, 0],
+        "model": {"elements_cell": 6, "elements_ring": 6, "steps": 40}}
 
 
 def _with(base, **kw):
@@ -33,6 +39,11 @@ def _inner(spec):
     return 2 * spec.radius_mm - spec.T
 
 
+def _cap_max(spec):
+    """The widest cap the end rings hold: the inner diameter less two 0.4 mm ring walls."""
+    return _inner(spec) - 2 * 0.4
+
+
 # --- the cap against the sleeve (defect 2) ------------------------------------------------------
 def test_a_cap_wider_than_the_sleeves_inside_is_refused_naming_the_allowed_range():
     inner = _inner(SleeveSpec(SEED))                 # 26.21 mm for the seed's four cells
@@ -41,14 +52,17 @@ def test_a_cap_wider_than_the_sleeves_inside_is_refused_naming_the_allowed_range
     e = ei.value
     assert e.field == "actuator.core_diameter_mm"
     assert "200" in e.message and "allowed" in e.message and f"{inner:.6g}" in e.message
-    assert "inner diameter" in e.message
-    # on the bound it loads
-    assert SleeveSpec(_with(SEED, actuator={"core_diameter_mm": inner})).core_diameter == inner
+    assert "inner diameter" in e.message and f"(0, {inner - 0.8:.6g}]" in e.message and "ring" in e.message
+    # on the bound (the inner diameter less two ring walls) it loads, the inner diameter itself is refused
+    top = _cap_max(SleeveSpec(SEED))
+    assert SleeveSpec(_with(SEED, actuator={"core_diameter_mm": top})).core_diameter == top
+    with pytest.raises(SceneError):
+        SleeveSpec(_with(SEED, actuator={"core_diameter_mm": inner}))
 
 
 def test_the_default_cap_follows_a_small_sleeves_inner_diameter_and_says_so():
     spec = SleeveSpec(SMALL)
-    assert spec.core_diameter == pytest.approx(_inner(spec))
+    assert spec.core_diameter == pytest.approx(_cap_max(spec))
     assert "inner diameter" in spec.core_diameter_note
     big = SleeveSpec(SEED)
     assert big.core_diameter == 24.6 and big.core_diameter_note == ""
@@ -62,20 +76,21 @@ def test_the_summary_gives_the_cap_used_and_why():
     from metamaterial_wb.core.sleeve.pipeline import analyse
     spec = SleeveSpec(SMALL)
     s, _ = analyse(spec)
-    assert s["pv"]["cap_diameter_mm"] == pytest.approx(_inner(spec))
-    assert s["pv"]["cap_area_mm2"] == pytest.approx(math.pi * _inner(spec) ** 2 / 4)
+    assert s["pv"]["cap_diameter_mm"] == pytest.approx(_cap_max(spec))
+    assert s["pv"]["cap_area_mm2"] == pytest.approx(math.pi * _cap_max(spec) ** 2 / 4)
     assert any("inner diameter" in n for n in s["pv"]["notes"])
 
 
 # --- the end pieces before the analysis (defect 3) ------------------------------------------------
 def test_end_pieces_that_do_not_fit_are_refused_by_the_spec_check():
-    spec = SleeveSpec(SMALL)
+    spec = SleeveSpec(TINY)
     with pytest.raises(SceneError) as ei:
         spec.check_end_pieces()
     e = ei.value
     assert "T_mm" in e.message and "L_mm" in e.message and "allowed" in e.message
-    assert f"{_inner(spec):.4g}" in e.message
+    assert f"{_inner(spec):.6g}" in e.message
     SleeveSpec(SEED).check_end_pieces()              # the seed's sleeve has room
+    SleeveSpec(SMALL).check_end_pieces()             # and so has 8 mm inside, its cap 7.2 mm
 
 
 def test_cli_refuses_the_end_pieces_before_the_analysis(tmp_path, monkeypatch):
@@ -85,8 +100,12 @@ def test_cli_refuses_the_end_pieces_before_the_analysis(tmp_path, monkeypatch):
     from metamaterial_wb.core.sleeve import pipeline
     from metamaterial_wb.geometry import fc
 
-    p = tmp_path / "small.json"
-    p.write_text(json.dumps(SMALL))
+    # imported now it binds the real freecad (check_spec_not_output imports it: under the patch below it kept the
+    # fake one, and a later test's end pieces got no Part)
+    importlib.import_module("metamaterial_wb.export.sleeve")
+
+    p = tmp_path / "tiny.json"
+    p.write_text(json.dumps(TINY))
     monkeypatch.setattr(fc, "freecad", lambda: (None, None))       # FreeCAD present or not: the check comes first
     monkeypatch.setattr(pipeline, "analyse", lambda *a, **k: pytest.fail("the analysis ran"))
     args = SimpleNamespace(spec=str(p), out=str(tmp_path / "o"), step=False, threemf=True, render=False,
@@ -170,7 +189,7 @@ def test_design_map_cli_does_not_report_refused_cells(tmp_path):
 
 
 def test_end_pieces_at_the_limit_build_as_valid_solids():
-    """Just above the end pieces' limit (8.8 mm inside) every end piece is one valid solid (the check's limit is
+    """Just above the end pieces' limit (5.6 mm inside) every end piece is one valid solid (the check's limit is
     the geometry's); just below it the spec check refuses it."""
     FREECAD_LIB = "/usr/lib/freecad-python3/lib"
     if os.path.isdir(FREECAD_LIB) and FREECAD_LIB not in sys.path:
@@ -178,9 +197,9 @@ def test_end_pieces_at_the_limit_build_as_valid_solids():
     pytest.importorskip("FreeCAD")
     from metamaterial_wb.geometry.sleeve import build_end_pieces, check_parts
 
-    ok = SleeveSpec(_with(SMALL, L_mm=7, c_mm=1.4, T_mm=1.8))           # 8.895 mm inside
-    assert 8.8 < _inner(ok) < 8.9
+    ok = SleeveSpec(_with(TINY, T_mm=0.5))                               # 5.61 mm inside
+    assert 5.6 < _inner(ok) < 5.62
     parts = build_end_pieces(ok)
     check_parts([(n, s, None, "PLA") for n, s in parts.items()])
     with pytest.raises(SceneError):
-        SleeveSpec(_with(SMALL, L_mm=7, c_mm=1.4, T_mm=1.9)).check_end_pieces()   # 8.795 mm inside
+        SleeveSpec(_with(TINY, T_mm=0.52)).check_end_pieces()                   # 5.59 mm inside

@@ -53,8 +53,9 @@ AT_BOUND = [
     ("model min", {("model",): {"elements_cell": 2, "elements_ring": 2, "steps": 20, "imperfection": 0,
                                 "pillar_tip": 3}}),
     ("integral floats", {("model",): {"elements_cell": 16.0, "steps": 160.0}}),
-    # the cap at most the sleeve's inner diameter N (L + c) / pi - T (26.21 mm for the base's four cells)
-    ("actuator max", {("actuator",): {"core_diameter_mm": 4 * 22 / math.pi - 1.8, "membrane_kPa_per_mL": 10000}}),
+    # the cap at most the sleeve's inner diameter N (L + c) / pi - T (26.21 mm for the base's four cells) less two
+    # 0.4 mm walls of the end ring it sits in
+    ("actuator max", {("actuator",): {"core_diameter_mm": 4 * 22 / math.pi - 1.8 - 0.8, "membrane_kPa_per_mL": 10000}}),
     ("design map bounds", {("design_map",): {"t_over_L": [0.01, 0.25, 40], "h_over_L": [0.6, 0.6, 1],
                                              "elements": 80}}),
     ("walker bounds", {("walker",): {"foot_length_mm": 300, "body_length_mm": 1000, "contact_band_mm": 100}}),
@@ -64,11 +65,11 @@ AT_BOUND = [
 ]
 
 
-def test_a_cap_just_wider_than_the_sleeves_inside_is_refused():
-    inner = 4 * 22 / math.pi - 1.8
+def test_a_cap_just_wider_than_its_end_ring_holds_is_refused():
+    top = 4 * 22 / math.pi - 1.8 - 0.8
     with pytest.raises(SceneError) as ei:
-        SleeveSpec(hc.sleeve_with({("actuator", "core_diameter_mm"): inner + 1e-6}))
-    assert ei.value.field == "actuator.core_diameter_mm" and f"(0, {inner:.6g}]" in ei.value.message
+        SleeveSpec(hc.sleeve_with({("actuator", "core_diameter_mm"): top + 1e-6}))
+    assert ei.value.field == "actuator.core_diameter_mm" and f"(0, {top:.6g}]" in ei.value.message
 
 
 @pytest.mark.parametrize("name,changes", AT_BOUND, ids=[a[0] for a in AT_BOUND])

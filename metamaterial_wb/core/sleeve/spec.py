@@ -19,14 +19,15 @@ FORMAT = "metamaterial-sleeve"
 MIN_FEATURE_MM = 0.4
 MIN_GAP_MM = 0.2
 BED_MM = 240.0
-CAP_RANGE_MM = (0.0, BED_MM)   # actuator.core_diameter_mm, open at 0 (and at most the inner diameter: _check_cap)
+CAP_RANGE_MM = (0.0, BED_MM)   # actuator.core_diameter_mm, open at 0 (and at most what an end ring holds: _check_cap)
 MAX_HEIGHT_MM = 300.0
 MAX_G_MPA = 5000.0
-# the actuator's cap (the core the inner membrane pushes on), mm: the seed's; a sleeve narrower inside takes its
-# inner diameter instead. The PLA end pieces (geometry/sleeve.py): the end ring's wall and the bottom cap's hole for
-# the supply tube
+# the actuator's cap (the core the inner membrane pushes on), mm: the seed's; a sleeve narrower inside takes the
+# widest cap its end rings hold instead. The PLA end pieces (geometry/sleeve.py): the cap sits in the opening of a
+# ring glued inside each end of the sleeve, whose wall (the rest of the sleeve's inside) is at least one extrusion,
+# and the bottom cap has a hole for the supply tube
 DEFAULT_CAP_MM = 24.6
-END_RING_WALL_MM = 2.0
+END_RING_MIN_WALL_MM = MIN_FEATURE_MM
 TUBE_HOLE_MM = 4.0
 MAX_L_MM = 200.0        # a beam span beyond most of the bed's short side (and 2 cells around: 130 mm across)
 # The widest static range of each field, (low, high, unit, low_open): the one owner of these numbers (the
@@ -203,36 +204,57 @@ class SleeveSpec:
         return (f"the sleeve's inner diameter N (L + c) / pi - T = {self.N} x {self.L + self.c:g} mm / pi - "
                 f"{self.T:g} mm = {self.inner_diameter_mm:.6g} mm (ring, L_mm, c_mm, T_mm)")
 
+    @property
+    def cap_max_mm(self):
+        """The widest cap an end ring holds: the inner diameter less two ring walls of ``END_RING_MIN_WALL_MM``."""
+        return self.inner_diameter_mm - 2 * END_RING_MIN_WALL_MM
+
+    def _ring_words(self):
+        return (f"the cap sits in the opening of the PLA end ring, a wall of at least {END_RING_MIN_WALL_MM:g} mm "
+                f"inside {self._inner_words()}")
+
     def _check_cap(self):
-        """The cap the membrane pushes on sits inside the sleeve: its diameter at most the inner diameter. The
-        default (``DEFAULT_CAP_MM``) follows a smaller sleeve's inner diameter, and ``core_diameter_note`` says so;
-        a value given is never changed."""
-        inner = self.inner_diameter_mm
+        """The cap the membrane pushes on sits in the opening of the end ring glued inside the sleeve (seed SI S1.1,
+        ``geometry/sleeve.py``): its diameter at most ``cap_max_mm``. The default (``DEFAULT_CAP_MM``) follows a
+        smaller sleeve's widest cap, and ``core_diameter_note`` says so; a value given is never changed."""
+        top = self.cap_max_mm
+        if top <= 0:
+            raise SceneError("ring", f"{self._inner_words()} leaves no room for the actuator's cap inside its end rings "
+                                     f"({END_RING_MIN_WALL_MM:g} mm walls); allowed: an inner diameter above "
+                                     f"{2 * END_RING_MIN_WALL_MM:g} mm (more cells, larger L_mm or c_mm, a thinner T_mm)")
         if self.core_diameter is None:
             self.core_diameter = DEFAULT_CAP_MM
-            if DEFAULT_CAP_MM > inner:
-                self.core_diameter = inner
-                self.core_diameter_note = (f"actuator.core_diameter_mm not given: the cap is the sleeve's inner "
-                                           f"diameter {inner:.4g} mm (the default {DEFAULT_CAP_MM:g} mm does not fit)")
+            if DEFAULT_CAP_MM > top:
+                self.core_diameter = top
+                self.core_diameter_note = (f"actuator.core_diameter_mm not given: the cap is {top:.4g} mm, the widest "
+                                           f"an end ring of {END_RING_MIN_WALL_MM:g} mm wall holds inside the sleeve's "
+                                           f"inner diameter {self.inner_diameter_mm:.4g} mm (the default "
+                                           f"{DEFAULT_CAP_MM:g} mm does not fit)")
             return
-        if self.core_diameter > inner:
+        if self.core_diameter > top:
             raise SceneError("actuator.core_diameter_mm",
                              f"{self.raw['actuator']['core_diameter_mm']!r} mm is outside the allowed range "
-                             f"(0, {inner:.6g}]: the cap sits inside the sleeve, and {self._inner_words()}")
+                             f"(0, {top:.6g}]: {self._ring_words()}")
 
     def check_end_pieces(self):
-        """The PLA end pieces that ``--step`` / ``--3mf`` / ``--render`` build (``geometry/sleeve.py``) fit inside
-        this sleeve: a ring of wall ``END_RING_WALL_MM`` inside each end, and a cap inside the ring with the
-        ``TUBE_HOLE_MM`` supply-tube hole and at least ``MIN_FEATURE_MM`` of cap around it. Raises SceneError
-        naming the fields and the limit; checked before any analysis."""
-        need = 2 * END_RING_WALL_MM + TUBE_HOLE_MM + 2 * MIN_FEATURE_MM
-        inner = self.inner_diameter_mm
-        if inner < need:
-            raise SceneError("ring", f"{self._inner_words()} is too small for the end pieces: a PLA ring of "
-                                     f"{END_RING_WALL_MM:g} mm wall and its cap around a {TUBE_HOLE_MM:g} mm supply-tube "
-                                     f"hole (at least {MIN_FEATURE_MM:g} mm of cap around it); allowed: an inner "
-                                     f"diameter of at least {need:g} mm (more cells, larger L_mm or c_mm, a thinner "
+        """The PLA end pieces that ``--step`` / ``--3mf`` / ``--render`` build (``geometry/sleeve.py``) can be made
+        for this cap: the bottom cap carries the ``TUBE_HOLE_MM`` supply-tube hole with at least ``MIN_FEATURE_MM``
+        of cap around it (the ring around the cap is checked at load, ``_check_cap``). Raises SceneError naming the
+        field, the value and the allowed range; checked before any analysis."""
+        low = TUBE_HOLE_MM + 2 * MIN_FEATURE_MM
+        if self.core_diameter >= low:
+            return
+        if self.cap_max_mm < low:
+            raise SceneError("ring", f"{self._inner_words()} is too small for the end pieces: a cap of at least {low:g} mm "
+                                     f"around the {TUBE_HOLE_MM:g} mm supply-tube hole, in a ring of "
+                                     f"{END_RING_MIN_WALL_MM:g} mm wall; allowed: an inner diameter of at least "
+                                     f"{low + 2 * END_RING_MIN_WALL_MM:g} mm (more cells, larger L_mm or c_mm, a thinner "
                                      f"T_mm), or no --step / --3mf / --render")
+        raise SceneError("actuator.core_diameter_mm",
+                         f"{self.raw['actuator']['core_diameter_mm']!r} mm is outside the allowed range "
+                         f"[{low:g}, {self.cap_max_mm:.6g}] for the end pieces: the bottom cap needs {MIN_FEATURE_MM:g} mm "
+                         f"around its {TUBE_HOLE_MM:g} mm supply-tube hole, the end ring a {END_RING_MIN_WALL_MM:g} mm "
+                         f"wall around the cap; or no --step / --3mf / --render")
 
     @classmethod
     def load(cls, path):

@@ -15,7 +15,8 @@ from metamaterial_wb.gui.i18n import QT_TRANSLATE_NOOP, translate
 from metamaterial_wb.core.sleeve import spec as sleeve_spec
 
 # The cap the inner membrane pushes on (``actuator.core_diameter_mm``): the validator allows (0, BED_MM] and at most
-# the sleeve's inner diameter (checked in words, as t <= L / 4 is); its box's range comes from ranges.FIELDS
+# what the end ring glued inside the sleeve holds, the inner diameter less two ring walls (checked in words, as
+# t <= L / 4 is); its box's range comes from ranges.FIELDS
 CAP_FIELD = "sleeve.actuator.core_diameter_mm"
 
 
@@ -95,8 +96,8 @@ class SleevePanel(BasePanel):
             f.addRow(label, w)
             self.dims[key] = w
             self._track_edits(w)
-        # the cap (actuator.core_diameter_mm): automatic (the validator's default, which follows the inner diameter
-        # of a narrower sleeve; the box shows the cap used) or the user's value, kept as typed
+        # the cap (actuator.core_diameter_mm): automatic (the validator's default, which follows the widest cap a
+        # narrower sleeve's end rings hold; the box shows the cap used) or the user's value, kept as typed
         self.cap = QtGui.QDoubleSpinBox()
         self.cap.setDecimals(3)
         ranges.bind(self.cap, CAP_FIELD)
@@ -105,9 +106,10 @@ class SleevePanel(BasePanel):
         self._track_edits(self.cap)
         self.cap_auto = QtGui.QCheckBox(translate("Metamaterial", "automatic"))
         self.cap_auto.setToolTip(translate(
-            "Metamaterial", "the default cap, {0:g} mm, or the sleeve's inner diameter N (L + c) / pi - T when that "
-            "is smaller; untick to give your own (kept as typed, refused when it does not fit)").format(
-                sleeve_spec.DEFAULT_CAP_MM))
+            "Metamaterial", "the default cap, {0:g} mm, or the widest cap the end rings hold, the sleeve's inner "
+            "diameter N (L + c) / pi - T less two {1:g} mm ring walls, when that is smaller; untick to give your own "
+            "(kept as typed, refused when it does not fit)").format(
+                sleeve_spec.DEFAULT_CAP_MM, sleeve_spec.END_RING_MIN_WALL_MM))
         cl = QtGui.QHBoxLayout()
         cl.addWidget(self.cap, 1)
         cl.addWidget(self.cap_auto)
@@ -260,8 +262,9 @@ class SleevePanel(BasePanel):
             self.cap.blockSignals(False)
         self.exact[self.cap] = spec.core_diameter
         if spec.core_diameter_note:
-            tip = translate("Metamaterial", "automatic: the sleeve's inner diameter {0:.6g} mm (the default {1:g} mm "
-                            "does not fit)").format(spec.core_diameter, sleeve_spec.DEFAULT_CAP_MM)
+            tip = translate("Metamaterial", "automatic: {0:.6g} mm, the widest cap the end rings ({1:g} mm walls) hold "
+                            "inside the sleeve's inner diameter (the default {2:g} mm does not fit)").format(
+                spec.core_diameter, sleeve_spec.END_RING_MIN_WALL_MM, sleeve_spec.DEFAULT_CAP_MM)
         else:
             tip = translate("Metamaterial", "automatic: the default cap, {0:g} mm").format(spec.core_diameter)
         self.cap.setToolTip(tip)
@@ -274,7 +277,9 @@ class SleevePanel(BasePanel):
             self.cap.setProperty(ranges.REFUSED, "")      # a keystroke its range refused goes with the value typed
         else:
             self.cap.setToolTip(translate("Metamaterial", "actuator.core_diameter_mm: the cap the inner membrane "
-                                          "pushes on; at most the sleeve's inner diameter N (L + c) / pi - T"))
+                                          "pushes on, in the opening of the end ring; at most the sleeve's inner "
+                                          "diameter N (L + c) / pi - T less two {0:g} mm ring walls").format(
+                sleeve_spec.END_RING_MIN_WALL_MM))
         self.check_spec()
 
     def _browse(self):  # pragma: no cover - modal file dialog, tests call load_spec
