@@ -141,6 +141,7 @@ class Streamer:
         # 254 frames)
         self._outstanding = {}
         self._pings = set()  # seqs of keep-alive PINGs not answered yet (their replies are only discarded)
+        self._unreadable_heard = 0  # the link's unreadable_naks when last looked at (each new one: the board answers)
         self._link_timing = (500, 500, 5000)
         self._events_seen = 0
         self._silent_since = None  # when the first frame sent since the board's last answer went out (None: answered)
@@ -194,6 +195,9 @@ class Streamer:
 
     def _collect(self, timeout):
         self.link.poll(timeout)
+        if self.link.unreadable_naks != self._unreadable_heard:  # a NAK of a frame it could not read: it answers
+            self._unreadable_heard = self.link.unreadable_naks
+            self._answered()
         # taken under the link's read lock: another thread (e.g. a GUI ping) may be polling meanwhile
         for seq in self.link.take_replies(self._pings):
             self._pings.discard(seq)
@@ -249,6 +253,7 @@ class Streamer:
         self.stats = StreamStats(clamped_by_actuator={c.name: {"host": 0, "firmware": 0} for c in self.channels},
                                  frames_per_tick=len(runs(self.channels)))
         self._outstanding = {}
+        self._unreadable_heard = self.link.unreadable_naks
         self._answered()
         silence_s = self.silence_limit_s(self._link_timing[0], self.reply_timeout_s)
         n_events = len(self.link.events)
@@ -311,7 +316,11 @@ class Streamer:
                     self._collect(min(left, 0.005, max(0.0, last_tx + keepalive_s - now)))
                     self._check_events(n_events)
                     self._check_silence(silence_s)
-                self._check_silence(silence_s)  # (also when the loop above had no time left)
+                # also when the loop above had no time left (a host slower than the period): read what waits first,
+                # so replies sitting unread are not taken for a silent board
+                self._collect(0)
+                self._check_events(n_events)
+                self._check_silence(silence_s)
                 late = time.perf_counter() - deadline
                 if late > period and not self.catch_up:  # fell behind: skip the missed deadlines, keep the time base
                     missed = int(late // period)
