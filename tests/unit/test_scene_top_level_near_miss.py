@@ -102,3 +102,14 @@ def test_every_bundled_scene_has_no_near_miss_top_level_key():
         found += 1
         Scene.from_dict(d)
     assert found >= 10
+
+
+@pytest.mark.parametrize("name,what", [("walker.json", "is not a scene (it is a sleeve spec"),
+                                       ("worm_inverse_report.json", "is not a scene")])
+def test_another_document_is_named_as_such_before_its_keys_are_judged(name, what):
+    """A sleeve spec or an inverse report given as a scene: "not a scene (it is ...)", not a misspelt key of a scene
+    ('actuator' of a sleeve spec looked like "actuators")."""
+    path = os.path.join(REPO, "examples", name)
+    with pytest.raises(SceneError) as e:
+        Scene.load(path)
+    assert what in str(e.value) and "top-level key" not in str(e.value), str(e.value)

@@ -100,7 +100,8 @@ def top_level_near_miss(key):
 def check_top_level(data):
     """Refuse a top-level key that looks like one a stage reads ("Layout", "cell_size", "actuator", "dynamic"):
     it was kept as the user's own key and the default used in its place (a 1 x 1 grid, no actuator, exit 0).
-    Runs before every section, so the error names the misspelling, not what it caused."""
+    Runs before every section (after the format: another document is named as such), so the error names the
+    misspelling, not what it caused."""
     for key in data:
         like = top_level_near_miss(key)
         if like is None:
@@ -133,12 +134,12 @@ def check_is_scene(data, path):
 
 
 def parse_header(s, data):
-    check_top_level(data)
     fmt = data.get("format", FORMAT)
-    if fmt != FORMAT:
+    if fmt != FORMAT:   # first: another document (a sleeve spec's "actuator") is named as such, not a misspelt scene
         what = OTHER_DOCUMENTS.get(fmt) if isinstance(fmt, str) else None
         raise SceneError("format", f"{_short(fmt)} is not a scene" + (f" (it is {what})" if what else "")
                          + f"; expected \"{FORMAT}\"")
+    check_top_level(data)
     ver = data.get("version", VERSION)
     if type(ver) is float and ver == VERSION:          # 1.0: the format's version is a whole number
         raise SceneError("version", f"{_short(ver)} is a decimal number; allowed: the whole number {VERSION} "
