@@ -129,3 +129,13 @@ def test_the_python_default_frame_interval_follows_a_long_step():
 
     summary, traj, _m, _s = simulate(Scene.load(WORM), 0.05, dt=0.01)
     assert list(traj.t) == pytest.approx([0.0, 0.01, 0.02, 0.03, 0.04, 0.05], abs=1e-12)
+
+
+def test_a_zero_frame_interval_records_every_step_and_ends():
+    """record_dt 0 (a run of no length asked for frames every seconds / 7): every step is a frame, and the clock
+    moves on (FrameClock.recorded looped for ever at instant 0: test_speed_kernel's step-limit test hung)."""
+    from metamaterial_wb.core.dynamics.frames import FrameClock
+    c = FrameClock(0.0)
+    for i in range(5):
+        c.recorded(i * 1e-3, 1e-3, 1e-12)
+    assert c.frames == 5 and c.report()["fps"] is None and c.every_step is None

@@ -51,13 +51,15 @@ class FrameClock:
             self.max_offset = max(self.max_offset, abs(t - self.instant()))
             self.k += 1
             n += 1
+            if self.record_dt <= 0:  # no interval (a run of no length asked for 7 frames): every step is a frame
+                break
         if n > 1 and self.every_step is None:
             self.every_step = (t, h)
         self.frames += 1
 
     def report(self):
         """What was recorded, for the summary and the trajectory (``recording``)."""
-        out = {"fps": 1.0 / self.record_dt, "frame_interval_s": self.record_dt, "frames": self.frames,
+        out = {"fps": 1.0 / self.record_dt if self.record_dt > 0 else None, "frame_interval_s": self.record_dt, "frames": self.frames,
                "max_offset_s": self.max_offset, "snapping": SNAPPING}
         if self.every_step is not None:
             t, h = self.every_step
